@@ -1,0 +1,86 @@
+"""Creep and slip velocity of the wheel-roller pair from their angular speeds.
+
+The seed's definitions (Kayaalp eqs. 4.21-4.22) divide by the roller's peripheral speed, which is
+singular at standstill. Here the denominator is regularised as sqrt(v_r² + v_ε²): the creep is
+smooth in both speeds, zero at standstill, finite when the wheel spins on a stopped roller, and
+changes sign smoothly at slip reversal. For |v_r| ≫ v_ε it equals the seed's creep.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rollerrig._validation import require_finite, require_positive
+
+__all__ = ["DEFAULT_REGULARISATION_SPEED", "creep_and_slip_velocity"]
+
+DEFAULT_REGULARISATION_SPEED = 0.05
+"""Speed v_ε below which the creep definition is regularised [m/s] (0.18 km/h).
+
+Far below the rig's test speeds (5-60 km/h = 1.4-16.7 m/s): the relative change of the creep at
+5 km/h is (v_ε/v)²/2 ≈ 6e-4.
+"""
+
+
+def _creep_kernel(wheel_speed, roller_speed, wheel_radius, roller_radius, regularisation_speed):
+    """(creep [-], slip velocity [m/s]); see :func:`creep_and_slip_velocity`."""
+    v_wheel = wheel_speed * wheel_radius
+    v_roller = roller_speed * roller_radius
+    slip_velocity = v_wheel - v_roller
+    creep = slip_velocity / np.sqrt(
+        v_roller * v_roller + regularisation_speed * regularisation_speed
+    )
+    return creep, slip_velocity
+
+
+def creep_and_slip_velocity(
+    wheel_speed,
+    roller_speed,
+    wheel_radius,
+    roller_radius,
+    regularisation_speed=DEFAULT_REGULARISATION_SPEED,
+):
+    """Longitudinal creep and slip velocity, regularised at standstill.
+
+    .. math::
+        w = \\omega_w r_w - \\omega_r r_r, \\qquad
+        s = \\frac{w}{\\sqrt{(\\omega_r r_r)^2 + v_\\varepsilon^2}}
+
+    Kayaalp eqs. 4.21-4.22 (s = w / (ω_r r_r)) for |ω_r r_r| ≫ v_ε.
+
+    Parameters
+    ----------
+    wheel_speed, roller_speed : array_like
+        Angular speeds ω_w, ω_r [rad/s], each positive in its own rolling direction.
+    wheel_radius, roller_radius : array_like
+        Rolling radii r_w, r_r [m].
+    regularisation_speed : float, optional
+        v_ε [m/s], > 0.
+
+    Returns
+    -------
+    creep : numpy.ndarray
+        s [-], positive in traction (wheel faster than roller).
+    slip_velocity : numpy.ndarray
+        w [m/s].
+
+    Examples
+    --------
+    Wheel 1 % faster than the roller at 30 km/h:
+
+    >>> v = 30 / 3.6
+    >>> s, w = creep_and_slip_velocity(1.01 * v / 0.348, v / 0.452, 0.348, 0.452)
+    >>> round(float(s), 5), round(float(w), 4)
+    (0.01, 0.0833)
+
+    Standstill gives zero creep, not NaN:
+
+    >>> creep_and_slip_velocity(0.0, 0.0, 0.348, 0.452)[0].item()
+    0.0
+    """
+    ww = require_finite("wheel_speed", wheel_speed, "rad/s")
+    wr = require_finite("roller_speed", roller_speed, "rad/s")
+    rw = require_positive("wheel_radius", wheel_radius, "m")
+    rr = require_positive("roller_radius", roller_radius, "m")
+    ve = require_positive("regularisation_speed", regularisation_speed, "m/s")
+    return _creep_kernel(ww, wr, rw, rr, ve)
