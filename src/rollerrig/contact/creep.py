@@ -1,4 +1,4 @@
-"""Creep-force laws: Polach (2005) with slip-velocity-dependent friction, and Kalker's linear theory.
+"""Creep-force laws: Polach (2005) with slip-velocity-dependent friction; Kalker's linear theory.
 
 Only longitudinal creep is modelled (the wheel-roller pair of the rig has no lateral creep or
 spin by construction), as in the seed dissertation (Kayaalp, section 4.5.1.2).
