@@ -62,7 +62,7 @@ def test_bundled_names():
 
 @pytest.mark.parametrize(
     ("name", "speed_kmh", "friction", "level_Nm"),
-    [("seed-30kmh-dry", 30.0, "dry", 600.0), ("seed-10kmh-wet", 10.0, "wet", 200.0)],
+    [("seed-30kmh-dry", 30.0, "dry", 720.0), ("seed-10kmh-wet", 10.0, "wet", 380.0)],
 )
 def test_seed_protocols(name, speed_kmh, friction, level_Nm):
     # Kayaalp 4.5.1.6: 30 km/h dry, 10 km/h wet; 4.2.1: three repetitions with sudden release.
@@ -276,10 +276,10 @@ def test_breakpoints_of_bundled_dry():
 def test_interp_scalar_and_vector():
     p = load_protocol("seed-30kmh-dry")
     assert isinstance(p.torque_at(3.5), float)
-    assert p.torque_at(3.5) == pytest.approx(300.0)  # half-way up the 3 s ramp from 2 s
+    assert p.torque_at(3.5) == pytest.approx(360.0)  # half-way up the 3 s ramp from 2 s
     out = p.torque_at(np.array([[2.0, 3.5], [5.0, 40.0]]))
     assert out.shape == (2, 2)
-    np.testing.assert_allclose(out, [[0.0, 300.0], [600.0, 0.0]])
+    np.testing.assert_allclose(out, [[0.0, 360.0], [720.0, 0.0]])
 
 
 def test_protocol_constructor_validates():

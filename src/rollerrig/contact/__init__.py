@@ -1,1 +1,66 @@
-"""rollerrig.contact"""
+"""Contact mechanics of the wheel-roller pair.
+
+- :mod:`~rollerrig.contact.hertz` — exact Hertz elliptical contact (complete elliptic integrals).
+- :mod:`~rollerrig.contact.kalker` — Kalker's creepage coefficients (Kalker 1990, Table E.3).
+- :mod:`~rollerrig.contact.creep` — Polach's creep law with slip-velocity-dependent friction,
+  Kalker's linear theory, named parameter sets.
+- :mod:`~rollerrig.contact.kinematics` — creep and slip velocity from wheel and roller speeds.
+- :mod:`~rollerrig.contact.roller` — roller versus tangent rail (contact size).
+- :mod:`~rollerrig.contact.curves` — creep-adhesion curves for a geometry.
+"""
+
+from rollerrig.contact.creep import (
+    POLACH_DRY,
+    POLACH_PARAMETER_SETS,
+    POLACH_WET,
+    PolachParameters,
+    adhesion_gradient,
+    friction_coefficient,
+    kalker_linear_force,
+    polach_creep_force,
+)
+from rollerrig.contact.curves import CreepCurve, polach_creep_curve
+from rollerrig.contact.hertz import (
+    CombinedElasticConstants,
+    HertzContact,
+    combined_elastic_constants,
+    hertz_contact,
+)
+from rollerrig.contact.kalker import (
+    KALKER_TABLE,
+    KalkerCoefficients,
+    KalkerTable,
+    kalker_coefficients,
+)
+from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED, creep_and_slip_velocity
+from rollerrig.contact.roller import (
+    RollerRailComparison,
+    area_ratio_to_tangent_rail,
+    contact_versus_roller_radius,
+)
+
+__all__ = [
+    "DEFAULT_REGULARISATION_SPEED",
+    "KALKER_TABLE",
+    "POLACH_DRY",
+    "POLACH_PARAMETER_SETS",
+    "POLACH_WET",
+    "CombinedElasticConstants",
+    "CreepCurve",
+    "HertzContact",
+    "KalkerCoefficients",
+    "KalkerTable",
+    "PolachParameters",
+    "RollerRailComparison",
+    "adhesion_gradient",
+    "area_ratio_to_tangent_rail",
+    "combined_elastic_constants",
+    "contact_versus_roller_radius",
+    "creep_and_slip_velocity",
+    "friction_coefficient",
+    "hertz_contact",
+    "kalker_coefficients",
+    "kalker_linear_force",
+    "polach_creep_curve",
+    "polach_creep_force",
+]

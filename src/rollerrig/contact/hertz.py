@@ -1,0 +1,364 @@
+"""Exact Hertz theory for the elliptical contact of two convex bodies (wheel and roller or rail).
+
+The contact ellipse is solved with complete elliptic integrals, not with the tabulated Hertz
+coefficients m, n: the eccentricity follows from the curvature ratio by a vectorised bisection,
+then the semi-axes, the peak pressure and the mutual approach follow in closed form.
+
+Geometry and notation (Johnson 1985, §4.2): x is the rolling direction, y the lateral direction,
+z the common normal. Both bodies are convex with aligned principal planes, so the gap between
+them is ``h = A x² + B y²`` with
+
+    A = ½ (1/R_wx + 1/R_rx),    B = ½ (1/R_wy + 1/R_ry).
+
+A radius of ``np.inf`` is a flat direction (a tangent rail is flat longitudinally:
+``roller_radius_x=np.inf``). The semi-axis ``a`` lies along x and ``b`` along y; the major axis
+lies in the direction of the *smaller* relative curvature, so ``a > b`` when ``A < B``.
+
+References
+----------
+.. [1] H. Hertz, "Über die Berührung fester elastischer Körper", J. reine angew. Math. 92 (1882)
+   156-171.
+.. [2] K. L. Johnson, *Contact Mechanics*, Cambridge University Press (1985), §4.2,
+   eqs. (4.39)-(4.41).
+.. [3] NIST Digital Library of Mathematical Functions, §19.25(i), eq. 19.25.1 (complete
+   elliptic integrals as Carlson symmetric integrals).
+.. [4] J. J. Kalker, *Three-Dimensional Elastic Bodies in Rolling Contact*, Kluwer (1990),
+   §1.6 (combined elastic constants of two dissimilar bodies).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from scipy.special import ellipe, ellipkm1, elliprd
+
+from rollerrig._validation import ParameterError, require_in_range, require_positive
+
+__all__ = [
+    "CombinedElasticConstants",
+    "HertzContact",
+    "combined_elastic_constants",
+    "hertz_contact",
+]
+
+#: Fixed number of bisection steps in ln(b/a); the bracket is at most (2/3)·ln(ρ) wide, so 64
+#: halvings reach the spacing of doubles for any curvature ratio representable in float64.
+_BISECTION_STEPS = 64
+
+
+# --------------------------------------------------------------------------------------------
+# Kernels (plain numpy arithmetic, no validation)
+# --------------------------------------------------------------------------------------------
+
+
+def _curvature_ratio_of_axis_ratio(axis_ratio):
+    """Curvature ratio ρ = B/A ≥ 1 of the ellipse with minor/major axis ratio g = b/a ≤ 1.
+
+    Johnson (1985) eq. (4.39a,b) divided: ``B/A = [E/(1-e²) - K] / [K - E]`` with m = e² = 1 - g².
+    Written with Carlson's integrals (DLMF 19.25.1: ``K - E = (m/3) R_D(0, g², 1)`` and
+    ``E - g² K = (m g²/3) R_D(0, 1, g²)``) the common factor m cancels, which removes the
+    cancellation of ``K - E`` near the circle:
+
+        ρ(g) = R_D(0, 1, g²) / R_D(0, g², 1).
+    """
+    g2 = axis_ratio * axis_ratio
+    return elliprd(0.0, 1.0, g2) / elliprd(0.0, g2, 1.0)
+
+
+def _axis_ratio_kernel(curvature_ratio):
+    """Minor/major semi-axis ratio g ∈ (0, 1] for a curvature ratio ρ = B/A ≥ 1 (vectorised).
+
+    Solves ρ(g) = ``curvature_ratio`` by bisection in u = ln g. ρ(g) decreases monotonically
+    from +∞ (g → 0) to 1 (g = 1), and g·ρ(g)^(2/3) ≥ 1 for all g, so the root lies in
+    [-(2/3)·ln ρ, 0]. ρ = 1 (the circle) returns g = 1 exactly.
+    """
+    log_target = np.log(curvature_ratio)
+    lo = -(2.0 / 3.0) * log_target
+    hi = np.zeros_like(lo)
+    for _ in range(_BISECTION_STEPS):
+        mid = 0.5 * (lo + hi)
+        too_round = np.log(_curvature_ratio_of_axis_ratio(np.exp(mid))) < log_target
+        hi = np.where(too_round, mid, hi)
+        lo = np.where(too_round, lo, mid)
+    return np.exp(0.5 * (lo + hi))
+
+
+def _hertz_kernel(normal_load, curvature_x, curvature_y, effective_modulus):
+    """Exact Hertz ellipse for relative curvatures A (along x) and B (along y).
+
+    Returns ``(a, b, p0, delta)``: semi-axis along x and along y [m], peak pressure [Pa] and
+    mutual approach [m]. With g = b_minor/a_major, m = e² = 1 - g² and K, E the complete
+    elliptic integrals of parameter m (Johnson 1985, eqs. 4.39-4.41):
+
+        a_major³ = 3 Q E / (2π g² (A + B) E*)
+        b_minor  = g a_major
+        p0       = 3 Q / (2π a b)
+        δ        = (A + B) b_minor² K / E
+    """
+    curvature_small = np.minimum(curvature_x, curvature_y)
+    curvature_large = np.maximum(curvature_x, curvature_y)
+    g = _axis_ratio_kernel(curvature_large / curvature_small)
+    g2 = g * g
+    elliptic_k = ellipkm1(g2)  # K(m) with 1 - m = g², exact for slender ellipses
+    elliptic_e = ellipe(1.0 - g2)
+    curvature_sum = curvature_x + curvature_y
+    major = np.cbrt(
+        3.0 * normal_load * elliptic_e / (2.0 * np.pi * g2 * curvature_sum * effective_modulus)
+    )
+    minor = g * major
+    x_is_major = curvature_x <= curvature_y
+    semi_axis_x = np.where(x_is_major, major, minor)
+    semi_axis_y = np.where(x_is_major, minor, major)
+    peak_pressure = 3.0 * normal_load / (2.0 * np.pi * major * minor)
+    approach = curvature_sum * minor * minor * elliptic_k / elliptic_e
+    return semi_axis_x, semi_axis_y, peak_pressure, approach
+
+
+def _effective_modulus_kernel(youngs_modulus_1, poisson_1, youngs_modulus_2, poisson_2):
+    """Effective modulus E* [Pa]: 1/E* = (1-ν1²)/E1 + (1-ν2²)/E2 (Johnson 1985, eq. 4.22)."""
+    return 1.0 / (
+        (1.0 - poisson_1 * poisson_1) / youngs_modulus_1
+        + (1.0 - poisson_2 * poisson_2) / youngs_modulus_2
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# Public functions
+# --------------------------------------------------------------------------------------------
+
+
+class CombinedElasticConstants(NamedTuple):
+    """Combined elastic constants of two bodies in contact.
+
+    Attributes
+    ----------
+    effective_modulus : float or ndarray
+        E* [Pa], with 1/E* = (1-ν1²)/E1 + (1-ν2²)/E2 (Johnson 1985, eq. 4.22).
+    shear_modulus : float or ndarray
+        Kalker's combined shear modulus G [Pa], with 2/G = 1/G1 + 1/G2 (Kalker 1990, §1.6).
+    poisson : float or ndarray
+        Kalker's combined Poisson ratio ν [-], with ν/G = ½(ν1/G1 + ν2/G2) (Kalker 1990, §1.6).
+    """
+
+    effective_modulus: float | np.ndarray
+    shear_modulus: float | np.ndarray
+    poisson: float | np.ndarray
+
+
+def combined_elastic_constants(
+    youngs_modulus_1, poisson_1, youngs_modulus_2, poisson_2
+) -> CombinedElasticConstants:
+    """Effective modulus E*, combined shear modulus G and combined Poisson ratio ν of two bodies.
+
+    Parameters
+    ----------
+    youngs_modulus_1, youngs_modulus_2 : array_like
+        Young's moduli E1, E2 of the two bodies [Pa], > 0.
+    poisson_1, poisson_2 : array_like
+        Poisson ratios ν1, ν2 of the two bodies [-], in (0, 0.5).
+
+    Returns
+    -------
+    CombinedElasticConstants
+        ``(effective_modulus, shear_modulus, poisson)``:
+        1/E* = (1-ν1²)/E1 + (1-ν2²)/E2 (Johnson 1985, eq. 4.22);
+        2/G = 1/G1 + 1/G2 and ν/G = ½(ν1/G1 + ν2/G2) with G_i = E_i / (2(1+ν_i))
+        (Kalker 1990, §1.6). Identical bodies give E* = E/(2(1-ν²)), G = G1 and ν = ν1.
+
+    Raises
+    ------
+    ParameterError
+        If a modulus is not > 0 or a Poisson ratio is outside (0, 0.5).
+
+    Examples
+    --------
+    >>> c = combined_elastic_constants(210e9, 0.3, 210e9, 0.3)
+    >>> round(float(c.effective_modulus) / 1e9, 3), round(float(c.shear_modulus) / 1e9, 3)
+    (115.385, 80.769)
+    >>> round(float(c.poisson), 12)
+    0.3
+    """
+    e1 = require_positive("youngs_modulus_1", youngs_modulus_1, "Pa")
+    e2 = require_positive("youngs_modulus_2", youngs_modulus_2, "Pa")
+    nu1 = require_in_range("poisson_1", poisson_1, 0.0, 0.5, "-")
+    nu2 = require_in_range("poisson_2", poisson_2, 0.0, 0.5, "-")
+    e_star = _effective_modulus_kernel(e1, nu1, e2, nu2)
+    g1 = e1 / (2.0 * (1.0 + nu1))
+    g2 = e2 / (2.0 * (1.0 + nu2))
+    shear = 2.0 / (1.0 / g1 + 1.0 / g2)
+    nu = shear * 0.5 * (nu1 / g1 + nu2 / g2)
+    return CombinedElasticConstants(_out(e_star), _out(shear), _out(nu))
+
+
+@dataclass(frozen=True)
+class HertzContact:
+    """Result of :func:`hertz_contact`; every field has the broadcast shape of the inputs.
+
+    Attributes
+    ----------
+    semi_axis_x : float or ndarray
+        Semi-axis a of the contact ellipse along the rolling direction x [m].
+    semi_axis_y : float or ndarray
+        Semi-axis b of the contact ellipse along the lateral direction y [m].
+    area : float or ndarray
+        Contact area π a b [m²].
+    peak_pressure : float or ndarray
+        Maximum contact pressure p0 = 3Q / (2π a b) [Pa].
+    approach : float or ndarray
+        Mutual approach δ of distant points of the two bodies [m].
+    a_over_b : float or ndarray
+        Ellipse axis ratio a/b [-] (> 1 when the ellipse is long in the rolling direction).
+    """
+
+    semi_axis_x: float | np.ndarray
+    semi_axis_y: float | np.ndarray
+    area: float | np.ndarray
+    peak_pressure: float | np.ndarray
+    approach: float | np.ndarray
+    a_over_b: float | np.ndarray
+
+
+def hertz_contact(
+    normal_load,
+    wheel_radius_x,
+    wheel_radius_y,
+    roller_radius_x,
+    roller_radius_y,
+    youngs_modulus=210e9,
+    poisson=0.3,
+    youngs_modulus_2=None,
+    poisson_2=None,
+) -> HertzContact:
+    """Exact Hertz contact ellipse between a wheel and a roller (or rail), both convex.
+
+    With A = ½(1/R_wx + 1/R_rx) and B = ½(1/R_wy + 1/R_ry), the axis ratio g = b_minor/a_major
+    solves (Johnson 1985, eqs. 4.39a,b divided)
+
+        max(A, B) / min(A, B) = [E(m)/(1-m) - K(m)] / [K(m) - E(m)],    m = e² = 1 - g²,
+
+    found by bisection in ln g (evaluated through Carlson's R_D, DLMF 19.25.1, so that it is
+    exact also near the circle and for slender ellipses); then (Johnson 1985, eqs. 4.39-4.41)
+
+        a_major³ = 3 Q E(m) / (2π g² (A + B) E*),    b_minor = g a_major,
+        p0 = 3 Q / (2π a b),    δ = (A + B) b_minor² K(m) / E(m).
+
+    The major axis lies along the direction of the smaller relative curvature. A = B gives the
+    circle, a = b = (3 Q R / (4 E*))^(1/3) with 1/R = 2A. All arguments broadcast.
+
+    Parameters
+    ----------
+    normal_load : array_like
+        Normal load Q [N], > 0.
+    wheel_radius_x : array_like
+        Wheel rolling radius R_wx, in the rolling plane [m], > 0 (``np.inf`` allowed: flat).
+    wheel_radius_y : array_like
+        Wheel transverse profile radius R_wy [m], > 0 (``np.inf`` allowed: cylindrical tread).
+    roller_radius_x : array_like
+        Roller radius R_rx in the rolling plane [m], > 0; ``np.inf`` for a tangent rail.
+    roller_radius_y : array_like
+        Roller (or rail head) transverse profile radius R_ry [m], > 0 (``np.inf`` allowed).
+    youngs_modulus : array_like, optional
+        Young's modulus E of the wheel [Pa], > 0. Default 210e9.
+    poisson : array_like, optional
+        Poisson ratio ν of the wheel [-], in (0, 0.5). Default 0.3.
+    youngs_modulus_2 : array_like, optional
+        Young's modulus of the roller [Pa]; defaults to ``youngs_modulus``.
+    poisson_2 : array_like, optional
+        Poisson ratio of the roller [-]; defaults to ``poisson``.
+
+    Returns
+    -------
+    HertzContact
+        Semi-axes a (x) and b (y) [m], area [m²], peak pressure [Pa], approach [m], a/b [-].
+
+    Raises
+    ------
+    ParameterError
+        If a load, modulus or radius is not > 0 (radius NaN included), a Poisson ratio lies
+        outside (0, 0.5), or both radii of one direction are infinite (then the contact is a
+        line or a plane, not an ellipse).
+
+    References
+    ----------
+    Hertz (1882); Johnson, *Contact Mechanics* (1985), §4.2, eqs. (4.39)-(4.41);
+    DLMF §19.25(i).
+
+    Examples
+    --------
+    The seed's section 2.5 tangent-rail case (Kayaalp, §2.5): wheel 350 mm, lateral radii
+    300/400 mm, 20 kN, E = 210 GPa, ν = 0.3.
+
+    >>> c = hertz_contact(20e3, 0.35, 0.30, np.inf, 0.40)
+    >>> round(float(c.semi_axis_x) * 1e3, 3), round(float(c.semi_axis_y) * 1e3, 3)
+    (3.991, 2.482)
+    >>> round(float(c.area) * 1e6, 2)
+    31.12
+
+    Two equal steel spheres of radius 10 mm under 100 N (circle, a = (3QR/(4E*))^(1/3), R = 5 mm):
+
+    >>> s = hertz_contact(100.0, 0.01, 0.01, 0.01, 0.01)
+    >>> bool(np.isclose(s.semi_axis_x, (3 * 100.0 * 0.005 / (4 * 210e9 / 1.82)) ** (1 / 3)))
+    True
+    """
+    load = require_positive("normal_load", normal_load, "N")
+    r_wx = _require_radius("wheel_radius_x", wheel_radius_x)
+    r_wy = _require_radius("wheel_radius_y", wheel_radius_y)
+    r_rx = _require_radius("roller_radius_x", roller_radius_x)
+    r_ry = _require_radius("roller_radius_y", roller_radius_y)
+    e1 = require_positive("youngs_modulus", youngs_modulus, "Pa")
+    nu1 = require_in_range("poisson", poisson, 0.0, 0.5, "-")
+    e2 = e1
+    if youngs_modulus_2 is not None:
+        e2 = require_positive("youngs_modulus_2", youngs_modulus_2, "Pa")
+    nu2 = nu1
+    if poisson_2 is not None:
+        nu2 = require_in_range("poisson_2", poisson_2, 0.0, 0.5, "-")
+
+    if np.any(np.isinf(r_wx) & np.isinf(r_rx)):
+        raise ParameterError(
+            "wheel_radius_x and roller_radius_x must not both be infinite [m]: "
+            "two flat directions make a line contact, not a Hertz ellipse"
+        )
+    if np.any(np.isinf(r_wy) & np.isinf(r_ry)):
+        raise ParameterError(
+            "wheel_radius_y and roller_radius_y must not both be infinite [m]: "
+            "two flat directions make a line contact, not a Hertz ellipse"
+        )
+
+    load, r_wx, r_wy, r_rx, r_ry, e1, nu1, e2, nu2 = np.broadcast_arrays(
+        load, r_wx, r_wy, r_rx, r_ry, e1, nu1, e2, nu2
+    )
+    curvature_x = 0.5 * (1.0 / r_wx + 1.0 / r_rx)
+    curvature_y = 0.5 * (1.0 / r_wy + 1.0 / r_ry)
+    e_star = _effective_modulus_kernel(e1, nu1, e2, nu2)
+    a, b, p0, delta = _hertz_kernel(load, curvature_x, curvature_y, e_star)
+    return HertzContact(
+        semi_axis_x=_out(a),
+        semi_axis_y=_out(b),
+        area=_out(np.pi * a * b),
+        peak_pressure=_out(p0),
+        approach=_out(delta),
+        a_over_b=_out(a / b),
+    )
+
+
+def _require_radius(name: str, value) -> np.ndarray:
+    """A radius of curvature [m]: > 0, ``np.inf`` allowed (flat), NaN rejected."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"{name} must be a number [m], got {value!r}") from exc
+    bad = np.isnan(arr) | (arr <= 0.0)
+    if np.any(bad):
+        shown = arr[bad].ravel()[:6]
+        got = f"{float(shown[0]):g}" if arr.ndim == 0 else np.array2string(shown, precision=4)
+        raise ParameterError(f"{name} must be > 0 [m] (np.inf for a flat direction), got {got}")
+    return arr
+
+
+def _out(arr):
+    """0-d arrays become numpy scalars; arrays are returned as they are."""
+    arr = np.asarray(arr)
+    return arr[()] if arr.ndim == 0 else arr

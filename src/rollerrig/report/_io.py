@@ -1,0 +1,79 @@
+"""Atomic output writing and provenance records shared by every writer of the package."""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import tempfile
+from collections.abc import Callable
+from datetime import UTC, datetime
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["atomic_write", "provenance", "save_figure", "write_json"]
+
+
+def provenance(**parameters) -> dict:
+    """A provenance record: package version, time, platform and the given parameters."""
+    from rollerrig import __version__
+
+    return {
+        "software": "rollerrig",
+        "version": __version__,
+        "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "parameters": parameters,
+    }
+
+
+def atomic_write(path: str | os.PathLike, write: Callable[[Path], None]) -> Path:
+    """Call ``write(tmp_path)`` and move the result onto ``path`` in one step.
+
+    A reader never sees a half-written file, and a failure leaves any previous file intact.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}-", suffix=path.suffix, dir=path.parent)
+    os.close(fd)
+    tmp_path = Path(tmp)
+    try:
+        write(tmp_path)
+        os.replace(tmp_path, path)
+    finally:
+        if tmp_path.exists():
+            tmp_path.unlink()
+    return path
+
+
+def _json_default(obj):
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
+
+
+def write_json(path: str | os.PathLike, obj) -> Path:
+    """Write ``obj`` as indented JSON, atomically."""
+    text = json.dumps(obj, indent=2, default=_json_default, allow_nan=False)
+    return atomic_write(path, lambda p: p.write_text(text + "\n", encoding="utf-8"))
+
+
+def save_figure(
+    fig, path: str | os.PathLike, *, dpi: int = 150, metadata: dict | None = None
+) -> Path:
+    """Save a matplotlib figure atomically (format from the suffix), with text metadata."""
+    path = Path(path)
+    fmt = path.suffix.lstrip(".") or "png"
+    meta = {"Software": "rollerrig"}
+    if metadata and fmt == "png":
+        meta.update({k: json.dumps(v, default=_json_default) for k, v in metadata.items()})
+    return atomic_write(
+        path,
+        lambda p: fig.savefig(p, format=fmt, dpi=dpi, bbox_inches="tight", metadata=meta),
+    )

@@ -1,0 +1,293 @@
+"""Tests for rollerrig.contact.hertz against published numbers, closed forms and invariants."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.integrate import quad
+from scipy.special import ellipe
+
+from rollerrig._validation import ParameterError
+from rollerrig.contact.hertz import combined_elastic_constants, hertz_contact
+
+E_STEEL = 210e9
+NU_STEEL = 0.3
+E_STAR_STEEL = E_STEEL / (2.0 * (1.0 - NU_STEEL**2))
+
+
+# --- Published numbers --------------------------------------------------------------------
+
+
+def test_seed_section_2_5_tangent_rail_area():
+    # Source: Kayaalp (seed dissertation), §2.5: wheel R_wx = 350 mm, lateral radii 300 mm
+    # (wheel) and 400 mm (rail), 20 kN, E = 210 GPa, nu = 0.3, tangent rail: 31.1196 mm².
+    # Exact Hertz gives 31.1244 mm² (0.015 % above). The seed used a tabulated m/n procedure
+    # (Shabana et al., its ref. [95]) whose 3-4 digit coefficients explain the difference;
+    # tolerance 0.1 %.
+    c = hertz_contact(20e3, 0.35, 0.30, np.inf, 0.40, youngs_modulus=E_STEEL, poisson=NU_STEEL)
+    assert c.area == pytest.approx(31.1196e-6, rel=1e-3)
+
+
+def test_seed_section_2_5_roller_10m_area():
+    # Source: Kayaalp (seed dissertation), §2.5: same case on a roller of 10 m radius:
+    # 30.9129 mm². Exact Hertz gives 30.8095 mm² (0.33 % below). The point (theta = 70.9 deg)
+    # falls between the nodes of the m/n table; linear interpolation of the Timoshenko-Goodier
+    # table between its 70 and 80 deg nodes gives 30.915 mm², so the gap is plausibly the seed's
+    # table interpolation (the tangent case sits on the 70 deg node). Tolerance 0.5 %.
+    c = hertz_contact(20e3, 0.35, 0.30, 10.0, 0.40)
+    assert c.area == pytest.approx(30.9129e-6, rel=5e-3)
+
+
+# Timoshenko & Goodier, Theory of Elasticity (1951), §140 table of the Hertz coefficients m, n
+# versus theta, cos(theta) = (B - A)/(A + B), with a = m·[3πQ(k1+k2)/(4(A+B))]^(1/3),
+# k_i = (1 - nu_i²)/(π E_i); the same table is used in public wheel-rail codes (3-4 digits).
+TIMOSHENKO_MN = [
+    (30.0, 2.731, 0.493),
+    (45.0, 1.926, 0.604),
+    (50.0, 1.754, 0.641),
+    (60.0, 1.486, 0.717),
+    (70.0, 1.284, 0.802),
+    (75.0, 1.202, 0.846),
+    (80.0, 1.128, 0.893),
+    (85.0, 1.061, 0.944),
+    (90.0, 1.0, 1.0),
+]
+
+
+@pytest.mark.parametrize(("theta_deg", "m_ref", "n_ref"), TIMOSHENKO_MN)
+def test_hertz_coefficients_m_n_table(theta_deg, m_ref, n_ref):
+    # Source: Timoshenko & Goodier (1951) §140, table of m and n; 3-4 significant digits, so
+    # agreement to 0.3 % (the table's rounding) is required.
+    cos_t = np.cos(np.radians(theta_deg))
+    a_curv, b_curv = 0.5 * (1.0 - cos_t), 0.5 * (1.0 + cos_t)  # A + B = 1 [1/m], A <= B
+    load = 1000.0
+    c = hertz_contact(load, 1 / (2 * a_curv), 1 / (2 * b_curv), np.inf, np.inf)
+    k = (1.0 - NU_STEEL**2) / (np.pi * E_STEEL)
+    scale = (3.0 * np.pi * load * 2.0 * k / (4.0 * (a_curv + b_curv))) ** (1.0 / 3.0)
+    assert c.semi_axis_x / scale == pytest.approx(m_ref, rel=3e-3)
+    assert c.semi_axis_y / scale == pytest.approx(n_ref, rel=3e-3)
+
+
+# --- Closed forms ---------------------------------------------------------------------------
+
+
+def test_sphere_on_flat_closed_form():
+    # Source: Johnson (1985) eqs. (4.22)-(4.23): a = (3QR/(4E*))^(1/3), delta = a²/R,
+    # p0 = 3Q/(2πa²).
+    load, radius = 500.0, 0.0125
+    c = hertz_contact(load, radius, radius, np.inf, np.inf)
+    a = (3.0 * load * radius / (4.0 * E_STAR_STEEL)) ** (1.0 / 3.0)
+    assert c.semi_axis_x == pytest.approx(a, rel=1e-12)
+    assert c.semi_axis_y == pytest.approx(a, rel=1e-12)
+    assert c.approach == pytest.approx(a**2 / radius, rel=1e-12)
+    assert c.peak_pressure == pytest.approx(3.0 * load / (2.0 * np.pi * a**2), rel=1e-12)
+    assert c.a_over_b == 1.0
+
+
+def test_two_equal_spheres_closed_form():
+    # Source: Johnson (1985) eq. (4.23): two spheres R1 = R2 = R give 1/R_eff = 2/R.
+    load, radius = 100.0, 0.01
+    c = hertz_contact(load, radius, radius, radius, radius)
+    r_eff = radius / 2.0
+    a = (3.0 * load * r_eff / (4.0 * E_STAR_STEEL)) ** (1.0 / 3.0)
+    assert c.semi_axis_x == pytest.approx(a, rel=1e-12)
+    assert c.approach == pytest.approx(a**2 / r_eff, rel=1e-12)
+
+
+def test_crossed_equal_cylinders_are_a_circle():
+    # Source: Johnson (1985) §4.2: crossed cylinders of equal radius R give A = B = 1/(2R), the
+    # same contact as a sphere of radius R on a flat.
+    c = hertz_contact(1e3, 0.05, np.inf, np.inf, 0.05)
+    s = hertz_contact(1e3, 0.05, 0.05, np.inf, np.inf)
+    assert c.semi_axis_x == pytest.approx(s.semi_axis_x, rel=1e-12)
+    assert c.semi_axis_y == pytest.approx(s.semi_axis_x, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "radii", [(0.35, 0.30, np.inf, 0.40), (0.46, np.inf, np.inf, 0.30), (0.02, 0.5, 0.1, 3.0)]
+)
+def test_ellipse_reproduces_curvatures_by_quadrature(radii):
+    # Independent method: the Boussinesq deflection under the Hertz pressure
+    # p0·sqrt(1 - x²/a² - y²/b²) is u(x, y) = delta - A x² - B y² with (Johnson 1985, §3.6)
+    #   A = (p0 a b / (2E*)) ∫ dw / ((a²+w) sqrt((a²+w)(b²+w)w)),  B likewise with b²,
+    #   delta = (p0 a b / (2E*)) ∫ dw / sqrt((a²+w)(b²+w)w),  0 < w < inf,
+    # evaluated here by adaptive quadrature instead of elliptic integrals.
+    r_wx, r_wy, r_rx, r_ry = radii
+    c = hertz_contact(7e3, r_wx, r_wy, r_rx, r_ry)
+    a, b = float(c.semi_axis_x), float(c.semi_axis_y)
+    factor = float(c.peak_pressure) * a * b / (2.0 * E_STAR_STEEL)
+
+    def integral(f):
+        # substitution w = s², dw = 2s ds, removes the 1/sqrt(w) end-point singularity
+        return quad(lambda s: 2.0 * f(s * s), 0.0, np.inf, epsabs=0.0, epsrel=1e-12, limit=500)[0]
+
+    root = lambda w: np.sqrt((a * a + w) * (b * b + w))  # noqa: E731
+    curv_x = factor * integral(lambda w: 1.0 / ((a * a + w) * root(w)))
+    curv_y = factor * integral(lambda w: 1.0 / ((b * b + w) * root(w)))
+    approach = factor * integral(lambda w: 1.0 / root(w))
+    assert curv_x == pytest.approx(0.5 * (1 / r_wx + 1 / r_rx), rel=1e-8)
+    assert curv_y == pytest.approx(0.5 * (1 / r_wy + 1 / r_ry), rel=1e-8)
+    assert c.approach == pytest.approx(approach, rel=1e-8)
+
+
+def test_peak_pressure_matches_johnson_4_39_sum():
+    # Source: Johnson (1985) eq. (4.39a)+(4.39b): A + B = p0 E(e) / (E* b_minor).
+    c = hertz_contact(20e3, 0.35, 0.30, np.inf, 0.40)
+    a, b = float(c.semi_axis_x), float(c.semi_axis_y)
+    m = 1.0 - (b / a) ** 2
+    curvature_sum = 0.5 / 0.35 + 0.5 * (1 / 0.30 + 1 / 0.40)
+    assert c.peak_pressure == pytest.approx(curvature_sum * E_STAR_STEEL * b / ellipe(m), rel=1e-10)
+
+
+# --- Combined elastic constants ------------------------------------------------------------
+
+
+def test_combined_constants_identical_bodies():
+    # Source: Johnson (1985) eq. (4.22) and Kalker (1990) §1.6 for equal materials.
+    c = combined_elastic_constants(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL)
+    assert c.effective_modulus == pytest.approx(E_STAR_STEEL, rel=1e-14)
+    assert c.shear_modulus == pytest.approx(E_STEEL / (2 * 1.3), rel=1e-14)
+    assert c.poisson == pytest.approx(NU_STEEL, rel=1e-14)
+
+
+def test_combined_constants_steel_on_aluminium():
+    # Definitions (Johnson 1985 eq. 4.22; Kalker 1990 §1.6) evaluated by hand:
+    # steel E = 210 GPa, nu = 0.3 (G1 = 80.769 GPa); aluminium E = 70 GPa, nu = 0.33
+    # (G2 = 26.316 GPa): 1/E* = 0.91/210e9 + 0.8911/70e9 -> E* = 58.61 GPa,
+    # G = 2/(1/G1 + 1/G2) = 39.698 GPa, nu = G/2 (0.3/G1 + 0.33/G2) = 0.32263.
+    c = combined_elastic_constants(210e9, 0.3, 70e9, 0.33)
+    assert c.effective_modulus == pytest.approx(1 / (0.91 / 210e9 + 0.8911 / 70e9), rel=1e-12)
+    g1, g2 = 210e9 / 2.6, 70e9 / 2.66
+    assert c.shear_modulus == pytest.approx(2 / (1 / g1 + 1 / g2), rel=1e-12)
+    assert c.shear_modulus == pytest.approx(39.698e9, rel=1e-4)
+    assert c.poisson == pytest.approx(0.32263, rel=1e-4)
+
+
+def test_dissimilar_materials_use_effective_modulus():
+    # Hertz depends on the materials only through E*: body 2 softer = same contact as two equal
+    # bodies of the same E*.
+    soft = hertz_contact(1e3, 0.3, 0.2, 0.5, np.inf, 210e9, 0.3, 70e9, 0.33)
+    e_star = combined_elastic_constants(210e9, 0.3, 70e9, 0.33).effective_modulus
+    nu = 0.25
+    e_equal = 2.0 * e_star * (1.0 - nu**2)
+    same = hertz_contact(1e3, 0.3, 0.2, 0.5, np.inf, e_equal, nu)
+    assert soft.semi_axis_x == pytest.approx(same.semi_axis_x, rel=1e-12)
+    assert soft.approach == pytest.approx(same.approach, rel=1e-12)
+
+
+# --- Invariants -----------------------------------------------------------------------------
+
+
+def test_load_scaling():
+    # Hertz: a, b, p0 ∝ Q^(1/3), delta ∝ Q^(2/3) (Johnson 1985 §4.2).
+    loads = np.array([1e3, 8e3, 64e3])
+    c = hertz_contact(loads, 0.35, 0.30, 0.45, 0.40)
+    np.testing.assert_allclose(c.semi_axis_x[1:] / c.semi_axis_x[:-1], 2.0, rtol=1e-12)
+    np.testing.assert_allclose(c.semi_axis_y[1:] / c.semi_axis_y[:-1], 2.0, rtol=1e-12)
+    np.testing.assert_allclose(c.peak_pressure[1:] / c.peak_pressure[:-1], 2.0, rtol=1e-12)
+    np.testing.assert_allclose(c.approach[1:] / c.approach[:-1], 4.0, rtol=1e-12)
+    np.testing.assert_allclose(c.a_over_b, c.a_over_b[0], rtol=1e-12)
+
+
+def test_swapping_x_and_y_swaps_axes():
+    c = hertz_contact(10e3, 0.35, 0.30, np.inf, 0.40)
+    s = hertz_contact(10e3, 0.30, 0.35, 0.40, np.inf)
+    assert s.semi_axis_x == pytest.approx(c.semi_axis_y, rel=1e-12)
+    assert s.semi_axis_y == pytest.approx(c.semi_axis_x, rel=1e-12)
+    assert s.approach == pytest.approx(c.approach, rel=1e-12)
+    assert s.a_over_b == pytest.approx(1.0 / c.a_over_b, rel=1e-12)
+
+
+def test_major_axis_along_smaller_curvature():
+    long_x = hertz_contact(1e4, 0.5, 0.1, np.inf, np.inf)  # A < B -> a > b
+    long_y = hertz_contact(1e4, 0.1, 0.5, np.inf, np.inf)  # A > B -> a < b
+    assert long_x.semi_axis_x > long_x.semi_axis_y
+    assert long_y.semi_axis_x < long_y.semi_axis_y
+
+
+def test_broadcasting_shapes_and_scalars():
+    c = hertz_contact(np.array([[1e3], [2e3]]), 0.35, 0.30, np.array([0.5, 1.0, np.inf]), 0.40)
+    assert np.shape(c.semi_axis_x) == (2, 3)
+    assert np.shape(c.area) == (2, 3)
+    s = hertz_contact(2e3, 0.35, 0.30, 1.0, 0.40)
+    assert np.ndim(s.semi_axis_x) == 0
+    assert s.area == pytest.approx(c.area[1, 1], rel=1e-15)
+
+
+def test_extremely_slender_ellipse():
+    # Curvature ratio 1e8: the solver must stay bracketed and consistent with quadrature-free
+    # relations (area and p0).
+    c = hertz_contact(1e3, 1e-3, 1e5, np.inf, np.inf)
+    assert np.isfinite(c.semi_axis_x) and np.isfinite(c.semi_axis_y)
+    assert c.semi_axis_y > 1e3 * c.semi_axis_x
+    assert c.peak_pressure * c.area == pytest.approx(1.5 * 1e3, rel=1e-12)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    load=st.floats(1.0, 1e6),
+    r_wx=st.floats(1e-3, 10.0),
+    r_wy=st.floats(1e-3, 10.0),
+    r_ry=st.floats(1e-3, 10.0),
+    scale=st.floats(1.5, 20.0),
+)
+def test_properties_hold_for_random_geometry(load, r_wx, r_wy, r_ry, scale):
+    c = hertz_contact(load, r_wx, r_wy, np.inf, r_ry)
+    # total load is the integral of the Hertz pressure: Q = (2/3) p0 π a b
+    assert (2.0 / 3.0) * c.peak_pressure * c.area == pytest.approx(load, rel=1e-12)
+    # load scaling by `scale`
+    d = hertz_contact(load * scale, r_wx, r_wy, np.inf, r_ry)
+    assert d.semi_axis_x / c.semi_axis_x == pytest.approx(scale ** (1 / 3), rel=1e-9)
+    assert d.approach / c.approach == pytest.approx(scale ** (2 / 3), rel=1e-9)
+    # the major axis lies along the smaller curvature
+    a_curv, b_curv = 0.5 / r_wx, 0.5 * (1 / r_wy + 1 / r_ry)
+    assert (c.semi_axis_x >= c.semi_axis_y) == (a_curv <= b_curv) or np.isclose(a_curv, b_curv)
+
+
+# --- Validation -----------------------------------------------------------------------------
+
+
+def test_negative_load_names_parameter():
+    with pytest.raises(ParameterError, match=r"normal_load must be > 0 \[N\], got -5"):
+        hertz_contact(-5.0, 0.35, 0.30, np.inf, 0.40)
+
+
+@pytest.mark.parametrize(
+    "name", ["wheel_radius_x", "wheel_radius_y", "roller_radius_x", "roller_radius_y"]
+)
+@pytest.mark.parametrize("bad", [0.0, -0.1, np.nan])
+def test_bad_radius_names_parameter(name, bad):
+    kwargs = {
+        "normal_load": 1e3,
+        "wheel_radius_x": 0.35,
+        "wheel_radius_y": 0.3,
+        "roller_radius_x": 1.0,
+        "roller_radius_y": 0.4,
+    }
+    kwargs[name] = bad
+    with pytest.raises(ParameterError, match=rf"{name} must be > 0 \[m\]"):
+        hertz_contact(**kwargs)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.5, -0.1, 0.7])
+def test_poisson_outside_open_interval(nu):
+    with pytest.raises(ParameterError, match=r"poisson must lie in \(0, 0.5\)"):
+        hertz_contact(1e3, 0.35, 0.3, 1.0, 0.4, poisson=nu)
+    with pytest.raises(ParameterError, match=r"poisson_2 must lie in \(0, 0.5\)"):
+        hertz_contact(1e3, 0.35, 0.3, 1.0, 0.4, poisson_2=nu)
+
+
+def test_bad_modulus_names_parameter():
+    with pytest.raises(ParameterError, match=r"youngs_modulus must be > 0 \[Pa\]"):
+        hertz_contact(1e3, 0.35, 0.3, 1.0, 0.4, youngs_modulus=0.0)
+    with pytest.raises(ParameterError, match=r"youngs_modulus_2 must be > 0 \[Pa\]"):
+        combined_elastic_constants(210e9, 0.3, -1.0, 0.3)
+
+
+def test_two_flat_directions_rejected():
+    with pytest.raises(ParameterError, match="wheel_radius_x and roller_radius_x"):
+        hertz_contact(1e3, np.inf, 0.3, np.inf, 0.4)
+    with pytest.raises(ParameterError, match="wheel_radius_y and roller_radius_y"):
+        hertz_contact(1e3, 0.35, np.inf, 1.0, np.inf)
