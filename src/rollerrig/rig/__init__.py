@@ -1,0 +1,45 @@
+"""The rig: validated parameter sets, the torsional chain and its modes, the coupled model.
+
+- :mod:`~rollerrig.rig.parameters` — TOML parameter sets with units and provenance.
+- :mod:`~rollerrig.rig.chain` — mass, stiffness and damping matrices; modal analysis.
+- :mod:`~rollerrig.rig.model` — the coupled nonlinear model (chain, contact, drives).
+- :mod:`~rollerrig.rig.assemble` — numeric solver inputs from rig, drives and protocol.
+"""
+
+from rollerrig.rig.chain import (
+    BODY_NAMES,
+    CHAIN_ELEMENTS,
+    ModalResult,
+    ModalRow,
+    assemble_chain,
+    chain_matrices,
+    contact_damping_matrix,
+    format_modal_table,
+    modal_analysis,
+    modal_table,
+)
+from rollerrig.rig.parameters import (
+    RigFileError,
+    RigParameters,
+    default_rig,
+    load_rig,
+    save_rig,
+)
+
+__all__ = [
+    "BODY_NAMES",
+    "CHAIN_ELEMENTS",
+    "ModalResult",
+    "ModalRow",
+    "RigFileError",
+    "RigParameters",
+    "assemble_chain",
+    "chain_matrices",
+    "contact_damping_matrix",
+    "default_rig",
+    "format_modal_table",
+    "load_rig",
+    "modal_analysis",
+    "modal_table",
+    "save_rig",
+]
