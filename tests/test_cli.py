@@ -38,3 +38,30 @@ def test_contact_rejects_nonphysical_input(tmp_path, args, message):
     assert result.exit_code == 2
     assert message in result.output
     assert "Traceback" not in result.output
+
+
+def test_simulate_writes_results_figure_and_modes(tmp_path):
+    args = ["simulate", "--experiment", "seed-10kmh-wet", "--out", str(tmp_path), "--format", "csv"]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "13.84" in result.output  # the roller-shaft mode in the modal table
+    assert "release at" in result.output
+    for name in ("seed-10kmh-wet.csv", "seed-10kmh-wet.provenance.json", "seed-10kmh-wet.png"):
+        assert (tmp_path / name).stat().st_size > 1000
+    # Re-running replaces the outputs instead of failing.
+    assert runner.invoke(app, args).exit_code == 0
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--experiment", "no-such-experiment"], "no-such-experiment"),
+        (["--roller-drive", "steam"], "roller drive"),
+        (["--roller-lag-s", "-1"], "roller_lag"),
+        (["--format", "xlsx"], "format"),
+    ],
+)
+def test_simulate_rejects_bad_options(tmp_path, args, message):
+    result = runner.invoke(app, ["simulate", "--out", str(tmp_path), *args])
+    assert result.exit_code == 2, result.output
+    assert message in result.output

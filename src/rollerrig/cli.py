@@ -226,6 +226,133 @@ def contact(
         console.print(f"wrote {p}")
 
 
+@app.command()
+def simulate(
+    experiment: Annotated[
+        str,
+        typer.Option(
+            "--experiment", "-e", help="Bundled protocol name (see --list) or a protocol TOML file."
+        ),
+    ] = "seed-30kmh-dry",
+    rig_file: Annotated[
+        Path | None, typer.Option("--rig", help="Rig parameter file (TOML); default: bundled rig.")
+    ] = None,
+    out: Annotated[Path, typer.Option("--out", help="Output folder.")] = DEFAULT_OUT,
+    solver: Annotated[
+        str, typer.Option(help="fast (numba ROS2) or reference (scipy Radau).")
+    ] = "fast",
+    wheel_drive: Annotated[str, typer.Option(help="pmsm or ideal_torque.")] = "pmsm",
+    roller_drive: Annotated[
+        str, typer.Option(help="induction, induction_linear, ideal_speed or servo.")
+    ] = "induction",
+    roller_lag_s: Annotated[
+        float | None, typer.Option(help="Roller-drive lag τ [s]; default from the rig (c_lp).")
+    ] = None,
+    output_format: Annotated[
+        str, typer.Option("--format", help="Results file format: nc, csv, parquet or mat.")
+    ] = "nc",
+    list_experiments: Annotated[
+        bool, typer.Option("--list", help="List the bundled experiments and exit.")
+    ] = False,
+) -> None:
+    """Simulate an adhesion experiment on the digital twin and write results and figures.
+
+    Writes the labelled results (truth beside what the rig measures, with provenance), the
+    six-panel experiment figure and the modal table of the torsional chain.
+    """
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from rollerrig.experiment import bundled_protocols
+    from rollerrig.report._io import atomic_write, save_figure
+    from rollerrig.report.twin import experiment_figure
+    from rollerrig.rig.chain import format_modal_table, modal_table
+    from rollerrig.rig.model import DriveConfig
+    from rollerrig.solve.results import SAVE_FORMATS, save_dataset
+    from rollerrig.solve.simulation import Simulation
+
+    if list_experiments:
+        for name in bundled_protocols():
+            console.print(name)
+        return
+    suffix = "." + output_format.lower().lstrip(".")
+    if suffix not in SAVE_FORMATS:
+        _fail(f"unknown results format {output_format!r}; choose one of {SAVE_FORMATS}")
+    try:
+        rig = _load_rig(rig_file)
+        drives = DriveConfig(wheel=wheel_drive, roller=roller_drive, roller_lag=roller_lag_s)
+        sim = Simulation(rig, experiment, drives=drives, solver=solver)
+    except (ParameterError, FileNotFoundError) as exc:
+        _fail(str(exc))
+        return
+    results_path = out / f"{sim.protocol.name}{suffix}"
+    figure_path = out / f"{sim.protocol.name}.png"
+    console.print(
+        f"simulating [bold]{sim.protocol.name}[/] ({sim.protocol.duration:g} s) on "
+        f"[bold]{rig.meta.name}[/]: wheel {drives.wheel}, roller {drives.roller}, solver {solver}"
+    )
+    with Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.fields[info]}"),
+        TimeElapsedColumn(),
+        console=console,
+        transient=False,
+    ) as bar:
+        task = bar.add_task("simulating", total=sim.protocol.duration, info="compiling/solving")
+        ds = sim.run(progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s"))
+        bar.update(task, completed=sim.protocol.duration, info="done")
+    stats = __import__("json").loads(ds.attrs["provenance"])["solver"]
+    console.print(f"solved in {stats['wall_time_s']:.2f} s ({stats['name']})")
+    # Outputs are replaced atomically on a re-run; inputs are never written to.
+    save_dataset(ds, results_path, overwrite=True)
+    save_figure(experiment_figure(ds), figure_path)
+    rows = modal_table(rig)
+    text = format_modal_table(rows)
+    atomic_write(out / "modes.txt", lambda p: p.write_text(text + "\n", encoding="utf-8"))
+    console.print(text)
+    release = _release_summary(ds, sim.protocol)
+    if release:
+        console.print(release)
+    for path in (results_path, figure_path, out / "modes.txt"):
+        console.print(f"wrote {path}")
+
+
+def _release_summary(ds, protocol) -> str:
+    """One line per sudden torque release: how far T56 overshoots below zero, vs the truth."""
+    lines = []
+    for event in protocol.events:
+        if event.action != "release_torque":
+            continue
+        window = (ds.time >= event.start) & (ds.time <= event.start + 3.0)
+        before = float(ds.measured_force.sel(time=event.start, method="nearest"))
+        if before <= 0:
+            continue
+        meas = float(ds.measured_force.where(window).min())
+        true = float(ds.contact_force.where(window).min())
+        lines.append(
+            f"release at {event.start:5.2f} s: force from T56 {before:7.0f} N -> min {meas:7.0f} N "
+            f"(overshoot {-meas / before:5.1%}); true contact force min {true:7.0f} N"
+        )
+    return "\n".join(lines)
+
+
+@app.command()
+def modes(
+    rig_file: Annotated[
+        Path | None, typer.Option("--rig", help="Rig parameter file (TOML); default: bundled rig.")
+    ] = None,
+) -> None:
+    """Natural frequencies, damping and dominant bodies of the torsional chain."""
+    from rollerrig.rig.chain import format_modal_table, modal_table
+
+    try:
+        rig = _load_rig(rig_file)
+    except ParameterError as exc:
+        _fail(str(exc))
+        return
+    console.print(format_modal_table(modal_table(rig)))
+
+
 def main() -> None:  # pragma: no cover - console entry point
     app()
 

@@ -1,0 +1,365 @@
+"""Assemble the coupled model's numeric inputs from a rig, a drive choice and a protocol.
+
+The solvers see only flat arrays (:mod:`rollerrig.rig.model`): a parameter vector, a table of
+piecewise-linear inputs, the list of integration segments (the protocol's breakpoints, across
+which friction may switch) and an initial state. This module builds them, and finds the steady
+free-rolling state the experiment starts from.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from itertools import pairwise
+
+import numpy as np
+from scipy.optimize import brentq
+
+from rollerrig._validation import ParameterError
+from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters, _polach_force_kernel
+from rollerrig.contact.hertz import hertz_contact
+from rollerrig.contact.kalker import kalker_coefficients
+from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED
+from rollerrig.drives.induction import (
+    induction_torque,
+    lag_time_constant_from_clp,
+    thevenin_from_nameplate,
+    vf_supply_frequency,
+    vf_voltage,
+)
+from rollerrig.drives.pmsm import max_phase_voltage, pi_gains_for_bandwidth
+from rollerrig.drives.servo import servo_gains_for_bandwidth
+from rollerrig.experiment.protocol import Protocol
+from rollerrig.rig import model as m
+from rollerrig.rig.parameters import RigParameters
+
+__all__ = ["ModelInputs", "Segment", "assemble"]
+
+
+@dataclass(frozen=True)
+class Segment:
+    """An integration interval with constant friction parameters."""
+
+    start: float  # [s]
+    end: float  # [s]
+    friction_condition: str
+    params: np.ndarray = field(repr=False)  # parameter vector valid on this segment
+
+
+@dataclass(frozen=True)
+class ModelInputs:
+    """Everything a solver needs, as arrays, plus the objects they came from (for provenance)."""
+
+    rig: RigParameters
+    drives: m.DriveConfig
+    protocol: Protocol
+    friction_sets: Mapping[str, PolachParameters]
+    tables: np.ndarray = field(repr=False)
+    segments: tuple[Segment, ...] = field(repr=False)
+    initial_state: np.ndarray = field(repr=False)
+    contact_reference: dict = field(repr=False)
+
+    @property
+    def duration(self) -> float:
+        """Experiment duration [s]."""
+        return self.protocol.duration
+
+
+def _pad_rows(rows: list[np.ndarray]) -> np.ndarray:
+    """Stack breakpoint rows of unequal length, padding each pair by repeating its last point."""
+    n = max(len(r) for r in rows)
+    out = np.empty((len(rows), n))
+    for i, r in enumerate(rows):
+        out[i, : len(r)] = r
+        out[i, len(r) :] = r[-1]
+    return out
+
+
+def _base_parameters(rig: RigParameters, drives: m.DriveConfig, reference_load: float):
+    p = np.zeros(m.N_PARAMS)
+    inertia = rig.inertia
+    p[m.P_J : m.P_J + 7] = [
+        inertia.pmsm_stator,
+        inertia.pmsm_rotor,
+        inertia.wheel_disc,
+        inertia.wheel_tyre,
+        inertia.roller,
+        inertia.am_rotor,
+        inertia.am_stator,
+    ]
+    k, b = rig.stiffness, rig.damping
+    p[[m.P_K01, m.P_K23, m.P_K34, m.P_K56, m.P_K70]] = [
+        k.pmsm_mount,
+        k.wheel_shaft,
+        k.wheel_rubber,
+        k.roller_shaft,
+        k.am_mount,
+    ]
+    p[[m.P_B01, m.P_B23, m.P_B34, m.P_B56, m.P_B70]] = [
+        b.pmsm_mount,
+        b.wheel_shaft,
+        b.wheel_rubber,
+        b.roller_shaft,
+        b.am_mount,
+    ]
+    g = rig.geometry
+    p[m.P_RW], p[m.P_RR] = g.wheel_radius_x, g.roller_radius_x
+
+    # Contact at the reference load: Hertz (exact) and Kalker's C11 at the contact's a/b.
+    mat = rig.material
+    contact = hertz_contact(
+        reference_load,
+        g.wheel_radius_x,
+        g.wheel_radius_y,
+        g.roller_radius_x,
+        g.roller_radius_y,
+        youngs_modulus=mat.youngs_modulus,
+        poisson=mat.poisson,
+    )
+    a, bb = float(contact.semi_axis_x), float(contact.semi_axis_y)
+    c11 = float(kalker_coefficients(a / bb, mat.poisson).c11)
+    shear_modulus = mat.youngs_modulus / (2.0 * (1.0 + mat.poisson))
+    p[m.P_CREEP_STIFF_REF] = shear_modulus * a * bb * c11
+    p[m.P_LOAD_REF] = reference_load
+    p[m.P_VREG] = DEFAULT_REGULARISATION_SPEED
+    contact_reference = {
+        "reference_load_N": reference_load,
+        "semi_axis_x_m": a,
+        "semi_axis_y_m": bb,
+        "c11": c11,
+        "shear_modulus_Pa": shear_modulus,
+        "creep_stiffness_N": p[m.P_CREEP_STIFF_REF],
+    }
+
+    br = rig.bearing
+    p[m.P_BEAR_W] = br.friction_coefficient * br.wheel_bearing_radius
+    p[m.P_BEAR_R] = br.friction_coefficient * br.roller_bearing_radius
+    p[m.P_W_ROLLER] = br.roller_subsystem_weight
+    p[m.P_OMEGA_REG] = br.regularisation_speed
+
+    pm = rig.pmsm
+    p[m.P_WHEEL_MODE] = m.WHEEL_MODES[drives.wheel]
+    p[[m.P_PP, m.P_RS, m.P_LD, m.P_LQ, m.P_FLUX]] = [
+        pm.pole_pairs,
+        pm.stator_resistance,
+        pm.inductance_d,
+        pm.inductance_q,
+        pm.flux_linkage,
+    ]
+    kp, ki = pi_gains_for_bandwidth(
+        pm.inductance_q, pm.stator_resistance, pm.current_loop_bandwidth
+    )
+    p[m.P_KP], p[m.P_KI] = kp, ki
+    p[m.P_VMAX] = max_phase_voltage(pm.dc_link_voltage)
+    p[m.P_IMAX] = pm.max_current
+    p[m.P_RIPPLE_AMP] = pm.torque_ripple_amplitude
+    p[m.P_RIPPLE_FREQ] = pm.torque_ripple_frequency
+
+    am = rig.induction_motor
+    p[m.P_ROLLER_MODE] = m.ROLLER_MODES[drives.roller]
+    circuit = thevenin_from_nameplate(
+        am.rated_power,
+        am.rated_frequency,
+        am.rated_torque,
+        am.rated_line_voltage,
+        am.connection,
+        am.pole_pairs,
+        breakdown_torque_ratio=am.breakdown_torque_ratio,
+        stator_resistance=am.stator_resistance,
+    )
+    p[[m.P_AM_PP, m.P_AM_V, m.P_AM_RTH, m.P_AM_XTH, m.P_AM_R2, m.P_AM_X2, m.P_AM_FRATED]] = [
+        am.pole_pairs,
+        circuit.voltage,
+        circuit.resistance,
+        circuit.reactance_th,
+        circuit.rotor_resistance,
+        circuit.rotor_reactance,
+        am.rated_frequency,
+    ]
+    omega_sync = 2.0 * np.pi * am.rated_frequency / am.pole_pairs
+    omega_rated = am.rated_power / am.rated_torque
+    p[m.P_AM_SLOPE] = am.rated_torque / (omega_sync - omega_rated)
+
+    servo = rig.servo_roller_drive
+    if drives.roller == "servo":
+        tau = servo.torque_time_constant if drives.roller_lag is None else drives.roller_lag
+        inertia_servo = inertia.am_rotor + inertia.roller
+        s_kp, s_ki = servo_gains_for_bandwidth(inertia_servo, servo.speed_bandwidth)
+        p[m.P_SERVO_KP], p[m.P_SERVO_KI], p[m.P_SERVO_TLIM] = s_kp, s_ki, servo.torque_limit
+    elif drives.roller_lag is None:
+        tau = lag_time_constant_from_clp(am.response_lag_clp, am.response_lag_reference_step)
+    else:
+        tau = drives.roller_lag
+    p[m.P_LAG_TAU] = tau
+    return p, contact_reference
+
+
+def _polach_into(p: np.ndarray, params: PolachParameters) -> np.ndarray:
+    q = p.copy()
+    q[[m.P_MU0, m.P_A, m.P_B, m.P_KA, m.P_KS]] = params.as_tuple()
+    return q
+
+
+def assemble(
+    rig: RigParameters,
+    protocol: Protocol,
+    drives: m.DriveConfig | None = None,
+    friction_sets: Mapping[str, PolachParameters] | None = None,
+) -> ModelInputs:
+    """Build the solver inputs for one experiment on one rig.
+
+    Parameters
+    ----------
+    rig : RigParameters
+        Validated rig parameters (SI).
+    protocol : Protocol
+        Compiled experiment protocol.
+    drives : DriveConfig, optional
+        Drive models; default PMSM wheel drive, induction-motor roller drive with the rig's lag.
+    friction_sets : mapping of str to PolachParameters, optional
+        Polach parameters by friction-condition name; default Polach (2005) dry and wet.
+
+    Returns
+    -------
+    ModelInputs
+    """
+    drives = drives or m.DriveConfig()
+    friction_sets = dict(friction_sets or POLACH_PARAMETER_SETS)
+    missing = sorted(set(protocol.friction_condition) - set(friction_sets))
+    if missing:
+        raise ParameterError(
+            f"protocol {protocol.name!r} uses friction condition(s) {missing} that have no Polach "
+            f"parameter set; known: {sorted(friction_sets)}"
+        )
+    reference_load = float(protocol.normal_load[0])
+    base, contact_reference = _base_parameters(rig, drives, reference_load)
+    tables = _pad_rows(
+        [
+            protocol.torque_time,
+            protocol.torque_request,
+            protocol.speed_time,
+            protocol.roller_speed,
+            protocol.load_time,
+            protocol.normal_load,
+        ]
+    )
+
+    cuts = np.asarray(protocol.breakpoints(), dtype=float)
+    cuts = np.unique(
+        np.clip(np.concatenate([[0.0, protocol.duration], cuts]), 0.0, protocol.duration)
+    )
+    segments = []
+    for start, end in pairwise(cuts):
+        if end - start <= 1e-12:
+            continue
+        condition = protocol.friction_at(0.5 * (start + end))
+        condition = str(np.asarray(condition).item()) if np.ndim(condition) else str(condition)
+        segments.append(
+            Segment(
+                float(start), float(end), condition, _polach_into(base, friction_sets[condition])
+            )
+        )
+    x0 = steady_free_rolling_state(segments[0].params, tables)
+    return ModelInputs(
+        rig=rig,
+        drives=drives,
+        protocol=protocol,
+        friction_sets=friction_sets,
+        tables=tables,
+        segments=tuple(segments),
+        initial_state=x0,
+        contact_reference=contact_reference,
+    )
+
+
+def steady_free_rolling_state(p: np.ndarray, tables: np.ndarray, t: float = 0.0) -> np.ndarray:
+    """Steady free rolling at the set speed with no wheel torque: the state a test starts from.
+
+    The roller drive supplies the bearing losses of both bodies through the contact, which
+    drags the wheel with a small negative creep; every shaft carries its static twist.
+
+    Parameters
+    ----------
+    p : ndarray
+        Parameter vector (see :mod:`rollerrig.rig.model`).
+    tables : ndarray
+        Input tables; the set speed and load are read at time ``t``.
+    t : float
+        Time at which the state is taken [s].
+
+    Returns
+    -------
+    ndarray, shape (N_STATES,)
+    """
+    speed = float(np.interp(t, tables[m.TAB_SPEED_T], tables[m.TAB_SPEED]))
+    load = float(np.interp(t, tables[m.TAB_LOAD_T], tables[m.TAB_LOAD]))
+    rw, rr = p[m.P_RW], p[m.P_RR]
+    omega_ref = speed / rr
+    creep_stiffness = p[m.P_CREEP_STIFF_REF] * (load / p[m.P_LOAD_REF]) ** (2.0 / 3.0)
+    polach = (p[m.P_MU0], p[m.P_A], p[m.P_B], p[m.P_KA], p[m.P_KS])
+
+    def roller_drive_torque(omega):
+        mode = p[m.P_ROLLER_MODE]
+        if mode == 1.0:
+            f = vf_supply_frequency(omega_ref, p[m.P_AM_PP])
+            v = vf_voltage(f, p[m.P_AM_V], p[m.P_AM_FRATED], 0.0)
+            return induction_torque(
+                omega,
+                f,
+                v,
+                p[m.P_AM_RTH],
+                p[m.P_AM_XTH],
+                p[m.P_AM_R2],
+                p[m.P_AM_X2],
+                p[m.P_AM_FRATED],
+                p[m.P_AM_PP],
+            )
+        return p[m.P_AM_SLOPE] * (omega_ref - omega)
+
+    omega_roller = omega_ref
+    for _ in range(3):  # fixed point: bearing loss depends weakly on speed through tanh
+        bearing_w = p[m.P_BEAR_W] * load * np.tanh(omega_roller * rr / rw / p[m.P_OMEGA_REG])
+        bearing_r = (
+            p[m.P_BEAR_R] * (p[m.P_W_ROLLER] + load) * np.tanh(omega_roller / p[m.P_OMEGA_REG])
+        )
+        force = -bearing_w / rw  # the roller drags the wheel against its bearing friction
+        t56 = force * rr - bearing_r
+        t_roller = -t56
+        if p[m.P_ROLLER_MODE] in (1.0, 2.0) and omega_ref > 0:
+            # Open loop: the rotor runs at the slip where the motor delivers the needed torque.
+            omega_roller = brentq(
+                lambda w, needed: roller_drive_torque(w) - needed,
+                0.5 * omega_ref,
+                1.5 * omega_ref,
+                args=(t_roller,),
+                xtol=1e-13,
+            )
+        else:
+            omega_roller = omega_ref
+
+    v_roller = omega_roller * rr
+    vreg = p[m.P_VREG]
+
+    def force_of_slip(w):
+        creep = w / np.sqrt(v_roller**2 + vreg**2)
+        return _polach_force_kernel(creep, w, load, creep_stiffness, *polach) - force
+
+    slip = 0.0 if force == 0.0 else brentq(force_of_slip, -1.0, 1.0, xtol=1e-15)
+    omega_wheel = (v_roller + slip) / rw
+
+    x = np.zeros(m.N_STATES)
+    t34 = -bearing_w
+    t70 = t56  # stator 7: −T_a − T70 = 0 with T_a = −T56
+    x[m.X_THETA + 0] = 0.0  # T01 = T_p = 0
+    x[m.X_THETA + 3] = 0.0
+    x[m.X_THETA + 2] = t34 / p[m.P_K34]
+    x[m.X_THETA + 1] = x[m.X_THETA + 2]  # T23 = T_p = 0
+    x[m.X_THETA + 4] = 0.0
+    x[m.X_THETA + 5] = -t56 / p[m.P_K56]
+    x[m.X_THETA + 6] = t70 / p[m.P_K70]
+    x[m.X_OMEGA + 1 : m.X_OMEGA + 4] = omega_wheel
+    x[m.X_OMEGA + 4 : m.X_OMEGA + 6] = omega_roller
+    x[m.X_T_ROLLER] = t_roller
+    if p[m.P_ROLLER_MODE] == 3.0 and p[m.P_SERVO_KI] > 0:
+        x[m.X_INT_SPEED] = t_roller / p[m.P_SERVO_KI]
+    return x

@@ -1,0 +1,387 @@
+"""The coupled model of the roller rig: 7-inertia torsional chain, wheel-roller contact, drives.
+
+Bodies (Kayaalp Fig. 32, eqs. 4.1-4.14, re-derived with one sign convention, see
+CONTRIBUTING.md): 1 PMSM stator, 2 PMSM rotor, 3 wheel disc, 4 wheel tyre, 5 roller, 6 AM rotor,
+7 AM stator; ground is body 0. With T_ij = k_ij(θ_i − θ_j) + b_ij(ω_i − ω_j):
+
+    J1 α1 = T01 − T_p                 (PMSM stator: mount reaction, air-gap reaction)
+    J2 α2 = T_p − T23                 (PMSM rotor)
+    J3 α3 = T23 − T34 − R03           (wheel disc, bearing loss)
+    J4 α4 = T34 − F_x r_w             (wheel tyre, contact)
+    J5 α5 = F_x r_r − T56 − R05       (roller, contact, bearing loss)
+    J6 α6 = T56 + T_a                 (AM rotor; T_a < 0 when the AM brakes)
+    J7 α7 = −T_a − T70                (AM stator)
+
+Corrections to the seed: eq. 4.7 divides by J6 where J7 belongs; the text swaps T12/T67 (T_p is
+the PMSM air-gap torque between bodies 1-2, T_a the AM's between 6-7); R03 and R05 (eqs.
+4.13-4.14) are forces and are multiplied here by a bearing radius; bearing friction is smoothed
+with tanh(ω/ω_reg) so that standstill is finite.
+
+The torque sensor sits on the roller shaft and measures T56; the rig reports
+CoA_measured = T56 / (r_r N), while the true contact force satisfies
+F_x r_r = T56 + J5 α5 + R05.
+
+Everything in this module that the solvers call (:func:`rig_terms`, :func:`rig_rhs`) is written
+with plain arithmetic and numpy ufuncs on scalars, so the very same source runs as a Python
+function (the baseline) and compiles under numba (the fast backend).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from rollerrig.contact.creep import _friction_kernel, _polach_force_kernel
+from rollerrig.contact.kinematics import _creep_kernel
+from rollerrig.drives.induction import (
+    induction_torque,
+    lag_derivative,
+    linear_induction_torque,
+    vf_supply_frequency,
+    vf_voltage,
+)
+from rollerrig.drives.pmsm import (
+    pmsm_current_derivatives,
+    pmsm_current_reference,
+    pmsm_foc_voltages,
+    pmsm_torque,
+)
+from rollerrig.drives.servo import servo_speed_torque
+
+__all__ = [
+    "N_PARAMS",
+    "N_STATES",
+    "STATE_NAMES",
+    "TERM_NAMES",
+    "DriveConfig",
+    "rig_rhs",
+    "rig_terms",
+]
+
+# ---------------------------------------------------------------------------------------------
+# State layout
+# ---------------------------------------------------------------------------------------------
+X_THETA = 0  # θ1..θ7 [rad] at 0..6
+X_OMEGA = 7  # ω1..ω7 [rad/s] at 7..13
+X_ID, X_IQ, X_INT_D, X_INT_Q = 14, 15, 16, 17  # PMSM currents [A], PI integrals [A.s]
+X_T_ROLLER = 18  # lagged roller-drive air-gap torque [N.m]
+X_INT_SPEED = 19  # servo speed-error integral [rad]
+N_STATES = 20
+
+STATE_NAMES = (
+    *(f"theta{i}" for i in range(1, 8)),
+    *(f"omega{i}" for i in range(1, 8)),
+    "i_d",
+    "i_q",
+    "integral_d",
+    "integral_q",
+    "roller_drive_torque_state",
+    "speed_error_integral",
+)
+
+# ---------------------------------------------------------------------------------------------
+# Parameter vector layout (flat float64, so that numba sees one array)
+# ---------------------------------------------------------------------------------------------
+P_J = 0  # J1..J7 at 0..6 [kg.m^2]
+P_K01, P_K23, P_K34, P_K56, P_K70 = 7, 8, 9, 10, 11  # [N.m/rad]
+P_B01, P_B23, P_B34, P_B56, P_B70 = 12, 13, 14, 15, 16  # [N.m.s/rad]
+P_RW, P_RR = 17, 18  # rolling radii [m]
+P_CREEP_STIFF_REF, P_LOAD_REF = 19, 20  # G a b C11 at the reference load [N], that load [N]
+P_MU0, P_A, P_B, P_KA, P_KS = 21, 22, 23, 24, 25  # Polach parameters of the current segment
+P_VREG = 26  # creep regularisation speed [m/s]
+P_BEAR_W, P_BEAR_R = 27, 28  # f_g × bearing radius, wheel and roller [m]
+P_W_ROLLER = 29  # roller subsystem weight W_r [N]
+P_OMEGA_REG = 30  # bearing-friction regularisation speed [rad/s]
+P_WHEEL_MODE = 31  # 0 ideal torque source, 1 PMSM with FOC
+P_PP, P_RS, P_LD, P_LQ, P_FLUX = 32, 33, 34, 35, 36
+P_KP, P_KI, P_VMAX, P_IMAX = 37, 38, 39, 40
+P_RIPPLE_AMP, P_RIPPLE_FREQ = 41, 42  # optional inverter torque ripple [N.m], [Hz]
+P_ROLLER_MODE = 43  # 0 ideal speed source, 1 AM Thevenin V/f, 2 AM linear, 3 speed servo
+P_AM_PP, P_AM_V, P_AM_RTH, P_AM_XTH, P_AM_R2, P_AM_X2, P_AM_FRATED = 44, 45, 46, 47, 48, 49, 50
+P_AM_SLOPE = 51  # linear torque-slip slope [N.m.s/rad]
+P_LAG_TAU = 52  # roller-drive response lag τ [s]; 0 means none
+P_SERVO_KP, P_SERVO_KI, P_SERVO_TLIM = 53, 54, 55
+N_PARAMS = 56
+
+WHEEL_MODES = {"ideal_torque": 0.0, "pmsm": 1.0}
+ROLLER_MODES = {"ideal_speed": 0.0, "induction": 1.0, "induction_linear": 2.0, "servo": 3.0}
+
+# Table rows (piecewise-linear inputs, padded by repeating the last breakpoint)
+TAB_TORQUE_T, TAB_TORQUE, TAB_SPEED_T, TAB_SPEED, TAB_LOAD_T, TAB_LOAD = 0, 1, 2, 3, 4, 5
+N_TABLE_ROWS = 6
+
+TERM_NAMES = (
+    "torque_request",
+    "roller_speed_setpoint",
+    "normal_load",
+    "creep",
+    "slip_velocity",
+    "friction",
+    "contact_force",
+    "pmsm_torque",
+    "roller_drive_torque",
+    "roller_drive_torque_target",
+    "t01",
+    "t23",
+    "t34",
+    "t56",
+    "t70",
+    "bearing_torque_wheel",
+    "bearing_torque_roller",
+    "v_d",
+    "v_q",
+    "pmsm_integral_rate_d",
+    "pmsm_integral_rate_q",
+    "speed_integral_rate",
+)
+
+
+@dataclass(frozen=True)
+class DriveConfig:
+    """Which drive models the simulation uses.
+
+    Parameters
+    ----------
+    wheel : {"pmsm", "ideal_torque"}
+        PMSM dq model with field-oriented PI current control and voltage limit, or an ideal
+        torque source delivering the request exactly.
+    roller : {"induction", "induction_linear", "ideal_speed", "servo"}
+        Induction motor under open-loop V/f (Thevenin circuit, Kayaalp eq. 4.28), its linear
+        torque-slip fit (Kayaalp Fig. 45), an ideal speed source, or a speed-controlled
+        servo/PMSM roller drive (the seed's proposed fix).
+    roller_lag : float or None
+        Roller-drive response lag τ [s]. ``None`` takes the rig's value (from c_lp, eq. 4.29);
+        0 means no lag.
+    """
+
+    wheel: Literal["pmsm", "ideal_torque"] = "pmsm"
+    roller: Literal["induction", "induction_linear", "ideal_speed", "servo"] = "induction"
+    roller_lag: float | None = None
+
+    def __post_init__(self) -> None:
+        from rollerrig._validation import ParameterError
+
+        if self.wheel not in WHEEL_MODES:
+            raise ParameterError(
+                f"wheel drive must be one of {sorted(WHEEL_MODES)}, got {self.wheel!r}"
+            )
+        if self.roller not in ROLLER_MODES:
+            raise ParameterError(
+                f"roller drive must be one of {sorted(ROLLER_MODES)}, got {self.roller!r}"
+            )
+        if self.roller_lag is not None and not (
+            np.isfinite(self.roller_lag) and self.roller_lag >= 0
+        ):
+            raise ParameterError(f"roller_lag must be >= 0 [s], got {self.roller_lag!r}")
+
+
+def rig_terms(t, x, p, tables):
+    """Every torque, force and contact quantity of the rig at one instant.
+
+    Returns a tuple ordered as :data:`TERM_NAMES` (SI units). Pure scalar arithmetic: compiled by
+    numba for the fast backend, evaluated as Python for the baseline.
+    """
+    torque_request = np.interp(t, tables[TAB_TORQUE_T], tables[TAB_TORQUE])
+    speed_setpoint = np.interp(t, tables[TAB_SPEED_T], tables[TAB_SPEED])
+    load = np.interp(t, tables[TAB_LOAD_T], tables[TAB_LOAD])
+
+    th1, th2, th3, th4, th5, th6, th7 = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
+    w1, w2, w3, w4, w5, w6, w7 = x[7], x[8], x[9], x[10], x[11], x[12], x[13]
+
+    # Shafts and mounts (T_ij = k (θi − θj) + b (ωi − ωj); ground is at rest).
+    t01 = p[P_K01] * (0.0 - th1) + p[P_B01] * (0.0 - w1)
+    t23 = p[P_K23] * (th2 - th3) + p[P_B23] * (w2 - w3)
+    t34 = p[P_K34] * (th3 - th4) + p[P_B34] * (w3 - w4)
+    t56 = p[P_K56] * (th5 - th6) + p[P_B56] * (w5 - w6)
+    t70 = p[P_K70] * (th7 - 0.0) + p[P_B70] * (w7 - 0.0)
+
+    # Bearings: Coulomb friction f_g·N·r_b, smoothed at standstill.
+    bearing_w = p[P_BEAR_W] * load * np.tanh(w3 / p[P_OMEGA_REG])
+    bearing_r = p[P_BEAR_R] * (p[P_W_ROLLER] + load) * np.tanh(w5 / p[P_OMEGA_REG])
+
+    # Contact: Hertz semi-axes scale with N^(1/3) at fixed a/b, so G a b C11 scales with N^(2/3).
+    creep, slip_velocity = _creep_kernel(w4, w5, p[P_RW], p[P_RR], p[P_VREG])
+    creep_stiffness = p[P_CREEP_STIFF_REF] * (load / p[P_LOAD_REF]) ** (2.0 / 3.0)
+    friction = _friction_kernel(slip_velocity, p[P_MU0], p[P_A], p[P_B])
+    force = _polach_force_kernel(
+        creep, slip_velocity, load, creep_stiffness, p[P_MU0], p[P_A], p[P_B], p[P_KA], p[P_KS]
+    )
+
+    # Wheel drive: PMSM with field-oriented current control, or an ideal torque source.
+    v_d = 0.0
+    v_q = 0.0
+    dint_d = 0.0
+    dint_q = 0.0
+    if p[P_WHEEL_MODE] == 0.0:
+        t_pmsm = torque_request
+    else:
+        t_pmsm = pmsm_torque(x[X_ID], x[X_IQ], p[P_PP], p[P_FLUX], p[P_LD], p[P_LQ])
+        i_d_ref, i_q_ref = pmsm_current_reference(torque_request, p[P_PP], p[P_FLUX], p[P_IMAX])
+        v_d, v_q, dint_d, dint_q = pmsm_foc_voltages(
+            x[X_ID],
+            x[X_IQ],
+            i_d_ref,
+            i_q_ref,
+            x[X_INT_D],
+            x[X_INT_Q],
+            w2 - w1,
+            p[P_PP],
+            p[P_LD],
+            p[P_LQ],
+            p[P_FLUX],
+            p[P_KP],
+            p[P_KI],
+            p[P_VMAX],
+        )
+    if p[P_RIPPLE_AMP] != 0.0:
+        t_pmsm = t_pmsm + p[P_RIPPLE_AMP] * np.sin(2.0 * np.pi * p[P_RIPPLE_FREQ] * t)
+
+    # Roller drive: the air-gap torque acts between rotor (6) and stator (7).
+    omega_ref = speed_setpoint / p[P_RR]  # direct drive: AM rotor speed = roller speed
+    slip_speed = w6 - w7
+    mode = p[P_ROLLER_MODE]
+    dint_speed = 0.0
+    if mode == 1.0:
+        f_supply = vf_supply_frequency(omega_ref, p[P_AM_PP])
+        voltage = vf_voltage(f_supply, p[P_AM_V], p[P_AM_FRATED], 0.0)
+        target = induction_torque(
+            slip_speed,
+            f_supply,
+            voltage,
+            p[P_AM_RTH],
+            p[P_AM_XTH],
+            p[P_AM_R2],
+            p[P_AM_X2],
+            p[P_AM_FRATED],
+            p[P_AM_PP],
+        )
+    elif mode == 2.0:
+        target = linear_induction_torque(slip_speed, omega_ref, p[P_AM_SLOPE])
+    elif mode == 3.0:
+        target, dint_speed = servo_speed_torque(
+            slip_speed, omega_ref, x[X_INT_SPEED], p[P_SERVO_KP], p[P_SERVO_KI], p[P_SERVO_TLIM]
+        )
+    else:
+        # Ideal speed source: exactly the torque that keeps the rotor on the set point.
+        accel_ref = _interp_slope(t, tables[TAB_SPEED_T], tables[TAB_SPEED]) / p[P_RR]
+        target = p[P_J + 5] * accel_ref - t56
+    if mode == 0.0 or p[P_LAG_TAU] == 0.0:
+        t_roller = target
+    else:
+        t_roller = x[X_T_ROLLER]
+
+    return (
+        torque_request,
+        speed_setpoint,
+        load,
+        creep,
+        slip_velocity,
+        friction,
+        force,
+        t_pmsm,
+        t_roller,
+        target,
+        t01,
+        t23,
+        t34,
+        t56,
+        t70,
+        bearing_w,
+        bearing_r,
+        v_d,
+        v_q,
+        dint_d,
+        dint_q,
+        dint_speed,
+    )
+
+
+def rig_rhs(t, x, p, tables, dx):
+    """Right-hand side of the coupled rig model, written into ``dx`` in place.
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    x : ndarray, shape (N_STATES,)
+        State (see :data:`STATE_NAMES`).
+    p : ndarray, shape (N_PARAMS,)
+        Flat parameter vector (see the ``P_*`` indices).
+    tables : ndarray, shape (6, n)
+        Piecewise-linear inputs: torque request, roller speed set point, normal load.
+    dx : ndarray, shape (N_STATES,)
+        Output: time derivative of the state.
+    """
+    (
+        _torque_request,
+        _speed_setpoint,
+        _load,
+        _creep,
+        _slip_velocity,
+        _friction,
+        force,
+        t_pmsm,
+        t_roller,
+        target,
+        t01,
+        t23,
+        t34,
+        t56,
+        t70,
+        bearing_w,
+        bearing_r,
+        v_d,
+        v_q,
+        dint_d,
+        dint_q,
+        dint_speed,
+    ) = rig_terms(t, x, p, tables)
+
+    for i in range(7):
+        dx[X_THETA + i] = x[X_OMEGA + i]
+    dx[X_OMEGA + 0] = (t01 - t_pmsm) / p[P_J + 0]
+    dx[X_OMEGA + 1] = (t_pmsm - t23) / p[P_J + 1]
+    dx[X_OMEGA + 2] = (t23 - t34 - bearing_w) / p[P_J + 2]
+    dx[X_OMEGA + 3] = (t34 - force * p[P_RW]) / p[P_J + 3]
+    dx[X_OMEGA + 4] = (force * p[P_RR] - t56 - bearing_r) / p[P_J + 4]
+    dx[X_OMEGA + 5] = (t56 + t_roller) / p[P_J + 5]
+    dx[X_OMEGA + 6] = (-t_roller - t70) / p[P_J + 6]
+
+    if p[P_WHEEL_MODE] != 0.0:
+        did, diq = pmsm_current_derivatives(
+            x[X_ID],
+            x[X_IQ],
+            v_d,
+            v_q,
+            x[X_OMEGA + 1] - x[X_OMEGA],
+            p[P_PP],
+            p[P_RS],
+            p[P_LD],
+            p[P_LQ],
+            p[P_FLUX],
+        )
+    else:
+        did = 0.0
+        diq = 0.0
+    dx[X_ID] = did
+    dx[X_IQ] = diq
+    dx[X_INT_D] = dint_d
+    dx[X_INT_Q] = dint_q
+    if p[P_ROLLER_MODE] != 0.0 and p[P_LAG_TAU] != 0.0:
+        dx[X_T_ROLLER] = lag_derivative(target, x[X_T_ROLLER], p[P_LAG_TAU])
+    else:
+        dx[X_T_ROLLER] = 0.0
+    dx[X_INT_SPEED] = dint_speed
+
+
+def _interp_slope(t, xs, ys):
+    """Slope of the piecewise-linear function (xs, ys) at t (right-continuous; 0 outside)."""
+    n = xs.shape[0]
+    slope = 0.0
+    for k in range(n - 1):
+        if xs[k] <= t < xs[k + 1]:
+            slope = (ys[k + 1] - ys[k]) / (xs[k + 1] - xs[k])
+            break
+    return slope

@@ -1,0 +1,14 @@
+"""Solving the rig model: reference and fast backends, labelled results, the `Simulation`.
+
+- :class:`~rollerrig.solve.simulation.Simulation` — binds rig, protocol, drives and solver.
+- :mod:`~rollerrig.solve.reference` — scipy Radau on the compiled model (the trusted solution).
+- :mod:`~rollerrig.solve.fast` — compiled ROS2 W-method, single runs and parallel batches.
+- :mod:`~rollerrig.solve.rosenbrock` — the generic compiled stiff integrator.
+- :mod:`~rollerrig.solve.results` — the xarray dataset and its writers.
+
+Importing this package does not import numba; the compiled backends load on first use.
+"""
+
+from rollerrig.solve.simulation import SOLVERS, Simulation
+
+__all__ = ["SOLVERS", "Simulation"]

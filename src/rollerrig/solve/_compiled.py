@@ -1,0 +1,53 @@
+"""numba-compiled versions of the rig model, built from the very same Python source.
+
+The physics kernels are plain functions (they run on numpy for the baseline and the tests);
+``register_jitable`` lets numba compile them wherever compiled code calls them, so no kernel
+exists twice. Importing this module costs nothing until a compiled function is first called.
+"""
+
+from __future__ import annotations
+
+import numba
+from numba.extending import register_jitable
+
+from rollerrig.contact import creep as _creep
+from rollerrig.contact import kinematics as _kinematics
+from rollerrig.drives import induction as _induction
+from rollerrig.drives import pmsm as _pmsm
+from rollerrig.drives import servo as _servo
+from rollerrig.rig import model as _model
+
+_KERNELS = (
+    _creep._friction_kernel,
+    _creep._polach_force_kernel,
+    _kinematics._creep_kernel,
+    _pmsm.pmsm_current_derivatives,
+    _pmsm.pmsm_torque,
+    _pmsm.pmsm_current_reference,
+    _pmsm.pmsm_foc_voltages,
+    _induction.induction_torque,
+    _induction.vf_voltage,
+    _induction.vf_supply_frequency,
+    _induction.linear_induction_torque,
+    _induction.lag_derivative,
+    _servo.servo_speed_torque,
+    _model._interp_slope,
+    _model.rig_terms,
+)
+for _fn in _KERNELS:
+    register_jitable(_fn)
+
+rig_rhs = numba.njit(cache=True)(_model.rig_rhs)
+"""Compiled :func:`rollerrig.rig.model.rig_rhs`."""
+
+rig_terms = numba.njit(cache=True)(_model.rig_terms)
+"""Compiled :func:`rollerrig.rig.model.rig_terms`."""
+
+
+@numba.njit(cache=True)
+def rig_terms_series(t, x, p, tables, out):
+    """Evaluate :func:`rig_terms` at every sample: ``out[k, :]`` for ``t[k]``, ``x[k, :]``."""
+    for k in range(t.shape[0]):
+        terms = rig_terms(t[k], x[k], p, tables)
+        for j in range(len(terms)):
+            out[k, j] = terms[j]

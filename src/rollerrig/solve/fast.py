@@ -1,0 +1,181 @@
+"""Fast backend: the compiled model integrated by the ROS2 W-method, segment by segment.
+
+One compiled call runs a whole experiment (every protocol segment, with its own friction
+parameters); :func:`integrate_batch` runs many variants of it in parallel threads, for sweeps.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from rollerrig.rig.model import N_STATES
+from rollerrig.solve._compiled import rig_rhs
+from rollerrig.solve.rosenbrock import STATUS_OK, ros2_integrate
+
+__all__ = ["FAST_DEFAULTS", "default_tolerances", "integrate_batch", "integrate_experiment"]
+
+FAST_DEFAULTS = {"rtol": 1e-5, "h_max": 2e-3, "jac_every": 20}
+"""Default settings of the fast backend: relative tolerance, largest step [s], Jacobian reuse."""
+
+
+def default_tolerances(rtol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per-state (rtol, atol) vectors for the rig state.
+
+    Absolute tolerances follow the scale of each state: angles and speeds ~1e-6·rtol/1e-5 rad
+    and rad/s relative to their ~10-1000 magnitude, currents in A, torques in N.m.
+    """
+    scale = np.empty(N_STATES)
+    scale[0:7] = 1e-4  # twist angles [rad]: 1e-4 rad × k56 = 4 N.m at rtol 1e-5 → scaled below
+    scale[7:14] = 1e-2  # speeds [rad/s]
+    scale[14:16] = 1.0  # currents [A]
+    scale[16:18] = 1e-3  # PI integrals [A.s]
+    scale[18] = 1.0  # lagged torque [N.m]
+    scale[19] = 1e-3  # speed-error integral [rad]
+    return np.full(N_STATES, rtol), scale * rtol
+
+
+# Not cached: ros2_integrate takes the right-hand side as an argument, and numba cannot cache a
+# function whose argument types hold a dispatcher (it embeds its address). Compiling costs a few
+# seconds once per process.
+@numba.njit
+def _integrate(x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats):
+    n_out = t_out.shape[0]
+    x = x0.copy()
+    k = 0
+    while k < n_out and t_out[k] <= bounds[0, 0]:
+        x_out[k, :] = x
+        k += 1
+    status = STATUS_OK
+    for s in range(bounds.shape[0]):
+        t0 = bounds[s, 0]
+        t1 = bounds[s, 1]
+        k_end = k
+        while k_end < n_out and t_out[k_end] <= t1:
+            k_end += 1
+        # Always integrate to t1 as well, so the next segment starts from the exact end state.
+        m = k_end - k
+        ts = np.empty(m + 1)
+        ts[:m] = t_out[k:k_end]
+        ts[m] = t1
+        xs = np.empty((m + 1, x.shape[0]))
+        n_steps, n_rej, n_jac, status = ros2_integrate(
+            rig_rhs, x, t0, t1, ts, params[s], tables, rtol, atol, 0.0, h_max, jac_every, xs
+        )
+        stats[0] += n_steps
+        stats[1] += n_rej
+        stats[2] += n_jac
+        if status != STATUS_OK:
+            for j in range(k, n_out):
+                x_out[j, :] = np.nan
+            return status
+        x_out[k:k_end, :] = xs[:m]
+        x = xs[m].copy()
+        k = k_end
+    return status
+
+
+@numba.njit(parallel=True)
+def _integrate_batch(
+    x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, status
+):
+    for i in numba.prange(x0.shape[0]):
+        status[i] = _integrate(
+            x0[i],
+            bounds,
+            params[i],
+            tables,
+            t_out,
+            rtol,
+            atol,
+            h_max,
+            jac_every,
+            x_out[i],
+            stats[i],
+        )
+
+
+def _segment_arrays(segments):
+    bounds = np.array([[s.start, s.end] for s in segments], dtype=float)
+    params = np.stack([s.params for s in segments])
+    return bounds, params
+
+
+def integrate_experiment(inputs, t_out, rtol=None, h_max=None, jac_every=None):
+    """Integrate one experiment with the fast backend.
+
+    Parameters
+    ----------
+    inputs : ModelInputs
+        From :func:`rollerrig.rig.assemble.assemble`.
+    t_out : ndarray
+        Output times [s], increasing, within the experiment.
+    rtol : float, optional
+        Relative tolerance (per-state absolute tolerances follow from it).
+    h_max : float, optional
+        Largest step [s].
+    jac_every : int, optional
+        Jacobian refresh interval in accepted steps.
+
+    Returns
+    -------
+    x_out : ndarray, shape (len(t_out), N_STATES)
+    stats : dict
+        Accepted steps, rejected steps, Jacobian evaluations, status.
+    """
+    rtol = FAST_DEFAULTS["rtol"] if rtol is None else rtol
+    h_max = FAST_DEFAULTS["h_max"] if h_max is None else h_max
+    jac_every = FAST_DEFAULTS["jac_every"] if jac_every is None else jac_every
+    rt, at = default_tolerances(rtol)
+    bounds, params = _segment_arrays(inputs.segments)
+    t_out = np.ascontiguousarray(t_out, dtype=float)
+    x_out = np.empty((t_out.size, N_STATES))
+    stats = np.zeros(3, dtype=np.int64)
+    status = _integrate(
+        inputs.initial_state,
+        bounds,
+        params,
+        inputs.tables,
+        t_out,
+        rt,
+        at,
+        h_max,
+        jac_every,
+        x_out,
+        stats,
+    )
+    return x_out, {
+        "accepted_steps": int(stats[0]),
+        "rejected_steps": int(stats[1]),
+        "jacobians": int(stats[2]),
+        "status": int(status),
+    }
+
+
+def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None):
+    """Integrate several variants of one experiment in parallel (numba threads).
+
+    All variants must share the protocol (segments and tables); they differ in parameters and
+    initial state, e.g. a sweep of roller-shaft stiffness and motor lag.
+
+    Returns
+    -------
+    x_out : ndarray, shape (n_variants, len(t_out), N_STATES)
+    status : ndarray of int, shape (n_variants,)
+    """
+    rtol = FAST_DEFAULTS["rtol"] if rtol is None else rtol
+    h_max = FAST_DEFAULTS["h_max"] if h_max is None else h_max
+    jac_every = FAST_DEFAULTS["jac_every"] if jac_every is None else jac_every
+    rt, at = default_tolerances(rtol)
+    first = inputs_list[0]
+    bounds, _ = _segment_arrays(first.segments)
+    params = np.stack([_segment_arrays(i.segments)[1] for i in inputs_list])
+    x0 = np.stack([i.initial_state for i in inputs_list])
+    t_out = np.ascontiguousarray(t_out, dtype=float)
+    x_out = np.empty((len(inputs_list), t_out.size, N_STATES))
+    stats = np.zeros((len(inputs_list), 3), dtype=np.int64)
+    status = np.zeros(len(inputs_list), dtype=np.int64)
+    _integrate_batch(
+        x0, bounds, params, first.tables, t_out, rt, at, h_max, jac_every, x_out, stats, status
+    )
+    return x_out, status

@@ -1,0 +1,112 @@
+"""`Simulation`: binds a rig, an experiment protocol, the drive models and a solver."""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable, Mapping
+from pathlib import Path
+
+import numpy as np
+
+from rollerrig._validation import ParameterError
+from rollerrig.contact.creep import PolachParameters
+from rollerrig.experiment.protocol import Protocol, load_protocol
+from rollerrig.rig.assemble import ModelInputs, assemble
+from rollerrig.rig.model import DriveConfig
+from rollerrig.rig.parameters import RigParameters, default_rig, load_rig
+
+__all__ = ["SOLVERS", "Simulation"]
+
+SOLVERS = ("fast", "reference")
+
+
+class Simulation:
+    """A simulated adhesion experiment on a rig.
+
+    Parameters
+    ----------
+    rig : RigParameters, path or None
+        Rig parameters, a rig TOML file, or ``None`` for the bundled default rig.
+    experiment : Protocol, str or path
+        A compiled protocol, the name of a bundled one (e.g. ``"seed-30kmh-dry"``), or a file.
+    drives : DriveConfig, optional
+        Drive models (default: PMSM wheel drive, induction-motor roller drive with lag).
+    friction_sets : mapping, optional
+        Polach parameters by friction-condition name (default: Polach 2005 dry and wet).
+    solver : {"fast", "reference"}
+        The compiled ROS2 W-method, or scipy's Radau on the compiled model.
+    output_rate : float, optional
+        Sampling rate of the results [Hz]; default the rig's DAQ rate.
+    rtol : float, optional
+        Relative tolerance of the solver.
+
+    Examples
+    --------
+    >>> sim = Simulation(experiment="seed-30kmh-dry")
+    >>> sim.inputs.duration
+    30.0
+    """
+
+    def __init__(
+        self,
+        rig: RigParameters | str | os.PathLike | None = None,
+        experiment: Protocol | str | os.PathLike = "seed-30kmh-dry",
+        drives: DriveConfig | None = None,
+        friction_sets: Mapping[str, PolachParameters] | None = None,
+        solver: str = "fast",
+        output_rate: float | None = None,
+        rtol: float | None = None,
+    ) -> None:
+        if solver not in SOLVERS:
+            raise ParameterError(f"solver must be one of {SOLVERS}, got {solver!r}")
+        if rig is None:
+            rig = default_rig()
+        elif not isinstance(rig, RigParameters):
+            rig = load_rig(Path(rig))
+        protocol = experiment if isinstance(experiment, Protocol) else load_protocol(experiment)
+        rate = rig.sensors.daq_rate if output_rate is None else float(output_rate)
+        if not (np.isfinite(rate) and rate > 0):
+            raise ParameterError(f"output_rate must be > 0 [Hz], got {output_rate!r}")
+        self.rig = rig
+        self.protocol = protocol
+        self.solver = solver
+        self.output_rate = rate
+        self.rtol = rtol
+        self.inputs: ModelInputs = assemble(rig, protocol, drives, friction_sets)
+
+    @property
+    def times(self) -> np.ndarray:
+        """Sample times of the results [s]."""
+        n = int(np.floor(self.protocol.duration * self.output_rate + 1e-9))
+        return np.arange(n + 1) / self.output_rate
+
+    def run(self, progress: Callable[[float, float], None] | None = None):
+        """Run the experiment and return the labelled dataset (:func:`build_dataset`)."""
+        from rollerrig.solve.results import build_dataset
+
+        t = self.times
+        start = time.perf_counter()
+        if self.solver == "fast":
+            from rollerrig.solve.fast import FAST_DEFAULTS, integrate_experiment
+
+            x, stats = integrate_experiment(self.inputs, t, rtol=self.rtol)
+            settings = dict(FAST_DEFAULTS) | ({"rtol": self.rtol} if self.rtol else {})
+            name = "ROS2 W-method (numba)"
+            if progress is not None:
+                progress(self.protocol.duration, self.protocol.duration)
+        else:
+            from rollerrig.solve.reference import integrate_reference
+
+            rtol = 1e-9 if self.rtol is None else self.rtol
+            x, stats = integrate_reference(self.inputs, t, rtol=rtol, progress=progress)
+            settings = {"rtol": rtol, "method": "Radau"}
+            name = "scipy solve_ivp Radau"
+        wall = time.perf_counter() - start
+        if stats["status"] != 0 or not np.all(np.isfinite(x)):
+            raise RuntimeError(
+                f"{name} failed on {self.protocol.name!r} (status {stats['status']}); "
+                "try the reference solver or a smaller tolerance"
+            )
+        solver = {"name": name, "settings": settings, "stats": stats, "wall_time_s": wall}
+        return build_dataset(self.inputs, t, x, solver)

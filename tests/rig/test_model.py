@@ -1,0 +1,176 @@
+"""The coupled rig model: equilibrium start, torque balances, energy balance, compiled = Python.
+
+References: the sign convention and torque-sensor relation of DESIGN.md §3 (F_x r_r = T56 + J5 α5
++ R05); energy conservation of the torsional chain (d/dt of kinetic plus elastic energy equals
+drive power minus damper, bearing and contact-slip losses).
+"""
+
+import numpy as np
+import pytest
+
+from rollerrig.experiment import protocol_from_toml_string
+from rollerrig.rig import model as m
+from rollerrig.rig.assemble import assemble
+from rollerrig.rig.model import DriveConfig
+from rollerrig.rig.parameters import default_rig
+from rollerrig.solve.reference import integrate_reference
+
+ONE_CYCLE = """
+[experiment]
+name = "one-cycle"
+normal_load_kN = 4.3
+friction = "dry"
+roller_speed_kmh = 30
+[[step]]
+action = "hold"
+duration_s = 0.5
+[[step]]
+action = "ramp_torque"
+to_Nm = 720
+duration_s = 2.5
+[[step]]
+action = "hold"
+duration_s = 0.5
+[[step]]
+action = "release_torque"
+[[step]]
+action = "hold"
+duration_s = 2.0
+"""
+
+ALL_DRIVES = [
+    DriveConfig(),
+    DriveConfig(wheel="ideal_torque"),
+    DriveConfig(roller="induction_linear"),
+    DriveConfig(roller="ideal_speed"),
+    DriveConfig(roller="servo"),
+    DriveConfig(roller_lag=0.0),
+]
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return default_rig()
+
+
+@pytest.fixture(scope="module")
+def protocol():
+    return protocol_from_toml_string(ONE_CYCLE)
+
+
+@pytest.mark.parametrize("drives", ALL_DRIVES, ids=lambda d: f"{d.wheel}-{d.roller}-{d.roller_lag}")
+def test_initial_state_is_steady_free_rolling(rig, protocol, drives):
+    inputs = assemble(rig, protocol, drives)
+    x0 = inputs.initial_state
+    dx = np.empty(m.N_STATES)
+    m.rig_rhs(0.0, x0, inputs.segments[0].params, inputs.tables, dx)
+    # Every acceleration vanishes (relative to the gravity of a 1 N.m torque on the smallest
+    # inertia) and the roller runs near its set point: a steady start, no start-up transient.
+    accel = dx[m.X_OMEGA : m.X_OMEGA + 7]
+    assert np.max(np.abs(accel)) < 1e-6
+    assert np.max(np.abs(dx[m.X_ID :])) < 1e-6
+    roller_speed = x0[m.X_OMEGA + 4] * rig.geometry.roller_radius_x
+    assert roller_speed == pytest.approx(30 / 3.6, rel=0.01)
+
+
+def test_free_rolling_torques_balance_the_bearing_losses(rig, protocol):
+    # Steady state: the roller drive supplies both bearing losses through the chain; the wheel
+    # is dragged by a small negative contact force equal to its bearing loss over its radius.
+    inputs = assemble(rig, protocol)
+    terms = dict(
+        zip(
+            m.TERM_NAMES,
+            m.rig_terms(0.0, inputs.initial_state, inputs.segments[0].params, inputs.tables),
+            strict=True,
+        )
+    )
+    rw, rr = rig.geometry.wheel_radius_x, rig.geometry.roller_radius_x
+    assert terms["contact_force"] * rw == pytest.approx(-terms["bearing_torque_wheel"], rel=1e-9)
+    assert -terms["roller_drive_torque"] == pytest.approx(terms["t56"], rel=1e-9)
+    expected = terms["bearing_torque_roller"] + terms["bearing_torque_wheel"] * rr / rw
+    assert terms["roller_drive_torque"] == pytest.approx(expected, rel=1e-9)
+
+
+def test_python_and_compiled_right_hand_sides_agree(rig, protocol):
+    from rollerrig.solve._compiled import rig_rhs as compiled
+
+    rng = np.random.default_rng(1)
+    for drives in ALL_DRIVES:
+        inputs = assemble(rig, protocol, drives)
+        for _ in range(5):
+            x = inputs.initial_state + rng.normal(scale=0.05, size=m.N_STATES)
+            t = rng.uniform(0, protocol.duration)
+            a, b = np.empty(m.N_STATES), np.empty(m.N_STATES)
+            m.rig_rhs(t, x, inputs.segments[0].params, inputs.tables, a)
+            compiled(t, x, inputs.segments[0].params, inputs.tables, b)
+            np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
+
+
+def _energy_terms(inputs, t, x):
+    p = inputs.segments[0].params
+    terms = np.array([m.rig_terms(ti, xi, p, inputs.tables) for ti, xi in zip(t, x, strict=True)])
+    d = {name: terms[:, j] for j, name in enumerate(m.TERM_NAMES)}
+    th, om = x[:, m.X_THETA : m.X_THETA + 7], x[:, m.X_OMEGA : m.X_OMEGA + 7]
+    inertia = p[m.P_J : m.P_J + 7]
+    # (i, j, k, b) of each element, 0 = ground
+    elements = [
+        (0, 1, m.P_K01, m.P_B01),
+        (2, 3, m.P_K23, m.P_B23),
+        (3, 4, m.P_K34, m.P_B34),
+        (5, 6, m.P_K56, m.P_B56),
+        (7, 0, m.P_K70, m.P_B70),
+    ]
+
+    def ang(arr, i):
+        return np.zeros(len(t)) if i == 0 else arr[:, i - 1]
+
+    stored = 0.5 * (om**2 @ inertia)
+    damper = np.zeros(len(t))
+    for i, j, k, b in elements:
+        stored += 0.5 * p[k] * (ang(th, i) - ang(th, j)) ** 2
+        damper += p[b] * (ang(om, i) - ang(om, j)) ** 2
+    drive = d["pmsm_torque"] * (om[:, 1] - om[:, 0]) + d["roller_drive_torque"] * (
+        om[:, 5] - om[:, 6]
+    )
+    losses = (
+        damper
+        + d["bearing_torque_wheel"] * om[:, 2]
+        + d["bearing_torque_roller"] * om[:, 4]
+        + d["contact_force"] * d["slip_velocity"]
+    )
+    return stored, drive, losses
+
+
+@pytest.mark.parametrize(
+    "drives", [DriveConfig(), DriveConfig(wheel="ideal_torque", roller="servo")]
+)
+def test_energy_balance_over_an_experiment(rig, protocol, drives):
+    # Kinetic + elastic energy change = ∫ (drive power − dissipation) dt over a traction cycle
+    # with macro-slip and the oscillation after release.
+    inputs = assemble(rig, protocol, drives)
+    t = np.linspace(0.0, protocol.duration, 20001)
+    x, stats = integrate_reference(inputs, t, rtol=1e-10)
+    assert stats["status"] == 0
+    stored, drive, losses = _energy_terms(inputs, t, x)
+    net = drive - losses
+    integral = np.concatenate([[0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * np.diff(t))])
+    throughput = np.trapezoid(np.abs(drive), t)
+    residual = (stored - stored[0]) - integral
+    assert np.max(np.abs(residual)) < 2e-4 * throughput
+    # Non-trivial: the experiment dissipated a sizeable part of what the drives put in.
+    assert np.trapezoid(losses, t) > 0.01 * throughput
+
+
+def test_sensor_relation_holds_at_every_instant(rig, protocol):
+    # DESIGN.md §3: F_x r_r = T56 + J5 α5 + R05, which is the roller's equation of motion.
+    inputs = assemble(rig, protocol)
+    p = inputs.segments[0].params
+    t = np.linspace(0.0, protocol.duration, 400)
+    x, _ = integrate_reference(inputs, t, rtol=1e-8)
+    dx = np.empty(m.N_STATES)
+    for ti, xi in zip(t, x, strict=True):
+        d = dict(zip(m.TERM_NAMES, m.rig_terms(ti, xi, p, inputs.tables), strict=True))
+        m.rig_rhs(ti, xi, p, inputs.tables, dx)
+        lhs = d["contact_force"] * p[m.P_RR]
+        rhs = d["t56"] + p[m.P_J + 4] * dx[m.X_OMEGA + 4] + d["bearing_torque_roller"]
+        assert lhs == pytest.approx(rhs, rel=1e-9, abs=1e-9)
