@@ -1,0 +1,1 @@
+"""Measurements: DAQ recordings, channel maps, physical quantities, test segmentation."""

@@ -1,0 +1,1 @@
+"""Signal processing: smoothing filters, filter scoring and tuning, spectra with attribution."""
