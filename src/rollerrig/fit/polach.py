@@ -1,0 +1,463 @@
+"""Fit Polach's creep-force parameters (μ0, A, B, k_A, k_S) to measured creep-CoA points.
+
+The model is Polach's creep law with slip-velocity-dependent friction (Polach 2005; Kayaalp
+eqs. 4.19-4.20), evaluated by the same kernel as the twin
+(:func:`rollerrig.contact.creep._polach_force_kernel`):
+
+.. math::
+    \\mathrm{CoA}(s, w) = \\frac{2\\mu}{\\pi}\\left(\\frac{k_A\\varepsilon}{1+(k_A\\varepsilon)^2}
+        + \\arctan(k_S\\varepsilon)\\right),\\quad
+    \\varepsilon = \\frac{\\pi}{4}\\frac{G a b c_{11}}{Q\\mu}s,\\quad
+    \\mu = \\mu_0\\left[(1-A)e^{-B|w|} + A\\right]
+
+with the creep stiffness G a b c11 [N] of the contact at each point's load (Hertz and Kalker;
+:func:`creep_stiffness_for_rig`).
+
+Bounded least squares (:func:`scipy.optimize.least_squares`, trust-region reflective) in the
+parameters θ = (μ0, A, B, k_A, r) with k_S = r·k_A, bounds μ0 > 0, 0 < A ≤ 1, B ≥ 0,
+0 < k_A ≤ 1, 0 < r ≤ 1, so that Polach's 0 < k_S ≤ k_A ≤ 1 holds by construction.
+
+Uncertainty: with the Jacobian J of the residuals in θ at the solution (central differences,
+one-sided at a bound), cov(θ) = s²·(JᵀJ)⁻¹ with s² = Σr²/(n − 5) (with a robust loss, over
+the points within 3 robust standard deviations of the median residual only); it is carried to
+(μ0, A, B, k_A, k_S) by the delta method (k_S = r·k_A). Standard errors are the square roots of
+the diagonal, the correlation matrix is cov_ij/(σ_i σ_j). The intervals are asymptotic
+(t-distribution, n − 5 degrees of freedom) and assume independent residuals of equal variance;
+at a bound they are one-sided in truth and the symmetric interval is only indicative.
+A :class:`PolachFitWarning` is issued when parameters are not identifiable: JᵀJ
+(column-scaled) nearly singular (condition number above 1e10), a pair correlated beyond 0.995,
+or a standard error above half the value — typically A and B when the slip velocities span too
+small a range for μ(w) to bend (one rolling speed, low speed, creep not far past the peak). On
+the default rig's contact at 4.3 kN, creep up to 10 % at two or three speeds between 10 and
+60 km/h gives |corr(A, B)| ≈ 0.985; one speed (30 km/h) 0.9996; the twin's seed test 0.9986.
+
+References
+----------
+.. [1] O. Polach, "Creep forces in simulations of traction vehicles running on adhesion limit",
+   Wear 258 (2005) 992-1000.
+.. [2] B.T. Kayaalp, dissertation (University of Pardubice), eqs. 4.19-4.20.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import optimize, stats
+
+from rollerrig._validation import ParameterError, require_finite, require_positive
+from rollerrig.contact.creep import POLACH_DRY, PolachParameters, _polach_force_kernel
+from rollerrig.contact.curves import CreepCurve
+
+__all__ = [
+    "PARAMETER_NAMES",
+    "PolachFit",
+    "PolachFitWarning",
+    "creep_stiffness_for_rig",
+    "fit_polach",
+    "polach_coa",
+]
+
+PARAMETER_NAMES = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
+"""Order of the parameters in :attr:`PolachFit.stderr`, ``covariance`` and ``correlation``."""
+
+_SMALL = 1e-9  # lower bound standing in for the open "> 0" bounds
+_IDENTIFIABILITY_CORRELATION = 0.995
+_IDENTIFIABILITY_RELATIVE_STDERR = 0.5
+_IDENTIFIABILITY_CONDITION = 1e10
+
+
+class PolachFitWarning(UserWarning):
+    """Fitted parameters are poorly determined by the data (see the message for which)."""
+
+
+def polach_coa(creep, slip_velocity, normal_load, creep_stiffness, parameters: PolachParameters):
+    """Polach's CoA F/Q at given creep, slip velocity, load and creep stiffness.
+
+    Parameters
+    ----------
+    creep : array_like
+        s [-].
+    slip_velocity : array_like
+        w [m/s].
+    normal_load : array_like
+        Q [N].
+    creep_stiffness : array_like
+        G a b c11 [N] at that load.
+    parameters : PolachParameters
+
+    Returns
+    -------
+    numpy.ndarray
+        CoA [-].
+
+    Examples
+    --------
+    >>> round(float(polach_coa(0.01, 0.0833, 4300.0, 1.13e6, POLACH_DRY)), 3)
+    0.421
+    """
+    q = np.asarray(normal_load, dtype=float)
+    return (
+        _polach_force_kernel(
+            np.asarray(creep, dtype=float),
+            np.asarray(slip_velocity, dtype=float),
+            q,
+            np.asarray(creep_stiffness, dtype=float),
+            *parameters.as_tuple(),
+        )
+        / q
+    )
+
+
+def creep_stiffness_for_rig(normal_load, rig=None):
+    """Kalker's creep stiffness G a b c11 [N] of the rig's wheel-roller contact at a load.
+
+    Exact Hertz contact of the rig's geometry and material at the load, Kalker's c11 at its a/b
+    and ν, and the combined shear modulus, as :func:`rollerrig.contact.curves.polach_creep_curve`
+    and the twin compute them.
+
+    Parameters
+    ----------
+    normal_load : float or array_like
+        Q [N], > 0.
+    rig : RigParameters or mapping, optional
+        The rig (default: the bundled default rig); a ``{section: {key: value}}`` mapping in SI
+        (e.g. ``json.loads(ds.attrs["provenance"])["rig"]``) also works.
+
+    Returns
+    -------
+    numpy.ndarray
+        G a b c11 [N].
+
+    Examples
+    --------
+    >>> round(float(creep_stiffness_for_rig(4300.0)) / 1e6, 4)
+    1.1295
+    """
+    from rollerrig.contact.curves import polach_creep_curve
+    from rollerrig.rig.parameters import default_rig
+
+    if rig is None:
+        rig = default_rig()
+    d = rig.to_dict() if hasattr(rig, "to_dict") else rig
+    g, mat = d["geometry"], d["material"]
+    q = require_positive("normal_load", normal_load, "N")
+    out = np.empty(q.shape)
+    unique, inverse = np.unique(q, return_inverse=True)
+    values = [
+        polach_creep_curve(
+            np.zeros(1),
+            float(load),
+            1.0,
+            g["wheel_radius_x"],
+            g["wheel_radius_y"],
+            g["roller_radius_x"],
+            g["roller_radius_y"],
+            POLACH_DRY,
+            mat["youngs_modulus"],
+            mat["poisson"],
+        ).creep_stiffness
+        for load in unique
+    ]
+    out.reshape(-1)[:] = np.asarray(values)[inverse.reshape(-1)]
+    return out
+
+
+def _theta_to_parameters(theta) -> tuple[float, float, float, float, float]:
+    mu0, a, b, ka, r = (float(x) for x in theta)
+    return mu0, a, b, ka, r * ka
+
+
+@dataclass(frozen=True)
+class PolachFit:
+    """Result of :func:`fit_polach`.
+
+    Attributes
+    ----------
+    parameters : PolachParameters
+        The fitted set.
+    stderr : dict of str to float
+        Standard errors by parameter name (:data:`PARAMETER_NAMES`) [units of the parameter].
+    covariance : ndarray, shape (5, 5)
+        Covariance of (μ0, A, B, k_A, k_S).
+    correlation : ndarray, shape (5, 5)
+        Correlation matrix of (μ0, A, B, k_A, k_S) [-].
+    residuals : ndarray
+        Model minus measured CoA at each point [-].
+    rmse : float
+        Root-mean-square of the residuals [-].
+    dof : int
+        Degrees of freedom of the covariance: n − 5 (inliers only with a robust loss).
+    at_bound : tuple of str
+        Parameters at a bound of the search (k_S at k_A counts as ``"k_slip"``).
+    identifiable : bool
+        False when a :class:`PolachFitWarning` was issued.
+    success : bool
+        Whether the optimiser reported convergence.
+    message : str
+        The optimiser's message.
+    creep, slip_velocity, normal_load, creep_stiffness, coa : ndarray
+        The data that were fitted.
+    """
+
+    parameters: PolachParameters
+    stderr: dict
+    covariance: np.ndarray
+    correlation: np.ndarray
+    residuals: np.ndarray
+    rmse: float
+    dof: int
+    at_bound: tuple[str, ...]
+    identifiable: bool
+    success: bool
+    message: str
+    creep: np.ndarray = field(repr=False)
+    slip_velocity: np.ndarray = field(repr=False)
+    normal_load: np.ndarray = field(repr=False)
+    creep_stiffness: np.ndarray = field(repr=False)
+    coa: np.ndarray = field(repr=False)
+
+    def confidence_interval(self, level: float = 0.95) -> dict[str, tuple[float, float]]:
+        """Symmetric asymptotic interval of each parameter (t-distribution, ``dof``)."""
+        q = float(stats.t.ppf(0.5 + 0.5 * level, max(self.dof, 1)))
+        values = dict(zip(PARAMETER_NAMES, self.parameters.as_tuple(), strict=True))
+        return {k: (values[k] - q * self.stderr[k], values[k] + q * self.stderr[k]) for k in values}
+
+    def curve(self, creep, slip_velocity=None, rolling_speed=None, normal_load=None):
+        """Fitted CoA at ``creep`` [-].
+
+        Parameters
+        ----------
+        creep : array_like
+            s [-].
+        slip_velocity : array_like, optional
+            w [m/s]; default ``creep × rolling_speed``.
+        rolling_speed : float, optional
+            v [m/s]; default the median |w|/|s| of the fitted data.
+        normal_load : float, optional
+            Q [N]; default the median load of the fitted data (with its creep stiffness
+            scaled by (Q/Q_median)^(2/3), as the Hertz semi-axes scale).
+        """
+        s = require_finite("creep", creep, "-")
+        if slip_velocity is None:
+            if rolling_speed is None:
+                ok = np.abs(self.creep) > 1e-6
+                rolling_speed = float(np.median(np.abs(self.slip_velocity[ok] / self.creep[ok])))
+            slip_velocity = s * rolling_speed
+        q_med = float(np.median(self.normal_load))
+        k_med = float(np.median(self.creep_stiffness))
+        q = q_med if normal_load is None else float(normal_load)
+        k = k_med * (q / q_med) ** (2.0 / 3.0)
+        return polach_coa(s, slip_velocity, q, k, self.parameters)
+
+
+def _jacobian(fun, theta, lower, upper):
+    """Central differences, one-sided next to a bound."""
+    theta = np.asarray(theta, dtype=float)
+    jac = np.empty((fun(theta).size, theta.size))
+    for j in range(theta.size):
+        h = 1e-6 * max(abs(theta[j]), 1e-3)
+        up = min(theta[j] + h, upper[j])
+        dn = max(theta[j] - h, lower[j])
+        tp, tm = theta.copy(), theta.copy()
+        tp[j], tm[j] = up, dn
+        jac[:, j] = (fun(tp) - fun(tm)) / (up - dn)
+    return jac
+
+
+def fit_polach(
+    creep,
+    coa,
+    normal_load,
+    creep_stiffness,
+    slip_velocity=None,
+    rolling_speed=None,
+    *,
+    initial: PolachParameters | None = None,
+    loss: str = "linear",
+    f_scale: float = 0.01,
+    name: str = "fitted",
+) -> PolachFit:
+    """Fit Polach's parameters to creep-CoA points.
+
+    Parameters
+    ----------
+    creep : array_like, shape (n,)
+        Creep s [-] at each point.
+    coa : array_like, shape (n,)
+        Measured CoA F/Q [-].
+    normal_load : float or array_like
+        Q [N] (scalar or per point).
+    creep_stiffness : float, array_like or CreepCurve
+        G a b c11 [N] at the load (scalar or per point), or a :class:`CreepCurve` whose
+        ``creep_stiffness`` (scaled by (Q/Q_curve)^(2/3) per point) is used; see
+        :func:`creep_stiffness_for_rig`.
+    slip_velocity : array_like, optional
+        w [m/s] at each point; default ``creep × rolling_speed``.
+    rolling_speed : float or array_like, optional
+        v [m/s], needed when ``slip_velocity`` is not given.
+    initial : PolachParameters, optional
+        Starting point; default a neutral set (μ0 from the largest |CoA|, A = 0.5, B = 0.3,
+        k_A = 0.7, k_S = 0.35).
+    loss : str
+        ``"linear"`` (least squares) or a robust loss of :func:`scipy.optimize.least_squares`
+        (``"soft_l1"``, ``"huber"``, ``"cauchy"``, ``"arctan"``).
+    f_scale : float
+        Residual scale of the robust loss [-] (ignored by ``"linear"``).
+    name : str
+        Name of the fitted :class:`PolachParameters`.
+
+    Returns
+    -------
+    PolachFit
+
+    Warns
+    -----
+    PolachFitWarning
+        When parameters are not identifiable from the data.
+
+    Examples
+    --------
+    Exact points of the dry set at two speeds:
+
+    >>> s = np.tile(np.linspace(0.0005, 0.08, 40), 2)
+    >>> v = np.repeat([30 / 3.6, 60 / 3.6], 40)
+    >>> k = 1.1295e6
+    >>> mu = polach_coa(s, s * v, 4300.0, k, POLACH_DRY)
+    >>> fit = fit_polach(s, mu, 4300.0, k, slip_velocity=s * v)
+    >>> round(fit.parameters.static_friction, 6), round(fit.parameters.k_slip, 6)
+    (0.55, 0.4)
+    """
+    s = require_finite("creep", creep, "-").reshape(-1)
+    y = require_finite("coa", coa, "-").reshape(-1)
+    if s.shape != y.shape:
+        raise ParameterError(f"creep {s.shape} and coa {y.shape} must have the same length")
+    n = s.size
+    if n < 6:
+        raise ParameterError(f"need at least 6 points to fit 5 parameters, got {n}")
+    q = np.broadcast_to(require_positive("normal_load", normal_load, "N"), s.shape).astype(float)
+    if isinstance(creep_stiffness, CreepCurve):
+        k = creep_stiffness.creep_stiffness * (q / creep_stiffness.normal_load) ** (2.0 / 3.0)
+    else:
+        k = np.broadcast_to(require_positive("creep_stiffness", creep_stiffness, "N"), s.shape)
+        k = k.astype(float)
+    if slip_velocity is None:
+        if rolling_speed is None:
+            raise ParameterError("give slip_velocity [m/s] or rolling_speed [m/s]")
+        w = s * np.broadcast_to(require_positive("rolling_speed", rolling_speed, "m/s"), s.shape)
+    else:
+        w = np.broadcast_to(require_finite("slip_velocity", slip_velocity, "m/s"), s.shape)
+        w = w.astype(float)
+
+    if initial is None:
+        mu0_guess = float(np.clip(np.max(np.abs(y)) * 1.1, 0.05, 2.0))
+        theta0 = np.array([mu0_guess, 0.5, 0.3, 0.7, 0.5])
+    else:
+        p = initial
+        theta0 = np.array(
+            [p.static_friction, p.limit_ratio, p.friction_decay, p.k_adhesion,
+             p.k_slip / p.k_adhesion]
+        )  # fmt: skip
+    lower = np.array([_SMALL, _SMALL, 0.0, _SMALL, _SMALL])
+    upper = np.array([np.inf, 1.0, np.inf, 1.0, 1.0])
+    theta0 = np.clip(theta0, lower + 1e-6, np.minimum(upper - 1e-6, 1e6))
+
+    def residuals(theta):
+        mu0, a, b, ka, r = theta
+        return _polach_force_kernel(s, w, q, k, mu0, a, b, ka, r * ka) / q - y
+
+    sol = optimize.least_squares(
+        residuals,
+        theta0,
+        bounds=(lower, upper),
+        loss=loss,
+        f_scale=f_scale,
+        x_scale="jac",
+        xtol=1e-15,
+        ftol=1e-15,
+        gtol=1e-15,
+        max_nfev=20000,
+    )
+    theta = sol.x
+    res = residuals(theta)
+    jac = _jacobian(residuals, theta, lower, upper)
+    inlier = np.ones(n, dtype=bool)
+    if loss != "linear":
+        # Robust fit: the covariance is taken on the points within 3 robust standard
+        # deviations (1.4826 x MAD) of the median residual; the outliers would inflate s^2.
+        dev = np.abs(res - np.median(res))
+        sigma = 1.4826 * float(np.median(dev))
+        if sigma > 0:
+            inlier = dev <= 3.0 * sigma
+    dof = max(int(inlier.sum()) - 5, 1)
+    s2 = float(res[inlier] @ res[inlier]) / dof
+    jac = jac[inlier]
+    # Delta method: d(mu0, A, B, kA, kS)/d(theta).
+    transform = np.eye(5)
+    transform[4, 3], transform[4, 4] = theta[4], theta[3]
+    scale = np.linalg.norm(jac, axis=0)
+    scale[scale == 0] = 1.0
+    js = jac / scale
+    jtj = js.T @ js
+    cond = float(np.linalg.cond(jtj))
+    cov_scaled = np.linalg.pinv(jtj)
+    cov_theta = s2 * cov_scaled / np.outer(scale, scale)
+    cov = transform @ cov_theta @ transform.T
+    sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        corr = cov / np.outer(sd, sd)
+    problems = []
+    if not np.isfinite(cond) or cond > _IDENTIFIABILITY_CONDITION:
+        problems.append(f"J^T J is nearly singular (condition number {cond:.3g})")
+        sd = np.where(sd == 0, np.inf, sd)
+    for i in range(5):
+        for j in range(i + 1, 5):
+            if np.isfinite(corr[i, j]) and abs(corr[i, j]) > _IDENTIFIABILITY_CORRELATION:
+                problems.append(
+                    f"{PARAMETER_NAMES[i]} and {PARAMETER_NAMES[j]} are correlated "
+                    f"({corr[i, j]:+.4f})"
+                )
+    values = np.array(_theta_to_parameters(theta))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        relative = sd / np.abs(values)
+    for i in np.flatnonzero(~(relative <= _IDENTIFIABILITY_RELATIVE_STDERR)):
+        problems.append(
+            f"{PARAMETER_NAMES[i]} has a standard error of {relative[i]:.3g} x its value"
+        )
+    span = float(np.ptp(np.abs(w)))
+    if problems:
+        warnings.warn(
+            "Polach parameters poorly determined by the data: "
+            + "; ".join(problems)
+            + f". Slip velocity spans {span:.3g} m/s; A and B need a wide range of slip "
+            "velocities (several rolling speeds, or creep well past the peak).",
+            PolachFitWarning,
+            stacklevel=2,
+        )
+    tol = 1e-7
+    at_bound = []
+    names_theta = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
+    for j, nm in enumerate(names_theta):
+        if theta[j] <= lower[j] + tol or theta[j] >= upper[j] - tol:
+            at_bound.append(nm)
+    mu0, a, b, ka, ks = _theta_to_parameters(theta)
+    params = PolachParameters(mu0, a, b, ka, min(ks, ka), name=name, source="fit_polach")
+    return PolachFit(
+        parameters=params,
+        stderr=dict(zip(PARAMETER_NAMES, sd.tolist(), strict=True)),
+        covariance=cov,
+        correlation=corr,
+        residuals=res,
+        rmse=float(np.sqrt(np.mean(res**2))),
+        dof=dof,
+        at_bound=tuple(at_bound),
+        identifiable=not problems,
+        success=bool(sol.success),
+        message=str(sol.message),
+        creep=s,
+        slip_velocity=w,
+        normal_load=q,
+        creep_stiffness=k,
+        coa=y,
+    )

@@ -1,0 +1,232 @@
+"""Figures of the spectral analysis: labelled spectra, coherence, order map.
+
+Each function takes the data objects of :mod:`rollerrig.signal.spectra` and returns a matplotlib
+figure (save it with :func:`rollerrig.report._io.save_figure`). Speeds are converted to km/h only
+here, at the edge, when a roller radius is given.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only; never needs a display
+import matplotlib.pyplot as plt
+import numpy as np
+
+from rollerrig.signal.spectra import CoherenceSpectrum, ExplainedSpectrum, OrderMap
+
+__all__ = ["coherence_figure", "order_map_figure", "spectrum_figure"]
+
+_COLOURS = {
+    "am_electrical": "tab:red",
+    "roller_order": "tab:blue",
+    "pmsm_electrical": "tab:purple",
+    "wheel_order": "tab:green",
+    "speed_independent": "tab:orange",
+    "unexplained": "tab:gray",
+    "": "k",
+}
+
+
+def _power_unit(explained: ExplainedSpectrum) -> str:
+    unit = explained.unit or "1"
+    return f"{unit}²/Hz" if explained.spectrum.scaling == "density" else f"{unit}²"
+
+
+def spectrum_figure(
+    explained: ExplainedSpectrum,
+    max_frequency: float | None = None,
+    max_labels: int = 12,
+    title: str | None = None,
+):
+    """Power spectrum on a log axis with every attributed peak marked and labelled.
+
+    Parameters
+    ----------
+    explained : ExplainedSpectrum
+        From :func:`rollerrig.signal.spectra.explain_spectrum`.
+    max_frequency : float, optional
+        Upper end of the frequency axis [Hz]; default just above the highest peak (at least
+        a tenth of the Nyquist frequency), or the Nyquist frequency without peaks.
+    max_labels : int
+        Label at most this many peaks, the most powerful; the others keep their marker.
+    title : str, optional
+        Figure title; default names the channel and the mean roller speed.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    spec = explained.spectrum
+    f, p = spec.frequency, spec.power
+    fig, ax = plt.subplots(figsize=(9.0, 4.8))
+    ax.semilogy(f[1:], p[1:], color="0.3", lw=0.8)
+    rows = list(explained.rows)
+    if max_frequency is None:
+        nyquist = spec.sample_rate / 2.0
+        fmax = max((r.frequency for r in rows), default=nyquist)
+        max_frequency = min(nyquist, max(1.15 * fmax, 0.1 * nyquist)) if rows else nyquist
+    ax.set_xlim(0.0, max_frequency)
+    labelled = sorted(rows, key=lambda r: r.power, reverse=True)[: int(max_labels)]
+    seen: set[str] = set()
+    for r in rows:
+        colour = _COLOURS.get(r.source, "k")
+        legend = r.source if r.source not in seen else None
+        seen.add(r.source)
+        ax.plot(r.frequency, r.power, "v", color=colour, ms=6, label=legend)
+        if r in labelled:
+            ax.annotate(
+                f"{r.frequency:.3f} Hz\n{r.label.split(' (')[0]}",
+                (r.frequency, r.power),
+                xytext=(0, 10),
+                textcoords="offset points",
+                ha="center",
+                va="bottom",
+                fontsize=7,
+                color=colour,
+                rotation=0,
+            )
+    top = max((r.power for r in rows), default=float(np.max(p)))
+    ax.set_ylim(top=top * 30.0)
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel(f"power [{_power_unit(explained)}]")
+    speed = explained.roller_speed
+    ax.set_title(
+        title
+        or (
+            f"{explained.channel}: {spec.method} spectrum, roller {speed:.2f} rad/s "
+            f"(f_r = {explained.roller_frequency:.3f} Hz, f_AM = {explained.am_frequency:.3f} Hz)"
+        ),
+        fontsize=9,
+    )
+    if rows:
+        ax.legend(fontsize=7, loc="upper right")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def coherence_figure(
+    coh: CoherenceSpectrum,
+    mark_frequencies: Sequence[float] = (),
+    mark_labels: Sequence[str] | None = None,
+    names: tuple[str, str] = ("x", "y"),
+    max_frequency: float | None = None,
+):
+    """Magnitude-squared coherence with optional markers at given frequencies.
+
+    Parameters
+    ----------
+    coh : CoherenceSpectrum
+        From :func:`rollerrig.signal.spectra.coherence`.
+    mark_frequencies : sequence of float
+        Frequencies to mark [Hz] (e.g. the peaks of one channel).
+    mark_labels : sequence of str, optional
+        One label per marked frequency.
+    names : tuple of str
+        Names of the two channels for the title.
+    max_frequency : float, optional
+        Upper end of the frequency axis [Hz].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from rollerrig.signal.spectra import coherence_at
+
+    fig, ax = plt.subplots(figsize=(8.0, 4.0))
+    ax.plot(coh.frequency, coh.coherence, color="tab:blue", lw=0.9)
+    marks = np.asarray(mark_frequencies, dtype=float)
+    if marks.size:
+        values = coherence_at(coh, marks)
+        labels = list(mark_labels) if mark_labels is not None else [""] * marks.size
+        for fm, g, lab in zip(marks, values, labels, strict=True):
+            ax.axvline(fm, color="tab:red", lw=0.6, alpha=0.6)
+            ax.annotate(
+                f"{lab} {fm:.3f} Hz: γ² = {g:.2f}".strip(),
+                (fm, g if np.isfinite(g) else 0.5),
+                xytext=(3, 3),
+                textcoords="offset points",
+                fontsize=7,
+                rotation=90,
+                va="bottom",
+            )
+    ax.set_ylim(0.0, 1.05)
+    ax.set_xlim(0.0, max_frequency or float(coh.frequency[-1]))
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("coherence γ² [-]")
+    ax.set_title(f"coherence of {names[0]} and {names[1]} ({coh.n_segments} segments)")
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def order_map_figure(
+    omap: OrderMap,
+    roller_radius: float | None = None,
+    max_frequency: float | None = None,
+):
+    """Peak frequency versus speed with the order lines overlaid (a Campbell-like map).
+
+    Parameters
+    ----------
+    omap : OrderMap
+        From :func:`rollerrig.signal.spectra.order_map`.
+    roller_radius : float, optional
+        Roller rolling radius [m]; when given the speed axis is the surface speed in km/h
+        (Kayaalp: 0.452 m), else the roller angular speed in rad/s.
+    max_frequency : float, optional
+        Upper end of the frequency axis [Hz]; default 1.1 times the highest peak.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    scale = 3.6 * roller_radius if roller_radius is not None else 1.0
+    fig, ax = plt.subplots(figsize=(7.5, 5.0))
+    styles = {
+        "am_electrical": "-",
+        "roller_order": "--",
+        "pmsm_electrical": "-",
+        "wheel_order": ":",
+    }
+    for line in omap.lines:
+        ax.plot(
+            omap.speed_grid * scale,
+            line.frequency,
+            styles.get(line.source, "-."),
+            color=_COLOURS.get(line.source, "k"),
+            lw=0.9,
+            alpha=0.7,
+        )
+        ax.annotate(
+            line.label,
+            (omap.speed_grid[-1] * scale, line.frequency[-1]),
+            fontsize=6,
+            color=_COLOURS.get(line.source, "k"),
+            ha="right",
+            va="bottom",
+        )
+    for kind in dict.fromkeys(omap.source.tolist()):
+        sel = omap.source == kind
+        ax.plot(
+            omap.speed[sel] * scale,
+            omap.frequency[sel],
+            "o",
+            color=_COLOURS.get(kind, "k"),
+            ms=5,
+            label=kind or "peak",
+        )
+    top = max_frequency or (1.1 * float(omap.frequency.max()) if omap.frequency.size else 10.0)
+    ax.set_ylim(0.0, top)
+    ax.set_xlim(0.0, float(omap.speed_grid[-1]) * scale)
+    ax.set_xlabel("speed [km/h]" if roller_radius is not None else "roller speed [rad/s]")
+    ax.set_ylabel("peak frequency [Hz]")
+    ax.set_title("order map: spectral peaks versus speed")
+    if omap.frequency.size:
+        ax.legend(fontsize=7, loc="upper left")
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    return fig
