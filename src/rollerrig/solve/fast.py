@@ -1,4 +1,4 @@
-"""Fast backend: the compiled model integrated by the ROS2 W-method, segment by segment.
+"""Fast backend: the compiled model integrated by the ROS34PW2 W-method, segment by segment.
 
 One compiled call runs a whole experiment (every protocol segment, with its own friction
 parameters); :func:`integrate_batch` runs many variants of it in parallel threads, for sweeps.
@@ -11,31 +11,45 @@ import numpy as np
 
 from rollerrig.rig.model import N_STATES
 from rollerrig.solve._compiled import rig_rhs
-from rollerrig.solve.rosenbrock import STATUS_OK, ros2_integrate
+from rollerrig.solve.ros34pw import ros34pw2_integrate
+from rollerrig.solve.rosenbrock import FT_NONE, STATUS_OK
 
 __all__ = ["FAST_DEFAULTS", "default_tolerances", "integrate_batch", "integrate_experiment"]
 
-FAST_DEFAULTS = {"rtol": 1e-5, "h_max": 2e-3, "jac_every": 20}
-"""Default settings of the fast backend: relative tolerance, largest step [s], Jacobian reuse."""
+FAST_DEFAULTS = {"rtol": 1e-5, "angle_atol": 1e-6, "h_max": 2e-3, "jac_every": 100}
+"""Default settings of the fast backend: relative tolerance [-], absolute tolerance of the
+angles [rad], largest step [s], Jacobian refresh interval [accepted steps].
+
+Measured on the bundled 30 s dry experiment at 250 Hz output: max |ΔT56| = 0.86 N.m against
+Radau at rtol 1e-10. The error is set by ``h_max`` in this regime (third-order convergence:
+4, 2, 1 ms give 6.0, 0.87, 0.10 N.m).
+"""
 
 
-def default_tolerances(rtol: float) -> tuple[np.ndarray, np.ndarray]:
+def default_tolerances(
+    rtol: float, angle_atol: float | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Per-state (rtol, atol) vectors for the rig state.
 
-    Absolute tolerances follow the scale of each state: angles and speeds ~1e-6·rtol/1e-5 rad
-    and rad/s relative to their ~10-1000 magnitude, currents in A, torques in N.m.
+    The angles are absolute (hundreds of rad after a test), so a relative tolerance on them
+    would allow twist errors of ~1e-3 rad (tens of N.m on the roller shaft): they get rtol 0 and
+    an absolute tolerance in rad. The other states get ``rtol`` and an absolute tolerance on
+    their own scale (speeds in rad/s, currents in A, torques in N.m, integrals).
     """
-    scale = np.empty(N_STATES)
-    scale[0:7] = 1e-4  # twist angles [rad]: 1e-4 rad × k56 = 4 N.m at rtol 1e-5 → scaled below
-    scale[7:14] = 1e-2  # speeds [rad/s]
-    scale[14:16] = 1.0  # currents [A]
-    scale[16:18] = 1e-3  # PI integrals [A.s]
-    scale[18] = 1.0  # lagged torque [N.m]
-    scale[19] = 1e-3  # speed-error integral [rad]
-    return np.full(N_STATES, rtol), scale * rtol
+    angle_atol = 0.1 * rtol if angle_atol is None else angle_atol
+    rt = np.full(N_STATES, rtol)
+    at = np.empty(N_STATES)
+    rt[0:7] = 0.0
+    at[0:7] = angle_atol  # [rad]
+    at[7:14] = rtol  # speeds [rad/s]
+    at[14:16] = 100.0 * rtol  # currents [A]
+    at[16:18] = 0.1 * rtol  # PI integrals [A.s]
+    at[18] = 100.0 * rtol  # lagged drive torque [N.m]
+    at[19] = 0.1 * rtol  # speed-error integral [rad]
+    return rt, at
 
 
-# Not cached: ros2_integrate takes the right-hand side as an argument, and numba cannot cache a
+# Not cached: ros34pw2_integrate takes the right-hand side as an argument, and numba cannot cache a
 # function whose argument types hold a dispatcher (it embeds its address). Compiling costs a few
 # seconds once per process.
 @numba.njit
@@ -59,8 +73,23 @@ def _integrate(x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, 
         ts[:m] = t_out[k:k_end]
         ts[m] = t1
         xs = np.empty((m + 1, x.shape[0]))
-        n_steps, n_rej, n_jac, status = ros2_integrate(
-            rig_rhs, x, t0, t1, ts, params[s], tables, rtol, atol, 0.0, h_max, jac_every, xs
+        # f_t is left out: it enters ROS34PW2 at O(h^4) and did not change T56 on the rig.
+        n_steps, n_rej, n_jac, status = ros34pw2_integrate(
+            rig_rhs,
+            x,
+            t0,
+            t1,
+            ts,
+            params[s],
+            tables,
+            rtol,
+            atol,
+            0.0,
+            h_max,
+            jac_every,
+            xs,
+            1_000_000,
+            FT_NONE,
         )
         stats[0] += n_steps
         stats[1] += n_rej
@@ -101,7 +130,7 @@ def _segment_arrays(segments):
     return bounds, params
 
 
-def integrate_experiment(inputs, t_out, rtol=None, h_max=None, jac_every=None):
+def integrate_experiment(inputs, t_out, rtol=None, h_max=None, jac_every=None, angle_atol=None):
     """Integrate one experiment with the fast backend.
 
     Parameters
@@ -112,6 +141,8 @@ def integrate_experiment(inputs, t_out, rtol=None, h_max=None, jac_every=None):
         Output times [s], increasing, within the experiment.
     rtol : float, optional
         Relative tolerance (per-state absolute tolerances follow from it).
+    angle_atol : float, optional
+        Absolute tolerance of the angles [rad]; default scaled with ``rtol``.
     h_max : float, optional
         Largest step [s].
     jac_every : int, optional
@@ -126,7 +157,12 @@ def integrate_experiment(inputs, t_out, rtol=None, h_max=None, jac_every=None):
     rtol = FAST_DEFAULTS["rtol"] if rtol is None else rtol
     h_max = FAST_DEFAULTS["h_max"] if h_max is None else h_max
     jac_every = FAST_DEFAULTS["jac_every"] if jac_every is None else jac_every
-    rt, at = default_tolerances(rtol)
+    angle_atol = (
+        FAST_DEFAULTS["angle_atol"] * rtol / FAST_DEFAULTS["rtol"]
+        if angle_atol is None
+        else angle_atol
+    )
+    rt, at = default_tolerances(rtol, angle_atol)
     bounds, params = _segment_arrays(inputs.segments)
     t_out = np.ascontiguousarray(t_out, dtype=float)
     x_out = np.empty((t_out.size, N_STATES))
@@ -152,7 +188,7 @@ def integrate_experiment(inputs, t_out, rtol=None, h_max=None, jac_every=None):
     }
 
 
-def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None):
+def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, angle_atol=None):
     """Integrate several variants of one experiment in parallel (numba threads).
 
     All variants must share the protocol (segments and tables); they differ in parameters and
@@ -166,7 +202,12 @@ def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None):
     rtol = FAST_DEFAULTS["rtol"] if rtol is None else rtol
     h_max = FAST_DEFAULTS["h_max"] if h_max is None else h_max
     jac_every = FAST_DEFAULTS["jac_every"] if jac_every is None else jac_every
-    rt, at = default_tolerances(rtol)
+    angle_atol = (
+        FAST_DEFAULTS["angle_atol"] * rtol / FAST_DEFAULTS["rtol"]
+        if angle_atol is None
+        else angle_atol
+    )
+    rt, at = default_tolerances(rtol, angle_atol)
     first = inputs_list[0]
     bounds, _ = _segment_arrays(first.segments)
     params = np.stack([_segment_arrays(i.segments)[1] for i in inputs_list])

@@ -52,7 +52,7 @@ def integrate_reference(
         Right-hand-side and Jacobian evaluations, status.
     """
     t_out = np.asarray(t_out, dtype=float)
-    rt, at = default_tolerances(rtol)
+    _, at = default_tolerances(rtol, 0.1 * rtol)
     tables = inputs.tables
     if python_rhs:
         rhs_impl = _model.rig_rhs
@@ -99,7 +99,7 @@ def integrate_reference(
             x,
             method=method,
             t_eval=t_eval,
-            rtol=rt[0],
+            rtol=rtol,  # scipy takes one relative tolerance; per-state atol below
             atol=at,
             jac=None if jac_factory is None else jac_factory(p),
         )

@@ -35,7 +35,7 @@ class Simulation:
     friction_sets : mapping, optional
         Polach parameters by friction-condition name (default: Polach 2005 dry and wet).
     solver : {"fast", "reference"}
-        The compiled ROS2 W-method, or scipy's Radau on the compiled model.
+        The compiled ROS34PW2 W-method, or scipy's Radau on the compiled model.
     output_rate : float, optional
         Sampling rate of the results [Hz]; default the rig's DAQ rate.
     rtol : float, optional
@@ -92,7 +92,7 @@ class Simulation:
 
             x, stats = integrate_experiment(self.inputs, t, rtol=self.rtol)
             settings = dict(FAST_DEFAULTS) | ({"rtol": self.rtol} if self.rtol else {})
-            name = "ROS2 W-method (numba)"
+            name = "ROS34PW2 W-method (numba)"
             if progress is not None:
                 progress(self.protocol.duration, self.protocol.duration)
         else:
