@@ -65,3 +65,43 @@ def test_simulate_rejects_bad_options(tmp_path, args, message):
     result = runner.invoke(app, ["simulate", "--out", str(tmp_path), *args])
     assert result.exit_code == 2, result.output
     assert message in result.output
+
+
+def test_demo_runs_end_to_end_and_its_outputs_analyse_again(tmp_path):
+    # The README's main job, then the files it wrote through the other commands.
+    result = runner.invoke(app, ["demo", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert "speed-independent lines in the free-rolling spectra: 1.3" in result.output
+    assert (tmp_path / "seed-30kmh-dry-report.html").stat().st_size > 100_000
+    recordings = sorted(tmp_path.glob("free-rolling-*.mf4"))
+    assert len(recordings) == 4
+    out = tmp_path / "again"
+    r = runner.invoke(app, ["spectrum", *map(str, recordings[:2]), "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    assert (out / "order-map.png").exists()
+    r = runner.invoke(app, ["filters", str(tmp_path / "seed-30kmh-dry.tdms"), "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "Savitzky-Golay tuned" in r.output
+    r = runner.invoke(
+        app,
+        [
+            "analyze",
+            str(tmp_path / "seed-30kmh-dry.tdms"),
+            "--no-study",
+            "--out",
+            str(out),
+            "--truth",
+            str(tmp_path / "seed-30kmh-dry-truth.nc"),
+        ],
+    )
+    assert r.exit_code == 0, r.output
+    assert (out / "seed-30kmh-dry-report.html").exists()
+
+
+def test_analyze_reports_missing_channels_clearly(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("time [s],torque [N.m]\n0,1\n0.004,2\n0.008,3\n")
+    result = runner.invoke(app, ["analyze", str(bad), "--out", str(tmp_path)])
+    assert result.exit_code == 2
+    assert "lacks channel" in result.output or "needs" in result.output
+    assert "Traceback" not in result.output

@@ -353,6 +353,247 @@ def modes(
     console.print(format_modal_table(modal_table(rig)))
 
 
+def _read(path: Path, channels: Path | None, lenient: bool):
+    from rollerrig.measure.readers import read_recording
+
+    return read_recording(path, channels, validate="lenient" if lenient else "strict")
+
+
+ChannelsOption = Annotated[
+    Path | None,
+    typer.Option("--channels", help="Channel map (TOML): which column is which quantity, units."),
+]
+LenientOption = Annotated[
+    bool,
+    typer.Option(help="Fill short NaN runs and accept gaps (reported) instead of failing."),
+]
+
+
+@app.command()
+def analyze(
+    recording: Annotated[Path, typer.Argument(help="Recording: CSV, Parquet, TDMS, MF4 or MAT.")],
+    channels: ChannelsOption = None,
+    rig_file: Annotated[
+        Path | None, typer.Option("--rig", help="Rig parameter file (TOML); default: bundled rig.")
+    ] = None,
+    truth: Annotated[
+        Path | None,
+        typer.Option(help="Twin truth (NetCDF) of a synthetic recording, for error figures."),
+    ] = None,
+    out: Annotated[Path, typer.Option("--out", help="Output folder.")] = DEFAULT_OUT,
+    study: Annotated[bool, typer.Option(help="Run the full smoothing-filter study.")] = True,
+    lenient: LenientOption = False,
+) -> None:
+    """Analyse an adhesion test: phases, corrected CoA, creep-CoA branches, Polach fit, spectrum.
+
+    Writes <name>-analysis.json (every result with units), <name>-analysis.nc (the processed
+    channels) and a self-contained <name>-report.html with the figures.
+    """
+    from rollerrig.measure.analysis import analyze_test
+    from rollerrig.report.analysis import write_analysis
+
+    try:
+        rec = _read(recording, channels, lenient)
+        rig = _load_rig(rig_file)
+        truth_ds = None
+        if truth is not None:
+            import xarray as xr
+
+            truth_ds = xr.load_dataset(truth, engine="h5netcdf")
+        result = analyze_test(rec, rig, truth=truth_ds, run_study=study)
+    except (ParameterError, FileNotFoundError, ImportError) as exc:
+        _fail(str(exc))
+        return
+    paths = write_analysis(
+        result,
+        out,
+        recording.stem,
+        source=str(recording),
+        truth=truth_ds,
+        extra_provenance={
+            "channel_map": str(channels) if channels else None,
+            "rig": rig.meta.name,
+            "recording_sha256": rec.metadata.get("sha256"),
+        },
+    )
+    _print_analysis(result)
+    for path in paths:
+        console.print(f"wrote {path}")
+
+
+def _print_analysis(result) -> None:
+    table = Table(title="Polach fit to the ascending branches")
+    table.add_column("parameter")
+    table.add_column("corrected CoA", justify="right")
+    table.add_column("rig CoA T56/(r_r N)", justify="right")
+    keys = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
+    names = ("μ0 [-]", "A [-]", "B [s/m]", "kA [-]", "kS [-]")
+    for i, (key, name) in enumerate(zip(keys, names, strict=True)):
+        cells = []
+        for fit in (result.fit, result.fit_rig_coa):
+            cells.append(
+                "–"
+                if fit is None
+                else f"{fit.parameters.as_tuple()[i]:.4g} ± {fit.stderr[key]:.2g}"
+            )
+        table.add_row(name, *cells)
+    console.print(table)
+    for key, value in result.truth_errors.items():
+        console.print(f"{key}: {value:.4f}")
+    if result.spectrum is not None:
+        console.print(result.spectrum.format_table())
+    if result.study:
+        best = result.study[0]
+        console.print(
+            f"filter study: best {best.label} (cost {best.score.cost:.3f}); Savitzky-Golay tuned "
+            f"to order {result.smoothing_order}, window {result.smoothing_window} samples"
+        )
+    for note in result.notes:
+        console.print(f"[yellow]note:[/] {note}")
+
+
+@app.command()
+def spectrum(
+    recordings: Annotated[list[Path], typer.Argument(help="One or more recordings.")],
+    channels: ChannelsOption = None,
+    channel: Annotated[str, typer.Option(help="Channel to analyse.")] = "torque",
+    rig_file: Annotated[
+        Path | None, typer.Option("--rig", help="Rig parameter file (TOML); default: bundled rig.")
+    ] = None,
+    out: Annotated[Path, typer.Option("--out", help="Output folder.")] = DEFAULT_OUT,
+    lenient: LenientOption = False,
+) -> None:
+    """Spectra whose peaks explain themselves; with several recordings, an order map and the
+    lines that stay put at every speed (speed-independent)."""
+    from rollerrig.measure.quantities import derive_quantities
+    from rollerrig.report._io import save_figure, write_json
+    from rollerrig.report.spectra import order_map_figure, spectrum_figure
+    from rollerrig.rig.chain import modal_table
+    from rollerrig.signal.spectra import explain_spectrum, order_map, speed_independent_lines
+
+    try:
+        rig = _load_rig(rig_file)
+        modes = [row.frequency for row in modal_table(rig) if row.frequency > 0]
+        explained = []
+        for path in recordings:
+            rec = derive_quantities(_read(path, channels, lenient), rig)
+            explained.append((path, explain_spectrum(rec, channel, rig_modes=modes)))
+        fixed = speed_independent_lines([e for _, e in explained]) if len(explained) > 1 else []
+        if len(fixed):
+            explained = [
+                (
+                    path,
+                    explain_spectrum(
+                        derive_quantities(_read(path, channels, lenient), rig),
+                        channel,
+                        rig_modes=modes,
+                        speed_independent=fixed,
+                    ),
+                )
+                for path, _ in explained
+            ]
+    except (ParameterError, FileNotFoundError, ImportError) as exc:
+        _fail(str(exc))
+        return
+    summary = {}
+    for path, e in explained:
+        speed_kmh = e.roller_speed * rig.geometry.roller_radius_x * 3.6
+        console.print(f"[bold]{path.name}[/]: roller {speed_kmh:.1f} km/h")
+        console.print(e.format_table())
+        save_figure(
+            spectrum_figure(e, title=f"{path.name} ({speed_kmh:.1f} km/h)"),
+            out / f"{path.stem}-spectrum.png",
+        )
+        summary[path.name] = {"roller_speed [rad/s]": e.roller_speed, "peaks": list(e.table())}
+    if len(explained) > 1:
+        console.print(
+            "speed-independent lines [Hz]: " + (", ".join(f"{f:.3f}" for f in fixed) or "none")
+        )
+        omap = order_map([e for _, e in explained], speed_independent=fixed)
+        save_figure(
+            order_map_figure(omap, roller_radius=rig.geometry.roller_radius_x),
+            out / "order-map.png",
+        )
+    summary["speed_independent_lines [Hz]"] = [float(f) for f in fixed]
+    write_json(out / "spectra.json", summary)
+    console.print(f"wrote spectra to {out}")
+
+
+@app.command()
+def filters(
+    recording: Annotated[Path, typer.Argument(help="Recording with a torque channel.")],
+    channels: ChannelsOption = None,
+    channel: Annotated[str, typer.Option(help="Channel to smooth.")] = "torque",
+    out: Annotated[Path, typer.Option("--out", help="Output folder.")] = DEFAULT_OUT,
+    top: Annotated[int, typer.Option(help="Rows of the ranked table to print.")] = 15,
+    lenient: LenientOption = False,
+) -> None:
+    """The seed's smoothing-filter study as a ranked table and figures (truth-free scoring)."""
+    from rollerrig.report._io import save_figure, write_json
+    from rollerrig.report.filters import savitzky_golay_grid_figure, study_ranking_figure
+    from rollerrig.signal.scoring import filter_study, tune_savitzky_golay
+
+    try:
+        rec = _read(recording, channels, lenient)
+        rec.require(channel)
+        rows = filter_study(rec.time, rec[channel])
+        order, window, grid = tune_savitzky_golay(rec.time, rec[channel])
+    except (ParameterError, FileNotFoundError, ImportError) as exc:
+        _fail(str(exc))
+        return
+    table = Table(title=f"Smoothing filters on {recording.name}:{channel} (lower cost is better)")
+    for col in ("rank", "filter", "noise left", "peak kept", "lag [s]", "cost"):
+        table.add_column(col, justify="right" if col != "filter" else "left")
+    for r in rows[:top]:
+        s = r.score
+        table.add_row(
+            str(r.rank),
+            r.label,
+            f"{s.noise_left:.3f}",
+            f"{s.peak_kept:.3f}",
+            f"{s.lag:.3f}",
+            f"{s.cost:.3f}",
+        )
+    console.print(table)
+    console.print(
+        f"Savitzky-Golay tuned for this recording: order {order}, window {window} samples"
+    )
+    save_figure(study_ranking_figure(rows), out / f"{recording.stem}-filter-ranking.png")
+    save_figure(savitzky_golay_grid_figure(grid), out / f"{recording.stem}-sg-grid.png")
+    write_json(
+        out / f"{recording.stem}-filters.json",
+        {
+            "ranking": [r.as_dict() for r in rows],
+            "savitzky_golay": {"order": order, "window": window},
+        },
+    )
+    console.print(f"wrote figures and {recording.stem}-filters.json to {out}")
+
+
+@app.command()
+def demo(
+    out: Annotated[Path, typer.Option("--out", help="Output folder.")] = DEFAULT_OUT,
+) -> None:
+    """End to end on the bundled rig: simulate, record, analyse, report.
+
+    1. simulates the 30 km/h dry adhesion test on the digital twin (1 kHz);
+    2. writes what the rig's DAQ would record (250 Hz, motor lines, ripple, noise, encoders) as
+       an NI TDMS file, with the truth beside it (NetCDF);
+    3. records free rolling at 5, 10, 20 and 30 km/h as ASAM MDF4 files;
+    4. analyses the test and writes the HTML report; explains the free-rolling spectra.
+    """
+    from rollerrig.demo import run_demo
+
+    paths = run_demo(out, console)
+    result = paths["result"]
+    _print_analysis(result)
+    lines = ", ".join(f"{f:.3f} Hz" for f in paths["speed_independent"]) or "none"
+    console.print(f"speed-independent lines in the free-rolling spectra: {lines}")
+    for path in paths.values():
+        if isinstance(path, Path):
+            console.print(f"wrote {path}")
+
+
 def main() -> None:  # pragma: no cover - console entry point
     app()
 

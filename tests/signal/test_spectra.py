@@ -437,3 +437,12 @@ def test_window_sidelobe_is_leakage_not_a_line():
     position = np.array([100.0, 102.5, 97.5, 130.0])
     height = np.array([0.0, -32.0, -20.0, -60.0])
     assert _leakage(position, height, env).tolist() == [False, True, False, False]
+
+
+def test_rig_torsional_mode_is_a_source():
+    # The roller-shaft mode of the default rig: 13.84 Hz (two-inertia closed form, J5-k56-J6).
+    from rollerrig.signal.spectra import attribute_peaks
+
+    rows = attribute_peaks([13.80, 20.0], roller_speed=18.44, resolution=0.1, rig_modes=[13.84])
+    assert rows[0].source == "rig_mode" and "13.840" in rows[0].label
+    assert rows[1].source == "unexplained"

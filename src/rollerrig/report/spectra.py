@@ -71,25 +71,34 @@ def spectrum_figure(
     ax.set_xlim(0.0, max_frequency)
     labelled = sorted(rows, key=lambda r: r.power, reverse=True)[: int(max_labels)]
     seen: set[str] = set()
-    for r in rows:
+    # Neighbouring labels closer than ~9 % of the axis are stacked in tiers above each other.
+    min_gap = 0.08 * max_frequency
+    last_f, tier = -np.inf, 0
+    for r in sorted(rows, key=lambda r: r.frequency):
         colour = _COLOURS.get(r.source, "k")
         legend = r.source if r.source not in seen else None
         seen.add(r.source)
         ax.plot(r.frequency, r.power, "v", color=colour, ms=6, label=legend)
-        if r in labelled:
+        if r in labelled and r.frequency <= max_frequency:
+            tier = tier + 1 if r.frequency - last_f < min_gap else 0
+            last_f = r.frequency
+            # Labels sit in fixed rows at the top, each with a leader line to its peak.
             ax.annotate(
                 f"{r.frequency:.3f} Hz\n{r.label.split(' (')[0]}",
                 (r.frequency, r.power),
-                xytext=(0, 10),
-                textcoords="offset points",
+                xytext=(r.frequency, 0.97 - 0.085 * (tier % 6)),
+                textcoords=("data", "axes fraction"),
                 ha="center",
-                va="bottom",
+                va="top",
                 fontsize=7,
                 color=colour,
-                rotation=0,
+                arrowprops={"arrowstyle": "-", "color": colour, "lw": 0.4, "alpha": 0.6},
             )
-    top = max((r.power for r in rows), default=float(np.max(p)))
-    ax.set_ylim(top=top * 30.0)
+    shown = [r.power for r in rows if r.frequency <= max_frequency]
+    top = max(shown, default=float(np.max(p)))
+    visible = p[(f > 0) & (f <= max_frequency)]
+    floor = float(np.percentile(visible, 5)) if visible.size else top * 1e-6
+    ax.set_ylim(bottom=floor / 3.0, top=top * 10.0 ** (0.45 * np.log10(top / floor) + 1.0))
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel(f"power [{_power_unit(explained)}]")
     speed = explained.roller_speed

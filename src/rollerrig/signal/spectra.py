@@ -101,6 +101,7 @@ SOURCE_KINDS: dict[str, str] = {
     "pmsm_electrical": "PMSM electrical",
     "wheel_order": "wheel order",
     "speed_independent": "speed-independent line",
+    "rig_mode": "rig torsional mode",
     "unexplained": "unexplained",
 }
 """Source kind -> label prefix, in the order used to break ties between coincident candidates."""
@@ -585,7 +586,7 @@ class PeakAttribution:
 
 
 def _label(kind: str, order: int, frequency: float) -> str:
-    if kind == "speed_independent":
+    if kind in ("speed_independent", "rig_mode"):
         return f"{SOURCE_KINDS[kind]} ({frequency:.3f} Hz)"
     return f"{SOURCE_KINDS[kind]} ×{order} ({frequency:.2f} Hz)"
 
@@ -624,6 +625,7 @@ def _match(
     bin_tol: float,
     relative_tolerance: float,
     tolerance_hz: float | None,
+    modes=(),
 ) -> list[SourceMatch]:
     found: list[SourceMatch] = []
     for kind, order, fc in sources:
@@ -635,6 +637,12 @@ def _match(
         if abs(f - fc) <= tol:
             kind = "speed_independent"
             found.append(SourceMatch(kind, 0, float(fc), f - fc, tol, _label(kind, 0, fc)))
+    for fc in modes:
+        # A natural frequency of the chain is known only as well as the model: allow 2 %.
+        tol = tolerance_hz if tolerance_hz is not None else bin_tol + 0.02 * fc
+        if abs(f - fc) <= tol:
+            label = _label("rig_mode", 0, fc)
+            found.append(SourceMatch("rig_mode", 0, float(fc), f - fc, tol, label))
 
     # Coincident predictions (AM ×k and roller ×5k) differ only by rounding: compare |Δf| on a
     # grid far finer than any spectral resolution, then order, then kind.
@@ -690,6 +698,7 @@ def attribute_peaks(
     resolution: float | None = None,
     relative_tolerance: float = 0.005,
     am_slip: float = 0.0,
+    rig_modes=(),
 ) -> list[PeakAttribution]:
     """Name the source of each spectral peak.
 
@@ -727,6 +736,9 @@ def attribute_peaks(
         ε of the tolerance rule [1] (uncertainty of the mean speed).
     am_slip : float
         Slip of the induction motor [1] (Kayaalp: 0).
+    rig_modes : array_like of float
+        Natural frequencies of the rig's torsional chain [Hz] (e.g. the roller-shaft mode
+        of :func:`rollerrig.rig.chain.modal_table`); matched within the bin tolerance plus 2 %.
 
     Returns
     -------
@@ -761,6 +773,7 @@ def attribute_peaks(
             "SpectralPeaks, resolution= or tolerance_hz="
         )
     fixed = np.atleast_1d(require_finite("speed_independent", speed_independent, "Hz"))
+    modes = np.atleast_1d(require_finite("rig_modes", rig_modes, "Hz"))
     sources = _speed_sources(
         roller_speed,
         wheel_speed,
@@ -772,7 +785,9 @@ def attribute_peaks(
     bin_tol = _BIN_TOLERANCE * res if res is not None else 0.0
     rows = []
     for fi, pi in zip(f, pw, strict=True):
-        matches = _match(float(fi), sources, fixed, bin_tol, relative_tolerance, tolerance_hz)
+        matches = _match(
+            float(fi), sources, fixed, bin_tol, relative_tolerance, tolerance_hz, modes
+        )
         if matches:
             best = matches[0]
             rows.append(
@@ -1137,6 +1152,7 @@ def explain_spectrum(
     speed_independent=(),
     relative_tolerance: float = 0.005,
     am_slip: float = 0.0,
+    rig_modes=(),
 ) -> ExplainedSpectrum:
     """Spectrum of one channel of a recording, its peaks and their sources.
 
@@ -1206,6 +1222,7 @@ relative_tolerance, am_slip
         speed_independent,
         relative_tolerance=relative_tolerance,
         am_slip=am_slip,
+        rig_modes=rig_modes,
     )
     return ExplainedSpectrum(
         channel,

@@ -1,0 +1,100 @@
+"""Correct the adhesion the rig reports for the rig's own dynamics.
+
+The torque sensor sits between the roller and its motor, so the rig's CoA = T56/(r_r N) misses
+the torque that accelerates the roller and the roller's bearing loss. The roller's equation of
+motion gives the contact force exactly (DESIGN.md §3; Kayaalp eq. 4.5 with consistent signs):
+
+.. math:: F_x r_r = T_{56} + J_5 \\alpha_5 + R_{05}
+
+with α5 the roller's angular acceleration (here the Savitzky-Golay derivative of the measured
+roller speed) and R05 = f_g (W_r + N) r_b tanh(ω5/ω_reg) the bearing loss torque.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rollerrig._validation import require_finite, require_positive
+from rollerrig.signal.smoothing import savitzky_golay
+
+__all__ = ["corrected_adhesion"]
+
+
+def corrected_adhesion(
+    torque,
+    roller_speed,
+    normal_load,
+    sample_rate: float,
+    *,
+    roller_radius: float,
+    roller_inertia: float,
+    bearing_friction: float,
+    bearing_radius: float,
+    roller_weight: float,
+    regularisation_speed: float = 0.05,
+    window: int = 51,
+    order: int = 4,
+):
+    """Contact-force CoA from the torque sensor, corrected for roller inertia and bearing loss.
+
+    .. math:: \\mu_{corr} = \\frac{T_{56} + J_5 \\alpha_5 + R_{05}}{r_r N}
+
+    Parameters
+    ----------
+    torque : array_like
+        Roller-shaft torque T56 [N.m] (smoothed or raw: it is smoothed with the same filter).
+    roller_speed : array_like
+        Roller angular speed ω5 [rad/s].
+    normal_load : array_like
+        N [N].
+    sample_rate : float
+        [Hz].
+    roller_radius : float
+        r_r [m].
+    roller_inertia : float
+        J5 [kg.m^2].
+    bearing_friction : float
+        f_g [-].
+    bearing_radius : float
+        Roller bearing friction radius r_b [m].
+    roller_weight : float
+        W_r [N].
+    regularisation_speed : float
+        ω_reg of the bearing model [rad/s].
+    window, order : int
+        Savitzky-Golay window [samples] and order for the torque, speed and acceleration.
+
+    Returns
+    -------
+    coa_corrected : ndarray
+        [-].
+    acceleration : ndarray
+        α5 [rad/s²].
+
+    Examples
+    --------
+    A roller accelerating at 2 rad/s² with no shaft torque: the contact must supply J5·α5.
+
+    >>> t = np.arange(500) / 250.0
+    >>> coa, alpha = corrected_adhesion(np.zeros(500), 18.0 + 2.0 * t, np.full(500, 1e4), 250.0,
+    ...     roller_radius=0.452, roller_inertia=45.0, bearing_friction=0.0, bearing_radius=0.065,
+    ...     roller_weight=5000.0)
+    >>> round(float(alpha[250]), 6), round(float(coa[250]), 6)
+    (2.0, 0.019912)
+    """
+    t56 = require_finite("torque", torque, "N.m")
+    w = require_finite("roller_speed", roller_speed, "rad/s")
+    n = require_positive("normal_load", normal_load, "N")
+    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
+    rr = float(require_positive("roller_radius", roller_radius, "m"))
+    j5 = float(require_positive("roller_inertia", roller_inertia, "kg.m^2"))
+    t56_s = savitzky_golay(t56, window, order)
+    w_s = savitzky_golay(w, window, order)
+    alpha = savitzky_golay(w, window, order, deriv=1, sample_rate=fs)
+    bearing = (
+        bearing_friction
+        * bearing_radius
+        * (roller_weight + n)
+        * np.tanh(w_s / regularisation_speed)
+    )
+    return (t56_s + j5 * alpha + bearing) / (rr * n), alpha

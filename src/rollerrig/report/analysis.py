@@ -1,0 +1,310 @@
+"""Report of an analysed adhesion test: figures, tables, the HTML report, the results files."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from rollerrig.measure.analysis import TestAnalysis
+from rollerrig.report._io import provenance, write_json
+from rollerrig.report.adhesion import adhesion_figure
+from rollerrig.report.filters import filter_comparison_figure, study_ranking_figure
+from rollerrig.report.html import HtmlReport
+from rollerrig.report.spectra import spectrum_figure
+from rollerrig.signal.smoothing import smooth
+
+__all__ = ["overview_figure", "rig_versus_corrected_figure", "write_analysis"]
+
+_PHASE_COLOURS = {
+    "free_rolling": "#e8f4e8",
+    "ramp_up": "#fdf0d5",
+    "hold": "#fbd5d5",
+    "release": "#f4c2f4",
+    "rest": "#e8eef8",
+    "ramp_down": "#eeeeee",
+}
+
+
+def _shade_phases(ax, phases) -> None:
+    for ph in phases:
+        ax.axvspan(ph.start, ph.end, color=_PHASE_COLOURS.get(ph.name, "#f5f5f5"), lw=0, zorder=0)
+
+
+def overview_figure(result: TestAnalysis):
+    """Torque request and torque, speeds and creep over the test, phases shaded."""
+    rec = result.recording
+    t = rec.time
+    fig, axes = plt.subplots(3, 1, figsize=(11, 8), sharex=True)
+    a, b, c = axes
+    if "torque_request" in rec:
+        a.plot(t, rec["torque_request"], color="k", lw=1, label="torque request (wheel)")
+    a.plot(t, rec["torque"], color="0.6", lw=0.6, label="roller-shaft torque T56 (raw)")
+    a.plot(t, rec["torque_smoothed"], color="tab:blue", lw=1.2, label="T56 smoothed")
+    a.set_ylabel("torque [N·m]")
+    b.plot(t, rec["wheel_speed"], color="tab:green", lw=0.6, label="wheel (encoder)")
+    b.plot(t, rec["roller_speed"], color="tab:brown", lw=0.6, label="roller (encoder)")
+    b.set_ylabel("speed [rad/s]")
+    c.plot(t, 100 * rec["creep"], color="0.6", lw=0.5, label="creep from encoders")
+    c.plot(t, 100 * rec["creep_smoothed"], color="tab:purple", lw=1.2, label="smoothed")
+    c.set_ylabel("creep [%]")
+    c.set_xlabel("time [s]")
+    for ax in axes:
+        _shade_phases(ax, result.phases)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="upper right")
+    names = sorted({ph.name for ph in result.phases})
+    handles = [plt.Rectangle((0, 0), 1, 1, color=_PHASE_COLOURS.get(n, "#f5f5f5")) for n in names]
+    fig.legend(handles, names, loc="upper center", ncol=len(names), fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
+    return fig
+
+
+def rig_versus_corrected_figure(result: TestAnalysis, truth=None):
+    """The CoA the rig reports, the dynamics-corrected CoA and (synthetic data) the true CoA."""
+    rec = result.recording
+    t = rec.time
+    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.5))
+    a.plot(t, rec["coa_smoothed"], color="tab:blue", lw=1, label="rig: T56 / (r_r N)")
+    a.plot(t, rec["coa_corrected"], color="tab:red", lw=1, label="corrected: + J5·α5 + R05")
+    if truth is not None:
+        a.plot(t, truth["coa"].values, "k--", lw=0.8, label="true contact CoA (twin)")
+    _shade_phases(a, result.phases)
+    a.set_xlabel("time [s]")
+    a.set_ylabel("CoA [-]")
+    a.set_title("Adhesion coefficient over the test")
+    idx = np.concatenate([br.ascending for br in result.branches]) if result.branches else []
+    b.plot(
+        100 * rec["creep_smoothed"],
+        rec["coa_smoothed"],
+        ".",
+        ms=1,
+        color="tab:blue",
+        alpha=0.4,
+        label="rig CoA, whole test",
+    )
+    b.plot(
+        100 * rec["creep_smoothed"],
+        rec["coa_corrected"],
+        ".",
+        ms=1,
+        color="tab:red",
+        alpha=0.4,
+        label="corrected CoA, whole test",
+    )
+    s = np.linspace(
+        0, max(float(np.max(rec["creep_smoothed"][idx])) if len(idx) else 0.05, 1e-3), 300
+    )
+    for fit, colour, name in (
+        (result.fit_rig_coa, "tab:blue", "rig"),
+        (result.fit, "tab:red", "corrected"),
+    ):
+        if fit is not None:
+            b.plot(
+                100 * s,
+                fit.curve(s, rolling_speed=_rolling_speed(result)),
+                color=colour,
+                lw=2,
+                label=f"Polach fit to {name} CoA (μ0 = {fit.parameters.static_friction:.3f})",
+            )
+    b.set_xlim(0, 100 * s[-1])
+    b.set_xlabel("creep [%]")
+    b.set_ylabel("CoA [-]")
+    b.set_title("Creep–CoA")
+    for ax in (a, b):
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="lower right")
+    fig.tight_layout()
+    return fig
+
+
+def _rolling_speed(result: TestAnalysis) -> float:
+    """Median roller peripheral speed over the fitted points [m/s] (slip velocity / creep)."""
+    rec = result.recording
+    idx = result.fit_points
+    creep = rec["creep_smoothed"][idx]
+    ok = np.abs(creep) > 1e-3
+    if not np.any(ok):
+        return 1.0
+    return float(np.median(rec["slip_velocity_smoothed"][idx][ok] / creep[ok]))
+
+
+def _fit_rows(result: TestAnalysis, truth_parameters=None):
+    names = ("μ0 [-]", "A [-]", "B [s/m]", "kA [-]", "kS [-]")
+    keys = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
+    rows = []
+    for i, (name, key) in enumerate(zip(names, keys, strict=True)):
+        row = [name]
+        for fit in (result.fit, result.fit_rig_coa):
+            if fit is None:
+                row.append("–")
+            else:
+                value = fit.parameters.as_tuple()[i]
+                row.append(f"{value:.4g} ± {fit.stderr[key]:.2g}")
+        if truth_parameters is not None:
+            row.append(f"{truth_parameters[key]:.4g}")
+        rows.append(row)
+    return rows
+
+
+def write_analysis(
+    result: TestAnalysis,
+    out: str | os.PathLike,
+    stem: str,
+    *,
+    source: str = "",
+    truth=None,
+    extra_provenance: dict | None = None,
+    extra_sections=None,
+) -> list[Path]:
+    """Write the results (JSON summary, NetCDF channels) and the self-contained HTML report.
+
+    Returns the written paths: ``<stem>-analysis.json``, ``<stem>-analysis.nc``,
+    ``<stem>-report.html``.
+    """
+    out = Path(out)
+    record = provenance(source=source, **(extra_provenance or {}))
+    summary = {"provenance": record, **result.summary()}
+    paths = [write_json(out / f"{stem}-analysis.json", summary)]
+
+    from rollerrig.report._io import atomic_write
+
+    ds = result.recording.to_dataset()
+    ds.attrs = {"provenance": json.dumps(record, default=str), "source": source}
+    paths.append(
+        atomic_write(out / f"{stem}-analysis.nc", lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    )
+
+    rec = result.recording
+    rep = HtmlReport(f"Adhesion test analysis: {stem}")
+    rep.paragraph(
+        f"Recording {source or stem}: {rec.duration:.2f} s at {rec.sample_rate:.4g} Hz, "
+        f"channels {', '.join(sorted(rec.channels))}. Rig: {result.rig_name}."
+    )
+    if result.notes:
+        for note in result.notes:
+            rep.paragraph(note, note=True)
+    rep.heading("Phases of the test")
+    rep.table(
+        ["phase", "cycle", "start [s]", "end [s]"],
+        [[ph.name, ph.cycle, ph.start, ph.end] for ph in result.phases],
+    )
+    rep.figure(overview_figure(result), "Torque, speeds and creep; phases shaded.")
+
+    rep.heading("Adhesion: the rig's CoA and the CoA corrected for the rig's dynamics")
+    rep.paragraph(
+        "The torque sensor sits on the roller shaft, so the rig's CoA = T56/(r_r N) misses the "
+        "torque that accelerates the roller and its bearing loss. The corrected CoA adds them: "
+        "F_x r_r = T56 + J5·α5 + R05, with α5 the Savitzky–Golay derivative of the roller speed."
+    )
+    rep.figure(rig_versus_corrected_figure(result, truth), "Rig versus corrected CoA.")
+    truth_parameters = None
+    if truth is not None and "provenance" in truth.attrs:
+        prov = json.loads(truth.attrs["provenance"])
+        sets = prov.get("friction_sets", {})
+        conditions = (
+            sorted(set(np.asarray(truth["friction_condition"].values).tolist()))
+            if "friction_condition" in truth
+            else []
+        )
+        if len(conditions) == 1 and conditions[0] in sets:
+            truth_parameters = sets[conditions[0]]
+    header = ["parameter", "fit to corrected CoA", "fit to rig CoA"]
+    if truth_parameters is not None:
+        header.append("true (twin)")
+    rep.table(header, _fit_rows(result, truth_parameters))
+    if result.truth_errors:
+        rep.table(
+            ["error against the true contact CoA", "value"], list(result.truth_errors.items())
+        )
+    if result.fit is not None:
+        rep.figure(
+            adhesion_figure(
+                rec["creep_smoothed"],
+                rec["coa_corrected"],
+                result.branches,
+                result.fit,
+                title="Corrected CoA: ascending (solid) and descending (dashed) branches, fit",
+            ),
+            "Creep–CoA curve of the corrected CoA with the Polach fit and its residuals.",
+        )
+    rep.paragraph(
+        "The descending branch follows the creep's fast fall after a release (tens of ms); "
+        f"a smoothing window of {result.smoothing_window / rec.sample_rate:.2f} s smears it, so "
+        "part of the loop between the branches is the filter's, not the contact's (the seed, "
+        "§5, attributes the gap of its return curves to filtering as well).",
+        note=True,
+    )
+    rows = []
+    for br, h in zip(result.branches, result.hysteresis, strict=True):
+        if h is not None:
+            rows.append([br.cycle, h.abs_area, h.max_difference, 100 * h.creep_at_max_difference])
+    if rows:
+        rep.heading("Hysteresis between ascending and descending branches (rig CoA)")
+        rep.table(["cycle", "|area| [-]", "max ΔCoA [-]", "at creep [%]"], rows)
+
+    if result.spectrum is not None:
+        rep.heading("Spectrum of the roller-shaft torque in the longest quiet phase")
+        w = result.spectrum_window
+        rep.paragraph(
+            f"Window {w[0]:.2f}–{w[1]:.2f} s. Each peak is attributed to the induction motor's "
+            "electrical frequency (pole pairs × roller rotation frequency) and its harmonics, "
+            "rotation orders of wheel and roller, the PMSM electrical frequency, the rig's "
+            "torsional modes, or left unexplained."
+        )
+        rep.figure(spectrum_figure(result.spectrum), "Torque spectrum with labelled peaks.")
+        rep.table(
+            ["f [Hz]", "power", "source", "Δf [Hz]", "also"],
+            [
+                [r["frequency_hz"], r["power"], r["label"], r["delta_f_hz"], r["also"]]
+                for r in result.spectrum.table()
+            ],
+        )
+
+    if result.study:
+        rep.heading("Smoothing-filter study (the seed's §4.5.2.5, scored)")
+        rep.paragraph(
+            f"Savitzky–Golay tuned on this recording: order {result.smoothing_order}, window "
+            f"{result.smoothing_window} samples. Lower cost is better: noise left in steady parts, "
+            "transient peak height and timing kept, lag."
+        )
+        rep.figure(study_ranking_figure(result.study), "Filters ranked by cost.")
+        best = result.study[0]
+        filtered = {
+            best.label: smooth(
+                rec["torque"], best.method, sample_rate=rec.sample_rate, **best.params
+            ),
+            f"SG order {result.smoothing_order}, window {result.smoothing_window}": rec[
+                "torque_smoothed"
+            ],
+            "Butterworth 2 @ 1.2 Hz causal": smooth(
+                rec["torque"],
+                "butterworth",
+                sample_rate=rec.sample_rate,
+                cutoff=1.2,
+                order=2,
+                zero_phase=False,
+            ),
+        }
+        rep.figure(
+            filter_comparison_figure(rec.time, rec["torque"], filtered, unit="N·m"),
+            "Raw versus filtered torque, with zooms.",
+        )
+        rep.table(
+            ["rank", "filter", "noise left", "peak kept", "lag [s]", "cost"],
+            [
+                [r.rank, r.label, r.score.noise_left, r.score.peak_kept, r.score.lag, r.score.cost]
+                for r in result.study[:15]
+            ],
+        )
+    if extra_sections is not None:
+        extra_sections(rep)
+    rep.provenance(summary["provenance"])
+    paths.append(rep.write(out / f"{stem}-report.html"))
+    return paths
