@@ -73,12 +73,22 @@ def test_demo_runs_end_to_end_and_its_outputs_analyse_again(tmp_path):
     assert result.exit_code == 0, result.output
     assert "speed-independent lines in the free-rolling spectra: 1.3" in result.output
     assert (tmp_path / "seed-30kmh-dry-report.html").stat().st_size > 100_000
+    # Coherence of shaft displacement and torque: high at the roller order (the run-out's own
+    # line), low at the induction motor's line (not mechanical; Kayaalp §4.5.2.4).
+    spectra = json.loads((tmp_path / "free-rolling-spectra.json").read_text())
+    coh = {
+        r["source"].split(" (")[0]: r["coherence"]
+        for r in spectra["coherence_torque_displacement_30kmh"]
+    }
+    assert coh["roller order ×1"] > 0.9 and coh["AM electrical ×1"] < 0.2
     recordings = sorted(tmp_path.glob("free-rolling-*.mf4"))
     assert len(recordings) == 4
     out = tmp_path / "again"
-    r = runner.invoke(app, ["spectrum", *map(str, recordings[:2]), "--out", str(out)])
+    args = ["spectrum", *map(str, recordings[:2]), "--coherence", "displacement_torque_sensor"]
+    r = runner.invoke(app, [*args, "--out", str(out)])
     assert r.exit_code == 0, r.output
     assert (out / "order-map.png").exists()
+    assert "coherence torque–displacement_torque_sensor at the peaks" in r.output
     r = runner.invoke(app, ["filters", str(tmp_path / "seed-30kmh-dry.tdms"), "--out", str(out)])
     assert r.exit_code == 0, r.output
     assert "Savitzky-Golay tuned" in r.output

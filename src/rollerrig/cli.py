@@ -460,6 +460,13 @@ def spectrum(
     rig_file: Annotated[
         Path | None, typer.Option("--rig", help="Rig parameter file (TOML); default: bundled rig.")
     ] = None,
+    coherence_with: Annotated[
+        str | None,
+        typer.Option(
+            "--coherence",
+            help="Second channel: coherence with it at every peak (e.g. a laser displacement).",
+        ),
+    ] = None,
     out: Annotated[Path, typer.Option("--out", help="Output folder.")] = DEFAULT_OUT,
     lenient: LenientOption = False,
 ) -> None:
@@ -467,17 +474,27 @@ def spectrum(
     lines that stay put at every speed (speed-independent)."""
     from rollerrig.measure.quantities import derive_quantities
     from rollerrig.report._io import save_figure, write_json
-    from rollerrig.report.spectra import order_map_figure, spectrum_figure
+    from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
     from rollerrig.rig.chain import modal_table
-    from rollerrig.signal.spectra import explain_spectrum, order_map, speed_independent_lines
+    from rollerrig.signal.spectra import (
+        coherence,
+        coherence_at,
+        explain_spectrum,
+        order_map,
+        speed_independent_lines,
+    )
 
     try:
         rig = _load_rig(rig_file)
         modes = [row.frequency for row in modal_table(rig) if row.frequency > 0]
         explained = []
+        coherences = {}
         for path in recordings:
             rec = derive_quantities(_read(path, channels, lenient), rig)
             explained.append((path, explain_spectrum(rec, channel, rig_modes=modes)))
+            if coherence_with is not None:
+                rec.require(channel, coherence_with)
+                coherences[path] = coherence(rec[channel], rec[coherence_with], rec.sample_rate)
         fixed = speed_independent_lines([e for _, e in explained]) if len(explained) > 1 else []
         if len(fixed):
             explained = [
@@ -505,6 +522,22 @@ def spectrum(
             out / f"{path.stem}-spectrum.png",
         )
         summary[path.name] = {"roller_speed [rad/s]": e.roller_speed, "peaks": list(e.table())}
+        if path in coherences:
+            coh = coherences[path]
+            freqs = [r.frequency for r in e.rows]
+            gamma = coherence_at(coh, freqs)
+            for row, g in zip(summary[path.name]["peaks"], gamma, strict=True):
+                row[f"coherence with {coherence_with}"] = float(g)
+            console.print(
+                f"coherence {channel}–{coherence_with} at the peaks: "
+                + ", ".join(f"{f:.2f} Hz: {g:.2f}" for f, g in zip(freqs, gamma, strict=True))
+            )
+            save_figure(
+                coherence_figure(
+                    coh, freqs, [r.label for r in e.rows], names=(channel, coherence_with)
+                ),
+                out / f"{path.stem}-coherence.png",
+            )
     if len(explained) > 1:
         console.print(
             "speed-independent lines [Hz]: " + (", ".join(f"{f:.3f}" for f in fixed) or "none")

@@ -99,6 +99,13 @@ class DisturbanceModel:
         Standard deviation of the white noise on the air-spring pressure [Pa]: 100 (5 N on
         the 0.05 m^2 air spring, about 0.1 % of the 4.3 kN load; DMP331 accuracy class 0.35 %
         of a 10 bar range is 3500 Pa, of which the random part is far smaller).
+    shaft_eccentricity : float
+        Amplitude of the roller-shaft run-out seen by the laser at the torque sensor [m]: 6e-5
+        (Kayaalp 4.5.2.2 measured 0.12-0.15 mm peak to peak there), at the roller rotation
+        order, with a quarter of it at twice that order.
+    displacement_noise : float
+        Standard deviation of the white noise on the laser displacement [m]: 1e-6 (Keyence
+        LK-H 0.02 % of a 50-80 mm range is 10-16 µm full-scale accuracy, random part smaller).
     am_pole_pairs, pmsm_pole_pairs : int or None
         Pole pairs of the roller motor and the wheel motor [1]; ``None`` takes them from the
         rig in the twin's provenance (5 and 22 on the default rig, Kayaalp Tables 1-2).
@@ -130,6 +137,8 @@ class DisturbanceModel:
     fixed_line_amplitude: float = 2.0
     torque_noise: float = 1.0
     pressure_noise: float = 100.0
+    shaft_eccentricity: float = 6e-5
+    displacement_noise: float = 1e-6
     am_pole_pairs: int | None = None
     pmsm_pole_pairs: int | None = None
     anti_alias: bool = True
@@ -155,8 +164,10 @@ class DisturbanceModel:
             "fixed_line_amplitude",
             "torque_noise",
             "pressure_noise",
+            "shaft_eccentricity",
+            "displacement_noise",
         ):
-            require_nonnegative(name, getattr(self, name), "N.m or Pa")
+            require_nonnegative(name, getattr(self, name), "N.m, Pa or m")
         require_nonnegative("am_line_amplitudes", self.am_line_amplitudes, "N.m")
         require_positive("fixed_line_frequency", self.fixed_line_frequency, "Hz")
         if not 0.0 < self.anti_alias_cutoff_ratio < 0.5:
@@ -179,6 +190,8 @@ class DisturbanceModel:
             fixed_line_amplitude=0.0,
             torque_noise=0.0,
             pressure_noise=0.0,
+            shaft_eccentricity=0.0,
+            displacement_noise=0.0,
         )
 
     def scaled(self, factor: float) -> DisturbanceModel:
@@ -194,6 +207,8 @@ class DisturbanceModel:
             fixed_line_amplitude=f * self.fixed_line_amplitude,
             torque_noise=f * self.torque_noise,
             pressure_noise=f * self.pressure_noise,
+            shaft_eccentricity=f * self.shaft_eccentricity,
+            displacement_noise=f * self.displacement_noise,
         )
 
 
@@ -322,6 +337,14 @@ def synthetic_recording(
     load = np.asarray(ds["normal_load"].values, dtype=float)
     torque_analog = t56 + torque_lines + a.torque_noise * rng.standard_normal(t_twin.size)
     pressure_analog = load / area + a.pressure_noise * rng.standard_normal(t_twin.size)
+    # Laser at the torque sensor (Kayaalp 4.5.2.1): the shaft's eccentricity runs at the roller
+    # rotation order with the phase of the torque's roller-order line it causes.
+    roller_1x = LINE_NAMES.index("roller_1x")
+    displacement_analog = (
+        a.shaft_eccentricity * np.sin(theta_r + phases[roller_1x])
+        + 0.25 * a.shaft_eccentricity * np.sin(2.0 * theta_r + phases[roller_1x + 1])
+        + a.displacement_noise * rng.standard_normal(t_twin.size)
+    )
 
     filtered = bool(a.anti_alias and twin_rate > fs * (1.0 + 1e-6))
     if filtered:
@@ -330,6 +353,7 @@ def synthetic_recording(
         )
         torque_analog = signal.sosfiltfilt(sos, torque_analog)
         pressure_analog = signal.sosfiltfilt(sos, pressure_analog)
+        displacement_analog = signal.sosfiltfilt(sos, displacement_analog)
 
     def at_daq(values: np.ndarray) -> np.ndarray:
         return np.interp(t_daq, t_twin, values)
@@ -341,6 +365,8 @@ def synthetic_recording(
         "roller_encoder_counts": _counts(theta_r_daq, cpr),
         "air_spring_pressure": at_daq(pressure_analog),
     }
+    if a.shaft_eccentricity > 0.0 or a.displacement_noise > 0.0:
+        channels["displacement_torque_sensor"] = at_daq(displacement_analog)
     if a.record_torque_request and "torque_request" in ds:
         channels["torque_request"] = at_daq(np.asarray(ds["torque_request"].values, dtype=float))
     units = {k: CANONICAL_CHANNELS[k][0] for k in channels}

@@ -124,6 +124,17 @@ def _integrate_batch(
         )
 
 
+def _settings(rtol, h_max, jac_every, angle_atol):
+    """Tolerance vectors and step settings, defaults from :data:`FAST_DEFAULTS`."""
+    rtol = FAST_DEFAULTS["rtol"] if rtol is None else rtol
+    if angle_atol is None:  # scale the angle tolerance with rtol
+        angle_atol = FAST_DEFAULTS["angle_atol"] * rtol / FAST_DEFAULTS["rtol"]
+    rt, at = default_tolerances(rtol, angle_atol)
+    h_max = FAST_DEFAULTS["h_max"] if h_max is None else h_max
+    jac_every = FAST_DEFAULTS["jac_every"] if jac_every is None else jac_every
+    return rt, at, h_max, jac_every
+
+
 def _segment_arrays(segments):
     bounds = np.array([[s.start, s.end] for s in segments], dtype=float)
     params = np.stack([s.params for s in segments])
@@ -154,15 +165,7 @@ def integrate_experiment(inputs, t_out, rtol=None, h_max=None, jac_every=None, a
     stats : dict
         Accepted steps, rejected steps, Jacobian evaluations, status.
     """
-    rtol = FAST_DEFAULTS["rtol"] if rtol is None else rtol
-    h_max = FAST_DEFAULTS["h_max"] if h_max is None else h_max
-    jac_every = FAST_DEFAULTS["jac_every"] if jac_every is None else jac_every
-    angle_atol = (
-        FAST_DEFAULTS["angle_atol"] * rtol / FAST_DEFAULTS["rtol"]
-        if angle_atol is None
-        else angle_atol
-    )
-    rt, at = default_tolerances(rtol, angle_atol)
+    rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol)
     bounds, params = _segment_arrays(inputs.segments)
     t_out = np.ascontiguousarray(t_out, dtype=float)
     x_out = np.empty((t_out.size, N_STATES))
@@ -199,15 +202,7 @@ def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, a
     x_out : ndarray, shape (n_variants, len(t_out), N_STATES)
     status : ndarray of int, shape (n_variants,)
     """
-    rtol = FAST_DEFAULTS["rtol"] if rtol is None else rtol
-    h_max = FAST_DEFAULTS["h_max"] if h_max is None else h_max
-    jac_every = FAST_DEFAULTS["jac_every"] if jac_every is None else jac_every
-    angle_atol = (
-        FAST_DEFAULTS["angle_atol"] * rtol / FAST_DEFAULTS["rtol"]
-        if angle_atol is None
-        else angle_atol
-    )
-    rt, at = default_tolerances(rtol, angle_atol)
+    rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol)
     first = inputs_list[0]
     bounds, _ = _segment_arrays(first.segments)
     params = np.stack([_segment_arrays(i.segments)[1] for i in inputs_list])
