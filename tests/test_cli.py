@@ -115,3 +115,11 @@ def test_analyze_reports_missing_channels_clearly(tmp_path):
     assert result.exit_code == 2
     assert "lacks channel" in result.output or "needs" in result.output
     assert "Traceback" not in result.output
+
+
+def test_study_writes_table_figure_and_json(tmp_path):
+    result = runner.invoke(app, ["study", "drives", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert "ideal speed source" in result.output
+    assert (tmp_path / "study-drives.png").stat().st_size > 10_000
+    assert runner.invoke(app, ["study", "colour", "--out", str(tmp_path)]).exit_code == 2

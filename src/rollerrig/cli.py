@@ -319,21 +319,64 @@ def simulate(
 
 def _release_summary(ds, protocol) -> str:
     """One line per sudden torque release: how far T56 overshoots below zero, vs the truth."""
-    lines = []
-    for event in protocol.events:
-        if event.action != "release_torque":
-            continue
-        window = (ds.time >= event.start) & (ds.time <= event.start + 3.0)
-        before = float(ds.measured_force.sel(time=event.start, method="nearest"))
-        if before <= 0:
-            continue
-        meas = float(ds.measured_force.where(window).min())
-        true = float(ds.contact_force.where(window).min())
-        lines.append(
-            f"release at {event.start:5.2f} s: force from T56 {before:7.0f} N -> min {meas:7.0f} N "
-            f"(overshoot {-meas / before:5.1%}); true contact force min {true:7.0f} N"
-        )
-    return "\n".join(lines)
+    from rollerrig.studies import release_overshoots
+
+    return "\n".join(
+        f"release at {r['time [s]']:5.2f} s: force from T56 {r['force_before [N]']:7.0f} N -> "
+        f"min {r['measured_min [N]']:7.0f} N (overshoot {r['measured_overshoot [-]']:5.1%}); "
+        f"true contact force min {r['true_min [N]']:7.0f} N"
+        for r in release_overshoots(ds, protocol)
+    )
+
+
+@app.command()
+def study(
+    name: Annotated[str, typer.Argument(help="stiffness, lag or drives.")],
+    rig_file: Annotated[
+        Path | None, typer.Option("--rig", help="Rig parameter file (TOML); default: bundled rig.")
+    ] = None,
+    out: Annotated[Path, typer.Option("--out", help="Output folder.")] = DEFAULT_OUT,
+) -> None:
+    """The seed's parametric studies on the twin: overshoot of the torque-sensor force after a
+    sudden release, versus roller-shaft stiffness, motor lag, or roller drive."""
+    from rollerrig.report._io import save_figure, write_json
+    from rollerrig.report.twin import sweep_figure
+    from rollerrig.studies import run_study
+
+    try:
+        rig = _load_rig(rig_file)
+        result = run_study(name, rig)
+    except ParameterError as exc:
+        _fail(str(exc))
+        return
+    table = Table(title=f"Study '{name}': overshoot below zero after a sudden torque release")
+    table.add_column("variant")
+    table.add_column("T56 / r_r", justify="right")
+    table.add_column("true F_x", justify="right")
+    for label, m, t in zip(
+        result.labels, result.measured_overshoot, result.true_overshoot, strict=True
+    ):
+        table.add_row(label, f"{m:.1%}", f"{t:.1%}")
+    console.print(table)
+    numeric = name != "drives"
+    fig = sweep_figure(
+        np.asarray(result.values) / (1e3 if name == "stiffness" else 1.0)
+        if numeric
+        else result.labels,
+        {"force from T56": result.measured_overshoot, "true contact force": result.true_overshoot},
+        xlabel=(
+            f"{result.parameter} [{'kN·m/rad' if name == 'stiffness' else result.unit}]"
+            if numeric
+            else ""
+        ),
+        title=f"Overshoot after a sudden release: {result.parameter}",
+    )
+    paths = [
+        save_figure(fig, out / f"study-{name}.png"),
+        write_json(out / f"study-{name}.json", {"study": name, "rows": result.rows()}),
+    ]
+    for path in paths:
+        console.print(f"wrote {path}")
 
 
 @app.command()

@@ -77,13 +77,30 @@ def experiment_figure(ds, title: str | None = None):
     return fig
 
 
-def sweep_figure(values, amplitudes, xlabel: str, title: str):
-    """Relative oscillation amplitude versus a swept parameter (Kayaalp Figs. 43b, 47)."""
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(values, amplitudes, "o-")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel("relative oscillation amplitude [-]")
-    ax.set_title(title)
+def sweep_figure(values, amplitudes: dict, xlabel: str, title: str):
+    """Relative oscillation amplitude versus a swept parameter (Kayaalp Figs. 43b, 47).
+
+    ``values`` are numbers (a line plot) or labels (a bar chart); ``amplitudes`` maps a legend
+    label to one relative amplitude [-] per value.
+    """
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    labels = [str(v) for v in values]
+    numeric = all(isinstance(v, int | float | np.floating | np.integer) for v in values)
+    for k, (name, amp) in enumerate(amplitudes.items()):
+        if numeric:
+            ax.plot(values, 100 * np.asarray(amp), "o-", label=name)
+        else:
+            y = np.arange(len(values)) + (k - 0.5) * 0.38
+            ax.barh(y, 100 * np.asarray(amp), height=0.36, label=name)
+    if not numeric:
+        ax.set_yticks(np.arange(len(values)), labels, fontsize=8)
+        ax.invert_yaxis()
+        ax.set_xlabel("overshoot below zero [% of the force before release]")
+    else:
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("overshoot below zero [%]")
+    ax.set_title(title, fontsize=10)
     ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
