@@ -39,7 +39,9 @@ difference (:func:`rollerrig.solve.rosenbrock.fd_time_derivative`). Since ``Σ b
 condition of order 3 for any ``f_t``) it changes a step only at ``O(h⁴)``, so ``FT_NONE``
 (one right-hand-side evaluation less per step) is a legitimate choice. The step size follows
 the error exponent ``1/3`` (embedded order 2 plus one) with Gustafsson's predictive controller
-(Hairer & Wanner 1996, Sec. IV.8), which cuts rejections on oscillatory solutions.
+(Hairer & Wanner 1996, Sec. IV.8), which cuts rejections on oscillatory solutions. The
+adaptive, fixed-step and batch drivers are those shared with ROS2
+(:mod:`rollerrig.solve._wdriver`), given the step and the inversion of ``W`` of this module.
 
 References
 ----------
@@ -71,17 +73,12 @@ True
 import numba
 import numpy as np
 
-from rollerrig.solve.rosenbrock import (
+from rollerrig.solve import _wdriver as _wd
+from rollerrig.solve._wdriver import (
+    DEFAULT_MAX_STEPS,
     FT_EVERY_STEP,
     FT_NONE,
     FT_WITH_JACOBIAN,
-    STATUS_BAD_INPUT,
-    STATUS_MAX_STEPS,
-    STATUS_NONFINITE,
-    STATUS_OK,
-    STATUS_STEP_UNDERFLOW,
-    fd_jacobian,
-    fd_time_derivative,
 )
 
 __all__ = [
@@ -129,17 +126,13 @@ _E2 = _M2 - 1.11804787782050318867e00
 _E3 = _M3 - 5.21650232611490682899e-01
 _E4 = _M4 - 0.5
 
-_EPS = np.finfo(np.float64).eps
-# Step-size controller (Hairer & Wanner 1996, eq. IV.8.21 with the error exponent 1/3).
-_SAFETY = 0.9
-_FAC_MIN = 0.2
-_FAC_MAX = 5.0
-_FAC_NONFINITE = 0.25
+# Step-size controller (Hairer & Wanner 1996, eqs. IV.8.21 and IV.8.25): error exponent 1/3
+# (embedded order 2), with Gustafsson's predictive controller.
 _EXPONENT = 1.0 / 3.0
 _PREDICTIVE = True
 # The inverse of W = I − γ h' J is reused for a step h while h'/h lies in [1/ratio, ratio].
 _LU_REUSE_RATIO = 1.1
-_DEFAULT_MAX_STEPS = 1_000_000
+_N_WORK = 6  # rows of scratch space of ros34pw2_step
 
 
 def stability_function(z, ratio=1.0):
@@ -185,50 +178,6 @@ def stability_function(z, ratio=1.0):
             u[i] = (GAMMA * zz * (1.0 + a[i] @ u) + GAMMA * (c[i] @ u)) / den
         out[idx] = 1.0 + m @ u
     return out if out.ndim else complex(out)
-
-
-@numba.njit(cache=True)
-def _all_finite(v):
-    for i in range(v.shape[0]):
-        if not np.isfinite(v[i]):
-            return False
-    return True
-
-
-@numba.njit(cache=True)
-def _fill_nan_from(x_out, k):
-    for i in range(k, x_out.shape[0]):
-        for j in range(x_out.shape[1]):
-            x_out[i, j] = np.nan
-
-
-@numba.njit(cache=True)
-def _check_times(t0, t1, t_out):
-    if not (np.isfinite(t0) and np.isfinite(t1)) or t1 < t0:
-        return False
-    prev = t0
-    for k in range(t_out.shape[0]):
-        if not (t_out[k] >= prev and t_out[k] <= t1):
-            return False
-        prev = t_out[k]
-    return True
-
-
-@numba.njit(cache=True)
-def _jacobians(rhs, t, x, p, tables, f0, jac, ft, work, t_end, time_derivative, x_typ):
-    """``J`` and (``time_derivative > 0``) ``f_t`` by forward differences.
-
-    Returns True when ``f_t`` is identically zero (no explicit time dependence seen).
-    """
-    fd_jacobian(rhs, t, x, p, tables, f0, jac, work, x_typ)
-    if time_derivative > 0:
-        fd_time_derivative(rhs, t, x, p, tables, f0, ft, work[0], t_end)
-    else:
-        ft[:] = 0.0
-    for i in range(ft.shape[0]):
-        if ft[i] != 0.0:
-            return False
-    return True
 
 
 @numba.njit(cache=True)
@@ -344,24 +293,11 @@ def ros34pw2_step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, x_new, er
 
     Parameters
     ----------
-    rhs : numba dispatcher
-        Right-hand side ``rhs(t, x, p, tables, dx)``.
-    t : float
-        Step start time [s].
-    h : float
-        Step size [s].
-    t_new : float
-        Step end time [s], ``t + h`` (passed separately so that output times are hit exactly).
-    x : ndarray of float64, shape (n,)
-        State at ``t`` [state units].
-    f0 : ndarray of float64, shape (n,)
-        ``f(t, x)`` [state units/s].
-    ft : ndarray of float64, shape (n,)
-        Approximation of ``∂f/∂t`` [state units/s²], may be zero.
-    h_w : float
-        Step size [s] the inverse of ``W`` was built for.
-    p, tables : ndarray of float64
-        Passed through to ``rhs``.
+    rhs, t, h, t_new, x, f0, ft, h_w, p, tables
+        Right-hand side, step start time [s], step size [s], step end time [s], state at
+        ``t`` [state units], ``f(t, x)`` [state units/s], ``∂f/∂t`` [state units/s²], step
+        size [s] the inverse of ``W`` was built for, parameters and tables, as in
+        :func:`rollerrig.solve.rosenbrock.ros2_step`.
     winv_t : ndarray of float64, shape (n, n)
         ``(W⁻¹)ᵀ`` from :func:`invert_w`.
     x_new : ndarray of float64, shape (n,)
@@ -385,6 +321,16 @@ def ros34pw2_step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, x_new, er
     ...               np.empty((6, 1)))
     >>> round(float(x_new[0]), 12)  # exact for cubics: 1.5**3
     3.375
+    """
+    _step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, None, x_new, err, work)
+
+
+@numba.njit(cache=True)
+def _step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, piv, x_new, err, work):
+    """:func:`ros34pw2_step` with the drivers' ``step`` signature (``piv`` unused).
+
+    The drivers call this directly: a wrapper around :func:`ros34pw2_step` would cost ~4 % of
+    the run time of the fast backend (measured), the public function wraps this one instead.
     """
     n = x.shape[0]
     u1 = work[0]
@@ -426,24 +372,16 @@ def ros34pw2_step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, x_new, er
 
 
 @numba.njit(cache=True)
+def _factor(jac, h, winv_t, piv, w_work):
+    """``(W⁻¹)ᵀ`` of ``W = I − γ h J`` into ``winv_t`` (the driver's ``factor``; no pivots)."""
+    return invert_w(jac, GAMMA * h, winv_t, w_work)
+
+
+@numba.njit  # not cached, as in rollerrig.solve.rosenbrock
 def ros34pw2_integrate(
-    rhs,
-    x0,
-    t0,
-    t1,
-    t_out,
-    p,
-    tables,
-    rtol,
-    atol,
-    h0,
-    h_max,
-    jac_every,
-    x_out,
-    max_steps=_DEFAULT_MAX_STEPS,
-    time_derivative=FT_EVERY_STEP,
-    x_typ=None,
-):
+    rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out,
+    max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP, x_typ=None,
+):  # fmt: skip
     """Adaptive ROS34PW2 W-method from ``t0`` to ``t1`` with output at prescribed times.
 
     Steps are shortened to land exactly on every ``t_out[k]`` (the state there is the step's
@@ -460,33 +398,11 @@ def ros34pw2_integrate(
 
     Parameters
     ----------
-    rhs : numba dispatcher
-        Right-hand side ``rhs(t, x, p, tables, dx)``; must be thread-safe for the batch variant.
-    x0 : ndarray of float64, shape (n,)
-        Initial state at ``t0`` [state units]; not modified.
-    t0, t1 : float
-        Start and end time [s], ``t1 ≥ t0``.
-    t_out : ndarray of float64, shape (m,)
-        Output times [s], non-decreasing, within ``[t0, t1]``.
-    p : ndarray of float64
-        Parameter vector [mixed units], passed to ``rhs``.
-    tables : ndarray of float64, shape (r, c)
-        Lookup tables [mixed units], passed to ``rhs``.
-    rtol : float or ndarray of float64, shape (n,)
-        Relative tolerance [-].
-    atol : float or ndarray of float64, shape (n,)
-        Absolute tolerance [state units].
-    h0 : float
-        Initial step [s]; ``≤ 0`` selects it automatically.
-    h_max : float
-        Largest step [s]; ``≤ 0`` means ``t1 − t0``.
-    jac_every : int
-        Recompute the Jacobian every ``jac_every`` accepted steps [-] (1 = every step, i.e. a
-        classical Rosenbrock method).
-    x_out : ndarray of float64, shape (m, n)
-        Output, ``x_out[k] = x(t_out[k])`` [state units]; rows not reached are NaN on failure.
-    max_steps : int, optional
-        Cap on accepted plus rejected steps [-] (default 1 000 000).
+    rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out, max_steps
+        Right-hand side, initial state [state units], start and end time [s], output times
+        [s], parameters, tables, tolerances [-, state units], initial and largest step [s],
+        Jacobian interval [accepted steps], output states [state units] and step cap [-],
+        exactly as in :func:`rollerrig.solve.rosenbrock.ros2_integrate`.
     time_derivative : int, optional
         ``FT_NONE`` (0), ``FT_WITH_JACOBIAN`` (1) or ``FT_EVERY_STEP`` (2, default), as in
         :func:`rollerrig.solve.rosenbrock.ros2_integrate`; for this method ``f_t`` enters at
@@ -496,15 +412,10 @@ def ros34pw2_integrate(
 
     Returns
     -------
-    n_steps : int
-        Accepted steps [-].
-    n_rejected : int
-        Rejected steps [-].
-    n_jac : int
-        Jacobian evaluations [-].
-    status : int
-        ``STATUS_OK`` (0), ``STATUS_MAX_STEPS`` (1), ``STATUS_STEP_UNDERFLOW`` (2),
-        ``STATUS_NONFINITE`` (3) or ``STATUS_BAD_INPUT`` (4), as in ``ros2_integrate``.
+    n_steps, n_rejected, n_jac, status : int
+        Accepted steps, rejected steps, Jacobian evaluations [-] and ``STATUS_OK`` (0),
+        ``STATUS_MAX_STEPS`` (1), ``STATUS_STEP_UNDERFLOW`` (2), ``STATUS_NONFINITE`` (3) or
+        ``STATUS_BAD_INPUT`` (4), as in :func:`rollerrig.solve.rosenbrock.ros2_integrate`.
 
     Examples
     --------
@@ -520,181 +431,14 @@ def ros34pw2_integrate(
     >>> res[3], bool(abs(x_out[0, 0] - np.cos(1.0)) < 1e-6)
     (0, True)
     """
-    n = x0.shape[0]
-    n_out = t_out.shape[0]
-    if (
-        not _check_times(t0, t1, t_out)
-        or x_out.shape[0] != n_out
-        or (n_out > 0 and x_out.shape[1] != n)
-    ):
-        if x_out.shape[0] == n_out:
-            _fill_nan_from(x_out, 0)
-        return 0, 0, 0, STATUS_BAD_INPUT
-
-    rtol_v = np.zeros(n) + rtol
-    atol_v = np.zeros(n) + atol
-    if h_max <= 0.0:
-        h_max = t1 - t0
-    if jac_every < 1:
-        jac_every = 1
-
-    x = x0.copy()
-    x_new = np.empty(n)
-    f0 = np.empty(n)
-    f_new = np.empty(n)
-    err = np.empty(n)
-    jac = np.empty((n, n))
-    ft = np.empty(n)
-    winv_t = np.empty((n, n))
-    w_work = np.empty((n, n))
-    work = np.empty((6, n))
-
-    t = t0
-    k_out = 0
-    while k_out < n_out and t_out[k_out] == t0:
-        x_out[k_out, :] = x
-        k_out += 1
-    if t1 == t0:
-        return 0, 0, 0, STATUS_OK
-
-    rhs(t, x, p, tables, f0)
-    if not (_all_finite(x) and _all_finite(f0)):
-        _fill_nan_from(x_out, k_out)
-        return 0, 0, 0, STATUS_NONFINITE
-    ft_zero = _jacobians(rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative, x_typ)
-    n_jac = 1
-    jac_current = True  # J was evaluated at the present (t, x)
-    steps_since_jac = 0
-
-    # Initial step (Hairer & Wanner, Vol. I, Sec. II.4, first part of the starting-step rule).
-    h = h0
-    if h <= 0.0:
-        d0 = 0.0
-        d1 = 0.0
-        for i in range(n):
-            sc = atol_v[i] + rtol_v[i] * abs(x[i])
-            d0 += (x[i] / sc) ** 2
-            d1 += (f0[i] / sc) ** 2
-        d0 = np.sqrt(d0 / n)
-        d1 = np.sqrt(d1 / n)
-        if d0 < 1e-5 or d1 < 1e-5:
-            h = 1e-6
-        else:
-            h = 0.01 * d0 / d1
-    h = min(h, h_max, t1 - t0)
-
-    h_lu = 0.0  # step size the inverse in winv_t belongs to (0: none)
-    n_steps = 0
-    n_rejected = 0
-    rejected_last = False
-    h_acc = 0.0  # last accepted step and its error norm (predictive controller)
-    err_acc = 1.0
-    status = STATUS_OK
-    while t < t1:
-        if n_steps + n_rejected >= max_steps:
-            status = STATUS_MAX_STEPS
-            break
-        target = t_out[k_out] if k_out < n_out else t1
-        remaining = target - t
-        if remaining <= h * (1.0 + 1e-8):
-            h_try = remaining
-            t_new = target
-        elif remaining < 2.0 * h:
-            h_try = 0.5 * remaining
-            t_new = t + h_try
-        else:
-            h_try = h
-            t_new = t + h_try
-        clipped = h_try < h
-        if h_try <= 8.0 * _EPS * max(abs(t), abs(t_new)) or t_new <= t:
-            status = STATUS_STEP_UNDERFLOW
-            break
-
-        if h_lu == 0.0 or h_try > _LU_REUSE_RATIO * h_lu or h_try * _LU_REUSE_RATIO < h_lu:
-            if invert_w(jac, GAMMA * h_try, winv_t, w_work) != 0:
-                h_lu = 0.0
-                n_rejected += 1
-                h = 0.5 * h_try
-                rejected_last = True
-                continue
-            h_lu = h_try
-
-        ros34pw2_step(rhs, t, h_try, t_new, x, f0, ft, h_lu, p, tables, winv_t, x_new, err, work)
-        enorm = 0.0
-        for i in range(n):
-            sc = atol_v[i] + rtol_v[i] * max(abs(x[i]), abs(x_new[i]))
-            enorm += (err[i] / sc) ** 2
-        enorm = np.sqrt(enorm / n)
-        finite = np.isfinite(enorm)
-        if finite and enorm <= 1.0:
-            rhs(t_new, x_new, p, tables, f_new)
-            finite = _all_finite(f_new)
-        if finite and enorm <= 1.0:
-            # accept
-            t = t_new
-            for i in range(n):
-                x[i] = x_new[i]
-                f0[i] = f_new[i]
-            n_steps += 1
-            while k_out < n_out and t_out[k_out] == t:
-                x_out[k_out, :] = x
-                k_out += 1
-            steps_since_jac += 1
-            if steps_since_jac >= jac_every:
-                ft_zero = _jacobians(
-                    rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative, x_typ
-                )
-                n_jac += 1
-                steps_since_jac = 0
-                jac_current = True
-                h_lu = 0.0
-            else:
-                jac_current = False
-                if time_derivative == FT_EVERY_STEP and not ft_zero and t < t1:
-                    fd_time_derivative(rhs, t, x, p, tables, f0, ft, work[0], t1)
-            if enorm == 0.0:
-                fac = _FAC_MAX
-            else:
-                fac = min(_FAC_MAX, max(_FAC_MIN, _SAFETY * enorm**-_EXPONENT))
-            if _PREDICTIVE and h_acc > 0.0:
-                # Gustafsson's predictive controller (Hairer & Wanner 1996, eq. IV.8.25)
-                e_cl = max(enorm, 1e-10)
-                fac_g = _SAFETY * (h_try / h_acc) * (err_acc / (e_cl * e_cl)) ** _EXPONENT
-                fac = min(fac, max(_FAC_MIN, fac_g))
-            h_acc = h_try
-            err_acc = max(1e-2, enorm)
-            if rejected_last:
-                fac = min(fac, 1.0)
-            h_new = h_try * fac
-            if clipped and fac >= 1.0:
-                h_new = max(h_new, h)
-            h = min(h_new, h_max)
-            rejected_last = False
-        else:
-            n_rejected += 1
-            if finite:
-                h = h_try * max(_FAC_MIN, _SAFETY * enorm**-_EXPONENT)
-            else:
-                h = h_try * _FAC_NONFINITE
-            if not jac_current:
-                ft_zero = _jacobians(
-                    rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative, x_typ
-                )
-                n_jac += 1
-                steps_since_jac = 0
-                jac_current = True
-            h_lu = 0.0
-            rejected_last = True
-            if not finite and h <= 8.0 * _EPS * max(abs(t), abs(t1)):
-                status = STATUS_NONFINITE
-                break
-
-    if status != STATUS_OK:
-        _fill_nan_from(x_out, k_out)
-    return n_steps, n_rejected, n_jac, status
+    return _wd.integrate(
+        _step, _factor, _N_WORK, _LU_REUSE_RATIO, _EXPONENT, _PREDICTIVE,
+        rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out, max_steps,
+        time_derivative, x_typ,
+    )  # fmt: skip
 
 
-@numba.njit(cache=True)
+@numba.njit  # not cached, as in rollerrig.solve.rosenbrock
 def ros34pw2_fixed(
     rhs, x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative=FT_EVERY_STEP
 ):
@@ -708,22 +452,10 @@ def ros34pw2_fixed(
 
     Parameters
     ----------
-    rhs : numba dispatcher
-        Right-hand side ``rhs(t, x, p, tables, dx)``.
-    x0 : ndarray of float64, shape (n,)
-        Initial state at ``t0`` [state units].
-    t0, t1 : float
-        Start and end time [s].
-    h : float
-        Largest step [s], ``> 0``.
-    t_out : ndarray of float64, shape (m,)
-        Output times [s], non-decreasing, within ``[t0, t1]``.
-    p, tables : ndarray of float64
-        Passed to ``rhs``.
-    x_out : ndarray of float64, shape (m, n)
-        Output, ``x_out[k] = x(t_out[k])`` [state units].
-    jac_every : int
-        Steps between Jacobian evaluations [-].
+    rhs, x0, t0, t1, h, t_out, p, tables, x_out, jac_every
+        Right-hand side, initial state [state units], start and end time [s], largest step
+        [s], output times [s], parameters, tables, output states [state units] and Jacobian
+        interval [steps], as in :func:`rollerrig.solve.rosenbrock.ros2_fixed`.
     time_derivative : int, optional
         As in :func:`ros34pw2_integrate` (default ``FT_EVERY_STEP``).
 
@@ -751,104 +483,17 @@ def ros34pw2_fixed(
     >>> bool(abs(x_out[0, 0] - np.exp(-1.0)) < 1e-5)
     True
     """
-    n = x0.shape[0]
-    n_out = t_out.shape[0]
-    if (
-        not _check_times(t0, t1, t_out)
-        or not (h > 0.0)
-        or x_out.shape[0] != n_out
-        or (n_out > 0 and x_out.shape[1] != n)
-    ):
-        if x_out.shape[0] == n_out:
-            _fill_nan_from(x_out, 0)
-        return 0, 0, STATUS_BAD_INPUT
-    if jac_every < 1:
-        jac_every = 1
-
-    x = x0.copy()
-    x_new = np.empty(n)
-    f0 = np.empty(n)
-    err = np.empty(n)
-    jac = np.empty((n, n))
-    ft = np.empty(n)
-    winv_t = np.empty((n, n))
-    w_work = np.empty((n, n))
-    work = np.empty((6, n))
-
-    t = t0
-    k_out = 0
-    n_steps = 0
-    n_jac = 0
-    h_lu = 0.0
-    since_jac = 0
-    ft_zero = True
-    status = STATUS_OK
-    while k_out < n_out and t_out[k_out] == t0:
-        x_out[k_out, :] = x
-        k_out += 1
-    while t < t1 and status == STATUS_OK:
-        target = t_out[k_out] if k_out < n_out else t1
-        length = target - t
-        m = max(1, int(np.ceil(length / h * (1.0 - 1e-12))))
-        hs = length / m
-        t_start = t
-        for i in range(m):
-            t_new = target if i == m - 1 else t_start + (i + 1) * hs
-            rhs(t, x, p, tables, f0)
-            if not (_all_finite(x) and _all_finite(f0)):
-                status = STATUS_NONFINITE
-                break
-            if n_jac == 0 or since_jac >= jac_every:
-                ft_zero = _jacobians(
-                    rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative, None
-                )
-                n_jac += 1
-                since_jac = 0
-                h_lu = 0.0
-            elif time_derivative == FT_EVERY_STEP and not ft_zero:
-                fd_time_derivative(rhs, t, x, p, tables, f0, ft, work[0], t1)
-            if hs != h_lu:
-                if invert_w(jac, GAMMA * hs, winv_t, w_work) != 0:
-                    status = STATUS_NONFINITE
-                    break
-                h_lu = hs
-            ros34pw2_step(rhs, t, hs, t_new, x, f0, ft, h_lu, p, tables, winv_t, x_new, err, work)
-            for j in range(n):
-                x[j] = x_new[j]
-            t = t_new
-            n_steps += 1
-            since_jac += 1
-        if status != STATUS_OK:
-            break
-        if not _all_finite(x):
-            status = STATUS_NONFINITE
-            break
-        while k_out < n_out and t_out[k_out] == t:
-            x_out[k_out, :] = x
-            k_out += 1
-    if status != STATUS_OK:
-        _fill_nan_from(x_out, k_out)
-    return n_steps, n_jac, status
+    return _wd.fixed(
+        _step, _factor, _N_WORK,
+        rhs, x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative,
+    )  # fmt: skip
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit  # not cached, as in rollerrig.solve.rosenbrock
 def ros34pw2_integrate_batch(
-    rhs,
-    X0,
-    t0,
-    t1,
-    t_out,
-    P,
-    tables,
-    rtol,
-    atol,
-    h0,
-    h_max,
-    jac_every,
-    X_out,
-    max_steps=_DEFAULT_MAX_STEPS,
-    time_derivative=FT_EVERY_STEP,
-):
+    rhs, X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out,
+    max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP,
+):  # fmt: skip
     """Independent adaptive integrations of the rows of ``X0``/``P`` in parallel (``prange``).
 
     Row ``b`` runs ``ros34pw2_integrate(rhs, X0[b], t0, t1, t_out, P[b], tables, rtol, atol,
@@ -857,16 +502,12 @@ def ros34pw2_integrate_batch(
 
     Parameters
     ----------
-    rhs : numba dispatcher
-        Right-hand side ``rhs(t, x, p, tables, dx)``.
-    X0 : ndarray of float64, shape (B, n)
-        Initial states [state units].
-    t0, t1, t_out, tables, rtol, atol, h0, h_max, jac_every, max_steps, time_derivative
-        As in :func:`ros34pw2_integrate`.
-    P : ndarray of float64, shape (B, q)
-        Parameter vectors [mixed units], one row per problem.
-    X_out : ndarray of float64, shape (B, m, n)
-        Output states [state units].
+    rhs, X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out, max_steps
+        Right-hand side, initial states (B, n) [state units], times [s], parameter vectors
+        (B, q), tables, tolerances, steps [s], Jacobian interval, output states (B, m, n)
+        [state units] and step cap, as in :func:`rollerrig.solve.rosenbrock.ros2_integrate_batch`.
+    time_derivative : int, optional
+        As in :func:`ros34pw2_integrate` (default ``FT_EVERY_STEP``).
 
     Returns
     -------
@@ -887,31 +528,8 @@ def ros34pw2_integrate_batch(
     >>> stats[:, 3].tolist(), np.allclose(X_out[:, 0, 0], np.exp(-np.arange(1.0, 4.0)))
     ([0, 0, 0], True)
     """
-    n_batch = X0.shape[0]
-    stats = np.zeros((n_batch, 4), dtype=np.int64)
-    if P.shape[0] != n_batch or X_out.shape[0] != n_batch:
-        stats[:, 3] = STATUS_BAD_INPUT
-        return stats
-    for b in numba.prange(n_batch):
-        n_steps, n_rej, n_jac, status = ros34pw2_integrate(
-            rhs,
-            X0[b],
-            t0,
-            t1,
-            t_out,
-            P[b],
-            tables,
-            rtol,
-            atol,
-            h0,
-            h_max,
-            jac_every,
-            X_out[b],
-            max_steps,
-            time_derivative,
-        )
-        stats[b, 0] = n_steps
-        stats[b, 1] = n_rej
-        stats[b, 2] = n_jac
-        stats[b, 3] = status
-    return stats
+    return _wd.integrate_batch(
+        ros34pw2_integrate,
+        rhs, X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out, max_steps,
+        time_derivative,
+    )  # fmt: skip

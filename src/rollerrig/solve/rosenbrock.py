@@ -35,12 +35,15 @@ exponent ``1/2`` (Hairer & Wanner 1996, Sec. IV.8).
 
 Compilation and caching
 -----------------------
-All functions are ``numba.njit(cache=True)``, but the integrators are specialised on the type of
-the ``rhs`` dispatcher, which numba keys by object identity, so the specialisation for a given
-right-hand side is compiled once per process (measured with numba 0.68 on a loaded 2-core
-machine: ``ros2_integrate`` ~2-4 s, ``ros2_fixed`` ~1 s, ``ros2_integrate_batch`` ~6 s). Calls
-from other jitted code (a segment-by-segment driver) avoid the Python dispatch overhead of
-~10 µs per call.
+The step-size control, output landing, Jacobian and ``W`` reuse and failure handling are the
+drivers shared with ROS34PW2 (:mod:`rollerrig.solve._wdriver`); the integrators here pass them
+:func:`ros2_step` and the LU factorisation of ``W``. The kernels are ``numba.njit(cache=True)``,
+but the integrators are specialised on the type of the ``rhs`` dispatcher (and the drivers on
+that of the step function), which numba keys by object identity and cannot cache, so the
+specialisation for a given right-hand side is compiled once per process (measured with numba
+0.68 on a loaded 2-core machine: ``ros2_integrate`` ~2-4 s, ``ros2_fixed`` ~1 s,
+``ros2_integrate_batch`` ~6 s). Calls from other jitted code (a segment-by-segment driver)
+avoid the Python dispatch overhead of ~10 µs per call.
 
 References
 ----------
@@ -58,6 +61,21 @@ See :func:`ros2_integrate` (scalar Prothero-Robinson problem).
 
 import numba
 import numpy as np
+
+from rollerrig.solve import _wdriver as _wd
+from rollerrig.solve._wdriver import (
+    DEFAULT_MAX_STEPS,
+    FT_EVERY_STEP,
+    FT_NONE,
+    FT_WITH_JACOBIAN,
+    STATUS_BAD_INPUT,
+    STATUS_MAX_STEPS,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_STEP_UNDERFLOW,
+    fd_jacobian,
+    fd_time_derivative,
+)
 
 __all__ = [
     "FT_EVERY_STEP",
@@ -82,28 +100,13 @@ __all__ = [
 #: ROS2 parameter γ = 1 + 1/√2 (Verwer et al. 1999), makes the method L-stable.
 GAMMA = 1.0 + 1.0 / np.sqrt(2.0)
 
-#: Return codes of the integrators.
-STATUS_OK = 0
-STATUS_MAX_STEPS = 1
-STATUS_STEP_UNDERFLOW = 2
-STATUS_NONFINITE = 3
-STATUS_BAD_INPUT = 4
-
-#: Treatment of ∂f/∂t (see :func:`ros2_integrate`).
-FT_NONE = 0
-FT_WITH_JACOBIAN = 1
-FT_EVERY_STEP = 2
-
-_EPS = np.finfo(np.float64).eps
-_SQRT_EPS = np.sqrt(_EPS)
-# Step-size controller (Hairer & Wanner 1996, eq. IV.8.21 with the error exponent 1/2).
-_SAFETY = 0.9
-_FAC_MIN = 0.2
-_FAC_MAX = 5.0
-_FAC_NONFINITE = 0.25
+# Error exponent 1/2 of the step-size controller (embedded order 1, Hairer & Wanner 1996,
+# eq. IV.8.21), without the predictive controller.
+_EXPONENT = 0.5
+_PREDICTIVE = False
 # LU of W = I - γ h' J is reused for a step h while h'/h lies in [1/ratio, ratio].
 _LU_REUSE_RATIO = 1.25
-_DEFAULT_MAX_STEPS = 1_000_000
+_N_WORK = 3  # rows of scratch space of ros2_step
 
 
 @numba.njit(cache=True)
@@ -209,148 +212,6 @@ def lu_solve(lu, piv, b):
 
 
 @numba.njit(cache=True)
-def fd_jacobian(rhs, t, x, p, tables, f0, jac_out, work, x_typ=None):
-    """Forward-difference Jacobian ``J[i, j] = ∂f_i/∂x_j`` of a right-hand side.
-
-    Column ``j`` uses the increment ``δ_j = √ε · max(|x_j|, x_typ_j)`` (Dennis & Schnabel 1996,
-    Sec. 5.4), rounded so that ``x_j + δ_j`` is exactly representable. The relative rule keeps
-    the increment far above the rounding level of large states (angles ~1e3 rad, currents
-    ~1e2 A, torques ~1e3 N·m), the floor ``x_typ`` (default 1 in the state's SI unit) keeps it
-    finite for states that pass through zero.
-
-    Parameters
-    ----------
-    rhs : numba dispatcher
-        Right-hand side ``rhs(t, x, p, tables, dx)``.
-    t : float
-        Time [s].
-    x : ndarray of float64, shape (n,)
-        State [SI units of the states]; not modified.
-    p : ndarray of float64
-        Parameter vector [mixed units], passed through.
-    tables : ndarray of float64, shape (m, k)
-        Lookup tables [mixed units], passed through.
-    f0 : ndarray of float64, shape (n,)
-        ``f(t, x)`` [state units/s], already evaluated.
-    jac_out : ndarray of float64, shape (n, n)
-        Output Jacobian [1/s in state units].
-    work : ndarray of float64, shape (2, n)
-        Scratch space.
-    x_typ : ndarray of float64, shape (n,), optional
-        Typical magnitude of each state [state units]; default 1.
-
-    Returns
-    -------
-    int
-        Number of right-hand-side evaluations (``n``).
-
-    Examples
-    --------
-    >>> import numba
-    >>> import numpy as np
-    >>> @numba.njit
-    ... def f(t, x, p, tables, dx):
-    ...     dx[0] = x[0] * x[1]
-    ...     dx[1] = -3.0 * x[0]
-    >>> x = np.array([2.0, 5.0])
-    >>> f0 = np.empty(2)
-    >>> f(0.0, x, np.zeros(1), np.zeros((1, 1)), f0)
-    >>> jac = np.empty((2, 2))
-    >>> _ = fd_jacobian(f, 0.0, x, np.zeros(1), np.zeros((1, 1)), f0, jac, np.empty((2, 2)))
-    >>> np.allclose(jac, [[5.0, 2.0], [-3.0, 0.0]], rtol=1e-6)
-    True
-    """
-    n = x.shape[0]
-    xp = work[0]
-    fp = work[1]
-    for i in range(n):
-        xp[i] = x[i]
-    for j in range(n):
-        xj = x[j]
-        if x_typ is None:
-            scale = max(abs(xj), 1.0)
-        else:
-            scale = max(abs(xj), abs(x_typ[j]))
-        xp[j] = xj + _SQRT_EPS * scale
-        delta = xp[j] - xj
-        rhs(t, xp, p, tables, fp)
-        inv = 1.0 / delta
-        for i in range(n):
-            jac_out[i, j] = (fp[i] - f0[i]) * inv
-        xp[j] = xj
-    return n
-
-
-@numba.njit(cache=True)
-def fd_time_derivative(rhs, t, x, p, tables, f0, ft_out, work, t_end):
-    """Forward-difference time derivative ``∂f/∂t`` of a right-hand side.
-
-    The increment ``δ = √ε · max(|t|, 1 s)`` points towards ``t_end`` (backwards if ``t_end``
-    lies before ``t + δ``), so that a right-hand side with a breakpoint at the segment end is
-    never evaluated beyond it.
-
-    Parameters
-    ----------
-    rhs : numba dispatcher
-        Right-hand side ``rhs(t, x, p, tables, dx)``.
-    t : float
-        Time [s].
-    x : ndarray of float64, shape (n,)
-        State [state units].
-    p, tables : ndarray of float64
-        Passed through to ``rhs``.
-    f0 : ndarray of float64, shape (n,)
-        ``f(t, x)`` [state units/s], already evaluated.
-    ft_out : ndarray of float64, shape (n,)
-        Output ``∂f/∂t`` [state units/s²].
-    work : ndarray of float64, shape (n,)
-        Scratch space.
-    t_end : float
-        End of the smooth segment [s].
-
-    Examples
-    --------
-    >>> import numba
-    >>> import numpy as np
-    >>> @numba.njit
-    ... def f(t, x, p, tables, dx):
-    ...     dx[0] = 3.0 * t * t
-    >>> ft = np.empty(1)
-    >>> fd_time_derivative(f, 2.0, np.zeros(1), np.zeros(1), np.zeros((1, 1)),
-    ...                    np.array([12.0]), ft, np.empty(1), 10.0)
-    >>> bool(abs(ft[0] - 12.0) < 1e-5)
-    True
-    """
-    n = x.shape[0]
-    dt = _SQRT_EPS * max(abs(t), 1.0)
-    if t + dt > t_end:
-        dt = -dt
-    t_p = t + dt
-    dt = t_p - t
-    rhs(t_p, x, p, tables, work)
-    inv = 1.0 / dt
-    for i in range(n):
-        ft_out[i] = (work[i] - f0[i]) * inv
-
-
-@numba.njit(cache=True)
-def _jacobians(rhs, t, x, p, tables, f0, jac, ft, work, t_end, time_derivative):
-    """``J = ∂f/∂x`` and (``time_derivative > 0``) ``f_t = ∂f/∂t`` by forward differences.
-
-    Returns True when ``f_t`` is identically zero (no explicit time dependence seen).
-    """
-    fd_jacobian(rhs, t, x, p, tables, f0, jac, work)
-    if time_derivative > 0:
-        fd_time_derivative(rhs, t, x, p, tables, f0, ft, work[0], t_end)
-    else:
-        ft[:] = 0.0
-    for i in range(ft.shape[0]):
-        if ft[i] != 0.0:
-            return False
-    return True
-
-
-@numba.njit(cache=True)
 def _build_w(jac, gh, w):
     """``w = I − gh · jac``."""
     n = jac.shape[0]
@@ -439,50 +300,17 @@ def ros2_step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, lu, piv, x_new, err, 
 
 
 @numba.njit(cache=True)
-def _all_finite(v):
-    for i in range(v.shape[0]):
-        if not np.isfinite(v[i]):
-            return False
-    return True
+def _factor(jac, h, w, piv, w_work):
+    """LU factors of ``W = I − γ h J`` into ``w``, ``piv`` (the driver's ``factor``)."""
+    _build_w(jac, GAMMA * h, w)
+    return lu_factor(w, piv)
 
 
-@numba.njit(cache=True)
-def _fill_nan_from(x_out, k):
-    for i in range(k, x_out.shape[0]):
-        for j in range(x_out.shape[1]):
-            x_out[i, j] = np.nan
-
-
-@numba.njit(cache=True)
-def _check_times(t0, t1, t_out):
-    if not (np.isfinite(t0) and np.isfinite(t1)) or t1 < t0:
-        return False
-    prev = t0
-    for k in range(t_out.shape[0]):
-        if not (t_out[k] >= prev and t_out[k] <= t1):
-            return False
-        prev = t_out[k]
-    return True
-
-
-@numba.njit(cache=True)
+@numba.njit  # not cached (module docstring)
 def ros2_integrate(
-    rhs,
-    x0,
-    t0,
-    t1,
-    t_out,
-    p,
-    tables,
-    rtol,
-    atol,
-    h0,
-    h_max,
-    jac_every,
-    x_out,
-    max_steps=_DEFAULT_MAX_STEPS,
-    time_derivative=FT_EVERY_STEP,
-):
+    rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out,
+    max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP,
+):  # fmt: skip
     """Adaptive ROS2 W-method from ``t0`` to ``t1`` with output at prescribed times.
 
     Steps are shortened to land exactly on every ``t_out[k]`` (the state there is the step's
@@ -559,170 +387,14 @@ def ros2_integrate(
     >>> res[3], bool(abs(x_out[0, 0] - np.cos(1.0)) < 1e-6)
     (0, True)
     """
-    n = x0.shape[0]
-    n_out = t_out.shape[0]
-    if (
-        not _check_times(t0, t1, t_out)
-        or x_out.shape[0] != n_out
-        or (n_out > 0 and x_out.shape[1] != n)
-    ):
-        if x_out.shape[0] == n_out:
-            _fill_nan_from(x_out, 0)
-        return 0, 0, 0, STATUS_BAD_INPUT
-
-    rtol_v = np.zeros(n) + rtol
-    atol_v = np.zeros(n) + atol
-    if h_max <= 0.0:
-        h_max = t1 - t0
-    if jac_every < 1:
-        jac_every = 1
-
-    x = x0.copy()
-    x_new = np.empty(n)
-    f0 = np.empty(n)
-    f_new = np.empty(n)
-    err = np.empty(n)
-    jac = np.empty((n, n))
-    ft = np.empty(n)
-    w = np.empty((n, n))
-    piv = np.empty(n, dtype=np.int64)
-    work = np.empty((3, n))
-
-    t = t0
-    k_out = 0
-    while k_out < n_out and t_out[k_out] == t0:
-        x_out[k_out, :] = x
-        k_out += 1
-    if t1 == t0:
-        return 0, 0, 0, STATUS_OK
-
-    rhs(t, x, p, tables, f0)
-    if not (_all_finite(x) and _all_finite(f0)):
-        _fill_nan_from(x_out, k_out)
-        return 0, 0, 0, STATUS_NONFINITE
-    ft_zero = _jacobians(rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative)
-    n_jac = 1
-    jac_current = True  # J was evaluated at the present (t, x)
-    steps_since_jac = 0
-
-    # Initial step (Hairer & Wanner, Vol. I, Sec. II.4, first part of the starting-step rule).
-    h = h0
-    if h <= 0.0:
-        d0 = 0.0
-        d1 = 0.0
-        for i in range(n):
-            sc = atol_v[i] + rtol_v[i] * abs(x[i])
-            d0 += (x[i] / sc) ** 2
-            d1 += (f0[i] / sc) ** 2
-        d0 = np.sqrt(d0 / n)
-        d1 = np.sqrt(d1 / n)
-        if d0 < 1e-5 or d1 < 1e-5:
-            h = 1e-6
-        else:
-            h = 0.01 * d0 / d1
-    h = min(h, h_max, t1 - t0)
-
-    h_lu = 0.0  # step size the LU factors in w belong to (0: none)
-    n_steps = 0
-    n_rejected = 0
-    rejected_last = False
-    nonfinite_last = False
-    status = STATUS_OK
-    while t < t1:
-        if n_steps + n_rejected >= max_steps:
-            status = STATUS_MAX_STEPS
-            break
-        target = t_out[k_out] if k_out < n_out else t1
-        remaining = target - t
-        if remaining <= h * (1.0 + 1e-8):
-            h_try = remaining
-            t_new = target
-        elif remaining < 2.0 * h:
-            h_try = 0.5 * remaining
-            t_new = t + h_try
-        else:
-            h_try = h
-            t_new = t + h_try
-        clipped = h_try < h
-        if h_try <= 8.0 * _EPS * max(abs(t), abs(t_new)) or t_new <= t:
-            status = STATUS_NONFINITE if nonfinite_last else STATUS_STEP_UNDERFLOW
-            break
-
-        if h_lu == 0.0 or h_try > _LU_REUSE_RATIO * h_lu or h_try * _LU_REUSE_RATIO < h_lu:
-            _build_w(jac, GAMMA * h_try, w)
-            if lu_factor(w, piv) != 0:
-                h_lu = 0.0
-                n_rejected += 1
-                h = 0.5 * h_try
-                rejected_last = True
-                nonfinite_last = True
-                continue
-            h_lu = h_try
-
-        ros2_step(rhs, t, h_try, t_new, x, f0, ft, h_lu, p, tables, w, piv, x_new, err, work)
-        enorm = 0.0
-        for i in range(n):
-            sc = atol_v[i] + rtol_v[i] * max(abs(x[i]), abs(x_new[i]))
-            enorm += (err[i] / sc) ** 2
-        enorm = np.sqrt(enorm / n)
-        finite = np.isfinite(enorm)
-        if finite and enorm <= 1.0:
-            rhs(t_new, x_new, p, tables, f_new)
-            finite = _all_finite(f_new)
-        if finite and enorm <= 1.0:
-            # accept
-            t = t_new
-            for i in range(n):
-                x[i] = x_new[i]
-                f0[i] = f_new[i]
-            n_steps += 1
-            while k_out < n_out and t_out[k_out] == t:
-                x_out[k_out, :] = x
-                k_out += 1
-            steps_since_jac += 1
-            if steps_since_jac >= jac_every:
-                ft_zero = _jacobians(rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative)
-                n_jac += 1
-                steps_since_jac = 0
-                jac_current = True
-                h_lu = 0.0
-            else:
-                jac_current = False
-                if time_derivative == FT_EVERY_STEP and not ft_zero:
-                    fd_time_derivative(rhs, t, x, p, tables, f0, ft, work[0], t1)
-            if enorm == 0.0:
-                fac = _FAC_MAX
-            else:
-                fac = min(_FAC_MAX, max(_FAC_MIN, _SAFETY / np.sqrt(enorm)))
-            if rejected_last:
-                fac = min(fac, 1.0)
-            h_new = h_try * fac
-            if clipped and fac >= 1.0:
-                h_new = max(h_new, h)
-            h = min(h_new, h_max)
-            rejected_last = False
-            nonfinite_last = False
-        else:
-            n_rejected += 1
-            if finite:
-                h = h_try * max(_FAC_MIN, _SAFETY / np.sqrt(enorm))
-            else:
-                h = h_try * _FAC_NONFINITE
-            if not jac_current:
-                ft_zero = _jacobians(rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative)
-                n_jac += 1
-                steps_since_jac = 0
-                jac_current = True
-            h_lu = 0.0
-            rejected_last = True
-            nonfinite_last = not finite
-
-    if status != STATUS_OK:
-        _fill_nan_from(x_out, k_out)
-    return n_steps, n_rejected, n_jac, status
+    return _wd.integrate(
+        ros2_step, _factor, _N_WORK, _LU_REUSE_RATIO, _EXPONENT, _PREDICTIVE,
+        rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out, max_steps,
+        time_derivative, None,
+    )  # fmt: skip
 
 
-@numba.njit(cache=True)
+@numba.njit  # not cached (module docstring)
 def ros2_fixed(
     rhs, x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative=FT_EVERY_STEP
 ):
@@ -779,103 +451,17 @@ def ros2_fixed(
     >>> bool(abs(x_out[0, 0] - np.exp(-1.0)) < 1e-4)  # ROS2 error constant ~0.4 h²
     True
     """
-    n = x0.shape[0]
-    n_out = t_out.shape[0]
-    if (
-        not _check_times(t0, t1, t_out)
-        or not (h > 0.0)
-        or x_out.shape[0] != n_out
-        or (n_out > 0 and x_out.shape[1] != n)
-    ):
-        if x_out.shape[0] == n_out:
-            _fill_nan_from(x_out, 0)
-        return 0, 0, STATUS_BAD_INPUT
-    if jac_every < 1:
-        jac_every = 1
-
-    x = x0.copy()
-    x_new = np.empty(n)
-    f0 = np.empty(n)
-    err = np.empty(n)
-    jac = np.empty((n, n))
-    ft = np.empty(n)
-    w = np.empty((n, n))
-    piv = np.empty(n, dtype=np.int64)
-    work = np.empty((3, n))
-
-    t = t0
-    k_out = 0
-    n_steps = 0
-    n_jac = 0
-    h_lu = 0.0
-    since_jac = 0
-    ft_zero = True
-    status = STATUS_OK
-    while k_out < n_out and t_out[k_out] == t0:
-        x_out[k_out, :] = x
-        k_out += 1
-    while t < t1 and status == STATUS_OK:
-        target = t_out[k_out] if k_out < n_out else t1
-        length = target - t
-        m = max(1, int(np.ceil(length / h * (1.0 - 1e-12))))
-        hs = length / m
-        t_start = t
-        for i in range(m):
-            t_new = target if i == m - 1 else t_start + (i + 1) * hs
-            rhs(t, x, p, tables, f0)
-            if not (_all_finite(x) and _all_finite(f0)):
-                status = STATUS_NONFINITE
-                break
-            if n_jac == 0 or since_jac >= jac_every:
-                ft_zero = _jacobians(rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative)
-                n_jac += 1
-                since_jac = 0
-                h_lu = 0.0
-            elif time_derivative == FT_EVERY_STEP and not ft_zero:
-                fd_time_derivative(rhs, t, x, p, tables, f0, ft, work[0], t1)
-            if hs != h_lu:
-                _build_w(jac, GAMMA * hs, w)
-                if lu_factor(w, piv) != 0:
-                    status = STATUS_NONFINITE
-                    break
-                h_lu = hs
-            ros2_step(rhs, t, hs, t_new, x, f0, ft, h_lu, p, tables, w, piv, x_new, err, work)
-            for j in range(n):
-                x[j] = x_new[j]
-            t = t_new
-            n_steps += 1
-            since_jac += 1
-        if status != STATUS_OK:
-            break
-        if not _all_finite(x):
-            status = STATUS_NONFINITE
-            break
-        while k_out < n_out and t_out[k_out] == t:
-            x_out[k_out, :] = x
-            k_out += 1
-    if status != STATUS_OK:
-        _fill_nan_from(x_out, k_out)
-    return n_steps, n_jac, status
+    return _wd.fixed(
+        ros2_step, _factor, _N_WORK,
+        rhs, x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative,
+    )  # fmt: skip
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit  # not cached (module docstring)
 def ros2_integrate_batch(
-    rhs,
-    X0,
-    t0,
-    t1,
-    t_out,
-    P,
-    tables,
-    rtol,
-    atol,
-    h0,
-    h_max,
-    jac_every,
-    X_out,
-    max_steps=_DEFAULT_MAX_STEPS,
-    time_derivative=FT_EVERY_STEP,
-):
+    rhs, X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out,
+    max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP,
+):  # fmt: skip
     """Independent adaptive integrations of the rows of ``X0``/``P`` in parallel (``prange``).
 
     Row ``b`` runs ``ros2_integrate(rhs, X0[b], t0, t1, t_out, P[b], tables, rtol, atol, h0,
@@ -917,31 +503,8 @@ def ros2_integrate_batch(
     >>> stats[:, 3].tolist()  # doctest: +SKIP
     [0, 0, 0]
     """
-    n_batch = X0.shape[0]
-    stats = np.zeros((n_batch, 4), dtype=np.int64)
-    if P.shape[0] != n_batch or X_out.shape[0] != n_batch:
-        stats[:, 3] = STATUS_BAD_INPUT
-        return stats
-    for b in numba.prange(n_batch):
-        n_steps, n_rej, n_jac, status = ros2_integrate(
-            rhs,
-            X0[b],
-            t0,
-            t1,
-            t_out,
-            P[b],
-            tables,
-            rtol,
-            atol,
-            h0,
-            h_max,
-            jac_every,
-            X_out[b],
-            max_steps,
-            time_derivative,
-        )
-        stats[b, 0] = n_steps
-        stats[b, 1] = n_rej
-        stats[b, 2] = n_jac
-        stats[b, 3] = status
-    return stats
+    return _wd.integrate_batch(
+        ros2_integrate,
+        rhs, X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out, max_steps,
+        time_derivative,
+    )  # fmt: skip
