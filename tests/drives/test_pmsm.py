@@ -18,7 +18,6 @@ from scipy.integrate import solve_ivp
 
 from rollerrig._validation import ParameterError
 from rollerrig.drives.pmsm import (
-    PmsmParameters,
     max_phase_voltage,
     pi_gains_for_bandwidth,
     pmsm_current_derivatives,
@@ -28,11 +27,12 @@ from rollerrig.drives.pmsm import (
     pmsm_torque,
     pmsm_torque_ripple,
 )
+from rollerrig.rig.parameters import default_rig
 
-P = PmsmParameters()
+P = default_rig().pmsm  # Kayaalp Table 1 plus the rig file's stated assumptions
 RPM = 2.0 * np.pi / 60.0
-KP, KI = P.gains()
-VMAX = P.max_voltage
+KP, KI = pi_gains_for_bandwidth(P.inductance_q, P.stator_resistance, P.current_loop_bandwidth)
+VMAX = max_phase_voltage(P.dc_link_voltage)
 
 
 def closed_loop_rhs(omega_mech, i_d_ref, i_q_ref, params=P, kp=KP, ki=KI, vmax=VMAX):
@@ -141,8 +141,9 @@ def test_pi_gains_pole_zero_cancellation():
 
 
 def test_parameters_validate():
-    with pytest.raises(ParameterError, match=r"stator_resistance.*ohm"):
-        PmsmParameters(stator_resistance=-0.1)
+    # The drive's parameters live in the validated rig parameter set.
+    with pytest.raises(ParameterError, match=r"pmsm\.stator_resistance"):
+        default_rig().with_overrides({"pmsm.stator_resistance": -0.1})
 
 
 # ---------------------------------------------------------------------------------------------
@@ -246,7 +247,7 @@ def test_closed_loop_step_is_first_order_with_time_constant_one_over_bandwidth()
     omega = 650.0 * RPM
     i0, i1 = 40.0, 60.0  # small step: the voltage stays inside the circle
     y0 = [0.0, i0, 0.0, P.stator_resistance * i0 / KI]  # integrator at its steady value
-    t = np.linspace(0.0, 8.0 / P.current_bandwidth, 200)
+    t = np.linspace(0.0, 8.0 / P.current_loop_bandwidth, 200)
     sol = solve_ivp(
         closed_loop_rhs(omega, 0.0, i1),
         (0.0, t[-1]),
@@ -258,13 +259,13 @@ def test_closed_loop_step_is_first_order_with_time_constant_one_over_bandwidth()
     )
     v_d, v_q, _, _ = voltages_of(sol.y, omega, 0.0, i1)
     assert np.all(np.hypot(v_d, v_q) < VMAX)
-    expected = i1 + (i0 - i1) * np.exp(-P.current_bandwidth * t)
+    expected = i1 + (i0 - i1) * np.exp(-P.current_loop_bandwidth * t)
     np.testing.assert_allclose(sol.y[1], expected, atol=1e-6 * i1)
     np.testing.assert_allclose(sol.y[0], 0.0, atol=1e-7)
     # time constant read off the response, 63.2 % point
     frac = (sol.y[1] - i0) / (i1 - i0)
     tau = np.interp(1.0 - np.exp(-1.0), frac, t)
-    assert tau == pytest.approx(1.0 / P.current_bandwidth, rel=1e-3)
+    assert tau == pytest.approx(1.0 / P.current_loop_bandwidth, rel=1e-3)
 
 
 def test_voltage_limit_and_bounded_integrators_when_unreachable():

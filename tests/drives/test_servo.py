@@ -21,10 +21,10 @@ from scipy.integrate import solve_ivp
 from rollerrig._validation import ParameterError
 from rollerrig.drives.induction import lag_derivative
 from rollerrig.drives.servo import (
-    ServoDriveParameters,
     servo_gains_for_bandwidth,
     servo_speed_torque,
 )
+from rollerrig.rig.parameters import default_rig
 
 J = 45.0 + 6.6
 WN = 2.0 * np.pi * 5.0
@@ -61,8 +61,8 @@ def test_gains_pole_placement():
     np.testing.assert_allclose(np.abs(np.roots([J, kp, ki])), WN, rtol=1e-12)  # |pole| = ω_n
     with pytest.raises(ParameterError, match=r"inertia.*kg\.m\^2"):
         servo_gains_for_bandwidth(0.0, WN)
-    with pytest.raises(ParameterError, match="torque_time_constant"):
-        ServoDriveParameters(torque_time_constant=-1.0)
+    with pytest.raises(ParameterError, match=r"servo_roller_drive\.torque_time_constant"):
+        default_rig().with_overrides({"servo_roller_drive.torque_time_constant": -1.0})
 
 
 def test_closed_form_of_the_zeta_one_step_response():

@@ -22,7 +22,6 @@ from rollerrig.drives.induction import (
     vf_voltage,
 )
 from rollerrig.drives.pmsm import (
-    PmsmParameters,
     max_phase_voltage,
     pi_gains_for_bandwidth,
     pmsm_current_derivatives,
@@ -33,15 +32,12 @@ from rollerrig.drives.pmsm import (
     pmsm_torque_ripple,
 )
 from rollerrig.drives.servo import (
-    ServoDriveParameters,
     servo_gains_for_bandwidth,
     servo_speed_torque,
 )
 
 __all__ = [
     "SEED_LAG_STEP",
-    "PmsmParameters",
-    "ServoDriveParameters",
     "TheveninCircuit",
     "clp_from_lag_time_constant",
     "discrete_lag_filter",

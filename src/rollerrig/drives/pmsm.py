@@ -20,8 +20,9 @@ from the coupled right-hand side):
 
 Their names are a contract with the coupled model, so they do not carry the ``_kernel`` suffix.
 
-Validated public helpers: :func:`max_phase_voltage`, :func:`pi_gains_for_bandwidth` and the
-configuration object :class:`PmsmParameters` (Kayaalp, Table 1, plus documented assumptions).
+Validated public helpers: :func:`max_phase_voltage`, :func:`pi_gains_for_bandwidth`. The
+machine's parameters (Kayaalp Table 1 plus documented assumptions) live in the rig parameter
+set, ``RigParameters.pmsm``.
 
 References
 ----------
@@ -39,14 +40,11 @@ back-calculation).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from rollerrig._validation import require_nonnegative, require_positive
 
 __all__ = [
-    "PmsmParameters",
     "max_phase_voltage",
     "pi_gains_for_bandwidth",
     "pmsm_current_derivatives",
@@ -417,84 +415,3 @@ def pi_gains_for_bandwidth(inductance, resistance, bandwidth):
     resistance = float(require_nonnegative("resistance", resistance, "ohm"))
     bandwidth = float(require_positive("bandwidth", bandwidth, "rad/s"))
     return inductance * bandwidth, resistance * bandwidth
-
-
-@dataclass(frozen=True)
-class PmsmParameters:
-    """Parameters of the wheel-drive PMSM and its current controller.
-
-    Defaults: Kayaalp, Table 1 (58 kW, 650 rpm, 852 N.m, 122 A, flux 0.2 Wb, 44 poles ->
-    22 pole pairs). Not given by the seed and therefore **assumptions** (DESIGN.md section 2,
-    plausible for a 58 kW direct-drive tram motor on a 600 V DC tram supply): stator resistance
-    0.04 ohm, L_d = L_q = 0.5 mH, DC link 600 V, current-loop bandwidth 2π·200 Hz, current limit
-    1.5 × the i_q needed for the rated torque.
-
-    Note that Table 1 is not fully self-consistent with eq. 4.25: the rated torque needs
-    i_q = 852 / (1.5·22·0.2) = 129 A (amplitude), while the rated current 122 A, read as rms,
-    would be 173 A amplitude.
-
-    Attributes
-    ----------
-    pole_pairs : int
-        Number of pole pairs [-].
-    flux_linkage : float
-        Permanent-magnet flux linkage amplitude [Wb].
-    stator_resistance : float
-        Stator phase resistance [ohm].
-    inductance_d, inductance_q : float
-        dq inductances [H].
-    dc_link_voltage : float
-        DC-link voltage [V].
-    current_bandwidth : float
-        Current-loop bandwidth [rad/s].
-    max_current : float
-        Current limit on i_q [A].
-    rated_torque : float
-        Rated torque [N.m].
-    rated_speed : float
-        Rated speed [rad/s].
-
-    Examples
-    --------
-    >>> pm = PmsmParameters()
-    >>> round(pm.max_voltage, 1), round(pm.gains()[0], 4)
-    (346.4, 0.6283)
-    """
-
-    pole_pairs: int = 22
-    flux_linkage: float = 0.2
-    stator_resistance: float = 0.04
-    inductance_d: float = 0.5e-3
-    inductance_q: float = 0.5e-3
-    dc_link_voltage: float = 600.0
-    current_bandwidth: float = 2.0 * np.pi * 200.0
-    max_current: float = 1.5 * 852.0 / (1.5 * 22 * 0.2)
-    rated_torque: float = 852.0
-    rated_speed: float = 650.0 * 2.0 * np.pi / 60.0
-
-    def __post_init__(self):
-        require_positive("pole_pairs", self.pole_pairs, "-")
-        require_positive("flux_linkage", self.flux_linkage, "Wb")
-        require_nonnegative("stator_resistance", self.stator_resistance, "ohm")
-        require_positive("inductance_d", self.inductance_d, "H")
-        require_positive("inductance_q", self.inductance_q, "H")
-        require_positive("dc_link_voltage", self.dc_link_voltage, "V")
-        require_positive("current_bandwidth", self.current_bandwidth, "rad/s")
-        require_positive("max_current", self.max_current, "A")
-        require_positive("rated_torque", self.rated_torque, "N.m")
-        require_positive("rated_speed", self.rated_speed, "rad/s")
-
-    @property
-    def max_voltage(self) -> float:
-        """Voltage-circle radius V_dc/sqrt(3) [V]."""
-        return max_phase_voltage(self.dc_link_voltage)
-
-    def gains(self) -> tuple[float, float]:
-        """PI gains (kp [ohm], ki [ohm/s]) for the current bandwidth, tuned on the q axis.
-
-        The q-axis inductance is used; for a salient machine the d loop then has a slightly
-        different bandwidth (L_q/L_d · ω_c).
-        """
-        return pi_gains_for_bandwidth(
-            self.inductance_q, self.stator_resistance, self.current_bandwidth
-        )

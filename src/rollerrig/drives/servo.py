@@ -9,8 +9,8 @@ constant ``torque_time_constant`` (integrate it with
 :func:`rollerrig.drives.pmsm.pi_gains_for_bandwidth` is such a lag with τ = 1/ω_c).
 
 Kernel (compiles under ``numba.njit``; the name is a contract with the coupled model):
-:func:`servo_speed_torque`. Validated: :func:`servo_gains_for_bandwidth`,
-:class:`ServoDriveParameters`.
+:func:`servo_speed_torque`. Validated: :func:`servo_gains_for_bandwidth`. The drive's
+parameters live in the rig parameter set, ``RigParameters.servo_roller_drive``.
 
 References
 ----------
@@ -23,14 +23,11 @@ velocity loop on a rigid inertia).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from rollerrig._validation import require_nonnegative, require_positive
+from rollerrig._validation import require_positive
 
 __all__ = [
-    "ServoDriveParameters",
     "servo_gains_for_bandwidth",
     "servo_speed_torque",
 ]
@@ -123,50 +120,3 @@ def servo_gains_for_bandwidth(inertia, bandwidth, damping_ratio=1.0):
     bandwidth = float(require_positive("bandwidth", bandwidth, "rad/s"))
     damping_ratio = float(require_positive("damping_ratio", damping_ratio, "-"))
     return 2.0 * damping_ratio * bandwidth * inertia, bandwidth**2 * inertia
-
-
-@dataclass(frozen=True)
-class ServoDriveParameters:
-    """Speed-controlled servo roller drive (assumed design, not in the seed).
-
-    Defaults are an assumption sized for the rig's roller side: inertia of roller plus AM-size
-    rotor 45 + 6.6 kg.m² (Kayaalp, section 4.5.1.5), speed-loop ω_n = 2π·5 Hz with ζ = 1, torque
-    limit 2 × 891 N.m (Table 2 rated torque of the drive it replaces), torque actuator lag 1 ms
-    (a current loop of about 160 Hz bandwidth).
-
-    Attributes
-    ----------
-    inertia : float
-        Inertia used for the gain design [kg.m^2].
-    bandwidth : float
-        Speed-loop natural frequency ω_n [rad/s].
-    damping_ratio : float
-        Damping ratio ζ [-].
-    torque_limit : float
-        Torque limit [N.m].
-    torque_time_constant : float
-        Time constant of the torque actuator lag [s]; 0 means an ideal actuator (no state).
-
-    Examples
-    --------
-    >>> kp, ki = ServoDriveParameters().gains()
-    >>> round(kp, 1), round(ki, 1)
-    (3242.1, 50927.2)
-    """
-
-    inertia: float = 45.0 + 6.6
-    bandwidth: float = 2.0 * np.pi * 5.0
-    damping_ratio: float = 1.0
-    torque_limit: float = 2.0 * 891.0
-    torque_time_constant: float = 1e-3
-
-    def __post_init__(self):
-        require_positive("inertia", self.inertia, "kg.m^2")
-        require_positive("bandwidth", self.bandwidth, "rad/s")
-        require_positive("damping_ratio", self.damping_ratio, "-")
-        require_positive("torque_limit", self.torque_limit, "N.m")
-        require_nonnegative("torque_time_constant", self.torque_time_constant, "s")
-
-    def gains(self) -> tuple[float, float]:
-        """(kp [N.m.s/rad], ki [N.m/rad]) from :func:`servo_gains_for_bandwidth`."""
-        return servo_gains_for_bandwidth(self.inertia, self.bandwidth, self.damping_ratio)
