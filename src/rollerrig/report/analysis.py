@@ -135,6 +135,20 @@ def _rolling_speed(result: TestAnalysis) -> float:
     return float(np.median(rec["slip_velocity_smoothed"][idx][ok] / creep[ok]))
 
 
+def _zoom_windows(result: TestAnalysis) -> dict:
+    """A 2 s quiet window and a window around the first release [s], for the filter figure."""
+    windows = {}
+    quiet = [ph for ph in result.phases if ph.name in ("rest", "free_rolling")]
+    if quiet:
+        q = max(quiet, key=lambda ph: ph.end - ph.start)
+        windows["steady_window"] = (max(q.start, q.end - 2.0), q.end)
+    release = [ph for ph in result.phases if ph.name == "release"]
+    if release:
+        r = release[0]
+        windows["transient_window"] = (r.start - 1.0, r.end + 1.5)
+    return windows
+
+
 def _fit_rows(result: TestAnalysis, truth_parameters=None):
     names = ("μ0 [-]", "A [-]", "B [s/m]", "kA [-]", "kS [-]")
     keys = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
@@ -293,8 +307,10 @@ def write_analysis(
             ),
         }
         rep.figure(
-            filter_comparison_figure(rec.time, rec["torque"], filtered, unit="N·m"),
-            "Raw versus filtered torque, with zooms.",
+            filter_comparison_figure(
+                rec.time, rec["torque"], filtered, unit="N·m", **_zoom_windows(result)
+            ),
+            "Raw versus filtered torque, with zooms on a quiet part and on the first release.",
         )
         rep.table(
             ["rank", "filter", "noise left", "peak kept", "lag [s]", "cost"],

@@ -145,25 +145,37 @@ def coherence_figure(
     """
     from rollerrig.signal.spectra import coherence_at
 
-    fig, ax = plt.subplots(figsize=(8.0, 4.0))
+    fig, ax = plt.subplots(figsize=(9.0, 4.6))
     ax.plot(coh.frequency, coh.coherence, color="tab:blue", lw=0.9)
     marks = np.asarray(mark_frequencies, dtype=float)
+    fmax = max_frequency or float(coh.frequency[-1])
     if marks.size:
         values = coherence_at(coh, marks)
         labels = list(mark_labels) if mark_labels is not None else [""] * marks.size
-        for fm, g, lab in zip(marks, values, labels, strict=True):
-            ax.axvline(fm, color="tab:red", lw=0.6, alpha=0.6)
+        order = np.argsort(marks)
+        last, tier = -np.inf, 0
+        for k in order:
+            fm, g, lab = marks[k], values[k], labels[k].split(" (")[0]
+            if fm > fmax:
+                continue
+            ax.plot(fm, g, "v", color="tab:red", ms=5)
+            # Short labels in rows above the curve, with a leader line to the marker.
+            tier = tier + 1 if fm - last < 0.15 * fmax else 0
+            last = fm
             ax.annotate(
-                f"{lab} {fm:.3f} Hz: γ² = {g:.2f}".strip(),
-                (fm, g if np.isfinite(g) else 0.5),
-                xytext=(3, 3),
-                textcoords="offset points",
+                f"{lab}\nγ² = {g:.2f}",
+                (fm, g if np.isfinite(g) else 0.0),
+                xytext=(fm, 1.55 - 0.17 * (tier % 4)),
+                textcoords="data",
+                ha="center",
+                va="top",
                 fontsize=7,
-                rotation=90,
-                va="bottom",
+                color="tab:red",
+                arrowprops={"arrowstyle": "-", "color": "tab:red", "lw": 0.4, "alpha": 0.6},
             )
-    ax.set_ylim(0.0, 1.05)
-    ax.set_xlim(0.0, max_frequency or float(coh.frequency[-1]))
+    ax.set_ylim(0.0, 1.6 if marks.size else 1.05)
+    ax.set_yticks([0.0, 0.25, 0.5, 0.75, 1.0])
+    ax.set_xlim(0.0, fmax)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("coherence γ² [-]")
     ax.set_title(f"coherence of {names[0]} and {names[1]} ({coh.n_segments} segments)")
