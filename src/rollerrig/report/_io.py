@@ -67,13 +67,18 @@ def write_json(path: str | os.PathLike, obj) -> Path:
 def save_figure(
     fig, path: str | os.PathLike, *, dpi: int = 150, metadata: dict | None = None
 ) -> Path:
-    """Save a matplotlib figure atomically (format from the suffix), with text metadata."""
+    """Save a matplotlib figure atomically (format from the suffix), with text metadata, and
+    close it."""
     path = Path(path)
     fmt = path.suffix.lstrip(".") or "png"
     meta = {"Software": "rollerrig"}
     if metadata and fmt == "png":
         meta.update({k: json.dumps(v, default=_json_default) for k, v in metadata.items()})
-    return atomic_write(
+    written = atomic_write(
         path,
         lambda p: fig.savefig(p, format=fmt, dpi=dpi, bbox_inches="tight", metadata=meta),
     )
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)  # a long session (CLI, demo, tests) must not pile up open figures
+    return written
