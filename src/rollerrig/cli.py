@@ -5,6 +5,7 @@ Units at this edge follow rig practice (kN, km/h, mm); everything inside is SI.
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Annotated
 
@@ -301,7 +302,7 @@ def simulate(
         task = bar.add_task("simulating", total=sim.protocol.duration, info="compiling/solving")
         ds = sim.run(progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s"))
         bar.update(task, completed=sim.protocol.duration, info="done")
-    stats = __import__("json").loads(ds.attrs["provenance"])["solver"]
+    stats = json.loads(ds.attrs["provenance"])["solver"]
     console.print(f"solved in {stats['wall_time_s']:.2f} s ({stats['name']})")
     # Outputs are replaced atomically on a re-run; inputs are never written to.
     save_dataset(ds, results_path, overwrite=True)
@@ -530,27 +531,18 @@ def spectrum(
     try:
         rig = _load_rig(rig_file)
         modes = [row.frequency for row in modal_table(rig) if row.frequency > 0]
-        explained = []
+        loaded = [(p, derive_quantities(_read(p, channels, lenient), rig)) for p in recordings]
         coherences = {}
-        for path in recordings:
-            rec = derive_quantities(_read(path, channels, lenient), rig)
-            explained.append((path, explain_spectrum(rec, channel, rig_modes=modes)))
-            if coherence_with is not None:
+        if coherence_with is not None:
+            for path, rec in loaded:
                 rec.require(channel, coherence_with)
                 coherences[path] = coherence(rec[channel], rec[coherence_with], rec.sample_rate)
+        explained = [(p, explain_spectrum(r, channel, rig_modes=modes)) for p, r in loaded]
         fixed = speed_independent_lines([e for _, e in explained]) if len(explained) > 1 else []
-        if len(fixed):
+        if len(fixed):  # explain again, now with the lines that stay put at every speed
             explained = [
-                (
-                    path,
-                    explain_spectrum(
-                        derive_quantities(_read(path, channels, lenient), rig),
-                        channel,
-                        rig_modes=modes,
-                        speed_independent=fixed,
-                    ),
-                )
-                for path, _ in explained
+                (p, explain_spectrum(r, channel, rig_modes=modes, speed_independent=fixed))
+                for p, r in loaded
             ]
     except (ParameterError, FileNotFoundError, ImportError) as exc:
         _fail(str(exc))

@@ -36,6 +36,7 @@ def run_demo(out, console=None, free_rolling_duration: float = 20.0) -> dict:
     import xarray as xr
 
     from rollerrig.measure.analysis import analyze_test
+    from rollerrig.measure.quantities import derive_quantities
     from rollerrig.measure.readers import read_recording
     from rollerrig.measure.synthetic import synthetic_recording
     from rollerrig.measure.writers import write_recording
@@ -91,9 +92,6 @@ def run_demo(out, console=None, free_rolling_duration: float = 20.0) -> dict:
     test = read_recording(tdms)  # the channel map of files rollerrig writes
     result = analyze_test(test, rig, truth=xr.load_dataset(written["truth"], engine="h5netcdf"))
     modes = [row.frequency for row in modal_table(rig) if row.frequency > 0]
-    explained = []
-    from rollerrig.measure.quantities import derive_quantities
-
     free = [derive_quantities(read_recording(p), rig) for p in mdf_paths]
     explained = [explain_spectrum(r, "torque", rig_modes=modes) for r in free]
     fixed = speed_independent_lines(explained)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -19,8 +21,7 @@ def experiment_figure(ds, title: str | None = None):
     (d) slip (creep) velocity; (f) true contact force and the force the rig derives from T56.
     """
     t = ds["time"].values
-    rw = ds.attrs.get("wheel_radius_m")
-    prov = __import__("json").loads(ds.attrs["provenance"])
+    prov = json.loads(ds.attrs["provenance"])
     geo = prov["rig"]["geometry"]
     rw, rr = geo["wheel_radius_x"], geo["roller_radius_x"]
     fig, axes = plt.subplots(3, 2, figsize=(12, 10))
