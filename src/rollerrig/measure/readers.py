@@ -20,15 +20,9 @@ Input files are opened read-only and never modified. The optional readers (``npt
 
 from __future__ import annotations
 
-import contextlib
 import difflib
 import hashlib
-import importlib
-import json
-import re
-import xml.etree.ElementTree as ET
-from collections.abc import Callable, Iterable, Iterator, Mapping
-from dataclasses import dataclass, field
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any, Literal
 
@@ -41,9 +35,10 @@ from rollerrig.measure.channels import (
     default_channel_map,
     load_channel_map,
     normalize_unit,
-    split_unit_header,
 )
+from rollerrig.measure.formats import Table, open_table
 from rollerrig.measure.recording import CANONICAL_CHANNELS, Recording, RecordingError
+from rollerrig.measure.timebase import align_channels
 
 __all__ = [
     "FORMATS",
@@ -70,9 +65,6 @@ MAX_INTERPOLATED_NAN_RUN = 3
 
 GAP_FACTOR = 1.5
 """A sample interval longer than this multiple of the median interval is a gap."""
-
-_META_KEY = "rollerrig_metadata"
-_UNITS_KEY = "rollerrig_units"
 
 
 def detect_format(path: str | Path, format: str | None = None) -> str:
@@ -109,332 +101,11 @@ def file_sha256(path: str | Path) -> str:
     return h.hexdigest()
 
 
-def _require(module: str, what: str):
-    try:
-        return importlib.import_module(module)
-    except ImportError as exc:
-        raise ImportError(
-            f"reading {what} needs the optional package {module!r}: install rollerrig[io] "
-            "(pip install 'rollerrig[io]')"
-        ) from exc
-
-
-# ---------------------------------------------------------------------------------------------
-# A file as a table of columns
-
-
-@dataclass
-class _Column:
-    values: np.ndarray
-    unit: str | None = None
-    time: np.ndarray | None = None  # the column's own time base [s] (TDMS waveform, MDF master)
-
-
-@dataclass
-class _Table:
-    names: list[str]
-    load: Callable[[str], _Column]
-    base: dict[str, str] = field(default_factory=dict)  # name -> short name (no group / unit)
-    aliases: dict[str, list[str]] = field(default_factory=dict)  # other spelling -> names
-    notes: list[str] = field(default_factory=list)
-    skipped: list[str] = field(default_factory=list)
-    stored_metadata: Any = None
-    own_time_exact: bool = False  # own time bases beat index alignment (MDF masters)
-
-
-def _add_alias(table: _Table, alias: str, name: str) -> None:
-    if alias != name:
-        table.aliases.setdefault(alias, []).append(name)
-
-
-def _header_table(frame, *, units: Mapping[str, str] | None = None) -> _Table:
-    """Table over a pandas DataFrame whose headers may carry ``[unit]``."""
-    names = [str(c) for c in frame.columns]
-    header_units: dict[str, str | None] = {}
-    table = _Table(names=names, load=lambda n: None)  # type: ignore[arg-type,return-value]
-    for name in names:
-        base, unit = split_unit_header(name)
-        header_units[name] = unit
-        table.base[name] = base
-        _add_alias(table, base, name)
-    stored = dict(units or {})
-
-    def load(name: str) -> _Column:
-        base = table.base[name]
-        unit = header_units[name] or stored.get(name) or stored.get(base)
-        return _Column(frame[name].to_numpy(), unit)
-
-    table.load = load
-    return table
-
-
-def _read_csv(path: Path) -> _Table:
-    import pandas as pd
-
-    notes = []
-    encoding = "utf-8-sig"
-    try:
-        head = path.read_bytes()[:65536].decode(encoding)
-    except UnicodeDecodeError:
-        encoding = "latin-1"
-        head = path.read_bytes()[:65536].decode(encoding)
-        notes.append("CSV is not UTF-8; read as Latin-1")
-    lines = [ln for ln in head.splitlines() if ln.strip()]
-    if not lines:
-        raise RecordingError(f"{path}: the CSV file is empty")
-    sep = max([",", ";", "\t"], key=lambda s: lines[0].count(s))
-    decimal = "."
-    if sep != "," and len(lines) > 1 and re.search(r"\d,\d", lines[1]):
-        decimal = ","
-        notes.append("CSV uses decimal commas")
-    try:
-        frame = pd.read_csv(path, sep=sep, decimal=decimal, encoding=encoding)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, ValueError) as exc:
-        raise RecordingError(f"{path}: not a readable CSV file: {exc}") from exc
-    table = _header_table(frame)
-    table.notes += notes
-    sidecar = path.with_suffix(".metadata.json")
-    if sidecar.is_file():
-        try:
-            table.stored_metadata = json.loads(sidecar.read_text(encoding="utf-8"))
-            table.notes.append(f"provenance read from {sidecar.name}")
-        except json.JSONDecodeError:
-            table.notes.append(f"sidecar {sidecar.name} is not valid JSON; ignored")
-    return table
-
-
-def _read_parquet(path: Path) -> _Table:
-    import pyarrow.parquet as pq
-
-    try:
-        arrow = pq.read_table(path)
-    except Exception as exc:
-        raise RecordingError(f"{path}: not a readable Parquet file: {exc}") from exc
-    units: dict[str, str] = {}
-    for f in arrow.schema:
-        if f.metadata and b"unit" in f.metadata:
-            units[f.name] = f.metadata[b"unit"].decode()
-    stored = None
-    meta = arrow.schema.metadata or {}
-    if b"rollerrig" in meta:
-        blob = json.loads(meta[b"rollerrig"])
-        units = {**blob.get("units", {}), **units}
-        stored = blob.get("metadata")
-    table = _header_table(arrow.to_pandas(), units=units)
-    table.stored_metadata = stored
-    return table
-
-
-@contextlib.contextmanager
-def _open_tdms(path: Path) -> Iterator[_Table]:
-    nptdms = _require("nptdms", "TDMS files")
-    try:
-        tdms = nptdms.TdmsFile.read(str(path))
-    except Exception as exc:
-        raise RecordingError(f"{path}: not a readable TDMS file: {exc}") from exc
-    chans = {}
-    table = _Table(names=[], load=lambda n: None)  # type: ignore[arg-type,return-value]
-    for group in tdms.groups():
-        for ch in group.channels():
-            name = f"{group.name}/{ch.name}"
-            chans[name] = ch
-            table.names.append(name)
-            table.base[name] = ch.name
-            _add_alias(table, ch.name, name)
-            _add_alias(table, ch.path, name)
-
-    def load(name: str) -> _Column:
-        ch = chans[name]
-        values = ch[:]
-        props = ch.properties
-        own = None
-        if "wf_increment" in props and float(props["wf_increment"]) > 0:
-            inc = float(props["wf_increment"])
-            own = float(props.get("wf_start_offset", 0.0)) + np.arange(len(values)) * inc
-        unit = props.get("unit_string") or None
-        return _Column(np.asarray(values), unit, own)
-
-    table.load = load
-    raw = tdms.properties.get(_META_KEY)
-    if raw:
-        with contextlib.suppress(json.JSONDecodeError, TypeError):
-            table.stored_metadata = json.loads(raw)
-    yield table
-
-
-def _hd_comment_text(comment: str) -> str:
-    try:
-        root = ET.fromstring(comment)
-    except ET.ParseError:
-        return comment
-    tx = root.find("TX")
-    return tx.text if tx is not None and tx.text else comment
-
-
-@contextlib.contextmanager
-def _open_mdf(path: Path) -> Iterator[_Table]:
-    asammdf = _require("asammdf", "MDF4 files")
-    try:
-        mdf = asammdf.MDF(str(path))
-    except Exception as exc:
-        raise RecordingError(f"{path}: not a readable MDF file: {exc}") from exc
-    try:
-        db = mdf.channels_db
-        table = _Table(names=list(db), load=lambda n: None)  # type: ignore[arg-type,return-value]
-        for name in table.names:
-            table.base[name] = name
-
-        def load(name: str) -> _Column:
-            occurrences = db[name]
-            group, index = occurrences[0]
-            if len(occurrences) > 1:
-                table.notes.append(
-                    f"MDF channel {name!r} occurs {len(occurrences)} times; "
-                    f"the one in data group {group} was read"
-                )
-            sig = mdf.get(name, group=group, index=index)
-            return _Column(
-                np.asarray(sig.samples), sig.unit or None, np.asarray(sig.timestamps, dtype=float)
-            )
-
-        table.load = load
-        table.own_time_exact = True
-        comment = getattr(mdf.header, "comment", "") or ""
-        if comment:
-            with contextlib.suppress(json.JSONDecodeError, TypeError):
-                table.stored_metadata = json.loads(_hd_comment_text(comment))
-        yield table
-    finally:
-        mdf.close()
-
-
-def _flatten_mat(data: Mapping[str, Any], prefix: str, out: dict, skipped: list) -> None:
-    for key, value in data.items():
-        if key.startswith("__") or key.startswith("#"):
-            continue
-        name = f"{prefix}{key}"
-        if isinstance(value, Mapping):
-            _flatten_mat(value, f"{name}.", out, skipped)
-        elif isinstance(value, str):
-            out[name] = value
-        else:
-            arr = np.asarray(value)
-            if arr.dtype.kind in "biuf" and arr.size >= 1:
-                squeezed = arr.reshape(-1) if arr.ndim <= 1 or max(arr.shape) == arr.size else arr
-                if squeezed.ndim == 1:
-                    out[name] = squeezed
-                    continue
-            skipped.append(f"{name} ({arr.dtype}, shape {arr.shape})")
-
-
-def _is_hdf5(path: Path) -> bool:
-    signature = b"\x89HDF\r\n\x1a\n"
-    with path.open("rb") as fh:
-        for offset in (0, 512, 1024, 2048):
-            fh.seek(offset)
-            if fh.read(8) == signature:
-                return True
-    return False
-
-
-def _read_plain_hdf5(path: Path) -> dict[str, Any]:
-    """Datasets of an HDF5 file as nested dicts (MATLAB layout: char as uint16 text)."""
-    h5py = _require("h5py", "HDF5 .mat files")
-
-    def walk(group) -> dict[str, Any]:
-        out: dict[str, Any] = {}
-        for key, item in group.items():
-            if isinstance(item, h5py.Group):
-                out[key] = walk(item)
-                continue
-            value = item[()]
-            cls = item.attrs.get("MATLAB_class", b"")
-            cls = cls.decode() if isinstance(cls, bytes) else str(cls)
-            if cls == "char":
-                out[key] = np.asarray(value, dtype=np.uint16).T.tobytes().decode("utf-16-le")
-            else:
-                out[key] = np.asarray(value)
-        return out
-
-    try:
-        with h5py.File(path, "r") as f:
-            return walk(f)
-    except OSError as exc:
-        raise RecordingError(f"{path}: not a readable HDF5 file: {exc}") from exc
-
-
-def _read_mat(path: Path) -> _Table:
-    from scipy.io import loadmat
-    from scipy.io.matlab import matfile_version
-
-    notes = []
-    try:
-        major, _ = matfile_version(str(path))
-    except Exception as exc:
-        if not _is_hdf5(path):
-            raise RecordingError(f"{path}: not a MATLAB .mat file: {exc}") from exc
-        major = -1  # HDF5 without the MATLAB header (written by h5py or other tools)
-    if major == -1:
-        data = _read_plain_hdf5(path)
-        notes.append("HDF5 file without a MATLAB header read with h5py")
-    elif major == 2:  # v7.3 = HDF5
-        pymatreader = _require("pymatreader", "MATLAB v7.3 files")
-        try:
-            data = pymatreader.read_mat(str(path))
-        except Exception as exc:
-            raise RecordingError(f"{path}: not a readable MATLAB v7.3 file: {exc}") from exc
-        notes.append("MATLAB v7.3 (HDF5) read with pymatreader")
-    else:
-        try:
-            data = loadmat(str(path), squeeze_me=True, simplify_cells=True)
-        except Exception as exc:
-            raise RecordingError(f"{path}: not a readable MATLAB file: {exc}") from exc
-    flat: dict[str, Any] = {}
-    skipped: list[str] = []
-    _flatten_mat(data, "", flat, skipped)
-    stored = None
-    units: dict[str, str] = {}
-    if isinstance(flat.get(_META_KEY), str):
-        with contextlib.suppress(json.JSONDecodeError):
-            stored = json.loads(flat[_META_KEY])
-    if isinstance(flat.get(_UNITS_KEY), str):
-        with contextlib.suppress(json.JSONDecodeError):
-            units = json.loads(flat[_UNITS_KEY])
-    columns = {k: v for k, v in flat.items() if not isinstance(v, str)}
-    table = _Table(
-        names=list(columns),
-        load=lambda n: _Column(columns[n], units.get(n)),
-        base={n: n for n in columns},
-        notes=notes,
-        skipped=skipped,
-        stored_metadata=stored,
-    )
-    if skipped:
-        table.notes.append(f"MAT variables not read (not numeric vectors): {skipped}")
-    return table
-
-
-@contextlib.contextmanager
-def _open_table(path: Path, fmt: str) -> Iterator[_Table]:
-    if fmt == "csv":
-        yield _read_csv(path)
-    elif fmt == "parquet":
-        yield _read_parquet(path)
-    elif fmt == "mat":
-        yield _read_mat(path)
-    elif fmt == "tdms":
-        with _open_tdms(path) as t:
-            yield t
-    else:
-        with _open_mdf(path) as t:
-            yield t
-
-
 # ---------------------------------------------------------------------------------------------
 # Channel map -> SI channels
 
 
-def _resolve(table: _Table, column: str, entry: str, cmap: ChannelMap, path: Path) -> str:
+def _resolve(table: Table, column: str, entry: str, cmap: ChannelMap, path: Path) -> str:
     if column in table.names:
         return column
     candidates = table.aliases.get(column, [])
@@ -495,7 +166,7 @@ def _time_seconds(values: np.ndarray, unit: str, what: str, notes: list) -> np.n
     return _as_float(arr, what) * TIME_UNITS[unit]
 
 
-def _auto_entries(table: _Table, cmap: ChannelMap, path: Path) -> list[ChannelSpec]:
+def _auto_entries(table: Table, cmap: ChannelMap, path: Path) -> list[ChannelSpec]:
     specs: list[ChannelSpec] = []
     seen: dict[str, str] = {}
     for name in table.names:
@@ -516,7 +187,7 @@ def _auto_entries(table: _Table, cmap: ChannelMap, path: Path) -> list[ChannelSp
 
 
 def _apply_map(
-    table: _Table, cmap: ChannelMap, path: Path
+    table: Table, cmap: ChannelMap, path: Path
 ) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, str], dict[str, Any]]:
     notes = table.notes
     info: dict[str, Any] = {"columns": {}, "source_units": {}}
@@ -626,64 +297,15 @@ def _apply_map(
     else:
         own_times = [own for _, _, _, own in loaded]
 
-    # --- put every channel on the reference time
-    channels: dict[str, np.ndarray] = {}
-    units: dict[str, str] = {}
-    needs: list[int] = []
-    for i, (spec, values, _si, _own) in enumerate(loaded):
-        own = own_times[i]
-        same = own is not None and own.size == time.size and np.allclose(own, time)
-        if own is not None and not same and (table.own_time_exact or values.size != time.size):
-            needs.append(i)
-        elif values.size != time.size:
-            raise RecordingError(
-                f"{where} column {info['columns'][spec.name]!r} (channel map entry {spec.entry}) "
-                f"has {values.size} samples, time has {time.size}"
-            )
-    if needs:
-        starts = [time[0]] + [own_times[i][0] for i in needs]
-        ends = [time[-1]] + [own_times[i][-1] for i in needs]
-        lo, hi = max(starts), min(ends)
-        keep = (time >= lo) & (time <= hi)
-        if not keep.any():
-            raise RecordingError(f"{where} the channels' time ranges do not overlap")
-        resampled = {}
-        for i in needs:
-            spec, values, own = loaded[i][0], loaded[i][1], own_times[i]
-            if own.size != values.size or np.any(np.diff(own) <= 0):
-                raise RecordingError(
-                    f"{where} column {info['columns'][spec.name]!r}: its time base is not "
-                    "strictly increasing or has the wrong length"
-                )
-            rate = 1.0 / float(np.median(np.diff(own))) if own.size > 1 else float("nan")
-            resampled[spec.name] = {"from_rate_Hz": rate, "method": "linear"}
-        ref_rate = 1.0 / float(np.median(np.diff(time))) if time.size > 1 else float("nan")
-        info["resampled"] = {
-            "onto": info["columns"].get("time", "time"),
-            "rate_Hz": ref_rate,
-            "channels": resampled,
-        }
-        notes.append(
-            f"channels {sorted(resampled)} resampled (linear) onto the time base of "
-            f"{info['resampled']['onto']} ({ref_rate:.6g} Hz)"
-        )
-        if not keep.all():
-            notes.append(
-                f"time trimmed to the common span {lo:.6g} s .. {hi:.6g} s "
-                f"({int((~keep).sum())} samples dropped)"
-            )
-        full_time = time
-        time = time[keep]
-        for i, (spec, values, si, _own) in enumerate(loaded):
-            if i in needs:
-                channels[spec.name] = np.interp(time, own_times[i], values)
-            else:
-                channels[spec.name] = values[keep] if values.size == full_time.size else values
-            units[spec.name] = si
-    else:
-        for spec, values, si, _ in loaded:
-            channels[spec.name] = values
-            units[spec.name] = si
+    time, channels, units = align_channels(
+        time,
+        loaded,
+        own_times,
+        own_time_exact=table.own_time_exact,
+        info=info,
+        notes=notes,
+        where=where,
+    )
     return np.asarray(time, dtype=float), channels, units, info
 
 
@@ -876,7 +498,7 @@ def read_recording(
         raise FileNotFoundError(f"recording file not found: {p}")
     sha = file_sha256(p)
     where = f"{p}:"
-    with _open_table(p, fmt) as table:
+    with open_table(p, fmt) as table:
         time, chans, units, info = _apply_map(table, cmap, p)
         notes = table.notes
         stored = table.stored_metadata

@@ -36,7 +36,10 @@ from typing import Any, Literal
 import numpy as np
 
 from rollerrig.measure.channels import format_unit_header
-from rollerrig.measure.readers import _META_KEY, _UNITS_KEY, _require, detect_format
+from rollerrig.measure.formats._table import META_KEY as _META_KEY
+from rollerrig.measure.formats._table import UNITS_KEY as _UNITS_KEY
+from rollerrig.measure.formats._table import require_module as _require
+from rollerrig.measure.readers import detect_format
 from rollerrig.measure.recording import Recording, RecordingError
 
 __all__ = ["metadata_json", "write_recording"]
