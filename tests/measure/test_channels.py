@@ -161,3 +161,121 @@ def test_errors_from_a_file_name_the_file(tmp_path):
 def test_default_map_is_auto():
     cmap = default_channel_map()
     assert cmap.auto and cmap.time.column == "time" and cmap.source == "<default>"
+
+
+# --------------------------------------------------------------------------- [file], optional
+
+
+def test_file_section_resample_and_optional_round_trip():
+    data = {
+        "file": {
+            "separator": "\t",
+            "decimal": ",",
+            "header_row": 5,
+            "units_row": 6,
+            "data_row": 7,
+            "encoding": "latin-1",
+            "dayfirst": True,
+            "date_format": "%d.%m.%Y %H:%M:%S,%f",
+            "group": "Fast",
+        },
+        "time": {"column": "t", "unit": "ms", "resample_Hz": 1000},
+        "channels": {"torque": {"column": "T", "unit": "N.m", "optional": True}},
+    }
+    cmap = ChannelMap.from_dict(data)
+    assert cmap.file.separator == "\t" and cmap.file.units_row == 6 and cmap.file.group == "Fast"
+    assert cmap.time.resample_Hz == 1000.0 and cmap.channels[0].optional
+    out = cmap.to_dict()
+    assert out["file"] == data["file"]
+    assert out["time"]["resample_Hz"] == 1000.0 and out["channels"]["torque"]["optional"]
+    out.pop("source")
+    assert ChannelMap.from_dict(out) == cmap
+
+
+def test_units_row_false_and_group_index_are_valid():
+    cmap = ChannelMap.from_dict(
+        {"file": {"units_row": False, "group": 2}, "channels": {"torque": {"column": "T"}}}
+    )
+    assert cmap.file.units_row is False and cmap.file.group == 2
+    assert cmap.to_dict()["file"] == {"units_row": False, "group": 2}
+
+
+def test_time_unit_not_stated_is_remembered():
+    cmap = ChannelMap.from_dict({"time": {"column": "t"}, "channels": {"torque": {"column": "T"}}})
+    assert not cmap.time.unit_stated and cmap.time.unit == "s"
+    data = cmap.to_dict()
+    assert "unit" not in data["time"]
+    data.pop("source")
+    assert ChannelMap.from_dict(data).time == cmap.time
+
+
+def _file(**keys):
+    return {"file": keys, "channels": {"torque": {"column": "T", "unit": "N.m"}}}
+
+
+@pytest.mark.parametrize(
+    ("data", "pattern"),
+    [
+        (_file(seperator=";"), r"\[file\]: unknown key.*'seperator'.*did you mean 'separator'"),
+        (_file(sep=";"), r"\[file\]: unknown key\(s\) \['sep'\]; allowed: \['data_row'"),
+        (_file(separator=";;"), r"file.separator = ';;' is not allowed; allowed: ',' \(comma\)"),
+        (_file(separator="tab"), r"file.separator = 'tab' is not allowed.*\(tab\)"),
+        (_file(decimal=";"), r"file.decimal = ';' is not allowed; allowed: \['.', ','\]"),
+        (_file(separator=",", decimal=","), r"separator and file.decimal are both ','"),
+        (_file(header_row=-1), r"file.header_row must be a 0-based line index"),
+        (_file(header_row=1.5), r"file.header_row must be a 0-based line index"),
+        (_file(header_row=True), r"file.header_row must be a 0-based line index"),
+        (_file(units_row=True), r"file.units_row must be a 0-based line index or false"),
+        (_file(header_row=3, units_row=2), r"units_row = 2 must come after file.header_row = 3"),
+        (_file(header_row=3, data_row=3), r"data_row = 3 must come after the header"),
+        (_file(encoding="klingon"), r"file.encoding = 'klingon' is not a known text encoding"),
+        (_file(dayfirst="yes"), r"file.dayfirst must be true or false"),
+        (_file(date_format="dd.mm.yy"), r"file.date_format must be a strptime format"),
+        (_file(group=-1), r"file.group must be a group name or a 0-based group index"),
+        (_file(group=""), r"file.group must be a group name"),
+        ({"file": ";", "channels": {}}, r"\[file\]: expected a table"),
+        (
+            {"time": {"column": "t", "resample_Hz": 0}, "channels": {}},
+            r"time.resample_Hz must be > 0 Hz",
+        ),
+        (
+            {"time": {"column": "t", "resampl_Hz": 5}, "channels": {}},
+            r"unknown key.*'resampl_Hz'.*'resample_Hz'",
+        ),
+        (
+            {"channels": {"torque": {"column": "T", "optional": "yes"}}},
+            r"\[channels.torque\]: 'optional' must be true or false",
+        ),
+    ],
+)
+def test_invalid_file_sections_are_rejected(data, pattern):
+    with pytest.raises(RecordingError, match=pattern):
+        ChannelMap.from_dict(data)
+
+
+def test_file_section_errors_name_the_map_file(tmp_path):
+    f = tmp_path / "bench.toml"
+    f.write_text('[file]\nseparator = "::"\n\n[channels.torque]\ncolumn = "T"\n')
+    with pytest.raises(RecordingError, match=r"channel map .*bench.toml: file.separator = '::'"):
+        load_channel_map(f)
+
+
+def test_example_map_documents_the_new_keys():
+    text = example_channel_map_path().read_text(encoding="utf-8")
+    for key in (
+        "[file]",
+        "separator",
+        "decimal",
+        "header_row",
+        "units_row",
+        "data_row",
+        "encoding",
+        "dayfirst",
+        "date_format",
+        "group",
+        "resample_Hz",
+        "optional",
+    ):
+        assert key in text
+    cmap = load_channel_map(example_channel_map_path())
+    assert [c.name for c in cmap.channels if c.optional] == ["normal_load"]

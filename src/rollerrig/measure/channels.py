@@ -2,15 +2,28 @@
 
 A channel map is a small TOML file (see ``data/example_channel_map.toml``)::
 
+    [file]                    # optional: how to read the file; every key optional (sniffed)
+    separator = ";"           # text files: ",", ";", "\t", " " (whitespace), "|"
+    decimal = ","             # "." or ","
+    header_row = 3            # 0-based line of the column names (counting every line)
+    units_row = 4             # 0-based line of a units row, or false for none
+    data_row = 5              # 0-based line where the numbers start
+    encoding = "latin-1"      # default: utf-8-sig, falling back to latin-1 (noted)
+    dayfirst = true           # 05/08/24 is 5 August (dotted dates are day-first anyway)
+    date_format = "%d.%m.%y %H:%M:%S"   # strptime format of a timestamp time column
+    group = "Fast"            # TDMS / MDF group the columns default to (MDF: name or index)
+
     [time]
     column = "Time"           # or: sample_rate_Hz = 250
-    unit = "s"                # s or ms
+    unit = "s"                # s, ms, us, ns
+    resample_Hz = 1000        # optional: common time base of channels with their own rates
 
     [channels.torque]
     column = "Torque_Roller"  # TDMS: "Group/Channel"; MDF4: the channel name
     unit = "N.m"
     scale = 1.0               # physical = scale * raw + offset (in `unit`), then -> SI
     offset = 0.0
+    optional = true           # missing in the file: a note, not an error
 
     [extra.motor_current]     # non-canonical channels: explicit unit required
     column = "I_AM"
@@ -23,6 +36,7 @@ Units are converted to SI here, at the edge, with the small per-quantity tables
 
 from __future__ import annotations
 
+import codecs
 import difflib
 import math
 import re
@@ -38,10 +52,14 @@ import numpy as np
 from rollerrig.measure.recording import CANONICAL_CHANNELS, RecordingError
 
 __all__ = [
+    "DECIMALS",
+    "RATE_TOLERANCE",
+    "SEPARATORS",
     "TIME_UNITS",
     "UNIT_FACTORS",
     "ChannelMap",
     "ChannelSpec",
+    "FileSpec",
     "TimeSpec",
     "default_channel_map",
     "example_channel_map_path",
@@ -53,7 +71,7 @@ __all__ = [
     "to_si",
 ]
 
-TIME_UNITS: dict[str, float] = {"s": 1.0, "ms": 1e-3}
+TIME_UNITS: dict[str, float] = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 """Accepted time units -> factor to seconds."""
 
 UNIT_FACTORS: dict[str, dict[str, float]] = {
@@ -84,6 +102,9 @@ _ALIASES: dict[str, str] = {
     "rev/s": "Hz",
     "µm": "um",
     "μm": "um",
+    "µs": "us",
+    "μs": "us",
+    "Newtons": "N",
     "counts": "1",
     "count": "1",
     "-": "1",
@@ -189,14 +210,23 @@ class TimeSpec:
     column : str or None
         Time column (TDMS ``"Group/Channel"``); None when time is implied.
     unit : str
-        ``"s"`` or ``"ms"`` (time column only).
+        A key of :data:`TIME_UNITS` (time column only; timestamps need none).
     sample_rate_Hz : float or None
-        Sampling rate [Hz] for files without a time column (time starts at 0 s).
+        Sampling rate [Hz] for files without a time column (time starts at 0 s). A file whose
+        own rate contradicts it by more than :data:`RATE_TOLERANCE` is an error.
+    resample_Hz : float or None
+        Common time base [Hz] for channels recorded at different rates (None: the reader's
+        default, see :mod:`rollerrig.measure.timebase`).
+    unit_stated : bool
+        Whether the map gave ``unit``; when not, a time unit stored in the file (header
+        ``[ms]``, units row ``(ms)``) is used instead of the default seconds.
     """
 
     column: str | None = None
     unit: str = "s"
     sample_rate_Hz: float | None = None
+    resample_Hz: float | None = None
+    unit_stated: bool = True
 
 
 @dataclass(frozen=True)
@@ -215,6 +245,8 @@ class ChannelSpec:
         Linear calibration, physical = scale * raw + offset [unit].
     canonical : bool
         Whether ``name`` is one of :data:`CANONICAL_CHANNELS`.
+    optional : bool
+        A column missing from the file is noted, not an error (unless the caller needs it).
     """
 
     name: str
@@ -223,6 +255,7 @@ class ChannelSpec:
     scale: float = 1.0
     offset: float = 0.0
     canonical: bool = True
+    optional: bool = False
 
     @property
     def entry(self) -> str:
@@ -247,6 +280,71 @@ class ChannelSpec:
         return _extra_si(u)
 
 
+SEPARATORS: dict[str, str] = {
+    ",": "comma",
+    ";": "semicolon",
+    "\t": "tab",
+    " ": "whitespace: any run of spaces or tabs",
+    "|": "pipe",
+}
+"""Column separators of text files accepted in ``[file] separator``."""
+
+DECIMALS: tuple[str, ...] = (".", ",")
+"""Decimal marks accepted in ``[file] decimal``."""
+
+RATE_TOLERANCE = 1e-3
+"""Relative difference above which a stated sample rate contradicts the file's (0.1 %)."""
+
+
+@dataclass(frozen=True)
+class FileSpec:
+    """How to read a file: the ``[file]`` section of a channel map. None: sniffed.
+
+    Parameters
+    ----------
+    separator : str or None
+        Column separator of a text file, a key of :data:`SEPARATORS` (``" "``: any run of
+        whitespace).
+    decimal : str or None
+        Decimal mark of a text file, ``"."`` or ``","``.
+    header_row : int or None
+        0-based line index of the column names, counting every line of the file (preamble and
+        blank lines included).
+    units_row : int, False or None
+        0-based line index of a units row (e.g. ``s;N.m;1/min`` under the header); False: the file
+        has none; None: detected (a non-numeric row between the header and the numbers whose
+        cells look like units).
+    data_row : int or None
+        0-based line index of the first row of numbers (default: the first non-blank line after
+        the header / units row).
+    encoding : str or None
+        Text encoding (default: UTF-8 with or without BOM, falling back to Latin-1, noted).
+    dayfirst : bool or None
+        Whether slash dates (``05/08/24``) are day-first. Dotted dates (``05.08.24``) are
+        day-first by convention; ISO dates (``2024-08-05``) are year-month-day.
+    date_format : str or None
+        :func:`time.strptime` format of a timestamp time column (beats ``dayfirst``).
+    group : str, int or None
+        TDMS / MDF group that channel names default to (MDF: the group's name or index).
+    """
+
+    separator: str | None = None
+    decimal: str | None = None
+    header_row: int | None = None
+    units_row: int | bool | None = None
+    data_row: int | None = None
+    encoding: str | None = None
+    dayfirst: bool | None = None
+    date_format: str | None = None
+    group: str | int | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The keys that are set (for provenance)."""
+        return {
+            k: getattr(self, k) for k in self.__dataclass_fields__ if getattr(self, k) is not None
+        }
+
+
 @dataclass(frozen=True)
 class ChannelMap:
     """Validated translation from a file's columns to canonical channels in SI units.
@@ -255,7 +353,7 @@ class ChannelMap:
     ----------
     time : TimeSpec or None
         Where time comes from; None: from the file's own time base (TDMS waveform properties,
-        MDF4 master channel).
+        MDF4 master channel, LVM X column).
     channels : tuple of ChannelSpec
         Canonical channels.
     extra : tuple of ChannelSpec
@@ -265,6 +363,8 @@ class ChannelMap:
     auto : bool
         True for :func:`default_channel_map`: every column whose name (without a ``[unit]``
         suffix) is canonical is read, others are kept as extras when their unit is known.
+    file : FileSpec
+        How to read the file (``[file]``: text dialect, rows, dates, group); default: sniffed.
 
     Examples
     --------
@@ -279,6 +379,7 @@ class ChannelMap:
     extra: tuple[ChannelSpec, ...] = ()
     source: str = "<dict>"
     auto: bool = False
+    file: FileSpec = FileSpec()
 
     @property
     def entries(self) -> tuple[ChannelSpec, ...]:
@@ -298,7 +399,8 @@ class ChannelMap:
         where = f"channel map {source}: "
         if not isinstance(data, Mapping):
             raise RecordingError(f"{where}expected a table, got {type(data).__name__}")
-        _check_keys(data, {"time", "channels", "extra", "description", "name"}, where)
+        _check_keys(data, {"file", "time", "channels", "extra", "description", "name"}, where)
+        file = _parse_file(data.get("file"), where)
         time = _parse_time(data.get("time"), where)
         channels = []
         for name, entry in _table(data.get("channels", {}), f"{where}[channels]: ").items():
@@ -322,20 +424,28 @@ class ChannelMap:
             extra.append(_parse_entry(name, entry, where, canonical=False))
         if not channels and not extra:
             raise RecordingError(f"{where}maps no channels ([channels.<name>] or [extra.<name>])")
-        return cls(time=time, channels=tuple(channels), extra=tuple(extra), source=source)
+        return cls(
+            time=time, channels=tuple(channels), extra=tuple(extra), source=source, file=file
+        )
 
     def to_dict(self) -> dict[str, Any]:
         """The map in the structure of the TOML file (for provenance)."""
         out: dict[str, Any] = {}
         if self.auto:
             out["auto"] = True
+        file = self.file.to_dict()
+        if file:
+            out["file"] = file
         if self.time is not None:
             t: dict[str, Any] = {}
             if self.time.column is not None:
                 t["column"] = self.time.column
-                t["unit"] = self.time.unit
+                if self.time.unit_stated:
+                    t["unit"] = self.time.unit
             if self.time.sample_rate_Hz is not None:
                 t["sample_rate_Hz"] = self.time.sample_rate_Hz
+            if self.time.resample_Hz is not None:
+                t["resample_Hz"] = self.time.resample_Hz
             out["time"] = t
         for key, specs in (("channels", self.channels), ("extra", self.extra)):
             if specs:
@@ -345,6 +455,7 @@ class ChannelMap:
                         **({"unit": s.unit} if s.unit is not None else {}),
                         "scale": s.scale,
                         "offset": s.offset,
+                        **({"optional": True} if s.optional else {}),
                     }
                     for s in specs
                 }
@@ -381,7 +492,7 @@ def _parse_time(value: Any, where: str) -> TimeSpec | None:
     if value is None:
         return None
     t = _table(value, f"{where}[time]: ")
-    _check_keys(t, {"column", "unit", "sample_rate_Hz"}, f"{where}[time]: ")
+    _check_keys(t, {"column", "unit", "sample_rate_Hz", "resample_Hz"}, f"{where}[time]: ")
     column = t.get("column")
     rate = t.get("sample_rate_Hz")
     if column is not None and rate is not None:
@@ -397,14 +508,113 @@ def _parse_time(value: Any, where: str) -> TimeSpec | None:
         rate = _number(rate, f"{where}[time]: sample_rate_Hz [Hz]")
         if rate <= 0:
             raise RecordingError(f"{where}[time]: sample_rate_Hz must be > 0 Hz, got {rate}")
-    return TimeSpec(column=column, unit=normalize_unit(unit), sample_rate_Hz=rate)
+    resample = t.get("resample_Hz")
+    if resample is not None:
+        resample = _number(resample, f"{where}time.resample_Hz [Hz]")
+        if resample <= 0:
+            raise RecordingError(f"{where}time.resample_Hz must be > 0 Hz, got {resample}")
+    return TimeSpec(
+        column=column,
+        unit=normalize_unit(unit),
+        sample_rate_Hz=rate,
+        resample_Hz=resample,
+        unit_stated="unit" in t,
+    )
+
+
+def _row(value: Any, key: str, where: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+        raise RecordingError(
+            f"{where}file.{key} must be a 0-based line index (an integer >= 0), got {value!r}"
+        )
+    return value
+
+
+def _parse_file(value: Any, where: str) -> FileSpec:
+    if value is None:
+        return FileSpec()
+    f = _table(value, f"{where}[file]: ")
+    _check_keys(f, set(FileSpec.__dataclass_fields__), f"{where}[file]: ")
+    sep = f.get("separator")
+    if sep is not None and sep not in SEPARATORS:
+        raise RecordingError(
+            f"{where}file.separator = {sep!r} is not allowed; allowed: "
+            + ", ".join(f"{k!r} ({v})" for k, v in SEPARATORS.items())
+        )
+    decimal = f.get("decimal")
+    if decimal is not None and decimal not in DECIMALS:
+        raise RecordingError(
+            f"{where}file.decimal = {decimal!r} is not allowed; allowed: {list(DECIMALS)}"
+        )
+    if sep is not None and decimal is not None and sep == decimal:
+        raise RecordingError(f"{where}file.separator and file.decimal are both {sep!r}")
+    header = None if f.get("header_row") is None else _row(f["header_row"], "header_row", where)
+    units = f.get("units_row")
+    if units is True:
+        raise RecordingError(
+            f"{where}file.units_row must be a 0-based line index or false, got true"
+        )
+    if units is not None and units is not False:
+        units = _row(units, "units_row", where)
+    data = None if f.get("data_row") is None else _row(f["data_row"], "data_row", where)
+    if isinstance(units, int) and not isinstance(units, bool):
+        if header is not None and units <= header:
+            raise RecordingError(
+                f"{where}file.units_row = {units} must come after file.header_row = {header}"
+            )
+    last = max([r for r in (header, units) if isinstance(r, int) and r is not False] or [-1])
+    if data is not None and data <= last:
+        raise RecordingError(
+            f"{where}file.data_row = {data} must come after the header / units rows ({last})"
+        )
+    encoding = f.get("encoding")
+    if encoding is not None:
+        if not isinstance(encoding, str):
+            raise RecordingError(f"{where}file.encoding must be a string, got {encoding!r}")
+        try:
+            codecs.lookup(encoding)
+        except LookupError:
+            raise RecordingError(
+                f"{where}file.encoding = {encoding!r} is not a known text encoding; e.g. "
+                "'utf-8', 'utf-8-sig', 'latin-1', 'cp1252', 'utf-16'"
+            ) from None
+    dayfirst = f.get("dayfirst")
+    if dayfirst is not None and not isinstance(dayfirst, bool):
+        raise RecordingError(f"{where}file.dayfirst must be true or false, got {dayfirst!r}")
+    fmt = f.get("date_format")
+    if fmt is not None and (not isinstance(fmt, str) or "%" not in fmt):
+        raise RecordingError(
+            f"{where}file.date_format must be a strptime format such as "
+            f"'%d.%m.%y %H:%M:%S', got {fmt!r}"
+        )
+    group = f.get("group")
+    if group is not None and (
+        isinstance(group, bool)
+        or not isinstance(group, str | int)
+        or (isinstance(group, str) and not group)
+        or (isinstance(group, int) and group < 0)
+    ):
+        raise RecordingError(
+            f"{where}file.group must be a group name or a 0-based group index, got {group!r}"
+        )
+    return FileSpec(
+        separator=sep,
+        decimal=decimal,
+        header_row=header,
+        units_row=units,
+        data_row=data,
+        encoding=encoding,
+        dayfirst=dayfirst,
+        date_format=fmt,
+        group=group,
+    )
 
 
 def _parse_entry(name: str, entry: Any, where: str, *, canonical: bool) -> ChannelSpec:
     table = "channels" if canonical else "extra"
     here = f"{where}[{table}.{name}]: "
     e = _table(entry, here)
-    _check_keys(e, {"column", "unit", "scale", "offset", "description"}, here)
+    _check_keys(e, {"column", "unit", "scale", "offset", "description", "optional"}, here)
     column = e.get("column")
     if not isinstance(column, str) or not column:
         raise RecordingError(f"{here}'column' (the file's column / channel name) is required")
@@ -415,7 +625,10 @@ def _parse_entry(name: str, entry: Any, where: str, *, canonical: bool) -> Chann
     if scale == 0.0:
         raise RecordingError(f"{here}scale must be non-zero")
     offset = _number(e.get("offset", 0.0), f"{here}offset")
-    spec = ChannelSpec(name, column, unit, scale, offset, canonical)
+    optional = e.get("optional", False)
+    if not isinstance(optional, bool):
+        raise RecordingError(f"{here}'optional' must be true or false, got {optional!r}")
+    spec = ChannelSpec(name, column, unit, scale, offset, canonical, optional)
     if unit is not None:
         try:
             spec.conversion()  # raises for a unit that does not fit the quantity

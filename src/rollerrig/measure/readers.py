@@ -1,4 +1,4 @@
-"""Read DAQ recordings (CSV, Parquet, NI TDMS, ASAM MDF4, MATLAB .mat) into :class:`Recording`.
+"""Read DAQ recordings (CSV/text, LabVIEW .lvm, Parquet, NI TDMS, ASAM MDF4, MATLAB .mat).
 
 One entry point, :func:`read_recording`: the file's columns are translated by a channel map
 (:mod:`rollerrig.measure.channels`) into canonical channels in SI units, then validated at the
@@ -12,7 +12,12 @@ boundary:
   raises for longer runs;
 - gaps (dropped samples: an interval > :data:`GAP_FACTOR` x the median interval): strict raises
   with the gap's location and size, lenient keeps them and lists them in ``metadata["gaps"]``;
-- channels the caller needs (``channels=``) must be present.
+- channels the caller needs (``channels=``) must be present; map entries the caller does not
+  need, and entries marked ``optional = true``, are read when present and only noted when absent.
+
+HBM catman binary files (``.bin``) are not read: the one PyPI reader (``apread``) needs
+matplotlib, OpenCV and tqdm, asks on stdin which channel is the time, and prints instead of
+raising; export from catman as ASCII or ASAM MDF4 instead (the error says so).
 
 Input files are opened read-only and never modified. The optional readers (``nptdms``,
 ``asammdf``, ``pymatreader``) are imported only when their format is read.
@@ -22,6 +27,7 @@ from __future__ import annotations
 
 import difflib
 import hashlib
+import re
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any, Literal
@@ -29,9 +35,11 @@ from typing import Any, Literal
 import numpy as np
 
 from rollerrig.measure.channels import (
+    RATE_TOLERANCE,
     TIME_UNITS,
     ChannelMap,
     ChannelSpec,
+    FileSpec,
     default_channel_map,
     load_channel_map,
     normalize_unit,
@@ -50,7 +58,8 @@ __all__ = [
 ]
 
 FORMATS: dict[str, tuple[str, ...]] = {
-    "csv": (".csv",),
+    "csv": (".csv", ".txt", ".tsv"),
+    "lvm": (".lvm",),
     "parquet": (".parquet", ".pq"),
     "tdms": (".tdms",),
     "mf4": (".mf4", ".mdf"),
@@ -58,7 +67,17 @@ FORMATS: dict[str, tuple[str, ...]] = {
 }
 """Format name -> file suffixes."""
 
-_FORMAT_ALIASES = {"mdf": "mf4", "mdf4": "mf4", "pq": "parquet"}
+_FORMAT_ALIASES = {"mdf": "mf4", "mdf4": "mf4", "pq": "parquet", "txt": "csv", "tsv": "csv"}
+
+_NOT_READ = {
+    ".bin": (
+        "HBM catman binary files (.bin) are not read (the only PyPI reader, apread, prompts on "
+        "stdin and pulls in matplotlib/OpenCV); in catman export the measurement as ASCII "
+        "(tab-separated, with channel names and units: read it with format='csv') or as ASAM "
+        "MDF4 (.mf4), and read that file"
+    ),
+    ".tdm": ("NI DIAdem TDM headers (.tdm + .tdx) are not read; export as TDMS or CSV from DIAdem"),
+}
 
 MAX_INTERPOLATED_NAN_RUN = 3
 """Longest run of NaN/inf samples that ``validate="lenient"`` interpolates [samples]."""
@@ -86,6 +105,8 @@ def detect_format(path: str | Path, format: str | None = None) -> str:
     for name, suffixes in FORMATS.items():
         if suffix in suffixes:
             return name
+    if suffix in _NOT_READ:
+        raise RecordingError(f"{path}: {_NOT_READ[suffix]}")
     raise RecordingError(
         f"{path}: unsupported file suffix {suffix!r}; supported: "
         f"{[s for ss in FORMATS.values() for s in ss]} (or pass format=)"
@@ -105,19 +126,39 @@ def file_sha256(path: str | Path) -> str:
 # Channel map -> SI channels
 
 
-def _resolve(table: Table, column: str, entry: str, cmap: ChannelMap, path: Path) -> str:
+def _resolve(
+    table: Table,
+    column: str,
+    entry: str,
+    cmap: ChannelMap,
+    path: Path,
+    *,
+    skip: str | None = None,
+) -> str | None:
+    """The file column that ``column`` names; missing or ambiguous: an error with close matches.
+
+    With ``skip`` (why the entry may be absent, e.g. ``"optional"``), a missing or ambiguous
+    column is noted in ``table.notes`` instead, and None is returned.
+    """
     if column in table.names:
         return column
     candidates = table.aliases.get(column, [])
     if len(candidates) == 1:
         return candidates[0]
+    pool = table.names + [a for a in table.aliases if a not in table.names]
+    close = difflib.get_close_matches(column, pool, n=3, cutoff=0.6)
+    if skip is not None:
+        problem = f"ambiguous: {candidates}" if candidates else "not in the file"
+        table.notes.append(
+            f"channel map entry {entry} ({skip}) not read: column {column!r} is {problem}"
+            + (f"; close matches: {close}" if close and not candidates else "")
+        )
+        return None
     if len(candidates) > 1:
         raise RecordingError(
             f"{path}: channel map entry {entry} (map {cmap.source}) names column {column!r}, "
             f"which is ambiguous in the file: {candidates}; give the full name"
         )
-    pool = table.names + [a for a in table.aliases if a not in table.names]
-    close = difflib.get_close_matches(column, pool, n=3, cutoff=0.6)
     shown = table.names if len(table.names) <= 60 else [*table.names[:60], "..."]
     raise RecordingError(
         f"{path}: channel map entry {entry} (map {cmap.source}) names column {column!r}, "
@@ -128,37 +169,80 @@ def _resolve(table: Table, column: str, entry: str, cmap: ChannelMap, path: Path
     )
 
 
-def _as_float(values: np.ndarray, what: str) -> np.ndarray:
+def _as_float(values: np.ndarray, what: str, line_of=None) -> np.ndarray:
+    """Numbers of a column; NaN/inf words (``NaN``, ``inf``, PicoScope's ``∞``) become NaN/inf.
+
+    ``line_of`` maps a row to its 1-based file line (text files) for the error message.
+    """
     arr = np.asarray(values)
     if arr.dtype.kind in "biuf":
         return arr.astype(float)
-    if arr.dtype.kind == "O":
+    if arr.dtype.kind in "OUT":
         import pandas as pd
 
-        num = pd.to_numeric(pd.Series(arr), errors="coerce").to_numpy(dtype=float)
-        bad = np.isnan(num) & ~pd.isna(pd.Series(arr)).to_numpy()
-        bad &= ~np.array([str(v).strip().lower() in ("nan", "inf", "-inf") for v in arr])
+        from rollerrig.measure.formats.csv import NAN_WORDS
+
+        text = pd.Series(arr, dtype=object).map(lambda v: v.strip() if isinstance(v, str) else v)
+        is_str = text.map(lambda v: isinstance(v, str)).to_numpy(dtype=bool)
+        words = text.map(lambda v: v.lower() if isinstance(v, str) else "").to_numpy(dtype=object)
+        infinite = np.isin(words, ["∞", "+∞", "inf", "+inf", "infinity", "+infinity"])
+        neg_inf = np.isin(words, ["-∞", "-inf", "-infinity"])
+        comma = text.map(
+            lambda v: v.replace(",", ".") if isinstance(v, str) and _COMMA_NUM.fullmatch(v) else v
+        )
+        num = pd.to_numeric(comma, errors="coerce").to_numpy(dtype=float, copy=True)
+        num[infinite] = np.inf
+        num[neg_inf] = -np.inf
+        known = np.isin(words, list(NAN_WORDS)) | (is_str & (words == ""))
+        bad = np.isnan(num) & ~pd.isna(text).to_numpy() & ~known
         if not bad.any():
             return num
         k = int(np.flatnonzero(bad)[0])
+        line = line_of(k) if line_of is not None else None
         raise RecordingError(
             f"{what} has {int(bad.sum())} non-numeric entries, first at row {k}: {arr[k]!r}"
+            + (f" (file line {line})" if line is not None else "")
         )
     raise RecordingError(f"{what} is not numeric (dtype {arr.dtype})")
 
 
-def _time_seconds(values: np.ndarray, unit: str, what: str, notes: list) -> np.ndarray:
-    arr = np.asarray(values)
-    if arr.dtype.kind == "O":
-        import pandas as pd
+_COMMA_NUM = re.compile(r"[+-]?\d*,\d+(?:[eE][+-]?\d+)?")
 
-        try:
-            return _as_float(arr, what) * TIME_UNITS[unit]
-        except RecordingError:
-            try:
-                arr = pd.to_datetime(pd.Series(arr)).to_numpy()
-            except (ValueError, TypeError) as exc:
-                raise RecordingError(f"{what} is neither numbers nor timestamps") from exc
+
+def _time_seconds(
+    values: np.ndarray,
+    unit: str,
+    what: str,
+    notes: list,
+    *,
+    file: FileSpec | None = None,
+    line_of=None,
+    decided: dict | None = None,
+) -> np.ndarray:
+    """A time column in seconds: numbers in ``unit``, or date/time strings (one format for the
+    whole column, from ``[file] date_format`` / ``dayfirst``; see
+    :func:`rollerrig.measure.formats.csv.parse_timestamps`) as seconds since the first sample.
+
+    ``decided``: for a column read in chunks, one dict passed with every chunk, so that every
+    chunk's timestamps are read in the format decided for the first."""
+    from rollerrig.measure.formats.csv import looks_like_timestamp, parse_timestamps
+
+    file = file or FileSpec()
+    arr = np.asarray(values)
+    if arr.dtype.kind in "OUT":
+        first = next((str(v).strip() for v in arr.ravel()[:1000] if str(v).strip()), "")
+        if file.date_format is not None or looks_like_timestamp(first):
+            secs, note = parse_timestamps(
+                arr,
+                what=what,
+                dayfirst=file.dayfirst,
+                date_format=file.date_format,
+                line_of=line_of,
+                decided=decided,
+            )
+            notes.append(note)
+            return secs
+        return _as_float(arr, what, line_of) * TIME_UNITS[unit]
     if arr.dtype.kind == "M":
         t0 = arr[0]
         notes.append(f"absolute timestamps converted to seconds since the first sample ({t0})")
@@ -186,12 +270,88 @@ def _auto_entries(table: Table, cmap: ChannelMap, path: Path) -> list[ChannelSpe
     return specs
 
 
+_TIME_NAMES = frozenset(
+    {"time", "zeit", "t", "x_value", "timestamp", "timestamps", "time_s", "time_ms", "datetime"}
+)
+"""Column names (lower case, unit stripped) taken as a time column when checking a stated rate."""
+
+
+def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict, path, line_of):
+    """Raise when the map's ``[time] sample_rate_Hz`` contradicts the file's own rate.
+
+    The file's rate is that of each channel's own time base (TDMS ``wf_increment``, MDF master,
+    LVM X column) and of a column named like a time (``Time``, ``Zeit``, ``t``, ``X_Value``;
+    numbers in its stated unit, else seconds or milliseconds, or timestamps). A difference of
+    more than :data:`~rollerrig.measure.channels.RATE_TOLERANCE` is an error naming both rates.
+    """
+    stated = cmap.time.sample_rate_Hz
+
+    def off(rate: float) -> bool:
+        return not np.isfinite(rate) or abs(rate - stated) > RATE_TOLERANCE * stated
+
+    def fail(rate: float, source: str) -> None:
+        raise RecordingError(
+            f"{path}: the channel map's [time] sample_rate_Hz = {stated:g} Hz (map "
+            f"{cmap.source}) contradicts the file's own rate of {rate:.6g} Hz ({source}); "
+            "remove sample_rate_Hz to use the file's time base, or correct it"
+        )
+
+    def median_rate(t: np.ndarray) -> float:
+        d = np.diff(t)
+        d = d[np.isfinite(d)]
+        med = float(np.median(d)) if d.size else 0.0
+        return 1.0 / med if med > 0 else float("nan")
+
+    for spec, _values, _si, own in loaded:
+        if own is not None and own.size > 1:
+            rate = median_rate(np.asarray(own, dtype=float))
+            if off(rate):
+                fail(rate, f"time base of column {info['columns'][spec.name]!r}")
+    used = set(info["columns"].values())
+    for name in table.names:
+        base = str(table.base.get(name, name)).strip().lower()
+        if name in used or base not in _TIME_NAMES:
+            continue
+        try:
+            col = table.load(name)
+            file_unit = normalize_unit(col.unit) if col.unit else None
+            scratch: list[str] = []
+            unit = file_unit if file_unit in TIME_UNITS else "s"
+            secs = _time_seconds(
+                col.values,
+                unit,
+                f"{path}: column {name!r}",
+                scratch,
+                file=cmap.file,
+                line_of=line_of,
+            )
+        except RecordingError:
+            table.notes.append(
+                f"column {name!r} looks like a time column but is not readable; "
+                "the stated sample_rate_Hz was not checked against it"
+            )
+            continue
+        if secs.size < 2:
+            continue
+        rate = median_rate(secs)
+        numeric = np.asarray(col.values).dtype.kind in "biuf"
+        if off(rate) and not (numeric and file_unit is None and not off(rate * 1e3)):
+            fail(rate, f"column {name!r}" + ("" if file_unit or not numeric else " read in s"))
+
+
 def _apply_map(
-    table: Table, cmap: ChannelMap, path: Path
+    table: Table, cmap: ChannelMap, path: Path, needed: Iterable[str] | None = None
 ) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, str], dict[str, Any]]:
+    """Time [s] and channels in SI units from a table through the channel map.
+
+    ``needed``: the channels the caller needs; entries not needed, and ``optional`` ones, are
+    noted instead of failing when their column is missing (None: every entry is needed).
+    """
     notes = table.notes
     info: dict[str, Any] = {"columns": {}, "source_units": {}}
     where = f"{path}:"
+    needed = None if needed is None else set(needed)
+    line_of = getattr(table, "line_of", None)  # text files: row -> file line
 
     # --- time from a column
     time = None
@@ -215,11 +375,21 @@ def _apply_map(
                     )
                 unit = file_unit
             elif file_unit in TIME_UNITS and file_unit != unit:
-                raise RecordingError(
-                    f"{where} channel map entry [time] (map {cmap.source}) says unit {unit!r} "
-                    f"but column {col_name!r} says {col.unit!r}"
-                )
-            time = _time_seconds(col.values, unit, f"{where} time column {col_name!r}", notes)
+                if tspec.unit_stated:
+                    raise RecordingError(
+                        f"{where} channel map entry [time] (map {cmap.source}) says unit "
+                        f"{unit!r} but column {col_name!r} says {col.unit!r}"
+                    )
+                unit = file_unit
+                notes.append(f"time unit {col.unit!r} taken from the file (the map gives none)")
+            time = _time_seconds(
+                col.values,
+                unit,
+                f"{where} time column {col_name!r}",
+                notes,
+                file=cmap.file,
+                line_of=line_of,
+            )
             info["columns"]["time"] = col_name
             info["source_units"]["time"] = unit
 
@@ -227,8 +397,31 @@ def _apply_map(
     specs = _auto_entries(table, cmap, path) if cmap.auto else list(cmap.entries)
     loaded: list[tuple[ChannelSpec, np.ndarray, str, np.ndarray | None]] = []
     for spec in specs:
-        name = spec.column if cmap.auto else _resolve(table, spec.column, spec.entry, cmap, path)
-        col = table.load(name)
+        skip = None
+        if cmap.auto:
+            name = spec.column
+        else:
+            skip = (
+                "optional"
+                if spec.optional and (needed is None or spec.name not in needed)
+                else "not needed here"
+                if needed is not None and spec.name not in needed
+                else None
+            )
+            name = _resolve(table, spec.column, spec.entry, cmap, path, skip=skip)
+            if name is None:
+                continue
+            if skip is not None:  # present but unreadable (e.g. an MDF group without samples)
+                try:
+                    col = table.load(name)
+                except RecordingError as exc:
+                    notes.append(
+                        f"channel map entry {spec.entry} ({skip}) not read: "
+                        + str(exc).removeprefix(where).strip()
+                    )
+                    continue
+        if skip is None:
+            col = table.load(name)
         what = f"{where} column {name!r} (channel map entry {spec.entry}, map {cmap.source})"
         if cmap.auto and not spec.canonical:
             if col.unit is None or np.asarray(col.values).dtype.kind not in "biuf":
@@ -259,7 +452,7 @@ def _apply_map(
                     f"{spec.name}: file unit {col.unit!r}, map unit {spec.unit!r} used "
                     f"(scale {spec.scale}, offset {spec.offset})"
                 )
-        raw = _as_float(col.values, what)
+        raw = _as_float(col.values, what, line_of)
         values = (spec.scale * raw + spec.offset) * factor
         own = None if col.time is None else np.asarray(col.time, dtype=float)
         loaded.append((spec, values, si, own))
@@ -272,17 +465,11 @@ def _apply_map(
         )
 
     # --- time from the sample rate or from the first channel's own time base
-    first_spec, first_values, _, first_own = loaded[0]
+    _, first_values, _, first_own = loaded[0]
     if time is None and tspec is not None and tspec.sample_rate_Hz is not None:
+        _check_stated_rate(table, cmap, loaded, info, path, line_of)
         time = np.arange(first_values.size) / tspec.sample_rate_Hz
         info["source_units"]["time"] = f"sample_rate_Hz = {tspec.sample_rate_Hz}"
-        if first_own is not None and first_own.size > 1:
-            own_rate = 1.0 / float(np.median(np.diff(first_own)))
-            if abs(own_rate - tspec.sample_rate_Hz) > 1e-6 * tspec.sample_rate_Hz:
-                notes.append(
-                    f"the map's sample_rate_Hz = {tspec.sample_rate_Hz} Hz overrides the file's "
-                    f"{own_rate:.6g} Hz"
-                )
         own_times: list = [None] * len(loaded)
     elif time is None:
         if first_own is None:
@@ -291,8 +478,7 @@ def _apply_map(
                 "nor sample_rate_Hz, and the file's channels carry no time base "
                 "(TDMS wf_increment / MDF master)"
             )
-        time = first_own
-        info["columns"]["time"] = f"time base of {info['columns'][first_spec.name]!r}"
+        # time stays None: align_channels chooses the common base from the own time bases
         own_times = [own for _, _, _, own in loaded]
     else:
         own_times = [own for _, _, _, own in loaded]
@@ -305,6 +491,7 @@ def _apply_map(
         info=info,
         notes=notes,
         where=where,
+        resample_Hz=getattr(tspec, "resample_Hz", None),
     )
     return np.asarray(time, dtype=float), channels, units, info
 
@@ -451,14 +638,18 @@ def read_recording(
         Which column is which canonical channel, in which unit. None: the file was written by
         rollerrig (:func:`rollerrig.measure.channels.default_channel_map`: canonical names as
         columns, units in headers such as ``torque [N.m]`` or stored in the file).
-    format : {"csv", "parquet", "tdms", "mf4", "mdf", "mat"}, optional
-        Overrides the format implied by the suffix.
+    format : {"csv", "lvm", "parquet", "tdms", "mf4", "mdf", "mat"}, optional
+        Overrides the format implied by the suffix (``.csv``/``.txt``/``.tsv``: text, read as the
+        map's ``[file]`` section says or sniffed; ``.lvm``: LabVIEW Measurement).
     validate : {"strict", "lenient"}
         Strict: any NaN/inf sample or gap is an error. Lenient: NaN/inf runs of at most
         :data:`MAX_INTERPOLATED_NAN_RUN` samples are interpolated, gaps are kept; both are
         listed in the metadata.
     channels : iterable of str, optional
-        Channels the caller needs; a missing one is an error naming it.
+        Channels the caller needs; a missing one is an error naming it (and, when the map has an
+        entry for it, the column with close matches). Map entries not in ``channels`` are read
+        when their column is present and only noted in ``metadata["notes"]`` when it is not
+        (as are entries with ``optional = true``). None: every map entry is needed.
 
     Returns
     -------
@@ -498,12 +689,12 @@ def read_recording(
         raise FileNotFoundError(f"recording file not found: {p}")
     sha = file_sha256(p)
     where = f"{p}:"
-    with open_table(p, fmt) as table:
-        time, chans, units, info = _apply_map(table, cmap, p)
+    required = None if channels is None else [str(c) for c in channels]
+    with open_table(p, fmt, cmap.file) as table:
+        time, chans, units, info = _apply_map(table, cmap, p, required)
         notes = table.notes
         stored = table.stored_metadata
-    required = list(channels or ())
-    missing = [c for c in required if c not in chans]
+    missing = [c for c in required or () if c not in chans]
     if missing:
         raise RecordingError(
             f"{where} required channel(s) {missing} not in the recording (map {cmap.source} "

@@ -10,8 +10,10 @@ import contextlib
 from collections.abc import Iterator
 from pathlib import Path
 
-from rollerrig.measure.formats._table import Column, Table
+from rollerrig.measure.channels import FileSpec
+from rollerrig.measure.formats._table import Column, Table, apply_default_group
 from rollerrig.measure.formats.csv import read_csv
+from rollerrig.measure.formats.lvm import read_lvm
 from rollerrig.measure.formats.mat import read_mat
 from rollerrig.measure.formats.mdf import open_mdf
 from rollerrig.measure.formats.parquet import read_parquet
@@ -21,16 +23,27 @@ __all__ = ["Column", "Table", "open_table"]
 
 
 @contextlib.contextmanager
-def open_table(path: Path, fmt: str) -> Iterator[Table]:
+def open_table(path: Path, fmt: str, spec: FileSpec | None = None) -> Iterator[Table]:
+    """The file as a :class:`Table`; ``spec`` is the channel map's ``[file]`` section."""
     if fmt == "csv":
-        yield read_csv(path)
+        yield read_csv(path, spec)
+    elif fmt == "lvm":
+        yield read_lvm(path, spec)
     elif fmt == "parquet":
         yield read_parquet(path)
     elif fmt == "mat":
         yield read_mat(path)
     elif fmt == "tdms":
         with open_tdms(path) as t:
+            _default_group(t, spec, path)
             yield t
     else:
         with open_mdf(path) as t:
+            _default_group(t, spec, path)
             yield t
+
+
+def _default_group(table: Table, spec: FileSpec | None, path: Path) -> None:
+    group = getattr(spec, "group", None)
+    if group is not None:
+        apply_default_group(table, group, f"{path}:")

@@ -1,9 +1,15 @@
-"""MATLAB .mat files (v4/v5/v7 via scipy, v7.3 via pymatreader, plain HDF5 via h5py)."""
+"""MATLAB .mat files (v4/v5/v7 via scipy; v7.3 and plain HDF5 via h5py, read lazily).
+
+Variables that are numeric vectors become columns; structs are flattened (``meas.torque``).
+HDF5-based files (v7.3) are read one variable at a time, and :attr:`Table.slicer` reads parts
+of a variable (chunked reading); v4-v7 files are read whole by :func:`scipy.io.loadmat`.
+"""
 
 from __future__ import annotations
 
 import contextlib
 import json
+import weakref
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -14,6 +20,7 @@ from rollerrig.measure.formats._table import (
     META_KEY,
     UNITS_KEY,
     Column,
+    Slicer,
     Table,
     require_module,
 )
@@ -49,74 +56,141 @@ def _is_hdf5(path: Path) -> bool:
     return False
 
 
-def _read_plain_hdf5(path: Path) -> dict[str, Any]:
-    """Datasets of an HDF5 file as nested dicts (MATLAB layout: char as uint16 text)."""
-    h5py = require_module("h5py", "HDF5 .mat files")
+_NUMERIC_CLASSES = {
+    "double",
+    "single",
+    "int8",
+    "int16",
+    "int32",
+    "int64",
+    "uint8",
+    "uint16",
+    "uint32",
+    "uint64",
+    "logical",
+}
 
-    def walk(group) -> dict[str, Any]:
-        out: dict[str, Any] = {}
+
+def _attr_text(item, key: str) -> str:
+    value = item.attrs.get(key, b"")
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+def _hdf5_table(path: Path, what: str) -> Table:
+    """Table over an HDF5 file (MATLAB v7.3 or plain): numeric vectors read lazily with h5py.
+
+    MATLAB stores an n x 1 (or 1 x n) vector as an HDF5 dataset of shape (1, n) (or (n, 1));
+    each is one column, read (whole or a slice) by opening the file for that read only. Structs
+    are groups (``meas.torque``); char arrays (uint16 text) are read whole; cells, sparse and
+    complex arrays and matrices are listed as not readable.
+    """
+    h5py = require_module("h5py", what)
+    datasets: dict[str, tuple[str, int, int]] = {}  # name -> (HDF5 path, long axis, length)
+    strings: dict[str, str] = {}
+    skipped: list[str] = []
+
+    def walk(group, prefix: str) -> None:
         for key, item in group.items():
-            if isinstance(item, h5py.Group):
-                out[key] = walk(item)
+            if key.startswith("#"):
                 continue
-            value = item[()]
-            cls = item.attrs.get("MATLAB_class", b"")
-            cls = cls.decode() if isinstance(cls, bytes) else str(cls)
+            name = f"{prefix}{key}"
+            if isinstance(item, h5py.Group):
+                if "MATLAB_sparse" in item.attrs:
+                    skipped.append(f"{name} (sparse)")
+                else:
+                    walk(item, f"{name}.")
+                continue
+            cls = _attr_text(item, "MATLAB_class")
+            shape, dtype = tuple(item.shape), item.dtype
             if cls == "char":
-                out[key] = np.asarray(value, dtype=np.uint16).T.tobytes().decode("utf-16-le")
-            else:
-                out[key] = np.asarray(value)
-        return out
+                codes = np.asarray(item[()], dtype=np.uint16)
+                strings[name] = codes.T.tobytes().decode("utf-16-le", errors="replace")
+                continue
+            long = [k for k, d in enumerate(shape) if d != 1]
+            numeric = dtype.kind in "biuf" and (not cls or cls in _NUMERIC_CLASSES)
+            if (
+                not numeric
+                or "MATLAB_empty" in item.attrs
+                or len(long) > 1
+                or int(np.prod(shape)) < 1
+            ):
+                skipped.append(f"{name} ({cls or dtype}, shape {shape})")
+                continue
+            axis = long[0] if long else 0
+            datasets[name] = (item.name, axis, int(np.prod(shape)))
 
     try:
         with h5py.File(path, "r") as f:
-            return walk(f)
-    except OSError as exc:
-        raise RecordingError(f"{path}: not a readable HDF5 file: {exc}") from exc
+            walk(f, "")
+    except Exception as exc:  # h5py raises OSError, RuntimeError, KeyError... on damaged files
+        raise RecordingError(
+            f"{path}: not a readable HDF5 file: {exc} (damaged or truncated?)"
+        ) from exc
 
+    handle: list = []  # the file, opened on the first read, closed with the table
 
-def read_mat(path: Path) -> Table:
-    from scipy.io import loadmat
-    from scipy.io.matlab import matfile_version
-
-    notes = []
-    try:
-        major, _ = matfile_version(str(path))
-    except Exception as exc:
-        if not _is_hdf5(path):
-            raise RecordingError(f"{path}: not a MATLAB .mat file: {exc}") from exc
-        major = -1  # HDF5 without the MATLAB header (written by h5py or other tools)
-    if major == -1:
-        data = _read_plain_hdf5(path)
-        notes.append("HDF5 file without a MATLAB header read with h5py")
-    elif major == 2:  # v7.3 = HDF5
-        pymatreader = require_module("pymatreader", "MATLAB v7.3 files")
+    def read(name: str, start: int, stop: int) -> Column:
+        h5path, axis, n = datasets[name]
+        start, stop = max(0, start), min(n, stop)
         try:
-            data = pymatreader.read_mat(str(path))
-        except Exception as exc:
-            raise RecordingError(f"{path}: not a readable MATLAB v7.3 file: {exc}") from exc
-        notes.append("MATLAB v7.3 (HDF5) read with pymatreader")
-    else:
-        try:
-            data = loadmat(str(path), squeeze_me=True, simplify_cells=True)
-        except Exception as exc:
-            raise RecordingError(f"{path}: not a readable MATLAB file: {exc}") from exc
-    flat: dict[str, Any] = {}
-    skipped: list[str] = []
-    _flatten_mat(data, "", flat, skipped)
-    stored = None
+            if not handle:
+                handle.append(h5py.File(path, "r"))
+            ds = handle[0][h5path]
+            index = [0] * ds.ndim
+            if ds.ndim:
+                index[axis] = slice(start, stop)
+            values = np.asarray(ds[tuple(index)]).reshape(-1)
+        except Exception as exc:  # h5py: OSError, RuntimeError, KeyError, ValueError...
+            raise RecordingError(
+                f"{path}: MAT variable {name!r} could not be read: {exc}; the file is damaged "
+                "or truncated"
+            ) from exc
+        return Column(values, units.get(name))
+
     units: dict[str, str] = {}
-    if isinstance(flat.get(META_KEY), str):
+    table = _finish(
+        path,
+        list(datasets),
+        lambda n: read(n, 0, datasets[n][2]),
+        strings,
+        skipped,
+        units,
+        [],
+    )
+    table.slicer = Slicer(length=lambda n: datasets[n][2], read=read)
+    weakref.finalize(table.slicer, _close, handle)  # the slicer outlives the table in use
+    return table
+
+
+def _close(handles: list) -> None:
+    for h in handles:
+        with contextlib.suppress(Exception):
+            h.close()
+
+
+def _finish(
+    path: Path,
+    names: list[str],
+    load,
+    strings: dict[str, str],
+    skipped: list[str],
+    units: dict[str, str],
+    notes: list[str],
+) -> Table:
+    """The table of a MAT file, with rollerrig's stored units and metadata (char variables)."""
+    stored = None
+    if META_KEY in strings:
         with contextlib.suppress(json.JSONDecodeError):
-            stored = json.loads(flat[META_KEY])
-    if isinstance(flat.get(UNITS_KEY), str):
+            stored = json.loads(strings[META_KEY])
+    if UNITS_KEY in strings:
         with contextlib.suppress(json.JSONDecodeError):
-            units = json.loads(flat[UNITS_KEY])
-    columns = {k: v for k, v in flat.items() if not isinstance(v, str)}
+            parsed = json.loads(strings[UNITS_KEY])
+            if isinstance(parsed, dict):
+                units.update({str(k): str(v) for k, v in parsed.items()})
     table = Table(
-        names=list(columns),
-        load=lambda n: Column(columns[n], units.get(n)),
-        base={n: n for n in columns},
+        names=names,
+        load=load,
+        base={n: n for n in names},
         notes=notes,
         skipped=skipped,
         stored_metadata=stored,
@@ -124,3 +198,44 @@ def read_mat(path: Path) -> Table:
     if skipped:
         table.notes.append(f"MAT variables not read (not numeric vectors): {skipped}")
     return table
+
+
+def read_mat(path: Path) -> Table:
+    from scipy.io import loadmat
+    from scipy.io.matlab import matfile_version
+
+    try:
+        major, _ = matfile_version(str(path))
+    except Exception as exc:
+        if not _is_hdf5(path):
+            raise RecordingError(f"{path}: not a MATLAB .mat file: {exc}") from exc
+        major = -1  # HDF5 without the MATLAB header (written by h5py or other tools)
+    if major == -1:
+        table = _hdf5_table(path, "HDF5 .mat files")
+        table.notes.insert(0, "HDF5 file without a MATLAB header read with h5py")
+        return table
+    if major == 2:  # v7.3 = HDF5
+        if not _is_hdf5(path):
+            raise RecordingError(f"{path}: a MATLAB v7.3 header but no HDF5 data (truncated?)")
+        table = _hdf5_table(path, "MATLAB v7.3 files")
+        table.notes.insert(0, "MATLAB v7.3 (HDF5) read with h5py")
+        return table
+    try:
+        data = loadmat(str(path), squeeze_me=True, simplify_cells=True)
+    except Exception as exc:
+        raise RecordingError(f"{path}: not a readable MATLAB file: {exc}") from exc
+    flat: dict[str, Any] = {}
+    skipped: list[str] = []
+    _flatten_mat(data, "", flat, skipped)
+    strings = {k: v for k, v in flat.items() if isinstance(v, str)}
+    columns = {k: v for k, v in flat.items() if not isinstance(v, str)}
+    units: dict[str, str] = {}
+    return _finish(
+        path,
+        list(columns),
+        lambda n: Column(columns[n], units.get(n)),
+        strings,
+        skipped,
+        units,
+        [],
+    )

@@ -1,9 +1,22 @@
-"""NI TDMS files (LabVIEW, DAQmx logging)."""
+"""NI TDMS files (LabVIEW, DAQmx logging).
+
+Each channel ``Group/Channel`` carries its own time base when it was written as a waveform
+(LabVIEW waveform data type, DAQmx logging): ``wf_increment`` (sample interval [s]),
+``wf_start_offset`` [s] and ``wf_start_time`` (absolute start, a timestamp). Channels whose
+``wf_start_time`` differ are put on one absolute clock: seconds since the earliest start time in
+the file. A DAQmx file with several tasks has one group per task, each with its own rate
+(e.g. 19.2 kHz torque and 10 Hz pressure); such channels are never index-aligned.
+
+The file is opened with ``nptdms.TdmsFile.open`` (streaming): only the channels asked for are
+read, and :attr:`Table.slicer` reads parts of a channel (chunked reading). A file that ends
+inside a segment (cut off during acquisition or copying) is an error, not a shorter recording.
+"""
 
 from __future__ import annotations
 
 import contextlib
 import json
+import logging
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -12,22 +25,101 @@ import numpy as np
 from rollerrig.measure.formats._table import (
     META_KEY,
     Column,
+    Slicer,
     Table,
     add_alias,
+    add_to_group,
     require_module,
 )
 from rollerrig.measure.recording import RecordingError
+
+_TDMS_EPOCH = np.datetime64("1904-01-01T00:00:00", "us")
+"""LabVIEW's zero timestamp: a ``wf_start_time`` equal to it was never set."""
+
+
+class _Collect(logging.Handler):
+    """Collects nptdms' warnings (it reports truncated or damaged files only as warnings)."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.messages.append(record.getMessage())
+
+
+def _check(log: _Collect, path: Path, seen: int) -> int:
+    """Raise when nptdms reported a truncated or damaged file since message ``seen``."""
+    new = log.messages[seen:]
+    damaged = [
+        m
+        for m in new
+        if any(
+            key in m
+            for key in (
+                "incomplete",
+                "less data than expected",
+                "not a multiple of the chunk size",
+                "Cropping data",
+            )
+        )
+    ]
+    if damaged:
+        raise RecordingError(
+            f"{path}: the TDMS file is truncated or damaged (nptdms: {damaged[0]}); it ends "
+            "inside a data segment, e.g. cut off during acquisition or copying; use the complete "
+            "file, or repair it (LabVIEW/DIAdem 'TDMS Defragment') and read the repaired copy"
+        )
+    return len(log.messages)
+
+
+def _start_time(props) -> np.datetime64 | None:
+    st = props.get("wf_start_time")
+    if isinstance(st, np.datetime64):
+        st = st.astype("datetime64[us]")
+        if st != _TDMS_EPOCH and not np.isnat(st):
+            return st
+    return None
 
 
 @contextlib.contextmanager
 def open_tdms(path: Path) -> Iterator[Table]:
     nptdms = require_module("nptdms", "TDMS files")
+    log = _Collect()
+    logger = logging.getLogger("nptdms")
+    logger.addHandler(log)
+    # nptdms prints its warnings itself; they become the error message here instead
+    console = getattr(
+        getattr(getattr(nptdms, "log", None), "log_manager", None), "console_handler", None
+    )
+    level = console.level if console is not None else None
+    if console is not None:
+        console.setLevel(logging.CRITICAL + 1)
     try:
-        tdms = nptdms.TdmsFile.read(str(path))
-    except Exception as exc:
-        raise RecordingError(f"{path}: not a readable TDMS file: {exc}") from exc
+        try:
+            tdms = nptdms.TdmsFile.open(str(path))
+        except Exception as exc:
+            raise RecordingError(f"{path}: not a readable TDMS file: {exc}") from exc
+        with tdms:
+            seen = _check(log, path, 0)
+            try:
+                table = _table(tdms, path, log, seen)
+            except RecordingError:
+                raise
+            except Exception as exc:  # damaged metadata nptdms read without complaint
+                raise RecordingError(f"{path}: not a readable TDMS file: {exc}") from exc
+            yield table
+    finally:
+        logger.removeHandler(log)
+        if console is not None:
+            console.setLevel(level)
+
+
+def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
     chans = {}
     table = Table(names=[], load=lambda n: None)  # type: ignore[arg-type,return-value]
+    waveform: dict[str, tuple[float, float]] = {}  # name -> (wf_start_offset [s], increment [s])
+    starts: dict[str, np.datetime64] = {}
     for group in tdms.groups():
         for ch in group.channels():
             name = f"{group.name}/{ch.name}"
@@ -36,21 +128,82 @@ def open_tdms(path: Path) -> Iterator[Table]:
             table.base[name] = ch.name
             add_alias(table, ch.name, name)
             add_alias(table, ch.path, name)
+            add_to_group(table, group.name, name)
+            props = ch.properties
+            ni_name = props.get("NI_ChannelName")
+            if isinstance(ni_name, str) and ni_name not in (ch.name, name):
+                add_alias(table, ni_name, name)
+            try:
+                inc = float(props.get("wf_increment", 0.0))
+                offset = float(props.get("wf_start_offset", 0.0))
+            except (TypeError, ValueError):
+                inc, offset = 0.0, 0.0
+            if inc > 0 and np.isfinite(inc) and np.isfinite(offset):
+                waveform[name] = (offset, inc)
+                st = _start_time(props)
+                if st is not None:
+                    starts[name] = st
+            n_wf = props.get("wf_samples")
+            if isinstance(n_wf, int | np.integer) and 0 < len(ch) < int(n_wf):
+                table.notes.append(
+                    f"TDMS channel {name!r} holds {len(ch)} samples, fewer than its wf_samples "
+                    f"= {int(n_wf)}"
+                )
 
-    def load(name: str) -> Column:
+    # one absolute clock: seconds since the earliest wf_start_time
+    shift: dict[str, float] = {}
+    if starts:
+        t_ref = min(starts.values())
+        for name, st in starts.items():
+            shift[name] = float((st - t_ref) / np.timedelta64(1, "us")) * 1e-6
+        table.notes.append(f"absolute start time (earliest TDMS wf_start_time): {t_ref}")
+        if any(s != 0.0 for s in shift.values()):
+            table.notes.append(
+                "TDMS channels start at different absolute times (wf_start_time); put on one "
+                "clock, seconds since the earliest: "
+                + ", ".join(f"{n} +{s:.9g} s" for n, s in shift.items() if s != 0.0)
+            )
+        unset = sorted(set(waveform) - set(starts))
+        if unset:
+            table.notes.append(
+                f"TDMS channels {unset} have no wf_start_time; assumed to start at {t_ref}"
+            )
+
+    def length(name: str) -> int:
+        return len(chans[name])
+
+    def read(name: str, start: int, stop: int) -> Column:
+        nonlocal seen
         ch = chans[name]
-        values = ch[:]
-        props = ch.properties
+        n = len(ch)
+        if n == 0:
+            raise RecordingError(f"{path}: TDMS channel {name!r} holds no samples")
+        start, stop = max(0, start), min(n, stop)
+        try:
+            values = np.asarray(ch[start:stop])
+        except Exception as exc:
+            raise RecordingError(
+                f"{path}: TDMS channel {name!r} could not be read (samples {start}..{stop}): "
+                f"{exc}; the file is damaged or truncated"
+            ) from exc
+        seen = _check(log, path, seen)
+        if values.size != stop - start:
+            raise RecordingError(
+                f"{path}: TDMS channel {name!r} gave {values.size} samples where the file's "
+                f"index promises {stop - start}; the file is damaged or truncated"
+            )
         own = None
-        if "wf_increment" in props and float(props["wf_increment"]) > 0:
-            inc = float(props["wf_increment"])
-            own = float(props.get("wf_start_offset", 0.0)) + np.arange(len(values)) * inc
-        unit = props.get("unit_string") or None
-        return Column(np.asarray(values), unit, own)
+        if name in waveform:
+            offset, inc = waveform[name]
+            own = shift.get(name, 0.0) + offset + np.arange(start, stop) * inc
+        props = ch.properties
+        unit = props.get("unit_string") or props.get("NI_UnitDescription") or None
+        return Column(values, unit if isinstance(unit, str) else None, own)
 
-    table.load = load
+    table.load = lambda name: read(name, 0, length(name))
+    table.slicer = Slicer(length=length, read=read)
     raw = tdms.properties.get(META_KEY)
     if raw:
         with contextlib.suppress(json.JSONDecodeError, TypeError):
             table.stored_metadata = json.loads(raw)
-    yield table
+    return table
