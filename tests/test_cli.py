@@ -1,13 +1,62 @@
-"""The ``rollerrig`` command: outputs written, numbers printed, clear errors for bad input."""
+"""The ``rollerrig`` command: outputs written, numbers printed, clear errors for bad input.
+
+The error boundary: a user-side problem ends with one ``error:`` line (exit code 2), anything
+else with one ``internal error`` line (exit code 3); never a traceback, never a partial output.
+Fixtures are tiny CSVs written here (an adhesion test of 10 s at 100 Hz built by hand).
+"""
 
 import json
 
+import numpy as np
 import pytest
+import xarray as xr
 from typer.testing import CliRunner
 
+from rollerrig import __version__
 from rollerrig.cli import app
 
 runner = CliRunner()
+
+COMMANDS = ("contact", "simulate", "study", "modes", "analyze", "spectrum", "filters", "demo")
+HEADER = "time [s],torque [N.m],torque_request [N.m],wheel_speed [rad/s],roller_speed [rad/s]"
+
+
+def _adhesion_csv(path, fs=100.0, duration=10.0, torque=None, nan_at=(), drop=()):
+    """A hand-built adhesion test: ramp 2-5 s to 600 N.m, hold, sudden release; creep rising
+    with the CoA; 30 km/h, 4.3 kN; ``torque`` replaces the measured torque if given; NaN at
+    the samples ``nan_at``; the rows ``drop`` left out (a gap)."""
+    rng = np.random.default_rng(0)
+    t = np.arange(int(duration * fs)) / fs
+    request = np.interp(t, [0, 2, 5, 5.5, 5.52, duration], [0, 0, 600, 600, 0, 0])
+    # The induction motor's line (5 pole pairs x roller rotation at 30 km/h: 14.67 Hz) and noise.
+    line = 3.0 * np.sin(2 * np.pi * 5 * (30 / 3.6) / (2 * np.pi * 0.452) * t)
+    measured = request + line + rng.standard_normal(t.size) if torque is None else torque(t)
+    rr, rw, load = 0.452, 0.348, 4300.0
+    coa = np.clip(request / (rr * load), 0, None)
+    creep = 0.02 * np.tan(np.clip(coa / 0.45, 0, 0.9) * np.pi / 2) / np.tan(0.45 * np.pi)
+    omega_r = np.full(t.size, 30 / 3.6 / rr)
+    omega_w = omega_r * rr * (1 + creep + 1e-4 * coa) / rw
+    measured = np.array(measured, dtype=float)
+    measured[list(nan_at)] = np.nan
+    rows = [HEADER + ",normal_load [N]"]
+    rows += [
+        f"{a:.6f},{b!r},{c:.6f},{d:.9f},{e:.9f},{load}"
+        for i, (a, b, c, d, e) in enumerate(
+            zip(t, measured.tolist(), request, omega_w, omega_r, strict=True)
+        )
+        if i not in set(drop)
+    ]
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+def _no_traceback(result):
+    assert "Traceback" not in result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+
+
+def _files(folder):
+    return sorted(p.name for p in folder.rglob("*")) if folder.exists() else []
 
 
 def test_contact_report_writes_figures_and_summary(tmp_path):
@@ -40,6 +89,7 @@ def test_contact_rejects_nonphysical_input(tmp_path, args, message):
     assert "Traceback" not in result.output
 
 
+@pytest.mark.slow  # ~20-35 s on 2 shared cores (compiles and runs the twin twice)
 def test_simulate_writes_results_figure_and_modes(tmp_path):
     args = ["simulate", "--experiment", "seed-10kmh-wet", "--out", str(tmp_path), "--format", "csv"]
     result = runner.invoke(app, args)
@@ -67,11 +117,22 @@ def test_simulate_rejects_bad_options(tmp_path, args, message):
     assert message in result.output
 
 
+@pytest.mark.slow
 def test_demo_runs_end_to_end_and_its_outputs_analyse_again(tmp_path):
     # The README's main job, then the files it wrote through the other commands.
     result = runner.invoke(app, ["demo", "--out", str(tmp_path)])
     assert result.exit_code == 0, result.output
-    assert "speed-independent lines in the free-rolling spectra: 1.3" in result.output
+    # No line is injected into the demo's recordings any more, so none is "found" by hand.
+    assert "no line is injected into the demo's recordings" in result.output
+    assert "1.333 Hz" not in result.output.split("speed-independent lines in the free")[-1]
+    # The fit says where A and B are constrained, that they are not here, and how far it
+    # misses the twin's truth (the demo's test runs at one speed).
+    assert "A and B NOT identifiable" in result.output
+    assert "misses the twin's true Polach set" in result.output
+    summary = json.loads((tmp_path / "seed-30kmh-dry-analysis.json").read_text())
+    fit = summary["polach_fit_corrected_coa"]
+    assert fit["identifiable"] is False and fit["A_B_identifiable"] is False
+    assert fit["truth_distance"]["limit_ratio"]["beyond_warn_sigma"] is True
     assert (tmp_path / "seed-30kmh-dry-report.html").stat().st_size > 100_000
     # Coherence of shaft displacement and torque: high at the roller order (the run-out's own
     # line), low at the induction motor's line (not mechanical; Kayaalp §4.5.2.4).
@@ -117,9 +178,268 @@ def test_analyze_reports_missing_channels_clearly(tmp_path):
     assert "Traceback" not in result.output
 
 
+@pytest.mark.slow  # ~10-18 s: three twin runs
 def test_study_writes_table_figure_and_json(tmp_path):
     result = runner.invoke(app, ["study", "drives", "--out", str(tmp_path)])
     assert result.exit_code == 0, result.output
     assert "ideal speed source" in result.output
     assert (tmp_path / "study-drives.png").stat().st_size > 10_000
     assert runner.invoke(app, ["study", "colour", "--out", str(tmp_path)]).exit_code == 2
+
+
+# --- Help, version, markup ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_help_of_every_command_keeps_units_in_brackets(command):
+    result = runner.invoke(app, [command, "--help"])
+    assert result.exit_code == 0, result.output
+    _no_traceback(result)
+    assert "Usage:" in result.output
+    # Every "[" of the help survives: Rich markup would have eaten "[kN]" and friends.
+    expected = {
+        "contact": ["Normal load [kN]", "[km/h]", "[mm]", "Poisson's ratio [-]"],
+        "simulate": ["Roller-drive lag τ [s]"],
+        "analyze": ["--lenient"],
+        "filters": ["--lenient"],
+    }
+    for text in expected.get(command, []):
+        assert text in " ".join(result.output.split()), text
+
+
+def test_root_help_and_version():
+    result = runner.invoke(app, ["--help"])
+    assert result.exit_code == 0
+    for command in COMMANDS:
+        assert command in result.output
+    result = runner.invoke(app, ["--version"])
+    assert result.exit_code == 0, result.output
+    assert result.output.strip() == f"rollerrig {__version__}"
+
+
+def test_error_messages_keep_brackets(tmp_path):
+    # A channel map entry and the extra to install are named with brackets: both survive.
+    rec = _adhesion_csv(tmp_path / "test.csv")
+    cmap = tmp_path / "map.toml"
+    cmap.write_text('[time]\ncolumn = "time [s]"\nunit = "s"\n[channels.torque]\ncolumn = "Tq"\n')
+    result = runner.invoke(app, ["filters", str(rec), "--channels", str(cmap)])
+    assert result.exit_code == 2, result.output
+    assert "[channels.torque]" in result.output
+    _no_traceback(result)
+
+
+# --- The error boundary ---------------------------------------------------------------------
+
+
+def test_missing_file_is_one_error_line(tmp_path):
+    missing = tmp_path / "nope.tdms"
+    for args in (["analyze", str(missing)], ["filters", str(missing)]):
+        result = runner.invoke(app, [*args, "--out", str(tmp_path / "out")])
+        assert result.exit_code == 2, result.output
+        assert result.output.startswith("error:") and "nope.tdms" in result.output
+        assert len(result.output.strip().splitlines()) == 1
+        _no_traceback(result)
+    assert not (tmp_path / "out").exists()
+
+
+def test_missing_optional_package_names_the_extra(tmp_path, monkeypatch):
+    import rollerrig.measure.readers as readers
+
+    def no_nptdms(*args, **kwargs):
+        raise ModuleNotFoundError("No module named 'nptdms'", name="nptdms")
+
+    monkeypatch.setattr(readers, "read_recording", no_nptdms)
+    result = runner.invoke(app, ["filters", str(tmp_path / "x.tdms")])
+    assert result.exit_code == 2, result.output
+    assert "pip install 'rollerrig[io]'" in result.output
+    _no_traceback(result)
+
+
+def test_internal_error_is_one_line_exit_3_and_debug_shows_the_traceback(tmp_path, monkeypatch):
+    import rollerrig.contact.curves as curves
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("something inside broke")
+
+    monkeypatch.setattr(curves, "polach_creep_curve", broken)
+    args = ["contact", "--out", str(tmp_path)]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 3, result.output
+    (line,) = result.output.strip().splitlines()
+    assert line.startswith("internal error: ZeroDivisionError: something inside broke")
+    assert "please report" in line
+    _no_traceback(result)
+    assert _files(tmp_path) == []
+    # --debug (or ROLLERRIG_DEBUG=1) shows the traceback as well, same exit code.
+    result = runner.invoke(app, ["--debug", *args])
+    assert result.exit_code == 3
+    assert "Traceback" in result.output and "ZeroDivisionError" in result.output
+    monkeypatch.setenv("ROLLERRIG_DEBUG", "1")
+    result = runner.invoke(app, args)
+    assert result.exit_code == 3 and "Traceback" in result.output
+
+
+def test_out_that_is_a_file_is_a_clear_error(tmp_path):
+    rec = _adhesion_csv(tmp_path / "test.csv")
+    blocker = tmp_path / "out"
+    blocker.write_text("not a folder")
+    result = runner.invoke(app, ["filters", str(rec), "--out", str(blocker)])
+    assert result.exit_code == 2, result.output
+    assert "is a file, not a folder" in result.output
+    assert blocker.read_text() == "not a folder"
+
+
+def test_failure_while_writing_leaves_no_partial_output(tmp_path, monkeypatch):
+    from rollerrig.report.html import HtmlReport
+
+    def fail(self, path):
+        raise RuntimeError("disk full (simulated)")
+
+    monkeypatch.setattr(HtmlReport, "write", fail)
+    rec = _adhesion_csv(tmp_path / "test.csv")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["analyze", str(rec), "--no-study", "--out", str(out)])
+    assert result.exit_code == 3, result.output
+    assert "disk full (simulated)" in result.output
+    # The JSON and NetCDF were written before the report failed: neither is left, nor any
+    # staging folder.
+    assert not out.exists()
+    assert _files(tmp_path) == ["test.csv"]
+
+
+# --- analyze, filters: bad inputs -----------------------------------------------------------
+
+
+def test_analyze_without_a_test_names_the_torque_channel(tmp_path):
+    rec = _adhesion_csv(tmp_path / "flat.csv", torque=lambda t: 100.0 + 0 * t)
+    rec.write_text(rec.read_text().replace("torque_request [N.m]", "setpoint [N.m]"))
+    result = runner.invoke(app, ["analyze", str(rec), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "no adhesion test found" in result.output
+    assert "channel 'torque'" in result.output and "[channels.torque]" in result.output
+    _no_traceback(result)
+    assert not (tmp_path / "out").exists()
+
+
+def test_analyze_huge_torque_names_the_channel(tmp_path):
+    rec = _adhesion_csv(tmp_path / "huge.csv", torque=lambda t: 1e300 * (1 + 0.1 * np.sin(t)))
+    result = runner.invoke(app, ["analyze", str(rec), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "channel 'torque'" in result.output and "1e+300" in result.output
+    _no_traceback(result)
+    rec = _adhesion_csv(tmp_path / "kilo.csv", torque=lambda t: 1e6 + 0 * t)  # N.m as mN.m?
+    result = runner.invoke(app, ["analyze", str(rec), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "torque sensor's range" in result.output
+
+
+def test_analyze_truth_of_another_length_or_not_netcdf(tmp_path):
+    rec = _adhesion_csv(tmp_path / "test.csv")
+    not_nc = tmp_path / "truth.nc"
+    not_nc.write_text("this is not NetCDF")
+    result = runner.invoke(app, ["analyze", str(rec), "--truth", str(not_nc)])
+    assert result.exit_code == 2, result.output
+    assert "--truth" in result.output and "not a NetCDF file" in result.output
+    _no_traceback(result)
+    short = tmp_path / "short.nc"
+    xr.Dataset({"coa": ("time", np.zeros(10))}, coords={"time": np.arange(10) / 100}).to_netcdf(
+        short, engine="h5netcdf"
+    )
+    result = runner.invoke(app, ["analyze", str(rec), "--truth", str(short)])
+    assert result.exit_code == 2, result.output
+    assert "10 samples, the recording 1000" in result.output
+    _no_traceback(result)
+
+
+def test_filters_on_a_csv_with_a_header_and_no_rows(tmp_path):
+    empty = tmp_path / "empty.csv"
+    empty.write_text(HEADER + "\n")
+    result = runner.invoke(app, ["filters", str(empty), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "empty.csv" in result.output
+    _no_traceback(result)
+
+
+def test_filters_does_not_need_unrelated_sensors_of_the_map(tmp_path):
+    rec = _adhesion_csv(tmp_path / "test.csv")
+    cmap = tmp_path / "map.toml"
+    cmap.write_text(
+        '[time]\ncolumn = "time [s]"\nunit = "s"\n'
+        '[channels.torque]\ncolumn = "torque [N.m]"\nunit = "N.m"\n'
+        '[channels.air_spring_pressure]\ncolumn = "p_bar"\nunit = "bar"\n'
+    )
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["filters", str(rec), "--channels", str(cmap), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    summary = json.loads((out / "test-filters.json").read_text())
+    assert any("air_spring_pressure" in n for n in summary["recording"]["notes"])
+    assert "lag [s]" in result.output  # table headers keep their units
+
+
+# --- --lenient: every output says what was interpolated -------------------------------------
+
+
+def test_lenient_reports_interpolated_runs_in_every_output(tmp_path):
+    rec = _adhesion_csv(tmp_path / "test.csv", nan_at=(150, 151), drop=(900, 901))
+    out = tmp_path / "out"
+    strict = runner.invoke(app, ["filters", str(rec), "--out", str(out)])
+    assert strict.exit_code == 2 and "gap" in strict.output  # strict by default
+    result = runner.invoke(app, ["analyze", str(rec), "--lenient", "--no-study", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "samples 150..151" in result.output  # console
+    summary = json.loads((out / "test-analysis.json").read_text())  # JSON
+    (run,) = summary["recording"]["interpolated"]
+    assert (run["channel"], run["first_sample"], run["last_sample"]) == ("torque", 150, 151)
+    assert summary["recording"]["notes"]
+    (gap,) = summary["recording"]["gaps"]  # rows 900-901 left out: a 0.03 s step
+    assert gap["missing_samples"] == 2 and "gap kept" in result.output
+    assert any("filled by linear interpolation" in n for n in summary["recording"]["notes"])
+    ds = xr.open_dataset(out / "test-analysis.nc", engine="h5netcdf")  # NetCDF attributes
+    try:
+        assert json.loads(ds.attrs["interpolated"])[0]["first_sample"] == 150
+        assert json.loads(ds.attrs["gaps"])[0]["missing_samples"] == 2
+        assert json.loads(ds.attrs["recording_notes"]) == summary["recording"]["notes"]
+    finally:
+        ds.close()
+    html = (out / "test-report.html").read_text()  # HTML report
+    assert "samples 150..151" in html and "The recording as read" in html
+    assert "gap kept" in html
+    # The fit says over which slip velocities A and B are constrained, and tests its residuals.
+    fit = summary["polach_fit_corrected_coa"]
+    assert fit["slip_velocity_coverage"]["slip_velocity_range [m/s]"][1] > 0
+    assert "durbin_watson" in fit["residual_structure"]
+    assert "How far the Polach fit can be trusted" in html
+    result = runner.invoke(app, ["filters", str(rec), "--lenient", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "samples 150..151" in result.output
+    filt = json.loads((out / "test-filters.json").read_text())  # filters JSON
+    assert filt["recording"]["interpolated"][0]["first_sample"] == 150
+    assert filt["recording"]["gaps"][0]["missing_samples"] == 2
+    assert filt["recording"]["notes"] == summary["recording"]["notes"]
+
+
+def test_staged_outputs_commit_together_or_not_at_all(tmp_path):
+    from rollerrig.cli import staged_outputs
+
+    out = tmp_path / "a" / "b"
+    with staged_outputs(out) as stage:
+        stage.path("x.json").write_text("{}")
+        (stage.dir / "sub").mkdir()
+        (stage.dir / "sub" / "y.txt").write_text("y")
+        assert not out.exists()  # nothing visible before the end
+    assert sorted(p.relative_to(out).as_posix() for p in stage.written) == ["sub/y.txt", "x.json"]
+    with pytest.raises(RuntimeError), staged_outputs(out) as stage:
+        stage.path("x.json").write_text("new")
+        stage.path("z.json").write_text("z")
+        raise RuntimeError("failed half-way")
+    assert (out / "x.json").read_text() == "{}" and not (out / "z.json").exists()
+    assert _files(tmp_path) == ["a", "b", "sub", "x.json", "y.txt"]  # no staging folder left
+
+
+def test_a_gap_too_long_to_fill_is_named(tmp_path):
+    rec = _adhesion_csv(tmp_path / "test.csv", drop=range(300, 320))
+    for command in ("analyze", "filters"):
+        result = runner.invoke(app, [command, str(rec), "--lenient", "--out", str(tmp_path / "o")])
+        assert result.exit_code == 2, result.output
+        assert "gap of 0.21 s after t = 2.99 s" in result.output and "too long" in result.output
+    assert not (tmp_path / "o").exists()

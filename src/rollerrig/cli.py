@@ -1,49 +1,245 @@
 """The ``rollerrig`` command: the front door to the toolkit.
 
 Units at this edge follow rig practice (kN, km/h, mm); everything inside is SI.
+
+Conventions for every command (the error boundary and the output rules):
+
+- **Text is printed literally.** ``console`` and ``err_console`` have Rich markup off, and the
+  help is rendered without markup (``rich_markup_mode=None``), so ``[kN]``, ``[channels.torque]``
+  or ``rollerrig[io]`` always survive. Style a part with :class:`rich.text.Text`
+  (``Text.assemble(("bold part", "bold"), " plain part")``), never with ``[bold]`` markup.
+  :func:`note` prints a yellow ``note:`` line.
+- **One error boundary** (:class:`_BoundaryGroup`) around every command: a
+  :class:`~rollerrig._validation.ParameterError` (so also ``RecordingError``),
+  :class:`UserError`, ``FileNotFoundError``, ``ImportError`` (naming the extra to install) or
+  another ``OSError`` becomes one red ``error:`` line and exit code 2; any other exception one
+  ``internal error`` line (type and message, "please report") and exit code 3. No traceback
+  unless ``--debug`` or ``ROLLERRIG_DEBUG=1``. Commands need no ``try`` of their own; raise
+  :class:`UserError` (or call :func:`_fail`) for a bad option.
+- **No partial outputs.** Compute everything first, then write every file of the command inside
+  ``with staged_outputs(out) as stage:`` into ``stage.dir``; the files are moved into ``out``
+  (each atomically) only when the block ends without an exception, and ``stage.written`` lists
+  their final paths. A failure leaves nothing new behind.
 """
 
 from __future__ import annotations
 
 import json
+import logging
+import os
+import shutil
+import tempfile
+import traceback
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, NoReturn
 
+import click
 import numpy as np
 import typer
 from rich.console import Console
 from rich.table import Table
+from rich.text import Text
+from typer.core import TyperGroup
 
 from rollerrig._validation import ParameterError
 
-app = typer.Typer(
-    name="rollerrig",
-    help="Wheel-roller adhesion rig toolkit: contact mechanics, digital twin, measurements.",
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_enable=False,
-)
-console = Console(width=110)
-err_console = Console(stderr=True)
+console = Console(width=110, markup=False, highlight=False)
+err_console = Console(stderr=True, markup=False, highlight=False, soft_wrap=True)
 
 DEFAULT_OUT = Path("rollerrig-output")
+DEBUG_ENV = "ROLLERRIG_DEBUG"
+ISSUES_URL = "the rollerrig issue tracker"
+
+# Optional dependency -> the extra that installs it (pyproject.toml).
+_EXTRAS = {
+    "nptdms": "io",
+    "asammdf": "io",
+    "pymatreader": "io",
+    "numba": "twin",
+    "xarray": "twin",
+    "pandas": "twin",
+    "h5netcdf": "twin",
+    "h5py": "twin",
+    "pyarrow": "twin",
+}
 
 
-@app.callback()
-def _root(
-    version: Annotated[bool, typer.Option("--version", help="Print the version and exit.")] = False,
-) -> None:
-    """Wheel-roller adhesion rig toolkit."""
-    if version:
+class UserError(Exception):
+    """A problem with what the user gave (option, file, folder): printed as one error line."""
+
+
+def _print_error(message: str) -> None:
+    err_console.print(Text.assemble(("error: ", "bold red"), str(message)))
+
+
+def _fail(message: str) -> NoReturn:
+    """Print one error line (literally, no markup) and exit with code 2."""
+    _print_error(message)
+    raise typer.Exit(code=2)
+
+
+def note(text: str) -> None:
+    """Print a ``note:`` line (the text literally)."""
+    console.print(Text.assemble(("note: ", "yellow"), str(text)), soft_wrap=True)
+
+
+def _import_message(exc: ImportError) -> str:
+    text = str(exc)
+    if "rollerrig[" in text:
+        return text
+    module = (exc.name or "").split(".")[0]
+    extra = _EXTRAS.get(module)
+    if extra is None:
+        return f"{text} (a package rollerrig needs is missing; reinstall rollerrig)"
+    return f"{text}: install the optional packages with pip install 'rollerrig[{extra}]'"
+
+
+def _os_message(exc: OSError) -> str:
+    what = exc.strerror or str(exc)
+    names = [str(n) for n in (exc.filename, exc.filename2) if n is not None]
+    if isinstance(exc, FileNotFoundError) and names:
+        return f"file not found: {names[0]}"
+    return f"{what}: {' -> '.join(names)}" if names else what
+
+
+def _user_message(exc: BaseException) -> str | None:
+    """The one-line message of a user-side error, or None for an internal error."""
+    if isinstance(exc, ParameterError | UserError):
+        return str(exc)
+    if isinstance(exc, ImportError):
+        return _import_message(exc)
+    if isinstance(exc, OSError):
+        return _os_message(exc)
+    return None
+
+
+def _debug_wanted(ctx: click.Context) -> bool:
+    return bool(ctx.params.get("debug")) or os.environ.get(DEBUG_ENV, "") not in ("", "0")
+
+
+# Exits, usage errors and aborts keep click's/typer's own handling.
+_PASS_THROUGH = (
+    click.exceptions.Exit,
+    click.ClickException,
+    click.Abort,
+    typer.Exit,
+    typer.Abort,
+)
+
+
+class _BoundaryGroup(TyperGroup):
+    """The error boundary of every command (see the module docstring)."""
+
+    def invoke(self, ctx: click.Context):
+        try:
+            return super().invoke(ctx)
+        except _PASS_THROUGH:
+            raise
+        except Exception as exc:  # the boundary: everything else ends as one line
+            message = _user_message(exc)
+            if _debug_wanted(ctx):
+                traceback.print_exception(exc)
+            if message is not None:
+                _print_error(message)
+                raise typer.Exit(code=2) from None
+            text = " ".join(str(exc).split()) or "(no message)"
+            err_console.print(
+                Text.assemble(
+                    ("internal error: ", "bold red"),
+                    f"{type(exc).__name__}: {text} (please report this to {ISSUES_URL}, "
+                    f"with the output of the same command run with --debug)",
+                )
+            )
+            raise typer.Exit(code=3) from None
+
+
+class staged_outputs:  # a context manager that reads as a function
+    """Write all files of one command together, or none of them.
+
+    ``with staged_outputs(out) as stage:`` creates a hidden staging folder next to ``out`` (on
+    the same file system); write into ``stage.dir`` (or ``stage.path(name)``). When the block
+    ends without an exception, every staged file is moved into ``out`` with ``os.replace``
+    (atomic per file; an existing file of that name is replaced) and ``stage.written`` lists
+    the final paths; on an exception the staging folder is removed and ``out`` is untouched
+    (not even created).
+    """
+
+    def __init__(self, out: str | os.PathLike):
+        self.out = Path(out)
+        self.dir: Path | None = None
+        self.written: list[Path] = []
+
+    def __enter__(self) -> staged_outputs:
+        if self.out.exists() and not self.out.is_dir():
+            raise UserError(f"--out {self.out} is a file, not a folder; give a folder")
+        anchor = self.out
+        while not anchor.exists():
+            anchor = anchor.parent
+        self.dir = Path(tempfile.mkdtemp(prefix=f".rollerrig-{self.out.name}-", dir=anchor))
+        return self
+
+    def path(self, name: str) -> Path:
+        """Staged path of the output file ``name`` (relative to ``out``)."""
+        return self.dir / name
+
+    def final(self, staged: str | os.PathLike) -> Path:
+        """Where a staged path ends up in ``out``."""
+        return self.out / Path(staged).relative_to(self.dir)
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            if exc_type is None:
+                files = sorted(p for p in self.dir.rglob("*") if p.is_file())
+                files = [p for p in files if not p.name.startswith(".")]  # writers' temporaries
+                self.out.mkdir(parents=True, exist_ok=True)
+                for src in files:
+                    dest = self.final(src)
+                    dest.parent.mkdir(parents=True, exist_ok=True)
+                    os.replace(src, dest)
+                    self.written.append(dest)
+        finally:
+            shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def _version_callback(value: bool) -> None:
+    if value:
         from rollerrig import __version__
 
         console.print(f"rollerrig {__version__}")
         raise typer.Exit()
 
 
-def _fail(message: str) -> None:
-    err_console.print(f"[bold red]error:[/] {message}")
-    raise typer.Exit(code=2)
+app = typer.Typer(
+    name="rollerrig",
+    help="Wheel-roller adhesion rig toolkit: contact mechanics, digital twin, measurements.",
+    cls=_BoundaryGroup,
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,  # help texts print literally: units such as [kN] survive
+)
+
+
+@app.callback()
+def _root(
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version",
+            help="Print the version and exit.",
+            callback=_version_callback,
+            is_eager=True,
+        ),
+    ] = False,
+    debug: Annotated[
+        bool,
+        typer.Option(
+            "--debug",
+            help=f"Show the full traceback of an error (also: environment {DEBUG_ENV}=1).",
+        ),
+    ] = False,
+) -> None:
+    """Wheel-roller adhesion rig toolkit."""
 
 
 def _load_rig(rig_file: Path | None):
@@ -93,47 +289,43 @@ def contact(
     from rollerrig.report._io import provenance, save_figure, write_json
     from rollerrig.report.contact import contact_size_figure, creep_curve_figure
 
-    try:
-        rig = _load_rig(rig_file)
-        g, mat = rig.geometry, rig.material
-        load = load_kn * 1e3
-        speed = speed_kmh / 3.6
-        wheel_rx = g.wheel_radius_x if wheel_radius_mm is None else wheel_radius_mm * 1e-3
-        roller_rx = g.roller_radius_x if roller_radius_mm is None else roller_radius_mm * 1e-3
-        nu = mat.poisson if poisson is None else poisson
-        sets = dict(POLACH_PARAMETER_SETS)
-        if k_adhesion is not None or k_slip is not None:
-            sets = {
-                name: replace(
-                    p,
-                    k_adhesion=p.k_adhesion if k_adhesion is None else k_adhesion,
-                    k_slip=p.k_slip if k_slip is None else k_slip,
-                    name=f"{name} (kA/kS overridden)",
-                )
-                for name, p in sets.items()
-            }
-        geometry = (wheel_rx, g.wheel_radius_y, roller_rx, g.roller_radius_y)
-        creep = np.linspace(0.0, 0.30, 3001)  # wide enough to contain the wet peak
-        rows = {}
-        for where, rx in (("roller", roller_rx), ("tangent rail", np.inf)):
-            rows[where] = {
-                name: polach_creep_curve(
-                    creep,
-                    load,
-                    speed,
-                    geometry[0],
-                    geometry[1],
-                    rx,
-                    geometry[3],
-                    p,
-                    mat.youngs_modulus,
-                    nu,
-                )
-                for name, p in sets.items()
-            }
-    except ParameterError as exc:
-        _fail(str(exc))
-        return
+    rig = _load_rig(rig_file)
+    g, mat = rig.geometry, rig.material
+    load = load_kn * 1e3
+    speed = speed_kmh / 3.6
+    wheel_rx = g.wheel_radius_x if wheel_radius_mm is None else wheel_radius_mm * 1e-3
+    roller_rx = g.roller_radius_x if roller_radius_mm is None else roller_radius_mm * 1e-3
+    nu = mat.poisson if poisson is None else poisson
+    sets = dict(POLACH_PARAMETER_SETS)
+    if k_adhesion is not None or k_slip is not None:
+        sets = {
+            name: replace(
+                p,
+                k_adhesion=p.k_adhesion if k_adhesion is None else k_adhesion,
+                k_slip=p.k_slip if k_slip is None else k_slip,
+                name=f"{name} (kA/kS overridden)",
+            )
+            for name, p in sets.items()
+        }
+    geometry = (wheel_rx, g.wheel_radius_y, roller_rx, g.roller_radius_y)
+    creep = np.linspace(0.0, 0.30, 3001)  # wide enough to contain the wet peak
+    rows = {}
+    for where, rx in (("roller", roller_rx), ("tangent rail", np.inf)):
+        rows[where] = {
+            name: polach_creep_curve(
+                creep,
+                load,
+                speed,
+                geometry[0],
+                geometry[1],
+                rx,
+                geometry[3],
+                p,
+                mat.youngs_modulus,
+                nu,
+            )
+            for name, p in sets.items()
+        }
 
     table = Table(
         title=f"Wheel-roller contact at N = {load_kn:g} kN (E = {mat.youngs_modulus / 1e9:g} GPa, "
@@ -200,10 +392,6 @@ def contact(
         polach=[p.to_dict() for p in sets.values()],
         rig=rig.meta.name,
     )
-    paths = [
-        save_figure(fig1, out / "contact-creep-curves.png", metadata=record),
-        save_figure(fig2, out / "contact-vs-roller-radius.png", metadata=record),
-    ]
     summary = {
         "provenance": record,
         "contact": {
@@ -222,9 +410,11 @@ def contact(
             )
         },
     }
-    paths.append(write_json(out / "contact-report.json", summary))
-    for p in paths:
-        console.print(f"wrote {p}")
+    with staged_outputs(out) as stage:
+        save_figure(fig1, stage.path("contact-creep-curves.png"), metadata=record)
+        save_figure(fig2, stage.path("contact-vs-roller-radius.png"), metadata=record)
+        write_json(stage.path("contact-report.json"), summary)
+    _print_written(stage.written)
 
 
 @app.command()
@@ -278,18 +468,17 @@ def simulate(
     suffix = "." + output_format.lower().lstrip(".")
     if suffix not in SAVE_FORMATS:
         _fail(f"unknown results format {output_format!r}; choose one of {SAVE_FORMATS}")
-    try:
-        rig = _load_rig(rig_file)
-        drives = DriveConfig(wheel=wheel_drive, roller=roller_drive, roller_lag=roller_lag_s)
-        sim = Simulation(rig, experiment, drives=drives, solver=solver)
-    except (ParameterError, FileNotFoundError) as exc:
-        _fail(str(exc))
-        return
-    results_path = out / f"{sim.protocol.name}{suffix}"
-    figure_path = out / f"{sim.protocol.name}.png"
+    rig = _load_rig(rig_file)
+    drives = DriveConfig(wheel=wheel_drive, roller=roller_drive, roller_lag=roller_lag_s)
+    sim = Simulation(rig, experiment, drives=drives, solver=solver)
     console.print(
-        f"simulating [bold]{sim.protocol.name}[/] ({sim.protocol.duration:g} s) on "
-        f"[bold]{rig.meta.name}[/]: wheel {drives.wheel}, roller {drives.roller}, solver {solver}"
+        Text.assemble(
+            "simulating ",
+            (sim.protocol.name, "bold"),
+            f" ({sim.protocol.duration:g} s) on ",
+            (rig.meta.name, "bold"),
+            f": wheel {drives.wheel}, roller {drives.roller}, solver {solver}",
+        )
     )
     with Progress(
         TextColumn("{task.description}"),
@@ -304,18 +493,19 @@ def simulate(
         bar.update(task, completed=sim.protocol.duration, info="done")
     stats = json.loads(ds.attrs["provenance"])["solver"]
     console.print(f"solved in {stats['wall_time_s']:.2f} s ({stats['name']})")
-    # Outputs are replaced atomically on a re-run; inputs are never written to.
-    save_dataset(ds, results_path, overwrite=True)
-    save_figure(experiment_figure(ds), figure_path)
     rows = modal_table(rig)
     text = format_modal_table(rows)
-    atomic_write(out / "modes.txt", lambda p: p.write_text(text + "\n", encoding="utf-8"))
-    console.print(text)
     release = _release_summary(ds, sim.protocol)
+    figure = experiment_figure(ds)
+    # All outputs together; a re-run replaces them; inputs are never written to.
+    with staged_outputs(out) as stage:
+        save_dataset(ds, stage.path(f"{sim.protocol.name}{suffix}"), overwrite=True)
+        save_figure(figure, stage.path(f"{sim.protocol.name}.png"))
+        atomic_write(stage.path("modes.txt"), lambda p: p.write_text(text + "\n", "utf-8"))
+    console.print(text)
     if release:
         console.print(release)
-    for path in (results_path, figure_path, out / "modes.txt"):
-        console.print(f"wrote {path}")
+    _print_written(stage.written)
 
 
 def _release_summary(ds, protocol) -> str:
@@ -344,12 +534,8 @@ def study(
     from rollerrig.report.twin import sweep_figure
     from rollerrig.studies import run_study
 
-    try:
-        rig = _load_rig(rig_file)
-        result = run_study(name, rig)
-    except ParameterError as exc:
-        _fail(str(exc))
-        return
+    rig = _load_rig(rig_file)
+    result = run_study(name, rig)
     table = Table(title=f"Study '{name}': overshoot below zero after a sudden torque release")
     table.add_column("variant")
     table.add_column("T56 / r_r", justify="right")
@@ -372,12 +558,10 @@ def study(
         ),
         title=f"Overshoot after a sudden release: {result.parameter}",
     )
-    paths = [
-        save_figure(fig, out / f"study-{name}.png"),
-        write_json(out / f"study-{name}.json", {"study": name, "rows": result.rows()}),
-    ]
-    for path in paths:
-        console.print(f"wrote {path}")
+    with staged_outputs(out) as stage:
+        save_figure(fig, stage.path(f"study-{name}.png"))
+        write_json(stage.path(f"study-{name}.json"), {"study": name, "rows": result.rows()})
+    _print_written(stage.written)
 
 
 @app.command()
@@ -385,22 +569,112 @@ def modes(
     rig_file: Annotated[
         Path | None, typer.Option("--rig", help="Rig parameter file (TOML); default: bundled rig.")
     ] = None,
+    speed_kmh: Annotated[
+        float | None,
+        typer.Option(
+            "--speed-kmh",
+            help="Roller speed [km/h]: also print the damped modes of the coupled twin "
+            "(contact and drives in) linearised at steady free rolling at this speed.",
+        ),
+    ] = None,
+    load_kn: Annotated[
+        float | None,
+        typer.Option(
+            "--load-kn",
+            help="Normal load [kN] of the coupled twin (default 4.3 kN, the seed's test load).",
+        ),
+    ] = None,
+    friction: Annotated[
+        str, typer.Option(help="Friction condition of the coupled twin's contact: dry or wet.")
+    ] = "dry",
 ) -> None:
-    """Natural frequencies, damping and dominant bodies of the torsional chain."""
+    """Natural frequencies, damping and dominant bodies of the torsional chain; with
+    --speed-kmh (and --load-kn), the damped modes of the coupled, linearised twin beside them:
+    frequency, damping ratio and what moves, and which modes can ring."""
     from rollerrig.rig.chain import format_modal_table, modal_table
+    from rollerrig.rig.linear import DEFAULT_NORMAL_LOAD, coupled_modes, format_coupled_modes
 
-    try:
-        rig = _load_rig(rig_file)
-    except ParameterError as exc:
-        _fail(str(exc))
+    rig = _load_rig(rig_file)
+    coupled = None
+    if speed_kmh is None and load_kn is not None:
+        raise UserError("--load-kn needs --speed-kmh: give the roller speed [km/h] as well")
+    if speed_kmh is not None:
+        if not (np.isfinite(speed_kmh) and speed_kmh > 0):
+            raise UserError(f"--speed-kmh must be > 0 [km/h], got {speed_kmh:g}")
+        if load_kn is not None and not (np.isfinite(load_kn) and load_kn > 0):
+            raise UserError(f"--load-kn must be > 0 [kN], got {load_kn:g}")
+        load = DEFAULT_NORMAL_LOAD if load_kn is None else load_kn * 1e3
+        source = "--load-kn" if load_kn is not None else "default: the seed's test load"
+        coupled = coupled_modes(rig, speed_kmh / 3.6, load, friction=friction, load_source=source)
+    console.print("Free torsional chain (no contact, no drives):")
+    console.print(format_modal_table(modal_table(rig)), soft_wrap=True)
+    if coupled is not None:
+        console.print()
+        console.print(format_coupled_modes(coupled), soft_wrap=True)
+
+
+def _quiet_reader_console_logs() -> None:
+    """nptdms prints its warnings through its own console handler; the reader collects them as
+    notes (or errors), so the console copy is dropped, except with --debug."""
+    ctx = click.get_current_context(silent=True)
+    if ctx is not None and _debug_wanted(ctx.find_root()):
         return
-    console.print(format_modal_table(modal_table(rig)))
+    try:
+        from nptdms.log import log_manager
+    except ImportError:  # no TDMS support installed: nothing to quiet
+        return
+    log_manager.console_handler.setLevel(logging.ERROR)
 
 
-def _read(path: Path, channels: Path | None, lenient: bool):
+def _read(path: Path, channels: Path | None, lenient: bool, needed=None):
+    """Read a recording; ``needed``: the channels the command needs (others only noted)."""
     from rollerrig.measure.readers import read_recording
 
-    return read_recording(path, channels, validate="lenient" if lenient else "strict")
+    _quiet_reader_console_logs()
+    return read_recording(
+        path,
+        channels,
+        validate="lenient" if lenient else "strict",
+        channels=None if needed is None else list(needed),
+    )
+
+
+def _print_written(paths) -> None:
+    for path in paths:
+        console.print(f"wrote {path}")
+
+
+def _print_recording_notes(rec) -> None:
+    """The reader's notes, interpolated NaN runs, gaps and injected lines, one line each."""
+    from rollerrig.measure.analysis import recording_note_lines
+
+    for line in recording_note_lines(rec):
+        note(f"recording: {line}")
+
+
+def _load_truth(path: Path):
+    """The twin's truth (NetCDF) of a synthetic recording, or one clear error."""
+    import errno
+
+    import xarray as xr
+
+    if not path.is_file():
+        raise FileNotFoundError(errno.ENOENT, "truth file not found", str(path))
+    try:
+        ds = xr.load_dataset(path, engine="h5netcdf")
+    except Exception as exc:  # any failure of the NetCDF reader: not a usable truth file
+        raise UserError(
+            f"--truth {path}: not a NetCDF file ({type(exc).__name__}: "
+            f"{' '.join(str(exc).split())[:200]}); give the *-truth.nc written beside the "
+            "synthetic recording"
+        ) from None
+    ds.encoding.setdefault("source", str(path))
+    if "coa" not in ds:
+        raise UserError(
+            f"--truth {path}: a NetCDF file without the variable 'coa' (the true contact CoA); "
+            "give the *-truth.nc written beside the synthetic recording"
+        )
+    return ds
 
 
 ChannelsOption = Annotated[
@@ -409,7 +683,10 @@ ChannelsOption = Annotated[
 ]
 LenientOption = Annotated[
     bool,
-    typer.Option(help="Fill short NaN runs and accept gaps (reported) instead of failing."),
+    typer.Option(
+        help="Fill short NaN runs and accept gaps instead of failing; every interpolated run, "
+        "gap and reader note is reported in every output."
+    ),
 ]
 
 
@@ -431,57 +708,83 @@ def analyze(
     """Analyse an adhesion test: phases, corrected CoA, creep-CoA branches, Polach fit, spectrum.
 
     Writes <name>-analysis.json (every result with units), <name>-analysis.nc (the processed
-    channels) and a self-contained <name>-report.html with the figures.
+    channels) and a self-contained <name>-report.html with the figures; all three or none.
     """
     from rollerrig.measure.analysis import analyze_test
     from rollerrig.report.analysis import write_analysis
 
-    try:
-        rec = _read(recording, channels, lenient)
-        rig = _load_rig(rig_file)
-        truth_ds = None
-        if truth is not None:
-            import xarray as xr
-
-            truth_ds = xr.load_dataset(truth, engine="h5netcdf")
-        result = analyze_test(rec, rig, truth=truth_ds, run_study=study)
-    except (ParameterError, FileNotFoundError, ImportError) as exc:
-        _fail(str(exc))
-        return
-    paths = write_analysis(
-        result,
-        out,
-        recording.stem,
-        source=str(recording),
-        truth=truth_ds,
-        extra_provenance={
-            "channel_map": str(channels) if channels else None,
-            "rig": rig.meta.name,
-            "recording_sha256": rec.metadata.get("sha256"),
-        },
-    )
+    rec = _read(recording, channels, lenient)
+    rig = _load_rig(rig_file)
+    truth_ds = None if truth is None else _load_truth(truth)
+    result = analyze_test(rec, rig, truth=truth_ds, run_study=study)
+    with staged_outputs(out) as stage:
+        write_analysis(
+            result,
+            stage.dir,
+            recording.stem,
+            source=str(recording),
+            truth=truth_ds,
+            extra_provenance={
+                "channel_map": str(channels) if channels else None,
+                "rig": rig.meta.name,
+                "recording_sha256": rec.metadata.get("sha256"),
+            },
+        )
     _print_analysis(result)
-    for path in paths:
-        console.print(f"wrote {path}")
+    _print_written(stage.written)
+
+
+_FIT_ROWS = (
+    ("static_friction", "μ0 [-]"),
+    ("limit_ratio", "A [-]"),
+    ("friction_decay", "B [s/m]"),
+    ("k_adhesion", "kA [-]"),
+    ("k_slip", "kS [-]"),
+)
+
+
+def _fit_cell(fit, i: int, key: str, truth: dict | None) -> str:
+    if fit is None:
+        return "–"
+    value, sd = fit.parameters.as_tuple()[i], fit.stderr[key]
+    cell = f"{value:.4g} ± {sd:.2g}"
+    if truth is not None and np.isfinite(sd) and sd > 0:
+        cell += f" ({abs(value - truth[key]) / sd:.1f} σ)"
+    return cell
 
 
 def _print_analysis(result) -> None:
+    truth = result.true_parameters
     table = Table(title="Polach fit to the ascending branches")
     table.add_column("parameter")
     table.add_column("corrected CoA", justify="right")
     table.add_column("rig CoA T56/(r_r N)", justify="right")
-    keys = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
-    names = ("μ0 [-]", "A [-]", "B [s/m]", "kA [-]", "kS [-]")
-    for i, (key, name) in enumerate(zip(keys, names, strict=True)):
-        cells = []
-        for fit in (result.fit, result.fit_rig_coa):
-            cells.append(
-                "–"
-                if fit is None
-                else f"{fit.parameters.as_tuple()[i]:.4g} ± {fit.stderr[key]:.2g}"
-            )
+    if truth is not None:
+        table.add_column("true (twin)", justify="right")
+    for i, (key, name) in enumerate(_FIT_ROWS):
+        cells = [_fit_cell(fit, i, key, truth) for fit in (result.fit, result.fit_rig_coa)]
+        if truth is not None:
+            cells.append(f"{truth[key]:.4g}")
         table.add_row(name, *cells)
     console.print(table)
+    if truth is not None:
+        console.print(
+            "(n σ): distance from the true value in standard errors; truth from "
+            f"{result.true_parameters_source}",
+            soft_wrap=True,
+        )
+    shown = []  # fit warnings whose content the lines below already give
+    for label, fit in (("corrected CoA", result.fit), ("rig CoA", result.fit_rig_coa)):
+        if fit is None:
+            continue
+        if fit.coverage is not None:
+            text = fit.coverage.describe(reasons=False)
+            why = "" if fit.coverage.a_and_b_identifiable else " (why: see the notes)"
+            console.print(f"fit to the {label}: {text}{why}", soft_wrap=True)
+        if fit.residual_structure is not None:
+            text = fit.residual_structure.describe()
+            console.print(f"fit to the {label}: {text}", soft_wrap=True)
+            shown.append(f"fit to the {label}: Polach fit residuals are structured")
     for key, value in result.truth_errors.items():
         console.print(f"{key}: {value:.4f}")
     if result.spectrum is not None:
@@ -492,8 +795,31 @@ def _print_analysis(result) -> None:
             f"filter study: best {best.label} (cost {best.score.cost:.3f}); Savitzky-Golay tuned "
             f"to order {result.smoothing_order}, window {result.smoothing_window} samples"
         )
-    for note in result.notes:
-        console.print(f"[yellow]note:[/] {note}")
+    _print_recording_notes(result.recording)
+    for text in result.notes:
+        if not text.startswith(tuple(shown)):
+            note(text)
+
+
+_SPECTRUM_IN_MEMORY = 1 << 22  # samples per channel up to which `spectrum` reads a file whole
+
+
+def _spectrum_input(path: Path, channels, lenient: bool, needed, rig, files):
+    """A recording for the spectrum workflow: read whole (with the derived quantities) when
+    short, multi-rate or --lenient; else streamed in chunks from the file (bounded memory)."""
+    from rollerrig.measure.quantities import derive_quantities
+    from rollerrig.measure.recording import RecordingError
+
+    if not lenient:
+        from rollerrig.measure.source import open_recording
+
+        try:
+            source = files.enter_context(open_recording(path, channels, channels=needed))
+        except RecordingError:
+            source = None  # e.g. channels on several time bases: the reader resamples them
+        if source is not None and source.n_samples > _SPECTRUM_IN_MEMORY:
+            return source
+    return derive_quantities(_read(path, channels, lenient, needed=needed), rig)
 
 
 @app.command()
@@ -515,76 +841,81 @@ def spectrum(
     lenient: LenientOption = False,
 ) -> None:
     """Spectra whose peaks explain themselves; with several recordings, an order map and the
-    lines that stay put at every speed (speed-independent)."""
-    from rollerrig.measure.quantities import derive_quantities
+    lines that stay put at every speed (speed-independent). Settings are chosen from each
+    signal and stated; the coupled twin's damped modes at each recording's speed and load are
+    among the sources."""
+    import contextlib
+
     from rollerrig.report._io import save_figure, write_json
     from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
-    from rollerrig.rig.chain import modal_table
-    from rollerrig.signal.spectra import (
-        coherence,
-        coherence_at,
-        explain_spectrum,
-        order_map,
-        speed_independent_lines,
-    )
+    from rollerrig.signal.workflow import explain_recordings
 
-    try:
-        rig = _load_rig(rig_file)
-        modes = [row.frequency for row in modal_table(rig) if row.frequency > 0]
-        loaded = [(p, derive_quantities(_read(p, channels, lenient), rig)) for p in recordings]
-        coherences = {}
-        if coherence_with is not None:
-            for path, rec in loaded:
-                rec.require(channel, coherence_with)
-                coherences[path] = coherence(rec[channel], rec[coherence_with], rec.sample_rate)
-        explained = [(p, explain_spectrum(r, channel, rig_modes=modes)) for p, r in loaded]
-        fixed = speed_independent_lines([e for _, e in explained]) if len(explained) > 1 else []
-        if len(fixed):  # explain again, now with the lines that stay put at every speed
-            explained = [
-                (p, explain_spectrum(r, channel, rig_modes=modes, speed_independent=fixed))
-                for p, r in loaded
-            ]
-    except (ParameterError, FileNotFoundError, ImportError) as exc:
-        _fail(str(exc))
-        return
-    summary = {}
-    for path, e in explained:
-        speed_kmh = e.roller_speed * rig.geometry.roller_radius_x * 3.6
-        console.print(f"[bold]{path.name}[/]: roller {speed_kmh:.1f} km/h")
-        console.print(e.format_table())
-        save_figure(
-            spectrum_figure(e, title=f"{path.name} ({speed_kmh:.1f} km/h)"),
-            out / f"{path.stem}-spectrum.png",
-        )
-        summary[path.name] = {"roller_speed [rad/s]": e.roller_speed, "peaks": list(e.table())}
-        if path in coherences:
-            coh = coherences[path]
-            freqs = [r.frequency for r in e.rows]
-            gamma = coherence_at(coh, freqs)
-            for row, g in zip(summary[path.name]["peaks"], gamma, strict=True):
-                row[f"coherence with {coherence_with}"] = float(g)
+    rig = _load_rig(rig_file)
+    needed = [channel] if coherence_with is None else [channel, coherence_with]
+    with contextlib.ExitStack() as files:
+        loaded = [_spectrum_input(p, channels, lenient, needed, rig, files) for p in recordings]
+        result = explain_recordings(loaded, channel, rig, coherence_with=coherence_with)
+    from rollerrig.measure.analysis import recording_facts
+
+    stems = [p.stem for p in recordings]
+    stems = [s if stems.count(s) == 1 else f"{s}-{i + 1}" for i, s in enumerate(stems)]
+    names = [p.name for p in recordings]
+    keys = [n if names.count(n) == 1 else str(p) for n, p in zip(names, recordings, strict=True)]
+    summary: dict = {}
+    with staged_outputs(out) as stage:
+        for path, stem, key, rec, e in zip(
+            recordings, stems, keys, loaded, result.spectra, strict=True
+        ):
+            speed_kmh = e.roller_speed * rig.geometry.roller_radius_x * 3.6
             console.print(
-                f"coherence {channel}–{coherence_with} at the peaks: "
-                + ", ".join(f"{f:.2f} Hz: {g:.2f}" for f, g in zip(freqs, gamma, strict=True))
+                Text.assemble((path.name, "bold"), f": roller {speed_kmh:.1f} km/h"),
+                soft_wrap=True,
+            )
+            _print_recording_notes(rec)
+            console.print(e.format_table(), soft_wrap=True)
+            for text in e.notes:
+                note(text)
+            save_figure(
+                spectrum_figure(e, title=f"{path.name} ({speed_kmh:.1f} km/h)"),
+                stage.path(f"{stem}-spectrum.png"),
+            )
+            summary[key] = e.summary() | {"recording": recording_facts(rec)}
+            if e.coherence is not None:
+                gamma = e.coherence_at_peaks()
+                console.print(
+                    f"coherence {channel}–{coherence_with} at the peaks: "
+                    + (
+                        ", ".join(
+                            f"{r.frequency:.2f} Hz: " + ("–" if g is None else f"{g:.2f}")
+                            for r, g in zip(e.rows, gamma, strict=True)
+                        )
+                        or "no peaks"
+                    )
+                    + f" ({e.coherence_note})",
+                    soft_wrap=True,
+                )
+                save_figure(
+                    coherence_figure(
+                        e.coherence,
+                        [r.frequency for r in e.rows],
+                        [r.label for r in e.rows],
+                        names=(channel, coherence_with),
+                    ),
+                    stage.path(f"{stem}-coherence.png"),
+                )
+        fixed = result.speed_independent
+        if len(result.spectra) > 1:
+            console.print(
+                "speed-independent lines [Hz]: " + (", ".join(f"{f:.3f}" for f in fixed) or "none")
             )
             save_figure(
-                coherence_figure(
-                    coh, freqs, [r.label for r in e.rows], names=(channel, coherence_with)
-                ),
-                out / f"{path.stem}-coherence.png",
+                order_map_figure(result.order_map(), roller_radius=rig.geometry.roller_radius_x),
+                stage.path("order-map.png"),
             )
-    if len(explained) > 1:
-        console.print(
-            "speed-independent lines [Hz]: " + (", ".join(f"{f:.3f}" for f in fixed) or "none")
-        )
-        omap = order_map([e for _, e in explained], speed_independent=fixed)
-        save_figure(
-            order_map_figure(omap, roller_radius=rig.geometry.roller_radius_x),
-            out / "order-map.png",
-        )
-    summary["speed_independent_lines [Hz]"] = [float(f) for f in fixed]
-    write_json(out / "spectra.json", summary)
-    console.print(f"wrote spectra to {out}")
+        summary["speed_independent_lines [Hz]"] = [float(f) for f in fixed]
+        write_json(stage.path("spectra.json"), summary)
+    for path in stage.written:
+        console.print(f"wrote {path}")
 
 
 @app.command()
@@ -596,19 +927,25 @@ def filters(
     top: Annotated[int, typer.Option(help="Rows of the ranked table to print.")] = 15,
     lenient: LenientOption = False,
 ) -> None:
-    """The seed's smoothing-filter study as a ranked table and figures (truth-free scoring)."""
+    """The seed's smoothing-filter study as a ranked table and figures (truth-free scoring).
+
+    Reads only the channel it smooths (other map entries missing from the file are noted).
+    """
+    from rollerrig.measure.analysis import (
+        check_channel_values,
+        fill_short_gaps,
+        recording_facts,
+    )
     from rollerrig.report._io import save_figure, write_json
     from rollerrig.report.filters import savitzky_golay_grid_figure, study_ranking_figure
     from rollerrig.signal.scoring import filter_study, tune_savitzky_golay
 
-    try:
-        rec = _read(recording, channels, lenient)
-        rec.require(channel)
-        rows = filter_study(rec.time, rec[channel])
-        order, window, grid = tune_savitzky_golay(rec.time, rec[channel])
-    except (ParameterError, FileNotFoundError, ImportError) as exc:
-        _fail(str(exc))
-        return
+    rec = _read(recording, channels, lenient, needed=[channel])
+    rec.require(channel)
+    check_channel_values(rec, [channel])
+    rec, _ = fill_short_gaps(rec)  # the scoring needs a uniform time base; notes say so
+    rows = filter_study(rec.time, rec[channel])
+    order, window, grid = tune_savitzky_golay(rec.time, rec[channel])
     table = Table(title=f"Smoothing filters on {recording.name}:{channel} (lower cost is better)")
     for col in ("rank", "filter", "noise left", "peak kept", "lag [s]", "cost"):
         table.add_column(col, justify="right" if col != "filter" else "left")
@@ -622,20 +959,24 @@ def filters(
             f"{s.lag:.3f}",
             f"{s.cost:.3f}",
         )
+    ranking_fig = study_ranking_figure(rows)
+    grid_fig = savitzky_golay_grid_figure(grid)
+    summary = {
+        "recording": recording_facts(rec),
+        "channel": channel,
+        "ranking": [r.as_dict() for r in rows],
+        "savitzky_golay": {"order": order, "window": window},
+    }
+    with staged_outputs(out) as stage:
+        save_figure(ranking_fig, stage.path(f"{recording.stem}-filter-ranking.png"))
+        save_figure(grid_fig, stage.path(f"{recording.stem}-sg-grid.png"))
+        write_json(stage.path(f"{recording.stem}-filters.json"), summary)
     console.print(table)
     console.print(
         f"Savitzky-Golay tuned for this recording: order {order}, window {window} samples"
     )
-    save_figure(study_ranking_figure(rows), out / f"{recording.stem}-filter-ranking.png")
-    save_figure(savitzky_golay_grid_figure(grid), out / f"{recording.stem}-sg-grid.png")
-    write_json(
-        out / f"{recording.stem}-filters.json",
-        {
-            "ranking": [r.as_dict() for r in rows],
-            "savitzky_golay": {"order": order, "window": window},
-        },
-    )
-    console.print(f"wrote figures and {recording.stem}-filters.json to {out}")
+    _print_recording_notes(rec)
+    _print_written(stage.written)
 
 
 @app.command()
@@ -644,6 +985,7 @@ def demo(
 ) -> None:
     """End to end on the bundled rig: simulate, record, analyse, report.
 
+    \b
     1. simulates the 30 km/h dry adhesion test on the digital twin (1 kHz);
     2. writes what the rig's DAQ would record (250 Hz, motor lines, ripple, noise, encoders) as
        an NI TDMS file, with the truth beside it (NetCDF);
@@ -652,14 +994,16 @@ def demo(
     """
     from rollerrig.demo import run_demo
 
-    paths = run_demo(out, console)
+    with staged_outputs(out) as stage:
+        paths = run_demo(out, console, workdir=stage.dir)
     result = paths["result"]
     _print_analysis(result)
     lines = ", ".join(f"{f:.3f} Hz" for f in paths["speed_independent"]) or "none"
-    console.print(f"speed-independent lines in the free-rolling spectra: {lines}")
-    for path in paths.values():
-        if isinstance(path, Path):
-            console.print(f"wrote {path}")
+    console.print(
+        f"speed-independent lines in the free-rolling spectra: {lines} (no line is injected "
+        "into the demo's recordings: what is listed was found, not put there)"
+    )
+    _print_written(stage.written)
 
 
 def main() -> None:  # pragma: no cover - console entry point

@@ -7,13 +7,12 @@ QuantumX at 600 Hz), and both are read back with the channel map before analysis
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 
 from rollerrig.experiment.protocol import protocol_from_toml_string
 
-__all__ = ["FREE_ROLLING_SPEEDS_KMH", "run_demo"]
+__all__ = ["FREE_ROLLING_SPEEDS_KMH", "explain_free_rolling", "run_demo"]
 
 FREE_ROLLING_SPEEDS_KMH = (5.0, 10.0, 20.0, 30.0)
 """Speeds of the free-rolling runs for the spectral study (the seed's 5/10/20/30 km/h)."""
@@ -31,35 +30,60 @@ duration_s = {duration}
 """
 
 
-def run_demo(out, console=None, free_rolling_duration: float = 20.0) -> dict:
-    """Run the demonstration and write everything to ``out``; returns the written paths."""
+def explain_free_rolling(paths, rig):
+    """The demo's free-rolling spectra: the one spectrum workflow, exactly as
+    ``rollerrig spectrum <paths> --coherence displacement_torque_sensor`` runs it (settings from
+    each signal, the coupled twin's damped modes, the coherence from the same segments).
+
+    Returns
+    -------
+    recordings : list of Recording
+        The recordings read back, with the derived quantities.
+    spectra : rollerrig.signal.workflow.SpectraSet
+    """
+    from rollerrig.measure.quantities import derive_quantities
+    from rollerrig.measure.readers import read_recording
+    from rollerrig.signal.workflow import explain_recordings
+
+    free = [derive_quantities(read_recording(p), rig) for p in paths]
+    return free, explain_recordings(
+        free, "torque", rig, coherence_with="displacement_torque_sensor"
+    )
+
+
+def _relocated(recording, path):
+    """The recording with ``metadata["source"]`` naming where its file ends up."""
+    from rollerrig.measure.recording import Recording
+
+    meta = {**recording.metadata, "source": str(path)}
+    return Recording(recording.time, recording.channels, recording.units, meta)
+
+
+def run_demo(out, console=None, free_rolling_duration: float = 20.0, *, workdir=None) -> dict:
+    """Run the demonstration and write everything to ``out``; returns the written paths.
+
+    ``workdir``: write the files there instead (e.g. a staging folder whose files are moved
+    into ``out`` once everything succeeded); sources and provenance still name ``out``.
+    """
     import xarray as xr
 
-    from rollerrig.measure.analysis import analyze_test
-    from rollerrig.measure.quantities import derive_quantities
+    from rollerrig.measure.analysis import analyze_test, recording_facts
     from rollerrig.measure.readers import read_recording
     from rollerrig.measure.synthetic import synthetic_recording
     from rollerrig.measure.writers import write_recording
-    from rollerrig.report._io import atomic_write, save_figure
+    from rollerrig.report._io import atomic_write, save_figure, write_json
     from rollerrig.report.analysis import write_analysis
     from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
     from rollerrig.report.twin import experiment_figure
-    from rollerrig.rig.chain import modal_table
     from rollerrig.rig.parameters import default_rig
-    from rollerrig.signal.spectra import (
-        coherence,
-        coherence_at,
-        explain_spectrum,
-        order_map,
-        speed_independent_lines,
-    )
     from rollerrig.solve.simulation import Simulation
 
     def say(text: str) -> None:
         if console is not None:
             console.print(text)
 
-    out = Path(out)
+    final = Path(out)  # where the files end up: what sources and provenance name
+    out = final if workdir is None else Path(workdir)
     out.mkdir(parents=True, exist_ok=True)
     rig = default_rig()
     written: dict[str, Path] = {}
@@ -89,40 +113,29 @@ def run_demo(out, console=None, free_rolling_duration: float = 20.0) -> dict:
         mdf_paths.append(write_recording(rec, out / f"{protocol.name}.mf4", overwrite=True))
 
     say("4/4 reading the files back and analysing ...")
-    test = read_recording(tdms)  # the channel map of files rollerrig writes
+    test = _relocated(read_recording(tdms), final / tdms.name)  # rollerrig's own channel map
     result = analyze_test(test, rig, truth=xr.load_dataset(written["truth"], engine="h5netcdf"))
-    modes = [row.frequency for row in modal_table(rig) if row.frequency > 0]
-    free = [derive_quantities(read_recording(p), rig) for p in mdf_paths]
-    explained = [explain_spectrum(r, "torque", rig_modes=modes) for r in free]
-    fixed = speed_independent_lines(explained)
-    explained = [
-        explain_spectrum(r, "torque", rig_modes=modes, speed_independent=fixed) for r in free
-    ]
+    free, spectra = explain_free_rolling(mdf_paths, rig)
+    explained, fixed = list(spectra.spectra), spectra.speed_independent
     for path, e in zip(mdf_paths, explained, strict=True):
         written[path.stem] = save_figure(
             spectrum_figure(e, max_frequency=60.0, title=path.name), out / f"{path.stem}.png"
         )
     # Shaft displacement (laser at the torque sensor) against torque at 30 km/h (Kayaalp 4.5.2.4).
-    fastest, e30 = free[-1], explained[-1]
-    # 2048-sample segments (3.4 s, 10 averages): the default 5 s hop is a whole number of beat
-    # periods between the 1.333 Hz line and the roller order, which phase-locks the two
-    # deterministic lines across segments and fakes a coherence near 1.
-    coh = coherence(
-        fastest["torque"], fastest["displacement_torque_sensor"], fastest.sample_rate, nperseg=2048
-    )
-    coh_at_peaks = coherence_at(coh, [r.frequency for r in e30.rows])
-    omap = order_map(explained, speed_independent=fixed)
+    e30 = explained[-1]
+    coh, coh_at_peaks = e30.coherence, e30.coherence_at_peaks()
+    omap = spectra.order_map()
     written["order_map"] = save_figure(
         order_map_figure(omap, roller_radius=rig.geometry.roller_radius_x, max_frequency=60.0),
         out / "order-map.png",
     )
-    spectra_summary = {
-        path.name: {"roller_speed [rad/s]": e.roller_speed, "peaks": list(e.table())}
+    spectra_summary = {  # sources named where the files end up (not a staging folder)
+        path.name: {**e.summary(), "source": str(final / path.name)}
         for path, e in zip(mdf_paths, explained, strict=True)
     }
     spectra_summary["speed_independent_lines [Hz]"] = [float(f) for f in fixed]
     spectra_summary["coherence_torque_displacement_30kmh"] = [
-        {"frequency [Hz]": r.frequency, "source": r.label, "coherence": float(g)}
+        {"frequency [Hz]": r.frequency, "source": r.label, "coherence": g}
         for r, g in zip(e30.rows, coh_at_peaks, strict=True)
     ]
 
@@ -145,7 +158,8 @@ def run_demo(out, console=None, free_rolling_duration: float = 20.0) -> dict:
             "Magnitude-squared coherence between the laser displacement at the torque sensor and "
             "the torque, at each torque peak. Lines that come from the shaft's eccentricity "
             "cohere (the roller orders); the induction motor's lines do not: they are not "
-            "mechanical run-out, as the seed concluded (§4.5.2.4)."
+            "mechanical run-out, as the seed concluded (§4.5.2.4). Same segments as the "
+            f"spectrum: {e30.caption()}."
         )
         rep.figure(
             coherence_figure(
@@ -159,22 +173,30 @@ def run_demo(out, console=None, free_rolling_duration: float = 20.0) -> dict:
         )
         rep.table(
             ["f [Hz]", "source", "coherence γ² [-]"],
-            [[r.frequency, r.label, float(g)] for r, g in zip(e30.rows, coh_at_peaks, strict=True)],
+            [
+                [r.frequency, r.label, "–" if g is None else g]
+                for r, g in zip(e30.rows, coh_at_peaks, strict=True)
+            ],
         )
 
     paths = write_analysis(
         result,
         out,
         tdms.stem,
-        source=str(tdms),
+        source=str(final / tdms.name),
         truth=xr.load_dataset(written["truth"], engine="h5netcdf"),
-        extra_provenance={"rig": rig.meta.name, "free_rolling": [str(p) for p in mdf_paths]},
+        extra_provenance={
+            "rig": rig.meta.name,
+            "free_rolling": [str(final / p.name) for p in mdf_paths],
+        },
         extra_sections=free_rolling_section,
     )
     written.update({p.name: p for p in paths})
-    written["spectra"] = atomic_write(
-        out / "free-rolling-spectra.json",
-        lambda p: p.write_text(json.dumps(spectra_summary, indent=2, default=str)),
-    )
+    # What the reader/generator said about each free-rolling recording (notes, injected lines).
+    spectra_summary["recordings"] = {
+        path.name: {**recording_facts(r), "source": str(final / path.name)}
+        for path, r in zip(mdf_paths, free, strict=True)
+    }
+    written["spectra"] = write_json(out / "free-rolling-spectra.json", spectra_summary)
     say(f"done in {time.perf_counter() - start:.1f} s")
     return {"result": result, "explained": explained, "speed_independent": fixed, **written}

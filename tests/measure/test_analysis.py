@@ -10,8 +10,9 @@ import json
 import numpy as np
 import pytest
 
-from rollerrig.measure.analysis import analyze_test
+from rollerrig.measure.analysis import analyze_test, check_channel_values
 from rollerrig.measure.readers import read_recording
+from rollerrig.measure.recording import Recording, RecordingError
 from rollerrig.measure.synthetic import synthetic_recording
 from rollerrig.measure.writers import write_recording
 from rollerrig.report.analysis import write_analysis
@@ -71,3 +72,63 @@ def test_report_and_results_are_written(analysed, tmp_path):
     html = paths[2].read_text()
     assert html.count("data:image/png;base64") >= 5
     assert "true (twin)" in html  # the fit table shows the truth beside the fits
+
+
+def test_fit_honesty_on_the_seed_test(analysed):
+    # One rolling speed (30 km/h) and creep to ~5 %: A and B are not constrained, and the fit
+    # misses the twin's dry set (Polach 2005: A 0.40, B 0.60 s/m) by far more than its
+    # standard errors; the outputs must say so.
+    result, _, _ = analysed
+    assert result.true_parameters["limit_ratio"] == 0.4  # found in the TDMS file's metadata
+    assert "stored in the file" in result.true_parameters_source
+    summary = result.summary()
+    json.dumps(summary, allow_nan=False)  # never NaN or inf
+    fit = summary["polach_fit_corrected_coa"]
+    assert fit["identifiable"] is False and fit["A_B_identifiable"] is False
+    lo, hi = fit["slip_velocity_coverage"]["A_B_constrained_over_slip_velocity [m/s]"]
+    assert 0 < lo < hi < 1.0  # [m/s]: creep x 8.3 m/s
+    assert fit["truth_distance"]["limit_ratio"]["beyond_warn_sigma"]
+    assert any("misses the twin's true Polach set" in n for n in result.notes)
+    assert "durbin_watson" in fit["residual_structure"]
+
+
+def test_recording_facts_and_no_injected_line(analysed):
+    result, _, _ = analysed
+    facts = result.summary()["recording"]
+    assert facts["synthetic"] is True and facts["injected_lines"] == []
+    assert facts["interpolated"] == [] and facts["gaps"] == []
+
+
+def _flat_recording(torque):
+    t = np.arange(2000) / 250.0
+    ones = np.ones_like(t)
+    return Recording(
+        t,
+        {
+            "torque": torque * ones,
+            "wheel_speed": 23.9 * ones,
+            "roller_speed": 18.4 * ones,
+            "normal_load": 4300.0 * ones,
+        },
+        {"torque": "N.m", "wheel_speed": "rad/s", "roller_speed": "rad/s", "normal_load": "N"},
+        {"source": "flat.csv", "columns": {"torque": "Tq"}},
+    )
+
+
+def test_a_recording_without_a_test_is_refused_naming_the_channel():
+    with pytest.raises(RecordingError, match=r"no adhesion test found.*'torque'.*'Tq'"):
+        analyze_test(_flat_recording(100.0), default_rig(), run_study=False)
+
+
+def test_absurd_torque_is_refused_naming_channel_and_map_entry():
+    with pytest.raises(RecordingError, match=r"flat.csv: channel 'torque' \(map entry"):
+        analyze_test(_flat_recording(1e300), default_rig(), run_study=False)
+    with pytest.raises(RecordingError, match="torque sensor's range"):
+        check_channel_values(_flat_recording(5e5), ["torque"], default_rig())
+    check_channel_values(_flat_recording(500.0), ["torque", "absent"], default_rig())
+
+
+def test_truth_of_another_recording_is_refused(analysed):
+    _, truth, path = analysed
+    with pytest.raises(RecordingError, match="not the truth of this recording"):
+        analyze_test(read_recording(path), default_rig(), truth=truth.isel(time=slice(0, 100)))

@@ -83,7 +83,9 @@ def test_am_line_frequency_and_amplitude_closed_form():
 def test_all_lines_at_their_frequencies():
     ds = _constant_speed_dataset(1000.0, 4.0, 2 * np.pi * 2.0, 2 * np.pi * 1.5)
     rec, truth = synthetic_recording(
-        ds, DisturbanceModel(torque_noise=0.0, fixed_line_frequency=1.25), sample_rate=1000.0
+        ds,
+        DisturbanceModel(torque_noise=0.0, fixed_line_frequency=1.25, fixed_line_amplitude=2.0),
+        sample_rate=1000.0,
     )
     x = rec["torque"][:-1]
     expected = {  # [Hz]: p_AM = 5 and p_PMSM = 22 (Kayaalp Tables 1-2)
@@ -171,4 +173,26 @@ def test_twin_with_disturbances_is_clean_plus_lines_plus_noise(twin):
     md = rec.metadata
     assert md["seed"] == 2
     assert md["disturbances"]["fixed_line_frequency"] == 1.333
+    # The hand-injected speed-independent line is off by default, and nothing claims it.
+    assert md["disturbances"]["fixed_line_amplitude"] == 0.0
+    assert md["injected_lines"] == [] and md["notes"] == []
+    assert float(truth.line_amplitude.sel(line="fixed")) == 0.0
+    # The twin's Polach set of the test (dry, Polach 2005 Table 2) for the fit's truth check.
+    assert md["true_polach_parameters"]["dry"]["limit_ratio"] == 0.4
     assert json.loads(md["twin_provenance"])["rig"]["sensors"]["daq_rate"] == 250.0
+
+
+def test_injected_line_is_disclosed_with_frequency_and_amplitude():
+    ds = _constant_speed_dataset(250.0, 2.0, 20.0, 18.0)
+    model = _only(fixed_line_amplitude=2.0, fixed_line_frequency=1.333)
+    rec, truth = synthetic_recording(ds, model)
+    (line,) = rec.metadata["injected_lines"]
+    assert line["frequency [Hz]"] == 1.333 and line["amplitude [N.m]"] == 2.0
+    (text,) = rec.metadata["notes"]
+    assert "1.333 Hz" in text and "2 N.m" in text and "INJECTED" in text
+    assert json.loads(truth.attrs["injected_lines"]) == rec.metadata["injected_lines"]
+    # Off: nothing injected, nothing said.
+    rec0, truth0 = synthetic_recording(ds, _only(fixed_line_frequency=1.333))
+    assert (
+        rec0.metadata["injected_lines"] == [] and json.loads(truth0.attrs["injected_lines"]) == []
+    )

@@ -379,7 +379,7 @@ def test_order_map_lines_and_points(explained_by_speed):
 def test_figures(explained_by_speed, tmp_path):
     e = explained_by_speed[30.0]
     fig = spectrum_figure(e)
-    assert len(fig.axes[0].texts) == len(e.rows)
+    assert len(fig.axes[0].texts) == len(e.rows) + 1  # the labels and the settings line
     assert any("AM electrical ×2" in t.get_text() for t in fig.axes[0].texts)
     fig.savefig(tmp_path / "spectrum.png")
     rng = np.random.default_rng(2)
@@ -416,7 +416,8 @@ def test_validation_messages():
 def test_unexplained_and_tolerance_rule():
     peak = SpectralPeak(7.0, 1.0, 20.0, 20.0, 100, 0.01)
     (row,) = attribute_peaks([peak], roller_speed(30.0))
-    assert row.source == "unexplained" and np.isnan(row.delta_f) and row.matches == ()
+    assert row.source == "unexplained" and row.delta_f is None and row.matches == ()
+    assert "nearest" in row.reason and row.as_row()["delta_f_hz"] is None
     # tolerance = 1.5 Δf + 0.5 % f_c: accepted just inside, rejected just outside
     f_am = 5 * roller_speed(30.0) / (2 * np.pi)
     tol = 1.5 * 0.01 + 0.005 * f_am
@@ -430,7 +431,7 @@ def test_unexplained_and_tolerance_rule():
 def test_window_sidelobe_is_leakage_not_a_line():
     # Hann: first sidelobe -31.5 dB at 2.5 bins (Harris 1978, Table 1); a "peak" there at
     # -32 dB is leakage, one at -20 dB is a line.
-    from rollerrig.signal.spectra import _leakage, _leakage_envelope
+    from rollerrig.signal.peaks import _leakage, _leakage_envelope
 
     env = _leakage_envelope(sps.get_window("hann", 1024))
     assert 10 * np.log10(env[round(2.5 * 16)]) == pytest.approx(-31.5, abs=0.2)
@@ -444,5 +445,33 @@ def test_rig_torsional_mode_is_a_source():
     from rollerrig.signal.spectra import attribute_peaks
 
     rows = attribute_peaks([13.80, 20.0], roller_speed=18.44, resolution=0.1, rig_modes=[13.84])
-    assert rows[0].source == "rig_mode" and "13.840" in rows[0].label
+    assert rows[0].source == "rig_mode" and "13.84 Hz" in rows[0].label
     assert rows[1].source == "unexplained"
+
+
+def test_only_damped_twin_modes_that_can_ring_label_peaks():
+    # The coupled twin at 30 km/h, 4.3 kN (rollerrig.rig.linear): the roller-shaft mode rings at
+    # 13.78 Hz (ζ 0.004); the free chain's 19.02 Hz (am_mount, ζ 12) and 64.97 Hz (pmsm_mount,
+    # ζ 41) are overdamped, and the wheel-rubber mode (47.86 Hz free) sits near 38.5 Hz with
+    # ζ 0.37: none of those may label a line.
+    from rollerrig.rig.linear import coupled_modes
+    from rollerrig.rig.parameters import default_rig
+
+    modes = coupled_modes(default_rig(), 30 / 3.6, 4.3e3)
+    peaks = [13.78, 19.02, 38.47, 47.86, 64.97]
+    rows = attribute_peaks(peaks, None, resolution=0.05, rig_modes=modes.modes)
+    assert rows[0].source == "rig_mode" and "roller_shaft" in rows[0].label
+    assert [r.source for r in rows[1:]] == ["unexplained"] * 4
+    assert all(r.as_row()["delta_f_hz"] is None for r in rows[1:])
+
+
+def test_explain_spectrum_names_the_channel_of_a_constant_signal():
+    t = np.arange(5000) / FS_TORQUE
+    rec = Recording(
+        t,
+        {"torque": np.zeros(t.size), "roller_speed": np.full(t.size, 18.4)},
+        {"torque": "N.m", "roller_speed": "rad/s"},
+        {"source": "run.csv"},
+    )
+    with pytest.raises(RecordingError, match=r"run.csv: channel 'torque' is constant"):
+        explain_spectrum(rec)

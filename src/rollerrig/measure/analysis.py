@@ -16,7 +16,7 @@ import numpy as np
 from rollerrig.fit.polach import PolachFit, creep_stiffness_for_rig, fit_polach
 from rollerrig.measure.correction import corrected_adhesion
 from rollerrig.measure.quantities import derive_quantities
-from rollerrig.measure.recording import Recording
+from rollerrig.measure.recording import Recording, RecordingError
 from rollerrig.measure.segmentation import (
     Branches,
     Hysteresis,
@@ -27,14 +27,47 @@ from rollerrig.measure.segmentation import (
 )
 from rollerrig.signal.scoring import StudyRow, filter_study, tune_savitzky_golay
 from rollerrig.signal.smoothing import savitzky_golay
-from rollerrig.signal.spectra import ExplainedSpectrum, explain_spectrum
+from rollerrig.signal.workflow import ExplainedSpectrum, explain_recording
 
-__all__ = ["TestAnalysis", "analyze_test", "quiet_phase"]
+__all__ = [
+    "TestAnalysis",
+    "analyze_test",
+    "check_channel_values",
+    "describe_channel",
+    "fill_short_gaps",
+    "quiet_phase",
+    "recording_facts",
+    "recording_note_lines",
+    "true_polach_parameters",
+]
+
+# Channels the analysis reads, checked for values it can compute with.
+_ANALYSED_CHANNELS = (
+    "torque",
+    "torque_request",
+    "wheel_speed",
+    "roller_speed",
+    "wheel_encoder_counts",
+    "roller_encoder_counts",
+    "air_spring_pressure",
+    "normal_load",
+)
+_TORQUE_RANGE_FACTOR = 10.0  # torque beyond 10 x the sensor's range: a unit or scale mistake
+_TRUTH_SIGMA = 3.0  # fitted parameters further than this from a known truth are flagged
+_SYMBOLS = {
+    "static_friction": "μ0",
+    "limit_ratio": "A",
+    "friction_decay": "B [s/m]",
+    "k_adhesion": "kA",
+    "k_slip": "kS",
+}
 
 
 @dataclass
 class TestAnalysis:
     """What :func:`analyze_test` found. Arrays on the recording's time axis, SI units."""
+
+    __test__ = False  # not a pytest class, despite its name
 
     recording: Recording  # raw, derived, smoothed and corrected channels
     rig_name: str
@@ -52,11 +85,19 @@ class TestAnalysis:
     study: list[StudyRow]
     notes: list[str] = field(default_factory=list)
     truth_errors: dict = field(default_factory=dict)
+    true_parameters: dict | None = None  # the twin's Polach set (synthetic recordings)
+    true_parameters_source: str = ""
 
     def summary(self) -> dict:
-        """A JSON-ready summary of every result, with units in the keys."""
+        """A JSON-ready summary of every result, with units in the keys.
+
+        Never holds NaN or inf: a number that cannot be given is ``None`` with a reason beside
+        it. ``recording`` carries what the reader and the generator said about the recording
+        (notes, interpolated NaN runs, gaps, injected lines).
+        """
         return {
             "rig": self.rig_name,
+            "recording": recording_facts(self.recording),
             "phases": [
                 {"name": ph.name, "start [s]": ph.start, "end [s]": ph.end, "cycle": ph.cycle}
                 for ph in self.phases
@@ -70,32 +111,308 @@ class TestAnalysis:
             "hysteresis": [
                 _hysteresis_dict(b, h) for b, h in zip(self.branches, self.hysteresis, strict=True)
             ],
-            "polach_fit_corrected_coa": _fit_dict(self.fit, self.fit_points.size),
-            "polach_fit_rig_coa": _fit_dict(self.fit_rig_coa, self.fit_points.size),
+            "polach_fit_corrected_coa": _fit_dict(
+                self.fit, self.fit_points.size, self.true_parameters
+            ),
+            "polach_fit_rig_coa": _fit_dict(
+                self.fit_rig_coa, self.fit_points.size, self.true_parameters
+            ),
+            "true_polach_parameters": None
+            if self.true_parameters is None
+            else {"parameters": self.true_parameters, "source": self.true_parameters_source},
             "spectrum": None
             if self.spectrum is None
-            else {"window [s]": self.spectrum_window, "peaks": list(self.spectrum.table())},
+            else {"window [s]": list(self.spectrum_window), **self.spectrum.summary()},
             "filter_study_top10": [row.as_dict() for row in self.study[:10]],
             "truth_errors": self.truth_errors,
             "notes": self.notes,
         }
 
 
-def _fit_dict(fit: PolachFit | None, n_points: int) -> dict | None:
+def _finite_or_none(value: float) -> float | None:
+    value = float(value)
+    return value if np.isfinite(value) else None
+
+
+def _fit_dict(fit: PolachFit | None, n_points: int, truth: dict | None = None) -> dict | None:
     if fit is None:
         return None
     p = fit.parameters
-    return {
+    stderr = {k: _finite_or_none(v) for k, v in fit.stderr.items()}
+    out = {
         "mu0": p.static_friction,
         "A": p.limit_ratio,
         "B [s/m]": p.friction_decay,
         "kA": p.k_adhesion,
         "kS": p.k_slip,
-        "stderr": {k: float(v) for k, v in fit.stderr.items()},
+        "stderr": stderr,
         "rmse [-]": float(fit.rmse),
         "points": int(n_points),
         "identifiable": bool(fit.identifiable),
+        "A_B_identifiable": None
+        if fit.coverage is None
+        else bool(fit.coverage.a_and_b_identifiable),
+        "slip_velocity_coverage": None if fit.coverage is None else fit.coverage.as_dict(),
+        "residual_structure": None
+        if fit.residual_structure is None
+        else fit.residual_structure.as_dict(),
+        "truth_distance": None if truth is None else fit.truth_distance(truth, _TRUTH_SIGMA),
+        "truth_distance_warn_sigma": _TRUTH_SIGMA,
     }
+    missing = [k for k, v in stderr.items() if v is None]
+    if missing:
+        out["stderr_null_because"] = (
+            f"{', '.join(missing)}: not determined by the data (J^T J singular), no finite "
+            "standard error"
+        )
+    if fit.residual_structure is None:
+        out["residual_structure_null_because"] = "exact fit: residuals at round-off level"
+    return out
+
+
+def describe_channel(recording: Recording, name: str) -> str:
+    """How to find a channel in the user's file: its name, file column and map entry."""
+    columns = recording.metadata.get("columns") or {}
+    column = columns.get(name) if isinstance(columns, dict) else None
+    where = f", file column {column!r}" if column else ""
+    return f"channel {name!r} (map entry [channels.{name}]{where})"
+
+
+def _source(recording: Recording) -> str:
+    src = recording.metadata.get("source")
+    return f"{src}: " if src else ""
+
+
+def check_channel_values(recording: Recording, names, rig=None) -> None:
+    """Refuse channels whose values no analysis can compute with, naming channel and map entry.
+
+    Every given channel (those present) must be finite and small enough that sums of squares
+    over the recording stay finite; the torque must stay within 10 x the torque sensor's range
+    of the rig (``sensors.torque_sensor_range``), beyond which it is a unit or scale mistake.
+
+    Parameters
+    ----------
+    recording : Recording
+    names : iterable of str
+        Channels to check (absent ones are skipped).
+    rig : RigParameters, optional
+        For the torque sensor's range.
+
+    Raises
+    ------
+    RecordingError
+        Naming the file, the channel, its file column and map entry, and what to check.
+
+    Examples
+    --------
+    >>> t = np.arange(4) / 250.0
+    >>> rec = Recording(t, {"torque": np.full(4, 1e300)}, {"torque": "N.m"})
+    >>> check_channel_values(rec, ["torque"])
+    Traceback (most recent call last):
+    ...
+    rollerrig.measure.recording.RecordingError: channel 'torque' (map entry [channels.torque]) reaches 1e+300 N.m: too large to compute with (its squares overflow); check the unit, scale and offset of that map entry
+    """  # noqa: E501
+    for name in names:
+        if name not in recording:
+            continue
+        x = np.asarray(recording[name], dtype=float)
+        unit = recording.units.get(name, "")
+        what = f"{_source(recording)}{describe_channel(recording, name)}"
+        bad = ~np.isfinite(x)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise RecordingError(
+                f"{what} has {int(bad.sum())} NaN/inf samples, first at sample {k}; a lenient "
+                "read (--lenient) interpolates short runs"
+            )
+        peak = float(np.max(np.abs(x))) if x.size else 0.0
+        with np.errstate(over="ignore"):
+            overflow = not np.isfinite(np.sum(x * x))
+        if overflow:
+            raise RecordingError(
+                f"{what} reaches {peak:.3g} {unit}: too large to compute with (its squares "
+                "overflow); check the unit, scale and offset of that map entry"
+            )
+        if name == "torque" and rig is not None:
+            rated = float(getattr(rig.sensors, "torque_sensor_range", 0.0) or 0.0)
+            if rated > 0 and peak > _TORQUE_RANGE_FACTOR * rated:
+                raise RecordingError(
+                    f"{what} reaches {peak:.3g} N.m, more than {_TORQUE_RANGE_FACTOR:g} x the "
+                    f"torque sensor's range ({rated:g} N.m, sensors.torque_sensor_range of the "
+                    "rig file): check the unit and scale of that map entry (or the rig file)"
+                )
+
+
+def fill_short_gaps(recording: Recording) -> tuple[Recording, list[str]]:
+    """The recording on a uniform time base, short gaps filled; for analyses that need one.
+
+    A lenient read keeps gaps (dropped samples, ``metadata["gaps"]``). Gaps of at most
+    :data:`rollerrig.measure.readers.MAX_INTERPOLATED_NAN_RUN` missing samples are filled by
+    linear interpolation of every channel onto the uniform grid t0 + k/f_s (the policy of
+    NaN runs); a longer gap is an error naming it. The recording's metadata keeps its
+    ``gaps``; the notes say what was filled.
+
+    Returns
+    -------
+    (Recording, list of str)
+        The uniform recording (the input itself when it has no gap) and one note per gap.
+
+    Raises
+    ------
+    RecordingError
+        A gap longer than the interpolation limit, with its time and size.
+    """
+    from rollerrig.measure.readers import GAP_FACTOR, MAX_INTERPOLATED_NAN_RUN
+
+    t = recording.time
+    dt = np.diff(t)
+    step = float(np.median(dt))
+    if not np.any(dt > GAP_FACTOR * step) and np.all(np.abs(dt - step) <= 0.01 * step):
+        return recording, []
+    notes = []
+    for k in np.flatnonzero(dt > GAP_FACTOR * step):
+        missing = round(float(dt[k]) / step) - 1
+        where = (
+            f"{_source(recording)}gap of {dt[k]:.6g} s after t = {t[k]:.6g} s (sample {k}, "
+            f"about {missing} missing sample(s))"
+        )
+        if missing > MAX_INTERPOLATED_NAN_RUN:
+            raise RecordingError(
+                f"{where}: too long to fill for the analysis (at most "
+                f"{MAX_INTERPOLATED_NAN_RUN} samples); analyse the parts before and after it "
+                "separately"
+            )
+        notes.append(f"{where} filled by linear interpolation onto the uniform time base")
+    n = round(float(t[-1] - t[0]) / step) + 1
+    grid = t[0] + np.arange(n) * step
+    grid[-1] = min(grid[-1], t[-1])
+    channels = {name: np.interp(grid, t, x) for name, x in recording.channels.items()}
+    if not notes:
+        notes.append(
+            "irregular sample times (jitter above 1 % of the step) put onto a uniform time base"
+            " by linear interpolation"
+        )
+    meta = dict(recording.metadata)
+    meta["notes"] = [*list(meta.get("notes") or []), *notes]
+    return Recording(grid, channels, dict(recording.units), meta), notes
+
+
+def _stored(recording: Recording) -> dict:
+    stored = recording.metadata.get("stored_metadata")
+    return stored if isinstance(stored, dict) else {}
+
+
+def recording_facts(recording: Recording) -> dict:
+    """What the reader and the generator said about a recording, JSON-ready.
+
+    Returns
+    -------
+    dict
+        ``source``, ``format``, ``sha256``, ``validate``; ``notes`` (the reader's notes and,
+        for a synthetic recording, the generator's), ``interpolated`` (NaN/inf runs filled by
+        a lenient read: channel, samples, times, method), ``gaps`` (dropped samples kept by a
+        lenient read), ``resampled`` (channels put on a common time base), ``injected_lines``
+        (lines injected by hand into a synthetic recording, with frequency and amplitude) and
+        ``synthetic``.
+    """
+    md = recording.metadata
+    stored = _stored(recording)
+    notes = [str(n) for n in (md.get("notes") or [])]
+    for n in stored.get("notes") or []:
+        if str(n) not in notes:
+            notes.append(str(n))
+    injected = list(md.get("injected_lines") or stored.get("injected_lines") or [])
+    synthetic = bool(
+        md.get("synthetic")
+        or stored.get("synthetic")
+        or md.get("source") == "synthetic"
+        or stored.get("source") == "synthetic"
+    )
+    return {
+        "source": md.get("source"),
+        "format": md.get("format"),
+        "sha256": md.get("sha256"),
+        "validate": md.get("validate"),
+        "notes": notes,
+        "interpolated": list(md.get("interpolated") or []),
+        "gaps": list(md.get("gaps") or []),
+        "resampled": md.get("resampled"),
+        "injected_lines": injected,
+        "synthetic": synthetic,
+    }
+
+
+def recording_note_lines(recording: Recording) -> list[str]:
+    """The same facts as :func:`recording_facts`, one human-readable line each."""
+    facts = recording_facts(recording)
+    lines = list(facts["notes"])
+    for run in facts["interpolated"]:
+        lines.append(
+            f"interpolated NaN/inf run (lenient read): channel {run.get('channel')!r}, samples "
+            f"{run.get('first_sample')}..{run.get('last_sample')} "
+            f"(t = {run.get('start_s', float('nan')):.6g}..{run.get('end_s', float('nan')):.6g} s),"
+            f" {run.get('method', 'linear')}"
+        )
+    for gap in facts["gaps"]:
+        lines.append(
+            f"gap kept (lenient read): {gap.get('duration_s', float('nan')):.6g} s after "
+            f"t = {gap.get('start_s', float('nan')):.6g} s (sample {gap.get('sample')}, about "
+            f"{gap.get('missing_samples')} missing sample(s))"
+        )
+    for line in facts["injected_lines"]:
+        text = (
+            f"synthetic recording: a line at {line.get('frequency [Hz]')} Hz, "
+            f"{line.get('amplitude [N.m]')} N.m on {line.get('channel', 'torque')} was INJECTED"
+        )
+        if not any("INJECTED" in n for n in lines):
+            lines.append(text + " by hand; it is not a finding")
+    return lines
+
+
+def true_polach_parameters(recording: Recording, truth=None) -> tuple[dict | None, str]:
+    """The twin's Polach parameters of a synthetic recording, if it ran with one friction set.
+
+    Looked up in the recording's metadata (``true_polach_parameters``, written by
+    :func:`rollerrig.measure.synthetic.synthetic_recording`, also after a round trip through a
+    file as ``stored_metadata``), else in the twin's provenance (``friction_sets`` and the
+    protocol's ``friction_condition``) stored with the recording or in the ``truth`` dataset.
+
+    Returns
+    -------
+    (dict or None, str)
+        The parameters by :data:`rollerrig.fit.polach.PARAMETER_NAMES` and where they came
+        from; ``(None, reason)`` when no single true set is known.
+    """
+    import json
+
+    md, stored = recording.metadata, _stored(recording)
+    for where, holder in (("recording metadata", md), ("metadata stored in the file", stored)):
+        sets = holder.get("true_polach_parameters")
+        if isinstance(sets, dict) and sets:
+            if len(sets) == 1:
+                ((name, params),) = sets.items()
+                return dict(params), f"{where}: the twin's '{name}' set"
+            return None, f"{where}: several friction sets ({', '.join(sets)}), no single truth"
+    candidates = [
+        ("the twin's provenance in the recording", md.get("twin_provenance")),
+        ("the twin's provenance stored in the file", stored.get("twin_provenance")),
+        (
+            "the truth dataset's provenance",
+            None if truth is None else truth.attrs.get("provenance"),
+        ),
+    ]
+    for where, raw in candidates:
+        if raw is None:
+            continue
+        try:
+            prov = json.loads(raw) if isinstance(raw, str) else dict(raw)
+        except (TypeError, ValueError):
+            continue
+        sets = prov.get("friction_sets") or {}
+        used = sorted(set(prov.get("protocol", {}).get("friction_condition", []) or []))
+        if len(used) == 1 and used[0] in sets:
+            return dict(sets[used[0]]), f"{where}: the twin's '{used[0]}' set"
+    return None, "no twin truth known (not a synthetic recording)"
 
 
 def _hysteresis_dict(branch: Branches, h: Hysteresis | None) -> dict | None:
@@ -161,18 +478,22 @@ def analyze_test(
     -------
     TestAnalysis
     """
-    from rollerrig.rig.chain import modal_table
     from rollerrig.rig.parameters import default_rig
 
     notes: list[str] = []
     if rig is None:
         rig = default_rig()
         notes.append("no rig given: the bundled default rig's parameters were used")
+    check_channel_values(recording, _ANALYSED_CHANNELS, rig)
+    recording, _ = fill_short_gaps(recording)  # the notes go into the metadata's notes
     rec = derive_quantities(recording, rig)
     rec.require("torque", "creep", "coa", "normal_load", "roller_speed", "wheel_speed")
+    check_channel_values(rec, ("creep", "coa", "normal_load", "roller_speed", "wheel_speed"))
     t, fs = rec.time, rec.sample_rate
+    truth_coa = None if truth is None else _truth_coa(truth, rec)
 
     phases = segment_test(rec)
+    _require_a_test(rec, phases)
     if smoothing is None:
         order, window, table = tune_savitzky_golay(t, rec["torque"])
     else:
@@ -235,34 +556,61 @@ def analyze_test(
     if points.size >= 10:
         load = rec["normal_load"][points]
         stiffness = creep_stiffness_for_rig(float(np.median(load)), rig)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            fit = fit_polach(
-                creep_s[points], coa_c[points], load, stiffness, slip_velocity=slip_s[points]
-            )
-            fit_rig = fit_polach(
-                creep_s[points], coa_s[points], load, stiffness, slip_velocity=slip_s[points]
-            )
-        notes.extend(sorted({str(w.message) for w in caught}))
+        fits = []
+        for label, coa_points in (("corrected CoA", coa_c[points]), ("rig CoA", coa_s[points])):
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                fits.append(
+                    fit_polach(
+                        creep_s[points], coa_points, load, stiffness, slip_velocity=slip_s[points]
+                    )
+                )
+                notes.extend(
+                    f"fit to the {label}: {m}"
+                    for m in dict.fromkeys(str(w.message) for w in caught)
+                )
+        fit, fit_rig = fits
     else:
         notes.append("too few ascending-branch points for a Polach fit")
+    true_params, true_source = true_polach_parameters(recording, truth)
+    if true_params is not None:
+        for label, f in (("corrected CoA", fit), ("rig CoA", fit_rig)):
+            if f is None:
+                continue
+            far = {
+                name: row
+                for name, row in f.truth_distance(true_params, _TRUTH_SIGMA).items()
+                if row["beyond_warn_sigma"]
+            }
+            if far:
+                notes.append(
+                    f"fit to the {label} misses the twin's true Polach set by more than "
+                    f"{_TRUTH_SIGMA:g} standard errors: "
+                    + ", ".join(
+                        f"{_SYMBOLS[n]} {r['fitted']:.4g} ± {r['stderr']:.2g} against "
+                        f"{r['true']:.4g} ({r['sigma']:.1f} σ)"
+                        for n, r in far.items()
+                    )
+                    + "; the standard errors cover the noise, not the systematic errors of the "
+                    "data (smoothing, the dynamics correction, unidentifiable A and B)"
+                )
 
     spectrum, window_s = None, quiet_phase(phases)
     if window_s is not None and (window_s[1] - window_s[0]) * fs >= 256:
         quiet = rec.select(*window_s)
-        modes = [row.frequency for row in modal_table(rig) if row.frequency > 0]
-        # One Hann segment over the whole quiet phase: the finest resolution it allows.
-        spectrum = explain_spectrum(
-            quiet, "torque", nperseg=quiet.time.size, rig_modes=modes, min_frequency=0.5
-        )
+        # The one spectrum workflow: settings from the signal, the twin's damped modes.
+        try:
+            spectrum = explain_recording(quiet, "torque", rig)
+        except RecordingError as exc:  # e.g. a torque without variation in the quiet phase
+            notes.append(f"spectrum of the quiet phase skipped: {exc}")
     else:
         notes.append("no quiet phase of at least 256 samples: spectrum skipped")
 
     study = filter_study(t, rec["torque"]) if run_study else []
 
     errors = {}
-    if truth is not None:
-        true_coa = np.asarray(truth["coa"].values)
+    if truth_coa is not None:
+        true_coa = truth_coa
 
         def rms(x):
             return float(np.sqrt(np.mean((x - true_coa) ** 2)))
@@ -290,4 +638,64 @@ def analyze_test(
         study=study,
         notes=notes,
         truth_errors=errors,
+        true_parameters=true_params,
+        true_parameters_source=true_source,
+    )
+
+
+def _truth_coa(truth, rec: Recording) -> np.ndarray:
+    """The true contact CoA of a synthetic recording, checked against the recording's time."""
+    if "coa" not in getattr(truth, "data_vars", {}):
+        raise RecordingError(
+            "the truth dataset has no 'coa' variable: give the *-truth.nc file that "
+            "synthetic_recording wrote beside the recording"
+        )
+    coa = np.asarray(truth["coa"].values, dtype=float).reshape(-1)
+    where = getattr(truth, "encoding", {}).get("source")
+    what = f"the truth {where}" if where else "the truth"
+    if coa.size != rec.time.size:
+        raise RecordingError(
+            f"{what} has {coa.size} samples, the recording {rec.time.size}: it is not the "
+            "truth of this recording (give the *-truth.nc written with it)"
+        )
+    if "time" in truth.coords:
+        t_truth = np.asarray(truth["time"].values, dtype=float)
+        dt = float(np.max(np.abs(t_truth - rec.time))) if t_truth.size == rec.time.size else 0.0
+        if dt > 0.5 / rec.sample_rate:
+            raise RecordingError(
+                f"{what}: its time axis differs from the recording's by up to {dt:.3g} s: it is "
+                "not the truth of this recording"
+            )
+    if not np.all(np.isfinite(coa)):
+        raise RecordingError(f"{what}: its 'coa' has NaN/inf samples")
+    return coa
+
+
+def _require_a_test(rec: Recording, phases) -> None:
+    """Refuse a recording without an adhesion test, naming the channel that was segmented."""
+    source = "torque_request" if "torque_request" in rec else "torque"
+    u = np.asarray(rec[source], dtype=float)
+    t = rec.time
+    # Noise of the segmented channel from successive differences (robust: MAD).
+    d = np.diff(u)
+    noise = 1.4826 * float(np.median(np.abs(d - np.median(d)))) / np.sqrt(2.0)
+    rises = []
+    for ph in phases:
+        if ph.name != "ramp_up" or ph.start <= t[0]:
+            continue
+        i0, i1 = np.searchsorted(t, [ph.start, ph.end])
+        i1 = min(int(i1), t.size - 1)
+        a = float(np.median(u[max(int(i0) - 2, 0) : int(i0) + 3]))
+        b = float(np.median(u[max(i1 - 2, 0) : i1 + 3]))
+        rises.append(abs(b - a))
+    if any(r > 5.0 * noise and r > 0 for r in rises):
+        return
+    unit = rec.units.get(source, "")
+    lo, hi = float(np.min(u)), float(np.max(u))
+    raise RecordingError(
+        f"{_source(rec)}no adhesion test found: {describe_channel(rec, source)} shows no torque"
+        f" ramp rising from a resting level (it stays within {lo:.4g}..{hi:.4g} {unit}, noise "
+        f"{noise:.3g} {unit}). `rollerrig analyze` needs a test with ramp, hold and release; "
+        "for free rolling use `rollerrig spectrum`, and check that the map entry names the "
+        "right column"
     )

@@ -21,6 +21,11 @@ frequency; the supply frequency is higher by the slip, under 2 % at rated load),
 inverter ripple at p_PMSM·f_wheel and its 6th harmonic (the classic 6th-order ripple of a
 three-phase inverter-fed PMSM), the out-of-roundness of wheel and roller at 1x and 2x their
 rotation. Phases are random (from the seed), amplitudes are those of :class:`DisturbanceModel`.
+The speed-independent line e·sin(2π f0 t) is a hand-injected test signal, not physics of the
+twin: off by default (e = 0); when switched on, the recording's metadata (``injected_lines``,
+``notes``) and the truth's attributes say that it was injected, at which frequency and amplitude.
+The twin's Polach parameters for the friction conditions of the test are in
+``metadata["true_polach_parameters"]`` (from the twin's provenance).
 
 Sampling. All signals are built on the twin's time grid. If the twin's output rate is higher than
 the DAQ rate, the analogue channels (torque, pressure) pass an anti-alias Butterworth low-pass at
@@ -46,7 +51,7 @@ from scipy import integrate, signal
 from rollerrig._validation import ParameterError, require_nonnegative, require_positive
 from rollerrig.measure.recording import CANONICAL_CHANNELS, Recording, RecordingError
 
-__all__ = ["LINE_NAMES", "DisturbanceModel", "synthetic_recording"]
+__all__ = ["LINE_NAMES", "DisturbanceModel", "injected_line_note", "synthetic_recording"]
 
 LINE_NAMES = (
     "am_h1",
@@ -89,9 +94,13 @@ class DisturbanceModel:
         Roller out-of-roundness at 1x and 2x the roller rotation [N.m]: (2.0, 1.0) (the roller
         is a turned wagon wheel, its eccentricity carries through the contact to T56).
     fixed_line_frequency : float
-        A speed-independent line [Hz]: 1.333 Hz, the line seen in the seed's recordings.
+        Frequency of an optional, hand-injected speed-independent line [Hz]: 1.333 Hz, the
+        frequency of the line seen in the seed's recordings (its cause is unknown, so the twin
+        cannot produce it).
     fixed_line_amplitude : float
-        Its amplitude [N.m]: 2.0.
+        Its amplitude [N.m]: 0.0, off. It is not physics of the twin but a test signal: when it
+        is switched on (> 0), the recording says so in ``metadata["injected_lines"]`` and
+        ``metadata["notes"]`` (frequency and amplitude), and so does every output made from it.
     torque_noise : float
         Standard deviation of the white noise on the torque channel [N.m]: 1.0 (0.03 % of the
         3000 N.m sensor range, a typical strain-gauge torque-flange noise floor).
@@ -126,6 +135,8 @@ class DisturbanceModel:
     (3.0, 1.5, 0.75)
     >>> DisturbanceModel.none().torque_noise
     0.0
+    >>> DisturbanceModel().fixed_line_amplitude  # the hand-injected line is off by default
+    0.0
     """
 
     am_line_amplitudes: tuple[float, ...] = (3.0, 1.5, 0.75)
@@ -134,7 +145,7 @@ class DisturbanceModel:
     wheel_order_amplitudes: tuple[float, float] = (1.5, 0.75)
     roller_order_amplitudes: tuple[float, float] = (2.0, 1.0)
     fixed_line_frequency: float = 1.333
-    fixed_line_amplitude: float = 2.0
+    fixed_line_amplitude: float = 0.0
     torque_noise: float = 1.0
     pressure_noise: float = 100.0
     shaft_eccentricity: float = 6e-5
@@ -177,6 +188,35 @@ class DisturbanceModel:
             )
         if int(self.anti_alias_order) < 1:
             raise ParameterError(f"anti_alias_order must be >= 1, got {self.anti_alias_order}")
+
+    def injected_lines(self) -> list[dict[str, Any]]:
+        """The lines injected by hand (not produced by the twin's physics), JSON-ready.
+
+        Returns
+        -------
+        list of dict
+            One entry per switched-on injected line: ``name``, ``frequency [Hz]``,
+            ``amplitude [N.m]``, ``channel`` and ``what``; empty when none is on (the default).
+
+        Examples
+        --------
+        >>> DisturbanceModel().injected_lines()
+        []
+        >>> DisturbanceModel(fixed_line_amplitude=2.0).injected_lines()[0]["frequency [Hz]"]
+        1.333
+        """
+        if self.fixed_line_amplitude <= 0.0:
+            return []
+        return [
+            {
+                "name": "fixed",
+                "frequency [Hz]": float(self.fixed_line_frequency),
+                "amplitude [N.m]": float(self.fixed_line_amplitude),
+                "channel": "torque",
+                "what": "speed-independent sine injected by hand into the synthetic torque "
+                "(DisturbanceModel.fixed_line_amplitude); not produced by the twin",
+            }
+        ]
 
     @classmethod
     def none(cls) -> DisturbanceModel:
@@ -258,7 +298,9 @@ def synthetic_recording(
         Channels ``torque`` [N.m], ``wheel_encoder_counts`` and ``roller_encoder_counts``
         (cumulative, from 0 at the first sample) [1], ``air_spring_pressure`` [Pa] and, if
         ``record_torque_request``, ``torque_request`` [N.m]. The metadata records the
-        disturbance model, the seed, the rates, the rig parameters and the twin's provenance.
+        disturbance model, the seed, the rates, the rig parameters, the twin's provenance,
+        ``injected_lines`` and ``notes`` (the hand-injected lines, empty by default) and
+        ``true_polach_parameters`` ({friction condition: parameters} of the twin, or None).
     truth : xarray.Dataset
         On the DAQ time axis: every numeric channel of the twin interpolated to it, the clean
         torque ``torque_clean`` (= T56), the deterministic disturbance ``torque_lines`` [N.m]
@@ -376,9 +418,14 @@ def synthetic_recording(
         if filtered
         else "none (twin at the DAQ rate: lines above Nyquist alias)"
     )
+    injected = a.injected_lines()
     metadata = {
         "source": "synthetic",
         "format": "rollerrig.synthetic",
+        "synthetic": True,
+        "injected_lines": injected,
+        "notes": [injected_line_note(line) for line in injected],
+        "true_polach_parameters": _true_polach_parameters(prov, ds),
         "experiment": ds.attrs.get("experiment", ""),
         "disturbances": asdict(a),
         "seed": int(seed),
@@ -447,4 +494,38 @@ def synthetic_recording(
     truth.attrs.update({k: v for k, v in ds.attrs.items()})
     truth.attrs["synthetic_seed"] = int(seed)
     truth.attrs["synthetic_disturbances"] = json.dumps(asdict(a))
+    truth.attrs["injected_lines"] = json.dumps(injected)
     return recording, truth
+
+
+def injected_line_note(line: dict[str, Any]) -> str:
+    """The sentence that discloses a hand-injected line (:meth:`DisturbanceModel.injected_lines`).
+
+    Examples
+    --------
+    >>> line = DisturbanceModel(fixed_line_amplitude=2.0).injected_lines()[0]
+    >>> injected_line_note(line)[:70]
+    'synthetic recording: a speed-independent line at 1.333 Hz, 2 N.m on to'
+    """
+    return (
+        f"synthetic recording: a speed-independent line at {line['frequency [Hz]']:g} Hz, "
+        f"{line['amplitude [N.m]']:g} N.m on {line['channel']} was INJECTED by hand "
+        "(DisturbanceModel.fixed_line_amplitude); it is not a finding"
+    )
+
+
+def _true_polach_parameters(prov: dict[str, Any], ds: xr.Dataset) -> dict[str, Any] | None:
+    """The twin's Polach parameters by friction condition, for the conditions the test used.
+
+    From the twin's provenance (``friction_sets``) and its ``friction_condition`` channel (or
+    the protocol's list); ``None`` when the provenance does not hold them.
+    """
+    sets = prov.get("friction_sets")
+    if not isinstance(sets, dict) or not sets:
+        return None
+    if "friction_condition" in ds:
+        used = sorted({str(c) for c in np.asarray(ds["friction_condition"].values).tolist()})
+    else:
+        used = sorted({str(c) for c in prov.get("protocol", {}).get("friction_condition", [])})
+    chosen = {c: sets[c] for c in used if c in sets}
+    return chosen or None

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["atomic_write", "provenance", "save_figure", "write_json"]
+__all__ = ["NULL_VALUES_KEY", "atomic_write", "provenance", "save_figure", "write_json"]
 
 
 def provenance(**parameters) -> dict:
@@ -58,9 +58,55 @@ def _json_default(obj):
     raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
+NULL_VALUES_KEY = "null_values"
+"""Key under which :func:`write_json` lists the non-finite numbers it wrote as null."""
+
+
+def _finite_json(obj, where: str, replaced: list):
+    """``obj`` with every NaN/inf float replaced by None, each replacement recorded."""
+    if isinstance(obj, dict):
+        return {k: _finite_json(v, f"{where}/{k}", replaced) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_finite_json(v, f"{where}/{i}", replaced) for i, v in enumerate(obj)]
+    if isinstance(obj, np.ndarray):
+        return _finite_json(obj.tolist(), where, replaced)
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not np.isfinite(obj):
+        replaced.append({"at": where or "/", "was": repr(obj)})
+        return None
+    return obj
+
+
 def write_json(path: str | os.PathLike, obj) -> Path:
-    """Write ``obj`` as indented JSON, atomically."""
-    text = json.dumps(obj, indent=2, default=_json_default, allow_nan=False)
+    """Write ``obj`` as indented JSON, atomically; never NaN or inf.
+
+    NaN policy: JSON has no NaN or inf, and the package never writes them. Producers give
+    ``None`` with a reason beside it wherever a number cannot be given; a non-finite float
+    that still arrives here is written as ``null`` and listed, with its location (a
+    ``/``-separated path) and its value, under the top-level key ``"null_values"`` (so a
+    ``null`` never goes unexplained). A top-level value other than a dict holding a
+    non-finite number is refused (``ValueError``), as is anything ``json`` cannot write.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = write_json(pathlib.Path(tempfile.mkdtemp()) / "x.json", {"a": float("nan")})
+    >>> json.loads(p.read_text())["null_values"][0]["at"]
+    '/a'
+    """
+    replaced: list = []
+    clean = _finite_json(obj, "", replaced)
+    if replaced:
+        if not isinstance(clean, dict):
+            raise ValueError(
+                f"{path}: non-finite numbers at {[r['at'] for r in replaced]} and no top-level "
+                "object to state why they are null"
+            )
+        clean[NULL_VALUES_KEY] = [
+            {**r, "why": "not a finite number; written as null"} for r in replaced
+        ]
+    text = json.dumps(clean, indent=2, default=_json_default, allow_nan=False)
     return atomic_write(path, lambda p: p.write_text(text + "\n", encoding="utf-8"))
 
 

@@ -12,6 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rollerrig.fit.polach import PARAMETER_NAMES
 from rollerrig.measure.analysis import TestAnalysis
 from rollerrig.report._io import provenance, write_json
 from rollerrig.report.adhesion import adhesion_figure
@@ -149,6 +150,123 @@ def _zoom_windows(result: TestAnalysis) -> dict:
     return windows
 
 
+def _json_attr(obj) -> str:
+    """JSON text for a NetCDF attribute: non-finite numbers as null (the JSON writer's policy)."""
+    from rollerrig.report._io import _finite_json
+
+    replaced: list = []
+    return json.dumps(_finite_json(obj, "", replaced), default=str, allow_nan=False)
+
+
+def _recording_section(rep: HtmlReport, result: TestAnalysis) -> None:
+    """What the reader and the generator said: notes, interpolated runs, gaps, injected lines."""
+    from rollerrig.measure.analysis import recording_facts, recording_note_lines
+
+    facts = recording_facts(result.recording)
+    lines = recording_note_lines(result.recording)
+    rep.heading("The recording as read")
+    if not lines:
+        rep.paragraph(
+            "The reader noted nothing: no interpolated samples, no gaps, no conversions to "
+            "mention, no injected lines."
+        )
+    for line in lines:
+        rep.paragraph(line, note=True)
+    if facts["interpolated"]:
+        rep.table(
+            ["channel", "first sample", "last sample", "from [s]", "to [s]", "method"],
+            [
+                [r.get("channel"), r.get("first_sample"), r.get("last_sample"),
+                 r.get("start_s"), r.get("end_s"), r.get("method")]
+                for r in facts["interpolated"]
+            ],
+        )  # fmt: skip
+    if facts["gaps"]:
+        rep.table(
+            ["after sample", "from [s]", "to [s]", "duration [s]", "missing samples"],
+            [
+                [g.get("sample"), g.get("start_s"), g.get("end_s"), g.get("duration_s"),
+                 g.get("missing_samples")]
+                for g in facts["gaps"]
+            ],
+        )  # fmt: skip
+    if facts["injected_lines"]:
+        rep.table(
+            ["injected line", "frequency [Hz]", "amplitude [N.m]", "channel"],
+            [
+                [x.get("name"), x.get("frequency [Hz]"), x.get("amplitude [N.m]"),
+                 x.get("channel")]
+                for x in facts["injected_lines"]
+            ],
+        )  # fmt: skip
+
+
+def _fit_honesty_section(rep: HtmlReport, result: TestAnalysis) -> None:
+    """What the data constrain, residual structure and, with a truth, the distance in σ."""
+    fits = [(lbl, f) for lbl, f in (("corrected CoA", result.fit), ("rig CoA", result.fit_rig_coa))]
+    fits = [(lbl, f) for lbl, f in fits if f is not None]
+    if not fits:
+        return
+    rep.heading("How far the Polach fit can be trusted")
+    rep.paragraph(
+        "A and B act only through the friction coefficient μ(w), and μ only where the contact "
+        "saturates (η ≥ 0.5: the CoA at least half proportional to μ). The saturated points' "
+        "slip velocities are where A and B are constrained. Residuals are tested in creep order "
+        "(Durbin–Watson, lag-1 autocorrelation, runs test); structured residuals mean a "
+        "systematic misfit, and standard errors that are too small."
+    )
+    rows = []
+    for label, f in fits:
+        c, r = f.coverage, f.residual_structure
+        sat = c.saturated_slip_velocity_range if c is not None else None
+        rows.append(
+            [
+                label,
+                "–"
+                if c is None
+                else f"{c.slip_velocity_range[0]:.3g}–{c.slip_velocity_range[1]:.3g}",
+                "none" if sat is None else f"{sat[0]:.3g}–{sat[1]:.3g}",
+                "–" if c is None else c.saturated_points,
+                "–" if c is None else c.falling_branch_points,
+                "–" if c is None else ("yes" if c.a_and_b_identifiable else "NO"),
+                "–" if r is None else f"{r.durbin_watson:.3f} (< {r.durbin_watson_threshold:.3f})",
+                "–" if r is None else f"{r.runs_z:+.2f} (< {r.runs_z_threshold:+.0f})",
+                "–" if r is None else ("yes" if r.structured else "no"),
+            ]
+        )
+    rep.table(
+        ["fit to", "slip velocity [m/s]", "A, B constrained over [m/s]", "saturated points",
+         "past the peak", "A, B identifiable", "Durbin–Watson (structured below)",
+         "runs z (structured below)", "structured residuals"],
+        rows,
+    )  # fmt: skip
+    for label, f in fits:
+        if f.coverage is not None and not f.coverage.a_and_b_identifiable:
+            rep.paragraph(
+                f"Fit to the {label}: A and B not identifiable: " + "; ".join(f.coverage.reasons),
+                note=True,
+            )
+    if result.true_parameters is None:
+        return
+    rep.paragraph(f"Truth: {result.true_parameters_source}.")
+    names = dict(
+        zip(PARAMETER_NAMES, ("μ0 [-]", "A [-]", "B [s/m]", "kA [-]", "kS [-]"), strict=True)
+    )
+    trows = []
+    for key in PARAMETER_NAMES:
+        row = [names[key], result.true_parameters[key]]
+        for _, f in fits:
+            d = f.truth_distance(result.true_parameters)[key]
+            sigma = (
+                "–"
+                if d["sigma"] is None
+                else f"{d['sigma']:.1f} σ" + (" (> 3 σ)" if d["beyond_warn_sigma"] else "")
+            )
+            row.append(sigma)
+        trows.append(row)
+    rep.table(["parameter", "true (twin)", *[f"distance, fit to {lbl}" for lbl, _ in fits]], trows)
+
+
 def _fit_rows(result: TestAnalysis, truth_parameters=None):
     names = ("μ0 [-]", "A [-]", "B [s/m]", "kA [-]", "kS [-]")
     keys = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
@@ -189,8 +307,18 @@ def write_analysis(
 
     from rollerrig.report._io import atomic_write
 
+    facts = summary["recording"]
     ds = result.recording.to_dataset()
-    ds.attrs = {"provenance": json.dumps(record, default=str), "source": source}
+    # NetCDF attributes are strings: JSON, with the same NaN policy as the JSON summary.
+    ds.attrs = {
+        "provenance": _json_attr(record),
+        "source": source,
+        "recording_notes": _json_attr(facts["notes"]),
+        "interpolated": _json_attr(facts["interpolated"]),
+        "gaps": _json_attr(facts["gaps"]),
+        "injected_lines": _json_attr(facts["injected_lines"]),
+        "analysis_notes": _json_attr(result.notes),
+    }
     paths.append(
         atomic_write(out / f"{stem}-analysis.nc", lambda p: ds.to_netcdf(p, engine="h5netcdf"))
     )
@@ -201,6 +329,7 @@ def write_analysis(
         f"Recording {source or stem}: {rec.duration:.2f} s at {rec.sample_rate:.4g} Hz, "
         f"channels {', '.join(sorted(rec.channels))}. Rig: {result.rig_name}."
     )
+    _recording_section(rep, result)
     if result.notes:
         for note in result.notes:
             rep.paragraph(note, note=True)
@@ -218,21 +347,12 @@ def write_analysis(
         "F_x r_r = T56 + J5·α5 + R05, with α5 the Savitzky–Golay derivative of the roller speed."
     )
     rep.figure(rig_versus_corrected_figure(result, truth), "Rig versus corrected CoA.")
-    truth_parameters = None
-    if truth is not None and "provenance" in truth.attrs:
-        prov = json.loads(truth.attrs["provenance"])
-        sets = prov.get("friction_sets", {})
-        conditions = (
-            sorted(set(np.asarray(truth["friction_condition"].values).tolist()))
-            if "friction_condition" in truth
-            else []
-        )
-        if len(conditions) == 1 and conditions[0] in sets:
-            truth_parameters = sets[conditions[0]]
+    truth_parameters = result.true_parameters
     header = ["parameter", "fit to corrected CoA", "fit to rig CoA"]
     if truth_parameters is not None:
         header.append("true (twin)")
     rep.table(header, _fit_rows(result, truth_parameters))
+    _fit_honesty_section(rep, result)
     if result.truth_errors:
         rep.table(
             ["error against the true contact CoA", "value"], list(result.truth_errors.items())
@@ -269,17 +389,28 @@ def write_analysis(
         rep.paragraph(
             f"Window {w[0]:.2f}–{w[1]:.2f} s. Each peak is attributed to the induction motor's "
             "electrical frequency (pole pairs × roller rotation frequency) and its harmonics, "
-            "rotation orders of wheel and roller, the PMSM electrical frequency, the rig's "
-            "torsional modes, or left unexplained."
+            "rotation orders of wheel and roller, the PMSM electrical frequency, the damped "
+            "modes of the coupled twin that can ring at this speed and load, or stated as "
+            "unexplained with the reason."
         )
+        rep.paragraph(f"Settings: {result.spectrum.caption()}.", note=True)
         rep.figure(spectrum_figure(result.spectrum), "Torque spectrum with labelled peaks.")
-        rep.table(
-            ["f [Hz]", "power", "source", "Δf [Hz]", "also"],
-            [
-                [r["frequency_hz"], r["power"], r["label"], r["delta_f_hz"], r["also"]]
-                for r in result.spectrum.table()
-            ],
-        )
+        if result.spectrum.rows:
+            rep.table(
+                ["f [Hz]", "power", "source", "Δf [Hz]", "also"],
+                [
+                    [
+                        r["frequency_hz"],
+                        "–" if r["power"] is None else r["power"],
+                        r["label"] if r["explained"] else f"unexplained: {r['reason']}",
+                        "–" if r["delta_f_hz"] is None else r["delta_f_hz"],
+                        r["also"],
+                    ]
+                    for r in result.spectrum.table()
+                ],
+            )
+        else:
+            rep.paragraph(result.spectrum.empty_message + ".")
 
     if result.study:
         rep.heading("Smoothing-filter study (the seed's §4.5.2.5, scored)")

@@ -11,6 +11,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from rollerrig.report._io import atomic_write
 
 __all__ = ["HtmlReport"]
@@ -54,9 +56,14 @@ class HtmlReport:
         self.parts.append(f"<p{cls}>{html.escape(text)}</p>")
 
     def table(self, header: Sequence[str], rows: Sequence[Sequence], fmt: str = ".4g") -> None:
+        """A table; floats formatted with ``fmt``, NaN/inf shown as "n/a", None as "–"."""
+
         def cell(v):
-            if isinstance(v, float):
-                return format(v, fmt)
+            if isinstance(v, float | np.floating):
+                # No NaN/inf in a report: a number that cannot be given shows as "n/a".
+                return format(float(v), fmt) if np.isfinite(v) else "n/a"
+            if v is None:
+                return "–"
             return html.escape(str(v))
 
         head = "".join(f"<th>{html.escape(str(h))}</th>" for h in header)

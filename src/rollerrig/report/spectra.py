@@ -7,6 +7,7 @@ here, at the edge, when a roller radius is given.
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Sequence
 
 import matplotlib
@@ -25,6 +26,7 @@ _COLOURS = {
     "pmsm_electrical": "tab:purple",
     "wheel_order": "tab:green",
     "speed_independent": "tab:orange",
+    "rig_mode": "tab:brown",
     "unexplained": "tab:gray",
     "": "k",
 }
@@ -33,6 +35,25 @@ _COLOURS = {
 def _power_unit(explained: ExplainedSpectrum) -> str:
     unit = explained.unit or "1"
     return f"{unit}²/Hz" if explained.spectrum.scaling == "density" else f"{unit}²"
+
+
+def _settings_line(explained: ExplainedSpectrum) -> str:
+    """The estimation settings in one short line (stated on every spectrum figure)."""
+    s = explained.spectrum
+    text = (
+        f"{s.method}, {s.window} window, {s.nperseg}-sample segments (Δf {s.resolution:.4g} Hz), "
+        f"{s.n_segments} segment{'s' if s.n_segments != 1 else ''}"
+    )
+    settings = getattr(explained, "settings", None)
+    if settings is not None:
+        text += (
+            f"; peaks >= {settings.min_prominence:g} dB prominence, >= {settings.min_snr:g} dB "
+            f"above the floor, from {settings.min_frequency:.3g} Hz"
+        )
+    op = getattr(explained, "operating_point", None)
+    if op is not None:
+        text += f"; N = {op.normal_load / 1e3:.3g} kN ({op.load_source})"
+    return text
 
 
 def spectrum_figure(
@@ -46,7 +67,7 @@ def spectrum_figure(
     Parameters
     ----------
     explained : ExplainedSpectrum
-        From :func:`rollerrig.signal.spectra.explain_spectrum`.
+        From :func:`rollerrig.signal.workflow.explain_recording`.
     max_frequency : float, optional
         Upper end of the frequency axis [Hz]; default just above the highest peak (at least
         a tenth of the Nyquist frequency), or the Nyquist frequency without peaks.
@@ -99,6 +120,32 @@ def spectrum_figure(
     visible = p[(f > 0) & (f <= max_frequency)]
     floor = float(np.percentile(visible, 5)) if visible.size else top * 1e-6
     ax.set_ylim(bottom=floor / 3.0, top=top * 10.0 ** (0.45 * np.log10(top / floor) + 1.0))
+    modes = getattr(explained, "modes", None)
+    for md in () if modes is None else modes.ringing:
+        if md.frequency <= max_frequency:
+            ax.axvline(md.frequency, color=_COLOURS["rig_mode"], ls=":", lw=0.8, alpha=0.7)
+            ax.annotate(
+                f"mode {md.frequency:.2f} Hz",
+                (md.frequency, 0.02),
+                xycoords=("data", "axes fraction"),
+                rotation=90,
+                fontsize=6,
+                color=_COLOURS["rig_mode"],
+                ha="right",
+                va="bottom",
+            )
+    if not rows:
+        message = getattr(explained, "empty_message", "no peak above the thresholds")
+        ax.text(0.5, 0.5, message, transform=ax.transAxes, ha="center", va="center", fontsize=8)
+    ax.text(
+        0.01,
+        -0.16,
+        textwrap.fill(_settings_line(explained), 120),
+        transform=ax.transAxes,
+        fontsize=6.5,
+        color="0.3",
+        va="top",
+    )
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel(f"power [{_power_unit(explained)}]")
     speed = explained.roller_speed
@@ -178,7 +225,12 @@ def coherence_figure(
     ax.set_xlim(0.0, fmax)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("coherence γ² [-]")
-    ax.set_title(f"coherence of {names[0]} and {names[1]} ({coh.n_segments} segments)")
+    df = float(coh.frequency[1] - coh.frequency[0])
+    seg = f", {coh.nperseg}-sample segments" if coh.nperseg else ""
+    ax.set_title(
+        f"coherence of {names[0]} and {names[1]} ({coh.n_segments} segments{seg}, Δf {df:.4g} Hz)",
+        fontsize=9,
+    )
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
     return fig

@@ -1,0 +1,123 @@
+"""Honesty of a Polach fit: where the data constrain A and B, residual structure, distance to a
+known truth.
+
+References: the Durbin-Watson statistic and the Wald-Wolfowitz runs test of statsmodels
+(``statsmodels.stats.stattools.durbin_watson``, ``statsmodels.sandbox.stats.runs.
+runstest_1samp``); the identifiability cases are Polach's (2005) dry set at one and at three
+speeds, where A and B act through μ(w) = μ0[(1 − A)e^(−B|w|) + A] only.
+"""
+
+import warnings
+
+import numpy as np
+import pytest
+from statsmodels.sandbox.stats.runs import runstest_1samp
+from statsmodels.stats.stattools import durbin_watson
+
+from rollerrig.contact.creep import POLACH_DRY
+from rollerrig.fit import PARAMETER_NAMES, PolachFitWarning, fit_polach, polach_coa
+from rollerrig.fit.polach import creep_stiffness_for_rig, residual_structure
+
+LOAD = 4300.0
+K = float(creep_stiffness_for_rig(LOAD))
+SPEEDS = np.array([10.0, 30.0, 60.0]) / 3.6  # [m/s]
+
+
+def _points(speeds, n=60, max_creep=0.1):
+    s = np.tile(np.linspace(5e-4, max_creep, n), len(speeds))
+    w = s * np.repeat(speeds, n)
+    return s, w, polach_coa(s, w, LOAD, K, POLACH_DRY)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_residual_statistics_match_statsmodels(seed):
+    rng = np.random.default_rng(seed)
+    e = rng.standard_normal(300) + np.sin(np.linspace(0, 3 * seed, 300))
+    key = rng.permutation(300).astype(float)
+    r = residual_structure(e, key)
+    ordered = e[np.argsort(key, kind="stable")]
+    assert r.durbin_watson == pytest.approx(durbin_watson(ordered), rel=1e-12)
+    z, _ = runstest_1samp(ordered, cutoff=0.0, correction=False)
+    assert r.runs_z == pytest.approx(z, rel=1e-10)
+    c = ordered - ordered.mean()
+    assert r.lag1_autocorrelation == pytest.approx(c[:-1] @ c[1:] / (c @ c), rel=1e-12)
+    assert r.lag1_threshold == pytest.approx(3 / np.sqrt(300))
+
+
+def test_white_noise_is_rarely_structured_and_a_misfit_always():
+    rng = np.random.default_rng(7)
+    flagged = sum(residual_structure(rng.standard_normal(500)).structured for _ in range(200))
+    # Both tests at 3 sigma: about 0.3 % false alarms; 200 draws give 0-3.
+    assert flagged <= 4
+    x = np.linspace(0, 1, 500)
+    misfit = residual_structure(0.01 * (x - 0.5) ** 2 - 0.0008 + 0.001 * rng.standard_normal(500))
+    assert misfit.structured and misfit.stderr_inflation > 1.2
+
+
+def test_three_speeds_past_the_peak_constrain_a_and_b():
+    s, w, mu = _points(SPEEDS)
+    y = mu + 0.005 * np.random.default_rng(11).standard_normal(mu.size)
+    fit = fit_polach(s, y, LOAD, K, slip_velocity=w)
+    c = fit.coverage
+    assert c.a_and_b_identifiable and fit.identifiable, c.reasons
+    assert c.slip_velocity_range == pytest.approx((np.min(w), np.max(w)))
+    lo, hi = c.saturated_slip_velocity_range
+    assert 0 < lo < hi <= np.max(w) and c.saturated_points > 100
+    assert c.falling_branch_points > 0 and c.rolling_speed_ratio > 1.5
+    assert not fit.residual_structure.structured  # white noise on the right model
+    d = c.as_dict()
+    assert d["A_B_constrained_over_slip_velocity [m/s]"] == [lo, hi]
+
+
+def test_one_slow_speed_does_not_constrain_a_and_b():
+    # 5 km/h, creep up to 2 %: slip velocities below 0.03 m/s, where mu(w) has barely begun
+    # to fall (B w < 0.02 with Polach's B = 0.6 s/m).
+    s, w, mu = _points(np.array([5 / 3.6]), max_creep=0.02)
+    y = mu + 0.002 * np.random.default_rng(0).standard_normal(mu.size)
+    with pytest.warns(PolachFitWarning, match="A and B are not constrained"):
+        fit = fit_polach(s, y, LOAD, K, slip_velocity=w)
+    c = fit.coverage
+    assert not c.a_and_b_identifiable and not fit.identifiable
+    assert c.falling_branch_points == 0
+    assert any("one rolling speed" in r for r in c.reasons)
+    assert "NOT identifiable" in c.describe()
+
+
+def test_a_systematic_misfit_is_flagged_and_warned():
+    # Data from the dry set with a smooth bias (as smoothing or a missing correction leave).
+    s, w, mu = _points(SPEEDS)
+    y = mu + 0.01 * np.sin(40 * s)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fit = fit_polach(s, y, LOAD, K, slip_velocity=w)
+    assert fit.residual_structure.structured
+    assert any("residuals are structured" in str(x.message) for x in caught)
+    d = fit.residual_structure.as_dict()
+    assert d["durbin_watson"] < d["durbin_watson_threshold"]
+
+
+def test_truth_distance_in_standard_errors():
+    s, w, mu = _points(SPEEDS)
+    y = mu + 0.005 * np.random.default_rng(11).standard_normal(mu.size)
+    fit = fit_polach(s, y, LOAD, K, slip_velocity=w)
+    d = fit.truth_distance(POLACH_DRY)
+    assert set(d) == set(PARAMETER_NAMES)
+    for name, row in d.items():
+        expected = abs(row["fitted"] - row["true"]) / fit.stderr[name]
+        assert row["sigma"] == pytest.approx(expected)
+        assert row["beyond_warn_sigma"] == (expected > 3)
+    # A wrong truth is far away.
+    far = fit.truth_distance(
+        {
+            **{n: v for n, v in zip(PARAMETER_NAMES, POLACH_DRY.as_tuple(), strict=True)},
+            "static_friction": 0.3,
+        }
+    )
+    assert far["static_friction"]["beyond_warn_sigma"]
+
+
+def test_exact_fit_has_no_residual_test():
+    s, w, mu = _points(SPEEDS[1:])
+    fit = fit_polach(s, mu, LOAD, K, slip_velocity=w)
+    assert fit.residual_structure is None  # residuals at round-off level
+    assert fit.truth_distance(POLACH_DRY)["static_friction"]["sigma"] is not None
