@@ -54,7 +54,6 @@ ISSUES_URL = "the rollerrig issue tracker"
 _EXTRAS = {
     "nptdms": "io",
     "asammdf": "io",
-    "pymatreader": "io",
     "numba": "twin",
     "xarray": "twin",
     "pandas": "twin",

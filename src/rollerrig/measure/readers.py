@@ -20,7 +20,7 @@ matplotlib, OpenCV and tqdm, asks on stdin which channel is the time, and prints
 raising; export from catman as ASCII or ASAM MDF4 instead (the error says so).
 
 Input files are opened read-only and never modified. The optional readers (``nptdms``,
-``asammdf``, ``pymatreader``) are imported only when their format is read.
+``asammdf``, ``h5py``) are imported only when their format is read.
 """
 
 from __future__ import annotations
