@@ -20,9 +20,13 @@ method                 window / ends                           reference
                        backward) or causal                     / ``filter``
 =====================  ======================================  ==================================
 
-Every function returns an array of the input's length. Long inputs use an FFT overlap-save
-convolution for the fixed interior kernels (same result as direct convolution to rounding,
-about 1e-15 relative, and ~10x faster than direct convolution for windows of ~100 samples).
+Every function returns an array of the input's length. Long inputs use FFT overlap-add
+convolution (:func:`scipy.signal.oaconvolve`) for the fixed interior kernels (same result as
+direct convolution to rounding, about 1e-15 relative). Memory is O(n + window·order) for every
+method, whatever the window: at 19.2 kHz the seed's windows grow to 10 000 samples, where a
+matrix of end-fit weights (half-window × window values) would take 0.4 GB; the end fits of
+LOWESS/LOESS and Savitzky-Golay are solved from their normal equations or a window-by-order QR
+instead, and the robust re-weighting runs in blocks of 65 536 samples.
 
 :func:`smooth` dispatches on a method name from :data:`METHODS`, the registry used by the filter
 study in :mod:`rollerrig.signal.scoring`.
@@ -32,12 +36,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
-import scipy.fft as sfft
-from numpy.lib.stride_tricks import sliding_window_view
 from scipy import signal as sps
+from scipy.linalg import solve_triangular
 from scipy.ndimage import uniform_filter1d
 
 from rollerrig._validation import ParameterError, require_finite, require_positive
@@ -90,32 +92,25 @@ def _window(window, *, odd: bool, minimum: int = 1) -> int:
 
 
 # --------------------------------------------------------------------------------------------
-# fast fixed-kernel convolution
+# fixed-kernel convolution
 # --------------------------------------------------------------------------------------------
+_DIRECT_WORK = 1 << 22
+"""Largest ``len(x) × len(kernel)`` [multiply-adds] convolved directly (exact sums, no FFT)."""
+
+
 def _fir_same(x: np.ndarray, kernel: np.ndarray) -> np.ndarray:
     """Zero-padded 'same' convolution ``y[i] = Σ_j kernel[j] x[i + h - j]``, ``h = len//2``.
 
-    Odd-length kernels only. Long inputs use batched FFT overlap-save (block 2048-8192 samples),
-    short ones :func:`numpy.convolve`; the two agree to rounding.
+    Odd-length kernels only. Small products use :func:`numpy.convolve` (direct sums), the rest
+    :func:`scipy.signal.oaconvolve` (FFT overlap-add, ~1e-15 relative to the direct sums; it falls
+    back to one FFT when the two lengths are alike). Memory O(len(x)), whatever the kernel.
     """
     m = kernel.size
     n = x.size
-    half = (m - 1) // 2
-    if m <= 24 or n < 4 * m or n < 8192:
+    if m <= 24 or n * m <= _DIRECT_WORK:
+        half = (m - 1) // 2
         return np.convolve(x, kernel)[half : half + n]
-    block = max(2048, 1 << int(np.ceil(np.log2(4 * m))))
-    hop = block - (m - 1)
-    nblocks = -(-n // hop)
-    padded = np.zeros((nblocks - 1) * hop + block)
-    padded[m - 1 - half : m - 1 - half + n] = x
-    frames = sliding_window_view(padded, block)[::hop]
-    spectrum = sfft.rfft(kernel, block)
-    out = np.empty(nblocks * hop)
-    group = max(1, (1 << 18) // block)
-    for g in range(0, nblocks, group):
-        seg = sfft.irfft(sfft.rfft(frames[g : g + group], axis=1) * spectrum, block, axis=1)
-        out[g * hop : g * hop + seg.shape[0] * hop] = seg[:, m - 1 :].reshape(-1)
-    return out[:n]
+    return sps.oaconvolve(x, kernel, mode="same")
 
 
 # --------------------------------------------------------------------------------------------
@@ -271,66 +266,66 @@ def local_regression_kernel(window: int, degree: int) -> np.ndarray:
     return np.linalg.solve(gram, (vander * wt[:, None]).T)[0]
 
 
-@lru_cache(maxsize=64)
-def _end_rows(n_rows: int, half: int, degree: int) -> np.ndarray:
-    """Coefficient rows for the first ``n_rows`` samples with the window shrunk at the start.
+_ROBUST_BLOCK = 1 << 16
+"""Output samples per block of the weighted local fit [samples] (bounds its temporaries)."""
 
-    Row ``i`` fits samples ``0 .. i + half`` with tricube weights of the full half-window (the
-    most distant predictor in the truncated window is still ``half`` away), so the weights are
-    the interior ones with the missing side cut off.
+
+def _weighted_local_fit(
+    x: np.ndarray, weights: np.ndarray, half: int, degree: int, fallback: np.ndarray
+) -> np.ndarray:
+    """Local polynomial values ``ŷ[i]`` with per-sample weights (tricube × ``weights``).
+
+    The weighted normal equations at sample i have entries ``S_k = Σ_o w(o) u^k r[i+o]`` and
+    ``T_k = Σ_o w(o) u^k r[i+o] x[i+o]`` with ``u = o/h``, ``w`` the tricube weights and ``r``
+    the per-sample weights: each is a correlation of ``r`` or ``r·x`` with a fixed kernel of
+    ``2h + 1`` samples, so they are computed by convolution; zero padding beyond the signal gives
+    the shrunk end windows (the interior tricube scale ``h`` is kept). The (degree+1)² systems
+    are solved in one batched call per block of :data:`_ROBUST_BLOCK` outputs, so temporaries
+    are O(block + window), never O(window²). Where a system is singular (too many zero weights)
+    ``fallback`` is kept.
     """
-    wt = _tricube(half)
-    rows = np.zeros((n_rows, 2 * half + 1))
-    for i in range(n_rows):
-        offsets = np.arange(-i, half + 1)
-        ww = wt[offsets + half]
-        vander = np.vander(offsets / half, degree + 1, increasing=True)
-        gram = vander.T @ (ww[:, None] * vander)
-        rows[i, : offsets.size] = np.linalg.lstsq(gram, (vander * ww[:, None]).T, rcond=None)[0][0]
-    rows.setflags(write=False)
-    return rows
-
-
-def _local_fit(x: np.ndarray, window: int, degree: int) -> np.ndarray:
-    """Non-robust local polynomial smoothing with shrinking end windows."""
-    h = (window - 1) // 2
     n = x.size
-    y = _fir_same(x, local_regression_kernel(window, degree))
-    rows = _end_rows(min(h, n), h, degree)
-    width = min(2 * h + 1, n)
-    y[: rows.shape[0]] = rows[:, :width] @ x[:width]
-    y[n - rows.shape[0] :] = (rows[:, :width] @ x[::-1][:width])[::-1]
+    u = np.arange(-half, half + 1) / half
+    wt = _tricube(half)
+    kernels = [(wt * u**k)[::-1] for k in range(2 * degree + 1)]
+    y = np.array(fallback, dtype=float, copy=True)
+    block = max(_ROBUST_BLOCK, 4 * (2 * half + 1))
+    for a in range(0, n, block):
+        b = min(a + block, n)
+        lo, hi = max(a - half, 0), min(b + half, n)
+        r = weights[lo:hi]
+        rx = r * x[lo:hi]
+        s = [_fir_same(r, kern)[a - lo : b - lo] for kern in kernels]
+        t = [_fir_same(rx, kern)[a - lo : b - lo] for kern in kernels[: degree + 1]]
+        gram = np.empty((b - a, degree + 1, degree + 1))
+        for j in range(degree + 1):
+            for k in range(degree + 1):
+                gram[:, j, k] = s[j + k]
+        rhs = np.stack(t, axis=1)
+        det = np.linalg.det(gram)
+        scale = np.prod(np.diagonal(gram, axis1=1, axis2=2), axis=1)
+        ok = np.abs(det) > 1e-10 * np.maximum(scale, 1e-300)
+        if np.any(ok):
+            y[a:b][ok] = np.linalg.solve(gram[ok], rhs[ok][..., None])[:, 0, 0]
     return y
 
 
-def _robust_fit(
-    x: np.ndarray, window: int, degree: int, robust_weights: np.ndarray, previous: np.ndarray
-) -> np.ndarray:
-    """Local polynomial fit with per-sample weights (tricube × robust), all points at once.
+def _local_fit(x: np.ndarray, window: int, degree: int) -> np.ndarray:
+    """Non-robust local polynomial smoothing with shrinking end windows.
 
-    The weighted normal equations at sample i have entries ``S_k = Σ_o w(o) u^k r[i+o]`` and
-    ``T_k = Σ_o w(o) u^k r[i+o] x[i+o]`` with ``u = o/h``: each is a correlation of the series
-    ``r`` or ``r·x`` with a fixed kernel, so they are computed by convolution (zero padding gives
-    the shrunk end windows) and the (degree+1)² systems are solved in one batched call. Where a
-    system is singular (too many zero robust weights) the previous fit is kept.
+    Interior: one fixed kernel (:func:`local_regression_kernel`) by convolution. The first and
+    last ``h`` samples: the weighted fit over the samples that exist, solved from the normal
+    equations of the first/last ``2h`` samples (:func:`_weighted_local_fit` with unit weights),
+    O(window) memory.
     """
     h = (window - 1) // 2
-    u = np.arange(-h, h + 1) / h
-    wt = _tricube(h)
-    rx = robust_weights * x
-    s = [_fir_same(robust_weights, (wt * u**k)[::-1]) for k in range(2 * degree + 1)]
-    t = [_fir_same(rx, (wt * u**k)[::-1]) for k in range(degree + 1)]
-    gram = np.empty((x.size, degree + 1, degree + 1))
-    for j in range(degree + 1):
-        for k in range(degree + 1):
-            gram[:, j, k] = s[j + k]
-    rhs = np.stack(t, axis=1)
-    det = np.linalg.det(gram)
-    scale = np.prod(np.diagonal(gram, axis1=1, axis2=2), axis=1)
-    ok = np.abs(det) > 1e-10 * np.maximum(scale, 1e-300)
-    y = previous.copy()
-    if np.any(ok):
-        y[ok] = np.linalg.solve(gram[ok], rhs[ok][..., None])[:, 0, 0]
+    n = x.size
+    y = _fir_same(x, local_regression_kernel(window, degree))
+    m = min(2 * h, n)
+    ones = np.ones(m)
+    head, tail = x[:m], x[n - m :][::-1]
+    y[:h] = _weighted_local_fit(head, ones, h, degree, y[:m])[:h]
+    y[n - h :] = _weighted_local_fit(tail, ones, h, degree, y[n - m :][::-1])[:h][::-1]
     return y
 
 
@@ -354,11 +349,12 @@ def _local_regression(x, window, degree, robust, iterations) -> np.ndarray:
         if n_iter < 0:
             raise ParameterError(f"iterations must be >= 0, got {iterations!r}")
         scale = float(np.max(np.abs(x)))
+        h = (w - 1) // 2
         for _ in range(n_iter):
             residual = x - y
             if np.median(np.abs(residual)) <= 1e-12 * scale:
                 break  # the fit is exact to rounding; bisquare weights would only amplify noise
-            y = _robust_fit(x, w, degree, _bisquare_weights(residual), y)
+            y = _weighted_local_fit(x, _bisquare_weights(residual), h, degree, y)
     return y
 
 
@@ -446,8 +442,11 @@ def savitzky_golay(x, window: int, order: int, deriv: int = 0, sample_rate: floa
     (Kayaalp, section 4.5.2.6: minimise ``ε_N = Σ_{n=-M}^{M} (Σ_k a_k n^k − x[n])²``); the
     value (or ``deriv``-th derivative) of the polynomial at the centre. Ends: the polynomial fitted
     to the first/last ``window`` samples is evaluated there (scipy ``mode="interp"``, as MATLAB
-    ``sgolayfilt``). Same result as :func:`scipy.signal.savgol_filter` (to rounding); long inputs
-    use FFT convolution for the interior.
+    ``sgolayfilt``). The least-squares problems are solved on the abscissa scaled to [-1, 1]
+    (QR), so the weights stay exact to rounding at any window (19.2 kHz windows of 10 000
+    samples included); :func:`scipy.signal.savgol_filter` gives the same result where its
+    unscaled weights are accurate (small windows, low orders) and wrong ones beyond (window 201,
+    order 7 returns ~0 for a constant). Memory O(n + window·order).
 
     Parameters
     ----------
@@ -490,13 +489,47 @@ def savitzky_golay(x, window: int, order: int, deriv: int = 0, sample_rate: floa
     if sample_rate is not None:
         delta = 1.0 / float(require_positive("sample_rate", sample_rate, "Hz"))
     n = x.size
-    if w <= 24 or n < 4 * w or n < 8192:
-        return sps.savgol_filter(x, w, p, deriv=d, delta=delta, mode="interp")
-    y = _fir_same(x, sps.savgol_coeffs(w, p, deriv=d, delta=delta))
     h = w // 2
-    y[:h] = sps.savgol_filter(x[: 2 * w], w, p, deriv=d, delta=delta, mode="interp")[:h]
-    y[n - h :] = sps.savgol_filter(x[n - 2 * w :], w, p, deriv=d, delta=delta, mode="interp")[-h:]
+    q, r = _savgol_basis(w, p)
+    y = _fir_same(x, _savgol_kernel(q, r, h, d, delta))
+    if h:
+        y[:h] = _savgol_end(x[:w], q, r, h, d, delta, np.arange(-h, 0))
+        y[n - h :] = _savgol_end(x[n - w :], q, r, h, d, delta, np.arange(1, h + 1))
     return y
+
+
+def _savgol_basis(window: int, order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Reduced QR of the Vandermonde matrix of ``u = k/h``, ``k = -h..h`` (scaled to [-1, 1]).
+
+    Scaling the abscissa keeps the least-squares problem well conditioned (~1e3 for order 7)
+    whatever the window: :func:`scipy.signal.savgol_coeffs` uses the raw integers ``k`` and
+    loses every digit at high rates (scipy 1.17: window 201, order 7 returns weights summing to
+    8e-7 instead of 1; window 111, order 4 sums to 1 + 1.2e-11).
+    """
+    h = window // 2
+    u = np.arange(-h, h + 1) / max(h, 1)
+    q, r = np.linalg.qr(np.vander(u, order + 1, increasing=True))
+    return q, r
+
+
+def _savgol_kernel(q, r, half: int, deriv: int, delta: float) -> np.ndarray:
+    """Convolution kernel of the ``deriv``-th derivative at the window centre [1/s^deriv]."""
+    e = np.zeros(r.shape[0])
+    e[deriv] = float(np.prod(np.arange(1, deriv + 1))) / (max(half, 1) * delta) ** deriv
+    dot = q @ solve_triangular(r, e, trans="T")  # row `deriv` of pinv(A), scaled
+    return dot[::-1].copy()
+
+
+def _savgol_end(xw, q, r, half: int, deriv: int, delta: float, offsets) -> np.ndarray:
+    """The polynomial fitted to the window ``xw`` (or its derivative) ``offsets`` from its centre.
+
+    MATLAB ``sgolayfilt`` / scipy ``mode="interp"``: the first and last ``h`` samples take the
+    fit over the first/last full window.
+    """
+    coef = np.polynomial.Polynomial(solve_triangular(r, q.T @ xw))
+    if deriv:
+        coef = coef.deriv(deriv) / (max(half, 1) * delta) ** deriv
+    return coef(np.asarray(offsets, dtype=float) / max(half, 1))
 
 
 # --------------------------------------------------------------------------------------------
@@ -572,7 +605,13 @@ def butterworth(x, sample_rate: float, cutoff: float, order: int = 2, zero_phase
     x = _signal(x)
     sos = butterworth_sos(sample_rate, cutoff, order)
     if zero_phase:
-        return sps.sosfiltfilt(sos, x)
+        try:
+            return sps.sosfiltfilt(sos, x)
+        except ValueError as exc:  # fewer samples than the edge padding
+            raise ParameterError(
+                f"x has {x.size} samples, too few for a zero-phase Butterworth of order {order} "
+                f"({exc})"
+            ) from None
     return sps.sosfilt(sos, x)
 
 
