@@ -453,7 +453,10 @@ def _apply_map(
                     f"(scale {spec.scale}, offset {spec.offset})"
                 )
         raw = _as_float(col.values, what, line_of)
-        values = (spec.scale * raw + spec.offset) * factor
+        # A corrupted or absurd raw value may overflow to inf here: validation then names the
+        # channel and the samples; numpy's overflow warning would only say "multiply".
+        with np.errstate(over="ignore", invalid="ignore"):
+            values = (spec.scale * raw + spec.offset) * factor
         own = None if col.time is None else np.asarray(col.time, dtype=float)
         loaded.append((spec, values, si, own))
         info["columns"][spec.name] = name

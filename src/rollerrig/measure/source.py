@@ -320,7 +320,8 @@ class RecordingSource:
                 raise RecordingError(
                     f"{what} gave {raw.size} samples for {a}..{b}; the file is damaged"
                 )
-            values = (scale * raw + offset) * factor
+            with np.errstate(over="ignore", invalid="ignore"):  # inf is caught below, by name
+                values = (scale * raw + offset) * factor
             bad = ~np.isfinite(values)
             if bad.any():
                 k = int(np.flatnonzero(bad)[0])
