@@ -17,6 +17,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from rollerrig.signal.spectra import CoherenceSpectrum, ExplainedSpectrum, OrderMap
+from rollerrig.signal.welch import power_unit
 
 __all__ = ["coherence_figure", "order_map_figure", "spectrum_figure"]
 
@@ -33,8 +34,7 @@ _COLOURS = {
 
 
 def _power_unit(explained: ExplainedSpectrum) -> str:
-    unit = explained.unit or "1"
-    return f"{unit}²/Hz" if explained.spectrum.scaling == "density" else f"{unit}²"
+    return power_unit(explained.unit, explained.spectrum.scaling)
 
 
 def _settings_line(explained: ExplainedSpectrum) -> str:
@@ -158,7 +158,8 @@ def spectrum_figure(
         fontsize=9,
     )
     if rows:
-        ax.legend(fontsize=7, loc="upper right")
+        # Bottom right: the peak labels hang from the top, the noise floor is low and flat.
+        ax.legend(fontsize=7, loc="lower right", framealpha=0.9)
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     return fig

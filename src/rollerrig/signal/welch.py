@@ -47,6 +47,7 @@ __all__ = [
     "coherence_stream",
     "cross_spectra_stream",
     "power_spectrum",
+    "power_unit",
     "welch_stream",
 ]
 
@@ -714,3 +715,17 @@ def coherence(
     seg = _segment_length(x.size, nperseg, max(256, x.size // 8))
     pairs = zip(array_chunks(x), array_chunks(y), strict=True)
     return coherence_stream(pairs, sample_rate, seg, noverlap, window, detrend, names=("x", "y"))
+
+
+def power_unit(unit: str | None, scaling: str = "spectrum") -> str:
+    """Unit of a power spectrum of a signal in ``unit``: squared as a whole, per Hz for a density.
+
+    Examples
+    --------
+    >>> power_unit("N.m"), power_unit("m", "density"), power_unit(None)
+    ('(N.m)²', 'm²/Hz', '1²')
+    """
+    u = unit or "1"
+    # (N.m)², not N.m², which reads as newton square metre.
+    squared = f"({u})²" if any(c in u for c in "./*· ") else f"{u}²"
+    return f"{squared}/Hz" if scaling == "density" else squared

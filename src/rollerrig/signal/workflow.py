@@ -46,6 +46,7 @@ from rollerrig.signal.welch import (
     array_chunks,
     cross_spectra_stream,
     power_spectrum,
+    power_unit,
     welch_stream,
 )
 
@@ -748,7 +749,7 @@ class ExplainedSpectrum:
 
     def format_table(self) -> str:
         """The rows as aligned text under the caption; a sentence when there is no peak."""
-        unit = f"{self.unit}²" + ("/Hz" if self.spectrum.scaling == "density" else "")
+        unit = power_unit(self.unit, self.spectrum.scaling)
         lines = [f"{self.channel}: {self.caption()}"]
         if not self.rows:
             lines.append(self.empty_message)
