@@ -443,3 +443,109 @@ def test_a_gap_too_long_to_fill_is_named(tmp_path):
         assert result.exit_code == 2, result.output
         assert "gap of 0.21 s after t = 2.99 s" in result.output and "too long" in result.output
     assert not (tmp_path / "o").exists()
+
+
+# --- fast and long recordings: decimated, streamed, stated ----------------------------------
+
+
+def _fast_test(path, fs=19_200.0, duration=8.0):
+    """The hand-built adhesion test of ``_adhesion_csv`` at the QuantumX rate (19.2 kHz), with
+    an inverter line at 2.35 kHz (far above the analysis band: decimation must not alias it),
+    written with the package's writer (format from the suffix); returns the path and the true
+    CoA on the file's time axis."""
+    from rollerrig.measure.recording import Recording
+    from rollerrig.measure.writers import write_recording
+
+    rng = np.random.default_rng(1)
+    t = np.arange(int(duration * fs)) / fs
+    request = np.interp(t, [0, 2, 5, 5.5, 5.52, duration], [0, 0, 600, 600, 0, 0])
+    line = 3.0 * np.sin(2 * np.pi * 14.67 * t) + 2.0 * np.sin(2 * np.pi * 2350.0 * t)
+    rr, rw, load = 0.452, 0.348, 4300.0
+    coa = np.clip(request / (rr * load), 0, None)
+    creep = 0.02 * np.tan(np.clip(coa / 0.45, 0, 0.9) * np.pi / 2) / np.tan(0.45 * np.pi)
+    omega_r = np.full(t.size, 30 / 3.6 / rr)
+    channels = {
+        "torque": request + line + rng.standard_normal(t.size),
+        "torque_request": request,
+        "wheel_speed": omega_r * rr * (1 + creep + 1e-4 * coa) / rw,
+        "roller_speed": omega_r,
+        "normal_load": np.full(t.size, load),
+    }
+    units = {"torque": "N.m", "torque_request": "N.m", "wheel_speed": "rad/s"}
+    units |= {"roller_speed": "rad/s", "normal_load": "N"}
+    write_recording(Recording(t, channels, units), path)
+    return path, t, coa
+
+
+def test_analyze_of_a_fast_recording_decimates_and_says_so_whole_or_streamed(tmp_path, monkeypatch):
+    import rollerrig.cli as cli
+
+    rec, t, coa = _fast_test(tmp_path / "fast.tdms")
+    truth = tmp_path / "fast-truth.nc"
+    xr.Dataset({"coa": ("time", coa)}, coords={"time": t}).to_netcdf(truth, engine="h5netcdf")
+    summaries = []
+    for name, limit in (("whole", cli._SPECTRUM_IN_MEMORY), ("streamed", 1000)):
+        monkeypatch.setattr(cli, "_SPECTRUM_IN_MEMORY", limit)  # 1000: the file counts as long
+        out = tmp_path / name
+        args = ["analyze", str(rec), "--no-study", "--truth", str(truth), "--out", str(out)]
+        result = runner.invoke(app, args)
+        assert result.exit_code == 0, result.output
+        assert "analysed at 1000 Hz" in result.output
+        summary = json.loads((out / "fast-analysis.json").read_text())
+        rate = summary["analysis_rate"]
+        assert (rate["rate [Hz]"], rate["recording rate [Hz]"]) == (1000.0, 19200.0)
+        assert rate["decimation"]["stopband_attenuation_dB"] >= 70.0
+        notes = summary["recording"]["notes"]
+        assert any(n.startswith("decimated from 19200 Hz to 1000 Hz") for n in notes)
+        assert any("analysed at 1000 Hz" in n for n in summary["notes"])
+        smoothing = summary["smoothing"]
+        assert smoothing["samples at [Hz]"] == 1000.0 and smoothing["tuned at [Hz]"] == 250.0
+        assert summary["truth_errors"]["corrected_coa_vs_true_rms [-]"] < 0.05
+        summaries.append(summary)
+    whole, streamed = summaries
+    assert "streaming it from the file" in " ".join(streamed["notes"])
+    # The streamed decimation equals the one-shot one (to rounding): the same results.
+    assert [p["start [s]"] for p in whole["phases"]] == [p["start [s]"] for p in streamed["phases"]]
+    assert whole["polach_fit_corrected_coa"]["mu0"] == pytest.approx(
+        streamed["polach_fit_corrected_coa"]["mu0"], rel=1e-6
+    )
+
+
+def test_filters_on_a_fast_recording_states_its_basis_whole_or_streamed(tmp_path, monkeypatch):
+    import rollerrig.cli as cli
+
+    rec, _, _ = _fast_test(tmp_path / "fast.parquet", duration=6.0)
+    rankings = []
+    for name, limit in (("whole", cli._SPECTRUM_IN_MEMORY), ("streamed", 1000)):
+        monkeypatch.setattr(cli, "_SPECTRUM_IN_MEMORY", limit)
+        out = tmp_path / name
+        result = runner.invoke(app, ["filters", str(rec), "--out", str(out)])
+        assert result.exit_code == 0, result.output
+        assert "filter study computed at 250 Hz" in result.output
+        summary = json.loads((out / "fast-filters.json").read_text())
+        basis = summary["basis"]
+        assert (basis["source_rate_Hz"], basis["analysis_rate_Hz"]) == (19200.0, 250.0)
+        assert basis["decimation"].startswith("decimated from 19200 Hz to 250 Hz")
+        sg = summary["savitzky_golay"]
+        assert sg["tuned at [Hz]"] == 250.0 and sg["samples at [Hz]"] == 19200.0
+        assert sg["window [s]"] == pytest.approx(sg["window [samples]"] / 19200.0)
+        assert isinstance(summary["unscored"], dict)
+        assert all(r["sample_rate_Hz"] == 250.0 for r in summary["ranking"])
+        rankings.append([r["label"] for r in summary["ranking"]])
+    assert rankings[0] == rankings[1]
+
+
+def test_lenient_on_a_long_file_reads_it_whole_and_says_so(tmp_path, monkeypatch):
+    import rollerrig.cli as cli
+
+    monkeypatch.setattr(cli, "_SPECTRUM_IN_MEMORY", 100)
+    rec = _adhesion_csv(tmp_path / "test.csv", nan_at=(150,))
+    result = runner.invoke(app, ["filters", str(rec), "--out", str(tmp_path / "a")])
+    assert result.exit_code == 2, result.output  # streamed strictly: the NaN is an error
+    assert "'torque' has a NaN/inf sample at sample 150" in result.output
+    assert "on the command line: --lenient" in result.output
+    result = runner.invoke(app, ["filters", str(rec), "--lenient", "--out", str(tmp_path / "b")])
+    assert result.exit_code == 0, result.output
+    summary = json.loads((tmp_path / "b" / "test-filters.json").read_text())
+    assert any("read whole for --lenient" in n for n in summary["recording"]["notes"])
+    assert summary["recording"]["interpolated"][0]["first_sample"] == 150

@@ -132,3 +132,61 @@ def test_truth_of_another_recording_is_refused(analysed):
     _, truth, path = analysed
     with pytest.raises(RecordingError, match="not the truth of this recording"):
         analyze_test(read_recording(path), default_rig(), truth=truth.isel(time=slice(0, 100)))
+
+
+def test_fit_points_are_thinned_above_the_cap_and_it_is_said(analysed, monkeypatch):
+    import rollerrig.measure.analysis as analysis
+
+    result, truth, path = analysed
+    available = result.fit_points.size  # 2319 at 250 Hz: under the cap, nothing thinned
+    assert result.fit_points_step == 1 and result.fit_points_available == available
+    assert not any("Polach fits on one in" in n for n in result.notes)
+    monkeypatch.setattr(analysis, "MAX_FIT_POINTS", 500)
+    thinned = analyze_test(read_recording(path), default_rig(), truth=truth, run_study=False)
+    step = -(-available // 500)
+    assert thinned.fit_points_step == step and thinned.fit_points.size <= 500
+    assert any(f"Polach fits on one in {step} of the {available}" in n for n in thinned.notes)
+    fit = thinned.summary()["polach_fit_corrected_coa"]
+    assert (fit["points"], fit["points_available"], fit["points_step"]) == (
+        thinned.fit_points.size,
+        available,
+        step,
+    )
+    assert "one in" in fit["points_note"]
+    # The thinned points span the same branches: the fit hardly moves.
+    p, q = thinned.fit.parameters, result.fit.parameters
+    assert abs(p.static_friction - q.static_friction) < 0.01
+    assert abs(p.k_adhesion - q.k_adhesion) < 0.05
+
+
+def test_a_recording_at_the_analysis_rate_is_not_decimated(analysed):
+    result, _, _ = analysed
+    rate = result.summary()["analysis_rate"]
+    assert rate["rate [Hz]"] == rate["recording rate [Hz]"] == 250.0
+    assert (
+        rate["decimation"] is None and "not faster than 1500 Hz" in rate["decimation_null_because"]
+    )
+    basis = result.summary()["filter_study_basis"]
+    assert basis["analysis_rate_Hz"] == 250.0 and basis["decimation"] is None
+    assert result.summary()["smoothing"]["tuned at [Hz]"] == 250.0
+
+
+def test_analysis_recording_streams_a_source_and_equals_the_whole_decimation(tmp_path):
+    from rollerrig.measure.analysis import analysis_recording
+    from rollerrig.measure.source import open_recording
+
+    t = np.arange(40_000) / 19_200.0
+    torque = 100.0 + 10.0 * np.sin(2 * np.pi * 3.0 * t) + 2.0 * np.sin(2 * np.pi * 2350.0 * t)
+    rec = Recording(t, {"torque": torque}, {"torque": "N.m"})
+    path = write_recording(rec, tmp_path / "fast.tdms")
+    whole, note = analysis_recording(rec)
+    with open_recording(path) as src:
+        streamed, streamed_note = analysis_recording(src)
+    assert round(whole.sample_rate) == round(streamed.sample_rate) == 1000
+    np.testing.assert_allclose(streamed["torque"], whole["torque"], rtol=0, atol=1e-9)
+    assert "decimated first" in note and "while streaming it from the file" in streamed_note
+    # the 2.35 kHz line is gone (>= 70 dB down), the 3 Hz one kept
+    residual = whole["torque"] - (100.0 + 10.0 * np.sin(2 * np.pi * 3.0 * whole.time))
+    assert np.max(np.abs(residual[50:-50])) < 2.0 * 10 ** (-70 / 20) + 1e-3
+    same, none = analysis_recording(whole)
+    assert same is whole and none is None

@@ -8,6 +8,7 @@ chains them in the order an analyst would and keeps what each step found.
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass, field
 
@@ -25,12 +26,16 @@ from rollerrig.measure.segmentation import (
     hysteresis,
     segment_test,
 )
-from rollerrig.signal.scoring import StudyRow, filter_study, tune_savitzky_golay
+from rollerrig.signal.scoring import StudyRow, prepare_study_signal
 from rollerrig.signal.smoothing import savitzky_golay
 from rollerrig.signal.workflow import ExplainedSpectrum, explain_recording
 
 __all__ = [
+    "ANALYSIS_RATE",
+    "DECIMATE_ABOVE",
+    "MAX_FIT_POINTS",
     "TestAnalysis",
+    "analysis_recording",
     "analyze_test",
     "check_channel_values",
     "describe_channel",
@@ -52,6 +57,21 @@ _ANALYSED_CHANNELS = (
     "air_spring_pressure",
     "normal_load",
 )
+ANALYSIS_RATE = 1000.0
+"""Rate [Hz] :func:`analyze_test` works at for recordings faster than :data:`DECIMATE_ABOVE`.
+
+The anti-alias decimation (:func:`rollerrig.signal.decimate.decimate_recording`) keeps
+0-400 Hz (within 0.03 %): the torsional modes of the rig (up to ~112 Hz), the motor lines and
+the roller acceleration of the dynamics correction, at 1/19 of the samples of a 19.2 kHz
+recording (one hour: 3.6 M samples per channel instead of 69 M).
+"""
+
+DECIMATE_ABOVE = 1500.0
+"""Recordings faster than this [Hz] are decimated to :data:`ANALYSIS_RATE` before the analysis."""
+
+MAX_FIT_POINTS = 5000
+"""Most ascending-branch points a Polach fit uses; above it every k-th point is taken [1]."""
+
 _TORQUE_RANGE_FACTOR = 10.0  # torque beyond 10 x the sensor's range: a unit or scale mistake
 _TRUTH_SIGMA = 3.0  # fitted parameters further than this from a known truth are flagged
 _SYMBOLS = {
@@ -87,36 +107,41 @@ class TestAnalysis:
     truth_errors: dict = field(default_factory=dict)
     true_parameters: dict | None = None  # the twin's Polach set (synthetic recordings)
     true_parameters_source: str = ""
+    fit_points_available: int | None = None  # ascending-branch points before thinning
+    fit_points_step: int = 1  # every k-th available point was fitted
+    fit_points_cap: int | None = None  # the most points a fit uses (MAX_FIT_POINTS)
+    true_coa: np.ndarray | None = None  # the twin's contact CoA on the analysis time axis
+    analysis_rate: dict | None = None  # rate of the analysis and the decimation before it
+
+    @property
+    def smoothing_tuned_at(self) -> float | None:
+        """Rate the Savitzky-Golay tuning ran at [Hz] (None when the filter was given)."""
+        basis = getattr(self.smoothing_table, "basis", None)
+        return None if basis is None else float(basis.analysis_rate)
 
     def summary(self) -> dict:
         """A JSON-ready summary of every result, with units in the keys.
 
         Never holds NaN or inf: a number that cannot be given is ``None`` with a reason beside
         it. ``recording`` carries what the reader and the generator said about the recording
-        (notes, interpolated NaN runs, gaps, injected lines).
+        (notes, interpolated NaN runs, gaps, injected lines); ``analysis_rate`` the rate the
+        analysis ran at and the decimation that brought the recording to it.
         """
-        return {
+        basis = getattr(self.study, "basis", None)
+        out = {
             "rig": self.rig_name,
             "recording": recording_facts(self.recording),
             "phases": [
                 {"name": ph.name, "start [s]": ph.start, "end [s]": ph.end, "cycle": ph.cycle}
                 for ph in self.phases
             ],
-            "smoothing": {
-                "method": "Savitzky-Golay",
-                "order": self.smoothing_order,
-                "window [samples]": self.smoothing_window,
-                "window [s]": self.smoothing_window / self.recording.sample_rate,
-            },
+            "analysis_rate": self.analysis_rate,
+            "smoothing": self._smoothing(),
             "hysteresis": [
                 _hysteresis_dict(b, h) for b, h in zip(self.branches, self.hysteresis, strict=True)
             ],
-            "polach_fit_corrected_coa": _fit_dict(
-                self.fit, self.fit_points.size, self.true_parameters
-            ),
-            "polach_fit_rig_coa": _fit_dict(
-                self.fit_rig_coa, self.fit_points.size, self.true_parameters
-            ),
+            "polach_fit_corrected_coa": _fit_dict(self.fit, self._points(), self.true_parameters),
+            "polach_fit_rig_coa": _fit_dict(self.fit_rig_coa, self._points(), self.true_parameters),
             "true_polach_parameters": None
             if self.true_parameters is None
             else {"parameters": self.true_parameters, "source": self.true_parameters_source},
@@ -124,8 +149,38 @@ class TestAnalysis:
             if self.spectrum is None
             else {"window [s]": list(self.spectrum_window), **self.spectrum.summary()},
             "filter_study_top10": [row.as_dict() for row in self.study[:10]],
+            "filter_study_basis": None if basis is None else basis.as_dict(),
+            "filter_study_unscored": dict(getattr(self.study, "unscored", {}) or {}),
             "truth_errors": self.truth_errors,
             "notes": self.notes,
+        }
+        if basis is None:
+            out["filter_study_basis_null_because"] = "the filter study was not run (run_study)"
+        return out
+
+    def _smoothing(self) -> dict:
+        rate = _rate(self.recording)
+        out = {
+            "method": "Savitzky-Golay",
+            "order": self.smoothing_order,
+            "window [samples]": self.smoothing_window,
+            "samples at [Hz]": rate,
+            "window [s]": self.smoothing_window / rate,
+            "tuned at [Hz]": self.smoothing_tuned_at,
+        }
+        if self.smoothing_tuned_at is None:
+            out["tuned_at_null_because"] = "the order and window were given, not tuned"
+        return out
+
+    def _points(self) -> dict:
+        """Points the fits used, of how many available, and the thinning step."""
+        used = int(self.fit_points.size)
+        available = used if self.fit_points_available is None else int(self.fit_points_available)
+        return {
+            "used": used,
+            "available": available,
+            "step": int(self.fit_points_step),
+            "cap": self.fit_points_cap,
         }
 
 
@@ -134,7 +189,12 @@ def _finite_or_none(value: float) -> float | None:
     return value if np.isfinite(value) else None
 
 
-def _fit_dict(fit: PolachFit | None, n_points: int, truth: dict | None = None) -> dict | None:
+def _rate(recording: Recording) -> float:
+    """Sample rate [Hz] of a uniform recording, to 10 significant digits (19200, not 19199.99)."""
+    return float(f"{recording.sample_rate:.10g}")
+
+
+def _fit_dict(fit: PolachFit | None, points: dict, truth: dict | None = None) -> dict | None:
     if fit is None:
         return None
     p = fit.parameters
@@ -147,7 +207,9 @@ def _fit_dict(fit: PolachFit | None, n_points: int, truth: dict | None = None) -
         "kS": p.k_slip,
         "stderr": stderr,
         "rmse [-]": float(fit.rmse),
-        "points": int(n_points),
+        "points": points["used"],
+        "points_available": points["available"],
+        "points_step": points["step"],
         "identifiable": bool(fit.identifiable),
         "A_B_identifiable": None
         if fit.coverage is None
@@ -167,6 +229,11 @@ def _fit_dict(fit: PolachFit | None, n_points: int, truth: dict | None = None) -
         )
     if fit.residual_structure is None:
         out["residual_structure_null_because"] = "exact fit: residuals at round-off level"
+    if points["step"] > 1:
+        out["points_note"] = (
+            f"one in {points['step']} of the {points['available']} ascending-branch points "
+            f"fitted ({points['used']} used; a fit uses at most {points['cap']} points)"
+        )
     return out
 
 
@@ -441,6 +508,92 @@ def quiet_phase(phases: list[Phase]) -> tuple[float, float] | None:
     return best.start, best.end
 
 
+def analysis_recording(recording, *, rate: float | None = None, above: float | None = None):
+    """The recording at the rate the analysis works at, and a note saying what was done.
+
+    A recording faster than ``above`` (default :data:`DECIMATE_ABOVE`, 1.5 kHz) is brought to
+    ``rate`` (default :data:`ANALYSIS_RATE`, 1 kHz) by the zero-phase anti-alias FIR of
+    :func:`rollerrig.signal.decimate.decimate_recording` (every channel; the metadata's
+    ``notes`` and ``decimated`` say how). An open
+    :class:`rollerrig.measure.source.RecordingSource` is decimated while it is read, chunk by
+    chunk, and never held at its own rate; a source at or below ``above`` is read whole.
+
+    Parameters
+    ----------
+    recording : Recording or RecordingSource
+        Uniformly sampled (a lenient read's gaps filled first: :func:`fill_short_gaps`).
+    rate : float, optional
+        Analysis rate [Hz]; default :data:`ANALYSIS_RATE`. At or above the recording's own
+        rate nothing is decimated.
+    above : float, optional
+        Recordings faster than this [Hz] are decimated; default :data:`DECIMATE_ABOVE`.
+
+    Returns
+    -------
+    (Recording, str or None)
+        The recording to analyse, and a note for the analysis' notes (None when nothing was
+        done).
+
+    Raises
+    ------
+    RecordingError
+        Naming the file: a non-uniform time base, non-finite samples (a source is read
+        strictly).
+
+    Examples
+    --------
+    >>> t = np.arange(19200) / 19200.0
+    >>> rec, note = analysis_recording(Recording(t, {"torque": 100.0 + t}, {"torque": "N.m"}))
+    >>> round(rec.sample_rate), rec.metadata["decimated"]["from_rate_Hz"]
+    (1000, 19200.0)
+    >>> note[:48]
+    'analysed at 1000 Hz: the recording (19200 Hz) wa'
+    """
+    from rollerrig.signal.decimate import decimate_recording
+
+    rate = ANALYSIS_RATE if rate is None else float(rate)
+    above = DECIMATE_ABOVE if above is None else float(above)
+    streamed = hasattr(recording, "iter_chunks")
+    fs = float(f"{float(recording.sample_rate):.10g}")
+    if fs <= above or rate >= fs * (1.0 - 1e-9):
+        if streamed:  # slow enough to hold: read it whole
+            chunk = recording.read()
+            meta = dict(recording.metadata)
+            meta["notes"] = list(meta.get("notes") or [])
+            return Recording(
+                np.array(chunk.time),
+                {name: np.array(v) for name, v in chunk.channels.items()},
+                dict(recording.units),
+                meta,
+            ), None
+        return recording, None
+    out = decimate_recording(recording, rate)
+    how = "while streaming it from the file, never holding it whole" if streamed else "first"
+    note = (
+        f"analysed at {out.metadata['decimated']['rate_Hz']:g} Hz: the recording ({fs:g} Hz) "
+        f"was decimated {how} (recordings faster than {above:g} Hz are; ANALYSIS_RATE, "
+        "DECIMATE_ABOVE); 0-400 Hz is kept, the rig's torsional modes and motor lines included"
+    )
+    return out, note
+
+
+def _analysis_rate_facts(rec: Recording, above: float) -> dict:
+    """What the summary says about the rate the analysis ran at."""
+    decimated = rec.metadata.get("decimated")
+    rate = _rate(rec)
+    out = {
+        "rate [Hz]": rate,
+        "recording rate [Hz]": float(decimated["from_rate_Hz"]) if decimated else rate,
+        "decimated above [Hz]": above,
+        "decimation": dict(decimated) if decimated else None,
+    }
+    if not decimated:
+        out["decimation_null_because"] = (
+            f"the recording ({rate:g} Hz) is not faster than {above:g} Hz"
+        )
+    return out
+
+
 def analyze_test(
     recording: Recording,
     rig=None,
@@ -448,31 +601,48 @@ def analyze_test(
     truth=None,
     smoothing: tuple[int, int] | None = None,
     run_study: bool = True,
+    analysis_rate: float | None = None,
+    max_fit_points: int | None = None,
 ) -> TestAnalysis:
     """Analyse one adhesion test.
 
-    Steps: the physical quantities the rig derives (normal force from pressure, speeds from the
-    encoders, creep, CoA = T/(r_r N)); the phases of the test; a Savitzky-Golay order and window
-    tuned on the torque (or given); smoothed torque and speeds, and the creep and CoA from them;
-    the CoA corrected for the roller's inertia and bearing loss
-    (:func:`rollerrig.measure.correction.corrected_adhesion`); ascending and descending branches
-    per cycle and their hysteresis; Polach fits to the ascending branches of the corrected and
-    of the rig's CoA; the spectrum of the longest quiet phase with every peak explained (the
-    rig's torsional modes among the candidates); the seed's filter study, ranked.
+    Steps: a recording faster than :data:`DECIMATE_ABOVE` (1.5 kHz) brought to
+    ``analysis_rate`` (default :data:`ANALYSIS_RATE`, 1 kHz) by an anti-alias FIR
+    (:func:`analysis_recording`; stated in the notes and the summary's ``analysis_rate``); the
+    physical quantities the rig derives (normal force from pressure, speeds from the encoders,
+    creep, CoA = T/(r_r N)); the phases of the test; a Savitzky-Golay order and window tuned on
+    the torque (or given); smoothed torque and speeds, and the creep and CoA from them; the CoA
+    corrected for the roller's inertia and bearing loss
+    (:func:`rollerrig.measure.correction.corrected_adhesion`); ascending and descending
+    branches per cycle and their hysteresis; Polach fits to the ascending branches of the
+    corrected and of the rig's CoA (on at most ``max_fit_points`` points: every k-th point
+    when there are more, stated); the spectrum of the longest quiet phase with every peak
+    explained (the rig's torsional modes among the candidates); the seed's filter study,
+    ranked.
 
     Parameters
     ----------
-    recording : Recording
+    recording : Recording or RecordingSource
         Needs ``torque``, speeds or encoder counts, and the normal load or air-spring pressure.
+        An open :class:`rollerrig.measure.source.RecordingSource` (a long file) is decimated
+        while it is read and never held at its own rate (:func:`analysis_recording`).
     rig : RigParameters, optional
         The rig the test ran on (geometry, inertia, bearings, sensors); default the bundled rig.
     truth : xarray.Dataset, optional
-        For synthetic recordings, the twin's truth on the same time axis: adds the errors of the
-        rig's and the corrected CoA against the true contact CoA.
+        For synthetic recordings, the twin's truth on the recording's time axis (or, for a
+        recording decimated by :func:`analysis_recording`, on the original one): adds the
+        errors of the rig's and the corrected CoA against the true contact CoA, taken at the
+        analysis instants.
     smoothing : (order, window), optional
-        Fix the Savitzky-Golay filter instead of tuning it.
+        Fix the Savitzky-Golay filter instead of tuning it (window in samples at the analysis
+        rate).
     run_study : bool
         Run the full filter study.
+    analysis_rate : float, optional
+        Rate [Hz] recordings faster than :data:`DECIMATE_ABOVE` are analysed at; default
+        :data:`ANALYSIS_RATE`.
+    max_fit_points : int, optional
+        Most points a Polach fit uses; default :data:`MAX_FIT_POINTS`.
 
     Returns
     -------
@@ -484,18 +654,34 @@ def analyze_test(
     if rig is None:
         rig = default_rig()
         notes.append("no rig given: the bundled default rig's parameters were used")
-    check_channel_values(recording, _ANALYSED_CHANNELS, rig)
-    recording, _ = fill_short_gaps(recording)  # the notes go into the metadata's notes
+    cap = MAX_FIT_POINTS if max_fit_points is None else int(max_fit_points)
+    if cap < 10:
+        raise RecordingError(f"max_fit_points must be at least 10, got {max_fit_points!r}")
+    if hasattr(recording, "iter_chunks"):  # an open file, read strictly chunk by chunk
+        recording, rate_note = analysis_recording(recording, rate=analysis_rate)
+        check_channel_values(recording, _ANALYSED_CHANNELS, rig)
+        truth_on = None if truth is None else _truth_coa(truth, recording)
+    else:
+        check_channel_values(recording, _ANALYSED_CHANNELS, rig)
+        recording, _ = fill_short_gaps(recording)  # the notes go into the metadata's notes
+        truth_on = None if truth is None else _truth_coa(truth, recording)
+        recording, rate_note = analysis_recording(recording, rate=analysis_rate)
+    if rate_note:
+        notes.append(rate_note)
     rec = derive_quantities(recording, rig)
     rec.require("torque", "creep", "coa", "normal_load", "roller_speed", "wheel_speed")
     check_channel_values(rec, ("creep", "coa", "normal_load", "roller_speed", "wheel_speed"))
     t, fs = rec.time, rec.sample_rate
-    truth_coa = None if truth is None else _truth_coa(truth, rec)
+    truth_coa = None if truth_on is None else np.interp(t, *truth_on)  # on the analysis axis
 
     phases = segment_test(rec)
     _require_a_test(rec, phases)
+    # One study signal (the torque at the study's rate) for the tuning and the filter study.
+    study_signal = (
+        prepare_study_signal(t, rec["torque"]) if smoothing is None or run_study else None
+    )
     if smoothing is None:
-        order, window, table = tune_savitzky_golay(t, rec["torque"])
+        order, window, table = study_signal.tune_savitzky_golay()
     else:
         (order, window), table = smoothing, []
     torque_s = savitzky_golay(rec["torque"], window, order)
@@ -553,6 +739,15 @@ def analyze_test(
     if branches:
         points = np.concatenate([br.ascending for br in branches])
         points = points[(creep_s[points] > 1e-4) & (coa_s[points] > 0.01)]
+    available, step = int(points.size), max(1, math.ceil(points.size / cap))
+    if step > 1:
+        points = points[::step]
+        notes.append(
+            f"Polach fits on one in {step} of the {available} ascending-branch points "
+            f"({points.size} used; a fit uses at most {cap} points, MAX_FIT_POINTS): the "
+            "points are consecutive samples of smooth branches, so the thinned set spans the "
+            "same creep and slip-velocity range"
+        )
     if points.size >= 10:
         load = rec["normal_load"][points]
         stiffness = creep_stiffness_for_rig(float(np.median(load)), rig)
@@ -606,7 +801,7 @@ def analyze_test(
     else:
         notes.append("no quiet phase of at least 256 samples: spectrum skipped")
 
-    study = filter_study(t, rec["torque"]) if run_study else []
+    study = study_signal.filter_study() if run_study else []
 
     errors = {}
     if truth_coa is not None:
@@ -640,11 +835,22 @@ def analyze_test(
         truth_errors=errors,
         true_parameters=true_params,
         true_parameters_source=true_source,
+        fit_points_available=available,
+        fit_points_step=step,
+        fit_points_cap=cap,
+        true_coa=truth_coa,
+        analysis_rate=_analysis_rate_facts(rec, DECIMATE_ABOVE),
     )
 
 
-def _truth_coa(truth, rec: Recording) -> np.ndarray:
-    """The true contact CoA of a synthetic recording, checked against the recording's time."""
+def _truth_coa(truth, rec: Recording) -> tuple[np.ndarray, np.ndarray]:
+    """The true contact CoA of a synthetic recording, checked against the recording's time.
+
+    Returns ``(time, coa)``: the recording's time axis [s] when the truth has its samples, else
+    the truth's own (a recording decimated by :func:`analysis_recording` while it was read,
+    whose truth is at the original rate). The analysis takes the truth at its own instants by
+    linear interpolation (exact at coinciding instants).
+    """
     if "coa" not in getattr(truth, "data_vars", {}):
         raise RecordingError(
             "the truth dataset has no 'coa' variable: give the *-truth.nc file that "
@@ -653,22 +859,45 @@ def _truth_coa(truth, rec: Recording) -> np.ndarray:
     coa = np.asarray(truth["coa"].values, dtype=float).reshape(-1)
     where = getattr(truth, "encoding", {}).get("source")
     what = f"the truth {where}" if where else "the truth"
-    if coa.size != rec.time.size:
-        raise RecordingError(
-            f"{what} has {coa.size} samples, the recording {rec.time.size}: it is not the "
-            "truth of this recording (give the *-truth.nc written with it)"
-        )
-    if "time" in truth.coords:
-        t_truth = np.asarray(truth["time"].values, dtype=float)
-        dt = float(np.max(np.abs(t_truth - rec.time))) if t_truth.size == rec.time.size else 0.0
-        if dt > 0.5 / rec.sample_rate:
-            raise RecordingError(
-                f"{what}: its time axis differs from the recording's by up to {dt:.3g} s: it is "
-                "not the truth of this recording"
-            )
+    t_truth = (
+        np.asarray(truth["time"].values, dtype=float).reshape(-1)
+        if "time" in getattr(truth, "coords", {})
+        else None
+    )
+    if t_truth is not None and t_truth.size != coa.size:
+        raise RecordingError(f"{what}: its 'coa' and 'time' differ in length")
     if not np.all(np.isfinite(coa)):
         raise RecordingError(f"{what}: its 'coa' has NaN/inf samples")
-    return coa
+    if coa.size == rec.time.size:
+        if t_truth is not None:
+            dt = float(np.max(np.abs(t_truth - rec.time)))
+            if dt > 0.5 / rec.sample_rate:
+                raise RecordingError(
+                    f"{what}: its time axis differs from the recording's by up to {dt:.3g} s: "
+                    "it is not the truth of this recording"
+                )
+        return rec.time, coa
+    decimated = rec.metadata.get("decimated")
+    if decimated and t_truth is not None and t_truth.size >= 2:
+        # A recording decimated while it was read: the truth is at the original rate.
+        f_in = float(decimated["from_rate_Hz"])
+        step = float(np.median(np.diff(t_truth)))
+        start_off = abs(float(t_truth[0] - rec.time[0]))
+        end_off = float(t_truth[-1] - rec.time[-1])
+        out_step = 1.0 / rec.sample_rate
+        if (
+            abs(step * f_in - 1.0) <= 1e-3
+            and start_off <= 0.5 / f_in
+            and -0.5 / f_in <= end_off < out_step + 0.5 / f_in
+        ):
+            return t_truth, coa
+    rate = f" ({rec.sample_rate:.6g} Hz)"
+    if decimated:
+        rate = f" at {rec.sample_rate:.6g} Hz, decimated from {decimated['from_rate_Hz']:g} Hz"
+    raise RecordingError(
+        f"{what} has {coa.size} samples, the recording {rec.time.size}{rate}: it is not the "
+        "truth of this recording (give the *-truth.nc written with it)"
+    )
 
 
 def _require_a_test(rec: Recording, phases) -> None:

@@ -16,12 +16,15 @@ from rollerrig.fit.polach import PARAMETER_NAMES
 from rollerrig.measure.analysis import TestAnalysis
 from rollerrig.report._io import provenance, write_json
 from rollerrig.report.adhesion import adhesion_figure
-from rollerrig.report.filters import filter_comparison_figure, study_ranking_figure
+from rollerrig.report.filters import envelope, filter_comparison_figure, study_ranking_figure
 from rollerrig.report.html import HtmlReport
 from rollerrig.report.spectra import spectrum_figure
 from rollerrig.signal.smoothing import smooth
 
 __all__ = ["overview_figure", "rig_versus_corrected_figure", "write_analysis"]
+
+_SCATTER_POINTS = 50_000
+"""Most points of a scatter of the whole test in a report figure [1] (every k-th sample)."""
 
 _PHASE_COLOURS = {
     "free_rolling": "#e8f4e8",
@@ -45,15 +48,15 @@ def overview_figure(result: TestAnalysis):
     fig, axes = plt.subplots(3, 1, figsize=(11, 8), sharex=True)
     a, b, c = axes
     if "torque_request" in rec:
-        a.plot(t, rec["torque_request"], color="k", lw=1, label="torque request (wheel)")
-    a.plot(t, rec["torque"], color="0.6", lw=0.6, label="roller-shaft torque T56 (raw)")
-    a.plot(t, rec["torque_smoothed"], color="tab:blue", lw=1.2, label="T56 smoothed")
+        a.plot(*envelope(t, rec["torque_request"]), color="k", lw=1, label="torque request (wheel)")
+    a.plot(*envelope(t, rec["torque"]), color="0.6", lw=0.6, label="roller-shaft torque T56 (raw)")
+    a.plot(*envelope(t, rec["torque_smoothed"]), color="tab:blue", lw=1.2, label="T56 smoothed")
     a.set_ylabel("torque [N·m]")
-    b.plot(t, rec["wheel_speed"], color="tab:green", lw=0.6, label="wheel (encoder)")
-    b.plot(t, rec["roller_speed"], color="tab:brown", lw=0.6, label="roller (encoder)")
+    b.plot(*envelope(t, rec["wheel_speed"]), color="tab:green", lw=0.6, label="wheel (encoder)")
+    b.plot(*envelope(t, rec["roller_speed"]), color="tab:brown", lw=0.6, label="roller (encoder)")
     b.set_ylabel("speed [rad/s]")
-    c.plot(t, 100 * rec["creep"], color="0.6", lw=0.5, label="creep from encoders")
-    c.plot(t, 100 * rec["creep_smoothed"], color="tab:purple", lw=1.2, label="smoothed")
+    c.plot(*envelope(t, 100 * rec["creep"]), color="0.6", lw=0.5, label="creep from encoders")
+    c.plot(*envelope(t, 100 * rec["creep_smoothed"]), color="tab:purple", lw=1.2, label="smoothed")
     c.set_ylabel("creep [%]")
     c.set_xlabel("time [s]")
     for ax in axes:
@@ -72,32 +75,39 @@ def rig_versus_corrected_figure(result: TestAnalysis, truth=None):
     rec = result.recording
     t = rec.time
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.5))
-    a.plot(t, rec["coa_smoothed"], color="tab:blue", lw=1, label="rig: T56 / (r_r N)")
-    a.plot(t, rec["coa_corrected"], color="tab:red", lw=1, label="corrected: + J5·α5 + R05")
-    if truth is not None:
-        a.plot(t, truth["coa"].values, "k--", lw=0.8, label="true contact CoA (twin)")
+    a.plot(*envelope(t, rec["coa_smoothed"]), color="tab:blue", lw=1, label="rig: T56 / (r_r N)")
+    a.plot(
+        *envelope(t, rec["coa_corrected"]), color="tab:red", lw=1, label="corrected: + J5·α5 + R05"
+    )
+    true_coa = result.true_coa
+    if true_coa is None and truth is not None and truth["coa"].size == t.size:
+        true_coa = truth["coa"].values
+    if true_coa is not None:
+        a.plot(*envelope(t, true_coa), "k--", lw=0.8, label="true contact CoA (twin)")
     _shade_phases(a, result.phases)
     a.set_xlabel("time [s]")
     a.set_ylabel("CoA [-]")
     a.set_title("Adhesion coefficient over the test")
     idx = np.concatenate([br.ascending for br in result.branches]) if result.branches else []
+    step = max(1, -(-t.size // _SCATTER_POINTS))  # every step-th sample, bounded points
+    every = "" if step == 1 else f" (one sample in {step})"
     b.plot(
-        100 * rec["creep_smoothed"],
-        rec["coa_smoothed"],
+        100 * rec["creep_smoothed"][::step],
+        rec["coa_smoothed"][::step],
         ".",
         ms=1,
         color="tab:blue",
         alpha=0.4,
-        label="rig CoA, whole test",
+        label=f"rig CoA, whole test{every}",
     )
     b.plot(
-        100 * rec["creep_smoothed"],
-        rec["coa_corrected"],
+        100 * rec["creep_smoothed"][::step],
+        rec["coa_corrected"][::step],
         ".",
         ms=1,
         color="tab:red",
         alpha=0.4,
-        label="corrected CoA, whole test",
+        label=f"corrected CoA, whole test{every}",
     )
     s = np.linspace(
         0, max(float(np.max(rec["creep_smoothed"][idx])) if len(idx) else 0.05, 1e-3), 300
@@ -134,6 +144,31 @@ def _rolling_speed(result: TestAnalysis) -> float:
     if not np.any(ok):
         return 1.0
     return float(np.median(rec["slip_velocity_smoothed"][idx][ok] / creep[ok]))
+
+
+def _params_at(row, sample_rate: float) -> dict:
+    """A study row's filter parameters for a signal at ``sample_rate`` [Hz].
+
+    The study's windows count samples at the rate it ran at (``row.sample_rate``: 250 Hz for a
+    recording faster than 500 Hz); the same span in seconds at ``sample_rate``, made odd.
+    """
+    params = dict(row.params)
+    rate = getattr(row, "sample_rate", None)
+    if "window" not in params or rate is None or abs(rate - sample_rate) <= 1e-9 * sample_rate:
+        return params
+    w = round((params["window"] - 1) * sample_rate / rate) + 1
+    w += 1 - w % 2
+    order = int(params.get("order", 1))
+    params["window"] = max(w, order + 1 + order % 2)  # odd and longer than the order
+    return params
+
+
+def _at_rate(row, sample_rate: float) -> str:
+    """Label suffix when a study row's window was rescaled to ``sample_rate``."""
+    params = _params_at(row, sample_rate)
+    if params.get("window") == row.params.get("window"):
+        return ""
+    return f" (w{params['window']} at {sample_rate:.6g} Hz)"
 
 
 def _zoom_windows(result: TestAnalysis) -> dict:
@@ -416,14 +451,23 @@ def write_analysis(
         rep.heading("Smoothing-filter study (the seed's §4.5.2.5, scored)")
         rep.paragraph(
             f"Savitzky–Golay tuned on this recording: order {result.smoothing_order}, window "
-            f"{result.smoothing_window} samples. Lower cost is better: noise left in steady parts, "
-            "transient peak height and timing kept, lag."
+            f"{result.smoothing_window} samples at {rec.sample_rate:.6g} Hz "
+            f"({result.smoothing_window / rec.sample_rate:.3f} s). Lower cost is better: noise "
+            "left in steady parts, transient peak height and timing kept, lag."
         )
+        basis = getattr(result.study, "basis", None)
+        if basis is not None:
+            rep.paragraph(basis.note() + ".", note=True)
+        for key, why in (getattr(result.study, "unscored", None) or {}).items():
+            rep.paragraph(f"{key} not scored: {why}.", note=True)
         rep.figure(study_ranking_figure(result.study), "Filters ranked by cost.")
         best = result.study[0]
         filtered = {
-            best.label: smooth(
-                rec["torque"], best.method, sample_rate=rec.sample_rate, **best.params
+            best.label + _at_rate(best, rec.sample_rate): smooth(
+                rec["torque"],
+                best.method,
+                sample_rate=rec.sample_rate,
+                **_params_at(best, rec.sample_rate),
             ),
             f"SG order {result.smoothing_order}, window {result.smoothing_window}": rec[
                 "torque_smoothed"

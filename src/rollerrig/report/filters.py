@@ -21,7 +21,63 @@ import numpy as np
 
 from rollerrig.signal.scoring import ScoreWeights, Segmentation, StudyRow
 
-__all__ = ["filter_comparison_figure", "savitzky_golay_grid_figure", "study_ranking_figure"]
+__all__ = [
+    "PLOT_POINTS",
+    "envelope",
+    "filter_comparison_figure",
+    "savitzky_golay_grid_figure",
+    "study_ranking_figure",
+]
+
+PLOT_POINTS = 20_000
+"""Most points a line of a report figure draws [1]; longer signals are drawn as their envelope."""
+
+
+def envelope(x, y, max_points: int = PLOT_POINTS):
+    """A long line reduced for drawing: the minimum and maximum of ``y`` in each of
+    ``max_points // 2`` consecutive bins and the first and last sample, in time order.
+
+    A figure is ~1000 pixels wide, so the drawn line looks the same (every excursion kept),
+    while the figure holds ``max_points`` points instead of millions (one hour at 1 kHz: 3.6 M
+    samples per line; matplotlib keeps and transforms every point it is given).
+
+    Parameters
+    ----------
+    x, y : array_like, shape (n,)
+        The line [any units].
+    max_points : int
+        Points returned: at most ``max_points`` (>= 4), and the two ends.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        ``x`` and ``y`` at the kept samples (the inputs themselves when ``n <= max_points``).
+
+    Examples
+    --------
+    >>> x = np.arange(10.0)
+    >>> envelope(x, np.array([0, 5, 1, 1, -3, 1, 1, 1, 2, 0.0]), 4)[1]
+    array([ 0.,  5., -3.,  2.,  0.])
+    """
+    x = np.asarray(x)
+    y = np.asarray(y)
+    n = y.size
+    if n <= max(int(max_points), 4):
+        return x, y
+    bins = max(int(max_points) // 2, 2)
+    k = -(-n // bins)  # samples per bin, rounded up
+    m = n // k * k
+    head = y[:m].reshape(-1, k)
+    base = np.arange(0, m, k)
+    lo, hi = base + np.argmin(head, axis=1), base + np.argmax(head, axis=1)
+    idx = [np.minimum(lo, hi), np.maximum(lo, hi)]
+    if m < n:  # the last, shorter bin
+        tail = y[m:]
+        a, b = m + int(np.argmin(tail)), m + int(np.argmax(tail))
+        idx.append(np.array([min(a, b), max(a, b)]))
+    ends = np.array([0, n - 1])  # the line spans the whole signal
+    keep = np.unique(np.concatenate([ends, np.column_stack(idx[:2]).ravel(), *idx[2:]]))
+    return x[keep], y[keep]
 
 
 def _window_around(segments: list[tuple[int, int]], time: np.ndarray, pick: str):
@@ -80,12 +136,18 @@ def filter_comparison_figure(
     grid = fig.add_gridspec(2, 2, height_ratios=[1.1, 1.0])
     top = fig.add_subplot(grid[0, :])
     zooms = [fig.add_subplot(grid[1, 0]), fig.add_subplot(grid[1, 1])]
-    for ax in (top, *zooms):
-        ax.plot(t, raw, color="0.7", lw=0.6, label="raw")
+    raw = np.asarray(raw, dtype=float)
+    for ax, window in ((top, None), (zooms[0], steady_window), (zooms[1], transient_window)):
+        # Each axis gets only what it shows, drawn as an envelope (bounded points per line).
+        part = slice(None)
+        if window is not None:
+            i0, i1 = np.searchsorted(t, window)
+            part = slice(max(int(i0) - 1, 0), int(i1) + 1)
+        ax.plot(*envelope(t[part], raw[part]), color="0.7", lw=0.6, label="raw")
         if truth is not None:
-            ax.plot(t, truth, "k--", lw=0.9, label="truth")
+            ax.plot(*envelope(t[part], np.asarray(truth)[part]), "k--", lw=0.9, label="truth")
         for label, y in filtered.items():
-            ax.plot(t, y, lw=1.2, label=label)
+            ax.plot(*envelope(t[part], np.asarray(y)[part]), lw=1.2, label=label)
         ax.set_xlabel("time [s]")
         ax.set_ylabel(f"torque [{unit}]")
         ax.grid(alpha=0.3)
@@ -146,6 +208,9 @@ def study_ranking_figure(
     ax.barh(y, timing, left=noise + peak, color="tab:gray", label="lag + peak-time error")
     ax.set_yticks(y, labels, fontsize=8)
     ax.set_xlabel("cost [1] (lower is better)")
+    rate = _analysis_rate(rows)
+    if rate is not None:
+        ax.set_title(f"windows w in samples at {rate:g} Hz", fontsize=8)
     ax.legend(fontsize=8, loc="best")
     ax.grid(axis="x", alpha=0.3)
     fig.tight_layout()
@@ -154,6 +219,10 @@ def study_ranking_figure(
 
 def savitzky_golay_grid_figure(table: Sequence[StudyRow]):
     """Savitzky-Golay tuning table as a cost map over polynomial order × window.
+
+    The window axis counts samples at the rate the tuning ran at (the table's
+    ``basis.analysis_rate``, else the rows' ``sample_rate``), which is 250 Hz for a recording
+    faster than 500 Hz, not the recording's own rate; the axis label says which.
 
     Parameters
     ----------
@@ -173,10 +242,30 @@ def savitzky_golay_grid_figure(table: Sequence[StudyRow]):
     im = ax.imshow(grid, aspect="auto", origin="lower", cmap="viridis_r")
     ax.set_xticks(range(len(windows)), [str(w) for w in windows], fontsize=7, rotation=90)
     ax.set_yticks(range(len(orders)), [str(o) for o in orders])
-    ax.set_xlabel("window [samples]")
+    ax.set_xlabel(_window_axis(table))
     ax.set_ylabel("polynomial order")
     best = table[0].params
     ax.plot(windows.index(best["window"]), orders.index(best["order"]), "r*", ms=12)
     fig.colorbar(im, ax=ax, label="cost [1]")
     fig.tight_layout()
     return fig
+
+
+def _analysis_rate(rows) -> float | None:
+    """Rate [Hz] the windows of a study table count samples at, if known."""
+    basis = getattr(rows, "basis", None)
+    if basis is not None:
+        return float(basis.analysis_rate)
+    rates = {r.sample_rate for r in rows if getattr(r, "sample_rate", None) is not None}
+    return float(rates.pop()) if len(rates) == 1 else None
+
+
+def _window_axis(rows) -> str:
+    rate = _analysis_rate(rows)
+    if rate is None:
+        return "window [samples]"
+    basis = getattr(rows, "basis", None)
+    where = ""
+    if basis is not None and basis.decimation is not None:
+        where = f", the recording's {basis.source_rate:g} Hz decimated"
+    return f"window [samples at {rate:g} Hz{where}]"
