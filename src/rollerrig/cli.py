@@ -599,10 +599,12 @@ def modes(
     if speed_kmh is None and load_kn is not None:
         raise UserError("--load-kn needs --speed-kmh: give the roller speed [km/h] as well")
     if speed_kmh is not None:
-        if not (np.isfinite(speed_kmh) and speed_kmh > 0):
-            raise UserError(f"--speed-kmh must be > 0 [km/h], got {speed_kmh:g}")
-        if load_kn is not None and not (np.isfinite(load_kn) and load_kn > 0):
-            raise UserError(f"--load-kn must be > 0 [kN], got {load_kn:g}")
+        # Upper bounds: the twin's drives and contact are parametrised for a tram wheel; far
+        # beyond them the steady state is not found and the linearisation means nothing.
+        if not (np.isfinite(speed_kmh) and 0 < speed_kmh <= 300):
+            raise UserError(f"--speed-kmh must be in (0, 300] [km/h], got {speed_kmh:g}")
+        if load_kn is not None and not (np.isfinite(load_kn) and 0 < load_kn <= 200):
+            raise UserError(f"--load-kn must be in (0, 200] [kN], got {load_kn:g}")
         load = DEFAULT_NORMAL_LOAD if load_kn is None else load_kn * 1e3
         source = "--load-kn" if load_kn is not None else "default: the seed's test load"
         coupled = coupled_modes(rig, speed_kmh / 3.6, load, friction=friction, load_source=source)

@@ -190,3 +190,20 @@ def test_analysis_recording_streams_a_source_and_equals_the_whole_decimation(tmp
     assert np.max(np.abs(residual[50:-50])) < 2.0 * 10 ** (-70 / 20) + 1e-3
     same, none = analysis_recording(whole)
     assert same is whole and none is None
+
+
+def test_missing_speed_channels_name_the_map_entries_to_add():
+    t = np.arange(2000) / 250.0
+    rec = Recording(
+        t,
+        {"torque": np.interp(t, [0, 2, 5, 5.1, 8], [0, 0, 600, 0, 0]), "normal_load": 4300 + 0 * t},
+        {"torque": "N.m", "normal_load": "N"},
+        {"source": "pico.csv"},
+    )
+    with pytest.raises(RecordingError) as err:
+        analyze_test(rec, default_rig(), run_study=False)
+    text = str(err.value)
+    assert text.startswith("pico.csv: an adhesion-test analysis needs")
+    assert "[channels.roller_speed] or [channels.roller_encoder_counts]" in text
+    assert "[channels.wheel_speed] or [channels.wheel_encoder_counts]" in text
+    assert "normal load" not in text  # that one is there

@@ -483,3 +483,11 @@ def test_damaged_files_are_recording_errors(tmp_path, fmt, damage):
     with pytest.raises(RecordingError, match=r"bad\."):
         read_recording(bad)
     assert _fingerprint(bad) == before
+
+
+@pytest.mark.parametrize("suffix", [".tdms", ".mf4", ".mat", ".parquet", ".lvm"])
+def test_an_empty_file_says_so(tmp_path, suffix):
+    path = tmp_path / f"empty{suffix}"
+    path.write_bytes(b"")
+    with pytest.raises(RecordingError, match=r"the file is empty \(0 bytes\)"):
+        read_recording(path, {"channels": {"torque": {"column": "T", "unit": "N.m"}}})

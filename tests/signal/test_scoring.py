@@ -321,3 +321,23 @@ def test_scores_a_signal_cannot_give_are_none_with_the_reason():
     full = filter_study(sig.time, sig.raw, candidates=[("moving_average", {"window": 33})])
     assert full.unscored == {}
     assert None not in full[0].as_dict().values()
+
+
+def test_slow_recording_ranks_the_filters_that_exist_and_lists_the_others():
+    # A 10 Hz export of a ramp-hold-release test: the seed's windows (samples at 250 Hz) shrink
+    # below what LOWESS/LOESS accept; those are listed as not run, the rest is still ranked.
+    t = np.arange(301) / 10.0
+    x = np.interp(t, [0, 5, 10, 10.1, 30], [0, 0, 500, 0, 0])
+    x = x + np.random.default_rng(3).normal(0.0, 2.0, t.size)
+    table = filter_study(t, x)
+    assert 0 < len(table) < len(default_candidates(10.0))
+    assert "cannot run on this signal" in table.unscored["not_run"]
+    assert "LOESS w5" in table.unscored["not_run"]
+    order, window, _ = tune_savitzky_golay(t, x)
+    assert 2 <= order < window
+
+
+def test_a_signal_no_filter_can_run_on_is_one_clear_error():
+    t = np.arange(4) / 10.0
+    with pytest.raises(ParameterError, match="no filter of the study can run on this signal"):
+        filter_study(t, np.array([0.0, 1.0, 0.0, 1.0]), candidates=[("lowess", {"window": 5})])

@@ -594,6 +594,34 @@ def _analysis_rate_facts(rec: Recording, above: float) -> dict:
     return out
 
 
+# What an adhesion-test analysis needs, each as alternatives a channel map can give.
+_ANALYSIS_INPUTS = (
+    (("torque",), "the roller-shaft torque T56"),
+    (("roller_speed", "roller_encoder_counts"), "the roller speed"),
+    (("wheel_speed", "wheel_encoder_counts"), "the wheel speed"),
+    (("normal_load", "air_spring_pressure"), "the normal load"),
+)
+
+
+def _require_analysis_inputs(recording) -> None:
+    """RecordingError naming the channel-map entries to add when an input is missing."""
+    have = set(recording.names if hasattr(recording, "iter_chunks") else recording.channels)
+    missing = [
+        (names, what) for names, what in _ANALYSIS_INPUTS if not any(n in have for n in names)
+    ]
+    if missing:
+        source = recording.metadata.get("source", "the recording")
+        wants = "; ".join(
+            f"{what}: [channels.{names[0]}]"
+            + (f" or [channels.{names[1]}]" if len(names) > 1 else "")
+            for names, what in missing
+        )
+        raise RecordingError(
+            f"{source}: an adhesion-test analysis needs {wants}; add these entries to the "
+            f"channel map (--channels), the recording has {sorted(have)}"
+        )
+
+
 def analyze_test(
     recording: Recording,
     rig=None,
@@ -657,6 +685,7 @@ def analyze_test(
     cap = MAX_FIT_POINTS if max_fit_points is None else int(max_fit_points)
     if cap < 10:
         raise RecordingError(f"max_fit_points must be at least 10, got {max_fit_points!r}")
+    _require_analysis_inputs(recording)
     if hasattr(recording, "iter_chunks"):  # an open file, read strictly chunk by chunk
         recording, rate_note = analysis_recording(recording, rate=analysis_rate)
         check_channel_values(recording, _ANALYSED_CHANNELS, rig)

@@ -73,8 +73,8 @@ _NOT_READ = {
     ".bin": (
         "HBM catman binary files (.bin) are not read (the only PyPI reader, apread, prompts on "
         "stdin and pulls in matplotlib/OpenCV); in catman export the measurement as ASCII "
-        "(tab-separated, with channel names and units: read it with format='csv') or as ASAM "
-        "MDF4 (.mf4), and read that file"
+        "(tab-separated, with channel names and units: read it with format='csv', or rename "
+        "it to .csv) or as ASAM MDF4 (.mf4), and read that file"
     ),
     ".tdm": ("NI DIAdem TDM headers (.tdm + .tdx) are not read; export as TDMS or CSV from DIAdem"),
 }
@@ -553,7 +553,8 @@ def _validate(
             f"{where} gap (dropped samples) between sample {g['sample']} (t = {g['start_s']:.9g} s)"
             f" and {g['sample'] + 1} (t = {g['end_s']:.9g} s): {g['duration_s']:.6g} s, about "
             f"{g['missing_samples']} missing sample(s) at the median interval {median:.6g} s; "
-            f"{len(gaps)} gap(s) in total; validate='lenient' keeps them (listed in metadata)"
+            f"{len(gaps)} gap(s) in total; validate='lenient' (--lenient on the command line) "
+            "keeps them and lists them"
         )
     report["gaps"] = gaps
     out: dict[str, np.ndarray] = {}
@@ -577,8 +578,8 @@ def _validate(
                 f"run(s); first run: {describe(first)}"
                 + ("" if mode == "strict" else "; every sample is bad")
                 + (
-                    "; validate='lenient' interpolates runs of at most "
-                    f"{MAX_INTERPOLATED_NAN_RUN} samples"
+                    "; validate='lenient' (--lenient on the command line) interpolates runs of "
+                    f"at most {MAX_INTERPOLATED_NAN_RUN} samples"
                     if mode == "strict"
                     else ""
                 )

@@ -826,15 +826,35 @@ class StudySignal:
 
     def _run(self, scorer: _Scorer, candidates) -> StudyTable:
         results = []
+        not_run: list[str] = []
         for method, params in candidates:
             if method not in METHODS:
                 raise ParameterError(f"unknown method {method!r}; known: {sorted(METHODS)}")
-            y = smooth(scorer.raw, method, sample_rate=scorer.fs, **params)
+            try:
+                y = smooth(scorer.raw, method, sample_rate=scorer.fs, **params)
+            except ParameterError as exc:
+                # The seed's windows scale with the rate: on a slow or short recording some
+                # filters do not exist (a LOWESS of 5 samples, a window longer than the signal).
+                # They are left out and listed; the others are still ranked.
+                not_run.append(f"{_label(method, params)} ({exc})")
+                continue
             results.append((method, dict(params), scorer.score_scaled(y)))
+        if not results:
+            raise ParameterError(
+                f"no filter of the study can run on this signal ({scorer.raw.size} samples at "
+                f"{scorer.fs:.6g} Hz): {'; '.join(not_run[:3])}"
+                f"{' ...' if len(not_run) > 3 else ''}; the study needs a longer recording "
+                "(several seconds) at a rate of at least about 50 Hz"
+            )
         results.sort(key=lambda r: r[2].cost)
         rate = self.basis.analysis_rate
         rows = [StudyRow(i + 1, m, p, _label(m, p), s, rate) for i, (m, p, s) in enumerate(results)]
         why = _unscored(scorer)
+        if not_run:
+            distinct = list(dict.fromkeys(not_run))  # windows 33 and 65 may both shrink to 5
+            why["not_run"] = f"{len(not_run)} filter(s) cannot run on this signal: " + "; ".join(
+                distinct
+            )
         for key, attr in (("noise_left", "noise_left"), ("peak_kept", "peak_kept"),
                           ("peak_time_error_s", "peak_time_error"), ("lag_s", "lag")):  # fmt: skip
             if rows and key not in why and all(np.isnan(getattr(r.score, attr)) for r in rows):

@@ -18,6 +18,7 @@ from rollerrig.measure.formats.mat import read_mat
 from rollerrig.measure.formats.mdf import open_mdf
 from rollerrig.measure.formats.parquet import read_parquet
 from rollerrig.measure.formats.tdms import open_tdms
+from rollerrig.measure.recording import RecordingError
 
 __all__ = ["Column", "Table", "open_table"]
 
@@ -25,6 +26,8 @@ __all__ = ["Column", "Table", "open_table"]
 @contextlib.contextmanager
 def open_table(path: Path, fmt: str, spec: FileSpec | None = None) -> Iterator[Table]:
     """The file as a :class:`Table`; ``spec`` is the channel map's ``[file]`` section."""
+    if path.stat().st_size == 0:  # every format's own error would be about something else
+        raise RecordingError(f"{path}: the file is empty (0 bytes)")
     if fmt == "csv":
         yield read_csv(path, spec)
     elif fmt == "lvm":

@@ -156,7 +156,8 @@ def read_lvm(path: Path, spec: FileSpec | None = None) -> Table:
     if not lines[0].startswith("LabVIEW Measurement"):
         raise RecordingError(
             f"{path}: not a LabVIEW Measurement file (the first line is {lines[0][:60]!r}, "
-            "expected 'LabVIEW Measurement'); read it as CSV with format='csv'"
+            "expected 'LabVIEW Measurement'); read it as CSV with format='csv' (or rename it "
+            "to .csv)"
         )
 
     # --- file header
