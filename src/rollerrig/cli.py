@@ -812,8 +812,9 @@ def _print_analysis(result) -> None:
         basis = getattr(result.study, "basis", None)
         if basis is not None:
             note(basis.note())
-        for key, why in (getattr(result.study, "unscored", None) or {}).items():
-            note(f"filter study: {key} not scored: {why}")
+        if result.study:
+            for text in result.study.unscored_notes():
+                note(f"filter study: {text}")
     _print_recording_notes(result.recording)
     for text in result.notes:
         if not text.startswith(tuple(shown)):
@@ -1067,8 +1068,8 @@ def filters(
         soft_wrap=True,
     )
     note(rows.basis.note())
-    for key, why in rows.unscored.items():
-        note(f"{key} not scored: {why}")
+    for text in rows.unscored_notes():
+        note(text)
     _print_recording_notes(rec)
     _print_written(stage.written)
 

@@ -458,8 +458,8 @@ def write_analysis(
         basis = getattr(result.study, "basis", None)
         if basis is not None:
             rep.paragraph(basis.note() + ".", note=True)
-        for key, why in (getattr(result.study, "unscored", None) or {}).items():
-            rep.paragraph(f"{key} not scored: {why}.", note=True)
+        for text in result.study.unscored_notes():
+            rep.paragraph(f"{text}.", note=True)
         rep.figure(study_ranking_figure(result.study), "Filters ranked by cost.")
         best = result.study[0]
         filtered = {

@@ -655,6 +655,13 @@ class StudyTable(list):
         self.basis = basis
         self.unscored = dict(unscored or {})
 
+    def unscored_notes(self) -> list[str]:
+        """One sentence per entry of :attr:`unscored`, for consoles and reports."""
+        return [
+            why if key == "not_run" else f"{key} not scored: {why}"
+            for key, why in self.unscored.items()
+        ]
+
 
 def _unscored(scorer: _Scorer) -> dict[str, str]:
     """Why a score is NaN for every filter on this signal (keys as in StudyRow.as_dict)."""
