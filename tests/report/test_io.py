@@ -1,6 +1,8 @@
 """Output writing: the JSON NaN policy (null plus a reason, never NaN) and atomic writes."""
 
 import json
+import os
+import stat
 
 import numpy as np
 import pytest
@@ -59,3 +61,13 @@ def test_html_tables_show_no_nan():
     text = r.render()
     assert "nan" not in text.lower().replace("n/a", "") and "inf" not in text
     assert text.count("n/a") == 2 and "[kN]" in text
+
+
+def test_atomic_write_gives_the_mode_of_a_new_file(tmp_path):
+    # mkstemp alone would leave 0600: a report nobody else can read.
+    old = os.umask(0o022)
+    try:
+        path = atomic_write(tmp_path / "report.html", lambda p: p.write_text("x"))
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o644
