@@ -436,6 +436,31 @@ def test_staged_outputs_commit_together_or_not_at_all(tmp_path):
     assert _files(tmp_path) == ["a", "b", "sub", "x.json", "y.txt"]  # no staging folder left
 
 
+def test_output_names_from_user_data_stay_inside_out(tmp_path):
+    # An experiment named "../escaped" or with 300 characters (issue 8): the file lands in
+    # --out under a plain, shortened name; nothing is written next to it.
+    from rollerrig.cli import MAX_OUTPUT_STEM, staged_outputs
+
+    out = tmp_path / "out"
+    with staged_outputs(out) as stage:
+        stage.path("../escaped.nc").write_text("e")
+        stage.path("x" * 300 + ".png").write_text("x")
+    names = sorted(p.name for p in stage.written)
+    assert names == ["_escaped.nc", "x" * MAX_OUTPUT_STEM + ".png"]
+    assert _files(tmp_path) == sorted(["out", *names])
+
+
+def test_an_output_name_taken_by_a_folder_is_one_error_and_nothing_moves(tmp_path):
+    from rollerrig.cli import UserError, staged_outputs
+
+    out = tmp_path / "out"
+    (out / "report.html").mkdir(parents=True)
+    with pytest.raises(UserError, match=r"report.html is a folder"), staged_outputs(out) as st:
+        st.path("a.json").write_text("{}")
+        st.path("report.html").write_text("<html>")
+    assert _files(tmp_path) == ["out", "report.html"]  # a.json was not moved in either
+
+
 def test_a_gap_too_long_to_fill_is_named(tmp_path):
     rec = _adhesion_csv(tmp_path / "test.csv", drop=range(300, 320))
     for command in ("analyze", "filters"):

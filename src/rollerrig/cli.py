@@ -28,6 +28,7 @@ import contextlib
 import json
 import logging
 import os
+import re
 import shutil
 import tempfile
 import traceback
@@ -153,6 +154,29 @@ class _BoundaryGroup(TyperGroup):
             raise typer.Exit(code=3) from None
 
 
+MAX_OUTPUT_STEM = 120
+"""Longest output file stem [characters] (the suffix is kept whole)."""
+
+
+def safe_file_name(name: str) -> str:
+    """``name`` as a plain, portable file name (see :meth:`staged_outputs.path`).
+
+    Leading dots are dropped: a hidden name would be taken for a writer's temporary file, and
+    ``..`` must not climb out of the output folder.
+
+    Examples
+    --------
+    >>> safe_file_name("../escaped.nc"), safe_file_name("run 05 [wet].png")
+    ('_escaped.nc', 'run_05__wet_.png')
+    """
+    text = re.sub(r"[^A-Za-z0-9._+-]", "_", str(name)).lstrip(".") or "_"
+    stem, dot, suffix = text.rpartition(".")
+    if not dot or not stem:
+        stem, suffix = text, ""
+    stem = stem[:MAX_OUTPUT_STEM]
+    return f"{stem}.{suffix}" if suffix else stem
+
+
 class staged_outputs:  # a context manager that reads as a function
     """Write all files of one command together, or none of them.
 
@@ -179,8 +203,14 @@ class staged_outputs:  # a context manager that reads as a function
         return self
 
     def path(self, name: str) -> Path:
-        """Staged path of the output file ``name`` (relative to ``out``)."""
-        return self.dir / name
+        """Staged path of the output file ``name``: a plain file name, made safe.
+
+        Names come from user data (an experiment's name, a recording's stem): every character
+        other than letters, digits, ``.``, ``_``, ``-`` and ``+`` becomes ``_`` (so ``../x``
+        cannot leave ``out``), and the stem is cut to :data:`MAX_OUTPUT_STEM` characters (file
+        systems refuse names over 255 bytes).
+        """
+        return self.dir / safe_file_name(name)
 
     def final(self, staged: str | os.PathLike) -> Path:
         """Where a staged path ends up in ``out``."""
@@ -191,6 +221,12 @@ class staged_outputs:  # a context manager that reads as a function
             if exc_type is None:
                 files = sorted(p for p in self.dir.rglob("*") if p.is_file())
                 files = [p for p in files if not p.name.startswith(".")]  # writers' temporaries
+                for src in files:  # every clash is found before anything is moved
+                    dest = self.final(src)
+                    if dest.is_dir():
+                        raise UserError(
+                            f"output {dest} is a folder; remove it or choose another --out"
+                        )
                 self.out.mkdir(parents=True, exist_ok=True)
                 for src in files:
                     dest = self.final(src)
