@@ -50,6 +50,7 @@ from scipy import integrate, signal
 
 from rollerrig._validation import ParameterError, require_nonnegative, require_positive
 from rollerrig.measure.recording import CANONICAL_CHANNELS, Recording, RecordingError
+from rollerrig.output.provenance import provenance
 
 __all__ = ["LINE_NAMES", "DisturbanceModel", "injected_line_note", "synthetic_recording"]
 
@@ -252,7 +253,8 @@ class DisturbanceModel:
         )
 
 
-def _provenance(ds: xr.Dataset) -> dict[str, Any]:
+def _twin_provenance(ds: xr.Dataset) -> dict[str, Any]:
+    """The twin's provenance record (its ``provenance`` attribute, JSON) with the rig."""
     raw = ds.attrs.get("provenance")
     if raw is None:
         raise RecordingError("the twin dataset has no 'provenance' attribute (rig parameters)")
@@ -299,6 +301,7 @@ def synthetic_recording(
         (cumulative, from 0 at the first sample) [1], ``air_spring_pressure`` [Pa] and, if
         ``record_torque_request``, ``torque_request`` [N.m]. The metadata records the
         disturbance model, the seed, the rates, the rig parameters, the twin's provenance,
+        ``provenance`` (:func:`rollerrig.output.provenance` of this generation),
         ``injected_lines`` and ``notes`` (the hand-injected lines, empty by default) and
         ``true_polach_parameters`` ({friction condition: parameters} of the twin, or None).
     truth : xarray.Dataset
@@ -317,7 +320,7 @@ def synthetic_recording(
     250.0
     """
     dist = DisturbanceModel() if disturbances is None else disturbances
-    prov = _provenance(ds)
+    prov = _twin_provenance(ds)
     rig = prov["rig"]
     sensors = rig["sensors"]
     fs = float(sensors["daq_rate"] if sample_rate is None else sample_rate)
@@ -436,6 +439,9 @@ def synthetic_recording(
         "encoder_counts_per_revolution": cpr,
         "rig": rig,
         "twin_provenance": ds.attrs["provenance"],
+        "provenance": provenance(
+            generator="synthetic_recording", seed=int(seed), sample_rate_Hz=fs
+        ),
     }
     recording = Recording(t_daq, channels, units, metadata)
 

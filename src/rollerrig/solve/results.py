@@ -8,18 +8,25 @@ The dataset holds, on one time axis sampled at the DAQ rate:
   encoders report (quantised: counts per sample interval), the normal force, and the creep, slip
   velocity, force and CoA the rig software derives from them, CoA = T56 / (r_r N);
 - ``coa_error``: measured minus true CoA, the gap this project exists to expose.
+
+NaN policy (:mod:`rollerrig.output`): a derived channel holds NaN only where it is undefined,
+and says so in its ``nan_meaning`` attribute; the dataset attribute ``<name>_nan_samples``
+counts them. ``measured_creep`` is undefined at standstill (roller encoder speed 0: no counts in
+the sample interval), the CoA channels where the normal load is 0.
 """
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from rollerrig.report._io import atomic_write
+from rollerrig.output import OutputError, write_dataset
+from rollerrig.output.jsonfile import json_text
+from rollerrig.output.provenance import provenance as _provenance
+from rollerrig.output.provenance import rig_sha256
 from rollerrig.rig import model as m
 
 __all__ = ["SAVE_FORMATS", "build_dataset", "save_dataset"]
@@ -63,6 +70,18 @@ _STATES = {
 }
 
 SAVE_FORMATS = (".nc", ".csv", ".parquet", ".mat")
+
+_NO_LOAD = "undefined where the normal load is 0 (CoA = F / N)"
+NAN_MEANINGS = {
+    "coa": _NO_LOAD,
+    "measured_creep": (
+        "creep undefined at standstill: roller encoder speed 0 (no counts in the sample "
+        "interval), s = slip / v_roller"
+    ),
+    "measured_coa": _NO_LOAD,
+    "coa_error": _NO_LOAD,
+}
+"""Derived channels that may hold NaN, and where (their ``nan_meaning`` attribute)."""
 
 
 def _encoder_speed(angle, t, counts_per_rev):
@@ -113,9 +132,15 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
     for name, (idx, units, long_name) in _STATES.items():
         data[name] = ("time", x[:, idx], {"units": units, "long_name": long_name})
     load = term["normal_load"]
+    loaded = load > 0.0
+
+    def per_load(values: np.ndarray) -> np.ndarray:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(loaded, values / np.where(loaded, load, 1.0), np.nan)
+
     data["coa"] = (
         "time",
-        term["contact_force"] / load,
+        per_load(term["contact_force"]),
         {"units": "1", "long_name": "true adhesion coefficient F_x / N"},
     )
 
@@ -126,8 +151,8 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
     roller_enc = _encoder_speed(x[:, m.X_THETA + 4], t, cpr)  # encoder on the roller shaft
     v_roller = roller_enc * rr
     slip = wheel_enc * rw - v_roller
-    with np.errstate(divide="ignore", invalid="ignore"):
-        creep_meas = np.where(np.abs(v_roller) > 0, slip / v_roller, np.nan)
+    moving = np.abs(v_roller) > 0
+    creep_meas = np.where(moving, slip / np.where(moving, v_roller, 1.0), np.nan)
     t56 = term["t56"]
     measured = {
         "measured_t56": (t56, "N.m", "roller-shaft torque sensor T56"),
@@ -137,7 +162,7 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
         "measured_slip_velocity": (slip, "m/s", "slip velocity from the encoders"),
         "measured_creep": (creep_meas, "1", "creep from the encoders (Kayaalp eq. 4.21)"),
         "measured_force": (t56 / rr, "N", "tangential force the rig derives, T56 / r_r"),
-        "measured_coa": (t56 / (rr * load), "1", "CoA the rig reports, T56 / (r_r N)"),
+        "measured_coa": (per_load(t56 / rr), "1", "CoA the rig reports, T56 / (r_r N)"),
     }
     for name, (values, units, long_name) in measured.items():
         data[name] = ("time", values, {"units": units, "long_name": long_name})
@@ -147,14 +172,21 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
         {"units": "1", "long_name": "measured minus true CoA"},
     )
 
+    nan_counts = {}
+    for name, meaning in NAN_MEANINGS.items():
+        data[name][2]["nan_meaning"] = meaning
+        nan_counts[f"{name}_nan_samples"] = int(np.count_nonzero(np.isnan(data[name][1])))
+
     friction = np.array([inputs.segments[i].friction_condition for i in seg_of])
     data["friction_condition"] = ("time", friction, {"long_name": "friction condition"})
 
+    # The package's record (version, commit, command, inputs of the run), then the simulation:
+    # "rig" holds the whole parameter set [SI] (readers of the twin's provenance use it).
     provenance = {
-        "software": "rollerrig",
-        "version": __version__,
+        **_provenance(),
         "rig": rig.to_dict(),
         "rig_name": rig.meta.name,
+        "rig_sha256": rig_sha256(rig),
         "protocol": inputs.protocol.to_dict(),
         "drives": {
             "wheel": inputs.drives.wheel,
@@ -174,58 +206,35 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
         "wheel_drive": inputs.drives.wheel,
         "roller_drive": inputs.drives.roller,
         "solver": solver.get("name", ""),
-        "provenance": json.dumps(provenance, default=_jsonable),
+        **nan_counts,
+        "provenance": json_text(provenance),
     }
     ds = xr.Dataset(data, coords={"time": ("time", t, {"units": "s", "long_name": "time"})})
     ds.attrs.update(attrs)
     return ds
 
 
-def _jsonable(obj):
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, np.generic):
-        return obj.item()
-    return str(obj)
-
-
 def save_dataset(ds: xr.Dataset, path: str | os.PathLike, *, overwrite: bool = False) -> Path:
     """Write a results dataset; the format follows the suffix (.nc, .csv, .parquet, .mat).
 
-    NetCDF keeps every attribute; CSV puts units in the column headers and the provenance in a
-    JSON file beside it; Parquet keeps it in the file's key-value metadata; .mat in a
-    ``provenance`` string. Writing is atomic and never replaces an existing file unless
-    ``overwrite`` is set.
+    A thin adapter over :func:`rollerrig.output.write_dataset` (one convention per format: units
+    on every column; NetCDF with CF-1.10 attributes; CSV with ``name [unit]`` headers and a
+    ``<stem>.metadata.json`` sidecar; ``.mat`` as column vectors with a ``units`` struct and the
+    ``provenance`` text). The dataset's attributes are the file's metadata, its ``provenance``
+    attribute (JSON) the provenance record. Writing is atomic and never replaces an existing
+    file unless ``overwrite`` is set.
+
+    Raises
+    ------
+    OutputError
+        An unknown suffix (a :class:`ValueError`), or the file cannot be written.
+    FileExistsError
+        The file exists and ``overwrite`` is False.
     """
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in SAVE_FORMATS:
-        raise ValueError(f"unknown results format {suffix!r}; choose one of {SAVE_FORMATS}")
-    if path.exists() and not overwrite:
-        raise FileExistsError(f"{path} exists; pass overwrite=True to replace it")
-    if suffix == ".nc":
-        return atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
-    frame = ds.drop_vars("friction_condition").to_dataframe()
-    frame.columns = [f"{c} [{ds[c].attrs.get('units', '')}]" for c in frame.columns]
-    frame.index.name = "time [s]"
-    frame["friction_condition"] = ds["friction_condition"].values
-    if suffix == ".csv":
-        atomic_write(
-            path.with_suffix(".provenance.json"), lambda p: p.write_text(ds.attrs["provenance"])
+        raise OutputError(
+            f"{path}: unknown results format {suffix!r}; choose one of {SAVE_FORMATS}"
         )
-        return atomic_write(path, lambda p: frame.to_csv(p))
-    if suffix == ".parquet":
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-
-        table = pa.Table.from_pandas(frame.reset_index())
-        meta = dict(table.schema.metadata or {})
-        meta[b"rollerrig_provenance"] = ds.attrs["provenance"].encode()
-        table = table.replace_schema_metadata(meta)
-        return atomic_write(path, lambda p: pq.write_table(table, p))
-    from scipy.io import savemat
-
-    mat = {k.replace(" ", ""): ds[k].values for k in ds.data_vars if k != "friction_condition"}
-    mat["time"] = ds["time"].values
-    mat["provenance"] = ds.attrs["provenance"]
-    return atomic_write(path, lambda p: savemat(p, mat, do_compression=True))
+    return write_dataset(path, ds, overwrite=overwrite)

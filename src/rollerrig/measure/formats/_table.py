@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -10,21 +9,34 @@ from typing import Any
 import numpy as np
 
 from rollerrig.measure.channels import split_unit_header
+from rollerrig.output.tables import META_KEY, PROVENANCE_KEY, UNITS_STRUCT, VARIABLES_KEY
 
-META_KEY = "rollerrig_metadata"
-"""Key under which rollerrig's writers store provenance in a file."""
 UNITS_KEY = "rollerrig_units"
-"""Key under which rollerrig's writers store channel units (MAT files)."""
+"""MAT variable (JSON text) in which rollerrig's writers before the ``units`` struct
+(:data:`~rollerrig.output.tables.UNITS_STRUCT`) stored channel units; still read."""
+
+__all__ = [
+    "META_KEY",
+    "PROVENANCE_KEY",
+    "UNITS_KEY",
+    "UNITS_STRUCT",
+    "VARIABLES_KEY",
+    "Column",
+    "Slicer",
+    "Table",
+    "add_alias",
+    "add_to_group",
+    "apply_default_group",
+    "header_table",
+    "require_module",
+]
 
 
 def require_module(module: str, what: str):
-    try:
-        return importlib.import_module(module)
-    except ImportError as exc:
-        raise ImportError(
-            f"reading {what} needs the optional package {module!r}: install rollerrig[io] "
-            "(pip install 'rollerrig[io]')"
-        ) from exc
+    """``module``, or an error naming the ``io`` extra that provides it (reading ``what``)."""
+    from rollerrig._optional import require
+
+    return require(module, "io", f"reading {what}")
 
 
 @dataclass
@@ -42,12 +54,30 @@ class Table:
     aliases: dict[str, list[str]] = field(default_factory=dict)  # other spelling -> names
     notes: list[str] = field(default_factory=list)
     skipped: list[str] = field(default_factory=list)
-    stored_metadata: Any = None
+    # before stored_metadata: __init__ must not reset what setting stored_metadata split off
+    stored_provenance: Any = None  # the provenance record of a file rollerrig wrote
+    stored_variables: Any = None  # {column: {"units", "long_name", "nan_meaning", ...}}
+    stored_metadata: Any = None  # the metadata object rollerrig's writer stored (see below)
     own_time_exact: bool = False  # own time bases beat index alignment (MDF masters)
     # group label -> names in that group (TDMS group, MDF data-group index / acquisition name /
     # comment / source), for ``[file] group`` (:func:`apply_default_group`)
     groups: dict[str, list[str]] = field(default_factory=dict)
     slicer: Slicer | None = None  # reads parts of columns (chunked reading); None: load whole
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        """Setting ``stored_metadata`` to the object :func:`rollerrig.output.write_table` wrote
+        splits it: its ``"provenance"`` and ``"variables"`` entries go to
+        :attr:`stored_provenance` and :attr:`stored_variables`, the rest (the recording's own
+        metadata) stays in :attr:`stored_metadata`."""
+        if name == "stored_metadata" and isinstance(value, Mapping):
+            value = dict(value)
+            prov = value.pop(PROVENANCE_KEY, None)
+            variables = value.pop(VARIABLES_KEY, None)
+            if prov is not None:
+                object.__setattr__(self, "stored_provenance", prov)
+            if variables is not None:
+                object.__setattr__(self, "stored_variables", variables)
+        object.__setattr__(self, name, value)
 
 
 @dataclass

@@ -1,6 +1,10 @@
 """MATLAB .mat files (v4/v5/v7 via scipy; v7.3 and plain HDF5 via h5py, read lazily).
 
 Variables that are numeric vectors become columns; structs are flattened (``meas.torque``).
+Units come from a struct ``units`` of text fields (``units.torque = 'N.m'``, as
+:func:`rollerrig.output.write_table` writes it) or from the JSON text variable
+``rollerrig_units`` of older rollerrig files; ``rollerrig_metadata`` and ``provenance`` (JSON
+text) give the stored metadata and provenance.
 HDF5-based files (v7.3) are read one variable at a time, and :attr:`Table.slicer` reads parts
 of a variable (chunked reading); v4-v7 files are read whole by :func:`scipy.io.loadmat`.
 """
@@ -18,7 +22,9 @@ import numpy as np
 
 from rollerrig.measure.formats._table import (
     META_KEY,
+    PROVENANCE_KEY,
     UNITS_KEY,
+    UNITS_STRUCT,
     Column,
     Slicer,
     Table,
@@ -177,16 +183,18 @@ def _finish(
     units: dict[str, str],
     notes: list[str],
 ) -> Table:
-    """The table of a MAT file, with rollerrig's stored units and metadata (char variables)."""
-    stored = None
-    if META_KEY in strings:
-        with contextlib.suppress(json.JSONDecodeError):
-            stored = json.loads(strings[META_KEY])
-    if UNITS_KEY in strings:
-        with contextlib.suppress(json.JSONDecodeError):
-            parsed = json.loads(strings[UNITS_KEY])
-            if isinstance(parsed, dict):
-                units.update({str(k): str(v) for k, v in parsed.items()})
+    """The table of a MAT file, with rollerrig's stored units and metadata (char variables).
+
+    Units: the text fields of the struct ``units`` (``units.torque``) and, from older rollerrig
+    files, the JSON text variable ``rollerrig_units``.
+    """
+    stored = _json_text(strings, META_KEY)
+    provenance = _json_text(strings, PROVENANCE_KEY)
+    legacy = _json_text(strings, UNITS_KEY)
+    if isinstance(legacy, dict):
+        units.update({str(k): str(v) for k, v in legacy.items()})
+    prefix = f"{UNITS_STRUCT}."
+    units.update({k[len(prefix) :]: v for k, v in strings.items() if k.startswith(prefix) and v})
     table = Table(
         names=names,
         load=load,
@@ -195,9 +203,19 @@ def _finish(
         skipped=skipped,
         stored_metadata=stored,
     )
+    if isinstance(provenance, dict) and table.stored_provenance is None:
+        table.stored_provenance = provenance
     if skipped:
         table.notes.append(f"MAT variables not read (not numeric vectors): {skipped}")
     return table
+
+
+def _json_text(strings: dict[str, str], key: str) -> Any:
+    """The JSON value of text variable ``key``; None when absent or not JSON."""
+    if key in strings:
+        with contextlib.suppress(json.JSONDecodeError):
+            return json.loads(strings[key])
+    return None
 
 
 def read_mat(path: Path) -> Table:

@@ -1,0 +1,147 @@
+"""Figures: saved atomically with their provenance embedded, then closed."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+from rollerrig.output.atomic import OutputError, atomic_write
+from rollerrig.output.jsonfile import json_text
+from rollerrig.output.provenance import is_provenance, provenance
+
+__all__ = ["FIGURE_FORMATS", "figure_provenance", "save_figure"]
+
+FIGURE_FORMATS = ("png", "svg", "pdf")
+"""Figure formats that can carry the provenance inside the file."""
+
+PNG_PROVENANCE_KEY = "rollerrig_provenance"
+"""PNG text chunk holding the provenance record (JSON)."""
+
+
+def _metadata(fmt: str, record: dict[str, Any]) -> dict[str, str]:
+    """matplotlib ``savefig(metadata=...)`` for ``fmt`` carrying ``record`` as JSON text."""
+    software = f"rollerrig {record.get('version', '')}".strip()
+    text = json_text(record)
+    if fmt == "png":  # tEXt/iTXt chunks, any key
+        return {"Software": software, PNG_PROVENANCE_KEY: text}
+    if fmt == "svg":  # Dublin Core in <metadata>
+        return {"Creator": software, "Description": text}
+    return {"Creator": software, "Subject": text}  # PDF document information
+
+
+def figure_provenance(path: str | os.PathLike) -> dict[str, Any] | None:
+    """The provenance record embedded in a PNG, SVG or PDF written by :func:`save_figure`."""
+    import html
+    import json
+    import re
+
+    p = Path(path)
+    fmt = p.suffix.lower().lstrip(".")
+    if fmt == "png":
+        from PIL import Image
+
+        with Image.open(p) as im:
+            text = im.text.get(PNG_PROVENANCE_KEY)  # type: ignore[attr-defined]
+    elif fmt == "svg":
+        svg = p.read_text(encoding="utf-8")
+        m = re.search(r"<dc:description>(.*?)</dc:description>", svg, re.S)
+        text = None if m is None else html.unescape(m.group(1))
+    elif fmt == "pdf":
+        raw = p.read_bytes()
+        m = re.search(rb"/Subject\s*(\((?:\\.|[^\\)])*\)|<[0-9A-Fa-f\s]*>)", raw)
+        text = None if m is None else _pdf_string(m.group(1))
+    else:
+        return None
+    return None if text is None else json.loads(text)
+
+
+def _pdf_string(token: bytes) -> str:
+    """Text of a PDF string object (literal ``(...)`` or hex ``<...>``, PDFDoc or UTF-16)."""
+    if token.startswith(b"<"):
+        data = bytes.fromhex(token[1:-1].decode("ascii"))
+    else:
+        body, out, i = token[1:-1], bytearray(), 0
+        escapes = {b"n": b"\n", b"r": b"\r", b"t": b"\t", b"b": b"\b", b"f": b"\f"}
+        while i < len(body):
+            c = body[i : i + 1]
+            if c == b"\\" and i + 1 < len(body):
+                nxt = body[i + 1 : i + 2]
+                if nxt.isdigit():
+                    j = i + 1
+                    while j < min(i + 4, len(body)) and body[j : j + 1].isdigit():
+                        j += 1
+                    out.append(int(body[i + 1 : j], 8) & 0xFF)
+                    i = j
+                    continue
+                out += escapes.get(nxt, nxt)
+                i += 2
+                continue
+            out += c
+            i += 1
+        data = bytes(out)
+    if data.startswith(b"\xfe\xff"):
+        return data[2:].decode("utf-16-be")
+    return data.decode("latin-1")
+
+
+def save_figure(
+    fig,
+    path: str | os.PathLike,
+    *,
+    dpi: int = 150,
+    metadata: dict[str, Any] | None = None,
+    overwrite: bool = True,
+) -> Path:
+    """Save a matplotlib figure atomically, with its provenance embedded, and close it.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        Closed after saving (also when saving fails): a long session must not pile up figures.
+    path : str or path-like
+        Target; the format follows the suffix: ``.png`` (text chunk ``rollerrig_provenance``),
+        ``.svg`` (``dc:description``) or ``.pdf`` (document ``Subject``), each holding the
+        record as JSON (:func:`figure_provenance` reads it back).
+    dpi : int
+        Resolution of raster output [dots per inch].
+    metadata : dict, optional
+        A provenance record (:func:`rollerrig.output.provenance`) to embed as it is, or extra
+        parameters for a new one.
+    overwrite : bool
+        Replace an existing file (default).
+
+    Raises
+    ------
+    OutputError
+        Another suffix (no place for the provenance), or the file cannot be written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> fig, ax = plt.subplots()
+    >>> p = save_figure(fig, pathlib.Path(tempfile.mkdtemp()) / "f.png", metadata={"run": 1})
+    >>> figure_provenance(p)["parameters"]
+    {'run': 1}
+    """
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    fmt = path.suffix.lower().lstrip(".")
+    try:
+        if fmt not in FIGURE_FORMATS:
+            raise OutputError(
+                f"{path}: figures are written as {', '.join('.' + f for f in FIGURE_FORMATS)} "
+                "(formats that carry the provenance); change the suffix"
+            )
+        record = metadata if is_provenance(metadata) else provenance(**(metadata or {}))
+        meta = _metadata(fmt, dict(record))  # type: ignore[arg-type]
+        return atomic_write(
+            path,
+            lambda p: fig.savefig(p, format=fmt, dpi=dpi, bbox_inches="tight", metadata=meta),
+            overwrite=overwrite,
+        )
+    finally:
+        plt.close(fig)  # a long session (CLI, demo, tests) must not pile up open figures

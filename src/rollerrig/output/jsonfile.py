@@ -1,0 +1,97 @@
+"""JSON and text files: never NaN or inf, provenance on every JSON object file."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rollerrig.output.atomic import atomic_write
+from rollerrig.output.provenance import jsonable, provenance
+
+__all__ = ["NULL_VALUES_KEY", "PROVENANCE_KEY", "json_text", "write_json", "write_text"]
+
+NULL_VALUES_KEY = "null_values"
+"""Key under which :func:`write_json` lists the non-finite numbers it wrote as null."""
+PROVENANCE_KEY = "provenance"
+"""Key under which :func:`write_json` stores the provenance record of a top-level object."""
+
+
+def _finite_json(obj, where: str, replaced: list):
+    """``obj`` with every NaN/inf float replaced by None, each replacement recorded."""
+    if isinstance(obj, dict):
+        return {k: _finite_json(v, f"{where}/{k}", replaced) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_finite_json(v, f"{where}/{i}", replaced) for i, v in enumerate(obj)]
+    if isinstance(obj, np.ndarray):
+        return _finite_json(obj.tolist(), where, replaced)
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not np.isfinite(obj):
+        replaced.append({"at": where or "/", "was": repr(obj)})
+        return None
+    return obj
+
+
+def json_text(obj: Any, *, indent: int | None = None) -> str:
+    """``obj`` as JSON text with non-finite numbers as null (for attributes and metadata).
+
+    Examples
+    --------
+    >>> json_text({"a": float("nan"), "b": np.int64(2)})
+    '{"a": null, "b": 2}'
+    """
+    return json.dumps(_finite_json(obj, "", []), indent=indent, default=jsonable, allow_nan=False)
+
+
+def write_json(path: str | os.PathLike, obj: Any, *, overwrite: bool = True) -> Path:
+    """Write ``obj`` as indented JSON, atomically; never NaN or inf; with provenance.
+
+    NaN policy: JSON has no NaN or inf, and the package never writes them. Producers give
+    ``None`` with a reason beside it wherever a number cannot be given; a non-finite float
+    that still arrives here is written as ``null`` and listed, with its location (a
+    ``/``-separated path) and its value, under the top-level key ``"null_values"`` (so a
+    ``null`` never goes unexplained). A top-level value other than a dict holding a
+    non-finite number is refused (``ValueError``), as is anything ``json`` cannot write.
+
+    Provenance: a top-level dict without a ``"provenance"`` key gets one
+    (:func:`rollerrig.output.provenance`, from the run context in effect).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = write_json(pathlib.Path(tempfile.mkdtemp()) / "x.json", {"a": float("nan")})
+    >>> data = json.loads(p.read_text())
+    >>> data["null_values"][0]["at"], data["provenance"]["software"]
+    ('/a', 'rollerrig')
+    """
+    replaced: list = []
+    clean = _finite_json(obj, "", replaced)
+    if replaced:
+        if not isinstance(clean, dict):
+            raise ValueError(
+                f"{path}: non-finite numbers at {[r['at'] for r in replaced]} and no top-level "
+                "object to state why they are null"
+            )
+        clean[NULL_VALUES_KEY] = [
+            {**r, "why": "not a finite number; written as null"} for r in replaced
+        ]
+    if isinstance(clean, dict) and PROVENANCE_KEY not in clean:
+        clean[PROVENANCE_KEY] = _finite_json(provenance(), "", [])
+    text = json.dumps(clean, indent=2, default=jsonable, allow_nan=False)
+    return write_text(path, text + "\n", overwrite=overwrite)
+
+
+def write_text(path: str | os.PathLike, text: str, *, overwrite: bool = True) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` atomically.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> write_text(pathlib.Path(tempfile.mkdtemp()) / "x.txt", "hi").read_text()
+    'hi'
+    """
+    return atomic_write(path, lambda p: p.write_text(text, encoding="utf-8"), overwrite=overwrite)

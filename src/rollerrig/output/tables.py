@@ -1,0 +1,573 @@
+"""The one results writer: named columns with units, keyed by format, written atomically.
+
+One convention per format; every column has a unit (``"1"`` for dimensionless; label columns of
+text have none) and the file carries its metadata object (``attrs``, a ``"variables"`` entry
+with each column's unit, long name and ``nan_meaning``, and the ``"provenance"`` record):
+
+=======  ==========================================  ==========================================
+format   units, long names                           metadata object (JSON)
+=======  ==========================================  ==========================================
+csv      headers ``time [s]``, ``torque [N.m]``      sidecar ``<stem>.metadata.json``
+parquet  field metadata ``unit``, ``long_name``      schema metadata ``rollerrig``
+tdms     channel properties ``unit_string``,         root property ``rollerrig_metadata``;
+         ``description``                             root ``name`` = the file's stem
+mf4      signal unit and comment                     header comment
+mat      column vectors (n x 1) and a struct         ``rollerrig_metadata`` (JSON text) and
+         ``units`` (field per variable -> unit)      ``provenance`` (JSON text of the record)
+nc       CF-1.10: ``units``, ``long_name`` per       global attributes ``Conventions``,
+         variable (``time``: elapsed seconds, no     ``title``, ``history``, ``provenance``
+         calendar reference)                         (JSON), ``rollerrig_metadata`` (JSON)
+=======  ==========================================  ==========================================
+
+MAT: version 5 by default (:func:`scipy.io.savemat`); ``mat_version="7.3"`` writes an HDF5 file
+with the MATLAB 7.3 header and ``MATLAB_class`` attributes (double column vectors, char rows,
+the ``units`` struct). TDMS: one group ``rollerrig``; with a uniform time base every channel
+carries ``wf_increment``/``wf_start_offset``.
+
+:func:`write_dataset` writes an xarray Dataset through the same conventions (NetCDF keeps
+every dimension; the other formats take variables along ``time``).
+
+NaN policy: a column may hold NaN only when its attributes say why (``nan_meaning``); any other
+non-finite sample is refused (:class:`~rollerrig._validation.ParameterError`).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import os
+import re
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, Literal, NamedTuple
+
+import numpy as np
+
+from rollerrig._optional import require
+from rollerrig._validation import ParameterError
+from rollerrig.output.atomic import OutputError, atomic_write
+from rollerrig.output.jsonfile import json_text, write_text
+from rollerrig.output.provenance import provenance as _provenance
+
+__all__ = [
+    "CONVENTIONS",
+    "META_KEY",
+    "PROVENANCE_KEY",
+    "TABLE_FORMATS",
+    "UNITS_STRUCT",
+    "VARIABLES_KEY",
+    "TableColumn",
+    "table_format",
+    "write_dataset",
+    "write_table",
+]
+
+TABLE_FORMATS: dict[str, tuple[str, ...]] = {
+    "csv": (".csv",),
+    "parquet": (".parquet",),
+    "tdms": (".tdms",),
+    "mf4": (".mf4", ".mdf"),
+    "mat": (".mat",),
+    "nc": (".nc",),
+}
+"""Format name -> file suffixes written by :func:`write_table`."""
+_ALIASES = {"mdf": "mf4", "mdf4": "mf4", "netcdf": "nc", "pq": "parquet"}
+
+META_KEY = "rollerrig_metadata"
+"""Where the metadata object (JSON) lives in TDMS, MAT and NetCDF files."""
+PROVENANCE_KEY = "provenance"
+"""Key of the provenance record in the metadata object (and the MAT/NetCDF variable/attribute)."""
+VARIABLES_KEY = "variables"
+"""Key of ``{column: {"units", "long_name", ...}}`` in the metadata object."""
+UNITS_STRUCT = "units"
+"""MAT struct holding one field per variable: its unit."""
+CONVENTIONS = "CF-1.10"
+"""The ``Conventions`` global attribute of NetCDF files."""
+
+_MAT_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,62}$")
+_MAT_RESERVED = ("time", UNITS_STRUCT, PROVENANCE_KEY, META_KEY, "rollerrig_units")
+
+
+class TableColumn(NamedTuple):
+    """One column: values, unit (None only for a label column of text), long name, attrs."""
+
+    values: np.ndarray
+    unit: str | None
+    long_name: str = ""
+    attrs: Mapping[str, Any] = {}
+
+
+def table_format(path: str | os.PathLike, format: str | None = None) -> str:
+    """Format name (a key of :data:`TABLE_FORMATS`) from ``format`` or the suffix of ``path``.
+
+    Examples
+    --------
+    >>> table_format("run.MF4"), table_format("x.dat", "netcdf")
+    ('mf4', 'nc')
+    """
+    if format is not None:
+        name = format.lower().lstrip(".")
+        name = _ALIASES.get(name, name)
+        if name not in TABLE_FORMATS:
+            raise OutputError(f"{path}: unknown table format {format!r}; use {list(TABLE_FORMATS)}")
+        return name
+    suffix = Path(path).suffix.lower()
+    for name, suffixes in TABLE_FORMATS.items():
+        if suffix in suffixes:
+            return name
+    known = [s for ss in TABLE_FORMATS.values() for s in ss]
+    raise OutputError(f"{path}: unknown results format {suffix!r}; use one of {known}")
+
+
+def _require(module: str, what: str):
+    return require(module, purpose=f"writing {what}")
+
+
+# --------------------------------------------------------------------------- checks
+
+
+def _columns(
+    path: Path, columns: Mapping[str, Any], time: Any
+) -> tuple[dict[str, TableColumn], int]:
+    """Columns as :class:`TableColumn` (time first), checked: one length, units, NaN policy."""
+    cols: dict[str, TableColumn] = {}
+    if time is not None:
+        cols["time"] = TableColumn(np.asarray(time, dtype=float), "s", "time")
+    for name, spec in columns.items():
+        if name in cols:
+            raise ParameterError(f"{path}: column {name!r} given twice (time is written as 'time')")
+        col = TableColumn(*spec) if isinstance(spec, tuple) else TableColumn(**spec)
+        values = np.asarray(col.values)
+        if values.ndim != 1:
+            raise ParameterError(
+                f"{path}: column {name!r} has shape {values.shape}; columns are 1-D"
+            )
+        text = values.dtype.kind in "USO"
+        if not text:
+            values = values.astype(float, copy=False)
+            _check_numeric(path, name, values, {**col.attrs, "units": col.unit})
+        else:
+            values = values.astype(str)
+        cols[name] = TableColumn(values, None if text else col.unit, col.long_name, col.attrs)
+    sizes = {c.values.size for c in cols.values()}
+    if len(sizes) > 1:
+        shown = {n: c.values.size for n, c in cols.items()}
+        raise ParameterError(f"{path}: columns of different lengths {shown}")
+    return cols, (sizes.pop() if sizes else 0)
+
+
+def _check_numeric(path: Path, name: str, values: np.ndarray, attrs: Mapping) -> None:
+    """Units on every numeric column; NaN/inf only with a ``nan_meaning`` (the NaN policy)."""
+    if not attrs.get("units"):
+        raise ParameterError(
+            f"{path}: column {name!r} has no unit; every numeric column has one "
+            '("1" when dimensionless)'
+        )
+    bad = ~np.isfinite(values)
+    if bad.any() and not attrs.get("nan_meaning"):
+        k = int(np.flatnonzero(bad.reshape(-1))[0])
+        raise ParameterError(
+            f"{path}: column {name!r} has {int(bad.sum())} NaN/inf samples (first at sample "
+            f"{k}) and no 'nan_meaning' attribute saying why; state it or replace them"
+        )
+
+
+def _variables(cols: Mapping[str, TableColumn]) -> dict[str, dict[str, Any]]:
+    out = {}
+    for name, c in cols.items():
+        entry: dict[str, Any] = {"units": c.unit} if c.unit else {}
+        if c.long_name:
+            entry["long_name"] = c.long_name
+        entry.update({k: v for k, v in c.attrs.items() if k not in ("units", "long_name")})
+        out[name] = entry
+    return out
+
+
+def _numeric(cols: Mapping[str, TableColumn], path: Path, fmt: str) -> None:
+    text = [n for n, c in cols.items() if c.unit is None]
+    if text:
+        raise ParameterError(f"{path}: {fmt} files hold numbers only; text columns {text}")
+
+
+def _uniform_step(time: np.ndarray) -> float | None:
+    if time.size < 2:
+        return None
+    dt = np.diff(time)
+    step = float(np.median(dt))
+    return step if np.allclose(dt, step, rtol=1e-9, atol=1e-12 * max(1.0, step)) else None
+
+
+# --------------------------------------------------------------------------- formats
+
+
+def _csv(cols, meta, tmp: Path) -> None:
+    import pandas as pd
+
+    frame = pd.DataFrame({(f"{n} [{c.unit}]" if c.unit else n): c.values for n, c in cols.items()})
+    frame.to_csv(tmp, index=False)
+
+
+def _parquet(cols, meta, tmp: Path) -> None:
+    pa = _require("pyarrow", "Parquet files")
+    import pyarrow.parquet as pq
+
+    fields, arrays = [], []
+    for name, c in cols.items():
+        fmeta = {"long_name": c.long_name} if c.long_name else {}
+        if c.unit:
+            fmeta["unit"] = c.unit
+        kind = pa.string() if c.unit is None else pa.float64()
+        fields.append(pa.field(name, kind, metadata=fmeta or None))
+        arrays.append(pa.array(c.values.tolist() if c.unit is None else c.values, type=kind))
+    units = {n: c.unit for n, c in cols.items() if c.unit}
+    blob = json_text({"units": units, "metadata": meta})
+    schema = pa.schema(fields, metadata={"rollerrig": blob})
+    pq.write_table(pa.Table.from_arrays(arrays, schema=schema), tmp)
+
+
+def _tdms(cols, meta, tmp: Path, stem: str) -> None:
+    nptdms = _require("nptdms", "TDMS files")
+    time = cols["time"].values if "time" in cols else None
+    step = None if time is None else _uniform_step(time)
+    objects = [
+        nptdms.RootObject(properties={META_KEY: json_text(meta), "name": stem}),
+        nptdms.GroupObject("rollerrig"),
+    ]
+    for name, c in cols.items():
+        props: dict[str, Any] = {"unit_string": c.unit}
+        if c.long_name:
+            props["description"] = c.long_name
+        if step is not None and name != "time":
+            props.update(
+                wf_increment=step, wf_start_offset=float(time[0]), wf_samples=int(time.size)
+            )
+        objects.append(nptdms.ChannelObject("rollerrig", name, c.values, properties=props))
+    with nptdms.TdmsWriter(str(tmp)) as writer:
+        writer.write_segment(objects)
+
+
+def _mf4(cols, meta, tmp: Path) -> Path:
+    asammdf = _require("asammdf", "MDF4 files")
+    time = cols["time"].values
+    mdf = asammdf.MDF(version="4.10")
+    try:
+        signals = [
+            asammdf.Signal(c.values, time, name=n, unit=c.unit, comment=c.long_name)
+            for n, c in cols.items()
+            if n != "time"
+        ]
+        if signals:
+            mdf.append(signals, comment="rollerrig")
+        mdf.header.comment = json_text(meta)
+        saved = mdf.save(str(tmp), overwrite=True)
+    finally:
+        mdf.close()
+    return Path(saved)
+
+
+def _mat_names(cols, path: Path) -> None:
+    for name in cols:
+        if name != "time" and (not _MAT_NAME.match(name) or name in _MAT_RESERVED):
+            raise ParameterError(
+                f"{path}: column {name!r} cannot be a MATLAB variable name (letter first, then "
+                f"letters, digits and _, at most 63 characters; not one of {_MAT_RESERVED}); "
+                "rename it"
+            )
+
+
+def _mat5(cols, meta, tmp: Path) -> None:
+    from scipy.io import savemat
+
+    data: dict[str, Any] = {}
+    for name, c in cols.items():
+        if c.unit is None:  # text: a cell column
+            cells = np.empty((c.values.size, 1), dtype=object)
+            cells[:, 0] = list(c.values)
+            data[name] = cells
+        else:
+            data[name] = c.values.reshape(-1, 1)
+    data[UNITS_STRUCT] = {n: c.unit for n, c in cols.items() if c.unit}
+    data[PROVENANCE_KEY] = json_text(meta[PROVENANCE_KEY])
+    data[META_KEY] = json_text({k: v for k, v in meta.items() if k != PROVENANCE_KEY})
+    with tmp.open("wb") as fh:
+        savemat(fh, data, format="5", do_compression=True, oned_as="column")
+
+
+def _mat73(cols, meta, tmp: Path) -> None:
+    """MATLAB 7.3: HDF5 with a 512-byte user block holding the MAT header."""
+    h5py = _require("h5py", "MATLAB v7.3 files")
+
+    def double(parent, name: str, values: np.ndarray) -> None:
+        # MATLAB is column-major: an n x 1 column vector is stored with HDF5 shape (1, n).
+        ds = parent.create_dataset(name, data=np.asarray(values, dtype=float).reshape(1, -1))
+        ds.attrs["MATLAB_class"] = np.bytes_("double")
+
+    def char(parent, name: str, text: str) -> None:
+        codes = np.frombuffer(text.encode("utf-16-le"), dtype=np.uint16).reshape(-1, 1)
+        ds = parent.create_dataset(name, data=codes)
+        ds.attrs["MATLAB_class"] = np.bytes_("char")
+        ds.attrs["MATLAB_int_decode"] = np.int32(2)
+
+    with h5py.File(tmp, "w", userblock_size=512, libver="earliest") as f:
+        for name, c in cols.items():
+            double(f, name, c.values)
+        units = f.create_group(UNITS_STRUCT)
+        units.attrs["MATLAB_class"] = np.bytes_("struct")
+        names = [n for n, c in cols.items() if c.unit]
+        vlen = h5py.vlen_dtype(np.dtype("S1"))
+        fields = np.empty(len(names), dtype=object)
+        for i, n in enumerate(names):
+            fields[i] = np.array(list(n), dtype="S1")
+            char(units, n, cols[n].unit)
+        units.attrs.create("MATLAB_fields", fields, dtype=vlen)
+        char(f, PROVENANCE_KEY, json_text(meta[PROVENANCE_KEY]))
+        char(f, META_KEY, json_text({k: v for k, v in meta.items() if k != PROVENANCE_KEY}))
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%a %b %d %H:%M:%S %Y")
+    text = f"MATLAB 7.3 MAT-file, Platform: GLNXA64, Created on: {stamp} HDF5 schema 1.00 ."
+    header = text.encode("ascii").ljust(116, b" ") + b" " * 8 + b"\x00\x02" + b"IM"
+    with tmp.open("r+b") as fh:
+        fh.write(header.ljust(512, b"\x00"))
+
+
+def _attr_value(value: Any) -> Any:
+    """A NetCDF attribute value: strings and finite numbers as they are, the rest as JSON."""
+    if isinstance(value, str | bool | np.bool_):
+        return str(value) if isinstance(value, str) else int(value)
+    if isinstance(value, int | float | np.integer | np.floating) and np.isfinite(value):
+        return value
+    return json_text(value)
+
+
+# Elapsed time, not a calendar time: CF (section 4.4) identifies a time coordinate by units of
+# the form "s since <date>", so standard_name "time" and axis "T" would be wrong with "s".
+_TIME_ATTRS = {"units": "s", "long_name": "time since the start of the record"}
+
+
+def _nc(cols, meta, tmp: Path, title: str) -> None:
+    """Columns as a NetCDF file (one dimension, ``time`` when given)."""
+    xr = _require("xarray", "NetCDF files")
+
+    def var_attrs(c: TableColumn) -> dict[str, Any]:
+        a: dict[str, Any] = {"units": c.unit} if c.unit else {}
+        if c.long_name:
+            a["long_name"] = c.long_name
+        return {**a, **{k: v for k, v in c.attrs.items() if k not in a}}
+
+    dim = "time" if "time" in cols else "index"
+    coords = {"time": ("time", cols["time"].values, _TIME_ATTRS)} if "time" in cols else {}
+    data = {n: (dim, c.values, var_attrs(c)) for n, c in cols.items() if n != "time"}
+    _cf_netcdf(xr.Dataset(data, coords=coords), meta, tmp, title)
+
+
+def _cf_netcdf(ds, meta: Mapping[str, Any], tmp: Path, title: str) -> None:
+    """Write an xarray Dataset with CF-1.10 attributes: ``Conventions``, ``title``,
+    ``history``, ``source``, ``units``/``long_name`` per variable, and the provenance."""
+    _require("h5netcdf", "NetCDF files")
+    ds = ds.copy(deep=False)
+    for name, var in ds.variables.items():
+        attrs = {k: _attr_value(v) for k, v in var.attrs.items()}
+        if name == "time":
+            attrs = {**_TIME_ATTRS, **attrs}
+        attrs.setdefault("long_name", str(name))
+        var.attrs = attrs
+    prov = meta[PROVENANCE_KEY]
+    attrs = {k: v for k, v in meta.items() if k not in (PROVENANCE_KEY, VARIABLES_KEY)}
+    command = " ".join(prov.get("command") or []) if isinstance(prov, Mapping) else ""
+    version = prov.get("version", "") if isinstance(prov, Mapping) else ""
+    created = prov.get("created_utc", "") if isinstance(prov, Mapping) else ""
+    history = f"{created} rollerrig {version}: {command}".strip()
+    ds.attrs = {
+        "Conventions": CONVENTIONS,
+        "title": str(attrs.get("title") or title),
+        "history": str(attrs.get("history") or history),
+        "source": str(attrs.get("source") or f"rollerrig {version}".strip()),
+        **{
+            k: _attr_value(v)
+            for k, v in attrs.items()
+            if k not in ("Conventions", "title", "history", "source")
+            and isinstance(v, str | int | float | bool | np.number)
+        },
+        PROVENANCE_KEY: json_text(prov),
+        META_KEY: json_text(attrs),
+    }
+    encoding = {n: {"_FillValue": None} for n, v in ds.variables.items() if v.dtype.kind in "biuf"}
+    ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding)
+
+
+def write_dataset(
+    path: str | os.PathLike,
+    ds: Any,
+    *,
+    format: str | None = None,
+    provenance: Mapping[str, Any] | None = None,
+    overwrite: bool = False,
+    mat_version: Literal["5", "7.3"] = "5",
+) -> Path:
+    """Write an :class:`xarray.Dataset` whose variables carry ``units`` and ``long_name``.
+
+    NetCDF keeps every dimension (CF-1.10 attributes added as in :func:`write_table`); the
+    other formats take variables along ``time`` alone (as :func:`write_table` columns). The
+    dataset's attributes are the file's metadata; its ``provenance`` attribute (JSON text or a
+    dict) is the record unless ``provenance`` is given, a new record when it has none.
+
+    Raises
+    ------
+    ParameterError
+        A numeric variable without ``units``, NaN/inf without ``nan_meaning``, or (not NetCDF)
+        a variable not along ``time`` alone.
+    FileExistsError, OutputError
+        As :func:`write_table`.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, xarray as xr
+    >>> ds = xr.Dataset({"f": (("time", "line"), np.ones((3, 2)), {"units": "Hz"})},
+    ...                 coords={"time": [0.0, 0.1, 0.2]})
+    >>> p = write_dataset(pathlib.Path(tempfile.mkdtemp()) / "x.nc", ds)
+    >>> with xr.open_dataset(p, engine="h5netcdf") as back:
+    ...     back.attrs["Conventions"], back["f"].attrs["long_name"], back["time"].attrs["units"]
+    ('CF-1.10', 'f', 's')
+    """
+    path = Path(path)
+    fmt = table_format(path, format)
+    record = provenance if provenance is not None else ds.attrs.get(PROVENANCE_KEY)
+    if isinstance(record, str):
+        record = json.loads(record)
+    attrs = {k: v for k, v in ds.attrs.items() if k != PROVENANCE_KEY}
+    if fmt != "nc":
+        columns = {}
+        for name, var in ds.data_vars.items():
+            if var.dims != ("time",):
+                raise ParameterError(
+                    f"{path}: variable {name!r} has dimensions {var.dims}; {fmt} files hold "
+                    "columns along time only (write NetCDF)"
+                )
+            a = dict(var.attrs)
+            columns[str(name)] = (var.values, a.pop("units", None), a.pop("long_name", ""), a)
+        return write_table(
+            path,
+            columns,
+            format=fmt,
+            time=ds["time"].values if "time" in ds.coords else None,
+            provenance=record,
+            attrs=attrs,
+            overwrite=overwrite,
+            mat_version=mat_version,
+        )
+    for name, var in ds.data_vars.items():
+        if var.dtype.kind in "biuf":
+            _check_numeric(path, str(name), np.asarray(var.values, dtype=float), var.attrs)
+    meta = {**attrs, PROVENANCE_KEY: dict(record) if record is not None else _provenance()}
+    if not overwrite and os.path.lexists(path):
+        raise FileExistsError(f"{path} exists; pass overwrite=True to replace it")
+    return atomic_write(path, lambda tmp: _cf_netcdf(ds, meta, tmp, path.stem), overwrite=overwrite)
+
+
+# --------------------------------------------------------------------------- the writer
+
+
+def write_table(
+    path: str | os.PathLike,
+    columns: Mapping[str, Any],
+    *,
+    format: str | None = None,
+    time: Any = None,
+    provenance: Mapping[str, Any] | None = None,
+    attrs: Mapping[str, Any] | None = None,
+    overwrite: bool = False,
+    mat_version: Literal["5", "7.3"] = "5",
+) -> Path:
+    """Write named columns with units to ``path`` atomically, in the format of its suffix.
+
+    Parameters
+    ----------
+    path : str or path-like
+        Target file (``.csv``, ``.parquet``, ``.tdms``, ``.mf4``/``.mdf``, ``.mat``, ``.nc``).
+    columns : mapping of name -> (values, unit[, long_name[, attrs]])
+        1-D columns of one length; ``unit`` is required for numbers (``"1"`` when
+        dimensionless), None marks a label column of text (csv, parquet, nc, mat v5 only).
+        ``attrs`` may hold ``nan_meaning``: without it NaN/inf samples are refused.
+    format : str, optional
+        Overrides the suffix (a key of :data:`TABLE_FORMATS`).
+    time : array_like, optional
+        Sample times [s], written first as column ``time`` (needed by mf4).
+    provenance : mapping, optional
+        The provenance record; default :func:`rollerrig.output.provenance` (run context). A
+        ``"provenance"`` entry of ``attrs`` is used when given.
+    attrs : mapping, optional
+        The file's metadata (JSON-able): a recording's ``metadata``, a dataset's attributes.
+    overwrite : bool
+        Replace an existing file (and the CSV sidecar); default False: refuse.
+    mat_version : {"5", "7.3"}
+        MAT-file version.
+
+    Returns
+    -------
+    Path
+        The written file.
+
+    Raises
+    ------
+    FileExistsError
+        The file (or CSV sidecar) exists and ``overwrite`` is False.
+    ParameterError
+        A column without a unit, NaN without ``nan_meaning``, columns of different lengths, a
+        name or a column type the format cannot store.
+    OutputError
+        Unknown format, or the file cannot be written (the message names the path).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> out = write_table(d / "run.csv", {"torque": ([1.0, 2.0], "N.m", "shaft torque")},
+    ...                   time=[0.0, 0.004])
+    >>> out.read_text().splitlines()[0], sorted(p.name for p in d.iterdir())
+    ('time [s],torque [N.m]', ['run.csv', 'run.metadata.json'])
+    """
+    path = Path(path)
+    fmt = table_format(path, format)
+    if mat_version not in ("5", "7.3"):
+        raise ParameterError(f"{path}: mat_version must be '5' or '7.3', got {mat_version!r}")
+    cols, _ = _columns(path, columns, time)
+    meta: dict[str, Any] = dict(attrs or {})
+    if PROVENANCE_KEY not in meta:
+        meta[PROVENANCE_KEY] = dict(provenance) if provenance is not None else _provenance()
+    meta[VARIABLES_KEY] = _variables(cols)
+    if not overwrite and os.path.lexists(path):
+        raise FileExistsError(f"{path} exists; pass overwrite=True to replace it")
+
+    if fmt == "csv":
+        sidecar = path.with_suffix(".metadata.json")
+        if not overwrite and os.path.lexists(sidecar):
+            raise FileExistsError(f"{sidecar} exists; pass overwrite=True to replace it")
+        existed = os.path.lexists(path)
+        atomic_write(path, lambda tmp: _csv(cols, meta, tmp), overwrite=overwrite)
+        try:
+            write_text(sidecar, json_text(meta, indent=2) + "\n")
+        except BaseException:
+            if not existed:  # no table without its metadata
+                path.unlink(missing_ok=True)
+            raise
+        return path
+    if fmt == "parquet":
+        return atomic_write(path, lambda tmp: _parquet(cols, meta, tmp), overwrite=overwrite)
+    if fmt == "tdms":
+        _numeric(cols, path, "TDMS")
+        return atomic_write(
+            path, lambda tmp: _tdms(cols, meta, tmp, path.stem), overwrite=overwrite
+        )
+    if fmt == "mf4":
+        _numeric(cols, path, "MDF4")
+        if "time" not in cols:
+            raise ParameterError(f"{path}: MDF4 signals need a time base; pass time=")
+        if path.suffix.lower() not in (".mf4", ".mdf"):
+            raise OutputError(f"{path}: MDF4 files must end in .mf4 (asammdf sets the suffix)")
+        return atomic_write(path, lambda tmp: _mf4(cols, meta, tmp), overwrite=overwrite)
+    if fmt == "mat":
+        _mat_names(cols, path)
+        if mat_version == "7.3":
+            _numeric(cols, path, "MATLAB v7.3")
+            return atomic_write(path, lambda tmp: _mat73(cols, meta, tmp), overwrite=overwrite)
+        return atomic_write(path, lambda tmp: _mat5(cols, meta, tmp), overwrite=overwrite)
+    return atomic_write(path, lambda tmp: _nc(cols, meta, tmp, path.stem), overwrite=overwrite)

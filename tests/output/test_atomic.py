@@ -1,0 +1,177 @@
+"""The one atomic writer: nothing partial, mode from the umask, refusals, one clear error."""
+
+import os
+import stat
+
+import pytest
+
+from rollerrig._validation import ParameterError
+from rollerrig.output import OutputError, atomic_write
+from rollerrig.output.atomic import new_file_mode
+
+
+def _write(text):
+    return lambda p: p.write_text(text)
+
+
+def test_writes_and_replaces_in_one_step(tmp_path):
+    f = atomic_write(tmp_path / "a.txt", _write("one"))
+    assert f == tmp_path / "a.txt" and f.read_text() == "one"
+    atomic_write(f, _write("two"))
+    assert f.read_text() == "two"
+    assert [p.name for p in tmp_path.iterdir()] == ["a.txt"]
+
+
+def test_creates_missing_folders(tmp_path):
+    f = atomic_write(tmp_path / "x" / "y" / "a.txt", _write("z"))
+    assert f.read_text() == "z"
+
+
+@pytest.mark.parametrize(("umask", "mode"), [(0o022, 0o644), (0o077, 0o600), (0o027, 0o640)])
+def test_mode_follows_the_umask(tmp_path, umask, mode):
+    old = os.umask(umask)
+    try:
+        assert new_file_mode() == mode
+        f = atomic_write(tmp_path / "report.html", _write("x"))
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(f.stat().st_mode) == mode
+
+
+def test_a_replaced_file_keeps_its_mode(tmp_path):
+    f = tmp_path / "a.txt"
+    f.write_text("old")
+    f.chmod(0o640)
+    atomic_write(f, _write("new"))
+    assert stat.S_IMODE(f.stat().st_mode) == 0o640
+
+
+@pytest.mark.parametrize(
+    ("error", "expected"),
+    [
+        (OSError("disk full"), OutputError),
+        (RuntimeError("bug"), RuntimeError),
+        (KeyboardInterrupt(), KeyboardInterrupt),
+    ],
+)
+def test_nothing_left_after_an_exception_and_the_old_file_kept(tmp_path, error, expected):
+    (tmp_path / "old.txt").write_text("previous")
+
+    def fail(p):
+        p.write_text("half")
+        raise error
+
+    with pytest.raises(expected):
+        atomic_write(tmp_path / "old.txt", fail)
+    assert [p.name for p in tmp_path.iterdir()] == ["old.txt"]
+    assert (tmp_path / "old.txt").read_text() == "previous"
+
+
+def test_system_exit_from_a_signal_handler_leaves_nothing(tmp_path):
+    def fail(p):
+        p.write_text("half")
+        raise SystemExit(143)
+
+    with pytest.raises(SystemExit):
+        atomic_write(tmp_path / "fig.png", fail)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_oserror_while_writing_is_an_output_error_naming_the_path(tmp_path):
+    def fail(p):
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(OutputError, match=r"a\.txt: cannot write the file: No space left") as e:
+        atomic_write(tmp_path / "a.txt", fail)
+    assert isinstance(e.value, ParameterError) and isinstance(e.value, OSError)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_overwrite_false_refuses_an_existing_file(tmp_path):
+    f = tmp_path / "a.txt"
+    f.write_text("mine")
+    with pytest.raises(FileExistsError, match="overwrite=True"):
+        atomic_write(f, _write("theirs"), overwrite=False)
+    assert f.read_text() == "mine"
+    assert [p.name for p in tmp_path.iterdir()] == ["a.txt"]
+    assert atomic_write(tmp_path / "b.txt", _write("new"), overwrite=False).read_text() == "new"
+
+
+def test_overwrite_false_refuses_a_file_that_appears_while_writing(tmp_path):
+    f = tmp_path / "a.txt"
+
+    def racing(p):
+        p.write_text("mine")
+        f.write_text("theirs")  # another writer got there first
+
+    with pytest.raises(FileExistsError):
+        atomic_write(f, racing, overwrite=False)
+    assert f.read_text() == "theirs"
+    assert [p.name for p in tmp_path.iterdir()] == ["a.txt"]
+
+
+def test_a_parent_that_is_a_file_is_one_output_error(tmp_path):
+    (tmp_path / "out").write_text("not a folder")
+    with pytest.raises(OutputError, match=r"out: cannot create the folder.*--out"):
+        atomic_write(tmp_path / "out" / "a.txt", _write("x"))
+    with pytest.raises(OutputError, match="cannot create the folder"):
+        atomic_write(tmp_path / "out" / "deeper" / "a.txt", _write("x"))
+
+
+def test_a_target_that_is_a_folder_is_one_output_error(tmp_path):
+    (tmp_path / "a.png").mkdir()
+    with pytest.raises(OutputError, match="a folder has this name"):
+        atomic_write(tmp_path / "a.png", _write("x"))
+    assert [p.name for p in tmp_path.iterdir()] == ["a.png"]
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root ignores file permissions")
+def test_a_read_only_folder_is_one_output_error(tmp_path):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o555)
+    try:
+        with pytest.raises(OutputError, match=r"ro.*Permission denied"):
+            atomic_write(ro / "a.txt", _write("x"))
+        assert list(ro.iterdir()) == []
+    finally:
+        ro.chmod(0o755)
+
+
+def test_a_folder_that_refuses_new_files_is_one_output_error(tmp_path, monkeypatch):
+    # What a read-only folder gives a normal user (root, running these tests, is never refused).
+    import rollerrig.output.atomic as atomic
+
+    def refuse(**kwargs):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(atomic.tempfile, "mkstemp", lambda **kw: refuse(**kw))
+    with pytest.raises(OutputError, match="Permission denied; choose a folder you may write"):
+        atomic_write(tmp_path / "a.txt", _write("x"))
+
+
+def test_a_long_name_gets_a_legal_temporary_name(tmp_path):
+    name = "x" * 240 + ".json"
+    seen = []
+    f = atomic_write(tmp_path / name, lambda p: seen.append(p.name) or p.write_text("{}"))
+    assert f.read_text() == "{}"
+    assert len(seen[0].encode()) <= 255 and seen[0].startswith(".x")
+    assert seen[0].endswith(".tmp.json")
+
+
+def test_the_temporary_file_is_hidden_in_the_target_folder(tmp_path):
+    seen = []
+    atomic_write(tmp_path / "run.tdms", lambda p: seen.append(p) or p.write_bytes(b""))
+    assert seen[0].parent == tmp_path
+    assert seen[0].name.startswith(".run.tdms.") and seen[0].name.endswith(".tmp.tdms")
+
+
+def test_a_callback_may_name_the_file_it_wrote(tmp_path):
+    def write(p):
+        other = p.with_name(p.name + ".real")
+        other.write_text("via library")
+        return other
+
+    f = atomic_write(tmp_path / "a.mf4", write)
+    assert f.read_text() == "via library"
+    assert [p.name for p in tmp_path.iterdir()] == ["a.mf4"]

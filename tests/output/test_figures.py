@@ -1,0 +1,67 @@
+"""Figures: provenance embedded in PNG, SVG and PDF; written atomically; closed."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import pytest
+
+from rollerrig.output import (
+    OutputError,
+    figure_provenance,
+    provenance,
+    run_context,
+    save_figure,
+)
+
+
+def _figure():
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+    return fig
+
+
+@pytest.mark.parametrize("suffix", [".png", ".svg", ".pdf"])
+def test_provenance_is_embedded_and_read_back(tmp_path, suffix):
+    with run_context(command=["rollerrig", "simulate"], drive="pmsm"):
+        fig = _figure()
+        path = save_figure(fig, tmp_path / f"f{suffix}", metadata={"note": "µ<&>(x)\\"})
+    record = figure_provenance(path)
+    assert record["software"] == "rollerrig"
+    assert record["command"] == ["rollerrig", "simulate"]
+    assert record["parameters"] == {"drive": "pmsm", "note": "µ<&>(x)\\"}
+    assert not plt.fignum_exists(fig.number)  # closed
+    assert [p.name for p in tmp_path.iterdir()] == [f"f{suffix}"]
+
+
+def test_a_given_provenance_record_is_embedded_as_it_is(tmp_path):
+    record = provenance(load_kn=50.0)
+    path = save_figure(_figure(), tmp_path / "f.png", metadata=record)
+    assert figure_provenance(path) == record
+
+
+def test_png_text_chunk_is_readable_by_pillow(tmp_path):
+    import json
+
+    from PIL import Image
+
+    path = save_figure(_figure(), tmp_path / "f.png")
+    with Image.open(path) as im:
+        assert im.text["Software"].startswith("rollerrig")
+        assert json.loads(im.text["rollerrig_provenance"])["software"] == "rollerrig"
+
+
+def test_a_format_without_metadata_is_refused_and_the_figure_closed(tmp_path):
+    fig = _figure()
+    with pytest.raises(OutputError, match=r"\.png, \.svg, \.pdf"):
+        save_figure(fig, tmp_path / "f.jpg")
+    assert not plt.fignum_exists(fig.number)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_failed_save_leaves_nothing(tmp_path):
+    (tmp_path / "f.png").mkdir()
+    with pytest.raises(OutputError, match="folder has this name"):
+        save_figure(_figure(), tmp_path / "f.png")
+    assert [p.name for p in tmp_path.iterdir()] == ["f.png"]

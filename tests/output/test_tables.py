@@ -1,0 +1,315 @@
+"""The one results writer: every format round-trips through the package's readers and an
+independent reader (pandas, pyarrow, nptdms, asammdf, scipy.io.loadmat, h5py, xarray), with a
+unit on every column, the metadata object and the provenance record."""
+
+import json
+import os
+import stat
+
+import numpy as np
+import pytest
+
+from rollerrig._validation import ParameterError
+from rollerrig.measure.readers import read_recording
+from rollerrig.output import OutputError, run_context, write_table
+
+N = 500
+T = 0.5 + np.arange(N) / 250.0
+COLUMNS = {
+    "torque": (400.0 * np.sin(T), "N.m", "roller shaft torque T56"),
+    "roller_speed": (5.0 + T, "rad/s", "roller speed"),
+    "coa": (0.01 * T, "1", "adhesion coefficient"),
+}
+UNITS = {"time": "s", "torque": "N.m", "roller_speed": "rad/s", "coa": "1"}
+ATTRS = {"title": "a test run", "seed": 7, "nested": {"a": [1, 2]}}
+CASES = [
+    ("csv", {}),
+    ("parquet", {}),
+    ("tdms", {}),
+    ("mf4", {}),
+    ("mat", {}),
+    ("mat", {"mat_version": "7.3"}),
+]
+
+
+def _write(tmp_path, fmt, **kw):
+    with run_context(command=["rollerrig", "test", fmt], fs=250.0):
+        return write_table(tmp_path / f"run.{fmt}", COLUMNS, time=T, attrs=ATTRS, **kw)
+
+
+@pytest.mark.parametrize(("fmt", "kw"), CASES)
+def test_round_trip_through_the_package_reader(tmp_path, fmt, kw):
+    path = _write(tmp_path, fmt, **kw)
+    rec = read_recording(path)
+    np.testing.assert_array_equal(rec.time, T)
+    for name, (values, unit, _) in COLUMNS.items():
+        np.testing.assert_array_equal(rec[name], values)
+        assert rec.units[name] == unit
+    assert rec.metadata["stored_metadata"] == ATTRS
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def _stored_object(path, fmt):
+    """The metadata object (JSON) as an independent reader finds it in the file."""
+    if fmt == "csv":
+        return json.loads(path.with_suffix(".metadata.json").read_text())
+    if fmt == "parquet":
+        import pyarrow.parquet as pq
+
+        return json.loads(pq.read_schema(path).metadata[b"rollerrig"])["metadata"]
+    if fmt == "tdms":
+        from nptdms import TdmsFile
+
+        return json.loads(TdmsFile.read_metadata(path).properties["rollerrig_metadata"])
+    from asammdf import MDF
+
+    with MDF(path) as mdf:
+        comment = mdf.header.comment
+    import xml.etree.ElementTree as ET
+
+    try:
+        return json.loads(ET.fromstring(comment).find("TX").text)
+    except ET.ParseError:
+        return json.loads(comment)
+
+
+@pytest.mark.parametrize("fmt", ["csv", "parquet", "tdms", "mf4"])
+def test_metadata_object_holds_attrs_variables_and_provenance(tmp_path, fmt):
+    path = _write(tmp_path, fmt)
+    meta = _stored_object(path, fmt)
+    assert {k: meta[k] for k in ATTRS} == ATTRS
+    assert meta["provenance"]["command"] == ["rollerrig", "test", fmt]
+    assert meta["provenance"]["parameters"] == {"fs": 250.0}
+    assert meta["variables"]["torque"] == {"units": "N.m", "long_name": "roller shaft torque T56"}
+    assert {n: v["units"] for n, v in meta["variables"].items()} == UNITS
+
+
+def test_csv_headers_and_pandas(tmp_path):
+    import pandas as pd
+
+    path = _write(tmp_path, "csv")
+    frame = pd.read_csv(path)
+    assert list(frame.columns) == ["time [s]", "torque [N.m]", "roller_speed [rad/s]", "coa [1]"]
+    np.testing.assert_array_equal(frame["torque [N.m]"], COLUMNS["torque"][0])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.csv", "run.metadata.json"]
+
+
+def test_parquet_with_pyarrow(tmp_path):
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(_write(tmp_path, "parquet"))
+    assert table.column_names == list(UNITS)
+    for field in table.schema:
+        assert field.metadata[b"unit"].decode() == UNITS[field.name]
+    assert table.schema.field("torque").metadata[b"long_name"] == b"roller shaft torque T56"
+    np.testing.assert_array_equal(table["roller_speed"].to_numpy(), COLUMNS["roller_speed"][0])
+
+
+def test_tdms_with_nptdms_root_name_is_the_stem(tmp_path):
+    from nptdms import TdmsFile
+
+    path = write_table(tmp_path / "seed-30kmh-dry.tdms", COLUMNS, time=T)
+    tdms = TdmsFile.read(path)
+    assert tdms.properties["name"] == "seed-30kmh-dry"  # not the temporary file's name
+    group = tdms["rollerrig"]
+    assert [c.name for c in group.channels()] == list(UNITS)
+    for ch in group.channels():
+        assert ch.properties["unit_string"] == UNITS[ch.name]
+    assert group["torque"].properties["description"] == "roller shaft torque T56"
+    assert group["torque"].properties["wf_increment"] == pytest.approx(1 / 250.0)
+    np.testing.assert_array_equal(group["torque"][:], COLUMNS["torque"][0])
+
+
+def test_mf4_with_asammdf(tmp_path):
+    from asammdf import MDF
+
+    with MDF(_write(tmp_path, "mf4")) as mdf:
+        sig = mdf.get("torque")
+        assert sig.unit == "N.m" and sig.comment == "roller shaft torque T56"
+        np.testing.assert_array_equal(sig.samples, COLUMNS["torque"][0])
+        np.testing.assert_allclose(sig.timestamps, T)
+        assert mdf.get("coa").unit == "1"
+
+
+def test_mat5_with_scipy_column_vectors_and_units_struct(tmp_path):
+    from scipy.io import loadmat
+
+    mat = loadmat(_write(tmp_path, "mat"))
+    for name in UNITS:
+        assert mat[name].shape == (N, 1)  # MATLAB column vectors
+    np.testing.assert_array_equal(mat["torque"][:, 0], COLUMNS["torque"][0])
+    units = mat["units"][0, 0]  # a MATLAB struct
+    assert {n: str(units[n][0]) for n in units.dtype.names} == UNITS
+    record = json.loads(str(mat["provenance"][0]))
+    assert record["software"] == "rollerrig" and record["parameters"] == {"fs": 250.0}
+    meta = json.loads(str(mat["rollerrig_metadata"][0]))
+    assert meta["seed"] == 7 and meta["variables"]["coa"]["units"] == "1"
+
+
+def test_mat73_with_h5py_column_vectors_and_units_struct(tmp_path):
+    import h5py
+    from scipy.io.matlab import matfile_version
+
+    path = _write(tmp_path, "mat", mat_version="7.3")
+    assert path.read_bytes()[:10] == b"MATLAB 7.3" and matfile_version(str(path)) == (2, 0)
+
+    def text(ds):
+        return np.asarray(ds[()], dtype=np.uint16).T.tobytes().decode("utf-16-le")
+
+    with h5py.File(path, "r") as h:
+        assert h["torque"].shape == (1, N)  # MATLAB n x 1, column-major
+        assert h["torque"].attrs["MATLAB_class"] == b"double"
+        units = h["units"]
+        assert units.attrs["MATLAB_class"] == b"struct"
+        assert {n: text(units[n]) for n in units} == UNITS
+        fields = [b"".join(f).decode() for f in units.attrs["MATLAB_fields"]]
+        assert sorted(fields) == sorted(UNITS)
+        assert json.loads(text(h["provenance"]))["software"] == "rollerrig"
+
+
+def test_netcdf_cf_attributes_with_xarray(tmp_path):
+    import xarray as xr
+
+    with run_context(command=["rollerrig", "simulate", "x"]):
+        path = write_table(tmp_path / "run.nc", COLUMNS, time=T, attrs=ATTRS)
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        assert ds.attrs["Conventions"] == "CF-1.10"
+        assert ds.attrs["title"] == "a test run"
+        assert "rollerrig" in ds.attrs["history"] and "simulate x" in ds.attrs["history"]
+        record = json.loads(ds.attrs["provenance"])
+        assert record["command"] == ["rollerrig", "simulate", "x"]
+        assert json.loads(ds.attrs["rollerrig_metadata"])["nested"] == {"a": [1, 2]}
+        assert ds.attrs["seed"] == 7
+        assert ds["time"].attrs["units"] == "s" and "standard_name" not in ds["time"].attrs
+        for name, (values, unit, long_name) in COLUMNS.items():
+            assert ds[name].attrs["units"] == unit and ds[name].attrs["long_name"] == long_name
+            np.testing.assert_array_equal(ds[name].values, values)
+            assert ds[name].dims == ("time",)
+
+
+def test_netcdf_text_column_and_nan_meaning(tmp_path):
+    import xarray as xr
+
+    creep = np.where(T < 1.0, np.nan, 0.01)
+    cols = {
+        "measured_creep": (creep, "1", "creep", {"nan_meaning": "undefined at standstill"}),
+        "friction_condition": (np.array(["dry"] * N), None, "friction condition"),
+    }
+    path = write_table(tmp_path / "run.nc", cols, time=T)
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        assert ds["measured_creep"].attrs["nan_meaning"] == "undefined at standstill"
+        assert int(np.isnan(ds["measured_creep"].values).sum()) == int(np.isnan(creep).sum())
+        assert "units" not in ds["friction_condition"].attrs
+        assert ds["friction_condition"].values[0] == "dry"
+
+
+@pytest.mark.parametrize(("fmt", "kw"), [*CASES, ("nc", {})])
+def test_nan_without_a_meaning_is_refused(tmp_path, fmt, kw):
+    bad = {"torque": (np.array([1.0, np.nan, 3.0]), "N.m")}
+    with pytest.raises(ParameterError, match=r"'torque' has 1 NaN/inf.*nan_meaning"):
+        write_table(tmp_path / f"run.{fmt}", bad, time=[0.0, 0.1, 0.2], **kw)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(("fmt", "kw"), [*CASES, ("nc", {})])
+def test_nan_with_a_meaning_is_kept(tmp_path, fmt, kw):
+    cols = {"creep": (np.array([np.nan, 0.1, 0.2]), "1", "creep", {"nan_meaning": "standstill"})}
+    path = write_table(tmp_path / f"run.{fmt}", cols, time=[0.0, 0.1, 0.2], **kw)
+    assert path.is_file()
+
+
+def test_every_numeric_column_needs_a_unit(tmp_path):
+    with pytest.raises(ParameterError, match="'torque' has no unit"):
+        write_table(tmp_path / "run.csv", {"torque": ([1.0], "")})
+    with pytest.raises(ParameterError, match="different lengths"):
+        write_table(tmp_path / "run.csv", {"a": ([1.0], "1"), "b": ([1.0, 2.0], "1")})
+    with pytest.raises(ParameterError, match="numbers only"):
+        write_table(tmp_path / "run.tdms", {"label": (["dry"], None)}, time=[0.0])
+    with pytest.raises(ParameterError, match="MATLAB variable name"):
+        write_table(tmp_path / "run.mat", {"units": ([1.0], "1")})
+    with pytest.raises(OutputError, match=r"unknown results format '\.xlsx'"):
+        write_table(tmp_path / "run.xlsx", {"a": ([1.0], "1")})
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(("fmt", "kw"), [*CASES, ("nc", {})])
+def test_overwrite_false_refuses_an_existing_file(tmp_path, fmt, kw):
+    path = _write(tmp_path, fmt, **kw)
+    before = path.read_bytes()
+    with pytest.raises(FileExistsError, match="overwrite=True"):
+        _write(tmp_path, fmt, **kw)
+    assert path.read_bytes() == before
+    _write(tmp_path, fmt, overwrite=True, **kw)
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_csv_refuses_an_existing_sidecar(tmp_path):
+    (tmp_path / "run.metadata.json").write_text("{}")
+    with pytest.raises(FileExistsError, match=r"run\.metadata\.json"):
+        _write(tmp_path, "csv")
+    assert not (tmp_path / "run.csv").exists()
+
+
+@pytest.mark.parametrize(("fmt", "kw"), [*CASES, ("nc", {})])
+@pytest.mark.parametrize(("umask", "mode"), [(0o022, 0o644), (0o077, 0o600)])
+def test_mode_follows_the_umask(tmp_path, fmt, kw, umask, mode):
+    old = os.umask(umask)
+    try:
+        _write(tmp_path, fmt, **kw)
+    finally:
+        os.umask(old)
+    for p in tmp_path.iterdir():
+        assert stat.S_IMODE(p.stat().st_mode) == mode, p.name
+
+
+def test_interrupt_inside_a_writer_leaves_nothing(tmp_path, monkeypatch):
+    import pandas as pd
+
+    def interrupted(self, path, *args, **kwargs):
+        open(path, "w").write("half")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pd.DataFrame, "to_csv", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        _write(tmp_path, "csv")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_parent_that_is_a_file_is_an_output_error(tmp_path):
+    (tmp_path / "out").write_text("x")
+    with pytest.raises(OutputError, match="out: cannot create the folder"):
+        write_table(tmp_path / "out" / "run.parquet", COLUMNS, time=T)
+
+
+def test_write_dataset_keeps_every_dimension_in_netcdf(tmp_path):
+    import xarray as xr
+
+    from rollerrig.output import write_dataset
+
+    ds = xr.Dataset(
+        {
+            "line_frequency": (("time", "line"), np.ones((N, 2)), {"units": "Hz"}),
+            "torque": ("time", COLUMNS["torque"][0], {"units": "N.m", "long_name": "T56"}),
+        },
+        coords={"time": T, "line": ["am", "pmsm"]},
+        attrs={"title": "truth", "provenance": json.dumps({"software": "rollerrig", "x": 1})},
+    )
+    path = write_dataset(tmp_path / "truth.nc", ds)
+    with xr.open_dataset(path, engine="h5netcdf") as back:
+        assert back["line_frequency"].dims == ("time", "line")
+        assert back["line_frequency"].attrs == {"units": "Hz", "long_name": "line_frequency"}
+        assert back.attrs["Conventions"] == "CF-1.10" and back.attrs["title"] == "truth"
+        assert json.loads(back.attrs["provenance"]) == {"software": "rollerrig", "x": 1}
+        assert back["time"].attrs["long_name"].startswith("time since")
+    assert ds.attrs["title"] == "truth" and "long_name" not in ds["time"].attrs  # untouched
+    with pytest.raises(FileExistsError):
+        write_dataset(tmp_path / "truth.nc", ds)
+    with pytest.raises(ParameterError, match="dimensions"):
+        write_dataset(tmp_path / "truth.csv", ds)
+    bad = ds.assign(coa=("time", np.full(N, np.nan), {"units": "1"}))
+    with pytest.raises(ParameterError, match="'coa' has 500 NaN"):
+        write_dataset(tmp_path / "bad.nc", bad)
+    unitless = ds.assign(coa=("time", np.zeros(N)))
+    with pytest.raises(ParameterError, match="'coa' has no unit"):
+        write_dataset(tmp_path / "bad.nc", unitless)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["truth.nc"]
