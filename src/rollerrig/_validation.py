@@ -6,10 +6,25 @@ wrap them call these helpers first.
 
 from __future__ import annotations
 
+import difflib
+import math
+import types
+import typing
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
 import numpy as np
 
 __all__ = [
+    "FieldProblem",
     "ParameterError",
+    "Problem",
+    "Verbatim",
+    "field_error",
+    "from_pydantic",
+    "interval",
+    "pydantic_problems",
     "require_finite",
     "require_in_range",
     "require_nonnegative",
@@ -18,7 +33,12 @@ __all__ = [
 
 
 class ParameterError(ValueError):
-    """A parameter is non-physical: its message names the parameter and the allowed range."""
+    """A parameter is non-physical: its message names the parameter and the allowed range.
+
+    ``problems`` holds one line per problem when the error reports several (a user file).
+    """
+
+    problems: tuple[str, ...] = ()
 
 
 def _as_float_array(name: str, value) -> np.ndarray:
@@ -87,3 +107,374 @@ def _show(arr: np.ndarray) -> str:
         return f"{float(arr):g}"
     bad = arr.ravel()
     return np.array2string(bad[:6], precision=4) + (" ..." if bad.size > 6 else "")
+
+
+# --------------------------------------------------------------------------------------------
+# One error format for every user file (rig, channel map, protocol)
+# --------------------------------------------------------------------------------------------
+
+_NOTHING: Any = object()
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One problem with one value of a user file, in the package's one error format.
+
+    ``<file>: <dotted key>: <what is wrong> [<unit>]; allowed <range or choices>; got <value>``;
+    the parts that do not apply are left out.
+
+    Parameters
+    ----------
+    key : str
+        Dotted key of the value in the file, e.g. ``"stiffness.roller_shaft"`` (``""``: the file
+        as a whole).
+    message : str
+        What is wrong, e.g. ``"must be > 0"``.
+    unit : str or None
+        Unit of ``allowed`` and ``got``.
+    allowed : str, iterable or None
+        The allowed range (``"(0, inf)"``) or the allowed choices (an iterable, shown with
+        ``repr``).
+    got : optional
+        The value found (left out when not given).
+
+    Examples
+    --------
+    >>> Problem("stiffness.roller_shaft", "must be > 0", unit="N.m/rad", allowed="(0, inf)",
+    ...         got=-3).format("rig.toml")
+    'rig.toml: stiffness.roller_shaft: must be > 0 [N.m/rad]; allowed (0, inf); got -3'
+    """
+
+    key: str
+    message: str
+    unit: str | None = None
+    allowed: Any = None
+    got: Any = _NOTHING
+
+    def format(self, source: str | None = None) -> str:
+        """The one-line message; ``source`` (the file) starts it."""
+        head = "".join(f"{part}: " for part in (source, self.key) if part)
+        text = f"{head}{self.message}"
+        if self.unit and self.unit not in ("1", "-"):
+            text += f" [{self.unit}]"
+        if self.allowed is not None:
+            text += f"; allowed {show_allowed(self.allowed)}"
+        if self.got is not _NOTHING:
+            text += f"; got {show_value(self.got)}"
+        return text
+
+
+class FieldProblem(ValueError):
+    """Raise inside a pydantic validator to report a :class:`Problem` of a (sub)key.
+
+    ``key`` is relative to the model that raises it (``""``: the model itself);
+    :func:`from_pydantic` prefixes it with the model's location.
+
+    Examples
+    --------
+    >>> from pydantic import BaseModel, ValidationError, model_validator
+    >>> class Rows(BaseModel):
+    ...     header_row: int = 0
+    ...     data_row: int = 1
+    ...     @model_validator(mode="after")
+    ...     def _order(self):
+    ...         if self.data_row <= self.header_row:
+    ...             raise FieldProblem("data_row", "must come after header_row",
+    ...                                allowed=f"> {self.header_row}", got=self.data_row)
+    ...         return self
+    >>> try:
+    ...     Rows(header_row=3, data_row=2)
+    ... except ValidationError as exc:
+    ...     print(from_pydantic(exc, "map.toml", prefix="file"))
+    map.toml: file.data_row: must come after header_row; allowed > 3; got 2
+    """
+
+    def __init__(
+        self, key: str, message: str, *, unit: str | None = None, allowed=None, got=_NOTHING
+    ):
+        super().__init__(message)
+        self.problem = Problem(key, message, unit, allowed, got)
+
+
+def field_error(
+    source: str | None,
+    key: str,
+    message: str,
+    *,
+    unit: str | None = None,
+    allowed=None,
+    got=_NOTHING,
+    error: type[ParameterError] | None = None,
+) -> ParameterError:
+    """An error (to raise) in the one format: file, dotted key, what, unit, allowed, got.
+
+    Parameters
+    ----------
+    source : str or None
+        The file (or ``"overrides"``, ``"<dict>"``); None: left out.
+    key, message, unit, allowed, got
+        See :class:`Problem`.
+    error : type, optional
+        The :class:`ParameterError` subclass to build (default :class:`ParameterError`); it is
+        called with the message.
+
+    Examples
+    --------
+    >>> str(field_error("rig.toml", "stiffness.roller_shaft", "must be > 0", unit="N.m/rad",
+    ...                 allowed="(0, inf)", got=-3))
+    'rig.toml: stiffness.roller_shaft: must be > 0 [N.m/rad]; allowed (0, inf); got -3'
+    >>> str(field_error("map.toml", "file.decimal", "not a decimal mark", allowed=[".", ","],
+    ...                 got=";"))
+    "map.toml: file.decimal: not a decimal mark; allowed '.', ','; got ';'"
+    """
+    exc = (error or ParameterError)(Problem(key, message, unit, allowed, got).format(source))
+    exc.problems = (str(exc),)
+    return exc
+
+
+def from_pydantic(
+    exc,
+    source: str | None,
+    units: Mapping[str, str] | None = None,
+    *,
+    model=None,
+    prefix: str = "",
+    error: type[ParameterError] | None = None,
+) -> ParameterError:
+    """A pydantic ``ValidationError`` as one error in the package's format, one line per problem.
+
+    Parameters
+    ----------
+    exc : pydantic.ValidationError
+        The error.
+    source : str or None
+        The file the data came from.
+    units : mapping, optional
+        Dotted key (with ``prefix``) -> unit, for the ``[unit]`` of a problem. A field may also
+        state its unit as ``json_schema_extra={"unit": ...}``.
+    model : type of pydantic.BaseModel, optional
+        The model that was validated: gives the full allowed range of a bounded field (both
+        bounds) and the known keys of an unknown key. Default: the bound in the error only.
+    prefix : str
+        Dotted location of the validated data in the file (e.g. the section name).
+    error : type, optional
+        The :class:`ParameterError` subclass to build (called with the message).
+
+    Returns
+    -------
+    ParameterError
+        Its message holds every problem, one per line; ``problems`` holds the lines.
+
+    Examples
+    --------
+    >>> from pydantic import BaseModel, ConfigDict, Field, ValidationError
+    >>> class Material(BaseModel):
+    ...     model_config = ConfigDict(extra="forbid")
+    ...     poisson: float = Field(gt=0, lt=0.5)
+    >>> try:
+    ...     Material.model_validate({"poisson": 0.6})
+    ... except ValidationError as e:
+    ...     print(from_pydantic(e, "rig.toml", {"material.poisson": "1"}, model=Material,
+    ...                         prefix="material"))
+    rig.toml: material.poisson: must be < 0.5; allowed (0, 0.5); got 0.6
+    """
+    lines = [p.format(source) for p in pydantic_problems(exc, units, model=model, prefix=prefix)]
+    out = (error or ParameterError)("\n".join(lines))
+    out.problems = tuple(lines)
+    return out
+
+
+def pydantic_problems(
+    exc, units: Mapping[str, str] | None = None, *, model=None, prefix: str = ""
+) -> list[Problem]:
+    """The :class:`Problem` of each error of a pydantic ``ValidationError`` (see
+    :func:`from_pydantic`); duplicates at one key (union members) are reported once."""
+    units = units or {}
+    problems: list[Problem] = []
+    seen: set[str] = set()
+    for err in exc.errors(include_url=False):
+        loc = [str(p) for p in err["loc"]]
+        parent, field = _locate(model, err["loc"])
+        ctx = err.get("ctx") or {}
+        cause = ctx.get("error")
+        if isinstance(cause, FieldProblem):
+            p = cause.problem
+            key = ".".join([*filter(None, [prefix, *loc]), *([p.key] if p.key else [])])
+            unit = p.unit if p.unit is not None else units.get(key)
+            problems.append(Problem(key, p.message, unit, p.allowed, p.got))
+            continue
+        key = ".".join(filter(None, [prefix, *loc]))
+        if key in seen:
+            continue
+        seen.add(key)
+        unit = units.get(key) or _field_extra(field).get("unit")
+        message, allowed = _describe(err, ctx, cause, parent, field, loc)
+        got = _NOTHING if err["type"] in ("missing", *_UNKNOWN_KEY) else err.get("input")
+        problems.append(Problem(key, message, unit, allowed, got))
+    return problems
+
+
+_TYPE_MESSAGES = {
+    "float_type": "must be a number",
+    "float_parsing": "must be a number",
+    "int_type": "must be an integer",
+    "int_parsing": "must be an integer",
+    "int_from_float": "must be an integer",
+    "bool_type": "must be true or false",
+    "bool_parsing": "must be true or false",
+    "string_type": "must be a string",
+    "dict_type": "must be a table",
+    "model_type": "must be a table",
+    "model_attributes_type": "must be a table",
+    "dataclass_type": "must be a table",
+    "dataclass_args_type": "must be a table",
+    "list_type": "must be a list",
+    "finite_number": "must be finite",
+    "missing": "missing key",
+}
+_UNKNOWN_KEY = ("extra_forbidden", "unexpected_keyword_argument")
+_BOUND_MESSAGES = {
+    "greater_than": ("gt", ">"),
+    "greater_than_equal": ("ge", ">="),
+    "less_than": ("lt", "<"),
+    "less_than_equal": ("le", "<="),
+}
+
+
+def _describe(err, ctx, cause, parent, field, loc) -> tuple[str, Any]:
+    kind = err["type"]
+    bounds = _bounds(field)
+    if kind in _BOUND_MESSAGES:
+        name, sign = _BOUND_MESSAGES[kind]
+        if bounds is None:
+            bounds = interval(
+                ctx[name] if sign.startswith(">") else -math.inf,
+                ctx[name] if sign.startswith("<") else math.inf,
+                low_inclusive=sign == ">=",
+                high_inclusive=sign == "<=",
+            )
+        return f"must be {sign} {show_value(ctx[name])}", bounds
+    if kind in _UNKNOWN_KEY:
+        known = _known_keys(parent)
+        close = difflib.get_close_matches(loc[-1], known, n=1) if known else []
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        return f"unknown key{hint}", (known or None)
+    if kind == "literal_error":
+        return "not one of the allowed values", ctx.get("expected")
+    if kind == "string_too_short":
+        n = ctx.get("min_length", 1)
+        return ("must not be empty" if n == 1 else f"must have at least {n} characters"), None
+    if kind in ("value_error", "assertion_error") and cause is not None:
+        return str(cause), None
+    if kind == "missing" and getattr(field, "description", None):
+        return f"missing key ({field.description})", None
+    if kind in _TYPE_MESSAGES:
+        return _TYPE_MESSAGES[kind], (bounds if kind == "finite_number" else None)
+    return str(err["msg"]), None
+
+
+def _locate(model, loc) -> tuple[Any, Any]:
+    """(parent model class, FieldInfo) of the error location ``loc`` in ``model``."""
+    parent, field, annotation = None, None, model
+    for part in loc:
+        annotation = _strip_optional(annotation)
+        fields = _fields(annotation)
+        if fields is None:  # a container (dict, list): ``part`` is a key or index
+            args = typing.get_args(annotation)
+            annotation = args[-1] if args else None
+            continue
+        parent, field = annotation, fields.get(part)
+        if field is None:
+            return parent, None
+        annotation = field.annotation
+    return parent, field
+
+
+def _strip_optional(annotation):
+    """``M`` of ``Annotated[M, ...]`` and of ``M | None``; any other annotation as it is."""
+    if typing.get_origin(annotation) is typing.Annotated:
+        annotation = typing.get_args(annotation)[0]
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType):
+        args = [a for a in typing.get_args(annotation) if a is not type(None)]
+        if len(args) == 1:
+            return _strip_optional(args[0])
+    return annotation
+
+
+def _fields(model) -> dict | None:
+    """The fields of a pydantic model or pydantic dataclass, else None."""
+    fields = getattr(model, "__pydantic_fields__", None)
+    return fields if isinstance(fields, dict) else None
+
+
+def _known_keys(model) -> list[str]:
+    fields = _fields(model) or {}
+    return [info.alias or name for name, info in fields.items()]
+
+
+def _field_extra(field) -> dict:
+    extra = getattr(field, "json_schema_extra", None)
+    return extra if isinstance(extra, dict) else {}
+
+
+def _bounds(field) -> str | None:
+    """The allowed interval of a field with ``gt``/``ge``/``lt``/``le`` bounds, else None."""
+    low, high, low_incl, high_incl = -math.inf, math.inf, False, False
+    found = False
+    for meta in getattr(field, "metadata", ()):
+        for name in ("gt", "ge", "lt", "le"):
+            value = getattr(meta, name, None)
+            if value is None:
+                continue
+            found = True
+            if name in ("gt", "ge"):
+                low, low_incl = value, name == "ge"
+            else:
+                high, high_incl = value, name == "le"
+    if not found:
+        return None
+    return interval(low, high, low_inclusive=low_incl, high_inclusive=high_incl)
+
+
+def interval(low, high, *, low_inclusive: bool = False, high_inclusive: bool = False) -> str:
+    """An interval in standard notation, e.g. ``(0, inf)``, ``[1, 4]``.
+
+    Examples
+    --------
+    >>> interval(0, math.inf), interval(0, 1, low_inclusive=True)
+    ('(0, inf)', '[0, 1)')
+    """
+    return (
+        f"{'[' if low_inclusive else '('}{show_value(low)}, "
+        f"{show_value(high)}{']' if high_inclusive else ')'}"
+    )
+
+
+def show_allowed(allowed) -> str:
+    """``allowed`` as text: a string as it is, an iterable of choices joined with ``repr``."""
+    if isinstance(allowed, str):
+        return allowed
+    if isinstance(allowed, Mapping):
+        return ", ".join(f"{k!r} ({v})" for k, v in allowed.items())
+    try:
+        return ", ".join(repr(a) for a in allowed)
+    except TypeError:
+        return str(allowed)
+
+
+class Verbatim(str):
+    """Text shown as it is (no quotes) where :func:`show_value` shows a value."""
+
+
+def show_value(value) -> str:
+    """A value as a user file writes it: ``true``, ``-3``, ``0.6``, ``'bar'``, ``nan``."""
+    if isinstance(value, Verbatim):
+        return str(value)
+    if isinstance(value, bool | np.bool_):
+        return "true" if value else "false"
+    if isinstance(value, int | np.integer):
+        return str(int(value))
+    if isinstance(value, float | np.floating):
+        v = float(value)
+        return str(int(v)) if math.isfinite(v) and v == int(v) and abs(v) < 1e15 else repr(v)
+    return repr(value)

@@ -30,26 +30,32 @@ A channel map is a small TOML file (see ``data/example_channel_map.toml``)::
     unit = "A"
 
 Canonical names and their SI units are :data:`rollerrig.measure.recording.CANONICAL_CHANNELS`.
-Units are converted to SI here, at the edge, with the small per-quantity tables
-:data:`UNIT_FACTORS` (SI unit -> accepted unit -> factor to SI).
+Units are converted to SI here, at the edge, through the package's one unit registry
+(:mod:`rollerrig.units`). The map file is validated with pydantic (its form:
+:mod:`rollerrig.measure.mapfile`) and reported in the package's one error format
+(:mod:`rollerrig._validation`), every problem at once::
+
+    channel map bench.toml: channels.torque.unit: unit not accepted for torque [N.m]; allowed
+    'N.m', 'kN.m' (also written 'Nm', 'kNm'); got 'bar'
 """
 
 from __future__ import annotations
 
-import codecs
 import difflib
-import math
 import re
 import tomllib
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
-import numpy as np
+from pydantic import ValidationError
 
+from rollerrig._validation import Problem, pydantic_problems
+from rollerrig.measure.mapfile import DECIMALS, SEPARATORS, EntrySection, FileSpec, MapFile
 from rollerrig.measure.recording import CANONICAL_CHANNELS, RecordingError
+from rollerrig.units import QUANTITIES, UNITS_BY_SI, UnitError, normalize_unit, si_factor
 
 __all__ = [
     "DECIMALS",
@@ -65,110 +71,17 @@ __all__ = [
     "example_channel_map_path",
     "format_unit_header",
     "load_channel_map",
-    "normalize_unit",
-    "si_factor",
     "split_unit_header",
-    "to_si",
 ]
 
-TIME_UNITS: dict[str, float] = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
-"""Accepted time units -> factor to seconds."""
+TIME_UNITS: Mapping[str, float] = QUANTITIES["time"].units
+"""Accepted time units -> factor to seconds (a view of :data:`rollerrig.units.QUANTITIES`)."""
 
-UNIT_FACTORS: dict[str, dict[str, float]] = {
-    "N.m": {"N.m": 1.0, "kN.m": 1e3},
-    "rad/s": {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi},
-    "1": {"1": 1.0},
-    "Pa": {"Pa": 1.0, "kPa": 1e3, "bar": 1e5, "MPa": 1e6},
-    "N": {"N": 1.0, "kN": 1e3},
-    "m": {"m": 1.0, "mm": 1e-3, "um": 1e-6},
-    "s": dict(TIME_UNITS),
-}
-"""SI unit -> {accepted unit: factor to SI}. For angular speed ``Hz`` means rev/s."""
-
-_ALIASES: dict[str, str] = {
-    "Nm": "N.m",
-    "N*m": "N.m",
-    "N·m": "N.m",
-    "N m": "N.m",
-    "kNm": "kN.m",
-    "kN*m": "kN.m",
-    "kN·m": "kN.m",
-    "rad/sec": "rad/s",
-    "1/min": "rpm",
-    "min^-1": "rpm",
-    "min-1": "rpm",
-    "U/min": "rpm",
-    "rev/min": "rpm",
-    "rev/s": "Hz",
-    "µm": "um",
-    "μm": "um",
-    "µs": "us",
-    "μs": "us",
-    "Newtons": "N",
-    "counts": "1",
-    "count": "1",
-    "-": "1",
-    "sec": "s",
-}
+UNIT_FACTORS: Mapping[str, Mapping[str, float]] = UNITS_BY_SI
+"""SI unit -> {accepted unit: factor to SI} (:data:`rollerrig.units.UNITS_BY_SI`). For angular
+speed ``Hz`` means rev/s."""
 
 _HEADER = re.compile(r"^\s*(?P<name>.*?)\s*[\[(](?P<unit>[^\[\]()]*)[\])]\s*$")
-
-
-def normalize_unit(unit: str) -> str:
-    """The spelling of ``unit`` used in :data:`UNIT_FACTORS` (``"Nm"`` -> ``"N.m"``, ...).
-
-    Examples
-    --------
-    >>> normalize_unit(" Nm "), normalize_unit("1/min"), normalize_unit("µm")
-    ('N.m', 'rpm', 'um')
-    """
-    u = str(unit).strip()
-    return _ALIASES.get(u, u)
-
-
-def si_factor(unit: str, si_unit: str, *, what: str = "") -> float:
-    """Factor that converts values in ``unit`` into ``si_unit``.
-
-    Parameters
-    ----------
-    unit : str
-        Unit the values are in, e.g. ``"rpm"``.
-    si_unit : str
-        Target SI unit, a key of :data:`UNIT_FACTORS`, e.g. ``"rad/s"``.
-    what : str
-        Where the unit came from, for the error message.
-
-    Raises
-    ------
-    RecordingError
-        When ``unit`` is not a known unit of that quantity (the message lists the allowed units).
-
-    Examples
-    --------
-    >>> round(si_factor("rpm", "rad/s"), 6), si_factor("bar", "Pa")
-    (0.10472, 100000.0)
-    """
-    table = UNIT_FACTORS.get(si_unit)
-    if table is None:
-        raise RecordingError(f"{what}no unit table for SI unit {si_unit!r}")
-    u = normalize_unit(unit)
-    if u not in table:
-        raise RecordingError(
-            f"{what}unit {unit!r} is not a unit of this quantity (SI unit {si_unit!r}); "
-            f"allowed: {sorted(table)}"
-        )
-    return table[u]
-
-
-def to_si(values, unit: str, si_unit: str) -> np.ndarray:
-    """``values`` in ``unit`` converted to ``si_unit`` (a float array).
-
-    Examples
-    --------
-    >>> to_si([60.0], "rpm", "rad/s").round(6).tolist(), to_si([2.0], "kN", "N").tolist()
-    ([6.283185], [2000.0])
-    """
-    return np.asarray(values, dtype=float) * si_factor(unit, si_unit)
 
 
 def _extra_si(unit: str) -> tuple[str, float]:
@@ -176,7 +89,7 @@ def _extra_si(unit: str) -> tuple[str, float]:
     u = normalize_unit(unit)
     if u == "Hz":  # a frequency, not a rotation speed, for a channel of unknown meaning
         return u, 1.0
-    for si, table in UNIT_FACTORS.items():
+    for si, table in UNITS_BY_SI.items():
         if u in table:
             return si, table[u]
     return u, 1.0
@@ -276,73 +189,15 @@ class ChannelSpec:
             raise RecordingError(f"channel map entry {self.entry}: no unit given")
         if self.canonical:
             si = CANONICAL_CHANNELS[self.name][0]
-            return si, si_factor(u, si, what=f"channel map entry {self.entry}: ")
+            try:
+                return si, si_factor(u, si, what=f"channel map entry {self.entry}: ")
+            except UnitError as exc:
+                raise RecordingError(str(exc)) from None
         return _extra_si(u)
 
 
-SEPARATORS: dict[str, str] = {
-    ",": "comma",
-    ";": "semicolon",
-    "\t": "tab",
-    " ": "whitespace: any run of spaces or tabs",
-    "|": "pipe",
-}
-"""Column separators of text files accepted in ``[file] separator``."""
-
-DECIMALS: tuple[str, ...] = (".", ",")
-"""Decimal marks accepted in ``[file] decimal``."""
-
 RATE_TOLERANCE = 1e-3
 """Relative difference above which a stated sample rate contradicts the file's (0.1 %)."""
-
-
-@dataclass(frozen=True)
-class FileSpec:
-    """How to read a file: the ``[file]`` section of a channel map. None: sniffed.
-
-    Parameters
-    ----------
-    separator : str or None
-        Column separator of a text file, a key of :data:`SEPARATORS` (``" "``: any run of
-        whitespace).
-    decimal : str or None
-        Decimal mark of a text file, ``"."`` or ``","``.
-    header_row : int or None
-        0-based line index of the column names, counting every line of the file (preamble and
-        blank lines included).
-    units_row : int, False or None
-        0-based line index of a units row (e.g. ``s;N.m;1/min`` under the header); False: the file
-        has none; None: detected (a non-numeric row between the header and the numbers whose
-        cells look like units).
-    data_row : int or None
-        0-based line index of the first row of numbers (default: the first non-blank line after
-        the header / units row).
-    encoding : str or None
-        Text encoding (default: UTF-8 with or without BOM, falling back to Latin-1, noted).
-    dayfirst : bool or None
-        Whether slash dates (``05/08/24``) are day-first. Dotted dates (``05.08.24``) are
-        day-first by convention; ISO dates (``2024-08-05``) are year-month-day.
-    date_format : str or None
-        :func:`time.strptime` format of a timestamp time column (beats ``dayfirst``).
-    group : str, int or None
-        TDMS / MDF group that channel names default to (MDF: the group's name or index).
-    """
-
-    separator: str | None = None
-    decimal: str | None = None
-    header_row: int | None = None
-    units_row: int | bool | None = None
-    data_row: int | None = None
-    encoding: str | None = None
-    dayfirst: bool | None = None
-    date_format: str | None = None
-    group: str | int | None = None
-
-    def to_dict(self) -> dict[str, Any]:
-        """The keys that are set (for provenance)."""
-        return {
-            k: getattr(self, k) for k in self.__dataclass_fields__ if getattr(self, k) is not None
-        }
 
 
 @dataclass(frozen=True)
@@ -379,7 +234,7 @@ class ChannelMap:
     extra: tuple[ChannelSpec, ...] = ()
     source: str = "<dict>"
     auto: bool = False
-    file: FileSpec = FileSpec()
+    file: FileSpec = field(default_factory=FileSpec)
 
     @property
     def entries(self) -> tuple[ChannelSpec, ...]:
@@ -393,39 +248,37 @@ class ChannelMap:
         Raises
         ------
         RecordingError
-            Unknown key, unknown canonical name (with close matches), unit not valid for the
-            quantity, missing column, non-finite or zero scale.
+            Every problem of the map, one line each in the package's error format
+            (``channel map <source>: <dotted key>: <what> [<unit>]; allowed ...; got ...``):
+            unknown key (with close matches), unknown canonical name, unit not accepted for
+            the quantity, missing column, non-finite or zero scale, ...
         """
-        where = f"channel map {source}: "
-        if not isinstance(data, Mapping):
-            raise RecordingError(f"{where}expected a table, got {type(data).__name__}")
-        _check_keys(data, {"file", "time", "channels", "extra", "description", "name"}, where)
-        file = _parse_file(data.get("file"), where)
-        time = _parse_time(data.get("time"), where)
-        channels = []
-        for name, entry in _table(data.get("channels", {}), f"{where}[channels]: ").items():
-            if name not in CANONICAL_CHANNELS:
-                close = difflib.get_close_matches(name, list(CANONICAL_CHANNELS), n=3)
-                raise RecordingError(
-                    f"{where}[channels.{name}]: {name!r} is not a canonical channel name"
-                    f"{f' (did you mean {close}?)' if close else ''}; canonical names: "
-                    f"{list(CANONICAL_CHANNELS)}; put other channels under [extra.{name}] "
-                    "with an explicit unit"
-                )
-            channels.append(_parse_entry(name, entry, where, canonical=True))
-        extra = []
-        for name, entry in _table(data.get("extra", {}), f"{where}[extra]: ").items():
-            if name in CANONICAL_CHANNELS:
-                raise RecordingError(
-                    f"{where}[extra.{name}]: {name!r} is canonical; put it under [channels.{name}]"
-                )
-            if not isinstance(entry, Mapping) or "unit" not in entry:
-                raise RecordingError(f"{where}[extra.{name}]: an explicit 'unit' is required")
-            extra.append(_parse_entry(name, entry, where, canonical=False))
-        if not channels and not extra:
-            raise RecordingError(f"{where}maps no channels ([channels.<name>] or [extra.<name>])")
+        where = f"channel map {source}"
+        try:
+            form = MapFile.model_validate(data)
+        except ValidationError as exc:
+            raise _map_error(where, pydantic_problems(exc, model=MapFile)) from None
+        channels = [_spec(name, entry, True) for name, entry in form.channels.items()]
+        extra = [_spec(name, entry, False) for name, entry in form.extra.items()]
+        problems = _entry_problems(channels, extra)
+        if problems:
+            raise _map_error(where, problems)
+        time = None
+        if form.time is not None:
+            t = form.time
+            time = TimeSpec(
+                column=t.column,
+                unit=normalize_unit(t.unit),
+                sample_rate_Hz=t.sample_rate_Hz,
+                resample_Hz=t.resample_Hz,
+                unit_stated="unit" in t.model_fields_set,
+            )
         return cls(
-            time=time, channels=tuple(channels), extra=tuple(extra), source=source, file=file
+            time=time,
+            channels=tuple(channels),
+            extra=tuple(extra),
+            source=source,
+            file=form.file or FileSpec(),
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -463,178 +316,61 @@ class ChannelMap:
         return out
 
 
-def _check_keys(data: Mapping, allowed: set[str], where: str) -> None:
-    unknown = [k for k in data if k not in allowed]
-    if unknown:
-        hints = {k: difflib.get_close_matches(k, sorted(allowed), n=1) for k in unknown}
-        hint = "; ".join(f"{k!r} -> did you mean {v[0]!r}?" for k, v in hints.items() if v)
-        raise RecordingError(
-            f"{where}unknown key(s) {unknown}; allowed: {sorted(allowed)}"
-            + (f" ({hint})" if hint else "")
-        )
-
-
-def _table(value: Any, where: str) -> Mapping:
-    if not isinstance(value, Mapping):
-        raise RecordingError(f"{where}expected a table, got {value!r}")
-    return value
-
-
-def _number(value: Any, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise RecordingError(f"{what} must be a number, got {value!r}")
-    if not math.isfinite(value):
-        raise RecordingError(f"{what} must be finite, got {value!r}")
-    return float(value)
-
-
-def _parse_time(value: Any, where: str) -> TimeSpec | None:
-    if value is None:
-        return None
-    t = _table(value, f"{where}[time]: ")
-    _check_keys(t, {"column", "unit", "sample_rate_Hz", "resample_Hz"}, f"{where}[time]: ")
-    column = t.get("column")
-    rate = t.get("sample_rate_Hz")
-    if column is not None and rate is not None:
-        raise RecordingError(f"{where}[time]: give either 'column' or 'sample_rate_Hz', not both")
-    if column is not None and (not isinstance(column, str) or not column):
-        raise RecordingError(f"{where}[time]: 'column' must be a non-empty string")
-    unit = t.get("unit", "s")
-    if not isinstance(unit, str) or normalize_unit(unit) not in TIME_UNITS:
-        raise RecordingError(
-            f"{where}[time]: unit {unit!r} is not a time unit; allowed: {sorted(TIME_UNITS)}"
-        )
-    if rate is not None:
-        rate = _number(rate, f"{where}[time]: sample_rate_Hz [Hz]")
-        if rate <= 0:
-            raise RecordingError(f"{where}[time]: sample_rate_Hz must be > 0 Hz, got {rate}")
-    resample = t.get("resample_Hz")
-    if resample is not None:
-        resample = _number(resample, f"{where}time.resample_Hz [Hz]")
-        if resample <= 0:
-            raise RecordingError(f"{where}time.resample_Hz must be > 0 Hz, got {resample}")
-    return TimeSpec(
-        column=column,
-        unit=normalize_unit(unit),
-        sample_rate_Hz=rate,
-        resample_Hz=resample,
-        unit_stated="unit" in t,
+def _spec(name: str, entry: EntrySection, canonical: bool) -> ChannelSpec:
+    return ChannelSpec(
+        name, entry.column, entry.unit, entry.scale, entry.offset, canonical, entry.optional
     )
 
 
-def _row(value: Any, key: str, where: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-        raise RecordingError(
-            f"{where}file.{key} must be a 0-based line index (an integer >= 0), got {value!r}"
-        )
-    return value
-
-
-def _parse_file(value: Any, where: str) -> FileSpec:
-    if value is None:
-        return FileSpec()
-    f = _table(value, f"{where}[file]: ")
-    _check_keys(f, set(FileSpec.__dataclass_fields__), f"{where}[file]: ")
-    sep = f.get("separator")
-    if sep is not None and sep not in SEPARATORS:
-        raise RecordingError(
-            f"{where}file.separator = {sep!r} is not allowed; allowed: "
-            + ", ".join(f"{k!r} ({v})" for k, v in SEPARATORS.items())
-        )
-    decimal = f.get("decimal")
-    if decimal is not None and decimal not in DECIMALS:
-        raise RecordingError(
-            f"{where}file.decimal = {decimal!r} is not allowed; allowed: {list(DECIMALS)}"
-        )
-    if sep is not None and decimal is not None and sep == decimal:
-        raise RecordingError(f"{where}file.separator and file.decimal are both {sep!r}")
-    header = None if f.get("header_row") is None else _row(f["header_row"], "header_row", where)
-    units = f.get("units_row")
-    if units is True:
-        raise RecordingError(
-            f"{where}file.units_row must be a 0-based line index or false, got true"
-        )
-    if units is not None and units is not False:
-        units = _row(units, "units_row", where)
-    data = None if f.get("data_row") is None else _row(f["data_row"], "data_row", where)
-    if isinstance(units, int) and not isinstance(units, bool):
-        if header is not None and units <= header:
-            raise RecordingError(
-                f"{where}file.units_row = {units} must come after file.header_row = {header}"
+def _entry_problems(channels: list[ChannelSpec], extra: list[ChannelSpec]) -> list[Problem]:
+    """What pydantic cannot see: canonical names, units that fit them, extras with units."""
+    problems: list[Problem] = []
+    names = list(CANONICAL_CHANNELS)
+    for spec in channels:
+        key = f"channels.{spec.name}"
+        if spec.name not in CANONICAL_CHANNELS:
+            close = difflib.get_close_matches(spec.name, names, n=3)
+            hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+            problems.append(
+                Problem(
+                    key,
+                    f"{spec.name!r} is not a canonical channel name{hint}; put other channels "
+                    f"under [extra.{spec.name}] with an explicit unit",
+                    allowed=names,
+                )
             )
-    last = max([r for r in (header, units) if isinstance(r, int) and r is not False] or [-1])
-    if data is not None and data <= last:
-        raise RecordingError(
-            f"{where}file.data_row = {data} must come after the header / units rows ({last})"
+        elif spec.unit is not None:
+            si = CANONICAL_CHANNELS[spec.name][0]
+            try:
+                si_factor(spec.unit, si)
+            except UnitError as exc:
+                p = exc.problem
+                problems.append(Problem(f"{key}.unit", p.message, p.unit, p.allowed, p.got))
+    for spec in extra:
+        key = f"extra.{spec.name}"
+        if spec.name in CANONICAL_CHANNELS:
+            problems.append(
+                Problem(key, f"{spec.name!r} is canonical; put it under [channels.{spec.name}]")
+            )
+        elif spec.unit is None:
+            problems.append(
+                Problem(
+                    f"{key}.unit",
+                    "missing key (a channel outside the canonical names needs an explicit unit)",
+                )
+            )
+    if not channels and not extra:
+        problems.append(
+            Problem("", "maps no channels; add [channels.<name>] or [extra.<name>] tables")
         )
-    encoding = f.get("encoding")
-    if encoding is not None:
-        if not isinstance(encoding, str):
-            raise RecordingError(f"{where}file.encoding must be a string, got {encoding!r}")
-        try:
-            codecs.lookup(encoding)
-        except LookupError:
-            raise RecordingError(
-                f"{where}file.encoding = {encoding!r} is not a known text encoding; e.g. "
-                "'utf-8', 'utf-8-sig', 'latin-1', 'cp1252', 'utf-16'"
-            ) from None
-    dayfirst = f.get("dayfirst")
-    if dayfirst is not None and not isinstance(dayfirst, bool):
-        raise RecordingError(f"{where}file.dayfirst must be true or false, got {dayfirst!r}")
-    fmt = f.get("date_format")
-    if fmt is not None and (not isinstance(fmt, str) or "%" not in fmt):
-        raise RecordingError(
-            f"{where}file.date_format must be a strptime format such as "
-            f"'%d.%m.%y %H:%M:%S', got {fmt!r}"
-        )
-    group = f.get("group")
-    if group is not None and (
-        isinstance(group, bool)
-        or not isinstance(group, str | int)
-        or (isinstance(group, str) and not group)
-        or (isinstance(group, int) and group < 0)
-    ):
-        raise RecordingError(
-            f"{where}file.group must be a group name or a 0-based group index, got {group!r}"
-        )
-    return FileSpec(
-        separator=sep,
-        decimal=decimal,
-        header_row=header,
-        units_row=units,
-        data_row=data,
-        encoding=encoding,
-        dayfirst=dayfirst,
-        date_format=fmt,
-        group=group,
-    )
+    return problems
 
 
-def _parse_entry(name: str, entry: Any, where: str, *, canonical: bool) -> ChannelSpec:
-    table = "channels" if canonical else "extra"
-    here = f"{where}[{table}.{name}]: "
-    e = _table(entry, here)
-    _check_keys(e, {"column", "unit", "scale", "offset", "description", "optional"}, here)
-    column = e.get("column")
-    if not isinstance(column, str) or not column:
-        raise RecordingError(f"{here}'column' (the file's column / channel name) is required")
-    unit = e.get("unit")
-    if unit is not None and (not isinstance(unit, str) or not unit.strip()):
-        raise RecordingError(f"{here}'unit' must be a non-empty string, got {unit!r}")
-    scale = _number(e.get("scale", 1.0), f"{here}scale")
-    if scale == 0.0:
-        raise RecordingError(f"{here}scale must be non-zero")
-    offset = _number(e.get("offset", 0.0), f"{here}offset")
-    optional = e.get("optional", False)
-    if not isinstance(optional, bool):
-        raise RecordingError(f"{here}'optional' must be true or false, got {optional!r}")
-    spec = ChannelSpec(name, column, unit, scale, offset, canonical, optional)
-    if unit is not None:
-        try:
-            spec.conversion()  # raises for a unit that does not fit the quantity
-        except RecordingError as exc:
-            raise RecordingError(f"{where}{exc}") from None
-    return spec
+def _map_error(where: str, problems: list[Problem]) -> RecordingError:
+    lines = [p.format(where) for p in problems]
+    error = RecordingError("\n".join(lines))
+    error.problems = tuple(lines)
+    return error
 
 
 def load_channel_map(path: str | Path) -> ChannelMap:

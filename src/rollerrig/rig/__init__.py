@@ -1,6 +1,9 @@
 """The rig: validated parameter sets, the torsional chain and its modes, the coupled model.
 
-- :mod:`~rollerrig.rig.parameters` — TOML parameter sets with units and provenance.
+- :mod:`~rollerrig.rig.parameters` — validated parameter sets (:class:`RigParameters`): load,
+  override, save; the bundled default rig.
+- :mod:`~rollerrig.rig.sections` — the parameter sections (SI values, quantities, ranges).
+- :mod:`~rollerrig.rig.rigfile` — the TOML file form: entries with value, unit and provenance.
 - :mod:`~rollerrig.rig.chain` — mass, stiffness and damping matrices; modal analysis.
 - :mod:`~rollerrig.rig.model` — the coupled nonlinear model (chain, contact, drives).
 - :mod:`~rollerrig.rig.assemble` — numeric solver inputs from rig, drives and protocol.

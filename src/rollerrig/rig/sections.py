@@ -1,0 +1,384 @@
+"""The sections of a rig parameter set: one pydantic model per section, SI values inside.
+
+Each field carries its physical quantity (a key of :data:`rollerrig.units.QUANTITIES`, in the
+field's ``json_schema_extra``) and its physical range; its docstring, with the SI unit in
+brackets, becomes the field's description. :mod:`rollerrig.rig.rigfile` reads and writes these
+sections as TOML; :class:`rollerrig.rig.parameters.RigParameters` holds one of each.
+
+Examples
+--------
+>>> InertiaParameters.model_fields["roller"].description
+'J5, roller (rotating rail) [kg.m^2].'
+>>> quantity_of(StiffnessParameters.model_fields["roller_shaft"])
+'torsional_stiffness'
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal
+
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validator
+
+from rollerrig._validation import FieldProblem, interval
+from rollerrig.units import QUANTITIES
+
+__all__ = [
+    "SECTIONS",
+    "BearingParameters",
+    "DampingParameters",
+    "GeometryParameters",
+    "InductionMotorParameters",
+    "InertiaParameters",
+    "MaterialParameters",
+    "MetaParameters",
+    "PmsmParameters",
+    "SensorParameters",
+    "ServoRollerDriveParameters",
+    "StiffnessParameters",
+    "quantity_of",
+    "si_unit_of",
+]
+
+
+def _si(quantity: str, **bounds: float) -> Any:
+    """Field metadata: the quantity (its SI unit is the unit of the value) and the bounds."""
+    return Field(json_schema_extra={"quantity": quantity}, **bounds)
+
+
+def quantity_of(field) -> str:
+    """The quantity of a section field (a key of :data:`rollerrig.units.QUANTITIES`)."""
+    return field.json_schema_extra["quantity"]
+
+
+def si_unit_of(field) -> str:
+    """The SI unit of a section field's value."""
+    return QUANTITIES[quantity_of(field)].si_unit
+
+
+def _quadrature(value: int) -> int:
+    if value not in (1, 2, 4):
+        raise FieldProblem("", "not a quadrature factor", allowed=[1, 2, 4], got=value)
+    return value
+
+
+# Value types: float (or int) in the SI unit of a quantity, with its physical range.
+_Inertia = Annotated[float, _si("inertia", gt=0)]
+_Stiffness = Annotated[float, _si("torsional_stiffness", gt=0)]
+_Damping = Annotated[float, _si("torsional_damping", ge=0)]
+_Length = Annotated[float, _si("length", gt=0)]
+_Pressure = Annotated[float, _si("pressure", gt=0)]
+_Speed = Annotated[float, _si("angular_speed", gt=0)]
+_Bandwidth = Annotated[float, _si("angular_frequency", gt=0)]
+_Power = Annotated[float, _si("power", gt=0)]
+_Torque = Annotated[float, _si("torque", gt=0)]
+_Current = Annotated[float, _si("current", gt=0)]
+_Voltage = Annotated[float, _si("voltage", gt=0)]
+_Resistance = Annotated[float, _si("resistance", gt=0)]
+_Inductance = Annotated[float, _si("inductance", gt=0)]
+_Frequency = Annotated[float, _si("frequency", gt=0)]
+_Time = Annotated[float, _si("time", gt=0)]
+_PolePairs = Annotated[int, _si("count", ge=1)]
+
+
+class _Section(BaseModel):
+    """Base of the SI parameter sections: frozen, no extra keys, strict types, finite floats."""
+
+    model_config = ConfigDict(
+        frozen=True,
+        extra="forbid",
+        strict=True,
+        allow_inf_nan=False,
+        use_attribute_docstrings=True,
+    )
+
+
+class MetaParameters(BaseModel):
+    """Name and description of a parameter set (plain strings in the TOML file)."""
+
+    model_config = ConfigDict(
+        frozen=True, extra="forbid", strict=True, use_attribute_docstrings=True
+    )
+
+    name: str
+    """Short name of the parameter set."""
+    description: str
+    """What rig this is and where its numbers come from."""
+
+
+class InertiaParameters(_Section):
+    """Moments of inertia J1..J7 of the seven bodies of the torsional chain [kg.m^2]."""
+
+    pmsm_stator: _Inertia
+    """J1, PMSM stator [kg.m^2]."""
+    pmsm_rotor: _Inertia
+    """J2, PMSM rotor [kg.m^2]."""
+    wheel_disc: _Inertia
+    """J3, wheel disc (hub) [kg.m^2]."""
+    wheel_tyre: _Inertia
+    """J4, wheel tyre, outside the rubber layer [kg.m^2]."""
+    roller: _Inertia
+    """J5, roller (rotating rail) [kg.m^2]."""
+    am_rotor: _Inertia
+    """J6, asynchronous (induction) motor rotor [kg.m^2]."""
+    am_stator: _Inertia
+    """J7, asynchronous motor stator [kg.m^2]."""
+
+
+class StiffnessParameters(_Section):
+    """Torsional stiffnesses of the five spring elements of the chain [N.m/rad]."""
+
+    pmsm_mount: _Stiffness
+    """k01, PMSM stator mount to ground [N.m/rad]."""
+    wheel_shaft: _Stiffness
+    """k23, wheel shaft [N.m/rad]."""
+    wheel_rubber: _Stiffness
+    """k34, rubber layer between wheel disc and tyre [N.m/rad]."""
+    roller_shaft: _Stiffness
+    """k56, roller shaft (CV shaft and torque sensor) [N.m/rad]."""
+    am_mount: _Stiffness
+    """k70, AM stator mount to ground [N.m/rad]."""
+
+
+class DampingParameters(_Section):
+    """Viscous torsional damping of the five spring elements of the chain [N.m.s/rad]."""
+
+    pmsm_mount: _Damping
+    """b01, PMSM stator mount [N.m.s/rad]."""
+    wheel_shaft: _Damping
+    """b23, wheel shaft [N.m.s/rad]."""
+    wheel_rubber: _Damping
+    """b34, rubber layer [N.m.s/rad]."""
+    roller_shaft: _Damping
+    """b56, roller shaft [N.m.s/rad]."""
+    am_mount: _Damping
+    """b70, AM stator mount [N.m.s/rad]."""
+
+
+class GeometryParameters(_Section):
+    """Principal radii of the wheel and the roller at the contact point [m]."""
+
+    wheel_radius_x: _Length
+    """Wheel rolling radius r_wx, longitudinal [m]."""
+    wheel_radius_y: _Length
+    """Wheel transverse profile radius r_wy [m]."""
+    roller_radius_x: _Length
+    """Roller rolling radius r_rx, longitudinal [m]."""
+    roller_radius_y: _Length
+    """Roller transverse profile radius r_ry [m]."""
+
+
+class MaterialParameters(_Section):
+    """Elastic constants of wheel and roller (both steel) [Pa], [1]."""
+
+    youngs_modulus: _Pressure
+    """Young's modulus E of both bodies [Pa]."""
+    poisson: Annotated[float, _si("dimensionless", gt=0, lt=0.5)]
+    """Poisson's ratio ν of both bodies [1], in (0, 0.5)."""
+
+
+class BearingParameters(_Section):
+    """Bearing losses R03 (wheel) and R05 (roller), Kayaalp eqs. 4.13-4.14, made torques.
+
+    The seed's ``R03 = N f_g`` and ``R05 = (W_r + N) f_g`` are friction *forces* [N]; the loss
+    torques are these forces times the bearing (journal) radius, and are smoothed with
+    ``tanh(ω / regularisation_speed)`` so that they are finite and continuous through standstill.
+    """
+
+    friction_coefficient: Annotated[float, _si("dimensionless", ge=0, lt=1)]
+    """Bearing friction coefficient f_g [1], in [0, 1)."""
+    roller_subsystem_weight: Annotated[float, _si("force", ge=0)]
+    """Weight W_r of the roller subsystem carried by the roller bearings [N]."""
+    wheel_bearing_radius: _Length
+    """Friction radius of the wheel bearings (half the bore) [m]."""
+    roller_bearing_radius: _Length
+    """Friction radius of the roller bearings (half the bore) [m]."""
+    regularisation_speed: _Speed
+    """Speed below which Coulomb bearing friction is smoothed (tanh) [rad/s]."""
+
+
+class PmsmParameters(_Section):
+    """Wheel drive: direct-drive permanent-magnet synchronous motor (Kayaalp Table 1).
+
+    The dq model uses the amplitude-invariant transform: ``T = 1.5 p φ i_q`` (Kayaalp eq. 4.25
+    with ``i_d = 0``).
+    """
+
+    rated_power: _Power
+    """Rated mechanical power [W]."""
+    rated_speed: _Speed
+    """Rated speed [rad/s]."""
+    rated_torque: _Torque
+    """Rated (nominal) torque [N.m]."""
+    rated_current: _Current
+    """Rated current [A]."""
+    flux_linkage: Annotated[float, _si("flux_linkage", gt=0)]
+    """Permanent-magnet flux linkage φ [Wb]."""
+    pole_pairs: _PolePairs
+    """Number of pole pairs p [1]."""
+    stator_resistance: _Resistance
+    """Stator phase resistance R_s [ohm]."""
+    inductance_d: _Inductance
+    """d-axis inductance L_d [H]."""
+    inductance_q: _Inductance
+    """q-axis inductance L_q [H]."""
+    dc_link_voltage: _Voltage
+    """Inverter DC-link voltage [V]."""
+    current_loop_bandwidth: _Bandwidth
+    """Closed-loop bandwidth of the dq current controllers [rad/s]."""
+    max_current: _Current
+    """Current limit of the inverter (dq amplitude) [A]."""
+    torque_ripple_amplitude: Annotated[float, _si("torque", ge=0)] = 0.0
+    """Amplitude of the inverter torque ripple [N.m] (0: none)."""
+    torque_ripple_frequency: Annotated[float, _si("frequency", ge=0)] = 0.0
+    """Frequency of the inverter torque ripple [Hz]."""
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        if self.torque_ripple_amplitude > 0 and self.torque_ripple_frequency <= 0:
+            raise FieldProblem(
+                "torque_ripple_frequency",
+                "must be > 0 when torque_ripple_amplitude > 0",
+                unit="Hz",
+                allowed=interval(0, math.inf),
+                got=self.torque_ripple_frequency,
+            )
+        if self.max_current < self.rated_current:
+            raise FieldProblem(
+                "max_current",
+                "must be >= rated_current",
+                unit="A",
+                allowed=interval(self.rated_current, math.inf, low_inclusive=True),
+                got=self.max_current,
+            )
+        return self
+
+    @property
+    def torque_constant(self) -> float:
+        """``1.5 p φ`` [N.m/A]: q-axis current to torque (amplitude-invariant dq)."""
+        return 1.5 * self.pole_pairs * self.flux_linkage
+
+    @property
+    def rated_torque_current(self) -> float:
+        """q-axis current that produces the rated torque, ``T_N / (1.5 p φ)`` [A]."""
+        return self.rated_torque / self.torque_constant
+
+
+class InductionMotorParameters(_Section):
+    """Roller drive: squirrel-cage asynchronous motor under open-loop V/f (Kayaalp Table 2)."""
+
+    rated_power: _Power
+    """Rated mechanical power [W]."""
+    rated_frequency: _Frequency
+    """Rated supply frequency [Hz]."""
+    rated_torque: _Torque
+    """Rated torque [N.m]."""
+    rated_current: _Current
+    """Rated line current [A]."""
+    rated_line_voltage: _Voltage
+    """Rated line-to-line voltage (RMS) [V]."""
+    connection: Annotated[Literal["delta", "star"], _si("dimensionless")]
+    """Winding connection: 'delta' or 'star' (unit "-")."""
+    pole_pairs: _PolePairs
+    """Number of pole pairs p [1]."""
+    breakdown_torque_ratio: Annotated[float, _si("dimensionless", gt=1)]
+    """Breakdown (pull-out) torque over rated torque [1], > 1."""
+    stator_resistance: _Resistance
+    """Stator resistance per phase of the equivalent star [ohm]."""
+    response_lag_clp: Annotated[float, _si("rate", gt=0)]
+    """Response-lag parameter c_lp of Kayaalp eq. 4.29 [1/s] (weight c_lp·Δt)."""
+    response_lag_reference_step: _Time
+    """Step Δt at which c_lp was fitted (Kayaalp 4.5.1.8) [s]."""
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        weight = self.response_lag_clp * self.response_lag_reference_step
+        if weight > 1.0:
+            raise FieldProblem(
+                "response_lag_clp",
+                f"c_lp·Δt = {weight:g} must be <= 1 (the filter weight of Kayaalp eq. 4.29, "
+                "Δt = response_lag_reference_step)",
+                unit="1/s",
+                allowed=interval(0, 1.0 / self.response_lag_reference_step, high_inclusive=True),
+                got=self.response_lag_clp,
+            )
+        if self.rated_slip <= 0.0:
+            raise FieldProblem(
+                "",
+                f"rated speed rated_power/rated_torque ({self.rated_speed:g} rad/s) must be below "
+                f"the synchronous speed 2π·rated_frequency/pole_pairs "
+                f"({self.synchronous_speed:g} rad/s)",
+            )
+        return self
+
+    @property
+    def synchronous_speed(self) -> float:
+        """Mechanical synchronous speed at the rated frequency, ``2π f / p`` [rad/s]."""
+        return 2.0 * math.pi * self.rated_frequency / self.pole_pairs
+
+    @property
+    def rated_speed(self) -> float:
+        """Rated mechanical speed from the nameplate, ``P / T`` [rad/s]."""
+        return self.rated_power / self.rated_torque
+
+    @property
+    def rated_slip(self) -> float:
+        """Rated slip ``1 - ω_N / ω_sync`` [1] (≈ 1.76 % for the default rig)."""
+        return 1.0 - self.rated_speed / self.synchronous_speed
+
+    @property
+    def breakdown_torque(self) -> float:
+        """Breakdown torque ``ratio × T_N`` [N.m]."""
+        return self.breakdown_torque_ratio * self.rated_torque
+
+    @property
+    def phase_voltage(self) -> float:
+        """Phase voltage of the equivalent star, ``V_line / √3`` (RMS) [V]."""
+        return self.rated_line_voltage / math.sqrt(3.0)
+
+
+class ServoRollerDriveParameters(_Section):
+    """Speed-controlled servo/PMSM roller drive: the seed's proposed fix (Kayaalp 5, 4.5.1.8)."""
+
+    speed_bandwidth: _Bandwidth
+    """Closed-loop speed bandwidth [rad/s]."""
+    torque_limit: _Torque
+    """Torque limit of the servo drive [N.m]."""
+    torque_time_constant: _Time
+    """Time constant of the inner torque (current) loop [s]."""
+
+
+class SensorParameters(_Section):
+    """Data acquisition and sensors (Kayaalp 4.1.3)."""
+
+    daq_rate: _Frequency
+    """Sampling rate of the DAQ [Hz]."""
+    encoder_pulses_per_revolution: _PolePairs
+    """Encoder lines (pulses per revolution per channel) [1]."""
+    encoder_quadrature_factor: Annotated[int, _si("count"), AfterValidator(_quadrature)]
+    """Edges counted per line: 1, 2 or 4 (quadrature) [1]."""
+    air_spring_effective_area: Annotated[float, _si("area", gt=0)]
+    """Effective area of the air spring: normal force = pressure × area [m^2]."""
+    torque_sensor_range: _Torque
+    """Full-scale range of the torque sensor [N.m]."""
+
+    @property
+    def encoder_counts_per_revolution(self) -> int:
+        """Counts per revolution after quadrature decoding [1]."""
+        return self.encoder_pulses_per_revolution * self.encoder_quadrature_factor
+
+
+SECTIONS: dict[str, type[BaseModel]] = {
+    "meta": MetaParameters,
+    "inertia": InertiaParameters,
+    "stiffness": StiffnessParameters,
+    "damping": DampingParameters,
+    "geometry": GeometryParameters,
+    "material": MaterialParameters,
+    "bearing": BearingParameters,
+    "pmsm": PmsmParameters,
+    "induction_motor": InductionMotorParameters,
+    "servo_roller_drive": ServoRollerDriveParameters,
+    "sensors": SensorParameters,
+}
+"""Section name -> model, in file order."""

@@ -1,0 +1,255 @@
+"""The one error format of user files, and the range checks of the public functions.
+
+``<file>: <dotted key>: <what is wrong> [<unit>]; allowed <range or choices>; got <value>``
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import Annotated, Literal
+
+import numpy as np
+import pytest
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from rollerrig._validation import (
+    FieldProblem,
+    ParameterError,
+    Problem,
+    Verbatim,
+    field_error,
+    from_pydantic,
+    interval,
+    pydantic_problems,
+    require_in_range,
+    require_positive,
+    show_value,
+)
+
+# The format as a pattern: file, dotted key, what is wrong, then the optional parts in order.
+FORMAT = re.compile(
+    r"^(?P<file>[^:]+): (?P<key>[\w.<>\[\]-]+): (?P<what>.+?)(?: \[(?P<unit>[^\]]+)\])?"
+    r"(?:; allowed (?P<allowed>.+?))?(?:; got (?P<got>.+))?$"
+)
+
+
+def test_problem_has_every_part_in_order():
+    text = Problem(
+        "stiffness.roller_shaft", "must be > 0", unit="N.m/rad", allowed="(0, inf)", got=-3
+    ).format("rig.toml")
+    assert (
+        text == "rig.toml: stiffness.roller_shaft: must be > 0 [N.m/rad]; allowed (0, inf); got -3"
+    )
+    m = FORMAT.match(text)
+    assert m and m["key"] == "stiffness.roller_shaft" and m["unit"] == "N.m/rad"
+    assert (m["allowed"], m["got"]) == ("(0, inf)", "-3")
+
+
+@pytest.mark.parametrize(
+    ("problem", "text"),
+    [
+        (Problem("a.b", "missing key"), "f: a.b: missing key"),
+        (Problem("a", "must be > 0", unit="1", got=0.0), "f: a: must be > 0; got 0"),  # no [1]
+        (Problem("", "maps no channels"), "f: maps no channels"),
+        (Problem("x", "bad", allowed=["N", "kN"]), "f: x: bad; allowed 'N', 'kN'"),
+        (Problem("x", "bad", allowed={",": "comma"}), "f: x: bad; allowed ',' (comma)"),
+        (Problem("x", "bad", got=None), "f: x: bad; got None"),
+        (Problem("x", "bad", got=Verbatim("3 kN")), "f: x: bad; got 3 kN"),
+    ],
+)
+def test_problem_leaves_out_what_does_not_apply(problem, text):
+    assert problem.format("f") == text
+
+
+@pytest.mark.parametrize(
+    ("value", "shown"),
+    [
+        (True, "true"),
+        (np.bool_(False), "false"),
+        (-3, "-3"),
+        (np.int64(7), "7"),
+        (43500.0, "43500"),
+        (0.6, "0.6"),
+        (1e-5, "1e-05"),
+        (1e20, "1e+20"),
+        (math.nan, "nan"),
+        (-math.inf, "-inf"),
+        ("bar", "'bar'"),
+        ([1, 2], "[1, 2]"),
+    ],
+)
+def test_values_are_shown_as_a_file_writes_them(value, shown):
+    assert show_value(value) == shown
+
+
+def test_interval_notation():
+    assert interval(0, math.inf) == "(0, inf)"
+    assert interval(0, 0.5) == "(0, 0.5)"
+    assert interval(1, 4, low_inclusive=True, high_inclusive=True) == "[1, 4]"
+    assert interval(-math.inf, 0, high_inclusive=True) == "(-inf, 0]"
+
+
+def test_field_error_builds_the_requested_class():
+    class MapError(ParameterError):
+        pass
+
+    err = field_error("map.toml", "time.unit", "not a time unit", allowed=["s", "ms"], got="min",
+                      error=MapError)  # fmt: skip
+    assert isinstance(err, MapError) and isinstance(err, ValueError)
+    assert str(err) == "map.toml: time.unit: not a time unit; allowed 's', 'ms'; got 'min'"
+    assert err.problems == (str(err),)
+    assert FORMAT.match(str(err))
+
+
+class _Inner(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False)
+
+    poisson: float = Field(gt=0, lt=0.5)
+    speed: float = Field(1.0, gt=0, json_schema_extra={"unit": "rad/s"})
+    count: int = Field(1, ge=1)
+    kind: Literal["delta", "star"] = "delta"
+    name: str = Field("x", min_length=1, description="a short name")
+    flag: bool = False
+
+
+def _even(value: int) -> int:
+    if value % 2:
+        raise FieldProblem("", "must be even", allowed="0, 2, 4, ...", got=value)
+    return value
+
+
+class _Outer(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True)
+
+    inner: _Inner | None = None
+    table: dict[str, _Inner] = {}
+    pairs: Annotated[int, AfterValidator(_even)] = 0
+    low: float = 0.0
+    high: float = 1.0
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if self.high <= self.low:
+            raise FieldProblem(
+                "high", "must be above low", allowed=f"> {self.low:g}", got=self.high
+            )
+        return self
+
+
+def _lines(data, **kwargs) -> list[str]:
+    with pytest.raises(ValidationError) as info:
+        _Outer.model_validate(data)
+    err = from_pydantic(info.value, "t.toml", model=_Outer, **kwargs)
+    assert isinstance(err, ParameterError)
+    assert str(err) == "\n".join(err.problems)
+    for line in err.problems:
+        assert FORMAT.match(line), line
+    return list(err.problems)
+
+
+@pytest.mark.parametrize(
+    ("data", "line"),
+    [
+        ({"inner": {"poisson": 0.6}}, "inner.poisson: must be < 0.5; allowed (0, 0.5); got 0.6"),
+        ({"inner": {"poisson": -1}}, "inner.poisson: must be > 0; allowed (0, 0.5); got -1"),
+        (
+            {"inner": {"poisson": math.nan}},
+            "inner.poisson: must be finite; allowed (0, 0.5); got nan",
+        ),
+        ({"inner": {"poisson": "0.3"}}, "inner.poisson: must be a number; got '0.3'"),
+        ({"inner": {}}, "inner.poisson: missing key"),
+        (
+            {"inner": {"poisson": 0.3, "speed": -2.0}},
+            "inner.speed: must be > 0 [rad/s]; allowed (0, inf); got -2",
+        ),
+        (
+            {"inner": {"poisson": 0.3, "count": 0}},
+            "inner.count: must be >= 1; allowed [1, inf); got 0",
+        ),
+        ({"inner": {"poisson": 0.3, "count": 2.5}}, "inner.count: must be an integer; got 2.5"),
+        (
+            {"inner": {"poisson": 0.3, "kind": "zigzag"}},
+            "inner.kind: not one of the allowed values; allowed 'delta' or 'star'; got 'zigzag'",
+        ),
+        ({"inner": {"poisson": 0.3, "name": ""}}, "inner.name: must not be empty; got ''"),
+        (
+            {"inner": {"poisson": 0.3, "flag": "yes"}},
+            "inner.flag: must be true or false; got 'yes'",
+        ),
+        (
+            {"inner": {"poisson": 0.3, "poison": 1}},
+            "inner.poison: unknown key (did you mean 'poisson'?); allowed 'poisson', "
+            "'speed', 'count', 'kind', 'name', 'flag'",
+        ),
+        ({"inner": 3}, "inner: must be a table; got 3"),
+        (
+            {"table": {"a": {"poisson": 0.7}}},
+            "table.a.poisson: must be < 0.5; allowed (0, 0.5); got 0.7",
+        ),
+        ({"pairs": 3}, "pairs: must be even; allowed 0, 2, 4, ...; got 3"),
+        ({"low": 2.0}, "high: must be above low; allowed > 2; got 1"),
+    ],
+)
+def test_from_pydantic_names_key_unit_range_and_value(data, line):
+    assert _lines(data) == [f"t.toml: {line}"]
+
+
+def test_from_pydantic_reports_every_problem_and_takes_units_and_prefix():
+    data = {"inner": {"poisson": 0.6, "count": 0}}
+    lines = _lines(data, prefix="rig", units={"rig.inner.count": "1/s"})
+    assert lines == [
+        "t.toml: rig.inner.poisson: must be < 0.5; allowed (0, 0.5); got 0.6",
+        "t.toml: rig.inner.count: must be >= 1 [1/s]; allowed [1, inf); got 0",
+    ]
+
+
+def test_missing_key_with_a_description_says_what_it_is():
+    with pytest.raises(ValidationError) as info:
+        _Inner.model_validate({"poisson": 0.3, "name": None})
+    problems = pydantic_problems(info.value, model=_Inner)
+    assert problems[0].message == "must be a string"
+    with pytest.raises(ValidationError) as info:
+
+        class _Named(BaseModel):
+            name: str = Field(description="the channel's name")
+
+        _Named.model_validate({})
+    assert str(from_pydantic(info.value, "f", model=_Named)) == (
+        "f: name: missing key (the channel's name)"
+    )
+
+
+def test_without_the_model_the_bound_in_the_error_is_given():
+    with pytest.raises(ValidationError) as info:
+        _Inner.model_validate({"poisson": 0.6})
+    assert str(from_pydantic(info.value, "f")) == (
+        "f: poisson: must be < 0.5; allowed (-inf, 0.5); got 0.6"
+    )
+
+
+def test_user_files_share_the_format(tmp_path):
+    # The rig file and the channel map report through the same format.
+    from rollerrig.measure.channels import ChannelMap
+    from rollerrig.measure.recording import RecordingError
+    from rollerrig.rig.parameters import RigFileError, default_rig
+
+    with pytest.raises(RigFileError) as rig:
+        default_rig().with_overrides({"stiffness.roller_shaft": -1.0})
+    with pytest.raises(RecordingError) as cmap:
+        ChannelMap.from_dict({"channels": {"torque": {"column": "T", "unit": "psi"}}})
+    for err in (rig.value, cmap.value):
+        assert all(FORMAT.match(line) for line in err.problems), err.problems
+    assert FORMAT.match(rig.value.problems[0])["unit"] == "N.m/rad"
+    assert FORMAT.match(cmap.value.problems[0])["key"] == "channels.torque.unit"
+
+
+# ---- range checks of the public functions --------------------------------------------------
+
+
+def test_require_helpers_name_parameter_unit_and_range():
+    with pytest.raises(ParameterError, match=r"^load must be > 0 \[N\], got -1$"):
+        require_positive("load", -1.0, "N")
+    with pytest.raises(ParameterError, match=r"must lie in \(0, 0.5\)"):
+        require_in_range("poisson", 0.5, 0.0, 0.5)
+    assert require_in_range("x", 1.0, 0.0, 1.0, high_inclusive=True) == 1.0
