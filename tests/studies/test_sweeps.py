@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from rollerrig._validation import ParameterError
+from rollerrig.experiment import Hold, RampTorque, ReleaseTorque
 from rollerrig.rig.parameters import default_rig
-from rollerrig.studies import run_study
+from rollerrig.studies import RELEASE_TEST, run_study
 
 
 @pytest.fixture(scope="module")
@@ -48,3 +49,21 @@ def test_drives_no_lag_and_stiff_shaft_removes_it_a_stiff_speed_loop_does_not(ri
 def test_unknown_study_is_a_clear_error(rig):
     with pytest.raises(ParameterError, match="unknown study"):
         run_study("colour", rig)
+
+
+def test_release_test_protocol_is_built_from_steps():
+    # One cycle of the seed-30kmh-dry pattern at 600 N.m: 1 s free rolling, 2 s ramp, 0.5 s
+    # hold, 0.02 s release, 3 s after it (6.52 s); 30 km/h = 8.333 m/s, 4.3 kN, dry.
+    p = RELEASE_TEST
+    assert p.to_steps() == (
+        Hold(1.0),
+        RampTorque(600.0, 2.0),
+        Hold(0.5),
+        ReleaseTorque(0.02),
+        Hold(3.0),
+    )
+    assert p.breakpoints() == pytest.approx([0.0, 1.0, 3.0, 3.5, 3.52, 6.52])
+    assert p.torque_request.max() == 600.0
+    assert p.roller_speed_at(3.0) == pytest.approx(30 / 3.6)
+    assert p.normal_load_at(3.0) == 4300.0 and p.friction_at(3.0) == "dry"
+    assert [e.start for e in p.events if e.action == "release_torque"] == [3.5]

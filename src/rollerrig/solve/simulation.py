@@ -43,9 +43,27 @@ class Simulation:
 
     Examples
     --------
-    >>> sim = Simulation(experiment="seed-30kmh-dry")
-    >>> sim.inputs.duration
-    30.0
+    A bundled protocol on the bundled rig:
+
+    >>> Simulation(experiment="seed-30kmh-dry")
+    Simulation(rig='pardubice-tram-roller-rig', experiment='seed-30kmh-dry' (30 s), \
+drives=pmsm/induction, solver='fast', output_rate=250 Hz)
+
+    A protocol built from steps (a notebook): one torque pulse at 30 km/h, dry, 4.3 kN.
+
+    >>> from rollerrig.experiment import Hold, Protocol, RampTorque, ReleaseTorque
+    >>> pulse = Protocol.from_steps(
+    ...     "pulse",
+    ...     [Hold(0.2), RampTorque(300.0, 0.3), ReleaseTorque(), Hold(0.48)],
+    ...     normal_load=4300.0,
+    ...     roller_speed=30 / 3.6,
+    ... )
+    >>> sim = Simulation(experiment=pulse, solver="reference", output_rate=250.0)
+    >>> sim.times.size
+    251
+    >>> ds = sim.run()  # doctest: +SKIP
+    >>> round(float(ds.t56.max()))  # roller-shaft torque [N.m]  # doctest: +SKIP
+    220
     """
 
     def __init__(
@@ -75,11 +93,27 @@ class Simulation:
         self.rtol = rtol
         self.inputs: ModelInputs = assemble(rig, protocol, drives, friction_sets)
 
+    def __repr__(self) -> str:
+        drives = self.inputs.drives
+        return (
+            f"Simulation(rig={self.rig.meta.name!r}, experiment={self.protocol.name!r} "
+            f"({self.protocol.duration:g} s), drives={drives.wheel}/{drives.roller}, "
+            f"solver={self.solver!r}, output_rate={self.output_rate:g} Hz)"
+        )
+
     @property
     def times(self) -> np.ndarray:
-        """Sample times of the results [s]."""
-        n = int(np.floor(self.protocol.duration * self.output_rate + 1e-9))
-        return np.arange(n + 1) / self.output_rate
+        """Sample times of the results [s], never beyond the protocol's end.
+
+        A duration summed from step durations can fall an ulp short of a sample instant
+        (1 + 2 × (1.5 + 0.02 + 1) = 6.039999999999999 s at 250 Hz): the last sample is then
+        the end itself, not an instant after it, where no input is defined.
+        """
+        duration = self.protocol.duration
+        n = int(np.floor(duration * self.output_rate + 1e-9))
+        t = np.arange(n + 1) / self.output_rate
+        t[-1] = min(t[-1], duration)
+        return t
 
     def run(self, progress: Callable[[float, float], None] | None = None):
         """Run the experiment and return the labelled dataset (:func:`build_dataset`)."""

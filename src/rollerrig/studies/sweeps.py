@@ -13,37 +13,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig.experiment.protocol import Protocol, protocol_from_toml_string
+from rollerrig.experiment import Hold, Protocol, RampTorque, ReleaseTorque
 from rollerrig.rig.assemble import assemble
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import RigParameters
 
 __all__ = ["RELEASE_TEST", "STUDIES", "StudyResult", "release_overshoots", "run_study"]
 
-RELEASE_TEST = """
-[experiment]
-name = "release-test"
-description = "One ramp-hold-sudden release at 30 km/h, dry, 4.3 kN, for the parametric studies."
-source = "Kayaalp 4.5.1.7-4.5.1.8 (pattern as seed-30kmh-dry, one cycle)"
-normal_load_kN = 4.3
-friction = "dry"
-roller_speed_kmh = 30
-[[step]]
-action = "hold"
-duration_s = 1.0
-[[step]]
-action = "ramp_torque"
-to_Nm = 600
-duration_s = 2.0
-[[step]]
-action = "hold"
-duration_s = 0.5
-[[step]]
-action = "release_torque"
-[[step]]
-action = "hold"
-duration_s = 3.0
-"""
+RELEASE_TEST = Protocol.from_steps(
+    "release-test",
+    [Hold(1.0), RampTorque(600.0, 2.0), Hold(0.5), ReleaseTorque(), Hold(3.0)],
+    normal_load=4300.0,
+    roller_speed=30 / 3.6,
+    friction="dry",
+    description="One ramp-hold-sudden release at 30 km/h, dry, 4.3 kN, for the parametric studies.",
+    source="Kayaalp 4.5.1.7-4.5.1.8 (pattern as seed-30kmh-dry, one cycle)",
+)
 """The default experiment of the studies: one release from 600 N.m (below the adhesion limit,
 so that the release, not macro-slip, is what the studies compare)."""
 
@@ -177,7 +162,7 @@ def run_study(
 
     if name not in STUDIES:
         raise ParameterError(f"unknown study {name!r}; choose one of {sorted(STUDIES)}")
-    protocol = protocol or protocol_from_toml_string(RELEASE_TEST)
+    protocol = protocol or RELEASE_TEST
     parameter, unit, values, labels, variants = STUDIES[name](rig)
     inputs = [assemble(r, protocol, d) for r, d in variants]
     t = np.arange(int(np.floor(protocol.duration * output_rate)) + 1) / output_rate
