@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -10,7 +12,9 @@ from scipy.integrate import quad
 from scipy.special import ellipe
 
 from rollerrig._validation import ParameterError
-from rollerrig.contact.hertz import combined_elastic_constants, hertz_contact
+from rollerrig._warnings import DomainWarning
+from rollerrig.contact.hertz import HERTZ_DOMAIN_LIMIT, combined_elastic_constants, hertz_contact
+from rollerrig.rig.parameters import default_rig
 
 E_STEEL = 210e9
 NU_STEEL = 0.3
@@ -225,6 +229,8 @@ def test_extremely_slender_ellipse():
     assert c.peak_pressure * c.area == pytest.approx(1.5 * 1e3, rel=1e-12)
 
 
+# The closed-form relations hold for any geometry, inside the Hertz domain or not.
+@pytest.mark.filterwarnings("ignore::rollerrig._warnings.DomainWarning")
 @settings(max_examples=60, deadline=None)
 @given(
     load=st.floats(1.0, 1e6),
@@ -244,6 +250,64 @@ def test_properties_hold_for_random_geometry(load, r_wx, r_wy, r_ry, scale):
     # the major axis lies along the smaller curvature
     a_curv, b_curv = 0.5 / r_wx, 0.5 * (1 / r_wy + 1 / r_ry)
     assert (c.semi_axis_x >= c.semi_axis_y) == (a_curv <= b_curv) or np.isclose(a_curv, b_curv)
+
+
+# --- Domain of validity ---------------------------------------------------------------------
+
+
+def _rig_contact(load):
+    g, mat = default_rig().geometry, default_rig().material
+    return hertz_contact(
+        load,
+        g.wheel_radius_x,
+        g.wheel_radius_y,
+        g.roller_radius_x,
+        g.roller_radius_y,
+        youngs_modulus=mat.youngs_modulus,
+        poisson=mat.poisson,
+    )
+
+
+def test_contact_of_1e6_kN_on_the_rig_warns_that_hertz_no_longer_applies():
+    # Issue 8's example, `rollerrig contact --load-kn 1e6`: a = 104 mm on the bundled rig
+    # (R_wx = 348 mm, R_rx = 452 mm, so R'x = 1/(1/348 + 1/452) mm = 196.6 mm, a/R'x = 0.529);
+    # Hertz's half-space assumption needs a << R (Johnson 1985, §4.1), limit a/R' = 0.1.
+    with pytest.warns(DomainWarning) as record:
+        c = _rig_contact(1e9)
+    assert len(record) == 1
+    message = str(record[0].message)
+    assert "semi-axis a = 104 mm is 0.529 of the relative radius of curvature R'x = 196.6 mm" in (
+        message
+    )
+    assert "a/R' <= 0.1" in message and "Johnson 1985, §4.1" in message
+    assert "Q = 1e+09 N" in message
+    assert c.semi_axis_x == pytest.approx(0.104025, rel=1e-5)  # still returned as computed
+
+
+def test_domain_limit_is_a_over_relative_radius_of_one_tenth():
+    # a ∝ Q^(1/3) (Johnson 1985, eq. 4.39): a/R'x = 0.1 is reached at 1e9 N · (0.1/0.529)³ =
+    # 6.76 MN on the rig; below it the rig's loads (up to 200 kN) and 6.5 MN give no warning.
+    assert HERTZ_DOMAIN_LIMIT == 0.1
+    r_rel = 1.0 / (1.0 / 0.348 + 1.0 / 0.452)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DomainWarning)
+        for load in (4.3e3, 200e3, 6.5e6):
+            assert _rig_contact(load).semi_axis_x / r_rel < 0.1
+    with pytest.warns(DomainWarning, match=r"semi-axis a = 19\.9 mm is 0\.101 "):
+        c = _rig_contact(7.0e6)
+    assert c.semi_axis_x / r_rel > 0.1
+
+
+def test_domain_warning_names_the_lateral_axis_and_the_worst_of_an_array():
+    # A wheel with a 20 mm transverse profile on a flat-topped roller (R_ry = 1 km): the lateral
+    # semi-axis b leaves the domain first (R'y = 20 mm against R'x = 350 mm); of the loads
+    # 1 kN, 10 MN and 100 MN the last two are outside, the worst (100 MN) is named.
+    loads = np.array([1e3, 1e7, 1e8])
+    with pytest.warns(DomainWarning) as record:
+        hertz_contact(loads, 0.35, 0.02, np.inf, 1e3)
+    message = str(record[0].message)
+    assert "Q = 1e+08 N the semi-axis b = 13.64 mm is 0.682 of" in message
+    assert "R'y = 20 mm (worst of 2 such cases)" in message
 
 
 # --- Validation -----------------------------------------------------------------------------

@@ -13,23 +13,21 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from rollerrig.solve import ros34pw as rp
+from rollerrig.solve._wdriver import fd_jacobian
 from rollerrig.solve.ros34pw import (
     FT_EVERY_STEP,
     FT_NONE,
     GAMMA,
+    STATUS_BAD_INPUT,
+    STATUS_MAX_STEPS,
+    STATUS_NONFINITE,
+    STATUS_OK,
     invert_w,
     ros34pw2_fixed,
     ros34pw2_integrate,
     ros34pw2_integrate_batch,
     ros34pw2_step,
     stability_function,
-)
-from rollerrig.solve.rosenbrock import (
-    STATUS_BAD_INPUT,
-    STATUS_MAX_STEPS,
-    STATUS_NONFINITE,
-    STATUS_OK,
-    fd_jacobian,
 )
 
 TABLES = np.zeros((1, 1))

@@ -146,6 +146,11 @@ def _friction_kernel(slip_velocity, mu0, limit_ratio, friction_decay):
     )
 
 
+def _adhesion_gradient_kernel(creep, q_mu, creep_stiffness):
+    """ε = ¼ π G a b c11 s / (Q μ) (Polach 2005, eq. 4); ``creep_stiffness`` = G a b c11 [N]."""
+    return 0.25 * np.pi * creep_stiffness * creep / q_mu
+
+
 def _polach_force_kernel(
     creep, slip_velocity, normal_load, creep_stiffness, mu0, limit_ratio, friction_decay, k_a, k_s
 ):
@@ -157,7 +162,7 @@ def _polach_force_kernel(
     """
     mu = _friction_kernel(slip_velocity, mu0, limit_ratio, friction_decay)
     q_mu = normal_load * mu
-    eps = 0.25 * np.pi * creep_stiffness * creep / q_mu
+    eps = _adhesion_gradient_kernel(creep, q_mu, creep_stiffness)
     ka_eps = k_a * eps
     return (2.0 / np.pi) * q_mu * (ka_eps / (1.0 + ka_eps * ka_eps) + np.arctan(k_s * eps))
 
@@ -165,6 +170,15 @@ def _polach_force_kernel(
 # --------------------------------------------------------------------------------------------
 # Public, validated functions.
 # --------------------------------------------------------------------------------------------
+
+
+def _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus):
+    """Kalker's linear creep stiffness G a b c11 [N] from validated inputs."""
+    a = require_positive("semi_axis_x", semi_axis_x, "m")
+    b = require_positive("semi_axis_y", semi_axis_y, "m")
+    c = require_positive("c11", c11, "-")
+    g = require_positive("shear_modulus", shear_modulus, "Pa")
+    return g * a * b * c
 
 
 def friction_coefficient(slip_velocity, parameters: PolachParameters = POLACH_DRY):
@@ -233,11 +247,8 @@ def adhesion_gradient(creep, normal_load, friction, semi_axis_x, semi_axis_y, c1
     s = require_finite("creep", creep, "-")
     q = require_positive("normal_load", normal_load, "N")
     mu = require_positive("friction", friction, "-")
-    a = require_positive("semi_axis_x", semi_axis_x, "m")
-    b = require_positive("semi_axis_y", semi_axis_y, "m")
-    c = require_positive("c11", c11, "-")
-    g = require_positive("shear_modulus", shear_modulus, "Pa")
-    return 0.25 * g * np.pi * a * b * c * s / (q * mu)
+    stiffness = _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus)
+    return _adhesion_gradient_kernel(s, q * mu, stiffness)
 
 
 def polach_creep_force(
@@ -294,11 +305,8 @@ def polach_creep_force(
     s = require_finite("creep", creep, "-")
     w = require_finite("slip_velocity", slip_velocity, "m/s")
     q = require_positive("normal_load", normal_load, "N")
-    a = require_positive("semi_axis_x", semi_axis_x, "m")
-    b = require_positive("semi_axis_y", semi_axis_y, "m")
-    c = require_positive("c11", c11, "-")
-    g = require_positive("shear_modulus", shear_modulus, "Pa")
-    return _polach_force_kernel(s, w, q, g * a * b * c, *parameters.as_tuple())
+    stiffness = _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus)
+    return _polach_force_kernel(s, w, q, stiffness, *parameters.as_tuple())
 
 
 def kalker_linear_force(creep, semi_axis_x, semi_axis_y, c11, shear_modulus):
@@ -330,8 +338,4 @@ def kalker_linear_force(creep, semi_axis_x, semi_axis_y, c11, shear_modulus):
     6400.0
     """
     s = require_finite("creep", creep, "-")
-    a = require_positive("semi_axis_x", semi_axis_x, "m")
-    b = require_positive("semi_axis_y", semi_axis_y, "m")
-    c = require_positive("c11", c11, "-")
-    g = require_positive("shear_modulus", shear_modulus, "Pa")
-    return g * a * b * c * s
+    return _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus) * s

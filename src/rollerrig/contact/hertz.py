@@ -14,6 +14,13 @@ A radius of ``np.inf`` is a flat direction (a tangent rail is flat longitudinall
 ``roller_radius_x=np.inf``). The semi-axis ``a`` lies along x and ``b`` along y; the major axis
 lies in the direction of the *smaller* relative curvature, so ``a > b`` when ``A < B``.
 
+Domain of validity: Hertz treats each body as an elastic half-space and the gap as parabolic,
+which needs the contact to be small against the radii of curvature, ``a ≪ R`` (Johnson 1985,
+§4.1). :func:`hertz_contact` issues a :class:`~rollerrig._warnings.DomainWarning` when a
+semi-axis exceeds :data:`HERTZ_DOMAIN_LIMIT` of the relative radius of curvature in its
+direction, ``R'_x = 1/(2A)``, ``R'_y = 1/(2B)`` (smaller than either body's radius, so the
+bound holds for both bodies).
+
 References
 ----------
 .. [1] H. Hertz, "Über die Berührung fester elastischer Körper", J. reine angew. Math. 92 (1882)
@@ -28,6 +35,7 @@ References
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -35,13 +43,27 @@ import numpy as np
 from scipy.special import ellipe, ellipkm1, elliprd
 
 from rollerrig._validation import ParameterError, require_in_range, require_positive
+from rollerrig._warnings import DomainWarning
 
 __all__ = [
+    "HERTZ_DOMAIN_LIMIT",
     "CombinedElasticConstants",
     "HertzContact",
     "combined_elastic_constants",
     "hertz_contact",
 ]
+
+HERTZ_DOMAIN_LIMIT = 0.1
+"""Largest semi-axis over the relative radius of curvature in its direction, a/R' [-], for
+which :func:`hertz_contact` is taken to be valid.
+
+Johnson (1985, §4.1) states the half-space condition as ``a ≪ R`` without a number. The errors
+of the two approximations it rests on grow with a/R': the parabolic gap ``x²/(2R)`` differs from
+the circle by ``(x/R)²/8`` relative at the contact edge, and the surface slope there, ``~a/R``,
+is what the half-space solution neglects. At a/R' = 0.1 both stay at the per-cent level; beyond
+it the result is an extrapolation. On the bundled rig (R'x = 197 mm) the limit is reached at
+about 7 MN.
+"""
 
 #: Fixed number of bisection steps in ln(b/a); the bracket is at most (2/3)·ln(ρ) wide, so 64
 #: halvings reach the spacing of doubles for any curvature ratio representable in float64.
@@ -280,6 +302,13 @@ def hertz_contact(
         outside (0, 0.5), or both radii of one direction are infinite (then the contact is a
         line or a plane, not an ellipse).
 
+    Warns
+    -----
+    DomainWarning
+        If a semi-axis exceeds :data:`HERTZ_DOMAIN_LIMIT` (0.1) of the relative radius of
+        curvature in its direction (the half-space assumption, Johnson 1985, §4.1); the
+        result is then returned as computed.
+
     References
     ----------
     Hertz (1882); Johnson, *Contact Mechanics* (1985), §4.2, eqs. (4.39)-(4.41);
@@ -334,6 +363,7 @@ def hertz_contact(
     curvature_y = 0.5 * (1.0 / r_wy + 1.0 / r_ry)
     e_star = _effective_modulus_kernel(e1, nu1, e2, nu2)
     a, b, p0, delta = _hertz_kernel(load, curvature_x, curvature_y, e_star)
+    _warn_outside_half_space(load, a, b, curvature_x, curvature_y)
     return HertzContact(
         semi_axis_x=_out(a),
         semi_axis_y=_out(b),
@@ -341,6 +371,31 @@ def hertz_contact(
         peak_pressure=_out(p0),
         approach=_out(delta),
         a_over_b=_out(a / b),
+    )
+
+
+def _warn_outside_half_space(load, a, b, curvature_x, curvature_y) -> None:
+    """:class:`DomainWarning` naming the worst case where a/R'_x or b/R'_y > the limit."""
+    ratio_x = 2.0 * a * curvature_x  # a / R'x
+    ratio_y = 2.0 * b * curvature_y
+    ratio = np.maximum(ratio_x, ratio_y)
+    outside = ratio > HERTZ_DOMAIN_LIMIT
+    if not np.any(outside):
+        return
+    k = np.unravel_index(np.argmax(ratio), ratio.shape)
+    if ratio_x[k] >= ratio_y[k]:
+        axis, semi, rel, direction = "a", a[k], 0.5 / curvature_x[k], "x"
+    else:
+        axis, semi, rel, direction = "b", b[k], 0.5 / curvature_y[k], "y"
+    where = "" if ratio.ndim == 0 else f" (worst of {int(np.sum(outside))} such cases)"
+    warnings.warn(
+        f"Hertz contact outside its domain: at normal load Q = {float(load[k]):.4g} N the "
+        f"semi-axis {axis} = {1e3 * float(semi):.4g} mm is {float(ratio[k]):.3g} of the relative "
+        f"radius of curvature R'{direction} = {1e3 * float(rel):.4g} mm{where}; the "
+        f"half-space assumption of Hertz theory needs a/R' <= {HERTZ_DOMAIN_LIMIT:g} "
+        "(Johnson 1985, §4.1), so the contact size, pressure and approach are extrapolated",
+        DomainWarning,
+        stacklevel=3,
     )
 
 

@@ -117,48 +117,41 @@ def contact_versus_roller_radius(
     (31.12, 30.81)
     """
     radii = np.asarray(roller_radii_x, dtype=float)
-    roller = hertz_contact(
+    # One call for the rollers and the tangent rail (the last entry, R_rx = ∞).
+    both = hertz_contact(
         normal_load,
         wheel_radius_x,
         wheel_radius_y,
-        radii,
+        np.append(radii, np.inf),
         roller_radius_y,
         youngs_modulus=youngs_modulus,
         poisson=poisson,
     )
-    tangent = hertz_contact(
-        normal_load,
-        wheel_radius_x,
-        wheel_radius_y,
-        np.inf,
-        roller_radius_y,
-        youngs_modulus=youngs_modulus,
-        poisson=poisson,
-    )
+    a, b, area = (np.asarray(v) for v in (both.semi_axis_x, both.semi_axis_y, both.area))
     return RollerRailComparison(
         roller_radius_x=radii,
-        semi_axis_x=np.asarray(roller.semi_axis_x),
-        semi_axis_y=np.asarray(roller.semi_axis_y),
-        area=np.asarray(roller.area),
-        tangent_semi_axis_x=float(tangent.semi_axis_x),
-        tangent_semi_axis_y=float(tangent.semi_axis_y),
-        tangent_area=float(tangent.area),
+        semi_axis_x=a[:-1].reshape(radii.shape),
+        semi_axis_y=b[:-1].reshape(radii.shape),
+        area=area[:-1].reshape(radii.shape),
+        tangent_semi_axis_x=float(a[-1]),
+        tangent_semi_axis_y=float(b[-1]),
+        tangent_area=float(area[-1]),
     )
 
 
-def area_ratio_to_tangent_rail(
-    roller_radii_x,
-    normal_load=20e3,
-    wheel_radius_x=0.35,
-    wheel_radius_y=0.30,
-    roller_radius_y=0.40,
-    youngs_modulus=210e9,
-    poisson=0.3,
-):
+def area_ratio_to_tangent_rail(roller_radii_x, **geometry):
     """Contact area on a roller of radius R_rx divided by the area on the tangent rail [-].
 
-    Parameters are those of :func:`contact_versus_roller_radius` (SI units: [m], [N], [Pa], [-]).
     The ratio lies in (0, 1] and tends to 1 as R_rx → ∞ (Kayaalp, §2.5, Fig. 13).
+
+    Parameters
+    ----------
+    roller_radii_x : array_like
+        Roller radii in the rolling plane R_rx [m], > 0 (``np.inf`` allowed).
+    **geometry
+        ``normal_load`` [N], ``wheel_radius_x``, ``wheel_radius_y``, ``roller_radius_y`` [m],
+        ``youngs_modulus`` [Pa], ``poisson`` [-]: as in :func:`contact_versus_roller_radius`
+        (the same defaults, the seed's §2.5 study).
 
     Returns
     -------
@@ -170,14 +163,5 @@ def area_ratio_to_tangent_rail(
     >>> round(float(area_ratio_to_tangent_rail(10.0)), 4)
     0.9899
     """
-    comparison = contact_versus_roller_radius(
-        roller_radii_x,
-        normal_load=normal_load,
-        wheel_radius_x=wheel_radius_x,
-        wheel_radius_y=wheel_radius_y,
-        roller_radius_y=roller_radius_y,
-        youngs_modulus=youngs_modulus,
-        poisson=poisson,
-    )
-    ratio = comparison.area_ratio
+    ratio = contact_versus_roller_radius(roller_radii_x, **geometry).area_ratio
     return ratio[()] if ratio.ndim == 0 else ratio

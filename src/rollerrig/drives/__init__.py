@@ -7,56 +7,10 @@
 - :mod:`~rollerrig.drives.servo` — speed-controlled servo/PMSM roller drive (the seed's fix).
 """
 
-from rollerrig.drives.induction import (
-    SEED_LAG_STEP,
-    TheveninCircuit,
-    clp_from_lag_time_constant,
-    discrete_lag_filter,
-    induction_torque,
-    lag_derivative,
-    lag_time_constant_from_clp,
-    linear_induction_torque,
-    linear_slope_from_nameplate,
-    thevenin_from_nameplate,
-    vf_supply_frequency,
-    vf_voltage,
-)
-from rollerrig.drives.pmsm import (
-    max_phase_voltage,
-    pi_gains_for_bandwidth,
-    pmsm_current_derivatives,
-    pmsm_current_reference,
-    pmsm_foc_voltages,
-    pmsm_magnetic_energy,
-    pmsm_torque,
-    pmsm_torque_ripple,
-)
-from rollerrig.drives.servo import (
-    servo_gains_for_bandwidth,
-    servo_speed_torque,
-)
+from rollerrig.drives import induction, pmsm, servo
+from rollerrig.drives.induction import *  # noqa: F403
+from rollerrig.drives.pmsm import *  # noqa: F403
+from rollerrig.drives.servo import *  # noqa: F403
 
-__all__ = [
-    "SEED_LAG_STEP",
-    "TheveninCircuit",
-    "clp_from_lag_time_constant",
-    "discrete_lag_filter",
-    "induction_torque",
-    "lag_derivative",
-    "lag_time_constant_from_clp",
-    "linear_induction_torque",
-    "linear_slope_from_nameplate",
-    "max_phase_voltage",
-    "pi_gains_for_bandwidth",
-    "pmsm_current_derivatives",
-    "pmsm_current_reference",
-    "pmsm_foc_voltages",
-    "pmsm_magnetic_energy",
-    "pmsm_torque",
-    "pmsm_torque_ripple",
-    "servo_gains_for_bandwidth",
-    "servo_speed_torque",
-    "thevenin_from_nameplate",
-    "vf_supply_frequency",
-    "vf_voltage",
-]
+# The public names of the three modules, each list kept once, in its module.
+__all__ = [*induction.__all__, *pmsm.__all__, *servo.__all__]

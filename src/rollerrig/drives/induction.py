@@ -51,6 +51,7 @@ from rollerrig._validation import (
 )
 
 __all__ = [
+    "SEED_LAG_STEP",
     "TheveninCircuit",
     "clp_from_lag_time_constant",
     "discrete_lag_filter",

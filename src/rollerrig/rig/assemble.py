@@ -8,6 +8,7 @@ free-rolling state the experiment starts from.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from itertools import pairwise
@@ -16,18 +17,13 @@ import numpy as np
 from scipy.optimize import brentq
 
 from rollerrig._validation import ParameterError
+from rollerrig._warnings import DomainWarning
 from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters, _polach_force_kernel
 from rollerrig.contact.hertz import hertz_contact
 from rollerrig.contact.kalker import kalker_coefficients
 from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED
-from rollerrig.drives.induction import (
-    induction_torque,
-    lag_time_constant_from_clp,
-    thevenin_from_nameplate,
-    vf_supply_frequency,
-    vf_voltage,
-)
-from rollerrig.drives.pmsm import max_phase_voltage, pi_gains_for_bandwidth
+from rollerrig.drives.induction import lag_time_constant_from_clp, thevenin_from_nameplate
+from rollerrig.drives.pmsm import max_phase_voltage, pi_gains_for_bandwidth, pmsm_torque
 from rollerrig.drives.servo import servo_gains_for_bandwidth
 from rollerrig.experiment.protocol import Protocol
 from rollerrig.rig import model as m
@@ -222,6 +218,20 @@ def assemble(
     Returns
     -------
     ModelInputs
+
+    Raises
+    ------
+    ParameterError
+        If a friction condition has no parameter set, or no steady free rolling exists to start
+        from (see :func:`steady_free_rolling_state`; the message gives the range of normal load
+        or friction in which one exists).
+
+    Warns
+    -----
+    DomainWarning
+        If the protocol requests more wheel torque than the rig's PMSM can deliver (the air-gap
+        torque at its current limit), or the Hertz contact at the initial load is outside its
+        domain (:func:`rollerrig.contact.hertz.hertz_contact`).
     """
     drives = drives or m.DriveConfig()
     friction_sets = dict(friction_sets or POLACH_PARAMETER_SETS)
@@ -259,7 +269,10 @@ def assemble(
                 float(start), float(end), condition, _polach_into(base, friction_sets[condition])
             )
         )
-    x0 = steady_free_rolling_state(segments[0].params, tables)
+    x0 = steady_free_rolling_state(
+        segments[0].params, tables, friction_condition=segments[0].friction_condition
+    )
+    _warn_torque_beyond_drive(rig, drives, protocol)
     return ModelInputs(
         rig=rig,
         drives=drives,
@@ -272,11 +285,46 @@ def assemble(
     )
 
 
-def steady_free_rolling_state(p: np.ndarray, tables: np.ndarray, t: float = 0.0) -> np.ndarray:
+def _warn_torque_beyond_drive(rig: RigParameters, drives: m.DriveConfig, protocol: Protocol):
+    """DomainWarning when the protocol requests more wheel torque than the PMSM can deliver.
+
+    The limit is the air-gap torque at the inverter's current limit with i_d = 0 (the current
+    reference is clipped there, :func:`rollerrig.drives.pmsm.pmsm_current_reference`).
+    """
+    pm = rig.pmsm
+    peak = float(
+        pmsm_torque(
+            0.0, pm.max_current, pm.pole_pairs, pm.flux_linkage, pm.inductance_d, pm.inductance_q
+        )
+    )
+    requests = np.abs(np.asarray(protocol.torque_request, dtype=float))
+    k = int(np.argmax(requests))
+    if not requests[k] > peak:
+        return
+    if drives.wheel == "pmsm":
+        consequence = "the twin's PMSM saturates at that torque"
+    else:
+        consequence = "the ideal torque source delivers it, the rig's PMSM could not"
+    warnings.warn(
+        f"torque request {protocol.torque_request[k]:.4g} N.m (protocol {protocol.name!r}, "
+        f"t = {protocol.torque_time[k]:.4g} s) exceeds what the wheel drive can deliver: the "
+        f"PMSM reaches at most {peak:.4g} N.m at its current limit max_current = "
+        f"{pm.max_current:g} A (rated torque {pm.rated_torque:g} N.m); {consequence}",
+        DomainWarning,
+        stacklevel=3,
+    )
+
+
+def steady_free_rolling_state(
+    p: np.ndarray, tables: np.ndarray, t: float = 0.0, *, friction_condition: str = ""
+) -> np.ndarray:
     """Steady free rolling at the set speed with no wheel torque: the state a test starts from.
 
     The roller drive supplies the bearing losses of both bodies through the contact, which
-    drags the wheel with a small negative creep; every shaft carries its static twist.
+    drags the wheel with a small negative creep; every shaft carries its static twist. An
+    open-loop roller drive runs on the stable branch of its characteristic (between its
+    breakdown torque and synchronous speed) at the slip where it delivers the losses; the
+    wheel runs on the rising (adhesion) branch of the creep-force curve.
 
     Parameters
     ----------
@@ -286,65 +334,56 @@ def steady_free_rolling_state(p: np.ndarray, tables: np.ndarray, t: float = 0.0)
         Input tables; the set speed and load are read at time ``t``.
     t : float
         Time at which the state is taken [s].
+    friction_condition : str, optional
+        Name of the Polach parameter set in ``p``, for error messages.
 
     Returns
     -------
     ndarray, shape (N_STATES,)
+
+    Raises
+    ------
+    ParameterError
+        If no steady state exists: the roller drive cannot deliver the bearing losses (normal
+        load too large for its breakdown torque or torque limit), or the contact cannot carry
+        the wheel's bearing loss (friction too low). The message gives the range in which a
+        steady state exists.
     """
     speed = float(np.interp(t, tables[m.TAB_SPEED_T], tables[m.TAB_SPEED]))
     load = float(np.interp(t, tables[m.TAB_LOAD_T], tables[m.TAB_LOAD]))
     rw, rr = p[m.P_RW], p[m.P_RR]
     omega_ref = speed / rr
-    creep_stiffness = p[m.P_CREEP_STIFF_REF] * (load / p[m.P_LOAD_REF]) ** (2.0 / 3.0)
-    polach = (p[m.P_MU0], p[m.P_A], p[m.P_B], p[m.P_KA], p[m.P_KS])
-
-    def roller_drive_torque(omega):
-        mode = p[m.P_ROLLER_MODE]
-        if mode == 1.0:
-            f = vf_supply_frequency(omega_ref, p[m.P_AM_PP])
-            v = vf_voltage(f, p[m.P_AM_V], p[m.P_AM_FRATED], 0.0)
-            return induction_torque(
-                omega,
-                f,
-                v,
-                p[m.P_AM_RTH],
-                p[m.P_AM_XTH],
-                p[m.P_AM_R2],
-                p[m.P_AM_X2],
-                p[m.P_AM_FRATED],
-                p[m.P_AM_PP],
-            )
-        return p[m.P_AM_SLOPE] * (omega_ref - omega)
+    at = f"at {speed * 3.6:.4g} km/h and normal load {load:.4g} N"
 
     omega_roller = omega_ref
     for _ in range(3):  # fixed point: bearing loss depends weakly on speed through tanh
-        bearing_w = p[m.P_BEAR_W] * load * np.tanh(omega_roller * rr / rw / p[m.P_OMEGA_REG])
-        bearing_r = (
-            p[m.P_BEAR_R] * (p[m.P_W_ROLLER] + load) * np.tanh(omega_roller / p[m.P_OMEGA_REG])
-        )
+        bearing_w, bearing_r = m._bearing_torques(load, omega_roller * rr / rw, omega_roller, p)
         force = -bearing_w / rw  # the roller drags the wheel against its bearing friction
         t56 = force * rr - bearing_r
         t_roller = -t56
-        if p[m.P_ROLLER_MODE] in (1.0, 2.0) and omega_ref > 0:
-            # Open loop: the rotor runs at the slip where the motor delivers the needed torque.
-            omega_roller = brentq(
-                lambda w, needed: roller_drive_torque(w) - needed,
-                0.5 * omega_ref,
-                1.5 * omega_ref,
-                args=(t_roller,),
-                xtol=1e-13,
-            )
-        else:
-            omega_roller = omega_ref
+        omega_roller = _roller_speed(p, omega_ref, t_roller, load, at)
 
     v_roller = omega_roller * rr
-    vreg = p[m.P_VREG]
+    polach = (p[m.P_MU0], p[m.P_A], p[m.P_B], p[m.P_KA], p[m.P_KS])
+    creep_stiffness = m._creep_stiffness_at(load, p)
 
-    def force_of_slip(w):
-        creep = w / np.sqrt(v_roller**2 + vreg**2)
-        return _polach_force_kernel(creep, w, load, creep_stiffness, *polach) - force
+    def braking_force(d):  # −F_x at the slip velocity w = −d (wheel slower than the roller)
+        creep = -d / np.hypot(v_roller, p[m.P_VREG])  # as in contact.kinematics
+        return -_polach_force_kernel(creep, -d, load, creep_stiffness, *polach)
 
-    slip = 0.0 if force == 0.0 else brentq(force_of_slip, -1.0, 1.0, xtol=1e-15)
+    slip = 0.0
+    if force != 0.0:
+        d, peak = _rising_branch_root(braking_force, -force, max(v_roller, 1.0), 1e-15)
+        if d is None:
+            name = f"friction set {friction_condition!r}" if friction_condition else "the contact"
+            raise ParameterError(
+                f"no steady free rolling {at}: the contact must carry the wheel's bearing loss, "
+                f"F_x = {-force:.4g} N (F_x/N = {-force / load:.3g}), but {name} "
+                f"(static_friction mu0 = {p[m.P_MU0]:g}) transmits at most {peak:.4g} N; a "
+                f"steady state exists for static_friction above about "
+                f"{p[m.P_MU0] * -force / peak:.3g} (or a smaller bearing friction)"
+            )
+        slip = -d
     omega_wheel = (v_roller + slip) / rw
 
     x = np.zeros(m.N_STATES)
@@ -363,3 +402,66 @@ def steady_free_rolling_state(p: np.ndarray, tables: np.ndarray, t: float = 0.0)
     if p[m.P_ROLLER_MODE] == 3.0 and p[m.P_SERVO_KI] > 0:
         x[m.X_INT_SPEED] = t_roller / p[m.P_SERVO_KI]
     return x
+
+
+#: Search grid of :func:`_rising_branch_root`, as fractions of the span: 0, then geometric from
+#: 1e-9 to 1, so that a steep branch (a tiny slip) and a wide one are both resolved.
+_GRID = np.concatenate([[0.0], np.geomspace(1e-9, 1.0, 400)])
+
+
+def _rising_branch_root(fun, needed, span, xtol):
+    """Root of ``fun(d) = needed`` on the rising branch of ``fun`` from ``d = 0``.
+
+    ``fun`` (vectorised, ``fun(0) = 0``) rises with ``d`` up to its first maximum: the stable
+    branch of a drive characteristic or the adhesion branch of a creep-force curve. Returns
+    ``(d, peak)`` with ``peak`` the first maximum on the grid over ``[0, span]``, and ``d =
+    None`` when ``needed`` exceeds it (no root on the branch).
+    """
+    d = _GRID * span
+    values = np.asarray(fun(d), dtype=float)
+    falling = np.flatnonzero(np.diff(values) < 0.0)
+    branch = values[: falling[0] + 1] if falling.size else values
+    peak = float(branch.max())
+    if not needed <= peak:
+        return None, peak
+    k = int(np.argmax(branch >= needed))
+    if k == 0 or branch[k] == needed:
+        return float(d[k]), peak
+    root = brentq(lambda x: float(fun(x)) - needed, d[k - 1], d[k], xtol=xtol)
+    return root, peak
+
+
+def _roller_speed(p, omega_ref, needed, load, at):
+    """Roller speed [rad/s] at which the roller drive delivers the torque ``needed`` [N.m]."""
+    mode = p[m.P_ROLLER_MODE]
+    if mode == 3.0 and needed > p[m.P_SERVO_TLIM]:
+        _raise_drive_limit(p, omega_ref, needed, p[m.P_SERVO_TLIM], "servo torque_limit", at)
+    if mode not in (1.0, 2.0) or omega_ref <= 0.0:
+        return omega_ref  # speed-controlled (or at rest): on the set point
+    # Open loop: the rotor runs below the set speed by the slip at which the motor delivers
+    # the needed torque, on the stable branch of its characteristic.
+    d, peak = _rising_branch_root(
+        lambda d: m._open_loop_roller_torque(omega_ref - d, omega_ref, p), needed, omega_ref, 1e-13
+    )
+    if d is None:
+        _raise_drive_limit(p, omega_ref, needed, peak, "its largest torque at this set speed", at)
+    return omega_ref - d
+
+
+def _raise_drive_limit(p, omega_ref, needed, limit, what, at):
+    """ParameterError: the roller drive cannot deliver the bearing losses; the load range."""
+    # Losses at the set speed: P_BEAR_R (W_r + N) th_r + P_BEAR_W N th_w r_r/r_w = c0 + c1 N.
+    rw, rr, reg = p[m.P_RW], p[m.P_RR], p[m.P_OMEGA_REG]
+    th_r = np.tanh(omega_ref / reg)
+    th_w = np.tanh(omega_ref * rr / rw / reg)
+    c0 = p[m.P_BEAR_R] * p[m.P_W_ROLLER] * th_r
+    c1 = p[m.P_BEAR_R] * th_r + p[m.P_BEAR_W] * th_w * rr / rw
+    drive = next(k for k, v in m.ROLLER_MODES.items() if v == p[m.P_ROLLER_MODE])
+    if c1 > 0.0 and limit > c0:
+        hint = f"a steady state exists for normal loads below about {(limit - c0) / c1:.3g} N"
+    else:
+        hint = "no normal load gives one: the roller's own bearing loss exceeds it"
+    raise ParameterError(
+        f"no steady free rolling {at}: the roller drive ({drive}) must supply the bearing "
+        f"losses, {needed:.4g} N.m, but delivers at most {limit:.4g} N.m ({what}); {hint}"
+    )

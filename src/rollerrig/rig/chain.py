@@ -260,7 +260,7 @@ def damper_matrix(n_bodies: int, i: int, j: int, damping: float) -> np.ndarray:
     Returns
     -------
     ndarray, shape (n, n)
-        [N.m.s/rad].
+        Damping matrix of the damper alone [N.m.s/rad]; add it to the chain's.
 
     Examples
     --------
@@ -303,7 +303,7 @@ def contact_damping_matrix(
     Returns
     -------
     ndarray, shape (n, n)
-        [N.m.s/rad].
+        Contact damping [N.m.s/rad], nonzero only in the wheel and roller rows and columns.
 
     Examples
     --------

@@ -560,16 +560,9 @@ def coupled_modes(
 
     Parameters
     ----------
-    rig : RigParameters
-        Rig parameters.
-    speed : float
-        Roller surface speed [m/s], > 0.
-    normal_load : float
-        Normal load [N], > 0.
-    drives : DriveConfig, optional
-        Drive models (default PMSM with FOC, induction motor with the rig's lag).
-    friction : str
-        Friction condition of the contact (Polach set name).
+    rig, speed, normal_load, drives, friction
+        Rig parameters, roller surface speed [m/s] (> 0), normal load [N] (> 0), drive models
+        and friction condition (Polach set name), as in :func:`linearise_twin`.
     damping_threshold : float
         ζ below which an oscillatory mode may explain a spectral line [1], in (0, 1).
     load_source : str

@@ -138,6 +138,22 @@ TERM_NAMES = (
 )
 
 
+# Positions in the tuple of rig_terms of the terms rig_rhs uses (compile-time constants).
+_T_FORCE = TERM_NAMES.index("contact_force")
+_T_PMSM = TERM_NAMES.index("pmsm_torque")
+_T_ROLLER = TERM_NAMES.index("roller_drive_torque")
+_T_TARGET = TERM_NAMES.index("roller_drive_torque_target")
+_T_01, _T_23, _T_34, _T_56, _T_70 = (
+    TERM_NAMES.index(n) for n in ("t01", "t23", "t34", "t56", "t70")
+)
+_T_BEAR_W = TERM_NAMES.index("bearing_torque_wheel")
+_T_BEAR_R = TERM_NAMES.index("bearing_torque_roller")
+_T_VD, _T_VQ = TERM_NAMES.index("v_d"), TERM_NAMES.index("v_q")
+_T_DINT_D = TERM_NAMES.index("pmsm_integral_rate_d")
+_T_DINT_Q = TERM_NAMES.index("pmsm_integral_rate_q")
+_T_DINT_SPEED = TERM_NAMES.index("speed_integral_rate")
+
+
 @dataclass(frozen=True)
 class DriveConfig:
     """Which drive models the simulation uses.
@@ -177,6 +193,50 @@ class DriveConfig:
             raise ParameterError(f"roller_lag must be >= 0 [s], got {self.roller_lag!r}")
 
 
+def _bearing_torques(load, omega_wheel, omega_roller, p):
+    """Bearing friction torques of wheel and roller [N.m]: f_g·N·r_b, smoothed at standstill.
+
+    Kayaalp eqs. 4.13-4.14 (forces R03 = N f_g, R05 = (W_r + N) f_g) times the bearing radius,
+    with ``tanh(ω/ω_reg)`` in place of the sign.
+    """
+    bearing_w = p[P_BEAR_W] * load * np.tanh(omega_wheel / p[P_OMEGA_REG])
+    bearing_r = p[P_BEAR_R] * (p[P_W_ROLLER] + load) * np.tanh(omega_roller / p[P_OMEGA_REG])
+    return bearing_w, bearing_r
+
+
+def _creep_stiffness_at(load, p):
+    """Kalker's creep stiffness G a b C11 [N] at the normal load ``load`` [N].
+
+    Hertz semi-axes scale with N^(1/3) at fixed a/b, so G a b C11 scales with N^(2/3) from its
+    value at the reference load.
+    """
+    return p[P_CREEP_STIFF_REF] * (load / p[P_LOAD_REF]) ** (2.0 / 3.0)
+
+
+def _open_loop_roller_torque(rotor_speed, omega_ref, p):
+    """Air-gap torque of the open-loop roller drive [N.m] (roller modes 1 and 2).
+
+    Mode 1: the induction motor's Thevenin torque (Kayaalp eq. 4.28) under the V/f law for the
+    set speed ``omega_ref`` [rad/s]; mode 2: its linear torque-slip fit (Kayaalp Fig. 45).
+    ``rotor_speed`` is the rotor speed relative to the stator [rad/s]; motoring positive.
+    """
+    if p[P_ROLLER_MODE] == 1.0:
+        f_supply = vf_supply_frequency(omega_ref, p[P_AM_PP])
+        voltage = vf_voltage(f_supply, p[P_AM_V], p[P_AM_FRATED], 0.0)
+        return induction_torque(
+            rotor_speed,
+            f_supply,
+            voltage,
+            p[P_AM_RTH],
+            p[P_AM_XTH],
+            p[P_AM_R2],
+            p[P_AM_X2],
+            p[P_AM_FRATED],
+            p[P_AM_PP],
+        )
+    return linear_induction_torque(rotor_speed, omega_ref, p[P_AM_SLOPE])
+
+
 def rig_terms(t, x, p, tables):
     """Every torque, force and contact quantity of the rig at one instant.
 
@@ -197,13 +257,11 @@ def rig_terms(t, x, p, tables):
     t56 = p[P_K56] * (th5 - th6) + p[P_B56] * (w5 - w6)
     t70 = p[P_K70] * (th7 - 0.0) + p[P_B70] * (w7 - 0.0)
 
-    # Bearings: Coulomb friction f_g·N·r_b, smoothed at standstill.
-    bearing_w = p[P_BEAR_W] * load * np.tanh(w3 / p[P_OMEGA_REG])
-    bearing_r = p[P_BEAR_R] * (p[P_W_ROLLER] + load) * np.tanh(w5 / p[P_OMEGA_REG])
+    bearing_w, bearing_r = _bearing_torques(load, w3, w5, p)
 
-    # Contact: Hertz semi-axes scale with N^(1/3) at fixed a/b, so G a b C11 scales with N^(2/3).
+    # Contact: Polach's creep force with the creep stiffness at the present load.
     creep, slip_velocity = _creep_kernel(w4, w5, p[P_RW], p[P_RR], p[P_VREG])
-    creep_stiffness = p[P_CREEP_STIFF_REF] * (load / p[P_LOAD_REF]) ** (2.0 / 3.0)
+    creep_stiffness = _creep_stiffness_at(load, p)
     friction = _friction_kernel(slip_velocity, p[P_MU0], p[P_A], p[P_B])
     force = _polach_force_kernel(
         creep, slip_velocity, load, creep_stiffness, p[P_MU0], p[P_A], p[P_B], p[P_KA], p[P_KS]
@@ -240,28 +298,14 @@ def rig_terms(t, x, p, tables):
 
     # Roller drive: the air-gap torque acts between rotor (6) and stator (7).
     omega_ref = speed_setpoint / p[P_RR]  # direct drive: AM rotor speed = roller speed
-    slip_speed = w6 - w7
+    rotor_speed = w6 - w7  # relative to the stator
     mode = p[P_ROLLER_MODE]
     dint_speed = 0.0
-    if mode == 1.0:
-        f_supply = vf_supply_frequency(omega_ref, p[P_AM_PP])
-        voltage = vf_voltage(f_supply, p[P_AM_V], p[P_AM_FRATED], 0.0)
-        target = induction_torque(
-            slip_speed,
-            f_supply,
-            voltage,
-            p[P_AM_RTH],
-            p[P_AM_XTH],
-            p[P_AM_R2],
-            p[P_AM_X2],
-            p[P_AM_FRATED],
-            p[P_AM_PP],
-        )
-    elif mode == 2.0:
-        target = linear_induction_torque(slip_speed, omega_ref, p[P_AM_SLOPE])
+    if mode == 1.0 or mode == 2.0:
+        target = _open_loop_roller_torque(rotor_speed, omega_ref, p)
     elif mode == 3.0:
         target, dint_speed = servo_speed_torque(
-            slip_speed, omega_ref, x[X_INT_SPEED], p[P_SERVO_KP], p[P_SERVO_KI], p[P_SERVO_TLIM]
+            rotor_speed, omega_ref, x[X_INT_SPEED], p[P_SERVO_KP], p[P_SERVO_KI], p[P_SERVO_TLIM]
         )
     else:
         # Ideal speed source: exactly the torque that keeps the rotor on the set point.
@@ -314,30 +358,14 @@ def rig_rhs(t, x, p, tables, dx):
     dx : ndarray, shape (N_STATES,)
         Output: time derivative of the state.
     """
-    (
-        _torque_request,
-        _speed_setpoint,
-        _load,
-        _creep,
-        _slip_velocity,
-        _friction,
-        force,
-        t_pmsm,
-        t_roller,
-        target,
-        t01,
-        t23,
-        t34,
-        t56,
-        t70,
-        bearing_w,
-        bearing_r,
-        v_d,
-        v_q,
-        dint_d,
-        dint_q,
-        dint_speed,
-    ) = rig_terms(t, x, p, tables)
+    terms = rig_terms(t, x, p, tables)
+    force = terms[_T_FORCE]
+    t_pmsm = terms[_T_PMSM]
+    t_roller = terms[_T_ROLLER]
+    target = terms[_T_TARGET]
+    t01, t23, t34, t56, t70 = terms[_T_01], terms[_T_23], terms[_T_34], terms[_T_56], terms[_T_70]
+    bearing_w = terms[_T_BEAR_W]
+    bearing_r = terms[_T_BEAR_R]
 
     for i in range(7):
         dx[X_THETA + i] = x[X_OMEGA + i]
@@ -353,8 +381,8 @@ def rig_rhs(t, x, p, tables, dx):
         did, diq = pmsm_current_derivatives(
             x[X_ID],
             x[X_IQ],
-            v_d,
-            v_q,
+            terms[_T_VD],
+            terms[_T_VQ],
             x[X_OMEGA + 1] - x[X_OMEGA],
             p[P_PP],
             p[P_RS],
@@ -367,13 +395,13 @@ def rig_rhs(t, x, p, tables, dx):
         diq = 0.0
     dx[X_ID] = did
     dx[X_IQ] = diq
-    dx[X_INT_D] = dint_d
-    dx[X_INT_Q] = dint_q
+    dx[X_INT_D] = terms[_T_DINT_D]
+    dx[X_INT_Q] = terms[_T_DINT_Q]
     if p[P_ROLLER_MODE] != 0.0 and p[P_LAG_TAU] != 0.0:
         dx[X_T_ROLLER] = lag_derivative(target, x[X_T_ROLLER], p[P_LAG_TAU])
     else:
         dx[X_T_ROLLER] = 0.0
-    dx[X_INT_SPEED] = dint_speed
+    dx[X_INT_SPEED] = terms[_T_DINT_SPEED]
 
 
 def _interp_slope(t, xs, ys):

@@ -3,9 +3,9 @@
 - :class:`~rollerrig.solve.simulation.Simulation` — binds rig, protocol, drives and solver.
 - :mod:`~rollerrig.solve.reference` — scipy Radau on the compiled model (the trusted solution).
 - :mod:`~rollerrig.solve.fast` — compiled ROS34PW2 W-method, single runs and parallel batches.
-- :mod:`~rollerrig.solve.ros34pw` — the third-order W-method (Rang & Angermann 2005).
-- :mod:`~rollerrig.solve.rosenbrock` — ROS2 and the LU routines; both methods share one driver
-  (``_wdriver``: step control, output landing, Jacobian reuse, batches).
+- :mod:`~rollerrig.solve.ros34pw` — the third-order W-method (Rang & Angermann 2005) on the
+  generic W-method drivers (``_wdriver``: step control, output landing, Jacobian reuse,
+  finite-difference Jacobians, batches).
 - :mod:`~rollerrig.solve.results` — the xarray dataset and its writers.
 
 Importing this package does not import numba; the compiled backends load on first use.

@@ -19,6 +19,7 @@ from rollerrig.rig import model as _model
 
 _KERNELS = (
     _creep._friction_kernel,
+    _creep._adhesion_gradient_kernel,
     _creep._polach_force_kernel,
     _kinematics._creep_kernel,
     _pmsm.pmsm_current_derivatives,
@@ -32,6 +33,9 @@ _KERNELS = (
     _induction.lag_derivative,
     _servo.servo_speed_torque,
     _model._interp_slope,
+    _model._bearing_torques,
+    _model._creep_stiffness_at,
+    _model._open_loop_roller_torque,
     _model.rig_terms,
 )
 for _fn in _KERNELS:

@@ -1,4 +1,4 @@
-"""Drivers shared by the compiled W-methods ROS2 and ROS34PW2 (private).
+"""Generic drivers of a compiled linearly implicit W-method (private; used by ROS34PW2).
 
 A linearly implicit W-method advances ``x' = f(t, x, p)`` with stages that solve linear systems
 with ``W = I − γ h J``, where ``J`` may be any approximation of ``∂f/∂x`` (Hairer & Wanner
@@ -16,17 +16,16 @@ once here:
 
 A method enters through two jitted functions with fixed signatures::
 
-    factor(jac, h, w, piv, w_work) -> int   # factor W = I − γ h J into w (and piv); 0 = ok
-    step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, w, piv, x_new, err, work) -> None
+    factor(jac, h, w, w_work) -> int   # factor or invert W = I − γ h J into w; 0 = ok
+    step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, w, x_new, err, work) -> None
 
 ``step`` advances from ``(t, x)`` (``f0 = f(t, x)``, ``ft ≈ ∂f/∂t``) by ``h`` to ``t_new``
-with the factors ``w``, ``piv`` built for the step ``h_w`` and writes the new state and the
-local error estimate; ``work`` has ``n_work`` rows of scratch space. numba specialises the
-drivers on these functions (as on ``rhs``), so the calls compile to direct, inlinable calls;
-pass the method's step itself, not a wrapper around it (one more call layer in the step loop
-cost ~4 % of the run time of the fast backend, measured with numba 0.68).
-ROS2 (:mod:`rollerrig.solve.rosenbrock`) factors ``W`` by LU, ROS34PW2
-(:mod:`rollerrig.solve.ros34pw`) inverts it.
+with ``w`` built for the step ``h_w`` and writes the new state and the local error estimate;
+``work`` has ``n_work`` rows of scratch space. numba specialises the drivers on these
+functions (as on ``rhs``), so the calls compile to direct, inlinable calls; pass the method's
+step itself, not a wrapper around it (one more call layer in the step loop cost ~4 % of the
+run time of the fast backend, measured with numba 0.68). ROS34PW2
+(:mod:`rollerrig.solve.ros34pw`) inverts ``W`` explicitly.
 
 References
 ----------
@@ -39,8 +38,7 @@ References
 
 Examples
 --------
-See :func:`rollerrig.solve.rosenbrock.ros2_integrate` and
-:func:`rollerrig.solve.ros34pw.ros34pw2_integrate`.
+See :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`.
 """
 
 import numba
@@ -53,7 +51,7 @@ STATUS_STEP_UNDERFLOW = 2
 STATUS_NONFINITE = 3
 STATUS_BAD_INPUT = 4
 
-#: Treatment of ∂f/∂t (see :func:`rollerrig.solve.rosenbrock.ros2_integrate`).
+#: Treatment of ∂f/∂t (see :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`).
 FT_NONE = 0
 FT_WITH_JACOBIAN = 1
 FT_EVERY_STEP = 2
@@ -152,16 +150,9 @@ def fd_time_derivative(rhs, t, x, p, tables, f0, ft_out, work, t_end):
 
     Parameters
     ----------
-    rhs : numba dispatcher
-        Right-hand side ``rhs(t, x, p, tables, dx)``.
-    t : float
-        Time [s].
-    x : ndarray of float64, shape (n,)
-        State [state units].
-    p, tables : ndarray of float64
-        Passed through to ``rhs``.
-    f0 : ndarray of float64, shape (n,)
-        ``f(t, x)`` [state units/s], already evaluated.
+    rhs, t, x, p, tables, f0
+        Right-hand side, time [s], state [state units], parameters, tables and ``f(t, x)``
+        [state units/s], as in :func:`fd_jacobian`.
     ft_out : ndarray of float64, shape (n,)
         Output ``∂f/∂t`` [state units/s²].
     work : ndarray of float64, shape (n,)
@@ -255,9 +246,12 @@ def _bad_input(ok, t0, t1, t_out, n, x_out):
 
 
 @numba.njit(cache=True)
-def _workspace(n, n_work):
-    """Scratch arrays: ``x_new, f0, f_new, err, jac, ft, w, w_work, piv, work``."""
+def _workspace(x0, n_work):
+    """The state ``x`` (a copy of ``x0``) and scratch arrays ``x_new, f0, f_new, err, jac, ft,
+    w, w_work, work``."""
+    n = x0.shape[0]
     return (
+        x0.copy(),
         np.empty(n),
         np.empty(n),
         np.empty(n),
@@ -266,9 +260,17 @@ def _workspace(n, n_work):
         np.empty(n),
         np.empty((n, n)),
         np.empty((n, n)),
-        np.empty(n, dtype=np.int64),
         np.empty((n_work, n)),
     )
+
+
+@numba.njit(cache=True)
+def _land(t, x, t_out, x_out, k_out):
+    """Store ``x`` in every output row due at ``t`` from row ``k_out`` on; the next row."""
+    while k_out < t_out.shape[0] and t_out[k_out] == t:
+        x_out[k_out, :] = x
+        k_out += 1
+    return k_out
 
 
 @numba.njit(cache=True)
@@ -289,8 +291,7 @@ def integrate(
 
     The method is given by ``step``, ``factor`` and ``n_work`` (module docstring) and its
     controller settings; the other parameters, the returns and the behaviour are those of
-    :func:`rollerrig.solve.rosenbrock.ros2_integrate` (``x_typ`` as in
-    :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`). A non-finite value (or a singular
+    :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`. A non-finite value (or a singular
     ``W``) is retried with a shorter step; the integration ends with ``STATUS_NONFINITE`` once
     that step falls to ``8 ε max(|t|, |t1|)`` or the next step underflows.
 
@@ -308,7 +309,7 @@ def integrate(
     predictive : bool
         Limit the step factor by Gustafsson's prediction (Hairer & Wanner 1996, eq. IV.8.25).
     rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out, max_steps
-        As in :func:`rollerrig.solve.rosenbrock.ros2_integrate`.
+        As in :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`.
     time_derivative : int
         ``FT_NONE``, ``FT_WITH_JACOBIAN`` or ``FT_EVERY_STEP``.
     x_typ : ndarray of float64, shape (n,), or None
@@ -328,17 +329,11 @@ def integrate(
     atol_v = np.zeros(n) + atol
     if h_max <= 0.0:
         h_max = t1 - t0
-    if jac_every < 1:
-        jac_every = 1
-
-    x = x0.copy()
-    x_new, f0, f_new, err, jac, ft, w, w_work, piv, work = _workspace(n, n_work)
+    jac_every = max(jac_every, 1)
+    x, x_new, f0, f_new, err, jac, ft, w, w_work, work = _workspace(x0, n_work)
 
     t = t0
-    k_out = 0
-    while k_out < n_out and t_out[k_out] == t:
-        x_out[k_out, :] = x
-        k_out += 1
+    k_out = _land(t, x, t_out, x_out, 0)
     if t1 == t0:
         return 0, 0, 0, STATUS_OK
 
@@ -397,7 +392,7 @@ def integrate(
             break
 
         if h_lu == 0.0 or h_try > reuse_ratio * h_lu or h_try * reuse_ratio < h_lu:
-            if factor(jac, h_try, w, piv, w_work) != 0:
+            if factor(jac, h_try, w, w_work) != 0:
                 h_lu = 0.0
                 n_rejected += 1
                 h = 0.5 * h_try
@@ -406,7 +401,7 @@ def integrate(
                 continue
             h_lu = h_try
 
-        step(rhs, t, h_try, t_new, x, f0, ft, h_lu, p, tables, w, piv, x_new, err, work)
+        step(rhs, t, h_try, t_new, x, f0, ft, h_lu, p, tables, w, x_new, err, work)
         enorm = 0.0
         for i in range(n):
             sc = atol_v[i] + rtol_v[i] * max(abs(x[i]), abs(x_new[i]))
@@ -423,9 +418,7 @@ def integrate(
                 x[i] = x_new[i]
                 f0[i] = f_new[i]
             n_steps += 1
-            while k_out < n_out and t_out[k_out] == t:
-                x_out[k_out, :] = x
-                k_out += 1
+            k_out = _land(t, x, t_out, x_out, k_out)
             steps_since_jac += 1
             if steps_since_jac >= jac_every:
                 ft_zero = _jacobians(
@@ -492,7 +485,7 @@ def fixed(
 
     The method is given by ``step``, ``factor`` and ``n_work`` as in :func:`integrate`; the
     other parameters, the returns and the behaviour are those of
-    :func:`rollerrig.solve.rosenbrock.ros2_fixed`.
+    :func:`rollerrig.solve.ros34pw.ros34pw2_fixed`.
 
     Parameters
     ----------
@@ -501,7 +494,7 @@ def fixed(
     n_work : int
         Rows of scratch space ``step`` needs (at least 2) [-].
     rhs, x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative
-        As in :func:`rollerrig.solve.rosenbrock.ros2_fixed`.
+        As in :func:`rollerrig.solve.ros34pw.ros34pw2_fixed`.
 
     Returns
     -------
@@ -512,11 +505,8 @@ def fixed(
     n_out = t_out.shape[0]
     if _bad_input(h > 0.0, t0, t1, t_out, n, x_out):
         return 0, 0, STATUS_BAD_INPUT
-    if jac_every < 1:
-        jac_every = 1
-
-    x = x0.copy()
-    x_new, f0, _, err, jac, ft, w, w_work, piv, work = _workspace(n, n_work)
+    jac_every = max(jac_every, 1)
+    x, x_new, f0, _, err, jac, ft, w, w_work, work = _workspace(x0, n_work)
 
     t = t0
     n_steps = 0
@@ -525,10 +515,7 @@ def fixed(
     since_jac = 0
     ft_zero = True
     status = STATUS_OK
-    k_out = 0
-    while k_out < n_out and t_out[k_out] == t:
-        x_out[k_out, :] = x
-        k_out += 1
+    k_out = _land(t, x, t_out, x_out, 0)
     while t < t1 and status == STATUS_OK:
         target = t_out[k_out] if k_out < n_out else t1
         length = target - t
@@ -551,11 +538,11 @@ def fixed(
             elif time_derivative == FT_EVERY_STEP and not ft_zero:
                 fd_time_derivative(rhs, t, x, p, tables, f0, ft, work[0], t1)
             if hs != h_lu:
-                if factor(jac, hs, w, piv, w_work) != 0:
+                if factor(jac, hs, w, w_work) != 0:
                     status = STATUS_NONFINITE
                     break
                 h_lu = hs
-            step(rhs, t, hs, t_new, x, f0, ft, h_lu, p, tables, w, piv, x_new, err, work)
+            step(rhs, t, hs, t_new, x, f0, ft, h_lu, p, tables, w, x_new, err, work)
             for j in range(n):
                 x[j] = x_new[j]
             t = t_new
@@ -566,9 +553,7 @@ def fixed(
         if not _all_finite(x):
             status = STATUS_NONFINITE
             break
-        while k_out < n_out and t_out[k_out] == t:
-            x_out[k_out, :] = x
-            k_out += 1
+        k_out = _land(t, x, t_out, x_out, k_out)
     if status != STATUS_OK:
         _fill_nan_from(x_out, k_out)
     return n_steps, n_jac, status
@@ -585,7 +570,7 @@ def integrate_batch(
 
     Row ``b`` runs ``integrate_one(rhs, X0[b], t0, t1, t_out, P[b], tables, rtol, atol, h0,
     h_max, jac_every, X_out[b], max_steps, time_derivative)``, e.g.
-    :func:`rollerrig.solve.rosenbrock.ros2_integrate`; the result is identical to the serial
+    :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`; the result is identical to the serial
     calls. ``tables`` is shared, so ``rhs`` must not write to it.
 
     Parameters
@@ -593,9 +578,9 @@ def integrate_batch(
     integrate_one : numba dispatcher
         The adaptive integrator of one problem.
     rhs, X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out, max_steps
-        As in :func:`rollerrig.solve.rosenbrock.ros2_integrate_batch`.
+        As in :func:`rollerrig.solve.ros34pw.ros34pw2_integrate_batch`.
     time_derivative : int
-        As in :func:`rollerrig.solve.rosenbrock.ros2_integrate`.
+        As in :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`.
 
     Returns
     -------

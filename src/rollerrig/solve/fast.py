@@ -11,8 +11,7 @@ import numpy as np
 
 from rollerrig.rig.model import N_STATES
 from rollerrig.solve._compiled import rig_rhs
-from rollerrig.solve.ros34pw import ros34pw2_integrate
-from rollerrig.solve.rosenbrock import FT_NONE, STATUS_OK
+from rollerrig.solve.ros34pw import FT_NONE, STATUS_OK, ros34pw2_integrate
 
 __all__ = ["FAST_DEFAULTS", "default_tolerances", "integrate_batch", "integrate_experiment"]
 
@@ -49,6 +48,10 @@ def default_tolerances(
     return rt, at
 
 
+_LANDING_TOLERANCE = 1e-12
+"""Relative distance [1] below which a sample instant counts as a segment's start instant."""
+
+
 # Not cached: ros34pw2_integrate takes the right-hand side as an argument, and numba cannot cache a
 # function whose argument types hold a dispatcher (it embeds its address). Compiling costs a few
 # seconds once per process.
@@ -64,6 +67,12 @@ def _integrate(x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, 
     for s in range(bounds.shape[0]):
         t0 = bounds[s, 0]
         t1 = bounds[s, 1]
+        # A sample instant a rounding error after the segment's start (a protocol duration
+        # summed from steps: 5.039999999999999 s against the 250 Hz sample at 5.04 s) is the
+        # start state; integrating to it would ask for a step of one ulp (step underflow).
+        while k < n_out and t_out[k] <= t0 + _LANDING_TOLERANCE * max(1.0, abs(t0)):
+            x_out[k, :] = x
+            k += 1
         k_end = k
         while k_end < n_out and t_out[k_end] <= t1:
             k_end += 1

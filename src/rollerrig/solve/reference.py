@@ -31,10 +31,9 @@ def integrate_reference(
 
     Parameters
     ----------
-    inputs : ModelInputs
-        From :func:`rollerrig.rig.assemble.assemble`.
-    t_out : ndarray
-        Output times [s], increasing, within the experiment.
+    inputs, t_out
+        Model inputs and output times [s], as in
+        :func:`rollerrig.solve.fast.integrate_experiment`.
     rtol : float
         Relative tolerance; per-state absolute tolerances follow from it.
     method : str
@@ -59,7 +58,7 @@ def integrate_reference(
         jac_factory = None
     else:
         from rollerrig.solve._compiled import rig_rhs as rhs_impl
-        from rollerrig.solve.rosenbrock import fd_jacobian
+        from rollerrig.solve._wdriver import fd_jacobian
 
         def jac_factory(p):
             jac = np.empty((N_STATES, N_STATES))

@@ -1,0 +1,143 @@
+"""Assembling the solver inputs: the domain of the drives and of the steady free-rolling start.
+
+References and the numbers pinned below:
+- The bundled rig's PMSM (Kayaalp Table 1: 852 N.m rated, φ = 0.2 Wb, 44 poles) with the
+  assumed inverter limit max_current = 244 A: the air-gap torque at the current limit with
+  i_d = 0 is 1.5 p φ I_max = 1.5 · 22 · 0.2 · 244 = 1610.4 N.m (Kayaalp eq. 4.25).
+- Steady free rolling: the roller drive supplies the bearing losses
+  f_g r_b,r (W_r + N) + f_g r_b,w N r_r / r_w (bearing friction f_g = 0.007, radii 65 and
+  60 mm, W_r = 5 kN, Kayaalp eqs. 4.13-4.14 times the bearing radius), about 1.0e4 N.m at
+  N = 1e7 N, against the induction motor's largest torque at 30 km/h under V/f (Chapman 2012,
+  eq. 6-54, with V and X scaled by f); the contact must carry the wheel's bearing loss
+  f_g r_b,w N / r_w, 12.07 N at N = 10 kN, against Polach's saturation Q μ (Polach 2005).
+  The ranges the errors state are checked by assembling just inside and just outside them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import warnings
+
+import numpy as np
+import pytest
+
+from rollerrig._validation import ParameterError
+from rollerrig._warnings import DomainWarning
+from rollerrig.contact.creep import POLACH_DRY
+from rollerrig.experiment import protocol_from_toml_string
+from rollerrig.rig import model as m
+from rollerrig.rig.assemble import assemble
+from rollerrig.rig.model import DriveConfig
+from rollerrig.rig.parameters import default_rig
+
+
+def _protocol(load_kn=10.0, torque_nm=500.0, speed_kmh=30.0):
+    return protocol_from_toml_string(
+        f"""
+[experiment]
+name = "domain"
+normal_load_kN = {load_kn}
+roller_speed_kmh = {speed_kmh}
+[[step]]
+action = "ramp_torque"
+to_Nm = {torque_nm}
+duration_s = 1.0
+"""
+    )
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return default_rig()
+
+
+def _dry_with(static_friction):
+    return {"dry": dataclasses.replace(POLACH_DRY, static_friction=static_friction)}
+
+
+# --- torque request against the wheel drive ---------------------------------------------------
+
+
+def test_torque_request_of_1e5_Nm_warns_against_the_852_Nm_pmsm(rig):
+    with pytest.warns(DomainWarning) as record:
+        assemble(rig, _protocol(torque_nm=1e5))
+    assert len(record) == 1
+    message = str(record[0].message)
+    assert "torque request 1e+05 N.m (protocol 'domain', t = 1 s)" in message
+    assert "at most 1610 N.m at its current limit max_current = 244 A" in message
+    assert "rated torque 852 N.m" in message and "saturates" in message
+
+
+def test_ideal_torque_source_warns_that_the_rig_could_not(rig):
+    with pytest.warns(DomainWarning, match="ideal torque source delivers it"):
+        assemble(rig, _protocol(torque_nm=-2000.0), DriveConfig(wheel="ideal_torque"))
+
+
+def test_requests_within_the_current_limit_do_not_warn(rig):
+    # 1600 N.m is above the rated 852 N.m but below 1610.4 N.m: the inverter delivers it.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DomainWarning)
+        assemble(rig, _protocol(torque_nm=1600.0))
+        assemble(rig, _protocol(torque_nm=720.0), DriveConfig(roller="servo"))
+
+
+# --- no steady free rolling: a clear error with the range of a solution ------------------------
+
+
+def test_normal_load_of_1e7_N_names_the_load_range_instead_of_a_root_finder_error(rig):
+    # The Hertz contact at 1e7 N is just outside its domain too (a/R'x = 0.11): expected.
+    with pytest.warns(DomainWarning, match="Hertz contact outside its domain"):
+        with pytest.raises(ParameterError) as info:
+            assemble(rig, _protocol(load_kn=1e4))
+    message = str(info.value)
+    assert "different signs" not in message
+    assert "no steady free rolling at 30 km/h and normal load 1e+07 N" in message
+    assert "roller drive (induction) must supply the bearing losses, 1.001e+04 N.m" in message
+    limit = float(re.search(r"normal loads below about ([\d.e+]+) N", message).group(1))
+    assert limit == pytest.approx(2.07e6, rel=0.01)
+    # the stated range is true: just inside it the rig starts, just outside it does not
+    assemble(rig, _protocol(load_kn=0.99 * limit / 1e3))
+    with pytest.raises(ParameterError, match="no steady free rolling"):
+        assemble(rig, _protocol(load_kn=1.01 * limit / 1e3))
+
+
+def test_servo_roller_drive_names_its_torque_limit(rig):
+    with pytest.raises(ParameterError, match=r"roller drive \(servo\).*servo torque_limit"):
+        assemble(rig, _protocol(load_kn=2e3), DriveConfig(roller="servo"))
+
+
+def test_static_friction_of_1e_6_names_the_friction_range(rig):
+    with pytest.raises(ParameterError) as info:
+        assemble(rig, _protocol(), friction_sets=_dry_with(1e-6))
+    message = str(info.value)
+    assert "different signs" not in message
+    assert "wheel's bearing loss, F_x = 12.07 N" in message
+    assert "friction set 'dry' (static_friction mu0 = 1e-06)" in message
+    low = float(re.search(r"static_friction above about ([\d.e+-]+)", message).group(1))
+    assert low == pytest.approx(1.21e-3, rel=0.01)
+    assemble(rig, _protocol(), friction_sets=_dry_with(1.05 * low))
+    with pytest.raises(ParameterError, match="static_friction above about"):
+        assemble(rig, _protocol(), friction_sets=_dry_with(0.95 * low))
+
+
+@pytest.mark.parametrize("speed_kmh, load_kn", [(2.0, 500.0), (30.0, 2000.0)])
+def test_steady_state_far_down_the_drive_characteristic_is_found(rig, speed_kmh, load_kn):
+    # At 2 km/h and 500 kN the V/f motor delivers the losses only at 20 % of the set speed, and
+    # at 30 km/h and 2 MN close to its breakdown torque: both outside the former root bracket
+    # [0.5, 1.5] x set speed or at its edge. The state found is steady (every acceleration
+    # vanishes, as in tests/rig/test_model.py) and on the stable branch (rotor below the set
+    # speed, torque falling with rotor speed).
+    inputs = assemble(rig, _protocol(load_kn=load_kn, speed_kmh=speed_kmh, torque_nm=100.0))
+    p, x0 = inputs.segments[0].params, inputs.initial_state
+    dx = np.empty(m.N_STATES)
+    m.rig_rhs(0.0, x0, p, inputs.tables, dx)
+    scale = 1.0 + np.abs(x0[m.X_T_ROLLER])
+    assert np.max(np.abs(dx[m.X_OMEGA : m.X_OMEGA + 7] * p[m.P_J : m.P_J + 7])) < 1e-6 * scale
+    omega_ref = speed_kmh / 3.6 / p[m.P_RR]
+    omega = x0[m.X_OMEGA + 5]
+    assert 0.0 < omega < omega_ref
+    slope = m._open_loop_roller_torque(omega + 1e-6, omega_ref, p) - m._open_loop_roller_torque(
+        omega - 1e-6, omega_ref, p
+    )
+    assert slope < 0.0
