@@ -225,6 +225,52 @@ def test_robust_local_regression_resists_outliers():
 
 
 # --- moving average and Gaussian ----------------------------------------------------------
+# --- fixed kernels: scipy.signal.oaconvolve(mode="same") ----------------------------------
+@pytest.mark.parametrize(
+    ("n", "m"), [(1, 1), (7, 1), (3, 7), (50, 51), (1000, 25), (20_000, 111), (100_000, 1001)]
+)
+def test_oaconvolve_same_equals_the_former_zero_padded_direct_convolution(n, m):
+    # The fixed kernels used to go through a hand-written _fir_same, y[i] = Σ_j k[j] x[i + h - j]
+    # with h = (m - 1) // 2 and zeros beyond the signal (np.convolve(x, k)[h : h + n]);
+    # scipy.signal.oaconvolve(x, k, mode="same") is the same convolution (kernel flipped, the
+    # same centring, also for a kernel longer than the signal) to rounding.
+    rng = np.random.default_rng(n + m)
+    x, k = rng.standard_normal(n), rng.standard_normal(m)  # an asymmetric kernel
+    h = (m - 1) // 2
+    old = np.convolve(x, k)[h : h + n]
+    new = sps.oaconvolve(x, k, mode="same")
+    assert new.shape == (n,)
+    assert np.max(np.abs(new - old)) <= 1e-14 * np.sum(np.abs(k)) * np.max(np.abs(x))
+    if m > 2:  # a correlation (kernel not flipped) is another result: the orientation is pinned
+        assert not np.allclose(new, np.convolve(x, k[::-1])[h : h + n])
+
+
+@pytest.mark.parametrize("window", [5, 33, 111, 1601])
+def test_filter_interiors_equal_the_former_direct_convolution(window):
+    # Gaussian, LOWESS/LOESS and Savitzky-Golay apply one fixed kernel away from the ends; the
+    # results equal the former direct sums np.convolve(x, kernel)[h : h + n] to rounding.
+    rng = np.random.default_rng(window)
+    x = 100.0 + np.cumsum(rng.standard_normal(20_000))
+    n, h = x.size, window // 2
+    inner = slice(h, n - h)
+
+    def direct(kernel):
+        return np.convolve(x, kernel)[h : h + n][inner]
+
+    scale = np.max(np.abs(x))
+    assert np.max(np.abs(gaussian(x, window)[inner] - direct(gaussian_kernel(window)))) < (
+        1e-13 * scale
+    )
+    for degree, f in ((1, lowess), (2, loess)):
+        if window >= 3 + 2 * degree:
+            kern = local_regression_kernel(window, degree)
+            assert np.max(np.abs(f(x, window)[inner] - direct(kern))) < 1e-12 * scale
+    weights = _impulse_response(window, 3) if window < 1000 else None
+    if weights is not None:  # y[i] = Σ c_k x[i+k]: the convolution kernel is c reversed
+        got = savitzky_golay(x, window, 3)[inner]
+        assert np.max(np.abs(got - direct(weights[::-1]))) < 1e-12 * scale
+
+
 def test_moving_average_matches_matlab_movmean_example():
     # MATLAB documentation, movmean, "Centered Moving Average of Vector"
     a = [4, 8, 6, -1, -2, -3, -1, 3, 4, 5]

@@ -263,12 +263,16 @@ def test_table3_am_frequency_from_speed():
     # f_AM = 5 ω_r / 2π at 5 km/h is 2.445 Hz; the seed quotes 2.433 Hz = 5 × 0.4866 Hz (its
     # measured rotor frequency "0.487 Hz"), 0.5 % lower. A least-squares fit of the Table 3
     # harmonics (f = k f_AM) gives 2.444 Hz: they follow the nominal speed.
-    f_am = 5 * roller_speed(5.0) / (2 * np.pi)
-    assert f_am == pytest.approx(2.4452, abs=1e-4)
-    assert 5 * 0.487 == pytest.approx(2.433, abs=0.003)
+    # The package's prediction (attribute_peaks' first AM harmonic at the nominal 5 km/h roller
+    # speed) must be that closed form, and the Table 3 harmonics must follow it.
+    rows = attribute_peaks([2.4452], roller_speed(5.0), 5.0 / 3.6 / R_WHEEL, resolution=0.01)
+    predicted = rows[0].matches[0].predicted_frequency
+    assert (rows[0].source, rows[0].order) == ("am_electrical", 1)
+    assert predicted == pytest.approx(5 * (5.0 / 3.6 / R_ROLLER) / (2 * np.pi), rel=1e-9)
+    assert predicted == pytest.approx(2.4452, abs=1e-4)
     k = np.arange(1, 13)
     slope = float(np.sum(k * np.array(TABLE_3)) / np.sum(k * k))
-    assert slope == pytest.approx(f_am, rel=0.001)
+    assert slope == pytest.approx(predicted, rel=0.001)
 
 
 @pytest.mark.parametrize("rotor_hz", [roller_speed(5.0) / (2 * np.pi), 0.487])

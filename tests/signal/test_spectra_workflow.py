@@ -21,13 +21,7 @@ from rollerrig.measure.recording import Recording, RecordingError
 from rollerrig.measure.source import open_recording
 from rollerrig.measure.writers import write_recording
 from rollerrig.rig.parameters import default_rig
-from rollerrig.signal.workflow import (
-    choose_settings,
-    explain_recording,
-    explain_recordings,
-    line_spacing,
-    segment_count,
-)
+from rollerrig.signal.workflow import explain_recording, explain_recordings
 
 R_ROLLER, R_WHEEL = 0.452, 0.348  # [m], the default rig (Kayaalp 4.5.1.5)
 PUMP = 37.0  # [Hz], a line no source explains
@@ -163,22 +157,6 @@ def test_operating_point_from_encoders_and_default_load():
     assert op.wheel_speed == pytest.approx(20 / 3.6 / R_WHEEL, rel=1e-3)
     assert "encoder" in op.speed_source and op.normal_load == 4.3e3
     assert "4.3 kN" in op.load_source and any("default load" in n for n in e.notes)
-
-
-def test_settings_from_the_signal():
-    spacing = line_spacing(30 / 3.6 / R_ROLLER / (2 * np.pi), 30 / 3.6 / R_WHEEL / (2 * np.pi))
-    assert spacing == pytest.approx(3.811 - 2.934, abs=2e-3)  # |f_w - f_r| at 30 km/h
-    long = choose_settings(250 * 600, 250.0, spacing)  # 10 min at 250 Hz: wanted resolution
-    assert long.resolution(250.0) == pytest.approx(spacing / 6, rel=1e-3)
-    assert long.segments(250 * 600) >= 8 and long.min_snr == 10.0
-    medium = choose_settings(12_000, 600.0, spacing)  # 20 s at 600 Hz: 8 averages
-    assert medium.segments(12_000) == 8 and medium.resolution(600.0) < spacing / 3
-    short = choose_settings(1620, 250.0, spacing)  # a 6.5 s quiet phase: the whole record
-    assert short.nperseg == 1620 and short.segments(1620) == 1 and short.min_snr == 15.0
-    assert "whole record" in short.reason
-    assert segment_count(100, 200, 100) == 0
-    with pytest.raises(ValueError, match="16 samples"):
-        choose_settings(10, 250.0, 1.0)
 
 
 class _ChunkedSource:

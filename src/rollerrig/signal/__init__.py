@@ -1,1 +1,23 @@
-"""Signal processing: smoothing filters, filter scoring and tuning, spectra with attribution."""
+"""Signal processing: smoothing filters, filter scoring and tuning, spectra with attribution.
+
+Smoothing and long recordings
+    :mod:`~rollerrig.signal.smoothing` (the filters, MATLAB semantics, :func:`smooth`),
+    :mod:`~rollerrig.signal.chunked` (the filters over a stream of chunks),
+    :mod:`~rollerrig.signal.decimate` (zero-phase anti-alias decimation, streamed).
+The filter study (entry points in :mod:`~rollerrig.signal.scoring`)
+    :mod:`~rollerrig.signal.filter_score` (the scores and their weights),
+    :mod:`~rollerrig.signal.steady_transient` (the steady and transient parts scored),
+    :mod:`~rollerrig.signal.filter_candidates` (the seed's filter grid, the tuning grid),
+    :mod:`~rollerrig.signal.study_signal` (the signal at its analysis rate),
+    :mod:`~rollerrig.signal.study_table` (the ranked result),
+    :mod:`~rollerrig.signal.synthetic_torque` (a seed-like torque with known truth).
+Spectra (public names gathered in :mod:`~rollerrig.signal.spectra`)
+    :mod:`~rollerrig.signal.welch` (Welch spectra and coherence, streamed),
+    :mod:`~rollerrig.signal.peaks` (peak finding), :mod:`~rollerrig.signal.attribution` (the
+    source of each peak), :mod:`~rollerrig.signal.ordermap` (order maps),
+    :mod:`~rollerrig.signal.workflow` (the one spectrum workflow: ``explain_recording``),
+    :mod:`~rollerrig.signal.spectrum_settings` (settings chosen from the signal),
+    :mod:`~rollerrig.signal.operating_point` (mean speeds and load),
+    :mod:`~rollerrig.signal.recording_access` (a recording in memory or streamed, one interface),
+    :mod:`~rollerrig.signal.explained_spectrum` (the results, their tables and summaries).
+"""

@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 
 from rollerrig._validation import ParameterError, require_finite, require_positive
+from rollerrig.signal._numeric import finite_or_none
 from rollerrig.signal.peaks import SpectralPeak
 
 __all__ = [
@@ -146,24 +147,16 @@ class PeakAttribution:
         other matches' labels).
         """
         return {
-            "frequency_hz": _finite(self.frequency),
-            "power": _finite(self.power),
+            "frequency_hz": finite_or_none(self.frequency),
+            "power": finite_or_none(self.power),
             "label": self.label,
             "order": int(self.order),
             "source": self.source,
             "explained": self.explained,
-            "delta_f_hz": _finite(self.delta_f),
+            "delta_f_hz": finite_or_none(self.delta_f),
             "reason": self.reason or None,
             "also": "; ".join(m.label for m in self.matches[1:]),
         }
-
-
-def _finite(value) -> float | None:
-    """A float, or None for None/NaN/inf (JSON has no NaN)."""
-    if value is None:
-        return None
-    value = float(value)
-    return value if np.isfinite(value) else None
 
 
 def _label(kind: str, order: int, frequency: float) -> str:

@@ -51,6 +51,12 @@ import numpy as np
 from scipy import signal as sps
 
 from rollerrig._validation import ParameterError, require_positive
+from rollerrig.signal._numeric import (
+    check_samples,
+    power_of_two_scale,
+    tidy_rate,
+    uniform_sample_rate,
+)
 
 __all__ = [
     "DecimationFilter",
@@ -69,6 +75,7 @@ RATE_TOLERANCE = 1e-3
 
 _HUGE = 1e200
 """Largest magnitude a streamed chunk may hold [unit of the signal] (sums stay finite)."""
+_HUGE_WHY = "the filter sums could overflow (decimate() rescales a whole array)"
 
 _BLOCK = 1 << 18
 """New input samples gathered before a block is filtered [samples per channel]."""
@@ -414,18 +421,7 @@ def decimate_chunks(
             raise ParameterError(f"chunks must be 1-D or 2-D (samples, channels), got {c.shape}")
         if c.shape[0] == 0:
             continue
-        if not np.all(np.isfinite(c)):
-            raise ParameterError(
-                f"chunk starting at input sample {seen} has {int(np.sum(~np.isfinite(c)))} "
-                "non-finite values; interpolate or cut them before decimating"
-            )
-        big = float(np.max(np.abs(c)))
-        if big > _HUGE:
-            raise ParameterError(
-                f"chunk starting at input sample {seen} holds values up to {big:.3g}, beyond "
-                f"{_HUGE:.0e} where the filter sums could overflow; check the channel's scale "
-                "and unit (or use decimate(), which rescales a whole array)"
-            )
+        check_samples(c, seen, _HUGE, _HUGE_WHY)
         seen += c.shape[0]
         out = stream.push(c)
         if out is not None and out.shape[0]:
@@ -478,7 +474,7 @@ def decimate(
     peak = max(float(np.max(np.abs(arr[i : i + step]))) for i in range(0, arr.shape[0], step))
     scale = 1.0  # a power of two: exact; keeps 1e300 or 1e-300 signals inside the float range
     if np.isfinite(peak) and (peak > _HUGE or 0.0 < peak < 1.0 / _HUGE):
-        scale = float(np.ldexp(1.0, -int(np.frexp(peak)[1])))
+        scale = power_of_two_scale(peak)
     pieces = decimate_chunks(
         (arr[i : i + step] * scale for i in range(0, arr.shape[0], step)), spec
     )
@@ -581,7 +577,7 @@ def decimate_recording(
         keep = (names,) if isinstance(names, str) else tuple(names)
     try:
         if streamed:
-            fs = float(f"{float(recording.sample_rate):.10g}")
+            fs = tidy_rate(recording.sample_rate)
         else:
             fs = _uniform_rate(recording.time, source)
         spec = design_decimation(
@@ -607,16 +603,12 @@ def _uniform_rate(time: np.ndarray, source: str) -> float:
     """Rate [Hz] of a uniform time base; RecordingError naming the worst step otherwise."""
     from rollerrig.measure.recording import RecordingError
 
-    steps = np.diff(time)
-    step = float(np.median(steps))
-    k = int(np.argmax(np.abs(steps - step)))
-    if abs(steps[k] - step) > 0.01 * step:
+    try:
+        return tidy_rate(uniform_sample_rate(time))
+    except ParameterError as exc:
         raise RecordingError(
-            f"{source}: cannot decimate a non-uniform time base (step {steps[k]:.6g} s at "
-            f"t = {time[k]:.6g} s against the median {step:.6g} s); resample it first "
-            "(channel map [time] resample_Hz)"
-        )
-    return float(f"{1.0 / step:.10g}")
+            f"{source}: cannot decimate: {exc}; resample it first (channel map [time] resample_Hz)"
+        ) from None
 
 
 def _decimate_source(source, names, spec, chunk_samples):

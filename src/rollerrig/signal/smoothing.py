@@ -20,9 +20,10 @@ method                 window / ends                           reference
                        backward) or causal                     / ``filter``
 =====================  ======================================  ==================================
 
-Every function returns an array of the input's length. Long inputs use FFT overlap-add
-convolution (:func:`scipy.signal.oaconvolve`) for the fixed interior kernels (same result as
-direct convolution to rounding, about 1e-15 relative). Memory is O(n + window·order) for every
+Every function returns an array of the input's length. Fixed kernels are applied by FFT
+overlap-add convolution, :func:`scipy.signal.oaconvolve` with ``mode="same"`` (zero padding beyond
+the signal; the same result as direct convolution to rounding, about 5e-16 relative). Memory is
+O(n + window·order) for every
 method, whatever the window: at 19.2 kHz the seed's windows grow to 10 000 samples, where a
 matrix of end-fit weights (half-window × window values) would take 0.4 GB; the end fits of
 LOWESS/LOESS and Savitzky-Golay are solved from their normal equations or a window-by-order QR
@@ -89,28 +90,6 @@ def _window(window, *, odd: bool, minimum: int = 1) -> int:
     if odd and w % 2 == 0:
         raise ParameterError(f"window must be odd [samples], got {w}; use {w + 1} or {w - 1}")
     return w
-
-
-# --------------------------------------------------------------------------------------------
-# fixed-kernel convolution
-# --------------------------------------------------------------------------------------------
-_DIRECT_WORK = 1 << 22
-"""Largest ``len(x) × len(kernel)`` [multiply-adds] convolved directly (exact sums, no FFT)."""
-
-
-def _fir_same(x: np.ndarray, kernel: np.ndarray) -> np.ndarray:
-    """Zero-padded 'same' convolution ``y[i] = Σ_j kernel[j] x[i + h - j]``, ``h = len//2``.
-
-    Odd-length kernels only. Small products use :func:`numpy.convolve` (direct sums), the rest
-    :func:`scipy.signal.oaconvolve` (FFT overlap-add, ~1e-15 relative to the direct sums; it falls
-    back to one FFT when the two lengths are alike). Memory O(len(x)), whatever the kernel.
-    """
-    m = kernel.size
-    n = x.size
-    if m <= 24 or n * m <= _DIRECT_WORK:
-        half = (m - 1) // 2
-        return np.convolve(x, kernel)[half : half + n]
-    return sps.oaconvolve(x, kernel, mode="same")
 
 
 # --------------------------------------------------------------------------------------------
@@ -209,7 +188,7 @@ def gaussian(x, window: int) -> np.ndarray:
     """
     x = _signal(x)
     kern = gaussian_kernel(window)
-    num = _fir_same(x, kern)
+    num = sps.oaconvolve(x, kern, mode="same")
     h = kern.size // 2
     den = np.ones_like(x)
     if h and x.size > 2 * h:
@@ -218,7 +197,7 @@ def gaussian(x, window: int) -> np.ndarray:
         den[:h] = edge
         den[-h:] = edge[::-1]
     elif h:
-        den = _fir_same(np.ones_like(x), kern)
+        den = sps.oaconvolve(np.ones_like(x), kern, mode="same")
     return num / den
 
 
@@ -295,8 +274,8 @@ def _weighted_local_fit(
         lo, hi = max(a - half, 0), min(b + half, n)
         r = weights[lo:hi]
         rx = r * x[lo:hi]
-        s = [_fir_same(r, kern)[a - lo : b - lo] for kern in kernels]
-        t = [_fir_same(rx, kern)[a - lo : b - lo] for kern in kernels[: degree + 1]]
+        s = [sps.oaconvolve(r, kern, mode="same")[a - lo : b - lo] for kern in kernels]
+        t = [sps.oaconvolve(rx, k, mode="same")[a - lo : b - lo] for k in kernels[: degree + 1]]
         gram = np.empty((b - a, degree + 1, degree + 1))
         for j in range(degree + 1):
             for k in range(degree + 1):
@@ -320,7 +299,7 @@ def _local_fit(x: np.ndarray, window: int, degree: int) -> np.ndarray:
     """
     h = (window - 1) // 2
     n = x.size
-    y = _fir_same(x, local_regression_kernel(window, degree))
+    y = sps.oaconvolve(x, local_regression_kernel(window, degree), mode="same")
     m = min(2 * h, n)
     ones = np.ones(m)
     head, tail = x[:m], x[n - m :][::-1]
@@ -409,14 +388,9 @@ def loess(x, window: int, robust: bool = False, iterations: int = ROBUST_ITERATI
 
     Parameters
     ----------
-    x : array_like, shape (n,)
-        Uniformly sampled signal [any unit], ``n >= window``.
-    window : int
-        Odd span [samples], >= 7.
-    robust : bool
-        Apply the bisquare robustness iterations.
-    iterations : int
-        Robust re-weighting passes after the first fit.
+    x, window, robust, iterations
+        As in :func:`lowess` (signal [any unit], odd span [samples] but >= 7, robust
+        re-weighting and its passes).
 
     Returns
     -------
@@ -491,7 +465,7 @@ def savitzky_golay(x, window: int, order: int, deriv: int = 0, sample_rate: floa
     n = x.size
     h = w // 2
     q, r = _savgol_basis(w, p)
-    y = _fir_same(x, _savgol_kernel(q, r, h, d, delta))
+    y = sps.oaconvolve(x, _savgol_kernel(q, r, h, d, delta), mode="same")
     if h:
         y[:h] = _savgol_end(x[:w], q, r, h, d, delta, np.arange(-h, 0))
         y[n - h :] = _savgol_end(x[n - w :], q, r, h, d, delta, np.arange(1, h + 1))

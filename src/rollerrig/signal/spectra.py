@@ -18,9 +18,12 @@ which lives in modules by concern:
   :func:`speed_independent_lines`, the tolerance rule; unexplained peaks stated with a reason.
 * :mod:`rollerrig.signal.ordermap` -- :func:`order_map`.
 * :mod:`rollerrig.signal.workflow` -- the one spectrum workflow, :func:`explain_recording` /
-  :func:`explain_recordings`, with settings chosen from the signal (:func:`choose_settings`) and
-  the damped modes of the coupled twin (:mod:`rollerrig.rig.linear`) as sources; the lower-level
-  :func:`explain_spectrum` with explicit settings.
+  :func:`explain_recordings`, with settings chosen from the signal (:func:`choose_settings` in
+  :mod:`rollerrig.signal.spectrum_settings`), the operating point
+  (:mod:`rollerrig.signal.operating_point`) and the damped modes of the coupled twin
+  (:mod:`rollerrig.rig.linear`) as sources; the lower-level :func:`explain_spectrum` with explicit
+  settings. Its results, :class:`ExplainedSpectrum` and :class:`SpectraSet`, and their tables and
+  summaries are in :mod:`rollerrig.signal.explained_spectrum`.
 
 References
 ----------
@@ -43,8 +46,11 @@ from rollerrig.signal.attribution import (
     attribute_peaks,
     speed_independent_lines,
 )
+from rollerrig.signal.explained_spectrum import ExplainedSpectrum, SpectraSet, coherence_at
+from rollerrig.signal.operating_point import OperatingPoint
 from rollerrig.signal.ordermap import OrderLine, OrderMap, order_map
 from rollerrig.signal.peaks import SpectralPeak, find_spectral_peaks
+from rollerrig.signal.spectrum_settings import SpectrumSettings, choose_settings
 from rollerrig.signal.welch import (
     CoherenceSpectrum,
     CrossSpectra,
@@ -56,17 +62,7 @@ from rollerrig.signal.welch import (
     power_spectrum,
     welch_stream,
 )
-from rollerrig.signal.workflow import (
-    ExplainedSpectrum,
-    OperatingPoint,
-    SpectraSet,
-    SpectrumSettings,
-    choose_settings,
-    coherence_at,
-    explain_recording,
-    explain_recordings,
-    explain_spectrum,
-)
+from rollerrig.signal.workflow import explain_recording, explain_recordings, explain_spectrum
 
 __all__ = [
     "SOURCE_KINDS",

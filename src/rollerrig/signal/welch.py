@@ -30,13 +30,14 @@ J. S. Bendat, A. G. Piersol, *Random Data*, 4th ed., Wiley, 2010, section 6.1.4 
 from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 from scipy import signal as sps
 
-from rollerrig._validation import ParameterError, require_finite, require_positive
+from rollerrig._validation import ParameterError, require_positive
+from rollerrig.signal._numeric import check_samples
 
 __all__ = [
     "CoherenceSpectrum",
@@ -65,8 +66,15 @@ _ROUND_OFF = 1e-10  # residual RMS / magnitude below which a detrended signal co
 # --------------------------------------------------------------------------------------------
 
 
+class _FrequencyPair:
+    """Unpacks as its first two fields, ``frequency, values = spectrum`` (spectra dataclasses)."""
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        return (getattr(self, f.name) for f in fields(self)[:2])
+
+
 @dataclass(frozen=True)
-class Spectrum:
+class Spectrum(_FrequencyPair):
     """A one-sided power spectrum.
 
     Unpacks as ``frequency, power = spectrum``.
@@ -115,13 +123,10 @@ class Spectrum:
         """Bin spacing Δf [Hz]."""
         return float(self.frequency[1] - self.frequency[0])
 
-    def __iter__(self) -> Iterator[np.ndarray]:
-        return iter((self.frequency, self.power))
-
 
 @dataclass(frozen=True)
-class CoherenceSpectrum:
-    """Magnitude-squared coherence γ²(f) of two channels.
+class CoherenceSpectrum(_FrequencyPair):
+    """Magnitude-squared coherence γ²(f) of two channels; unpacks as ``frequency, coherence``.
 
     Attributes
     ----------
@@ -148,9 +153,6 @@ class CoherenceSpectrum:
     noverlap: int = 0
     window: str = "hann"
     detrend: str | bool = "linear"
-
-    def __iter__(self) -> Iterator[np.ndarray]:
-        return iter((self.frequency, self.coherence))
 
 
 @dataclass(frozen=True)
@@ -206,10 +208,14 @@ def _check_detrend(detrend) -> str | bool:
     return detrend
 
 
-def _check_segments(nperseg, noverlap) -> tuple[int, int]:
+def _check_nperseg(nperseg) -> int:
     if isinstance(nperseg, bool) or int(nperseg) != nperseg or nperseg < 8:
         raise ParameterError(f"nperseg must be an integer >= 8 [samples], got {nperseg!r}")
-    seg = int(nperseg)
+    return int(nperseg)
+
+
+def _check_segments(nperseg, noverlap) -> tuple[int, int]:
+    seg = _check_nperseg(nperseg)
     overlap = seg // 2 if noverlap is None else noverlap
     if isinstance(overlap, bool) or int(overlap) != overlap or not 0 <= overlap < seg:
         raise ParameterError(
@@ -263,22 +269,9 @@ class _WelchAccumulator:
             self.ramp = None
 
     def _check(self, chunk: np.ndarray) -> None:
-        finite = np.isfinite(chunk)
-        if not finite.all():
-            c, i = np.argwhere(~finite)[0]
-            raise ParameterError(
-                f"{self.names[c]} has a non-finite value ({chunk[c, i]}) at sample "
-                f"{self.consumed + int(i)}; fill or cut the gap first (e.g. --lenient)"
-            )
+        for c, name in enumerate(self.names):
+            check_samples(chunk[c], self.consumed, MAX_MAGNITUDE, "no sensor reads that", name)
         if chunk.shape[1]:
-            big = np.max(np.abs(chunk), axis=1)
-            for c in np.flatnonzero(big > MAX_MAGNITUDE):
-                i = int(np.argmax(np.abs(chunk[c]) > MAX_MAGNITUDE))
-                raise ParameterError(
-                    f"{self.names[c]} reaches {chunk[c, i]:.3g} at sample {self.consumed + i}, "
-                    f"beyond any physical reading (|value| <= {MAX_MAGNITUDE:.0e}); check the "
-                    "channel's unit and scale in the channel map"
-                )
             if self.consumed == 0:
                 self.first = chunk[:, 0].copy()
             self.low = np.minimum(self.low, chunk.min(axis=1))
@@ -540,18 +533,20 @@ def coherence_stream(
 
 
 def _as_signal(name: str, x) -> np.ndarray:
-    arr = require_finite(name, x)
+    try:
+        arr = np.asarray(x, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"{name} must be an array of numbers ({exc})") from None
     if arr.ndim != 1 or arr.size < 8:
         raise ParameterError(f"{name} must be a 1-D array of at least 8 samples, got {arr.shape}")
+    check_samples(arr, 0, MAX_MAGNITUDE, "no sensor reads that", name)
     return arr
 
 
 def _segment_length(n: int, nperseg: int | None, default: int) -> int:
     if nperseg is None:
         return min(n, default)
-    if isinstance(nperseg, bool) or int(nperseg) != nperseg or nperseg < 8:
-        raise ParameterError(f"nperseg must be an integer >= 8 [samples], got {nperseg!r}")
-    return min(int(nperseg), n)
+    return min(_check_nperseg(nperseg), n)
 
 
 def array_chunks(x: np.ndarray, size: int = _ARRAY_CHUNK) -> Iterator[np.ndarray]:
@@ -569,6 +564,8 @@ def power_spectrum(
     detrend: str | bool = "linear",
     scaling: str = "spectrum",
     noverlap: int | None = None,
+    *,
+    name: str = "x",
 ) -> Spectrum:
     """One-sided power spectrum by Welch's method or the (windowed) periodogram.
 
@@ -587,7 +584,7 @@ def power_spectrum(
     nperseg : int, optional
         Welch segment length [samples]; default ``min(n, max(256, n // 4))`` (about 7 averages
         with 50 % overlap). The bin spacing is ``f_s / nperseg``. Ignored by the periodogram.
-        :func:`rollerrig.signal.workflow.choose_settings` chooses it from the signal.
+        :func:`rollerrig.signal.spectrum_settings.choose_settings` chooses it from the signal.
     window : str
         Window name understood by :func:`scipy.signal.get_window`.
     detrend : {"linear", "constant", False}
@@ -598,6 +595,8 @@ def power_spectrum(
         spectral density [unit²/Hz], whose integral is the variance (Heinzel et al. 2002).
     noverlap : int, optional
         Welch overlap [samples]; default ``nperseg // 2``.
+    name : str
+        Name of the signal in error messages (e.g. ``"channel 'torque'"``).
 
     Returns
     -------
@@ -613,7 +612,7 @@ def power_spectrum(
     >>> round(float(f[np.argmax(p)]), 3), round(float(p.max()), 3)   # A**2/2 = 2
     (10.0, 2.0)
     """
-    x = _as_signal("x", x)
+    x = _as_signal(name, x)
     fs = float(require_positive("sample_rate", sample_rate, "Hz"))
     method = _choice("method", method, ("welch", "periodogram"))
     scaling = _choice("scaling", scaling, ("spectrum", "density"))
@@ -621,7 +620,7 @@ def power_spectrum(
     n = x.size
     if method == "welch":
         seg = _segment_length(n, nperseg, max(256, n // 4))
-        return welch_stream(array_chunks(x), fs, seg, noverlap, window, detrend, scaling)
+        return welch_stream(array_chunks(x), fs, seg, noverlap, window, detrend, scaling, name=name)
     w = _window(window, n)
     f, p = sps.periodogram(x, fs, window=w, detrend=detrend, scaling=scaling)
     return Spectrum(f, p, scaling, "periodogram", fs, n, 1, str(window), enbw(w, fs), 0, detrend)

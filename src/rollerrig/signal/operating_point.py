@@ -1,0 +1,156 @@
+"""The operating point of a recording: mean roller and wheel speeds and normal load, with sources.
+
+The spectrum workflow (:mod:`rollerrig.signal.workflow`) predicts the rotation and motor lines from
+the mean speeds and linearises the twin at the mean load. :func:`operating_point` takes each from
+the recording and states where it came from: the speeds from the speed channels, else from the
+first and last encoder counts; the load from the ``normal_load`` channel, else the air-spring
+pressure times the rig's effective area, else the seed's test load 4.3 kN.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from rollerrig._validation import require_positive
+from rollerrig.signal.recording_access import RecordingAccess
+
+__all__ = ["OperatingPoint", "operating_point"]
+
+
+@dataclass(frozen=True)
+class OperatingPoint:
+    """Mean speeds and load of a recording, with where each came from.
+
+    Attributes
+    ----------
+    roller_speed : float
+        Mean roller angular speed [rad/s] (> 0).
+    wheel_speed : float or None
+        Mean wheel angular speed [rad/s] (None: unknown; wheel and PMSM sources skipped).
+    normal_load : float
+        Normal load used for the twin's modes [N].
+    speed_source, wheel_source, load_source : str
+        Where each value came from.
+    roller_radius : float
+        Roller rolling radius [m] (for the surface speed).
+    """
+
+    roller_speed: float
+    wheel_speed: float | None
+    normal_load: float
+    speed_source: str
+    wheel_source: str
+    load_source: str
+    roller_radius: float
+
+    @property
+    def surface_speed(self) -> float:
+        """Roller surface speed ``ω_r r_r`` [m/s]."""
+        return self.roller_speed * self.roller_radius
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready (units in the keys)."""
+        return {
+            "roller_speed [rad/s]": self.roller_speed,
+            "roller_speed [km/h]": self.surface_speed * 3.6,
+            "roller_speed_source": self.speed_source,
+            "wheel_speed [rad/s]": self.wheel_speed,
+            "wheel_speed_source": self.wheel_source,
+            "normal_load [N]": self.normal_load,
+            "normal_load_source": self.load_source,
+        }
+
+
+def _mean_speed(access: RecordingAccess, stats, which: str, rig, given: float | None):
+    """Mean |angular speed| [rad/s] of the roller or wheel and its source (None: unknown)."""
+    name, counts = f"{which}_speed", f"{which}_encoder_counts"
+    if given is not None:
+        return float(require_positive(f"{which}_speed", abs(given), "rad/s")), "given"
+    if name in stats:
+        if not np.isfinite(stats[name][0]):
+            raise access.fail(f"channel {name!r} has non-finite values; fill or cut them first")
+        return abs(stats[name][0]), f"mean of the {name} channel"
+    if counts in stats and rig is not None:
+        cpr = rig.sensors.encoder_pulses_per_revolution * rig.sensors.encoder_quadrature_factor
+        _, first, last = stats[counts]
+        duration = access.duration
+        if duration > 0:
+            return (
+                abs(last - first) / duration * 2.0 * np.pi / cpr,
+                f"mean from the first and last {counts} ({cpr:g} counts per revolution)",
+            )
+    return None, f"no {name} or {counts} channel"
+
+
+def operating_point(
+    recording, rig, roller_speed: float | None = None, wheel_speed: float | None = None
+) -> OperatingPoint:
+    """Mean speeds and normal load of a recording, each with its source (module docstring).
+
+    Parameters
+    ----------
+    recording : Recording or chunked source
+        The recording.
+    rig : RigParameters
+        Radii, encoder resolution, air-spring area.
+    roller_speed, wheel_speed : float, optional
+        Given mean angular speeds [rad/s] instead of the recording's.
+
+    Returns
+    -------
+    OperatingPoint
+
+    Raises
+    ------
+    RecordingError
+        No roller speed (channel, encoder counts or given), or a roller at rest.
+    """
+    from rollerrig.rig.linear import DEFAULT_NORMAL_LOAD
+
+    access = recording if isinstance(recording, RecordingAccess) else RecordingAccess(recording)
+    wanted = []
+    for which, given in (("roller", roller_speed), ("wheel", wheel_speed)):
+        if given is None:
+            speed = f"{which}_speed"
+            wanted.append(speed if speed in access else f"{which}_encoder_counts")
+    wanted.append("normal_load" if "normal_load" in access else "air_spring_pressure")
+    stats = access.stats(wanted)
+    w_r, r_source = _mean_speed(access, stats, "roller", rig, roller_speed)
+    if w_r is None:
+        raise access.fail(
+            "the spectrum's sources need the roller speed: map a roller_speed or "
+            "roller_encoder_counts channel (or give the speed)"
+        )
+    if not w_r > 1e-3:
+        raise access.fail(
+            f"the roller is at rest (mean speed {w_r:.3g} rad/s, {r_source}): speed-proportional "
+            "lines cannot be attributed; record at speed"
+        )
+    w_w, w_source = _mean_speed(access, stats, "wheel", rig, wheel_speed)
+    if w_w is not None and not w_w > 1e-3:
+        w_w, w_source = None, f"wheel at rest ({w_source})"
+    if "normal_load" in stats:
+        load, l_source = stats["normal_load"][0], "mean of the normal_load channel"
+    elif "air_spring_pressure" in stats:
+        area = rig.sensors.air_spring_effective_area
+        load = stats["air_spring_pressure"][0] * area
+        l_source = f"mean air_spring_pressure × effective area {area:g} m² (rig)"
+    else:
+        load, l_source = DEFAULT_NORMAL_LOAD, "no load channel: the seed's test load 4.3 kN"
+    if not (np.isfinite(load) and load > 0.0):
+        raise access.fail(
+            f"the mean normal load is {load:.4g} N ({l_source}); check the channel's unit, "
+            "scale and offset in the channel map"
+        )
+    return OperatingPoint(
+        float(w_r),
+        None if w_w is None else float(w_w),
+        float(load),
+        r_source,
+        w_source,
+        l_source,
+        float(rig.geometry.roller_radius_x),
+    )
