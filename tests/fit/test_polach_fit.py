@@ -36,12 +36,6 @@ def _rel_errors(fit, truth):
     return np.abs(np.array(fit.parameters.as_tuple()) / np.array(truth.as_tuple()) - 1)
 
 
-def test_creep_stiffness_matches_the_creep_curve():
-    # Independent path: polach_creep_curve's Kalker slope at the default rig geometry.
-    c = polach_creep_curve([0.0], LOAD, 8.0, 0.348, 0.291, 0.452, 1.890)
-    assert K == pytest.approx(c.creep_stiffness, rel=1e-12)
-
-
 def test_exact_data_exact_recovery():
     s, w, mu = _points(POLACH_DRY, speeds=SPEEDS[1:])  # two speeds
     fit = fit_polach(s, mu, LOAD, K, slip_velocity=w)

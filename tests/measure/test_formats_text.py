@@ -19,7 +19,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from rollerrig.measure.channels import ChannelMap
-from rollerrig.measure.formats.csv import parse_timestamps, sniff_layout
+from rollerrig.measure.formats.sniff import sniff_layout
+from rollerrig.measure.formats.timestamps import parse_timestamps
 from rollerrig.measure.readers import detect_format, read_recording
 from rollerrig.measure.recording import RecordingError
 

@@ -386,7 +386,7 @@ def test_csv_writer_refuses_existing_sidecar(tmp_path, recording):
 def test_writer_errors(tmp_path, recording):
     with pytest.raises(RecordingError, match=r"unsupported file suffix '\.xlsx'"):
         write_recording(recording, tmp_path / "run.xlsx")
-    bad = recording.with_channels(**{"2nd": np.zeros(recording.time.size)})
+    bad = recording.with_channels(units={"2nd": "1"}, **{"2nd": np.zeros(recording.time.size)})
     with pytest.raises(RecordingError, match="'2nd' cannot be a MATLAB variable"):
         write_recording(bad, tmp_path / "run.mat")
     with pytest.raises(RecordingError, match="mat_version"):
@@ -493,7 +493,8 @@ def test_unknown_unit_in_map_and_in_header(tmp_path, raw):
     f = tmp_path / "labview.csv"
     pd.DataFrame(raw).to_csv(f, index=False)
     cmap = {**MAP, "channels": {"normal_load": {"column": "Fz", "unit": "furlong"}}}
-    with pytest.raises(RecordingError, match=r"\[channels.normal_load\].*'furlong'"):
+    # the map entry and the unit are named ([channels.normal_load] or channels.normal_load.unit)
+    with pytest.raises(RecordingError, match=r"channels\.normal_load\b.*'furlong'"):
         read_recording(f, cmap)
     g = tmp_path / "hdr.csv"
     pd.DataFrame({"time [s]": [0.0, 0.1], "torque [lbf.ft]": [1.0, 2.0]}).to_csv(g, index=False)
@@ -585,9 +586,27 @@ def test_no_time_anywhere(tmp_path):
         read_recording(f, {"channels": {"torque": {"column": "T", "unit": "N.m"}}})
 
 
-def test_missing_optional_reader_says_install_io(tmp_path, recording, monkeypatch):
-    f = tmp_path / "run.tdms"
+@pytest.mark.parametrize(
+    ("suffix", "module"),
+    [
+        ("tdms", "nptdms"),
+        ("mf4", "asammdf"),
+        ("parquet", "pyarrow.parquet"),
+        ("parquet", "pandas"),
+        ("csv", "pandas"),
+    ],
+)
+def test_missing_optional_reader_names_the_extra(tmp_path, recording, monkeypatch, suffix, module):
+    f = tmp_path / f"run.{suffix}"
     write_recording(recording, f)
-    monkeypatch.setitem(sys.modules, "nptdms", None)
-    with pytest.raises(ImportError, match=r"install rollerrig\[io\]"):
+    monkeypatch.setitem(sys.modules, module, None)
+    with pytest.raises(
+        ImportError, match=rf"{module.split('.')[0]}.*pip install 'rollerrig\[io\]'"
+    ):
         read_recording(f)
+
+
+def test_recording_as_dataset_without_xarray_names_the_extra(recording, monkeypatch):
+    monkeypatch.setitem(sys.modules, "xarray", None)
+    with pytest.raises(ImportError, match=r"xarray: pip install 'rollerrig\[io\]'"):
+        recording.to_dataset()

@@ -152,3 +152,15 @@ def test_branches_and_hysteresis_on_the_twin(twin, noisy):
         assert rig.abs_area > 10 * true.abs_area
         assert rig.max_difference > 0.15
         assert true.max_difference < 0.05  # measured 0.019
+
+
+def test_quiet_phase_is_the_longest_without_torque_activity():
+    from rollerrig.measure.segmentation import Phase, quiet_phase
+
+    phases = [
+        Phase("free_rolling", 0.0, 2.0, -1),
+        Phase("ramp_up", 2.0, 5.0, 0),
+        Phase("rest", 5.0, 9.5, 0),
+    ]
+    assert quiet_phase(phases) == (5.0, 9.5)
+    assert quiet_phase(phases[1:2]) is None

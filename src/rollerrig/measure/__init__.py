@@ -1,1 +1,22 @@
-"""Measurements: DAQ recordings, channel maps, physical quantities, test segmentation."""
+"""Measurements: DAQ recordings, channel maps, physical quantities, test segmentation.
+
+Reading a recording
+    :mod:`~rollerrig.measure.recording` (the :class:`Recording` every reader returns),
+    :mod:`~rollerrig.measure.readers` (:func:`read_recording`, format detection),
+    :mod:`~rollerrig.measure.formats` (one reader per file format, text sniffing, timestamps),
+    :mod:`~rollerrig.measure.channels` (channel maps), :mod:`~rollerrig.measure.translate`
+    (columns through the map into SI channels), :mod:`~rollerrig.measure.timebase` (channels
+    of several rates on one time base), :mod:`~rollerrig.measure.validate` (time, NaN/inf,
+    gaps), :mod:`~rollerrig.measure.source` (long files read chunk by chunk).
+Analysing an adhesion test
+    :mod:`~rollerrig.measure.analysis` (:func:`analyze_test`, the orchestration),
+    :mod:`~rollerrig.measure.checks` (what an analysis cannot compute with),
+    :mod:`~rollerrig.measure.prepare` (uniform time base, analysis rate),
+    :mod:`~rollerrig.measure.quantities` (normal force, encoder speeds, creep, CoA),
+    :mod:`~rollerrig.measure.segmentation` (phases, branches, hysteresis),
+    :mod:`~rollerrig.measure.correction` (CoA corrected for the rig's dynamics),
+    :mod:`~rollerrig.measure.facts` (what is known about a recording, the twin's truth),
+    :mod:`~rollerrig.measure.findings` (the result and its JSON summary).
+Writing and generating
+    :mod:`~rollerrig.measure.writers`, :mod:`~rollerrig.measure.synthetic`.
+"""

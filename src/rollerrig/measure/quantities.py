@@ -27,6 +27,7 @@ from rollerrig.contact.kinematics import creep_and_slip_velocity as _creep_and_s
 from rollerrig.measure.recording import CANONICAL_CHANNELS, Recording, RecordingError
 
 __all__ = [
+    "ANALYSIS_CHANNELS",
     "DERIVED_CHANNELS",
     "coefficient_of_adhesion",
     "creep_and_slip_velocity",
@@ -44,6 +45,23 @@ DERIVED_CHANNELS: dict[str, tuple[str, str]] = {
     "coa": ("1", "coefficient of adhesion the rig reports, T / (r_r N)"),
 }
 """Channels :func:`derive_quantities` adds beside the canonical ones: name -> (unit, meaning)."""
+
+ANALYSIS_CHANNELS: dict[str, tuple[str, str]] = {
+    "torque_smoothed": ("N.m", "roller-shaft torque T56, Savitzky-Golay smoothed"),
+    "creep_smoothed": ("1", "creep from the smoothed wheel and roller speeds"),
+    "slip_velocity_smoothed": ("m/s", "slip velocity from the smoothed wheel and roller speeds"),
+    "coa_smoothed": ("1", "CoA the rig reports from the smoothed torque, T56 / (r_r N)"),
+    "coa_corrected": (
+        "1",
+        "CoA corrected for the roller's inertia and bearing loss, "
+        "(T56 + J5 alpha5 + R05) / (r_r N)",
+    ),
+    "roller_acceleration": (
+        "rad/s^2",
+        "roller angular acceleration alpha5 (Savitzky-Golay derivative of the roller speed)",
+    ),
+}
+"""Channels :func:`rollerrig.measure.analysis.analyze_test` adds: name -> (SI unit, meaning)."""
 
 creep_and_slip_velocity = _creep_and_slip
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from rollerrig._validation import ParameterError
 
-__all__ = ["CANONICAL_CHANNELS", "Recording", "RecordingError"]
+__all__ = ["CANONICAL_CHANNELS", "ChannelLookup", "Recording", "RecordingError"]
 
 CANONICAL_CHANNELS: dict[str, tuple[str, str]] = {
     "torque": ("N.m", "roller-shaft torque T56 (the torque sensor)"),
@@ -37,8 +37,23 @@ class RecordingError(ParameterError):
     """A recording is unusable as given: the message names the file, channel and problem."""
 
 
+class ChannelLookup:
+    """``x[name]``: a channel of ``x.channels`` by name, or a :class:`RecordingError` listing
+    the channels there are (``what`` names the object in the message)."""
+
+    what = "recording"
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self.channels[name]
+        except KeyError:
+            raise RecordingError(
+                f"{self.what} has no channel {name!r}; it has {sorted(self.channels)}"
+            ) from None
+
+
 @dataclass(frozen=True)
-class Recording:
+class Recording(ChannelLookup):
     """Time-stamped channels in SI units.
 
     Parameters
@@ -97,14 +112,6 @@ class Recording:
         object.__setattr__(self, "units", MappingProxyType(dict(self.units)))
         object.__setattr__(self, "metadata", MappingProxyType(dict(self.metadata)))
 
-    def __getitem__(self, name: str) -> np.ndarray:
-        try:
-            return self.channels[name]
-        except KeyError:
-            raise RecordingError(
-                f"recording has no channel {name!r}; it has {sorted(self.channels)}"
-            ) from None
-
     def __contains__(self, name: str) -> bool:
         return name in self.channels
 
@@ -126,14 +133,27 @@ class Recording:
                 f"recording lacks channel(s) {missing} needed here; it has {sorted(self.channels)}"
             )
 
-    def with_channels(self, **new: np.ndarray) -> Recording:
-        """A copy with channels added or replaced (units from :data:`CANONICAL_CHANNELS`)."""
+    def with_channels(
+        self, *, units: Mapping[str, str] | None = None, **new: np.ndarray
+    ) -> Recording:
+        """A copy with channels added or replaced.
+
+        Units come from ``units`` or, for canonical names, :data:`CANONICAL_CHANNELS`; a new
+        channel of any other name without a unit is refused (never labelled "1" by default).
+        """
         channels = dict(self.channels)
-        units = dict(self.units)
+        all_units = dict(self.units)
         for name, values in new.items():
             channels[name] = values
-            units.setdefault(name, CANONICAL_CHANNELS.get(name, ("1", ""))[0])
-        return Recording(self.time, channels, units, self.metadata)
+            if units is not None and name in units:
+                all_units[name] = units[name]
+            elif name in CANONICAL_CHANNELS:
+                all_units.setdefault(name, CANONICAL_CHANNELS[name][0])
+            elif name not in all_units:
+                raise RecordingError(
+                    f"channel {name!r}: no unit given; pass units={{{name!r}: ...}}"
+                )
+        return Recording(self.time, channels, all_units, self.metadata)
 
     def select(self, start: float, end: float) -> Recording:
         """The part of the recording with start <= t <= end [s]."""
@@ -147,7 +167,9 @@ class Recording:
 
     def to_dataset(self):
         """The recording as an ``xarray.Dataset`` (units in the attributes)."""
-        import xarray as xr
+        from rollerrig._optional import require
+
+        xr = require("xarray", "io", "a recording as an xarray Dataset")
 
         data = {k: ("time", v, {"units": self.units[k]}) for k, v in self.channels.items()}
         ds = xr.Dataset(data, coords={"time": ("time", self.time, {"units": "s"})})

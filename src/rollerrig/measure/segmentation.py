@@ -52,7 +52,9 @@ __all__ = [
     "Phase",
     "adhesion_branches",
     "hysteresis",
+    "quiet_phase",
     "segment_test",
+    "true_runs",
 ]
 
 PHASE_NAMES = ("free_rolling", "ramp_up", "hold", "release", "ramp_down", "rest")
@@ -120,8 +122,14 @@ class Hysteresis(NamedTuple):
     descending: np.ndarray
 
 
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """(first, last) index of each run of True."""
+def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) index of each run of True in ``mask``.
+
+    Examples
+    --------
+    >>> true_runs(np.array([False, True, True, False, True]))
+    [(1, 2), (4, 4)]
+    """
     m = np.concatenate([[False], mask, [False]]).astype(int)
     d = np.diff(m)
     starts = np.flatnonzero(d == 1)
@@ -211,7 +219,7 @@ def segment_test(
         return [Phase("free_rolling", float(t[0]), float(t[-1]), -1)]
 
     active = (level - baseline) > active_fraction * span
-    runs = [(i, j) for i, j in _runs(active) if t[j] - t[i] >= min_cycle_duration]
+    runs = [(i, j) for i, j in true_runs(active) if t[j] - t[i] >= min_cycle_duration]
 
     phases: list[Phase] = []
     cursor = float(t[0])
@@ -380,3 +388,12 @@ def hysteresis(creep_ascending, coa_ascending, creep_descending, coa_descending,
         ascending=asc,
         descending=desc,
     )
+
+
+def quiet_phase(phases: list[Phase]) -> tuple[float, float] | None:
+    """The longest phase without torque activity (free rolling or rest) [s], for spectra."""
+    quiet = [ph for ph in phases if ph.name in ("free_rolling", "rest")]
+    if not quiet:
+        return None
+    best = max(quiet, key=lambda ph: ph.end - ph.start)
+    return best.start, best.end

@@ -52,19 +52,24 @@ import numpy as np
 
 from rollerrig.measure.channels import ChannelMap, ChannelSpec
 from rollerrig.measure.formats import open_table
-from rollerrig.measure.formats._table import Column, Slicer, Table
+from rollerrig.measure.formats._table import Column, Slicer, Table, header_table, require_module
+from rollerrig.measure.formats.sniff import sniff_layout
 from rollerrig.measure.readers import (
-    GAP_FACTOR,
-    _apply_map,
-    _as_channel_map,
-    _as_float,
-    _auto_entries,
-    _resolve,
-    _time_seconds,
-    detect_format,
-    file_sha256,
+    ChannelMapLike,
+    recording_metadata,
+    require_channels,
+    resolve_inputs,
 )
-from rollerrig.measure.recording import RecordingError
+from rollerrig.measure.recording import ChannelLookup, RecordingError
+from rollerrig.measure.translate import (
+    apply_map,
+    as_float,
+    auto_entries,
+    resolve_column,
+    time_seconds,
+)
+from rollerrig.measure.validate import GAP_FACTOR
+from rollerrig.output.provenance import file_sha256
 
 __all__ = ["DEFAULT_CHUNK_SAMPLES", "Chunk", "RecordingSource", "open_recording"]
 
@@ -76,7 +81,7 @@ _PROBE_SAMPLES = 4096
 
 
 @dataclass(frozen=True)
-class Chunk:
+class Chunk(ChannelLookup):
     """Consecutive samples of a recording, in SI units.
 
     Attributes
@@ -92,14 +97,7 @@ class Chunk:
     start_index: int
     time: np.ndarray
     channels: Mapping[str, np.ndarray]
-
-    def __getitem__(self, name: str) -> np.ndarray:
-        try:
-            return self.channels[name]
-        except KeyError:
-            raise RecordingError(
-                f"chunk has no channel {name!r}; it has {sorted(self.channels)}"
-            ) from None
+    what = "chunk"
 
     def __len__(self) -> int:
         return int(self.time.size)
@@ -128,7 +126,7 @@ class _Whole:
 
 class _TextRows:
     """Rows of a delimited text file read in blocks with :func:`pandas.read_csv` (chunksize),
-    with the layout :func:`rollerrig.measure.formats.csv.sniff_layout` finds (the one
+    with the layout :func:`rollerrig.measure.formats.sniff.sniff_layout` finds (the one
     :func:`read_recording` uses). Blank lines are skipped, as there; the file is re-read from the
     start only when an earlier row is asked for.
     """
@@ -140,7 +138,7 @@ class _TextRows:
         self._reset()
 
     def _reader(self):
-        import pandas as pd
+        pd = require_module("pandas", "CSV files")
 
         try:
             return pd.read_csv(
@@ -155,7 +153,7 @@ class _TextRows:
         self._start = 0
 
     def _next(self):
-        import pandas as pd
+        pd = require_module("pandas", "CSV files")
 
         try:
             frame = next(self._it)
@@ -178,7 +176,7 @@ class _TextRows:
         return self._n
 
     def rows(self, a: int, b: int):
-        import pandas as pd
+        pd = require_module("pandas", "CSV files")
 
         if a < self._start:
             self._reset()
@@ -203,10 +201,7 @@ class _TextRows:
 
 def _text_table(path: Path, spec) -> Table:
     """A streaming :class:`Table` of a delimited text file (columns read in blocks)."""
-    import pandas as pd
-
-    from rollerrig.measure.formats._table import header_table
-    from rollerrig.measure.formats.csv import sniff_layout
+    pd = require_module("pandas", "CSV files")
 
     layout = sniff_layout(path, spec)
     units = {n: u for n, u in zip(layout.names, layout.units, strict=True) if u}
@@ -315,7 +310,7 @@ class RecordingSource:
             col = slicer.read(column, a, b)
             first = first or col
             what = f"{where} column {column!r} (channel {name!r})"
-            raw = _as_float(col.values, what)
+            raw = as_float(col.values, what)
             if raw.size != b - a:
                 raise RecordingError(
                     f"{what} gave {raw.size} samples for {a}..{b}; the file is damaged"
@@ -417,7 +412,7 @@ def _time(st: Mapping[str, Any], a: int, b: int, first: Column | None) -> np.nda
     values = np.asarray(col.values)
     if a > 0:  # anchor timestamps / offsets on the file's first sample, as read_recording does
         values = np.concatenate([np.asarray(st["time_first"]), values])
-    secs = _time_seconds(
+    secs = time_seconds(
         values,
         st["time_unit"],
         f"{st['where']} time column {st['time_column']!r}",
@@ -484,12 +479,12 @@ def _one_time_base(
 def _mapped_columns(table: Table, cmap: ChannelMap, path: Path, needed) -> dict[str, str]:
     """Map entry name -> file column, for the entries read_recording would read."""
     if cmap.auto:
-        return {s.name: s.column for s in _auto_entries(table, cmap, path)}
+        return {s.name: s.column for s in auto_entries(table, cmap, path)}
     scratch = dataclasses.replace(table, notes=[])
     out = {}
     for spec in cmap.entries:
         optional = spec.optional or (needed is not None and spec.name not in needed)
-        name = _resolve(
+        name = resolve_column(
             scratch, spec.column, spec.entry, cmap, path, skip="?" if optional else None
         )
         if name is not None:
@@ -499,7 +494,7 @@ def _mapped_columns(table: Table, cmap: ChannelMap, path: Path, needed) -> dict[
 
 def open_recording(
     path: str | Path,
-    channel_map: ChannelMap | str | Path | Mapping[str, Any] | None = None,
+    channel_map: ChannelMapLike = None,
     *,
     format: str | None = None,
     channels: Iterable[str] | None = None,
@@ -530,13 +525,8 @@ def open_recording(
     RecordingError
         Everything :func:`read_recording` refuses, and channels on different time bases.
     """
-    p = Path(path)
-    fmt = detect_format(p, format)
-    cmap = _as_channel_map(channel_map)
-    if not p.is_file():
-        raise FileNotFoundError(f"recording file not found: {p}")
+    p, fmt, cmap, needed = resolve_inputs(path, channel_map, format, channels)
     where = f"{p}:"
-    needed = None if channels is None else [str(c) for c in channels]
     stack = contextlib.ExitStack()
     try:
         if fmt == "csv":
@@ -572,7 +562,7 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
 
     # --- the channel map, applied exactly as read_recording applies it, to the first samples
     head = _head_table(table, slicer, _PROBE_SAMPLES)
-    time_h, chans_h, units, info = _apply_map(head, cmap, p, needed)
+    time_h, chans_h, units, info = apply_map(head, cmap, p, needed)
     if dropped:
         head.notes.append(
             f"channels {dropped} not offered for chunked reading: on another time base than "
@@ -581,13 +571,8 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
     n = slicer.length(info["columns"][next(iter(chans_h))])
     if n < 2:
         raise RecordingError(f"{where} only {n} sample(s); need at least 2")
-    missing = [c for c in needed or () if c not in chans_h]
-    if missing:
-        raise RecordingError(
-            f"{where} required channel(s) {missing} not in the recording (map {cmap.source} "
-            f"gives {sorted(chans_h)}); add [channels.<name>] entries for them"
-        )
-    specs = {s.name: s for s in (_auto_entries(table, cmap, p) if cmap.auto else cmap.entries)}
+    require_channels(where, needed, chans_h, cmap)
+    specs = {s.name: s for s in (auto_entries(table, cmap, p) if cmap.auto else cmap.entries)}
     conv = {}
     for name in chans_h:
         spec: ChannelSpec = specs[name]
@@ -616,17 +601,7 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
     source["sample_rate"] = float(1.0 / np.median(np.diff(time_h)))
     t_last = _time(state, n - 1, n, None)
     source["duration"] = float(t_last[-1] - time_h[0])
-    metadata: dict[str, Any] = {
-        "source": str(p.resolve()),
-        "format": fmt,
-        "size_bytes": p.stat().st_size,
-        "channel_map": cmap.to_dict(),
-        "validate": "strict",
-        **info,
-        "gaps": [],
-        "interpolated": [],
-        "notes": list(head.notes),
-    }
-    if table.stored_metadata is not None:
-        metadata["stored_metadata"] = table.stored_metadata
+    metadata = recording_metadata(
+        p, fmt, cmap, head, info, validate="strict", gaps=[], interpolated=[]
+    )
     return {**state, **source, "metadata": metadata}

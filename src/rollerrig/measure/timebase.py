@@ -168,23 +168,19 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
     return bool(np.allclose(a, b, rtol=0.0, atol=1e-6 * step))
 
 
-def _base_times(
-    time: np.ndarray | None,
-    loaded: list,
-    own_times: list,
-    own_time_exact: bool,
-    info: dict[str, Any],
-    where: str,
-) -> list[np.ndarray]:
-    """The time base [s] each channel was recorded on."""
+def _base_times(time, loaded, own_times, exact, columns, where) -> list[np.ndarray]:
+    """The time base [s] each channel was recorded on.
+
+    ``exact``: ``own_time_exact``; ``columns``: channel -> file column, for messages; the
+    others as for :func:`align_channels`.
+    """
     bases: list[np.ndarray] = []
     fallback = next((o for o in own_times if o is not None), None)
-    for i, (spec, values, _si, _own) in enumerate(loaded):
-        own = own_times[i]
-        column = info["columns"].get(spec.name, spec.name)
+    for (spec, values, _si, _own), own in zip(loaded, own_times, strict=True):
+        column = columns.get(spec.name, spec.name)
         if time is not None:
             use_own = own is not None and not _same(own, time)
-            use_own = use_own and (own_time_exact or values.size != time.size)
+            use_own = use_own and (exact or values.size != time.size)
             base = own if use_own else time
         else:
             base = own if own is not None else fallback
@@ -251,7 +247,7 @@ def align_channels(
     if not loaded:
         raise RecordingError(f"{where} no channels to put on a time base")
     columns = info["columns"]
-    bases = _base_times(time, loaded, own_times, own_time_exact, info, where)
+    bases = _base_times(time, loaded, own_times, own_time_exact, columns, where)
     names = [spec.name for spec, *_ in loaded]
     units = {spec.name: si for spec, _v, si, _o in loaded}
     distinct: list[np.ndarray] = []

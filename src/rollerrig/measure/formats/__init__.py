@@ -1,7 +1,11 @@
 """Format readers: each turns one file format into a :class:`Table` of named columns.
 
-The channel map is applied afterwards, in :mod:`rollerrig.measure.readers`, the same way for every
-format.
+One module per format (:mod:`.csv`, :mod:`.lvm`, :mod:`.parquet`, :mod:`.tdms`, :mod:`.mdf`,
+:mod:`.mat`) and what they share: :mod:`._table` (the table, optional imports), :mod:`.sniff`
+(the layout of a text file), :mod:`._header` (its header and units rows), :mod:`._text`
+(cells, lines, bytes of text files), :mod:`.timestamps` (date/time columns), :mod:`._sliced`
+(channels in groups read in slices). The channel map is applied afterwards, in
+:mod:`rollerrig.measure.translate`, the same way for every format.
 """
 
 from __future__ import annotations

@@ -38,6 +38,12 @@ import numpy as np
 
 from rollerrig.measure.channels import FileSpec
 from rollerrig.measure.formats._table import Column, Table, add_alias
+from rollerrig.measure.formats._text import (
+    NEGATIVE_INFINITY_WORDS,
+    POSITIVE_INFINITY_WORDS,
+    decode_text,
+    unique_names,
+)
 from rollerrig.measure.recording import RecordingError
 
 __all__ = ["read_lvm"]
@@ -66,24 +72,6 @@ _ABSOLUTE_X = 1e8
 """X values above this [s] are LabVIEW absolute times (seconds since 1904-01-01)."""
 
 
-def _decode(path: Path, raw: bytes, spec: FileSpec, notes: list[str]) -> str:
-    if spec.encoding is not None:
-        try:
-            return raw.decode(spec.encoding)
-        except UnicodeDecodeError as exc:
-            line = raw[: exc.start].count(b"\n") + 1
-            raise RecordingError(
-                f"{path}: line {line} is not valid {spec.encoding!r} text; fix [file] encoding"
-            ) from None
-    if b"\x00" in raw[:65536]:
-        raise RecordingError(f"{path}: not a text file (NUL bytes); not a LabVIEW .lvm file")
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        notes.append("the file is not UTF-8; read as Windows-1252 (LabVIEW's usual code page)")
-        return raw.decode("cp1252", errors="replace")
-
-
 def _number(cell: str, decimal: str) -> float:
     c = cell.strip()
     if decimal == ",":
@@ -91,9 +79,9 @@ def _number(cell: str, decimal: str) -> float:
     low = c.lower()
     if low in ("nan", "+nan", "-nan"):
         return float("nan")
-    if low in ("inf", "+inf", "infinity"):
+    if low in POSITIVE_INFINITY_WORDS:
         return float("inf")
-    if low in ("-inf", "-infinity"):
+    if low in NEGATIVE_INFINITY_WORDS:
         return float("-inf")
     return float(c)  # raises ValueError
 
@@ -148,7 +136,16 @@ def read_lvm(path: Path, spec: FileSpec | None = None) -> Table:
     raw = path.read_bytes()
     if not raw.strip():
         raise RecordingError(f"{path}: the file is empty")
-    text = _decode(path, raw, spec, notes)
+    _, text = decode_text(
+        path,
+        raw,
+        spec.encoding,
+        notes,
+        truncated=False,
+        fallback="cp1252",
+        fallback_name="Windows-1252 (LabVIEW's usual code page)",
+        binary_hint="not a LabVIEW .lvm file",
+    )
     lines = re.split(r"\r\n|\r|\n", text)
     ends_with_newline = text.endswith(("\n", "\r"))
     if lines and lines[-1] == "":
@@ -233,15 +230,11 @@ def read_lvm(path: Path, spec: FileSpec | None = None) -> Table:
             if seg.names and seg.names[-1] == "Comment":
                 seg.comment_col = len(seg.names) - 1
             body = range(len(seg.names) if seg.comment_col is None else seg.comment_col)
-            seen: dict[str, int] = {}
             for j in body:
-                if seg.names[j] == "X_Value":
-                    seg.x_cols.append(j)
-                    continue
-                seg.y_cols.append(j)
-                nm = seg.names[j] or f"column {j + 1}"
-                seen[nm] = seen.get(nm, 0) + 1
-                seg.names[j] = nm if seen[nm] == 1 else f"{nm}.{seen[nm] - 1}"
+                (seg.x_cols if seg.names[j] == "X_Value" else seg.y_cols).append(j)
+            y_names = unique_names([seg.names[j] or f"column {j + 1}" for j in seg.y_cols])
+            for j, nm in zip(seg.y_cols, y_names, strict=True):
+                seg.names[j] = nm
             segments.append(seg)
             current = seg
             continue

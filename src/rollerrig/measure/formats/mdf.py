@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import contextlib
 import gc
-import json
 import sys
 import xml.etree.ElementTree as ET
 from collections.abc import Iterator
@@ -24,14 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rollerrig.measure.formats._table import (
-    Column,
-    Slicer,
-    Table,
-    add_alias,
-    add_to_group,
-    require_module,
-)
+from rollerrig.measure.formats._sliced import add_channel, checked_slice, read_in_slices, store_json
+from rollerrig.measure.formats._table import Column, Table, add_alias, require_module
 from rollerrig.measure.recording import RecordingError
 
 _BUS_FRAMES = (
@@ -181,12 +174,9 @@ def _table(mdf, path: Path) -> Table:
         if qualified in where_of:  # the same name twice in one group
             qualified = f"{i}/{name}#{j}"
         where_of[qualified] = (i, j)
-        table.names.append(qualified)
-        table.base[qualified] = name
-        group_keys = [str(i), *labels[i].values()]
-        for key in dict.fromkeys(group_keys):
-            add_to_group(table, key, qualified)
-            add_alias(table, f"{key}/{name}", qualified)
+        group_keys = list(dict.fromkeys([str(i), *labels[i].values()]))
+        aliases = [f"{key}/{name}" for key in group_keys]
+        add_channel(table, qualified, name, groups=group_keys, aliases=aliases)
         if count[name] > 1:
             if records[i] == 0 and any(
                 records[k] > 0 for k, _, n in signals if n == name and k != i
@@ -250,25 +240,16 @@ def _table(mdf, path: Path) -> Table:
                 + "; map another channel or group"
             )
         start, stop = max(0, start), min(n, stop)
-        try:
-            values, stamps, unit = _get(i, j, start, stop)
-        except Exception as exc:
-            raise RecordingError(
-                f"{path}: MDF channel {name!r} ({describe(i)}) could not be read: {exc}; the file "
-                "is damaged or truncated"
-            ) from exc
-        if values.shape[0] != stop - start or stamps.shape[0] != stop - start:
-            raise RecordingError(
-                f"{path}: MDF channel {name!r} ({describe(i)}) gave {values.shape[0]} samples "
-                f"where the group promises {stop - start}; the file is damaged or truncated"
-            )
+        values, stamps, unit = checked_slice(
+            f"{path}: MDF channel {name!r} ({describe(i)})",
+            lambda: _get(i, j, start, stop),
+            stop - start,
+            "the group",
+        )
         return Column(values, unit, stamps)
 
-    table.load = lambda name: read(name, 0, length(name))
-    table.slicer = Slicer(length=length, read=read)
     table.own_time_exact = True
     comment = getattr(mdf.header, "comment", "") or ""
     if comment:
-        with contextlib.suppress(json.JSONDecodeError, TypeError):
-            table.stored_metadata = json.loads(_hd_comment_text(comment))
-    return table
+        store_json(table, _hd_comment_text(comment))
+    return read_in_slices(table, length, read)

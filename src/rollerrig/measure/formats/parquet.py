@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rollerrig.measure.channels import split_unit_header
-from rollerrig.measure.formats._table import Column, Slicer, Table, add_alias
+from rollerrig.measure.formats._sliced import checked_slice
+from rollerrig.measure.formats._table import Column, Slicer, Table, header_table, require_module
 from rollerrig.measure.recording import RecordingError
 
 
@@ -22,7 +22,8 @@ def _numpy(chunked) -> np.ndarray:
 
 
 def read_parquet(path: Path) -> Table:
-    import pyarrow.parquet as pq
+    pq = require_module("pyarrow.parquet", "Parquet files")
+    pd = require_module("pandas", "Parquet files")
 
     try:
         pf = pq.ParquetFile(path)
@@ -47,16 +48,10 @@ def read_parquet(path: Path) -> Table:
         except (json.JSONDecodeError, TypeError, AttributeError):
             pass
     names = [str(n) for n in schema.names]
-    table = Table(names=names, load=lambda n: None, stored_metadata=stored)  # type: ignore[arg-type,return-value]
-    header_units: dict[str, str | None] = {}
-    for name in names:
-        base, unit = split_unit_header(name)
-        header_units[name] = unit
-        table.base[name] = base
-        add_alias(table, base, name)
-
-    def unit_of(name: str) -> str | None:
-        return header_units[name] or units.get(name) or units.get(table.base[name])
+    # names, short names and units as for a table of columns with "name [unit]" headers
+    table = header_table(pd.DataFrame(columns=names), units=units)
+    unit = {name: table.load(name).unit for name in names}
+    table.stored_metadata = stored
 
     cache: dict[str, tuple[int, int, np.ndarray]] = {}  # column -> (first, last group, values)
 
@@ -64,33 +59,29 @@ def read_parquet(path: Path) -> Table:
         start, stop = max(0, start), min(n_rows, stop)
         g0 = int(np.searchsorted(starts, start, side="right")) - 1
         g1 = max(g0, int(np.searchsorted(starts, stop, side="left")) - 1)
+        if start >= stop:
+            (values,) = checked_slice(
+                f"{path}: Parquet column {name!r}",
+                lambda: (_numpy(pf.schema_arrow.empty_table().column(name)),),
+            )
+            return Column(values, unit[name])
         hit = cache.get(name)
-        try:
-            if start >= stop:
-                values = _numpy(pf.schema_arrow.empty_table().column(name))
-                return Column(values, unit_of(name))
-            if hit is None or hit[0] > g0 or hit[1] < g1:
-                groups = list(range(g0, g1 + 1))
-                part = pf.read_row_groups(groups, columns=[name]).column(0)
-                hit = (g0, g1, _numpy(part))
-                cache[name] = hit
-        except Exception as exc:
-            raise RecordingError(
-                f"{path}: Parquet column {name!r} could not be read: {exc}; the file is damaged "
-                "or truncated"
-            ) from exc
+        if hit is None or hit[0] > g0 or hit[1] < g1:
+            groups = list(range(g0, g1 + 1))
+            (values,) = checked_slice(
+                f"{path}: Parquet column {name!r}",
+                lambda: (_numpy(pf.read_row_groups(groups, columns=[name]).column(0)),),
+            )
+            hit = cache[name] = (g0, g1, values)
         offset = int(starts[hit[0]])
-        return Column(hit[2][start - offset : stop - offset], unit_of(name))
+        return Column(hit[2][start - offset : stop - offset], unit[name])
 
     def load(name: str) -> Column:
-        try:
-            values = _numpy(pq.read_table(path, columns=[name]).column(0))
-        except Exception as exc:
-            raise RecordingError(
-                f"{path}: Parquet column {name!r} could not be read: {exc}; the file is damaged "
-                "or truncated"
-            ) from exc
-        return Column(values, unit_of(name))
+        (values,) = checked_slice(
+            f"{path}: Parquet column {name!r}",
+            lambda: (_numpy(pq.read_table(path, columns=[name]).column(0)),),
+        )
+        return Column(values, unit[name])
 
     table.load = load
     table.slicer = Slicer(length=lambda name: n_rows, read=read)

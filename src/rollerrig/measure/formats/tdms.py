@@ -15,22 +15,14 @@ inside a segment (cut off during acquisition or copying) is an error, not a shor
 from __future__ import annotations
 
 import contextlib
-import json
 import logging
 from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 
-from rollerrig.measure.formats._table import (
-    META_KEY,
-    Column,
-    Slicer,
-    Table,
-    add_alias,
-    add_to_group,
-    require_module,
-)
+from rollerrig.measure.formats._sliced import add_channel, checked_slice, read_in_slices, store_json
+from rollerrig.measure.formats._table import META_KEY, Column, Table, require_module
 from rollerrig.measure.recording import RecordingError
 
 _TDMS_EPOCH = np.datetime64("1904-01-01T00:00:00", "us")
@@ -124,15 +116,12 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
         for ch in group.channels():
             name = f"{group.name}/{ch.name}"
             chans[name] = ch
-            table.names.append(name)
-            table.base[name] = ch.name
-            add_alias(table, ch.name, name)
-            add_alias(table, ch.path, name)
-            add_to_group(table, group.name, name)
             props = ch.properties
             ni_name = props.get("NI_ChannelName")
+            aliases = [ch.name, ch.path]
             if isinstance(ni_name, str) and ni_name not in (ch.name, name):
-                add_alias(table, ni_name, name)
+                aliases.append(ni_name)
+            add_channel(table, name, ch.name, groups=[group.name], aliases=aliases)
             try:
                 inc = float(props.get("wf_increment", 0.0))
                 offset = float(props.get("wf_start_offset", 0.0))
@@ -179,19 +168,19 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
         if n == 0:
             raise RecordingError(f"{path}: TDMS channel {name!r} holds no samples")
         start, stop = max(0, start), min(n, stop)
-        try:
+
+        def get() -> tuple[np.ndarray]:
+            nonlocal seen
             values = np.asarray(ch[start:stop])
-        except Exception as exc:
-            raise RecordingError(
-                f"{path}: TDMS channel {name!r} could not be read (samples {start}..{stop}): "
-                f"{exc}; the file is damaged or truncated"
-            ) from exc
-        seen = _check(log, path, seen)
-        if values.size != stop - start:
-            raise RecordingError(
-                f"{path}: TDMS channel {name!r} gave {values.size} samples where the file's "
-                f"index promises {stop - start}; the file is damaged or truncated"
-            )
+            seen = _check(log, path, seen)  # nptdms reports damage as log warnings
+            return (values,)
+
+        (values,) = checked_slice(
+            f"{path}: TDMS channel {name!r} (samples {start}..{stop})",
+            get,
+            stop - start,
+            "the file's index",
+        )
         own = None
         if name in waveform:
             offset, inc = waveform[name]
@@ -200,10 +189,7 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
         unit = props.get("unit_string") or props.get("NI_UnitDescription") or None
         return Column(values, unit if isinstance(unit, str) else None, own)
 
-    table.load = lambda name: read(name, 0, length(name))
-    table.slicer = Slicer(length=length, read=read)
     raw = tdms.properties.get(META_KEY)
     if raw:
-        with contextlib.suppress(json.JSONDecodeError, TypeError):
-            table.stored_metadata = json.loads(raw)
-    return table
+        store_json(table, raw)
+    return read_in_slices(table, length, read)

@@ -1,5 +1,5 @@
-"""Honesty of a Polach fit: where the data constrain A and B, residual structure, distance to a
-known truth.
+"""Honesty diagnostics of a Polach fit (rollerrig.fit.diagnostics): where the data constrain A
+and B, residual structure, distance to a known truth.
 
 References: the Durbin-Watson statistic and the Wald-Wolfowitz runs test of statsmodels
 (``statsmodels.stats.stattools.durbin_watson``, ``statsmodels.sandbox.stats.runs.
@@ -15,8 +15,9 @@ from statsmodels.sandbox.stats.runs import runstest_1samp
 from statsmodels.stats.stattools import durbin_watson
 
 from rollerrig.contact.creep import POLACH_DRY
-from rollerrig.fit import PARAMETER_NAMES, PolachFitWarning, fit_polach, polach_coa
-from rollerrig.fit.polach import creep_stiffness_for_rig, residual_structure
+from rollerrig.fit.diagnostics import residual_structure
+from rollerrig.fit.model import PARAMETER_NAMES, creep_stiffness_for_rig, polach_coa
+from rollerrig.fit.polach import PolachFitWarning, fit_polach
 
 LOAD = 4300.0
 K = float(creep_stiffness_for_rig(LOAD))

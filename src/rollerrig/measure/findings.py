@@ -1,0 +1,189 @@
+"""What an adhesion-test analysis found (:class:`TestAnalysis`) and its JSON-ready summary.
+
+:func:`rollerrig.measure.analysis.analyze_test` fills a :class:`TestAnalysis`;
+:meth:`TestAnalysis.summary` says every result with units in the keys and never holds NaN or
+inf (a number that cannot be given is ``None`` with the reason beside it).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rollerrig.fit.polach import PolachFit
+from rollerrig.measure.facts import recording_facts
+from rollerrig.measure.prepare import nominal_rate
+from rollerrig.measure.recording import Recording
+from rollerrig.measure.segmentation import Branches, Hysteresis, Phase
+from rollerrig.signal.scoring import StudyRow
+from rollerrig.signal.workflow import ExplainedSpectrum
+
+__all__ = ["TRUTH_SIGMA", "TestAnalysis"]
+
+TRUTH_SIGMA = 3.0
+"""Fitted parameters further than this many standard errors from a known truth are flagged."""
+
+
+@dataclass
+class TestAnalysis:
+    """What :func:`rollerrig.measure.analysis.analyze_test` found.
+
+    Arrays on the recording's time axis, SI units.
+    """
+
+    __test__ = False  # not a pytest class, despite its name
+
+    recording: Recording  # raw, derived, smoothed and corrected channels
+    rig_name: str
+    phases: list[Phase]
+    smoothing_order: int
+    smoothing_window: int  # [samples]
+    smoothing_table: list[StudyRow]
+    branches: list[Branches]
+    hysteresis: list[Hysteresis | None]
+    fit: PolachFit | None  # to the dynamics-corrected CoA
+    fit_rig_coa: PolachFit | None  # to the CoA as the rig reports it, T56 / (r_r N)
+    fit_points: np.ndarray  # indices of the samples both fits used
+    spectrum: ExplainedSpectrum | None
+    spectrum_window: tuple[float, float] | None  # [s]
+    study: list[StudyRow]
+    notes: list[str] = field(default_factory=list)
+    truth_errors: dict = field(default_factory=dict)
+    true_parameters: dict | None = None  # the twin's Polach set (synthetic recordings)
+    true_parameters_source: str = ""
+    fit_points_available: int | None = None  # ascending-branch points before thinning
+    fit_points_step: int = 1  # every k-th available point was fitted
+    fit_points_cap: int | None = None  # the most points a fit uses (MAX_FIT_POINTS)
+    true_coa: np.ndarray | None = None  # the twin's contact CoA on the analysis time axis
+    analysis_rate: dict | None = None  # rate of the analysis and the decimation before it
+
+    @property
+    def smoothing_tuned_at(self) -> float | None:
+        """Rate the Savitzky-Golay tuning ran at [Hz] (None when the filter was given)."""
+        basis = getattr(self.smoothing_table, "basis", None)
+        return None if basis is None else float(basis.analysis_rate)
+
+    def summary(self) -> dict:
+        """A JSON-ready summary of every result, with units in the keys.
+
+        Never holds NaN or inf: a number that cannot be given is ``None`` with a reason beside
+        it. ``recording`` carries what the reader and the generator said about the recording
+        (notes, interpolated NaN runs, gaps, injected lines); ``analysis_rate`` the rate the
+        analysis ran at and the decimation that brought the recording to it.
+        """
+        basis = getattr(self.study, "basis", None)
+        out = {
+            "rig": self.rig_name,
+            "recording": recording_facts(self.recording),
+            "phases": [
+                {"name": ph.name, "start [s]": ph.start, "end [s]": ph.end, "cycle": ph.cycle}
+                for ph in self.phases
+            ],
+            "analysis_rate": self.analysis_rate,
+            "smoothing": self._smoothing(),
+            "hysteresis": [
+                _hysteresis_dict(b, h) for b, h in zip(self.branches, self.hysteresis, strict=True)
+            ],
+            "polach_fit_corrected_coa": _fit_dict(self.fit, self._points(), self.true_parameters),
+            "polach_fit_rig_coa": _fit_dict(self.fit_rig_coa, self._points(), self.true_parameters),
+            "true_polach_parameters": None
+            if self.true_parameters is None
+            else {"parameters": self.true_parameters, "source": self.true_parameters_source},
+            "spectrum": None
+            if self.spectrum is None
+            else {"window [s]": list(self.spectrum_window), **self.spectrum.summary()},
+            "filter_study_top10": [row.as_dict() for row in self.study[:10]],
+            "filter_study_basis": None if basis is None else basis.as_dict(),
+            "filter_study_unscored": dict(getattr(self.study, "unscored", {}) or {}),
+            "truth_errors": self.truth_errors,
+            "notes": self.notes,
+        }
+        if basis is None:
+            out["filter_study_basis_null_because"] = "the filter study was not run (run_study)"
+        return out
+
+    def _smoothing(self) -> dict:
+        rate = nominal_rate(self.recording)
+        out = {
+            "method": "Savitzky-Golay",
+            "order": self.smoothing_order,
+            "window [samples]": self.smoothing_window,
+            "samples at [Hz]": rate,
+            "window [s]": self.smoothing_window / rate,
+            "tuned at [Hz]": self.smoothing_tuned_at,
+        }
+        if self.smoothing_tuned_at is None:
+            out["tuned_at_null_because"] = "the order and window were given, not tuned"
+        return out
+
+    def _points(self) -> dict:
+        """Points the fits used, of how many available, and the thinning step."""
+        used = int(self.fit_points.size)
+        available = used if self.fit_points_available is None else int(self.fit_points_available)
+        return {
+            "used": used,
+            "available": available,
+            "step": int(self.fit_points_step),
+            "cap": self.fit_points_cap,
+        }
+
+
+def _finite_or_none(value: float) -> float | None:
+    value = float(value)
+    return value if np.isfinite(value) else None
+
+
+def _fit_dict(fit: PolachFit | None, points: dict, truth: dict | None = None) -> dict | None:
+    if fit is None:
+        return None
+    p = fit.parameters
+    stderr = {k: _finite_or_none(v) for k, v in fit.stderr.items()}
+    out = {
+        "mu0": p.static_friction,
+        "A": p.limit_ratio,
+        "B [s/m]": p.friction_decay,
+        "kA": p.k_adhesion,
+        "kS": p.k_slip,
+        "stderr": stderr,
+        "rmse [-]": float(fit.rmse),
+        "points": points["used"],
+        "points_available": points["available"],
+        "points_step": points["step"],
+        "identifiable": bool(fit.identifiable),
+        "A_B_identifiable": None
+        if fit.coverage is None
+        else bool(fit.coverage.a_and_b_identifiable),
+        "slip_velocity_coverage": None if fit.coverage is None else fit.coverage.as_dict(),
+        "residual_structure": None
+        if fit.residual_structure is None
+        else fit.residual_structure.as_dict(),
+        "truth_distance": None if truth is None else fit.truth_distance(truth, TRUTH_SIGMA),
+        "truth_distance_warn_sigma": TRUTH_SIGMA,
+    }
+    missing = [k for k, v in stderr.items() if v is None]
+    if missing:
+        out["stderr_null_because"] = (
+            f"{', '.join(missing)}: not determined by the data (J^T J singular), no finite "
+            "standard error"
+        )
+    if fit.residual_structure is None:
+        out["residual_structure_null_because"] = "exact fit: residuals at round-off level"
+    if points["step"] > 1:
+        out["points_note"] = (
+            f"one in {points['step']} of the {points['available']} ascending-branch points "
+            f"fitted ({points['used']} used; a fit uses at most {points['cap']} points)"
+        )
+    return out
+
+
+def _hysteresis_dict(branch: Branches, h: Hysteresis | None) -> dict | None:
+    if h is None:
+        return None
+    return {
+        "cycle": branch.cycle,
+        "area [-]": h.area,
+        "abs_area [-]": h.abs_area,
+        "max_difference [-]": h.max_difference,
+        "creep_at_max_difference [-]": h.creep_at_max_difference,
+    }
