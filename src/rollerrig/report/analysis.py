@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 
@@ -14,14 +13,23 @@ import numpy as np
 
 from rollerrig.fit.polach import PARAMETER_NAMES
 from rollerrig.measure.analysis import TestAnalysis
-from rollerrig.report._io import provenance, write_json
+from rollerrig.measure.quantities import ANALYSIS_CHANNELS, DERIVED_CHANNELS
+from rollerrig.measure.recording import CANONICAL_CHANNELS
+from rollerrig.output import json_text, provenance, write_json, write_table
 from rollerrig.report.adhesion import adhesion_figure
 from rollerrig.report.filters import envelope, filter_comparison_figure, study_ranking_figure
 from rollerrig.report.html import HtmlReport
 from rollerrig.report.spectra import spectrum_figure
 from rollerrig.signal.smoothing import smooth
 
-__all__ = ["overview_figure", "rig_versus_corrected_figure", "write_analysis"]
+__all__ = [
+    "analysis_columns",
+    "channel_attributes",
+    "overview_figure",
+    "rig_versus_corrected_figure",
+    "write_analysis",
+]
+
 
 _SCATTER_POINTS = 50_000
 """Most points of a scatter of the whole test in a report figure [1] (every k-th sample)."""
@@ -185,12 +193,59 @@ def _zoom_windows(result: TestAnalysis) -> dict:
     return windows
 
 
-def _json_attr(obj) -> str:
-    """JSON text for a NetCDF attribute: non-finite numbers as null (the JSON writer's policy)."""
-    from rollerrig.report._io import _finite_json
+def channel_attributes(recording) -> dict[str, dict[str, str]]:
+    """NetCDF attributes of each channel of an analysed recording: ``units`` and ``long_name``.
 
-    replaced: list = []
-    return json.dumps(_finite_json(obj, "", replaced), default=str, allow_nan=False)
+    Units are the recording's (SI), except for the channels the analysis adds, whose units and
+    meanings are :data:`ANALYSIS_CHANNELS`; meanings of the others come from
+    :data:`rollerrig.measure.recording.CANONICAL_CHANNELS` and
+    :data:`rollerrig.measure.quantities.DERIVED_CHANNELS` (else the channel's name).
+
+    Examples
+    --------
+    >>> from rollerrig.measure.recording import Recording
+    >>> rec = Recording(np.arange(3.0), {"roller_acceleration": np.zeros(3)},
+    ...                 {"roller_acceleration": "1"})
+    >>> channel_attributes(rec)["roller_acceleration"]["units"]
+    'rad/s^2'
+    """
+    known = {**CANONICAL_CHANNELS, **DERIVED_CHANNELS, **ANALYSIS_CHANNELS}
+    attrs = {}
+    for name in recording.channels:
+        unit, meaning = known.get(name, (None, name))
+        if name not in ANALYSIS_CHANNELS:
+            unit = recording.units.get(name, unit or "1")
+        attrs[name] = {"units": unit, "long_name": meaning}
+    return attrs
+
+
+def analysis_columns(recording) -> dict[str, tuple]:
+    """The analysed channels as :func:`rollerrig.output.write_table` columns.
+
+    ``name -> (values, unit, long_name, attrs)`` with the units and meanings of
+    :func:`channel_attributes`; a channel that holds NaN says why (``nan_meaning``), as the NaN
+    policy of :mod:`rollerrig.output` asks.
+
+    Parameters
+    ----------
+    recording : Recording
+        The analysed recording (:attr:`rollerrig.measure.analysis.TestAnalysis.recording`).
+
+    Returns
+    -------
+    dict
+    """
+    columns = {}
+    for name, attrs in channel_attributes(recording).items():
+        values = np.asarray(recording[name])
+        extra = {}
+        if values.dtype.kind == "f" and not np.all(np.isfinite(values)):
+            extra["nan_meaning"] = (
+                "no value at these samples in the recording as read (see the recording_notes, "
+                "gaps and interpolated attributes)"
+            )
+        columns[name] = (values, attrs["units"], attrs["long_name"], extra)
+    return columns
 
 
 def _recording_section(rep: HtmlReport, result: TestAnalysis) -> None:
@@ -332,33 +387,42 @@ def write_analysis(
 ) -> list[Path]:
     """Write the results (JSON summary, NetCDF channels) and the self-contained HTML report.
 
-    Returns the written paths: ``<stem>-analysis.json``, ``<stem>-analysis.nc``,
-    ``<stem>-report.html``.
+    Returns the written paths: ``<stem>-analysis.json`` (the summary, with its provenance),
+    ``<stem>-analysis.nc`` (every analysed channel with its unit and long name, CF-1.10,
+    written by :func:`rollerrig.output.write_table`; see :func:`analysis_columns`) and
+    ``<stem>-report.html`` (self-contained: figures embedded as PNG data URIs). Each file
+    replaces one of the same name.
     """
     out = Path(out)
     record = provenance(source=source, **(extra_provenance or {}))
     summary = {"provenance": record, **result.summary()}
     paths = [write_json(out / f"{stem}-analysis.json", summary)]
 
-    from rollerrig.report._io import atomic_write
-
     facts = summary["recording"]
-    ds = result.recording.to_dataset()
-    # NetCDF attributes are strings: JSON, with the same NaN policy as the JSON summary.
-    ds.attrs = {
-        "provenance": _json_attr(record),
+    rec = result.recording
+    name = source or str(rec.metadata.get("source", ""))
+    # CF-1.10 NetCDF: units and long_name on every variable; the global attributes are strings
+    # (lists as JSON, with the same NaN policy as the JSON summary).
+    attrs = {
+        "title": f"rollerrig analysis of the adhesion test {name}".strip(),
         "source": source,
-        "recording_notes": _json_attr(facts["notes"]),
-        "interpolated": _json_attr(facts["interpolated"]),
-        "gaps": _json_attr(facts["gaps"]),
-        "injected_lines": _json_attr(facts["injected_lines"]),
-        "analysis_notes": _json_attr(result.notes),
+        "recording_notes": json_text(facts["notes"]),
+        "interpolated": json_text(facts["interpolated"]),
+        "gaps": json_text(facts["gaps"]),
+        "injected_lines": json_text(facts["injected_lines"]),
+        "analysis_notes": json_text(result.notes),
     }
     paths.append(
-        atomic_write(out / f"{stem}-analysis.nc", lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+        write_table(
+            out / f"{stem}-analysis.nc",
+            analysis_columns(rec),
+            time=rec.time,
+            provenance=record,
+            attrs=attrs,
+            overwrite=True,  # like the JSON summary and the report beside it
+        )
     )
 
-    rec = result.recording
     rep = HtmlReport(f"Adhesion test analysis: {stem}")
     rep.paragraph(
         f"Recording {source or stem}: {rec.duration:.2f} s at {rec.sample_rate:.4g} Hz, "

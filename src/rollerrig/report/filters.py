@@ -6,7 +6,7 @@
   noise, peak and timing terms;
 * :func:`savitzky_golay_grid_figure`: the Savitzky-Golay tuning table as an order × window map.
 
-All return a matplotlib figure; save with :func:`rollerrig.report._io.save_figure`.
+All return a matplotlib figure; save with :func:`rollerrig.output.save_figure`.
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rollerrig._validation import ParameterError
 from rollerrig.signal.scoring import ScoreWeights, Segmentation, StudyRow
 
 __all__ = [
@@ -217,38 +218,98 @@ def study_ranking_figure(
     return fig
 
 
-def savitzky_golay_grid_figure(table: Sequence[StudyRow]):
+def savitzky_golay_grid_figure(table: Sequence[StudyRow], *, clip_percentile: float = 90.0):
     """Savitzky-Golay tuning table as a cost map over polynomial order × window.
 
     The window axis counts samples at the rate the tuning ran at (the table's
     ``basis.analysis_rate``, else the rows' ``sample_rate``), which is 250 Hz for a recording
     faster than 500 Hz, not the recording's own rate; the axis label says which.
 
+    The colour scale is robust: it runs from the lowest cost to the ``clip_percentile``-th
+    percentile of the costs, so a few very poor combinations (the shortest windows at high
+    orders) do not flatten the cells near the optimum; costs above the clip take the colour of
+    the bar's triangle. When the shown range spans a factor of 10 or more the scale is
+    logarithmic. The colour bar's label says which scale and where it clips.
+
+    The lowest cost is marked with a star. An optimum on the edge of the grid (the smallest or
+    largest window or order tried) is not known to be an optimum: it is circled and the figure
+    says "optimum on the grid edge: widen the grid", naming the edge.
+
     Parameters
     ----------
     table : sequence of StudyRow
-        Output table of :func:`rollerrig.signal.scoring.tune_savitzky_golay`.
+        Output table of :func:`rollerrig.signal.scoring.tune_savitzky_golay` (ranked: the
+        first row has the lowest cost).
+    clip_percentile : float
+        Upper end of the colour scale, as a percentile of the finite costs [%], in (0, 100].
 
     Returns
     -------
     matplotlib.figure.Figure
     """
+    from matplotlib.colors import LogNorm, Normalize
+
+    if not 0.0 < clip_percentile <= 100.0:
+        raise ParameterError(f"clip_percentile must be in (0, 100] [%], got {clip_percentile!r}")
     orders = sorted({r.params["order"] for r in table})
     windows = sorted({r.params["window"] for r in table})
     grid = np.full((len(orders), len(windows)), np.nan)
     for r in table:
         grid[orders.index(r.params["order"]), windows.index(r.params["window"])] = r.score.cost
-    fig, ax = plt.subplots(figsize=(8, 3.5))
-    im = ax.imshow(grid, aspect="auto", origin="lower", cmap="viridis_r")
+    finite = grid[np.isfinite(grid)]
+    lo = float(finite.min()) if finite.size else 0.0
+    hi = float(np.percentile(finite, clip_percentile)) if finite.size else 1.0
+    hi = hi if hi > lo else lo + (abs(lo) or 1.0) * 1e-3
+    clipped = bool(finite.size and finite.max() > hi)
+    logarithmic = lo > 0.0 and hi / lo >= 10.0
+    norm = LogNorm(vmin=lo, vmax=hi) if logarithmic else Normalize(vmin=lo, vmax=hi)
+    # Dark: low cost, light: high cost; white beyond the clip (off the scale, continuing dark
+    # -> light); grey: a combination not tried or not scored.
+    cmap = plt.get_cmap("viridis").with_extremes(over="white", bad="0.55")
+    fig, ax = plt.subplots(figsize=(8, 3.8))
+    im = ax.imshow(grid, aspect="auto", origin="lower", cmap=cmap, norm=norm)
     ax.set_xticks(range(len(windows)), [str(w) for w in windows], fontsize=7, rotation=90)
     ax.set_yticks(range(len(orders)), [str(o) for o in orders])
     ax.set_xlabel(_window_axis(table))
     ax.set_ylabel("polynomial order")
-    best = table[0].params
-    ax.plot(windows.index(best["window"]), orders.index(best["order"]), "r*", ms=12)
-    fig.colorbar(im, ax=ax, label="cost [1]")
+    best = min(table, key=lambda r: r.rank).params
+    col, row = windows.index(best["window"]), orders.index(best["order"])
+    ax.plot(col, row, "r*", ms=12, label="lowest cost")
+    lowest = f"lowest cost (red star): order {best['order']}, window {best['window']}"
+    edges = _grid_edges(best, orders, windows)
+    if edges:
+        ax.plot(col, row, "o", ms=20, mfc="none", mec="red", mew=1.5, label="on the grid edge")
+        ax.text(0.5, 1.02, lowest, transform=ax.transAxes, ha="center", va="bottom", fontsize=8)
+        ax.set_title(
+            "optimum on the grid edge: widen the grid (" + "; ".join(edges) + ")",
+            fontsize=9,
+            color="tab:red",
+            pad=16,
+        )
+    else:
+        ax.set_title(lowest, fontsize=8)
+    scale = "log scale" if logarithmic else "linear scale"
+    clip = f"\nclipped at the {clip_percentile:g}th percentile, {hi:.3g}; white: above"
+    fig.colorbar(
+        im,
+        ax=ax,
+        extend="max" if clipped else "neither",
+        label=f"cost [1], {scale}" + (clip if clipped else ""),
+    )
     fig.tight_layout()
     return fig
+
+
+def _grid_edges(best: Mapping, orders: Sequence[int], windows: Sequence[int]) -> list[str]:
+    """Which edges of the order × window grid the optimum ``best`` lies on, in words."""
+    edges = []
+    for key, values, what in (("window", windows, "window"), ("order", orders, "order")):
+        v = best[key]
+        if v == values[-1]:
+            edges.append(f"{what} {v} is the largest tried")
+        elif v == values[0]:
+            edges.append(f"{what} {v} is the smallest tried")
+    return edges
 
 
 def _analysis_rate(rows) -> float | None:

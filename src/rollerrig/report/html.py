@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rollerrig.report._io import atomic_write
+from rollerrig.output import write_text
 
 __all__ = ["HtmlReport"]
 
@@ -98,6 +98,5 @@ class HtmlReport:
         )
 
     def write(self, path: str | os.PathLike) -> Path:
-        """Write the report atomically."""
-        text = self.render()
-        return atomic_write(path, lambda p: p.write_text(text, encoding="utf-8"))
+        """Write the report atomically (:func:`rollerrig.output.write_text`)."""
+        return write_text(path, self.render())

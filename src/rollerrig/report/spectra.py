@@ -1,7 +1,7 @@
 """Figures of the spectral analysis: labelled spectra, coherence, order map.
 
 Each function takes the data objects of :mod:`rollerrig.signal.spectra` and returns a matplotlib
-figure (save it with :func:`rollerrig.report._io.save_figure`). Speeds are converted to km/h only
+figure (save it with :func:`rollerrig.output.save_figure`). Speeds are converted to km/h only
 here, at the edge, when a roller radius is given.
 """
 
@@ -16,6 +16,7 @@ matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rollerrig.report.labels import separate_labels
 from rollerrig.signal.spectra import CoherenceSpectrum, ExplainedSpectrum, OrderMap
 from rollerrig.signal.welch import power_unit
 
@@ -91,30 +92,18 @@ def spectrum_figure(
         max_frequency = min(nyquist, max(1.15 * fmax, 0.1 * nyquist)) if rows else nyquist
     ax.set_xlim(0.0, max_frequency)
     labelled = sorted(rows, key=lambda r: r.power, reverse=True)[: int(max_labels)]
+    labels = []  # most powerful first: they keep the top row
     seen: set[str] = set()
-    # Neighbouring labels closer than ~9 % of the axis are stacked in tiers above each other.
-    min_gap = 0.08 * max_frequency
-    last_f, tier = -np.inf, 0
     for r in sorted(rows, key=lambda r: r.frequency):
         colour = _COLOURS.get(r.source, "k")
         legend = r.source if r.source not in seen else None
         seen.add(r.source)
         ax.plot(r.frequency, r.power, "v", color=colour, ms=6, label=legend)
-        if r in labelled and r.frequency <= max_frequency:
-            tier = tier + 1 if r.frequency - last_f < min_gap else 0
-            last_f = r.frequency
-            # Labels sit in fixed rows at the top, each with a leader line to its peak.
-            ax.annotate(
-                f"{r.frequency:.3f} Hz\n{r.label.split(' (')[0]}",
-                (r.frequency, r.power),
-                xytext=(r.frequency, 0.97 - 0.085 * (tier % 6)),
-                textcoords=("data", "axes fraction"),
-                ha="center",
-                va="top",
-                fontsize=7,
-                color=colour,
-                arrowprops={"arrowstyle": "-", "color": colour, "lw": 0.4, "alpha": 0.6},
-            )
+    for rank, r in enumerate(x for x in labelled if x.frequency <= max_frequency):
+        colour = _COLOURS.get(r.source, "k")
+        # Labels hang from the top, each with a leader line to its peak; moved apart below.
+        text = f"{r.frequency:.3f} Hz\n{r.label.split(' (')[0]}"
+        labels.append(_peak_label(ax, text, (r.frequency, r.power), colour, rank))
     shown = [r.power for r in rows if r.frequency <= max_frequency]
     top = max(shown, default=float(np.max(p)))
     visible = p[(f > 0) & (f <= max_frequency)]
@@ -162,7 +151,26 @@ def spectrum_figure(
         ax.legend(fontsize=7, loc="lower right", framealpha=0.9)
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
+    separate_labels(ax, labels)
     return fig
+
+
+def _peak_label(ax, text: str, peak: tuple[float, float], colour: str, rank: int, top=0.97):
+    """A peak label hung from the top of the axes with a leader line to ``peak`` (data)."""
+    return ax.annotate(
+        text,
+        peak,
+        xytext=(peak[0], top),
+        textcoords=("data", "axes fraction"),
+        ha="center",
+        va="top",
+        fontsize=7,
+        color=colour,
+        # Later (lower) labels above earlier leader lines, on a light box that hides them.
+        zorder=5 + 0.01 * rank,
+        bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.75},
+        arrowprops={"arrowstyle": "-", "color": colour, "lw": 0.4, "alpha": 0.6},
+    )
 
 
 def coherence_figure(
@@ -197,30 +205,19 @@ def coherence_figure(
     ax.plot(coh.frequency, coh.coherence, color="tab:blue", lw=0.9)
     marks = np.asarray(mark_frequencies, dtype=float)
     fmax = max_frequency or float(coh.frequency[-1])
+    labels = []
     if marks.size:
         values = coherence_at(coh, marks)
-        labels = list(mark_labels) if mark_labels is not None else [""] * marks.size
-        order = np.argsort(marks)
-        last, tier = -np.inf, 0
-        for k in order:
-            fm, g, lab = marks[k], values[k], labels[k].split(" (")[0]
+        texts = list(mark_labels) if mark_labels is not None else [""] * marks.size
+        # The most coherent marks keep the top row of labels.
+        order = np.argsort(-np.nan_to_num(values, nan=-1.0), kind="stable")
+        for rank, k in enumerate(order):
+            fm, g, lab = marks[k], values[k], texts[k].split(" (")[0]
             if fm > fmax:
                 continue
             ax.plot(fm, g, "v", color="tab:red", ms=5)
-            # Short labels in rows above the curve, with a leader line to the marker.
-            tier = tier + 1 if fm - last < 0.15 * fmax else 0
-            last = fm
-            ax.annotate(
-                f"{lab}\nγ² = {g:.2f}",
-                (fm, g if np.isfinite(g) else 0.0),
-                xytext=(fm, 1.55 - 0.17 * (tier % 4)),
-                textcoords="data",
-                ha="center",
-                va="top",
-                fontsize=7,
-                color="tab:red",
-                arrowprops={"arrowstyle": "-", "color": "tab:red", "lw": 0.4, "alpha": 0.6},
-            )
+            peak = (fm, g if np.isfinite(g) else 0.0)
+            labels.append(_peak_label(ax, f"{lab}\nγ² = {g:.2f}", peak, "tab:red", rank))
     ax.set_ylim(0.0, 1.6 if marks.size else 1.05)
     ax.set_yticks([0.0, 0.25, 0.5, 0.75, 1.0])
     ax.set_xlim(0.0, fmax)
@@ -234,6 +231,7 @@ def coherence_figure(
     )
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
+    separate_labels(ax, labels)
     return fig
 
 

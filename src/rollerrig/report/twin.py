@@ -10,7 +10,21 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["experiment_figure", "sweep_figure"]
+from rollerrig.report.filters import envelope
+
+__all__ = ["MEASURED_STYLE", "TRUE_STYLE", "experiment_figure", "sweep_figure"]
+
+MEASURED_STYLE = {"color": "0.72", "lw": 0.6, "zorder": 1}
+"""How a trace the rig measures (encoder staircase, torque sensor) is drawn: thin, light, behind."""
+
+TRUE_STYLE = {"lw": 1.5, "zorder": 3}
+"""How the twin's truth is drawn: a strong colour (given per panel), on top of the measurement."""
+
+
+def _measured_and_true(ax, t, measured, true, colour: str, what: str, how: str) -> None:
+    """Draw ``measured`` behind ``true`` on ``ax``, with legend entries saying which is which."""
+    ax.plot(*envelope(t, np.asarray(measured)), **MEASURED_STYLE, label=f"measured: {how}")
+    ax.plot(*envelope(t, np.asarray(true)), color=colour, **TRUE_STYLE, label=f"true: {what}")
 
 
 def experiment_figure(ds, title: str | None = None):
@@ -19,6 +33,22 @@ def experiment_figure(ds, title: str | None = None):
     (a) torque request and PMSM air-gap torque; (b) CoA versus creep, true at the contact and as
     the rig measures it (T56 and encoder creep); (c) wheel and (e) roller peripheral speed;
     (d) slip (creep) velocity; (f) true contact force and the force the rig derives from T56.
+
+    In every panel that holds both, what the rig measures (quantised encoder speeds, the torque
+    sensor) is drawn thin and light grey behind (:data:`MEASURED_STYLE`), the twin's truth in
+    colour on top (:data:`TRUE_STYLE`); the legends start with "true:" and "measured:".
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Result of :meth:`rollerrig.solve.simulation.Simulation.run` (truth beside the measured
+        channels; the rig's radii in the ``provenance`` attribute).
+    title : str, optional
+        Figure title; default the dataset's ``title`` attribute.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     t = ds["time"].values
     prov = json.loads(ds.attrs["provenance"])
@@ -27,52 +57,69 @@ def experiment_figure(ds, title: str | None = None):
     fig, axes = plt.subplots(3, 2, figsize=(12, 10))
     (a, b), (c, d), (e, f) = axes
 
-    a.plot(t, ds.torque_request, color="tab:blue", label="torque request")
-    a.plot(t, ds.pmsm_torque, color="tab:orange", lw=0.8, label="PMSM torque (simulated)")
+    a.plot(*envelope(t, ds.pmsm_torque.values), color="tab:orange", lw=1.5, zorder=2,
+           label="PMSM air-gap torque (simulated)")  # fmt: skip
+    a.plot(*envelope(t, ds.torque_request.values), color="k", lw=0.9, ls="--", zorder=3,
+           label="torque request")  # fmt: skip
     a.set_ylabel("wheel torque [N·m]")
     a.set_title("(a) torque request and PMSM torque")
 
     b.plot(
-        100 * ds.measured_creep,
-        ds.measured_coa,
+        100 * ds.measured_creep.values,
+        ds.measured_coa.values,
         ".",
         ms=1.5,
-        color="0.6",
+        color=MEASURED_STYLE["color"],
+        zorder=MEASURED_STYLE["zorder"],
         label="measured: T56/(r_r N) vs encoder creep",
     )
-    b.plot(100 * ds.creep, ds.coa, color="tab:red", lw=1, label="true: F_x/N vs contact creep")
+    b.plot(100 * ds.creep.values, ds.coa.values, color="tab:red", **TRUE_STYLE,
+           label="true: F_x/N vs contact creep")  # fmt: skip
     b.set_xlabel("creep [%]")
     b.set_ylabel("CoA [-]")
-    lim = float(np.nanpercentile(np.abs(100 * ds.creep), 99.5)) * 1.1 + 0.5
+    lim = float(np.nanpercentile(np.abs(100 * ds.creep.values), 99.5)) * 1.1 + 0.5
     b.set_xlim(-0.5, lim)
     b.set_title("(b) CoA-creep")
 
-    c.plot(t, ds.wheel_speed * rw * 3.6, color="tab:green", label="wheel (tyre)")
-    c.plot(t, ds.measured_wheel_speed * rw * 3.6, color="0.5", lw=0.6, label="wheel encoder")
+    _measured_and_true(c, t, ds.measured_wheel_speed.values * rw * 3.6,
+                       ds.wheel_speed.values * rw * 3.6, "tab:green",
+                       "wheel tyre (twin)", "wheel encoder (quantised)")  # fmt: skip
     c.set_ylabel("wheel peripheral speed [km/h]")
     c.set_title("(c) wheel speed")
 
-    d.plot(t, ds.slip_velocity, color="tab:purple", label="true")
-    d.plot(t, ds.measured_slip_velocity, color="0.5", lw=0.6, label="from encoders")
+    _measured_and_true(d, t, ds.measured_slip_velocity.values, ds.slip_velocity.values,
+                       "tab:purple", "at the contact (twin)", "from the encoders")  # fmt: skip
     d.set_ylabel("slip velocity [m/s]")
     d.set_title("(d) creep velocity")
 
-    e.plot(t, ds.roller_speed * rr * 3.6, color="tab:brown", label="roller")
-    e.plot(t, ds.roller_speed_setpoint * 3.6, color="k", lw=0.8, ls="--", label="set point")
+    if "measured_roller_speed" in ds:
+        _measured_and_true(e, t, ds.measured_roller_speed.values * rr * 3.6,
+                           ds.roller_speed.values * rr * 3.6, "tab:brown",
+                           "roller (twin)", "roller encoder (quantised)")  # fmt: skip
+    else:
+        e.plot(*envelope(t, ds.roller_speed.values * rr * 3.6), color="tab:brown",
+               **TRUE_STYLE, label="true: roller (twin)")  # fmt: skip
+    e.plot(*envelope(t, ds.roller_speed_setpoint.values * 3.6), color="k", lw=0.8, ls="--",
+           zorder=4, label="set point")  # fmt: skip
     e.set_ylabel("roller peripheral speed [km/h]")
     e.set_title("(e) roller speed")
 
-    f.plot(t, ds.contact_force, color="tab:red", label="true contact force F_x")
-    f.plot(t, ds.measured_force, color="tab:blue", lw=0.8, label="derived from T56: T56/r_r")
-    f.axhline(0, color="k", lw=0.5)
+    _measured_and_true(f, t, ds.measured_force.values, ds.contact_force.values, "tab:red",
+                       "contact force F_x (twin)", "from T56: T56/r_r")  # fmt: skip
+    f.axhline(0, color="k", lw=0.5, zorder=2)
     f.set_ylabel("force [N]")
     f.set_title("(f) contact force vs force from the torque sensor")
 
     for ax in axes.flat:
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7, loc="best")
-        if ax is not b:
-            ax.set_xlabel("time [s]")
+        if ax is b:
+            ax.legend(fontsize=7, loc="best")
+            continue
+        # Headroom above the traces for the legend, so that it hides none of them.
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(lo, hi + 0.3 * (hi - lo))
+        ax.legend(fontsize=7, loc="upper left", ncol=2)
+        ax.set_xlabel("time [s]")
     fig.suptitle(title or ds.attrs.get("title", ""), fontsize=11)
     fig.tight_layout()
     return fig

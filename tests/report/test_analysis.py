@@ -1,0 +1,125 @@
+"""Report of an analysed test: the overview and rig-versus-corrected figures, and the files
+write_analysis writes (JSON summary, CF NetCDF with a unit on every channel, HTML report), each
+with its provenance."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+
+from rollerrig.measure.quantities import ANALYSIS_CHANNELS, DERIVED_CHANNELS
+from rollerrig.measure.recording import CANONICAL_CHANNELS
+from rollerrig.report.analysis import (
+    analysis_columns,
+    overview_figure,
+    rig_versus_corrected_figure,
+)
+
+DIMENSIONLESS = {"creep", "coa", "creep_smoothed", "coa_smoothed", "coa_corrected"}
+
+
+def _legend(ax) -> list[str]:
+    return [t.get_text() for t in ax.get_legend().get_texts()]
+
+
+def test_overview_figure_panels_legends_and_phases(analysed):
+    fig = overview_figure(analysed)
+    a, b, c = fig.axes
+    assert [ax.get_ylabel() for ax in (a, b, c)] == ["torque [N·m]", "speed [rad/s]", "creep [%]"]
+    assert c.get_xlabel() == "time [s]"
+    assert _legend(a) == [
+        "torque request (wheel)",
+        "roller-shaft torque T56 (raw)",
+        "T56 smoothed",
+    ]
+    assert _legend(b) == ["wheel (encoder)", "roller (encoder)"]
+    assert _legend(c) == ["creep from encoders", "smoothed"]
+    phases = sorted({ph.name for ph in analysed.phases})
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == phases
+    assert len(a.patches) == len(analysed.phases)  # every phase shaded
+    plt.close(fig)
+
+
+def test_rig_versus_corrected_figure(analysed):
+    fig = rig_versus_corrected_figure(analysed)
+    a, b = fig.axes
+    assert (a.get_xlabel(), a.get_ylabel()) == ("time [s]", "CoA [-]")
+    assert (b.get_xlabel(), b.get_ylabel()) == ("creep [%]", "CoA [-]")
+    assert _legend(a) == ["rig: T56 / (r_r N)", "corrected: + J5·α5 + R05"]
+    fits = [e for e in _legend(b) if e.startswith("Polach fit to")]
+    assert [f.split(" (")[0] for f in fits] == [
+        "Polach fit to rig CoA",
+        "Polach fit to corrected CoA",
+    ]
+    assert any(e.startswith("rig CoA, whole test") for e in _legend(b))
+    plt.close(fig)
+
+
+def test_analysis_channels_table_covers_every_channel_the_analysis_adds(analysed):
+    rec = analysed.recording
+    added = set(rec.channels) - set(CANONICAL_CHANNELS) - set(DERIVED_CHANNELS)
+    assert added and added <= set(ANALYSIS_CHANNELS)
+
+
+def test_a_channel_with_nan_says_why(analysed):
+    rec = analysed.recording
+    torque = rec["torque"].copy()
+    torque[3] = np.nan
+    columns = analysis_columns(rec.with_channels(torque=torque))
+    assert "nan_meaning" in columns["torque"][3]
+    assert columns["wheel_speed"][3] == {}
+    _, unit, long_name, _ = columns["roller_acceleration"]
+    assert unit == "rad/s^2" and long_name.startswith("roller angular acceleration")
+
+
+def test_netcdf_is_cf_with_a_unit_and_long_name_on_every_channel(written):
+    nc = next(p for p in written if p.name.endswith("-analysis.nc"))
+    with xr.open_dataset(nc, engine="h5netcdf") as ds:
+        assert ds.attrs["Conventions"] == "CF-1.10"
+        for key in ("title", "source", "history", "provenance"):
+            assert ds.attrs[key], key
+        prov = json.loads(ds.attrs["provenance"])
+        assert (
+            prov["software"] == "rollerrig" and prov["parameters"]["source"] == "synthetic-test.csv"
+        )
+        assert "commit" in prov and prov["created_utc"] in ds.attrs["history"]
+        json.loads(ds.attrs["analysis_notes"])  # JSON, non-finite numbers as null
+        assert ds["time"].attrs["units"] == "s"
+        for name, var in ds.data_vars.items():
+            assert var.attrs["long_name"] and var.attrs["long_name"] != name, name
+            unit = var.attrs["units"]
+            assert (unit == "1") == (name in DIMENSIONLESS), (name, unit)
+        # The three channels the issue found labelled "1".
+        assert ds["torque_smoothed"].attrs["units"] == "N.m"
+        assert ds["slip_velocity_smoothed"].attrs["units"] == "m/s"
+        assert ds["roller_acceleration"].attrs["units"] == "rad/s^2"
+        assert "smoothed" in ds["torque_smoothed"].attrs["long_name"]
+
+
+def test_json_summary_has_provenance_and_units_in_its_keys(written, analysed):
+    path = next(p for p in written if p.name.endswith("-analysis.json"))
+    text = path.read_text()
+    assert "NaN" not in text and "Infinity" not in text
+    summary = json.loads(text)
+    prov = summary["provenance"]
+    assert prov["software"] == "rollerrig" and prov["version"]
+    assert prov["parameters"]["source"] == "synthetic-test.csv"
+    assert set(summary["phases"][0]) == {"name", "start [s]", "end [s]", "cycle"}
+    assert summary["smoothing"]["window [samples]"] == analysed.smoothing_window
+    assert summary["polach_fit_corrected_coa"]["B [s/m]"] is not None
+
+
+def test_html_report_holds_the_figures_tables_and_provenance(written):
+    names = [p.name for p in written]
+    assert names == ["synthetic-analysis.json", "synthetic-analysis.nc", "synthetic-report.html"]
+    html = written[2].read_text(encoding="utf-8")
+    assert html.count('src="data:image/png;base64,') >= 5
+    assert "<h2>Provenance</h2>" in html and "&quot;software&quot;: &quot;rollerrig&quot;" in html
+    for heading in ("Phases of the test", "Smoothing-filter study"):
+        assert f"<h2>{heading}" in html
+    # Table headers keep their units in brackets.
+    assert re.search(r"<th>start \[s\]</th>", html) and "<th>lag [s]</th>" in html
