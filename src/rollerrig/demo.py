@@ -7,27 +7,39 @@ QuantumX at 600 Hz), and both are read back with the channel map before analysis
 
 from __future__ import annotations
 
+import contextlib
 import time
 from pathlib import Path
 
-from rollerrig.experiment.protocol import protocol_from_toml_string
+from rollerrig.experiment import Hold, Protocol
 
-__all__ = ["FREE_ROLLING_SPEEDS_KMH", "explain_free_rolling", "run_demo"]
+__all__ = ["FREE_ROLLING_SPEEDS_KMH", "explain_free_rolling", "free_rolling_protocol", "run_demo"]
 
 FREE_ROLLING_SPEEDS_KMH = (5.0, 10.0, 20.0, 30.0)
 """Speeds of the free-rolling runs for the spectral study (the seed's 5/10/20/30 km/h)."""
 
-_FREE_ROLLING = """
-[experiment]
-name = "free-rolling-{speed:02.0f}kmh"
-description = "Free rolling (no wheel torque) at {speed:g} km/h, for spectra (Kayaalp 4.5.2.4)."
-normal_load_kN = 4.3
-friction = "dry"
-roller_speed_kmh = {speed}
-[[step]]
-action = "hold"
-duration_s = {duration}
-"""
+FREE_ROLLING_LOAD = 4.3e3
+"""Normal load of the free-rolling runs [N] (the seed's test load)."""
+
+
+def free_rolling_protocol(speed_kmh: float, duration: float) -> Protocol:
+    """Free rolling (no wheel torque) at ``speed_kmh`` [km/h] for ``duration`` [s].
+
+    Examples
+    --------
+    >>> p = free_rolling_protocol(5.0, 20.0)
+    >>> p.name, p.duration, float(p.roller_speed_at(0.0)) * 3.6
+    ('free-rolling-05kmh', 20.0, 5.0)
+    """
+    return Protocol.from_steps(
+        f"free-rolling-{speed_kmh:02.0f}kmh",
+        [Hold(duration)],
+        normal_load=FREE_ROLLING_LOAD,
+        roller_speed=speed_kmh / 3.6,
+        friction="dry",
+        description=f"Free rolling (no wheel torque) at {speed_kmh:g} km/h, for spectra.",
+        source="Kayaalp, section 4.5.2.4",
+    )
 
 
 def explain_free_rolling(paths, rig):
@@ -59,24 +71,34 @@ def _relocated(recording, path):
     return Recording(recording.time, recording.channels, recording.units, meta)
 
 
+@contextlib.contextmanager
+def _reading_back(files: dict, final: Path, rig):
+    """The provenance of what is written inside: the files the demo wrote and reads back are
+    the inputs (hashed as written, named where they end up in ``final``, not in a staging
+    folder), with the command line and parameters of the run around it."""
+    from rollerrig.output import run_context
+    from rollerrig.output.provenance import current_run
+
+    outer = current_run()
+    with run_context(
+        command=None if outer is None else outer.command,
+        inputs=files,
+        rig=rig,
+        **({} if outer is None else outer.parameters),
+    ) as run:
+        for role, path in files.items():
+            run.inputs[role]["path"] = str((final / Path(path).name).resolve())
+        yield run
+
+
 def run_demo(out, console=None, free_rolling_duration: float = 20.0, *, workdir=None) -> dict:
     """Run the demonstration and write everything to ``out``; returns the written paths.
 
     ``workdir``: write the files there instead (e.g. a staging folder whose files are moved
-    into ``out`` once everything succeeded); sources and provenance still name ``out``.
+    into ``out`` once everything succeeded); sources and provenance still name ``out``. The
+    files of the analysis carry the SHA-256 of the recordings the demo wrote and read back.
     """
-    import xarray as xr
-
-    from rollerrig.measure.analysis import analyze_test, recording_facts
-    from rollerrig.measure.readers import read_recording
-    from rollerrig.measure.synthetic import synthetic_recording
-    from rollerrig.measure.writers import write_recording
-    from rollerrig.report._io import atomic_write, save_figure, write_json
-    from rollerrig.report.analysis import write_analysis
-    from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
-    from rollerrig.report.twin import experiment_figure
     from rollerrig.rig.parameters import default_rig
-    from rollerrig.solve.simulation import Simulation
 
     def say(text: str) -> None:
         if console is not None:
@@ -86,117 +108,155 @@ def run_demo(out, console=None, free_rolling_duration: float = 20.0, *, workdir=
     out = final if workdir is None else Path(workdir)
     out.mkdir(parents=True, exist_ok=True)
     rig = default_rig()
-    written: dict[str, Path] = {}
     start = time.perf_counter()
+    written = _adhesion_test(rig, out, say)
+    say("3/4 free rolling at 5/10/20/30 km/h, recorded as ASAM MDF4 at 600 Hz ...")
+    mdf_paths = _free_rolling_files(rig, out, free_rolling_duration)
+    say("4/4 reading the files back and analysing ...")
+    read_back = {"recording": written["recording"], "truth": written["truth"]}
+    read_back |= {f"free_rolling_{p.stem.split('-')[-1]}": p for p in mdf_paths}
+    with _reading_back(read_back, final, rig):
+        found = _analyse(rig, out, final, written, mdf_paths)
+    say(f"done in {time.perf_counter() - start:.1f} s")
+    return {**written, **found}
+
+
+def _adhesion_test(rig, out: Path, say) -> dict:
+    """The 30 km/h dry test on the twin: its figure, the DAQ's TDMS file, the truth (NetCDF)."""
+    from rollerrig.measure.synthetic import synthetic_recording
+    from rollerrig.measure.writers import write_recording
+    from rollerrig.output import atomic_write, save_figure
+    from rollerrig.report.twin import experiment_figure
+    from rollerrig.solve.simulation import Simulation
 
     say("1/4 simulating the 30 km/h dry adhesion test on the digital twin (compiles once) ...")
     twin = Simulation(rig, "seed-30kmh-dry", output_rate=1000.0).run()
-    written["twin_figure"] = save_figure(experiment_figure(twin), out / "twin-seed-30kmh-dry.png")
-
+    written = {"twin_figure": save_figure(experiment_figure(twin), out / "twin-seed-30kmh-dry.png")}
     say("2/4 writing what the DAQ records: NI TDMS at 250 Hz, truth beside it (NetCDF) ...")
     recording, truth = synthetic_recording(twin, sample_rate=250.0, seed=1)
     truth.attrs["provenance"] = twin.attrs["provenance"]
-    tdms = write_recording(recording, out / "seed-30kmh-dry.tdms", overwrite=True)
-    written["recording"] = tdms
+    written["recording"] = write_recording(recording, out / "seed-30kmh-dry.tdms", overwrite=True)
     written["truth"] = atomic_write(
         out / "seed-30kmh-dry-truth.nc", lambda p: truth.to_netcdf(p, engine="h5netcdf")
     )
+    return written
 
-    say("3/4 free rolling at 5/10/20/30 km/h, recorded as ASAM MDF4 at 600 Hz ...")
-    mdf_paths = []
+
+def _free_rolling_files(rig, out: Path, duration: float) -> list[Path]:
+    """Free rolling at each of :data:`FREE_ROLLING_SPEEDS_KMH`, as ASAM MDF4 files (600 Hz)."""
+    from rollerrig.measure.synthetic import synthetic_recording
+    from rollerrig.measure.writers import write_recording
+    from rollerrig.solve.simulation import Simulation
+
+    paths = []
     for speed in FREE_ROLLING_SPEEDS_KMH:
-        protocol = protocol_from_toml_string(
-            _FREE_ROLLING.format(speed=speed, duration=free_rolling_duration)
-        )
+        protocol = free_rolling_protocol(speed, duration)
         ds = Simulation(rig, protocol, output_rate=1200.0).run()
         rec, _ = synthetic_recording(ds, sample_rate=600.0, seed=int(speed))
-        mdf_paths.append(write_recording(rec, out / f"{protocol.name}.mf4", overwrite=True))
+        paths.append(write_recording(rec, out / f"{protocol.name}.mf4", overwrite=True))
+    return paths
 
-    say("4/4 reading the files back and analysing ...")
+
+def _analyse(rig, out: Path, final: Path, written: dict, mdf_paths: list[Path]) -> dict:
+    """Read the files back: the test's analysis and report, the free-rolling spectra."""
+    import xarray as xr
+
+    from rollerrig.measure.analysis import analyze_test, recording_facts
+    from rollerrig.measure.readers import read_recording
+    from rollerrig.output import save_figure, write_json
+    from rollerrig.report.analysis import write_analysis
+    from rollerrig.report.spectra import order_map_figure, spectrum_figure
+
+    tdms = written["recording"]
     test = _relocated(read_recording(tdms), final / tdms.name)  # rollerrig's own channel map
-    result = analyze_test(test, rig, truth=xr.load_dataset(written["truth"], engine="h5netcdf"))
+    truth = xr.load_dataset(written["truth"], engine="h5netcdf")
+    result = analyze_test(test, rig, truth=truth)
     free, spectra = explain_free_rolling(mdf_paths, rig)
     explained, fixed = list(spectra.spectra), spectra.speed_independent
+    found: dict = {"result": result, "explained": explained, "speed_independent": fixed}
     for path, e in zip(mdf_paths, explained, strict=True):
-        written[path.stem] = save_figure(
+        found[path.stem] = save_figure(
             spectrum_figure(e, max_frequency=60.0, title=path.name), out / f"{path.stem}.png"
         )
-    # Shaft displacement (laser at the torque sensor) against torque at 30 km/h (Kayaalp 4.5.2.4).
-    e30 = explained[-1]
-    coh, coh_at_peaks = e30.coherence, e30.coherence_at_peaks()
     omap = spectra.order_map()
-    written["order_map"] = save_figure(
+    found["order_map"] = save_figure(
         order_map_figure(omap, roller_radius=rig.geometry.roller_radius_x, max_frequency=60.0),
         out / "order-map.png",
     )
-    spectra_summary = {  # sources named where the files end up (not a staging folder)
+    # Shaft displacement (laser at the torque sensor) against torque at 30 km/h (§4.5.2.4).
+    e30 = explained[-1]
+    summary = {  # sources named where the files end up (not a staging folder)
         path.name: {**e.summary(), "source": str(final / path.name)}
         for path, e in zip(mdf_paths, explained, strict=True)
     }
-    spectra_summary["speed_independent_lines [Hz]"] = [float(f) for f in fixed]
-    spectra_summary["coherence_torque_displacement_30kmh"] = [
+    summary["speed_independent_lines [Hz]"] = [float(f) for f in fixed]
+    summary["coherence_torque_displacement_30kmh"] = [
         {"frequency [Hz]": r.frequency, "source": r.label, "coherence": g}
-        for r, g in zip(e30.rows, coh_at_peaks, strict=True)
+        for r, g in zip(e30.rows, e30.coherence_at_peaks(), strict=True)
     ]
-
-    def free_rolling_section(rep):
-        rep.heading("Free rolling at 5, 10, 20 and 30 km/h: where every line comes from")
-        rep.paragraph(
-            "Torque spectra of four free-rolling recordings (ASAM MDF4, 600 Hz). Lines that move "
-            "with speed are orders of the induction motor's electrical frequency, of the wheel "
-            "and roller rotation, or the PMSM's; lines that stay put at every speed are "
-            f"speed-independent (found: {', '.join(f'{f:.3f} Hz' for f in fixed) or 'none'})."
-        )
-        rep.figure(
-            order_map_figure(omap, roller_radius=rig.geometry.roller_radius_x, max_frequency=60.0),
-            "Order map: peak frequency vs speed.",
-        )
-        for path, e in zip(mdf_paths, explained, strict=True):
-            rep.figure(spectrum_figure(e, max_frequency=60.0, title=path.name), path.name)
-        rep.heading("Does the shaft's run-out cause the torque lines? Coherence at 30 km/h")
-        rep.paragraph(
-            "Magnitude-squared coherence between the laser displacement at the torque sensor and "
-            "the torque, at each torque peak. Lines that come from the shaft's eccentricity "
-            "cohere (the roller orders); the induction motor's lines do not: they are not "
-            "mechanical run-out, as the seed concluded (§4.5.2.4). Same segments as the "
-            f"spectrum: {e30.caption()}."
-        )
-        rep.figure(
-            coherence_figure(
-                coh,
-                [r.frequency for r in e30.rows],
-                [r.label for r in e30.rows],
-                names=("torque", "displacement"),
-                max_frequency=60.0,
-            ),
-            "Coherence between shaft displacement and torque.",
-        )
-        rep.table(
-            ["f [Hz]", "source", "coherence γ² [-]"],
-            [
-                [r.frequency, r.label, "–" if g is None else g]
-                for r, g in zip(e30.rows, coh_at_peaks, strict=True)
-            ],
-        )
-
     paths = write_analysis(
         result,
         out,
         tdms.stem,
         source=str(final / tdms.name),
-        truth=xr.load_dataset(written["truth"], engine="h5netcdf"),
-        extra_provenance={
-            "rig": rig.meta.name,
-            "free_rolling": [str(final / p.name) for p in mdf_paths],
-        },
-        extra_sections=free_rolling_section,
+        truth=truth,
+        extra_provenance={"free_rolling": [str(final / p.name) for p in mdf_paths]},
+        extra_sections=lambda rep: _free_rolling_section(rep, rig, mdf_paths, spectra),
     )
-    written.update({p.name: p for p in paths})
+    found.update({p.name: p for p in paths})
     # What the reader/generator said about each free-rolling recording (notes, injected lines).
-    spectra_summary["recordings"] = {
+    summary["recordings"] = {
         path.name: {**recording_facts(r), "source": str(final / path.name)}
         for path, r in zip(mdf_paths, free, strict=True)
     }
-    written["spectra"] = write_json(out / "free-rolling-spectra.json", spectra_summary)
-    say(f"done in {time.perf_counter() - start:.1f} s")
-    return {"result": result, "explained": explained, "speed_independent": fixed, **written}
+    found["spectra"] = write_json(out / "free-rolling-spectra.json", summary)
+    return found
+
+
+def _free_rolling_section(rep, rig, mdf_paths, spectra) -> None:
+    """The report's free-rolling part: order map, spectra, coherence with the shaft's run-out."""
+    from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
+
+    explained, fixed = list(spectra.spectra), spectra.speed_independent
+    e30 = explained[-1]
+    coh_at_peaks = e30.coherence_at_peaks()
+    rep.heading("Free rolling at 5, 10, 20 and 30 km/h: where every line comes from")
+    rep.paragraph(
+        "Torque spectra of four free-rolling recordings (ASAM MDF4, 600 Hz). Lines that move "
+        "with speed are orders of the induction motor's electrical frequency, of the wheel "
+        "and roller rotation, or the PMSM's; lines that stay put at every speed are "
+        f"speed-independent (found: {', '.join(f'{f:.3f} Hz' for f in fixed) or 'none'})."
+    )
+    rep.figure(
+        order_map_figure(
+            spectra.order_map(), roller_radius=rig.geometry.roller_radius_x, max_frequency=60.0
+        ),
+        "Order map: peak frequency vs speed.",
+    )
+    for path, e in zip(mdf_paths, explained, strict=True):
+        rep.figure(spectrum_figure(e, max_frequency=60.0, title=path.name), path.name)
+    rep.heading("Does the shaft's run-out cause the torque lines? Coherence at 30 km/h")
+    rep.paragraph(
+        "Magnitude-squared coherence between the laser displacement at the torque sensor and "
+        "the torque, at each torque peak. Lines that come from the shaft's eccentricity "
+        "cohere (the roller orders); the induction motor's lines do not: they are not "
+        "mechanical run-out, as the seed concluded (§4.5.2.4). Same segments as the "
+        f"spectrum: {e30.caption()}."
+    )
+    rep.figure(
+        coherence_figure(
+            e30.coherence,
+            [r.frequency for r in e30.rows],
+            [r.label for r in e30.rows],
+            names=("torque", "displacement"),
+            max_frequency=60.0,
+        ),
+        "Coherence between shaft displacement and torque.",
+    )
+    rep.table(
+        ["f [Hz]", "source", "coherence γ² [-]"],
+        [
+            [r.frequency, r.label, "–" if g is None else g]
+            for r, g in zip(e30.rows, coh_at_peaks, strict=True)
+        ],
+    )

@@ -6,7 +6,7 @@ LabVIEW TDMS, INCA/CANape MDF4, catman ASCII, CANape CSV, PicoScope CSV, DAQmx T
 log; ``analyze``, ``spectrum`` and ``filters`` run on them with the channel maps a user would
 write. Every run ends with a result (valid JSON, no NaN, the reader's notes carried) or one
 clear error line (exit 2, no traceback, nothing written); inputs are never modified; units in
-brackets survive in ``--help`` and in messages.
+brackets survive in messages (``--help``: test_options.py).
 """
 
 import hashlib
@@ -265,35 +265,3 @@ def test_spectrum_on_other_vendor_files_ends_with_a_result_or_one_clear_error(bu
         _json(out / "spectra.json")
     else:
         _assert_clean_error(result, out, v.path.name)
-
-
-# ------------------------------------------------------------------------------ help and version
-
-
-def _flat(text: str) -> str:
-    return " ".join(text.split())
-
-
-@pytest.mark.parametrize(
-    ("command", "units"),
-    [
-        ("contact", ["[kN]", "[km/h]", "[mm]"]),
-        ("simulate", ["[s]"]),
-        ("modes", []),
-    ],
-)
-def test_help_keeps_units_in_brackets(command, units):
-    result = runner.invoke(app, [command, "--help"])
-    assert result.exit_code == 0, result.output
-    text = _flat(result.output)
-    for unit in units:
-        assert unit in text, f"{unit} missing from '{command} --help'"
-    assert "Normal load ." not in text
-
-
-def test_version_prints_the_version():
-    from rollerrig import __version__
-
-    result = runner.invoke(app, ["--version"])
-    assert result.exit_code == 0, result.output
-    assert __version__ in result.output

@@ -1,0 +1,131 @@
+"""What the recording commands read: recordings (whole or streamed), the twin's truth."""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+from pathlib import Path
+
+from rollerrig.cli._boundary import UserError, current_context, debug_wanted
+
+__all__ = ["derived", "in_memory_limit", "load_truth", "open_input", "read"]
+
+
+def in_memory_limit() -> int:
+    """Samples per channel up to which a recording is read whole (``rollerrig.cli``'s
+    ``_SPECTRUM_IN_MEMORY``, looked up at each call so that it can be changed)."""
+    import rollerrig.cli
+
+    return rollerrig.cli._SPECTRUM_IN_MEMORY
+
+
+def quiet_reader_console_logs() -> None:
+    """nptdms prints its warnings through its own console handler; the reader collects them as
+    notes (or errors), so the console copy is dropped, except with --debug."""
+    ctx = current_context()
+    if ctx is not None and debug_wanted(ctx.find_root()):
+        return
+    try:
+        from nptdms.log import log_manager
+    except ImportError:  # no TDMS support installed: nothing to quiet
+        return
+    log_manager.console_handler.setLevel(logging.ERROR)
+
+
+def read(path: Path, channels: Path | None, lenient: bool, needed=None):
+    """Read a recording; ``needed``: the channels the command needs (others only noted)."""
+    from rollerrig.measure.readers import read_recording
+
+    quiet_reader_console_logs()
+    return read_recording(
+        path,
+        channels,
+        validate="lenient" if lenient else "strict",
+        channels=None if needed is None else list(needed),
+    )
+
+
+def open_input(path: Path, channels, lenient: bool, needed, files):
+    """The recording a command works on: read whole, or an open source streaming from the file.
+
+    Short files, multi-rate files (the reader resamples them onto one base) and ``--lenient``
+    reads are read whole (:func:`read`), a ``Recording``. A file on one time base with more
+    than :func:`in_memory_limit` samples per channel, read strictly, is opened for chunked
+    reading (:func:`rollerrig.measure.source.open_recording`, entered into the ExitStack
+    ``files``) and returned as a ``RecordingSource``: the command streams it and never holds
+    it whole. With ``--lenient`` such a file is still read whole (interpolating NaN runs and
+    keeping gaps needs the whole file), and a note says so and how large it is.
+    """
+    from rollerrig.measure.recording import RecordingError
+    from rollerrig.measure.source import open_recording
+
+    quiet_reader_console_logs()
+    try:
+        source = files.enter_context(open_recording(path, channels, channels=needed))
+    except (RecordingError, OSError):
+        # e.g. channels on several time bases (the reader resamples them); a file that cannot
+        # be opened gets the reader's own error below
+        source = None
+    if source is None or source.n_samples <= in_memory_limit():
+        return read(path, channels, lenient, needed=needed)
+    if not lenient:
+        files.enter_context(_strict_stream_hint())
+        return source
+    n, names = source.n_samples, len(source.names)
+    rec = read(path, channels, lenient, needed=needed)
+    meta = dict(rec.metadata)
+    meta["notes"] = [
+        *list(meta.get("notes") or []),
+        f"read whole for --lenient ({n} samples per channel x {names} channels, "
+        f"{n * names * 8 / 2**20:.3g} MiB as float64): without --lenient a file this long is "
+        "streamed in chunks in bounded memory",
+    ]
+    return type(rec)(rec.time, rec.channels, rec.units, meta)
+
+
+@contextlib.contextmanager
+def _strict_stream_hint():
+    """A streamed file that stops at a NaN/inf sample or a gap: say what the option is called."""
+    from rollerrig.measure.recording import RecordingError
+
+    try:
+        yield
+    except RecordingError as exc:
+        if "chunked reading is strict" not in str(exc):
+            raise
+        raise RecordingError(
+            f"{exc}; on the command line: --lenient (reads the file whole, in memory)"
+        ) from None
+
+
+def derived(loaded, rig):
+    """A recording read whole with the quantities the rig derives; a source as it is."""
+    from rollerrig.measure.quantities import derive_quantities
+
+    return loaded if hasattr(loaded, "iter_chunks") else derive_quantities(loaded, rig)
+
+
+def load_truth(path: Path):
+    """The twin's truth (NetCDF) of a synthetic recording, or one clear error."""
+    import errno
+
+    import h5netcdf  # noqa: F401  (missing: the boundary names the extra, not "not NetCDF")
+    import xarray as xr
+
+    if not path.is_file():
+        raise FileNotFoundError(errno.ENOENT, "truth file not found", str(path))
+    try:
+        ds = xr.load_dataset(path, engine="h5netcdf")
+    except Exception as exc:  # any failure of the NetCDF reader: not a usable truth file
+        raise UserError(
+            f"--truth {path}: not a NetCDF file ({type(exc).__name__}: "
+            f"{' '.join(str(exc).split())[:200]}); give the *-truth.nc written beside the "
+            "synthetic recording"
+        ) from None
+    ds.encoding.setdefault("source", str(path))
+    if "coa" not in ds:
+        raise UserError(
+            f"--truth {path}: a NetCDF file without the variable 'coa' (the true contact CoA); "
+            "give the *-truth.nc written beside the synthetic recording"
+        )
+    return ds

@@ -1,0 +1,108 @@
+"""The options the commands share, and an enum for every choice.
+
+Each enum lists the values its option accepts: ``--help`` shows them and a wrong value is one
+usage error naming them. The values are the package's own names (a test checks that each enum
+equals the table it mirrors: :data:`rollerrig.rig.model.WHEEL_MODES`, ``ROLLER_MODES``,
+:data:`rollerrig.solve.simulation.SOLVERS`, :data:`rollerrig.solve.results.SAVE_FORMATS`,
+:data:`rollerrig.studies.STUDIES`, :data:`rollerrig.contact.creep.POLACH_PARAMETER_SETS`); they
+are spelled out here so that ``rollerrig --help`` imports none of those modules (fast, and on a
+core install without the optional packages).
+"""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+__all__ = [
+    "DEFAULT_OUT",
+    "ChannelsOption",
+    "Friction",
+    "LenientOption",
+    "OutOption",
+    "ResultsFormat",
+    "RigOption",
+    "RollerDrive",
+    "Solver",
+    "StudyName",
+    "WheelDrive",
+    "load_rig",
+]
+
+DEFAULT_OUT = Path("rollerrig-output")
+
+
+class Solver(StrEnum):
+    """The twin's solver."""
+
+    fast = "fast"
+    reference = "reference"
+
+
+class WheelDrive(StrEnum):
+    """The wheel's drive model."""
+
+    pmsm = "pmsm"
+    ideal_torque = "ideal_torque"
+
+
+class RollerDrive(StrEnum):
+    """The roller's drive model."""
+
+    induction = "induction"
+    induction_linear = "induction_linear"
+    ideal_speed = "ideal_speed"
+    servo = "servo"
+
+
+class ResultsFormat(StrEnum):
+    """File format of the twin's results."""
+
+    nc = "nc"
+    csv = "csv"
+    parquet = "parquet"
+    mat = "mat"
+
+
+class StudyName(StrEnum):
+    """The seed's parametric studies."""
+
+    stiffness = "stiffness"
+    lag = "lag"
+    drives = "drives"
+
+
+class Friction(StrEnum):
+    """Friction condition (a Polach parameter set)."""
+
+    dry = "dry"
+    wet = "wet"
+
+
+RigOption = Annotated[
+    Path | None,
+    typer.Option("--rig", help="Rig parameter file (TOML); default: bundled rig."),
+]
+OutOption = Annotated[Path, typer.Option("--out", help="Output folder.")]
+ChannelsOption = Annotated[
+    Path | None,
+    typer.Option("--channels", help="Channel map (TOML): which column is which quantity, units."),
+]
+LenientOption = Annotated[
+    bool,
+    typer.Option(
+        help="Fill short NaN runs and accept gaps instead of failing; every interpolated run, "
+        "gap and reader note is reported in every output."
+    ),
+]
+
+
+def load_rig(rig_file: Path | None):
+    """The rig parameter set of ``--rig``, or the bundled one."""
+    from rollerrig.rig.parameters import default_rig
+    from rollerrig.rig.parameters import load_rig as load
+
+    return default_rig() if rig_file is None else load(rig_file)

@@ -1,0 +1,359 @@
+"""Recordings on the command line: ``analyze``, ``spectrum`` and ``filters``."""
+
+from __future__ import annotations
+
+import contextlib
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.table import Table
+from rich.text import Text
+
+from rollerrig._validation import ParameterError
+from rollerrig.cli._console import console, note, print_recording_notes, print_written
+from rollerrig.cli._inputs import derived, load_truth, open_input
+from rollerrig.cli._options import (
+    DEFAULT_OUT,
+    ChannelsOption,
+    LenientOption,
+    OutOption,
+    RigOption,
+    load_rig,
+)
+from rollerrig.cli._outputs import command_outputs
+
+__all__ = ["analyze", "filters", "print_analysis", "spectrum"]
+
+
+def analyze(
+    recording: Annotated[Path, typer.Argument(help="Recording: CSV, Parquet, TDMS, MF4 or MAT.")],
+    channels: ChannelsOption = None,
+    rig_file: RigOption = None,
+    truth: Annotated[
+        Path | None,
+        typer.Option(help="Twin truth (NetCDF) of a synthetic recording, for error figures."),
+    ] = None,
+    out: OutOption = DEFAULT_OUT,
+    study: Annotated[bool, typer.Option(help="Run the full smoothing-filter study.")] = True,
+    lenient: LenientOption = False,
+) -> None:
+    """Analyse an adhesion test: phases, corrected CoA, creep-CoA branches, Polach fit, spectrum.
+
+    Recordings faster than 1.5 kHz are analysed at 1 kHz (anti-alias decimation, stated);
+    long files are decimated while they are read, never held whole. Writes
+    <name>-analysis.json (every result with units), <name>-analysis.nc (the processed channels)
+    and a self-contained <name>-report.html with the figures; all three or none.
+    """
+    from rollerrig.measure.analysis import analyze_test
+    from rollerrig.report.analysis import write_analysis
+
+    rig = load_rig(rig_file)
+    inputs = {"recording": recording, "truth": truth, "rig": rig_file}
+    with command_outputs(
+        out,
+        run=f"analyze-{recording.stem}",
+        inputs=inputs,
+        rig=rig,
+        channel_map=channels,
+        lenient=lenient,
+        filter_study=study,
+    ) as stage:
+        truth_ds = None if truth is None else load_truth(truth)
+        with contextlib.ExitStack() as files:
+            loaded = open_input(recording, channels, lenient, None, files)
+            result = analyze_test(loaded, rig, truth=truth_ds, run_study=study)
+        write_analysis(result, stage.dir, recording.stem, source=str(recording), truth=truth_ds)
+    print_analysis(result)
+    print_written(stage.written)
+
+
+_FIT_ROWS = (
+    ("static_friction", "μ0 [-]"),
+    ("limit_ratio", "A [-]"),
+    ("friction_decay", "B [s/m]"),
+    ("k_adhesion", "kA [-]"),
+    ("k_slip", "kS [-]"),
+)
+
+
+def _fit_cell(fit, i: int, key: str, truth: dict | None) -> str:
+    if fit is None:
+        return "–"
+    value, sd = fit.parameters.as_tuple()[i], fit.stderr[key]
+    cell = f"{value:.4g} ± {sd:.2g}"
+    if truth is not None and np.isfinite(sd) and sd > 0:
+        cell += f" ({abs(value - truth[key]) / sd:.1f} σ)"
+    return cell
+
+
+def print_analysis(result) -> None:
+    truth = result.true_parameters
+    table = Table(title="Polach fit to the ascending branches")
+    table.add_column("parameter")
+    table.add_column("corrected CoA", justify="right")
+    table.add_column("rig CoA T56/(r_r N)", justify="right")
+    if truth is not None:
+        table.add_column("true (twin)", justify="right")
+    for i, (key, name) in enumerate(_FIT_ROWS):
+        cells = [_fit_cell(fit, i, key, truth) for fit in (result.fit, result.fit_rig_coa)]
+        if truth is not None:
+            cells.append(f"{truth[key]:.4g}")
+        table.add_row(name, *cells)
+    console.print(table)
+    if truth is not None:
+        console.print(
+            "(n σ): distance from the true value in standard errors; truth from "
+            f"{result.true_parameters_source}",
+            soft_wrap=True,
+        )
+    shown = []  # fit warnings whose content the lines below already give
+    for label, fit in (("corrected CoA", result.fit), ("rig CoA", result.fit_rig_coa)):
+        if fit is None:
+            continue
+        if fit.coverage is not None:
+            text = fit.coverage.describe(reasons=False)
+            why = "" if fit.coverage.a_and_b_identifiable else " (why: see the notes)"
+            console.print(f"fit to the {label}: {text}{why}", soft_wrap=True)
+        if fit.residual_structure is not None:
+            text = fit.residual_structure.describe()
+            console.print(f"fit to the {label}: {text}", soft_wrap=True)
+            shown.append(f"fit to the {label}: Polach fit residuals are structured")
+    for key, value in result.truth_errors.items():
+        console.print(f"{key}: {value:.4f}")
+    if result.spectrum is not None:
+        console.print(result.spectrum.format_table())
+    rate = result.recording.sample_rate
+    tuned = result.smoothing_tuned_at
+    console.print(
+        f"Savitzky-Golay smoothing: order {result.smoothing_order}, window "
+        f"{result.smoothing_window} samples at {rate:.6g} Hz "
+        f"({result.smoothing_window / rate:.3f} s"
+        + ("; given, not tuned)" if tuned is None else f"; tuned at {tuned:g} Hz)"),
+        soft_wrap=True,
+    )
+    if result.study:
+        best = result.study[0]
+        console.print(
+            f"filter study: best {best.label} (cost {best.score.cost:.3f})", soft_wrap=True
+        )
+        basis = getattr(result.study, "basis", None)
+        if basis is not None:
+            note(basis.note())
+        if result.study:
+            for text in result.study.unscored_notes():
+                note(f"filter study: {text}")
+    print_recording_notes(result.recording)
+    for text in result.notes:
+        if not text.startswith(tuple(shown)):
+            note(text)
+
+
+def spectrum(
+    recordings: Annotated[list[Path], typer.Argument(help="One or more recordings.")],
+    channels: ChannelsOption = None,
+    channel: Annotated[str, typer.Option(help="Channel to analyse.")] = "torque",
+    rig_file: RigOption = None,
+    coherence_with: Annotated[
+        str | None,
+        typer.Option(
+            "--coherence",
+            help="Second channel: coherence with it at every peak (e.g. a laser displacement).",
+        ),
+    ] = None,
+    out: OutOption = DEFAULT_OUT,
+    lenient: LenientOption = False,
+) -> None:
+    """Spectra whose peaks explain themselves; with several recordings, an order map and the
+    lines that stay put at every speed (speed-independent). Settings are chosen from each
+    signal and stated; the coupled twin's damped modes at each recording's speed and load are
+    among the sources."""
+    from rollerrig.measure.analysis import recording_facts
+    from rollerrig.output import save_figure, write_json
+    from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
+    from rollerrig.signal.workflow import explain_recordings
+
+    rig = load_rig(rig_file)
+    needed = [channel] if coherence_with is None else [channel, coherence_with]
+    stems = [p.stem for p in recordings]
+    stems = [s if stems.count(s) == 1 else f"{s}-{i + 1}" for i, s in enumerate(stems)]
+    names = [p.name for p in recordings]
+    keys = [n if names.count(n) == 1 else str(p) for n, p in zip(names, recordings, strict=True)]
+    roles = (
+        {"recording": recordings[0]}
+        if len(recordings) == 1
+        else {f"recording_{i + 1}": p for i, p in enumerate(recordings)}
+    )
+    summary: dict = {}
+    with command_outputs(
+        out,
+        run="spectrum",
+        inputs={**roles, "rig": rig_file},
+        rig=rig,
+        channel_map=channels,
+        channel=channel,
+        coherence_with=coherence_with,
+        lenient=lenient,
+    ) as stage:
+        with contextlib.ExitStack() as files:
+            loaded = [
+                derived(open_input(p, channels, lenient, needed, files), rig) for p in recordings
+            ]
+            result = explain_recordings(loaded, channel, rig, coherence_with=coherence_with)
+        for path, stem, key, rec, e in zip(
+            recordings, stems, keys, loaded, result.spectra, strict=True
+        ):
+            speed_kmh = e.roller_speed * rig.geometry.roller_radius_x * 3.6
+            console.print(
+                Text.assemble((path.name, "bold"), f": roller {speed_kmh:.1f} km/h"),
+                soft_wrap=True,
+            )
+            print_recording_notes(rec)
+            console.print(e.format_table(), soft_wrap=True)
+            for text in e.notes:
+                note(text)
+            save_figure(
+                spectrum_figure(e, title=f"{path.name} ({speed_kmh:.1f} km/h)"),
+                stage.path(f"{stem}-spectrum.png"),
+            )
+            summary[key] = e.summary() | {"recording": recording_facts(rec)}
+            if e.coherence is not None:
+                gamma = e.coherence_at_peaks()
+                console.print(
+                    f"coherence {channel}–{coherence_with} at the peaks: "
+                    + (
+                        ", ".join(
+                            f"{r.frequency:.2f} Hz: " + ("–" if g is None else f"{g:.2f}")
+                            for r, g in zip(e.rows, gamma, strict=True)
+                        )
+                        or "no peaks"
+                    )
+                    + f" ({e.coherence_note})",
+                    soft_wrap=True,
+                )
+                save_figure(
+                    coherence_figure(
+                        e.coherence,
+                        [r.frequency for r in e.rows],
+                        [r.label for r in e.rows],
+                        names=(channel, coherence_with),
+                    ),
+                    stage.path(f"{stem}-coherence.png"),
+                )
+        fixed = result.speed_independent
+        if len(result.spectra) > 1:
+            console.print(
+                "speed-independent lines [Hz]: " + (", ".join(f"{f:.3f}" for f in fixed) or "none")
+            )
+            save_figure(
+                order_map_figure(result.order_map(), roller_radius=rig.geometry.roller_radius_x),
+                stage.path("order-map.png"),
+            )
+        summary["speed_independent_lines [Hz]"] = [float(f) for f in fixed]
+        write_json(stage.path("spectra.json"), summary)
+    print_written(stage.written)
+
+
+def filters(
+    recording: Annotated[Path, typer.Argument(help="Recording with a torque channel.")],
+    channels: ChannelsOption = None,
+    channel: Annotated[str, typer.Option(help="Channel to smooth.")] = "torque",
+    out: OutOption = DEFAULT_OUT,
+    top: Annotated[int, typer.Option(help="Rows of the ranked table to print.")] = 15,
+    lenient: LenientOption = False,
+) -> None:
+    """The seed's smoothing-filter study as a ranked table and figures (truth-free scoring).
+
+    Reads only the channel it smooths (other map entries missing from the file are noted).
+    Recordings faster than 500 Hz are studied at 250 Hz (the seed's rate; anti-alias
+    decimation, stated); long files are decimated while they are read, never held whole.
+    """
+    from rollerrig.measure.analysis import (
+        check_channel_values,
+        fill_short_gaps,
+        recording_facts,
+    )
+    from rollerrig.measure.recording import RecordingError
+    from rollerrig.output import save_figure, write_json
+    from rollerrig.report.filters import savitzky_golay_grid_figure, study_ranking_figure
+    from rollerrig.signal.scoring import prepare_study_signal, study_signal_from_source
+
+    with command_outputs(
+        out,
+        run=f"filters-{recording.stem}",
+        inputs={"recording": recording},
+        channel_map=channels,
+        channel=channel,
+        lenient=lenient,
+    ) as stage:
+        with contextlib.ExitStack() as files:
+            rec = open_input(recording, channels, lenient, [channel], files)
+            if hasattr(rec, "iter_chunks"):  # a long file: streamed, decimated while read
+                try:
+                    signal = study_signal_from_source(rec, channel)
+                except RecordingError:
+                    raise
+                except ParameterError as exc:  # e.g. values whose squares overflow
+                    raise RecordingError(f"{recording}: channel {channel!r}: {exc}") from None
+                fs = float(f"{float(rec.sample_rate):.10g}")
+            else:
+                rec.require(channel)
+                check_channel_values(rec, [channel])
+                rec, _ = fill_short_gaps(rec)  # the scoring needs a uniform time base; notes say so
+                signal = prepare_study_signal(rec.time, rec[channel])
+                fs = float(f"{rec.sample_rate:.10g}")
+            rows = signal.filter_study()
+            order, window, grid = signal.tune_savitzky_golay()
+            facts = recording_facts(rec)
+        table = Table(
+            title=f"Smoothing filters on {recording.name}:{channel} (lower cost is better)"
+        )
+        for col in ("rank", "filter", "noise left", "peak kept", "lag [s]", "cost"):
+            table.add_column(col, justify="right" if col != "filter" else "left")
+        for r in rows[:top]:
+            s = r.score
+            table.add_row(
+                str(r.rank),
+                r.label,
+                _cell(s.noise_left),
+                _cell(s.peak_kept),
+                _cell(s.lag),
+                f"{s.cost:.3f}",
+            )
+        ranking_fig = study_ranking_figure(rows)
+        grid_fig = savitzky_golay_grid_figure(grid)
+        tuned_at = grid.basis.analysis_rate
+        summary = {
+            "recording": facts,
+            "channel": channel,
+            "basis": rows.basis.as_dict(),
+            "unscored": dict(rows.unscored),
+            "ranking": [r.as_dict() for r in rows],
+            "savitzky_golay": {
+                "order": order,
+                "window [samples]": window,
+                "samples at [Hz]": fs,
+                "window [s]": window / fs,
+                "tuned at [Hz]": tuned_at,
+            },
+        }
+        save_figure(ranking_fig, stage.path(f"{recording.stem}-filter-ranking.png"))
+        save_figure(grid_fig, stage.path(f"{recording.stem}-sg-grid.png"))
+        write_json(stage.path(f"{recording.stem}-filters.json"), summary)
+    console.print(table)
+    console.print(
+        f"Savitzky-Golay tuned for this recording: order {order}, window {window} samples at "
+        f"{fs:.6g} Hz ({window / fs:.3f} s; tuned at {tuned_at:g} Hz)",
+        soft_wrap=True,
+    )
+    note(rows.basis.note())
+    for text in rows.unscored_notes():
+        note(text)
+    print_recording_notes(rec)
+    print_written(stage.written)
+
+
+def _cell(value: float) -> str:
+    """A table cell: the number, or a dash where the recording does not allow the score."""
+    return f"{value:.3f}" if np.isfinite(value) else "–"

@@ -1,0 +1,330 @@
+"""The digital twin on the command line: ``simulate``, ``study`` and ``modes``."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.table import Table
+from rich.text import Text
+
+from rollerrig._optional import require
+from rollerrig.cli._boundary import UserError
+from rollerrig.cli._console import console, print_written
+from rollerrig.cli._options import (
+    DEFAULT_OUT,
+    Friction,
+    OutOption,
+    ResultsFormat,
+    RigOption,
+    RollerDrive,
+    Solver,
+    StudyName,
+    WheelDrive,
+    load_rig,
+)
+from rollerrig.cli._outputs import command_outputs
+
+__all__ = ["modes", "protocol_inputs", "simulate", "study", "variant_stem"]
+
+_FORMAT_NEEDS = {"nc": ("h5netcdf",), "parquet": ("pyarrow",)}
+"""Optional packages the results writer needs per ``--format`` (beyond xarray)."""
+
+
+def variant_stem(
+    name: str,
+    *,
+    wheel: str = WheelDrive.pmsm.value,
+    roller: str = RollerDrive.induction.value,
+    roller_lag: float | None = None,
+    solver: str = Solver.fast.value,
+    rig_file: Path | None = None,
+) -> str:
+    """Output stem of a simulation: the experiment's name and what differs from the defaults.
+
+    Variants of one experiment (other drives, lag, solver, rig file) never overwrite each
+    other's files.
+
+    Examples
+    --------
+    >>> variant_stem("seed-30kmh-dry")
+    'seed-30kmh-dry'
+    >>> variant_stem("seed-30kmh-dry", roller="ideal_speed", roller_lag=0.0)
+    'seed-30kmh-dry_roller-ideal_speed_lag-0s'
+    >>> variant_stem("x", solver="reference", rig_file=Path("rigs/soft.toml"))
+    'x_solver-reference_rig-soft'
+    """
+    parts = [name]
+    if wheel != WheelDrive.pmsm.value:
+        parts.append(f"wheel-{wheel}")
+    if roller != RollerDrive.induction.value:
+        parts.append(f"roller-{roller}")
+    if roller_lag is not None:
+        parts.append(f"lag-{roller_lag:g}s")
+    if solver != Solver.fast.value:
+        parts.append(f"solver-{solver}")
+    if rig_file is not None:
+        parts.append(f"rig-{Path(rig_file).stem}")
+    return "_".join(parts)
+
+
+def protocol_inputs(experiment: str) -> dict[str, Path]:
+    """The files an experiment reads: the protocol TOML and a replayed torque trace (CSV).
+
+    Empty for a bundled protocol. The CLI hashes them into the provenance and never writes an
+    output over them.
+    """
+    from rollerrig.experiment import bundled_protocols
+
+    path = Path(experiment)
+    if experiment in bundled_protocols() or not path.is_file():
+        return {}
+    found = {"experiment": path}
+    try:
+        doc = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return found  # the protocol reader gives the error
+    replay = doc.get("replay")
+    csv = replay.get("csv") if isinstance(replay, dict) else None
+    if isinstance(csv, str):
+        trace = Path(csv)
+        found["replayed_torque"] = trace if trace.is_absolute() else path.parent / trace
+    return found
+
+
+def simulate(
+    experiment: Annotated[
+        str,
+        typer.Option(
+            "--experiment", "-e", help="Bundled protocol name (see --list) or a protocol TOML file."
+        ),
+    ] = "seed-30kmh-dry",
+    rig_file: RigOption = None,
+    out: OutOption = DEFAULT_OUT,
+    solver: Annotated[
+        Solver, typer.Option(help="fast (numba ROS34PW2) or reference (scipy Radau).")
+    ] = Solver.fast,
+    wheel_drive: Annotated[
+        WheelDrive, typer.Option(help="Wheel drive: PMSM model or ideal torque source.")
+    ] = WheelDrive.pmsm,
+    roller_drive: Annotated[
+        RollerDrive,
+        typer.Option(help="Roller drive: induction motor (V/f), its linear fit, ideal, servo."),
+    ] = RollerDrive.induction,
+    roller_lag_s: Annotated[
+        float | None, typer.Option(help="Roller-drive lag τ [s]; default from the rig (c_lp).")
+    ] = None,
+    output_format: Annotated[
+        ResultsFormat,
+        typer.Option("--format", case_sensitive=False, help="Results file format."),
+    ] = ResultsFormat.nc,
+    list_experiments: Annotated[
+        bool, typer.Option("--list", help="List the bundled experiments and exit.")
+    ] = False,
+) -> None:
+    """Simulate an adhesion experiment on the digital twin and write results and figures.
+
+    Writes the labelled results (truth beside what the rig measures, with provenance), the
+    six-panel experiment figure and the modal table of the torsional chain. Output names are
+    the experiment's name plus what differs from the defaults (e.g.
+    seed-30kmh-dry_roller-ideal_speed.nc), so variants never overwrite each other.
+    """
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from rollerrig.experiment import bundled_protocols
+
+    if list_experiments:
+        for name in bundled_protocols():
+            console.print(name)
+        return
+    from rollerrig.output import save_figure, write_text
+    from rollerrig.report.twin import experiment_figure
+    from rollerrig.rig.chain import format_modal_table, modal_table
+    from rollerrig.rig.model import DriveConfig
+    from rollerrig.solve.results import save_dataset
+    from rollerrig.solve.simulation import Simulation
+
+    # Packages the run will need, checked before the simulation (the error names the extra).
+    for module in ("xarray", *(("numba",) if solver is Solver.fast else ())):
+        require(module, purpose="rollerrig simulate")
+    for module in _FORMAT_NEEDS.get(output_format.value, ()):
+        require(module, purpose=f"rollerrig simulate --format {output_format.value}")
+    rig = load_rig(rig_file)
+    drives = DriveConfig(
+        wheel=wheel_drive.value, roller=roller_drive.value, roller_lag=roller_lag_s
+    )
+    sim = Simulation(rig, experiment, drives=drives, solver=solver.value)
+    stem = variant_stem(
+        sim.protocol.name,
+        wheel=drives.wheel,
+        roller=drives.roller,
+        roller_lag=roller_lag_s,
+        solver=solver.value,
+        rig_file=rig_file,
+    )
+    inputs = {**protocol_inputs(experiment), "rig": rig_file}
+    with command_outputs(
+        out,
+        run=f"simulate-{stem}",
+        inputs=inputs,
+        rig=rig,
+        experiment=sim.protocol.name,
+        wheel_drive=drives.wheel,
+        roller_drive=drives.roller,
+        roller_lag_s=roller_lag_s,
+        solver=solver.value,
+    ) as stage:
+        console.print(
+            Text.assemble(
+                "simulating ",
+                (sim.protocol.name, "bold"),
+                f" ({sim.protocol.duration:g} s) on ",
+                (rig.meta.name, "bold"),
+                f": wheel {drives.wheel}, roller {drives.roller}, solver {solver.value}",
+            )
+        )
+        with Progress(
+            TextColumn("{task.description}"),
+            BarColumn(),
+            TextColumn("{task.fields[info]}"),
+            TimeElapsedColumn(),
+            console=console,
+            transient=False,
+        ) as bar:
+            duration = sim.protocol.duration
+            task = bar.add_task("simulating", total=duration, info="compiling/solving")
+            ds = sim.run(
+                progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s")
+            )
+            bar.update(task, completed=duration, info="done")
+        stats = _solver_stats(ds)
+        console.print(f"solved in {stats.get('wall_time_s', float('nan')):.2f} s ({stats['name']})")
+        text = format_modal_table(modal_table(rig))
+        release = _release_summary(ds, sim.protocol)
+        save_dataset(ds, stage.path(f"{stem}.{output_format.value}"), overwrite=True)
+        save_figure(experiment_figure(ds), stage.path(f"{stem}.png"))
+        write_text(stage.path(f"{stem}-modes.txt"), text + "\n")
+    console.print(text)
+    if release:
+        console.print(release)
+    print_written(stage.written)
+
+
+def _solver_stats(ds) -> dict:
+    """The solver's name and wall time from the results' provenance."""
+    record = json.loads(ds.attrs.get("provenance", "{}"))
+    solver = record.get("solver") or record.get("parameters", {}).get("solver") or {}
+    return {"name": ds.attrs.get("solver", ""), **solver}
+
+
+def _release_summary(ds, protocol) -> str:
+    """One line per sudden torque release: how far T56 overshoots below zero, vs the truth."""
+    from rollerrig.studies import release_overshoots
+
+    return "\n".join(
+        f"release at {r['time [s]']:5.2f} s: force from T56 {r['force_before [N]']:7.0f} N -> "
+        f"min {r['measured_min [N]']:7.0f} N (overshoot {r['measured_overshoot [-]']:5.1%}); "
+        f"true contact force min {r['true_min [N]']:7.0f} N"
+        for r in release_overshoots(ds, protocol)
+    )
+
+
+def study(
+    name: Annotated[StudyName, typer.Argument(help="Which study.")],
+    rig_file: RigOption = None,
+    out: OutOption = DEFAULT_OUT,
+) -> None:
+    """The seed's parametric studies on the twin: overshoot of the torque-sensor force after a
+    sudden release, versus roller-shaft stiffness, motor lag, or roller drive."""
+    from rollerrig.output import save_figure, write_json
+    from rollerrig.report.twin import sweep_figure
+    from rollerrig.studies import run_study
+
+    rig = load_rig(rig_file)
+    study_name = name.value
+    stem = variant_stem(f"study-{study_name}", rig_file=rig_file)
+    with command_outputs(
+        out, run=stem, inputs={"rig": rig_file}, rig=rig, study=study_name
+    ) as stage:
+        result = run_study(study_name, rig)
+        table = Table(
+            title=f"Study '{study_name}': overshoot below zero after a sudden torque release"
+        )
+        table.add_column("variant")
+        table.add_column("T56 / r_r", justify="right")
+        table.add_column("true F_x", justify="right")
+        for label, m, t in zip(
+            result.labels, result.measured_overshoot, result.true_overshoot, strict=True
+        ):
+            table.add_row(label, f"{m:.1%}", f"{t:.1%}")
+        console.print(table)
+        numeric = study_name != "drives"
+        unit = "kN·m/rad" if study_name == "stiffness" else result.unit
+        fig = sweep_figure(
+            np.asarray(result.values) / (1e3 if study_name == "stiffness" else 1.0)
+            if numeric
+            else result.labels,
+            {
+                "force from T56": result.measured_overshoot,
+                "true contact force": result.true_overshoot,
+            },
+            xlabel=f"{result.parameter} [{unit}]" if numeric else "",
+            title=f"Overshoot after a sudden release: {result.parameter}",
+        )
+        save_figure(fig, stage.path(f"{stem}.png"))
+        write_json(stage.path(f"{stem}.json"), {"study": study_name, "rows": result.rows()})
+    print_written(stage.written)
+
+
+def modes(
+    rig_file: RigOption = None,
+    speed_kmh: Annotated[
+        float | None,
+        typer.Option(
+            "--speed-kmh",
+            help="Roller speed [km/h]: also print the damped modes of the coupled twin "
+            "(contact and drives in) linearised at steady free rolling at this speed.",
+        ),
+    ] = None,
+    load_kn: Annotated[
+        float | None,
+        typer.Option(
+            "--load-kn",
+            help="Normal load [kN] of the coupled twin (default 4.3 kN, the seed's test load).",
+        ),
+    ] = None,
+    friction: Annotated[
+        Friction, typer.Option(help="Friction condition of the coupled twin's contact.")
+    ] = Friction.dry,
+) -> None:
+    """Natural frequencies, damping and dominant bodies of the torsional chain; with
+    --speed-kmh (and --load-kn), the damped modes of the coupled, linearised twin beside them:
+    frequency, damping ratio and what moves, and which modes can ring."""
+    from rollerrig.rig.chain import format_modal_table, modal_table
+    from rollerrig.rig.linear import DEFAULT_NORMAL_LOAD, coupled_modes, format_coupled_modes
+
+    rig = load_rig(rig_file)
+    coupled = None
+    if speed_kmh is None and load_kn is not None:
+        raise UserError("--load-kn needs --speed-kmh: give the roller speed [km/h] as well")
+    if speed_kmh is not None:
+        # Upper bounds: the twin's drives and contact are parametrised for a tram wheel; far
+        # beyond them the steady state is not found and the linearisation means nothing.
+        if not (np.isfinite(speed_kmh) and 0 < speed_kmh <= 300):
+            raise UserError(f"--speed-kmh must be in (0, 300] [km/h], got {speed_kmh:g}")
+        if load_kn is not None and not (np.isfinite(load_kn) and 0 < load_kn <= 200):
+            raise UserError(f"--load-kn must be in (0, 200] [kN], got {load_kn:g}")
+        load = DEFAULT_NORMAL_LOAD if load_kn is None else load_kn * 1e3
+        source = "--load-kn" if load_kn is not None else "default: the seed's test load"
+        coupled = coupled_modes(
+            rig, speed_kmh / 3.6, load, friction=friction.value, load_source=source
+        )
+    console.print("Free torsional chain (no contact, no drives):")
+    console.print(format_modal_table(modal_table(rig)), soft_wrap=True)
+    if coupled is not None:
+        console.print()
+        console.print(format_coupled_modes(coupled), soft_wrap=True)

@@ -1,0 +1,290 @@
+"""``rollerrig analyze``, ``spectrum`` and ``filters`` on hand-built recordings: results with
+provenance, clear errors naming the channel or map entry, --lenient reported everywhere, fast
+and long recordings decimated or streamed and said so."""
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from rollerrig.cli import app
+from rollerrig.output import figure_provenance, file_sha256
+
+HEADER = "time [s],torque [N.m],torque_request [N.m],wheel_speed [rad/s],roller_speed [rad/s]"
+
+
+def _no_traceback(result):
+    assert "Traceback" not in result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+
+
+def _files(folder):
+    return sorted(p.name for p in folder.rglob("*")) if folder.exists() else []
+
+
+def test_analyze_reports_missing_channels_clearly(tmp_path, runner):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("time [s],torque [N.m]\n0,1\n0.004,2\n0.008,3\n")
+    result = runner.invoke(app, ["analyze", str(bad), "--out", str(tmp_path)])
+    assert result.exit_code == 2
+    assert "lacks channel" in result.output or "needs" in result.output
+    assert "Traceback" not in result.output
+
+
+def test_failure_while_writing_leaves_no_partial_output(
+    tmp_path, monkeypatch, runner, adhesion_csv
+):
+    from rollerrig.report.html import HtmlReport
+
+    def fail(self, path):
+        raise RuntimeError("disk full (simulated)")
+
+    monkeypatch.setattr(HtmlReport, "write", fail)
+    rec = adhesion_csv(tmp_path / "test.csv")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["analyze", str(rec), "--no-study", "--out", str(out)])
+    assert result.exit_code == 3, result.output
+    assert "disk full (simulated)" in result.output
+    # The JSON and NetCDF were written before the report failed: neither is left, nor any
+    # staging folder.
+    assert not out.exists()
+    assert _files(tmp_path) == ["test.csv"]
+
+
+def test_analyze_without_a_test_names_the_torque_channel(tmp_path, runner, adhesion_csv):
+    rec = adhesion_csv(tmp_path / "flat.csv", torque=lambda t: 100.0 + 0 * t)
+    rec.write_text(rec.read_text().replace("torque_request [N.m]", "setpoint [N.m]"))
+    result = runner.invoke(app, ["analyze", str(rec), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "no adhesion test found" in result.output
+    assert "channel 'torque'" in result.output and "[channels.torque]" in result.output
+    _no_traceback(result)
+    assert not (tmp_path / "out").exists()
+
+
+def test_analyze_huge_torque_names_the_channel(tmp_path, runner, adhesion_csv):
+    rec = adhesion_csv(tmp_path / "huge.csv", torque=lambda t: 1e300 * (1 + 0.1 * np.sin(t)))
+    result = runner.invoke(app, ["analyze", str(rec), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "channel 'torque'" in result.output and "1e+300" in result.output
+    _no_traceback(result)
+    rec = adhesion_csv(tmp_path / "kilo.csv", torque=lambda t: 1e6 + 0 * t)  # N.m as mN.m?
+    result = runner.invoke(app, ["analyze", str(rec), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "torque sensor's range" in result.output
+
+
+def test_analyze_truth_of_another_length_or_not_netcdf(tmp_path, runner, adhesion_csv):
+    rec = adhesion_csv(tmp_path / "test.csv")
+    out = ["--out", str(tmp_path / "out")]
+    not_nc = tmp_path / "truth.nc"
+    not_nc.write_text("this is not NetCDF")
+    result = runner.invoke(app, ["analyze", str(rec), "--truth", str(not_nc), *out])
+    assert result.exit_code == 2, result.output
+    assert "--truth" in result.output and "not a NetCDF file" in result.output
+    _no_traceback(result)
+    short = tmp_path / "short.nc"
+    xr.Dataset({"coa": ("time", np.zeros(10))}, coords={"time": np.arange(10) / 100}).to_netcdf(
+        short, engine="h5netcdf"
+    )
+    result = runner.invoke(app, ["analyze", str(rec), "--truth", str(short), *out])
+    assert result.exit_code == 2, result.output
+    assert "10 samples, the recording 1000" in result.output
+    _no_traceback(result)
+
+
+def test_filters_on_a_csv_with_a_header_and_no_rows(tmp_path, runner):
+    empty = tmp_path / "empty.csv"
+    empty.write_text(HEADER + "\n")
+    result = runner.invoke(app, ["filters", str(empty), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "empty.csv" in result.output
+    _no_traceback(result)
+
+
+def test_filters_does_not_need_unrelated_sensors_of_the_map(tmp_path, runner, adhesion_csv):
+    rec = adhesion_csv(tmp_path / "test.csv")
+    cmap = tmp_path / "map.toml"
+    cmap.write_text(
+        '[time]\ncolumn = "time [s]"\nunit = "s"\n'
+        '[channels.torque]\ncolumn = "torque [N.m]"\nunit = "N.m"\n'
+        '[channels.air_spring_pressure]\ncolumn = "p_bar"\nunit = "bar"\n'
+    )
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["filters", str(rec), "--channels", str(cmap), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    summary = json.loads((out / "test-filters.json").read_text())
+    assert any("air_spring_pressure" in n for n in summary["recording"]["notes"])
+    assert "lag [s]" in result.output  # table headers keep their units
+
+
+def test_lenient_reports_interpolated_runs_in_every_output(tmp_path, runner, adhesion_csv):
+    rec = adhesion_csv(tmp_path / "test.csv", nan_at=(150, 151), drop=(900, 901))
+    out = tmp_path / "out"
+    strict = runner.invoke(app, ["filters", str(rec), "--out", str(out)])
+    assert strict.exit_code == 2 and "gap" in strict.output  # strict by default
+    result = runner.invoke(app, ["analyze", str(rec), "--lenient", "--no-study", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "samples 150..151" in result.output  # console
+    summary = json.loads((out / "test-analysis.json").read_text())  # JSON
+    (run,) = summary["recording"]["interpolated"]
+    assert (run["channel"], run["first_sample"], run["last_sample"]) == ("torque", 150, 151)
+    assert summary["recording"]["notes"]
+    (gap,) = summary["recording"]["gaps"]  # rows 900-901 left out: a 0.03 s step
+    assert gap["missing_samples"] == 2 and "gap kept" in result.output
+    assert any("filled by linear interpolation" in n for n in summary["recording"]["notes"])
+    ds = xr.open_dataset(out / "test-analysis.nc", engine="h5netcdf")  # NetCDF attributes
+    try:
+        assert json.loads(ds.attrs["interpolated"])[0]["first_sample"] == 150
+        assert json.loads(ds.attrs["gaps"])[0]["missing_samples"] == 2
+        assert json.loads(ds.attrs["recording_notes"]) == summary["recording"]["notes"]
+    finally:
+        ds.close()
+    html = (out / "test-report.html").read_text()  # HTML report
+    assert "samples 150..151" in html and "The recording as read" in html
+    assert "gap kept" in html
+    # The fit says over which slip velocities A and B are constrained, and tests its residuals.
+    fit = summary["polach_fit_corrected_coa"]
+    assert fit["slip_velocity_coverage"]["slip_velocity_range [m/s]"][1] > 0
+    assert "durbin_watson" in fit["residual_structure"]
+    assert "How far the Polach fit can be trusted" in html
+    result = runner.invoke(app, ["filters", str(rec), "--lenient", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "samples 150..151" in result.output
+    filt = json.loads((out / "test-filters.json").read_text())  # filters JSON
+    assert filt["recording"]["interpolated"][0]["first_sample"] == 150
+    assert filt["recording"]["gaps"][0]["missing_samples"] == 2
+    assert filt["recording"]["notes"] == summary["recording"]["notes"]
+
+
+def test_a_gap_too_long_to_fill_is_named(tmp_path, runner, adhesion_csv):
+    rec = adhesion_csv(tmp_path / "test.csv", drop=range(300, 320))
+    for command in ("analyze", "filters"):
+        result = runner.invoke(app, [command, str(rec), "--lenient", "--out", str(tmp_path / "o")])
+        assert result.exit_code == 2, result.output
+        assert "gap of 0.21 s after t = 2.99 s" in result.output and "too long" in result.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_analyze_of_a_fast_recording_decimates_and_says_so_whole_or_streamed(
+    tmp_path, monkeypatch, runner, fast_test
+):
+    import rollerrig.cli as cli
+
+    rec, t, coa = fast_test(tmp_path / "fast.tdms")
+    truth = tmp_path / "fast-truth.nc"
+    xr.Dataset({"coa": ("time", coa)}, coords={"time": t}).to_netcdf(truth, engine="h5netcdf")
+    summaries = []
+    for name, limit in (("whole", cli._SPECTRUM_IN_MEMORY), ("streamed", 1000)):
+        monkeypatch.setattr(cli, "_SPECTRUM_IN_MEMORY", limit)  # 1000: the file counts as long
+        out = tmp_path / name
+        args = ["analyze", str(rec), "--no-study", "--truth", str(truth), "--out", str(out)]
+        result = runner.invoke(app, args)
+        assert result.exit_code == 0, result.output
+        assert "analysed at 1000 Hz" in result.output
+        summary = json.loads((out / "fast-analysis.json").read_text())
+        rate = summary["analysis_rate"]
+        assert (rate["rate [Hz]"], rate["recording rate [Hz]"]) == (1000.0, 19200.0)
+        assert rate["decimation"]["stopband_attenuation_dB"] >= 70.0
+        notes = summary["recording"]["notes"]
+        assert any(n.startswith("decimated from 19200 Hz to 1000 Hz") for n in notes)
+        assert any("analysed at 1000 Hz" in n for n in summary["notes"])
+        smoothing = summary["smoothing"]
+        assert smoothing["samples at [Hz]"] == 1000.0 and smoothing["tuned at [Hz]"] == 250.0
+        assert summary["truth_errors"]["corrected_coa_vs_true_rms [-]"] < 0.05
+        summaries.append(summary)
+    whole, streamed = summaries
+    assert "streaming it from the file" in " ".join(streamed["notes"])
+    # The streamed decimation equals the one-shot one (to rounding): the same results.
+    assert [p["start [s]"] for p in whole["phases"]] == [p["start [s]"] for p in streamed["phases"]]
+    assert whole["polach_fit_corrected_coa"]["mu0"] == pytest.approx(
+        streamed["polach_fit_corrected_coa"]["mu0"], rel=1e-6
+    )
+
+
+def test_filters_on_a_fast_recording_states_its_basis_whole_or_streamed(
+    tmp_path, monkeypatch, runner, fast_test
+):
+    import rollerrig.cli as cli
+
+    rec, _, _ = fast_test(tmp_path / "fast.parquet", duration=6.0)
+    rankings = []
+    for name, limit in (("whole", cli._SPECTRUM_IN_MEMORY), ("streamed", 1000)):
+        monkeypatch.setattr(cli, "_SPECTRUM_IN_MEMORY", limit)
+        out = tmp_path / name
+        result = runner.invoke(app, ["filters", str(rec), "--out", str(out)])
+        assert result.exit_code == 0, result.output
+        assert "filter study computed at 250 Hz" in result.output
+        summary = json.loads((out / "fast-filters.json").read_text())
+        basis = summary["basis"]
+        assert (basis["source_rate_Hz"], basis["analysis_rate_Hz"]) == (19200.0, 250.0)
+        assert basis["decimation"].startswith("decimated from 19200 Hz to 250 Hz")
+        sg = summary["savitzky_golay"]
+        assert sg["tuned at [Hz]"] == 250.0 and sg["samples at [Hz]"] == 19200.0
+        assert sg["window [s]"] == pytest.approx(sg["window [samples]"] / 19200.0)
+        assert isinstance(summary["unscored"], dict)
+        assert all(r["sample_rate_Hz"] == 250.0 for r in summary["ranking"])
+        rankings.append([r["label"] for r in summary["ranking"]])
+    assert rankings[0] == rankings[1]
+
+
+def test_lenient_on_a_long_file_reads_it_whole_and_says_so(
+    tmp_path, monkeypatch, runner, adhesion_csv
+):
+    import rollerrig.cli as cli
+
+    monkeypatch.setattr(cli, "_SPECTRUM_IN_MEMORY", 100)
+    rec = adhesion_csv(tmp_path / "test.csv", nan_at=(150,))
+    result = runner.invoke(app, ["filters", str(rec), "--out", str(tmp_path / "a")])
+    assert result.exit_code == 2, result.output  # streamed strictly: the NaN is an error
+    assert "'torque' has a NaN/inf sample at sample 150" in result.output
+    assert "on the command line: --lenient" in result.output
+    result = runner.invoke(app, ["filters", str(rec), "--lenient", "--out", str(tmp_path / "b")])
+    assert result.exit_code == 0, result.output
+    summary = json.loads((tmp_path / "b" / "test-filters.json").read_text())
+    assert any("read whole for --lenient" in n for n in summary["recording"]["notes"])
+    assert summary["recording"]["interpolated"][0]["first_sample"] == 150
+
+
+def test_every_output_of_analyze_and_filters_carries_the_inputs_hashes(
+    tmp_path, runner, adhesion_csv
+):
+    rec = adhesion_csv(tmp_path / "test.csv")
+    cmap = tmp_path / "map.toml"
+    cmap.write_text(
+        '[time]\ncolumn = "time [s]"\nunit = "s"\n'
+        '[channels.torque]\ncolumn = "torque [N.m]"\nunit = "N.m"\n'
+        '[channels.torque_request]\ncolumn = "torque_request [N.m]"\nunit = "N.m"\n'
+        '[channels.wheel_speed]\ncolumn = "wheel_speed [rad/s]"\nunit = "rad/s"\n'
+        '[channels.roller_speed]\ncolumn = "roller_speed [rad/s]"\nunit = "rad/s"\n'
+        '[channels.normal_load]\ncolumn = "normal_load [N]"\nunit = "N"\n'
+    )
+    out = tmp_path / "out"
+    common = ["--channels", str(cmap), "--out", str(out)]
+    result = runner.invoke(app, ["analyze", str(rec), "--no-study", *common])
+    assert result.exit_code == 0, result.output
+    result = runner.invoke(app, ["filters", str(rec), *common])
+    assert result.exit_code == 0, result.output
+    result = runner.invoke(app, ["spectrum", str(rec), *common])
+    assert result.exit_code == 0, result.output
+    sha, map_sha = file_sha256(rec), file_sha256(cmap)
+
+    def check(record, what):
+        assert record["inputs"]["recording"]["sha256"] == sha, what
+        assert record["channel_map"]["sha256"] == map_sha, what
+        assert record["command"][1] in ("analyze", "filters", "spectrum"), what
+        assert record["commit"] or record["commit_note"], what
+
+    for path in out.glob("*.json"):
+        check(json.loads(path.read_text())["provenance"], path.name)
+    for path in out.glob("*.png"):
+        check(figure_provenance(path), path.name)
+    ds = xr.open_dataset(out / "test-analysis.nc", engine="h5netcdf")
+    try:
+        check(json.loads(ds.attrs["provenance"]), "test-analysis.nc")
+    finally:
+        ds.close()
+    names = {p.name for p in out.iterdir()}
+    assert {"analyze-test-run.json", "filters-test-run.json", "spectrum-run.json"} <= names
+    assert file_sha256(rec) == sha  # the input was only read

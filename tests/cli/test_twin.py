@@ -1,0 +1,142 @@
+"""``rollerrig simulate``, ``study`` and ``modes``: results, figures and names that keep
+variants apart; a replayed input is never overwritten."""
+
+import json
+import shutil
+from importlib import resources
+from pathlib import Path
+
+import pytest
+
+from rollerrig.cli import app
+from rollerrig.cli.twin import protocol_inputs, variant_stem
+from rollerrig.output import figure_provenance, file_sha256
+
+
+def _replay(folder: Path, seconds: float = 0.5) -> Path:
+    """The bundled replay example in ``folder``, its CSV cut to ``seconds``."""
+    data = resources.files("rollerrig.experiment") / "data"
+    toml = folder / "replay-example.toml"
+    toml.write_text((data / "replay-example.toml").read_text())
+    lines = (data / "replay-example.csv").read_text().splitlines()
+    header = [ln for ln in lines if not ln[:1].isdigit()]
+    rows = [ln for ln in lines if ln[:1].isdigit() and float(ln.split(",")[0]) <= seconds]
+    (folder / "replay-example.csv").write_text("\n".join(header + rows) + "\n")
+    return toml
+
+
+def test_variant_names_say_what_differs_from_the_defaults():
+    assert variant_stem("seed-30kmh-dry") == "seed-30kmh-dry"
+    assert (
+        variant_stem("e", wheel="ideal_torque", roller="servo", roller_lag=0.05)
+        == "e_wheel-ideal_torque_roller-servo_lag-0.05s"
+    )
+    names = {
+        variant_stem("e", roller=r, roller_lag=lag, solver=s)
+        for r in ("induction", "ideal_speed")
+        for lag in (None, 0.0, 0.01)
+        for s in ("fast", "reference")
+    }
+    assert len(names) == 12  # every variant its own name
+
+
+def test_protocol_inputs_name_the_toml_and_the_replayed_trace(tmp_path):
+    toml = _replay(tmp_path)
+    assert protocol_inputs(str(toml)) == {
+        "experiment": toml,
+        "replayed_torque": tmp_path / "replay-example.csv",
+    }
+    assert protocol_inputs("seed-30kmh-dry") == {}
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--experiment", "no-such-experiment"], "no-such-experiment"),
+        (["--roller-lag-s", "-1"], "roller_lag"),
+    ],
+)
+def test_simulate_rejects_bad_options(tmp_path, runner, args, message):
+    result = runner.invoke(app, ["simulate", "--out", str(tmp_path), *args])
+    assert result.exit_code == 2, result.output
+    assert message in result.output
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.slow  # compiles the twin unless cached (~20 s), then 0.5 s of replay
+def test_simulate_of_a_replay_never_overwrites_the_replayed_csv(tmp_path, runner):
+    # Issue 8: the outputs are named after the experiment ("replay-example"); with --format
+    # csv and --out in the folder of the trace, the results file is the trace's name.
+    toml = _replay(tmp_path)
+    trace = tmp_path / "replay-example.csv"
+    before = {p.name: file_sha256(p) for p in tmp_path.iterdir()}
+    args = ["simulate", "-e", str(toml), "--format", "csv", "--out", str(tmp_path)]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 2, result.output
+    errors = [ln for ln in result.output.splitlines() if ln.startswith("error:")]
+    assert errors == [
+        f"error: output {trace} would replace the input file {trace}; choose another --out "
+        "(or another name for what is written)"
+    ]
+    assert {p.name: file_sha256(p) for p in tmp_path.iterdir()} == before  # nothing new
+    # Into another folder it runs, and the provenance names the trace and its hash.
+    out = tmp_path / "out"
+    result = runner.invoke(app, [*args[:-1], str(out)])
+    assert result.exit_code == 0, result.output
+    record = figure_provenance(out / "replay-example.png")
+    assert record["inputs"]["replayed_torque"]["sha256"] == file_sha256(trace)
+    assert record["inputs"]["experiment"]["sha256"] == file_sha256(toml)
+    assert {p.name: file_sha256(p) for p in tmp_path.iterdir() if p.is_file()} == before
+
+
+@pytest.mark.slow  # ~20-35 s on 2 shared cores (compiles and runs the twin twice)
+def test_simulate_writes_results_figure_and_modes_and_variants_stay_apart(tmp_path, runner):
+    args = ["simulate", "--experiment", "seed-10kmh-wet", "--out", str(tmp_path), "--format", "csv"]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "13.84" in result.output  # the roller-shaft mode in the modal table
+    assert "release at" in result.output
+    for name in ("seed-10kmh-wet.csv", "seed-10kmh-wet.png"):
+        assert (tmp_path / name).stat().st_size > 1000
+    assert "13.84" in (tmp_path / "seed-10kmh-wet-modes.txt").read_text()
+    manifest = json.loads((tmp_path / "simulate-seed-10kmh-wet-run.json").read_text())
+    listed = {f["file"] for f in manifest["files"]}
+    assert {"seed-10kmh-wet.csv", "seed-10kmh-wet.png", "seed-10kmh-wet-modes.txt"} <= listed
+    assert manifest["provenance"]["parameters"]["roller_drive"] == "induction"
+    first = {p.name: file_sha256(p) for p in tmp_path.iterdir()}
+    # A variant (no motor lag) gets its own names: the first run's files are untouched.
+    result = runner.invoke(app, [*args, "--roller-lag-s", "0"])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "seed-10kmh-wet_lag-0s.csv").exists()
+    assert {p.name: file_sha256(p) for p in tmp_path.iterdir() if p.name in first} == first
+    # Re-running the same variant replaces its outputs instead of failing.
+    assert runner.invoke(app, args).exit_code == 0
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+@pytest.mark.slow  # ~10-18 s: three twin runs
+def test_study_writes_table_figure_and_json(tmp_path, runner):
+    result = runner.invoke(app, ["study", "drives", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert "ideal speed source" in result.output
+    assert (tmp_path / "study-drives.png").stat().st_size > 10_000
+    doc = json.loads((tmp_path / "study-drives.json").read_text())
+    assert doc["study"] == "drives" and doc["provenance"]["parameters"]["study"] == "drives"
+    assert figure_provenance(tmp_path / "study-drives.png")["rig"]["sha256"]
+    assert (tmp_path / "study-drives-run.json").exists()
+
+
+def test_modes_writes_nothing_and_needs_a_speed_for_a_load(tmp_path, runner, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert runner.invoke(app, ["modes", "--load-kn", "4"]).exit_code == 2
+    result = runner.invoke(app, ["modes"])
+    assert result.exit_code == 0, result.output
+    assert "Free torsional chain" in result.output
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_replay_helper_copies_a_short_trace(tmp_path):
+    toml = _replay(tmp_path, seconds=0.1)
+    rows = (tmp_path / "replay-example.csv").read_text().splitlines()
+    assert rows[-1].startswith("0.100") and toml.exists()
+    shutil.rmtree(tmp_path)
