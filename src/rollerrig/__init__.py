@@ -6,14 +6,30 @@ Packages, one per concern:
   creep kinematics, roller versus tangent rail.
 - :mod:`rollerrig.rig` — rig parameter sets, the torsional chain and its modes.
 - :mod:`rollerrig.drives` — PMSM, induction motor, ideal sources, speed-controlled roller drive.
-- :mod:`rollerrig.experiment` — experiment protocols as data.
+- :mod:`rollerrig.experiment` — experiment protocols, from step objects or TOML files.
 - :mod:`rollerrig.solve` — reference and fast solvers, labelled results.
+- :mod:`rollerrig.measure` — recordings: readers, writers, channel maps, the test analysis.
+- :mod:`rollerrig.signal` — spectra, peak attribution, smoothing filters and their study.
+- :mod:`rollerrig.fit` — Polach fits and their honesty checks.
+- :mod:`rollerrig.output` — the one output layer: atomic files, provenance, JSON, tables.
 - :mod:`rollerrig.report` — figures and reports.
 - :mod:`rollerrig.cli` — the ``rollerrig`` command.
 
 All quantities are SI inside the package; conversions (km/h, mm, rpm) happen only at the edges.
+
+The names a notebook needs are importable from the top level (loaded on first use, so that
+``import rollerrig`` stays fast and works without the optional extras):
+
+>>> import rollerrig
+>>> rig = rollerrig.default_rig()
+>>> protocol = rollerrig.Protocol.from_steps(
+...     "short", [rollerrig.Hold(1.0), rollerrig.RampTorque(300.0, 2.0), rollerrig.ReleaseTorque()],
+...     normal_load=4300.0, roller_speed=30 / 3.6)
+>>> round(protocol.duration, 2)
+3.02
 """
 
+from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 
 try:
@@ -21,4 +37,50 @@ try:
 except PackageNotFoundError:  # running from a source tree without installation
     __version__ = "0+unknown"
 
-__all__ = ["__version__"]
+#: Top-level name -> module that defines it (imported lazily by :func:`__getattr__`).
+_EXPORTS: dict[str, str] = {
+    # the twin
+    "Simulation": "rollerrig.solve.simulation",
+    "DriveConfig": "rollerrig.rig.model",
+    # experiments
+    "Protocol": "rollerrig.experiment",
+    "Hold": "rollerrig.experiment",
+    "RampTorque": "rollerrig.experiment",
+    "StepTorque": "rollerrig.experiment",
+    "ReleaseTorque": "rollerrig.experiment",
+    "SetRollerSpeed": "rollerrig.experiment",
+    "SetNormalLoad": "rollerrig.experiment",
+    "SetFriction": "rollerrig.experiment",
+    "Repeat": "rollerrig.experiment",
+    "load_protocol": "rollerrig.experiment",
+    # the rig
+    "RigParameters": "rollerrig.rig.parameters",
+    "default_rig": "rollerrig.rig.parameters",
+    "load_rig": "rollerrig.rig.parameters",
+    # recordings and their analysis
+    "Recording": "rollerrig.measure.recording",
+    "read_recording": "rollerrig.measure.readers",
+    "write_recording": "rollerrig.measure.writers",
+    "synthetic_recording": "rollerrig.measure.synthetic",
+    "analyze": "rollerrig._api",
+    "write_analysis": "rollerrig.report.analysis",
+    "explain_recording": "rollerrig.signal.workflow",
+    # errors and warnings
+    "ParameterError": "rollerrig._validation",
+    "DomainWarning": "rollerrig._warnings",
+}
+
+__all__ = ["__version__", *_EXPORTS]
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'rollerrig' has no attribute {name!r}")
+    value = getattr(import_module(module), name)
+    globals()[name] = value  # later lookups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)
