@@ -128,8 +128,22 @@ def test_commit_of_the_source_tree_matches_git():
     assert prov.package_commit() == (commit, how)  # cached
 
 
-def test_commit_without_git_falls_back_to_pip_record(monkeypatch):
+def test_commit_recorded_at_build_time(monkeypatch, tmp_path):
+    # An installed wheel is not in a work tree; setup.py wrote the commit into the package.
+    monkeypatch.setattr(prov, "_git", lambda args, where: None)
+    (tmp_path / "built.txt").write_text("0123abcd-dirty\n", encoding="ascii")
+    monkeypatch.setattr(prov, "BUILD_COMMIT_FILE", str(tmp_path / "built.txt"))
+    prov.package_commit.cache_clear()
+    try:
+        commit, how = prov.package_commit()
+    finally:
+        prov.package_commit.cache_clear()
+    assert commit == "0123abcd-dirty" and "built from a git checkout" in how
+
+
+def test_commit_without_git_falls_back_to_pip_record(monkeypatch, tmp_path):
     monkeypatch.setattr(prov, "_git", lambda args, where: None)  # no git, or not a work tree
+    monkeypatch.setattr(prov, "BUILD_COMMIT_FILE", str(tmp_path / "absent.txt"))
 
     class Dist:
         def __init__(self, text):

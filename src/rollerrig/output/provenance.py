@@ -166,6 +166,7 @@ def package_commit() -> tuple[str | None, str]:
 
     From the git work tree holding the package's files (``git rev-parse HEAD``, with
     ``-dirty`` appended when ``git status --porcelain`` of the source folder lists changes),
+    else from :data:`BUILD_COMMIT_FILE` (written into a wheel built from a git checkout),
     else from the commit pip recorded (``direct_url.json`` of the installed distribution), else
     None and the reason.
     """
@@ -180,7 +181,23 @@ def package_commit() -> tuple[str | None, str]:
             if status:
                 return f"{head}-dirty", "git work tree with uncommitted changes"
             return head, "git work tree"
+    recorded = _build_commit(package / BUILD_COMMIT_FILE)
+    if recorded:
+        return recorded, "recorded when the package was built from a git checkout"
     return _pip_commit()
+
+
+BUILD_COMMIT_FILE = "_build_commit.txt"
+"""File in the installed package holding the commit it was built from (written by setup.py)."""
+
+
+def _build_commit(path: Path) -> str | None:
+    """The commit written into the package at build time, or None."""
+    try:
+        text = path.read_text(encoding="ascii").strip()
+    except (OSError, UnicodeDecodeError):
+        return None
+    return text or None
 
 
 # --------------------------------------------------------------------------- run context
