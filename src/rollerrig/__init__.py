@@ -64,7 +64,7 @@ _EXPORTS: dict[str, str] = {
     "synthetic_recording": "rollerrig.measure.synthetic",
     "analyze": "rollerrig._api",
     "write_analysis": "rollerrig.report.analysis",
-    "explain_recording": "rollerrig.signal.workflow",
+    "explain_recording": "rollerrig._api",
     # errors and warnings
     "ParameterError": "rollerrig._validation",
     "DomainWarning": "rollerrig._warnings",

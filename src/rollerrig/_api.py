@@ -10,13 +10,22 @@ import os
 from pathlib import Path
 from typing import Literal
 
-__all__ = ["analyze"]
+__all__ = ["analyze", "explain_recording"]
+
+
+def _rig(rig):
+    """The rig: RigParameters as given, a rig TOML file loaded, None for the bundled rig."""
+    from rollerrig.rig.parameters import RigParameters, default_rig, load_rig
+
+    if rig is None:
+        return default_rig()
+    return rig if isinstance(rig, RigParameters) else load_rig(Path(rig))
 
 
 def analyze(
     recording,
     *,
-    channels=None,
+    channel_map=None,
     rig=None,
     truth=None,
     validate: Literal["strict", "lenient"] = "strict",
@@ -29,7 +38,7 @@ def analyze(
     recording : Recording or str or path-like
         A :class:`rollerrig.measure.recording.Recording` (SI units), or a DAQ file (CSV, LVM,
         Parquet, TDMS, MF4, MAT) read with :func:`rollerrig.measure.readers.read_recording`.
-    channels : ChannelMap, path or dict, optional
+    channel_map : ChannelMap, path or dict, optional
         Channel map of the file (which column is which quantity, in which unit); ignored for a
         :class:`Recording`.
     rig : RigParameters, path or None
@@ -53,21 +62,58 @@ def analyze(
     Examples
     --------
     >>> import rollerrig
-    >>> result = rollerrig.analyze("run.tdms", channels="map.toml")  # doctest: +SKIP
+    >>> result = rollerrig.analyze("run.tdms", channel_map="map.toml")  # doctest: +SKIP
     >>> result.phases  # doctest: +SKIP
     """
     from rollerrig.measure.analysis import analyze_test
     from rollerrig.measure.readers import read_recording
-    from rollerrig.rig.parameters import RigParameters, default_rig, load_rig
 
     if isinstance(recording, str | os.PathLike):
-        recording = read_recording(Path(recording), channels, validate=validate)
-    if rig is None:
-        rig = default_rig()
-    elif not isinstance(rig, RigParameters):
-        rig = load_rig(Path(rig))
+        recording = read_recording(Path(recording), channel_map, validate=validate)
+    rig = _rig(rig)
     if isinstance(truth, str | os.PathLike):
         import xarray as xr
 
         truth = xr.load_dataset(Path(truth), engine="h5netcdf")
     return analyze_test(recording, rig, truth=truth, run_study=run_study)
+
+
+def explain_recording(recording, channel: str = "torque", rig=None, *, channel_map=None, **kwargs):
+    """The spectrum of one channel of a recording, every peak explained.
+
+    :func:`rollerrig.signal.workflow.explain_recording` for a recording in memory or a file:
+    a file is streamed from disk (:func:`rollerrig.measure.source.open_recording`), never held
+    whole.
+
+    Parameters
+    ----------
+    recording : Recording or str or path-like
+        The recording, or a DAQ file.
+    channel : str
+        The channel analysed, e.g. ``"torque"``.
+    rig : RigParameters, path or None
+        The rig (radii, drives, the twin's modes); a rig TOML file; None for the bundled rig.
+    channel_map : ChannelMap, path or dict, optional
+        Channel map of the file; ignored for a :class:`Recording`.
+    **kwargs
+        Passed on (``coherence_with``, ``settings``, ``roller_speed``, ...).
+
+    Returns
+    -------
+    rollerrig.signal.explained_spectrum.ExplainedSpectrum
+
+    Examples
+    --------
+    >>> import rollerrig
+    >>> spectrum = rollerrig.explain_recording("free-rolling-10kmh.mf4")  # doctest: +SKIP
+    >>> spectrum.table()[0]  # doctest: +SKIP
+    """
+    from rollerrig.signal.workflow import explain_recording as explain
+
+    rig = _rig(rig)
+    if not isinstance(recording, str | os.PathLike):
+        return explain(recording, channel, rig, **kwargs)
+    from rollerrig.measure.source import open_recording
+
+    with open_recording(Path(recording), channel_map) as source:
+        return explain(source, channel, rig, **kwargs)

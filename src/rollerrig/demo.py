@@ -125,7 +125,7 @@ def _adhesion_test(rig, out: Path, say) -> dict:
     """The 30 km/h dry test on the twin: its figure, the DAQ's TDMS file, the truth (NetCDF)."""
     from rollerrig.measure.synthetic import synthetic_recording
     from rollerrig.measure.writers import write_recording
-    from rollerrig.output import atomic_write, save_figure
+    from rollerrig.output import save_figure, write_dataset
     from rollerrig.report.twin import experiment_figure
     from rollerrig.solve.simulation import Simulation
 
@@ -136,9 +136,7 @@ def _adhesion_test(rig, out: Path, say) -> dict:
     recording, truth = synthetic_recording(twin, sample_rate=250.0, seed=1)
     truth.attrs["provenance"] = twin.attrs["provenance"]
     written["recording"] = write_recording(recording, out / "seed-30kmh-dry.tdms", overwrite=True)
-    written["truth"] = atomic_write(
-        out / "seed-30kmh-dry-truth.nc", lambda p: truth.to_netcdf(p, engine="h5netcdf")
-    )
+    written["truth"] = write_dataset(out / "seed-30kmh-dry-truth.nc", truth, overwrite=True)
     return written
 
 

@@ -65,6 +65,33 @@ def test_internal_error_is_one_line_exit_3_and_debug_shows_the_traceback(
     assert result.exit_code == 3 and "Traceback" in result.output
 
 
+def test_a_signal_swallowed_by_compiled_code_is_still_an_interruption(
+    tmp_path, monkeypatch, runner
+):
+    # SIGTERM while numba compiles: the handler's exception is raised inside an LLVM callback,
+    # swallowed there ("Exception ignored ... ctypes callback"), and numba then fails with
+    # RuntimeError("no compiled object yet ..."). The boundary must report the signal, not an
+    # internal error, and print no traceback of the swallowed exception.
+    import rollerrig.report.contact as figures
+    from rollerrig.cli import _boundary
+
+    def compile_interrupted(*args, **kwargs):
+        try:
+            _boundary._on_signal(signal.SIGTERM, None)
+        except BaseException:  # what the ctypes callback does with it
+            pass
+        raise RuntimeError("no compiled object yet for <Library 'integrate'>")
+
+    monkeypatch.setattr(figures, "creep_curve_figure", compile_interrupted)
+    result = runner.invoke(app, ["contact", "--out", str(tmp_path)])
+    assert result.exit_code == 128 + signal.SIGTERM, result.output
+    (line,) = result.output.strip().splitlines()
+    assert line == "error: interrupted by SIGTERM; --out holds no partial output of this run"
+    assert _files(tmp_path) == []
+    for s in (signal.SIGTERM, signal.SIGINT):  # handlers restored after the command
+        assert signal.getsignal(s) is not _boundary._on_signal
+
+
 def test_a_broken_import_inside_rollerrig_is_an_internal_error(tmp_path, monkeypatch, runner):
     import rollerrig.report.contact as figures
 

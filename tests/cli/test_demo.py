@@ -71,3 +71,20 @@ def test_demo_runs_end_to_end_and_its_outputs_analyse_again(tmp_path, runner):
     r = runner.invoke(app, args)
     assert r.exit_code == 0, r.output
     assert (out / "seed-30kmh-dry-report.html").exists()
+
+
+def test_demo_names_the_extra_before_it_simulates(tmp_path, monkeypatch):
+    # With only the twin extra the demo used to simulate for 15 s, then fail writing TDMS.
+    import sys
+
+    from typer.testing import CliRunner
+
+    from rollerrig.cli import app
+
+    monkeypatch.setitem(sys.modules, "nptdms", None)  # import fails as if not installed
+    result = CliRunner().invoke(app, ["demo", "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2
+    assert (
+        result.output.strip() == "error: rollerrig demo needs nptdms: pip install 'rollerrig[all]'"
+    )
+    assert not (tmp_path / "out").exists()

@@ -38,6 +38,11 @@ def test_variant_names_say_what_differs_from_the_defaults():
         for s in ("fast", "reference")
     }
     assert len(names) == 12  # every variant its own name
+    # A long experiment name is shortened (with a hash of the whole), never the variant parts.
+    long = "x" * 300
+    stems = {variant_stem(long), variant_stem(long, roller_lag=0.0), variant_stem(long + "y")}
+    assert len(stems) == 3 and all(len(s) <= 80 for s in stems)
+    assert variant_stem(long, roller_lag=0.0).endswith("_lag-0s")
 
 
 def test_protocol_inputs_name_the_toml_and_the_replayed_trace(tmp_path):
@@ -98,7 +103,11 @@ def test_simulate_writes_results_figure_and_modes_and_variants_stay_apart(tmp_pa
     assert "release at" in result.output
     for name in ("seed-10kmh-wet.csv", "seed-10kmh-wet.png"):
         assert (tmp_path / name).stat().st_size > 1000
-    assert "13.84" in (tmp_path / "seed-10kmh-wet-modes.txt").read_text()
+    modes_text = (tmp_path / "seed-10kmh-wet-modes.txt").read_text()
+    assert "13.84" in modes_text
+    first_line = modes_text.splitlines()[0]  # plain text carries its provenance too
+    assert first_line.startswith("# provenance: ")
+    assert json.loads(first_line.removeprefix("# provenance: "))["command"][1] == "simulate"
     manifest = json.loads((tmp_path / "simulate-seed-10kmh-wet-run.json").read_text())
     listed = {f["file"] for f in manifest["files"]}
     assert {"seed-10kmh-wet.csv", "seed-10kmh-wet.png", "seed-10kmh-wet-modes.txt"} <= listed

@@ -68,7 +68,7 @@ def test_twin_contact_channels_recover_the_dry_set():
     ds = Simulation(experiment="seed-30kmh-dry").run()
     prov = json.loads(ds.attrs["provenance"])
     s, w, q = ds.creep.values, ds.slip_velocity.values, ds.normal_load.values
-    k = creep_stiffness_for_rig(q, prov["rig"])
+    k = creep_stiffness_for_rig(q, prov["rig_parameters"])
     sel = np.abs(s) > 1e-4  # the ramps, holds and releases
     # One rolling speed: A and B are strongly correlated, hence the warning; but the data are
     # exact, so the recovery is too.

@@ -66,8 +66,9 @@ def test_provenance_has_the_package_record_and_the_rig_hash(ds):
     assert prov["software"] == "rollerrig" and prov["version"]
     assert prov["commit"] is not None or prov["commit_note"]
     assert isinstance(prov["command"], list)
-    assert prov["rig_sha256"] == rig_sha256(rig) and prov["rig_name"] == rig.meta.name
-    assert prov["rig"]["geometry"]["roller_radius_x"] == rig.geometry.roller_radius_x
+    # "rig" is {name, sha256} as in every output of the package; the set itself beside it.
+    assert prov["rig"] == {"name": rig.meta.name, "sha256": rig_sha256(rig)}
+    assert prov["rig_parameters"]["geometry"]["roller_radius_x"] == rig.geometry.roller_radius_x
     assert prov["protocol"]["name"] == "tiny-standstill"
     assert "NaN" not in ds.attrs["provenance"]
 
@@ -122,7 +123,7 @@ def test_csv_and_parquet_carry_units_and_provenance(ds, tmp_path):
     table = pq.read_table(save_dataset(ds, tmp_path / "run.parquet"))
     assert table.schema.field("t56").metadata[b"unit"] == b"N.m"
     blob = json.loads(table.schema.metadata[b"rollerrig"])
-    assert blob["metadata"]["provenance"]["rig_sha256"] == rig_sha256(default_rig())
+    assert blob["metadata"]["provenance"]["rig"]["sha256"] == rig_sha256(default_rig())
 
 
 def test_save_dataset_refuses_to_overwrite_and_unknown_formats(ds, tmp_path):

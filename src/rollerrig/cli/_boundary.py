@@ -20,6 +20,7 @@ import contextlib
 import importlib
 import os
 import signal
+import sys
 import threading
 import traceback
 import warnings
@@ -129,7 +130,7 @@ def debug_wanted(ctx: typer.Context) -> bool:
 
 # ------------------------------------------------------------------------------------ signals
 
-_SIGNALS_STATE = {"deferring": 0, "pending": []}
+_SIGNALS_STATE = {"deferring": 0, "pending": [], "received": None}
 """Signals received inside :func:`signals_deferred` (handlers run in the main thread only)."""
 
 
@@ -139,7 +140,23 @@ def _on_signal(signum, frame) -> None:
         return
     for s in SIGNALS:  # a second signal must not cut the clean-up short
         signal.signal(s, signal.SIG_IGN)
+    # Remembered: raised inside a callback from compiled code (numba compiling through LLVM),
+    # the exception is swallowed there and the library fails with an error of its own, which
+    # the boundary must still report as this interruption.
+    _SIGNALS_STATE["received"] = signum
     raise Interrupted(signum)
+
+
+def _quiet_unraisable(previous):
+    """``sys.unraisablehook`` that drops our own :class:`Interrupted` (see :func:`_on_signal`)
+    instead of printing a traceback; every other unraisable exception goes to ``previous``."""
+
+    def hook(unraisable) -> None:
+        if isinstance(unraisable.exc_value, Interrupted):
+            return
+        previous(unraisable)
+
+    return hook
 
 
 @contextlib.contextmanager
@@ -150,11 +167,15 @@ def signals_end_the_command() -> Iterator[None]:
         return
     previous = {s: signal.getsignal(s) for s in SIGNALS}
     _SIGNALS_STATE["pending"].clear()
+    _SIGNALS_STATE["received"] = None
     for s in SIGNALS:
         signal.signal(s, _on_signal)
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = _quiet_unraisable(previous_hook)
     try:
         yield
     finally:
+        sys.unraisablehook = previous_hook
         for s, handler in previous.items():
             signal.signal(s, handler)
 
@@ -269,6 +290,13 @@ class BoundaryGroup(TyperGroup):
             print_error(str(exc))
             raise
         except Exception as exc:  # the boundary: everything else ends as one line
+            received = _SIGNALS_STATE["received"]
+            if received is not None:  # a library's error after our signal was swallowed
+                interrupted = Interrupted(received)
+                if debug_wanted(ctx):
+                    traceback.print_exception(exc)
+                print_error(str(interrupted))
+                raise interrupted from None
             message = user_message(exc, ctx.invoked_subcommand)
             if debug_wanted(ctx):
                 traceback.print_exception(exc)

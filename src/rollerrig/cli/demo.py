@@ -20,8 +20,14 @@ def demo(out: OutOption = DEFAULT_OUT) -> None:
     3. records free rolling at 5, 10, 20 and 30 km/h as ASAM MDF4 files;
     4. analyses the test and writes the HTML report; explains the free-rolling spectra.
     """
+    from rollerrig._optional import EXTRAS, require
     from rollerrig.demo import run_demo
     from rollerrig.rig.parameters import default_rig
+
+    # Every optional package the demo will need, checked before it simulates (the error names
+    # the extra: `all`), not after 15 s when it first writes a TDMS file.
+    for module in sorted(set().union(*EXTRAS.values())):
+        require(module, "all", "rollerrig demo")
 
     with command_outputs(out, run="demo", rig=default_rig()) as stage:
         paths = run_demo(out, console, workdir=stage.dir)

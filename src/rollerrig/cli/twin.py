@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import tomllib
 from pathlib import Path
@@ -58,7 +59,7 @@ def variant_stem(
     >>> variant_stem("x", solver="reference", rig_file=Path("rigs/soft.toml"))
     'x_solver-reference_rig-soft'
     """
-    parts = [name]
+    parts = [_bounded(name)]
     if wheel != WheelDrive.pmsm.value:
         parts.append(f"wheel-{wheel}")
     if roller != RollerDrive.induction.value:
@@ -70,6 +71,26 @@ def variant_stem(
     if rig_file is not None:
         parts.append(f"rig-{Path(rig_file).stem}")
     return "_".join(parts)
+
+
+MAX_NAME_IN_STEM = 64
+"""Most characters of an experiment's name in an output stem [1]: with the variant parts and
+suffixes (``_roller-ideal_speed_lag-0s-modes``) the stem stays under the output layer's limit,
+so a long name never cuts away what tells variants apart."""
+
+
+def _bounded(name: str) -> str:
+    """``name``, or its first characters and a hash of the whole when it is too long.
+
+    Examples
+    --------
+    >>> len(_bounded("x" * 300)), _bounded("x" * 300)[-9:]
+    (64, '-0d4e2ca9')
+    """
+    if len(name) <= MAX_NAME_IN_STEM:
+        return name
+    digest = hashlib.sha256(name.encode("utf-8")).hexdigest()[:8]
+    return f"{name[: MAX_NAME_IN_STEM - 9]}-{digest}"
 
 
 def protocol_inputs(experiment: str) -> dict[str, Path]:
@@ -207,7 +228,7 @@ def simulate(
         release = _release_summary(ds, sim.protocol)
         save_dataset(ds, stage.path(f"{stem}.{output_format.value}"), overwrite=True)
         save_figure(experiment_figure(ds), stage.path(f"{stem}.png"))
-        write_text(stage.path(f"{stem}-modes.txt"), text + "\n")
+        write_text(stage.path(f"{stem}-modes.txt"), text + "\n", comment="#")
     console.print(text)
     if release:
         console.print(release)

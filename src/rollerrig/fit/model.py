@@ -83,7 +83,7 @@ def creep_stiffness_for_rig(normal_load, rig=None):
         Q [N], > 0.
     rig : RigParameters or mapping, optional
         The rig (default: the bundled default rig); a ``{section: {key: value}}`` mapping in SI
-        (e.g. ``json.loads(ds.attrs["provenance"])["rig"]``) also works.
+        (e.g. ``json.loads(ds.attrs["provenance"])["rig_parameters"]``) also works.
 
     Returns
     -------

@@ -54,6 +54,7 @@ from rollerrig.measure.segmentation import (
     quiet_phase,
     segment_test,
 )
+from rollerrig.output import rig_sha256
 from rollerrig.signal.scoring import prepare_study_signal
 from rollerrig.signal.smoothing import savitzky_golay
 from rollerrig.signal.workflow import ExplainedSpectrum, explain_recording
@@ -193,6 +194,7 @@ def analyze_test(
     return TestAnalysis(
         recording=rec,
         rig_name=rig.meta.name,
+        rig_sha256=rig_sha256(rig),
         phases=phases,
         smoothing_order=int(order),
         smoothing_window=int(window),

@@ -54,7 +54,7 @@ from pydantic import ValidationError
 
 from rollerrig._validation import Problem, pydantic_problems
 from rollerrig.measure.mapfile import DECIMALS, SEPARATORS, EntrySection, FileSpec, MapFile
-from rollerrig.measure.recording import CANONICAL_CHANNELS, RecordingError
+from rollerrig.measure.recording import CANONICAL_CHANNELS, RecordingError, RecordingFileNotFound
 from rollerrig.units import QUANTITIES, UNITS_BY_SI, UnitError, normalize_unit, si_factor
 
 __all__ = [
@@ -396,7 +396,7 @@ def load_channel_map(path: str | Path) -> ChannelMap:
     """
     p = Path(path)
     if not p.is_file():
-        raise FileNotFoundError(f"channel map file not found: {p}")
+        raise RecordingFileNotFound(f"channel map file not found: {p}")
     try:
         with p.open("rb") as fh:
             data = tomllib.load(fh)

@@ -57,6 +57,7 @@ class TestAnalysis:
     fit_points_cap: int | None = None  # the most points a fit uses (MAX_FIT_POINTS)
     true_coa: np.ndarray | None = None  # the twin's contact CoA on the analysis time axis
     analysis_rate: dict | None = None  # rate of the analysis and the decimation before it
+    rig_sha256: str | None = None  # rollerrig.output.rig_sha256 of the rig analysed with
 
     @property
     def smoothing_tuned_at(self) -> float | None:

@@ -246,7 +246,8 @@ def _rig_values(recording: Recording, rig_or_params) -> dict[str, float]:
     if rig_or_params is None:
         rig: Any = recording.metadata.get("rig")
         if rig is None and "twin_provenance" in recording.metadata:
-            rig = json.loads(recording.metadata["twin_provenance"])["rig"]
+            twin = json.loads(recording.metadata["twin_provenance"])
+            rig = twin.get("rig_parameters") or twin["rig"]  # "rig": files before 0.1.0
         if rig is None:
             raise RecordingError(
                 "derive_quantities needs the rig parameters: pass rig_or_params "

@@ -25,7 +25,7 @@ from typing import Any, Literal
 
 from rollerrig.measure.channels import ChannelMap, default_channel_map, load_channel_map
 from rollerrig.measure.formats import Table, open_table
-from rollerrig.measure.recording import Recording, RecordingError
+from rollerrig.measure.recording import Recording, RecordingError, RecordingFileNotFound
 from rollerrig.measure.translate import apply_map
 from rollerrig.measure.validate import (
     GAP_FACTOR,
@@ -135,7 +135,7 @@ def resolve_inputs(
     fmt = detect_format(p, format)
     cmap = _as_channel_map(channel_map)
     if not p.is_file():
-        raise FileNotFoundError(f"recording file not found: {p}")
+        raise RecordingFileNotFound(f"recording file not found: {p}")
     return p, fmt, cmap, None if channels is None else [str(c) for c in channels]
 
 

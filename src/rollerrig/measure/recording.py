@@ -37,6 +37,11 @@ class RecordingError(ParameterError):
     """A recording is unusable as given: the message names the file, channel and problem."""
 
 
+class RecordingFileNotFound(RecordingError, FileNotFoundError):
+    """A recording or channel-map file does not exist: the package's own error (a
+    :class:`ParameterError`) and a :class:`FileNotFoundError`, so either ``except`` catches it."""
+
+
 class ChannelLookup:
     """``x[name]``: a channel of ``x.channels`` by name, or a :class:`RecordingError` listing
     the channels there are (``what`` names the object in the message)."""

@@ -321,7 +321,7 @@ def synthetic_recording(
     """
     dist = DisturbanceModel() if disturbances is None else disturbances
     prov = _twin_provenance(ds)
-    rig = prov["rig"]
+    rig = prov.get("rig_parameters") or prov["rig"]  # "rig": results written before 0.1.0
     sensors = rig["sensors"]
     fs = float(sensors["daq_rate"] if sample_rate is None else sample_rate)
     if not (np.isfinite(fs) and fs > 0):
@@ -493,9 +493,17 @@ def synthetic_recording(
     data["line_phase"] = ("line", phases, {"units": "rad", "long_name": "phase of each line"})
     if "friction_condition" in ds:
         idx = np.clip(np.searchsorted(t_twin, t_daq), 0, t_twin.size - 1)
-        data["friction_condition"] = ("time", np.asarray(ds["friction_condition"].values)[idx])
+        data["friction_condition"] = (
+            "time",
+            np.asarray(ds["friction_condition"].values)[idx],
+            {"long_name": "friction condition of the contact (name of the Polach set)"},
+        )
     truth = xr.Dataset(
-        data, coords={"time": ("time", t_daq, {"units": "s"}), "line": list(LINE_NAMES)}
+        data,
+        coords={
+            "time": ("time", t_daq, {"units": "s"}),
+            "line": ("line", list(LINE_NAMES), {"long_name": "disturbance line of the torque"}),
+        },
     )
     truth.attrs.update({k: v for k, v in ds.attrs.items()})
     truth.attrs["synthetic_seed"] = int(seed)

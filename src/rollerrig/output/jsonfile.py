@@ -85,13 +85,31 @@ def write_json(path: str | os.PathLike, obj: Any, *, overwrite: bool = True) -> 
     return write_text(path, text + "\n", overwrite=overwrite)
 
 
-def write_text(path: str | os.PathLike, text: str, *, overwrite: bool = True) -> Path:
-    """Write ``text`` (UTF-8) to ``path`` atomically.
+def write_text(
+    path: str | os.PathLike,
+    text: str,
+    *,
+    overwrite: bool = True,
+    comment: str | None = None,
+) -> Path:
+    r"""Write ``text`` (UTF-8) to ``path`` atomically.
+
+    ``comment``: the comment marker of the text's format (``"#"``); the file then starts with
+    one comment line holding the provenance record as JSON, so that a plain-text output carries
+    it too. Without it the text is written as given (a TOML or HTML writer embeds provenance
+    in its own way).
 
     Examples
     --------
     >>> import tempfile, pathlib
     >>> write_text(pathlib.Path(tempfile.mkdtemp()) / "x.txt", "hi").read_text()
     'hi'
+    >>> p = write_text(pathlib.Path(tempfile.mkdtemp()) / "t.txt", "table\n", comment="#")
+    >>> first, rest = p.read_text().split("\n", 1)
+    >>> first.startswith("# provenance: {"), rest
+    (True, 'table\n')
     """
+    if comment is not None:
+        record = json.dumps(provenance(), default=jsonable, allow_nan=False)
+        text = f"{comment} provenance: {record}\n{text}"
     return atomic_write(path, lambda p: p.write_text(text, encoding="utf-8"), overwrite=overwrite)

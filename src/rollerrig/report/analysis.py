@@ -393,8 +393,25 @@ def write_analysis(
     ``<stem>-report.html`` (self-contained: figures embedded as PNG data URIs). Each file
     replaces one of the same name.
     """
+    from rollerrig.output.provenance import current_run, run_context
+
+    if current_run() is None and source and Path(source).is_file():
+        # Called from Python: the recording named as the source is this run's input (the CLI
+        # opens its own context with every input of the command).
+        with run_context(inputs={"recording": source}):
+            return write_analysis(
+                result,
+                out,
+                stem,
+                source=source,
+                truth=truth,
+                extra_provenance=extra_provenance,
+                extra_sections=extra_sections,
+            )
     out = Path(out)
     record = provenance(source=source, **(extra_provenance or {}))
+    if record["rig"] is None and result.rig_sha256:
+        record["rig"] = {"name": result.rig_name, "sha256": result.rig_sha256}
     summary = {"provenance": record, **result.summary()}
     paths = [write_json(out / f"{stem}-analysis.json", summary)]
 

@@ -52,7 +52,7 @@ def experiment_figure(ds, title: str | None = None):
     """
     t = ds["time"].values
     prov = json.loads(ds.attrs["provenance"])
-    geo = prov["rig"]["geometry"]
+    geo = (prov.get("rig_parameters") or prov["rig"])["geometry"]  # "rig": before 0.1.0
     rw, rr = geo["wheel_radius_x"], geo["roller_radius_x"]
     fig, axes = plt.subplots(3, 2, figsize=(12, 10))
     (a, b), (c, d), (e, f) = axes

@@ -181,12 +181,12 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
     data["friction_condition"] = ("time", friction, {"long_name": "friction condition"})
 
     # The package's record (version, commit, command, inputs of the run), then the simulation:
-    # "rig" holds the whole parameter set [SI] (readers of the twin's provenance use it).
+    # "rig" is {name, sha256} as in every output; "rig_parameters" the whole set [SI] (the
+    # synthetic recording and the figures read it).
     provenance = {
         **_provenance(),
-        "rig": rig.to_dict(),
-        "rig_name": rig.meta.name,
-        "rig_sha256": rig_sha256(rig),
+        "rig": {"name": rig.meta.name, "sha256": rig_sha256(rig)},
+        "rig_parameters": rig.to_dict(),
         "protocol": inputs.protocol.to_dict(),
         "drives": {
             "wheel": inputs.drives.wheel,
