@@ -174,11 +174,11 @@ def _analyse(rig, out: Path, final: Path, written: dict, mdf_paths: list[Path]) 
     found: dict = {"result": result, "explained": explained, "speed_independent": fixed}
     for path, e in zip(mdf_paths, explained, strict=True):
         found[path.stem] = save_figure(
-            spectrum_figure(e, max_frequency=60.0, title=path.name), out / f"{path.stem}.png"
+            spectrum_figure(e, title=path.name), out / f"{path.stem}.png"
         )
     omap = spectra.order_map()
     found["order_map"] = save_figure(
-        order_map_figure(omap, roller_radius=rig.geometry.roller_radius_x, max_frequency=60.0),
+        order_map_figure(omap, roller_radius=rig.geometry.roller_radius_x),
         out / "order-map.png",
     )
     # Shaft displacement (laser at the torque sensor) against torque at 30 km/h (§4.5.2.4).
@@ -226,13 +226,11 @@ def _free_rolling_section(rep, rig, mdf_paths, spectra) -> None:
         f"speed-independent (found: {', '.join(f'{f:.3f} Hz' for f in fixed) or 'none'})."
     )
     rep.figure(
-        order_map_figure(
-            spectra.order_map(), roller_radius=rig.geometry.roller_radius_x, max_frequency=60.0
-        ),
+        order_map_figure(spectra.order_map(), roller_radius=rig.geometry.roller_radius_x),
         "Order map: peak frequency vs speed.",
     )
     for path, e in zip(mdf_paths, explained, strict=True):
-        rep.figure(spectrum_figure(e, max_frequency=60.0, title=path.name), path.name)
+        rep.figure(spectrum_figure(e, title=path.name), path.name)
     rep.heading("Does the shaft's run-out cause the torque lines? Coherence at 30 km/h")
     rep.paragraph(
         "Magnitude-squared coherence between the laser displacement at the torque sensor and "
@@ -247,7 +245,6 @@ def _free_rolling_section(rep, rig, mdf_paths, spectra) -> None:
             [r.frequency for r in e30.rows],
             [r.label for r in e30.rows],
             names=("torque", "displacement"),
-            max_frequency=60.0,
         ),
         "Coherence between shaft displacement and torque.",
     )

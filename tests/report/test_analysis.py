@@ -39,7 +39,8 @@ def test_overview_figure_panels_legends_and_phases(analysed):
     assert _legend(b) == ["wheel (encoder)", "roller (encoder)"]
     assert _legend(c) == ["creep from encoders", "smoothed"]
     phases = sorted({ph.name for ph in analysed.phases})
-    assert [t.get_text() for t in fig.legends[0].get_texts()] == phases
+    entries = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert entries == [p.replace("_", " ") for p in phases]  # words: "ramp up", not "ramp_up"
     assert len(a.patches) == len(analysed.phases)  # every phase shaded
     plt.close(fig)
 

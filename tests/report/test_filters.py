@@ -194,3 +194,30 @@ def test_an_optimum_on_the_grid_edge_is_flagged(best, edge):
 def test_grid_refuses_a_percentile_out_of_range():
     with pytest.raises(ParameterError, match=r"clip_percentile must be in \(0, 100\] \[%\]"):
         savitzky_golay_grid_figure(_grid_table(_interior), clip_percentile=0.0)
+
+
+def _study_rows(n: int = 8) -> StudyTable:
+    """A ranked study whose best row has the longest bar part in the upper right, where a
+    legend inside the axes would sit."""
+    rows = []
+    for i in range(n):
+        score = FilterScore(0.45 + 0.04 * i, 0.85 + 0.01 * i, 0.0, 0.0, 0.77 + 0.01 * i)
+        rows.append(
+            StudyRow(rank=i + 1, method="moving_average", params={"window": 11 + 10 * i},
+                     label=f"MA w{11 + 10 * i}", score=score, sample_rate=250.0)
+        )  # fmt: skip
+    return StudyTable(rows)
+
+
+def test_ranking_legend_hides_no_bar():
+    fig = study_ranking_figure(_study_rows())
+    ax = fig.axes[0]
+    fig.canvas.draw()  # as a viewer sees it
+    renderer = fig.canvas.get_renderer()
+    legend = ax.get_legend().get_window_extent(renderer)
+    bars = [p.get_window_extent(renderer) for p in ax.patches]
+    assert len(bars) == 3 * 8
+    assert not any(legend.overlaps(b) for b in bars)
+    assert legend.x0 >= ax.get_window_extent(renderer).x1  # right of the axes
+    assert fig.bbox.contains(legend.x1 - 1, legend.y0 + 1)  # and inside the figure
+    plt.close(fig)

@@ -9,7 +9,15 @@ import numpy as np
 import pytest
 
 from rollerrig.measure.recording import Recording
-from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
+from rollerrig.report.labels import LABEL_GID
+from rollerrig.report.spectra import (
+    coherence_figure,
+    frequency_limit,
+    log_frequency_axis,
+    order_map_figure,
+    source_name,
+    spectrum_figure,
+)
 from rollerrig.rig.parameters import default_rig
 from rollerrig.signal.workflow import explain_recording, explain_recordings
 
@@ -91,26 +99,6 @@ def test_order_map_figure_of_a_spectra_set():
     plt.close(fig)
 
 
-def _label_boxes(fig):
-    """Display boxes of the peak labels' texts (leader lines excluded), from the renderer."""
-    from matplotlib.text import Annotation, Text
-
-    ax = fig.axes[0]
-    fig.canvas.draw()  # as a viewer sees it
-    renderer = fig.canvas.get_renderer()
-    labels = [a for a in ax.texts if isinstance(a, Annotation) and a.arrow_patch is not None]
-    return ax, [Text.get_window_extent(a, renderer) for a in labels]
-
-
-def _assert_apart(ax, boxes, n: int):
-    assert len(boxes) == n
-    for i, a in enumerate(boxes):
-        for b in boxes[:i]:
-            assert not a.overlaps(b), (a, b)
-    frame = ax.get_window_extent()
-    assert all(frame.x0 - 0.5 <= b.x0 and b.x1 <= frame.x1 + 0.5 for b in boxes)
-
-
 @pytest.fixture(scope="module")
 def crowded():
     """A torque with 16 lines, several of them closer than a label's width."""
@@ -138,32 +126,183 @@ def test_spectrum_figure_axes_say_power_in_squared_newton_metres(explained):
     assert ax.get_ylabel() == "power [(N.m)²]"  # not N.m², a newton square metre
     assert ax.get_xlabel() == "frequency [Hz]" and ax.get_yscale() == "log"
     entries = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert set(entries) == {r.source for r in explained.rows}  # one entry per kind of source
+    # One entry per kind of source, in words (not identifiers such as "roller_order").
+    assert set(entries) == {source_name(r.source) for r in explained.rows}
+    assert all("_" not in e for e in entries)
     markers = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
-    assert len(markers) == len(explained.rows)
+    assert sum(ln.get_xdata().size for ln in markers) == len(explained.rows)
     plt.close(fig)
 
 
-def test_peak_labels_of_a_crowded_spectrum_do_not_overlap(crowded):
+def test_the_legend_stands_outside_the_axes(explained):
+    fig = spectrum_figure(explained)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    assert ax.get_legend().get_window_extent().x0 >= ax.get_window_extent().x1
+    plt.close(fig)
+
+
+def test_peak_labels_of_a_crowded_spectrum_clear_markers_curve_and_each_other(
+    crowded, peak_labels_clear
+):
     assert len(crowded.rows) >= 12
     fig = spectrum_figure(crowded, max_labels=16)
-    ax, boxes = _label_boxes(fig)
-    _assert_apart(ax, boxes, len(crowded.rows))
-    # The most powerful peak keeps the top row.
-    strongest = max(crowded.rows, key=lambda r: r.power)
-    top = max(ax.texts, key=lambda a: a.xyann[1] if hasattr(a, "xyann") else -1)
-    assert top.get_text().startswith(f"{strongest.frequency:.3f} Hz")
+    boxes = peak_labels_clear(fig)
+    modes = [m for m in crowded.modes.ringing if m.frequency <= fig.axes[0].get_xlim()[1]]
+    assert len(boxes) == len(crowded.rows) + len(modes)  # every peak and mode labelled
+    fig.set_dpi(150)  # as saved: text sizes do not scale exactly with the dpi (hinting)
+    peak_labels_clear(fig)
     plt.close(fig)
 
 
-def test_coherence_labels_do_not_overlap(crowded, explained):
+def test_labels_of_the_seed_like_spectrum_clear_the_peaks(explained, peak_labels_clear):
+    fig = spectrum_figure(explained)
+    peak_labels_clear(fig)
+    texts = [t.get_text() for t in fig.axes[0].texts if t.get_gid() == LABEL_GID]
+    assert "mode 13.78 Hz" in texts  # the mode's name in the label row, not on the trace
+    plt.close(fig)
+
+
+def test_coherence_labels_clear_markers_curve_and_each_other(crowded, explained, peak_labels_clear):
     rows = crowded.rows
     fig = coherence_figure(
         explained.coherence, [r.frequency for r in rows], [r.label for r in rows]
     )
-    ax, boxes = _label_boxes(fig)
-    _assert_apart(ax, boxes, len(rows))
-    assert ax.get_ylabel() == "coherence γ² [-]"
+    boxes = peak_labels_clear(fig)
+    assert len(boxes) == len(rows)
+    assert fig.axes[0].get_ylabel() == "coherence γ² [-]"
+    plt.close(fig)
+
+
+def _with_high_line(v_kmh: float = 5.0) -> Recording:
+    """A slow recording with the orders low and one strong line at 100 Hz (as the PMSM's
+    sixth electrical order at 5-10 km/h): the axis must reach it."""
+    rec = _recording(v_kmh)
+    t = rec.time
+    f_r = v_kmh / 3.6 / 0.452 / (2 * np.pi)
+    torque = (
+        2.0 * np.sin(2 * np.pi * f_r * t)
+        + 3.0 * np.sin(2 * np.pi * 5 * f_r * t)
+        + 2.0 * np.sin(2 * np.pi * 100.0 * t)
+        + 0.3 * np.random.default_rng(3).standard_normal(t.size)
+    )
+    return Recording(t, {**rec.channels, "torque": torque}, rec.units)
+
+
+def test_the_frequency_axis_shows_every_listed_peak_by_default():
+    e = explain_recording(_with_high_line(), "torque", RIG)
+    highest = max(r.frequency for r in e.rows)
+    assert highest > 99.0
+    fig = spectrum_figure(e)
+    ax = fig.axes[0]
+    lo, hi = ax.get_xlim()
+    assert hi == pytest.approx(frequency_limit([r.frequency for r in e.rows], FS / 2))
+    assert lo <= min(r.frequency for r in e.rows) and highest <= hi <= FS / 2
+    markers = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
+    assert sum(ln.get_xdata().size for ln in markers) == len(e.rows)  # every peak marked
+    plt.close(fig)
+    fig = coherence_figure(e.coherence or _coherence(), [r.frequency for r in e.rows])
+    assert fig.axes[0].get_xlim()[1] >= highest
+    plt.close(fig)
+
+
+def _coherence():
+    from rollerrig.signal.spectra import coherence
+
+    rng = np.random.default_rng(0)
+    x = rng.standard_normal(int(60 * FS))
+    return coherence(x, x + rng.standard_normal(x.size), FS, 1024)
+
+
+def test_a_given_frequency_limit_names_the_peaks_it_hides():
+    e = explain_recording(_with_high_line(), "torque", RIG)
+    fig = spectrum_figure(e, max_frequency=60.0)
+    ax = fig.axes[0]
+    assert ax.get_xlim()[1] == 60.0
+    small_print = " ".join(t.get_text() for t in ax.texts).replace("\n", " ")
+    hidden = [r for r in e.rows if r.frequency > 60.0]
+    assert (
+        f"{len(hidden)} listed peak" in small_print and f"{hidden[0].frequency:.2f}" in small_print
+    )
+    # The legend lists only kinds with a marker drawn.
+    entries = {t.get_text() for t in ax.get_legend().get_texts()}
+    assert entries == {source_name(r.source) for r in e.rows if r.frequency <= 60.0}
+    plt.close(fig)
+
+
+def test_frequency_axis_policy():
+    assert frequency_limit([83.8], 300.0) == pytest.approx(92.18)
+    assert frequency_limit([167.5], 150.0) == 150.0  # capped at Nyquist
+    assert frequency_limit([2.0], 300.0) == 30.0  # at least a tenth of Nyquist
+    assert frequency_limit([], 300.0) == 300.0
+    assert log_frequency_axis([0.49, 0.63, 83.6]) and not log_frequency_axis([2.9, 83.8])
+
+
+def test_a_wide_span_of_peaks_gets_a_log_axis_with_plain_numbers():
+    e = explain_recording(_with_high_line(), "torque", RIG)
+    fig = spectrum_figure(e)
+    ax = fig.axes[0]
+    assert ax.get_xscale() == "log"  # 0.5 Hz orders next to a 100 Hz line
+    fig.canvas.draw()
+    ticks = [t.get_text() for t in ax.get_xticklabels() if t.get_text()]
+    assert "1" in ticks and "10" in ticks and not any("$" in t for t in ticks)
+    plt.close(fig)
+    fig = spectrum_figure(e, log_frequency=False)
+    assert fig.axes[0].get_xscale() == "linear" and fig.axes[0].get_xlim()[0] == 0.0
+    plt.close(fig)
+
+
+def _order_map_with(kinds: dict[float, str], speeds=(5.0, 10.0, 20.0, 30.0)):
+    """An order map of the orders at ``speeds`` [km/h], peaks attributed as ``kinds``
+    (multiple of the roller's rotation frequency -> source kind); wheel/roller ratio 1.3."""
+    import dataclasses
+
+    from rollerrig.signal.spectra import order_map
+
+    entries, sources = [], []
+    for v in speeds:
+        w_r = v / 3.6 / 0.452
+        f_r = w_r / (2 * np.pi)
+        entries.append((w_r, 1.3 * w_r, [m * f_r for m in kinds]))
+        sources += list(kinds.values())
+    omap = order_map(entries)
+    return dataclasses.replace(omap, source=np.array(sources, dtype=object))
+
+
+def test_order_map_draws_a_line_for_every_attributed_order():
+    # The wheel's second order (2 x 1.3 f_r) and the PMSM's sixth (6 x 22 x 1.3 f_r) have no
+    # line of their own in the order map's defaults.
+    kinds = {1.0: "roller_order", 1.3: "wheel_order", 2.6: "wheel_order", 171.6: "pmsm_electrical"}
+    omap = _order_map_with(kinds)
+    assert not any(ln.label == "wheel order ×2" for ln in omap.lines)
+    fig = order_map_figure(omap, roller_radius=0.452)
+    ax = fig.axes[0]
+    names = [t.get_text() for t in ax.texts]
+    assert "wheel order ×2" in names and "PMSM electrical ×6" in names
+    drawn = [ln for ln in ax.get_lines() if ln.get_gid() == "order-line"]
+    assert len(drawn) == len(omap.lines) + 2
+    plt.close(fig)
+
+
+def test_order_map_names_its_lines_outside_the_axes_clear_of_points():
+    kinds = {1.0: "roller_order", 1.3: "wheel_order", 2.0: "roller_order", 2.6: "wheel_order",
+             5.0: "am_electrical", 10.0: "am_electrical", 28.6: "pmsm_electrical"}  # fmt: skip
+    fig = order_map_figure(_order_map_with(kinds), roller_radius=0.452)
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    frame = ax.get_window_extent(renderer)
+    names = [t.get_window_extent(renderer) for t in ax.texts]
+    assert names
+    for i, box in enumerate(names):
+        assert box.x0 >= frame.x1 or box.y0 >= frame.y1  # right of or above the axes
+        for other in names[:i]:
+            assert not box.overlaps(other)
+    legend = ax.get_legend().get_window_extent(renderer)
+    assert legend.y1 <= frame.y0  # below the axes
+    entries = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert entries == ["roller order", "wheel order", "AM electrical", "PMSM electrical"]
+    assert ax.get_yscale() == "log"  # 0.5 Hz orders next to a 90 Hz motor line
     plt.close(fig)
 
 
@@ -174,6 +313,19 @@ def test_order_map_draws_order_lines_and_peaks():
     ax = fig.axes[0]
     assert ax.get_xlabel() == "roller speed [rad/s]" and ax.get_ylabel() == "peak frequency [Hz]"
     kinds = list(dict.fromkeys(omap.source.tolist()))
-    assert len(ax.get_lines()) == len(omap.lines) + len(kinds)
-    assert [t.get_text() for t in ax.get_legend().get_texts()] == [k or "peak" for k in kinds]
+    drawn = [ln for ln in ax.get_lines() if ln.get_gid() == "order-line"]
+    assert len(drawn) >= len(omap.lines) and len(ax.get_lines()) == len(drawn) + len(kinds)
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [source_name(k) for k in kinds]
+    top = max(omap.frequency)
+    assert ax.get_ylim()[1] == pytest.approx(1.1 * top)  # every peak shown
+    plt.close(fig)
+
+
+def test_order_map_with_a_given_limit_names_the_peaks_it_hides():
+    omap = _order_map_with({1.0: "roller_order", 171.6: "pmsm_electrical"})
+    fig = order_map_figure(omap, roller_radius=0.452, max_frequency=60.0)
+    title = fig.axes[0].get_legend().get_title().get_text()
+    hidden = sorted(f for f in omap.frequency if f > 60.0)
+    assert title.startswith(f"{len(hidden)} listed peaks above the 60 Hz shown")
+    assert f"{hidden[0]:.2f}" in title
     plt.close(fig)

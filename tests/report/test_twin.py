@@ -73,6 +73,7 @@ def test_six_panels_with_units_in_brackets(figure):
     assert len(axes) == 6
     titles = [ax.get_title() for ax in axes]
     assert [t[:3] for t in titles] == ["(a)", "(b)", "(c)", "(d)", "(e)", "(f)"]
+    assert titles[3] == "(d) slip velocity"  # the title says what the axis says
     ylabels = [ax.get_ylabel() for ax in axes]
     assert ylabels == [
         "wheel torque [N·m]",

@@ -73,7 +73,8 @@ def overview_figure(result: TestAnalysis):
         ax.legend(fontsize=7, loc="upper right")
     names = sorted({ph.name for ph in result.phases})
     handles = [plt.Rectangle((0, 0), 1, 1, color=_PHASE_COLOURS.get(n, "#f5f5f5")) for n in names]
-    fig.legend(handles, names, loc="upper center", ncol=len(names), fontsize=8, frameon=False)
+    words = [n.replace("_", " ") for n in names]  # "free_rolling" -> "free rolling"
+    fig.legend(handles, words, loc="upper center", ncol=len(names), fontsize=8, frameon=False)
     fig.tight_layout(rect=(0, 0, 1, 0.96))
     return fig
 

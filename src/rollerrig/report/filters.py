@@ -176,6 +176,8 @@ def study_ranking_figure(
 ):
     """Ranked filter study as stacked horizontal bars of the cost terms (best at the top).
 
+    The legend stands right of the axes, clear of every bar.
+
     Parameters
     ----------
     rows : sequence of StudyRow
@@ -203,7 +205,7 @@ def study_ranking_figure(
         ]
     )
     y = np.arange(len(shown))[::-1]
-    fig, ax = plt.subplots(figsize=(8, 0.28 * len(shown) + 1.2))
+    fig, ax = plt.subplots(figsize=(9.5, 0.28 * len(shown) + 1.2))
     ax.barh(y, noise, color="tab:blue", label="steady noise left")
     ax.barh(y, peak, left=noise, color="tab:red", label="peak lost")
     ax.barh(y, timing, left=noise + peak, color="tab:gray", label="lag + peak-time error")
@@ -212,7 +214,8 @@ def study_ranking_figure(
     rate = _analysis_rate(rows)
     if rate is not None:
         ax.set_title(f"windows w in samples at {rate:g} Hz", fontsize=8)
-    ax.legend(fontsize=8, loc="best")
+    # Outside the bars, right of the axes: it hides no part of any bar (the winner's included).
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(axis="x", alpha=0.3)
     fig.tight_layout()
     return fig

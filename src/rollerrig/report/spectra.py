@@ -3,6 +3,13 @@
 Each function takes the data objects of :mod:`rollerrig.signal.spectra` and returns a matplotlib
 figure (save it with :func:`rollerrig.output.save_figure`). Speeds are converted to km/h only
 here, at the edge, when a roller radius is given.
+
+One policy for the frequency axis of every figure here: by default it shows every listed peak
+(:func:`frequency_limit`: up to 1.1 times the highest, capped at the Nyquist frequency), on a
+log scale when the peaks span a factor of :data:`LOG_SPAN` or more (:func:`log_frequency_axis`).
+Peak labels stand in a row above the data (:func:`rollerrig.report.labels.label_peaks`), legends
+and line names outside the axes: nothing written covers a peak, a marker or the curve. Source
+kinds are named in words (:func:`source_name`).
 """
 
 from __future__ import annotations
@@ -15,12 +22,23 @@ import matplotlib
 matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-from rollerrig.report.labels import separate_labels
+from rollerrig.report.labels import PeakLabel, label_peaks, spread
+from rollerrig.signal.attribution import SOURCE_KINDS
 from rollerrig.signal.spectra import CoherenceSpectrum, ExplainedSpectrum, OrderMap
 from rollerrig.signal.welch import power_unit
 
-__all__ = ["coherence_figure", "order_map_figure", "spectrum_figure"]
+__all__ = [
+    "coherence_figure",
+    "frequency_limit",
+    "log_frequency_axis",
+    "order_map_figure",
+    "source_name",
+    "spectrum_figure",
+]
+
+_MARKER = 6.0  # size of the peak markers [pt]
 
 _COLOURS = {
     "am_electrical": "tab:red",
@@ -57,25 +75,128 @@ def _settings_line(explained: ExplainedSpectrum) -> str:
     return text
 
 
+def frequency_limit(peaks: Sequence[float], nyquist: float) -> float:
+    """Upper end of a frequency axis that shows every listed peak [Hz].
+
+    1.1 times the highest peak, at least a tenth of the Nyquist frequency (a spectrum whose
+    peaks all sit low still shows some floor), at most the Nyquist frequency; the Nyquist
+    frequency when there is no peak. The one policy of the spectrum, coherence and order-map
+    figures (:func:`spectrum_figure`, :func:`coherence_figure`, :func:`order_map_figure`).
+
+    Parameters
+    ----------
+    peaks : sequence of float
+        Frequencies of the peaks listed with the figure [Hz].
+    nyquist : float
+        Nyquist frequency [Hz].
+
+    Returns
+    -------
+    float
+        [Hz]
+
+    Examples
+    --------
+    >>> frequency_limit([2.93, 14.67, 83.81], 300.0)  # doctest: +ELLIPSIS
+    92.19...
+    >>> frequency_limit([167.48], 150.0), frequency_limit([], 300.0)
+    (150.0, 300.0)
+    """
+    finite = [float(f) for f in peaks if np.isfinite(f)]
+    if not finite:
+        return float(nyquist)
+    return float(min(nyquist, max(1.1 * max(finite), 0.1 * nyquist)))
+
+
+LOG_SPAN = 50.0
+"""Ratio of the highest to the lowest listed peak from which a frequency axis is logarithmic
+by default [1]: on a linear axis the low orders of a slow rotation (0.5-1.3 Hz at 5 km/h) would
+sit within a marker's width of each other next to a motor line at 80-170 Hz."""
+
+
+def log_frequency_axis(peaks: Sequence[float]) -> bool:
+    """Whether a frequency axis showing ``peaks`` [Hz] is logarithmic by default.
+
+    Yes when the highest peak is :data:`LOG_SPAN` times the lowest or more.
+
+    Examples
+    --------
+    >>> log_frequency_axis([0.49, 2.44, 83.6]), log_frequency_axis([2.93, 14.67, 83.8])
+    (True, False)
+    """
+    positive = [float(f) for f in peaks if np.isfinite(f) and f > 0]
+    return bool(positive) and max(positive) >= LOG_SPAN * min(positive)
+
+
+def _frequency_axis(ax, peaks: Sequence[float], low: float, high: float, log: bool | None):
+    """Set the frequency axis: linear from 0, or logarithmic from below the lowest peak."""
+    positive = [float(f) for f in peaks if np.isfinite(f) and 0 < f <= high]
+    if log is None:
+        log = log_frequency_axis(positive)
+    if log and positive:
+        ax.set_xscale("log")
+        ax.set_xlim(max(low, min(positive) / 1.6), high)
+        _plain_log_ticks(ax.xaxis)
+    else:
+        ax.set_xlim(0.0, high)
+    return ax.get_xlim()[0]
+
+
+def _plain_log_ticks(axis) -> None:
+    """Ticks of a log frequency axis as plain numbers at 1-2-5 steps (0.5, 1, 2, 5, 10 Hz)."""
+    axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def source_name(kind: str) -> str:
+    """A source kind in words, for legends: ``"am_electrical"`` -> ``"AM electrical"``.
+
+    Examples
+    --------
+    >>> source_name("roller_order"), source_name("speed_independent"), source_name("")
+    ('roller order', 'speed-independent line', 'peak')
+    """
+    return SOURCE_KINDS.get(kind, kind.replace("_", " ")) or "peak"
+
+
+def _hidden_note(hidden: Sequence[float], limit: float) -> str:
+    """What an explicit frequency limit leaves out, for the figure's small print."""
+    if not hidden:
+        return ""
+    listed = ", ".join(f"{f:.2f}" for f in sorted(hidden))
+    n = len(hidden)
+    return f"{n} listed peak{'s' if n != 1 else ''} above the {limit:.4g} Hz shown: {listed} Hz"
+
+
 def spectrum_figure(
     explained: ExplainedSpectrum,
     max_frequency: float | None = None,
     max_labels: int = 12,
     title: str | None = None,
+    log_frequency: bool | None = None,
 ):
     """Power spectrum on a log axis with every attributed peak marked and labelled.
+
+    The labels stand in one row above the spectrum (:func:`rollerrig.report.labels.label_peaks`):
+    none covers a peak marker or the curve. The coupled twin's ringing modes are drawn as
+    dotted lines, labelled in the same row.
 
     Parameters
     ----------
     explained : ExplainedSpectrum
         From :func:`rollerrig.signal.workflow.explain_recording`.
     max_frequency : float, optional
-        Upper end of the frequency axis [Hz]; default just above the highest peak (at least
-        a tenth of the Nyquist frequency), or the Nyquist frequency without peaks.
+        Upper end of the frequency axis [Hz]; default :func:`frequency_limit` of the listed
+        peaks (every listed peak shown). Peaks above a smaller given limit are named in the
+        figure's small print.
     max_labels : int
         Label at most this many peaks, the most powerful; the others keep their marker.
     title : str, optional
         Figure title; default names the channel and the mean roller speed.
+    log_frequency : bool, optional
+        A logarithmic frequency axis (from just below the lowest listed peak); default
+        :func:`log_frequency_axis` of the listed peaks.
 
     Returns
     -------
@@ -83,53 +204,58 @@ def spectrum_figure(
     """
     spec = explained.spectrum
     f, p = spec.frequency, spec.power
-    fig, ax = plt.subplots(figsize=(9.0, 4.8))
-    ax.semilogy(f[1:], p[1:], color="0.3", lw=0.8)
+    fig, ax = plt.subplots(figsize=(10.0, 5.2))
+    ax.semilogy(f[1:], p[1:], color="0.3", lw=0.8, zorder=2)
     rows = list(explained.rows)
+    listed = [r.frequency for r in rows]
     if max_frequency is None:
-        nyquist = spec.sample_rate / 2.0
-        fmax = max((r.frequency for r in rows), default=nyquist)
-        max_frequency = min(nyquist, max(1.15 * fmax, 0.1 * nyquist)) if rows else nyquist
-    ax.set_xlim(0.0, max_frequency)
-    labelled = sorted(rows, key=lambda r: r.power, reverse=True)[: int(max_labels)]
-    labels = []  # most powerful first: they keep the top row
-    seen: set[str] = set()
-    for r in sorted(rows, key=lambda r: r.frequency):
-        colour = _COLOURS.get(r.source, "k")
-        legend = r.source if r.source not in seen else None
-        seen.add(r.source)
-        ax.plot(r.frequency, r.power, "v", color=colour, ms=6, label=legend)
-    for rank, r in enumerate(x for x in labelled if x.frequency <= max_frequency):
-        colour = _COLOURS.get(r.source, "k")
-        # Labels hang from the top, each with a leader line to its peak; moved apart below.
-        text = f"{r.frequency:.3f} Hz\n{r.label.split(' (')[0]}"
-        labels.append(_peak_label(ax, text, (r.frequency, r.power), colour, rank))
-    shown = [r.power for r in rows if r.frequency <= max_frequency]
-    top = max(shown, default=float(np.max(p)))
-    visible = p[(f > 0) & (f <= max_frequency)]
+        max_frequency = frequency_limit(listed, spec.sample_rate / 2.0)
+    low = _frequency_axis(ax, listed, float(f[1]), max_frequency, log_frequency)
+    shown = [r for r in rows if low <= r.frequency <= max_frequency]
+    for kind in dict.fromkeys(r.source for r in shown):  # one legend entry per kind shown
+        mine = [r for r in shown if r.source == kind]
+        ax.plot(
+            [r.frequency for r in mine],
+            [r.power for r in mine],
+            "v",
+            ls="none",
+            color=_COLOURS.get(kind, "k"),
+            ms=_MARKER,
+            zorder=6,  # above the labels' boxes and leaders
+            label=source_name(kind),
+        )
+    visible = p[(f > 0) & (f >= low) & (f <= max_frequency)]
+    heights = [r.power for r in shown] + ([float(np.max(visible))] if visible.size else [])
+    top = max(heights, default=float(np.max(p)))
     floor = float(np.percentile(visible, 5)) if visible.size else top * 1e-6
-    ax.set_ylim(bottom=floor / 3.0, top=top * 10.0 ** (0.45 * np.log10(top / floor) + 1.0))
+    ax.set_ylim(bottom=floor / 3.0, top=top * 10.0)
+    labelled = sorted(shown, key=lambda r: r.power, reverse=True)[: int(max_labels)]
+    labels = [
+        PeakLabel(
+            r.frequency,
+            r.power,
+            f"{r.frequency:.3f} Hz\n{r.label.split(' (')[0]}",
+            _COLOURS.get(r.source, "k"),
+        )
+        for r in labelled
+    ]
     modes = getattr(explained, "modes", None)
     for md in () if modes is None else modes.ringing:
-        if md.frequency <= max_frequency:
-            ax.axvline(md.frequency, color=_COLOURS["rig_mode"], ls=":", lw=0.8, alpha=0.7)
-            ax.annotate(
-                f"mode {md.frequency:.2f} Hz",
-                (md.frequency, 0.02),
-                xycoords=("data", "axes fraction"),
-                rotation=90,
-                fontsize=6,
-                color=_COLOURS["rig_mode"],
-                ha="right",
-                va="bottom",
+        if low <= md.frequency <= max_frequency:  # a dotted line from the label to the axis
+            labels.append(
+                PeakLabel(
+                    md.frequency, None, f"mode {md.frequency:.2f} Hz", _COLOURS["rig_mode"], ":"
+                )
             )
     if not rows:
         message = getattr(explained, "empty_message", "no peak above the thresholds")
         ax.text(0.5, 0.5, message, transform=ax.transAxes, ha="center", va="center", fontsize=8)
+    hidden = _hidden_note([r.frequency for r in rows if r.frequency > max_frequency], max_frequency)
+    small_print = "; ".join(x for x in (_settings_line(explained), hidden) if x)
     ax.text(
-        0.01,
-        -0.16,
-        textwrap.fill(_settings_line(explained), 120),
+        0.0,
+        -0.14,
+        textwrap.fill(small_print, 130),
         transform=ax.transAxes,
         fontsize=6.5,
         color="0.3",
@@ -146,31 +272,13 @@ def spectrum_figure(
         ),
         fontsize=9,
     )
-    if rows:
-        # Bottom right: the peak labels hang from the top, the noise floor is low and flat.
-        ax.legend(fontsize=7, loc="lower right", framealpha=0.9)
+    if shown:
+        # Outside the axes, on the right: it hides no peak and no label.
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
-    separate_labels(ax, labels)
+    label_peaks(ax, labels, data_top=top, marker_size=_MARKER)
     return fig
-
-
-def _peak_label(ax, text: str, peak: tuple[float, float], colour: str, rank: int, top=0.97):
-    """A peak label hung from the top of the axes with a leader line to ``peak`` (data)."""
-    return ax.annotate(
-        text,
-        peak,
-        xytext=(peak[0], top),
-        textcoords=("data", "axes fraction"),
-        ha="center",
-        va="top",
-        fontsize=7,
-        color=colour,
-        # Later (lower) labels above earlier leader lines, on a light box that hides them.
-        zorder=5 + 0.01 * rank,
-        bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.75},
-        arrowprops={"arrowstyle": "-", "color": colour, "lw": 0.4, "alpha": 0.6},
-    )
 
 
 def coherence_figure(
@@ -179,8 +287,12 @@ def coherence_figure(
     mark_labels: Sequence[str] | None = None,
     names: tuple[str, str] = ("x", "y"),
     max_frequency: float | None = None,
+    log_frequency: bool | None = None,
 ):
     """Magnitude-squared coherence with optional markers at given frequencies.
+
+    The marks' labels stand in one row above γ² = 1 (:func:`rollerrig.report.labels.label_peaks`):
+    none covers a marker or the curve.
 
     Parameters
     ----------
@@ -193,7 +305,11 @@ def coherence_figure(
     names : tuple of str
         Names of the two channels for the title.
     max_frequency : float, optional
-        Upper end of the frequency axis [Hz].
+        Upper end of the frequency axis [Hz]; default :func:`frequency_limit` of the marked
+        frequencies (every mark shown). Marks above a smaller given limit are named in the
+        figure's small print.
+    log_frequency : bool, optional
+        A logarithmic frequency axis; default :func:`log_frequency_axis` of the marks.
 
     Returns
     -------
@@ -201,26 +317,27 @@ def coherence_figure(
     """
     from rollerrig.signal.spectra import coherence_at
 
-    fig, ax = plt.subplots(figsize=(9.0, 4.6))
-    ax.plot(coh.frequency, coh.coherence, color="tab:blue", lw=0.9)
+    fig, ax = plt.subplots(figsize=(10.0, 4.8))
+    ax.plot(coh.frequency, coh.coherence, color="tab:blue", lw=0.9, zorder=2)
     marks = np.asarray(mark_frequencies, dtype=float)
-    fmax = max_frequency or float(coh.frequency[-1])
+    fmax = max_frequency or frequency_limit(marks.tolist(), float(coh.frequency[-1]))
+    low = _frequency_axis(ax, marks.tolist(), float(coh.frequency[1]), fmax, log_frequency)
     labels = []
     if marks.size:
         values = coherence_at(coh, marks)
         texts = list(mark_labels) if mark_labels is not None else [""] * marks.size
-        # The most coherent marks keep the top row of labels.
+        # The most coherent marks are labelled first (kept if the row is too long).
         order = np.argsort(-np.nan_to_num(values, nan=-1.0), kind="stable")
-        for rank, k in enumerate(order):
+        for k in order:
             fm, g, lab = marks[k], values[k], texts[k].split(" (")[0]
-            if fm > fmax:
+            if not low <= fm <= fmax:
                 continue
-            ax.plot(fm, g, "v", color="tab:red", ms=5)
-            peak = (fm, g if np.isfinite(g) else 0.0)
-            labels.append(_peak_label(ax, f"{lab}\nγ² = {g:.2f}", peak, "tab:red", rank))
-    ax.set_ylim(0.0, 1.6 if marks.size else 1.05)
+            height = g if np.isfinite(g) else 0.0
+            ax.plot(fm, height, "v", color="tab:red", ms=_MARKER, zorder=6)
+            text = f"{lab}\nγ² = {g:.2f}" if lab else f"{fm:.3f} Hz\nγ² = {g:.2f}"
+            labels.append(PeakLabel(float(fm), float(height), text, "tab:red"))
+    ax.set_ylim(0.0, 1.05)
     ax.set_yticks([0.0, 0.25, 0.5, 0.75, 1.0])
-    ax.set_xlim(0.0, fmax)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("coherence γ² [-]")
     df = float(coh.frequency[1] - coh.frequency[0])
@@ -229,18 +346,54 @@ def coherence_figure(
         f"coherence of {names[0]} and {names[1]} ({coh.n_segments} segments{seg}, Δf {df:.4g} Hz)",
         fontsize=9,
     )
+    hidden = _hidden_note([float(m) for m in marks if m > fmax], fmax)
+    if hidden:
+        ax.text(0.0, -0.14, hidden, transform=ax.transAxes, fontsize=6.5, color="0.3", va="top")
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
-    separate_labels(ax, labels)
+    label_peaks(ax, labels, data_top=1.0, marker_size=_MARKER)  # above γ² = 1, the most it can be
     return fig
+
+
+def _inferred_lines(omap: OrderMap) -> list:
+    """Order lines for the attributed peaks that no line of ``omap`` passes through.
+
+    A peak attributed to, e.g., the wheel's second order when only the first is drawn: its
+    order k is the peak frequency over the order-1 frequency of its source at its speed
+    (known from any drawn line of that source), accepted within 3 %.
+    """
+    from rollerrig.signal.ordermap import OrderLine
+
+    unit = {}  # source -> frequency of order 1 on the speed grid [Hz]
+    for line in omap.lines:
+        if line.order > 0:
+            unit.setdefault(line.source, line.frequency / line.order)
+    drawn = {(line.source, line.order) for line in omap.lines}
+    extra = []
+    for speed, freq, kind in zip(omap.speed, omap.frequency, omap.source, strict=True):
+        if kind not in unit:
+            continue
+        base = float(np.interp(speed, omap.speed_grid, unit[kind]))
+        k = round(float(freq) / base) if base > 0 else 0
+        if k < 1 or (kind, k) in drawn or abs(freq - k * base) > 0.03 * freq:
+            continue
+        drawn.add((kind, k))
+        extra.append(OrderLine(kind, k, f"{SOURCE_KINDS.get(kind, kind)} ×{k}", k * unit[kind]))
+    return extra
 
 
 def order_map_figure(
     omap: OrderMap,
     roller_radius: float | None = None,
     max_frequency: float | None = None,
+    log_frequency: bool | None = None,
 ):
     """Peak frequency versus speed with the order lines overlaid (a Campbell-like map).
+
+    Besides the lines of ``omap``, a line is drawn for every attributed order that has none
+    (e.g. the wheel's second order, the PMSM's sixth). Each line is named outside the axes,
+    on the right where it leaves the speed range (above the axes where it leaves through the
+    top), so the names cover no point.
 
     Parameters
     ----------
@@ -250,21 +403,39 @@ def order_map_figure(
         Roller rolling radius [m]; when given the speed axis is the surface speed in km/h
         (Kayaalp: 0.452 m), else the roller angular speed in rad/s.
     max_frequency : float, optional
-        Upper end of the frequency axis [Hz]; default 1.1 times the highest peak.
+        Upper end of the frequency axis [Hz]; default 1.1 times the highest peak (every peak
+        shown, as :func:`frequency_limit`). Peaks above a smaller given limit are named under
+        the axes.
+    log_frequency : bool, optional
+        A logarithmic frequency axis (from just below the lowest peak); default
+        :func:`log_frequency_axis` of the peaks (the low orders of a slow rotation stay apart
+        next to the motor lines).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
     scale = 3.6 * roller_radius if roller_radius is not None else 1.0
-    fig, ax = plt.subplots(figsize=(7.5, 5.0))
+    fig, ax = plt.subplots(figsize=(8.5, 5.6))
     styles = {
         "am_electrical": "-",
         "roller_order": "--",
         "pmsm_electrical": "-",
         "wheel_order": ":",
     }
-    for line in omap.lines:
+    peaks = omap.frequency[np.isfinite(omap.frequency) & (omap.frequency > 0)]
+    top = max_frequency or (1.1 * float(peaks.max()) if peaks.size else 10.0)
+    if log_frequency is None:
+        log_frequency = log_frequency_axis(peaks.tolist())
+    bottom = float(peaks.min()) / 1.5 if log_frequency and peaks.size else 0.0
+    if log_frequency:
+        ax.set_yscale("log")
+        _plain_log_ticks(ax.yaxis)
+    x_end = float(omap.speed_grid[-1]) * scale
+    ax.set_xlim(0.0, x_end)
+    ax.set_ylim(bottom if log_frequency else 0.0, top)
+    lines = [*omap.lines, *_inferred_lines(omap)]
+    for line in lines:
         ax.plot(
             omap.speed_grid * scale,
             line.frequency,
@@ -272,14 +443,7 @@ def order_map_figure(
             color=_COLOURS.get(line.source, "k"),
             lw=0.9,
             alpha=0.7,
-        )
-        ax.annotate(
-            line.label,
-            (omap.speed_grid[-1] * scale, line.frequency[-1]),
-            fontsize=6,
-            color=_COLOURS.get(line.source, "k"),
-            ha="right",
-            va="bottom",
+            gid="order-line",
         )
     for kind in dict.fromkeys(omap.source.tolist()):
         sel = omap.source == kind
@@ -289,16 +453,92 @@ def order_map_figure(
             "o",
             color=_COLOURS.get(kind, "k"),
             ms=5,
-            label=kind or "peak",
+            zorder=4,
+            label=source_name(kind),
         )
-    top = max_frequency or (1.1 * float(omap.frequency.max()) if omap.frequency.size else 10.0)
-    ax.set_ylim(0.0, top)
-    ax.set_xlim(0.0, float(omap.speed_grid[-1]) * scale)
     ax.set_xlabel("speed [km/h]" if roller_radius is not None else "roller speed [rad/s]")
     ax.set_ylabel("peak frequency [Hz]")
-    ax.set_title("order map: spectral peaks versus speed")
-    if omap.frequency.size:
-        ax.legend(fontsize=7, loc="upper left")
-    ax.grid(True, alpha=0.3)
+    if omap.frequency.size:  # below the axes: it hides no point and no line
+        kinds = len(set(omap.source.tolist()))
+        hidden = _hidden_note([float(f) for f in omap.frequency if f > top], top)
+        ax.legend(
+            fontsize=7,
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.11),
+            ncol=kinds,
+            title=hidden or None,  # what a given frequency limit leaves out
+            title_fontsize=6.5,
+        )
+    ax.grid(True, which="both" if log_frequency else "major", alpha=0.3)
+    names = _line_names(ax, lines, omap.speed_grid * scale)
+    ax.set_title("order map: spectral peaks versus speed", pad=6 + (14 if names else 0))
     fig.tight_layout()
+    _place_line_names(ax, names)
     return fig
+
+
+def _line_names(ax, lines, speeds: np.ndarray) -> list:
+    """Name texts of the order lines, outside the axes: (text, side, where [data]) each.
+
+    A line inside the frequency range at the right end is named on the right, at its
+    frequency there; one that leaves through the top is named above the axes, at the speed
+    where it leaves. Positions are spread apart by :func:`_place_line_names`.
+    """
+    lo, hi = ax.get_ylim()
+    names = []
+    for line in lines:
+        f = np.asarray(line.frequency, dtype=float)
+        end = float(f[-1])
+        if lo < end <= hi:  # on the right, tied to the line's end by a short leader
+            side, where, coords, xy, xytext, align = (
+                "right", end, ("axes fraction", "data"), (1.0, end), (1.02, end), ("left", "center")
+            )  # fmt: skip
+        elif end > hi and f[0] <= hi:  # above the axes, where the line leaves through the top
+            rising = bool(np.all(np.diff(f) >= 0))
+            where = float(np.interp(hi, f, speeds)) if rising else float(speeds[-1])
+            side, coords, xy, xytext, align = (
+                "top", ("data", "axes fraction"), (where, 1.0), (where, 1.01), ("center", "bottom")
+            )  # fmt: skip
+        else:
+            continue
+        colour = _COLOURS.get(line.source, "k")
+        leader = {"arrowstyle": "-", "color": colour, "lw": 0.5, "shrinkA": 1, "shrinkB": 0}
+        text = ax.annotate(
+            line.label,
+            xy,
+            xycoords=coords,
+            xytext=xytext,
+            textcoords=coords,
+            fontsize=6,
+            color=colour,
+            ha=align[0],
+            va=align[1],
+            annotation_clip=False,
+            arrowprops=leader if side == "right" else None,
+        )
+        names.append((text, side, where))
+    return names
+
+
+def _place_line_names(ax, names) -> None:
+    """Spread the line names apart (on the right: vertically; on top: sideways)."""
+    renderer = ax.figure.canvas.get_renderer()
+    frame = ax.get_window_extent(renderer)
+    to_axes = ax.transAxes.inverted()
+    for side in ("right", "top"):
+        mine = [(t, where) for t, s, where in names if s == side]
+        if not mine:
+            continue
+        boxes = [t.get_window_extent(renderer) for t, _ in mine]
+        if side == "right":
+            want = [ax.transData.transform((0.0, w))[1] for _, w in mine]
+            ys = spread(want, [b.height for b in boxes], frame.y0, frame.y1, 1.0)
+            for (t, _), y in zip(mine, ys, strict=True):
+                t.set_position((1.02, float(to_axes.transform((frame.x1, y))[1])))
+                t.set_anncoords("axes fraction")
+        else:
+            want = [ax.transData.transform((w, 1.0))[0] for _, w in mine]
+            xs = spread(want, [b.width for b in boxes], frame.x0, frame.x1, 4.0)
+            for (t, _), x in zip(mine, xs, strict=True):
+                t.set_position((float(to_axes.transform((x, frame.y1))[0]), 1.01))
+                t.set_anncoords("axes fraction")

@@ -32,7 +32,8 @@ def experiment_figure(ds, title: str | None = None):
 
     (a) torque request and PMSM air-gap torque; (b) CoA versus creep, true at the contact and as
     the rig measures it (T56 and encoder creep); (c) wheel and (e) roller peripheral speed;
-    (d) slip (creep) velocity; (f) true contact force and the force the rig derives from T56.
+    (d) slip velocity [m/s] (the difference of the peripheral speeds at the contact); (f) true
+    contact force and the force the rig derives from T56.
 
     In every panel that holds both, what the rig measures (quantised encoder speeds, the torque
     sensor) is drawn thin and light grey behind (:data:`MEASURED_STYLE`), the twin's truth in
@@ -90,7 +91,7 @@ def experiment_figure(ds, title: str | None = None):
     _measured_and_true(d, t, ds.measured_slip_velocity.values, ds.slip_velocity.values,
                        "tab:purple", "at the contact (twin)", "from the encoders")  # fmt: skip
     d.set_ylabel("slip velocity [m/s]")
-    d.set_title("(d) creep velocity")
+    d.set_title("(d) slip velocity")
 
     if "measured_roller_speed" in ds:
         _measured_and_true(e, t, ds.measured_roller_speed.values * rr * 3.6,
