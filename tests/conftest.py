@@ -10,9 +10,11 @@ _TESTS = str(Path(__file__).resolve().parent)
 if _TESTS not in sys.path:
     sys.path.insert(0, _TESTS)
 
-# numba's on-disk cache of the fast solver grows with every process and eventually breaks
-# (issue 9: "ReferenceError: underlying object has vanished" in numba's caching). Until that is
-# fixed, each test session compiles into a cache of its own, so a cache left broken by earlier
-# runs on the same machine cannot fail the suite. A NUMBA_CACHE_DIR the user sets is respected.
+# The compiled fast backend is cached on disk by rollerrig.solve._cache: one folder per hash of
+# the compiled sources (an edit selects a new folder), repaired when damaged, at most a few kept.
+# Test sessions share a cache of their own in the temporary directory, apart from the user's
+# (~/.cache/rollerrig), and warm after the first session. A NUMBA_CACHE_DIR the user sets is
+# respected (rollerrig then keeps its folders in $NUMBA_CACHE_DIR/rollerrig).
 if "NUMBA_CACHE_DIR" not in os.environ:
-    os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="rollerrig-test-numba-")
+    _user = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
+    os.environ["NUMBA_CACHE_DIR"] = str(Path(tempfile.gettempdir()) / f"rollerrig-tests-{_user}")

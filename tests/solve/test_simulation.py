@@ -23,7 +23,7 @@ from rollerrig.rig.parameters import default_rig
 from rollerrig.solve.fast import integrate_experiment
 from rollerrig.solve.reference import integrate_reference
 from rollerrig.solve.results import save_dataset
-from rollerrig.solve.simulation import Simulation
+from rollerrig.solve.simulation import Simulation, SolverError
 
 
 @pytest.mark.parametrize("name", ["seed-30kmh-dry", "seed-10kmh-wet"])
@@ -92,7 +92,8 @@ def test_results_carry_units_provenance_and_round_trip(tmp_path):
     assert ds.time.attrs["units"] == "s"
     assert ds.measured_coa.attrs["units"] == "1"
     prov = json.loads(ds.attrs["provenance"])
-    assert prov["rig"]["stiffness"]["roller_shaft"] == 43.5e3
+    assert prov["rig"]["name"] == "pardubice-tram-roller-rig"
+    assert prov["rig_parameters"]["stiffness"]["roller_shaft"] == 43.5e3
     assert prov["protocol"]["name"] == "seed-10kmh-wet"
     assert prov["solver"]["stats"]["status"] == 0
     # The rig's CoA is T56 / (r_r N) by construction.
@@ -173,3 +174,35 @@ def test_fast_solver_lands_a_sample_one_ulp_after_a_segment_start():
     reference = Simulation(experiment=protocol, solver="reference").run()
     assert np.all(np.isfinite(fast["t56"].values))
     np.testing.assert_allclose(fast["t56"].values, reference["t56"].values, atol=1.0)
+
+
+def test_a_solver_failure_is_one_clear_error_with_the_time_and_what_to_try():
+    # A vanishing roller inertia (J5 = 1e-300 kg.m^2) makes the chain infinitely stiff: the
+    # fast solver's step underflows at once. Before issue 9 this was a bare RuntimeError.
+    rig = default_rig().with_overrides({"inertia.roller": 1e-300})
+    pulse = Protocol.from_steps(
+        "pulse", [Hold(0.2), RampTorque(300.0, 0.3)], normal_load=4300.0, roller_speed=30 / 3.6
+    )
+    with pytest.raises(SolverError) as caught:
+        Simulation(rig, pulse).run()
+    err = caught.value
+    assert isinstance(err, ParameterError)  # the CLI prints it as an error line, no traceback
+    assert err.solver == "fast" and err.t_stop == 0.0
+    message = str(err)
+    for part in ("fast solver", "'pulse'", "at t = 0 s", "step size", "inertia", "reference"):
+        assert part in message, message
+
+
+def test_fast_stats_give_the_time_reached():
+    inputs = assemble(default_rig(), load_protocol("seed-10kmh-wet"))
+    t = np.linspace(0.0, 2.0, 11)
+    _, stats = integrate_experiment(inputs, t)
+    assert stats["status"] == 0 and stats["t_stop"] == pytest.approx(inputs.segments[-1].end)
+    assert "reason" not in stats
+    bad = assemble(
+        default_rig().with_overrides({"inertia.roller": 1e-300}), load_protocol("seed-10kmh-wet")
+    )
+    x, stats = integrate_experiment(bad, t)
+    assert stats["status"] == 2 and stats["t_stop"] == 0.0
+    assert stats["reason"].startswith("at t = 0 s the step size fell")
+    assert np.all(np.isnan(x[1:]))

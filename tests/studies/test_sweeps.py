@@ -12,8 +12,10 @@ import pytest
 
 from rollerrig._validation import ParameterError
 from rollerrig.experiment import Hold, RampTorque, ReleaseTorque
+from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import default_rig
 from rollerrig.studies import RELEASE_TEST, run_study
+from rollerrig.studies.sweeps import POINT_FAILED, POINT_OK, run_sweep
 
 
 @pytest.fixture(scope="module")
@@ -67,3 +69,28 @@ def test_release_test_protocol_is_built_from_steps():
     assert p.roller_speed_at(3.0) == pytest.approx(30 / 3.6)
     assert p.normal_load_at(3.0) == 4300.0 and p.friction_at(3.0) == "dry"
     assert [e.start for e in p.events if e.action == "release_torque"] == [3.5]
+
+
+def test_a_failing_point_has_a_status_and_the_others_still_complete(rig):
+    # Issue 9: one variant the solver cannot integrate (a vanishing roller inertia) used to
+    # raise and lose the whole sweep.
+    broken = rig.with_overrides({"inertia.roller": 1e-300})
+    variants = [(rig, DriveConfig()), (broken, DriveConfig()), (rig, DriveConfig(roller_lag=0.0))]
+    labels = ("rig today", "no roller inertia", "no lag")
+    r = run_sweep(variants, labels)
+    assert r.status == (POINT_OK, POINT_FAILED, POINT_OK)
+    assert r.failed == ("no roller inertia",)
+    assert "at t = 0 s" in r.reasons[1] and "inertia" in r.reasons[1]
+    assert np.isnan(r.measured_overshoot[1]) and np.isnan(r.true_overshoot[1])
+    # The other points are what they are in a sweep of their own.
+    alone = run_sweep([variants[0], variants[2]], (labels[0], labels[2]))
+    np.testing.assert_array_equal(r.measured_overshoot[[0, 2]], alone.measured_overshoot)
+    assert r.measured_overshoot[0] > 0.3 and r.measured_overshoot[2] < 0.02
+    rows = r.rows()
+    assert rows[1]["status"] == POINT_FAILED and rows[1]["overshoot of T56/r_r [-]"] is None
+    assert rows[0]["status"] == POINT_OK and rows[0]["reason"] == ""
+
+
+def test_a_sweep_needs_one_label_per_variant(rig):
+    with pytest.raises(ParameterError, match="one label per variant"):
+        run_sweep([(rig, DriveConfig())], ("a", "b"))

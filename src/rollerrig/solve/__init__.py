@@ -1,6 +1,7 @@
 """Solving the rig model: reference and fast backends, labelled results, the `Simulation`.
 
-- :class:`~rollerrig.solve.simulation.Simulation` — binds rig, protocol, drives and solver.
+- :class:`~rollerrig.solve.simulation.Simulation` — binds rig, protocol, drives and solver;
+  a failed run raises :class:`~rollerrig.solve.simulation.SolverError`.
 - :mod:`~rollerrig.solve.reference` — scipy Radau on the compiled model (the trusted solution).
 - :mod:`~rollerrig.solve.fast` — compiled ROS34PW2 W-method, single runs and parallel batches.
 - :mod:`~rollerrig.solve.ros34pw` — the third-order W-method (Rang & Angermann 2005) on the
@@ -8,9 +9,10 @@
   finite-difference Jacobians, batches).
 - :mod:`~rollerrig.solve.results` — the xarray dataset and its writers.
 
-Importing this package does not import numba; the compiled backends load on first use.
+Importing this package does not import numba; the compiled backends load on first use, from
+the on-disk cache of compiled code (:mod:`~rollerrig.solve._cache`).
 """
 
-from rollerrig.solve.simulation import SOLVERS, Simulation
+from rollerrig.solve.simulation import SOLVERS, Simulation, SolverError
 
-__all__ = ["SOLVERS", "Simulation"]
+__all__ = ["SOLVERS", "Simulation", "SolverError"]

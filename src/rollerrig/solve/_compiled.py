@@ -2,12 +2,14 @@
 
 The physics kernels are plain functions (they run on numpy for the baseline and the tests);
 ``register_jitable`` lets numba compile them wherever compiled code calls them, so no kernel
-exists twice. Importing this module costs nothing until a compiled function is first called.
+exists twice. :data:`RIG` is ROS34PW2 bound to the compiled model (:func:`rig_rhs`), the driver
+of the fast backend. Everything here is cached on disk (:mod:`rollerrig.solve._cache`): a process
+loads the machine code instead of compiling it, unless the package's compiled sources changed.
+Importing this module costs nothing until a compiled function is first called.
 """
 
 from __future__ import annotations
 
-import numba
 from numba.extending import register_jitable
 
 from rollerrig.contact import creep as _creep
@@ -16,6 +18,7 @@ from rollerrig.drives import induction as _induction
 from rollerrig.drives import pmsm as _pmsm
 from rollerrig.drives import servo as _servo
 from rollerrig.rig import model as _model
+from rollerrig.solve import _cache, ros34pw
 
 _KERNELS = (
     _creep._friction_kernel,
@@ -41,17 +44,21 @@ _KERNELS = (
 for _fn in _KERNELS:
     register_jitable(_fn)
 
-rig_rhs = numba.njit(cache=True)(_model.rig_rhs)
+rig_rhs = _cache.njit(_model.rig_rhs)
 """Compiled :func:`rollerrig.rig.model.rig_rhs`."""
 
-rig_terms = numba.njit(cache=True)(_model.rig_terms)
+rig_terms = _cache.njit(_model.rig_terms)
 """Compiled :func:`rollerrig.rig.model.rig_terms`."""
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def rig_terms_series(t, x, p, tables, out):
     """Evaluate :func:`rig_terms` at every sample: ``out[k, :]`` for ``t[k]``, ``x[k, :]``."""
     for k in range(t.shape[0]):
         terms = rig_terms(t[k], x[k], p, tables)
         for j in range(len(terms)):
             out[k, j] = terms[j]
+
+
+RIG = ros34pw.bind(rig_rhs, name="rig")
+"""ROS34PW2 bound to :data:`rig_rhs` (:class:`~rollerrig.solve._wdriver.Driver`), cached."""

@@ -5,27 +5,44 @@ with ``W = I − γ h J``, where ``J`` may be any approximation of ``∂f/∂x``
 1996, Sec. IV.7). Everything around the stages is the same for every such method and is written
 once here:
 
-- :func:`integrate`: adaptive step size (Hairer & Wanner 1996, Sec. IV.8: mixed error norm,
+- ``integrate``: adaptive step size (Hairer & Wanner 1996, Sec. IV.8: mixed error norm,
   standard controller, optionally Gustafsson's predictive controller), steps shortened to land
   exactly on the output times, reuse of ``J`` over ``jac_every`` accepted steps and of the
   factored ``W`` while the step size stays within a ratio of the one it was built for,
   recovery from non-finite values by shorter steps, failure statuses;
-- :func:`fixed`: equal steps between consecutive output times (deterministic cost);
-- :func:`integrate_batch`: independent adaptive integrations in parallel threads (``prange``);
-- :func:`fd_jacobian`, :func:`fd_time_derivative`: the forward-difference ``J`` and ``f_t``.
+- ``fixed``: equal steps between consecutive output times (deterministic cost);
+- ``integrate_batch``: independent adaptive integrations in parallel threads (``prange``);
+- ``fd_jacobian``, ``fd_time_derivative``: the forward-difference ``J`` and ``f_t``
 
-A method enters through two jitted functions with fixed signatures::
+(the fields of a :class:`Driver`, compiled by :func:`bind`; :func:`fd_jacobian` and
+:func:`fd_time_derivative` also take the right-hand side as their first argument).
+
+A method enters as a :class:`Method`: the step, written as a template that calls ``rhs`` (see
+below), the jitted factorisation of ``W`` and the controller constants::
 
     factor(jac, h, w, w_work) -> int   # factor or invert W = I − γ h J into w; 0 = ok
-    step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, w, x_new, err, work) -> None
+    step(t, h, t_new, x, f0, ft, h_w, p, tables, w, x_new, err, work) -> None
 
 ``step`` advances from ``(t, x)`` (``f0 = f(t, x)``, ``ft ≈ ∂f/∂t``) by ``h`` to ``t_new``
 with ``w`` built for the step ``h_w`` and writes the new state and the local error estimate;
-``work`` has ``n_work`` rows of scratch space. numba specialises the drivers on these
-functions (as on ``rhs``), so the calls compile to direct, inlinable calls; pass the method's
-step itself, not a wrapper around it (one more call layer in the step loop cost ~4 % of the
-run time of the fast backend, measured with numba 0.68). ROS34PW2
-(:mod:`rollerrig.solve.ros34pw`) inverts ``W`` explicitly.
+``work`` has ``n_work`` rows of scratch space. ROS34PW2 (:mod:`rollerrig.solve.ros34pw`)
+inverts ``W`` explicitly.
+
+Templates bound to a right-hand side
+------------------------------------
+The drivers are written once, as templates: plain functions that call the right-hand side
+``rhs``, the method's ``step`` and ``factor`` and read its constants (``N_WORK``,
+``REUSE_RATIO``, ``EXPONENT``, ``PREDICTIVE``) as *global* names. :func:`bind` compiles copies
+of them whose globals are one right-hand side and one method. numba resolves those calls at
+compile time into direct, inlinable calls; passing the functions as arguments would do the same
+but embeds their addresses in the machine code, which numba then cannot cache on disk (and
+whose cache index, keyed by the function objects, never hits and grows with every process). A
+binding with a ``name`` is cached (:mod:`rollerrig.solve._cache`): the fast backend binds the
+rig model once (:data:`rollerrig.solve._compiled.RIG`) and loads it from the cache in every
+later process. Unnamed bindings (tests, a user's right-hand side) are compiled once per
+process. The step must be the method's step itself, not a wrapper around it (one more call
+layer in the step loop cost ~4 % of the run time of the fast backend, measured with numba
+0.68).
 
 References
 ----------
@@ -41,8 +58,15 @@ Examples
 See :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`.
 """
 
+import functools
+import types
+from collections.abc import Callable
+from typing import NamedTuple
+
 import numba
 import numpy as np
+
+from rollerrig.solve import _cache
 
 #: Return codes of the integrators.
 STATUS_OK = 0
@@ -67,7 +91,22 @@ _FAC_MAX = 5.0
 _FAC_NONFINITE = 0.25
 
 
-@numba.njit(cache=True)
+# ---------------------------------------------------------------------------------------------
+# Names a binding replaces (bind): the right-hand side and the method. The templates below call
+# and read them as globals; these placeholders only keep the templates readable and importable.
+# ---------------------------------------------------------------------------------------------
+def rhs(t, x, p, tables, dx):
+    """Placeholder of the right-hand side ``rhs(t, x, p, tables, dx)`` of a binding."""
+    raise NotImplementedError("a driver template runs only when bound: see _wdriver.bind")
+
+
+step = factor = rhs
+N_WORK = 2  # rows of scratch space of the method's step [-]
+REUSE_RATIO = 1.0  # W built for h_w is reused while h_w/h is in [1/ratio, ratio] [-]
+EXPONENT = 0.5  # error exponent of the controller, 1/(embedded order + 1) [-]
+PREDICTIVE = False  # Gustafsson's predictive controller
+
+
 def fd_jacobian(rhs, t, x, p, tables, f0, jac_out, work, x_typ=None):
     """Forward-difference Jacobian ``J[i, j] = ∂f_i/∂x_j`` of a right-hand side.
 
@@ -119,28 +158,9 @@ def fd_jacobian(rhs, t, x, p, tables, f0, jac_out, work, x_typ=None):
     >>> np.allclose(jac, [[5.0, 2.0], [-3.0, 0.0]], rtol=1e-6)
     True
     """
-    n = x.shape[0]
-    xp = work[0]
-    fp = work[1]
-    for i in range(n):
-        xp[i] = x[i]
-    for j in range(n):
-        xj = x[j]
-        if x_typ is None:
-            scale = max(abs(xj), 1.0)
-        else:
-            scale = max(abs(xj), abs(x_typ[j]))
-        xp[j] = xj + _SQRT_EPS * scale
-        delta = xp[j] - xj
-        rhs(t, xp, p, tables, fp)
-        inv = 1.0 / delta
-        for i in range(n):
-            jac_out[i, j] = (fp[i] - f0[i]) * inv
-        xp[j] = xj
-    return n
+    return bind(rhs).fd_jacobian(t, x, p, tables, f0, jac_out, work, x_typ)
 
 
-@numba.njit(cache=True)
 def fd_time_derivative(rhs, t, x, p, tables, f0, ft_out, work, t_end):
     """Forward-difference time derivative ``∂f/∂t`` of a right-hand side.
 
@@ -173,6 +193,34 @@ def fd_time_derivative(rhs, t, x, p, tables, f0, ft_out, work, t_end):
     >>> bool(abs(ft[0] - 12.0) < 1e-5)
     True
     """
+    return bind(rhs).fd_time_derivative(t, x, p, tables, f0, ft_out, work, t_end)
+
+
+def _fd_jacobian(t, x, p, tables, f0, jac_out, work, x_typ=None):
+    """Template of :func:`fd_jacobian` (``rhs`` bound)."""
+    n = x.shape[0]
+    xp = work[0]
+    fp = work[1]
+    for i in range(n):
+        xp[i] = x[i]
+    for j in range(n):
+        xj = x[j]
+        if x_typ is None:
+            scale = max(abs(xj), 1.0)
+        else:
+            scale = max(abs(xj), abs(x_typ[j]))
+        xp[j] = xj + _SQRT_EPS * scale
+        delta = xp[j] - xj
+        rhs(t, xp, p, tables, fp)
+        inv = 1.0 / delta
+        for i in range(n):
+            jac_out[i, j] = (fp[i] - f0[i]) * inv
+        xp[j] = xj
+    return n
+
+
+def _fd_time_derivative(t, x, p, tables, f0, ft_out, work, t_end):
+    """Template of :func:`fd_time_derivative` (``rhs`` bound)."""
     n = x.shape[0]
     dt = _SQRT_EPS * max(abs(t), 1.0)
     if t + dt > t_end:
@@ -185,15 +233,14 @@ def fd_time_derivative(rhs, t, x, p, tables, f0, ft_out, work, t_end):
         ft_out[i] = (work[i] - f0[i]) * inv
 
 
-@numba.njit(cache=True)
-def _jacobians(rhs, t, x, p, tables, f0, jac, ft, work, t_end, time_derivative, x_typ):
+def _jacobians(t, x, p, tables, f0, jac, ft, work, t_end, time_derivative, x_typ):
     """``J = ∂f/∂x`` and (``time_derivative > 0``) ``f_t = ∂f/∂t`` by forward differences.
 
     Returns True when ``f_t`` is identically zero (no explicit time dependence seen).
     """
-    fd_jacobian(rhs, t, x, p, tables, f0, jac, work, x_typ)
+    _fd_jacobian(t, x, p, tables, f0, jac, work, x_typ)
     if time_derivative > 0:
-        fd_time_derivative(rhs, t, x, p, tables, f0, ft, work[0], t_end)
+        _fd_time_derivative(t, x, p, tables, f0, ft, work[0], t_end)
     else:
         ft[:] = 0.0
     for i in range(ft.shape[0]):
@@ -202,7 +249,7 @@ def _jacobians(rhs, t, x, p, tables, f0, jac, ft, work, t_end, time_derivative, 
     return True
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def _all_finite(v):
     for i in range(v.shape[0]):
         if not np.isfinite(v[i]):
@@ -210,14 +257,14 @@ def _all_finite(v):
     return True
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def _fill_nan_from(x_out, k):
     for i in range(k, x_out.shape[0]):
         for j in range(x_out.shape[1]):
             x_out[i, j] = np.nan
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def _check_times(t0, t1, t_out):
     if not (np.isfinite(t0) and np.isfinite(t1)) or t1 < t0:
         return False
@@ -229,7 +276,7 @@ def _check_times(t0, t1, t_out):
     return True
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def _bad_input(ok, t0, t1, t_out, n, x_out):
     """True (and ``x_out`` NaN where its shape allows) unless ``ok`` and times, shapes agree."""
     n_out = t_out.shape[0]
@@ -245,7 +292,7 @@ def _bad_input(ok, t0, t1, t_out, n, x_out):
     return False
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def _workspace(x0, n_work):
     """The state ``x`` (a copy of ``x0``) and scratch arrays ``x_new, f0, f_new, err, jac, ft,
     w, w_work, work``."""
@@ -264,7 +311,7 @@ def _workspace(x0, n_work):
     )
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def _land(t, x, t_out, x_out, k_out):
     """Store ``x`` in every output row due at ``t`` from row ``k_out`` on; the next row."""
     while k_out < t_out.shape[0] and t_out[k_out] == t:
@@ -273,7 +320,7 @@ def _land(t, x, t_out, x_out, k_out):
     return k_out
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def _error_factor(enorm, exponent):
     """``0.9 · enorm^(−exponent)``, the step factor of the standard controller."""
     if exponent == 0.5:
@@ -281,39 +328,29 @@ def _error_factor(enorm, exponent):
     return _SAFETY * enorm**-exponent
 
 
-@numba.njit(cache=True)
-def integrate(
-    step, factor, n_work, reuse_ratio, exponent, predictive,
-    rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out, max_steps,
-    time_derivative, x_typ,
+def _integrate(
+    x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out,
+    max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP, x_typ=None, t_stop=None,
 ):  # fmt: skip
-    """Adaptive W-method from ``t0`` to ``t1`` with output at prescribed times.
+    """Template of ``integrate``: adaptive W-method from ``t0`` to ``t1``, output at given times.
 
-    The method is given by ``step``, ``factor`` and ``n_work`` (module docstring) and its
-    controller settings; the other parameters, the returns and the behaviour are those of
+    The method is the bound ``step``, ``factor`` and constants (module docstring); the
+    parameters, the returns and the behaviour are those of
     :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`. A non-finite value (or a singular
     ``W``) is retried with a shorter step; the integration ends with ``STATUS_NONFINITE`` once
     that step falls to ``8 ε max(|t|, |t1|)`` or the next step underflows.
 
     Parameters
     ----------
-    step, factor : numba dispatcher
-        The method's step and the factorisation of ``W``.
-    n_work : int
-        Rows of scratch space ``step`` needs (at least 2) [-].
-    reuse_ratio : float
-        The factors of ``W`` built for ``h_w`` are reused for a step ``h`` while ``h_w/h`` lies
-        in ``[1/reuse_ratio, reuse_ratio]`` [-].
-    exponent : float
-        Error exponent of the controller, 1/(embedded order + 1) [-].
-    predictive : bool
-        Limit the step factor by Gustafsson's prediction (Hairer & Wanner 1996, eq. IV.8.25).
-    rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out, max_steps
+    x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out, max_steps
         As in :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`.
     time_derivative : int
         ``FT_NONE``, ``FT_WITH_JACOBIAN`` or ``FT_EVERY_STEP``.
     x_typ : ndarray of float64, shape (n,), or None
         Typical state magnitudes [state units] for :func:`fd_jacobian`.
+    t_stop : ndarray of float64, shape (1,), or None
+        Output: the time the integration reached [s] (``t1`` on success, where it stopped on
+        a failure).
 
     Returns
     -------
@@ -322,6 +359,8 @@ def integrate(
     """
     n = x0.shape[0]
     n_out = t_out.shape[0]
+    if t_stop is not None:
+        t_stop[0] = t0
     if _bad_input(True, t0, t1, t_out, n, x_out):
         return 0, 0, 0, STATUS_BAD_INPUT
 
@@ -330,7 +369,7 @@ def integrate(
     if h_max <= 0.0:
         h_max = t1 - t0
     jac_every = max(jac_every, 1)
-    x, x_new, f0, f_new, err, jac, ft, w, w_work, work = _workspace(x0, n_work)
+    x, x_new, f0, f_new, err, jac, ft, w, w_work, work = _workspace(x0, N_WORK)
 
     t = t0
     k_out = _land(t, x, t_out, x_out, 0)
@@ -341,7 +380,7 @@ def integrate(
     if not (_all_finite(x) and _all_finite(f0)):
         _fill_nan_from(x_out, k_out)
         return 0, 0, 0, STATUS_NONFINITE
-    ft_zero = _jacobians(rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative, x_typ)
+    ft_zero = _jacobians(t, x, p, tables, f0, jac, ft, work, t1, time_derivative, x_typ)
     n_jac = 1
     jac_current = True  # J was evaluated at the present (t, x)
     steps_since_jac = 0
@@ -391,7 +430,7 @@ def integrate(
             status = STATUS_NONFINITE if nonfinite_last else STATUS_STEP_UNDERFLOW
             break
 
-        if h_lu == 0.0 or h_try > reuse_ratio * h_lu or h_try * reuse_ratio < h_lu:
+        if h_lu == 0.0 or h_try > REUSE_RATIO * h_lu or h_try * REUSE_RATIO < h_lu:
             if factor(jac, h_try, w, w_work) != 0:
                 h_lu = 0.0
                 n_rejected += 1
@@ -401,7 +440,7 @@ def integrate(
                 continue
             h_lu = h_try
 
-        step(rhs, t, h_try, t_new, x, f0, ft, h_lu, p, tables, w, x_new, err, work)
+        step(t, h_try, t_new, x, f0, ft, h_lu, p, tables, w, x_new, err, work)
         enorm = 0.0
         for i in range(n):
             sc = atol_v[i] + rtol_v[i] * max(abs(x[i]), abs(x_new[i]))
@@ -421,9 +460,7 @@ def integrate(
             k_out = _land(t, x, t_out, x_out, k_out)
             steps_since_jac += 1
             if steps_since_jac >= jac_every:
-                ft_zero = _jacobians(
-                    rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative, x_typ
-                )
+                ft_zero = _jacobians(t, x, p, tables, f0, jac, ft, work, t1, time_derivative, x_typ)
                 n_jac += 1
                 steps_since_jac = 0
                 jac_current = True
@@ -431,15 +468,15 @@ def integrate(
             else:
                 jac_current = False
                 if time_derivative == FT_EVERY_STEP and not ft_zero and t < t1:
-                    fd_time_derivative(rhs, t, x, p, tables, f0, ft, work[0], t1)
+                    _fd_time_derivative(t, x, p, tables, f0, ft, work[0], t1)
             if enorm == 0.0:
                 fac = _FAC_MAX
             else:
-                fac = min(_FAC_MAX, max(_FAC_MIN, _error_factor(enorm, exponent)))
-            if predictive and h_acc > 0.0:
+                fac = min(_FAC_MAX, max(_FAC_MIN, _error_factor(enorm, EXPONENT)))
+            if PREDICTIVE and h_acc > 0.0:
                 # Gustafsson's predictive controller (Hairer & Wanner 1996, eq. IV.8.25)
                 e_cl = max(enorm, 1e-10)
-                fac_g = _SAFETY * (h_try / h_acc) * (err_acc / (e_cl * e_cl)) ** exponent
+                fac_g = _SAFETY * (h_try / h_acc) * (err_acc / (e_cl * e_cl)) ** EXPONENT
                 fac = min(fac, max(_FAC_MIN, fac_g))
             h_acc = h_try
             err_acc = max(1e-2, enorm)
@@ -454,13 +491,11 @@ def integrate(
         else:
             n_rejected += 1
             if finite:
-                h = h_try * max(_FAC_MIN, _error_factor(enorm, exponent))
+                h = h_try * max(_FAC_MIN, _error_factor(enorm, EXPONENT))
             else:
                 h = h_try * _FAC_NONFINITE
             if not jac_current:
-                ft_zero = _jacobians(
-                    rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative, x_typ
-                )
+                ft_zero = _jacobians(t, x, p, tables, f0, jac, ft, work, t1, time_derivative, x_typ)
                 n_jac += 1
                 steps_since_jac = 0
                 jac_current = True
@@ -471,30 +506,18 @@ def integrate(
                 status = STATUS_NONFINITE
                 break
 
+    if t_stop is not None:
+        t_stop[0] = t
     if status != STATUS_OK:
         _fill_nan_from(x_out, k_out)
     return n_steps, n_rejected, n_jac, status
 
 
-@numba.njit(cache=True)
-def fixed(
-    step, factor, n_work,
-    rhs, x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative,
-):  # fmt: skip
-    """Fixed-step W-method: equal steps of at most ``h`` between consecutive stops.
+def _fixed(x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative=FT_EVERY_STEP):
+    """Template of ``fixed``: equal steps of at most ``h`` between consecutive stops.
 
-    The method is given by ``step``, ``factor`` and ``n_work`` as in :func:`integrate`; the
-    other parameters, the returns and the behaviour are those of
-    :func:`rollerrig.solve.ros34pw.ros34pw2_fixed`.
-
-    Parameters
-    ----------
-    step, factor : numba dispatcher
-        The method's step and the factorisation of ``W``.
-    n_work : int
-        Rows of scratch space ``step`` needs (at least 2) [-].
-    rhs, x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative
-        As in :func:`rollerrig.solve.ros34pw.ros34pw2_fixed`.
+    The method is the bound ``step``, ``factor`` and ``N_WORK``; the parameters, the returns
+    and the behaviour are those of :func:`rollerrig.solve.ros34pw.ros34pw2_fixed`.
 
     Returns
     -------
@@ -506,7 +529,7 @@ def fixed(
     if _bad_input(h > 0.0, t0, t1, t_out, n, x_out):
         return 0, 0, STATUS_BAD_INPUT
     jac_every = max(jac_every, 1)
-    x, x_new, f0, _, err, jac, ft, w, w_work, work = _workspace(x0, n_work)
+    x, x_new, f0, _, err, jac, ft, w, w_work, work = _workspace(x0, N_WORK)
 
     t = t0
     n_steps = 0
@@ -529,20 +552,18 @@ def fixed(
                 status = STATUS_NONFINITE
                 break
             if n_jac == 0 or since_jac >= jac_every:
-                ft_zero = _jacobians(
-                    rhs, t, x, p, tables, f0, jac, ft, work, t1, time_derivative, None
-                )
+                ft_zero = _jacobians(t, x, p, tables, f0, jac, ft, work, t1, time_derivative, None)
                 n_jac += 1
                 since_jac = 0
                 h_lu = 0.0
             elif time_derivative == FT_EVERY_STEP and not ft_zero:
-                fd_time_derivative(rhs, t, x, p, tables, f0, ft, work[0], t1)
+                _fd_time_derivative(t, x, p, tables, f0, ft, work[0], t1)
             if hs != h_lu:
                 if factor(jac, hs, w, w_work) != 0:
                     status = STATUS_NONFINITE
                     break
                 h_lu = hs
-            step(rhs, t, hs, t_new, x, f0, ft, h_lu, p, tables, w, x_new, err, work)
+            step(t, hs, t_new, x, f0, ft, h_lu, p, tables, w, x_new, err, work)
             for j in range(n):
                 x[j] = x_new[j]
             t = t_new
@@ -559,33 +580,16 @@ def fixed(
     return n_steps, n_jac, status
 
 
-# Not cached: numba embeds the dispatchers passed to the parallel loop as dynamic globals.
-@numba.njit(parallel=True)
-def integrate_batch(
-    integrate_one,
-    rhs, X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out, max_steps,
-    time_derivative,
+def _integrate_batch(
+    X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out,
+    max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP,
 ):  # fmt: skip
-    """Independent adaptive integrations of the rows of ``X0``/``P`` in parallel (``prange``).
+    """Template of ``integrate_batch``: the rows of ``X0``/``P`` in parallel (``prange``).
 
-    Row ``b`` runs ``integrate_one(rhs, X0[b], t0, t1, t_out, P[b], tables, rtol, atol, h0,
-    h_max, jac_every, X_out[b], max_steps, time_derivative)``, e.g.
-    :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`; the result is identical to the serial
-    calls. ``tables`` is shared, so ``rhs`` must not write to it.
-
-    Parameters
-    ----------
-    integrate_one : numba dispatcher
-        The adaptive integrator of one problem.
-    rhs, X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out, max_steps
-        As in :func:`rollerrig.solve.ros34pw.ros34pw2_integrate_batch`.
-    time_derivative : int
-        As in :func:`rollerrig.solve.ros34pw.ros34pw2_integrate`.
-
-    Returns
-    -------
-    ndarray of int64, shape (B, 4)
-        Per row ``(n_steps, n_rejected, n_jac, status)``.
+    Row ``b`` runs ``integrate(X0[b], t0, t1, t_out, P[b], tables, rtol, atol, h0, h_max,
+    jac_every, X_out[b], max_steps, time_derivative)``; the result is identical to the serial
+    calls. ``tables`` is shared, so ``rhs`` must not write to it. Parameters and returns as in
+    :func:`rollerrig.solve.ros34pw.ros34pw2_integrate_batch`.
     """
     n_batch = X0.shape[0]
     stats = np.zeros((n_batch, 4), dtype=np.int64)
@@ -593,8 +597,7 @@ def integrate_batch(
         stats[:, 3] = STATUS_BAD_INPUT
         return stats
     for b in numba.prange(n_batch):
-        n_steps, n_rej, n_jac, status = integrate_one(
-            rhs,
+        n_steps, n_rej, n_jac, status = _integrate(
             X0[b],
             t0,
             t1,
@@ -615,3 +618,128 @@ def integrate_batch(
         stats[b, 2] = n_jac
         stats[b, 3] = status
     return stats
+
+
+# ---------------------------------------------------------------------------------------------
+# Binding
+# ---------------------------------------------------------------------------------------------
+class Method(NamedTuple):
+    """A linearly implicit W-method for the drivers.
+
+    Attributes
+    ----------
+    name : str
+        Short name (part of the compiled functions' names).
+    step : function
+        Template of the step ``step(t, h, t_new, x, f0, ft, h_w, p, tables, w, x_new, err,
+        work)``: a plain function that calls the global ``rhs`` (bound with it).
+    factor : numba dispatcher
+        ``factor(jac, h, w, w_work) -> int``, 0 on success.
+    n_work : int
+        Rows of scratch space ``step`` needs (at least 2) [-].
+    reuse_ratio : float
+        The factors of ``W`` built for ``h_w`` are reused for a step ``h`` while ``h_w/h`` lies
+        in ``[1/reuse_ratio, reuse_ratio]`` [-].
+    exponent : float
+        Error exponent of the controller, 1/(embedded order + 1) [-].
+    predictive : bool
+        Limit the step factor by Gustafsson's prediction (Hairer & Wanner 1996, eq. IV.8.25).
+    """
+
+    name: str
+    step: Callable
+    factor: Callable
+    n_work: int
+    reuse_ratio: float
+    exponent: float
+    predictive: bool
+
+
+class Driver(NamedTuple):
+    """The drivers compiled for one right-hand side and one method (see :func:`bind`).
+
+    The functions take the arguments of the templates ``_fd_jacobian``, ``_fd_time_derivative``,
+    ``_jacobians``, the method's step, ``_integrate``, ``_fixed`` and ``_integrate_batch``
+    (those of the public functions without ``rhs``); without a method the last four are None.
+    """
+
+    rhs: Callable
+    fd_jacobian: Callable
+    fd_time_derivative: Callable
+    jacobians: Callable
+    step: Callable | None
+    integrate: Callable | None
+    fixed: Callable | None
+    integrate_batch: Callable | None
+
+
+_NAMED: dict[str, tuple] = {}
+
+
+def _compiled_copy(template, namespace, suffix, cached, **options):
+    """A numba dispatcher of a copy of ``template`` whose globals are ``namespace``."""
+    fn = types.FunctionType(template.__code__, namespace, template.__name__, template.__defaults__)
+    fn.__kwdefaults__ = template.__kwdefaults__
+    fn.__qualname__ = f"{template.__qualname__}__{suffix}"
+    fn.__module__ = template.__module__
+    fn.__doc__ = template.__doc__
+    if cached:
+        return _cache.njit(fn, **options)
+    return numba.njit(**options)(fn)
+
+
+@functools.cache
+def bind(rhs, method: Method | None = None, name: str | None = None) -> Driver:
+    """Compile the driver templates for the right-hand side ``rhs`` (and a method).
+
+    Parameters
+    ----------
+    rhs : numba dispatcher
+        Right-hand side ``rhs(t, x, p, tables, dx)``.
+    method : Method, optional
+        The W-method of ``step``, ``integrate``, ``fixed`` and ``integrate_batch``; without it
+        only the finite differences are bound.
+    name : str, optional
+        Cache the compiled code on disk under this name (:mod:`rollerrig.solve._cache`), for
+        the package's own models, whose sources are part of the cache key. One name, one
+        right-hand side and method per process. Unnamed bindings are compiled once per process.
+
+    Returns
+    -------
+    Driver
+        The compiled functions (compiled on their first call).
+    """
+    if name is not None:
+        if not name.isidentifier():
+            raise ValueError(f"a driver name must be an identifier, got {name!r}")
+        if _NAMED.setdefault(name, (rhs, method)) != (rhs, method):
+            raise ValueError(f"a driver named {name!r} is bound to another right-hand side")
+    suffix = "_".join(filter(None, (method.name if method else "fd", name or "bound")))
+    cached = name is not None
+    ns = dict(globals())
+    ns["rhs"] = rhs
+
+    def copy(template, namespace, **options):
+        fn = _compiled_copy(template, namespace, suffix, cached, **options)
+        namespace[template.__name__] = fn
+        return fn
+
+    fd_jac = copy(_fd_jacobian, ns)
+    fd_time = copy(_fd_time_derivative, ns)
+    jacobians = copy(_jacobians, ns)
+    if method is None:
+        return Driver(rhs, fd_jac, fd_time, jacobians, None, None, None, None)
+    step_ns = dict(method.step.__globals__)
+    step_ns["rhs"] = rhs
+    ns.update(
+        step=copy(method.step, step_ns),
+        factor=method.factor,
+        N_WORK=method.n_work,
+        REUSE_RATIO=method.reuse_ratio,
+        EXPONENT=method.exponent,
+        PREDICTIVE=method.predictive,
+    )
+    integrate = copy(_integrate, ns)
+    fixed = copy(_fixed, ns)
+    batch = copy(_integrate_batch, ns, parallel=True)
+    return Driver(rhs, fd_jac, fd_time, jacobians, ns["step"], integrate, fixed, batch)

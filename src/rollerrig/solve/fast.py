@@ -2,6 +2,10 @@
 
 One compiled call runs a whole experiment (every protocol segment, with its own friction
 parameters); :func:`integrate_batch` runs many variants of it in parallel threads, for sweeps.
+Both are compiled once and then loaded from the on-disk cache (:mod:`rollerrig.solve._cache`;
+:func:`is_compiled` says whether a run will compile). A failure is a status, not an exception:
+the stats give it with the simulated time reached and :func:`failure_reason` says what failed
+and what to try.
 """
 
 from __future__ import annotations
@@ -10,10 +14,26 @@ import numba
 import numpy as np
 
 from rollerrig.rig.model import N_STATES
-from rollerrig.solve._compiled import rig_rhs
-from rollerrig.solve.ros34pw import FT_NONE, STATUS_OK, ros34pw2_integrate
+from rollerrig.solve import _cache
+from rollerrig.solve._compiled import RIG
+from rollerrig.solve.ros34pw import (
+    DEFAULT_MAX_STEPS,
+    FT_NONE,
+    STATUS_BAD_INPUT,
+    STATUS_MAX_STEPS,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_STEP_UNDERFLOW,
+)
 
-__all__ = ["FAST_DEFAULTS", "default_tolerances", "integrate_batch", "integrate_experiment"]
+__all__ = [
+    "FAST_DEFAULTS",
+    "default_tolerances",
+    "failure_reason",
+    "integrate_batch",
+    "integrate_experiment",
+    "is_compiled",
+]
 
 FAST_DEFAULTS = {"rtol": 1e-5, "angle_atol": 1e-6, "h_max": 2e-3, "jac_every": 100}
 """Default settings of the fast backend: relative tolerance [-], absolute tolerance of the
@@ -52,14 +72,50 @@ _LANDING_TOLERANCE = 1e-12
 """Relative distance [1] below which a sample instant counts as a segment's start instant."""
 
 
-# Not cached: ros34pw2_integrate takes the right-hand side as an argument, and numba cannot cache a
-# function whose argument types hold a dispatcher (it embeds its address). Compiling costs a few
-# seconds once per process.
-@numba.njit
-def _integrate(x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats):
+_STATUS_REASONS = {
+    STATUS_MAX_STEPS: (
+        f"it took more than {DEFAULT_MAX_STEPS:,} steps in one protocol segment (the model is "
+        "extremely stiff or oscillates very fast there)"
+    ),
+    STATUS_STEP_UNDERFLOW: (
+        "the step size fell to the rounding level of the time (the model is too stiff or "
+        "discontinuous there)"
+    ),
+    STATUS_NONFINITE: "the state or its derivative became NaN or infinite",
+    STATUS_BAD_INPUT: "the output times or array shapes are inconsistent (a bug: please report)",
+}
+_HINT = (
+    "check the rig parameters (an inertia, radius or load near zero, a very large stiffness, "
+    "damping or controller gain) or try the reference solver (solver='reference', "
+    "--solver reference)"
+)
+
+
+def failure_reason(status: int, t_stop: float) -> str:
+    """What failed, at which simulated time and what to try, for a status of this backend.
+
+    Examples
+    --------
+    >>> print(failure_reason(2, 0.0123))  # doctest: +ELLIPSIS
+    at t = 0.0123 s the step size fell to the rounding level ...; check the rig parameters ...
+    """
+    what = _STATUS_REASONS.get(int(status), f"it stopped with status {int(status)}")
+    return f"at t = {t_stop:.6g} s {what}; {_HINT}"
+
+
+# rig_rhs and ROS34PW2 are bound into RIG.integrate (module-level global), so that this driver
+# and the batch are cached on disk like every other compiled function (_cache).
+_rig_integrate = RIG.integrate
+
+
+@_cache.njit
+def _integrate(
+    x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, t_stop
+):
     n_out = t_out.shape[0]
     x = x0.copy()
     k = 0
+    t_stop[0] = bounds[0, 0]
     while k < n_out and t_out[k] <= bounds[0, 0]:
         x_out[k, :] = x
         k += 1
@@ -83,8 +139,7 @@ def _integrate(x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, 
         ts[m] = t1
         xs = np.empty((m + 1, x.shape[0]))
         # f_t is left out: it enters ROS34PW2 at O(h^4) and did not change T56 on the rig.
-        n_steps, n_rej, n_jac, status = ros34pw2_integrate(
-            rig_rhs,
+        n_steps, n_rej, n_jac, status = _rig_integrate(
             x,
             t0,
             t1,
@@ -97,8 +152,10 @@ def _integrate(x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, 
             h_max,
             jac_every,
             xs,
-            1_000_000,
+            DEFAULT_MAX_STEPS,
             FT_NONE,
+            None,
+            t_stop,
         )
         stats[0] += n_steps
         stats[1] += n_rej
@@ -113,9 +170,9 @@ def _integrate(x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, 
     return status
 
 
-@numba.njit(parallel=True)
+@_cache.njit(parallel=True)
 def _integrate_batch(
-    x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, status
+    x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, t_stop, status
 ):
     for i in numba.prange(x0.shape[0]):
         status[i] = _integrate(
@@ -130,6 +187,7 @@ def _integrate_batch(
             jac_every,
             x_out[i],
             stats[i],
+            t_stop[i],
         )
 
 
@@ -148,6 +206,32 @@ def _segment_arrays(segments):
     bounds = np.array([[s.start, s.end] for s in segments], dtype=float)
     params = np.stack([s.params for s in segments])
     return bounds, params
+
+
+def _stats(counts, status, t_stop) -> dict:
+    status = int(status)
+    out = {
+        "accepted_steps": int(counts[0]),
+        "rejected_steps": int(counts[1]),
+        "jacobians": int(counts[2]),
+        "status": status,
+        "t_stop": float(t_stop),
+    }
+    if status != STATUS_OK:
+        out["reason"] = failure_reason(status, float(t_stop))
+    return out
+
+
+def is_compiled(batch: bool = False) -> bool:
+    """True when the compiled driver is in the on-disk cache, so a run loads it (a fraction
+    of a second) instead of compiling it (about 20 s on 2 cores, once per install).
+
+    Parameters
+    ----------
+    batch : bool
+        Ask about the parallel driver of :func:`integrate_batch` instead.
+    """
+    return _cache.is_cached(_integrate_batch if batch else _integrate)
 
 
 def integrate_experiment(inputs, t_out, rtol=None, h_max=None, jac_every=None, angle_atol=None):
@@ -171,14 +255,18 @@ def integrate_experiment(inputs, t_out, rtol=None, h_max=None, jac_every=None, a
     Returns
     -------
     x_out : ndarray, shape (len(t_out), N_STATES)
+        States; NaN from the first output time the integration did not reach.
     stats : dict
-        Accepted steps, rejected steps, Jacobian evaluations, status.
+        ``accepted_steps``, ``rejected_steps``, ``jacobians``, ``status`` (0: success),
+        ``t_stop`` (the simulated time reached [s]) and, on a failure, ``reason``
+        (:func:`failure_reason`).
     """
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol)
     bounds, params = _segment_arrays(inputs.segments)
     t_out = np.ascontiguousarray(t_out, dtype=float)
     x_out = np.empty((t_out.size, N_STATES))
-    stats = np.zeros(3, dtype=np.int64)
+    counts = np.zeros(3, dtype=np.int64)
+    t_stop = np.zeros(1)
     status = _integrate(
         inputs.initial_state,
         bounds,
@@ -190,26 +278,31 @@ def integrate_experiment(inputs, t_out, rtol=None, h_max=None, jac_every=None, a
         h_max,
         jac_every,
         x_out,
-        stats,
+        counts,
+        t_stop,
     )
-    return x_out, {
-        "accepted_steps": int(stats[0]),
-        "rejected_steps": int(stats[1]),
-        "jacobians": int(stats[2]),
-        "status": int(status),
-    }
+    return x_out, _stats(counts, status, t_stop[0])
 
 
 def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, angle_atol=None):
     """Integrate several variants of one experiment in parallel (numba threads).
 
     All variants must share the protocol (segments and tables); they differ in parameters and
-    initial state, e.g. a sweep of roller-shaft stiffness and motor lag.
+    initial state, e.g. a sweep of roller-shaft stiffness and motor lag. A variant that fails
+    does not stop the others: its stats say why and its states are NaN from where it stopped.
+
+    Parameters
+    ----------
+    inputs_list : sequence of ModelInputs
+        The variants (:func:`rollerrig.rig.assemble.assemble`).
+    t_out, rtol, h_max, jac_every, angle_atol
+        As in :func:`integrate_experiment`.
 
     Returns
     -------
     x_out : ndarray, shape (n_variants, len(t_out), N_STATES)
-    status : ndarray of int, shape (n_variants,)
+    stats : list of dict
+        Per variant, as in :func:`integrate_experiment`.
     """
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol)
     first = inputs_list[0]
@@ -217,10 +310,13 @@ def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, a
     params = np.stack([_segment_arrays(i.segments)[1] for i in inputs_list])
     x0 = np.stack([i.initial_state for i in inputs_list])
     t_out = np.ascontiguousarray(t_out, dtype=float)
-    x_out = np.empty((len(inputs_list), t_out.size, N_STATES))
-    stats = np.zeros((len(inputs_list), 3), dtype=np.int64)
-    status = np.zeros(len(inputs_list), dtype=np.int64)
+    n = len(inputs_list)
+    x_out = np.empty((n, t_out.size, N_STATES))
+    counts = np.zeros((n, 3), dtype=np.int64)
+    t_stop = np.zeros((n, 1))
+    status = np.zeros(n, dtype=np.int64)
     _integrate_batch(
-        x0, bounds, params, first.tables, t_out, rt, at, h_max, jac_every, x_out, stats, status
-    )
-    return x_out, status
+        x0, bounds, params, first.tables, t_out, rt, at, h_max, jac_every, x_out, counts, t_stop,
+        status,
+    )  # fmt: skip
+    return x_out, [_stats(counts[i], status[i], t_stop[i, 0]) for i in range(n)]

@@ -48,7 +48,8 @@ def integrate_reference(
     -------
     x_out : ndarray, shape (len(t_out), N_STATES)
     stats : dict
-        Right-hand-side and Jacobian evaluations, status.
+        ``rhs_evaluations``, ``jacobians``, ``status`` (0: success, else scipy's),
+        ``t_stop`` (the simulated time reached [s]) and, on a failure, ``reason``.
     """
     t_out = np.asarray(t_out, dtype=float)
     _, at = default_tolerances(rtol, 0.1 * rtol)
@@ -57,8 +58,10 @@ def integrate_reference(
         rhs_impl = _model.rig_rhs
         jac_factory = None
     else:
-        from rollerrig.solve._compiled import rig_rhs as rhs_impl
-        from rollerrig.solve._wdriver import fd_jacobian
+        from rollerrig.solve._compiled import RIG
+
+        rhs_impl = RIG.rhs
+        fd_jacobian = RIG.fd_jacobian  # bound to the compiled model, cached on disk
 
         def jac_factory(p):
             jac = np.empty((N_STATES, N_STATES))
@@ -67,7 +70,7 @@ def integrate_reference(
 
             def jac_fun(t, x):
                 rhs_impl(t, x, p, tables, f0)
-                fd_jacobian(rhs_impl, t, x, p, tables, f0, jac, work)
+                fd_jacobian(t, x, p, tables, f0, jac, work)
                 return jac.copy()
 
             return jac_fun
@@ -80,6 +83,8 @@ def integrate_reference(
         k += 1
     nfev = njev = 0
     status = 0
+    t_stop = inputs.segments[0].start
+    reason = None
     for seg in inputs.segments:
         p = seg.params
 
@@ -104,12 +109,21 @@ def integrate_reference(
         )
         nfev += sol.nfev
         njev += sol.njev
+        t_stop = float(sol.t[-1]) if sol.t.size else seg.start
         if sol.status != 0:
             status = sol.status
+            reason = (
+                f"at t = {t_stop:.6g} s scipy's {method} stopped: {sol.message}; check the rig "
+                "parameters (an inertia, radius or load near zero, a very large stiffness, "
+                "damping or controller gain)"
+            )
             break
         x_out[k:k_end] = sol.y[:, : k_end - k].T
         x = sol.y[:, -1].copy()
         k = k_end
         if progress is not None:
             progress(seg.end, inputs.segments[-1].end)
-    return x_out, {"rhs_evaluations": nfev, "jacobians": njev, "status": status}
+    stats = {"rhs_evaluations": nfev, "jacobians": njev, "status": status, "t_stop": t_stop}
+    if reason is not None:
+        stats["reason"] = reason
+    return x_out, stats

@@ -48,11 +48,14 @@ given the step and the inversion of ``W`` of this module.
 
 Compilation and caching
 -----------------------
-The step and the inversion are ``numba.njit(cache=True)``, but the integrators are specialised
-on the type of the ``rhs`` dispatcher, which numba keys by object identity and cannot cache, so
-the specialisation for a given right-hand side is compiled once per process (a few seconds).
-Calls from other jitted code (a segment-by-segment driver, :mod:`rollerrig.solve.fast`) avoid
-the Python dispatch overhead of ~10 µs per call.
+The integrators are compiled for one right-hand side at a time: :func:`bind` (the W-method
+templates of :mod:`rollerrig.solve._wdriver` with this module's step) returns them as a
+:class:`~rollerrig.solve._wdriver.Driver`, whose functions other jitted code calls directly
+(a segment-by-segment driver, :mod:`rollerrig.solve.fast`, avoiding the Python dispatch
+overhead of ~10 µs per call). A named binding, such as the rig model's
+(:data:`rollerrig.solve._compiled.RIG`), is cached on disk and loaded by every later process;
+the functions below that take ``rhs`` as their first argument bind it once per process (a few
+seconds of compilation per right-hand side).
 
 References
 ----------
@@ -81,9 +84,9 @@ Examples
 True
 """
 
-import numba
 import numpy as np
 
+from rollerrig.solve import _cache
 from rollerrig.solve import _wdriver as _wd
 from rollerrig.solve._wdriver import (
     DEFAULT_MAX_STEPS,
@@ -95,6 +98,8 @@ from rollerrig.solve._wdriver import (
     STATUS_NONFINITE,
     STATUS_OK,
     STATUS_STEP_UNDERFLOW,
+    Driver,
+    rhs,
 )
 
 __all__ = [
@@ -107,6 +112,7 @@ __all__ = [
     "STATUS_NONFINITE",
     "STATUS_OK",
     "STATUS_STEP_UNDERFLOW",
+    "bind",
     "invert_w",
     "ros34pw2_fixed",
     "ros34pw2_integrate",
@@ -201,7 +207,7 @@ def stability_function(z, ratio=1.0):
     return out if out.ndim else complex(out)
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def invert_w(jac, gh, winv_t, work):
     """Transposed inverse of ``W = I − gh · jac`` by Gauss-Jordan elimination.
 
@@ -286,7 +292,7 @@ def invert_w(jac, gh, winv_t, work):
     return 0
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def _apply(winv_t, r, out):
     """``out = W⁻¹ r`` from the transposed inverse, as a sum of columns (vectorises)."""
     n = r.shape[0]
@@ -299,7 +305,6 @@ def _apply(winv_t, r, out):
                 out[i] += rj * winv_t[j, i]
 
 
-@numba.njit(cache=True)
 def ros34pw2_step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, x_new, err, work):
     """One ROS34PW2 step with a given inverse of ``W = I − γ h_w J``.
 
@@ -312,7 +317,7 @@ def ros34pw2_step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, x_new, er
     Third order for any ``J``, ``f_t`` and ``h_w`` (W-method), ``err`` is the difference to the
     embedded second-order solution.
 
-    The drivers of :mod:`rollerrig.solve._wdriver` call this function itself (a wrapper around
+    The drivers of :mod:`rollerrig.solve._wdriver` call the bound step itself (a wrapper around
     it in the step loop cost ~4 % of the run time of the fast backend, measured with numba 0.68).
 
     Parameters
@@ -359,6 +364,11 @@ def ros34pw2_step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, x_new, er
     >>> round(float(x_new[0]), 12)  # exact for cubics: 1.5**3
     3.375
     """
+    bind(rhs).step(t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, x_new, err, work)
+
+
+def _step(t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, x_new, err, work):
+    """Template of :func:`ros34pw2_step` (``rhs`` bound by :func:`bind`)."""
     n = x.shape[0]
     u1 = work[0]
     u2 = work[1]
@@ -398,13 +408,36 @@ def ros34pw2_step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, x_new, er
         err[i] = _E1 * u1[i] + _E2 * u2[i] + _E3 * u3[i] + _E4 * u4[i]
 
 
-@numba.njit(cache=True)
+@_cache.njit
 def _factor(jac, h, winv_t, w_work):
     """``(W⁻¹)ᵀ`` of ``W = I − γ h J`` into ``winv_t`` (the driver's ``factor``)."""
     return invert_w(jac, GAMMA * h, winv_t, w_work)
 
 
-@numba.njit  # not cached (module docstring)
+METHOD = _wd.Method(
+    name="ros34pw2",
+    step=_step,
+    factor=_factor,
+    n_work=_N_WORK,
+    reuse_ratio=_LU_REUSE_RATIO,
+    exponent=_EXPONENT,
+    predictive=_PREDICTIVE,
+)
+"""ROS34PW2 for the W-method drivers of :mod:`rollerrig.solve._wdriver`."""
+
+
+def bind(rhs, name: str | None = None) -> Driver:
+    """ROS34PW2 compiled for the right-hand side ``rhs``: ``step``, ``integrate``, ``fixed``,
+    ``integrate_batch`` (and the finite differences), see :func:`rollerrig.solve._wdriver.bind`.
+
+    The functions take the arguments of :func:`ros34pw2_step`, :func:`ros34pw2_integrate`,
+    :func:`ros34pw2_fixed` and :func:`ros34pw2_integrate_batch` without ``rhs`` (plus an
+    optional output ``t_stop`` of ``integrate``: the time reached [s]); jitted code calls them
+    directly. ``name`` caches the compiled code on disk (the package's own models only).
+    """
+    return _wd.bind(rhs, METHOD, name)
+
+
 def ros34pw2_integrate(
     rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out,
     max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP, x_typ=None,
@@ -489,14 +522,12 @@ def ros34pw2_integrate(
     >>> res[3], bool(abs(x_out[0, 0] - np.cos(1.0)) < 1e-6)
     (0, True)
     """
-    return _wd.integrate(
-        ros34pw2_step, _factor, _N_WORK, _LU_REUSE_RATIO, _EXPONENT, _PREDICTIVE,
-        rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out, max_steps,
+    return bind(rhs).integrate(
+        x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out, max_steps,
         time_derivative, x_typ,
     )  # fmt: skip
 
 
-@numba.njit  # not cached (module docstring)
 def ros34pw2_fixed(
     rhs, x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative=FT_EVERY_STEP
 ):
@@ -541,13 +572,9 @@ def ros34pw2_fixed(
     >>> bool(abs(x_out[0, 0] - np.exp(-1.0)) < 1e-5)
     True
     """
-    return _wd.fixed(
-        ros34pw2_step, _factor, _N_WORK,
-        rhs, x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative,
-    )  # fmt: skip
+    return bind(rhs).fixed(x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative)
 
 
-@numba.njit  # not cached (module docstring)
 def ros34pw2_integrate_batch(
     rhs, X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out,
     max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP,
@@ -587,8 +614,7 @@ def ros34pw2_integrate_batch(
     >>> stats[:, 3].tolist()  # doctest: +SKIP
     [0, 0, 0]
     """
-    return _wd.integrate_batch(
-        ros34pw2_integrate,
-        rhs, X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out, max_steps,
+    return bind(rhs).integrate_batch(
+        X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out, max_steps,
         time_derivative,
     )  # fmt: skip

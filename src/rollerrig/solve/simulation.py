@@ -16,9 +16,30 @@ from rollerrig.rig.assemble import ModelInputs, assemble
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import RigParameters, default_rig, load_rig
 
-__all__ = ["SOLVERS", "Simulation"]
+__all__ = ["SOLVERS", "Simulation", "SolverError"]
 
 SOLVERS = ("fast", "reference")
+
+
+class SolverError(ParameterError):
+    """A solver could not integrate an experiment: the message says which solver, on which
+    experiment and rig, at which simulated time, why, and what to try.
+
+    Attributes
+    ----------
+    solver : str
+        ``"fast"`` or ``"reference"``.
+    t_stop : float
+        Simulated time the solver reached [s].
+    reason : str
+        What failed and what to try.
+    """
+
+    def __init__(self, message: str, *, solver: str, t_stop: float, reason: str) -> None:
+        super().__init__(message)
+        self.solver = solver
+        self.t_stop = t_stop
+        self.reason = reason
 
 
 class Simulation:
@@ -81,6 +102,11 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         if rig is None:
             rig = default_rig()
         elif not isinstance(rig, RigParameters):
+            if not isinstance(rig, str | os.PathLike):  # Simulation(protocol): a common slip
+                raise ParameterError(
+                    f"rig must be RigParameters, a rig TOML file or None, got a "
+                    f"{type(rig).__name__}; pass the experiment as experiment=..."
+                )
             rig = load_rig(Path(rig))
         protocol = experiment if isinstance(experiment, Protocol) else load_protocol(experiment)
         rate = rig.sensors.daq_rate if output_rate is None else float(output_rate)
@@ -116,7 +142,13 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         return t
 
     def run(self, progress: Callable[[float, float], None] | None = None):
-        """Run the experiment and return the labelled dataset (:func:`build_dataset`)."""
+        """Run the experiment and return the labelled dataset (:func:`build_dataset`).
+
+        Raises
+        ------
+        SolverError
+            The solver failed: the message names the time it reached and what to try.
+        """
         from rollerrig.solve.results import build_dataset
 
         t = self.times
@@ -127,8 +159,8 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
             x, stats = integrate_experiment(self.inputs, t, rtol=self.rtol)
             settings = dict(FAST_DEFAULTS) | ({"rtol": self.rtol} if self.rtol else {})
             name = "ROS34PW2 W-method (numba)"
-            if progress is not None:
-                progress(self.protocol.duration, self.protocol.duration)
+            if progress is not None:  # the simulated time reached: the end, or the failure
+                progress(min(stats["t_stop"], self.protocol.duration), self.protocol.duration)
         else:
             from rollerrig.solve.reference import integrate_reference
 
@@ -138,9 +170,26 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
             name = "scipy solve_ivp Radau"
         wall = time.perf_counter() - start
         if stats["status"] != 0 or not np.all(np.isfinite(x)):
-            raise RuntimeError(
-                f"{name} failed on {self.protocol.name!r} (status {stats['status']}); "
-                "try the reference solver or a smaller tolerance"
-            )
+            self._fail(name, stats, x, t)
         solver = {"name": name, "settings": settings, "stats": stats, "wall_time_s": wall}
         return build_dataset(self.inputs, t, x, solver)
+
+    def _fail(self, name: str, stats: dict, x: np.ndarray, t: np.ndarray):
+        """Raise the :class:`SolverError` of a failed run."""
+        t_stop = stats.get("t_stop")
+        if t_stop is None or stats["status"] == 0:  # finite status, non-finite samples
+            bad = np.flatnonzero(~np.all(np.isfinite(x), axis=1))
+            t_stop = float(t[bad[0]]) if bad.size else float("nan")
+        reason = stats.get("reason") or (
+            f"at t = {t_stop:.6g} s the results became NaN or infinite; check the rig "
+            "parameters (an inertia, radius or load near zero, a very large stiffness, damping "
+            "or controller gain)"
+            + ("" if self.solver == "reference" else " or try solver='reference'")
+        )
+        raise SolverError(
+            f"the {self.solver} solver ({name}) failed on experiment {self.protocol.name!r} "
+            f"({self.protocol.duration:g} s) on rig {self.rig.meta.name!r}: {reason}",
+            solver=self.solver,
+            t_stop=float(t_stop),
+            reason=reason,
+        )

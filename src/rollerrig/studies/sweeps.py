@@ -4,6 +4,10 @@ The measure is the seed's: after a sudden release of the wheel torque, how far t
 rig derives from the torque sensor (T56 / r_r) overshoots below zero, relative to its value just
 before the release (Kayaalp Figs. 42-43: "relative values of amplitudes"). The true contact
 force's overshoot is reported beside it.
+
+Every point of a sweep has a status: a variant the solver cannot integrate (or one without a
+release to measure) is reported with its reason and NaN overshoots, and the other points still
+complete.
 """
 
 from __future__ import annotations
@@ -13,12 +17,30 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rollerrig._validation import ParameterError
 from rollerrig.experiment import Hold, Protocol, RampTorque, ReleaseTorque
 from rollerrig.rig.assemble import assemble
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import RigParameters
 
-__all__ = ["RELEASE_TEST", "STUDIES", "StudyResult", "release_overshoots", "run_study"]
+__all__ = [
+    "POINT_FAILED",
+    "POINT_NO_RELEASE",
+    "POINT_OK",
+    "RELEASE_TEST",
+    "STUDIES",
+    "StudyResult",
+    "release_overshoots",
+    "run_study",
+    "run_sweep",
+]
+
+POINT_OK = "ok"
+"""Status of a sweep point that was simulated and measured."""
+POINT_FAILED = "solver failed"
+"""Status of a sweep point the solver could not integrate (its reason says where and why)."""
+POINT_NO_RELEASE = "no release"
+"""Status of a sweep point without a torque release from a positive force to measure."""
 
 RELEASE_TEST = Protocol.from_steps(
     "release-test",
@@ -76,7 +98,11 @@ def release_overshoots(ds, protocol: Protocol, window: float = 3.0) -> list[dict
 
 @dataclass(frozen=True)
 class StudyResult:
-    """Outcome of a study: one row per variant."""
+    """Outcome of a study: one row per variant.
+
+    ``measured_overshoot`` and ``true_overshoot`` are NaN where ``status`` is not
+    :data:`POINT_OK`; ``reasons`` then says why (empty for the points that succeeded).
+    """
 
     name: str
     parameter: str
@@ -85,19 +111,34 @@ class StudyResult:
     labels: tuple[str, ...]
     measured_overshoot: np.ndarray  # [-]
     true_overshoot: np.ndarray  # [-]
+    status: tuple[str, ...] = ()
+    reasons: tuple[str, ...] = ()
+
+    @property
+    def failed(self) -> tuple[str, ...]:
+        """Labels of the points that did not succeed."""
+        return tuple(
+            label for label, s in zip(self.labels, self.status, strict=True) if s != POINT_OK
+        )
 
     def rows(self) -> list[dict]:
-        return [
-            {
-                "variant": label,
-                self.parameter + (f" [{self.unit}]" if self.unit else ""): value,
-                "overshoot of T56/r_r [-]": float(m),
-                "overshoot of F_x [-]": float(t),
-            }
-            for label, value, m, t in zip(
-                self.labels, self.values, self.measured_overshoot, self.true_overshoot, strict=True
+        """One dict per variant; a point that did not succeed has None overshoots, its status
+        and its reason."""
+        rows = []
+        for i, (label, value) in enumerate(zip(self.labels, self.values, strict=True)):
+            status = self.status[i] if self.status else POINT_OK
+            ok = status == POINT_OK
+            rows.append(
+                {
+                    "variant": label,
+                    self.parameter + (f" [{self.unit}]" if self.unit else ""): value,
+                    "overshoot of T56/r_r [-]": float(self.measured_overshoot[i]) if ok else None,
+                    "overshoot of F_x [-]": float(self.true_overshoot[i]) if ok else None,
+                    "status": status,
+                    "reason": self.reasons[i] if self.reasons else "",
+                }
             )
-        ]
+        return rows
 
 
 def _stiffness(rig: RigParameters):
@@ -141,6 +182,76 @@ STUDIES: dict[str, Callable] = {"stiffness": _stiffness, "lag": _lag, "drives": 
 drives including the seed's proposed fixes (Figs. 48-49)."""
 
 
+def run_sweep(
+    variants,
+    labels,
+    protocol: Protocol | None = None,
+    output_rate: float = 1000.0,
+    *,
+    name: str = "sweep",
+    parameter: str = "variant",
+    unit: str = "",
+    values: tuple | None = None,
+) -> StudyResult:
+    """Run rig variants on one experiment with the parallel fast backend and measure each.
+
+    Parameters
+    ----------
+    variants : sequence of (RigParameters, DriveConfig)
+        The points of the sweep.
+    labels : sequence of str
+        One label per point.
+    protocol : Protocol, optional
+        Default :data:`RELEASE_TEST`.
+    output_rate : float
+        Sampling of the results [Hz]; fine enough to resolve the 13.8 Hz shaft mode.
+    name, parameter, unit, values
+        Describe the sweep in the result (``values`` default: the point numbers).
+
+    Returns
+    -------
+    StudyResult
+        With a status per point: a point the solver cannot integrate does not stop the others.
+    """
+    from rollerrig.solve.fast import integrate_batch
+    from rollerrig.solve.results import build_dataset
+
+    protocol = protocol or RELEASE_TEST
+    labels = tuple(labels)
+    if len(labels) != len(variants) or not variants:
+        raise ParameterError(
+            f"a sweep needs one label per variant and at least one variant; got "
+            f"{len(variants)} variants and {len(labels)} labels"
+        )
+    inputs = [assemble(r, protocol, d) for r, d in variants]
+    t = np.arange(int(np.floor(protocol.duration * output_rate)) + 1) / output_rate
+    x, stats = integrate_batch(inputs, t)
+    n = len(inputs)
+    measured = np.full(n, np.nan)
+    true = np.full(n, np.nan)
+    status = [POINT_OK] * n
+    reasons = [""] * n
+    for i, (inp, xi, st) in enumerate(zip(inputs, x, stats, strict=True)):
+        if st["status"] != 0:
+            status[i] = POINT_FAILED
+            reasons[i] = f"the fast solver failed {st['reason']}"
+            continue
+        rows = release_overshoots(build_dataset(inp, t, xi, {}), protocol)
+        if not rows:
+            status[i] = POINT_NO_RELEASE
+            reasons[i] = (
+                f"the experiment {protocol.name!r} has no torque release from a positive force "
+                "to measure"
+            )
+            continue
+        measured[i] = max(r["measured_overshoot [-]"] for r in rows)
+        true[i] = max(r["true_overshoot [-]"] for r in rows)
+    values = tuple(range(n)) if values is None else tuple(values)
+    return StudyResult(
+        name, parameter, unit, values, labels, measured, true, tuple(status), tuple(reasons)
+    )
+
+
 def run_study(
     name: str, rig: RigParameters, protocol: Protocol | None = None, output_rate: float = 1000.0
 ) -> StudyResult:
@@ -155,24 +266,23 @@ def run_study(
         Default :data:`RELEASE_TEST`.
     output_rate : float
         Sampling of the results [Hz]; fine enough to resolve the 13.8 Hz shaft mode.
-    """
-    from rollerrig._validation import ParameterError
-    from rollerrig.solve.fast import integrate_batch
-    from rollerrig.solve.results import build_dataset
 
+    Returns
+    -------
+    StudyResult
+        A point the solver cannot integrate has status :data:`POINT_FAILED` and a reason; the
+        others are measured as usual.
+    """
     if name not in STUDIES:
         raise ParameterError(f"unknown study {name!r}; choose one of {sorted(STUDIES)}")
-    protocol = protocol or RELEASE_TEST
     parameter, unit, values, labels, variants = STUDIES[name](rig)
-    inputs = [assemble(r, protocol, d) for r, d in variants]
-    t = np.arange(int(np.floor(protocol.duration * output_rate)) + 1) / output_rate
-    x, status = integrate_batch(inputs, t)
-    if np.any(status != 0):
-        bad = [labels[i] for i in np.flatnonzero(status)]
-        raise RuntimeError(f"the fast backend failed on {bad}")
-    measured, true = [], []
-    for inp, xi in zip(inputs, x, strict=True):
-        rows = release_overshoots(build_dataset(inp, t, xi, {}), protocol)
-        measured.append(max(r["measured_overshoot [-]"] for r in rows))
-        true.append(max(r["true_overshoot [-]"] for r in rows))
-    return StudyResult(name, parameter, unit, values, labels, np.array(measured), np.array(true))
+    return run_sweep(
+        variants,
+        labels,
+        protocol,
+        output_rate,
+        name=name,
+        parameter=parameter,
+        unit=unit,
+        values=values,
+    )

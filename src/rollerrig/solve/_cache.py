@@ -1,0 +1,353 @@
+"""The on-disk cache of the compiled fast backend: where it lives, what invalidates it, repair.
+
+Every compiled function of the package is made by :func:`njit` (``numba.njit`` with
+``cache=True``) so that a fresh process loads the machine code instead of compiling it (about
+20 s on 2 cores for the driver of the fast backend). numba's own choice of folder does not fit a
+package: it writes beside the source (``__pycache__``, unwritable in many installs) and checks
+only the source of the function itself, so an edit in a function it calls from another module
+(the model in ``rig/model.py``, the contact and drive kernels) would leave stale machine code.
+So the package picks the folder:
+
+``<base>/<key>/``, with
+
+- **base**: ``$NUMBA_CACHE_DIR/rollerrig`` when the user sets ``NUMBA_CACHE_DIR``, else the
+  user's cache folder plus ``rollerrig/numba``: ``$XDG_CACHE_HOME`` or ``~/.cache`` (Linux),
+  ``~/Library/Caches`` (macOS), ``%LOCALAPPDATA%`` (Windows). If it cannot be written, a folder
+  in the temporary directory; if neither can, nothing is cached (a warning says so).
+- **key**: a hash of the package's version, numba's and Python's versions and the source of
+  every module whose code is compiled (:data:`SOURCES`). A new release or an edit of any of
+  them selects a new folder, so machine code of other sources is never loaded.
+
+Growth is bounded: each function is compiled once per key for its one signature, so a folder
+stops growing after the first run; the :data:`KEEP` most recently used key folders are kept and
+older ones are removed (as are the files earlier versions left in ``__pycache__``).
+
+Damage is repaired, never fatal: every file numba writes gets a SHA-256 sidecar
+(``<file>.sha256``). Before numba loads a function, files whose content does not match their
+sidecar are removed; an index or data file numba cannot read (truncated, garbled, written by
+another numba) is removed as well. The function is then compiled again and saved again.
+
+numba reads its cache folder when a ``cache=True`` function is created, so :func:`njit` sets
+``numba.config.CACHE_DIR`` for that moment only; numba functions of other packages in the same
+process keep their own cache.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+import shutil
+import sys
+import tempfile
+import threading
+import warnings
+from pathlib import Path
+
+__all__ = ["KEEP", "SOURCES", "cache_dir", "cache_key", "cache_root", "is_cached", "njit"]
+
+SOURCES = (
+    "solve/_cache.py",
+    "solve/_compiled.py",
+    "solve/_wdriver.py",
+    "solve/ros34pw.py",
+    "solve/fast.py",
+    "rig/model.py",
+    "contact/creep.py",
+    "contact/kinematics.py",
+    "drives/induction.py",
+    "drives/pmsm.py",
+    "drives/servo.py",
+)
+"""Source files (relative to the package) whose code the fast backend compiles; their content
+is part of the cache key. tests/solve/test__cache.py checks that every compiled kernel's module
+is listed."""
+
+KEEP = 3
+"""Key folders kept side by side (the current one and the most recently used others): a few
+installs or checkouts in use at the same time do not evict each other's cache."""
+
+_PACKAGE = Path(__file__).resolve().parents[1]
+_STAMP = ".last-used"
+_SIDECAR = ".sha256"
+_LOCK = threading.Lock()
+_state: dict[str, object] = {}
+
+
+def cache_root() -> Path:
+    """Folder that holds the key folders (see the module docstring)."""
+    user = os.environ.get("NUMBA_CACHE_DIR")
+    if user:
+        return Path(user).expanduser() / "rollerrig"
+    home = Path.home()
+    if sys.platform == "win32":
+        base = Path(os.environ.get("LOCALAPPDATA") or home / "AppData" / "Local")
+    elif sys.platform == "darwin":
+        base = home / "Library" / "Caches"
+    else:
+        xdg = os.environ.get("XDG_CACHE_HOME", "")
+        base = Path(xdg) if os.path.isabs(xdg) else home / ".cache"
+    return base / "rollerrig" / "numba"
+
+
+def _key_parts() -> dict[str, object]:
+    import numba
+
+    from rollerrig import __version__
+
+    return {
+        "rollerrig": __version__,
+        "numba": numba.__version__,
+        "python": f"{sys.implementation.name}-{sys.version_info[0]}.{sys.version_info[1]}"
+        f"{getattr(sys, 'abiflags', '')}",
+        "sources": list(SOURCES),
+    }
+
+
+def _digest(package: Path, parts: dict[str, object]) -> str:
+    """16 hexadecimal digits of SHA-256 over ``parts`` and the content of :data:`SOURCES`."""
+    digest = hashlib.sha256(json.dumps(parts, sort_keys=True).encode())
+    for rel in SOURCES:
+        digest.update(rel.encode() + b"\0")
+        try:
+            digest.update((package / rel).read_bytes())
+        except OSError:
+            digest.update(b"<missing>")
+    return digest.hexdigest()[:16]
+
+
+def cache_key() -> str:
+    """Hash of the versions and of the compiled sources: 16 hexadecimal digits."""
+    if "key" not in _state:
+        parts = _key_parts()
+        _state["key"] = _digest(_PACKAGE, parts)
+        _state["key_parts"] = parts
+    return str(_state["key"])
+
+
+def _writable(folder: Path) -> bool:
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError:
+        return False
+    return True
+
+
+def _prune(root: Path, current: Path) -> None:
+    """Keep the current key folder and the KEEP − 1 most recently used others."""
+
+    def last_used(folder: Path) -> float:
+        try:
+            return (folder / _STAMP).stat().st_mtime
+        except OSError:
+            try:
+                return folder.stat().st_mtime
+            except OSError:
+                return 0.0
+
+    try:
+        others = [
+            p for p in root.iterdir() if p.is_dir() and p.name != current.name and len(p.name) == 16
+        ]
+    except OSError:
+        return
+    others.sort(key=last_used, reverse=True)
+    for folder in others[KEEP - 1 :]:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def _remove_legacy() -> None:
+    """Remove numba cache files that rollerrig before issue 9 wrote beside its sources.
+
+    They were written to ``__pycache__`` (``<module>.<function>-<line>.pyXY[.N].nbi/.nbc``) and
+    grew with every process; nothing reads them any more.
+    """
+    stems = {Path(rel).stem for rel in SOURCES}
+    for folder in {(_PACKAGE / rel).parent / "__pycache__" for rel in SOURCES}:
+        try:
+            names = os.listdir(folder)
+        except OSError:
+            continue
+        for name in names:
+            if name.endswith((".nbi", ".nbc")) and name.split(".", 1)[0] in stems:
+                with contextlib.suppress(OSError):
+                    (folder / name).unlink()
+
+
+def cache_dir() -> Path | None:
+    """The key folder of this process (created; older key folders pruned), or None.
+
+    None when no folder can be written: then nothing is cached and every process compiles.
+    """
+    if "dir" in _state:
+        return _state["dir"]  # type: ignore[return-value]
+    key = cache_key()
+    uid = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
+    candidates = (cache_root(), Path(tempfile.gettempdir()) / f"rollerrig-numba-{uid}")
+    chosen = None
+    for root in candidates:
+        folder = root / key
+        if _writable(folder):
+            chosen = folder
+            break
+    if chosen is None:
+        warnings.warn(
+            f"rollerrig: no writable cache folder ({candidates[0]}, {candidates[1]}); the fast "
+            "solver compiles in every process (about 20 s). Set NUMBA_CACHE_DIR to a writable "
+            "folder.",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    else:
+        with contextlib.suppress(OSError):
+            (chosen / _STAMP).touch()
+            about = chosen / "key.json"
+            if not about.exists():
+                about.write_text(json.dumps(_state["key_parts"], indent=1) + "\n")
+        _prune(chosen.parent, chosen)
+    _remove_legacy()
+    _state["dir"] = chosen
+    return chosen
+
+
+# ---------------------------------------------------------------------------------------------
+# Damage: SHA-256 sidecars, unreadable files removed
+# ---------------------------------------------------------------------------------------------
+def _files(cache) -> list[Path]:
+    """Index and data files of one function's numba cache (not the sidecars)."""
+    folder = Path(cache.cache_path)
+    base = getattr(getattr(cache, "_impl", None), "filename_base", None)
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return []
+    found = []
+    for name in names:
+        if name.endswith(_SIDECAR) or ".tmp." in name:
+            continue
+        if (
+            base is None
+            or name == f"{base}.nbi"
+            or (name.startswith(f"{base}.") and name.endswith(".nbc"))
+        ):
+            found.append(folder / name)
+    return found
+
+
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _intact(cache) -> bool:
+    """True when every file of the function matches its sidecar."""
+    for path in _files(cache):
+        try:
+            if (path.parent / (path.name + _SIDECAR)).read_text().strip() != _sha256(path):
+                return False
+        except (OSError, UnicodeDecodeError):
+            return False
+    return True
+
+
+def _discard(cache) -> None:
+    """Remove the function's index, data files and sidecars (it is compiled again)."""
+    for path in _files(cache):
+        for p in (path, path.parent / (path.name + _SIDECAR)):
+            with contextlib.suppress(OSError):
+                p.unlink()
+
+
+def _seal(cache) -> None:
+    """Write the sidecars of the function's files (atomically)."""
+    for path in _files(cache):
+        sidecar = path.parent / (path.name + _SIDECAR)
+        tmp = sidecar.with_name(f"{sidecar.name}.tmp.{os.getpid()}")
+        try:
+            tmp.write_text(_sha256(path) + "\n")
+            os.replace(tmp, sidecar)
+        except OSError:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+
+
+def _guard(dispatcher) -> None:
+    """Make the dispatcher's cache check sidecars on load and repair instead of failing."""
+    cache = getattr(dispatcher, "_cache", None)
+    if cache is None or not hasattr(cache, "cache_path") or not hasattr(cache, "load_overload"):
+        return
+    load, save = cache.load_overload, cache.save_overload
+
+    def load_overload(sig, target_context):
+        if not _intact(cache):
+            _discard(cache)
+            return None
+        try:
+            return load(sig, target_context)
+        except Exception:  # unreadable index or data: compile again
+            _discard(cache)
+            return None
+
+    def save_overload(sig, data):
+        try:
+            save(sig, data)
+        except Exception:  # an index numba cannot read: start it again
+            _discard(cache)
+            try:
+                save(sig, data)
+            except Exception as exc:
+                warnings.warn(
+                    f"rollerrig: cannot write the compile cache in {cache.cache_path} "
+                    f"({type(exc).__name__}: {exc}); the next process compiles again",
+                    RuntimeWarning,
+                    stacklevel=2,
+                )
+                return
+        _seal(cache)
+
+    cache.load_overload = load_overload
+    cache.save_overload = save_overload
+
+
+# ---------------------------------------------------------------------------------------------
+# The decorator
+# ---------------------------------------------------------------------------------------------
+_compiled_files: set[str] = set()
+
+
+def njit(fn=None, **options):
+    """``numba.njit(cache=True, **options)`` with the cache in :func:`cache_dir`.
+
+    Use as ``@njit`` or ``@njit(parallel=True)``. Without a writable folder the function is
+    compiled without a cache.
+    """
+    import numba
+
+    def decorate(f):
+        _compiled_files.add(os.path.abspath(f.__code__.co_filename))
+        folder = cache_dir()
+        if folder is None:
+            return numba.njit(**options)(f)
+        with _LOCK:
+            saved = numba.config.CACHE_DIR
+            numba.config.CACHE_DIR = str(folder)
+            try:
+                dispatcher = numba.njit(cache=True, **options)(f)
+            finally:
+                numba.config.CACHE_DIR = saved
+        _guard(dispatcher)
+        return dispatcher
+
+    return decorate if fn is None else decorate(fn)
+
+
+def is_cached(dispatcher) -> bool:
+    """True when the dispatcher's cache holds sealed machine code (a call will likely load it
+    instead of compiling; a different signature or CPU still compiles)."""
+    cache = getattr(dispatcher, "_cache", None)
+    if cache is None or not hasattr(cache, "cache_path"):
+        return False
+    files = _files(cache)
+    return any(p.suffix == ".nbc" for p in files) and _intact(cache)

@@ -1,0 +1,297 @@
+"""The on-disk cache of compiled code: where it lives, what invalidates it, bounded, repaired.
+
+Issue 9: numba's cache of the fast backend never hit (functions taking the right-hand side as an
+argument), grew by ~1.1 MB per process and broke after ~30 runs. Now every compiled function is
+cached under a folder keyed by the compiled sources; these tests check that fresh processes load
+the driver instead of compiling it, that the cache stops growing after the first run, and that
+damaged cache files are rebuilt instead of failing (in process for a small function, and in
+fresh processes for the fast backend's driver).
+"""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numba
+import numpy as np
+import pytest
+
+from rollerrig.solve import _cache
+
+
+def _sum_of_squares(x):
+    total = 0.0
+    for v in x:
+        total += v * v
+    return total
+
+
+X = np.arange(5.0)
+
+
+def _files(folder: Path) -> dict[str, int]:
+    return {
+        str(p.relative_to(folder)): p.stat().st_size
+        for p in sorted(folder.rglob("*"))
+        if p.is_file() and p.name != ".last-used"
+    }
+
+
+@pytest.fixture
+def cache_folder(tmp_path, monkeypatch):
+    """A cache folder of its own for functions compiled by _cache.njit in this test."""
+    monkeypatch.setitem(_cache._state, "dir", tmp_path)
+    return tmp_path
+
+
+def test_a_cached_function_is_saved_with_sidecars_and_loaded_by_a_new_dispatcher(cache_folder):
+    first = _cache.njit(_sum_of_squares)
+    assert first(X) == 30.0
+    assert sum(first.stats.cache_misses.values()) == 1
+    files = _files(cache_folder)
+    data = [name for name in files if name.endswith(".nbc")]
+    index = [name for name in files if name.endswith(".nbi")]
+    assert len(data) == 1 and len(index) == 1
+    assert f"{data[0]}.sha256" in files and f"{index[0]}.sha256" in files
+    again = _cache.njit(_sum_of_squares)  # a new dispatcher, as in a new process
+    assert again(X) == 30.0
+    assert sum(again.stats.cache_hits.values()) == 1
+    assert sum(again.stats.cache_misses.values()) == 0
+    assert _files(cache_folder) == files  # loading writes nothing
+    assert _cache.is_cached(again)
+
+
+def _truncate_data(folder):
+    for p in folder.rglob("*.nbc"):
+        p.write_bytes(p.read_bytes()[: p.stat().st_size // 2])
+
+
+def _garble_index(folder):
+    for p in folder.rglob("*.nbi"):
+        p.write_bytes(np.random.default_rng(1).bytes(p.stat().st_size))
+
+
+def _flip_a_byte_of_data(folder):
+    for p in folder.rglob("*.nbc"):
+        raw = bytearray(p.read_bytes())
+        raw[len(raw) // 2] ^= 0xFF
+        p.write_bytes(bytes(raw))
+
+
+def _empty_index(folder):
+    for p in folder.rglob("*.nbi"):
+        p.write_bytes(b"")
+
+
+def _remove_sidecars(folder):
+    for p in folder.rglob("*.sha256"):
+        p.unlink()
+
+
+def _index_from_another_numba(folder):
+    import pickle
+
+    for p in folder.rglob("*.nbi"):
+        p.write_bytes(pickle.dumps("0.1.0") + b"whatever follows")
+
+
+@pytest.mark.parametrize(
+    "damage",
+    [
+        _truncate_data,
+        _garble_index,
+        _flip_a_byte_of_data,
+        _empty_index,
+        _remove_sidecars,
+        _index_from_another_numba,
+    ],
+)
+def test_a_damaged_cache_is_rebuilt_not_fatal(cache_folder, damage):
+    _cache.njit(_sum_of_squares)(X)
+    damage(cache_folder)
+    rebuilt = _cache.njit(_sum_of_squares)
+    assert rebuilt(X) == 30.0  # no exception: compiled again
+    assert sum(rebuilt.stats.cache_misses.values()) == 1
+    loaded = _cache.njit(_sum_of_squares)
+    assert loaded(X) == 30.0
+    assert sum(loaded.stats.cache_hits.values()) == 1  # saved again, intact
+
+
+def test_njit_leaves_numba_config_as_it_was(cache_folder):
+    before = numba.config.CACHE_DIR
+    fn = _cache.njit(_sum_of_squares)
+    assert numba.config.CACHE_DIR == before  # numba functions of other packages unaffected
+    assert Path(fn.stats.cache_path).is_relative_to(cache_folder)
+
+
+def test_every_compiled_module_is_part_of_the_key():
+    from rollerrig.rig import model
+    from rollerrig.solve import _compiled, fast  # noqa: F401  (creates the compiled functions)
+
+    package = Path(_cache.__file__).resolve().parents[1]
+    compiled = {Path(fn.__code__.co_filename).resolve() for fn in _compiled._KERNELS}
+    compiled.add(Path(model.rig_rhs.__code__.co_filename).resolve())
+    compiled |= {
+        Path(f).resolve()
+        for f in _cache._compiled_files
+        if Path(f).resolve().is_relative_to(package)
+    }
+    listed = {(package / rel).resolve() for rel in _cache.SOURCES}
+    assert compiled <= listed, sorted(str(p) for p in compiled - listed)
+    assert all(p.is_file() for p in listed)
+
+
+def test_the_key_follows_the_compiled_sources(tmp_path):
+    package = Path(_cache.__file__).resolve().parents[1]
+    copy = tmp_path / "rollerrig"
+    for rel in _cache.SOURCES:
+        (copy / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(package / rel, copy / rel)
+    parts = {"rollerrig": "1.0", "numba": numba.__version__}
+    key = _cache._digest(copy, parts)
+    assert key == _cache._digest(package, parts) and len(key) == 16
+    (copy / "cli.py").write_text("# not compiled\n")
+    assert _cache._digest(copy, parts) == key
+    model = copy / "rig" / "model.py"
+    model.write_text(model.read_text() + "\n# an edit of the model\n")
+    assert _cache._digest(copy, parts) != key  # a called module changed: new folder
+    assert _cache._digest(package, {**parts, "rollerrig": "1.1"}) != key  # a new release
+
+
+@pytest.mark.skipif(sys.platform in ("win32", "darwin"), reason="XDG layout")
+def test_cache_root_respects_numba_cache_dir_then_xdg_then_home(tmp_path, monkeypatch):
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "numba"))
+    assert _cache.cache_root() == tmp_path / "numba" / "rollerrig"
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert _cache.cache_root() == tmp_path / "xdg" / "rollerrig" / "numba"
+    monkeypatch.setenv("XDG_CACHE_HOME", "relative/is/ignored")
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    assert _cache.cache_root() == tmp_path / "home" / ".cache" / "rollerrig" / "numba"
+
+
+def test_an_unwritable_cache_falls_back_to_the_temporary_directory_then_to_none(
+    tmp_path, monkeypatch
+):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    monkeypatch.delitem(_cache._state, "dir", raising=False)
+    monkeypatch.setattr(_cache, "cache_root", lambda: blocker / "cache")
+    monkeypatch.setattr(_cache.tempfile, "gettempdir", lambda: str(tmp_path / "tmp"))
+    folder = _cache.cache_dir()
+    assert folder is not None and folder.is_relative_to(tmp_path / "tmp")
+    assert folder.name == _cache.cache_key()
+    monkeypatch.delitem(_cache._state, "dir")
+    monkeypatch.setattr(_cache.tempfile, "gettempdir", lambda: str(blocker))
+    with pytest.warns(RuntimeWarning, match="no writable cache folder"):
+        assert _cache.cache_dir() is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert _cache.njit(_sum_of_squares)(X) == 30.0  # compiled, not cached
+
+
+def test_older_key_folders_are_pruned(tmp_path):
+    now = time.time()
+    for age, name in enumerate(["a" * 16, "b" * 16, "c" * 16, "d" * 16]):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / ".last-used").touch()
+        os.utime(tmp_path / name / ".last-used", (now - 100 * (age + 1),) * 2)
+    (tmp_path / "not-a-key").mkdir()  # left alone
+    current = tmp_path / ("0" * 16)
+    current.mkdir()
+    _cache._prune(tmp_path, current)
+    kept = sorted(p.name for p in tmp_path.iterdir())
+    assert kept == sorted([current.name, "a" * 16, "b" * 16, "not-a-key"])
+    assert _cache.KEEP == 3
+
+
+def test_files_earlier_versions_left_beside_the_sources_are_removed(tmp_path, monkeypatch):
+    pycache = tmp_path / "solve" / "__pycache__"
+    pycache.mkdir(parents=True)
+    legacy = ["fast._integrate-55.py311.nbi", "_wdriver.integrate-308.py311.12.nbc"]
+    kept = ["fast.cpython-311.pyc", "results.build-3.py311.nbi", "notes.txt"]
+    for name in legacy + kept:
+        (pycache / name).write_bytes(b"x")
+    monkeypatch.setattr(_cache, "_PACKAGE", tmp_path)
+    _cache._remove_legacy()
+    assert sorted(p.name for p in pycache.iterdir()) == sorted(kept)
+
+
+# ---------------------------------------------------------------------------------------------
+# The fast backend in fresh processes
+# ---------------------------------------------------------------------------------------------
+RUN = """
+import json, time
+t0 = time.perf_counter()
+from rollerrig.experiment import Hold, Protocol, RampTorque, ReleaseTorque
+from rollerrig.solve import Simulation, fast
+before = fast.is_compiled()
+p = Protocol.from_steps(
+    "one-second", [Hold(0.2), RampTorque(300.0, 0.3), ReleaseTorque(), Hold(0.48)],
+    normal_load=4300.0, roller_speed=30 / 3.6,
+)
+ds = Simulation(experiment=p).run()
+s = fast._integrate.stats
+print(json.dumps({
+    "hits": sum(s.cache_hits.values()), "misses": sum(s.cache_misses.values()),
+    "compiled_before": before, "t56": ds.t56.values.tolist(), "wall": time.perf_counter() - t0,
+}))
+"""
+
+
+def _run(cache: Path) -> dict:
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    done = subprocess.run(
+        [sys.executable, "-c", RUN], env=env, capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+@pytest.fixture(scope="module")
+def five_runs(tmp_path_factory):
+    """Five fresh processes on an empty cache: their reports and the cache files after each."""
+    cache = tmp_path_factory.mktemp("numba")
+    runs, files = [], []
+    for _ in range(5):
+        runs.append(_run(cache))
+        files.append(_files(cache))
+    return cache, runs, files
+
+
+@pytest.mark.slow
+def test_fresh_processes_load_the_driver_and_the_cache_stops_growing(five_runs):
+    _, runs, files = five_runs
+    first, later = runs[0], runs[1:]
+    assert first["misses"] == 1 and first["hits"] == 0 and not first["compiled_before"]
+    assert files[0]  # the first run wrote the cache
+    for run, after in zip(later, files[1:], strict=True):
+        assert run["hits"] == 1 and run["misses"] == 0 and run["compiled_before"]
+        assert after == files[0]  # same files, same sizes: nothing appended
+        assert run["t56"] == first["t56"]
+
+
+@pytest.mark.slow
+def test_a_damaged_driver_cache_is_rebuilt_in_a_fresh_process(five_runs, tmp_path):
+    cache, runs, _ = five_runs
+    damaged = tmp_path / "numba"
+    shutil.copytree(cache, damaged)
+    touched = 0
+    for p in damaged.rglob("*"):  # the machine code a warm run loads
+        if ("fast._integrate-" in p.name or "rig_terms_series" in p.name) and p.suffix in (
+            ".nbc",
+            ".nbi",
+        ):
+            raw = p.read_bytes()
+            p.write_bytes(raw[: len(raw) // 2] if p.suffix == ".nbc" else raw[::-1])
+            touched += 1
+    assert touched >= 4
+    repaired = _run(damaged)
+    assert repaired["misses"] == 1 and repaired["t56"] == runs[0]["t56"]
+    again = _run(damaged)
+    assert again["hits"] == 1 and again["misses"] == 0
