@@ -41,6 +41,7 @@ except PackageNotFoundError:  # running from a source tree without installation
 _EXPORTS: dict[str, str] = {
     # the twin
     "Simulation": "rollerrig.solve.simulation",
+    "SolverError": "rollerrig.solve.simulation",
     "DriveConfig": "rollerrig.rig.model",
     # experiments
     "Protocol": "rollerrig.experiment",

@@ -179,7 +179,7 @@ def test_twin_with_disturbances_is_clean_plus_lines_plus_noise(twin):
     assert float(truth.line_amplitude.sel(line="fixed")) == 0.0
     # The twin's Polach set of the test (dry, Polach 2005 Table 2) for the fit's truth check.
     assert md["true_polach_parameters"]["dry"]["limit_ratio"] == 0.4
-    assert json.loads(md["twin_provenance"])["rig"]["sensors"]["daq_rate"] == 250.0
+    assert json.loads(md["twin_provenance"])["rig_parameters"]["sensors"]["daq_rate"] == 250.0
 
 
 def test_injected_line_is_disclosed_with_frequency_and_amplitude():

@@ -13,7 +13,6 @@ from matplotlib.colors import LogNorm
 from rollerrig._validation import ParameterError
 from rollerrig.report.analysis import _params_at
 from rollerrig.report.filters import (
-    envelope,
     filter_comparison_figure,
     savitzky_golay_grid_figure,
     study_ranking_figure,
@@ -57,19 +56,6 @@ def _interior(o, w):
 def _texts(fig) -> str:
     ax = fig.axes[0]
     return " | ".join([ax.get_title(), *(t.get_text() for t in ax.texts)])
-
-
-def test_envelope_keeps_every_excursion_within_the_point_budget():
-    rng = np.random.default_rng(0)
-    t = np.arange(1_000_003) / 1000.0
-    y = rng.standard_normal(t.size)
-    y[123_457], y[987_654] = 40.0, -40.0  # single-sample spikes
-    xs, ys = envelope(t, y, 2000)
-    assert ys.size <= 2004 and np.all(np.diff(xs) > 0)  # time order, no duplicates
-    assert ys.max() == 40.0 and ys.min() == -40.0
-    assert xs[0] == t[0] and xs[-1] == t[-1]  # spans the whole signal
-    short = np.arange(10.0)
-    assert envelope(short, short, 2000)[1] is short  # short lines drawn as they are
 
 
 def test_figures_of_a_decimated_study_say_the_rate_of_their_windows():

@@ -15,7 +15,7 @@ from rich.text import Text
 
 from rollerrig._optional import require
 from rollerrig.cli._boundary import UserError
-from rollerrig.cli._console import console, print_written
+from rollerrig.cli._console import console, note, print_written
 from rollerrig.cli._options import (
     DEFAULT_OUT,
     Friction,
@@ -217,7 +217,9 @@ def simulate(
             transient=False,
         ) as bar:
             duration = sim.protocol.duration
-            task = bar.add_task("simulating", total=duration, info="compiling/solving")
+            if solver is Solver.fast:
+                _say_compile_stage(batch=False)
+            task = bar.add_task("simulating", total=duration, info="solving")
             ds = sim.run(
                 progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s")
             )
@@ -233,6 +235,18 @@ def simulate(
     if release:
         console.print(release)
     print_written(stage.written)
+
+
+def _say_compile_stage(*, batch: bool) -> None:
+    """Say when the fast solver will compile (first run after an install or an upgrade) rather
+    than load from its cache, so that a silent half minute is not taken for a hang."""
+    from rollerrig.solve.fast import is_compiled
+
+    if not is_compiled(batch=batch):
+        note(
+            "compiling the fast solver for this installation (once, about 20-30 s on 2 cores); "
+            "later runs load it from the cache"
+        )
 
 
 def _solver_stats(ds) -> dict:
@@ -271,6 +285,7 @@ def study(
     with command_outputs(
         out, run=stem, inputs={"rig": rig_file}, rig=rig, study=study_name
     ) as stage:
+        _say_compile_stage(batch=True)
         result = run_study(study_name, rig)
         table = Table(
             title=f"Study '{study_name}': overshoot below zero after a sudden torque release"
@@ -278,11 +293,16 @@ def study(
         table.add_column("variant")
         table.add_column("T56 / r_r", justify="right")
         table.add_column("true F_x", justify="right")
-        for label, m, t in zip(
-            result.labels, result.measured_overshoot, result.true_overshoot, strict=True
-        ):
-            table.add_row(label, f"{m:.1%}", f"{t:.1%}")
+        for row, label in zip(result.rows(), result.labels, strict=True):
+            m, t = row["overshoot of T56/r_r [-]"], row["overshoot of F_x [-]"]
+            if m is None:  # a point that failed: its status, never "nan%"
+                table.add_row(label, row["status"], "-")
+            else:
+                table.add_row(label, f"{m:.1%}", f"{t:.1%}")
         console.print(table)
+        for row in result.rows():
+            if row["reason"]:
+                note(f"{row['variant']}: {row['reason']}")
         numeric = study_name != "drives"
         unit = "kN·m/rad" if study_name == "stiffness" else result.unit
         fig = sweep_figure(

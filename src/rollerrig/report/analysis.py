@@ -17,8 +17,9 @@ from rollerrig.measure.quantities import ANALYSIS_CHANNELS, DERIVED_CHANNELS
 from rollerrig.measure.recording import CANONICAL_CHANNELS
 from rollerrig.output import json_text, provenance, write_json, write_table
 from rollerrig.report.adhesion import adhesion_figure
-from rollerrig.report.filters import envelope, filter_comparison_figure, study_ranking_figure
+from rollerrig.report.filters import filter_comparison_figure, study_ranking_figure
 from rollerrig.report.html import HtmlReport
+from rollerrig.report.lines import envelope
 from rollerrig.report.spectra import spectrum_figure
 from rollerrig.signal.smoothing import smooth
 

@@ -10,7 +10,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from rollerrig.report.filters import envelope
+from rollerrig.report.lines import envelope
 
 __all__ = ["MEASURED_STYLE", "TRUE_STYLE", "experiment_figure", "sweep_figure"]
 

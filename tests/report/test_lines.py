@@ -1,0 +1,18 @@
+"""Envelopes of long lines in report figures (src/rollerrig/report/lines.py)."""
+
+import numpy as np
+
+from rollerrig.report.lines import envelope
+
+
+def test_envelope_keeps_every_excursion_within_the_point_budget():
+    rng = np.random.default_rng(0)
+    t = np.arange(1_000_003) / 1000.0
+    y = rng.standard_normal(t.size)
+    y[123_457], y[987_654] = 40.0, -40.0  # single-sample spikes
+    xs, ys = envelope(t, y, 2000)
+    assert ys.size <= 2004 and np.all(np.diff(xs) > 0)  # time order, no duplicates
+    assert ys.max() == 40.0 and ys.min() == -40.0
+    assert xs[0] == t[0] and xs[-1] == t[-1]  # spans the whole signal
+    short = np.arange(10.0)
+    assert envelope(short, short, 2000)[1] is short  # short lines drawn as they are
