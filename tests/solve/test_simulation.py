@@ -206,3 +206,24 @@ def test_fast_stats_give_the_time_reached():
     assert stats["status"] == 2 and stats["t_stop"] == 0.0
     assert stats["reason"].startswith("at t = 0 s the step size fell")
     assert np.all(np.isnan(x[1:]))
+
+
+def test_fast_progress_moves_with_simulated_time_and_changes_nothing():
+    # With a progress callback the compiled driver runs segment by segment; every segment
+    # restarts its integration in the single call too, so the states must be identical.
+    from rollerrig.experiment import Hold, Protocol, RampTorque, ReleaseTorque
+    from rollerrig.solve.fast import integrate_experiment
+
+    steps = [Hold(0.3), RampTorque(200.0, 0.4), ReleaseTorque(), Hold(0.3)]
+    protocol = Protocol.from_steps("progress", steps, normal_load=4300.0, roller_speed=30 / 3.6)
+    sim = Simulation(experiment=protocol)
+    whole, stats_whole = integrate_experiment(sim.inputs, sim.times)
+    seen = []
+    parts, stats_parts = integrate_experiment(
+        sim.inputs, sim.times, progress=lambda t, end: seen.append((t, end))
+    )
+    np.testing.assert_array_equal(parts, whole)
+    assert stats_parts == stats_whole
+    reached = [t for t, _ in seen]
+    assert len(seen) == len(sim.inputs.segments) and reached == sorted(reached)
+    assert reached[-1] == pytest.approx(protocol.duration) and seen[0][1] == reached[-1]

@@ -156,11 +156,9 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         if self.solver == "fast":
             from rollerrig.solve.fast import FAST_DEFAULTS, integrate_experiment
 
-            x, stats = integrate_experiment(self.inputs, t, rtol=self.rtol)
+            x, stats = integrate_experiment(self.inputs, t, rtol=self.rtol, progress=progress)
             settings = dict(FAST_DEFAULTS) | ({"rtol": self.rtol} if self.rtol else {})
             name = "ROS34PW2 W-method (numba)"
-            if progress is not None:  # the simulated time reached: the end, or the failure
-                progress(min(stats["t_stop"], self.protocol.duration), self.protocol.duration)
         else:
             from rollerrig.solve.reference import integrate_reference
 
