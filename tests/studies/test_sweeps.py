@@ -82,6 +82,13 @@ def test_a_failing_point_has_a_status_and_the_others_still_complete(rig):
     assert r.failed == ("no roller inertia",)
     assert "at t = 0 s" in r.reasons[1] and "inertia" in r.reasons[1]
     assert np.isnan(r.measured_overshoot[1]) and np.isnan(r.true_overshoot[1])
+    # With progress the points run in batches of the thread count: same results, and the
+    # callback counts points done and failed up to the total.
+    calls = []
+    again = run_sweep(variants, labels, progress=lambda *c: calls.append(c))
+    np.testing.assert_array_equal(again.measured_overshoot, r.measured_overshoot)
+    assert again.status == r.status
+    assert calls[-1] == (3, 3, 1) and [c[0] for c in calls] == sorted({c[0] for c in calls})
     # The other points are what they are in a sweep of their own.
     alone = run_sweep([variants[0], variants[2]], (labels[0], labels[2]))
     np.testing.assert_array_equal(r.measured_overshoot[[0, 2]], alone.measured_overshoot)

@@ -154,7 +154,6 @@ def simulate(
     the experiment's name plus what differs from the defaults (e.g.
     seed-30kmh-dry_roller-ideal_speed.nc), so variants never overwrite each other.
     """
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from rollerrig.experiment import bundled_protocols
 
@@ -208,14 +207,7 @@ def simulate(
                 f": wheel {drives.wheel}, roller {drives.roller}, solver {solver.value}",
             )
         )
-        with Progress(
-            TextColumn("{task.description}"),
-            BarColumn(),
-            TextColumn("{task.fields[info]}"),
-            TimeElapsedColumn(),
-            console=console,
-            transient=False,
-        ) as bar:
+        with _progress() as bar:
             duration = sim.protocol.duration
             if solver is Solver.fast:
                 _say_compile_stage(batch=False)
@@ -235,6 +227,19 @@ def simulate(
     if release:
         console.print(release)
     print_written(stage.written)
+
+
+def _progress():
+    """The progress bar of the twin's commands: what runs, how far, and the time it took."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    return Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.fields[info]}"),
+        TimeElapsedColumn(),
+        console=console,
+    )
 
 
 def _say_compile_stage(*, batch: bool) -> None:
@@ -286,7 +291,14 @@ def study(
         out, run=stem, inputs={"rig": rig_file}, rig=rig, study=study_name
     ) as stage:
         _say_compile_stage(batch=True)
-        result = run_study(study_name, rig)
+        with _progress() as bar:
+            task = bar.add_task(f"study {study_name}", total=None, info="starting")
+
+            def points(done: int, total: int, failed: int) -> None:
+                info = f"{done}/{total} points" + (f", {failed} failed" if failed else "")
+                bar.update(task, completed=done, total=total, info=info)
+
+            result = run_study(study_name, rig, progress=points)
         table = Table(
             title=f"Study '{study_name}': overshoot below zero after a sudden torque release"
         )

@@ -16,7 +16,7 @@ from rollerrig.rig.assemble import ModelInputs, assemble
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import RigParameters, default_rig, load_rig
 
-__all__ = ["SOLVERS", "Simulation", "SolverError"]
+__all__ = ["SOLVERS", "Simulation", "SolverError", "output_times"]
 
 SOLVERS = ("fast", "reference")
 
@@ -40,6 +40,24 @@ class SolverError(ParameterError):
         self.solver = solver
         self.t_stop = t_stop
         self.reason = reason
+
+
+def output_times(duration: float, rate: float) -> np.ndarray:
+    """Sample instants [s] from 0 to ``duration`` [s] at ``rate`` [Hz], never beyond the end.
+
+    A duration summed from step durations can fall an ulp short of a sample instant
+    (1 + 2 × (1.5 + 0.02 + 1) = 6.039999999999999 s at 250 Hz): the last sample is then the
+    end itself, not an instant after it, where no input is defined.
+
+    Examples
+    --------
+    >>> float(output_times(6.039999999999999, 250.0)[-1])
+    6.039999999999999
+    """
+    n = int(np.floor(duration * rate + 1e-9))
+    t = np.arange(n + 1) / rate
+    t[-1] = min(t[-1], duration)
+    return t
 
 
 class Simulation:
@@ -129,17 +147,9 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
 
     @property
     def times(self) -> np.ndarray:
-        """Sample times of the results [s], never beyond the protocol's end.
-
-        A duration summed from step durations can fall an ulp short of a sample instant
-        (1 + 2 × (1.5 + 0.02 + 1) = 6.039999999999999 s at 250 Hz): the last sample is then
-        the end itself, not an instant after it, where no input is defined.
-        """
-        duration = self.protocol.duration
-        n = int(np.floor(duration * self.output_rate + 1e-9))
-        t = np.arange(n + 1) / self.output_rate
-        t[-1] = min(t[-1], duration)
-        return t
+        """Sample times of the results [s], never beyond the protocol's end
+        (:func:`output_times`)."""
+        return output_times(self.protocol.duration, self.output_rate)
 
     def run(self, progress: Callable[[float, float], None] | None = None):
         """Run the experiment and return the labelled dataset (:func:`build_dataset`).

@@ -22,6 +22,7 @@ from rollerrig.experiment import Hold, Protocol, RampTorque, ReleaseTorque
 from rollerrig.rig.assemble import assemble
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import RigParameters
+from rollerrig.solve.simulation import output_times
 
 __all__ = [
     "POINT_FAILED",
@@ -192,6 +193,7 @@ def run_sweep(
     parameter: str = "variant",
     unit: str = "",
     values: tuple | None = None,
+    progress: Callable[[int, int, int], None] | None = None,
 ) -> StudyResult:
     """Run rig variants on one experiment with the parallel fast backend and measure each.
 
@@ -207,6 +209,9 @@ def run_sweep(
         Sampling of the results [Hz]; fine enough to resolve the 13.8 Hz shaft mode.
     name, parameter, unit, values
         Describe the sweep in the result (``values`` default: the point numbers).
+    progress : callable, optional
+        ``progress(done, total, failed)`` [points], called after each batch of as many points
+        as numba has threads (the batches run one after the other, each in parallel).
 
     Returns
     -------
@@ -224,9 +229,21 @@ def run_sweep(
             f"{len(variants)} variants and {len(labels)} labels"
         )
     inputs = [assemble(r, protocol, d) for r, d in variants]
-    t = np.arange(int(np.floor(protocol.duration * output_rate)) + 1) / output_rate
-    x, stats = integrate_batch(inputs, t)
+    t = output_times(protocol.duration, output_rate)
     n = len(inputs)
+    if progress is None:
+        x, stats = integrate_batch(inputs, t)
+    else:
+        import numba
+
+        size = max(1, numba.get_num_threads())
+        parts, stats = [], []
+        for start in range(0, n, size):
+            x_part, stats_part = integrate_batch(inputs[start : start + size], t)
+            parts.append(x_part)
+            stats.extend(stats_part)
+            progress(len(stats), n, sum(s["status"] != 0 for s in stats))
+        x = np.concatenate(parts)
     measured = np.full(n, np.nan)
     true = np.full(n, np.nan)
     status = [POINT_OK] * n
@@ -253,7 +270,11 @@ def run_sweep(
 
 
 def run_study(
-    name: str, rig: RigParameters, protocol: Protocol | None = None, output_rate: float = 1000.0
+    name: str,
+    rig: RigParameters,
+    protocol: Protocol | None = None,
+    output_rate: float = 1000.0,
+    progress: Callable[[int, int, int], None] | None = None,
 ) -> StudyResult:
     """Run a built-in study with the parallel fast backend.
 
@@ -266,6 +287,8 @@ def run_study(
         Default :data:`RELEASE_TEST`.
     output_rate : float
         Sampling of the results [Hz]; fine enough to resolve the 13.8 Hz shaft mode.
+    progress : callable, optional
+        ``progress(done, total, failed)`` [points] (see :func:`run_sweep`).
 
     Returns
     -------
@@ -285,4 +308,5 @@ def run_study(
         parameter=parameter,
         unit=unit,
         values=values,
+        progress=progress,
     )
