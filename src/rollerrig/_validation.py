@@ -7,6 +7,7 @@ wrap them call these helpers first.
 from __future__ import annotations
 
 import difflib
+import json
 import math
 import types
 import typing
@@ -29,6 +30,7 @@ __all__ = [
     "require_in_range",
     "require_nonnegative",
     "require_positive",
+    "toml_string",
 ]
 
 
@@ -478,3 +480,16 @@ def show_value(value) -> str:
         v = float(value)
         return str(int(v)) if math.isfinite(v) and v == int(v) and abs(v) < 1e15 else repr(v)
     return repr(value)
+
+
+def toml_string(text: str) -> str:
+    r"""``text`` as a TOML basic string (for the package's TOML writers).
+
+    JSON string escapes are TOML basic-string escapes; TOML also forbids a raw DEL.
+
+    Examples
+    --------
+    >>> print(toml_string('say "hi"' + chr(0x7F)))
+    "say \"hi\"\u007f"
+    """
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")

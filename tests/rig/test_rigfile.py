@@ -260,3 +260,13 @@ def test_all_problems_reported_at_once(tmp_path):
         "geometry.wheel_radius_x.unit",
         "material.poisson",
     ]
+
+
+def test_a_name_with_a_del_character_survives_save_and_load(tmp_path):
+    # TOML forbids a raw DEL (U+007F) in a string; the rig writer escapes it as the protocol
+    # writer does (one toml_string for both).
+    from rollerrig.rig.parameters import default_rig, load_rig, save_rig
+
+    rig = default_rig().with_overrides({"meta.name": "rig" + chr(0x7F) + "x"})
+    save_rig(rig, tmp_path / "rig.toml")
+    assert load_rig(tmp_path / "rig.toml").meta.name == "rig\x7fx"

@@ -266,7 +266,6 @@ def command_line() -> list[str]:
     Taken from the arguments click parsed (under a test runner ``sys.argv`` is the runner's);
     ``sys.argv`` outside a command.
     """
-    import sys
 
     ctx = current_context()
     argv = None if ctx is None else ctx.meta.get(ARGV_KEY)

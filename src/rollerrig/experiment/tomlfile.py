@@ -52,12 +52,12 @@ from __future__ import annotations
 
 import difflib
 import hashlib
-import json
 import math
 import tomllib
 from importlib import resources
 from pathlib import Path
 
+from rollerrig._validation import toml_string
 from rollerrig.experiment.protocol import Protocol, ProtocolError
 from rollerrig.experiment.replay import replay_protocol
 from rollerrig.experiment.steps import (
@@ -75,7 +75,6 @@ from rollerrig.experiment.steps import (
     SetNormalLoad,
     SetRollerSpeed,
     Step,
-    StepList,
     StepTorque,
     build_protocol,
     protocol_error,
@@ -278,7 +277,7 @@ def protocol_from_toml_string(
 
     if "step" not in doc:
         raise protocol_error(origin, "step", "no steps ([[step]] tables) and no [replay] table")
-    steps = StepList().check(origin, "step", _steps(origin, "step", doc["step"]))
+    steps = _steps(origin, "step", doc["step"])  # checked by build_protocol
     return build_protocol(steps, settings, origin=origin, origin_sha256=sha, where=(origin, "step"))
 
 
@@ -354,11 +353,6 @@ def load_protocol(path_or_name: str | Path) -> Protocol:
 # --------------------------------------------------------------------------------------------
 
 
-def _toml_string(text: str) -> str:
-    # JSON string escapes are TOML basic-string escapes; TOML also forbids a raw DEL.
-    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
-
-
 def _toml_number(si_value: float, unit: str, si_unit: str) -> str:
     """The value in ``unit``, written with the fewest digits that read back exactly."""
     factor = si_factor(unit, si_unit)
@@ -373,7 +367,7 @@ def _toml_number(si_value: float, unit: str, si_unit: str) -> str:
 def _toml_value(step: Step, key: str, field: str, unit: str | None) -> str:
     value = getattr(step, field)
     if isinstance(value, str):
-        return _toml_string(value)
+        return toml_string(value)
     if isinstance(value, int):
         return str(value)
     return _toml_number(value, unit, step.rules[field].unit)
@@ -422,13 +416,13 @@ def protocol_to_toml(protocol: Protocol) -> str:
     <BLANKLINE>
     """
     steps = protocol.to_steps()
-    lines = ["[experiment]", f"name = {_toml_string(protocol.name)}"]
+    lines = ["[experiment]", f"name = {toml_string(protocol.name)}"]
     for key in ("description", "source"):
         if getattr(protocol, key):
-            lines.append(f"{key} = {_toml_string(getattr(protocol, key))}")
+            lines.append(f"{key} = {toml_string(getattr(protocol, key))}")
     lines += [
         f"normal_load_kN = {_toml_number(float(protocol.normal_load[0]), 'kN', LOAD.unit)}",
         f"roller_speed_kmh = {_toml_number(float(protocol.roller_speed[0]), 'km/h', SPEED.unit)}",
-        f"friction = {_toml_string(protocol.friction_condition[0])}",
+        f"friction = {toml_string(protocol.friction_condition[0])}",
     ]
     return "\n".join(lines + _steps_toml(steps, "step", "")) + "\n"

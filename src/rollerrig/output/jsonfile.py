@@ -110,6 +110,6 @@ def write_text(
     (True, 'table\n')
     """
     if comment is not None:
-        record = json.dumps(provenance(), default=jsonable, allow_nan=False)
+        record = json_text(provenance())
         text = f"{comment} provenance: {record}\n{text}"
     return atomic_write(path, lambda p: p.write_text(text, encoding="utf-8"), overwrite=overwrite)

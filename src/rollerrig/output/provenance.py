@@ -79,7 +79,17 @@ def file_sha256(path: str | os.PathLike) -> str:
     >>> file_sha256(f)[:16]
     'ba7816bf8f01cfea'
     """
-    with Path(path).open("rb") as fh:
+    p = Path(path).resolve()
+    st = p.stat()
+    # A run hashes its inputs once for the provenance and the reader hashes the recording
+    # again: the same file, unchanged (size and modification time), is read only once.
+    return _sha256_of(str(p), st.st_size, st.st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=64)
+def _sha256_of(path: str, size: int, mtime_ns: int) -> str:
+    """SHA-256 of ``path``; ``size`` and ``mtime_ns`` only key the cache."""
+    with open(path, "rb") as fh:
         return hashlib.file_digest(fh, "sha256").hexdigest()
 
 

@@ -46,7 +46,7 @@ import numpy as np
 from rollerrig._optional import require
 from rollerrig._validation import ParameterError
 from rollerrig.output.atomic import OutputError, atomic_write
-from rollerrig.output.jsonfile import json_text, write_text
+from rollerrig.output.jsonfile import PROVENANCE_KEY, json_text, write_text
 from rollerrig.output.provenance import provenance as _provenance
 
 __all__ = [
@@ -75,7 +75,6 @@ _ALIASES = {"mdf": "mf4", "mdf4": "mf4", "netcdf": "nc", "pq": "parquet"}
 
 META_KEY = "rollerrig_metadata"
 """Where the metadata object (JSON) lives in TDMS, MAT and NetCDF files."""
-PROVENANCE_KEY = "provenance"
 """Key of the provenance record in the metadata object (and the MAT/NetCDF variable/attribute)."""
 VARIABLES_KEY = "variables"
 """Key of ``{column: {"units", "long_name", ...}}`` in the metadata object."""
@@ -458,8 +457,6 @@ def write_dataset(
         if var.dtype.kind in "biuf":
             _check_numeric(path, str(name), np.asarray(var.values, dtype=float), var.attrs)
     meta = {**attrs, PROVENANCE_KEY: dict(record) if record is not None else _provenance()}
-    if not overwrite and os.path.lexists(path):
-        raise FileExistsError(f"{path} exists; pass overwrite=True to replace it")
     return atomic_write(path, lambda tmp: _cf_netcdf(ds, meta, tmp, path.stem), overwrite=overwrite)
 
 

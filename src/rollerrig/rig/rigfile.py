@@ -22,7 +22,6 @@ Every problem of a file is reported at once, one line each in the package's erro
 from __future__ import annotations
 
 import dataclasses
-import json
 from collections.abc import Mapping
 from typing import Any
 
@@ -42,6 +41,7 @@ from rollerrig._validation import (
     Verbatim,
     pydantic_problems,
     show_value,
+    toml_string,
 )
 from rollerrig.rig.sections import SECTIONS, MetaParameters, quantity_of, si_unit_of
 from rollerrig.units import UnitError, apply_factor, normalize_unit, quantity_factor
@@ -264,14 +264,9 @@ def _si_fields(model: type[BaseModel]):
 # --------------------------------------------------------------------------------------------
 
 
-def _toml_str(text: str) -> str:
-    # A JSON string literal is a valid TOML basic string (same escapes, \uXXXX included).
-    return json.dumps(text, ensure_ascii=False)
-
-
 def _toml_value(value: Any) -> str:
     if isinstance(value, str):
-        return _toml_str(value)
+        return toml_string(value)
     if isinstance(value, int) and not isinstance(value, bool):
         return str(value)
     return repr(float(value))  # '45.0', '1e-05': valid TOML floats
@@ -294,7 +289,7 @@ def write_sections(sections: Mapping[str, BaseModel], provenance: Mapping[str, M
         for key, field in model.model_fields.items():
             value = getattr(values, key)
             if model is MetaParameters:
-                lines.append(f"{key} = {_toml_str(value)}")
+                lines.append(f"{key} = {toml_string(value)}")
                 continue
             record = provenance.get(f"{section}.{key}", {})
             written, unit = value, si_unit_of(field)
@@ -308,8 +303,8 @@ def write_sections(sections: Mapping[str, BaseModel], provenance: Mapping[str, M
             kind = "source" if "source" in record else "assumption"
             text = record.get(kind, "no provenance recorded (set in Python)")
             lines.append(
-                f"{key} = {{ value = {_toml_value(written)}, unit = {_toml_str(unit)}, "
-                f"{kind} = {_toml_str(text)} }}"
+                f"{key} = {{ value = {_toml_value(written)}, unit = {toml_string(unit)}, "
+                f"{kind} = {toml_string(text)} }}"
             )
         lines.append("")
     return "\n".join(lines)
