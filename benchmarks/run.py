@@ -15,9 +15,10 @@ It measures, in one run on this machine:
   ``solve_ivp`` Radau on the plain Python right-hand side with scipy's own finite-difference
   Jacobian, rtol 1e-6: what one would write without this package), the reference backend (the
   same Radau on the compiled right-hand side) and the fast backend (compiled ROS34PW2) at its
-  default and other settings: solve-only wall time (best of a few, compiled code loaded
-  before), real-time factor, speed-up over the baseline and the largest roller-shaft torque
-  error max |ΔT56| against a tight reference (Radau, compiled, rtol 1e-10);
+  default (dense output, h_max 0.9 ms) and other settings: solve-only wall time (best of
+  a few, compiled code loaded before), real-time factor, speed-up over the baseline and the
+  largest roller-shaft torque error max |ΔT56| against a tight reference (Radau, compiled,
+  rtol 1e-10);
 - a sweep of roller-shaft stiffness × motor-lag variants with the parallel batch backend:
   experiment-runs per second on this machine's cores;
 
@@ -93,7 +94,7 @@ def main() -> None:
     from rollerrig.rig.assemble import assemble
     from rollerrig.rig.model import DriveConfig
     from rollerrig.solve import fast
-    from rollerrig.solve.fast import FAST_DEFAULTS, integrate_batch, integrate_experiment
+    from rollerrig.solve.fast import SWEEP_H_MAX, integrate_batch, integrate_experiment
     from rollerrig.solve.reference import integrate_reference
     from rollerrig.solve.simulation import Simulation
 
@@ -134,25 +135,17 @@ def main() -> None:
         f"{st_r['rhs_evaluations']} RHS calls",
     )
     fast_rows = {}
-    for rtol in (1e-5, 1e-6):
-        f_time, (x_f, st_f) = _best_of(
-            lambda rtol=rtol: integrate_experiment(inputs, t, rtol=rtol), repeat
-        )
-        label = f"fast: ROS34PW2 (numba), rtol {rtol:g}" + (
-            " (default)" if rtol == FAST_DEFAULTS["rtol"] else ""
-        )
+    for label, options in (
+        ("fast: ROS34PW2 (numba), dense output (default)", {}),
+        ("fast: ROS34PW2, rtol 1e-06", {"rtol": 1e-6}),
+        (f"fast: ROS34PW2, h_max {SWEEP_H_MAX * 1e3:g} ms (sweeps)", {"h_max": SWEEP_H_MAX}),
+        ("fast: ROS34PW2, h_max 4 ms", {"h_max": 4e-3}),
+    ):
+        run = lambda o=options: integrate_experiment(inputs, t, **o)  # noqa: E731
+        f_time, (x_f, st_f) = _best_of(run, repeat)
         err = add(label, f_time, x_f, f"{st_f['accepted_steps']} steps")
-        fast_rows[rtol] = (f_time, err)
-    for h_max in (1e-3, 4e-3):
-        h_time, (x_h, st_h) = _best_of(
-            lambda h_max=h_max: integrate_experiment(inputs, t, h_max=h_max), repeat
-        )
-        add(
-            f"fast: ROS34PW2, rtol 1e-05, h_max {h_max * 1e3:g} ms",
-            h_time,
-            x_h,
-            f"{st_h['accepted_steps']} steps",
-        )
+        fast_rows[label] = (f_time, err)
+    f_time, f_err = fast_rows["fast: ROS34PW2 (numba), dense output (default)"]
 
     # Sweep: roller-shaft stiffness × motor lag, one experiment each, parallel threads.
     n_k, n_lag = (3, 2) if args.quick else (6, 4)
@@ -172,7 +165,10 @@ def main() -> None:
     integrate_batch(variants[:2], t[:10])
     load_batch = time.perf_counter() - start
     sweeps = []
-    for label, options in (("default settings", {}), ("h_max 4 ms", {"h_max": 4e-3})):
+    for label, options in (
+        ("default settings", {}),
+        (f"sweep setting h_max {SWEEP_H_MAX * 1e3:g} ms", {"h_max": SWEEP_H_MAX}),
+    ):
         seconds, (_, stats) = _best_of(lambda o=options: integrate_batch(variants, t, **o), 1)
         ok = sum(s["status"] == 0 for s in stats)
         one = integrate_experiment(inputs, t, **options)[0]
@@ -222,7 +218,6 @@ def main() -> None:
             f"({ok} succeeded; max|dT56| {err:.2f} N.m on the default variant)"
         )
 
-    f_time, f_err = fast_rows[FAST_DEFAULTS["rtol"]]
     sweep_rate, sweep_err = sweeps[0][2], sweeps[0][4]
     good = [s for s in sweeps if s[4] <= 1.0]
     best_good = max(good, key=lambda s: s[2]) if good else None

@@ -7,6 +7,8 @@ drive power minus damper, bearing and contact-slip losses).
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from rollerrig.experiment import protocol_from_toml_string
 from rollerrig.rig import model as m
@@ -174,3 +176,16 @@ def test_sensor_relation_holds_at_every_instant(rig, protocol):
         lhs = d["contact_force"] * p[m.P_RR]
         rhs = d["t56"] + p[m.P_J + 4] * dx[m.X_OMEGA + 4] + d["bearing_torque_roller"]
         assert lhs == pytest.approx(rhs, rel=1e-9, abs=1e-9)
+
+
+@given(
+    st.lists(st.integers(0, 6), min_size=1, max_size=8),
+    st.lists(st.floats(-1e3, 1e3), min_size=8, max_size=8),
+    st.floats(-2.0, 8.0) | st.integers(0, 6).map(float),
+)
+def test_scalar_interp_is_numpy_interp(breaks, values, t):
+    """The model's scalar interpolation agrees with numpy.interp, repeated breakpoints (a step
+    in a protocol table) included: right-continuous, end values held outside."""
+    xs = np.sort(np.array(breaks, dtype=float))
+    ys = np.array(values[: xs.size])
+    assert m._interp(t, xs, ys) == pytest.approx(np.interp(t, xs, ys), rel=1e-12, abs=1e-9)

@@ -494,3 +494,41 @@ def test_batch_equals_serial():
         )
         assert tuple(stats[b]) == res
         np.testing.assert_array_equal(batch_out[b], x_out)
+
+
+@numba.njit
+def cubic(t, x, p, tables, dx):  # x(t) = t^3: the step and the interpolant are both exact
+    dx[0] = 3.0 * t * t
+
+
+def test_dense_output_is_exact_for_a_cubic_and_takes_fewer_steps():
+    """Hermite dense output (Hairer, Nørsett & Wanner 1993, eq. II.6.7) reproduces cubics
+    exactly; on a fine output grid it takes the steps the tolerance asks for, not one per
+    output interval."""
+    t_out = np.linspace(0.0, 2.0, 401)
+    x_out = np.empty((t_out.size, 1))
+    args = (np.zeros(1), 0.0, 2.0, t_out, np.zeros(1), TABLES, 1.0, 1.0, 0.5, 0.5, 10)
+    res = ros34pw2_integrate(cubic, *args, x_out, dense=True)
+    assert res[3] == STATUS_OK
+    np.testing.assert_allclose(x_out[:, 0], t_out**3, rtol=1e-12, atol=1e-13)
+    assert res[0] <= 10  # h_max 0.5 s over 2 s, not 400 steps
+    landed = np.empty_like(x_out)
+    res_landed = ros34pw2_integrate(cubic, *args, landed)
+    assert res_landed[0] >= 400
+    np.testing.assert_allclose(x_out, landed, rtol=1e-12, atol=1e-13)
+
+
+def test_dense_output_keeps_the_order_on_a_decay():
+    """Interpolated outputs of exp(-t) are as accurate as landed ones (third order)."""
+    rates = np.array([1.0, 3.0, np.inf])
+    t_out = np.linspace(0.0, 2.0, 801)
+    errors = []
+    for h in (0.04, 0.02):
+        x_out = np.empty((t_out.size, 2))
+        res = ros34pw2_integrate(
+            decay, np.ones(2), 0.0, 2.0, t_out, rates, TABLES, 1.0, 1.0, h, h, 1, x_out,
+            dense=True,
+        )  # fmt: skip
+        assert res[3] == STATUS_OK
+        errors.append(np.max(np.abs(x_out - np.exp(-np.outer(t_out, rates[:2])))))
+    assert 6.0 < errors[0] / errors[1] < 11.0  # 2^3 = 8

@@ -161,7 +161,11 @@ def _polach_force_kernel(
     Both terms are odd in ε, so the signed creep gives the signed force.
     """
     mu = _friction_kernel(slip_velocity, mu0, limit_ratio, friction_decay)
-    q_mu = normal_load * mu
+    return _polach_force_at_friction_kernel(creep, normal_load * mu, creep_stiffness, k_a, k_s)
+
+
+def _polach_force_at_friction_kernel(creep, q_mu, creep_stiffness, k_a, k_s):
+    """Polach's creep force [N] for a given Q·μ [N] (the twin has μ already: one exp less)."""
     eps = _adhesion_gradient_kernel(creep, q_mu, creep_stiffness)
     ka_eps = k_a * eps
     return (2.0 / np.pi) * q_mu * (ka_eps / (1.0 + ka_eps * ka_eps) + np.arctan(k_s * eps))

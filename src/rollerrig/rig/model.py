@@ -33,7 +33,7 @@ from typing import Literal
 
 import numpy as np
 
-from rollerrig.contact.creep import _friction_kernel, _polach_force_kernel
+from rollerrig.contact.creep import _friction_kernel, _polach_force_at_friction_kernel
 from rollerrig.contact.kinematics import _creep_kernel
 from rollerrig.drives.induction import (
     induction_torque,
@@ -210,7 +210,8 @@ def _creep_stiffness_at(load, p):
     Hertz semi-axes scale with N^(1/3) at fixed a/b, so G a b C11 scales with N^(2/3) from its
     value at the reference load.
     """
-    return p[P_CREEP_STIFF_REF] * (load / p[P_LOAD_REF]) ** (2.0 / 3.0)
+    ratio = load / p[P_LOAD_REF]
+    return p[P_CREEP_STIFF_REF] * np.cbrt(ratio * ratio)  # cbrt: a third of the cost of pow
 
 
 def _open_loop_roller_torque(rotor_speed, omega_ref, p):
@@ -243,9 +244,9 @@ def rig_terms(t, x, p, tables):
     Returns a tuple ordered as :data:`TERM_NAMES` (SI units). Pure scalar arithmetic: compiled by
     numba for the fast backend, evaluated as Python for the baseline.
     """
-    torque_request = np.interp(t, tables[TAB_TORQUE_T], tables[TAB_TORQUE])
-    speed_setpoint = np.interp(t, tables[TAB_SPEED_T], tables[TAB_SPEED])
-    load = np.interp(t, tables[TAB_LOAD_T], tables[TAB_LOAD])
+    torque_request = _interp(t, tables[TAB_TORQUE_T], tables[TAB_TORQUE])
+    speed_setpoint = _interp(t, tables[TAB_SPEED_T], tables[TAB_SPEED])
+    load = _interp(t, tables[TAB_LOAD_T], tables[TAB_LOAD])
 
     th1, th2, th3, th4, th5, th6, th7 = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
     w1, w2, w3, w4, w5, w6, w7 = x[7], x[8], x[9], x[10], x[11], x[12], x[13]
@@ -263,8 +264,8 @@ def rig_terms(t, x, p, tables):
     creep, slip_velocity = _creep_kernel(w4, w5, p[P_RW], p[P_RR], p[P_VREG])
     creep_stiffness = _creep_stiffness_at(load, p)
     friction = _friction_kernel(slip_velocity, p[P_MU0], p[P_A], p[P_B])
-    force = _polach_force_kernel(
-        creep, slip_velocity, load, creep_stiffness, p[P_MU0], p[P_A], p[P_B], p[P_KA], p[P_KS]
+    force = _polach_force_at_friction_kernel(
+        creep, load * friction, creep_stiffness, p[P_KA], p[P_KS]
     )
 
     # Wheel drive: PMSM with field-oriented current control, or an ideal torque source.
@@ -402,6 +403,30 @@ def rig_rhs(t, x, p, tables, dx):
     else:
         dx[X_T_ROLLER] = 0.0
     dx[X_INT_SPEED] = terms[_T_DINT_SPEED]
+
+
+def _interp(t, xs, ys):
+    """``np.interp(t, xs, ys)`` for a scalar ``t``: the piecewise-linear input at ``t``.
+
+    The same value as numpy's (right-continuous at a repeated breakpoint, the end values held
+    outside), found by bisection. Compiled, it costs about 4 ns a call where numba's
+    ``np.interp`` on a scalar costs about 70 ns (it builds arrays): three calls were half of
+    the right-hand side's time.
+    """
+    n = xs.shape[0]
+    if t < xs[0]:
+        return ys[0]
+    if t >= xs[n - 1]:
+        return ys[n - 1]
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:  # invariant: xs[lo] <= t < xs[hi]
+        mid = (lo + hi) >> 1
+        if xs[mid] <= t:
+            lo = mid
+        else:
+            hi = mid
+    return ys[lo] + (ys[hi] - ys[lo]) * ((t - xs[lo]) / (xs[hi] - xs[lo]))
 
 
 def _interp_slope(t, xs, ys):

@@ -321,6 +321,24 @@ def _land(t, x, t_out, x_out, k_out):
 
 
 @_cache.njit
+def _hermite(t, h, x, f, x_new, f_new, t_at, out):
+    """Cubic Hermite interpolation of a step from ``(t, x, f)`` to ``(t + h, x_new, f_new)``
+    at ``t_at``, into ``out``.
+
+    Exact for cubics, local error O(h⁴) like the third-order step itself (Hairer, Nørsett &
+    Wanner 1993, Sec. II.6, eq. 6.7).
+    """
+    s = (t_at - t) / h
+    s2 = s * s
+    h00 = 1.0 - s2 * (3.0 - 2.0 * s)
+    h01 = 1.0 - h00
+    h10 = h * s * (1.0 - s) * (1.0 - s)
+    h11 = h * s2 * (s - 1.0)
+    for i in range(x.shape[0]):
+        out[i] = h00 * x[i] + h01 * x_new[i] + h10 * f[i] + h11 * f_new[i]
+
+
+@_cache.njit
 def _error_factor(enorm, exponent):
     """``0.9 · enorm^(−exponent)``, the step factor of the standard controller."""
     if exponent == 0.5:
@@ -331,6 +349,7 @@ def _error_factor(enorm, exponent):
 def _integrate(
     x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out,
     max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP, x_typ=None, t_stop=None,
+    dense=False,
 ):  # fmt: skip
     """Template of ``integrate``: adaptive W-method from ``t0`` to ``t1``, output at given times.
 
@@ -351,6 +370,10 @@ def _integrate(
     t_stop : ndarray of float64, shape (1,), or None
         Output: the time the integration reached [s] (``t1`` on success, where it stopped on
         a failure).
+    dense : bool
+        Interpolate the output times inside a step (:func:`_hermite`) instead of shortening
+        steps to land on them: the step is then free of the output grid, so ``W`` is reused
+        across output times instead of being refactored for the short steps before each one.
 
     Returns
     -------
@@ -414,7 +437,7 @@ def _integrate(
         if n_steps + n_rejected >= max_steps:
             status = STATUS_MAX_STEPS
             break
-        target = t_out[k_out] if k_out < n_out else t1
+        target = t_out[k_out] if (k_out < n_out and not dense) else t1
         remaining = target - t
         if remaining <= h * (1.0 + 1e-8):
             h_try = remaining
@@ -452,6 +475,10 @@ def _integrate(
             finite = _all_finite(f_new)
         if finite and enorm <= 1.0:
             # accept
+            if dense:
+                while k_out < n_out and t_out[k_out] < t_new:
+                    _hermite(t, h_try, x, f0, x_new, f_new, t_out[k_out], x_out[k_out])
+                    k_out += 1
             t = t_new
             for i in range(n):
                 x[i] = x_new[i]

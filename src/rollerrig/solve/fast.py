@@ -28,6 +28,7 @@ from rollerrig.solve.ros34pw import (
 
 __all__ = [
     "FAST_DEFAULTS",
+    "SWEEP_H_MAX",
     "default_tolerances",
     "failure_reason",
     "integrate_batch",
@@ -35,14 +36,21 @@ __all__ = [
     "is_compiled",
 ]
 
-FAST_DEFAULTS = {"rtol": 1e-5, "angle_atol": 1e-6, "h_max": 2e-3, "jac_every": 100}
+FAST_DEFAULTS = {"rtol": 1e-5, "angle_atol": 1e-6, "h_max": 0.9e-3, "jac_every": 100}
 """Default settings of the fast backend: relative tolerance [-], absolute tolerance of the
 angles [rad], largest step [s], Jacobian refresh interval [accepted steps].
 
-Measured on the bundled 30 s dry experiment at 250 Hz output: max |ΔT56| = 0.86 N.m against
-Radau at rtol 1e-10. The error is set by ``h_max`` in this regime (third-order convergence:
-4, 2, 1 ms give 6.0, 0.87, 0.10 N.m).
+Chosen for max |ΔT56| <= 0.1 N.m: on the bundled 30 s dry experiment at 250 Hz output it is
+0.075 N.m against Radau at rtol 1e-10 (``python benchmarks/run.py``). In this regime the error
+is set by ``h_max``, not by the tolerances, and it is the phase drift of the lightly damped
+13.8 Hz shaft mode (damping ratio about 0.004) ringing for seconds after a torque release:
+third order in ``h_max`` (2, 1, 0.9, 0.8 ms give 0.86, 0.103, 0.075, 0.053 N.m).
 """
+
+SWEEP_H_MAX = 2e-3
+"""Largest step of sweeps [s] (:mod:`rollerrig.studies`): twice the throughput of
+:data:`FAST_DEFAULTS` at max |ΔT56| <= 1 N.m (0.86 N.m on the bundled experiment), well below
+what a study compares (overshoots of tens of N.m)."""
 
 
 def default_tolerances(
@@ -67,6 +75,9 @@ def default_tolerances(
     at[19] = 0.1 * rtol  # speed-error integral [rad]
     return rt, at
 
+
+_DENSE = True
+"""Output by cubic Hermite interpolation inside the steps (the step is free of the output grid)."""
 
 _LANDING_TOLERANCE = 1e-12
 """Relative distance [1] below which a sample instant counts as a segment's start instant."""
@@ -156,6 +167,7 @@ def _integrate(
             FT_NONE,
             None,
             t_stop,
+            _DENSE,
         )
         stats[0] += n_steps
         stats[1] += n_rej

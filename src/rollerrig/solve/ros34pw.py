@@ -440,12 +440,15 @@ def bind(rhs, name: str | None = None) -> Driver:
 
 def ros34pw2_integrate(
     rhs, x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out,
-    max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP, x_typ=None,
+    max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP, x_typ=None, dense=False,
 ):  # fmt: skip
     """Adaptive ROS34PW2 W-method from ``t0`` to ``t1`` with output at prescribed times.
 
     Steps are shortened to land exactly on every ``t_out[k]`` (the state there is the step's
-    end state, no interpolation) and on ``t1``. The step size follows the standard controller
+    end state, no interpolation) and on ``t1``; with ``dense`` they land on ``t1`` only and the
+    output times inside a step are interpolated by a cubic Hermite polynomial through both
+    ends and their derivatives (local error O(h⁴), the method's own). The step size follows
+    the standard controller
     ``h ← h · min(5, max(0.2, 0.9 · err^(−1/3)))`` (no growth right after a rejection), limited
     by Gustafsson's prediction ``0.9 (h_n/h_{n−1}) (err_{n−1}/err_n²)^(1/3)``, with the mixed
     norm ``err = rms(e_i / (atol_i + rtol_i · max(|x_i|, |x_new_i|)))`` (Hairer & Wanner 1996,
@@ -493,6 +496,10 @@ def ros34pw2_integrate(
         enters at ``O(h⁴)`` only, and ``FT_NONE`` saves one right-hand-side evaluation per step.
     x_typ : ndarray of float64, shape (n,), optional
         Typical state magnitudes [state units] for the Jacobian increments (default 1).
+    dense : bool, optional
+        Interpolate the outputs instead of landing on them (default False): for an output grid
+        finer than, or out of step with, the step size the method wants; ``W`` is then not
+        rebuilt for the short steps in front of every output time.
 
     Returns
     -------
@@ -524,7 +531,7 @@ def ros34pw2_integrate(
     """
     return bind(rhs).integrate(
         x0, t0, t1, t_out, p, tables, rtol, atol, h0, h_max, jac_every, x_out, max_steps,
-        time_derivative, x_typ,
+        time_derivative, x_typ, None, dense,
     )  # fmt: skip
 
 

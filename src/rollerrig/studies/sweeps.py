@@ -218,7 +218,7 @@ def run_sweep(
     StudyResult
         With a status per point: a point the solver cannot integrate does not stop the others.
     """
-    from rollerrig.solve.fast import integrate_batch
+    from rollerrig.solve.fast import SWEEP_H_MAX, integrate_batch
     from rollerrig.solve.results import build_dataset
 
     protocol = protocol or RELEASE_TEST
@@ -232,14 +232,16 @@ def run_sweep(
     t = output_times(protocol.duration, output_rate)
     n = len(inputs)
     if progress is None:
-        x, stats = integrate_batch(inputs, t)
+        x, stats = integrate_batch(inputs, t, h_max=SWEEP_H_MAX)
     else:
         import numba
 
         size = max(1, numba.get_num_threads())
         parts, stats = [], []
         for start in range(0, n, size):
-            x_part, stats_part = integrate_batch(inputs[start : start + size], t)
+            x_part, stats_part = integrate_batch(
+                inputs[start : start + size], t, h_max=SWEEP_H_MAX
+            )
             parts.append(x_part)
             stats.extend(stats_part)
             progress(len(stats), n, sum(s["status"] != 0 for s in stats))
