@@ -365,8 +365,14 @@ def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, a
     counts = np.zeros((n, 3), dtype=np.int64)
     t_stop = np.zeros((n, 1))
     status = np.zeros(n, dtype=np.int64)
-    _integrate_batch(
-        x0, bounds, params, first.tables, t_out, rt, at, h_max, jac_every, x_out, counts, t_stop,
-        status,
-    )  # fmt: skip
+    # One variant at a time per thread (not fixed shares): variants differ in cost (a stiffer
+    # shaft or no lag takes more steps), so equal shares would leave a thread idle.
+    chunk = numba.set_parallel_chunksize(1)
+    try:
+        _integrate_batch(
+            x0, bounds, params, first.tables, t_out, rt, at, h_max, jac_every, x_out, counts,
+            t_stop, status,
+        )  # fmt: skip
+    finally:
+        numba.set_parallel_chunksize(chunk)
     return x_out, [_stats(counts[i], status[i], t_stop[i, 0]) for i in range(n)]
