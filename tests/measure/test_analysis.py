@@ -10,6 +10,7 @@ import json
 import numpy as np
 import pytest
 
+from rollerrig._validation import ParameterError
 from rollerrig.measure.analysis import analyze_test
 from rollerrig.measure.readers import read_recording
 from rollerrig.measure.recording import Recording, RecordingError
@@ -183,3 +184,81 @@ def test_missing_speed_channels_name_the_map_entries_to_add():
     assert "[channels.roller_speed] or [channels.roller_encoder_counts]" in text
     assert "[channels.wheel_speed] or [channels.wheel_encoder_counts]" in text
     assert "normal load" not in text  # that one is there
+
+
+def test_every_phase_and_curve_point_has_its_uncertainty(analysed):
+    """The corrected CoA per phase and per creep–CoA point with U (k = 2), the budget and the
+    Monte Carlo check. Measured on this recording (30 km/h, 4.3 kN): U of a ramp sample
+    0.015 (pressure class 0.0054, area 0.0046, quantisation 0.0023 of CoA), of a rest sample
+    0.014 (release ring); u of the law of propagation and of the Monte Carlo agree to 0.5 %."""
+    result, _, _ = analysed
+    budget = result.coa_uncertainty
+    summary = budget.summary()
+    json.dumps(summary, allow_nan=False)
+    phases = {(r["name"], r["cycle"]): r for r in summary["phases"]}
+    assert len(phases) == len(result.phases)
+    ramp, rest = phases[("ramp_up", 1)], phases[("rest", 1)]
+    assert ramp["dominant_sample"] == "pressure_class"
+    assert rest["dominant_sample"] == "residual_release"
+    assert 0.010 < ramp["U_sample_median [-]"] < 0.025
+    assert ramp["corrected_coa_mean [-]"] == pytest.approx(ramp["true_coa_mean [-]"], abs=0.002)
+    points = summary["curve_points"]
+    assert len(points) > 30 and all(p["u_agrees"] for p in points)
+    assert {p["branch"] for p in points} == {"ascending", "descending"}
+    assert summary["validation"]["largest |u_MC - u_LPU| / u_LPU"] < 0.02
+    assert summary["monte_carlo"]["draws per point"] == 100_000
+    # no systematic error was put into this recording: the band over-covers, and says why
+    assert summary["truth_coverage"]["samples_covered [-]"] > 0.95
+    assert "systematic" in summary["truth_coverage"]["note"]
+
+
+def test_the_online_estimate_is_made_and_compared_with_the_truth(analysed):
+    result, _, _ = analysed
+    online = result.coa_uncertainty.online_coa
+    assert online is not None and online.shape == result.recording.time.shape
+    e = result.truth_errors
+    assert e["online_coa_vs_true_rms [-]"] < e["rig_coa_vs_true_rms [-]"]
+
+
+def test_a_calibration_replaces_the_rig_values_and_their_uncertainty(analysed):
+    result, truth, path = analysed
+    calibration = {
+        "parameters": {
+            "inertia.roller": {"value": 46.0, "standard_error": 0.5},
+            "bearing.friction_coefficient": {"value": 0.008, "standard_error": 0.002},
+            "polach.static_friction": {"value": 0.56, "standard_error": 0.01},
+        },
+        "keys": ["inertia.roller", "bearing.friction_coefficient", "polach.static_friction"],
+        "correlation": [[1.0, -0.6, 0.0], [-0.6, 1.0, 0.0], [0.0, 0.0, 1.0]],
+    }
+    calibrated = analyze_test(
+        read_recording(path), default_rig(), truth=truth, run_study=False,
+        calibration=calibration,
+    )  # fmt: skip
+    assert any("inertia.roller = 46" in n for n in calibrated.notes)
+    unc = calibrated.coa_uncertainty.uncertainty
+    inputs = {i.name: i for i in unc.inputs}
+    assert inputs["roller_inertia"].standard_uncertainty == pytest.approx(0.5)
+    assert "calibrated" in inputs["roller_inertia"].basis
+    assert np.any(unc.correlation != 0.0)
+    # the correction itself used J5 = 46 kg.m^2: it differs where the roller accelerates
+    diff = calibrated.recording["coa_corrected"] - result.recording["coa_corrected"]
+    alpha = result.recording["roller_acceleration"]
+    big = np.abs(alpha) > 1.0
+    ratio = diff[big] / alpha[big]
+    # ΔJ5 α5 / (r_r N) + Δf_g r_b (W_r + N)/(r_r N): the J5 part per rad/s² is 1/(0.452·4300)
+    assert np.median(ratio) == pytest.approx(1.0 / (0.452 * 4300.0), rel=0.1)
+
+
+def test_a_malformed_calibration_names_the_entry(analysed):
+    _, _, path = analysed
+    with pytest.raises(ParameterError, match=r"calibration: parameters\.inertia\.roller"):
+        analyze_test(
+            read_recording(path), default_rig(), run_study=False,
+            calibration={"parameters": {"inertia.roller": {"value": float("nan")}}},
+        )  # fmt: skip
+    with pytest.raises(ParameterError, match="calibration: the rig does not take"):
+        analyze_test(
+            read_recording(path), default_rig(), run_study=False,
+            calibration={"parameters": {"inertia.wheel": {"value": 1.0}}},
+        )  # fmt: skip

@@ -19,7 +19,16 @@ from rollerrig.report.analysis import (
     rig_versus_corrected_figure,
 )
 
-DIMENSIONLESS = {"creep", "coa", "creep_smoothed", "coa_smoothed", "coa_corrected"}
+DIMENSIONLESS = {
+    "creep",
+    "coa",
+    "creep_smoothed",
+    "coa_smoothed",
+    "coa_corrected",
+    "coa_corrected_standard_uncertainty",
+    "coa_corrected_expanded_uncertainty",
+    "coa_online",
+}
 
 
 def _legend(ax) -> list[str]:
@@ -124,3 +133,41 @@ def test_html_report_holds_the_figures_tables_and_provenance(written):
         assert f"<h2>{heading}" in html
     # Table headers keep their units in brackets.
     assert re.search(r"<th>start \[s\]</th>", html) and "<th>lag [s]</th>" in html
+
+
+def test_coa_uncertainty_figure_shows_the_band_the_points_and_the_budget(analysed):
+    from matplotlib.collections import PolyCollection
+
+    from rollerrig.report.analysis import coa_uncertainty_figure
+
+    fig = coa_uncertainty_figure(analysed)
+    a, z, b, c = fig.axes
+    for ax in (a, z):
+        assert (ax.get_xlabel(), ax.get_ylabel()) == ("time [s]", "CoA [-]")
+        assert any(isinstance(p, PolyCollection) for p in ax.collections)  # the band
+    assert _legend(a)[:3] == ["corrected ± U (k = 2)", "rig CoA", "corrected CoA"]
+    assert (b.get_xlabel(), b.get_ylabel()) == ("creep [%]", "CoA [-]")
+    assert any(e.startswith("corrected, ascending ± U") for e in _legend(b))
+    labels = [t.get_text() for t in c.get_yticklabels()]
+    budget = analysed.coa_uncertainty
+    assert len(labels) == len(budget.uncertainty.contributions)
+    # this recording gives the roller speed, not encoder counts: α5's noise is the speed's
+    assert "pressure sensor class" in labels and "roller speed noise (α5)" in labels
+    assert len(c.patches) == len(labels) * len({r["name"] for r in budget.phases})
+    plt.close(fig)
+
+
+def test_results_carry_the_uncertainty(written):
+    summary = json.loads(written[0].read_text())
+    unc = summary["coa_uncertainty"]
+    assert unc["coverage_factor"] == 2.0 and unc["phases"] and unc["curve_points"]
+    assert "null_values" not in summary
+    # speeds and load given by this recording: no quantisation, the pressure derived from N/A
+    assert any("no air_spring_pressure" in n for n in unc["notes"])
+    with xr.open_dataset(written[1], engine="h5netcdf") as ds:
+        u = ds["coa_corrected_expanded_uncertainty"]
+        assert u.attrs["units"] == "1" and u.attrs["coverage_factor"] == 2.0
+        assert float(u.min()) > 0
+    html = written[2].read_text(encoding="utf-8")
+    assert "<h2>Uncertainty of the corrected CoA (JCGM 100 and JCGM 101)" in html
+    assert "<th>U of the mean</th>" in html and "JCGM 101 §8" in html

@@ -89,3 +89,36 @@ def test_every_field_states_its_quantity_and_si_unit():
             assert field.description, f"{section}.{key}"
             if typing.get_origin(field.annotation) is not typing.Literal:
                 assert f"[{si_unit_of(field)}]" in field.description, f"{section}.{key}"
+
+
+ACCURACY_KEYS = (
+    "torque_sensor_accuracy",
+    "pressure_sensor_range",
+    "pressure_sensor_accuracy",
+    "air_spring_area_uncertainty",
+    "roller_radius_tolerance",
+    "wheel_radius_tolerance",
+    "roller_inertia_uncertainty",
+    "bearing_loss_uncertainty",
+)
+
+
+def test_sensor_accuracies_default_to_the_bundled_values_so_old_rig_files_load(tmp_path):
+    """A rig file written before the accuracy keys existed loads with the bundled values."""
+    from importlib import resources
+
+    from rollerrig.rig.parameters import load_rig
+    from rollerrig.rig.sections import SensorParameters
+
+    rig = default_rig()
+    for key in ACCURACY_KEYS:
+        assert SensorParameters.model_fields[key].default == getattr(rig.sensors, key), key
+        assert rig.provenance[f"sensors.{key}"]  # with its source or assumption
+    # DMP331: 0.35 % of the range (BD SENSORS data sheet), on a 10 bar range
+    assert rig.sensors.pressure_sensor_accuracy * rig.sensors.pressure_sensor_range == 3500.0
+    text = resources.files("rollerrig.rig").joinpath("data/default_rig.toml").read_text("utf-8")
+    old = "\n".join(line for line in text.splitlines() if not line.startswith(ACCURACY_KEYS))
+    path = tmp_path / "old-rig.toml"
+    path.write_text(old, encoding="utf-8")
+    loaded = load_rig(path)
+    assert loaded.sensors == rig.sensors

@@ -12,12 +12,14 @@ roller speed) and R05 = f_g (W_r + N) r_b tanh(ω5/ω_reg) the bearing loss torq
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from rollerrig._validation import require_finite, require_positive
 from rollerrig.signal.smoothing import savitzky_golay
 
-__all__ = ["corrected_adhesion"]
+__all__ = ["CorrectionTerms", "corrected_adhesion", "correction_terms"]
 
 
 def corrected_adhesion(
@@ -82,6 +84,88 @@ def corrected_adhesion(
     >>> round(float(alpha[250]), 6), round(float(coa[250]), 6)
     (2.0, 0.019912)
     """
+    terms = correction_terms(
+        torque,
+        roller_speed,
+        normal_load,
+        sample_rate,
+        roller_radius=roller_radius,
+        roller_inertia=roller_inertia,
+        bearing_friction=bearing_friction,
+        bearing_radius=bearing_radius,
+        roller_weight=roller_weight,
+        regularisation_speed=regularisation_speed,
+        window=window,
+        order=order,
+    )
+    return terms.coa, terms.acceleration
+
+
+@dataclass(frozen=True)
+class CorrectionTerms:
+    """The terms of the dynamics correction, per sample (:func:`correction_terms`).
+
+    Attributes
+    ----------
+    torque : ndarray
+        T56 smoothed [N.m].
+    roller_speed : ndarray
+        ω5 smoothed [rad/s].
+    acceleration : ndarray
+        α5 [rad/s²].
+    bearing_torque : ndarray
+        R05 [N.m].
+    normal_load : ndarray
+        N [N] (as given, not smoothed).
+    coa : ndarray
+        μ_corr = (T56 + J5 α5 + R05)/(r_r N) [-].
+    window, order : int
+        The Savitzky-Golay window [samples] and order used.
+    """
+
+    torque: np.ndarray
+    roller_speed: np.ndarray
+    acceleration: np.ndarray
+    bearing_torque: np.ndarray
+    normal_load: np.ndarray
+    coa: np.ndarray
+    window: int
+    order: int
+
+
+def correction_terms(
+    torque,
+    roller_speed,
+    normal_load,
+    sample_rate: float,
+    *,
+    roller_radius: float,
+    roller_inertia: float,
+    bearing_friction: float,
+    bearing_radius: float,
+    roller_weight: float,
+    regularisation_speed: float = 0.05,
+    window: int = 51,
+    order: int = 4,
+) -> CorrectionTerms:
+    """The smoothed torque and speed, α5, R05 and μ_corr of :func:`corrected_adhesion`.
+
+    Same parameters as :func:`corrected_adhesion`; the terms are what the uncertainty of the
+    corrected CoA (:mod:`rollerrig.measure.uncertainty`) takes its sensitivities at.
+
+    Returns
+    -------
+    CorrectionTerms
+
+    Examples
+    --------
+    >>> t = np.arange(500) / 250.0
+    >>> terms = correction_terms(np.full(500, 100.0), np.full(500, 20.0), np.full(500, 1e4),
+    ...     250.0, roller_radius=0.5, roller_inertia=45.0, bearing_friction=0.007,
+    ...     bearing_radius=0.065, roller_weight=5000.0)
+    >>> round(float(terms.bearing_torque[0]), 6), round(float(terms.coa[0]), 6)
+    (6.825, 0.021365)
+    """
     t56 = require_finite("torque", torque, "N.m")
     w = require_finite("roller_speed", roller_speed, "rad/s")
     n = require_positive("normal_load", normal_load, "N")
@@ -97,4 +181,6 @@ def corrected_adhesion(
         * (roller_weight + n)
         * np.tanh(w_s / regularisation_speed)
     )
-    return (t56_s + j5 * alpha + bearing) / (rr * n), alpha
+    n = np.broadcast_to(n, t56_s.shape)
+    coa = (t56_s + j5 * alpha + bearing) / (rr * n)
+    return CorrectionTerms(t56_s, w_s, alpha, bearing, n, coa, int(window), int(order))

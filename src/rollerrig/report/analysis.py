@@ -19,15 +19,17 @@ from rollerrig.output import json_text, provenance, write_json, write_table
 from rollerrig.report.adhesion import adhesion_figure
 from rollerrig.report.filters import filter_comparison_figure, study_ranking_figure
 from rollerrig.report.html import HtmlReport
-from rollerrig.report.lines import envelope
+from rollerrig.report.lines import PLOT_POINTS, envelope
 from rollerrig.report.spectra import spectrum_figure
 from rollerrig.signal.smoothing import smooth
 
 __all__ = [
     "analysis_columns",
     "channel_attributes",
+    "coa_uncertainty_figure",
     "overview_figure",
     "rig_versus_corrected_figure",
+    "uncertainty_columns",
     "write_analysis",
 ]
 
@@ -141,6 +143,144 @@ def rig_versus_corrected_figure(result: TestAnalysis, truth=None):
     for ax in (a, b):
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, loc="lower right")
+    fig.tight_layout()
+    return fig
+
+
+_BUDGET_LABELS = {
+    "torque_class": "torque sensor class",
+    "torque_noise": "torque noise",
+    "pressure_class": "pressure sensor class",
+    "pressure_noise": "pressure noise",
+    "air_spring_area": "air-spring area",
+    "roller_radius": "roller radius",
+    "roller_inertia": "roller inertia J5",
+    "bearing_loss": "bearing loss R05",
+    "bearing_friction": "bearing f_g (calibrated)",
+    "bearing_radius": "bearing radius (calibrated)",
+    "roller_weight": "roller weight (calibrated)",
+    "encoder_quantisation": "encoder quantisation (α5)",
+    "residual_steady": "residual: in-band lines",
+    "residual_release": "residual: release transient",
+}
+"""Words for the inputs of the uncertainty budget (rollerrig.measure.uncertainty.INPUT_NAMES)."""
+
+
+def _labels(unc) -> dict[str, str]:
+    """Input name -> words; the α5 noise is the speed's when the recording had no counts."""
+    labels = {i.name: _BUDGET_LABELS.get(i.name, i.name) for i in unc.inputs}
+    for i in unc.inputs:
+        if i.name == "encoder_quantisation" and i.unit != "count":
+            labels[i.name] = "roller speed noise (α5)"
+    return labels
+
+
+def _band(t, low, high):
+    """``t``, lower and upper edge of a band, reduced to PLOT_POINTS bins (min/max per bin)."""
+    n = t.size
+    if n <= PLOT_POINTS:
+        return t, low, high
+    k = -(-n // (PLOT_POINTS // 2))
+    m = n // k * k
+    tb = t[:m].reshape(-1, k)[:, 0]
+    return tb, low[:m].reshape(-1, k).min(axis=1), high[:m].reshape(-1, k).max(axis=1)
+
+
+def coa_uncertainty_figure(result: TestAnalysis):
+    """The corrected CoA with its expanded uncertainty (k = 2) over the test, the creep–CoA
+    points with their error bars, and the budget by phase (what dominates).
+
+    Panels: (a) the rig's CoA, the corrected CoA and its band ±U, the online estimate when the
+    analysis has one, the twin's contact CoA for a synthetic recording; (b) the creep–CoA
+    points (one per correction window) with U and the creep's U as error bars; (c) the median
+    contribution |c_i| u(x_i) of each input in each kind of phase, in 10⁻³ of CoA.
+    """
+    budget = result.coa_uncertainty
+    unc = budget.uncertainty
+    rec = result.recording
+    t = rec.time
+    fig = plt.figure(figsize=(12, 12))
+    grid = fig.add_gridspec(3, 2, height_ratios=(1.0, 1.0, 1.1))
+    a = fig.add_subplot(grid[0, :])
+    z = fig.add_subplot(grid[1, 0])
+    b = fig.add_subplot(grid[1, 1])
+    c = fig.add_subplot(grid[2, :])
+    releases = [ph for ph in result.phases if ph.name == "release"]
+    if releases:
+        zoom = (releases[0].start - 1.5, releases[0].end + 3.0)
+    else:
+        zoom = (t[0], t[0] + min(5.0, t[-1] - t[0]))
+    for ax, span in ((a, None), (z, zoom)):
+        sel = slice(None) if span is None else (t >= span[0]) & (t <= span[1])
+        tb, lo, hi = _band(t[sel], (unc.value - unc.expanded)[sel], (unc.value + unc.expanded)[sel])
+        ax.fill_between(tb, lo, hi, color="tab:red", alpha=0.3, lw=0,
+                        label="corrected ± U (k = 2)")  # fmt: skip
+        ax.plot(*envelope(t[sel], rec["coa_smoothed"][sel]), color="tab:blue", lw=0.8,
+                label="rig CoA")  # fmt: skip
+        ax.plot(*envelope(t[sel], unc.value[sel]), color="tab:red", lw=0.8, label="corrected CoA")
+        if budget.online_coa is not None:
+            ax.plot(*envelope(t[sel], budget.online_coa[sel]), color="tab:green", lw=0.6,
+                    alpha=0.8, label="online estimate (causal)")  # fmt: skip
+        if result.true_coa is not None:
+            ax.plot(*envelope(t[sel], result.true_coa[sel]), "k--", lw=0.7,
+                    label="true contact CoA (twin)")  # fmt: skip
+        _shade_phases(ax, result.phases)
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("CoA [-]")
+    z.set_xlim(*zoom)
+    a.set_title("Corrected CoA with its expanded uncertainty")
+    z.set_title(f"Zoom {zoom[0]:.1f}–{zoom[1]:.1f} s" + (" (first release)" if releases else ""))
+    a.legend(fontsize=7, loc="upper right", ncol=3)
+
+    points = budget.points
+    if points:
+        for branch, marker in (("ascending", "o"), ("descending", "s")):
+            sel = [p for p in points if p["branch"] == branch]
+            if not sel:
+                continue
+            x = np.array([100 * p["creep [-]"] for p in sel])
+            xerr = np.array(
+                [0.0 if p["u_creep [-]"] is None else 200 * p["u_creep [-]"] for p in sel]
+            )
+            b.errorbar(x, [p["corrected_coa [-]"] for p in sel],
+                       yerr=[p["U [-]"] for p in sel], xerr=xerr, fmt=marker, ms=3,
+                       color="tab:red", ecolor="tab:red", elinewidth=0.7, capsize=1.5,
+                       mfc="tab:red" if branch == "ascending" else "white",
+                       label=f"corrected, {branch} ± U")  # fmt: skip
+            b.plot(x, [p["rig_coa [-]"] for p in sel], marker, ms=2.5, color="tab:blue",
+                   mfc="tab:blue" if branch == "ascending" else "white",
+                   label=f"rig, {branch}")  # fmt: skip
+            if "true_coa [-]" in sel[0]:
+                b.plot(x, [p["true_coa [-]"] for p in sel], "k+", ms=4,
+                       label="true (twin)" if branch == "ascending" else None)  # fmt: skip
+    b.set_xlabel("creep [%]")
+    b.set_ylabel("CoA [-]")
+    b.set_title("Creep–CoA points (one per correction window)")
+    b.legend(fontsize=7, loc="lower right")
+
+    kinds = [k for k in ("free_rolling", "ramp_up", "hold", "release", "rest")
+             if any(r["name"] == k for r in budget.phases)]  # fmt: skip
+    names = list(unc.contributions)
+    values = np.array([
+        [np.median([r["budget_sample_median [-]"][n] for r in budget.phases if r["name"] == k])
+         for n in names]
+        for k in kinds
+    ])  # fmt: skip
+    y = np.arange(len(names))
+    height = 0.8 / max(len(kinds), 1)
+    for j, kind in enumerate(kinds):
+        c.barh(y + (j - (len(kinds) - 1) / 2) * height, 1e3 * values[j], height=height,
+               color=_PHASE_COLOURS.get(kind, "#cccccc"), edgecolor="0.3", lw=0.4,
+               label=kind.replace("_", " "))  # fmt: skip
+    words = _labels(unc)
+    c.set_yticks(y, [words.get(n, n) for n in names], fontsize=7)
+    c.invert_yaxis()
+    c.set_xscale("symlog", linthresh=0.1)
+    c.set_xlabel("contribution |c_i| u(x_i) [10⁻³ CoA], median sample of the phase")
+    c.set_title("Uncertainty budget by phase")
+    c.legend(fontsize=7, loc="upper right")
+    for ax in (a, z, b, c):
+        ax.grid(True, alpha=0.3)
     fig.tight_layout()
     return fig
 
@@ -377,6 +517,128 @@ def _fit_rows(result: TestAnalysis, truth_parameters=None):
     return rows
 
 
+def uncertainty_columns(result: TestAnalysis) -> dict[str, tuple]:
+    """The corrected CoA's uncertainty per sample (and the online CoA) as table columns.
+
+    ``coa_corrected_standard_uncertainty`` and ``coa_corrected_expanded_uncertainty`` (k = 2),
+    and ``coa_online`` when the analysis ran the causal estimator; empty without an
+    uncertainty. Same form as :func:`analysis_columns`.
+    """
+    budget = getattr(result, "coa_uncertainty", None)
+    if budget is None:
+        return {}
+    unc = budget.uncertainty
+    k = unc.coverage_factor
+    columns = {
+        "coa_corrected_standard_uncertainty": (
+            unc.u,
+            "1",
+            "combined standard uncertainty of the corrected CoA (JCGM 100 law of propagation)",
+            {},
+        ),
+        "coa_corrected_expanded_uncertainty": (
+            unc.expanded,
+            "1",
+            f"expanded uncertainty of the corrected CoA, k = {k:g}",
+            {"coverage_factor": k},
+        ),
+    }
+    if budget.online_coa is not None:
+        columns["coa_online"] = (
+            budget.online_coa,
+            "1",
+            "CoA from the causal online contact-torque estimator",
+            {},
+        )
+    return columns
+
+
+def _uncertainty_section(rep: HtmlReport, result: TestAnalysis) -> None:
+    """The corrected CoA's uncertainty: figure, inputs, budget per phase, validation, truth."""
+    budget = result.coa_uncertainty
+    unc = budget.uncertainty
+    summary = budget.summary()
+    typical = summary["typical"]
+    words = _labels(unc)
+    rep.heading("Uncertainty of the corrected CoA (JCGM 100 and JCGM 101)")
+    rep.paragraph(
+        "μ = (T56 + δT + e_T + J5 (α5 + e_α) + k_b R05) / (r_r N) + e_res with "
+        "N = (p + δp + e_p) A. "
+        "Systematic inputs (sensor accuracy classes, air-spring area, radius, J5, bearing "
+        "loss) take one error for the whole test, so they do not average down in a phase mean; "
+        "random inputs (torque and pressure noise, encoder quantisation) pass the correction's "
+        "filters, whose weights give their variance per sample and per phase mean; the residual "
+        "covers what the correction cannot resolve (in-band disturbance lines, the contact's "
+        "transient after a release). Law of propagation per sample, U = 2u; Monte Carlo "
+        "(JCGM 101) at the creep–CoA points, compared with it as JCGM 101 §8 asks."
+    )
+    rep.paragraph(
+        f"Typical expanded uncertainty (k = 2): {typical['U_k2_median_all_samples [-]']:.3g} "
+        f"(median over the test, load {typical['normal_load [N]'] / 1e3:.3g} kN), dominated by "
+        f"{words.get(typical['dominant_all_samples'])}."
+    )
+    rep.figure(
+        coa_uncertainty_figure(result),
+        "Corrected CoA with its band ±U (k = 2); creep–CoA points with U; the budget by phase.",
+    )
+    rep.table(
+        ["input", "symbol", "kind", "PDF", "estimate", "u(x)", "unit", "basis"],
+        [
+            [words[i.name], i.symbol, i.kind, i.distribution,
+             "per sample" if i.estimate is None else i.estimate,
+             "per sample" if i.standard_uncertainty is None else i.standard_uncertainty,
+             i.unit, i.basis]
+            for i in unc.inputs
+        ],
+    )  # fmt: skip
+    names = list(unc.contributions)
+    rep.paragraph(
+        "Budget per phase: each input's contribution |c_i| u(x_i) in 10⁻³ of CoA for the "
+        "phase's median sample; U of the phase mean; the dominant input of a sample and of "
+        "the mean."
+    )
+    rows = []
+    for r in budget.phases:
+        b = r["budget_sample_median [-]"]
+        rows.append(
+            [r["name"].replace("_", " "), r["cycle"], r["rig_coa_mean [-]"],
+             r["corrected_coa_mean [-]"], r["U_mean [-]"], r["U_sample_median [-]"],
+             *[f"{1e3 * b[n]:.2g}" for n in names],
+             words.get(r["dominant_sample"]), words.get(r["dominant_mean"])]
+        )  # fmt: skip
+    rep.table(
+        ["phase", "cycle", "rig CoA", "corrected CoA", "U of the mean", "U of a sample",
+         *[words.get(n, n) for n in names], "dominant (sample)", "dominant (mean)"],
+        rows,
+    )  # fmt: skip
+    validation = summary["validation"]
+    if validation is not None:
+        mc = summary["monte_carlo"]
+        rep.paragraph(
+            f"Monte Carlo: {mc['draws per point']} draws per point at {validation['points']} "
+            f"creep–CoA points ({mc['method']}). u of the law of propagation agrees at "
+            f"{validation['u_agree']} of {validation['points']} points (largest relative "
+            f"difference {validation['largest |u_MC - u_LPU| / u_LPU']:.2g}); the interval "
+            f"y ± 1.96u is validated (JCGM 101 §8) at {validation['interval_validated']}. "
+            + validation["reading"]
+            + "."
+        )
+    truth = summary["truth_coverage"]
+    if truth is not None:
+        rep.paragraph(
+            "Against the twin's contact CoA: the band covers "
+            f"{100 * truth['samples_covered [-]']:.1f} % of the samples"
+            + (
+                ""
+                if truth["curve_points_covered [-]"] is None
+                else f" and {100 * truth['curve_points_covered [-]']:.1f} % of the curve points"
+            )
+            + f" ({truth['note']})."
+        )
+    for note in summary["notes"]:
+        rep.paragraph(note, note=True)
+
+
 def write_analysis(
     result: TestAnalysis,
     out: str | os.PathLike,
@@ -415,6 +677,14 @@ def write_analysis(
     if record["rig"] is None and result.rig_sha256:
         record["rig"] = {"name": result.rig_name, "sha256": result.rig_sha256}
     summary = {"provenance": record, **result.summary()}
+    budget = getattr(result, "coa_uncertainty", None)
+    if budget is None:
+        summary["coa_uncertainty"] = None
+        summary["coa_uncertainty_null_because"] = (
+            "the analysis carries no uncertainty (made without rollerrig.measure.uncertainty)"
+        )
+    else:
+        summary["coa_uncertainty"] = budget.summary()
     paths = [write_json(out / f"{stem}-analysis.json", summary)]
 
     facts = summary["recording"]
@@ -434,7 +704,7 @@ def write_analysis(
     paths.append(
         write_table(
             out / f"{stem}-analysis.nc",
-            analysis_columns(rec),
+            {**analysis_columns(rec), **uncertainty_columns(result)},
             time=rec.time,
             provenance=record,
             attrs=attrs,
@@ -465,6 +735,8 @@ def write_analysis(
         "F_x r_r = T56 + J5·α5 + R05, with α5 the Savitzky–Golay derivative of the roller speed."
     )
     rep.figure(rig_versus_corrected_figure(result, truth), "Rig versus corrected CoA.")
+    if budget is not None:
+        _uncertainty_section(rep, result)
     truth_parameters = result.true_parameters
     header = ["parameter", "fit to corrected CoA", "fit to rig CoA"]
     if truth_parameters is not None:

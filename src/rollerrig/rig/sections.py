@@ -79,6 +79,7 @@ _Inductance = Annotated[float, _si("inductance", gt=0)]
 _Frequency = Annotated[float, _si("frequency", gt=0)]
 _Time = Annotated[float, _si("time", gt=0)]
 _PolePairs = Annotated[int, _si("count", ge=1)]
+_Fraction = Annotated[float, _si("dimensionless", ge=0, lt=1)]
 
 
 class _Section(BaseModel):
@@ -349,7 +350,11 @@ class ServoRollerDriveParameters(_Section):
 
 
 class SensorParameters(_Section):
-    """Data acquisition and sensors (Kayaalp 4.1.3)."""
+    """Data acquisition and sensors (Kayaalp 4.1.3), and the accuracy of the measurement chain.
+
+    The accuracy keys feed the uncertainty of the corrected CoA
+    (:mod:`rollerrig.measure.uncertainty`); each has a default (the bundled rig's value).
+    """
 
     daq_rate: _Frequency
     """Sampling rate of the DAQ [Hz]."""
@@ -361,6 +366,26 @@ class SensorParameters(_Section):
     """Effective area of the air spring: normal force = pressure × area [m^2]."""
     torque_sensor_range: _Torque
     """Full-scale range of the torque sensor [N.m]."""
+    # The accuracy of the measurement chain (rollerrig.measure.uncertainty). Defaults equal the
+    # bundled rig's values, so rig files written before these keys existed still load.
+    torque_sensor_accuracy: _Fraction = 0.001
+    """Accuracy class of the torque sensor: bound of its error as a fraction of
+    torque_sensor_range [1] (rectangular, the same error over a test)."""
+    pressure_sensor_range: _Pressure = 1.0e6
+    """Full-scale range of the air-spring pressure sensor [Pa]."""
+    pressure_sensor_accuracy: _Fraction = 0.0035
+    """Accuracy class of the pressure sensor: bound of its error as a fraction of
+    pressure_sensor_range [1] (rectangular, the same error over a test)."""
+    air_spring_area_uncertainty: _Fraction = 0.02
+    """Relative standard uncertainty of air_spring_effective_area [1] (normal)."""
+    roller_radius_tolerance: Annotated[float, _si("length", ge=0)] = 2.5e-4
+    """Half-width of the tolerance of the roller rolling radius r_rx [m] (rectangular)."""
+    wheel_radius_tolerance: Annotated[float, _si("length", ge=0)] = 2.5e-4
+    """Half-width of the tolerance of the wheel rolling radius r_wx [m] (rectangular)."""
+    roller_inertia_uncertainty: _Fraction = 0.05
+    """Relative standard uncertainty of the roller inertia J5 [1] (normal)."""
+    bearing_loss_uncertainty: Annotated[float, _si("dimensionless", ge=0)] = 0.5
+    """Relative standard uncertainty of the roller bearing loss R05 [1] (normal)."""
 
     @property
     def encoder_counts_per_revolution(self) -> int:
