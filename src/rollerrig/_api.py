@@ -28,6 +28,7 @@ def analyze(
     channel_map=None,
     rig=None,
     truth=None,
+    calibration=None,
     validate: Literal["strict", "lenient"] = "strict",
     run_study: bool = True,
 ):
@@ -46,6 +47,10 @@ def analyze(
     truth : xarray.Dataset, path or None
         The twin's truth of a synthetic recording (``*-truth.nc``), for the error of the rig's and
         the corrected CoA against the true contact CoA.
+    calibration : dict, path or None
+        A calibration (:func:`rollerrig.calibrate.calibrate`'s ``calibration.json``, or its
+        content): its values replace the rig's and their covariance enters the corrected CoA's
+        uncertainty.
     validate : {"strict", "lenient"}
         Strict: any NaN sample or gap is an error; lenient: short NaN runs are interpolated and
         listed in the result's notes.
@@ -75,7 +80,11 @@ def analyze(
         import xarray as xr
 
         truth = xr.load_dataset(Path(truth), engine="h5netcdf")
-    return analyze_test(recording, rig, truth=truth, run_study=run_study)
+    if isinstance(calibration, str | os.PathLike):
+        import json
+
+        calibration = json.loads(Path(calibration).read_text(encoding="utf-8"))
+    return analyze_test(recording, rig, truth=truth, run_study=run_study, calibration=calibration)
 
 
 def explain_recording(recording, channel: str = "torque", rig=None, *, channel_map=None, **kwargs):

@@ -288,3 +288,28 @@ def test_every_output_of_analyze_and_filters_carries_the_inputs_hashes(
     names = {p.name for p in out.iterdir()}
     assert {"analyze-test-run.json", "filters-test-run.json", "spectrum-run.json"} <= names
     assert file_sha256(rec) == sha  # the input was only read
+
+
+def test_analyze_with_a_calibration_uses_it_and_refuses_a_bad_file(tmp_path, runner, adhesion_csv):
+    rec = adhesion_csv(tmp_path / "test.csv")
+    bad = tmp_path / "calibration.json"
+    bad.write_text('{"free": []}')
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["analyze", str(rec), "--calibration", str(bad), "--out", str(out)])
+    assert result.exit_code == 2, result.output
+    assert "--calibration" in result.output and "parameters" in result.output
+    _no_traceback(result)
+    assert not out.exists()
+
+    good = tmp_path / "good.json"
+    calibration = {"parameters": {"inertia.roller": {"value": 60.0, "standard_error": 0.5}}}
+    good.write_text(json.dumps(calibration))
+    args = ["analyze", str(rec), "--no-study", "--calibration", str(good), "--out", str(out)]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "expanded uncertainty" in result.output
+    summary = json.loads((out / "test-analysis.json").read_text())
+    inputs = summary["coa_uncertainty"]["inputs"]
+    assert "inertia.roller" in json.dumps(inputs)
+    run = json.loads((out / "analyze-test-run.json").read_text())
+    assert "calibration" in run["provenance"]["inputs"]

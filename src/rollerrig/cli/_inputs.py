@@ -129,3 +129,25 @@ def load_truth(path: Path):
             "give the *-truth.nc written beside the synthetic recording"
         )
     return ds
+
+
+def load_calibration(path: Path) -> dict:
+    """The content of a ``calibration.json`` (``rollerrig calibrate``), or one clear error."""
+    import errno
+    import json
+
+    if not path.is_file():
+        raise FileNotFoundError(errno.ENOENT, "calibration file not found", str(path))
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise UserError(
+            f"--calibration {path}: not a JSON file ({exc}); give the calibration.json that "
+            "`rollerrig calibrate` wrote"
+        ) from None
+    if not isinstance(data, dict) or not isinstance(data.get("parameters"), dict):
+        raise UserError(
+            f"--calibration {path}: no 'parameters' table; give the calibration.json that "
+            "`rollerrig calibrate` wrote"
+        )
+    return data

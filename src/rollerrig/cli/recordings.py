@@ -13,7 +13,7 @@ from rich.text import Text
 
 from rollerrig._validation import ParameterError
 from rollerrig.cli._console import console, note, print_recording_notes, print_written
-from rollerrig.cli._inputs import derived, load_truth, open_input
+from rollerrig.cli._inputs import derived, load_calibration, load_truth, open_input
 from rollerrig.cli._options import (
     DEFAULT_OUT,
     ChannelsOption,
@@ -35,11 +35,19 @@ def analyze(
         Path | None,
         typer.Option(help="Twin truth (NetCDF) of a synthetic recording, for error figures."),
     ] = None,
+    calibration: Annotated[
+        Path | None,
+        typer.Option(
+            help="calibration.json of `rollerrig calibrate`: its values replace the rig's and "
+            "their covariance enters the CoA's uncertainty (with --rig calibrated-rig.toml)."
+        ),
+    ] = None,
     out: OutOption = DEFAULT_OUT,
     study: Annotated[bool, typer.Option(help="Run the full smoothing-filter study.")] = True,
     lenient: LenientOption = False,
 ) -> None:
-    """Analyse an adhesion test: phases, corrected CoA, creep-CoA branches, Polach fit, spectrum.
+    """Analyse an adhesion test: phases, corrected CoA with its uncertainty, creep-CoA branches,
+    Polach fit, spectrum.
 
     Recordings faster than 1.5 kHz are analysed at 1 kHz (anti-alias decimation, stated);
     long files are decimated while they are read, never held whole. Writes
@@ -50,7 +58,7 @@ def analyze(
     from rollerrig.report.analysis import write_analysis
 
     rig = load_rig(rig_file)
-    inputs = {"recording": recording, "truth": truth, "rig": rig_file}
+    inputs = {"recording": recording, "truth": truth, "rig": rig_file, "calibration": calibration}
     with command_outputs(
         out,
         run=f"analyze-{recording.stem}",
@@ -61,9 +69,12 @@ def analyze(
         filter_study=study,
     ) as stage:
         truth_ds = None if truth is None else load_truth(truth)
+        calibrated = None if calibration is None else load_calibration(calibration)
         with contextlib.ExitStack() as files:
             loaded = open_input(recording, channels, lenient, None, files)
-            result = analyze_test(loaded, rig, truth=truth_ds, run_study=study)
+            result = analyze_test(
+                loaded, rig, truth=truth_ds, run_study=study, calibration=calibrated
+            )
         write_analysis(result, stage.dir, recording.stem, source=str(recording), truth=truth_ds)
     print_analysis(result)
     print_written(stage.written)
@@ -88,7 +99,48 @@ def _fit_cell(fit, i: int, key: str, truth: dict | None) -> str:
     return cell
 
 
+def print_uncertainty(result) -> None:
+    """Per phase: the rig's CoA, the corrected CoA and its expanded uncertainty, what dominates."""
+    budget = result.coa_uncertainty
+    if budget is None:
+        return
+    summary = budget.summary()
+    k = summary.get("coverage_factor", 2)
+    table = Table(
+        title=f"CoA per phase: rig, corrected, expanded uncertainty U (k = {k:g})",
+        caption="U mean: of the phase mean (systematic terms do not average out); "
+        "U sample: median over the phase's samples",
+    )
+    for name, justify in (
+        ("phase", "left"),
+        ("time [s]", "right"),
+        ("rig CoA [-]", "right"),
+        ("corrected [-]", "right"),
+        ("U mean [-]", "right"),
+        ("U sample [-]", "right"),
+        ("dominant term", "left"),
+    ):
+        table.add_column(Text(name), justify=justify)
+    for row in summary.get("phases", []):
+        name = row["name"] if row.get("cycle", -1) < 0 else f"{row['name']} {row['cycle'] + 1}"
+        cells = [
+            f"{row['start [s]']:.2f}-{row['end [s]']:.2f}",
+            _number(row.get("rig_coa_mean [-]")),
+            _number(row.get("corrected_coa_mean [-]")),
+            _number(row.get("U_mean [-]")),
+            _number(row.get("U_sample_median [-]")),
+            str(row.get("dominant_sample", "")).replace("_", " "),
+        ]
+        table.add_row(Text(name), *(Text(c) for c in cells))
+    console.print(table)
+
+
+def _number(value) -> str:
+    return "–" if value is None else f"{value:.4f}"
+
+
 def print_analysis(result) -> None:
+    print_uncertainty(result)
     truth = result.true_parameters
     table = Table(title="Polach fit to the ascending branches")
     table.add_column("parameter")

@@ -245,10 +245,8 @@ def analyze_test(
         fit_points_cap=cap,
         true_coa=true_coa,
         analysis_rate=analysis_rate_facts(rec, DECIMATE_ABOVE),
+        coa_uncertainty=budget,
     )
-    # TODO(lead): a declared field of findings.TestAnalysis (and its summary()) once the
-    # lead adds it; until then an attribute that report.analysis reads with getattr.
-    result.coa_uncertainty = budget
     return result
 
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rollerrig.fit.polach import PolachFit
+from rollerrig.measure.budget import CoaBudget
 from rollerrig.measure.facts import recording_facts
 from rollerrig.measure.prepare import nominal_rate
 from rollerrig.measure.recording import Recording
@@ -57,6 +58,7 @@ class TestAnalysis:
     fit_points_cap: int | None = None  # the most points a fit uses (MAX_FIT_POINTS)
     true_coa: np.ndarray | None = None  # the twin's contact CoA on the analysis time axis
     analysis_rate: dict | None = None  # rate of the analysis and the decimation before it
+    coa_uncertainty: CoaBudget | None = None  # the corrected CoA's uncertainty and budget
     rig_sha256: str | None = None  # rollerrig.output.rig_sha256 of the rig analysed with
 
     @property
@@ -102,6 +104,11 @@ class TestAnalysis:
         }
         if basis is None:
             out["filter_study_basis_null_because"] = "the filter study was not run (run_study)"
+        if self.coa_uncertainty is None:
+            out["coa_uncertainty"] = None
+            out["coa_uncertainty_null_because"] = "the analysis was made without an uncertainty"
+        else:
+            out["coa_uncertainty"] = self.coa_uncertainty.summary()
         return out
 
     def _smoothing(self) -> dict:

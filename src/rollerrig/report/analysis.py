@@ -524,7 +524,7 @@ def uncertainty_columns(result: TestAnalysis) -> dict[str, tuple]:
     and ``coa_online`` when the analysis ran the causal estimator; empty without an
     uncertainty. Same form as :func:`analysis_columns`.
     """
-    budget = getattr(result, "coa_uncertainty", None)
+    budget = result.coa_uncertainty
     if budget is None:
         return {}
     unc = budget.uncertainty
@@ -677,14 +677,6 @@ def write_analysis(
     if record["rig"] is None and result.rig_sha256:
         record["rig"] = {"name": result.rig_name, "sha256": result.rig_sha256}
     summary = {"provenance": record, **result.summary()}
-    budget = getattr(result, "coa_uncertainty", None)
-    if budget is None:
-        summary["coa_uncertainty"] = None
-        summary["coa_uncertainty_null_because"] = (
-            "the analysis carries no uncertainty (made without rollerrig.measure.uncertainty)"
-        )
-    else:
-        summary["coa_uncertainty"] = budget.summary()
     paths = [write_json(out / f"{stem}-analysis.json", summary)]
 
     facts = summary["recording"]
@@ -735,7 +727,7 @@ def write_analysis(
         "F_x r_r = T56 + J5·α5 + R05, with α5 the Savitzky–Golay derivative of the roller speed."
     )
     rep.figure(rig_versus_corrected_figure(result, truth), "Rig versus corrected CoA.")
-    if budget is not None:
+    if result.coa_uncertainty is not None:
         _uncertainty_section(rep, result)
     truth_parameters = result.true_parameters
     header = ["parameter", "fit to corrected CoA", "fit to rig CoA"]

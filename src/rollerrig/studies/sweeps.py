@@ -239,9 +239,7 @@ def run_sweep(
         size = max(1, numba.get_num_threads())
         parts, stats = [], []
         for start in range(0, n, size):
-            x_part, stats_part = integrate_batch(
-                inputs[start : start + size], t, h_max=SWEEP_H_MAX
-            )
+            x_part, stats_part = integrate_batch(inputs[start : start + size], t, h_max=SWEEP_H_MAX)
             parts.append(x_part)
             stats.extend(stats_part)
             progress(len(stats), n, sum(s["status"] != 0 for s in stats))
