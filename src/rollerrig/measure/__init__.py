@@ -15,6 +15,12 @@ Analysing an adhesion test
     :mod:`~rollerrig.measure.quantities` (normal force, encoder speeds, creep, CoA),
     :mod:`~rollerrig.measure.segmentation` (phases, branches, hysteresis),
     :mod:`~rollerrig.measure.correction` (CoA corrected for the rig's dynamics),
+    :mod:`~rollerrig.measure.uncertainty` (its uncertainty, JCGM 100 law of propagation),
+    :mod:`~rollerrig.measure.montecarlo` (JCGM 101 Monte Carlo and its validation),
+    :mod:`~rollerrig.measure.filterweights` (the correction's filters as exact weights),
+    :mod:`~rollerrig.measure.budget` (uncertainty budgets per phase and creep–CoA point),
+    :mod:`~rollerrig.measure.estimator` (the contact torque estimated from T56 and the
+    encoder by a Kalman filter, causal and online),
     :mod:`~rollerrig.measure.facts` (what is known about a recording, the twin's truth),
     :mod:`~rollerrig.measure.findings` (the result and its JSON summary).
 Writing and generating
