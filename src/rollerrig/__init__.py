@@ -11,6 +11,7 @@ Packages, one per concern:
 - :mod:`rollerrig.measure` — recordings: readers, writers, channel maps, the test analysis.
 - :mod:`rollerrig.signal` — spectra, peak attribution, smoothing filters and their study.
 - :mod:`rollerrig.fit` — Polach fits and their honesty checks.
+- :mod:`rollerrig.calibrate` — the twin fitted to a recording: parameters with their errors.
 - :mod:`rollerrig.output` — the one output layer: atomic files, provenance, JSON, tables.
 - :mod:`rollerrig.report` — figures and reports.
 - :mod:`rollerrig.cli` — the ``rollerrig`` command.

@@ -48,6 +48,7 @@ JOBS: dict[str, str] = {
     "analyze": "io",
     "spectrum": "io",
     "filters": "io",
+    "calibrate": "all",
     "demo": "all",
 }
 """Command -> the extra its job needs (a module in several extras is named by the job's)."""

@@ -14,7 +14,17 @@ from rollerrig.cli._options import (
     WheelDrive,
 )
 
-NAMES = ("contact", "simulate", "study", "modes", "analyze", "spectrum", "filters", "demo")
+NAMES = (
+    "contact",
+    "simulate",
+    "study",
+    "modes",
+    "analyze",
+    "spectrum",
+    "filters",
+    "calibrate",
+    "demo",
+)
 
 
 def _flat(text: str) -> str:

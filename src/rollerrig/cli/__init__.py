@@ -29,6 +29,7 @@ from typing import Annotated
 
 import typer
 
+from rollerrig.cli import calibrate as _calibrate
 from rollerrig.cli import contact as _contact
 from rollerrig.cli import demo as _demo
 from rollerrig.cli import recordings as _recordings
@@ -107,6 +108,7 @@ COMMANDS = (
     _recordings.analyze,
     _recordings.spectrum,
     _recordings.filters,
+    _calibrate.calibrate,
     _demo.demo,
 )
 """The commands, in the order ``rollerrig --help`` lists them."""

@@ -1,0 +1,60 @@
+"""Calibrate the twin to a recorded test: fitted rig and friction parameters with their errors.
+
+:func:`calibrate` replays a recording's wheel-torque request through the twin (fast backend)
+and fits the free parameters, named by their dotted rig-file keys and ``polach.*``, so that
+the simulated roller-shaft torque T56 and both encoder speeds match the recording. The result,
+a :class:`Calibration`, holds each value with its standard error, the correlations, the
+residuals before and after with their whiteness, warnings for what the recording cannot
+identify, and the calibrated rig (:attr:`Calibration.rig`), written by
+:func:`write_calibration` as ``calibration.json``, ``calibrated-rig.toml`` and
+``calibration-fit.nc``.
+
+- :mod:`~rollerrig.calibrate.problem` — free keys, the friction law, the replayed protocol;
+- :mod:`~rollerrig.calibrate.measurement` — the measured channels, their noise, the torque's
+  lines;
+- :mod:`~rollerrig.calibrate.model` — the twin as a function of the parameters, in batches;
+- :mod:`~rollerrig.calibrate.fit` — Levenberg–Marquardt, identifiability, :func:`calibrate`;
+- :mod:`~rollerrig.calibrate.stats` — Newey–West covariance, whiteness checks;
+- :mod:`~rollerrig.calibrate.result` — :class:`Calibration` and its files.
+
+Examples
+--------
+>>> from rollerrig.calibrate import free_parameter_catalogue
+>>> "induction_motor.response_lag_clp" in free_parameter_catalogue()
+True
+"""
+
+from rollerrig.calibrate.fit import FD_STEP, HAC_WINDOW, MAX_RELATIVE_SE, calibrate
+from rollerrig.calibrate.measurement import quantisation_noise
+from rollerrig.calibrate.problem import (
+    POLACH_KEYS,
+    CalibrationError,
+    free_parameter_catalogue,
+)
+from rollerrig.calibrate.result import (
+    CALIBRATED_RIG_NAME,
+    CALIBRATION_JSON_NAME,
+    FIT_DATASET_NAME,
+    Calibration,
+    ChannelFit,
+    FittedParameter,
+    write_calibration,
+)
+
+__all__ = [
+    "CALIBRATED_RIG_NAME",
+    "CALIBRATION_JSON_NAME",
+    "FD_STEP",
+    "FIT_DATASET_NAME",
+    "HAC_WINDOW",
+    "MAX_RELATIVE_SE",
+    "POLACH_KEYS",
+    "Calibration",
+    "CalibrationError",
+    "ChannelFit",
+    "FittedParameter",
+    "calibrate",
+    "free_parameter_catalogue",
+    "quantisation_noise",
+    "write_calibration",
+]

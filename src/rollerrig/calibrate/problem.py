@@ -1,0 +1,340 @@
+"""The calibration problem: free parameters, the friction law and the replayed experiment.
+
+The experiment (:func:`replay_protocol_from_recording`): the recorded wheel-torque request
+(channel ``torque_request``) replayed as a piecewise-linear protocol (collinear samples merged,
+exactly), at a constant normal load and a constant roller speed set point, both fitted as
+nuisance parameters (:data:`NUISANCE_KEYS`): the load is started from the mean of
+``normal_load`` (or ``air_spring_pressure`` × ``sensors.air_spring_effective_area``) and
+fitted with the load channel among the residuals, so that its scatter enters the standard
+errors; the set point is started from the mean roller encoder speed before the first torque
+request (the open-loop roller drive runs below its set speed by a slip that depends on the
+bearing losses, so the set point cannot be read from the recording to the accuracy the
+encoder counts give).
+
+Free parameters (:func:`free_parameter_catalogue`): every float of a rig file outside
+``[meta]`` and ``[sensors]`` by its dotted key (anything
+:meth:`~rollerrig.rig.parameters.RigParameters.with_overrides` accepts), and the Polach
+parameters of the recording's friction condition, ``polach.static_friction``,
+``polach.limit_ratio``, ``polach.friction_decay``, ``polach.k_adhesion``, ``polach.k_slip``.
+Each is fitted as ``z = ln(p − p_low)`` (``p_low`` its lower bound, 0 for most), so that it
+stays in its physical range and a step in ``z`` is a relative step.
+
+The measured channels, their noise model and the torque's lines:
+:mod:`rollerrig.calibrate.measurement`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from rollerrig._validation import ParameterError
+from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters
+from rollerrig.rig.parameters import RigParameters
+from rollerrig.rig.sections import SECTIONS, si_unit_of
+
+if TYPE_CHECKING:
+    from rollerrig.calibrate.measurement import Measurement
+
+__all__ = [
+    "NUISANCE_KEYS",
+    "POLACH_KEYS",
+    "CalibrationError",
+    "FreeParameter",
+    "free_parameter_catalogue",
+    "free_parameters",
+    "friction_parameters",
+    "replay_protocol_from_recording",
+    "split_values",
+    "with_polach",
+]
+
+POLACH_KEYS = (
+    "polach.static_friction",
+    "polach.limit_ratio",
+    "polach.friction_decay",
+    "polach.k_adhesion",
+    "polach.k_slip",
+)
+"""Free keys of the friction law of the recording (:class:`PolachParameters` fields)."""
+
+NUISANCE_KEYS = ("experiment.roller_speed", "experiment.normal_load")
+"""Fitted beside the free keys: the roller drive's speed set point [m/s] and the constant
+normal load of the replay [N] (not when the load channel is exactly constant). The load is
+known only as well as the pressure's scatter allows, and the torque near the adhesion limit is
+proportional to it: a fixed load would pass its error to the other parameters unseen."""
+
+_EXCLUDED_SECTIONS = ("meta", "sensors")  # names and the DAQ: how the data are read, not fitted
+_POLACH_RANGES = {  # (lower, upper) of each Polach parameter [-, -, s/m, -, -]
+    "static_friction": (0.0, None),
+    "limit_ratio": (0.0, 1.0),
+    "friction_decay": (0.0, None),
+    "k_adhesion": (0.0, 1.0),
+    "k_slip": (0.0, 1.0),
+}
+_POLACH_UNITS = {"friction_decay": "s/m"}
+
+
+class CalibrationError(ParameterError):
+    """A calibration cannot run as asked: the message names the key, channel or file and what
+    to change."""
+
+
+@dataclass(frozen=True)
+class FreeParameter:
+    """One fitted parameter.
+
+    Attributes
+    ----------
+    key : str
+        Dotted key (``stiffness.roller_shaft``, ``polach.k_slip``, ``experiment.roller_speed``).
+    kind : str
+        ``"rig"``, ``"polach"`` or ``"experiment"``.
+    initial : float
+        Starting value [SI unit].
+    unit : str
+        SI unit of the value.
+    lower : float
+        Lower bound [unit]: the fit works on z = ln(value − lower).
+    upper : float or None
+        Upper bound [unit] (inclusive), if any.
+    """
+
+    key: str
+    kind: str
+    initial: float
+    unit: str
+    lower: float = 0.0
+    upper: float | None = None
+
+    @property
+    def z_initial(self) -> float:
+        """ln(initial − lower) [-]."""
+        return math.log(self.initial - self.lower)
+
+    @property
+    def z_upper(self) -> float:
+        """ln(upper − lower), or +inf [-]."""
+        return math.inf if self.upper is None else math.log(self.upper - self.lower)
+
+    def value(self, z: float) -> float:
+        """The parameter [unit] at z [-]."""
+        return self.lower + math.exp(z)
+
+
+def _rig_float_fields() -> dict[str, Any]:
+    """``section.key`` -> pydantic field of every float of a rig file that may be fitted."""
+    out = {}
+    for section, model in SECTIONS.items():
+        if section in _EXCLUDED_SECTIONS:
+            continue
+        for key, field in model.model_fields.items():
+            if field.annotation is float:
+                out[f"{section}.{key}"] = field
+    return out
+
+
+def free_parameter_catalogue() -> tuple[str, ...]:
+    """Every key :func:`rollerrig.calibrate.calibrate` accepts in ``free``.
+
+    Examples
+    --------
+    >>> keys = free_parameter_catalogue()
+    >>> "stiffness.roller_shaft" in keys, "polach.k_slip" in keys, "sensors.daq_rate" in keys
+    (True, True, False)
+    """
+    return (*_rig_float_fields(), *POLACH_KEYS)
+
+
+def _bounds(field) -> tuple[float, float | None]:
+    """(lower, upper) of a rig field from its pydantic constraints."""
+    lower, upper = 0.0, None
+    for item in field.metadata:
+        for name in ("gt", "ge"):
+            if getattr(item, name, None) is not None:
+                lower = float(getattr(item, name))
+        for name in ("lt", "le"):
+            if getattr(item, name, None) is not None:
+                upper = float(getattr(item, name))
+    return lower, upper
+
+
+def free_parameters(
+    free: str | Iterable[str], rig: RigParameters, friction: PolachParameters
+) -> tuple[FreeParameter, ...]:
+    """The free parameters named by ``free``, started from ``rig`` and ``friction``.
+
+    Parameters
+    ----------
+    free : str or iterable of str
+        Dotted keys, or one string of keys separated by commas.
+    rig : RigParameters
+        Starting values of the rig keys.
+    friction : PolachParameters
+        Starting values of the ``polach.*`` keys.
+
+    Returns
+    -------
+    tuple of FreeParameter
+        In the order given, duplicates removed.
+
+    Raises
+    ------
+    CalibrationError
+        No key, an unknown key (the message lists the valid ones), or a starting value at its
+        lower bound (a zero damping: no relative step exists; give a starting value in a rig
+        file).
+
+    Examples
+    --------
+    >>> from rollerrig.rig.parameters import default_rig
+    >>> from rollerrig.contact.creep import POLACH_DRY
+    >>> [p.key for p in free_parameters("stiffness.roller_shaft,polach.k_slip", default_rig(),
+    ...                                 POLACH_DRY)]
+    ['stiffness.roller_shaft', 'polach.k_slip']
+    """
+    keys = free.split(",") if isinstance(free, str) else list(free)
+    keys = list(dict.fromkeys(str(k).strip() for k in keys if str(k).strip()))
+    if not keys:
+        raise CalibrationError(
+            "no free parameter given; name one or more dotted keys, e.g. "
+            "stiffness.roller_shaft,bearing.friction_coefficient"
+        )
+    fields = _rig_float_fields()
+    unknown = [k for k in keys if k not in fields and k not in POLACH_KEYS]
+    if unknown:
+        raise CalibrationError(
+            f"unknown free parameter(s) {unknown}; valid keys are the floats of a rig file "
+            f"outside [meta] and [sensors] and the friction law of the recording: "
+            f"{', '.join(free_parameter_catalogue())}"
+        )
+    out = []
+    for key in keys:
+        if key in POLACH_KEYS:
+            name = key.partition(".")[2]
+            lower, upper = _POLACH_RANGES[name]
+            value = float(getattr(friction, name))
+            unit = _POLACH_UNITS.get(name, "1")
+            kind = "polach"
+        else:
+            section, _, name = key.partition(".")
+            field = fields[key]
+            lower, upper = _bounds(field)
+            value = float(getattr(getattr(rig, section), name))
+            unit = si_unit_of(field)
+            kind = "rig"
+        if not value > lower:
+            raise CalibrationError(
+                f"free parameter {key}: starting value {value:g} {unit} is at its lower bound "
+                f"{lower:g}; the fit steps in relative terms, so give a starting value above it "
+                f"(a rig file with --rig, or friction=...)"
+            )
+        out.append(FreeParameter(key, kind, value, unit, lower, upper))
+    return tuple(out)
+
+
+def _merge_collinear(time: np.ndarray, values: np.ndarray, tolerance: float):
+    """Breakpoints of the piecewise-linear trace ``values(time)`` with collinear samples dropped.
+
+    Exact within ``tolerance`` [unit of values]: the merged trace is checked at every sample,
+    and the samples are kept as they are where it would deviate by more.
+    """
+    d2 = np.abs(np.diff(values, 2))
+    keep = np.ones(values.size, dtype=bool)
+    keep[1:-1] = d2 > tolerance
+    t, v = time[keep], values[keep]
+    if np.max(np.abs(np.interp(time, t, v) - values)) > tolerance:
+        return time, values
+    return t, v
+
+
+def replay_protocol_from_recording(
+    measurement: Measurement, roller_speed: float, friction: str, name: str, load: float
+):
+    """The recorded torque request as a protocol at constant load, speed and friction.
+
+    Parameters
+    ----------
+    measurement : Measurement
+        The request [N.m], the mean normal load [N] and the time base [s].
+    roller_speed : float
+        Roller peripheral-speed set point [m/s].
+    friction : str
+        Name of the friction condition (the Polach set).
+    name : str
+        Protocol name.
+    load : float
+        Constant normal load [N].
+
+    Returns
+    -------
+    Protocol
+        One ``replay`` event; collinear samples of the request merged (exact to 1e-9 of its
+        peak), so that the solver integrates long smooth segments.
+    """
+    from rollerrig.experiment.protocol import Protocol, ProtocolEvent
+
+    t = measurement.time
+    request = measurement.torque_request
+    tolerance = 1e-9 * max(float(np.max(np.abs(request))), 1.0)
+    bt, bv = _merge_collinear(t, request, tolerance)
+    duration = float(t[-1])
+    return Protocol(
+        name=name,
+        description="recorded wheel-torque request replayed at constant load and speed",
+        source=f"torque request of {measurement.source}",
+        duration=duration,
+        torque_time=bt,
+        torque_request=bv,
+        speed_time=np.array([0.0, duration]),
+        roller_speed=np.array([roller_speed, roller_speed]),
+        load_time=np.array([0.0, duration]),
+        normal_load=np.array([load, load]),
+        friction_time=np.array([0.0]),
+        friction_condition=(friction,),
+        events=(ProtocolEvent(0.0, duration, "replay", measurement.source),),
+        origin=measurement.source,
+    )
+
+
+def friction_parameters(friction: str | PolachParameters | None) -> PolachParameters:
+    """The starting friction law: a Polach set by name (``"dry"``, ``"wet"``) or as given.
+
+    Raises
+    ------
+    CalibrationError
+        An unknown name (the message lists the known ones).
+    """
+    if friction is None:
+        friction = "dry"
+    if isinstance(friction, PolachParameters):
+        return friction
+    if str(friction) not in POLACH_PARAMETER_SETS:
+        raise CalibrationError(
+            f"unknown friction set {friction!r}; known: {sorted(POLACH_PARAMETER_SETS)} (or "
+            "pass PolachParameters)"
+        )
+    return POLACH_PARAMETER_SETS[str(friction)]
+
+
+def split_values(
+    params: Sequence[FreeParameter], values: Sequence[float]
+) -> tuple[dict[str, float], dict[str, float], dict[str, float]]:
+    """Values [SI] by kind: (rig overrides, Polach fields, experiment settings)."""
+    rig: dict[str, float] = {}
+    polach: dict[str, float] = {}
+    experiment: dict[str, float] = {}
+    for p, v in zip(params, values, strict=True):
+        target = {"rig": rig, "polach": polach, "experiment": experiment}[p.kind]
+        target[p.key if p.kind == "rig" else p.key.partition(".")[2]] = float(v)
+    return rig, polach, experiment
+
+
+def with_polach(friction: PolachParameters, values: Mapping[str, float]) -> PolachParameters:
+    """``friction`` with some fields replaced (validated by :class:`PolachParameters`)."""
+    return dataclasses.replace(friction, **values) if values else friction

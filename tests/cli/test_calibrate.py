@@ -1,0 +1,133 @@
+"""``rollerrig calibrate``: help that keeps its units, clear errors, and end to end on a
+synthetic recording (calibrate, then ``analyze --rig calibrated-rig.toml``)."""
+
+import json
+
+import pytest
+
+from rollerrig.cli import app
+from rollerrig.output import file_sha256
+
+
+def _flat(text: str) -> str:
+    return " ".join(text.split())
+
+
+@pytest.fixture(scope="module")
+def synthetic_tdms(tmp_path_factory):
+    """A short synthetic test of the twin with altered roller-shaft stiffness and bearing
+    friction, written as NI TDMS."""
+    from rollerrig.experiment import Hold, Protocol, RampTorque, ReleaseTorque
+    from rollerrig.measure.synthetic import synthetic_recording
+    from rollerrig.measure.writers import write_recording
+    from rollerrig.rig.parameters import default_rig
+    from rollerrig.solve.simulation import Simulation
+
+    rig = default_rig().with_overrides(
+        {"stiffness.roller_shaft": 47850.0, "bearing.friction_coefficient": 0.0091}
+    )
+    protocol = Protocol.from_steps(
+        "cli-calibration",
+        [Hold(1.0), RampTorque(650.0, 2.5), ReleaseTorque(), Hold(2.0)],
+        normal_load=4300.0,
+        roller_speed=30 / 3.6,
+    )
+    rec, _ = synthetic_recording(Simulation(rig, protocol).run(), seed=2)
+    path = tmp_path_factory.mktemp("calibrate") / "altered.tdms"
+    write_recording(rec, path)
+    return path
+
+
+def test_help_keeps_the_units_in_brackets(runner):
+    result = runner.invoke(app, ["calibrate", "--help"])
+    assert result.exit_code == 0, result.output
+    text = _flat(result.output)
+    for fragment in (
+        "standard errors [SI]",
+        "Noise of the torque sensor [N.m]",
+        "per stage [1]",
+        "<dry|wet>",
+        "--free",
+        "calibrated-rig.toml",
+        "--list-keys",
+    ):
+        assert fragment in text, fragment
+    assert "Traceback" not in result.output
+
+
+def test_list_keys_and_missing_or_unknown_keys(runner, tmp_path):
+    result = runner.invoke(app, ["calibrate", "x.tdms", "--list-keys"])
+    assert result.exit_code == 0
+    keys = result.output.split()
+    assert "stiffness.roller_shaft" in keys and "polach.k_slip" in keys
+    result = runner.invoke(app, ["calibrate", "x.tdms", "--out", str(tmp_path / "o")])
+    assert result.exit_code == 2 and "--free is required" in _flat(result.output)
+    result = runner.invoke(
+        app, ["calibrate", "x.tdms", "--free", "inertia.rolller", "--out", str(tmp_path / "o")]
+    )
+    assert result.exit_code == 2, result.output
+    text = _flat(result.output)
+    assert "['inertia.rolller']" in text and "inertia.roller" in text
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_recording_without_torque_request_is_one_clear_error(runner, tmp_path, adhesion_csv):
+    rec = adhesion_csv(tmp_path / "test.csv")
+    rec.write_text(rec.read_text().replace("torque_request [N.m]", "setpoint [N.m]"))
+    out = tmp_path / "out"
+    result = runner.invoke(
+        app, ["calibrate", str(rec), "--free", "inertia.roller", "--out", str(out)]
+    )
+    assert result.exit_code == 2, result.output
+    assert "torque_request" in result.output and "Traceback" not in result.output
+    assert not out.exists()
+
+
+def test_calibrate_then_analyze_with_the_calibrated_rig(runner, tmp_path, synthetic_tdms):
+    out = tmp_path / "cal"
+    result = runner.invoke(
+        app,
+        [
+            "calibrate",
+            str(synthetic_tdms),
+            "--free",
+            "stiffness.roller_shaft,bearing.friction_coefficient,damping.wheel_shaft",
+            "--out",
+            str(out),
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    names = sorted(p.name for p in out.iterdir())
+    assert names == [
+        "calibrate-altered-run.json",
+        "calibrated-rig.toml",
+        "calibration-fit.nc",
+        "calibration.json",
+    ]
+    text = _flat(result.output)
+    assert "damping.wheel_shaft" in text and "not identified" in text
+    doc = json.loads((out / "calibration.json").read_text())
+    assert doc["provenance"]["inputs"]["recording"]["sha256"] == file_sha256(synthetic_tdms)
+    assert doc["provenance"]["parameters"]["free"][0] == "stiffness.roller_shaft"
+    stiffness = doc["parameters"]["stiffness.roller_shaft"]
+    assert abs(stiffness["value"] - 47850.0) < 5 * stiffness["standard_error"] + 10.0
+    assert doc["parameters"]["damping.wheel_shaft"]["value"] is None
+    manifest = json.loads((out / "calibrate-altered-run.json").read_text())
+    assert {f["file"] for f in manifest["files"]} == set(names) - {"calibrate-altered-run.json"}
+
+    analysed = tmp_path / "analysed"
+    result = runner.invoke(
+        app,
+        [
+            "analyze",
+            str(synthetic_tdms),
+            "--rig",
+            str(out / "calibrated-rig.toml"),
+            "--no-study",
+            "--out",
+            str(analysed),
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    analysis = json.loads((analysed / "altered-analysis.json").read_text())
+    assert analysis["provenance"]["rig"]["name"] == "pardubice-tram-roller-rig-calibrated"
