@@ -102,6 +102,7 @@ def test_calibrate_then_analyze_with_the_calibrated_rig(runner, tmp_path, synthe
         "calibrate-altered-run.json",
         "calibrated-rig.toml",
         "calibration-fit.nc",
+        "calibration-fit.png",
         "calibration.json",
     ]
     text = _flat(result.output)

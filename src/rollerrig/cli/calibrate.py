@@ -28,6 +28,9 @@ from rollerrig.cli._options import (
 )
 from rollerrig.cli._outputs import command_outputs
 
+FIT_FIGURE_NAME = "calibration-fit.png"
+"""The figure of the fit: recorded against simulated T56 and speeds, before and after."""
+
 __all__ = ["calibrate", "print_calibration"]
 
 
@@ -143,6 +146,13 @@ def calibrate(
             )
             bar.update(task, completed=bar.tasks[0].total, info="done")
         write_calibration(result, stage.dir)
+        from rollerrig.output import save_figure
+        from rollerrig.report.calibration import calibration_figure
+
+        save_figure(
+            calibration_figure(result.fit_dataset(), title=f"Calibration to {recording.name}"),
+            stage.dir / FIT_FIGURE_NAME,
+        )
     print_recording_notes(rec)
     print_calibration(result)
     print_written(stage.written)
