@@ -60,6 +60,13 @@ def _folder_bytes(folder: Path) -> int:
     return sum(p.stat().st_size for p in folder.rglob("*") if p.is_file())
 
 
+_IMPORTS = (
+    "import rollerrig.cli, rollerrig.solve.simulation, rollerrig.solve.results, "
+    "rollerrig.report.twin, rollerrig.rig.linear, matplotlib.pyplot, xarray, h5netcdf, numba"
+)
+"""What ``rollerrig simulate`` imports before it solves (the floor of a fresh process)."""
+
+
 def cli_timings(experiment: str, warm_runs: int) -> dict:
     """Wall time of ``rollerrig simulate`` in fresh processes on an empty, then filled cache."""
     work = Path(tempfile.mkdtemp(prefix="rollerrig-bench-"))
@@ -75,7 +82,19 @@ def cli_timings(experiment: str, warm_runs: int) -> dict:
             if done.returncode != 0:
                 raise RuntimeError(f"rollerrig simulate failed:\n{done.stdout}\n{done.stderr}")
             sizes.append(_folder_bytes(work / "numba"))
-        return {"cold": walls[0], "warm": min(walls[1:]), "walls": walls, "sizes": sizes}
+        # The floor under the warm run: a fresh process importing what `simulate` imports.
+        floor = []
+        for _ in range(warm_runs):
+            start = time.perf_counter()
+            subprocess.run([sys.executable, "-c", _IMPORTS], env=env, check=True)
+            floor.append(time.perf_counter() - start)
+        return {
+            "cold": walls[0],
+            "warm": min(walls[1:]),
+            "walls": walls,
+            "sizes": sizes,
+            "imports": min(floor),
+        }
     finally:
         shutil.rmtree(work, ignore_errors=True)
 
@@ -144,8 +163,8 @@ def main() -> None:
         run = lambda o=options: integrate_experiment(inputs, t, **o)  # noqa: E731
         f_time, (x_f, st_f) = _best_of(run, repeat)
         err = add(label, f_time, x_f, f"{st_f['accepted_steps']} steps")
-        fast_rows[label] = (f_time, err)
-    f_time, f_err = fast_rows["fast: ROS34PW2 (numba), dense output (default)"]
+        fast_rows[label] = (f_time, err, st_f["accepted_steps"])
+    f_time, f_err, fast_rows_steps = fast_rows["fast: ROS34PW2 (numba), dense output (default)"]
 
     # Sweep: roller-shaft stiffness × motor lag, one experiment each, parallel threads.
     n_k, n_lag = (3, 2) if args.quick else (6, 4)
@@ -250,6 +269,30 @@ def main() -> None:
     print("-" * len(header))
     for name, wanted, measured, met in targets:
         print(f"{name:<48} {wanted:>10} {measured:>36}  {'yes' if met else 'NO'}")
+    steps = fast_rows_steps
+    per_step = f_time / steps * 1e9
+    print()
+    print("why a target is missed, in this run's numbers:")
+    if cli is not None and cli["warm"] > 3.0:
+        print(
+            f"- 1: a fresh process only importing numpy, scipy, xarray, matplotlib, numba and "
+            f"rollerrig takes {cli['imports']:.2f} s of the {cli['warm']:.2f} s; the rest is "
+            "loading the compiled solver, the solve, the NetCDF file and the figure"
+        )
+    if duration / f_time < 1000 or base_time / f_time < 300:
+        print(
+            f"- 2: the default solve is {steps} steps of ROS34PW2 at {per_step:.0f} ns each "
+            f"(4 right-hand sides and 4 20x20 products); 1000x real time needs <= "
+            f"{duration / 1000 * 1e3:.1f} ms, 300x this baseline <= {base_time / 300 * 1e3:.1f} ms "
+            f"({base_time / 300 / steps * 1e9:.0f} ns a step). The accuracy is set by the phase "
+            "drift of the 13.8 Hz shaft mode (third order in the step): meeting both at once "
+            "needs a method exact on that linear mode (exponential) or of fourth order"
+        )
+    if not (bool(best_good) and best_good[2] >= 100):
+        print(
+            f"- 3: {threads} threads; a sweep point costs what a single run at h_max "
+            f"{SWEEP_H_MAX * 1e3:g} ms costs; other load on this machine takes threads away"
+        )
 
 
 def _dt56(inputs, x, t56_ref):
