@@ -30,7 +30,7 @@ from rollerrig.measure.checks import (
     require_analysis_inputs,
 )
 from rollerrig.measure.correction import corrected_adhesion
-from rollerrig.measure.estimator import estimate_contact_torque
+from rollerrig.measure.estimator import estimate_contact_torque, smooth_from_recording
 from rollerrig.measure.facts import (
     describe_channel,
     recording_facts,
@@ -237,7 +237,9 @@ def analyze_test(
         spectrum_window=window_s,
         study=study,
         notes=notes,
-        truth_errors={} if true_coa is None else _truth_errors(rec, true_coa, budget.online_coa),
+        truth_errors={}
+        if true_coa is None
+        else _truth_errors(rec, true_coa, budget.online_coa, budget.model_coa),
         true_parameters=true_params,
         true_parameters_source=true_source,
         fit_points_available=available,
@@ -413,10 +415,10 @@ def _quiet_phase_spectrum(
 
 
 def _truth_errors(
-    rec: Recording, true_coa: np.ndarray, online: np.ndarray | None = None
+    rec: Recording, true_coa: np.ndarray, online: np.ndarray | None = None, model=None
 ) -> dict[str, float]:
-    """RMS and largest errors of the rig's, smoothed, corrected (and online) CoA against the
-    true one."""
+    """RMS and largest errors of the rig's, smoothed, corrected (and online and model-based)
+    CoA against the true one."""
 
     def rms(x):
         return float(np.sqrt(np.mean((x - true_coa) ** 2)))
@@ -430,6 +432,9 @@ def _truth_errors(
     }
     if online is not None:
         out["online_coa_vs_true_rms [-]"] = rms(online)
+    for name, (coa, _) in (model or {}).items():
+        out[f"{name}_vs_true_rms [-]"] = rms(coa)
+        out[f"{name}_vs_true_max [-]"] = float(np.max(np.abs(coa - true_coa)))
     return out
 
 
@@ -476,7 +481,49 @@ def _coa_uncertainty(
     creep_u = creep_uncertainty(rec, rig, window, order)
     budget = coa_budget(unc, rec, phases, branches, creep_u=creep_u, true_coa=true_coa)
     budget.online_coa = _online_coa(rec, rig, budget.notes)
+    budget.model_coa = _model_based_coa(rec, rig, budget.notes)
     return budget
+
+
+MODEL_BASED = {
+    "coa_smoother": (
+        None,
+        "CoA from the two-sided Kalman (RTS) smoother of the roller: T56 as input, the encoder "
+        "angle as measurement",
+    ),
+    "coa_smoother_chain": (
+        "induction",
+        "CoA from the two-sided Kalman (RTS) smoother of roller, shaft, motor rotor and V/f "
+        "drive, T56 and the encoder as measurements, order lines removed (needs k56 and J6 of "
+        "a calibrated rig)",
+    ),
+}
+"""The model-based estimates :func:`analyze_test` makes: name -> (chain of
+:func:`rollerrig.measure.estimator.smooth_from_recording`, description)."""
+
+
+def _model_based_coa(rec: Recording, rig, notes: list[str]) -> dict:
+    """The two-sided model-based CoA estimates on the analysis axis (name -> (CoA,
+    description)); none (noted) without the roller encoder counts they need."""
+    if "roller_encoder_counts" not in rec:
+        notes.append("model-based estimates: not made (they need roller_encoder_counts)")
+        return {}
+    out = {}
+    for name, (chain, what) in MODEL_BASED.items():
+        try:
+            est = smooth_from_recording(rec, rig, chain=chain)
+        except ParameterError as exc:  # a rig or recording the model cannot take
+            notes.append(f"{name}: not made ({exc})")
+            continue
+        out[name] = (np.asarray(est.coa, dtype=float), what)
+    if "coa_smoother_chain" in out:
+        notes.append(
+            "coa_smoother_chain models the roller shaft and motor rotor: it is as good as k56 "
+            "and J6 of the rig (±5 % keeps it under 1/8 of the rig's error on the bundled test, "
+            "±10 % makes it worse than the corrected CoA); calibrate them first (rollerrig "
+            "calibrate --free stiffness.roller_shaft,inertia.am_rotor)"
+        )
+    return out
 
 
 def _online_coa(rec: Recording, rig, notes: list[str]) -> np.ndarray | None:

@@ -58,6 +58,9 @@ class CoaBudget:
     truth_coverage : dict or None
     online_coa : ndarray or None
         The online estimator's CoA on the analysis axis, when it ran.
+    model_coa : dict
+        The two-sided model-based estimates (:func:`rollerrig.measure.estimator.
+        smooth_contact_torque`) on the analysis axis: name -> (CoA, description).
     notes : list of str
     """
 
@@ -68,6 +71,7 @@ class CoaBudget:
     validation: dict | None = None
     truth_coverage: dict | None = None
     online_coa: np.ndarray | None = None
+    model_coa: dict = field(default_factory=dict)
     notes: list = field(default_factory=list)
 
     def summary(self) -> dict:

@@ -221,6 +221,10 @@ def coa_uncertainty_figure(result: TestAnalysis):
         if budget.online_coa is not None:
             ax.plot(*envelope(t[sel], budget.online_coa[sel]), color="tab:green", lw=0.6,
                     alpha=0.8, label="online estimate (causal)")  # fmt: skip
+        if "coa_smoother_chain" in budget.model_coa:
+            ax.plot(*envelope(t[sel], budget.model_coa["coa_smoother_chain"][0][sel]),
+                    color="tab:purple", lw=0.7, alpha=0.9,
+                    label="model-based, two-sided (chain)")  # fmt: skip
         if result.true_coa is not None:
             ax.plot(*envelope(t[sel], result.true_coa[sel]), "k--", lw=0.7,
                     label="true contact CoA (twin)")  # fmt: skip
@@ -550,6 +554,8 @@ def uncertainty_columns(result: TestAnalysis) -> dict[str, tuple]:
             "CoA from the causal online contact-torque estimator",
             {},
         )
+    for name, (coa, what) in budget.model_coa.items():
+        columns[name] = (coa, "1", what, {})
     return columns
 
 
