@@ -129,10 +129,17 @@ def print_uncertainty(result) -> None:
             _number(row.get("corrected_coa_mean [-]")),
             _number(row.get("U_mean [-]")),
             _number(row.get("U_sample_median [-]")),
-            str(row.get("dominant_sample", "")).replace("_", " "),
+            _dominant(row),
         ]
         table.add_row(Text(name), *(Text(c) for c in cells))
     console.print(table)
+
+
+def _dominant(row: dict) -> str:
+    """What dominates the phase mean's U and the typical sample's (once when the same)."""
+    mean = str(row.get("dominant_mean", "")).replace("_", " ")
+    sample = str(row.get("dominant_sample", "")).replace("_", " ")
+    return mean if mean == sample else f"{mean} (mean); {sample} (sample)"
 
 
 def _number(value) -> str:
