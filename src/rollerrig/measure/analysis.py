@@ -30,7 +30,7 @@ from rollerrig.measure.checks import (
     require_analysis_inputs,
 )
 from rollerrig.measure.correction import corrected_adhesion
-from rollerrig.measure.estimator import estimate_contact_torque, smooth_from_recording
+from rollerrig.measure.estimator import estimate_from_recording, smooth_from_recording
 from rollerrig.measure.facts import (
     describe_channel,
     recording_facts,
@@ -536,18 +536,4 @@ def _online_coa(rec: Recording, rig, notes: list[str]) -> np.ndarray | None:
             "the roller speed)"
         )
         return None
-    b = rig.bearing
-    est = estimate_contact_torque(
-        rec["torque"],
-        rec["roller_encoder_counts"],
-        rec["normal_load"],
-        rec.sample_rate,
-        counts_per_rev=rig.sensors.encoder_counts_per_revolution,
-        roller_inertia=rig.inertia.roller,
-        bearing_friction=b.friction_coefficient,
-        bearing_radius=b.roller_bearing_radius,
-        roller_weight=b.roller_subsystem_weight,
-        roller_radius=rig.geometry.roller_radius_x,
-        regularisation_speed=b.regularisation_speed,
-    )
-    return np.asarray(est.coa, dtype=float)
+    return np.asarray(estimate_from_recording(rec, rig).coa, dtype=float)
