@@ -84,8 +84,8 @@ def calibrate(
     the sensor noise, the encoders' quantisation is modelled, the torque's motor and order lines
     are fitted. Writes calibration.json (each value and standard error [SI], correlations,
     residuals before and after, whiteness, warnings for what the recording cannot identify),
-    calibrated-rig.toml (a complete rig file for --rig) and calibration-fit.nc (recorded
-    against simulated channels); all three or none.
+    calibrated-rig.toml (a complete rig file for --rig), calibration-fit.nc (recorded against
+    simulated channels) and its figure calibration-fit.png; all of them or none.
     """
     if list_keys:
         from rollerrig.calibrate import free_parameter_catalogue
