@@ -313,3 +313,5 @@ def test_analyze_with_a_calibration_uses_it_and_refuses_a_bad_file(tmp_path, run
     assert "inertia.roller" in json.dumps(inputs)
     run = json.loads((out / "analyze-test-run.json").read_text())
     assert "calibration" in run["provenance"]["inputs"]
+    html = (out / "test-report.html").read_text()
+    assert "The calibrated twin this analysis used" in html and "inertia.roller" in html

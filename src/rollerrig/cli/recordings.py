@@ -75,9 +75,35 @@ def analyze(
             result = analyze_test(
                 loaded, rig, truth=truth_ds, run_study=study, calibration=calibrated
             )
-        write_analysis(result, stage.dir, recording.stem, source=str(recording), truth=truth_ds)
+        write_analysis(
+            result,
+            stage.dir,
+            recording.stem,
+            source=str(recording),
+            truth=truth_ds,
+            extra_sections=_calibration_section(calibration, calibrated),
+        )
     print_analysis(result)
     print_written(stage.written)
+
+
+def _calibration_section(path: Path | None, calibrated: dict | None):
+    """The report's calibration part (with the fit figure when calibration-fit.nc lies beside
+    the calibration.json), or None without a calibration."""
+    if path is None or calibrated is None:
+        return None
+    from rollerrig.report.calibration import calibration_section
+
+    fit = None
+    fit_path = path.with_name("calibration-fit.nc")
+    if fit_path.is_file():
+        import xarray as xr
+
+        try:
+            fit = xr.load_dataset(fit_path, engine="h5netcdf")
+        except Exception as exc:  # an unreadable side file costs the figure, not the analysis
+            note(f"{fit_path}: not read ({type(exc).__name__}); the report shows no fit figure")
+    return lambda rep: calibration_section(rep, calibrated, fit)
 
 
 _FIT_ROWS = (

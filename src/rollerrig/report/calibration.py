@@ -11,7 +11,7 @@ import numpy as np
 from rollerrig.report.lines import envelope
 from rollerrig.report.twin import MEASURED_STYLE
 
-__all__ = ["calibration_figure"]
+__all__ = ["calibration_figure", "calibration_section"]
 
 _ROWS = (
     ("torque", "roller-shaft torque T56 [N·m]"),
@@ -86,3 +86,45 @@ def calibration_figure(fit, title: str | None = None):
     fig.suptitle(title or "Calibration: recording against the twin, before and after the fit")
     fig.tight_layout()
     return fig
+
+
+def calibration_section(rep, calibration: dict, fit=None) -> None:
+    """The analysis report's part on the calibration it used: values with their standard
+    errors, what was not identified, and the fit figure when its dataset is given.
+
+    Parameters
+    ----------
+    rep : rollerrig.report.html.HtmlReport
+    calibration : dict
+        The content of ``calibration.json``.
+    fit : xarray.Dataset, optional
+        ``calibration-fit.nc`` of the same calibration.
+    """
+    rep.heading("The calibrated twin this analysis used")
+    source = calibration.get("recording") or {}
+    where = source.get("source", "") if isinstance(source, dict) else ""
+    rep.paragraph(
+        "Rig parameters fitted by rollerrig calibrate to a recorded test"
+        + (f" ({where})" if where else "")
+        + ": their values replace the rig file's and their covariance enters the corrected "
+        "CoA's uncertainty. One standard error each, as calibration.json states it "
+        "(standard_error_convention there)."
+    )
+    rows = []
+    for key, entry in (calibration.get("parameters") or {}).items():
+        value, se = entry.get("value"), entry.get("standard_error")
+        rows.append(
+            (
+                key,
+                "not identified" if value is None else f"{value:.6g}",
+                "–" if se is None else f"{se:.3g}",
+                entry.get("unit", ""),
+                entry.get("reason") or entry.get("why_null") or "",
+            )
+        )
+    if rows:
+        rep.table(("key", "value", "standard error", "unit", "note"), rows)
+    for text in calibration.get("warnings") or []:
+        rep.paragraph(f"warning: {text}", note=True)
+    if fit is not None:
+        rep.figure(calibration_figure(fit), "The calibration's fit: recording against the twin.")
