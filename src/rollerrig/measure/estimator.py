@@ -1022,24 +1022,14 @@ class RollerChain:
         -------
         RollerChain
         """
-        from rollerrig.drives.induction import lag_time_constant_from_clp, thevenin_from_nameplate
+        from rollerrig.drives.induction import lag_time_constant_from_clp
 
         if drive not in ("induction", "unknown"):
             raise ParameterError(f"drive must be 'induction' or 'unknown', got {drive!r}")
         am = rig.induction_motor
         slope = None
         if drive == "induction":
-            circuit = thevenin_from_nameplate(
-                am.rated_power,
-                am.rated_frequency,
-                am.rated_torque,
-                am.rated_line_voltage,
-                am.connection,
-                am.pole_pairs,
-                breakdown_torque_ratio=am.breakdown_torque_ratio,
-                stator_resistance=am.stator_resistance,
-            )
-            slope = float(circuit.small_slip_slope())
+            slope = float(am.circuit().small_slip_slope())
         return cls(
             shaft_stiffness=rig.stiffness.roller_shaft,
             shaft_damping=rig.damping.roller_shaft,

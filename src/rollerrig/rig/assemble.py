@@ -22,7 +22,7 @@ from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters, _po
 from rollerrig.contact.hertz import hertz_contact
 from rollerrig.contact.kalker import kalker_coefficients
 from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED
-from rollerrig.drives.induction import lag_time_constant_from_clp, thevenin_from_nameplate
+from rollerrig.drives.induction import lag_time_constant_from_clp
 from rollerrig.drives.pmsm import max_phase_voltage, pi_gains_for_bandwidth, pmsm_torque
 from rollerrig.drives.servo import servo_gains_for_bandwidth
 from rollerrig.experiment.protocol import Protocol
@@ -153,16 +153,7 @@ def _base_parameters(rig: RigParameters, drives: m.DriveConfig, reference_load: 
 
     am = rig.induction_motor
     p[m.P_ROLLER_MODE] = m.ROLLER_MODES[drives.roller]
-    circuit = thevenin_from_nameplate(
-        am.rated_power,
-        am.rated_frequency,
-        am.rated_torque,
-        am.rated_line_voltage,
-        am.connection,
-        am.pole_pairs,
-        breakdown_torque_ratio=am.breakdown_torque_ratio,
-        stator_resistance=am.stator_resistance,
-    )
+    circuit = am.circuit()
     p[[m.P_AM_PP, m.P_AM_V, m.P_AM_RTH, m.P_AM_XTH, m.P_AM_R2, m.P_AM_X2, m.P_AM_FRATED]] = [
         am.pole_pairs,
         circuit.voltage,

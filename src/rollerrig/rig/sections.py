@@ -337,6 +337,22 @@ class InductionMotorParameters(_Section):
         """Phase voltage of the equivalent star, ``V_line / √3`` (RMS) [V]."""
         return self.rated_line_voltage / math.sqrt(3.0)
 
+    def circuit(self):
+        """The Thevenin circuit derived from this nameplate
+        (:func:`rollerrig.drives.induction.thevenin_from_nameplate`)."""
+        from rollerrig.drives.induction import thevenin_from_nameplate
+
+        return thevenin_from_nameplate(
+            self.rated_power,
+            self.rated_frequency,
+            self.rated_torque,
+            self.rated_line_voltage,
+            self.connection,
+            self.pole_pairs,
+            breakdown_torque_ratio=self.breakdown_torque_ratio,
+            stator_resistance=self.stator_resistance,
+        )
+
 
 class ServoRollerDriveParameters(_Section):
     """Speed-controlled servo/PMSM roller drive: the seed's proposed fix (Kayaalp 5, 4.5.1.8)."""
