@@ -12,6 +12,8 @@ Packages, one per concern:
 - :mod:`rollerrig.signal` — spectra, peak attribution, smoothing filters and their study.
 - :mod:`rollerrig.fit` — Polach fits and their honesty checks.
 - :mod:`rollerrig.calibrate` — the twin fitted to a recording: parameters with their errors.
+- :mod:`rollerrig.studies` — studies at scale: grids, samples and cases on dask, a resumable
+  store, sensitivity indices.
 - :mod:`rollerrig.output` — the one output layer: atomic files, provenance, JSON, tables.
 - :mod:`rollerrig.report` — figures and reports.
 - :mod:`rollerrig.cli` — the ``rollerrig`` command.
@@ -65,6 +67,10 @@ _EXPORTS: dict[str, str] = {
     "write_recording": "rollerrig.measure.writers",
     "synthetic_recording": "rollerrig.measure.synthetic",
     "analyze": "rollerrig._api",
+    # studies
+    "run_study": "rollerrig.studies",
+    "load_study": "rollerrig.studies",
+    "open_study": "rollerrig.studies",
     "write_analysis": "rollerrig.report.analysis",
     "explain_recording": "rollerrig._api",
     # errors and warnings

@@ -4,10 +4,12 @@ rollerrig's core install (numpy, scipy, matplotlib, pydantic, typer, rich) compu
 mechanics and the rig's modes. The other jobs need optional packages, installed by extras named
 after the job (``pyproject.toml``):
 
-- ``twin``: simulate the rig (``simulate``, ``study``, the demo) and write its results;
+- ``twin``: simulate the rig (``simulate``, ``modes``, the demo) and write its results;
 - ``io``: read and write what acquisition software writes (TDMS, MDF4, MATLAB v7.3, CSV,
   Parquet) and the NetCDF/JSON results of ``analyze``, ``spectrum`` and ``filters``;
-- ``all``: both.
+- ``studies``: run studies at scale (``study run``) on dask, with the resumable store and
+  sensitivity indices;
+- ``all``: all of them.
 
 :func:`require` imports an optional module or raises :class:`MissingExtraError` naming the
 extra; :func:`missing_extra_message` turns any ``ImportError`` of an optional module into the
@@ -36,6 +38,9 @@ __all__ = [
 EXTRAS: dict[str, frozenset[str]] = {
     "twin": frozenset({"numba", "xarray", "pandas", "h5netcdf", "h5py"}),
     "io": frozenset({"nptdms", "asammdf", "h5py", "pandas", "pyarrow", "xarray", "h5netcdf"}),
+    "studies": frozenset(
+        {"numba", "xarray", "pandas", "h5netcdf", "h5py", "dask", "distributed", "SALib", "zarr"}
+    ),
 }
 """Extra -> the optional modules it installs (import names; here the same as the distribution
 names). Must agree with ``[project.optional-dependencies]`` of ``pyproject.toml`` (a test checks
@@ -43,7 +48,7 @@ it); ``all`` installs every extra."""
 
 JOBS: dict[str, str] = {
     "simulate": "twin",
-    "study": "twin",
+    "study": "studies",
     "modes": "twin",
     "analyze": "io",
     "spectrum": "io",

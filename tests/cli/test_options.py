@@ -6,18 +6,17 @@ import pytest
 from rollerrig import __version__
 from rollerrig.cli import COMMANDS, app
 from rollerrig.cli._options import (
+    Executor,
     Friction,
     ResultsFormat,
     RollerDrive,
     Solver,
-    StudyName,
     WheelDrive,
 )
 
 NAMES = (
     "contact",
     "simulate",
-    "study",
     "modes",
     "analyze",
     "spectrum",
@@ -35,18 +34,18 @@ def test_every_command_is_registered():
     assert tuple(c.__name__ for c in COMMANDS) == NAMES
 
 
-@pytest.mark.parametrize("command", NAMES)
+@pytest.mark.parametrize("command", [*NAMES, "study", "study run", "study show", "study list"])
 def test_help_of_every_command_keeps_units_in_brackets(command, runner):
-    result = runner.invoke(app, [command, "--help"])
+    result = runner.invoke(app, [*command.split(), "--help"])
     assert result.exit_code == 0, result.output
     assert "Traceback" not in result.output and "Usage:" in result.output
     # Every "[" of the help survives: Rich markup would have eaten "[kN]" and friends.
     expected = {
         "contact": ["Normal load [kN]", "[km/h]", "[mm]", "Poisson's ratio [-]"],
         "simulate": ["Roller-drive lag τ [s]", "<nc|csv|parquet|mat>", "<fast|reference>"],
-        "study": ["<stiffness|lag|drives>"],
         "modes": ["Roller speed [km/h]", "Normal load [kN]", "<dry|wet>"],
         "analyze": ["--lenient"],
+        "study run": ["--scheduler", "--workers", "<dask|local>", "--restart"],
         "filters": ["--lenient"],
     }
     text = _flat(result.output)
@@ -68,7 +67,7 @@ def test_every_choice_is_listed_in_the_help(runner):
         (["simulate", "--wheel-drive", "diesel"], "--wheel-drive"),
         (["simulate", "--solver", "euler"], "--solver"),
         (["simulate", "--format", "xlsx"], "--format"),
-        (["study", "colour"], "name"),
+        (["study", "run", "lag", "--executor", "spark"], "--executor"),
         (["modes", "--friction", "icy"], "--friction"),
     ],
 )
@@ -94,7 +93,7 @@ def test_each_enum_equals_the_table_it_mirrors():
     from rollerrig.rig.model import ROLLER_MODES, WHEEL_MODES
     from rollerrig.solve.results import SAVE_FORMATS
     from rollerrig.solve.simulation import SOLVERS
-    from rollerrig.studies import STUDIES
+    from rollerrig.studies.runner import EXECUTORS
 
     def values(enum):
         return {e.value for e in enum}
@@ -103,8 +102,8 @@ def test_each_enum_equals_the_table_it_mirrors():
     assert values(WheelDrive) == set(WHEEL_MODES)
     assert values(RollerDrive) == set(ROLLER_MODES)
     assert values(ResultsFormat) == {s.lstrip(".") for s in SAVE_FORMATS}
-    assert values(StudyName) == set(STUDIES)
     assert values(Friction) == set(POLACH_PARAMETER_SETS)
+    assert values(Executor) == set(EXECUTORS)
 
 
 def test_root_help_and_version(runner):

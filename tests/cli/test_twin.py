@@ -1,4 +1,4 @@
-"""``rollerrig simulate``, ``study`` and ``modes``: results, figures and names that keep
+"""``rollerrig simulate`` and ``modes``: results, figures and names that keep
 variants apart; a replayed input is never overwritten."""
 
 import json
@@ -121,18 +121,6 @@ def test_simulate_writes_results_figure_and_modes_and_variants_stay_apart(tmp_pa
     # Re-running the same variant replaces its outputs instead of failing.
     assert runner.invoke(app, args).exit_code == 0
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
-
-
-@pytest.mark.slow  # ~10-18 s: three twin runs
-def test_study_writes_table_figure_and_json(tmp_path, runner):
-    result = runner.invoke(app, ["study", "drives", "--out", str(tmp_path)])
-    assert result.exit_code == 0, result.output
-    assert "ideal speed source" in result.output
-    assert (tmp_path / "study-drives.png").stat().st_size > 10_000
-    doc = json.loads((tmp_path / "study-drives.json").read_text())
-    assert doc["study"] == "drives" and doc["provenance"]["parameters"]["study"] == "drives"
-    assert figure_provenance(tmp_path / "study-drives.png")["rig"]["sha256"]
-    assert (tmp_path / "study-drives-run.json").exists()
 
 
 def test_modes_writes_nothing_and_needs_a_speed_for_a_load(tmp_path, runner, monkeypatch):

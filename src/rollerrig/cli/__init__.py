@@ -33,6 +33,7 @@ from rollerrig.cli import calibrate as _calibrate
 from rollerrig.cli import contact as _contact
 from rollerrig.cli import demo as _demo
 from rollerrig.cli import recordings as _recordings
+from rollerrig.cli import studies as _studies
 from rollerrig.cli import twin as _twin
 from rollerrig.cli._boundary import DEBUG_ENV, BoundaryGroup, UserError
 from rollerrig.cli._console import console, err_console, note
@@ -103,7 +104,6 @@ def _root(
 COMMANDS = (
     _contact.contact,
     _twin.simulate,
-    _twin.study,
     _twin.modes,
     _recordings.analyze,
     _recordings.spectrum,
@@ -115,6 +115,7 @@ COMMANDS = (
 
 for _command in COMMANDS:
     app.command()(_command)
+app.add_typer(_studies.study_app, name="study")
 
 
 def main() -> None:  # pragma: no cover - console entry point

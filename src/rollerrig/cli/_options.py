@@ -4,7 +4,8 @@ Each enum lists the values its option accepts: ``--help`` shows them and a wrong
 usage error naming them. The values are the package's own names (a test checks that each enum
 equals the table it mirrors: :data:`rollerrig.rig.model.WHEEL_MODES`, ``ROLLER_MODES``,
 :data:`rollerrig.solve.simulation.SOLVERS`, :data:`rollerrig.solve.results.SAVE_FORMATS`,
-:data:`rollerrig.studies.STUDIES`, :data:`rollerrig.contact.creep.POLACH_PARAMETER_SETS`); they
+:data:`rollerrig.studies.runner.EXECUTORS`,
+:data:`rollerrig.contact.creep.POLACH_PARAMETER_SETS`); they
 are spelled out here so that ``rollerrig --help`` imports none of those modules (fast, and on a
 core install without the optional packages).
 """
@@ -20,6 +21,7 @@ import typer
 __all__ = [
     "DEFAULT_OUT",
     "ChannelsOption",
+    "Executor",
     "Friction",
     "LenientOption",
     "OutOption",
@@ -27,7 +29,6 @@ __all__ = [
     "RigOption",
     "RollerDrive",
     "Solver",
-    "StudyName",
     "WheelDrive",
     "load_rig",
 ]
@@ -67,12 +68,11 @@ class ResultsFormat(StrEnum):
     mat = "mat"
 
 
-class StudyName(StrEnum):
-    """The seed's parametric studies."""
+class Executor(StrEnum):
+    """Where a study runs (:data:`rollerrig.studies.runner.EXECUTORS`)."""
 
-    stiffness = "stiffness"
-    lag = "lag"
-    drives = "drives"
+    dask = "dask"
+    local = "local"
 
 
 class Friction(StrEnum):

@@ -1,4 +1,7 @@
-"""The digital twin on the command line: ``simulate``, ``study`` and ``modes``."""
+"""The digital twin on the command line: ``simulate`` and ``modes``.
+
+Studies have their own module, :mod:`rollerrig.cli.studies`.
+"""
 
 from __future__ import annotations
 
@@ -10,7 +13,6 @@ from typing import Annotated
 
 import numpy as np
 import typer
-from rich.table import Table
 from rich.text import Text
 
 from rollerrig._optional import require
@@ -24,13 +26,12 @@ from rollerrig.cli._options import (
     RigOption,
     RollerDrive,
     Solver,
-    StudyName,
     WheelDrive,
     load_rig,
 )
 from rollerrig.cli._outputs import command_outputs
 
-__all__ = ["modes", "protocol_inputs", "simulate", "study", "variant_stem"]
+__all__ = ["modes", "protocol_inputs", "simulate", "variant_stem"]
 
 _FORMAT_NEEDS = {"nc": ("h5netcdf",), "parquet": ("pyarrow",)}
 """Optional packages the results writer needs per ``--format`` (beyond xarray)."""
@@ -263,7 +264,7 @@ def _solver_stats(ds) -> dict:
 
 def _release_summary(ds, protocol) -> str:
     """One line per sudden torque release: how far T56 overshoots below zero, vs the truth."""
-    from rollerrig.studies import release_overshoots
+    from rollerrig.studies.metrics import release_overshoots
 
     return "\n".join(
         f"release at {r['time [s]']:5.2f} s: force from T56 {r['force_before [N]']:7.0f} N -> "
@@ -271,66 +272,6 @@ def _release_summary(ds, protocol) -> str:
         f"true contact force min {r['true_min [N]']:7.0f} N"
         for r in release_overshoots(ds, protocol)
     )
-
-
-def study(
-    name: Annotated[StudyName, typer.Argument(help="Which study.")],
-    rig_file: RigOption = None,
-    out: OutOption = DEFAULT_OUT,
-) -> None:
-    """The seed's parametric studies on the twin: overshoot of the torque-sensor force after a
-    sudden release, versus roller-shaft stiffness, motor lag, or roller drive."""
-    from rollerrig.output import save_figure, write_json
-    from rollerrig.report.twin import sweep_figure
-    from rollerrig.studies import run_study
-
-    rig = load_rig(rig_file)
-    study_name = name.value
-    stem = variant_stem(f"study-{study_name}", rig_file=rig_file)
-    with command_outputs(
-        out, run=stem, inputs={"rig": rig_file}, rig=rig, study=study_name
-    ) as stage:
-        _say_compile_stage(batch=True)
-        with _progress() as bar:
-            task = bar.add_task(f"study {study_name}", total=None, info="starting")
-
-            def points(done: int, total: int, failed: int) -> None:
-                info = f"{done}/{total} points" + (f", {failed} failed" if failed else "")
-                bar.update(task, completed=done, total=total, info=info)
-
-            result = run_study(study_name, rig, progress=points)
-        table = Table(
-            title=f"Study '{study_name}': overshoot below zero after a sudden torque release"
-        )
-        table.add_column("variant")
-        table.add_column("T56 / r_r", justify="right")
-        table.add_column("true F_x", justify="right")
-        for row, label in zip(result.rows(), result.labels, strict=True):
-            m, t = row["overshoot of T56/r_r [-]"], row["overshoot of F_x [-]"]
-            if m is None:  # a point that failed: its status, never "nan%"
-                table.add_row(label, row["status"], "-")
-            else:
-                table.add_row(label, f"{m:.1%}", f"{t:.1%}")
-        console.print(table)
-        for row in result.rows():
-            if row["reason"]:
-                note(f"{row['variant']}: {row['reason']}")
-        numeric = study_name != "drives"
-        unit = "kN·m/rad" if study_name == "stiffness" else result.unit
-        fig = sweep_figure(
-            np.asarray(result.values) / (1e3 if study_name == "stiffness" else 1.0)
-            if numeric
-            else result.labels,
-            {
-                "force from T56": result.measured_overshoot,
-                "true contact force": result.true_overshoot,
-            },
-            xlabel=f"{result.parameter} [{unit}]" if numeric else "",
-            title=f"Overshoot after a sudden release: {result.parameter}",
-        )
-        save_figure(fig, stage.path(f"{stem}.png"))
-        write_json(stage.path(f"{stem}.json"), {"study": study_name, "rows": result.rows()})
-    print_written(stage.written)
 
 
 def modes(

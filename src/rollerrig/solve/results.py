@@ -29,7 +29,7 @@ from rollerrig.output.provenance import provenance as _provenance
 from rollerrig.output.provenance import rig_sha256
 from rollerrig.rig import model as m
 
-__all__ = ["SAVE_FORMATS", "build_dataset", "save_dataset"]
+__all__ = ["SAVE_FORMATS", "build_dataset", "evaluate_terms", "save_dataset"]
 
 # name: (source, units, long name); source is a TERM name or ("state", index)
 _TRUTH = {
@@ -93,6 +93,44 @@ def _encoder_speed(angle, t, counts_per_rev):
     return speed
 
 
+def _segment_of(inputs, t: np.ndarray) -> np.ndarray:
+    """Index of the protocol segment of each sample time."""
+    seg_of = np.searchsorted([s.end for s in inputs.segments], t, side="left")
+    return np.minimum(seg_of, len(inputs.segments) - 1)
+
+
+def evaluate_terms(inputs, t, x) -> dict[str, np.ndarray]:
+    """The model's derived quantities (:data:`rollerrig.rig.model.TERM_NAMES`) at every sample.
+
+    Parameters
+    ----------
+    inputs : ModelInputs
+        What was simulated.
+    t : ndarray, shape (n,)
+        Sample times [s].
+    x : ndarray, shape (n, N_STATES)
+        States at those times.
+
+    Returns
+    -------
+    dict of str to ndarray
+        Term name -> values (SI units, see :data:`_TRUTH`), e.g. ``"t56"`` [N.m],
+        ``"contact_force"`` [N], ``"normal_load"`` [N].
+    """
+    from rollerrig.solve._compiled import rig_terms_series
+
+    terms = np.empty((t.size, len(m.TERM_NAMES)))
+    # Terms depend on friction through the segment's parameters: evaluate per segment.
+    seg_of = _segment_of(inputs, t)
+    for i, seg in enumerate(inputs.segments):
+        sel = np.flatnonzero(seg_of == i)
+        if sel.size:
+            out = np.empty((sel.size, len(m.TERM_NAMES)))
+            rig_terms_series(t[sel], np.ascontiguousarray(x[sel]), seg.params, inputs.tables, out)
+            terms[sel] = out
+    return {name: terms[:, j] for j, name in enumerate(m.TERM_NAMES)}
+
+
 def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
     """Assemble the labelled dataset from a solution.
 
@@ -112,19 +150,9 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
     xarray.Dataset
     """
     from rollerrig import __version__
-    from rollerrig.solve._compiled import rig_terms_series
 
-    terms = np.empty((t.size, len(m.TERM_NAMES)))
-    # Terms depend on friction through the segment's parameters: evaluate per segment.
-    seg_of = np.searchsorted([s.end for s in inputs.segments], t, side="left")
-    seg_of = np.minimum(seg_of, len(inputs.segments) - 1)
-    for i, seg in enumerate(inputs.segments):
-        sel = np.flatnonzero(seg_of == i)
-        if sel.size:
-            out = np.empty((sel.size, len(m.TERM_NAMES)))
-            rig_terms_series(t[sel], np.ascontiguousarray(x[sel]), seg.params, inputs.tables, out)
-            terms[sel] = out
-    term = {name: terms[:, j] for j, name in enumerate(m.TERM_NAMES)}
+    term = evaluate_terms(inputs, t, x)
+    seg_of = _segment_of(inputs, t)
 
     data = {}
     for name, (src, units, long_name) in _TRUTH.items():

@@ -1,11 +1,46 @@
-"""Parametric studies of the rig on the digital twin (the seed's sections 4.5.1.7-4.5.1.8)."""
+"""Studies on the twin: any grid, sampled design or set of cases, run at scale.
 
-from rollerrig.studies.sweeps import (
-    RELEASE_TEST,
-    STUDIES,
-    StudyResult,
-    release_overshoots,
-    run_study,
+- :mod:`~rollerrig.studies.studyfile` — the study file (TOML) and the bundled studies;
+- :mod:`~rollerrig.studies.design` — its points, and what each point simulates;
+- :mod:`~rollerrig.studies.metrics` — the metrics of one run, by name;
+- :mod:`~rollerrig.studies.runner` — running the points in this process or on dask;
+- :mod:`~rollerrig.studies.store` — the resumable store (zarr), one entry per point;
+- :mod:`~rollerrig.studies.summary` and :mod:`~rollerrig.studies.sensitivity` — tables and
+  sensitivity indices of a finished study.
+"""
+
+from rollerrig.studies.metrics import METRICS, release_overshoots
+from rollerrig.studies.runner import Progress, StudyRun, run_study
+from rollerrig.studies.sensitivity import (
+    MainEffects,
+    RankCorrelations,
+    SobolIndices,
+    main_effects,
+    rank_correlations,
+    sobol_indices,
 )
+from rollerrig.studies.store import open_study
+from rollerrig.studies.studyfile import StudyFileError, StudySpec, bundled_studies, load_study
+from rollerrig.studies.summary import failures, metric_summary, metric_table
 
-__all__ = ["RELEASE_TEST", "STUDIES", "StudyResult", "release_overshoots", "run_study"]
+__all__ = [
+    "METRICS",
+    "MainEffects",
+    "Progress",
+    "RankCorrelations",
+    "SobolIndices",
+    "StudyFileError",
+    "StudyRun",
+    "StudySpec",
+    "bundled_studies",
+    "failures",
+    "load_study",
+    "main_effects",
+    "metric_summary",
+    "metric_table",
+    "open_study",
+    "rank_correlations",
+    "release_overshoots",
+    "run_study",
+    "sobol_indices",
+]

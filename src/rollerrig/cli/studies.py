@@ -1,0 +1,321 @@
+"""Studies on the command line: ``study run``, ``study show``, ``study list``.
+
+``study run`` runs a study file (or a bundled study) on dask (a local cluster by default, or
+``--scheduler ADDRESS``) or in this process (``--executor local``), with progress; the store
+(``study-<name>.zarr``) is written into ``--out`` as points finish, so that an interrupted run
+resumes when started again. At the end it writes, as one set, the points as CSV, a JSON summary
+(counts, rate, sensitivity) and the figures. ``study show`` writes the same from a store.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.table import Table
+
+from rollerrig.cli._boundary import BoundaryGroup, Interrupted, UserError
+from rollerrig.cli._console import console, note, print_written
+from rollerrig.cli._options import DEFAULT_OUT, Executor, OutOption, RigOption
+
+__all__ = ["study_app"]
+
+study_app = typer.Typer(
+    name="study",
+    help="Studies on the twin: any grid, sampled design or set of cases of rig parameters, "
+    "experiment and drives, run on dask; their tables, figures and sensitivity indices.",
+    cls=BoundaryGroup,
+    no_args_is_help=True,
+    rich_markup_mode=None,
+)
+
+MAX_TABLE_POINTS = 30
+"""Up to this many points, the console shows one row per point; beyond, a summary per metric."""
+MAX_TABLE_METRICS = 3
+"""Metrics shown per point on the console (a terminal is narrow); the files hold them all."""
+MAX_JSON_POINTS = 5000
+"""Up to this many points, the JSON summary lists every point (the store and CSV always do)."""
+
+
+def _format(value: float, unit: str) -> str:
+    if not np.isfinite(value):
+        return "-"
+    if unit == "1":
+        return f"{value:.4g}"
+    return f"{value:.4g} {unit}"
+
+
+def _stem(name: str) -> str:
+    return f"study-{name}"
+
+
+def _results(ds, stem: str, stage, *, run_info: dict) -> None:
+    """Print the table and write CSV, JSON and figures of a study's dataset into ``stage``."""
+    from rollerrig.output import save_figure, write_json, write_table
+    from rollerrig.report.studies import study_figures
+    from rollerrig.studies.summary import failures, metric_summary
+
+    metrics = json.loads(ds.attrs["metrics"])
+    parameters = json.loads(ds.attrs["parameters"])
+    status = np.asarray(ds.status.values, dtype=str)
+    n = status.size
+    if n <= MAX_TABLE_POINTS:
+        table = Table(title=f"Study '{ds.attrs['study']}': {n} points")
+        table.add_column("point")
+        shown = metrics[:MAX_TABLE_METRICS]
+        for m in shown:
+            unit = ds[m].attrs.get("units", "")
+            table.add_column(m + ("" if unit in ("", "1") else f" [{unit}]"), justify="right")
+        table.add_column("status")
+        for i in range(n):
+            row = [str(ds.label.values[i])]
+            row += [_format(float(ds[m].values[i]), "") for m in shown]
+            table.add_row(*row, status[i])
+        console.print(table)
+        if len(metrics) > len(shown):
+            note(f"{len(metrics) - len(shown)} more metrics of each point in the CSV and JSON")
+    else:
+        table = Table(title=f"Study '{ds.attrs['study']}': {n} points")
+        for col in ("metric", "unit", "with value", "min", "mean", "max"):
+            table.add_column(col, justify="left" if col in ("metric", "unit") else "right")
+        for row in metric_summary(ds, metrics):
+            table.add_row(
+                row["metric"],
+                row.get("unit", ""),
+                str(row["with value"]),
+                *(
+                    _format(row[k], "") if row.get(k) is not None else "-"
+                    for k in ("min", "mean", "max")
+                ),
+            )
+        console.print(table)
+    failed = failures(ds)
+    for row in failed[:10]:
+        note(f"{row['label']}: {row['status']}: {row['reason']}")
+    if len(failed) > 10:
+        note(f"... and {len(failed) - 10} more points that did not succeed (see the CSV)")
+
+    columns = {"label": (ds.label.values.astype(str), None, "point label")}
+    for key in parameters:
+        values = ds[key].values
+        if values.dtype.kind in "OUS":
+            columns[key] = (values.astype(str), None, key)
+        else:
+            attrs = {k: v for k, v in ds[key].attrs.items() if k == "nan_meaning"}
+            columns[key] = (values, ds[key].attrs.get("units") or "1", key, attrs)
+    columns["status"] = (status, None, "point status")
+    columns["reason"] = (ds.reason.values.astype(str), None, "why a point did not succeed")
+    for m in metrics:
+        a = ds[m].attrs
+        columns[m] = (
+            ds[m].values,
+            a.get("units", "1"),
+            a.get("long_name", m),
+            {"nan_meaning": a.get("nan_meaning", "undefined")},
+        )
+    write_table(stage.path(f"{stem}-points.csv"), columns)
+
+    summary = {
+        "study": ds.attrs["study"],
+        "design": ds.attrs["design"],
+        "parameters": parameters,
+        "metrics": metrics,
+        "points": n,
+        "status_counts": {s: int((status == s).sum()) for s in np.unique(status)},
+        **run_info,
+        "summary": metric_summary(ds, metrics),
+        "failures": failed,
+        "sensitivity": _sensitivity(ds, metrics),
+    }
+    if n <= MAX_JSON_POINTS:
+        from rollerrig.studies.summary import metric_table
+
+        rows = metric_table(ds, metrics[0])
+        for m in metrics[1:]:
+            for row, other in zip(rows, metric_table(ds, m), strict=True):
+                row.update({k: v for k, v in other.items() if k not in row})
+        summary["rows"] = rows
+    else:
+        summary["rows_null_because"] = (
+            f"{n} points: more than {MAX_JSON_POINTS}; every point is in the CSV and the store"
+        )
+    write_json(stage.path(f"{stem}.json"), summary)
+    for name, fig in study_figures(ds, metrics).items():
+        save_figure(fig, stage.path(f"{stem}-{name}.png"))
+
+
+def _sensitivity(ds, metrics) -> dict:
+    """Sensitivity of each metric, by what the design allows (a reason where it does not)."""
+    from rollerrig._validation import ParameterError
+    from rollerrig.studies import sensitivity as sens
+
+    design = ds.attrs["design"]
+    sample = json.loads(ds.attrs.get("sample", "{}"))
+    out = {}
+    for m in metrics:
+        entry: dict = {}
+        try:
+            if design == "grid":
+                entry["main_effects"] = sens.main_effects(ds, m).rows()
+            elif design == "sample":
+                entry["rank_correlations"] = sens.rank_correlations(ds, m).rows()
+                if sample.get("method") == "sobol":
+                    entry["sobol"] = sens.sobol_indices(ds, m).rows()
+        except ParameterError as exc:
+            entry["null_because"] = " ".join(str(exc).split())
+        if entry:
+            out[m] = entry
+    return out
+
+
+@study_app.command("run")
+def run(
+    study: Annotated[
+        str,
+        typer.Argument(
+            help="A study file (TOML) or a bundled study: stiffness, lag, drives, joint, "
+            "sensitivity (rollerrig study list).",
+        ),
+    ],
+    rig_file: RigOption = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            help="Address of a running dask scheduler, e.g. tcp://10.0.0.5:8786 (default: a "
+            "local cluster on this machine)."
+        ),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option(min=1, help="Worker processes of the local cluster (default: the cores)."),
+    ] = None,
+    executor: Annotated[
+        Executor,
+        typer.Option(
+            help="dask (a local cluster or --scheduler) or local (this process, numba threads)."
+        ),
+    ] = Executor.dask,
+    restart: Annotated[
+        bool,
+        typer.Option(help="Start again: remove this study's store in --out first."),
+    ] = False,
+    out: OutOption = DEFAULT_OUT,
+) -> None:
+    """Run a study (or resume it): every point simulated and measured, with progress; the
+    store study-NAME.zarr in --out, then the points as CSV, a JSON summary and figures."""
+    from rollerrig.cli._outputs import command_outputs
+    from rollerrig.cli.twin import _progress, _say_compile_stage
+    from rollerrig.rig.parameters import load_rig as _load_rig
+    from rollerrig.studies.runner import run_study
+    from rollerrig.studies.studyfile import load_study
+
+    executor = executor.value
+    if executor == "local" and (scheduler or workers):
+        raise UserError("--scheduler and --workers need --executor dask")
+    spec = load_study(study)
+    rig_path = rig_file or spec.rig
+    rig = _load_rig(rig_path) if rig_path else None
+    stem = _stem(spec.name)
+    inputs = {"study": None if spec.origin.startswith("bundled:") else spec.origin, "rig": rig_path}
+    with command_outputs(out, run=stem, inputs=inputs, rig=rig, study=spec.name) as stage:
+        store = Path(out) / f"{stem}.zarr"
+        _say_compile_stage(batch=True)
+        where = scheduler or (
+            f"a local dask cluster of {workers or 'all'} workers"
+            if executor == "dask"
+            else "this process"
+        )
+        console.print(f"study {spec.name!r}: {spec.size} points ({spec.design}) on {where}")
+        with _progress() as bar:
+            task = bar.add_task(f"study {spec.name}", total=spec.size, info="starting")
+
+            def shown(p) -> None:
+                info = f"{p.done}/{p.total} points"
+                if p.failed:
+                    info += f", {p.failed} failed"
+                if p.skipped:
+                    info += f", {p.skipped} from the store"
+                if p.done > p.skipped:
+                    info += f", {p.rate:.1f} points/s"
+                bar.update(task, completed=p.done, info=info)
+
+            try:
+                result = run_study(
+                    spec,
+                    rig=rig,
+                    store=store,
+                    executor=executor,
+                    scheduler=scheduler,
+                    workers=workers,
+                    restart=restart,
+                    progress=shown,
+                )
+            except Interrupted:
+                note(
+                    f"interrupted: the finished points are in {store}; run the same command "
+                    "again to resume"
+                )
+                raise
+        if result.skipped and not result.computed:
+            note(
+                f"all {result.skipped} points were already in {store}: nothing to compute "
+                "(--restart computes them again)"
+            )
+        elif result.skipped:
+            note(f"resumed: {result.skipped} points were already in {store}")
+        if result.computed:
+            console.print(
+                f"{result.computed} points computed in {result.wall_time:.1f} s "
+                f"({result.rate:.1f} points/s on {result.workers} "
+                f"{'workers' if executor == 'dask' else 'threads'})"
+            )
+        run_info = {
+            "store": str(store),
+            "executor": executor,
+            "scheduler": scheduler,
+            "workers": result.workers,
+            "computed": result.computed,
+            "resumed_from_store": result.skipped,
+            "wall_time_s": result.wall_time,
+            "points_per_second": result.rate,
+        }
+        _results(result.dataset, stem, stage, run_info=run_info)
+    console.print(f"store {store}")
+    print_written(stage.written)
+
+
+@study_app.command("show")
+def show(
+    store: Annotated[Path, typer.Argument(help="A study store (study-NAME.zarr).")],
+    out: OutOption = DEFAULT_OUT,
+) -> None:
+    """Tables, figures and sensitivity of a study store (a finished or a partial study)."""
+    from rollerrig.cli._outputs import command_outputs
+    from rollerrig.studies.store import open_study
+
+    ds = open_study(store)
+    status = np.asarray(ds.status.values, dtype=str)
+    pending = int((status == "pending").sum())
+    if pending:
+        note(f"{pending} of {status.size} points are still pending (an interrupted study)")
+    stem = _stem(ds.attrs["study"])
+    with command_outputs(out, run=f"{stem}-show", inputs={"store": None}) as stage:
+        _results(ds, stem, stage, run_info={"store": str(store)})
+    print_written(stage.written)
+
+
+@study_app.command("list")
+def list_studies() -> None:
+    """The bundled studies, with their designs and sizes."""
+    from rollerrig.studies.studyfile import bundled_studies, load_study
+
+    table = Table(title="Bundled studies (rollerrig study run NAME)")
+    for col in ("name", "design", "points", "description"):
+        table.add_column(col)
+    for name in bundled_studies():
+        spec = load_study(name)
+        table.add_row(name, spec.design, str(spec.size), spec.description)
+    console.print(table)

@@ -1,0 +1,352 @@
+"""Metrics of one simulated run: the numbers a study compares, chosen by name.
+
+Each metric is a pure function of the run's channels (:class:`RunChannels`, numpy arrays on the
+output time base) and the experiment; it returns one float, NaN where it is undefined for that
+run (its ``nan_meaning`` says when). :data:`METRICS` is the documented set:
+
+=========================  =======  ============================================================
+name                       unit     what
+=========================  =======  ============================================================
+release_overshoot          1        how far the force the rig derives from its torque sensor,
+                                    T56 / r_r, overshoots below zero after a sudden torque
+                                    release, relative to its value before (largest over the
+                                    releases; Kayaalp Figs. 42-43)
+true_release_overshoot     1        the same for the true contact force F_x
+settling_time              s        time after a release until T56 stays within 5 % of its
+                                    value before the release around its final value (largest)
+coa_bias_rms               1        RMS of the CoA the rig reports, T56 / (r_r N), minus the true
+                                    CoA F_x / N, over the loaded samples
+coa_bias_peak              1        largest absolute value of that difference
+peak_coa                   1        largest CoA the rig reports
+peak_true_coa              1        largest true CoA
+max_shaft_torque           N.m      largest absolute roller-shaft torque T56
+t56_line_frequency         Hz       frequency of the largest line of T56 between 2 and 50 Hz
+                                    in the rest after the first release (the ringing)
+t56_line_amplitude         N.m      its amplitude (Hann window, amplitude-corrected)
+=========================  =======  ============================================================
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from rollerrig.experiment import Protocol
+
+__all__ = [
+    "METRICS",
+    "Metric",
+    "RunChannels",
+    "compute_metrics",
+    "release_overshoots",
+    "run_channels",
+]
+
+RELEASE_WINDOW = 3.0
+"""Time after a release searched for the overshoot's minimum [s]."""
+SETTLING_BAND = 0.05
+"""Settling band: this share of |T56| before the release [-]."""
+LINE_BAND = (2.0, 50.0)
+"""Band searched for the ringing line of T56 [Hz]: above the drive's slow mode (0.8 Hz, whose
+window leakage a local-maximum search ignores), holding the 13.8 Hz roller-shaft mode."""
+
+
+class RunChannels(NamedTuple):
+    """The channels of one run the metrics need, on the output time base (SI).
+
+    ``time`` [s]; ``t56`` [N.m] the roller-shaft torque (the sensor); ``contact_force`` [N] the
+    true F_x; ``normal_load`` [N]; ``roller_radius`` [m].
+    """
+
+    time: np.ndarray
+    t56: np.ndarray
+    contact_force: np.ndarray
+    normal_load: np.ndarray
+    roller_radius: float
+
+    @property
+    def measured_force(self) -> np.ndarray:
+        """Force the rig derives from the torque sensor, T56 / r_r [N]."""
+        return self.t56 / self.roller_radius
+
+
+def run_channels(inputs, t: np.ndarray, x: np.ndarray) -> RunChannels:
+    """The channels of a solved run (:func:`rollerrig.solve.results.evaluate_terms`)."""
+    from rollerrig.solve.results import evaluate_terms
+
+    term = evaluate_terms(inputs, t, x)
+    return RunChannels(
+        t,
+        term["t56"],
+        term["contact_force"],
+        term["normal_load"],
+        inputs.rig.geometry.roller_radius_x,
+    )
+
+
+def _releases(protocol: Protocol) -> list:
+    return [e for e in protocol.events if e.action == "release_torque"]
+
+
+def _release_rows(run: RunChannels, protocol: Protocol, window: float) -> list[dict]:
+    t = run.time
+    measured_force = run.measured_force
+    rows = []
+    for event in _releases(protocol):
+        before = float(measured_force[np.argmin(np.abs(t - event.start))])
+        if not before > 0:
+            continue
+        span = (t > event.start) & (t <= event.start + window)
+        if not span.any():
+            continue
+        measured = float(measured_force[span].min())
+        true = float(run.contact_force[span].min())
+        rows.append(
+            {
+                "time [s]": event.start,
+                "force_before [N]": before,
+                "measured_min [N]": measured,
+                "measured_overshoot [-]": -measured / before,
+                "true_min [N]": true,
+                "true_overshoot [-]": -true / before,
+            }
+        )
+    return rows
+
+
+def release_overshoots(ds, protocol: Protocol, window: float = RELEASE_WINDOW) -> list[dict]:
+    """Overshoot below zero after each sudden torque release.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or RunChannels
+        Simulation results (:func:`rollerrig.solve.results.build_dataset`) or a run's channels.
+    protocol : Protocol
+        The experiment (its ``release_torque`` events).
+    window : float
+        Time after each release searched for the minimum [s].
+
+    Returns
+    -------
+    list of dict
+        Per release from a positive force: time [s], force from T56 before it [N], its minimum
+        after [N], the relative overshoot [-], and the true contact force's minimum and relative
+        overshoot.
+    """
+    if not isinstance(ds, RunChannels):
+        rr = ds.measured_t56.values / ds.measured_force.values
+        finite = np.isfinite(rr)
+        ds = RunChannels(
+            ds.time.values,
+            ds.measured_t56.values,
+            ds.contact_force.values,
+            ds.normal_load.values,
+            float(np.median(rr[finite])) if finite.any() else np.nan,
+        )
+    return _release_rows(ds, protocol, window)
+
+
+def _release_overshoot(run, protocol):
+    rows = _release_rows(run, protocol, RELEASE_WINDOW)
+    return max((r["measured_overshoot [-]"] for r in rows), default=np.nan)
+
+
+def _true_release_overshoot(run, protocol):
+    rows = _release_rows(run, protocol, RELEASE_WINDOW)
+    return max((r["true_overshoot [-]"] for r in rows), default=np.nan)
+
+
+def _rest_after(protocol: Protocol, start: float) -> float:
+    """End of the rest after a release: the next step that changes the torque, or the end."""
+    later = [e.start for e in protocol.events if e.start > start and e.action != "hold"]
+    return min(later, default=protocol.duration)
+
+
+def _settling_time(run, protocol):
+    t, t56 = run.time, run.t56
+    worst = np.nan
+    for event in _releases(protocol):
+        before = abs(float(t56[np.argmin(np.abs(t - event.start))]))
+        end = _rest_after(protocol, event.start)
+        span = (t > event.start) & (t <= end)
+        if not before > 0 or span.sum() < 10:
+            continue
+        tt, yy = t[span], t56[span]
+        tail = tt >= tt[-1] - 0.1 * (tt[-1] - tt[0])  # the final value: the last 10 % of the rest
+        outside = np.abs(yy - yy[tail].mean()) > SETTLING_BAND * before
+        if outside[tail].any():
+            return np.nan  # not settled within the rest: no number to report
+        last = np.flatnonzero(outside)
+        settle = (tt[last[-1] + 1] if last.size else tt[0]) - event.start
+        worst = settle if not np.isfinite(worst) else max(worst, settle)
+    return worst
+
+
+def _loaded_bias(run):
+    loaded = run.normal_load > 0
+    if not loaded.any():
+        return None
+    return (run.measured_force[loaded] - run.contact_force[loaded]) / run.normal_load[loaded]
+
+
+def _coa_bias_rms(run, protocol):
+    bias = _loaded_bias(run)
+    return np.nan if bias is None else float(np.sqrt(np.mean(bias**2)))
+
+
+def _coa_bias_peak(run, protocol):
+    bias = _loaded_bias(run)
+    return np.nan if bias is None else float(np.max(np.abs(bias)))
+
+
+def _peak_coa(run, protocol):
+    loaded = run.normal_load > 0
+    if not loaded.any():
+        return np.nan
+    return float(np.max(run.measured_force[loaded] / run.normal_load[loaded]))
+
+
+def _peak_true_coa(run, protocol):
+    loaded = run.normal_load > 0
+    if not loaded.any():
+        return np.nan
+    return float(np.max(run.contact_force[loaded] / run.normal_load[loaded]))
+
+
+def _max_shaft_torque(run, protocol):
+    return float(np.max(np.abs(run.t56)))
+
+
+def _ringing_line(run, protocol) -> tuple[float, float]:
+    releases = _releases(protocol)
+    if not releases:
+        return np.nan, np.nan
+    start = releases[0].start + 0.05  # past the release ramp itself
+    end = _rest_after(protocol, releases[0].start)
+    span = (run.time > start) & (run.time <= end)
+    n = int(span.sum())
+    if n < 32:
+        return np.nan, np.nan
+    y = run.t56[span]
+    tt = run.time[span]
+    y = y - np.polyval(np.polyfit(tt - tt[0], y, 1), tt - tt[0])
+    w = np.hanning(n)
+    dt = float(np.median(np.diff(tt)))
+    nfft = 1 << int(np.ceil(np.log2(8 * n)))  # zero padding: the peak's frequency to ~1/8 bin
+    spec = np.abs(np.fft.rfft(y * w, nfft)) * 2.0 / w.sum()
+    f = np.fft.rfftfreq(nfft, dt)
+    band = (f >= LINE_BAND[0]) & (f <= min(LINE_BAND[1], 0.4 / dt))
+    # A line is a local maximum inside the band: the band's edge on the flank of a slower
+    # mode is not one.
+    peak = np.zeros_like(band)
+    peak[1:-1] = (spec[1:-1] > spec[:-2]) & (spec[1:-1] >= spec[2:])
+    candidates = np.flatnonzero(band & peak)
+    if not candidates.size:
+        return np.nan, np.nan
+    k = candidates[np.argmax(spec[candidates])]
+    return float(f[k]), float(spec[k])
+
+
+@dataclass(frozen=True)
+class Metric:
+    """One metric: its unit, what it says, when it is undefined, and its function."""
+
+    name: str
+    units: str
+    long_name: str
+    nan_meaning: str
+    function: Callable[[RunChannels, Protocol], float]
+
+
+_NO_RELEASE = "the experiment has no torque release from a positive force, or the run failed"
+METRICS: dict[str, Metric] = {
+    m.name: m
+    for m in (
+        Metric(
+            "release_overshoot",
+            "1",
+            "overshoot of T56/r_r below zero after a release",
+            _NO_RELEASE,
+            _release_overshoot,
+        ),
+        Metric(
+            "true_release_overshoot",
+            "1",
+            "overshoot of F_x below zero after a release",
+            _NO_RELEASE,
+            _true_release_overshoot,
+        ),
+        Metric(
+            "settling_time",
+            "s",
+            "time for T56 to settle within 5 % after a release",
+            _NO_RELEASE + "; or T56 had not settled by the end of the rest",
+            _settling_time,
+        ),
+        Metric(
+            "coa_bias_rms",
+            "1",
+            "RMS of the reported minus the true CoA",
+            "no loaded sample, or the run failed",
+            _coa_bias_rms,
+        ),
+        Metric(
+            "coa_bias_peak",
+            "1",
+            "largest |reported minus true CoA|",
+            "no loaded sample, or the run failed",
+            _coa_bias_peak,
+        ),
+        Metric(
+            "peak_coa",
+            "1",
+            "largest CoA the rig reports, T56/(r_r N)",
+            "no loaded sample, or the run failed",
+            _peak_coa,
+        ),
+        Metric(
+            "peak_true_coa",
+            "1",
+            "largest true CoA, F_x/N",
+            "no loaded sample, or the run failed",
+            _peak_true_coa,
+        ),
+        Metric("max_shaft_torque", "N.m", "largest |T56|", "the run failed", _max_shaft_torque),
+        Metric(
+            "t56_line_frequency",
+            "Hz",
+            "frequency of the largest T56 line after a release",
+            "no release with a rest long enough for a spectrum, or the run failed",
+            lambda run, p: _ringing_line(run, p)[0],
+        ),
+        Metric(
+            "t56_line_amplitude",
+            "N.m",
+            "amplitude of the largest T56 line after a release",
+            "no release with a rest long enough for a spectrum, or the run failed",
+            lambda run, p: _ringing_line(run, p)[1],
+        ),
+    )
+}
+"""The metrics a study can compute, by name (see the module docstring)."""
+
+
+def compute_metrics(run: RunChannels, protocol: Protocol, names) -> dict[str, float]:
+    """The named metrics of one run (NaN where undefined).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rollerrig.experiment import load_protocol
+    >>> p = load_protocol("release-test")
+    >>> t = np.arange(0, p.duration, 1e-3)
+    >>> torque = p.torque_at(t) * 0.99  # a shaft that follows the request exactly, 1 % lower
+    >>> run = RunChannels(t, torque, torque / 0.2, np.full(t.size, 4300.0), 0.2)
+    >>> m = compute_metrics(run, p, ["release_overshoot", "max_shaft_torque"])
+    >>> round(m["release_overshoot"], 6), round(m["max_shaft_torque"], 1)
+    (-0.0, 594.0)
+    """
+    return {name: float(METRICS[name].function(run, protocol)) for name in names}

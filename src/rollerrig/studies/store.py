@@ -1,0 +1,288 @@
+"""The study store: one entry per point, written as points finish, resumable.
+
+A store is a zarr group (a folder, ``<study>.zarr``) holding, along one dimension ``point``:
+
+- one array per varied quantity, named by its key (SI values, or names), attribute ``units``;
+- ``label``: the point's short label; ``status``: ``"ok"``, ``"solver failed"``,
+  ``"invalid parameters"`` or ``"pending"`` (not run yet); ``reason``: why, for the others;
+- one array per metric (:mod:`rollerrig.studies.metrics`), NaN where the status is not ``ok``
+  or the metric is undefined for that point (attribute ``nan_meaning``);
+
+and, as group attributes, the study (its file's text and SHA-256, design, parameters, metrics,
+grid shape or sample design) and the provenance of the run that created it.
+
+Why zarr: each chunk is its own file, written atomically (a temporary file renamed), so a study
+killed at any moment leaves a store whose finished points are intact; resuming runs only the
+points still ``pending``. Results are buffered and written every few seconds
+(:data:`FLUSH_SECONDS`): an interruption loses at most that much work.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from rollerrig._optional import require
+from rollerrig._validation import ParameterError
+
+__all__ = [
+    "FLUSH_SECONDS",
+    "STATUSES",
+    "StoreError",
+    "StudyStore",
+    "open_study",
+]
+
+STATUSES = ("ok", "solver failed", "invalid parameters", "pending")
+"""The status a point can have in a store."""
+FLUSH_SECONDS = 2.0
+"""Finished points are written to the store at least this often [s]."""
+FORMAT_VERSION = 1
+"""Version of the store layout (attribute ``rollerrig_study_store``)."""
+
+
+class StoreError(ParameterError):
+    """A study store cannot be created, opened or resumed; the message says why and what to do."""
+
+
+def _zarr():
+    return require("zarr", purpose="the study store")
+
+
+def _chunk(n: int) -> int:
+    """Chunk length [points]: about 1000 points a chunk, never more than the study."""
+    return max(1, min(n, 1024))
+
+
+class StudyStore:
+    """A study store on disk (create with :meth:`create`, reopen with :meth:`open`).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp()) / "demo.zarr"
+    >>> store = StudyStore.create(
+    ...     folder, attrs={"study": "demo", "study_sha256": "x"},
+    ...     parameters={"load": (np.array([4300.0, 20e3]), {"units": "N"})},
+    ...     labels=["load = 4.3 kN", "load = 20 kN"],
+    ...     metrics={"peak_coa": {"units": "1"}})
+    >>> store.pending().tolist()
+    [0, 1]
+    >>> store.record([(1, "ok", "", {"peak_coa": 0.42})]); store.flush()
+    >>> StudyStore.open(folder, study_sha256="x").pending().tolist()
+    [0]
+    """
+
+    def __init__(self, path: Path, group):
+        self.path = Path(path)
+        self._group = group
+        self._buffer: list[tuple[int, str, str, Mapping[str, float]]] = []
+        self._flushed = time.monotonic()
+        self.metrics: tuple[str, ...] = tuple(json.loads(group.attrs["metrics"]))
+        self.size = int(group["status"].shape[0])
+
+    # ------------------------------------------------------------------ create / open
+
+    @classmethod
+    def create(
+        cls,
+        path: str | os.PathLike,
+        *,
+        attrs: Mapping[str, object],
+        parameters: Mapping[str, tuple[np.ndarray, Mapping[str, str]]],
+        labels: Sequence[str],
+        metrics: Mapping[str, Mapping[str, str]],
+    ) -> StudyStore:
+        """Create a store (the folder must not exist).
+
+        Parameters
+        ----------
+        path : path
+            The store's folder (``.zarr``).
+        attrs : mapping
+            Group attributes (the study, the provenance); values that are not text are stored
+            as JSON text.
+        parameters : mapping
+            Key -> (values per point, attributes with ``units``).
+        labels : sequence of str
+            One per point.
+        metrics : mapping
+            Metric name -> attributes (``units``, ``long_name``, ``nan_meaning``).
+        """
+        zarr = _zarr()
+        path = Path(path)
+        n = len(labels)
+        chunk = _chunk(n)
+        tmp = path.with_name(f".{path.name}.creating-{os.getpid()}")
+        group = zarr.open_group(tmp, mode="w")
+        for key, (values, a) in parameters.items():
+            values = np.asarray(values)
+            kind = str if values.dtype.kind in "OUS" else "f8"
+            arr = group.create_array(key, shape=(n,), chunks=(chunk,), dtype=kind)
+            arr[:] = values.astype(str) if kind is str else values.astype(float)
+            arr.attrs.update(dict(a))
+        for name, fill in (("label", ""), ("status", "pending"), ("reason", "")):
+            arr = group.create_array(name, shape=(n,), chunks=(chunk,), dtype=str, fill_value=fill)
+            if name == "label":
+                arr[:] = np.asarray(labels, dtype=str)
+        for name, a in metrics.items():
+            arr = group.create_array(
+                name, shape=(n,), chunks=(chunk,), dtype="f8", fill_value=np.nan
+            )
+            arr.attrs.update(dict(a))
+        plain = {k: v if isinstance(v, str) else json.dumps(v) for k, v in attrs.items()}
+        plain["parameters"] = json.dumps(list(parameters))
+        plain["metrics"] = json.dumps(list(metrics))
+        plain["rollerrig_study_store"] = str(FORMAT_VERSION)
+        group.attrs.update(plain)
+        # Whole or not at all: the folder appears under its name only once complete.
+        os.replace(tmp, path)
+        return cls(path, zarr.open_group(path, mode="r+"))
+
+    @classmethod
+    def open(cls, path: str | os.PathLike, *, study_sha256: str | None = None) -> StudyStore:
+        """Reopen a store to resume it; with ``study_sha256``, check it holds that study."""
+        zarr = _zarr()
+        path = Path(path)
+        try:
+            group = zarr.open_group(path, mode="r+")
+            version = group.attrs.get("rollerrig_study_store")
+        except Exception as exc:  # zarr raises several types for a folder that is not a store
+            raise StoreError(
+                f"{path}: not a rollerrig study store ({type(exc).__name__}: {exc}); remove it "
+                "or choose another --out"
+            ) from None
+        if version != str(FORMAT_VERSION):
+            raise StoreError(
+                f"{path}: not a rollerrig study store of this version (found {version!r}); "
+                "remove it or choose another --out"
+            )
+        if study_sha256 is not None and group.attrs.get("study_sha256") != study_sha256:
+            raise StoreError(
+                f"{path}: this store holds another study (the study file changed since it was "
+                f"started: {group.attrs.get('study_origin', '?')}); run with --restart to start "
+                "again, or choose another --out"
+            )
+        return cls(path, group)
+
+    # ------------------------------------------------------------------ points
+
+    def status(self) -> np.ndarray:
+        """Status of every point."""
+        return _text(self._group["status"][:])
+
+    def pending(self) -> np.ndarray:
+        """Indices of the points not yet run (including those in the write buffer)."""
+        buffered = {i for i, *_ in self._buffer}
+        return np.array(
+            [i for i in np.flatnonzero(self.status() == "pending") if i not in buffered], dtype=int
+        )
+
+    def record(self, rows: Iterable[tuple[int, str, str, Mapping[str, float]]]) -> None:
+        """Add finished points ``(index, status, reason, metrics)``; written by :meth:`flush`
+        (called here when :data:`FLUSH_SECONDS` have passed since the last write)."""
+        for row in rows:
+            if row[1] not in STATUSES[:-1]:
+                raise ValueError(f"point {row[0]}: status {row[1]!r} not in {STATUSES[:-1]}")
+            self._buffer.append(row)
+        if time.monotonic() - self._flushed >= FLUSH_SECONDS:
+            self.flush()
+
+    def flush(self) -> None:
+        """Write the buffered points (metrics and reasons first, the status last: a point
+        whose status says it finished has its numbers)."""
+        self._flushed = time.monotonic()
+        if not self._buffer:
+            return
+        rows = sorted(self._buffer, key=lambda r: r[0])
+        index = np.array([r[0] for r in rows])
+        for name in self.metrics:
+            values = np.array([r[3].get(name, np.nan) for r in rows], dtype=float)
+            self._write(name, index, values)
+        self._write("reason", index, np.array([r[2] for r in rows], dtype=str))
+        self._write("status", index, np.array([r[1] for r in rows], dtype=str))
+        self._buffer.clear()
+
+    def _write(self, name: str, index: np.ndarray, values: np.ndarray) -> None:
+        arr = self._group[name]
+        chunk = arr.chunks[0]
+        # One write per chunk touched (a chunk is rewritten whole, atomically): points of one
+        # batch may be strided over the grid, and a write per point would rewrite a chunk each.
+        for c in np.unique(index // chunk):
+            lo, hi = int(c * chunk), int(min(self.size, (c + 1) * chunk))
+            sel = (index >= lo) & (index < hi)
+            current = arr[lo:hi]
+            current[index[sel] - lo] = values[sel]
+            arr[lo:hi] = current
+
+    # ------------------------------------------------------------------ reading
+
+    def dataset(self):
+        """The store as an ``xarray.Dataset`` (dimension ``point``)."""
+        self.flush()
+        return _dataset(self._group)
+
+
+def _text(values) -> np.ndarray:
+    """Text read from zarr (numpy's StringDType) as a plain unicode array."""
+    return np.asarray(np.asarray(values).tolist(), dtype=str).reshape(np.shape(values))
+
+
+def _is_text(arr) -> bool:
+    return np.dtype(arr.dtype).kind in "OUST"
+
+
+def _dataset(group):
+    xr = require("xarray", purpose="reading a study store")
+    attrs = dict(group.attrs)
+    data = {}
+    for key in json.loads(attrs["parameters"]):
+        arr = group[key]
+        values = arr[:]
+        data[key] = (
+            "point",
+            _text(values) if _is_text(arr) else np.asarray(values, dtype=float),
+            dict(arr.attrs),
+        )
+    for name in ("label", "status", "reason"):
+        data[name] = ("point", _text(group[name][:]))
+    for name in json.loads(attrs["metrics"]):
+        data[name] = ("point", np.asarray(group[name][:], dtype=float), dict(group[name].attrs))
+    n = int(group["status"].shape[0])
+    return xr.Dataset(data, coords={"point": np.arange(n)}, attrs=attrs)
+
+
+def open_study(path: str | os.PathLike):
+    """Read a study store as an ``xarray.Dataset``.
+
+    Parameters
+    ----------
+    path : path
+        The store's folder (``<study>.zarr``, written by ``rollerrig study run``).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimension ``point``; the varied quantities, ``label``, ``status``, ``reason`` and the
+        metrics as variables; the study and provenance as attributes (JSON text).
+
+    Raises
+    ------
+    StoreError
+        When the folder is not a study store.
+    """
+    zarr = _zarr()
+    path = Path(path)
+    try:
+        group = zarr.open_group(path, mode="r")
+        version = group.attrs.get("rollerrig_study_store")
+    except Exception as exc:  # zarr raises several types for a folder that is not a store
+        raise StoreError(f"{path}: not a rollerrig study store ({exc})") from None
+    if version != str(FORMAT_VERSION):
+        raise StoreError(f"{path}: not a rollerrig study store (format {version!r})")
+    return _dataset(group)

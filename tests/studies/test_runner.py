@@ -1,0 +1,162 @@
+"""Running studies: the seed's findings, today's numbers, dask = local, failures, resume.
+
+The seed's parametric findings (Kayaalp sections 4.5.1.7-4.5.1.8, Figs. 42-49): after a sudden
+torque release the roller-shaft torque overshoots below zero with the AM response lag and the
+soft CV shaft (43.5 kN.m/rad); the overshoot falls as the shaft stiffness grows; it vanishes
+with no lag and a stiff shaft.
+"""
+
+import numpy as np
+import pytest
+
+from rollerrig.studies import StudyFileError, load_study, run_study
+from rollerrig.studies.store import StoreError
+from rollerrig.studies.studyfile import study_from_toml_string
+
+# The bundled studies before they became study files: rollerrig.studies.run_study(name,
+# default_rig()) at commit 7f6d47a (the sweeps of issue 9), overshoot of T56/r_r and of F_x.
+# The study files must give these numbers bit for bit (same points, same solver settings).
+TODAY = {
+    "stiffness": (
+        [0.4700173176044026, 0.46481503105089106, 0.459049376371512, 0.4522432662715695,
+         0.44845696075677105, 0.44370908264321707],
+        [0.18732539725363143, 0.18544760303595345, 0.18335104766221852, 0.18067077807361745,
+         0.1792866205035787, 0.17734472170639962],
+    ),
+    "lag": (
+        [0.00873764946813766, 0.11794282719697849, 0.23892995424591323, 0.36608141893230656,
+         0.47000512646174447, 0.5179057711554713],
+        [0.00312558061247005, 0.04689449230313494, 0.0952243885919495, 0.14595550052670647,
+         0.18732054756706817, 0.206344528800663],
+    ),
+    "drives": (
+        [0.4700173176044026, 0.00873764946813766, 0.0086070835563024, 0.6926812561986938,
+         0.9552173754017103, 0.9936071910378149],
+        [0.18732539725363143, 0.00312558061247005, 0.00307350048025731, 0.27568606306489873,
+         0.38042604062422886, 0.39579137987388463],
+    ),
+}  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def bundled():
+    return {name: run_study(name, executor="local").dataset for name in TODAY}
+
+
+@pytest.mark.parametrize("name", sorted(TODAY))
+def test_bundled_studies_give_the_numbers_they_gave_before(bundled, name):
+    ds = bundled[name]
+    measured, true = TODAY[name]
+    assert list(ds.status.values) == ["ok"] * 6
+    np.testing.assert_allclose(ds.release_overshoot.values, measured, rtol=1e-14)
+    np.testing.assert_allclose(ds.true_release_overshoot.values, true, rtol=1e-14)
+
+
+def test_the_seeds_findings(bundled):
+    k = bundled["stiffness"].release_overshoot.values
+    assert k[0] > 0.3 and np.all(np.diff(k) < 0)  # Fig. 43: falls with stiffness
+    lag = bundled["lag"].release_overshoot.values
+    assert np.all(np.diff(lag) > 0) and lag[0] < 0.02  # Fig. 47: no lag, no overshoot
+    drives = dict(zip(bundled["drives"].label.values, bundled["drives"].release_overshoot.values,
+                      strict=True))  # fmt: skip
+    assert drives["AM V/f, no lag, k56 = 143.5 kN·m/rad"] < 0.02  # Fig. 48: eliminated
+    # A drive that holds the rotor speed clamps the shaft: the roller rings on it.
+    assert drives["ideal speed source"] > drives["speed servo, 5 Hz bandwidth"] > 0.3
+    # The ringing line is the roller-shaft mode: 13.8 Hz on the rig's shaft, and it rises as
+    # sqrt(k56) (25.0 Hz at 143.5 kN·m/rad from 13.76 Hz at 43.5), within the spectrum's bin.
+    f = bundled["stiffness"].t56_line_frequency.values
+    assert f[0] == pytest.approx(13.8, abs=0.1)
+    assert f[-1] == pytest.approx(f[0] * np.sqrt(143.5 / 43.5), rel=0.03)
+
+
+GRID = """
+name = "small"
+[grid]
+"stiffness.roller_shaft" = { values = [43.5, 143.5], unit = "kN.m/rad" }
+load = { values = [4.3, 10.0], unit = "kN" }
+friction = { values = ["dry", "wet"] }
+[outputs]
+metrics = ["release_overshoot", "coa_bias_rms", "t56_line_frequency"]
+"""
+
+
+def test_dask_and_local_executors_give_identical_results(tmp_path):
+    spec = study_from_toml_string(GRID)
+    local = run_study(spec, executor="local").dataset
+    dask = run_study(spec, executor="dask", workers=2, batch_size=3,
+                     store=tmp_path / "small.zarr").dataset  # fmt: skip
+    assert list(local.status.values) == ["ok"] * 8 == list(dask.status.values)
+    for m in ("release_overshoot", "coa_bias_rms", "t56_line_frequency"):
+        np.testing.assert_array_equal(local[m].values, dask[m].values)
+    # The load and the surface change the point: not the same numbers everywhere.
+    assert np.unique(local.coa_bias_rms.values).size == 8
+
+
+def test_a_non_physical_point_is_reported_with_its_reason_and_the_rest_completes():
+    spec = study_from_toml_string(
+        """
+        [[cases]]
+        label = "rig today"
+        [[cases]]
+        label = "negative shaft stiffness"
+        "stiffness.roller_shaft" = -1.0
+        [[cases]]
+        label = "no roller inertia"
+        "inertia.roller" = 1e-300
+        [[cases]]
+        label = "no lag"
+        "drive.roller_lag" = 0.0
+        """
+    )
+    ds = run_study(spec, executor="local").dataset
+    status = list(ds.status.values)
+    assert status == ["ok", "invalid parameters", "solver failed", "ok"]
+    assert "stiffness.roller_shaft" in ds.reason.values[1] and "> 0" in ds.reason.values[1]
+    assert "at t = 0 s" in ds.reason.values[2]
+    assert np.isnan(ds.release_overshoot.values[1:3]).all()
+    assert ds.release_overshoot.values[0] > 0.3 and ds.release_overshoot.values[3] < 0.02
+    assert ds.reason.values[0] == "" and ds.reason.values[3] == ""
+
+
+def test_an_interrupted_study_resumes_without_recomputing_finished_points(tmp_path):
+    spec = load_study("stiffness")
+    store = tmp_path / "stiffness.zarr"
+    seen = []
+
+    def stop_after_first_batch(p):
+        seen.append(p.done)
+        if p.done >= 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_study(spec, executor="local", batch_size=2, store=store,
+                  progress=stop_after_first_batch)  # fmt: skip
+    again = run_study(spec, executor="local", batch_size=2, store=store)
+    assert again.skipped == 2 and again.computed == 4
+    fresh = run_study(spec, executor="local")
+    np.testing.assert_array_equal(
+        again.dataset.release_overshoot.values, fresh.dataset.release_overshoot.values
+    )
+    # Resuming a finished study computes nothing.
+    done = run_study(spec, executor="local", store=store)
+    assert done.computed == 0 and done.skipped == 6
+
+
+def test_a_store_of_another_study_is_refused_and_restart_replaces_it(tmp_path):
+    store = tmp_path / "s.zarr"
+    run_study(load_study("lag"), executor="local", store=store)
+    with pytest.raises(StoreError, match="holds another study"):
+        run_study(load_study("stiffness"), executor="local", store=store)
+    r = run_study(load_study("stiffness"), executor="local", store=store, restart=True)
+    assert r.computed == 6 and r.dataset.attrs["study"] == "stiffness"
+
+
+def test_bad_arguments_are_clear_errors():
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match="executor"):
+        run_study("lag", executor="spark")
+    with pytest.raises(ParameterError, match="workers"):
+        run_study("lag", workers=0)
+    with pytest.raises(StudyFileError, match="neither a bundled study"):
+        run_study("no-such-study")

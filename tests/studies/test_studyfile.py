@@ -1,0 +1,198 @@
+"""The study file: the issue's minimal form, units, designs, bundled studies, clear errors."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from rollerrig.studies.studyfile import (
+    StudyFileError,
+    bundled_studies,
+    load_study,
+    study_from_dict,
+    study_from_toml_string,
+)
+
+MINIMAL = """
+experiment = "seed-30kmh-dry"
+[grid]
+"stiffness.roller_shaft" = { values = [43.5e3, 83.5e3, 143.5e3], unit = "N.m/rad" }
+"induction_motor.response_lag_clp" = { values = [2.75, 10000.0], unit = "1/s" }
+[outputs]
+metrics = ["release_overshoot"]
+"""
+
+
+def test_the_issues_minimal_study_reads_as_a_3_by_2_grid():
+    spec = study_from_toml_string(MINIMAL)
+    assert spec.design == "grid" and spec.size == 6
+    assert spec.experiment == "seed-30kmh-dry"
+    assert spec.keys == ("stiffness.roller_shaft", "induction_motor.response_lag_clp")
+    assert spec.axes[0].values == (43.5e3, 83.5e3, 143.5e3)
+    assert spec.metrics == ("release_overshoot",)
+    assert spec.h_max is None and spec.output_rate == 1000.0
+
+
+def test_units_are_converted_to_si_and_kept_for_labels():
+    spec = study_from_toml_string(
+        """
+        [grid]
+        "stiffness.roller_shaft" = { values = [43.5, 143.5], unit = "kN.m/rad", label = "k56" }
+        load = { start = 4.3, stop = 20, num = 3, unit = "kN" }
+        speed = { start = 10, stop = 30, num = 3, unit = "km/h", scale = "log" }
+        "drive.roller_lag" = { values = [0, 360], unit = "ms" }
+        """
+    )
+    k, load, speed, lag = spec.axes
+    assert k.values == (43500.0, 143500.0) and k.show(43500.0) == "k56 = 43.5 kN.m/rad"
+    assert load.values == pytest.approx((4300.0, 12150.0, 20000.0))
+    # 10, 17.32, 30 km/h (geometric) in m/s
+    assert speed.values == pytest.approx(np.geomspace(10, 30, 3) / 3.6)
+    assert speed.scale == "log" and lag.values == (0.0, 0.36)
+
+
+def test_sample_and_cases_designs_count_their_points():
+    spec = study_from_toml_string(
+        """
+        [sample]
+        method = "sobol"
+        n = 8
+        [sample.parameters]
+        load = { distribution = "uniform", low = 4.3, high = 20, unit = "kN" }
+        speed = { distribution = "normal", mean = 20, std = 2, unit = "km/h" }
+        friction = { distribution = "choice", values = ["dry", "wet"] }
+        """
+    )
+    # Saltelli's scheme without second order: N (D + 2) points.
+    assert spec.size == 8 * (3 + 2)
+    dist = spec.sample.parameters[0]
+    assert dist.ppf(np.array([0.0, 0.5])) == pytest.approx([4300.0, 12150.0])
+    assert spec.sample.parameters[2].ppf(np.array([0.1, 0.9])).tolist() == ["dry", "wet"]
+    cases = load_study("drives")
+    assert cases.design == "cases" and cases.size == 6
+    assert cases.cases[2].settings == {"drive.roller_lag": 0.0, "stiffness.roller_shaft": 143.5e3}
+    # 20 Hz bandwidth is 2π·20 rad/s inside.
+    assert cases.cases[4].settings["servo_roller_drive.speed_bandwidth"] == pytest.approx(
+        2 * math.pi * 20
+    )
+
+
+def test_bundled_studies_load_and_the_seeds_three_are_there():
+    names = bundled_studies()
+    assert {"stiffness", "lag", "drives", "joint", "sensitivity"} <= set(names)
+    for name in names:
+        spec = load_study(name)
+        assert spec.origin == f"bundled:{name}" and spec.size >= 6
+    assert load_study("stiffness").axes[0].values == tuple(43.5e3 + 20e3 * np.arange(6))
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("[grid]\n'stiffness.shaft' = [1.0]", "stiffness.shaft: unknown key in the rig's"),
+        ("[grid]\ncolour = [1.0]", "grid.colour: not a quantity a study can vary"),
+        (
+            "[grid]\n'stiffness.roller_shaft' = { values = [1.0], unit = 'furlong' }",
+            "grid.stiffness.roller_shaft.unit: unit not accepted",
+        ),
+        ("[grid]\nfriction = ['dry', 'icy']", "grid.friction.values[1]: not a known friction"),
+        ("[grid]\nload = [4300, -1]", "grid.load.values[1]: must be > 0"),
+        ("[grid]\nload = [4300, 4300]", "grid.load.values: repeats a value"),
+        ("[grid]\nload = { start = 1, stop = 2 }", "grid.load: missing num"),
+        ("[grid]\nload = [1.0]\n[sample]\nn = 4", "give exactly one design"),
+        ("name = 'x'", "give exactly one design"),
+        ("[grid]\nload = [1.0]\n[outputs]\nmetrics = ['colour']", "outputs.metrics: unknown"),
+        (
+            "[sample]\nn = 6\n[sample.parameters]\nload={distribution='uniform',low=1,high=2}\n"
+            "speed={distribution='uniform',low=1,high=2}",
+            "sample.n: Sobol' sequences need a power of 2",
+        ),
+        (
+            "[sample]\nn = 4\nmethod = 'lhs'\n[sample.parameters]\n"
+            "load = { distribution = 'uniform', low = 2, high = 1 }",
+            "uniform needs low < high",
+        ),
+        ("[[cases]]\nload = 4300", "cases[0].label: every case needs a label"),
+        ("[grid]\nload = [1.0]\n[solver]\nh_max = { value = 1, unit = 's' }", "solver.h_max"),
+        ("[grid\n", "not valid TOML"),
+    ],
+)
+def test_a_bad_study_names_the_key_and_what_to_change(text, expected):
+    with pytest.raises(StudyFileError) as info:
+        study_from_toml_string(text, origin="my-study.toml")
+    assert expected in str(info.value)
+    assert all(line.startswith("my-study.toml") for line in info.value.problems)
+
+
+def test_every_problem_of_a_file_is_reported_at_once():
+    with pytest.raises(StudyFileError) as info:
+        study_from_toml_string("colour = 1\n[grid]\nload = [-1]\nspeed = ['fast']")
+    assert len(info.value.problems) == 3
+
+
+def test_missing_study_file_is_a_clear_error(tmp_path):
+    with pytest.raises(StudyFileError, match="neither a bundled study"):
+        load_study(tmp_path / "nothing.toml")
+
+
+def test_relative_experiment_and_rig_paths_are_resolved_against_the_study_file(tmp_path):
+    (tmp_path / "study.toml").write_text(
+        "experiment = 'exp.toml'\nrig = 'rig.toml'\n[grid]\nload = [4300.0]\n", encoding="utf-8"
+    )
+    spec = load_study(tmp_path / "study.toml")
+    assert spec.experiment == str(tmp_path.resolve() / "exp.toml")
+    assert spec.rig == str(tmp_path.resolve() / "rig.toml") and spec.name == "study"
+
+
+_scalars = st.one_of(
+    st.integers(-(10**6), 10**6),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.text(max_size=8),
+    st.booleans(),
+    st.sampled_from(["dry", "wet", "kN", "N.m/rad", "uniform", "sobol", "servo", "log"]),
+)
+_values = st.recursive(
+    _scalars,
+    lambda inner: st.lists(inner, max_size=4)
+    | st.dictionaries(
+        st.sampled_from(
+            ["values", "start", "stop", "num", "unit", "scale", "label", "distribution", "low",
+             "high", "mean", "std", "mode", "value", "x"]
+        ),
+        inner,
+        max_size=5,
+    ),
+    max_leaves=12,
+)  # fmt: skip
+_keys = st.sampled_from(
+    ["load", "speed", "friction", "drive.roller", "drive.roller_lag", "stiffness.roller_shaft",
+     "inertia.roller", "induction_motor.response_lag_clp", "meta.name", "nothing", "a.b"]
+)  # fmt: skip
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    design=st.sampled_from(["grid", "sample", "cases"]),
+    body=st.dictionaries(_keys, _values, max_size=4),
+    extra=st.dictionaries(
+        st.sampled_from(["name", "experiment", "outputs", "solver", "method", "n", "seed"]),
+        _values,
+        max_size=3,
+    ),
+)
+def test_any_study_table_is_read_or_refused_with_a_study_file_error(design, body, extra):
+    # What a user may write never escapes as another exception type.
+    if design == "grid":
+        data = {"grid": body, **extra}
+    elif design == "sample":
+        data = {"sample": {"n": 4, "parameters": body, **extra}}
+    else:
+        data = {"cases": [{"label": "a", **body}], **extra}
+    try:
+        spec = study_from_dict(data)
+    except StudyFileError as exc:
+        assert exc.problems
+    else:
+        assert spec.size >= 1
