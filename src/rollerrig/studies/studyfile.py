@@ -377,6 +377,16 @@ class _Reader:
             return None
         return float(apply_factor(float(value), factor))
 
+    def key(self, key: str, prefix: str):
+        """``(quantity, choices)`` of a varied key (:func:`key_quantity`), or None after
+        recording the problem under ``prefix.key``."""
+        try:
+            return key_quantity(key)
+        except _KeyProblem as exc:
+            p = exc.problem
+            self.problems.append(Problem(f"{prefix}.{p.key}", p.message, allowed=p.allowed))
+            return None
+
     def quantity(self, key: str, given, quantity: str) -> float | None:
         """A number (SI) or ``{ value, unit }``."""
         if isinstance(given, dict):
@@ -410,13 +420,10 @@ def _check_value(reader: _Reader, key: str, where: str, value, quantity, choices
 
 def _axis(reader: _Reader, key: str, spec) -> Axis | None:
     where = f"grid.{key}"
-    try:
-        quantity, choices = key_quantity(key)
-    except _KeyProblem as exc:
-        reader.problems.append(
-            Problem(f"grid.{exc.problem.key}", exc.problem.message, allowed=exc.problem.allowed)
-        )
+    kind = reader.key(key, "grid")
+    if kind is None:
         return None
+    quantity, choices = kind
     if isinstance(spec, list):
         spec = {"values": spec}
     if not isinstance(spec, dict):
@@ -492,17 +499,10 @@ def _axis(reader: _Reader, key: str, spec) -> Axis | None:
 
 def _distribution(reader: _Reader, key: str, spec) -> Distribution | None:
     where = f"sample.parameters.{key}"
-    try:
-        quantity, choices = key_quantity(key)
-    except _KeyProblem as exc:
-        reader.problems.append(
-            Problem(
-                f"sample.parameters.{exc.problem.key}",
-                exc.problem.message,
-                allowed=exc.problem.allowed,
-            )
-        )
+    kind = reader.key(key, "sample.parameters")
+    if kind is None:
         return None
+    quantity, choices = kind
     if not isinstance(spec, dict) or "distribution" not in spec:
         reader.problem(where, "give { distribution = ..., its parameters, unit = ... }", got=spec)
         return None
@@ -631,17 +631,10 @@ def _cases(reader: _Reader, spec) -> tuple[Case, ...] | None:
         for key, given in case.items():
             if key == "label":
                 continue
-            try:
-                quantity, choices = key_quantity(key)
-            except _KeyProblem as exc:
-                reader.problems.append(
-                    Problem(
-                        f"{where}.{exc.problem.key}",
-                        exc.problem.message,
-                        allowed=exc.problem.allowed,
-                    )
-                )
+            kind = reader.key(key, where)
+            if kind is None:
                 continue
+            quantity, choices = kind
             value = (
                 given if choices is not None else reader.quantity(f"{where}.{key}", given, quantity)
             )
