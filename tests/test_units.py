@@ -64,6 +64,13 @@ REFERENCE_TABLE = {
     "power": (("W", 1), ("kW", KILO)),
     "torque": (("N.m", 1), ("kN.m", KILO)),
     "time": (("s", 1), ("ms", MILLI), ("us", MICRO), ("ns", NANO)),
+    "second_moment": (("m^4", 1), ("cm^4", CENTI**4), ("mm^4", MILLI**4)),
+    "section_modulus": (("m^3", 1), ("cm^3", CENTI**3), ("mm^3", MILLI**3)),
+    # 1 t = 1000 kg (SI Brochure Table 8, the tonne); g = 1e-3 kg
+    "density": (("kg/m^3", 1), ("t/m^3", KILO), ("g/cm^3", MILLI / CENTI**3)),
+    "mass": (("kg", 1), ("t", KILO)),
+    "linear_stiffness": (("N/m", 1), ("N/mm", 1 / MILLI), ("kN/mm", KILO / MILLI), ("MN/m", MEGA)),
+    "linear_damping": (("N.s/m", 1),),
     "dimensionless": (("1", 1),),
     "count": (("1", 1),),
 }

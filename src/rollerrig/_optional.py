@@ -7,6 +7,7 @@ after the job (``pyproject.toml``):
 - ``twin``: simulate the rig (``simulate``, ``modes``, the demo) and write its results;
 - ``io``: read and write what acquisition software writes (TDMS, MDF4, MATLAB v7.3, CSV,
   Parquet) and the NetCDF/JSON results of ``analyze``, ``spectrum`` and ``filters``;
+- ``frame``: the static and modal FE check of the rig's frame (``frame``);
 - ``studies``: run studies at scale (``study run``) on dask, with the resumable store and
   sensitivity indices;
 - ``all``: all of them.
@@ -27,6 +28,7 @@ import importlib
 from types import ModuleType
 
 __all__ = [
+    "DISTRIBUTIONS",
     "EXTRAS",
     "JOBS",
     "MissingExtraError",
@@ -41,14 +43,20 @@ EXTRAS: dict[str, frozenset[str]] = {
     "studies": frozenset(
         {"numba", "xarray", "pandas", "h5netcdf", "h5py", "dask", "distributed", "SALib", "zarr"}
     ),
+    "frame": frozenset({"Pynite"}),
 }
-"""Extra -> the optional modules it installs (import names; here the same as the distribution
-names). Must agree with ``[project.optional-dependencies]`` of ``pyproject.toml`` (a test checks
-it); ``all`` installs every extra."""
+"""Extra -> the optional modules it installs (import names; the same as the distribution
+names except those in :data:`DISTRIBUTIONS`). Must agree with
+``[project.optional-dependencies]`` of ``pyproject.toml`` (a test checks it); ``all`` installs
+every extra."""
+
+DISTRIBUTIONS: dict[str, str] = {"Pynite": "PyNiteFEA"}
+"""Import name -> distribution name, where they differ."""
 
 JOBS: dict[str, str] = {
     "simulate": "twin",
     "study": "studies",
+    "frame": "frame",
     "modes": "twin",
     "analyze": "io",
     "spectrum": "io",

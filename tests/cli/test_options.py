@@ -18,6 +18,7 @@ NAMES = (
     "contact",
     "simulate",
     "modes",
+    "frame",
     "analyze",
     "spectrum",
     "filters",

@@ -14,7 +14,7 @@ One module per concern:
 - :mod:`~rollerrig.cli._options` — shared options and an enum for every choice;
 - :mod:`~rollerrig.cli._inputs` — reading recordings (whole or streamed) and the truth;
 - the commands: :mod:`~rollerrig.cli.contact`, :mod:`~rollerrig.cli.twin` (``simulate``,
-  ``study``, ``modes``), :mod:`~rollerrig.cli.recordings` (``analyze``, ``spectrum``,
+  ``modes``), :mod:`~rollerrig.cli.studies` (``study run|show|list``), :mod:`~rollerrig.cli.frame`, :mod:`~rollerrig.cli.recordings` (``analyze``, ``spectrum``,
   ``filters``), :mod:`~rollerrig.cli.demo`.
 
 Conventions for a command: raise :class:`UserError` (or a ``ParameterError``) for a bad option,
@@ -32,6 +32,7 @@ import typer
 from rollerrig.cli import calibrate as _calibrate
 from rollerrig.cli import contact as _contact
 from rollerrig.cli import demo as _demo
+from rollerrig.cli import frame as _frame
 from rollerrig.cli import recordings as _recordings
 from rollerrig.cli import studies as _studies
 from rollerrig.cli import twin as _twin
@@ -105,6 +106,7 @@ COMMANDS = (
     _contact.contact,
     _twin.simulate,
     _twin.modes,
+    _frame.frame,
     _recordings.analyze,
     _recordings.spectrum,
     _recordings.filters,

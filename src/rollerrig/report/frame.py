@@ -1,0 +1,158 @@
+"""Figures of the frame analysis: the deformed shape under the test load and the mode shapes.
+
+Both are 3-D line drawings of the members (through each member's inner FE nodes) over the
+undeformed frame in grey. Displacements are magnified; the factor is stated in the title
+(``displacements x 2000``) and returned, so a reader can take lengths off the figure.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only; never needs a display
+import matplotlib.pyplot as plt
+import numpy as np
+
+from rollerrig.frame.analysis import FrameResult
+
+__all__ = ["auto_scale", "deformed_shape_figure", "mode_shape_figure"]
+
+_FRACTION = 0.12
+"""The largest displacement is drawn as this fraction of the frame's largest dimension."""
+
+
+def _span(result: FrameResult) -> float:
+    p = np.array(list(result.frame.nodes.values()), dtype=float)
+    return float(np.max(np.ptp(p, axis=0))) or 1.0
+
+
+def auto_scale(result: FrameResult, translations: np.ndarray) -> float:
+    """A round magnification (1, 2 or 5 x 10^k) that draws the largest translation as about
+    12 % of the frame's largest dimension [1].
+
+    Examples
+    --------
+    >>> from rollerrig.frame import default_frame, analyze_frame
+    >>> r = analyze_frame(default_frame(), n_modes=1)
+    >>> auto_scale(r, r.displacements[:, :3])  # 0.08 mm drawn as 0.16 m
+    2000.0
+    """
+    peak = float(np.max(np.linalg.norm(translations, axis=1)))
+    if peak <= 0.0 or not np.isfinite(peak):
+        return 1.0
+    raw = _FRACTION * _span(result) / peak
+    exponent = np.floor(np.log10(raw))
+    mantissa = raw / 10**exponent
+    step = 5.0 if mantissa >= 5 else 2.0 if mantissa >= 2 else 1.0
+    return float(step * 10**exponent)
+
+
+def _polylines(result: FrameResult) -> dict[str, list[int]]:
+    """Member -> the indices (in ``result.nodes``) of its FE nodes, start to end."""
+    index = {n: i for i, n in enumerate(result.nodes)}
+    out = {}
+    for name, m in result.frame.members.items():
+        inner = [index[f"{name}~{k}"] for k in range(1, result.elements_per_member)]
+        out[name] = [index[m.start], *inner, index[m.end]]
+    return out
+
+
+def _coordinates(result: FrameResult) -> np.ndarray:
+    frame = result.frame
+    out = np.zeros((len(result.nodes), 3))
+    for name, m in frame.members.items():
+        a, b = frame.coordinates(m.start), frame.coordinates(m.end)
+        for k in range(1, result.elements_per_member):
+            out[result.nodes.index(f"{name}~{k}")] = a + (b - a) * k / result.elements_per_member
+    for name, p in frame.nodes.items():
+        out[result.nodes.index(name)] = p
+    return out
+
+
+def _draw(ax, result: FrameResult, translations: np.ndarray, scale: float, colour: str) -> None:
+    xyz = _coordinates(result)
+    moved = xyz + scale * translations
+    for chain in _polylines(result).values():
+        ax.plot(*xyz[chain].T, color="0.75", lw=1.0)
+        ax.plot(*moved[chain].T, color=colour, lw=1.8)
+    supports = [result.nodes.index(n) for n in result.frame.supports]
+    ax.scatter(*xyz[supports].T, marker="s", s=30, color="k", label="support")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+    lo, hi = xyz.min(axis=0), xyz.max(axis=0)
+    ax.set_box_aspect(np.maximum(hi - lo, 0.1 * _span(result)))
+    ax.view_init(elev=20, azim=-60)
+
+
+def deformed_shape_figure(result: FrameResult, *, scale: float | None = None):
+    """The frame deformed under the test load (magnified), over the undeformed frame.
+
+    Load points are marked with arrows in the direction of their force, gauges with dots.
+
+    Returns
+    -------
+    (matplotlib.figure.Figure, float)
+        The figure and the magnification used.
+    """
+    translations = result.displacements[:, :3]
+    scale = auto_scale(result, translations) if scale is None else float(scale)
+    fig = plt.figure(figsize=(8.0, 6.5))
+    ax = fig.add_subplot(projection="3d")
+    _draw(ax, result, translations, scale, "tab:red")
+    frame = result.frame
+    span = _span(result)
+    for lp in frame.load_points.values():
+        f = result.normal_load * np.asarray(lp.normal) + result.traction_force * np.asarray(
+            lp.traction
+        )
+        norm = np.linalg.norm(f)
+        if norm > 0:
+            p = frame.coordinates(lp.node)
+            d = 0.15 * span * f / norm
+            ax.quiver(*(p - d), *d, color="tab:blue", lw=1.2, arrow_length_ratio=0.3)
+    for g in frame.gauges.values():
+        m = frame.members[g.member]
+        a, b = frame.coordinates(m.start), frame.coordinates(m.end)
+        p = a + (b - a) * g.position / frame.length(g.member)
+        ax.scatter(*p, color="tab:green", s=25)
+        ax.text(*p, f" {g.name}", fontsize=7, color="tab:green")
+    peak = float(np.max(np.linalg.norm(translations, axis=1)))
+    ax.set_title(
+        f"{frame.name}: N = {result.normal_load / 1e3:g} kN, F_x = "
+        f"{result.traction_force / 1e3:g} kN\n"
+        f"displacements x {scale:g} (largest {peak * 1e3:.3f} mm); "
+        f"top horizontal {result.top_horizontal_deflection * 1e3:.3f} mm",
+        fontsize=9,
+    )
+    fig.tight_layout()
+    return fig, scale
+
+
+def mode_shape_figure(result: FrameResult, modes: int = 3):
+    """The first ``modes`` mode shapes, one panel each, with frequency and magnification.
+
+    Mode shapes are mass-normalised (φᵀ M φ = 1 kg); each is drawn with its own magnification.
+
+    Returns
+    -------
+    (matplotlib.figure.Figure, list of float)
+        The figure and the magnification of each panel.
+    """
+    n = max(1, min(int(modes), len(result.frequencies)))
+    fig = plt.figure(figsize=(4.6 * n, 5.0))
+    scales = []
+    for i in range(n):
+        ax = fig.add_subplot(1, n, i + 1, projection="3d")
+        translations = result.mode_shapes[i][:, :3]
+        scale = auto_scale(result, translations)
+        scales.append(scale)
+        _draw(ax, result, translations, scale, "tab:purple")
+        ax.set_title(
+            f"mode {i + 1}: {result.frequencies[i]:.2f} Hz\n"
+            f"shape x {scale:g} (mass-normalised, m/sqrt(kg))",
+            fontsize=9,
+        )
+    fig.suptitle(f"{result.frame.name}: natural modes", fontsize=10)
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.9))
+    return fig, scales

@@ -1,0 +1,100 @@
+"""``rollerrig frame``: the table, frame.json in SI units, two figures, clear errors."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from rollerrig.cli import app
+from rollerrig.output import figure_provenance
+
+pytest.importorskip("Pynite")
+
+
+def test_frame_default_writes_json_and_figures(tmp_path, runner):
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["frame", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "top horizontal deflection" in result.output and "~0.04" in result.output
+    assert "note: the bundled frame's dimensions" in result.output
+    doc = json.loads((out / "frame.json").read_text())
+    for key in (
+        "max_von_mises_stress",
+        "top_horizontal_deflection",
+        "strain_gauge_stresses",
+        "natural_frequencies",
+        "longitudinal_stiffness_at_contact",
+        "provenance",
+    ):
+        assert key in doc, key
+    assert doc["normal_load"] == 20e3 and doc["traction_force"] == 2e3  # kN -> N
+    assert doc["units"]["top_horizontal_deflection"] == "m"
+    assert 1e-6 < doc["top_horizontal_deflection"] < 1e-3  # metres, not millimetres
+    assert 1e5 < doc["max_von_mises_stress"] < 1e9  # pascals
+    assert len(doc["natural_frequencies"]) == 6
+    assert doc["contact_dof"]["stiffness"] == doc["longitudinal_stiffness_at_contact"]
+    assert doc["provenance"]["parameters"]["normal_load_N"] == 20e3
+    for name in ("frame-deformed.png", "frame-modes.png"):
+        assert (out / name).stat().st_size > 10_000
+        assert figure_provenance(out / name)["parameters"]["traction_force_N"] == 2e3
+    assert (out / "frame-run.json").exists()
+
+
+def test_frame_loads_scale_the_gauges(tmp_path, runner):
+    outs = []
+    for args in (
+        ["--vertical-kn", "10", "--horizontal-kn", "0"],
+        ["--vertical-kn", "20", "--horizontal-kn", "0"],
+    ):
+        out = tmp_path / args[1]
+        result = runner.invoke(app, ["frame", *args, "--modes", "1", "--out", str(out)])
+        assert result.exit_code == 0, result.output
+        outs.append(json.loads((out / "frame.json").read_text()))
+    a, b = (o["strain_gauge_stresses"]["top_beam"] for o in outs)
+    assert b == pytest.approx(2 * a) and a > 0
+
+
+def test_frame_file_option_and_its_errors(tmp_path, runner):
+    from importlib import resources
+
+    text = resources.files("rollerrig.frame").joinpath("data/default-frame.toml").read_text()
+    good = tmp_path / "frame.toml"
+    good.write_text(text)
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["frame", "--frame", str(good), "--modes", "2", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    doc = json.loads((out / "frame.json").read_text())
+    assert doc["frame_file"] == str(good)
+    assert doc["provenance"]["inputs"]["frame"]["sha256"]
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace('section = "brace"', 'section = "bracing"'))
+    out2 = tmp_path / "out2"
+    result = runner.invoke(app, ["frame", "--frame", str(bad), "--out", str(out2)])
+    assert result.exit_code == 2
+    assert "members.knee_brace_right.section: not a section of the frame" in result.output
+    assert "Traceback" not in result.output
+    assert not out2.exists() or list(out2.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--vertical-kn", "-5"], "--vertical-kn must be >= 0 [kN]"),
+        (["--horizontal-kn", "nan"], "--horizontal-kn must be a finite number [kN]"),
+        (["--modes", "0"], "--modes must be in [1, 50]"),
+    ],
+)
+def test_frame_rejects_bad_options(tmp_path, runner, args, message):
+    result = runner.invoke(app, ["frame", "--out", str(tmp_path), *args])
+    assert result.exit_code == 2
+    assert message in result.output
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_frame_help_keeps_the_units(runner):
+    result = runner.invoke(app, ["frame", "--help"])
+    assert result.exit_code == 0
+    text = " ".join(result.output.split())
+    for fragment in ("[kN], >= 0", "contact [kN]", "--frame", "frame.json"):
+        assert fragment in text, fragment

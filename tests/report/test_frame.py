@@ -1,0 +1,60 @@
+"""Frame figures: the deformed shape and the mode shapes, magnification stated."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from rollerrig.frame import analyze_frame, default_frame
+
+pytest.importorskip("Pynite")
+
+from rollerrig.report.frame import auto_scale, deformed_shape_figure, mode_shape_figure
+
+
+@pytest.fixture(scope="module")
+def result():
+    return analyze_frame(default_frame(), 20e3, 2e3, n_modes=3)
+
+
+def test_deformed_shape_states_the_scale_and_draws_every_member(result):
+    fig, scale = deformed_shape_figure(result)
+    ax = fig.axes[0]
+    title = ax.get_title()
+    assert f"displacements x {scale:g}" in title
+    assert "N = 20 kN, F_x = 2 kN" in title
+    assert f"top horizontal {result.top_horizontal_deflection * 1e3:.3f} mm" in title
+    assert ax.get_xlabel() == "x [m]" and ax.get_zlabel() == "z [m]"
+    # Two lines per member: undeformed (grey) and deformed.
+    assert len(ax.get_lines()) == 2 * len(result.frame.members)
+    # The deformed line of a member is the undeformed one moved by scale x displacement.
+    m = result.frame.members["top_beam_left"]
+    names = list(result.frame.members)
+    deformed = ax.get_lines()[2 * names.index("top_beam_left") + 1]
+    *_, zs = deformed.get_data_3d()
+    tip = result.displacement(m.end)[:3]
+    assert zs[-1] == pytest.approx(result.frame.nodes[m.end][2] + scale * tip[2])
+    plt.close(fig)
+    fig, fixed = deformed_shape_figure(result, scale=100.0)
+    assert fixed == 100.0 and "displacements x 100 " in fig.axes[0].get_title()
+    plt.close(fig)
+
+
+def test_mode_shapes_one_panel_per_mode(result):
+    fig, scales = mode_shape_figure(result, modes=3)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert len(titles) == 3 and len(scales) == 3
+    for i, (t, s) in enumerate(zip(titles, scales, strict=True)):
+        assert t.startswith(f"mode {i + 1}: {result.frequencies[i]:.2f} Hz")
+        assert f"shape x {s:g}" in t
+    plt.close(fig)
+
+
+def test_auto_scale_is_round_and_draws_a_visible_shape(result):
+    s = auto_scale(result, result.displacements[:, :3])
+    mantissa = s / 10 ** np.floor(np.log10(s))
+    assert mantissa in (1.0, 2.0, 5.0)
+    peak = np.max(np.linalg.norm(result.displacements[:, :3], axis=1))
+    assert 0.05 < s * peak / 1.4 <= 0.12 + 1e-12  # 1.4 m: the default frame's largest side
+    assert auto_scale(result, np.zeros((3, 3))) == 1.0
