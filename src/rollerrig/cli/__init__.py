@@ -14,7 +14,8 @@ One module per concern:
 - :mod:`~rollerrig.cli._options` — shared options and an enum for every choice;
 - :mod:`~rollerrig.cli._inputs` — reading recordings (whole or streamed) and the truth;
 - the commands: :mod:`~rollerrig.cli.contact`, :mod:`~rollerrig.cli.twin` (``simulate``,
-  ``modes``), :mod:`~rollerrig.cli.studies` (``study run|show|list``), :mod:`~rollerrig.cli.frame`, :mod:`~rollerrig.cli.recordings` (``analyze``, ``spectrum``,
+  ``modes``), :mod:`~rollerrig.cli.studies` (``study run|show|list``),
+  :mod:`~rollerrig.cli.frame`, :mod:`~rollerrig.cli.recordings` (``analyze``, ``spectrum``,
   ``filters``), :mod:`~rollerrig.cli.demo`.
 
 Conventions for a command: raise :class:`UserError` (or a ``ParameterError``) for a bad option,
