@@ -7,6 +7,7 @@ from rollerrig import __version__
 from rollerrig.cli import COMMANDS, app
 from rollerrig.cli._options import (
     Executor,
+    FrameModel,
     Friction,
     ResultsFormat,
     RollerDrive,
@@ -91,7 +92,7 @@ def test_a_choice_is_case_insensitive_where_a_user_would_expect_it(tmp_path, run
 
 def test_each_enum_equals_the_table_it_mirrors():
     from rollerrig.contact.creep import POLACH_PARAMETER_SETS
-    from rollerrig.rig.model import ROLLER_MODES, WHEEL_MODES
+    from rollerrig.rig.model import FRAME_MODES, ROLLER_MODES, WHEEL_MODES
     from rollerrig.solve.results import SAVE_FORMATS
     from rollerrig.solve.simulation import SOLVERS
     from rollerrig.studies.runner import EXECUTORS
@@ -105,6 +106,7 @@ def test_each_enum_equals_the_table_it_mirrors():
     assert values(ResultsFormat) == {s.lstrip(".") for s in SAVE_FORMATS}
     assert values(Friction) == set(POLACH_PARAMETER_SETS)
     assert values(Executor) == set(EXECUTORS)
+    assert values(FrameModel) == set(FRAME_MODES)
 
 
 def test_root_help_and_version(runner):

@@ -97,3 +97,21 @@ def test_local_executor_refuses_dask_options(tmp_path, runner):
     result = runner.invoke(app, ["study", "run", "lag", "--executor", "local", "--workers", "2",
                                  "--out", str(tmp_path)])  # fmt: skip
     assert result.exit_code == 2 and "--executor dask" in result.output
+
+
+def test_study_frame_prints_the_verdict_and_writes_json_and_figure(tmp_path, runner):
+    result = runner.invoke(app, ["study", "frame", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert "does not explain the oscillation" in " ".join(result.output.split())
+    doc = json.loads((tmp_path / "study-frame.json").read_text())
+    assert [c["frame"] for c in doc["cases"]] == ["rigid frame", "frame (FE)", "frame 10x softer"]
+    assert doc["frame_matters"] is False
+    assert (tmp_path / "study-frame.png").stat().st_size > 10_000
+
+
+def test_simulate_with_a_flexible_frame_names_its_outputs(tmp_path, runner):
+    result = runner.invoke(app, ["simulate", "-e", "release-test", "--frame", "flexible",
+                                 "--format", "csv", "--out", str(tmp_path)])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    csv = tmp_path / "release-test_frame-flexible.csv"
+    assert "frame_displacement" in csv.read_text().splitlines()[0]

@@ -81,3 +81,15 @@ def test_a_point_scales_the_experiment_and_sets_rig_and_drives():
     assert (d.roller, d.roller_lag, d.wheel) == ("servo", 0.1, "pmsm")
     with pytest.raises(ParameterError, match=r"inertia\.roller"):
         point_setup(rig, base, {"inertia.roller": -1.0})
+
+
+def test_the_frame_model_and_its_keys_are_study_keys():
+    spec = study_from_toml_string(
+        "[grid]\nframe = ['rigid', 'flexible']\n"
+        "'frame.longitudinal_stiffness' = { values = [10, 100], unit = 'MN/m' }\n"
+    )
+    table = design_points(spec)
+    r, _, d = point_setup(default_rig(), load_protocol("release-test"), table.point(3))
+    assert d.frame == "flexible" and r.frame.longitudinal_stiffness == 1e8
+    with pytest.raises(Exception, match="not a known frame"):
+        study_from_toml_string("[grid]\nframe = ['wobbly']\n")

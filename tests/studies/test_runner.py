@@ -15,7 +15,11 @@ from rollerrig.studies.studyfile import study_from_toml_string
 
 # The bundled studies before they became study files: rollerrig.studies.run_study(name,
 # default_rig()) at commit 7f6d47a (the sweeps of issue 9), overshoot of T56/r_r and of F_x.
-# The study files must give these numbers bit for bit (same points, same solver settings).
+# The study files gave them bit for bit (58e8af1). Since the frame's degree of freedom joined
+# the state vector (issue 12; two states, constant for a rigid frame) the solver's error norm
+# averages over 22 states instead of 20 and takes slightly different steps: the numbers agree
+# to 5e-5 relative, far inside the sweeps' accuracy (max |ΔT56| 0.86 N.m of ~280 N.m).
+RTOL_SINCE_FRAME_STATES = 1e-4
 TODAY = {
     "stiffness": (
         [0.4700173176044026, 0.46481503105089106, 0.459049376371512, 0.4522432662715695,
@@ -48,8 +52,8 @@ def test_bundled_studies_give_the_numbers_they_gave_before(bundled, name):
     ds = bundled[name]
     measured, true = TODAY[name]
     assert list(ds.status.values) == ["ok"] * 6
-    np.testing.assert_allclose(ds.release_overshoot.values, measured, rtol=1e-14)
-    np.testing.assert_allclose(ds.true_release_overshoot.values, true, rtol=1e-14)
+    np.testing.assert_allclose(ds.release_overshoot.values, measured, rtol=RTOL_SINCE_FRAME_STATES)
+    np.testing.assert_allclose(ds.true_release_overshoot.values, true, rtol=RTOL_SINCE_FRAME_STATES)
 
 
 def test_the_seeds_findings(bundled):

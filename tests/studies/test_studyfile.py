@@ -172,7 +172,7 @@ _keys = st.sampled_from(
 )  # fmt: skip
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=500, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     design=st.sampled_from(["grid", "sample", "cases"]),
     body=st.dictionaries(_keys, _values, max_size=4),

@@ -22,6 +22,7 @@ __all__ = [
     "DEFAULT_OUT",
     "ChannelsOption",
     "Executor",
+    "FrameModel",
     "Friction",
     "LenientOption",
     "OutOption",
@@ -57,6 +58,13 @@ class RollerDrive(StrEnum):
     induction_linear = "induction_linear"
     ideal_speed = "ideal_speed"
     servo = "servo"
+
+
+class FrameModel(StrEnum):
+    """The rig frame in the twin (:data:`rollerrig.rig.model.FRAME_MODES`)."""
+
+    rigid = "rigid"
+    flexible = "flexible"
 
 
 class ResultsFormat(StrEnum):

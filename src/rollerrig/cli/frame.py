@@ -85,7 +85,8 @@ def frame(
         summary = frame_summary(result, dof, frame_file)
         fig, _ = deformed_shape_figure(result)
         save_figure(fig, stage.path("frame-deformed.png"))
-        fig, _ = mode_shape_figure(result, modes=min(3, modes))
+        shown = sorted({*range(min(3, modes)), dof.mode})  # the first three and the contact's
+        fig, _ = mode_shape_figure(result, modes=shown, contact_mode=dof.mode)
         save_figure(fig, stage.path("frame-modes.png"))
         write_json(stage.path("frame.json"), summary)
     console.print(_table(result, dof))

@@ -319,3 +319,61 @@ def list_studies() -> None:
         spec = load_study(name)
         table.add_row(name, spec.design, str(spec.size), spec.description)
     console.print(table)
+
+
+@study_app.command("frame")
+def frame(
+    frame_file: Annotated[
+        Path | None,
+        typer.Option(
+            "--frame",
+            help="Frame file (TOML): its FE analysis gives the contact's stiffness and modal "
+            "mass; default: the rig's [frame] values (from the bundled frame).",
+        ),
+    ] = None,
+    rig_file: RigOption = None,
+    out: OutOption = DEFAULT_OUT,
+) -> None:
+    """Does the frame matter? The release test with a rigid frame, the frame and one ten
+    times softer (Kayaalp 4.3.1's hypothesis, simulated): overshoot, ringing line, spectra."""
+    from rollerrig.cli._outputs import command_outputs
+    from rollerrig.output import save_figure, write_json
+    from rollerrig.report.frame import frame_study_figure
+    from rollerrig.rig.parameters import load_rig as _load_rig
+    from rollerrig.studies.frame import frame_study
+
+    rig = _load_rig(rig_file) if rig_file else None
+    structure = None
+    if frame_file is not None:
+        from rollerrig._optional import require
+
+        require("Pynite", "frame", "the frame's FE analysis")
+        from rollerrig.frame import load_frame
+
+        structure = load_frame(frame_file)
+    with command_outputs(
+        out, run="study-frame", inputs={"frame": frame_file, "rig": rig_file}, rig=rig
+    ) as stage:
+        result = frame_study(rig, structure)
+        table = Table(title=f"Frame study on {result.experiment}")
+        for col in ("frame", "f [Hz]", "overshoot T56/r_r", "ringing line", "T56 at f_frame"):
+            table.add_column(col, justify="left" if col == "frame" else "right")
+        for case in result.cases:
+            m = case.metrics
+            rigid = not np.isfinite(case.frequency)
+            table.add_row(
+                case.label,
+                "-" if rigid else f"{case.frequency:.1f}",
+                f"{m['release_overshoot']:.4f}",
+                f"{m['t56_line_frequency']:.2f} Hz, {m['t56_line_amplitude']:.2f} N.m",
+                "-" if rigid else f"{case.line_at_frame_frequency:.3g} N.m",
+            )
+        console.print(table)
+        console.print(result.verdict, soft_wrap=True)
+        write_json(
+            stage.path("study-frame.json"),
+            {"experiment": result.experiment, "fe": result.fe, "cases": result.rows(),
+             "frame_matters": result.matters, "verdict": result.verdict},
+        )  # fmt: skip
+        save_figure(frame_study_figure(result), stage.path("study-frame.png"))
+    print_written(stage.written)

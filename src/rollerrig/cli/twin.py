@@ -20,6 +20,7 @@ from rollerrig.cli._boundary import UserError
 from rollerrig.cli._console import console, note, print_written
 from rollerrig.cli._options import (
     DEFAULT_OUT,
+    FrameModel,
     Friction,
     OutOption,
     ResultsFormat,
@@ -45,6 +46,7 @@ def variant_stem(
     roller_lag: float | None = None,
     solver: str = Solver.fast.value,
     rig_file: Path | None = None,
+    frame: str = FrameModel.rigid.value,
 ) -> str:
     """Output stem of a simulation: the experiment's name and what differs from the defaults.
 
@@ -67,6 +69,8 @@ def variant_stem(
         parts.append(f"roller-{roller}")
     if roller_lag is not None:
         parts.append(f"lag-{roller_lag:g}s")
+    if frame != FrameModel.rigid.value:
+        parts.append(f"frame-{frame}")
     if solver != Solver.fast.value:
         parts.append(f"solver-{solver}")
     if rig_file is not None:
@@ -140,6 +144,13 @@ def simulate(
     roller_lag_s: Annotated[
         float | None, typer.Option(help="Roller-drive lag τ [s]; default from the rig (c_lp).")
     ] = None,
+    frame: Annotated[
+        FrameModel,
+        typer.Option(
+            help="The rig frame: rigid, or flexible (one longitudinal degree of freedom at the "
+            "contact with the rig's [frame] stiffness [N/m], mass [kg] and damping)."
+        ),
+    ] = FrameModel.rigid,
     output_format: Annotated[
         ResultsFormat,
         typer.Option("--format", case_sensitive=False, help="Results file format."),
@@ -176,7 +187,10 @@ def simulate(
         require(module, purpose=f"rollerrig simulate --format {output_format.value}")
     rig = load_rig(rig_file)
     drives = DriveConfig(
-        wheel=wheel_drive.value, roller=roller_drive.value, roller_lag=roller_lag_s
+        wheel=wheel_drive.value,
+        roller=roller_drive.value,
+        roller_lag=roller_lag_s,
+        frame=frame.value,
     )
     sim = Simulation(rig, experiment, drives=drives, solver=solver.value)
     stem = variant_stem(
@@ -186,6 +200,7 @@ def simulate(
         roller_lag=roller_lag_s,
         solver=solver.value,
         rig_file=rig_file,
+        frame=frame.value,
     )
     inputs = {**protocol_inputs(experiment), "rig": rig_file}
     with command_outputs(
@@ -197,6 +212,7 @@ def simulate(
         wheel_drive=drives.wheel,
         roller_drive=drives.roller,
         roller_lag_s=roller_lag_s,
+        frame=frame.value,
         solver=solver.value,
     ) as stage:
         console.print(

@@ -15,7 +15,7 @@ import numpy as np
 
 from rollerrig.frame.analysis import FrameResult
 
-__all__ = ["auto_scale", "deformed_shape_figure", "mode_shape_figure"]
+__all__ = ["auto_scale", "deformed_shape_figure", "frame_study_figure", "mode_shape_figure"]
 
 _FRACTION = 0.12
 """The largest displacement is drawn as this fraction of the frame's largest dimension."""
@@ -129,30 +129,89 @@ def deformed_shape_figure(result: FrameResult, *, scale: float | None = None):
     return fig, scale
 
 
-def mode_shape_figure(result: FrameResult, modes: int = 3):
-    """The first ``modes`` mode shapes, one panel each, with frequency and magnification.
+def mode_shape_figure(result: FrameResult, modes=3, *, contact_mode: int | None = None):
+    """Mode shapes, one panel each, with frequency and magnification.
 
     Mode shapes are mass-normalised (φᵀ M φ = 1 kg); each is drawn with its own magnification.
+
+    Parameters
+    ----------
+    result : FrameResult
+    modes : int or sequence of int
+        The first ``modes`` modes, or the indices (from 0) of the modes to draw.
+    contact_mode : int, optional
+        Index of the mode that dominates the contact's flexibility
+        (:func:`rollerrig.frame.contact_dof`): its panel says so.
 
     Returns
     -------
     (matplotlib.figure.Figure, list of float)
         The figure and the magnification of each panel.
     """
-    n = max(1, min(int(modes), len(result.frequencies)))
+    count = len(result.frequencies)
+    if np.ndim(modes) == 0:
+        chosen = list(range(max(1, min(int(modes), count))))
+    else:
+        chosen = [int(i) for i in modes if 0 <= int(i) < count] or [0]
+    n = len(chosen)
     fig = plt.figure(figsize=(4.6 * n, 5.0))
     scales = []
-    for i in range(n):
-        ax = fig.add_subplot(1, n, i + 1, projection="3d")
+    for panel, i in enumerate(chosen):
+        ax = fig.add_subplot(1, n, panel + 1, projection="3d")
         translations = result.mode_shapes[i][:, :3]
         scale = auto_scale(result, translations)
         scales.append(scale)
-        _draw(ax, result, translations, scale, "tab:purple")
+        _draw(ax, result, translations, scale, "tab:red" if i == contact_mode else "tab:purple")
+        role = "\nthe contact's longitudinal mode" if i == contact_mode else ""
         ax.set_title(
-            f"mode {i + 1}: {result.frequencies[i]:.2f} Hz\n"
+            f"mode {i + 1}: {result.frequencies[i]:.2f} Hz{role}\n"
             f"shape x {scale:g} (mass-normalised, m/sqrt(kg))",
             fontsize=9,
         )
     fig.suptitle(f"{result.frame.name}: natural modes", fontsize=10)
     fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.9))
     return fig, scales
+
+
+def frame_study_figure(study):
+    """The frame study (:func:`rollerrig.studies.frame.frame_study`): T56 spectra of the rest
+    after the release for each frame, with the frames' frequencies marked, and the release
+    overshoots side by side.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    colours = ("black", "tab:blue", "tab:red")
+    fig, (ax, bars) = plt.subplots(
+        1, 2, figsize=(12.0, 4.6), gridspec_kw={"width_ratios": (2.2, 1.0)}
+    )
+    for case, colour in zip(study.cases, colours, strict=False):
+        f, amplitude = case.spectrum
+        band = (f > 0.5) & (f <= 80.0)
+        label = case.label + (f" ({case.frequency:.1f} Hz)" if np.isfinite(case.frequency) else "")
+        ax.semilogy(f[band], np.maximum(amplitude[band], 1e-6), color=colour, lw=1.1, label=label)
+        if np.isfinite(case.frequency):
+            ax.axvline(case.frequency, color=colour, ls=":", lw=1.0)
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("T56 amplitude after the release [N·m]")
+    ax.set_title("T56 spectrum of the rest after the release\n(dotted: the frame's frequency)",
+                 fontsize=10)  # fmt: skip
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    x = np.arange(len(study.cases))
+    measured = [c.metrics["release_overshoot"] for c in study.cases]
+    true = [c.metrics["true_release_overshoot"] for c in study.cases]
+    bars.bar(x - 0.2, measured, 0.4, label="T56 / r_r (what the rig reports)", color="tab:blue")
+    bars.bar(x + 0.2, true, 0.4, label="true F_x", color="tab:orange")
+    for xi, value in zip(x, measured, strict=True):
+        bars.annotate(f"{value:.3f}", (xi - 0.2, value), ha="center", va="bottom", fontsize=8)
+    bars.set_xticks(x, [c.label for c in study.cases], fontsize=8, rotation=15)
+    bars.set_ylabel("overshoot below zero after the release [-]")
+    bars.set_title("release overshoot", fontsize=10)
+    bars.legend(fontsize=8, loc="lower right")
+    bars.grid(True, axis="y", alpha=0.3)
+    verdict = "the frame matters" if study.matters else "the frame does not matter"
+    fig.suptitle(f"Frame study on {study.experiment}: {verdict}", fontsize=11)
+    fig.tight_layout()
+    return fig

@@ -178,6 +178,12 @@ def _base_parameters(rig: RigParameters, drives: m.DriveConfig, reference_load: 
     else:
         tau = drives.roller_lag
     p[m.P_LAG_TAU] = tau
+    frame = rig.frame
+    p[m.P_FRAME_MODE] = m.FRAME_MODES[drives.frame]
+    p[m.P_FRAME_K], p[m.P_FRAME_M] = frame.longitudinal_stiffness, frame.modal_mass
+    p[m.P_FRAME_C] = (
+        2.0 * frame.damping_ratio * np.sqrt(frame.longitudinal_stiffness * frame.modal_mass)
+    )
     return p, contact_reference
 
 
@@ -392,6 +398,8 @@ def steady_free_rolling_state(
     x[m.X_T_ROLLER] = t_roller
     if p[m.P_ROLLER_MODE] == 3.0 and p[m.P_SERVO_KI] > 0:
         x[m.X_INT_SPEED] = t_roller / p[m.P_SERVO_KI]
+    if p[m.P_FRAME_MODE] != 0.0:
+        x[m.X_FRAME_X] = force / p[m.P_FRAME_K]  # k_f x_f = F_x: the steady contact force
     return x
 
 

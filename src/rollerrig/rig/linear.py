@@ -92,6 +92,8 @@ _GROUPS: dict[str, str] = {
     "integral_q": "pmsm_currents",
     "roller_drive_torque_state": "am_torque_lag",
     "speed_error_integral": "servo_speed_integral",
+    "frame_displacement": "frame",
+    "frame_velocity": "frame",
 }
 
 

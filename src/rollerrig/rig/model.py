@@ -11,6 +11,7 @@ CONTRIBUTING.md): 1 PMSM stator, 2 PMSM rotor, 3 wheel disc, 4 wheel tyre, 5 rol
     J5 α5 = F_x r_r − T56 − R05       (roller, contact, bearing loss)
     J6 α6 = T56 + T_a                 (AM rotor; T_a < 0 when the AM brakes)
     J7 α7 = −T_a − T70                (AM stator)
+    m_f ẍ_f = F_x − k_f x_f − c_f ẋ_f  (frame at the contact; with DriveConfig(frame="flexible"))
 
 Corrections to the seed: eq. 4.7 divides by J6 where J7 belongs; the text swaps T12/T67 (T_p is
 the PMSM air-gap torque between bodies 1-2, T_a the AM's between 6-7); R03 and R05 (eqs.
@@ -68,7 +69,8 @@ X_OMEGA = 7  # ω1..ω7 [rad/s] at 7..13
 X_ID, X_IQ, X_INT_D, X_INT_Q = 14, 15, 16, 17  # PMSM currents [A], PI integrals [A.s]
 X_T_ROLLER = 18  # lagged roller-drive air-gap torque [N.m]
 X_INT_SPEED = 19  # servo speed-error integral [rad]
-N_STATES = 20
+X_FRAME_X, X_FRAME_V = 20, 21  # frame displacement at the contact [m], its velocity [m/s]
+N_STATES = 22
 
 STATE_NAMES = (
     *(f"theta{i}" for i in range(1, 8)),
@@ -79,6 +81,8 @@ STATE_NAMES = (
     "integral_q",
     "roller_drive_torque_state",
     "speed_error_integral",
+    "frame_displacement",
+    "frame_velocity",
 )
 
 # ---------------------------------------------------------------------------------------------
@@ -103,10 +107,13 @@ P_AM_PP, P_AM_V, P_AM_RTH, P_AM_XTH, P_AM_R2, P_AM_X2, P_AM_FRATED = 44, 45, 46,
 P_AM_SLOPE = 51  # linear torque-slip slope [N.m.s/rad]
 P_LAG_TAU = 52  # roller-drive response lag τ [s]; 0 means none
 P_SERVO_KP, P_SERVO_KI, P_SERVO_TLIM = 53, 54, 55
-N_PARAMS = 56
+P_FRAME_MODE = 56  # 0 rigid frame, 1 one longitudinal degree of freedom at the contact
+P_FRAME_K, P_FRAME_M, P_FRAME_C = 57, 58, 59  # [N/m], [kg], [N.s/m]
+N_PARAMS = 60
 
 WHEEL_MODES = {"ideal_torque": 0.0, "pmsm": 1.0}
 ROLLER_MODES = {"ideal_speed": 0.0, "induction": 1.0, "induction_linear": 2.0, "servo": 3.0}
+FRAME_MODES = {"rigid": 0.0, "flexible": 1.0}
 
 # Table rows (piecewise-linear inputs, padded by repeating the last breakpoint)
 TAB_TORQUE_T, TAB_TORQUE, TAB_SPEED_T, TAB_SPEED, TAB_LOAD_T, TAB_LOAD = 0, 1, 2, 3, 4, 5
@@ -170,11 +177,16 @@ class DriveConfig:
     roller_lag : float or None
         Roller-drive response lag τ [s]. ``None`` takes the rig's value (from c_lp, eq. 4.29);
         0 means no lag.
+    frame : {"rigid", "flexible"}
+        The rig frame: rigid (the seed's model), or one longitudinal degree of freedom at the
+        contact with the rig's ``[frame]`` stiffness, mass and damping (Kayaalp 4.3.1's
+        hypothesis, :class:`rollerrig.rig.sections.FrameParameters`).
     """
 
     wheel: Literal["pmsm", "ideal_torque"] = "pmsm"
     roller: Literal["induction", "induction_linear", "ideal_speed", "servo"] = "induction"
     roller_lag: float | None = None
+    frame: Literal["rigid", "flexible"] = "rigid"
 
     def __post_init__(self) -> None:
         from rollerrig._validation import ParameterError
@@ -187,6 +199,8 @@ class DriveConfig:
             raise ParameterError(
                 f"roller drive must be one of {sorted(ROLLER_MODES)}, got {self.roller!r}"
             )
+        if self.frame not in FRAME_MODES:
+            raise ParameterError(f"frame must be one of {sorted(FRAME_MODES)}, got {self.frame!r}")
         if self.roller_lag is not None and not (
             np.isfinite(self.roller_lag) and self.roller_lag >= 0
         ):
@@ -260,8 +274,12 @@ def rig_terms(t, x, p, tables):
 
     bearing_w, bearing_r = _bearing_torques(load, w3, w5, p)
 
-    # Contact: Polach's creep force with the creep stiffness at the present load.
-    creep, slip_velocity = _creep_kernel(w4, w5, p[P_RW], p[P_RR], p[P_VREG])
+    # Contact: Polach's creep force with the creep stiffness at the present load. With a
+    # flexible frame the roller's contact point moves with the frame at x[X_FRAME_V] relative
+    # to the wheel's: the slip is ω4 r_w − (ω5 r_r + v_f) (the state is 0 for a rigid frame).
+    v_frame = x[X_FRAME_V] if p[P_FRAME_MODE] != 0.0 else 0.0  # rigid: not a degree of freedom
+    w5_contact = w5 + v_frame / p[P_RR]
+    creep, slip_velocity = _creep_kernel(w4, w5_contact, p[P_RW], p[P_RR], p[P_VREG])
     creep_stiffness = _creep_stiffness_at(load, p)
     friction = _friction_kernel(slip_velocity, p[P_MU0], p[P_A], p[P_B])
     force = _polach_force_at_friction_kernel(
@@ -403,6 +421,15 @@ def rig_rhs(t, x, p, tables, dx):
     else:
         dx[X_T_ROLLER] = 0.0
     dx[X_INT_SPEED] = terms[_T_DINT_SPEED]
+    if p[P_FRAME_MODE] != 0.0:
+        # m_f ẍ_f = F_x − k_f x_f − c_f ẋ_f: the contact force pushes the roller's bearings.
+        dx[X_FRAME_X] = x[X_FRAME_V]
+        dx[X_FRAME_V] = (force - p[P_FRAME_K] * x[X_FRAME_X] - p[P_FRAME_C] * x[X_FRAME_V]) / p[
+            P_FRAME_M
+        ]
+    else:
+        dx[X_FRAME_X] = 0.0
+        dx[X_FRAME_V] = 0.0
 
 
 def _interp(t, xs, ys):

@@ -49,6 +49,7 @@ from rollerrig.rig.sections import (
     SECTIONS,
     BearingParameters,
     DampingParameters,
+    FrameParameters,
     GeometryParameters,
     InductionMotorParameters,
     InertiaParameters,
@@ -92,6 +93,7 @@ class RigParameters(BaseModel):
     induction_motor: InductionMotorParameters
     servo_roller_drive: ServoRollerDriveParameters
     sensors: SensorParameters
+    frame: FrameParameters = FrameParameters()
     provenance: dict[str, dict[str, Any]] = Field(
         default_factory=dict,
         description="'section.key' -> {'value', 'unit', 'source' | 'assumption'} as written.",

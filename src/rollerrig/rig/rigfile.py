@@ -125,10 +125,23 @@ def _file_model(model: type[BaseModel]) -> type[BaseModel]:
 
 
 _FILE_SECTIONS = {section: _file_model(model) for section, model in SECTIONS.items()}
+
+
+def _optional_section(model: type[BaseModel]) -> bool:
+    """A section whose every key has a default may be left out of a file (rig files written
+    before it existed still load)."""
+    return model is not MetaParameters and not any(
+        f.is_required() for f in model.model_fields.values()
+    )
+
+
 _FILE = create_model(
     "RigFile",
     __config__=ConfigDict(extra="forbid", strict=True),
-    **{section: (dict[str, Any], ...) for section in SECTIONS},
+    **{
+        section: (dict[str, Any], None if _optional_section(model) else ...)
+        for section, model in SECTIONS.items()
+    },
 )
 
 
@@ -196,6 +209,8 @@ def read_sections(data: Mapping[str, Any], origin: str) -> tuple[dict, dict]:
     shown: dict[str, Any] = {}
     for section, model in SECTIONS.items():
         table = data.get(section)
+        if table is None and _optional_section(model):
+            table = {}  # every key takes its default
         if not isinstance(table, Mapping):
             continue
         try:

@@ -27,6 +27,7 @@ __all__ = [
     "SECTIONS",
     "BearingParameters",
     "DampingParameters",
+    "FrameParameters",
     "GeometryParameters",
     "InductionMotorParameters",
     "InertiaParameters",
@@ -409,6 +410,33 @@ class SensorParameters(_Section):
         return self.encoder_pulses_per_revolution * self.encoder_quadrature_factor
 
 
+class FrameParameters(_Section):
+    """The rig frame seen from the wheel-roller contact: one longitudinal degree of freedom.
+
+    Used by the twin when ``DriveConfig(frame="flexible")``: the roller's contact point moves
+    with the frame relative to the wheel's by x_f, with m_f ẍ_f = F_x − k_f x_f − c_f ẋ_f and
+    c_f = 2 ζ_f sqrt(k_f m_f) (Kayaalp 4.3.1's hypothesis of a longitudinally flexible frame).
+    The defaults are ``rollerrig frame``'s result on the bundled default frame
+    (``rollerrig.frame.contact_dof``): every value here is only as good as that frame's
+    assumed geometry. Rig files without a ``[frame]`` table get them.
+    """
+
+    longitudinal_stiffness: Annotated[float, _si("linear_stiffness", gt=0)] = 1.006e8
+    """Static stiffness between the wheel's and the roller's contact points k_f [N/m]."""
+    modal_mass: Annotated[float, _si("mass", gt=0)] = 1101.0
+    """Mass of the one-degree-of-freedom frame m_f = k_f / ω_f² [kg], so that it keeps both the
+    static compliance and the frequency of the first longitudinal mode."""
+    damping_ratio: Annotated[float, _si("dimensionless", ge=0, lt=1)] = 0.01
+    """Damping ratio ζ_f of that mode [1]."""
+
+    @property
+    def frequency(self) -> float:
+        """Undamped natural frequency of the frame degree of freedom [Hz]."""
+        import math
+
+        return math.sqrt(self.longitudinal_stiffness / self.modal_mass) / (2.0 * math.pi)
+
+
 SECTIONS: dict[str, type[BaseModel]] = {
     "meta": MetaParameters,
     "inertia": InertiaParameters,
@@ -421,5 +449,6 @@ SECTIONS: dict[str, type[BaseModel]] = {
     "induction_motor": InductionMotorParameters,
     "servo_roller_drive": ServoRollerDriveParameters,
     "sensors": SensorParameters,
+    "frame": FrameParameters,
 }
 """Section name -> model, in file order."""

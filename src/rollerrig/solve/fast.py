@@ -73,6 +73,8 @@ def default_tolerances(
     at[16:18] = 0.1 * rtol  # PI integrals [A.s]
     at[18] = 100.0 * rtol  # lagged drive torque [N.m]
     at[19] = 0.1 * rtol  # speed-error integral [rad]
+    at[20] = 1e-6 * rtol  # frame displacement [m]: tens of µm under the contact force
+    at[21] = 1e-4 * rtol  # frame velocity [m/s]
     return rt, at
 
 

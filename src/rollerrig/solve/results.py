@@ -69,6 +69,15 @@ _STATES = {
     "i_q": (m.X_IQ, "A", "PMSM q-axis current"),
 }
 
+_FRAME_STATES = {
+    "frame_displacement": (
+        m.X_FRAME_X,
+        "m",
+        "longitudinal displacement of the roller's contact point relative to the wheel's",
+    ),
+    "frame_velocity": (m.X_FRAME_V, "m/s", "its velocity"),
+}
+
 SAVE_FORMATS = (".nc", ".csv", ".parquet", ".mat")
 
 _NO_LOAD = "undefined where the normal load is 0 (CoA = F / N)"
@@ -159,6 +168,9 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
         data[name] = ("time", term[src], {"units": units, "long_name": long_name})
     for name, (idx, units, long_name) in _STATES.items():
         data[name] = ("time", x[:, idx], {"units": units, "long_name": long_name})
+    if inputs.drives.frame != "rigid":  # the frame's degree of freedom, when it has one
+        for name, (idx, units, long_name) in _FRAME_STATES.items():
+            data[name] = ("time", x[:, idx], {"units": units, "long_name": long_name})
     load = term["normal_load"]
     loaded = load > 0.0
 
@@ -220,6 +232,7 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
             "wheel": inputs.drives.wheel,
             "roller": inputs.drives.roller,
             "roller_lag_s": float(inputs.segments[0].params[m.P_LAG_TAU]),
+            "frame": inputs.drives.frame,
         },
         "friction_sets": {k: v.to_dict() for k, v in inputs.friction_sets.items()},
         "contact_reference": inputs.contact_reference,

@@ -18,7 +18,7 @@ import numpy as np
 from rollerrig.experiment import Protocol
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import RigParameters
-from rollerrig.studies.studyfile import DRIVE_KEYS, PROTOCOL_KEYS, StudySpec, si_unit
+from rollerrig.studies.studyfile import MODEL_KEYS, PROTOCOL_KEYS, StudySpec, si_unit
 
 __all__ = ["DesignTable", "design_points", "point_setup", "protocol_groups"]
 
@@ -154,7 +154,8 @@ def point_setup(
 
     Rig keys become overrides (validated: a non-physical value raises the rig's error naming
     the key); ``load`` and ``speed`` scale the experiment's schedule to that largest value;
-    ``friction`` replaces every friction condition; ``drive.*`` choose the drives.
+    ``friction`` replaces every friction condition; ``drive.*`` choose the drives and
+    ``frame`` the frame model.
 
     Raises
     ------
@@ -162,7 +163,7 @@ def point_setup(
         A value the rig, the experiment or the drives refuse (the point is then reported as
         ``invalid parameters`` with this message).
     """
-    overrides = {k: v for k, v in values.items() if k not in PROTOCOL_KEYS and k not in DRIVE_KEYS}
+    overrides = {k: v for k, v in values.items() if k not in PROTOCOL_KEYS and k not in MODEL_KEYS}
     if overrides:
         rig = rig.with_overrides(overrides)
     changes = {}
@@ -178,6 +179,7 @@ def point_setup(
         wheel=values.get("drive.wheel", "pmsm"),
         roller=values.get("drive.roller", "induction"),
         roller_lag=values.get("drive.roller_lag"),
+        frame=values.get("frame", "rigid"),
     )
     return rig, protocol, drive
 

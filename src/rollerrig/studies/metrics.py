@@ -42,6 +42,7 @@ __all__ = [
     "RunChannels",
     "compute_metrics",
     "release_overshoots",
+    "rest_spectrum",
     "run_channels",
 ]
 
@@ -220,25 +221,43 @@ def _max_shaft_torque(run, protocol):
     return float(np.max(np.abs(run.t56)))
 
 
-def _ringing_line(run, protocol) -> tuple[float, float]:
+def rest_spectrum(run: RunChannels, protocol: Protocol) -> tuple[np.ndarray, np.ndarray] | None:
+    """Amplitude spectrum of T56 in the rest after the first release (the ringing).
+
+    From 0.05 s after the release to the next step that changes the torque (or the end), the
+    linear trend removed, Hann window, amplitude-corrected (a sinusoid of amplitude A shows A),
+    zero-padded to 8 times the length (the peak's frequency to about 1/8 of a bin).
+
+    Returns
+    -------
+    (frequency [Hz], amplitude [N.m]) or None
+        None when the experiment has no release or the rest is shorter than 32 samples.
+    """
     releases = _releases(protocol)
     if not releases:
-        return np.nan, np.nan
+        return None
     start = releases[0].start + 0.05  # past the release ramp itself
     end = _rest_after(protocol, releases[0].start)
     span = (run.time > start) & (run.time <= end)
     n = int(span.sum())
     if n < 32:
-        return np.nan, np.nan
+        return None
     y = run.t56[span]
     tt = run.time[span]
     y = y - np.polyval(np.polyfit(tt - tt[0], y, 1), tt - tt[0])
     w = np.hanning(n)
     dt = float(np.median(np.diff(tt)))
-    nfft = 1 << int(np.ceil(np.log2(8 * n)))  # zero padding: the peak's frequency to ~1/8 bin
-    spec = np.abs(np.fft.rfft(y * w, nfft)) * 2.0 / w.sum()
-    f = np.fft.rfftfreq(nfft, dt)
-    band = (f >= LINE_BAND[0]) & (f <= min(LINE_BAND[1], 0.4 / dt))
+    nfft = 1 << int(np.ceil(np.log2(8 * n)))
+    return np.fft.rfftfreq(nfft, dt), np.abs(np.fft.rfft(y * w, nfft)) * 2.0 / w.sum()
+
+
+def _ringing_line(run, protocol) -> tuple[float, float]:
+    spectrum = rest_spectrum(run, protocol)
+    if spectrum is None:
+        return np.nan, np.nan
+    f, spec = spectrum
+    nyquist = 0.5 / float(np.median(np.diff(run.time)))
+    band = (f >= LINE_BAND[0]) & (f <= min(LINE_BAND[1], 0.8 * nyquist))
     # A line is a local maximum inside the band: the band's edge on the flank of a slower
     # mode is not one.
     peak = np.zeros_like(band)

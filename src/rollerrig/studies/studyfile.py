@@ -21,9 +21,11 @@ A varied quantity is named by
   ``"friction"`` (the friction condition, ``"dry"`` or ``"wet"``). A load or speed value
   scales the experiment's schedule so that its largest value is the one given (a constant
   schedule simply becomes that value); a friction value replaces every condition;
-- a drive choice: ``"drive.roller"`` (``"induction"``, ``"induction_linear"``, ``"servo"``,
+- a model choice: ``"drive.roller"`` (``"induction"``, ``"induction_linear"``, ``"servo"``,
   ``"ideal_speed"``), ``"drive.wheel"`` (``"pmsm"``, ``"ideal_torque"``),
-  ``"drive.roller_lag"`` (the roller drive's response lag τ [s]; 0: none).
+  ``"drive.roller_lag"`` (the roller drive's response lag τ [s]; 0: none), ``"frame"``
+  (``"rigid"`` or ``"flexible"``: the frame's degree of freedom at the contact, with the rig's
+  ``frame.*`` keys).
 
 A number without a unit is SI. ``[outputs] metrics`` chooses the metrics of each run by name
 (:data:`rollerrig.studies.metrics.METRICS`); ``[solver]`` sets the output rate and the largest
@@ -56,7 +58,7 @@ from rollerrig._validation import ParameterError, Problem
 from rollerrig.units import QUANTITIES, UnitError, apply_factor, quantity_factor
 
 __all__ = [
-    "DRIVE_KEYS",
+    "MODEL_KEYS",
     "PROTOCOL_KEYS",
     "Axis",
     "Case",
@@ -72,8 +74,8 @@ __all__ = [
 
 PROTOCOL_KEYS = {"load": "force", "speed": "speed", "friction": None}
 """Protocol quantities a study may vary -> their quantity (None: a name)."""
-DRIVE_KEYS = {"drive.roller": None, "drive.wheel": None, "drive.roller_lag": "time"}
-"""Drive choices a study may vary -> their quantity (None: a name)."""
+MODEL_KEYS = {"drive.roller": None, "drive.wheel": None, "drive.roller_lag": "time", "frame": None}
+"""Model choices a study may vary (the drives, the frame) -> their quantity (None: a name)."""
 _DESIGNS = ("grid", "sample", "cases")
 _METHODS = ("sobol", "lhs", "random")
 _DISTRIBUTIONS = {
@@ -119,19 +121,20 @@ def key_quantity(key: str) -> tuple[str | None, list[str] | None]:
     None and the allowed names of a categorical one.
     """
     from rollerrig.contact.creep import POLACH_PARAMETER_SETS
-    from rollerrig.rig.model import ROLLER_MODES, WHEEL_MODES
+    from rollerrig.rig.model import FRAME_MODES, ROLLER_MODES, WHEEL_MODES
     from rollerrig.rig.sections import SECTIONS, quantity_of
 
     if key in PROTOCOL_KEYS:
         q = PROTOCOL_KEYS[key]
         return (q, None) if q else (None, sorted(POLACH_PARAMETER_SETS))
-    if key in DRIVE_KEYS:
-        q = DRIVE_KEYS[key]
+    if key in MODEL_KEYS:
+        q = MODEL_KEYS[key]
         if q:
             return q, None
-        return None, sorted(ROLLER_MODES if key == "drive.roller" else WHEEL_MODES)
+        modes = {"drive.roller": ROLLER_MODES, "drive.wheel": WHEEL_MODES, "frame": FRAME_MODES}
+        return None, sorted(modes[key])
     section, _, name = key.partition(".")
-    allowed = [*PROTOCOL_KEYS, *DRIVE_KEYS, "<section>.<key> of the rig file"]
+    allowed = [*PROTOCOL_KEYS, *MODEL_KEYS, "<section>.<key> of the rig file"]
     if section not in SECTIONS or section == "meta":
         raise _KeyProblem(Problem(key, "not a quantity a study can vary", allowed=allowed))
     fields = SECTIONS[section].model_fields
@@ -507,7 +510,7 @@ def _distribution(reader: _Reader, key: str, spec) -> Distribution | None:
         reader.problem(where, "give { distribution = ..., its parameters, unit = ... }", got=spec)
         return None
     kind = spec["distribution"]
-    if kind not in _DISTRIBUTIONS:
+    if not isinstance(kind, str) or kind not in _DISTRIBUTIONS:
         reader.problem(
             f"{where}.distribution", "unknown distribution", allowed=list(_DISTRIBUTIONS), got=kind
         )
