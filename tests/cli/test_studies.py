@@ -115,3 +115,17 @@ def test_simulate_with_a_flexible_frame_names_its_outputs(tmp_path, runner):
     assert result.exit_code == 0, result.output
     csv = tmp_path / "release-test_frame-flexible.csv"
     assert "frame_displacement" in csv.read_text().splitlines()[0]
+
+
+@pytest.mark.slow  # ~10 s: 84 linearisations of the dq twin and four lag fits
+def test_study_drive_dynamics_answers_the_question(tmp_path, runner):
+    result = runner.invoke(app, ["study", "drive-dynamics", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    text = " ".join(result.output.split())
+    assert "Thevenin, lag c_lp (rig)" in text and "dq default" in text
+    # Only slip compensation 1.5 gives a lightly damped 1-1.7 Hz mode at every speed.
+    assert "at every speed: dq slip comp 1.5" in text
+    doc = json.loads((tmp_path / "study-drive-dynamics.json").read_text())
+    assert doc["seed_lag [s]"] == pytest.approx(0.3635, abs=1e-3)
+    assert all(h["tau [s]"] < 0.1 for h in doc["lag_held_speed"])  # 37-60 ms
+    assert (tmp_path / "study-drive-dynamics.png").stat().st_size > 10_000

@@ -342,3 +342,20 @@ def test_sample_with_a_choice_shows_its_categories():
     x = ax.get_lines()[0].get_xdata()
     np.testing.assert_array_equal(np.round(x), (friction == "wet").astype(float))
     assert "categorical" in _texts(figs[f"{METRIC}-rank-correlation"])
+
+
+def test_drive_dynamics_figure_marks_the_line_and_the_seed_lag():
+    from rollerrig.report.drive_dynamics import LINE_HZ, drive_dynamics_figure
+
+    row = {"drive": "dq", "speed [km/h]": 5.0, "normal_load [kN]": 4.3,
+           "modes below 20 Hz": [{"frequency [Hz]": 1.4, "damping_ratio [-]": 0.1}]}  # fmt: skip
+    study = {
+        "thevenin": [], "dq": [row], "seed_lag [s]": 0.3635,
+        "lag_held_speed": [{"speed [km/h]": 5.0, "tau [s]": 0.06}],
+        "lag_in_rig": [{"speed [km/h]": 10.0, "tau [s]": 0.04}],
+    }  # fmt: skip
+    fig = drive_dynamics_figure(study)
+    ax, lag = fig.axes[:2]
+    assert any(abs(line.get_xdata()[0] - LINE_HZ) < 1e-12 for line in ax.get_lines()[-2:])
+    assert lag.get_ylabel() == "first-order lag τ [ms]"
+    assert any(np.allclose(line.get_ydata(), 363.5) for line in lag.get_lines())

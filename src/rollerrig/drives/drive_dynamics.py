@@ -1,0 +1,996 @@
+"""The roller drive as a dynamic machine under V/f, coupled with the rig: modes and the lag.
+
+A python-level (scipy) model for studies, written so that its parts port into the compiled
+twin: the inverse-Γ machine (:mod:`rollerrig.drives.induction_dq`) fed by the open-loop V/f
+controller (:mod:`rollerrig.drives.vf`), acting between the AM rotor (body 6) and stator
+(body 7) of the rig's torsional chain, with the wheel-roller contact, the PMSM and the bearings
+exactly as in the twin: the right-hand side calls :func:`rollerrig.rig.model.rig_rhs` with the
+roller-drive torque slot set to the machine's air-gap torque (roller mode 1 with a lag, whose
+state then *is* the torque; its own derivative is discarded).
+
+State layout of :class:`DqTwin` (27): the twin's 20 states (``roller_drive_torque_state`` and
+``speed_error_integral`` unused), then the machine's fluxes
+(:data:`rollerrig.drives.induction_dq.STATE_NAMES`) and the controller's filters
+(:data:`rollerrig.drives.vf.STATE_NAMES`). The frequency command is ω* = p v*(t)/r_r from the
+twin's speed set point table (ramped beforehand, :func:`rollerrig.drives.vf.ramp_limited_command`).
+
+Functions:
+
+* :func:`drive_steady_state` — machine + controller at a held rotor speed or delivering a
+  torque; :func:`simulate_drive_on_inertia` — machine + controller on one rigid inertia with a
+  load-torque function (the set-up motulator simulates).
+* :class:`DqTwin` — the coupled twin: :meth:`~DqTwin.rhs`, :meth:`~DqTwin.steady_free_rolling`,
+  :meth:`~DqTwin.linearise`, :meth:`~DqTwin.simulate`.
+* :func:`dq_coupled_modes`, :func:`eigen_table`, :func:`thevenin_eigen_table` — the modes at
+  steady free rolling, with and without the dq drive.
+* :func:`fit_lag_at_held_speed`, :func:`fit_lag_in_rig` — the first-order lag (τ, c_lp) that
+  best reproduces the dq drive's torque response, to compare with Kayaalp's c_lp = 2.75.
+* :func:`drive_variants`, :func:`drive_dynamics_study` — the study of issue 13 (JSON-ready),
+  :func:`format_eigen_table`.
+
+Not integrated into the compiled twin: the fast backend's state layout
+(:mod:`rollerrig.rig.model`) has no flux or controller states yet.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import minimize_scalar, root
+
+from rollerrig._validation import ParameterError, require_positive
+from rollerrig.contact.creep import POLACH_PARAMETER_SETS
+from rollerrig.drives import induction_dq as dq
+from rollerrig.drives import vf
+from rollerrig.drives.induction import clp_from_lag_time_constant, lag_time_constant_from_clp
+from rollerrig.experiment.protocol import Protocol
+from rollerrig.rig import model as m
+from rollerrig.rig.assemble import assemble, steady_free_rolling_state
+from rollerrig.rig.linear import (
+    DEFAULT_DAMPING_THRESHOLD,
+    CoupledMode,
+    coupled_modes,
+    modes_of,
+)
+
+__all__ = [
+    "SEED_LAG",
+    "STATE_NAMES",
+    "DqDrive",
+    "DqTwin",
+    "DriveOperatingPoint",
+    "LagFit",
+    "default_dq_drive",
+    "dq_coupled_modes",
+    "drive_dynamics_study",
+    "drive_steady_state",
+    "drive_variants",
+    "eigen_table",
+    "fit_lag_at_held_speed",
+    "fit_lag_in_rig",
+    "format_eigen_table",
+    "simulate_drive_on_inertia",
+    "thevenin_eigen_table",
+]
+
+N_RIG = m.N_STATES
+X_PSI = N_RIG  # 4 fluxes
+X_CTRL = N_RIG + 4  # 3 controller states
+N_STATES = N_RIG + 7
+STATE_NAMES = (*m.STATE_NAMES, *dq.STATE_NAMES, *vf.STATE_NAMES)
+
+#: Kayaalp's fitted lag: c_lp = 2.75 at Δt = 1e-4 s -> τ = 0.3635 s (4.5.1.8).
+SEED_LAG = lag_time_constant_from_clp(2.75)
+
+
+@dataclass(frozen=True)
+class DqDrive:
+    """The roller drive: the machine and its V/f controller.
+
+    Attributes
+    ----------
+    machine : InverseGammaMachine
+        The machine.
+    control : VfControl
+        The controller.
+    label : str
+        Short name for tables.
+    """
+
+    machine: dq.InverseGammaMachine
+    control: vf.VfControl
+    label: str = "dq V/f"
+
+    def electrical_omega_command(self, roller_speed_setpoint, roller_radius):
+        """ω* [rad/s] for a roller surface speed set point [m/s]."""
+        return vf.frequency_command(roller_speed_setpoint, roller_radius, self.machine.pole_pairs)
+
+
+def default_dq_drive(rig, *, label: str = "dq V/f", **vf_options) -> DqDrive:
+    """The rig's AM as a dq machine (:func:`~rollerrig.drives.induction_dq.inverse_gamma_from_rig`)
+    with the default V/f settings (:func:`~rollerrig.drives.vf.vf_control_for`; keyword
+    arguments go there)."""
+    machine = dq.inverse_gamma_from_rig(rig.induction_motor)
+    return DqDrive(machine, vf.vf_control_for(machine, **vf_options), label)
+
+
+# --------------------------------------------------------------------------------------------
+# Machine + controller alone
+# --------------------------------------------------------------------------------------------
+def _drive_derivatives(drive: DqDrive, psi, ctrl, omega_cmd, rotor_speed, pm, pc):
+    """Machine and controller derivatives and outputs (scalars; the ported core)."""
+    i_s_d = (psi[0] - psi[2]) / pm[2]
+    i_s_q = (psi[1] - psi[3]) / pm[2]
+    u_d, u_q, omega_s, d_if_d, d_if_q, d_slip = vf.vf_control_kernel(
+        omega_cmd, i_s_d, i_s_q, ctrl[0], ctrl[1], ctrl[2], *pc
+    )
+    d_psi = dq.im_flux_derivatives_kernel(
+        psi[0], psi[1], psi[2], psi[3], u_d, u_q, omega_s, pm[4] * rotor_speed, *pm[:4]
+    )
+    t_em = dq.im_torque_kernel(psi[0], psi[1], psi[2], psi[3], pm[2], pm[4])
+    return d_psi, (d_if_d, d_if_q, d_slip), t_em, (u_d, u_q, omega_s, i_s_d, i_s_q)
+
+
+@dataclass(frozen=True)
+class DriveOperatingPoint:
+    """Steady state of machine + controller.
+
+    Attributes
+    ----------
+    state : ndarray, shape (7,)
+        Fluxes [Wb] and controller states.
+    rotor_speed : float
+        Ω [rad/s].
+    torque : float
+        [N.m].
+    omega_s : float
+        Output frequency [rad/s] (electrical).
+    voltage : complex
+        u_s in the controller frame [V].
+    stator_current : complex
+        [A].
+    """
+
+    state: np.ndarray
+    rotor_speed: float
+    torque: float
+    omega_s: float
+    voltage: complex
+    stator_current: complex
+
+
+def drive_steady_state(
+    drive: DqDrive,
+    omega_cmd: float,
+    *,
+    rotor_speed: float | None = None,
+    torque: float | None = None,
+) -> DriveOperatingPoint:
+    """Steady state of the machine and its controller at a frequency command.
+
+    Give either the rotor speed (held) or the torque the machine must deliver (the speed is
+    then found on the stable branch, starting from the linear slip estimate).
+
+    Parameters
+    ----------
+    drive : DqDrive
+        Machine and controller.
+    omega_cmd : float
+        Frequency command ω* [rad/s] (electrical), > 0.
+    rotor_speed : float, optional
+        Ω [rad/s].
+    torque : float, optional
+        Air-gap torque [N.m] (motoring positive).
+
+    Returns
+    -------
+    DriveOperatingPoint
+
+    Examples
+    --------
+    >>> from rollerrig.rig.parameters import default_rig
+    >>> d = default_dq_drive(default_rig(), boost=0.0)
+    >>> op = drive_steady_state(d, 2 * np.pi * 50.0, torque=891.0)
+    >>> round(op.rotor_speed, 6)  # the nameplate's rated speed P/T
+    61.728395
+    """
+    if (rotor_speed is None) == (torque is None):
+        raise ParameterError("give exactly one of rotor_speed [rad/s] and torque [N.m]")
+    w_cmd = float(require_positive("omega_cmd", omega_cmd, "rad/s"))
+    machine, control = drive.machine, drive.control
+    pm, pc = machine.as_array(), control.as_array()
+    n_p = machine.pole_pairs
+    slope = (
+        3.0
+        * (machine.rated_voltage / np.sqrt(2.0)) ** 2
+        / (machine.rotor_resistance * machine.synchronous_speed**2)
+    )  # small-slip slope, to start
+    # Starting guess: the linear slip estimate, the slip compensation's frequency shift, and
+    # the machine's steady state there with the plain V/f voltage.
+    slip_e = 0.0 if torque is None else n_p * float(torque) / slope  # electrical slip
+    omega_s0 = w_cmd + control.slip_gain * slip_e
+    speed0 = (omega_s0 - slip_e) / n_p if rotor_speed is None else float(rotor_speed)
+    u0 = abs(vf.vf_voltage_kernel(omega_s0, pc[0], pc[1], pc[2]))
+    op0 = dq.steady_state(machine, omega_s0 / (2 * np.pi), u0, speed0)
+    i0 = op0.stator_current
+    slip0 = (omega_s0 - n_p * speed0) if control.uses_slip_filter else 0.0
+    z0 = np.concatenate([op0.state, [i0.real, i0.imag, slip0]])
+    # Residuals scaled by their sizes: dψ/dt by U_n, filter rates by α I_n and α ω_n,
+    # the torque by T_n; unknowns likewise (ψ_n, I_n, ω_n, Ω_n).
+    r_scale = np.array(
+        [machine.rated_voltage] * 4
+        + [control.current_bandwidth * machine.rated_current] * 2
+        + [control.slip_bandwidth * machine.rated_angular_frequency, machine.rated_torque]
+    )
+    x_scale = np.array(
+        [machine.nominal_stator_flux] * 4
+        + [machine.rated_current] * 2
+        + [machine.rated_angular_frequency, machine.synchronous_speed]
+    )
+    held = rotor_speed is not None
+    n_eq = 7 if held else 8
+
+    def residual(y):
+        z = y * x_scale[:n_eq]
+        speed = float(rotor_speed) if held else z[7]
+        d_psi, d_ctrl, t_em, _ = _drive_derivatives(drive, z[:4], z[4:7], w_cmd, speed, pm, pc)
+        r = [*d_psi, *d_ctrl] if held else [*d_psi, *d_ctrl, t_em - float(torque)]
+        return np.array(r, dtype=float) / r_scale[:n_eq]
+
+    y0 = (z0 if held else np.append(z0, speed0)) / x_scale[:n_eq]
+    sol = root(residual, y0, method="hybr", options={"xtol": 1e-14})
+    if np.max(np.abs(residual(sol.x))) > 1e-11:
+        sol = root(residual, sol.x, method="lm", options={"xtol": 1e-15, "ftol": 1e-15})
+    if np.max(np.abs(residual(sol.x))) > 1e-11:
+        at = f"Ω = {rotor_speed:g} rad/s" if held else f"T = {torque:g} N.m"
+        raise ParameterError(
+            f"no steady state of the V/f drive at ω* = {w_cmd:g} rad/s ({at}): {sol.message}"
+            + (
+                " (with full slip compensation a held speed off ω*/p has none)"
+                if held and control.slip_gain > 0.0
+                else ""
+            )
+        )
+    z = sol.x * x_scale[:n_eq]
+    speed = float(rotor_speed) if held else float(z[7])
+    _, _, t_em, (u_d, u_q, omega_s, i_d, i_q) = _drive_derivatives(
+        drive, z[:4], z[4:7], w_cmd, speed, pm, pc
+    )
+    return DriveOperatingPoint(
+        state=z[:7].copy(),
+        rotor_speed=speed,
+        torque=float(t_em),
+        omega_s=float(omega_s),
+        voltage=complex(u_d, u_q),
+        stator_current=complex(i_d, i_q),
+    )
+
+
+def simulate_drive_on_inertia(
+    drive: DqDrive,
+    t_end: float,
+    speed_command: Callable[[float], float],
+    *,
+    inertia: float | None = None,
+    load_torque: Callable[[float], float] | None = None,
+    rotor_speed: Callable[[float], float] | None = None,
+    initial: np.ndarray | None = None,
+    t_eval: np.ndarray | None = None,
+    rtol: float = 1e-9,
+    atol: float = 1e-9,
+    method: str = "LSODA",
+) -> dict[str, np.ndarray]:
+    """Simulate the V/f drive on one rigid inertia (or at an imposed speed).
+
+    States: fluxes (4), controller (3), then Ω (with ``inertia``) and the frame angle θ_s
+    (to give stator-frame quantities). ``J dΩ/dt = T − T_L(t)``.
+
+    Parameters
+    ----------
+    drive : DqDrive
+        Machine and controller.
+    t_end : float
+        Duration [s].
+    speed_command : callable
+        Mechanical speed command Ω*(t) [rad/s] (ramped by the caller if wanted).
+    inertia : float, optional
+        J [kg.m^2]; None: the speed is imposed by ``rotor_speed``.
+    load_torque : callable, optional
+        T_L(t) [N.m] (default 0).
+    rotor_speed : callable, optional
+        Imposed Ω(t) [rad/s] when ``inertia`` is None.
+    initial : ndarray, optional
+        Initial ``[ψ (4), controller (3), Ω]`` (Ω omitted without inertia); default all zero
+        (a start from rest, de-energised).
+    t_eval : ndarray, optional
+        Output times [s].
+    rtol, atol : float
+        Solver tolerances.
+    method : str
+        solve_ivp method.
+
+    Returns
+    -------
+    dict
+        ``t`` [s], ``psi`` (4, n) [Wb], ``ctrl`` (3, n), ``speed`` [rad/s], ``theta_s`` [rad],
+        ``torque`` [N.m], ``i_s`` complex controller-frame current [A], ``i_ss`` stator-frame
+        current [A], ``u_s`` controller-frame voltage [V], ``omega_s`` [rad/s].
+    """
+    machine, control = drive.machine, drive.control
+    pm, pc = machine.as_array(), control.as_array()
+    n_p = machine.pole_pairs
+    load = load_torque or (lambda t: 0.0)
+    if inertia is None and rotor_speed is None:
+        raise ParameterError("give inertia [kg.m^2] or an imposed rotor_speed(t) [rad/s]")
+    mech = inertia is not None
+    j = float(require_positive("inertia", inertia, "kg.m^2")) if mech else 1.0
+    n = 9 if mech else 8
+
+    def rhs(t, x):
+        speed = x[7] if mech else rotor_speed(t)
+        d_psi, d_ctrl, t_em, (_, _, omega_s, _, _) = _drive_derivatives(
+            drive, x[:4], x[4:7], n_p * speed_command(t), speed, pm, pc
+        )
+        dx = np.empty(n)
+        dx[:4] = d_psi
+        dx[4:7] = d_ctrl
+        if mech:
+            dx[7] = (t_em - load(t)) / j
+        dx[-1] = omega_s
+        return dx
+
+    x0 = np.zeros(n)
+    if initial is not None:
+        x0[: n - 1] = np.asarray(initial, dtype=float)[: n - 1]
+    sol = solve_ivp(
+        rhs, (0.0, float(t_end)), x0, method=method, t_eval=t_eval, rtol=rtol, atol=atol
+    )
+    if not sol.success:
+        raise ParameterError(f"the drive simulation failed: {sol.message}")
+    t, y = sol.t, sol.y
+    speed = y[7] if mech else np.array([rotor_speed(tt) for tt in t])
+    out = {"t": t, "psi": y[:4], "ctrl": y[4:7], "speed": speed, "theta_s": y[-1]}
+    i_d = (y[0] - y[2]) / pm[2]
+    i_q = (y[1] - y[3]) / pm[2]
+    u = [
+        vf.vf_control_kernel(n_p * speed_command(tt), a, b, c, d, e, *pc)[:3]
+        for tt, a, b, c, d, e in zip(t, i_d, i_q, y[4], y[5], y[6], strict=True)
+    ]
+    u = np.array(u, dtype=float).T
+    out["torque"] = dq.im_torque_kernel(y[0], y[1], y[2], y[3], pm[2], pm[4])
+    out["i_s"] = i_d + 1j * i_q
+    out["i_ss"] = out["i_s"] * np.exp(1j * y[-1])
+    out["u_s"] = u[0] + 1j * u[1]
+    out["omega_s"] = u[2]
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# The coupled twin
+# --------------------------------------------------------------------------------------------
+def _protocol(speed: float, load: float, friction: str, torque_time=None, torque=None):
+    duration = 1.0 if torque_time is None else float(torque_time[-1])
+    return Protocol(
+        name="dq-drive",
+        description="steady free rolling / torque steps for the dq roller drive",
+        source="rollerrig.drives.drive_dynamics",
+        duration=duration,
+        torque_time=[0.0] if torque_time is None else list(torque_time),
+        torque_request=[0.0] if torque is None else list(torque),
+        speed_time=[0.0],
+        roller_speed=[speed],
+        load_time=[0.0],
+        normal_load=[load],
+        friction_time=[0.0],
+        friction_condition=(friction,),
+    )
+
+
+def _ramped_tables(tables: np.ndarray, rate_speed: float) -> np.ndarray:
+    """The input tables with the speed set point through the drive's ramp (exact)."""
+    if not np.isfinite(rate_speed):
+        return tables
+    t, v = vf.ramp_limited_command(tables[m.TAB_SPEED_T], tables[m.TAB_SPEED], rate_speed)
+    rows = [tables[i] for i in range(m.N_TABLE_ROWS)]
+    rows[m.TAB_SPEED_T], rows[m.TAB_SPEED] = t, v
+    width = max(r.size for r in rows)
+    out = np.empty((m.N_TABLE_ROWS, width))
+    for i, r in enumerate(rows):
+        out[i, : r.size] = r
+        out[i, r.size :] = r[-1]
+    return out
+
+
+@dataclass
+class DqTwin:
+    """The rig's coupled twin with the dq V/f roller drive (python level).
+
+    Build with :meth:`at` (an operating point or a torque protocol).
+
+    Attributes
+    ----------
+    rig : RigParameters
+        The rig.
+    drive : DqDrive
+        The roller drive.
+    wheel : str
+        Wheel drive, ``"pmsm"`` or ``"ideal_torque"``.
+    params : ndarray
+        The twin's parameter vector (roller slot carries the machine torque).
+    tables : ndarray
+        Input tables (speed set point ramped).
+    speed, normal_load : float
+        Operating point [m/s], [N].
+    friction : str
+        Polach set.
+    """
+
+    rig: object
+    drive: DqDrive
+    wheel: str
+    params: np.ndarray = field(repr=False)
+    tables: np.ndarray = field(repr=False)
+    speed: float
+    normal_load: float
+    friction: str = "dry"
+    _buf: np.ndarray = field(default=None, repr=False)
+
+    @classmethod
+    def at(
+        cls,
+        rig,
+        speed: float,
+        normal_load: float,
+        drive: DqDrive | None = None,
+        *,
+        wheel: str = "pmsm",
+        friction: str = "dry",
+        torque_time: Sequence[float] | None = None,
+        torque_request: Sequence[float] | None = None,
+    ) -> DqTwin:
+        """The coupled twin at a roller speed [m/s] and normal load [N].
+
+        ``torque_time``/``torque_request`` give a wheel torque request [s], [N.m] (default
+        none: free rolling). The friction set must be one of Polach's (``dry``, ``wet``).
+        """
+        v = float(require_positive("speed", speed, "m/s"))
+        load = float(require_positive("normal_load", normal_load, "N"))
+        if friction not in POLACH_PARAMETER_SETS:
+            raise ParameterError(
+                f"friction must be one of {sorted(POLACH_PARAMETER_SETS)}, got {friction!r}"
+            )
+        drive = drive or default_dq_drive(rig)
+        drives = m.DriveConfig(wheel=wheel, roller="induction", roller_lag=1.0)
+        inputs = assemble(rig, _protocol(v, load, friction, torque_time, torque_request), drives)
+        p = inputs.segments[0].params.copy()
+        p[m.P_RIPPLE_AMP] = 0.0
+        p[m.P_ROLLER_MODE] = m.ROLLER_MODES["induction"]
+        p[m.P_LAG_TAU] = 1.0  # the roller torque slot is a state: the machine's torque
+        rr = p[m.P_RR]
+        rate_v = drive.control.ramp_rate * 2.0 * np.pi * rr / drive.machine.pole_pairs
+        tables = _ramped_tables(inputs.tables, rate_v)
+        return cls(rig, drive, wheel, p, tables, v, load, friction, np.zeros(N_RIG))
+
+    # --- right-hand side ---------------------------------------------------------------------
+    def rhs(self, t: float, x: np.ndarray) -> np.ndarray:
+        """dx/dt of the coupled model (27 states, :data:`STATE_NAMES`)."""
+        p = self.params
+        pm = self.drive.machine.as_array()
+        pc = self.drive.control.as_array()
+        psi, ctrl = x[X_PSI : X_PSI + 4], x[X_CTRL : X_CTRL + 3]
+        xr = np.array(x[:N_RIG], dtype=float)
+        xr[m.X_T_ROLLER] = dq.im_torque_kernel(psi[0], psi[1], psi[2], psi[3], pm[2], pm[4])
+        dx = np.empty(N_STATES)
+        dxr = self._buf if self._buf is not None else np.zeros(N_RIG)
+        m.rig_rhs(t, xr, p, self.tables, dxr)
+        dx[:N_RIG] = dxr
+        dx[m.X_T_ROLLER] = 0.0
+        dx[m.X_INT_SPEED] = 0.0
+        v_set = m._interp(t, self.tables[m.TAB_SPEED_T], self.tables[m.TAB_SPEED])
+        omega_cmd = pm[4] * v_set / p[m.P_RR]
+        rotor_speed = x[m.X_OMEGA + 5] - x[m.X_OMEGA + 6]
+        d_psi, d_ctrl, _, _ = _drive_derivatives(
+            self.drive, psi, ctrl, omega_cmd, rotor_speed, pm, pc
+        )
+        dx[X_PSI : X_PSI + 4] = d_psi
+        dx[X_CTRL : X_CTRL + 3] = d_ctrl
+        return dx
+
+    def torques(self, x: np.ndarray, t: float = 0.0) -> dict[str, float]:
+        """Roller-drive air-gap torque, T56 and the contact force at a state (SI)."""
+        pm = self.drive.machine.as_array()
+        xr = np.array(x[:N_RIG], dtype=float)
+        psi = x[X_PSI : X_PSI + 4]
+        xr[m.X_T_ROLLER] = dq.im_torque_kernel(psi[0], psi[1], psi[2], psi[3], pm[2], pm[4])
+        terms = m.rig_terms(t, xr, self.params, self.tables)
+        names = m.TERM_NAMES
+        return {
+            "roller_drive_torque": float(xr[m.X_T_ROLLER]),
+            "t56": float(terms[names.index("t56")]),
+            "contact_force": float(terms[names.index("contact_force")]),
+        }
+
+    # --- steady state -------------------------------------------------------------------------
+    def steady_free_rolling(self) -> np.ndarray:
+        """Steady free rolling with the dq drive: the state (27) the tests start from.
+
+        The chain's state comes from :func:`rollerrig.rig.assemble.steady_free_rolling_state`
+        with the roller held at the dq drive's steady speed (an ideal speed source there); the
+        drive's speed is where it delivers the bearing losses (:func:`drive_steady_state`).
+        """
+        p_ideal = self.params.copy()
+        p_ideal[m.P_ROLLER_MODE] = m.ROLLER_MODES["ideal_speed"]
+        tables = self.tables.copy()
+        rr = self.params[m.P_RR]
+        omega_cmd = self.drive.electrical_omega_command(self.speed, rr)
+        roller_speed = self.speed / rr
+        x_rig = None
+        for _ in range(3):  # the losses depend on the speed only through tanh(ω/ω_reg)
+            tables[m.TAB_SPEED] = roller_speed * rr
+            x_rig = steady_free_rolling_state(p_ideal, tables, friction_condition=self.friction)
+            needed = float(x_rig[m.X_T_ROLLER])
+            op = drive_steady_state(self.drive, omega_cmd, torque=needed)
+            roller_speed = op.rotor_speed
+        x = np.zeros(N_STATES)
+        x[:N_RIG] = x_rig
+        x[m.X_T_ROLLER] = 0.0
+        x[X_PSI : X_PSI + 7] = op.state
+        return x
+
+    def active_states(self, x: np.ndarray | None = None) -> np.ndarray:
+        """Indices of the states that move (unused twin and controller states dropped).
+
+        With a state ``x`` (linearisation), the current filter is dropped when only the current
+        limit uses it and the limit is inactive there: it then feeds nothing (a decoupled real
+        pole −α_i).
+        """
+        control = self.drive.control
+        drop = {m.X_T_ROLLER, m.X_INT_SPEED}
+        if self.params[m.P_WHEEL_MODE] == 0.0:
+            drop |= {m.X_ID, m.X_IQ, m.X_INT_D, m.X_INT_Q}
+        used = set(control.active_states)
+        if x is not None and not (control.ir_resistance > 0.0 or control.slip_gain > 0.0):
+            i_f = np.hypot(x[X_CTRL], x[X_CTRL + 1])
+            if not i_f > control.current_limit:
+                used -= set(vf.STATE_NAMES[:2])
+        drop |= {X_CTRL + k for k, n in enumerate(vf.STATE_NAMES) if n not in used}
+        return np.array([k for k in range(N_STATES) if k not in drop])
+
+    def linearise(self, x0: np.ndarray | None = None, step: float = 1e-7):
+        """Jacobian A = ∂f/∂x on the active states at steady free rolling (central differences,
+        ``h_k = step · max(|x0_k|, 1)``, as :func:`rollerrig.rig.linear.linearise_rhs`).
+
+        Returns
+        -------
+        jacobian : ndarray
+        names : tuple of str
+        x0 : ndarray
+        """
+        x0 = self.steady_free_rolling() if x0 is None else np.asarray(x0, dtype=float)
+        active = self.active_states(x0)
+        jac = np.empty((active.size, active.size))
+        for col, k in enumerate(active):
+            h = step * max(abs(x0[k]), 1.0)
+            xp, xm = x0.copy(), x0.copy()
+            xp[k] += h
+            xm[k] -= h
+            jac[:, col] = (self.rhs(0.0, xp)[active] - self.rhs(0.0, xm)[active]) / (2.0 * h)
+        return jac, tuple(STATE_NAMES[k] for k in active), x0
+
+    def modes(self, damping_threshold: float = 0.3) -> tuple[CoupledMode, ...]:
+        """Modes at steady free rolling (:func:`rollerrig.rig.linear.modes_of`)."""
+        jac, names, _ = self.linearise()
+        return modes_of(jac, names, self.rig, damping_threshold)
+
+    def simulate(
+        self,
+        t_end: float,
+        x0: np.ndarray | None = None,
+        t_eval: np.ndarray | None = None,
+        rtol: float = 1e-6,
+        atol: float = 1e-8,
+    ):
+        """Integrate the coupled model (scipy Radau, finite-difference Jacobian on the active
+        states); returns the ``solve_ivp`` solution (inactive states held)."""
+        x0 = self.steady_free_rolling() if x0 is None else np.asarray(x0, dtype=float)
+        active = self.active_states()
+        full = x0.copy()
+
+        def f(t, z):
+            full[active] = z
+            return self.rhs(t, full)[active]
+
+        sol = solve_ivp(
+            f, (0.0, float(t_end)), x0[active], method="Radau", t_eval=t_eval, rtol=rtol, atol=atol
+        )
+        if not sol.success:
+            raise ParameterError(f"the coupled simulation failed: {sol.message}")
+        y = np.repeat(x0[:, None], sol.t.size, axis=1)
+        y[active] = sol.y
+        sol.y_full = y
+        return sol
+
+
+# --------------------------------------------------------------------------------------------
+# Mode tables
+# --------------------------------------------------------------------------------------------
+def dq_coupled_modes(
+    rig, speed: float, normal_load: float, drive: DqDrive | None = None, **kwargs
+) -> tuple[CoupledMode, ...]:
+    """Modes of the twin with the dq V/f drive at steady free rolling (speed [m/s], load [N])."""
+    return DqTwin.at(rig, speed, normal_load, drive, **kwargs).modes()
+
+
+def _row(modes, speed, load, label, band, threshold=DEFAULT_DAMPING_THRESHOLD):
+    """One row of a mode table: the oscillatory modes below 20 Hz and the verdict for ``band``."""
+    osc = [md for md in modes if md.kind == "oscillatory" and md.frequency < 20.0]
+    in_band = [md for md in osc if band[0] <= md.frequency <= band[1]]
+    unstable = [md for md in modes if md.kind != "rigid" and md.eigenvalue.real > 0.0]
+    return {
+        "speed [km/h]": speed * 3.6,
+        "normal_load [kN]": load / 1e3,
+        "drive": label,
+        "modes below 20 Hz": [
+            {
+                "frequency [Hz]": md.frequency,
+                "damping_ratio [-]": md.damping_ratio,
+                "what_moves": md.what_moves,
+                "am_rotor_share [-]": md.bodies.get("am_rotor", 0.0),
+            }
+            for md in osc
+        ],
+        f"lightly damped in {band[0]:g}-{band[1]:g} Hz": any(
+            md.damping_ratio < threshold for md in in_band
+        ),
+        "least damped in band": (
+            None
+            if not in_band
+            else min(((md.frequency, md.damping_ratio) for md in in_band), key=lambda fz: fz[1])
+        ),
+        "unstable": [(float(md.eigenvalue.real), md.frequency) for md in unstable],
+    }
+
+
+def eigen_table(
+    rig,
+    drives: Sequence[DqDrive],
+    speeds: Sequence[float] = (5 / 3.6, 10 / 3.6, 20 / 3.6, 30 / 3.6),
+    loads: Sequence[float] = (4.3e3, 10e3, 20e3),
+    *,
+    band: tuple[float, float] = (1.0, 1.7),
+    wheel: str = "pmsm",
+) -> list[dict]:
+    """Modes of the twin with each dq drive at steady free rolling, one row per (drive, speed
+    [m/s], load [N]): the oscillatory modes below 20 Hz with what moves, whether one in ``band``
+    [Hz] is lightly damped (ζ below :data:`rollerrig.rig.linear.DEFAULT_DAMPING_THRESHOLD`),
+    and any unstable eigenvalue."""
+    rows = []
+    for d in drives:
+        for v in speeds:
+            for n in loads:
+                modes = DqTwin.at(rig, v, n, d, wheel=wheel).modes()
+                rows.append(_row(modes, v, n, d.label, band))
+    return rows
+
+
+def thevenin_eigen_table(
+    rig,
+    lags: Sequence[float | None] = (None, 0.0),
+    speeds: Sequence[float] = (5 / 3.6, 10 / 3.6, 20 / 3.6, 30 / 3.6),
+    loads: Sequence[float] = (4.3e3, 10e3, 20e3),
+    *,
+    band: tuple[float, float] = (1.0, 1.7),
+) -> list[dict]:
+    """The same table for the existing Thevenin drive (:func:`rollerrig.rig.linear.coupled_modes`)
+    with each response lag τ [s] (None: the rig's c_lp)."""
+    rows = []
+    for lag in lags:
+        label = "Thevenin, lag " + ("c_lp (rig)" if lag is None else f"{lag:g} s")
+        for v in speeds:
+            for n in loads:
+                cm = coupled_modes(rig, v, n, drives=m.DriveConfig(roller_lag=lag))
+                rows.append(_row(cm.modes, v, n, label, band))
+    return rows
+
+
+def format_eigen_table(rows: Sequence[dict]) -> str:
+    """Plain text of :func:`eigen_table` rows: ``f/ζ`` of each oscillatory mode below 20 Hz.
+
+    Examples
+    --------
+    >>> from rollerrig.rig.parameters import default_rig
+    >>> rig = default_rig()
+    >>> text = format_eigen_table(eigen_table(rig, [default_dq_drive(rig)], [30 / 3.6], [4.3e3]))
+    >>> text.splitlines()[0].split()[:3]
+    ['drive', 'speed', '[km/h]']
+    """
+    lines = [f"{'drive':<28} {'speed [km/h]':>12} {'N [kN]':>7}  modes below 20 Hz: f [Hz]/zeta"]
+    for r in rows:
+        modes = " ".join(
+            f"{md['frequency [Hz]']:.2f}/{md['damping_ratio [-]']:.3f}"
+            for md in r["modes below 20 Hz"]
+        )
+        flag = " UNSTABLE" if r["unstable"] else ""
+        lines.append(
+            f"{r['drive']:<28} {r['speed [km/h]']:>12.0f} {r['normal_load [kN]']:>7.1f}  "
+            f"{modes}{flag}"
+        )
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------------------------
+# The lag the dq drive amounts to
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class LagFit:
+    """A first-order lag fitted to a torque response.
+
+    Attributes
+    ----------
+    time_constant : float
+        τ [s].
+    clp : float
+        Kayaalp's c_lp at his step 1e-4 s, 1/(τ + Δt) [1/s].
+    rms_error : float
+        RMS of the fitted minus the dq response, over the fit window [N.m].
+    peak_response : float
+        Largest |ΔT| of the dq response [N.m] (the scale of ``rms_error``).
+    t : ndarray
+        Times [s].
+    dq_torque, lag_torque : ndarray
+        The dq drive's torque and the fitted lag model's [N.m].
+    """
+
+    time_constant: float
+    clp: float
+    rms_error: float
+    peak_response: float
+    t: np.ndarray = field(repr=False)
+    dq_torque: np.ndarray = field(repr=False)
+    lag_torque: np.ndarray = field(repr=False)
+
+
+def fit_lag_at_held_speed(
+    drive: DqDrive,
+    roller_speed: float,
+    roller_radius: float,
+    slip_step: float = 0.3,
+    duration: float = 1.0,
+    n: int = 2001,
+) -> LagFit:
+    """τ of the lag ``τ dT/dt = T_ss − T`` that best fits the dq drive's torque after a step.
+
+    The machine runs at steady state at the set speed (ω* from ``roller_speed`` [m/s]), at no
+    load; at t = 0 the rotor speed steps by ``slip_step`` [rad/s] (mechanical, above the set
+    speed: braking, as the AM on the rig in traction) and is held. The Thevenin + lag model
+    answers with ``T_ss (1 − e^{−t/τ})``, T_ss the new steady torque of the dq drive (they
+    agree in steady state); τ minimises the RMS difference.
+    """
+    w_cmd = float(drive.electrical_omega_command(roller_speed, roller_radius))
+    speed0 = w_cmd / drive.machine.pole_pairs
+    op0 = drive_steady_state(drive, w_cmd, rotor_speed=speed0)
+    t = np.linspace(0.0, duration, n)
+    out = simulate_drive_on_inertia(
+        drive,
+        duration,
+        lambda tt: speed0,
+        rotor_speed=lambda tt: speed0 + slip_step,
+        initial=op0.state,
+        t_eval=t,
+    )
+    t_dq = out["torque"]
+    op1 = drive_steady_state(drive, w_cmd, rotor_speed=speed0 + slip_step)
+    t0, t1 = op0.torque, op1.torque
+
+    def lag(tau):
+        return t1 + (t0 - t1) * np.exp(-t / tau)
+
+    def cost(log_tau):
+        return float(np.sqrt(np.mean((lag(np.exp(log_tau)) - t_dq) ** 2)))
+
+    best = minimize_scalar(cost, bounds=(np.log(1e-4), np.log(10.0)), method="bounded")
+    tau = float(np.exp(best.x))
+    return LagFit(
+        time_constant=tau,
+        clp=float(clp_from_lag_time_constant(tau)),
+        rms_error=float(best.fun),
+        peak_response=float(np.max(np.abs(t_dq - t0))),
+        t=t,
+        dq_torque=t_dq,
+        lag_torque=lag(tau),
+    )
+
+
+def fit_lag_in_rig(
+    rig,
+    speed: float,
+    normal_load: float,
+    torque_step: float = 300.0,
+    drive: DqDrive | None = None,
+    *,
+    t_step: float = 0.2,
+    rise: float = 0.02,
+    duration: float = 2.5,
+    friction: str = "dry",
+    bounds: tuple[float, float] = (1e-3, 1.0),
+    signal: str = "roller_drive_torque",
+) -> LagFit:
+    """Fit the twin's Thevenin + lag drive to the dq drive's response to a wheel-torque step.
+
+    Both twins (ideal-torque wheel drive, as Kayaalp 4.5.1.8 did) start from steady free rolling
+    at ``speed`` [m/s] and ``normal_load`` [N]; the wheel torque request rises by
+    ``torque_step`` [N.m] in ``rise`` [s] at ``t_step`` [s]. τ of the Thevenin drive
+    (:data:`rollerrig.rig.model.DriveConfig` ``roller_lag``) minimises the RMS difference of
+    ``signal`` (``"roller_drive_torque"`` or ``"t56"``) over the run.
+    """
+    drive = drive or default_dq_drive(rig)
+    tt = [0.0, t_step, t_step + rise, duration]
+    tq = [0.0, 0.0, torque_step, torque_step]
+    t = np.linspace(0.0, duration, int(duration * 400) + 1)
+    twin = DqTwin.at(
+        rig,
+        speed,
+        normal_load,
+        drive,
+        wheel="ideal_torque",
+        friction=friction,
+        torque_time=tt,
+        torque_request=tq,
+    )
+    sol = twin.simulate(duration, t_eval=t)
+    dq_sig = np.array([twin.torques(sol.y_full[:, k], tk)[signal] for k, tk in enumerate(t)])
+
+    proto = _protocol(speed, normal_load, friction, tt, tq)
+
+    def lag_response(tau):
+        drives = m.DriveConfig(wheel="ideal_torque", roller="induction", roller_lag=tau)
+        inputs = assemble(rig, proto, drives)
+        p = inputs.segments[0].params.copy()
+        p[m.P_RIPPLE_AMP] = 0.0
+        buf = np.zeros(m.N_STATES)
+        keep = np.array(
+            [
+                k
+                for k in range(m.N_STATES)
+                if k not in (m.X_ID, m.X_IQ, m.X_INT_D, m.X_INT_Q, m.X_INT_SPEED)
+            ]
+        )
+        full = inputs.initial_state.copy()
+
+        def f(tk, z):
+            full[keep] = z
+            m.rig_rhs(tk, full, p, inputs.tables, buf)
+            return buf[keep].copy()
+
+        s = solve_ivp(
+            f, (0.0, duration), full[keep], method="Radau", t_eval=t, rtol=1e-6, atol=1e-8
+        )
+        y = np.repeat(inputs.initial_state[:, None], t.size, axis=1)
+        y[keep] = s.y
+        idx = m.TERM_NAMES.index(
+            "roller_drive_torque" if signal == "roller_drive_torque" else "t56"
+        )
+        return np.array([m.rig_terms(tk, y[:, k], p, inputs.tables)[idx] for k, tk in enumerate(t)])
+
+    def cost(log_tau):
+        return float(np.sqrt(np.mean((lag_response(np.exp(log_tau)) - dq_sig) ** 2)))
+
+    best = minimize_scalar(
+        cost,
+        bounds=(np.log(bounds[0]), np.log(bounds[1])),
+        method="bounded",
+        options={"xatol": 1e-3},
+    )
+    tau = float(np.exp(best.x))
+    return LagFit(
+        time_constant=tau,
+        clp=float(clp_from_lag_time_constant(tau)),
+        rms_error=float(best.fun),
+        peak_response=float(np.max(np.abs(dq_sig - dq_sig[0]))),
+        t=t,
+        dq_torque=dq_sig,
+        lag_torque=lag_response(tau),
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# The study
+# --------------------------------------------------------------------------------------------
+def drive_variants(rig) -> list[DqDrive]:
+    """The V/f settings the study compares, on the rig's nameplate machine.
+
+    ``default`` (:func:`~rollerrig.drives.vf.vf_control_for` defaults), ``pure V/f`` (no boost:
+    the existing twin's law), full slip compensation with a 0.1 s filter, and 150 %
+    compensation with 0.1 s and 0.05 s filters (the settings that make the whole-assembly mode
+    lightly damped near 1.3-1.6 Hz).
+    """
+    machine = dq.inverse_gamma_from_rig(rig.induction_motor)
+    return [
+        DqDrive(machine, vf.vf_control_for(machine), "dq default"),
+        DqDrive(machine, vf.vf_control_for(machine, boost=0.0), "dq pure V/f"),
+        DqDrive(
+            machine,
+            vf.vf_control_for(machine, slip_compensation=1.0, slip_filter_time=0.1),
+            "dq slip comp 1.0, 0.1 s",
+        ),
+        DqDrive(
+            machine,
+            vf.vf_control_for(machine, slip_compensation=1.5, slip_filter_time=0.1),
+            "dq slip comp 1.5, 0.1 s",
+        ),
+        DqDrive(
+            machine,
+            vf.vf_control_for(machine, slip_compensation=1.5, slip_filter_time=0.05),
+            "dq slip comp 1.5, 0.05 s",
+        ),
+    ]
+
+
+def drive_dynamics_study(
+    rig,
+    speeds: Sequence[float] = (5 / 3.6, 10 / 3.6, 20 / 3.6, 30 / 3.6),
+    loads: Sequence[float] = (4.3e3, 10e3, 20e3),
+    drives: Sequence[DqDrive] | None = None,
+    *,
+    rig_fit_points: Sequence[tuple[float, float]] = ((10 / 3.6, 4.3e3), (30 / 3.6, 4.3e3)),
+) -> dict:
+    """The issue-13 study, JSON-ready: mode tables with and without the dq drive, the lag fits.
+
+    Returns
+    -------
+    dict
+        ``thevenin`` and ``dq`` (rows of :func:`thevenin_eigen_table` / :func:`eigen_table`),
+        ``lag_held_speed`` (per speed: τ [s] and c_lp [1/s] of :func:`fit_lag_at_held_speed`
+        for the first drive), ``lag_in_rig`` (per point of ``rig_fit_points``:
+        :func:`fit_lag_in_rig`), ``seed_lag [s]`` (τ of c_lp = 2.75) and the machine's
+        parameters and assumptions.
+    """
+    drives = list(drives or drive_variants(rig))
+    first = drives[0]
+    rr = rig.geometry.roller_radius_x
+    held = []
+    for v in speeds:
+        fit = fit_lag_at_held_speed(first, v, rr)
+        held.append(
+            {
+                "speed [km/h]": v * 3.6,
+                "tau [s]": fit.time_constant,
+                "c_lp [1/s]": fit.clp,
+                "rms_error [N.m]": fit.rms_error,
+                "peak_response [N.m]": fit.peak_response,
+            }
+        )
+    in_rig = []
+    for v, n in rig_fit_points:
+        fit = fit_lag_in_rig(rig, v, n, drive=first)
+        in_rig.append(
+            {
+                "speed [km/h]": v * 3.6,
+                "normal_load [kN]": n / 1e3,
+                "tau [s]": fit.time_constant,
+                "c_lp [1/s]": fit.clp,
+                "rms_error [N.m]": fit.rms_error,
+                "peak_response [N.m]": fit.peak_response,
+            }
+        )
+    mach = first.machine
+    return {
+        "machine": {
+            "stator_resistance [ohm]": mach.stator_resistance,
+            "rotor_resistance [ohm]": mach.rotor_resistance,
+            "leakage_inductance [H]": mach.leakage_inductance,
+            "magnetising_inductance [H]": mach.magnetising_inductance,
+            "transient_rotor_time_constant [s]": mach.transient_rotor_time_constant,
+            "rotor_time_constant [s]": mach.rotor_time_constant,
+            "assumptions": list(mach.assumptions),
+        },
+        "controls": {d.label: list(d.control.assumptions) for d in drives},
+        "thevenin": thevenin_eigen_table(rig, speeds=speeds, loads=loads),
+        "dq": eigen_table(rig, drives, speeds, loads),
+        "lag_held_speed": held,
+        "lag_in_rig": in_rig,
+        "seed_lag [s]": SEED_LAG,
+    }
