@@ -147,21 +147,8 @@ class StudyStore:
     @classmethod
     def open(cls, path: str | os.PathLike, *, study_sha256: str | None = None) -> StudyStore:
         """Reopen a store to resume it; with ``study_sha256``, check it holds that study."""
-        zarr = _zarr()
         path = Path(path)
-        try:
-            group = zarr.open_group(path, mode="r+")
-            version = group.attrs.get("rollerrig_study_store")
-        except Exception as exc:  # zarr raises several types for a folder that is not a store
-            raise StoreError(
-                f"{path}: not a rollerrig study store ({type(exc).__name__}: {exc}); remove it "
-                "or choose another --out"
-            ) from None
-        if version != str(FORMAT_VERSION):
-            raise StoreError(
-                f"{path}: not a rollerrig study store of this version (found {version!r}); "
-                "remove it or choose another --out"
-            )
+        group = _open_group(path, "r+")
         if study_sha256 is not None and group.attrs.get("study_sha256") != study_sha256:
             raise StoreError(
                 f"{path}: this store holds another study (the study file changed since it was "
@@ -276,13 +263,23 @@ def open_study(path: str | os.PathLike):
     StoreError
         When the folder is not a study store.
     """
+    return _dataset(_open_group(Path(path), "r"))
+
+
+def _open_group(path: Path, mode: str):
+    """The zarr group of a study store of this version, or :class:`StoreError`."""
     zarr = _zarr()
-    path = Path(path)
     try:
-        group = zarr.open_group(path, mode="r")
+        group = zarr.open_group(path, mode=mode)
         version = group.attrs.get("rollerrig_study_store")
     except Exception as exc:  # zarr raises several types for a folder that is not a store
-        raise StoreError(f"{path}: not a rollerrig study store ({exc})") from None
+        raise StoreError(
+            f"{path}: not a rollerrig study store ({type(exc).__name__}: {exc}); remove it or "
+            "choose another --out"
+        ) from None
     if version != str(FORMAT_VERSION):
-        raise StoreError(f"{path}: not a rollerrig study store (format {version!r})")
-    return _dataset(group)
+        raise StoreError(
+            f"{path}: not a rollerrig study store of this version (found {version!r}); remove "
+            "it or choose another --out"
+        )
+    return group

@@ -390,6 +390,17 @@ class _Reader:
             self.problems.append(Problem(f"{prefix}.{p.key}", p.message, allowed=p.allowed))
             return None
 
+    def factor(self, where: str, quantity: str | None, unit) -> float | None:
+        """SI factor of ``unit`` (1 without a unit or a quantity), or None after recording
+        the problem under ``where.unit``."""
+        if quantity is None or unit is None:
+            return 1.0
+        try:
+            return _factor(where, quantity, unit)
+        except _KeyProblem as exc:
+            self.problems.append(exc.problem)
+            return None
+
     def quantity(self, key: str, given, quantity: str) -> float | None:
         """A number (SI) or ``{ value, unit }``."""
         if isinstance(given, dict):
@@ -442,13 +453,9 @@ def _axis(reader: _Reader, key: str, spec) -> Axis | None:
     if not isinstance(label, str):
         reader.problem(f"{where}.label", "must be text", got=label)
         label = ""
-    factor = 1.0
-    if quantity is not None and unit is not None:
-        try:
-            factor = _factor(where, quantity, unit)
-        except _KeyProblem as exc:
-            reader.problems.append(exc.problem)
-            return None
+    factor = reader.factor(where, quantity, unit)
+    if factor is None:
+        return None
     if choices is not None and unit is not None:
         reader.problem(f"{where}.unit", "a name takes no unit", got=unit)
     if "values" in spec:
@@ -528,13 +535,9 @@ def _distribution(reader: _Reader, key: str, spec) -> Distribution | None:
         reader.problem(where, f"{kind} needs {', '.join(names)}; missing {', '.join(missing)}")
         return None
     unit = spec.get("unit")
-    factor = 1.0
-    if quantity is not None and unit is not None:
-        try:
-            factor = _factor(where, quantity, unit)
-        except _KeyProblem as exc:
-            reader.problems.append(exc.problem)
-            return None
+    factor = reader.factor(where, quantity, unit)
+    if factor is None:
+        return None
     params: dict[str, Any] = {}
     if kind == "choice":
         vals = spec["values"]
