@@ -17,7 +17,7 @@ import numpy as np
 import typer
 from rich.table import Table
 
-from rollerrig.cli._boundary import BoundaryGroup, Interrupted, UserError
+from rollerrig.cli._boundary import Interrupted, UserError
 from rollerrig.cli._console import console, note, print_written
 from rollerrig.cli._options import DEFAULT_OUT, Executor, OutOption, RigOption
 
@@ -27,10 +27,9 @@ study_app = typer.Typer(
     name="study",
     help="Studies on the twin: any grid, sampled design or set of cases of rig parameters, "
     "experiment and drives, run on dask; their tables, figures and sensitivity indices.",
-    cls=BoundaryGroup,
     no_args_is_help=True,
     rich_markup_mode=None,
-)
+)  # the root command's error boundary covers these commands (a second one would print twice)
 
 MAX_TABLE_POINTS = 30
 """Up to this many points, the console shows one row per point; beyond, a summary per metric."""

@@ -263,10 +263,12 @@ def open_study(path: str | os.PathLike):
     StoreError
         When the folder is not a study store.
     """
-    return _dataset(_open_group(Path(path), "r"))
+    return _dataset(
+        _open_group(Path(path), "r", "give the study-NAME.zarr folder that study run wrote")
+    )
 
 
-def _open_group(path: Path, mode: str):
+def _open_group(path: Path, mode: str, hint: str = "remove it or choose another --out"):
     """The zarr group of a study store of this version, or :class:`StoreError`."""
     zarr = _zarr()
     try:
@@ -274,12 +276,10 @@ def _open_group(path: Path, mode: str):
         version = group.attrs.get("rollerrig_study_store")
     except Exception as exc:  # zarr raises several types for a folder that is not a store
         raise StoreError(
-            f"{path}: not a rollerrig study store ({type(exc).__name__}: {exc}); remove it or "
-            "choose another --out"
+            f"{path}: not a rollerrig study store ({type(exc).__name__}: {exc}); {hint}"
         ) from None
     if version != str(FORMAT_VERSION):
         raise StoreError(
-            f"{path}: not a rollerrig study store of this version (found {version!r}); remove "
-            "it or choose another --out"
+            f"{path}: not a rollerrig study store of this version (found {version!r}); {hint}"
         )
     return group
