@@ -206,7 +206,7 @@ class Axis:
         if isinstance(value, str):
             return f"{name} = {value}"
         shown = value / self.factor
-        return f"{name} = {shown:.4g}" + (f" {self.unit}" if self.unit else "")
+        return f"{name} = {shown:.6g}" + (f" {self.unit}" if self.unit else "")
 
 
 @dataclass(frozen=True)
