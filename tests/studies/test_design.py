@@ -93,3 +93,12 @@ def test_the_frame_model_and_its_keys_are_study_keys():
     assert d.frame == "flexible" and r.frame.longitudinal_stiffness == 1e8
     with pytest.raises(Exception, match="not a known frame"):
         study_from_toml_string("[grid]\nframe = ['wobbly']\n")
+
+
+def test_the_dq_drive_runs_in_its_own_batches():
+    # The dq roller drive is a second compiled model (29 states): a batch never mixes it in.
+    spec = study_from_toml_string(
+        "[grid]\n'drive.roller' = ['induction', 'induction_dq', 'servo']\nload = [4300.0]\n"
+    )
+    groups = protocol_groups(design_points(spec), np.arange(3))
+    assert sorted(g.tolist() for g in groups) == [[0, 2], [1]]

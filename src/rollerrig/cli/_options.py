@@ -58,6 +58,7 @@ class RollerDrive(StrEnum):
     induction_linear = "induction_linear"
     ideal_speed = "ideal_speed"
     servo = "servo"
+    induction_dq = "induction_dq"
 
 
 class FrameModel(StrEnum):

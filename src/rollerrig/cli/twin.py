@@ -227,7 +227,7 @@ def simulate(
         with _progress() as bar:
             duration = sim.protocol.duration
             if solver is Solver.fast:
-                _say_compile_stage(batch=False)
+                _say_compile_stage(batch=False, dq=drives.roller == "induction_dq")
             task = bar.add_task("simulating", total=duration, info="solving")
             ds = sim.run(
                 progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s")
@@ -259,12 +259,12 @@ def _progress():
     )
 
 
-def _say_compile_stage(*, batch: bool) -> None:
+def _say_compile_stage(*, batch: bool, dq: bool = False) -> None:
     """Say when the fast solver will compile (first run after an install or an upgrade) rather
     than load from its cache, so that a silent half minute is not taken for a hang."""
     from rollerrig.solve.fast import is_compiled
 
-    if not is_compiled(batch=batch):
+    if not is_compiled(batch=batch, dq=dq):
         note(
             "compiling the fast solver for this installation (once, about 20-30 s on 2 cores); "
             "later runs load it from the cache"

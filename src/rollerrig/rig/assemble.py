@@ -266,9 +266,12 @@ def assemble(
                 float(start), float(end), condition, _polach_into(base, friction_sets[condition])
             )
         )
-    x0 = steady_free_rolling_state(
-        segments[0].params, tables, friction_condition=segments[0].friction_condition
-    )
+    if drives.roller == "induction_dq":
+        segments, tables, x0 = _with_dq_drive(rig, segments, tables)
+    else:
+        x0 = steady_free_rolling_state(
+            segments[0].params, tables, friction_condition=segments[0].friction_condition
+        )
     _warn_torque_beyond_drive(rig, drives, protocol)
     return ModelInputs(
         rig=rig,
@@ -280,6 +283,83 @@ def assemble(
         initial_state=x0,
         contact_reference=contact_reference,
     )
+
+
+def _with_dq_drive(rig: RigParameters, segments: list[Segment], tables: np.ndarray):
+    """Segments, tables and initial state of the model with the dq V/f roller drive.
+
+    The parameter vectors get the machine's and the controller's parameters after the rig's
+    (:func:`rollerrig.rig.model_dq.rig_dq_params`; the rig's nameplate machine,
+    :func:`rollerrig.drives.drive_dynamics.default_dq_drive`), the speed set point passes the
+    drive's frequency ramp (as :class:`rollerrig.drives.drive_dynamics.DqTwin`), and the initial
+    state is the dq drive's steady free rolling (:func:`dq_steady_free_rolling_state`).
+    """
+    from rollerrig.drives.drive_dynamics import _ramped_tables, default_dq_drive
+    from rollerrig.rig import model_dq
+
+    drive = default_dq_drive(rig)
+    rr = rig.geometry.roller_radius_x
+    rate_v = drive.control.ramp_rate * 2.0 * np.pi * rr / drive.machine.pole_pairs
+    tables = _ramped_tables(tables, rate_v)
+    segments = [
+        Segment(
+            s.start,
+            s.end,
+            s.friction_condition,
+            model_dq.rig_dq_params(s.params, drive.machine, drive.control),
+        )
+        for s in segments
+    ]
+    x0 = dq_steady_free_rolling_state(
+        segments[0].params, tables, drive, friction_condition=segments[0].friction_condition
+    )
+    return segments, tables, x0
+
+
+def dq_steady_free_rolling_state(
+    p: np.ndarray, tables: np.ndarray, drive, t: float = 0.0, *, friction_condition: str = ""
+) -> np.ndarray:
+    """Steady free rolling with the dq V/f roller drive (the state of
+    :mod:`rollerrig.rig.model_dq`), as
+    :meth:`rollerrig.drives.drive_dynamics.DqTwin.steady_free_rolling`.
+
+    The chain's state is :func:`steady_free_rolling_state` with the roller held at the dq
+    drive's steady speed; that speed is where the drive delivers the bearing losses
+    (:func:`rollerrig.drives.drive_dynamics.drive_steady_state`, three fixed-point passes).
+
+    Raises
+    ------
+    ParameterError
+        No steady state (see :func:`steady_free_rolling_state`), or a set speed of 0 at ``t``
+        (the V/f drive has no steady state at zero frequency: start the protocol moving).
+    """
+    from rollerrig.drives.drive_dynamics import drive_steady_state
+    from rollerrig.rig import model_dq
+
+    p_ideal = p[: m.N_PARAMS].copy()
+    p_ideal[m.P_ROLLER_MODE] = m.ROLLER_MODES["ideal_speed"]
+    rr = p[m.P_RR]
+    speed = float(np.interp(t, tables[m.TAB_SPEED_T], tables[m.TAB_SPEED]))
+    if not speed > 0.0:
+        raise ParameterError(
+            f"the roller drive induction_dq needs a roller speed set point > 0 at t = {t:g} s "
+            f"to start from steady free rolling (got {speed:g} m/s); start the protocol moving "
+            "or choose another roller drive"
+        )
+    omega_cmd = drive.electrical_omega_command(speed, rr)
+    roller_speed = speed / rr
+    tab = tables.copy()
+    x_rig = op = None
+    for _ in range(3):  # the losses depend on the speed only through tanh(ω/ω_reg)
+        tab[m.TAB_SPEED] = roller_speed * rr
+        x_rig = steady_free_rolling_state(p_ideal, tab, t, friction_condition=friction_condition)
+        op = drive_steady_state(drive, omega_cmd, torque=float(x_rig[m.X_T_ROLLER]))
+        roller_speed = op.rotor_speed
+    x = np.zeros(model_dq.N_DQ_STATES)
+    x[: m.N_STATES] = x_rig
+    x[m.X_T_ROLLER] = 0.0
+    x[model_dq.X_PSI : model_dq.X_PSI + 7] = op.state
+    return x
 
 
 def _warn_torque_beyond_drive(rig: RigParameters, drives: m.DriveConfig, protocol: Protocol):

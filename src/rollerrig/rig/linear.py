@@ -254,6 +254,12 @@ def linearise_twin(
     if friction not in sets:
         raise ParameterError(f"friction must be one of {sorted(sets)}, got {friction!r}")
     drives = drives or m.DriveConfig()
+    if drives.roller == "induction_dq":
+        raise ParameterError(
+            "the linearised twin covers the drives of the 22-state model; for the dq induction "
+            "machine use rollerrig.drives.drive_dynamics.dq_coupled_modes (rollerrig study "
+            "drive-dynamics)"
+        )
     try:
         inputs = assemble(rig, _operating_point_protocol(v, load, friction), drives, sets)
     except ParameterError:

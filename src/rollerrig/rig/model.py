@@ -102,7 +102,7 @@ P_WHEEL_MODE = 31  # 0 ideal torque source, 1 PMSM with FOC
 P_PP, P_RS, P_LD, P_LQ, P_FLUX = 32, 33, 34, 35, 36
 P_KP, P_KI, P_VMAX, P_IMAX = 37, 38, 39, 40
 P_RIPPLE_AMP, P_RIPPLE_FREQ = 41, 42  # optional inverter torque ripple [N.m], [Hz]
-P_ROLLER_MODE = 43  # 0 ideal speed source, 1 AM Thevenin V/f, 2 AM linear, 3 speed servo
+P_ROLLER_MODE = 43  # 0 ideal speed, 1 AM Thevenin V/f, 2 AM linear, 3 servo, 4 AM dq (model_dq)
 P_AM_PP, P_AM_V, P_AM_RTH, P_AM_XTH, P_AM_R2, P_AM_X2, P_AM_FRATED = 44, 45, 46, 47, 48, 49, 50
 P_AM_SLOPE = 51  # linear torque-slip slope [N.m.s/rad]
 P_LAG_TAU = 52  # roller-drive response lag τ [s]; 0 means none
@@ -112,7 +112,13 @@ P_FRAME_K, P_FRAME_M, P_FRAME_C = 57, 58, 59  # [N/m], [kg], [N.s/m]
 N_PARAMS = 60
 
 WHEEL_MODES = {"ideal_torque": 0.0, "pmsm": 1.0}
-ROLLER_MODES = {"ideal_speed": 0.0, "induction": 1.0, "induction_linear": 2.0, "servo": 3.0}
+ROLLER_MODES = {
+    "ideal_speed": 0.0,
+    "induction": 1.0,
+    "induction_linear": 2.0,
+    "servo": 3.0,
+    "induction_dq": 4.0,
+}
 FRAME_MODES = {"rigid": 0.0, "flexible": 1.0}
 
 # Table rows (piecewise-linear inputs, padded by repeating the last breakpoint)
@@ -170,13 +176,15 @@ class DriveConfig:
     wheel : {"pmsm", "ideal_torque"}
         PMSM dq model with field-oriented PI current control and voltage limit, or an ideal
         torque source delivering the request exactly.
-    roller : {"induction", "induction_linear", "ideal_speed", "servo"}
+    roller : {"induction", "induction_linear", "ideal_speed", "servo", "induction_dq"}
         Induction motor under open-loop V/f (Thevenin circuit, Kayaalp eq. 4.28), its linear
-        torque-slip fit (Kayaalp Fig. 45), an ideal speed source, or a speed-controlled
-        servo/PMSM roller drive (the seed's proposed fix).
+        torque-slip fit (Kayaalp Fig. 45), an ideal speed source, a speed-controlled
+        servo/PMSM roller drive (the seed's proposed fix), or the induction machine as a
+        dynamic dq model (stator and rotor fluxes) under open-loop V/f control
+        (:mod:`rollerrig.rig.model_dq`, a second compiled model with 29 states).
     roller_lag : float or None
         Roller-drive response lag τ [s]. ``None`` takes the rig's value (from c_lp, eq. 4.29);
-        0 means no lag.
+        0 means no lag. Not used by ``"induction_dq"`` (its dynamics are the machine's).
     frame : {"rigid", "flexible"}
         The rig frame: rigid (the seed's model), or one longitudinal degree of freedom at the
         contact with the rig's ``[frame]`` stiffness, mass and damping (Kayaalp 4.3.1's
@@ -184,7 +192,9 @@ class DriveConfig:
     """
 
     wheel: Literal["pmsm", "ideal_torque"] = "pmsm"
-    roller: Literal["induction", "induction_linear", "ideal_speed", "servo"] = "induction"
+    roller: Literal["induction", "induction_linear", "ideal_speed", "servo", "induction_dq"] = (
+        "induction"
+    )
     roller_lag: float | None = None
     frame: Literal["rigid", "flexible"] = "rigid"
 

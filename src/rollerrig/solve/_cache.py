@@ -50,13 +50,17 @@ __all__ = ["KEEP", "SOURCES", "cache_dir", "cache_key", "cache_root", "is_cached
 SOURCES = (
     "solve/_cache.py",
     "solve/_compiled.py",
+    "solve/_compiled_dq.py",
     "solve/_wdriver.py",
     "solve/ros34pw.py",
     "solve/fast.py",
     "rig/model.py",
+    "rig/model_dq.py",
     "contact/creep.py",
     "contact/kinematics.py",
     "drives/induction.py",
+    "drives/induction_dq.py",
+    "drives/vf.py",
     "drives/pmsm.py",
     "drives/servo.py",
 )

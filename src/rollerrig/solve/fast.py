@@ -15,6 +15,7 @@ import numpy as np
 
 from rollerrig.rig.model import N_STATES
 from rollerrig.solve import _cache
+from rollerrig.solve import _wdriver as _wd
 from rollerrig.solve._compiled import RIG
 from rollerrig.solve.ros34pw import (
     DEFAULT_MAX_STEPS,
@@ -30,6 +31,7 @@ __all__ = [
     "FAST_DEFAULTS",
     "SWEEP_H_MAX",
     "default_tolerances",
+    "dq_tolerances",
     "failure_reason",
     "integrate_batch",
     "integrate_experiment",
@@ -76,6 +78,18 @@ def default_tolerances(
     at[20] = 1e-6 * rtol  # frame displacement [m]: tens of µm under the contact force
     at[21] = 1e-4 * rtol  # frame velocity [m/s]
     return rt, at
+
+
+def dq_tolerances(rtol: float, angle_atol: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Per-state (rtol, atol) vectors for the state of the rig with the dq roller drive
+    (:mod:`rollerrig.rig.model_dq`): :func:`default_tolerances` for the rig's 22 states, then
+    the fluxes (about 1 Wb at the rated point: an absolute tolerance of 0.01 ``rtol`` Wb), the
+    controller's filtered currents (100 ``rtol`` A, as the PMSM currents) and filtered slip
+    (``rtol`` rad/s, as the speeds)."""
+    rt, at = default_tolerances(rtol, angle_atol)
+    return np.concatenate([rt, np.full(7, rtol)]), np.concatenate(
+        [at, [0.01 * rtol] * 4, [100.0 * rtol] * 2, [rtol]]
+    )
 
 
 _DENSE = True
@@ -205,12 +219,38 @@ def _integrate_batch(
         )
 
 
-def _settings(rtol, h_max, jac_every, angle_atol):
+_DQ: dict[str, object] = {}
+
+
+def _uses_dq(inputs) -> bool:
+    """True for the roller drive ``"induction_dq"`` (the model of :mod:`rollerrig.rig.model_dq`)."""
+    return inputs.drives.roller == "induction_dq"
+
+
+def _dq_drivers():
+    """``(_integrate, _integrate_batch)`` bound to the dq model (:data:`_compiled_dq.RIG_DQ`).
+
+    Copies of the two drivers above whose global ``_rig_integrate`` is the dq model's, built
+    (and compiled, or loaded from the cache) only when the dq drive is first used.
+    """
+    if not _DQ:
+        from rollerrig.solve._compiled_dq import RIG_DQ
+
+        ns = dict(globals())
+        ns["_rig_integrate"] = RIG_DQ.integrate
+        single = _wd._compiled_copy(_integrate.py_func, ns, "rig_dq", True)
+        ns["_integrate"] = single
+        batch = _wd._compiled_copy(_integrate_batch.py_func, ns, "rig_dq", True, parallel=True)
+        _DQ["single"], _DQ["batch"] = single, batch
+    return _DQ["single"], _DQ["batch"]
+
+
+def _settings(rtol, h_max, jac_every, angle_atol, dq=False):
     """Tolerance vectors and step settings, defaults from :data:`FAST_DEFAULTS`."""
     rtol = FAST_DEFAULTS["rtol"] if rtol is None else rtol
     if angle_atol is None:  # scale the angle tolerance with rtol
         angle_atol = FAST_DEFAULTS["angle_atol"] * rtol / FAST_DEFAULTS["rtol"]
-    rt, at = default_tolerances(rtol, angle_atol)
+    rt, at = (dq_tolerances if dq else default_tolerances)(rtol, angle_atol)
     h_max = FAST_DEFAULTS["h_max"] if h_max is None else h_max
     jac_every = FAST_DEFAULTS["jac_every"] if jac_every is None else jac_every
     return rt, at, h_max, jac_every
@@ -236,7 +276,7 @@ def _stats(counts, status, t_stop) -> dict:
     return out
 
 
-def is_compiled(batch: bool = False) -> bool:
+def is_compiled(batch: bool = False, dq: bool = False) -> bool:
     """True when the compiled driver is in the on-disk cache, so a run loads it (a fraction
     of a second) instead of compiling it (about 20 s on 2 cores, once per install).
 
@@ -244,7 +284,12 @@ def is_compiled(batch: bool = False) -> bool:
     ----------
     batch : bool
         Ask about the parallel driver of :func:`integrate_batch` instead.
+    dq : bool
+        Ask about the drivers of the model with the dq roller drive (``"induction_dq"``).
     """
+    if dq:
+        single, parallel = _dq_drivers()
+        return _cache.is_cached(parallel if batch else single)
     return _cache.is_cached(_integrate_batch if batch else _integrate)
 
 
@@ -280,21 +325,26 @@ def integrate_experiment(
 
     Returns
     -------
-    x_out : ndarray, shape (len(t_out), N_STATES)
-        States; NaN from the first output time the integration did not reach.
+    x_out : ndarray, shape (len(t_out), n_states)
+        States (``N_STATES``, or :data:`rollerrig.rig.model_dq.N_DQ_STATES` with the roller
+        drive ``"induction_dq"``, whose model :func:`_dq_drivers` compiles on first use);
+        NaN from the first output time the integration did not reach.
     stats : dict
         ``accepted_steps``, ``rejected_steps``, ``jacobians``, ``status`` (0: success),
         ``t_stop`` (the simulated time reached [s]) and, on a failure, ``reason``
         (:func:`failure_reason`).
     """
-    rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol)
+    dq = _uses_dq(inputs)
+    rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
+    integrate = _dq_drivers()[0] if dq else _integrate
+    n_states = inputs.initial_state.size
     bounds, params = _segment_arrays(inputs.segments)
     t_out = np.ascontiguousarray(t_out, dtype=float)
-    x_out = np.empty((t_out.size, N_STATES))
+    x_out = np.empty((t_out.size, n_states))
     counts = np.zeros(3, dtype=np.int64)
     t_stop = np.zeros(1)
     if progress is None:
-        status = _integrate(
+        status = integrate(
             inputs.initial_state,
             bounds,
             params,
@@ -319,10 +369,10 @@ def integrate_experiment(
         k_end = int(np.searchsorted(t_out, bounds[s, 1], side="right"))
         if s == bounds.shape[0] - 1:
             k_end = t_out.size
-        chunk = np.empty((k_end - k + 1, N_STATES))
+        chunk = np.empty((k_end - k + 1, n_states))
         # The segment's end as an extra output instant: the next segment starts from it.
         t_chunk = np.append(t_out[k:k_end], bounds[s, 1])
-        status = _integrate(
+        status = integrate(
             x, bounds[s : s + 1], params[s : s + 1], inputs.tables, t_chunk, rt, at, h_max,
             jac_every, chunk, counts, t_stop,
         )  # fmt: skip
@@ -352,18 +402,27 @@ def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, a
 
     Returns
     -------
-    x_out : ndarray, shape (n_variants, len(t_out), N_STATES)
+    x_out : ndarray, shape (n_variants, len(t_out), n_states)
     stats : list of dict
         Per variant, as in :func:`integrate_experiment`.
     """
-    rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol)
     first = inputs_list[0]
+    dq = _uses_dq(first)
+    if any(_uses_dq(i) != dq for i in inputs_list):
+        from rollerrig._validation import ParameterError
+
+        raise ParameterError(
+            "integrate_batch: the variants mix the roller drive 'induction_dq' with other "
+            "roller drives (different models); run them in separate batches"
+        )
+    rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
+    integrate_batch_ = _dq_drivers()[1] if dq else _integrate_batch
     bounds, _ = _segment_arrays(first.segments)
     params = np.stack([_segment_arrays(i.segments)[1] for i in inputs_list])
     x0 = np.stack([i.initial_state for i in inputs_list])
     t_out = np.ascontiguousarray(t_out, dtype=float)
     n = len(inputs_list)
-    x_out = np.empty((n, t_out.size, N_STATES))
+    x_out = np.empty((n, t_out.size, x0.shape[1]))
     counts = np.zeros((n, 3), dtype=np.int64)
     t_stop = np.zeros((n, 1))
     status = np.zeros(n, dtype=np.int64)
@@ -371,7 +430,7 @@ def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, a
     # shaft or no lag takes more steps), so equal shares would leave a thread idle.
     chunk = numba.set_parallel_chunksize(1)
     try:
-        _integrate_batch(
+        integrate_batch_(
             x0, bounds, params, first.tables, t_out, rt, at, h_max, jac_every, x_out, counts,
             t_stop, status,
         )  # fmt: skip

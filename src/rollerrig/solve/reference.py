@@ -13,8 +13,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from rollerrig.rig import model as _model
-from rollerrig.rig.model import N_STATES
-from rollerrig.solve.fast import default_tolerances
+from rollerrig.solve.fast import _uses_dq, default_tolerances, dq_tolerances
 
 __all__ = ["integrate_reference"]
 
@@ -46,27 +45,36 @@ def integrate_reference(
 
     Returns
     -------
-    x_out : ndarray, shape (len(t_out), N_STATES)
+    x_out : ndarray, shape (len(t_out), n_states)
+        States (29 with the roller drive ``"induction_dq"``, else 22).
     stats : dict
         ``rhs_evaluations``, ``jacobians``, ``status`` (0: success, else scipy's),
         ``t_stop`` (the simulated time reached [s]) and, on a failure, ``reason``.
     """
     t_out = np.asarray(t_out, dtype=float)
-    _, at = default_tolerances(rtol, 0.1 * rtol)
+    dq = _uses_dq(inputs)  # the roller drive "induction_dq": the model of rig.model_dq
+    _, at = (dq_tolerances if dq else default_tolerances)(rtol, 0.1 * rtol)
+    n_states = inputs.initial_state.size
     tables = inputs.tables
     if python_rhs:
-        rhs_impl = _model.rig_rhs
+        if dq:
+            from rollerrig.rig.model_dq import rig_dq_rhs as rhs_impl
+        else:
+            rhs_impl = _model.rig_rhs
         jac_factory = None
     else:
-        from rollerrig.solve._compiled import RIG
+        if dq:
+            from rollerrig.solve._compiled_dq import RIG_DQ as RIG
+        else:
+            from rollerrig.solve._compiled import RIG
 
         rhs_impl = RIG.rhs
         fd_jacobian = RIG.fd_jacobian  # bound to the compiled model, cached on disk
 
         def jac_factory(p):
-            jac = np.empty((N_STATES, N_STATES))
-            f0 = np.empty(N_STATES)
-            work = np.empty((2, N_STATES))
+            jac = np.empty((n_states, n_states))
+            f0 = np.empty(n_states)
+            work = np.empty((2, n_states))
 
             def jac_fun(t, x):
                 rhs_impl(t, x, p, tables, f0)
@@ -76,7 +84,7 @@ def integrate_reference(
             return jac_fun
 
     x = inputs.initial_state.copy()
-    x_out = np.full((t_out.size, N_STATES), np.nan)
+    x_out = np.full((t_out.size, n_states), np.nan)
     k = 0
     while k < t_out.size and t_out[k] <= inputs.segments[0].start:
         x_out[k] = x
@@ -89,7 +97,7 @@ def integrate_reference(
         p = seg.params
 
         def fun(t, y, p=p):
-            dy = np.empty(N_STATES)
+            dy = np.empty(n_states)
             rhs_impl(t, y, p, tables, dy)
             return dy
 

@@ -78,6 +78,15 @@ _FRAME_STATES = {
     "frame_velocity": (m.X_FRAME_V, "m/s", "its velocity"),
 }
 
+_FRAME_DQ = "in the V/f controller's frame rotating at the output frequency"
+_DQ_STATES = {
+    "am_psi_s_d": (m.N_STATES + 0, "Wb", f"AM stator flux linkage, d axis {_FRAME_DQ}"),
+    "am_psi_s_q": (m.N_STATES + 1, "Wb", f"AM stator flux linkage, q axis {_FRAME_DQ}"),
+    "am_psi_r_d": (m.N_STATES + 2, "Wb", f"AM rotor flux linkage (inverse-Γ), d axis {_FRAME_DQ}"),
+    "am_psi_r_q": (m.N_STATES + 3, "Wb", f"AM rotor flux linkage (inverse-Γ), q axis {_FRAME_DQ}"),
+}
+"""Variables of the roller drive ``"induction_dq"`` (:mod:`rollerrig.rig.model_dq`)."""
+
 SAVE_FORMATS = (".nc", ".csv", ".parquet", ".mat")
 
 _NO_LOAD = "undefined where the normal load is 0 (CoA = F / N)"
@@ -128,6 +137,9 @@ def evaluate_terms(inputs, t, x) -> dict[str, np.ndarray]:
     """
     from rollerrig.solve._compiled import rig_terms_series
 
+    dq = inputs.drives.roller == "induction_dq"
+    if dq:  # the rig's part, with the machine's air-gap torque in the roller-drive slot
+        x = _rig_part_of_dq(inputs, x)
     terms = np.empty((t.size, len(m.TERM_NAMES)))
     # Terms depend on friction through the segment's parameters: evaluate per segment.
     seg_of = _segment_of(inputs, t)
@@ -137,7 +149,21 @@ def evaluate_terms(inputs, t, x) -> dict[str, np.ndarray]:
             out = np.empty((sel.size, len(m.TERM_NAMES)))
             rig_terms_series(t[sel], np.ascontiguousarray(x[sel]), seg.params, inputs.tables, out)
             terms[sel] = out
-    return {name: terms[:, j] for j, name in enumerate(m.TERM_NAMES)}
+    result = {name: terms[:, j] for j, name in enumerate(m.TERM_NAMES)}
+    if dq:  # no lag: the torque is the machine's own
+        result["roller_drive_torque_target"] = result["roller_drive_torque"].copy()
+    return result
+
+
+def _rig_part_of_dq(inputs, x: np.ndarray) -> np.ndarray:
+    """The rig's 22 states of a dq-drive solution, the roller torque slot set to the machine's
+    air-gap torque (:func:`rollerrig.rig.model_dq.air_gap_torque`)."""
+    from rollerrig.rig import model_dq
+
+    p = inputs.segments[0].params  # the machine's parameters are the same in every segment
+    xr = np.array(x[:, : m.N_STATES], dtype=float)
+    xr[:, m.X_T_ROLLER] = model_dq.air_gap_torque(x.T, p)
+    return np.ascontiguousarray(xr)
 
 
 def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
@@ -170,6 +196,9 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
         data[name] = ("time", x[:, idx], {"units": units, "long_name": long_name})
     if inputs.drives.frame != "rigid":  # the frame's degree of freedom, when it has one
         for name, (idx, units, long_name) in _FRAME_STATES.items():
+            data[name] = ("time", x[:, idx], {"units": units, "long_name": long_name})
+    if inputs.drives.roller == "induction_dq":  # the machine's fluxes
+        for name, (idx, units, long_name) in _DQ_STATES.items():
             data[name] = ("time", x[:, idx], {"units": units, "long_name": long_name})
     load = term["normal_load"]
     loaded = load > 0.0
@@ -231,7 +260,11 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
         "drives": {
             "wheel": inputs.drives.wheel,
             "roller": inputs.drives.roller,
-            "roller_lag_s": float(inputs.segments[0].params[m.P_LAG_TAU]),
+            "roller_lag_s": (
+                None  # the dq drive has no lag: its dynamics are the machine's
+                if inputs.drives.roller == "induction_dq"
+                else float(inputs.segments[0].params[m.P_LAG_TAU])
+            ),
             "frame": inputs.drives.frame,
         },
         "friction_sets": {k: v.to_dict() for k, v in inputs.friction_sets.items()},

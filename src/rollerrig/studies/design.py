@@ -185,13 +185,18 @@ def point_setup(
 
 
 def protocol_groups(table: DesignTable, indices: np.ndarray) -> list[np.ndarray]:
-    """Split point indices into groups that share one experiment (load, speed, friction)."""
+    """Split point indices into groups that share one experiment (load, speed, friction) and
+    one compiled model (the dq roller drive has its own)."""
     keys = [k for k in table.keys if k in PROTOCOL_KEYS]
-    if not keys:
+    dq = table.columns.get("drive.roller")  # the dq drive is another compiled model
+    if not keys and dq is None:
         return [np.asarray(indices, dtype=int)]
     groups: dict[tuple, list[int]] = {}
     for i in indices:
-        groups.setdefault(tuple(table.columns[k][i] for k in keys), []).append(int(i))
+        key = tuple(table.columns[k][i] for k in keys)
+        if dq is not None:
+            key += (dq[i] == "induction_dq",)
+        groups.setdefault(key, []).append(int(i))
     return [np.array(g, dtype=int) for g in groups.values()]
 
 

@@ -270,9 +270,9 @@ def _batches(table: DesignTable, pending: np.ndarray, size: int) -> list[list[tu
 
 
 def _batch_limit(protocol: Protocol, output_rate: float) -> int:
-    from rollerrig.rig.model import N_STATES
+    from rollerrig.rig.model_dq import N_DQ_STATES  # the largest state vector of the models
 
-    per_point = (math.floor(protocol.duration * output_rate) + 1) * N_STATES * 8
+    per_point = (math.floor(protocol.duration * output_rate) + 1) * N_DQ_STATES * 8
     return max(1, BATCH_BYTES // per_point)
 
 
