@@ -148,3 +148,18 @@ def test_eigen_tables_have_the_study_fields():
     low = rows[1]["modes below 20 Hz"][0]
     assert low["frequency [Hz]"] == pytest.approx(0.806, abs=0.01)
     assert "drive" in dd.format_eigen_table(rows).splitlines()[0]
+
+
+def test_the_rig_files_vf_settings_reach_the_dq_drive():
+    from rollerrig.drives.drive_dynamics import default_dq_drive
+    from rollerrig.rig.parameters import default_rig
+
+    rig = default_rig().with_overrides(
+        {"roller_drive_vf.slip_compensation": 1.5, "roller_drive_vf.filter_time": (100, "ms")}
+    )
+    control = default_dq_drive(rig).control
+    assert control.slip_gain == 1.5 and control.slip_bandwidth == pytest.approx(10.0)
+    # keyword arguments replace the rig file's values
+    assert default_dq_drive(rig, slip_compensation=0.0).control.slip_gain == 0.0
+    # the defaults: no slip compensation, boost 0.5 R_s I_N (rig [roller_drive_vf])
+    assert default_dq_drive(default_rig()).control.slip_gain == 0.0

@@ -111,10 +111,11 @@ class DqDrive:
 
 def default_dq_drive(rig, *, label: str = "dq V/f", **vf_options) -> DqDrive:
     """The rig's AM as a dq machine (:func:`~rollerrig.drives.induction_dq.inverse_gamma_from_rig`)
-    with the default V/f settings (:func:`~rollerrig.drives.vf.vf_control_for`; keyword
-    arguments go there)."""
+    with the rig file's V/f settings (``[roller_drive_vf]``; keyword arguments replace them,
+    see :func:`~rollerrig.drives.vf.vf_control_for`)."""
     machine = dq.inverse_gamma_from_rig(rig.induction_motor)
-    return DqDrive(machine, vf.vf_control_for(machine, **vf_options), label)
+    options = {**rig.roller_drive_vf.options(), **vf_options}  # the rig file's, then these
+    return DqDrive(machine, vf.vf_control_for(machine, **options), label)
 
 
 # --------------------------------------------------------------------------------------------

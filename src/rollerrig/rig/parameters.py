@@ -56,6 +56,7 @@ from rollerrig.rig.sections import (
     MaterialParameters,
     MetaParameters,
     PmsmParameters,
+    RollerDriveVfParameters,
     SensorParameters,
     ServoRollerDriveParameters,
     StiffnessParameters,
@@ -94,6 +95,7 @@ class RigParameters(BaseModel):
     servo_roller_drive: ServoRollerDriveParameters
     sensors: SensorParameters
     frame: FrameParameters = FrameParameters()
+    roller_drive_vf: RollerDriveVfParameters = RollerDriveVfParameters()
     provenance: dict[str, dict[str, Any]] = Field(
         default_factory=dict,
         description="'section.key' -> {'value', 'unit', 'source' | 'assumption'} as written.",

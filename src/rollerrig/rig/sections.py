@@ -34,6 +34,7 @@ __all__ = [
     "MaterialParameters",
     "MetaParameters",
     "PmsmParameters",
+    "RollerDriveVfParameters",
     "SensorParameters",
     "ServoRollerDriveParameters",
     "StiffnessParameters",
@@ -410,6 +411,43 @@ class SensorParameters(_Section):
         return self.encoder_pulses_per_revolution * self.encoder_quadrature_factor
 
 
+class RollerDriveVfParameters(_Section):
+    """The roller inverter's open-loop V/f control, used by the dq roller drive
+    (``DriveConfig(roller="induction_dq")``, :func:`rollerrig.drives.vf.vf_control_for`).
+
+    Kayaalp (4.5.1.4.2) says only "open-loop volts per Hertz": every default is a stated
+    assumption of a general-purpose inverter as shipped. Rig files without a
+    ``[roller_drive_vf]`` table get these defaults.
+    """
+
+    boost: Annotated[float, _si("dimensionless", ge=0)] = 0.5
+    """Continuous voltage boost U_0 / (R_s I_N) [1] (Siemens P1310 form); 0: none."""
+    ir_compensation: Annotated[float, _si("dimensionless", ge=0, le=1)] = 0.0
+    """Automatic IR compensation: 1 on, 0 off [1]."""
+    slip_compensation: Annotated[float, _si("dimensionless", ge=0)] = 0.0
+    """Slip-compensation gain [1] (1: the rated slip is compensated); 0: none."""
+    current_limit: Annotated[float, _si("dimensionless", gt=0)] = 1.5
+    """Current limit as a multiple of the rated current [1]."""
+    ramp_time: Annotated[float, _si("time", gt=0)] = 10.0
+    """Frequency-command ramp from 0 to the rated frequency [s]."""
+    filter_time: Annotated[float, _si("time", ge=0)] = 0.0
+    """Time constant of the current and slip filters [s]; 0: the machine's default
+    1/(0.1 (R_R/L_σ + R_R/L_M)) (Hinkkanen et al. 2022; 0.37 s on the bundled rig)."""
+
+    def options(self) -> dict:
+        """Keyword arguments of :func:`rollerrig.drives.vf.vf_control_for`."""
+        filt = self.filter_time or None
+        return {
+            "boost": self.boost,
+            "ir_compensation": self.ir_compensation > 0.0,
+            "slip_compensation": self.slip_compensation,
+            "current_limit": self.current_limit,
+            "ramp_time": self.ramp_time,
+            "current_filter_time": filt,
+            "slip_filter_time": filt,
+        }
+
+
 class FrameParameters(_Section):
     """The rig frame seen from the wheel-roller contact: one longitudinal degree of freedom.
 
@@ -450,5 +488,6 @@ SECTIONS: dict[str, type[BaseModel]] = {
     "servo_roller_drive": ServoRollerDriveParameters,
     "sensors": SensorParameters,
     "frame": FrameParameters,
+    "roller_drive_vf": RollerDriveVfParameters,
 }
 """Section name -> model, in file order."""
