@@ -270,3 +270,11 @@ def test_a_name_with_a_del_character_survives_save_and_load(tmp_path):
     rig = default_rig().with_overrides({"meta.name": "rig" + chr(0x7F) + "x"})
     save_rig(rig, tmp_path / "rig.toml")
     assert load_rig(tmp_path / "rig.toml").meta.name == "rig\x7fx"
+
+
+@pytest.mark.parametrize("content", [b"\xff\xfe[meta]\n", bytes(range(256)), b""])
+def test_a_binary_or_empty_rig_file_is_a_rig_file_error(tmp_path, content):
+    path = tmp_path / "rig.toml"
+    path.write_bytes(content)
+    with pytest.raises(RigFileError, match="rig.toml"):
+        load_rig(path)

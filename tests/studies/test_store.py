@@ -83,3 +83,15 @@ def test_a_bad_status_is_a_programming_error(tmp_path):
     s = _store(tmp_path / "d.zarr")
     with pytest.raises(ValueError, match="status"):
         s.record([(0, "great", "", {})])
+
+
+def test_a_damaged_chunk_is_a_store_error_that_says_what_to_do(tmp_path):
+    s = _store(tmp_path / "d.zarr")
+    s.record([(0, "ok", "", {"peak_coa": 0.5})])
+    s.flush()
+    chunk = next((tmp_path / "d.zarr" / "peak_coa" / "c").iterdir())
+    chunk.write_bytes(chunk.read_bytes()[:5])  # a truncated write by another tool
+    with pytest.raises(StoreError, match="damaged.*--restart"):
+        open_study(tmp_path / "d.zarr")
+    with pytest.raises(StoreError, match="damaged"):
+        StudyStore.open(tmp_path / "d.zarr", study_sha256="abc").dataset()

@@ -223,8 +223,10 @@ def load_rig(path: str | os.PathLike) -> RigParameters:
     try:
         with path.open("rb") as fh:
             data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise RigFileError(str(path), [f"not valid TOML: {exc}"]) from exc
+    except OSError as exc:
+        raise RigFileError(str(path), [f"cannot read the rig file: {exc}"]) from exc
     return _from_toml(data, str(path))
 
 

@@ -161,7 +161,7 @@ class StudyStore:
 
     def status(self) -> np.ndarray:
         """Status of every point."""
-        return _text(self._group["status"][:])
+        return _text(_read(self._group, "status"))
 
     def pending(self) -> np.ndarray:
         """Indices of the points not yet run (including those in the write buffer)."""
@@ -203,7 +203,7 @@ class StudyStore:
         for c in np.unique(index // chunk):
             lo, hi = int(c * chunk), int(min(self.size, (c + 1) * chunk))
             sel = (index >= lo) & (index < hi)
-            current = arr[lo:hi]
+            current = _read(self._group, name, slice(lo, hi))
             current[index[sel] - lo] = values[sel]
             arr[lo:hi] = current
 
@@ -224,22 +224,34 @@ def _is_text(arr) -> bool:
     return np.dtype(arr.dtype).kind in "OUST"
 
 
+def _read(group, name: str, where: slice = slice(None)) -> np.ndarray:
+    """Values of one array of a store; a damaged chunk is a :class:`StoreError`, not a codec's
+    exception."""
+    try:
+        return group[name][where]
+    except Exception as exc:  # zarr and its codecs raise many types for a damaged chunk
+        raise StoreError(
+            f"{group.store}: the stored values of {name!r} cannot be read ({type(exc).__name__}: "
+            f"{exc}); the store is damaged: run again with --restart to compute the study anew"
+        ) from None
+
+
 def _dataset(group):
     xr = require("xarray", purpose="reading a study store")
     attrs = dict(group.attrs)
     data = {}
     for key in json.loads(attrs["parameters"]):
         arr = group[key]
-        values = arr[:]
+        values = _read(group, key)
         data[key] = (
             "point",
             _text(values) if _is_text(arr) else np.asarray(values, dtype=float),
             dict(arr.attrs),
         )
     for name in ("label", "status", "reason"):
-        data[name] = ("point", _text(group[name][:]))
+        data[name] = ("point", _text(_read(group, name)))
     for name in json.loads(attrs["metrics"]):
-        data[name] = ("point", np.asarray(group[name][:], dtype=float), dict(group[name].attrs))
+        data[name] = ("point", np.asarray(_read(group, name), dtype=float), dict(group[name].attrs))
     n = int(group["status"].shape[0])
     return xr.Dataset(data, coords={"point": np.arange(n)}, attrs=attrs)
 
