@@ -276,5 +276,5 @@ def test_a_name_with_a_del_character_survives_save_and_load(tmp_path):
 def test_a_binary_or_empty_rig_file_is_a_rig_file_error(tmp_path, content):
     path = tmp_path / "rig.toml"
     path.write_bytes(content)
-    with pytest.raises(RigFileError, match="rig.toml"):
+    with pytest.raises(RigFileError, match=r"rig\.toml"):
         load_rig(path)

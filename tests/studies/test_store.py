@@ -91,7 +91,7 @@ def test_a_damaged_chunk_is_a_store_error_that_says_what_to_do(tmp_path):
     s.flush()
     chunk = next((tmp_path / "d.zarr" / "peak_coa" / "c").iterdir())
     chunk.write_bytes(chunk.read_bytes()[:5])  # a truncated write by another tool
-    with pytest.raises(StoreError, match="damaged.*--restart"):
+    with pytest.raises(StoreError, match=r"damaged.*--restart"):
         open_study(tmp_path / "d.zarr")
     with pytest.raises(StoreError, match="damaged"):
         StudyStore.open(tmp_path / "d.zarr", study_sha256="abc").dataset()
