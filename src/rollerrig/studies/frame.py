@@ -158,13 +158,7 @@ def frame_study(
     for label, r, mode, stiffness, mass in variants:
         sim = Simulation(r, protocol, DriveConfig(frame=mode), output_rate=output_rate)
         ds = sim.run()
-        run = RunChannels(
-            ds.time.values,
-            ds.t56.values,
-            ds.contact_force.values,
-            ds.normal_load.values,
-            r.geometry.roller_radius_x,
-        )
+        run = RunChannels.from_dataset(ds, r.geometry.roller_radius_x)
         values = compute_metrics(run, protocol, METRICS)
         spectrum = rest_spectrum(run, protocol)
         freq = np.sqrt(stiffness / mass) / (2 * np.pi) if np.isfinite(stiffness) else np.inf

@@ -68,6 +68,22 @@ class RunChannels(NamedTuple):
     normal_load: np.ndarray
     roller_radius: float
 
+    @classmethod
+    def from_dataset(cls, ds, roller_radius: float | None = None) -> RunChannels:
+        """The channels of a simulation's dataset (:func:`rollerrig.solve.results.
+        build_dataset`); the roller radius [m] defaults to the dataset's T56 / (T56 / r_r)."""
+        if roller_radius is None:
+            rr = ds.measured_t56.values / ds.measured_force.values
+            finite = np.isfinite(rr)
+            roller_radius = float(np.median(rr[finite])) if finite.any() else np.nan
+        return cls(
+            ds.time.values,
+            ds.measured_t56.values,
+            ds.contact_force.values,
+            ds.normal_load.values,
+            roller_radius,
+        )
+
     @property
     def measured_force(self) -> np.ndarray:
         """Force the rig derives from the torque sensor, T56 / r_r [N]."""
@@ -138,15 +154,7 @@ def release_overshoots(ds, protocol: Protocol, window: float = RELEASE_WINDOW) -
         overshoot.
     """
     if not isinstance(ds, RunChannels):
-        rr = ds.measured_t56.values / ds.measured_force.values
-        finite = np.isfinite(rr)
-        ds = RunChannels(
-            ds.time.values,
-            ds.measured_t56.values,
-            ds.contact_force.values,
-            ds.normal_load.values,
-            float(np.median(rr[finite])) if finite.any() else np.nan,
-        )
+        ds = RunChannels.from_dataset(ds)
     return _release_rows(ds, protocol, window)
 
 
