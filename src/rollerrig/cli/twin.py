@@ -16,6 +16,7 @@ import typer
 from rich.text import Text
 
 from rollerrig._optional import require
+from rollerrig._toml import read_toml
 from rollerrig.cli._boundary import UserError
 from rollerrig.cli._console import console, note, print_written
 from rollerrig.cli._options import (
@@ -111,7 +112,7 @@ def protocol_inputs(experiment: str) -> dict[str, Path]:
         return {}
     found = {"experiment": path}
     try:
-        doc = tomllib.loads(path.read_text(encoding="utf-8"))
+        doc = read_toml(path)
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
         return found  # the protocol reader gives the error
     replay = doc.get("replay")

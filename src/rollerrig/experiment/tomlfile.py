@@ -57,6 +57,7 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
+from rollerrig._toml import parse_toml
 from rollerrig._validation import toml_string
 from rollerrig.experiment.protocol import Protocol, ProtocolError
 from rollerrig.experiment.replay import replay_protocol
@@ -237,7 +238,7 @@ def protocol_from_toml_string(
     (RampTorque(to=100.0, duration=1.0),)
     """
     try:
-        doc = tomllib.loads(text)
+        doc = parse_toml(text)
     except tomllib.TOMLDecodeError as exc:
         raise ProtocolError(f"{origin}: invalid TOML: {exc}") from exc
     sha = hashlib.sha256(text.encode("utf-8")).hexdigest()

@@ -78,6 +78,7 @@ from typing import Any
 
 import numpy as np
 
+from rollerrig._toml import parse_toml, read_toml
 from rollerrig._validation import ParameterError, Problem, interval
 from rollerrig.frame.sections import SectionProperties, standard_section
 from rollerrig.units import QUANTITIES, UnitError, apply_factor, quantity_factor
@@ -963,8 +964,7 @@ def load_frame(path: str | Path) -> Frame:
     if not path.is_file():
         raise FrameFileError(str(path), ["frame file not found"])
     try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
+        data = read_toml(path)
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise FrameFileError(str(path), [f"not valid TOML: {exc}"]) from exc
     return frame_from_dict(data, str(path))
@@ -983,4 +983,4 @@ def default_frame() -> Frame:
     (True, ['base_front_left'])
     """
     text = resources.files("rollerrig.frame").joinpath("data/default-frame.toml").read_text("utf-8")
-    return frame_from_dict(tomllib.loads(text), DEFAULT_FRAME_FILE)
+    return frame_from_dict(parse_toml(text), DEFAULT_FRAME_FILE)

@@ -52,6 +52,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from rollerrig._toml import read_toml
 from rollerrig._validation import Problem, pydantic_problems
 from rollerrig.measure.mapfile import DECIMALS, SEPARATORS, EntrySection, FileSpec, MapFile
 from rollerrig.measure.recording import CANONICAL_CHANNELS, RecordingError, RecordingFileNotFound
@@ -398,9 +399,8 @@ def load_channel_map(path: str | Path) -> ChannelMap:
     if not p.is_file():
         raise RecordingFileNotFound(f"channel map file not found: {p}")
     try:
-        with p.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
+        data = read_toml(p)
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise RecordingError(f"channel map {p}: not valid TOML: {exc}") from exc
     return ChannelMap.from_dict(data, source=str(p))
 

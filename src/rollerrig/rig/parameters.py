@@ -36,6 +36,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from rollerrig._toml import parse_toml, read_toml
 from rollerrig._validation import FieldProblem, Problem, show_value
 from rollerrig.output import write_text
 from rollerrig.rig.rigfile import (
@@ -221,8 +222,7 @@ def load_rig(path: str | os.PathLike) -> RigParameters:
     if not path.is_file():
         raise RigFileError(str(path), ["rig file not found"])
     try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
+        data = read_toml(path)
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise RigFileError(str(path), [f"not valid TOML: {exc}"]) from exc
     except OSError as exc:
@@ -245,7 +245,7 @@ def default_rig() -> RigParameters:
     (22, 0.0176)
     """
     text = resources.files("rollerrig.rig").joinpath("data/default_rig.toml").read_text("utf-8")
-    return _from_toml(tomllib.loads(text), "rollerrig/rig/data/default_rig.toml")
+    return _from_toml(parse_toml(text), "rollerrig/rig/data/default_rig.toml")
 
 
 def save_rig(rig: RigParameters, path: str | os.PathLike, *, overwrite: bool = False) -> None:

@@ -54,6 +54,7 @@ from typing import Any
 
 import numpy as np
 
+from rollerrig._toml import parse_toml
 from rollerrig._validation import ParameterError, Problem
 from rollerrig.units import QUANTITIES, UnitError, apply_factor, quantity_factor
 
@@ -685,7 +686,7 @@ def study_from_toml_string(
     ('grid', 4, (43500.0, 143500.0), 'release-test')
     """
     try:
-        data = tomllib.loads(text)
+        data = parse_toml(text)
     except tomllib.TOMLDecodeError as exc:
         raise StudyFileError(origin, [Problem("", f"not valid TOML ({exc})")]) from None
     return study_from_dict(data, origin=origin, base_dir=base_dir, name=name, text=text)
