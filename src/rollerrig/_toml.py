@@ -69,7 +69,7 @@ def parse_toml(text: str) -> dict[str, Any]:
     >>> parse_toml("x = " + "[" * 40 + "]" * 40)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    tomllib.TOMLDecodeError: nested deeper than 16 levels at x[0][0]...(the limit of rollerrig's files)
+    tomllib.TOMLDecodeError: nested deeper than 16 levels at x[0][0]...
     """
     if len(text) > MAX_TOML_BYTES:
         raise tomllib.TOMLDecodeError(
