@@ -188,11 +188,108 @@ def test_an_unwritable_cache_falls_back_to_the_temporary_directory_then_to_none(
     assert folder.name == _cache.cache_key()
     monkeypatch.delitem(_cache._state, "dir")
     monkeypatch.setattr(_cache.tempfile, "gettempdir", lambda: str(blocker))
-    with pytest.warns(RuntimeWarning, match="no writable cache folder"):
+    with pytest.warns(RuntimeWarning, match="no writable private cache folder"):
         assert _cache.cache_dir() is None
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert _cache.njit(_sum_of_squares)(X) == 30.0  # compiled, not cached
+
+
+POSIX = pytest.mark.skipif(not hasattr(os, "getuid"), reason="ownership checks are POSIX's")
+OTHER_UID = 65534  # "nobody"
+
+
+def _fallback(tmp_path, monkeypatch):
+    """Force the temporary-directory candidate (the user's cache cannot be created) and
+    return the predictable folder another user could plant there."""
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    monkeypatch.delitem(_cache._state, "dir", raising=False)
+    monkeypatch.setattr(_cache, "cache_root", lambda: blocker / "cache")
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    monkeypatch.setattr(_cache.tempfile, "gettempdir", lambda: str(tmp))
+    return tmp / f"rollerrig-numba-{os.getuid()}"
+
+
+@POSIX
+def test_folders_the_cache_creates_are_private(tmp_path, monkeypatch):
+    planted = _fallback(tmp_path, monkeypatch)
+    monkeypatch.setattr(os, "umask", os.umask)  # restored by monkeypatch
+    old = os.umask(0o000)  # the most permissive umask: the folders are 0700 regardless
+    try:
+        folder = _cache.cache_dir()
+    finally:
+        os.umask(old)
+    assert folder == planted / _cache.cache_key()
+    for p in (folder, planted):
+        assert p.stat().st_mode & 0o777 == 0o700
+
+
+@POSIX
+@pytest.mark.parametrize(
+    "plant",
+    [
+        pytest.param(lambda p: (p.mkdir(), p.chmod(0o777)), id="world-writable"),
+        pytest.param(lambda p: (p.mkdir(), p.chmod(0o770)), id="group-writable"),
+        pytest.param(
+            lambda p: (p.parent.joinpath("elsewhere").mkdir(mode=0o700), p.symlink_to("elsewhere")),
+            id="symbolic-link",
+        ),
+        pytest.param(lambda p: p.write_text("x"), id="a-file"),
+    ],
+)
+def test_a_planted_cache_folder_is_refused_and_nothing_is_cached(tmp_path, monkeypatch, plant):
+    """Issue 24, point 1: another local user who makes the predictable temporary folder first
+    must not get code run by the victim (numba's index files are pickles)."""
+    planted = _fallback(tmp_path, monkeypatch)
+    plant(planted)
+    with pytest.warns(RuntimeWarning, match="no writable private cache folder"):
+        assert _cache.cache_dir() is None
+    assert not (planted / _cache.cache_key()).exists() or planted.is_symlink()
+
+
+@POSIX
+@pytest.mark.skipif(os.geteuid() != 0 if hasattr(os, "geteuid") else True, reason="needs chown")
+def test_a_cache_folder_owned_by_another_user_is_refused(tmp_path, monkeypatch):
+    planted = _fallback(tmp_path, monkeypatch)
+    (planted / _cache.cache_key()).mkdir(parents=True, mode=0o700)
+    planted.chmod(0o700)
+    for p in (planted, planted / _cache.cache_key()):
+        os.chown(p, OTHER_UID, OTHER_UID)
+    with pytest.warns(RuntimeWarning, match="belongs to user id 65534"):
+        assert _cache.cache_dir() is None
+
+
+@POSIX
+def test_a_folder_above_writable_by_others_without_sticky_bit_is_refused(tmp_path, monkeypatch):
+    above = tmp_path / "shared"
+    above.mkdir()
+    above.chmod(0o777)  # anyone could rename the cache away and put their own in its place
+    monkeypatch.delitem(_cache._state, "dir", raising=False)
+    monkeypatch.setattr(_cache, "cache_root", lambda: above / "rollerrig")
+    monkeypatch.setattr(_cache.tempfile, "gettempdir", lambda: str(tmp_path / "a-file"))
+    (tmp_path / "a-file").write_text("x")
+    with pytest.warns(RuntimeWarning, match="written by others and has no sticky bit"):
+        assert _cache.cache_dir() is None
+    above.chmod(0o1777)  # as /tmp: the sticky bit keeps others from renaming what is inside
+    monkeypatch.delitem(_cache._state, "dir")
+    assert _cache.cache_dir() == above / "rollerrig" / _cache.cache_key()
+
+
+@POSIX
+def test_a_planted_file_in_a_private_folder_is_not_loaded(cache_folder):
+    """A file writable by others (or not the user's) is discarded and compiled again, even with a
+    matching sidecar: the sidecar proves nothing about who wrote the pair."""
+    first = _cache.njit(_sum_of_squares)
+    assert first(X) == 30.0
+    index = next(cache_folder.rglob("*.nbi"))
+    index.chmod(0o666)
+    again = _cache.njit(_sum_of_squares)
+    assert again(X) == 30.0
+    assert sum(again.stats.cache_misses.values()) == 1  # compiled, not loaded
+    assert sum(again.stats.cache_hits.values()) == 0
+    assert next(cache_folder.rglob("*.nbi")).stat().st_mode & 0o022 == 0  # rewritten, private
 
 
 def test_older_key_folders_are_pruned(tmp_path):

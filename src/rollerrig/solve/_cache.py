@@ -18,6 +18,17 @@ So the package picks the folder:
   every module whose code is compiled (:data:`SOURCES`). A new release or an edit of any of
   them selects a new folder, so machine code of other sources is never loaded.
 
+**Private, or not at all.** numba's index files are pickles: whoever can write a file that the
+cache loads runs code as the user. So a folder is used only when it is the user's own: every
+folder the package creates is made ``0700``; the ``rollerrig`` folder and the key folder must be
+owned by the user and not writable by group or others, and every folder above them must be owned
+by the user or root and not writable by others unless it has the sticky bit (as ``/tmp`` has).
+A folder that fails this (planted in the temporary directory by another user, a symbolic link, a
+shared folder) is refused with a warning that says why; the next candidate is tried, and if none
+is private nothing is cached. Each file is checked again before it is loaded: it must be a
+regular file owned by the user and writable by nobody else. (On Windows the per-user folders are
+private by their access lists and these checks are skipped.)
+
 Growth is bounded: each function is compiled once per key for its one signature, so a folder
 stops growing after the first run; the :data:`KEEP` most recently used key folders are kept and
 older ones are removed (as are the files earlier versions left in ``__pycache__``).
@@ -39,6 +50,7 @@ import hashlib
 import json
 import os
 import shutil
+import stat
 import sys
 import tempfile
 import threading
@@ -130,14 +142,94 @@ def cache_key() -> str:
     return str(_state["key"])
 
 
-def _writable(folder: Path) -> bool:
+_POSIX = hasattr(os, "getuid")
+
+
+def _owner_problem(path: Path, *, own: bool) -> str | None:
+    """Why ``path`` (a folder) could be written by someone else, or None.
+
+    ``own``: the folder is the cache's own (must be the user's and writable by nobody else);
+    otherwise it is a folder above it (the user's or root's, and writable by others only with
+    the sticky bit, so that nobody else can rename what is inside).
+    """
     try:
-        folder.mkdir(parents=True, exist_ok=True)
+        st = os.lstat(path)
+    except OSError as exc:
+        return f"{path}: {exc.strerror or exc}"
+    if stat.S_ISLNK(st.st_mode):
+        return f"{path} is a symbolic link"
+    if not stat.S_ISDIR(st.st_mode):
+        return f"{path} is not a folder"
+    uid = os.getuid()
+    if own:
+        if st.st_uid != uid:
+            return f"{path} belongs to user id {st.st_uid}, not to this user ({uid})"
+        if st.st_mode & 0o022:
+            return f"{path} can be written by its group or by others (mode {st.st_mode & 0o777:o})"
+        return None
+    if st.st_uid not in (0, uid):
+        return f"{path} belongs to user id {st.st_uid}, neither this user nor root"
+    if st.st_mode & 0o002 and not st.st_mode & stat.S_ISVTX:
+        return f"{path} can be written by others and has no sticky bit"
+    return None
+
+
+def _make_private(folder: Path) -> None:
+    """Create ``folder`` and its missing parents, each made ``0700`` (not the umask's mode)."""
+    missing = []
+    p = folder
+    while not os.path.lexists(p):
+        missing.append(p)
+        if p.parent == p:
+            break
+        p = p.parent
+    for p in reversed(missing):
+        with contextlib.suppress(FileExistsError):  # another process made it: checked below
+            os.mkdir(p, 0o700)
+            if _POSIX:
+                os.chmod(p, 0o700)
+
+
+def _private_problem(root: Path, folder: Path) -> str | None:
+    """Make ``root`` and then ``folder`` (its key folder) where missing and say why they are not
+    private, or None (see the module docstring). Nothing is made inside a folder that fails."""
+    try:
+        _make_private(root)
+    except OSError as exc:
+        return f"cannot create {root}: {exc.strerror or exc}"
+    if _POSIX:
+        problem = _owner_problem(root, own=True)
+        # The folders above, as the system resolves them (a link above is the user's choice).
+        real = Path(os.path.realpath(root.parent))
+        for above in (real, *real.parents):
+            problem = problem or _owner_problem(above, own=False)
+        if problem:
+            return problem
+    try:
+        _make_private(folder)
+    except OSError as exc:
+        return f"cannot create {folder}: {exc.strerror or exc}"
+    if _POSIX:
+        problem = _owner_problem(folder, own=True)
+        if problem:
+            return problem
+    try:
         with tempfile.TemporaryFile(dir=folder):
             pass
+    except OSError as exc:
+        return f"cannot write in {folder}: {exc.strerror or exc}"
+    return None
+
+
+def _file_is_private(path: Path) -> bool:
+    """True for a regular file of this user that nobody else can write (always on Windows)."""
+    if not _POSIX:
+        return True
+    try:
+        st = os.lstat(path)
     except OSError:
         return False
-    return True
+    return stat.S_ISREG(st.st_mode) and st.st_uid == os.getuid() and not st.st_mode & 0o022
 
 
 def _prune(root: Path, current: Path) -> None:
@@ -192,16 +284,26 @@ def cache_dir() -> Path | None:
     uid = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
     candidates = (cache_root(), Path(tempfile.gettempdir()) / f"rollerrig-numba-{uid}")
     chosen = None
+    refused = []
     for root in candidates:
         folder = root / key
-        if _writable(folder):
+        problem = _private_problem(root, folder)
+        if problem is None:
             chosen = folder
             break
+        refused.append(problem)
     if chosen is None:
         warnings.warn(
-            f"rollerrig: no writable cache folder ({candidates[0]}, {candidates[1]}); the fast "
-            "solver compiles in every process (about 20 s). Set NUMBA_CACHE_DIR to a writable "
-            "folder.",
+            f"rollerrig: no writable private cache folder ({'; '.join(refused)}); the fast "
+            "solver compiles in every process (about 20 s). Set NUMBA_CACHE_DIR to a folder "
+            "of your own that only you can write.",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    elif refused and not refused[0].startswith("cannot "):
+        # Refused for its owner or mode (not merely absent or read-only): the user should know.
+        warnings.warn(
+            f"rollerrig: the compile cache is in {chosen}, not in {candidates[0]} ({refused[0]})",
             RuntimeWarning,
             stacklevel=2,
         )
@@ -246,8 +348,11 @@ def _sha256(path: Path) -> str:
 
 
 def _intact(cache) -> bool:
-    """True when every file of the function matches its sidecar."""
+    """True when every file of the function is private (see :func:`_file_is_private`) and
+    matches its sidecar."""
     for path in _files(cache):
+        if not (_file_is_private(path) and _file_is_private(path.parent / (path.name + _SIDECAR))):
+            return False
         try:
             if (path.parent / (path.name + _SIDECAR)).read_text().strip() != _sha256(path):
                 return False
