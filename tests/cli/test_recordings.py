@@ -315,3 +315,29 @@ def test_analyze_with_a_calibration_uses_it_and_refuses_a_bad_file(tmp_path, run
     assert "calibration" in run["provenance"]["inputs"]
     html = (out / "test-report.html").read_text()
     assert "The calibrated twin this analysis used" in html and "inertia.roller" in html
+
+
+def test_analyze_writes_channels_whose_names_netcdf_cannot_hold(tmp_path, runner, adhesion_csv):
+    """Issue 24, point 4: a slash, brackets or an accent in a column name used to fail the
+    NetCDF writer at the very end (exit 3, nothing written)."""
+    rec = adhesion_csv(tmp_path / "odd.csv")
+    extra = {
+        "oil temp/bearing [degC]": "oil_temp_bearing",
+        "Group/Channel [N/mm]": "Group_Channel",
+        "[bold]x[/bold] [1]": "bold_x_bold",
+        "Öl-Temp [degC]": "Ol_Temp",
+        "oil temp_bearing [degC]": "oil_temp_bearing_2",
+    }
+    lines = rec.read_text().splitlines()
+    rows = [lines[0] + "," + ",".join(extra)]
+    rows += [f"{line},{40 + i / 1000},{i},1,2,3" for i, line in enumerate(lines[1:])]
+    rec.write_text("\n".join(rows) + "\n")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["analyze", str(rec), "--no-study", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    with xr.open_dataset(out / "odd-analysis.nc", engine="h5netcdf") as ds:
+        for header, stored in extra.items():
+            original = header.rsplit(" [", 1)[0]
+            assert ds[stored].attrs["original_name"] == original
+        assert ds["Group_Channel"].values[3] == pytest.approx(3e3)  # N/mm -> N/m
+        assert "original_name" not in ds["torque"].attrs

@@ -8,10 +8,11 @@ import stat
 
 import numpy as np
 import pytest
+import xarray as xr
 
 from rollerrig._validation import ParameterError
 from rollerrig.measure.readers import read_recording
-from rollerrig.output import OutputError, run_context, write_table
+from rollerrig.output import OutputError, run_context, write_dataset, write_table
 
 N = 500
 T = 0.5 + np.arange(N) / 250.0
@@ -225,8 +226,6 @@ def test_every_numeric_column_needs_a_unit(tmp_path):
         write_table(tmp_path / "run.csv", {"a": ([1.0], "1"), "b": ([1.0, 2.0], "1")})
     with pytest.raises(ParameterError, match="numbers only"):
         write_table(tmp_path / "run.tdms", {"label": (["dry"], None)}, time=[0.0])
-    with pytest.raises(ParameterError, match="MATLAB variable name"):
-        write_table(tmp_path / "run.mat", {"units": ([1.0], "1")})
     with pytest.raises(OutputError, match=r"unknown results format '\.xlsx'"):
         write_table(tmp_path / "run.xlsx", {"a": ([1.0], "1")})
     assert list(tmp_path.iterdir()) == []
@@ -313,3 +312,56 @@ def test_write_dataset_keeps_every_dimension_in_netcdf(tmp_path):
     with pytest.raises(ParameterError, match="'coa' has no unit"):
         write_dataset(tmp_path / "bad.nc", unitless)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["truth.nc"]
+
+
+ODD_NAMES = {
+    "oil temp/bearing": "oil_temp_bearing",
+    "Group/Channel": "Group_Channel",
+    "[bold]x[/bold]": "bold_x_bold",
+    "Öl-Temp": "Ol_Temp",
+    "oil temp_bearing": "oil_temp_bearing_2",  # collides with the first after mapping
+    "units": "units_2",  # the MAT file's own struct (renamed in MAT only)
+}
+
+
+@pytest.mark.parametrize("kw", [{}, {"mat_version": "7.3"}])
+def test_mat_stores_names_it_cannot_hold_under_identifiers_with_the_original(tmp_path, kw):
+    from scipy.io import loadmat
+
+    cols = {name: (np.arange(3.0) + i, "degC") for i, name in enumerate(ODD_NAMES)}
+    path = write_table(tmp_path / "run.mat", cols, time=[0.0, 0.1, 0.2], **kw)
+    if kw:
+        import h5py
+
+        with h5py.File(path, "r") as f:
+            stored = {n: f[n][()].ravel() for n in ODD_NAMES.values()}
+    else:
+        mat = loadmat(path)
+        stored = {n: mat[n].ravel() for n in ODD_NAMES.values()}
+    for i, (name, new) in enumerate(ODD_NAMES.items()):
+        assert stored[new].tolist() == (np.arange(3.0) + i).tolist(), name
+    rec = read_recording(path)  # rollerrig's reader gives the names back
+    assert set(ODD_NAMES) <= set(rec.channels)
+
+
+def test_netcdf_stores_names_with_a_slash_and_keeps_the_original(tmp_path):
+    cols = {name: (np.arange(3.0) + i, "degC") for i, name in enumerate(ODD_NAMES)}
+    path = write_table(tmp_path / "run.nc", cols, time=[0.0, 0.1, 0.2])
+    expected = {**ODD_NAMES, "units": "units"}  # NetCDF has no variable of that name
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        for i, (name, new) in enumerate(expected.items()):
+            assert ds[new].values.tolist() == (np.arange(3.0) + i).tolist(), name
+            assert ds[new].attrs.get("original_name", new) == name
+        assert "original_name" not in ds["units"].attrs
+
+
+def test_write_dataset_maps_variable_names_for_netcdf(tmp_path):
+    ds = xr.Dataset(
+        {"a/b": ("time", [1.0, 2.0], {"units": "1"}), "a_b": ("time", [3.0, 4.0], {"units": "1"})},
+        coords={"time": [0.0, 0.1]},
+    )
+    path = write_dataset(tmp_path / "x.nc", ds)
+    with xr.open_dataset(path, engine="h5netcdf") as back:
+        assert back["a_b"].values.tolist() == [3.0, 4.0]
+        assert back["a_b_2"].values.tolist() == [1.0, 2.0]
+        assert back["a_b_2"].attrs["original_name"] == "a/b"

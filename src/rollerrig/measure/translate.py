@@ -19,7 +19,7 @@ Both :func:`rollerrig.measure.readers.read_recording` and the chunked reader
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +44,7 @@ from rollerrig.measure.formats._text import (
 from rollerrig.measure.formats.timestamps import looks_like_timestamp, parse_timestamps
 from rollerrig.measure.recording import CANONICAL_CHANNELS, RecordingError
 from rollerrig.measure.timebase import align_channels
+from rollerrig.output.varnames import ORIGINAL_NAME
 
 __all__ = ["apply_map", "as_float", "auto_entries", "resolve_column", "time_seconds"]
 
@@ -166,10 +167,21 @@ def time_seconds(
 
 
 def auto_entries(table: Table, cmap: ChannelMap, path: Path) -> list[ChannelSpec]:
+    """The file's own names as channels (no map). In a file rollerrig wrote, a column named in
+    its stored ``variables`` keeps that name whole (``[x]`` is not a unit there), and a column
+    the writer renamed for the format (``oil_temp_bearing`` in a MAT file) gets its
+    ``original_name`` back."""
     specs: list[ChannelSpec] = []
     seen: dict[str, str] = {}
+    stored = table.stored_variables if isinstance(table.stored_variables, Mapping) else {}
     for name in table.names:
         base = table.base.get(name, name)
+        if name in stored:  # rollerrig wrote this very name (not "name [unit]")
+            base = name
+        entry = stored.get(base)
+        original = entry.get(ORIGINAL_NAME) if isinstance(entry, Mapping) else None
+        if isinstance(original, str) and original and original != "time":
+            base = original
         if base == "time":
             continue
         canonical = base in CANONICAL_CHANNELS

@@ -7,6 +7,8 @@
 - :func:`write_table` — the one results writer, keyed by format (csv, parquet, tdms, mf4, mat,
   nc), one convention per format with units on every column; :func:`write_dataset` writes an
   xarray Dataset through it (NetCDF: any dimensions, CF-1.10 attributes).
+- :func:`storable_names` — the one mapping of column names to what NetCDF and MAT store
+  (``oil temp/bearing`` -> ``oil_temp_bearing``, the given name kept as ``original_name``).
 - :func:`provenance`, :func:`run_context` — what made a file: package version and commit,
   command, inputs with their SHA-256, rig parameter set hash, channel map.
 - :class:`OutputError` — every output-side fault, naming the path.
@@ -37,9 +39,11 @@ from rollerrig.output.provenance import (
     run_context,
 )
 from rollerrig.output.tables import TABLE_FORMATS, TableColumn, write_dataset, write_table
+from rollerrig.output.varnames import ORIGINAL_NAME, storable_names
 
 __all__ = [
     "NULL_VALUES_KEY",
+    "ORIGINAL_NAME",
     "TABLE_FORMATS",
     "OutputError",
     "TableColumn",
@@ -53,6 +57,7 @@ __all__ = [
     "rig_sha256",
     "run_context",
     "save_figure",
+    "storable_names",
     "write_dataset",
     "write_json",
     "write_table",

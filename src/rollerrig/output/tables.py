@@ -29,6 +29,11 @@ every dimension; the other formats take variables along ``time``).
 
 NaN policy: a column may hold NaN only when its attributes say why (``nan_meaning``); any other
 non-finite sample is refused (:class:`~rollerrig._validation.ParameterError`).
+
+Names: NetCDF and MAT files store identifiers only; a column whose name is not one (``oil
+temp/bearing``, ``Group/Channel``, ``Öl-Temp``) is written under the name
+:func:`rollerrig.output.varnames.storable_names` gives it (``oil_temp_bearing``) with the name
+given as its ``original_name`` attribute, never refused after the work that made it.
 """
 
 from __future__ import annotations
@@ -36,7 +41,6 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import os
-import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Literal, NamedTuple
@@ -48,6 +52,7 @@ from rollerrig._validation import ParameterError
 from rollerrig.output.atomic import OutputError, atomic_write
 from rollerrig.output.jsonfile import PROVENANCE_KEY, json_text, write_text
 from rollerrig.output.provenance import provenance as _provenance
+from rollerrig.output.varnames import ORIGINAL_NAME, storable_names
 
 __all__ = [
     "CONVENTIONS",
@@ -83,7 +88,6 @@ UNITS_STRUCT = "units"
 CONVENTIONS = "CF-1.10"
 """The ``Conventions`` global attribute of NetCDF files."""
 
-_MAT_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,62}$")
 _MAT_RESERVED = ("time", UNITS_STRUCT, PROVENANCE_KEY, META_KEY, "rollerrig_units")
 
 
@@ -264,14 +268,19 @@ def _mf4(cols, meta, tmp: Path) -> Path:
     return Path(saved)
 
 
-def _mat_names(cols, path: Path) -> None:
-    for name in cols:
-        if name != "time" and (not _MAT_NAME.match(name) or name in _MAT_RESERVED):
-            raise ParameterError(
-                f"{path}: column {name!r} cannot be a MATLAB variable name (letter first, then "
-                f"letters, digits and _, at most 63 characters; not one of {_MAT_RESERVED}); "
-                "rename it"
-            )
+def _stored_names(cols: dict[str, TableColumn], fmt: str) -> dict[str, TableColumn]:
+    """The columns under names ``fmt`` can store (:func:`~rollerrig.output.varnames.
+    storable_names`); a renamed column keeps the name it was given as ``original_name``."""
+    reserved = {"mat": _MAT_RESERVED, "nc": ("time", "index")}.get(fmt, ())
+    given = [n for n in cols if n != "time"]
+    stored = storable_names(given, fmt, reserved=reserved)
+    out = {"time": cols["time"]} if "time" in cols else {}
+    for name in given:
+        c = cols[name]
+        if stored[name] != name:
+            c = c._replace(attrs={**c.attrs, ORIGINAL_NAME: name})
+        out[stored[name]] = c
+    return out
 
 
 def _mat5(cols, meta, tmp: Path) -> None:
@@ -456,6 +465,13 @@ def write_dataset(
     for name, var in ds.data_vars.items():
         if var.dtype.kind in "biuf":
             _check_numeric(path, str(name), np.asarray(var.values, dtype=float), var.attrs)
+    taken = [str(n) for n in (*ds.coords, *ds.dims)]
+    stored = storable_names([str(n) for n in ds.data_vars], "nc", reserved=taken)
+    renamed = {n: s for n, s in stored.items() if s != n}
+    if renamed:
+        ds = ds.rename(renamed)
+        for name, new in renamed.items():
+            ds[new].attrs = {**ds[new].attrs, ORIGINAL_NAME: name}
     meta = {**attrs, PROVENANCE_KEY: dict(record) if record is not None else _provenance()}
     return atomic_write(path, lambda tmp: _cf_netcdf(ds, meta, tmp, path.stem), overwrite=overwrite)
 
@@ -509,7 +525,10 @@ def write_table(
         The file (or CSV sidecar) exists and ``overwrite`` is False.
     ParameterError
         A column without a unit, NaN without ``nan_meaning``, columns of different lengths, a
-        name or a column type the format cannot store.
+        column type the format cannot store. (Names are not refused: where the format cannot
+        store a name, NetCDF and MAT, the column is written under
+        :func:`~rollerrig.output.varnames.storable_names` with the name given as its
+        ``original_name`` attribute, in the ``variables`` entry of the metadata as well.)
     OutputError
         Unknown format, or the file cannot be written (the message names the path).
 
@@ -527,6 +546,7 @@ def write_table(
     if mat_version not in ("5", "7.3"):
         raise ParameterError(f"{path}: mat_version must be '5' or '7.3', got {mat_version!r}")
     cols, _ = _columns(path, columns, time)
+    cols = _stored_names(cols, fmt)
     meta: dict[str, Any] = dict(attrs or {})
     if PROVENANCE_KEY not in meta:
         meta[PROVENANCE_KEY] = dict(provenance) if provenance is not None else _provenance()
@@ -562,7 +582,6 @@ def write_table(
             raise OutputError(f"{path}: MDF4 files must end in .mf4 (asammdf sets the suffix)")
         return atomic_write(path, lambda tmp: _mf4(cols, meta, tmp), overwrite=overwrite)
     if fmt == "mat":
-        _mat_names(cols, path)
         if mat_version == "7.3":
             _numeric(cols, path, "MATLAB v7.3")
             return atomic_write(path, lambda tmp: _mat73(cols, meta, tmp), overwrite=overwrite)

@@ -1,0 +1,64 @@
+"""Column names mapped to what NetCDF and MATLAB store (issue 24, point 4): one identifier per
+name, distinct, the name kept where it already is one."""
+
+import re
+
+import pytest
+
+from rollerrig.output.varnames import MAX_NAME_LENGTH, storable_name, storable_names
+
+IDENTIFIER = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+
+
+@pytest.mark.parametrize(
+    ("given", "stored"),
+    [
+        ("oil temp/bearing", "oil_temp_bearing"),
+        ("Group/Channel", "Group_Channel"),
+        ("N/mm", "N_mm"),
+        ("[bold]x[/bold]", "bold_x_bold"),
+        ("Öl-Temp", "Ol_Temp"),
+        ("µ-Wert", "Wert"),  # the micro sign has no ASCII letter: dropped
+        ("1st harmonic", "v_1st_harmonic"),
+        ("_private", "private"),
+        ("", "v"),
+        ("///", "v"),
+        ("温度", "v"),
+        ("torque", "torque"),
+    ],
+)
+def test_a_name_becomes_an_identifier(given, stored):
+    assert storable_name(given, "nc") == stored
+    assert storable_name(given, "mat") == stored
+
+
+def test_formats_that_store_any_text_keep_every_name():
+    names = ["oil temp/bearing", "", "[x]", "Öl"]
+    for fmt in ("csv", "parquet", "tdms", "mf4"):
+        assert storable_names(names, fmt) == {n: n for n in names}
+
+
+def test_names_that_collide_after_mapping_get_distinct_suffixes():
+    names = ["a/b", "a b", "a_b", "a-b", "time"]
+    stored = storable_names(names, "nc", reserved=["time"])
+    assert stored == {
+        "a/b": "a_b_2",
+        "a b": "a_b_3",
+        "a_b": "a_b",
+        "a-b": "a_b_4",
+        "time": "time_2",
+    }
+    assert len(set(stored.values())) == len(names)
+
+
+def test_matlab_names_are_cut_to_63_characters_and_stay_distinct():
+    names = ["x" * 70 + "/1", "x" * 70 + "/2", "y" * 63]
+    stored = storable_names(names, "mat")
+    assert all(IDENTIFIER.match(s) and len(s) <= MAX_NAME_LENGTH["mat"] for s in stored.values())
+    assert len(set(stored.values())) == 3
+    assert stored["y" * 63] == "y" * 63
+
+
+def test_the_mapping_does_not_depend_on_later_names():
+    # An identifier claims its name even when a mapped name before it would become the same.
+    assert storable_names(["a b", "a_b"], "mat") == {"a b": "a_b_2", "a_b": "a_b"}
