@@ -141,9 +141,36 @@ def test_missing_channels_and_speed_are_named():
     bare = Recording(rec.time, {"torque": rec["torque"]}, {"torque": "N.m"})
     with pytest.raises(RecordingError, match="roller_speed or roller_encoder_counts"):
         explain_recording(bare, "torque", RIG)
-    at_rest = rec.with_channels(roller_speed=np.zeros(rec.time.size))
-    with pytest.raises(RecordingError, match="at rest"):
-        explain_recording(at_rest, "torque", RIG)
+
+
+def test_a_roller_at_rest_gives_a_spectrum_with_the_orders_unattributed(tmp_path):
+    """Issue 24, point 9: a recording at standstill was refused ("record at speed"). Its
+    spectrum is a result: the peaks (the 37 Hz line and the lines the test puts in) listed,
+    none attributed to a rotation order or motor line, a note saying why; the JSON is valid."""
+    rec = free_rolling(30.0, duration=20.0)
+    n = rec.time.size
+    at_rest = rec.with_channels(roller_speed=np.zeros(n), wheel_speed=np.zeros(n))
+    e = explain_recording(at_rest, "torque", RIG)
+    assert e.roller_speed is None and e.operating_point.at_rest
+    assert e.roller_frequency is None and e.am_frequency is None and e.modes is None
+    found = [r.frequency for r in e.rows]
+    assert any(abs(f - PUMP) < 0.2 for f in found)
+    assert e.rows and not any(r.explained for r in e.rows)
+    assert any("at rest" in n and "not attributed" in n for n in e.notes)
+    assert "roller at rest" in e.caption() and "rest" in e.settings.reason
+    summary = json.loads(json.dumps(e.summary(), allow_nan=False))
+    assert summary["roller_speed [rad/s]"] is None
+    assert "at rest" in summary["operating_point"]["roller_speed_source"]
+    # A line present at rest and at speed is speed-independent (it is not k f_r).
+    both = explain_recordings([rec, at_rest], "torque", RIG)
+    assert any(abs(f - PUMP) < 0.2 for f in both.speed_independent)
+    assert both.order_map().frequency.size == sum(len(x.rows) for x in both.spectra)
+    write_recording(at_rest, tmp_path / "rest.csv")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["spectrum", str(tmp_path / "rest.csv"), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "roller at rest, rotation orders unattributed" in result.output
+    assert (out / "rest-spectrum.png").is_file()
 
 
 def test_operating_point_from_encoders_and_default_load():

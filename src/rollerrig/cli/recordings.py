@@ -13,7 +13,7 @@ from rich.text import Text
 
 from rollerrig._validation import ParameterError
 from rollerrig.cli._console import console, note, print_recording_notes, print_written
-from rollerrig.cli._inputs import derived, load_calibration, load_truth, open_input
+from rollerrig.cli._inputs import calibration_for, derived, load_truth, open_input
 from rollerrig.cli._options import (
     DEFAULT_OUT,
     ChannelsOption,
@@ -42,6 +42,14 @@ def analyze(
             "their covariance enters the CoA's uncertainty (with --rig calibrated-rig.toml)."
         ),
     ] = None,
+    allow_other_rig: Annotated[
+        bool,
+        typer.Option(
+            "--allow-other-rig",
+            help="Use a --calibration made on another rig than the one in use (a warning, "
+            "recorded in every output's provenance); without it that is an error.",
+        ),
+    ] = False,
     out: OutOption = DEFAULT_OUT,
     study: Annotated[bool, typer.Option(help="Run the full smoothing-filter study.")] = True,
     lenient: LenientOption = False,
@@ -58,6 +66,7 @@ def analyze(
     from rollerrig.report.analysis import write_analysis
 
     rig = load_rig(rig_file)
+    calibrated, bound = calibration_for(calibration, rig, rig_file, allow_other_rig)
     inputs = {"recording": recording, "truth": truth, "rig": rig_file, "calibration": calibration}
     with command_outputs(
         out,
@@ -67,9 +76,9 @@ def analyze(
         channel_map=channels,
         lenient=lenient,
         filter_study=study,
+        **bound,
     ) as stage:
         truth_ds = None if truth is None else load_truth(truth)
-        calibrated = None if calibration is None else load_calibration(calibration)
         with contextlib.ExitStack() as files:
             loaded = open_input(recording, channels, lenient, None, files)
             result = analyze_test(
@@ -289,17 +298,22 @@ def spectrum(
         for path, stem, key, rec, e in zip(
             recordings, stems, keys, loaded, result.spectra, strict=True
         ):
-            speed_kmh = e.roller_speed * rig.geometry.roller_radius_x * 3.6
+            if e.roller_speed is None:  # a result too: the notes say what is not attributed
+                speed_text = "at rest, rotation orders unattributed"
+                fig_title = f"{path.name} (roller at rest)"
+            else:
+                speed_kmh = e.roller_speed * rig.geometry.roller_radius_x * 3.6
+                speed_text = f"{speed_kmh:.1f} km/h"
+                fig_title = f"{path.name} ({speed_kmh:.1f} km/h)"
             console.print(
-                Text.assemble((path.name, "bold"), f": roller {speed_kmh:.1f} km/h"),
-                soft_wrap=True,
+                Text.assemble((path.name, "bold"), f": roller {speed_text}"), soft_wrap=True
             )
             print_recording_notes(rec)
             console.print(e.format_table(), soft_wrap=True)
             for text in e.notes:
                 note(text)
             save_figure(
-                spectrum_figure(e, title=f"{path.name} ({speed_kmh:.1f} km/h)"),
+                spectrum_figure(e, title=fig_title),
                 stage.path(f"{stem}-spectrum.png"),
             )
             summary[key] = e.summary() | {"recording": recording_facts(rec)}

@@ -267,7 +267,9 @@ def spectrum_figure(
     ax.set_title(
         title
         or (
-            f"{explained.channel}: {spec.method} spectrum, roller {speed:.2f} rad/s "
+            f"{explained.channel}: {spec.method} spectrum, roller at rest (orders unattributed)"
+            if speed is None
+            else f"{explained.channel}: {spec.method} spectrum, roller {speed:.2f} rad/s "
             f"(f_r = {explained.roller_frequency:.3f} Hz, f_AM = {explained.am_frequency:.3f} Hz)"
         ),
         fontsize=9,

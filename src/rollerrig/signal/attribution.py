@@ -422,8 +422,9 @@ def attribute_peaks(
     return rows
 
 
-def _entry(item) -> tuple[float, float | None, list, float | None]:
-    """(roller speed, wheel speed, peaks, resolution) of an ExplainedSpectrum or a tuple."""
+def _entry(item) -> tuple[float | None, float | None, list, float | None]:
+    """(roller speed, wheel speed, peaks, resolution) of an ExplainedSpectrum or a tuple
+    (roller speed None: at rest)."""
     if hasattr(item, "peaks") and hasattr(item, "spectrum"):  # an ExplainedSpectrum
         return item.roller_speed, item.wheel_speed, list(item.peaks), item.spectrum.resolution
     item = tuple(item)
@@ -439,7 +440,8 @@ def _entry(item) -> tuple[float, float | None, list, float | None]:
         )
     f, _, res = _peak_values(peaks)
     peaks = list(peaks) if res is not None else list(f)
-    return float(roller), (None if wheel is None else float(wheel)), peaks, res
+    roller = None if roller is None else float(roller)
+    return roller, (None if wheel is None else float(wheel)), peaks, res
 
 
 def speed_independent_lines(
@@ -519,7 +521,8 @@ def speed_independent_lines(
             relative_tolerance=relative_tolerance,
             am_slip=am_slip,
         )
-        pool += [(r.frequency, i, abs(roller)) for r in rows if r.source == "unexplained"]
+        speed = 0.0 if roller is None else abs(roller)  # at rest: a line there is not k f_r
+        pool += [(r.frequency, i, speed) for r in rows if r.source == "unexplained"]
     pool.sort()
     groups: list[list[tuple[float, int, float]]] = []
     for item in pool:

@@ -86,8 +86,9 @@ class ExplainedSpectrum:
         Peaks found (may be empty).
     rows : tuple of PeakAttribution
         One attribution per peak.
-    roller_speed : float
-        Mean roller angular speed used [rad/s].
+    roller_speed : float or None
+        Mean roller angular speed used [rad/s] (None: the roller is at rest; roller and AM
+        sources skipped, the notes say so).
     wheel_speed : float or None
         Mean wheel angular speed used [rad/s] (None: wheel and PMSM sources skipped).
     am_pole_pairs, pmsm_pole_pairs : int
@@ -118,7 +119,7 @@ class ExplainedSpectrum:
     spectrum: Spectrum
     peaks: tuple[SpectralPeak, ...]
     rows: tuple[PeakAttribution, ...]
-    roller_speed: float
+    roller_speed: float | None
     wheel_speed: float | None
     am_pole_pairs: int = 5
     pmsm_pole_pairs: int = 22
@@ -133,9 +134,9 @@ class ExplainedSpectrum:
     notes: tuple[str, ...] = field(default_factory=tuple)
 
     @property
-    def roller_frequency(self) -> float:
-        """Roller rotation frequency f_r [Hz]."""
-        return _rotation_frequency(self.roller_speed)
+    def roller_frequency(self) -> float | None:
+        """Roller rotation frequency f_r [Hz] (None with the roller at rest)."""
+        return None if self.roller_speed is None else _rotation_frequency(self.roller_speed)
 
     @property
     def wheel_frequency(self) -> float | None:
@@ -143,9 +144,10 @@ class ExplainedSpectrum:
         return None if self.wheel_speed is None else _rotation_frequency(self.wheel_speed)
 
     @property
-    def am_frequency(self) -> float:
-        """AM electrical frequency ``p_AM f_r / (1 - s)`` [Hz]."""
-        return self.am_pole_pairs * self.roller_frequency / (1.0 - self.am_slip)
+    def am_frequency(self) -> float | None:
+        """AM electrical frequency ``p_AM f_r / (1 - s)`` [Hz] (None with the roller at rest)."""
+        fr = self.roller_frequency
+        return None if fr is None else self.am_pole_pairs * fr / (1.0 - self.am_slip)
 
     @property
     def pmsm_frequency(self) -> float | None:
@@ -215,10 +217,14 @@ class ExplainedSpectrum:
         op = self.operating_point
         if op is not None:
             wheel = "unknown" if op.wheel_speed is None else f"{op.wheel_speed:.4g} rad/s"
+            roller = (
+                op.speed_source
+                if op.at_rest
+                else f"roller {op.roller_speed:.4g} rad/s ({op.surface_speed * 3.6:.1f} km/h, "
+                f"{op.speed_source})"
+            )
             parts.append(
-                f"roller {op.roller_speed:.4g} rad/s ({op.surface_speed * 3.6:.1f} km/h, "
-                f"{op.speed_source}), wheel {wheel}, N = {op.normal_load / 1e3:.3g} kN "
-                f"({op.load_source})"
+                f"{roller}, wheel {wheel}, N = {op.normal_load / 1e3:.3g} kN ({op.load_source})"
             )
         if self.modes is not None:
             ring = ", ".join(

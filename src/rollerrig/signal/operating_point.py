@@ -5,6 +5,10 @@ the mean speeds and linearises the twin at the mean load. :func:`operating_point
 the recording and states where it came from: the speeds from the speed channels, else from the
 first and last encoder counts; the load from the ``normal_load`` channel, else the air-spring
 pressure times the rig's effective area, else the seed's test load 4.3 kN.
+
+A roller at rest (mean speed at most :data:`AT_REST` rad/s) is an operating point too: its
+``roller_speed`` is None and its source says so; the workflow then leaves the rotation orders and
+motor lines unattributed (they would all lie at 0 Hz) instead of refusing the spectrum.
 """
 
 from __future__ import annotations
@@ -17,7 +21,10 @@ import numpy as np
 from rollerrig._validation import require_positive
 from rollerrig.signal.recording_access import RecordingAccess
 
-__all__ = ["OperatingPoint", "operating_point"]
+__all__ = ["AT_REST", "OperatingPoint", "operating_point"]
+
+AT_REST = 1e-3
+"""Mean angular speed [rad/s] at or below which a roller or wheel counts as at rest."""
 
 
 @dataclass(frozen=True)
@@ -26,8 +33,9 @@ class OperatingPoint:
 
     Attributes
     ----------
-    roller_speed : float
-        Mean roller angular speed [rad/s] (> 0).
+    roller_speed : float or None
+        Mean roller angular speed [rad/s] (> 0); None: the roller is at rest (its mean speed
+        is in ``speed_source``), so no speed-proportional line can be attributed.
     wheel_speed : float or None
         Mean wheel angular speed [rad/s] (None: unknown; wheel and PMSM sources skipped).
     normal_load : float
@@ -38,7 +46,7 @@ class OperatingPoint:
         Roller rolling radius [m] (for the surface speed).
     """
 
-    roller_speed: float
+    roller_speed: float | None
     wheel_speed: float | None
     normal_load: float
     speed_source: str
@@ -47,15 +55,20 @@ class OperatingPoint:
     roller_radius: float
 
     @property
+    def at_rest(self) -> bool:
+        """True when the roller is at rest (no roller speed to attribute lines with)."""
+        return self.roller_speed is None
+
+    @property
     def surface_speed(self) -> float:
-        """Roller surface speed ``ω_r r_r`` [m/s]."""
-        return self.roller_speed * self.roller_radius
+        """Roller surface speed ``ω_r r_r`` [m/s] (0 at rest)."""
+        return 0.0 if self.roller_speed is None else self.roller_speed * self.roller_radius
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready (units in the keys)."""
         return {
             "roller_speed [rad/s]": self.roller_speed,
-            "roller_speed [km/h]": self.surface_speed * 3.6,
+            "roller_speed [km/h]": None if self.at_rest else self.surface_speed * 3.6,
             "roller_speed_source": self.speed_source,
             "wheel_speed [rad/s]": self.wheel_speed,
             "wheel_speed_source": self.wheel_source,
@@ -106,7 +119,8 @@ def operating_point(
     Raises
     ------
     RecordingError
-        No roller speed (channel, encoder counts or given), or a roller at rest.
+        No roller speed (channel, encoder counts or given). A roller at rest is no error: the
+        point's ``roller_speed`` is None and ``speed_source`` gives the mean speed measured.
     """
     from rollerrig.rig.linear import DEFAULT_NORMAL_LOAD
 
@@ -124,13 +138,10 @@ def operating_point(
             "the spectrum's sources need the roller speed: map a roller_speed or "
             "roller_encoder_counts channel (or give the speed)"
         )
-    if not w_r > 1e-3:
-        raise access.fail(
-            f"the roller is at rest (mean speed {w_r:.3g} rad/s, {r_source}): speed-proportional "
-            "lines cannot be attributed; record at speed"
-        )
+    if not w_r > AT_REST:
+        w_r, r_source = None, f"roller at rest (mean speed {w_r:.3g} rad/s, {r_source})"
     w_w, w_source = _mean_speed(access, stats, "wheel", rig, wheel_speed)
-    if w_w is not None and not w_w > 1e-3:
+    if w_w is not None and not w_w > AT_REST:
         w_w, w_source = None, f"wheel at rest ({w_source})"
     if "normal_load" in stats:
         load, l_source = stats["normal_load"][0], "mean of the normal_load channel"
@@ -146,7 +157,7 @@ def operating_point(
             "scale and offset in the channel map"
         )
     return OperatingPoint(
-        float(w_r),
+        None if w_r is None else float(w_r),
         None if w_w is None else float(w_w),
         float(load),
         r_source,

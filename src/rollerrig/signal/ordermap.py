@@ -125,7 +125,7 @@ def order_map(
     ratios = []
     for i, item in enumerate(entries):
         roller, wheel, peaks, _ = _entry(item)
-        if wheel is not None:
+        if wheel is not None and roller is not None:
             ratios.append(abs(wheel) / abs(roller))
         if hasattr(item, "rows") and hasattr(item, "spectrum"):  # an ExplainedSpectrum
             kinds = [r.source for r in item.rows]
@@ -134,7 +134,7 @@ def order_map(
         f, pw, _ = _peak_values(peaks) if peaks else (np.array([]), np.array([]), None)
         if pw is None:  # bare frequencies: power unknown
             pw = np.full(f.shape, np.nan)
-        speed += [abs(roller)] * f.size
+        speed += [0.0 if roller is None else abs(roller)] * f.size  # None: at rest
         freq += f.tolist()
         power += pw.tolist()
         source += kinds

@@ -182,7 +182,7 @@ def _largest_nperseg(n: int, averages: int) -> int:
 def choose_settings(
     n_samples: int,
     sample_rate: float,
-    spacing: float,
+    spacing: float | None,
     *,
     min_averages: int = MIN_AVERAGES,
     **overrides: Any,
@@ -213,8 +213,10 @@ def choose_settings(
         Samples in the record [1].
     sample_rate : float
         Sampling rate [Hz].
-    spacing : float
-        Closest spacing of the lines to resolve [Hz] (:func:`line_spacing`).
+    spacing : float or None
+        Closest spacing of the lines to resolve [Hz] (:func:`line_spacing`); None when there
+        are no lines to resolve (a roller at rest): ``min_averages`` segments at the finest
+        resolution the record allows.
     min_averages : int
         Segments wanted [1]; fewer are stated in ``reason``.
     **overrides
@@ -241,9 +243,19 @@ def choose_settings(
     """
     n = int(n_samples)
     fs = float(require_positive("sample_rate", sample_rate, "Hz"))
-    gap = float(require_positive("spacing", spacing, "Hz"))
     if n < 16:
         raise ParameterError(f"a spectrum needs at least 16 samples, got {n}")
+    if spacing is None:
+        seg = max(16, _largest_nperseg(n, min_averages))
+        return _settings(
+            n,
+            fs,
+            seg,
+            f"no rotation lines to resolve (roller at rest): {min_averages} averages at the "
+            "finest resolution the record allows",
+            overrides,
+        )
+    gap = float(require_positive("spacing", spacing, "Hz"))
     want = int(np.ceil(fs * BINS_PER_SPACING / gap))
     need = int(np.ceil(fs * BINS_NEEDED / gap))
     by_averages = _largest_nperseg(n, min_averages)
@@ -267,7 +279,11 @@ def choose_settings(
             f"(spacing/{BINS_NEEDED} needs {need}-sample segments); the whole record as one "
             "segment, the finest resolution it allows"
         )
-    seg = max(16, seg)
+    return _settings(n, fs, max(16, seg), reason, overrides)
+
+
+def _settings(n: int, fs: float, seg: int, reason: str, overrides) -> SpectrumSettings:
+    """Settings with ``seg``-sample segments, 50 % overlap and the peak search's lower end."""
     values: dict[str, Any] = {
         "nperseg": seg,
         "noverlap": seg // 2,

@@ -121,7 +121,8 @@ def explain_recording(
     ------
     RecordingError
         Missing channel or roller speed, a constant, non-finite or absurd channel (named),
-        a record shorter than one segment.
+        a record shorter than one segment. A roller at rest is no error: the spectrum and its
+        peaks are the result, the rotation orders and motor lines unattributed, with a note.
 
     Examples
     --------
@@ -151,21 +152,29 @@ def explain_recording(
         notes.append(f"twin modes at the default load 4.3 kN ({op.load_source})")
     threshold = settings.damping_threshold if settings is not None else 0.3
     modes = None
-    try:
-        modes = coupled_modes(
-            rig,
-            op.surface_speed,
-            op.normal_load,
-            drives=drives,
-            friction=friction,
-            damping_threshold=threshold,
-            load_source=op.load_source,
+    if op.at_rest:
+        notes.append(
+            f"{op.speed_source}: rotation orders and motor lines (roller, AM, wheel, PMSM) are "
+            "not attributed, since at standstill they all lie at 0 Hz; the peaks are listed "
+            "unattributed unless a speed-independent line explains them. The twin's modes are "
+            "not computed: the coupled twin is linearised about a rolling contact (speed > 0)"
         )
-    except (ParameterError, ValueError, ArithmeticError) as exc:
-        notes.append(f"twin not linearised at this operating point ({exc}); no mode labels")
+    else:
+        try:
+            modes = coupled_modes(
+                rig,
+                op.surface_speed,
+                op.normal_load,
+                drives=drives,
+                friction=friction,
+                damping_threshold=threshold,
+                load_source=op.load_source,
+            )
+        except (ParameterError, ValueError, ArithmeticError) as exc:
+            notes.append(f"twin not linearised at this operating point ({exc}); no mode labels")
     if settings is None:
         f_w = None if op.wheel_speed is None else op.wheel_speed / (2 * np.pi)
-        spacing = line_spacing(op.roller_speed / (2 * np.pi), f_w)
+        spacing = None if op.at_rest else line_spacing(op.roller_speed / (2 * np.pi), f_w)
         try:
             settings = choose_settings(access.n_samples, access.sample_rate, spacing)
         except ParameterError as exc:
@@ -197,7 +206,7 @@ def explain_recording(
         )
     except ParameterError as exc:
         raise access.fail(str(exc)) from None
-    if op.wheel_speed is None:
+    if op.wheel_speed is None and not op.at_rest:
         notes.append(f"wheel speed unknown ({op.wheel_source}): wheel and PMSM lines not tried")
     unexplained = ExplainedSpectrum(
         channel=channel,
