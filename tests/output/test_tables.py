@@ -365,3 +365,38 @@ def test_write_dataset_maps_variable_names_for_netcdf(tmp_path):
         assert back["a_b"].values.tolist() == [3.0, 4.0]
         assert back["a_b_2"].values.tolist() == [1.0, 2.0]
         assert back["a_b_2"].attrs["original_name"] == "a/b"
+
+
+def test_a_documented_nan_is_stated_on_the_variable_in_every_format(tmp_path):
+    """Issue 24, point 9: the measured creep at standstill (NaN) said why only in the file's
+    metadata object; every format now carries the meaning and the count on the variable."""
+    import asammdf
+    import nptdms
+    import pyarrow.parquet as pq
+
+    why = "creep undefined at standstill: roller encoder speed 0"
+    cols = {"measured_creep": ([np.nan, np.nan, 0.02], "1", "creep", {"nan_meaning": why})}
+    paths = {f: write_table(tmp_path / f"r.{f}", cols, time=[0, 0.1, 0.2]) for f in ("csv",
+             "parquet", "tdms", "mf4", "nc")}  # fmt: skip
+    sidecar = json.loads((tmp_path / "r.metadata.json").read_text())
+    entry = sidecar["variables"]["measured_creep"]
+    assert (entry["nan_meaning"], entry["nan_samples"]) == (why, 2)
+    field = pq.read_schema(paths["parquet"]).field("measured_creep").metadata
+    assert field[b"nan_meaning"] == why.encode() and field[b"nan_samples"] == b"2"
+    props = nptdms.TdmsFile.read(paths["tdms"])["rollerrig"]["measured_creep"].properties
+    assert props["nan_meaning"] == why and props["nan_samples"] == "2"
+    mdf = asammdf.MDF(paths["mf4"])
+    try:
+        assert mdf.get("measured_creep").comment == f"creep; NaN in 2 samples: {why}"
+    finally:
+        mdf.close()
+    with xr.open_dataset(paths["nc"], engine="h5netcdf") as ds:
+        assert ds["measured_creep"].attrs["nan_meaning"] == why
+        assert int(ds["measured_creep"].attrs["nan_samples"]) == 2
+    ds = xr.Dataset(
+        {"measured_creep": ("time", [np.nan, 0.1], {"units": "1", "nan_meaning": why})},
+        coords={"time": [0.0, 0.1]},
+    )
+    with xr.open_dataset(write_dataset(tmp_path / "d.nc", ds), engine="h5netcdf") as back:
+        assert int(back["measured_creep"].attrs["nan_samples"]) == 1
+    assert "nan_samples" not in ds["measured_creep"].attrs  # the caller's dataset untouched

@@ -28,7 +28,10 @@ carries ``wf_increment``/``wf_start_offset``.
 every dimension; the other formats take variables along ``time``).
 
 NaN policy: a column may hold NaN only when its attributes say why (``nan_meaning``); any other
-non-finite sample is refused (:class:`~rollerrig._validation.ParameterError`).
+non-finite sample is refused (:class:`~rollerrig._validation.ParameterError`). A column that
+does hold NaN carries its ``nan_meaning`` and ``nan_samples`` (how many) on the variable itself
+in every format (:data:`NAN_MEANING`), not only in the file's metadata object; CSV cells of
+those samples are empty, the sidecar's ``variables`` entry says why.
 
 Names: NetCDF and MAT files store identifiers only; a column whose name is not one (``oil
 temp/bearing``, ``Group/Channel``, ``Öl-Temp``) is written under the name
@@ -57,6 +60,8 @@ from rollerrig.output.varnames import ORIGINAL_NAME, storable_names
 __all__ = [
     "CONVENTIONS",
     "META_KEY",
+    "NAN_MEANING",
+    "NAN_SAMPLES",
     "PROVENANCE_KEY",
     "TABLE_FORMATS",
     "UNITS_STRUCT",
@@ -83,6 +88,12 @@ META_KEY = "rollerrig_metadata"
 """Key of the provenance record in the metadata object (and the MAT/NetCDF variable/attribute)."""
 VARIABLES_KEY = "variables"
 """Key of ``{column: {"units", "long_name", ...}}`` in the metadata object."""
+NAN_MEANING = "nan_meaning"
+"""Attribute of a column that may hold NaN: why (the NaN policy); on the variable in every
+format (NetCDF attribute, Parquet field metadata, TDMS channel property, MDF4 signal comment,
+the ``variables`` entry of the metadata object: CSV sidecar, MAT)."""
+NAN_SAMPLES = "nan_samples"
+"""Attribute beside :data:`NAN_MEANING`: how many samples of the column are NaN [1]."""
 UNITS_STRUCT = "units"
 """MAT struct holding one field per variable: its unit."""
 CONVENTIONS = "CF-1.10"
@@ -146,12 +157,15 @@ def _columns(
                 f"{path}: column {name!r} has shape {values.shape}; columns are 1-D"
             )
         text = values.dtype.kind in "USO"
+        attrs = dict(col.attrs)
         if not text:
             values = values.astype(float, copy=False)
-            _check_numeric(path, name, values, {**col.attrs, "units": col.unit})
+            _check_numeric(path, name, values, {**attrs, "units": col.unit})
+            if attrs.get(NAN_MEANING):
+                attrs[NAN_SAMPLES] = int(np.count_nonzero(~np.isfinite(values)))
         else:
             values = values.astype(str)
-        cols[name] = TableColumn(values, None if text else col.unit, col.long_name, col.attrs)
+        cols[name] = TableColumn(values, None if text else col.unit, col.long_name, attrs)
     sizes = {c.values.size for c in cols.values()}
     if len(sizes) > 1:
         shown = {n: c.values.size for n, c in cols.items()}
@@ -219,6 +233,7 @@ def _parquet(cols, meta, tmp: Path) -> None:
         fmeta = {"long_name": c.long_name} if c.long_name else {}
         if c.unit:
             fmeta["unit"] = c.unit
+        fmeta.update(_nan_note(c))
         kind = pa.string() if c.unit is None else pa.float64()
         fields.append(pa.field(name, kind, metadata=fmeta or None))
         arrays.append(pa.array(c.values.tolist() if c.unit is None else c.values, type=kind))
@@ -226,6 +241,22 @@ def _parquet(cols, meta, tmp: Path) -> None:
     blob = json_text({"units": units, "metadata": meta})
     schema = pa.schema(fields, metadata={"rollerrig": blob})
     pq.write_table(pa.Table.from_arrays(arrays, schema=schema), tmp)
+
+
+def _nan_note(c: TableColumn) -> dict[str, str]:
+    """``nan_meaning`` and ``nan_samples`` of a column as text (empty without a meaning)."""
+    if not c.attrs.get(NAN_MEANING):
+        return {}
+    return {NAN_MEANING: str(c.attrs[NAN_MEANING]), NAN_SAMPLES: str(c.attrs.get(NAN_SAMPLES, 0))}
+
+
+def _mf4_comment(c: TableColumn) -> str:
+    """An MDF4 signal comment: the long name, and why the signal may hold NaN."""
+    note = _nan_note(c)
+    if not note:
+        return c.long_name
+    why = f"NaN in {note[NAN_SAMPLES]} samples: {note[NAN_MEANING]}"
+    return f"{c.long_name}; {why}" if c.long_name else why
 
 
 def _tdms(cols, meta, tmp: Path, stem: str) -> None:
@@ -240,6 +271,7 @@ def _tdms(cols, meta, tmp: Path, stem: str) -> None:
         props: dict[str, Any] = {"unit_string": c.unit}
         if c.long_name:
             props["description"] = c.long_name
+        props.update(_nan_note(c))
         if step is not None and name != "time":
             props.update(
                 wf_increment=step, wf_start_offset=float(time[0]), wf_samples=int(time.size)
@@ -255,7 +287,7 @@ def _mf4(cols, meta, tmp: Path) -> Path:
     mdf = asammdf.MDF(version="4.10")
     try:
         signals = [
-            asammdf.Signal(c.values, time, name=n, unit=c.unit, comment=c.long_name)
+            asammdf.Signal(c.values, time, name=n, unit=c.unit, comment=_mf4_comment(c))
             for n, c in cols.items()
             if n != "time"
         ]
@@ -462,9 +494,13 @@ def write_dataset(
             overwrite=overwrite,
             mat_version=mat_version,
         )
+    ds = ds.copy(deep=False)
     for name, var in ds.data_vars.items():
         if var.dtype.kind in "biuf":
-            _check_numeric(path, str(name), np.asarray(var.values, dtype=float), var.attrs)
+            values = np.asarray(var.values, dtype=float)
+            _check_numeric(path, str(name), values, var.attrs)
+            if var.attrs.get(NAN_MEANING):
+                var.attrs[NAN_SAMPLES] = int(np.count_nonzero(~np.isfinite(values)))
     taken = [str(n) for n in (*ds.coords, *ds.dims)]
     stored = storable_names([str(n) for n in ds.data_vars], "nc", reserved=taken)
     renamed = {n: s for n, s in stored.items() if s != n}

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import textwrap
 
 import matplotlib
 
@@ -81,6 +82,18 @@ def experiment_figure(ds, title: str | None = None):
     lim = float(np.nanpercentile(np.abs(100 * ds.creep.values), 99.5)) * 1.1 + 0.5
     b.set_xlim(-0.5, lim)
     b.set_title("(b) CoA-creep")
+    undefined = int(np.count_nonzero(~np.isfinite(ds.measured_creep.values)))
+    if undefined:  # NaN policy: an undrawn sample is said so, with why
+        why = ds.measured_creep.attrs.get("nan_meaning", "measured creep undefined")
+        b.text(
+            0.01,
+            0.01,
+            textwrap.fill(f"measured creep not drawn at {undefined} samples: {why}", 70),
+            transform=b.transAxes,
+            fontsize=6.5,
+            color="0.3",
+            va="bottom",
+        )
 
     _measured_and_true(c, t, ds.measured_wheel_speed.values * rw * 3.6,
                        ds.wheel_speed.values * rw * 3.6, "tab:green",
