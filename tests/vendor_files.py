@@ -1236,12 +1236,41 @@ def labview_lvm(
 # MATLAB
 
 
+def _mat73_cell(f, group, key: str, values: np.ndarray, kind: str) -> None:
+    """``values`` as a MATLAB v7.3 n x 1 cell array ``group/key`` (targets in ``#refs#``)."""
+    import h5py
+
+    refs = f.require_group("#refs#")
+    if kind == "scalars":
+        elements = [np.array([[v]]) for v in values]
+    elif kind == "arrays":
+        elements = [part.reshape(1, -1) for part in np.array_split(values, 3)]
+    elif kind == "text":
+        elements = [f"{v:.3f} s" for v in values[:5]]
+    else:
+        raise ValueError(f"time_cell must be 'scalars', 'arrays' or 'text', got {kind!r}")
+    out = np.empty((1, len(elements)), dtype=h5py.ref_dtype)
+    for k, element in enumerate(elements):
+        if isinstance(element, str):
+            codes = np.frombuffer(element.encode("utf-16-le"), dtype=np.uint16).reshape(-1, 1)
+            ds = refs.create_dataset(f"{key}{k}", data=codes)
+            ds.attrs["MATLAB_class"] = np.bytes_("char")
+            ds.attrs["MATLAB_int_decode"] = np.int32(2)
+        else:
+            ds = refs.create_dataset(f"{key}{k}", data=element)
+            ds.attrs["MATLAB_class"] = np.bytes_("double")
+        out[0, k] = ds.ref
+    cell = group.create_dataset(key, data=out, dtype=h5py.ref_dtype)
+    cell.attrs["MATLAB_class"] = np.bytes_("cell")
+
+
 def matlab_struct_mat(
     folder: str | Path,
     rec: Recording | None = None,
     *,
     version: str = "5",
     name: str | None = None,
+    time_cell: str | None = None,
 ) -> VendorFile:
     """A MATLAB R2020-R2024 ``save`` of a struct of signals (``-v7``/v5 or ``-v7.3``/HDF5).
 
@@ -1253,9 +1282,16 @@ def matlab_struct_mat(
     "double" stored transposed (an n x 1 column as HDF5 shape (1, n)) and chars as uint16 with
     ``MATLAB_int_decode`` 2.
 
+    ``time_cell`` (v7.3 only): the time ``Zeit`` as a cell array, as scripts that collect
+    samples in a loop leave it: ``"scalars"`` (one cell per sample, ``Zeit{k} = t``),
+    ``"arrays"`` (a cell of three column vectors, one per acquisition block) or ``"text"`` (a
+    cell of ``datestr`` strings: not numbers). MATLAB stores a cell as a dataset of HDF5 object
+    references (``MATLAB_class`` "cell", shape (1, n) for an n x 1 cell) whose targets live in
+    the group ``#refs#``, each a dataset with its own ``MATLAB_class``.
+
     Sources: MathWorks "MAT-File Versions" (v7.3 is HDF5-based); scipy.io.savemat; the MATLAB
     7.3 layout as written by rollerrig's own writer (``measure/writers.py``) and read by
-    pymatreader.
+    pymatreader (its ``_hdf5todict`` dereferences ``MATLAB_class`` "cell" datasets).
 
     Map: ``[time]`` "Messung.Zeit" [s]; channels "Messung.<field>".
     """
@@ -1286,6 +1322,9 @@ def matlab_struct_mat(
             g = f.create_group("Messung")
             g.attrs["MATLAB_class"] = np.bytes_("struct")
             for key, values in data.items():
+                if key == "Zeit" and time_cell is not None:
+                    _mat73_cell(f, g, key, np.asarray(values, dtype=float), time_cell)
+                    continue
                 ds = g.create_dataset(key, data=np.asarray(values, dtype=float).reshape(1, -1))
                 ds.attrs["MATLAB_class"] = np.bytes_("double")
             u = g.create_group("Einheiten")

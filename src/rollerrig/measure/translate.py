@@ -82,6 +82,12 @@ def resolve_column(
             f"{path}: channel map entry {entry} (map {cmap.source}) names column {column!r}, "
             f"which is ambiguous in the file: {candidates}; give the full name"
         )
+    unreadable = [s for s in table.skipped if s.startswith(f"{column} (")]
+    if unreadable:
+        raise RecordingError(
+            f"{path}: channel map entry {entry} (map {cmap.source}) names column {column!r}, "
+            f"which the file holds but cannot be read as numbers: {unreadable[0]}"
+        )
     shown = table.names if len(table.names) <= 60 else [*table.names[:60], "..."]
     raise RecordingError(
         f"{path}: channel map entry {entry} (map {cmap.source}) names column {column!r}, "

@@ -7,6 +7,13 @@ Units come from a struct ``units`` of text fields (``units.torque = 'N.m'``, as
 text) give the stored metadata and provenance.
 HDF5-based files (v7.3) are read one variable at a time, and :attr:`Table.slicer` reads parts
 of a variable (chunked reading); v4-v7 files are read whole by :func:`scipy.io.loadmat`.
+
+Cell arrays of numbers (v7.3: a dataset of HDF5 object references into ``#refs#``, as MATLAB
+writes them) are read as one column: a cell of numeric vectors (segments) is joined in
+MATLAB's order, a cell of per-sample scalars becomes the vector of those scalars. Every element
+is an HDF5 object of its own (slow to open), so a cell of more than :data:`MAX_CELL_ELEMENTS`
+elements, or one that holds text, structs or nested cells, is not read; the note (and the error
+when a channel map names it) names the field and what to save instead (``cell2mat``).
 """
 
 from __future__ import annotations
@@ -32,6 +39,18 @@ from rollerrig.measure.formats._table import (
 )
 from rollerrig.measure.recording import RecordingError
 
+MAX_CELL_ELEMENTS = 10_000
+"""Most elements of a v7.3 cell array read as a column (each is an HDF5 object of its own)."""
+
+
+def _cell_advice(name: str, numbers: bool = True) -> str:
+    """What to save instead of the cell array ``name`` (MATLAB code for the user to run)."""
+    if numbers:
+        fix = f"in MATLAB: {name} = cell2mat({name}(:)); then save again"
+    else:
+        fix = "convert it to numbers in MATLAB (e.g. seconds since the start) and save again"
+    return f"save a numeric vector instead ({fix}), or export the signals as CSV or MDF4"
+
 
 def _flatten_mat(data: Mapping[str, Any], prefix: str, out: dict, skipped: list) -> None:
     for key, value in data.items():
@@ -42,6 +61,10 @@ def _flatten_mat(data: Mapping[str, Any], prefix: str, out: dict, skipped: list)
             _flatten_mat(value, f"{name}.", out, skipped)
         elif isinstance(value, str):
             out[name] = value
+        elif isinstance(value, list | tuple) or (
+            isinstance(value, np.ndarray) and value.dtype == object
+        ):
+            _flatten_cell(name, value, out, skipped)
         else:
             arr = np.asarray(value)
             if arr.dtype.kind in "biuf" and arr.size >= 1:
@@ -50,6 +73,30 @@ def _flatten_mat(data: Mapping[str, Any], prefix: str, out: dict, skipped: list)
                     out[name] = squeezed
                     continue
             skipped.append(f"{name} ({arr.dtype}, shape {arr.shape})")
+
+
+def _flatten_cell(name: str, value, out: dict, skipped: list) -> None:
+    """A v5 cell array (a list from :func:`scipy.io.loadmat`) of numbers as one column."""
+    items = value if isinstance(value, list | tuple) else list(value.reshape(-1, order="F"))
+    if len(items) > MAX_CELL_ELEMENTS:
+        skipped.append(f"{name} (cell array of {len(items)} elements; {_cell_advice(name)})")
+        return
+    parts = []
+    for k, item in enumerate(items):
+        arr = np.asarray(item)
+        if arr.dtype.kind not in "biuf" or arr.size < 1 or sum(d != 1 for d in arr.shape) > 1:
+            kind = "text" if arr.dtype.kind in "SU" else f"{arr.dtype}, shape {arr.shape}"
+            kind = "a struct" if isinstance(item, Mapping) else kind
+            skipped.append(
+                f"{name} (cell array whose element {k + 1} is {kind}, not a number or numeric "
+                f"vector; {_cell_advice(name, arr.dtype.kind in 'biuf')})"
+            )
+            return
+        parts.append(arr.astype(float).reshape(-1))
+    if parts:
+        out[name] = np.concatenate(parts)
+    else:
+        skipped.append(f"{name} (empty cell array)")
 
 
 def _is_hdf5(path: Path) -> bool:
@@ -92,8 +139,53 @@ def _hdf5_table(path: Path, what: str) -> Table:
     """
     h5py = require_module("h5py", what)
     datasets: dict[str, tuple[str, int, int]] = {}  # name -> (HDF5 path, long axis, length)
+    cells: dict[str, np.ndarray] = {}  # name -> the values of a cell array of numbers
     strings: dict[str, str] = {}
     skipped: list[str] = []
+
+    def cell(f, name: str, item) -> None:
+        """A cell array of numbers as one column (module docstring), else a skipped entry."""
+        refs = np.asarray(item[()], dtype=object).reshape(-1)  # MATLAB's column-major order
+        if refs.size > MAX_CELL_ELEMENTS:
+            skipped.append(
+                f"{name} (cell array of {refs.size} elements, more than {MAX_CELL_ELEMENTS} "
+                f"read one by one; {_cell_advice(name)})"
+            )
+            return
+        parts = []
+        for k, ref in enumerate(refs):
+            target = f[ref] if ref else None
+            cls = "" if target is None else _attr_text(target, "MATLAB_class")
+            ok = (
+                isinstance(target, h5py.Dataset)
+                and target.dtype.kind in "biuf"
+                and (not cls or cls in _NUMERIC_CLASSES)
+                and "MATLAB_empty" not in target.attrs
+                and sum(d != 1 for d in target.shape) <= 1
+            )
+            if not ok:
+                kind = cls or ("group" if isinstance(target, h5py.Group) else "empty")
+                skipped.append(
+                    f"{name} (cell array whose element {k + 1} is {kind}, not a number or "
+                    f"numeric vector; {_cell_advice(name, kind not in ('char', 'cell'))})"
+                )
+                return
+            parts.append(np.asarray(target[()], dtype=float).reshape(-1))
+        if not parts:
+            skipped.append(f"{name} (empty cell array)")
+            return
+        cells[name] = np.concatenate(parts)
+        scalars = all(p.size == 1 for p in parts)
+        notes.append(
+            f"MAT variable {name} is a cell array: read as one column ("
+            + (
+                f"{len(parts)} per-sample scalars)"
+                if scalars
+                else f"{len(parts)} numeric arrays joined in order)"
+            )
+        )
+
+    notes: list[str] = []
 
     def walk(group, prefix: str) -> None:
         for key, item in group.items():
@@ -108,6 +200,9 @@ def _hdf5_table(path: Path, what: str) -> Table:
                 continue
             cls = _attr_text(item, "MATLAB_class")
             shape, dtype = tuple(item.shape), item.dtype
+            if cls == "cell" or h5py.check_ref_dtype(dtype) is not None:
+                cell(group.file, name, item)
+                continue
             if cls == "char":
                 codes = np.asarray(item[()], dtype=np.uint16)
                 strings[name] = codes.T.tobytes().decode("utf-16-le", errors="replace")
@@ -136,6 +231,8 @@ def _hdf5_table(path: Path, what: str) -> Table:
     handle: list = []  # the file, opened on the first read, closed with the table
 
     def read(name: str, start: int, stop: int) -> Column:
+        if name in cells:
+            return Column(cells[name][max(0, start) : max(0, stop)], units.get(name))
         h5path, axis, n = datasets[name]
         start, stop = max(0, start), min(n, stop)
         try:
@@ -153,17 +250,20 @@ def _hdf5_table(path: Path, what: str) -> Table:
             ) from exc
         return Column(values, units.get(name))
 
+    def length(name: str) -> int:
+        return cells[name].size if name in cells else datasets[name][2]
+
     units: dict[str, str] = {}
     table = _finish(
         path,
-        list(datasets),
-        lambda n: read(n, 0, datasets[n][2]),
+        [*datasets, *cells],
+        lambda n: read(n, 0, length(n)),
         strings,
         skipped,
         units,
-        [],
+        notes,
     )
-    table.slicer = Slicer(length=lambda n: datasets[n][2], read=read)
+    table.slicer = Slicer(length=length, read=read)
     weakref.finalize(table.slicer, _close, handle)  # the slicer outlives the table in use
     return table
 
