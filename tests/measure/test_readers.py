@@ -627,3 +627,38 @@ def test_recording_as_dataset_without_xarray_names_the_extra(recording, monkeypa
     monkeypatch.setitem(sys.modules, "xarray", None)
     with pytest.raises(ImportError, match=r"xarray: pip install 'rollerrig\[io\]'"):
         recording.to_dataset()
+
+
+# ------------------------------------------------------- vendor files not read (issue 24, 9)
+
+# The start of an imc FAMOS raw file as imc documents the format ("FAMOS file format", imc
+# Test & Measurement): the keys |CF (format version 2, processor 1) and |CK, then |NO (origin).
+FAMOS_HEAD = b"|CF,2,1,1;|CK,1,3,1,1;\r\n|NO,1,  20,0,9,imc STUDIO,0,;\r\n"
+# Dewesoft 7 / X data files start with the text DEWESOFT, then binary header fields.
+DEWESOFT_HEAD = b"DEWESOFT\x00\x00\x00\x00" + bytes(range(32))
+
+
+@pytest.mark.parametrize(
+    ("name", "head", "vendor", "export"),
+    [
+        ("run.raw", FAMOS_HEAD, "imc FAMOS", "in imc FAMOS or imc STUDIO export"),
+        ("run.dxd", DEWESOFT_HEAD, "Dewesoft", "in Dewesoft X use Export"),
+        ("run.d7d", DEWESOFT_HEAD, "Dewesoft", "ASAM MDF4"),
+        ("run.dxz", DEWESOFT_HEAD, "Dewesoft", "MATLAB"),
+        # misnamed: the content tells the vendor, not a parse error of the suffix's format
+        ("famos.csv", FAMOS_HEAD, "imc FAMOS", "recognised by its content; named '.csv'"),
+        ("dewesoft.mf4", DEWESOFT_HEAD, "Dewesoft", "recognised by its content; named '.mf4'"),
+        ("export.dat", FAMOS_HEAD, "imc FAMOS", "recognised by its content"),
+    ],
+)
+def test_vendor_files_not_read_name_the_vendor_and_the_export(tmp_path, name, head, vendor, export):
+    from rollerrig.measure.source import open_recording
+
+    path = tmp_path / name
+    path.write_bytes(head)
+    for read in (read_recording, open_recording):
+        with pytest.raises(RecordingError) as info:
+            read(path)
+        message = str(info.value)
+        assert vendor in message and export in message, message
+        assert "unsupported file suffix" not in message

@@ -11,7 +11,13 @@ when present and only noted when absent.
 
 HBM catman binary files (``.bin``) are not read: the one PyPI reader (``apread``) needs
 matplotlib, OpenCV and tqdm, asks on stdin which channel is the time, and prints instead of
-raising; export from catman as ASCII or ASAM MDF4 instead (the error says so).
+raising; export from catman as ASCII or ASAM MDF4 instead (the error says so). imc FAMOS/STUDIO
+``.raw`` files and Dewesoft ``.dxd``/``.dxz``/``.d7d``/``.d7z`` files are not read either: imc's
+own reader on PyPI (``imctermite``) and Dewesoft's (``dwdatareader``) are compiled or wrap the
+vendor's shared library, and no pure-Python reader on PyPI is established; the error names the
+vendor and the export to use. A file is also recognised by its first bytes
+(:data:`VENDOR_SIGNATURES`: FAMOS ``|CF,``, Dewesoft ``DEWESOFT``), so that a misnamed file gets
+the same message rather than a parse error.
 
 Input files are opened read-only and never modified. The optional readers (``nptdms``,
 ``asammdf``, ``h5py``, ``pandas``, ``pyarrow``) are imported only when their format is read.
@@ -40,6 +46,7 @@ __all__ = [
     "FORMATS",
     "GAP_FACTOR",
     "MAX_INTERPOLATED_NAN_RUN",
+    "VENDOR_SIGNATURES",
     "ChannelMapLike",
     "describe_gap",
     "detect_format",
@@ -60,7 +67,26 @@ FORMATS: dict[str, tuple[str, ...]] = {
 
 _FORMAT_ALIASES = {"mdf": "mf4", "mdf4": "mf4", "pq": "parquet", "txt": "csv", "tsv": "csv"}
 
+_FAMOS = (
+    "imc FAMOS/STUDIO raw files (.raw, format '|CF,') are not read (imc's reader on PyPI, "
+    "imctermite, is a compiled extension); in imc FAMOS or imc STUDIO export the channels as "
+    "ASAM MDF4 (.mf4), MATLAB (.mat) or CSV (with channel names and units) and read that file"
+)
+_DEWESOFT = (
+    "Dewesoft data files (.dxd, .dxz, .d7d, .d7z) are not read (Dewesoft's reader needs its "
+    "DWDataReaderLib shared library); in Dewesoft X use Export to write the data as ASAM MDF4 "
+    "(.mf4), MATLAB (.mat) or CSV (text, with channel names and units) and read that file"
+)
+
+VENDOR_SIGNATURES: dict[bytes, str] = {b"|CF,": _FAMOS, b"DEWESOFT": _DEWESOFT}
+"""First bytes of vendor files no reader here reads -> what to do (names the vendor)."""
+
 _NOT_READ = {
+    ".raw": _FAMOS,
+    ".dxd": _DEWESOFT,
+    ".dxz": _DEWESOFT,
+    ".d7d": _DEWESOFT,
+    ".d7z": _DEWESOFT,
     ".bin": (
         "HBM catman binary files (.bin) are not read (the only PyPI reader, apread, prompts on "
         "stdin and pulls in matplotlib/OpenCV); in catman export the measurement as ASCII "
@@ -119,6 +145,21 @@ def _as_channel_map(channel_map: ChannelMapLike) -> ChannelMap:
     )
 
 
+def _refuse_vendor_file(p: Path) -> None:
+    """RecordingError naming the vendor when the file starts like one no reader here reads
+    (:data:`VENDOR_SIGNATURES`), whatever its suffix."""
+    try:
+        with p.open("rb") as fh:
+            head = fh.read(16)
+    except OSError:
+        return  # missing or unreadable: the reader says so
+    for magic, why in VENDOR_SIGNATURES.items():
+        if head.startswith(magic):
+            suffix = p.suffix.lower()
+            named = "" if suffix in _NOT_READ else f" (recognised by its content; named {suffix!r})"
+            raise RecordingError(f"{p}: {why}{named}")
+
+
 def resolve_inputs(
     path, channel_map: ChannelMapLike, format: str | None, channels: Iterable[str] | None
 ) -> tuple[Path, str, ChannelMap, list[str] | None]:
@@ -132,6 +173,7 @@ def resolve_inputs(
         An unsupported format; a channel map that cannot be loaded.
     """
     p = Path(path)
+    _refuse_vendor_file(p)
     fmt = detect_format(p, format)
     cmap = _as_channel_map(channel_map)
     if not p.is_file():
