@@ -341,3 +341,23 @@ def test_analyze_writes_channels_whose_names_netcdf_cannot_hold(tmp_path, runner
             assert ds[stored].attrs["original_name"] == original
         assert ds["Group_Channel"].values[3] == pytest.approx(3e3)  # N/mm -> N/m
         assert "original_name" not in ds["torque"].attrs
+
+
+def test_a_full_disk_names_the_file_and_what_to_do(tmp_path, monkeypatch, runner, adhesion_csv):
+    """Issue 24, point 9: the disk filling up while the NetCDF is written."""
+    import errno
+
+    from rollerrig.output import tables
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(tables, "_nc", full)
+    rec = adhesion_csv(tmp_path / "test.csv")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["analyze", str(rec), "--no-study", "--out", str(out)])
+    _no_traceback(result)
+    assert result.exit_code != 0
+    assert "test-analysis.nc: cannot write the file: No space left on device" in result.output
+    assert "the disk is full" in result.output and "--out" in result.output
+    assert not out.exists() and _files(tmp_path) == ["test.csv"]

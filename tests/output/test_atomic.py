@@ -1,5 +1,6 @@
 """The one atomic writer: nothing partial, mode from the umask, refusals, one clear error."""
 
+import errno
 import os
 import stat
 
@@ -175,3 +176,51 @@ def test_a_callback_may_name_the_file_it_wrote(tmp_path):
     f = atomic_write(tmp_path / "a.mf4", write)
     assert f.read_text() == "via library"
     assert [p.name for p in tmp_path.iterdir()] == ["a.mf4"]
+
+
+def _fails_after_writing(exc):
+    def write(tmp):
+        tmp.write_text("half a file")  # a partial file, as a full disk leaves it
+        raise exc
+
+    return write
+
+
+@pytest.mark.parametrize(
+    ("exc", "hint"),
+    [
+        (OSError(errno.ENOSPC, "No space left on device"), "the disk is full"),
+        (OSError(errno.EDQUOT, "Disk quota exceeded"), "disk quota is used up"),
+        (OSError(errno.EROFS, "Read-only file system"), "read-only"),
+        (PermissionError(errno.EACCES, "Permission denied"), "a folder you may write to"),
+        # h5py: an OSError without errno, the system's text inside its own
+        (OSError("Unable to synchronously create file (No space left on device)"), "disk is full"),
+    ],
+)
+def test_a_full_disk_names_the_path_and_what_to_do_and_leaves_nothing(tmp_path, exc, hint):
+    """Issue 24, point 9: a full disk named no path."""
+    target = tmp_path / "run-analysis.nc"
+    target.write_text("previous")
+    with pytest.raises(OutputError) as info:
+        atomic_write(target, _fails_after_writing(exc))
+    message = str(info.value)
+    assert message.startswith(f"{target}: cannot write the file") and hint in message, message
+    assert "--out" in message
+    assert [p.name for p in tmp_path.iterdir()] == ["run-analysis.nc"]
+    assert target.read_text() == "previous"
+
+
+def test_a_library_error_raised_from_a_full_disk_names_the_path(tmp_path):
+    def write(tmp):
+        tmp.write_text("half")
+        try:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        except OSError as exc:
+            raise RuntimeError("HDF5 error while flushing") from exc
+
+    with pytest.raises(OutputError, match=r"x\.nc: cannot write the file: No space left"):
+        atomic_write(tmp_path / "x.nc", write)
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(RuntimeError, match="unrelated"):  # other errors pass unchanged
+        atomic_write(tmp_path / "y.nc", _fails_after_writing(RuntimeError("unrelated")))
+    assert list(tmp_path.iterdir()) == []

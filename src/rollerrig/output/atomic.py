@@ -11,6 +11,7 @@ signal handler) leaves the previous file intact and no temporary file behind.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import tempfile
 from collections.abc import Callable
@@ -66,11 +67,47 @@ def _temp_prefix(path: Path) -> str:
     return f".{name}."
 
 
+_FULL = {
+    errno.ENOSPC: "the disk is full: free space on it, or write elsewhere (--out)",
+    errno.EDQUOT: "your disk quota is used up: free space in it, or write elsewhere (--out)",
+    errno.EFBIG: "the file is larger than this file system allows: write elsewhere (--out)",
+    errno.EROFS: "the file system is read-only: choose a folder you may write to (--out)",
+}
+"""errno of a failed write -> what to do (the message names the path as well)."""
+
+
+def _errno(exc: OSError) -> int | None:
+    """``exc.errno``; for an error with none (h5py's), ENOSPC/EDQUOT read from its text."""
+    if exc.errno is not None:
+        return exc.errno
+    text = str(exc)
+    for code in (errno.ENOSPC, errno.EDQUOT):
+        if os.strerror(code) in text:
+            return code
+    return None
+
+
+def _os_cause(exc: BaseException) -> OSError | None:
+    """The :class:`OSError` with an errno of :data:`_FULL` that ``exc`` is or was raised from
+    (libraries such as h5py and pandas wrap the system's error in their own)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        seen.add(id(exc))
+        if isinstance(exc, OSError) and _errno(exc) in _FULL:
+            return exc
+        exc = exc.__cause__ or exc.__context__
+    return None
+
+
 def _fault(path: Path, exc: OSError, doing: str) -> OutputError:
-    """An :class:`OutputError` naming ``path`` and the system's reason."""
+    """An :class:`OutputError` naming ``path``, the system's reason and what to do."""
     reason = exc.strerror or str(exc) or type(exc).__name__
     hint = ""
-    if isinstance(exc, PermissionError):
+    code = _errno(exc)
+    if code in _FULL:
+        reason = exc.strerror or os.strerror(code)
+        hint = f"; {_FULL[code]}; nothing was written"
+    elif isinstance(exc, PermissionError):
         hint = "; choose a folder you may write to (--out)"
     elif isinstance(exc, NotADirectoryError | FileExistsError) and doing == "create the folder":
         hint = "; a file is in the way: choose another output folder (--out)"
@@ -187,6 +224,11 @@ def atomic_write(
         raise
     except OSError as exc:
         raise _fault(path, exc, "write the file") from exc
+    except Exception as exc:  # a library's own error around a full disk, say
+        cause = _os_cause(exc)
+        if cause is None:
+            raise
+        raise _fault(path, cause, "write the file") from exc
     finally:
         for leftover in {tmp, written}:
             with contextlib.suppress(OSError):
