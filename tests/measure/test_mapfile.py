@@ -111,7 +111,7 @@ LINE = "must be a 0-based line index; allowed an integer >= 0"
         ({"file": ";", "channels": {}}, "file: must be a table; got ';'"),
         (
             {"time": {"column": "t", "resample_Hz": 0}, "channels": {}},
-            "time.resample_Hz: must be > 0 [Hz]; allowed (0, inf); got 0",
+            "time.resample_Hz: must be > 0 [Hz]; allowed (0, 100000000]; got 0",
         ),
         (
             {"time": {"column": "t", "resampl_Hz": 5}, "channels": {}},

@@ -64,3 +64,61 @@ def test_long_runs_and_bad_time_are_errors_in_either_mode():
         validate_samples(back, {}, "lenient", "f:")
     with pytest.raises(RecordingError, match="need at least 2"):
         validate_samples(T[:1], {}, "strict", "f:")
+
+
+# ----------------------------------------------------- absurd rates (issue 24, point 7)
+
+
+def _picosecond_csv(path, n=1000):
+    """A time column in picoseconds written as seconds: 1e12 Hz."""
+    rows = ["time [s],torque [N.m]"] + [f"{k * 1e-12!r},{np.sin(k / 10)}" for k in range(n)]
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+def test_a_rate_above_the_limit_is_refused_naming_the_limit(tmp_path):
+    from rollerrig.measure.readers import read_recording
+    from rollerrig.measure.source import open_recording
+    from rollerrig.measure.validate import MAX_SAMPLE_RATE_HZ
+
+    path = _picosecond_csv(tmp_path / "ps.csv")
+    for read in (read_recording, open_recording):
+        with pytest.raises(RecordingError, match=r"sampling rate 1e\+12 Hz .* limit of 1e\+08"):
+            read(path)
+    assert MAX_SAMPLE_RATE_HZ == 1e8
+
+
+@pytest.mark.parametrize("key", ["sample_rate_Hz", "resample_Hz"])
+def test_a_channel_map_stating_an_absurd_rate_is_refused_before_reading(tmp_path, key):
+    from rollerrig._validation import ParameterError
+    from rollerrig.measure.channels import load_channel_map
+
+    cmap = tmp_path / "map.toml"
+    time = f"{key} = 1e12" if key == "sample_rate_Hz" else f'column = "t"\n{key} = 1e12'
+    cmap.write_text(f'[time]\n{time}\n[channels.torque]\ncolumn = "T"\nunit = "N.m"\n')
+    with pytest.raises(ParameterError, match=rf"time\.{key}: must be <= 100000000 \[Hz\]"):
+        load_channel_map(cmap)
+
+
+def test_no_time_base_is_built_beyond_the_grid_limit():
+    from rollerrig.measure.validate import MAX_GRID_SAMPLES, check_grid
+
+    assert check_grid(10.0, 1000.0, "x:", "test") == 10_001
+    with pytest.raises(RecordingError, match=r"would hold 1e\+12 samples, above the limit of"):
+        check_grid(1e4, 1e8, "x:", "[time] resample_Hz")
+    assert MAX_GRID_SAMPLES == 2**28
+
+
+def test_resampling_onto_a_grid_beyond_the_limit_is_refused_before_allocating(tmp_path):
+    """A 1 kHz and a 100 Hz channel resampled onto 1e8 Hz over 1e4 s: 1e12 samples (8 TB)."""
+    from rollerrig.measure.readers import read_recording
+    from rollerrig.measure.recording import Recording
+    from rollerrig.measure.writers import write_recording
+
+    t = np.arange(10_001) * 1.0  # 1 Hz over 1e4 s
+    rec = Recording(t, {"torque": np.sin(t)}, {"torque": "N.m"})
+    path = write_recording(rec, tmp_path / "long.csv")
+    cmap = {"time": {"column": "time", "unit": "s", "resample_Hz": 1e8},
+            "channels": {"torque": {"column": "torque", "unit": "N.m"}}}  # fmt: skip
+    with pytest.raises(RecordingError, match=r"1e\+08 Hz time base over 10000 s .*MAX_GRID"):
+        read_recording(path, cmap)

@@ -32,6 +32,7 @@ from pydantic import (
 from pydantic.dataclasses import dataclass as pydantic_dataclass
 
 from rollerrig._validation import FieldProblem
+from rollerrig.measure.validate import MAX_SAMPLE_RATE_HZ
 from rollerrig.units import QUANTITIES, normalize_unit
 
 __all__ = ["DECIMALS", "SEPARATORS", "EntrySection", "FileSpec", "MapFile", "TimeSection"]
@@ -218,8 +219,12 @@ class TimeSection(BaseModel):
 
     column: str | None = Field(None, min_length=1)
     unit: Annotated[str, AfterValidator(_time_unit)] = "s"
-    sample_rate_Hz: float | None = Field(None, gt=0, json_schema_extra={"unit": "Hz"})
-    resample_Hz: float | None = Field(None, gt=0, json_schema_extra={"unit": "Hz"})
+    sample_rate_Hz: float | None = Field(
+        None, gt=0, le=MAX_SAMPLE_RATE_HZ, json_schema_extra={"unit": "Hz"}
+    )
+    resample_Hz: float | None = Field(
+        None, gt=0, le=MAX_SAMPLE_RATE_HZ, json_schema_extra={"unit": "Hz"}
+    )
 
     @model_validator(mode="after")
     def _one_source(self):

@@ -68,7 +68,7 @@ from rollerrig.measure.translate import (
     resolve_column,
     time_seconds,
 )
-from rollerrig.measure.validate import GAP_FACTOR
+from rollerrig.measure.validate import GAP_FACTOR, check_sample_rate
 from rollerrig.output.provenance import file_sha256
 
 __all__ = ["DEFAULT_CHUNK_SAMPLES", "Chunk", "RecordingSource", "open_recording"]
@@ -599,6 +599,7 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
     names = tuple(chans_h)
     source = dict(names=names, units=dict(units), n_samples=int(n))
     source["sample_rate"] = float(1.0 / np.median(np.diff(time_h)))
+    check_sample_rate(source["sample_rate"], where, "1 / the median sample interval")
     t_last = _time(state, n - 1, n, None)
     source["duration"] = float(t_last[-1] - time_h[0])
     metadata = recording_metadata(

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from rollerrig.measure.recording import RecordingError
+from rollerrig.measure.validate import check_grid
 
 __all__ = ["ATTENUATION_DB", "PASSBAND", "align_channels", "resample_onto"]
 
@@ -132,6 +133,7 @@ def resample_onto(
         return np.interp(target, time, values), how
     dt = np.diff(time)
     if np.max(np.abs(dt * r_in - 1.0)) > _UNIFORM:
+        check_grid(time[-1] - time[0], r_in, "", "a uniform grid at the source's median rate")
         grid = time[0] + np.arange(int(np.floor((time[-1] - time[0]) * r_in)) + 1) / r_in
         values, time = np.interp(grid, time, values), grid
         how["regularised"] = "jittered source grid put on a uniform one (linear) first"
@@ -282,6 +284,7 @@ def align_channels(
         raise RecordingError(f"{where} the channels' time ranges do not overlap ({spans})")
     if resample_Hz is not None:
         rate = float(resample_Hz)
+        check_grid(hi - lo, rate, where, "[time] resample_Hz")
         target = lo + np.arange(int(np.floor((hi - lo) * rate * (1 + 1e-12))) + 1) / rate
         onto = f"uniform {rate:g} Hz grid ([time] resample_Hz)"
         reason = "[time] resample_Hz"

@@ -6,7 +6,12 @@
   bad samples; ``mode="lenient"`` linearly interpolates runs of at most
   :data:`MAX_INTERPOLATED_NAN_RUN` samples and still raises for longer runs;
 - gaps (dropped samples: an interval > :data:`GAP_FACTOR` x the median interval,
-  :func:`find_gaps`): strict raises with the gap's location and size, lenient keeps them.
+  :func:`find_gaps`): strict raises with the gap's location and size, lenient keeps them;
+- the sampling rate (1 / median interval) may not exceed :data:`MAX_SAMPLE_RATE_HZ`, and no
+  time base is built with more than :data:`MAX_GRID_SAMPLES` samples
+  (:func:`check_sample_rate`, :func:`check_grid`): a time in the wrong unit (picoseconds read
+  as seconds) or an absurd ``sample_rate_Hz``/``resample_Hz`` is refused before anything is
+  allocated for it. The limits live here, and only here.
 """
 
 from __future__ import annotations
@@ -21,7 +26,11 @@ from rollerrig.measure.segmentation import true_runs
 
 __all__ = [
     "GAP_FACTOR",
+    "MAX_GRID_SAMPLES",
     "MAX_INTERPOLATED_NAN_RUN",
+    "MAX_SAMPLE_RATE_HZ",
+    "check_grid",
+    "check_sample_rate",
     "describe_gap",
     "find_gaps",
     "validate_samples",
@@ -32,6 +41,50 @@ MAX_INTERPOLATED_NAN_RUN = 3
 
 GAP_FACTOR = 1.5
 """A sample interval longer than this multiple of the median interval is a gap."""
+
+MAX_SAMPLE_RATE_HZ = 1e8
+"""Highest sampling rate of a recording [Hz] (100 MHz: above the fastest transient recorders
+on a test rig; a higher rate is a time in the wrong unit or a damaged header)."""
+
+MAX_GRID_SAMPLES = 2**28
+"""Most samples of a time base the readers build (a resampling grid, a time from a stated
+rate) [1]: 2 GiB per channel of float64."""
+
+
+def check_sample_rate(rate: float, where: str, source: str) -> None:
+    """RecordingError when ``rate`` [Hz] is not finite or above :data:`MAX_SAMPLE_RATE_HZ`.
+
+    ``source`` says where the rate comes from (``"median interval of column 'time'"``).
+
+    Examples
+    --------
+    >>> check_sample_rate(19200.0, "run.csv:", "the time column")
+    >>> try:
+    ...     check_sample_rate(1e12, "run.csv:", "the time column")
+    ... except RecordingError as exc:
+    ...     print(str(exc)[:71])
+    run.csv: sampling rate 1e+12 Hz (the time column) is above the limit of
+    """
+    if not (np.isfinite(rate) and rate <= MAX_SAMPLE_RATE_HZ):
+        raise RecordingError(
+            f"{where} sampling rate {rate:.6g} Hz ({source}) is above the limit of "
+            f"{MAX_SAMPLE_RATE_HZ:g} Hz (MAX_SAMPLE_RATE_HZ); check the time unit (ms or µs "
+            "read as s?) or the stated rate"
+        )
+
+
+def check_grid(duration: float, rate: float, where: str, source: str) -> int:
+    """The number of samples of a ``rate`` [Hz] grid over ``duration`` [s], or a
+    RecordingError when it exceeds :data:`MAX_GRID_SAMPLES` (checked before allocation)."""
+    check_sample_rate(rate, where, source)
+    n = float(duration) * float(rate) + 1.0
+    if not (np.isfinite(n) and n <= MAX_GRID_SAMPLES):
+        raise RecordingError(
+            f"{where} a {rate:.6g} Hz time base over {duration:.6g} s ({source}) would hold "
+            f"{n:.3g} samples, above the limit of {MAX_GRID_SAMPLES} (MAX_GRID_SAMPLES); "
+            "choose a lower rate"
+        )
+    return int(n)
 
 
 def find_gaps(time: np.ndarray) -> tuple[float, list[dict[str, Any]]]:
@@ -120,6 +173,7 @@ def validate_samples(
             "time must be strictly increasing"
         )
     median, gaps = find_gaps(time)
+    check_sample_rate(1.0 / median, where, "1 / the median sample interval of the time")
     if gaps and mode == "strict":
         g = gaps[0]
         raise RecordingError(
