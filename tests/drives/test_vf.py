@@ -151,6 +151,44 @@ def test_settings_validation_and_defaults():
         vf.VfControl(310.0, 50.0, 5, boost_voltage=400.0)
 
 
+@pytest.mark.parametrize(
+    ("option", "value", "message"),
+    [
+        ("current_limit", 1e-9, r"current_limit must lie in \[1, 4\] \[-\], got 1e-09"),
+        ("current_limit", 0.65, r"current_limit must lie in \[1, 4\]"),
+        ("current_limit", 40.0, r"current_limit must lie in \[1, 4\]"),
+        ("boost", 3.0, r"boost must lie in \[0, 2.5\]"),
+        ("boost", -0.1, r"boost must lie in \[0, 2.5\]"),
+        ("ramp_time", 1e-9, r"ramp_time must lie in \[0.01, 650\] \[s\]"),
+        ("current_filter_time", 1e-9, r"current_filter_time must lie in \[0.001, 10\] \[s\]"),
+        ("slip_filter_time", 1e300, r"slip_filter_time must lie in \[0.001, 10\] \[s\]"),
+        ("slip_compensation", float("nan"), "slip_compensation must be finite"),
+    ],
+)
+def test_settings_outside_their_plausible_range_name_the_setting_unit_and_range(
+    option, value, message
+):
+    # Issue 24, point 8: a current limit of 1e-9 A ended in the steady-state solver's words
+    # ("no steady state ... relative reductions in the sum of squares ..."); a limit of
+    # 0.65 I_N cannot hold 800 N.m at 30 km/h (below: the drive stalls), the ranges of
+    # VF_SETTING_RANGES say so at the boundary.
+    with pytest.raises(ParameterError, match=message):
+        vf.vf_control_for(M, **{option: value})
+    low, high = vf.VF_SETTING_RANGES["current_limit"]
+    for limit in (low, 1.5, high):  # the ends are allowed
+        assert vf.vf_control_for(M, current_limit=limit).current_limit == pytest.approx(
+            limit * M.rated_current
+        )
+
+
+def test_at_the_lowest_allowed_current_limit_the_drive_holds_the_rated_torque():
+    # The lower end of the range is a working drive: the rated torque (891 N.m, Kayaalp
+    # Table 2) at 30 km/h finds its steady state.
+    drive = dd.DqDrive(M, vf.vf_control_for(M, current_limit=1.0))
+    op = dd.drive_steady_state(drive, W_CMD, torque=891.0)
+    assert op.torque == pytest.approx(891.0, rel=1e-9) and op.rotor_speed > 0.9 * W_CMD / 5
+
+
 # ---------------------------------------------------------------------------------------------
 # Against motulator's V/Hz control
 # ---------------------------------------------------------------------------------------------

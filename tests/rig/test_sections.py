@@ -122,3 +122,169 @@ def test_sensor_accuracies_default_to_the_bundled_values_so_old_rig_files_load(t
     path.write_text(old, encoding="utf-8")
     loaded = load_rig(path)
     assert loaded.sensors == rig.sensors
+
+
+# --------------------------------------------------------------------------------------------
+# [roller_drive_vf]: every key has a plausible range checked when the file is read (issue 24,
+# point 8: a current limit of 1e-9 ended in the steady-state solver's words)
+# --------------------------------------------------------------------------------------------
+
+_VF_KEYS = (
+    "boost",
+    "ir_compensation",
+    "slip_compensation",
+    "current_limit",
+    "ramp_time",
+    "filter_time",
+)
+
+
+def _rig_with_vf(table):
+    """(sections, provenance) of the bundled rig file with its [roller_drive_vf] table replaced
+    by ``table`` (read as :func:`rollerrig.rig.parameters.load_rig` reads a file)."""
+    import tomllib
+    from importlib import resources
+
+    from rollerrig.rig.rigfile import read_sections
+
+    text = resources.files("rollerrig.rig").joinpath("data/default_rig.toml").read_text("utf-8")
+    data = tomllib.loads(text)
+    data["roller_drive_vf"] = table
+    return read_sections(data, "rig.toml")
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "unit", "line"),
+    [
+        (
+            "current_limit",
+            1e-9,
+            "1",
+            "rig.toml: roller_drive_vf.current_limit: must be >= 1 "
+            "[x induction_motor.rated_current]; allowed [1, 4]; got 1e-09",
+        ),
+        (
+            "current_limit",
+            10.0,
+            "1",
+            "rig.toml: roller_drive_vf.current_limit: must be <= 4 "
+            "[x induction_motor.rated_current]; allowed [1, 4]; got 10",
+        ),
+        (
+            "boost",
+            3.0,
+            "1",
+            "rig.toml: roller_drive_vf.boost: must be <= 2.5 [U_0/(R_s.I_N)]; allowed [0, 2.5]; "
+            "got 3",
+        ),
+        (
+            "slip_compensation",
+            2.0,
+            "1",
+            "rig.toml: roller_drive_vf.slip_compensation: must be <= 1.5 [x rated slip]; "
+            "allowed [0, 1.5]; got 2",
+        ),
+        (
+            "ir_compensation",
+            -1.0,
+            "1",
+            "rig.toml: roller_drive_vf.ir_compensation: must be >= 0; allowed [0, 1]; got -1",
+        ),
+        (
+            "ramp_time",
+            1.0,
+            "ns",
+            "rig.toml: roller_drive_vf.ramp_time: must be >= 0.01 [s]; allowed [0.01, 650]; "
+            "got 1e-09 (written 1 ns)",
+        ),
+        (
+            "ramp_time",
+            1e300,
+            "s",
+            "rig.toml: roller_drive_vf.ramp_time: must be <= 650 [s]; allowed [0.01, 650]; "
+            "got 1e+300",
+        ),
+        (
+            "filter_time",
+            1e-6,
+            "s",
+            "rig.toml: roller_drive_vf.filter_time: must be 0 (the machine's default) or at "
+            "least 1 ms [s]; allowed 0 or [0.001, 10]; got 1e-06",
+        ),
+    ],
+)
+def test_every_vf_key_is_checked_against_its_plausible_range(key, value, unit, line):
+    from rollerrig.rig.rigfile import RigFileError
+
+    table = {k: {"value": 0.0, "unit": "1", "assumption": "a"} for k in ("ir_compensation",)}
+    table[key] = {"value": value, "unit": unit, "assumption": "a"}
+    with pytest.raises(RigFileError) as info:
+        _rig_with_vf(table)
+    assert info.value.problems == [line]
+
+
+def test_the_vf_defaults_and_range_ends_are_accepted():
+    from rollerrig.drives.vf import VF_SETTING_RANGES
+
+    for key, (low, high) in VF_SETTING_RANGES.items():
+        for value in (low, high):
+            unit = "s" if key.endswith("time") else "1"
+            sections, _ = _rig_with_vf({key: {"value": value, "unit": unit, "source": "x"}})
+            assert getattr(sections["roller_drive_vf"], key) == value
+    sections, _ = _rig_with_vf({})  # a rig file without the table: the defaults
+    assert sections["roller_drive_vf"] == default_rig().roller_drive_vf
+
+
+def _vf_entries():
+    from hypothesis import strategies as st
+
+    number = (
+        st.floats(allow_nan=True, allow_infinity=True)
+        | st.integers(min_value=-(10**30), max_value=10**30)
+        | st.booleans()
+        | st.text(max_size=6)
+        | st.none()
+    )
+    unit = st.sampled_from(["1", "s", "ms", "ns", "%", "A", "", "kg"]) | st.text(max_size=6)
+    entry = st.fixed_dictionaries(
+        {"value": number, "unit": unit},
+        optional={"source": st.text(max_size=4), "assumption": st.text(max_size=4)},
+    )
+    anything = st.recursive(
+        number,
+        lambda inner: (
+            st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=5), inner, max_size=3)
+        ),
+        max_leaves=6,
+    )
+    keys = st.sampled_from([*_VF_KEYS, "current_limt", ""]) | st.text(max_size=8)
+    return st.dictionaries(keys, entry | anything, max_size=6) | anything
+
+
+def test_any_vf_table_gives_a_rig_or_a_rig_file_error():
+    # Property (the settings of tests/test_properties.py): whatever [roller_drive_vf] holds,
+    # reading the rig file gives a rig whose V/f settings make a controller, or one
+    # RigFileError; never another exception.
+    from hypothesis import HealthCheck, given, settings
+
+    from rollerrig.drives.drive_dynamics import default_dq_drive
+    from rollerrig.rig.parameters import RigParameters
+    from rollerrig.rig.rigfile import RigFileError
+
+    @settings(
+        max_examples=80,
+        deadline=None,
+        database=None,
+        derandomize=True,
+        suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+    )
+    @given(table=_vf_entries())
+    def check(table):
+        try:
+            sections, provenance = _rig_with_vf(table)
+        except RigFileError:
+            return
+        rig = RigParameters(**sections, provenance=provenance)
+        default_dq_drive(rig)  # the settings are within what the controller accepts
+
+    check()

@@ -62,6 +62,7 @@ from rollerrig._validation import (
 
 __all__ = [
     "STATE_NAMES",
+    "VF_SETTING_RANGES",
     "VfControl",
     "frequency_command",
     "ramp_limited_command",
@@ -72,6 +73,28 @@ __all__ = [
 
 #: Names of the controller states: filtered stator current (d, q) [A], filtered slip [rad/s].
 STATE_NAMES = ("vf_i_f_d", "vf_i_f_q", "vf_slip_f")
+
+VF_SETTING_RANGES: dict[str, tuple[float, float]] = {
+    "boost": (0.0, 2.5),
+    "slip_compensation": (0.0, 1.5),
+    "current_limit": (1.0, 4.0),
+    "ramp_time": (0.01, 650.0),
+    "filter_time": (1e-3, 10.0),
+}
+"""Plausible range (inclusive) of each setting of :func:`vf_control_for` and of the rig file's
+``[roller_drive_vf]`` table, in the units of those settings:
+
+* ``boost``: U_0 / (R_s I_N) [1], 0 to 2.5 (Siemens SINAMICS V20 P1310: 0-250 %);
+* ``slip_compensation``: k_sc [1], 0 to 1.5 (beyond full compensation the drive speeds up with
+  load; the controller's own bound);
+* ``current_limit``: I_lim / I_N [1], 1 to 4: below the rated current the limit throttles the
+  machine in its own normal running (its magnetising current alone is 0.64 I_N on the bundled
+  rig, and a limit of 0.65 I_N cannot hold 800 N.m at 30 km/h: the drive stalls and has no
+  steady state), above 4 I_N no inverter of the class delivers (V20 P0640: at most 400 %);
+* ``ramp_time``: 0 to f_n [s], 10 ms to 650 s (V20 P1120: up to 650 s);
+* ``filter_time`` (current and slip filters) [s], 1 ms to 10 s; ``0`` in the rig file means
+  the machine's default.
+"""
 
 
 # --------------------------------------------------------------------------------------------
@@ -408,17 +431,17 @@ def vf_control_for(
     machine : rollerrig.drives.induction_dq.InverseGammaMachine
         The machine (its rated values, R_s and the controller's model R̂_R, L̂_σ = the true ones).
     boost : float
-        U_0 / (R_s I_N) [-] (I_N peak, star): 0 for none.
+        U_0 / (R_s I_N) [-] (I_N peak, star) in [0, 2.5]: 0 for none.
     ir_compensation : bool
         Automatic IR compensation with R̂_s = R_s.
     slip_compensation : float
-        k_sc [-].
+        k_sc [-] in [0, 1.5].
     current_limit : float or None
-        I_lim / I_N [-]; None: no limit.
+        I_lim / I_N [-] in [1, 4]; None: no limit.
     ramp_time : float or None
-        Time from 0 to f_n [s]; None: no ramp.
+        Time from 0 to f_n [s] in [0.01, 650]; None: no ramp.
     current_filter_time, slip_filter_time : float, optional
-        1/α_i, 1/α_f [s].
+        1/α_i, 1/α_f [s] in [0.001, 10].
     limit_gain : float, optional
         K_lim [rad/s per A]; default ω_n/I_N (the frequency drops by ω_n when the current
         exceeds the limit by I_N).
@@ -426,19 +449,15 @@ def vf_control_for(
     Returns
     -------
     VfControl
+
+    Raises
+    ------
+    ParameterError
+        A setting outside its plausible range (:data:`VF_SETTING_RANGES`), naming it, its unit
+        and the range.
     """
-    b = float(require_nonnegative("boost", boost, "-"))
-    k_sc = float(
-        require_in_range(
-            "slip_compensation",
-            slip_compensation,
-            0.0,
-            1.5,
-            "-",
-            low_inclusive=True,
-            high_inclusive=True,
-        )
-    )
+    b = _in_range("boost", boost, "-")
+    k_sc = _in_range("slip_compensation", slip_compensation, "-")
     rs, rr = machine.stator_resistance, machine.rotor_resistance
     ls, lm = machine.leakage_inductance, machine.magnetising_inductance
     psi_nom = machine.nominal_stator_flux
@@ -446,19 +465,17 @@ def vf_control_for(
     alpha_i = (
         0.1 * w_rb
         if current_filter_time is None
-        else 1.0 / float(require_positive("current_filter_time", current_filter_time, "s"))
+        else 1.0 / _in_range("current_filter_time", current_filter_time, "s", "filter_time")
     )
     alpha_f = (
         0.1 * w_rb
         if slip_filter_time is None
-        else 1.0 / float(require_positive("slip_filter_time", slip_filter_time, "s"))
+        else 1.0 / _in_range("slip_filter_time", slip_filter_time, "s", "filter_time")
     )
     if current_limit is None:
         i_lim, k_lim = np.inf, 0.0
     else:
-        i_lim = float(require_positive("current_limit", current_limit, "-")) * (
-            machine.rated_current
-        )
+        i_lim = _in_range("current_limit", current_limit, "-") * machine.rated_current
         k_lim = (
             machine.rated_angular_frequency / machine.rated_current
             if limit_gain is None
@@ -467,7 +484,7 @@ def vf_control_for(
     rate = (
         np.inf
         if ramp_time is None
-        else machine.rated_frequency / float(require_positive("ramp_time", ramp_time, "s"))
+        else machine.rated_frequency / _in_range("ramp_time", ramp_time, "s")
     )
     assumptions = (
         f"boost U_0 = {b:g} R_s I_N = {b * rs * machine.rated_current:.4g} V peak (continuous "
@@ -503,6 +520,15 @@ def vf_control_for(
         limit_gain=k_lim,
         ramp_rate=rate,
         assumptions=assumptions,
+    )
+
+
+def _in_range(name: str, value, unit: str, setting: str | None = None) -> float:
+    """``value`` as a float, raising :class:`ParameterError` outside its plausible range
+    (:data:`VF_SETTING_RANGES` of ``setting``, default ``name``)."""
+    low, high = VF_SETTING_RANGES[setting or name]
+    return float(
+        require_in_range(name, value, low, high, unit, low_inclusive=True, high_inclusive=True)
     )
 
 

@@ -260,7 +260,7 @@ def validate_sections(
         try:
             models[section] = model.model_validate(si[section])
         except ValidationError as exc:
-            units = {f"{section}.{k}": si_unit_of(f) for k, f in _si_fields(model)}
+            units = {f"{section}.{k}": _error_unit(f) for k, f in _si_fields(model)}
             for p in pydantic_problems(exc, units, model=model, prefix=section):
                 if p.key in shown and isinstance(p.got, int | float):
                     p = dataclasses.replace(
@@ -268,6 +268,12 @@ def validate_sections(
                     )
                 problems.append(p)
     return models, problems
+
+
+def _error_unit(field) -> str:
+    """The unit an error of ``field`` shows: what a ratio is a multiple of where the field says
+    (``json_schema_extra["unit"]``, the ``[roller_drive_vf]`` keys), else its SI unit."""
+    return field.json_schema_extra.get("unit") or si_unit_of(field)
 
 
 def _si_fields(model: type[BaseModel]):

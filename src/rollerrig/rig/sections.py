@@ -21,6 +21,7 @@ from typing import Annotated, Any, Literal
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validator
 
 from rollerrig._validation import FieldProblem, interval
+from rollerrig.drives.vf import VF_SETTING_RANGES
 from rollerrig.units import QUANTITIES
 
 __all__ = [
@@ -61,6 +62,29 @@ def si_unit_of(field) -> str:
 def _quadrature(value: int) -> int:
     if value not in (1, 2, 4):
         raise FieldProblem("", "not a quadrature factor", allowed=[1, 2, 4], got=value)
+    return value
+
+
+def _vf(name: str, unit: str | None = None) -> Any:
+    """Field metadata of a ``[roller_drive_vf]`` key: its plausible range
+    (:data:`~rollerrig.drives.vf.VF_SETTING_RANGES`) and, for a ratio, what it is a multiple of
+    (``unit``, shown in its errors)."""
+    low, high = VF_SETTING_RANGES[name]
+    quantity = "dimensionless" if unit else "time"
+    extra = {"quantity": quantity, **({"unit": unit} if unit else {})}
+    return Field(json_schema_extra=extra, ge=low, le=high)
+
+
+def _filter_time(value: float) -> float:
+    low, high = VF_SETTING_RANGES["filter_time"]
+    if 0.0 < value < low:
+        raise FieldProblem(
+            "",
+            "must be 0 (the machine's default) or at least 1 ms",
+            unit="s",
+            allowed=f"0 or {interval(low, high, low_inclusive=True, high_inclusive=True)}",
+            got=value,
+        )
     return value
 
 
@@ -417,22 +441,30 @@ class RollerDriveVfParameters(_Section):
 
     Kayaalp (4.5.1.4.2) says only "open-loop volts per Hertz": every default is a stated
     assumption of a general-purpose inverter as shipped. Rig files without a
-    ``[roller_drive_vf]`` table get these defaults.
+    ``[roller_drive_vf]`` table get these defaults. Each key has a plausible range
+    (:data:`rollerrig.drives.vf.VF_SETTING_RANGES`, where each is justified), checked when the
+    file is read: e.g. a current limit of 1e-9 is one error naming the key, its unit (times the
+    rated current) and the range.
     """
 
-    boost: Annotated[float, _si("dimensionless", ge=0)] = 0.5
-    """Continuous voltage boost U_0 / (R_s I_N) [1] (Siemens P1310 form); 0: none."""
+    boost: Annotated[float, _vf("boost", "U_0/(R_s.I_N)")] = 0.5
+    """Continuous voltage boost U_0 / (R_s I_N) [1] (Siemens P1310 form), in [0, 2.5]; 0:
+    none."""
     ir_compensation: Annotated[float, _si("dimensionless", ge=0, le=1)] = 0.0
     """Automatic IR compensation: 1 on, 0 off [1]."""
-    slip_compensation: Annotated[float, _si("dimensionless", ge=0)] = 0.0
-    """Slip-compensation gain [1] (1: the rated slip is compensated); 0: none."""
-    current_limit: Annotated[float, _si("dimensionless", gt=0)] = 1.5
-    """Current limit as a multiple of the rated current [1]."""
-    ramp_time: Annotated[float, _si("time", gt=0)] = 10.0
-    """Frequency-command ramp from 0 to the rated frequency [s]."""
-    filter_time: Annotated[float, _si("time", ge=0)] = 0.0
-    """Time constant of the current and slip filters [s]; 0: the machine's default
-    1/(0.1 (R_R/L_σ + R_R/L_M)) (Hinkkanen et al. 2022; 0.37 s on the bundled rig)."""
+    slip_compensation: Annotated[float, _vf("slip_compensation", "x rated slip")] = 0.0
+    """Slip-compensation gain [1] (1: the rated slip is compensated), in [0, 1.5]; 0: none."""
+    current_limit: Annotated[float, _vf("current_limit", "x induction_motor.rated_current")] = 1.5
+    """Current limit as a multiple of the rated current [1], in [1, 4]."""
+    ramp_time: Annotated[float, _vf("ramp_time")] = 10.0
+    """Frequency-command ramp from 0 to the rated frequency [s], in [0.01, 650]."""
+    filter_time: Annotated[
+        float,
+        _si("time", ge=0, le=VF_SETTING_RANGES["filter_time"][1]),
+        AfterValidator(_filter_time),
+    ] = 0.0
+    """Time constant of the current and slip filters [s], in [0.001, 10]; 0: the machine's
+    default 1/(0.1 (R_R/L_σ + R_R/L_M)) (Hinkkanen et al. 2022; 0.37 s on the bundled rig)."""
 
     def options(self) -> dict:
         """Keyword arguments of :func:`rollerrig.drives.vf.vf_control_for`."""
