@@ -60,6 +60,16 @@ def test_list_keys_and_missing_or_unknown_keys(runner, tmp_path):
     assert result.exit_code == 0
     keys = result.output.split()
     assert "stiffness.roller_shaft" in keys and "polach.k_slip" in keys
+    # Issue 24, point 9: --list-keys needs no recording.
+    alone = runner.invoke(app, ["calibrate", "--list-keys"])
+    assert alone.exit_code == 0, alone.output
+    assert alone.output.split() == keys
+    neither = runner.invoke(app, ["calibrate", "--out", str(tmp_path / "o")])
+    assert neither.exit_code == 2, neither.output
+    assert _flat(neither.output) == (
+        "error: give the RECORDING to calibrate to (rollerrig calibrate RECORDING --free KEYS), "
+        "or --list-keys to list the keys --free accepts"
+    )
     result = runner.invoke(app, ["calibrate", "x.tdms", "--out", str(tmp_path / "o")])
     assert result.exit_code == 2 and "--free is required" in _flat(result.output)
     result = runner.invoke(
@@ -116,19 +126,101 @@ def test_calibrate_then_analyze_with_the_calibrated_rig(runner, tmp_path, synthe
     manifest = json.loads((out / "calibrate-altered-run.json").read_text())
     assert {f["file"] for f in manifest["files"]} == set(names) - {"calibrate-altered-run.json"}
 
+    # The rig it was made on, recorded (issue 24, point 6).
+    assert doc["rig"]["name"] == "pardubice-tram-roller-rig"
+    assert doc["rig"]["sha256"] == doc["provenance"]["rig"]["sha256"]
+    assert doc["rig"]["calibrated_keys"] == [
+        "bearing.friction_coefficient",
+        "stiffness.roller_shaft",
+    ]
+    assert doc["rig"]["parameters"]["stiffness.roller_shaft"] == 43500.0
+
     analysed = tmp_path / "analysed"
+    calibrated_rig = str(out / "calibrated-rig.toml")
     result = runner.invoke(
         app,
         [
             "analyze",
             str(synthetic_tdms),
             "--rig",
-            str(out / "calibrated-rig.toml"),
+            calibrated_rig,
+            "--calibration",
+            str(out / "calibration.json"),
             "--no-study",
             "--out",
             str(analysed),
         ],
     )
     assert result.exit_code == 0, result.output
+    assert "warning:" not in result.output
     analysis = json.loads((analysed / "altered-analysis.json").read_text())
     assert analysis["provenance"]["rig"]["name"] == "pardubice-tram-roller-rig-calibrated"
+    assert analysis["provenance"]["parameters"]["calibration_rig"] == "same rig"
+
+    # On another rig: one error naming both rigs and what differs, nothing written ...
+    from rollerrig.rig.parameters import default_rig, save_rig
+
+    other = tmp_path / "other.toml"
+    save_rig(default_rig().with_overrides({"stiffness.am_mount": 2.0e5}), other)
+    args = ["analyze", str(synthetic_tdms), "--no-study", "--rig", str(other)]
+    args += ["--calibration", str(out / "calibration.json"), "--out", str(tmp_path / "x")]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 2, result.output
+    text = _flat(result.output)
+    assert text.startswith(
+        f"error: --calibration {out / 'calibration.json'}: rig: made on another rig: they differ "
+        "in stiffness.am_mount (500000 there, 200000 here)"
+    )
+    assert f"(the bundled rig; sha256 {doc['rig']['parameters_sha256'][:12]})" in text
+    assert f"--rig {other}; sha256" in text and "--allow-other-rig" in text
+    assert "Traceback" not in result.output and not (tmp_path / "x").exists()
+    # ... unless the user insists: a warning, recorded in every output's provenance.
+    result = runner.invoke(app, [*args, "--allow-other-rig"])
+    assert result.exit_code == 0, result.output
+    assert "warning: --calibration" in result.output
+    for path in (tmp_path / "x").glob("*.json"):
+        record = json.loads(path.read_text())["provenance"]["parameters"]
+        assert record["calibration_rig"] == "other rig", path.name
+        assert "stiffness.am_mount (500000 there, 200000 here)" in record["calibration_rig_warning"]
+
+
+@pytest.mark.parametrize(
+    ("field", "edited", "line"),
+    [
+        (
+            "standard_error",
+            -1.0,
+            "inertia.roller.standard_error: must be >= 0 [kg.m^2]; allowed 0, or [4.6e-11, 23]; "
+            "got -1",
+        ),
+        ("value", "46", "inertia.roller.value: must be a number [kg.m^2]; got '46'"),
+        (
+            "value",
+            1e300,
+            "inertia.roller.value: not plausible: more than 1000 times away from the rig's "
+            "value 45 [kg.m^2]; allowed [0.045, 45000]; got 1e+300",
+        ),
+    ],
+)
+def test_analyze_refuses_a_hand_edited_calibration_naming_the_field(
+    runner, tmp_path, adhesion_csv, field, edited, line
+):
+    # Issue 24, point 8: these were internal errors (OverflowError) or named no field.
+    rec = adhesion_csv(tmp_path / "test.csv")
+    entry = {"value": 46.0, "standard_error": 0.5, field: edited}
+    path = tmp_path / "calibration.json"
+    path.write_text(json.dumps({"parameters": {"inertia.roller": entry}}))
+    out = tmp_path / "out"
+    result = runner.invoke(
+        app, ["analyze", str(rec), "--calibration", str(path), "--out", str(out)]
+    )
+    assert result.exit_code == 2, result.output
+    assert _flat(result.output) == f"error: --calibration {path}: {line}"
+    assert not out.exists()
+
+
+def test_allow_other_rig_needs_a_calibration(runner, tmp_path, adhesion_csv):
+    rec = adhesion_csv(tmp_path / "test.csv")
+    result = runner.invoke(app, ["analyze", str(rec), "--allow-other-rig", "--out", str(tmp_path)])
+    assert result.exit_code == 2
+    assert "--allow-other-rig needs --calibration" in _flat(result.output)

@@ -15,7 +15,9 @@ identify, and the calibrated rig (:attr:`Calibration.rig`), written by
 - :mod:`~rollerrig.calibrate.model` — the twin as a function of the parameters, in batches;
 - :mod:`~rollerrig.calibrate.fit` — Levenberg–Marquardt, identifiability, :func:`calibrate`;
 - :mod:`~rollerrig.calibrate.stats` — Newey–West covariance, whiteness checks;
-- :mod:`~rollerrig.calibrate.result` — :class:`Calibration` and its files.
+- :mod:`~rollerrig.calibrate.result` — :class:`Calibration` and its files;
+- :mod:`~rollerrig.calibrate.calibfile` — ``calibration.json`` read back and checked
+  (:func:`read_calibration`), bound to the rig it was made on (:func:`check_rig`).
 
 Examples
 --------
@@ -24,6 +26,7 @@ Examples
 True
 """
 
+from rollerrig.calibrate.calibfile import check_calibration, check_rig, read_calibration
 from rollerrig.calibrate.fit import FD_STEP, HAC_WINDOW, MAX_RELATIVE_SE, calibrate
 from rollerrig.calibrate.measurement import quantisation_noise
 from rollerrig.calibrate.problem import (
@@ -54,7 +57,10 @@ __all__ = [
     "ChannelFit",
     "FittedParameter",
     "calibrate",
+    "check_calibration",
+    "check_rig",
     "free_parameter_catalogue",
     "quantisation_noise",
+    "read_calibration",
     "write_calibration",
 ]

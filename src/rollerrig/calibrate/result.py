@@ -216,6 +216,9 @@ class Calibration:
         :func:`rollerrig.measure.facts.recording_facts` of the recording.
     series : dict
         ``time`` [s] and per channel ``measured``, ``start`` and ``fitted`` arrays.
+    start_rig : RigParameters or None
+        The rig the calibration started from: recorded in ``calibration.json`` (``rig``,
+        :func:`rollerrig.calibrate.calibfile.rig_binding`), which binds the calibration to it.
     """
 
     parameters: dict[str, FittedParameter]
@@ -232,6 +235,7 @@ class Calibration:
     fit: dict[str, Any]
     recording: dict[str, Any]
     series: dict[str, Any] = field(repr=False)
+    start_rig: RigParameters | None = field(default=None, repr=False)
 
     @property
     def values(self) -> dict[str, float | None]:
@@ -278,7 +282,18 @@ class Calibration:
             "fit": self.fit,
             "warnings": list(self.warnings),
             "notes": list(self.notes),
+            **({} if self.start_rig is None else {"rig": self._rig_binding()}),
         }
+
+    def _rig_binding(self) -> dict[str, Any]:
+        from rollerrig.calibrate.calibfile import rig_binding
+
+        replaced = [
+            k
+            for k, p in self.parameters.items()
+            if p.identified and not k.startswith(("polach.", "experiment."))
+        ]
+        return rig_binding(self.start_rig, replaced)
 
     def _unit(self, key: str) -> str:
         p = self.parameters.get(key) or self.nuisance.get(key)
@@ -544,6 +559,7 @@ def build_calibration(
         },
         recording=facts,
         series=series,
+        start_rig=model.rig,
     )
 
 

@@ -8,7 +8,15 @@ from pathlib import Path
 
 from rollerrig.cli._boundary import UserError, current_context, debug_wanted
 
-__all__ = ["derived", "in_memory_limit", "load_truth", "open_input", "read"]
+__all__ = [
+    "calibration_for",
+    "derived",
+    "in_memory_limit",
+    "load_calibration",
+    "load_truth",
+    "open_input",
+    "read",
+]
 
 
 def in_memory_limit() -> int:
@@ -131,23 +139,56 @@ def load_truth(path: Path):
     return ds
 
 
-def load_calibration(path: Path) -> dict:
-    """The content of a ``calibration.json`` (``rollerrig calibrate``), or one clear error."""
-    import errno
-    import json
+def load_calibration(path: Path, rig=None) -> dict:
+    """The content of a ``calibration.json`` (``rollerrig calibrate``), checked
+    (:func:`rollerrig.calibrate.read_calibration`, ``rig``: the rig in use): one error naming
+    ``--calibration <file>`` and each bad ``key.field``."""
+    from rollerrig.calibrate.calibfile import read_calibration
 
-    if not path.is_file():
-        raise FileNotFoundError(errno.ENOENT, "calibration file not found", str(path))
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise UserError(
-            f"--calibration {path}: not a JSON file ({exc}); give the calibration.json that "
-            "`rollerrig calibrate` wrote"
-        ) from None
-    if not isinstance(data, dict) or not isinstance(data.get("parameters"), dict):
-        raise UserError(
-            f"--calibration {path}: no 'parameters' table; give the calibration.json that "
-            "`rollerrig calibrate` wrote"
-        )
-    return data
+    return read_calibration(path, source=f"--calibration {path}", rig=rig)
+
+
+def calibration_for(
+    path: Path | None, rig, rig_file: Path | None, allow_other_rig: bool
+) -> tuple[dict | None, dict]:
+    """A ``--calibration`` checked and bound to the rig in use, and what the outputs' provenance
+    records of that binding.
+
+    The calibration must have been made on ``rig`` (``--rig``, default the bundled rig) or on
+    the rig its ``calibrated-rig.toml`` came from (:func:`rollerrig.calibrate.check_rig`);
+    another rig is one error unless ``allow_other_rig``, then a printed warning. Its values must
+    pass the rig's own checks on ``rig``.
+
+    Returns
+    -------
+    calibration : dict or None
+        The file's content (None without ``--calibration``).
+    record : dict
+        Keyword parameters for :func:`rollerrig.cli._outputs.command_outputs`:
+        ``calibration_rig`` (``"same rig"``, ``"other rig"`` or ``"not recorded"``),
+        ``calibration_rig_warning`` and ``allow_other_rig``; empty without ``--calibration``.
+    """
+    from rollerrig.calibrate.calibfile import check_rig, check_values_on_rig
+    from rollerrig.cli._console import print_warning
+
+    if path is None:
+        if allow_other_rig:
+            raise UserError("--allow-other-rig needs --calibration (the calibration it allows)")
+        return None, {}
+    data = load_calibration(path, rig)
+    source = f"--calibration {path}"
+    status, warning = check_rig(
+        data,
+        rig,
+        source=source,
+        rig_source="the bundled rig" if rig_file is None else f"--rig {rig_file}",
+        allow_other_rig=allow_other_rig,
+    )
+    check_values_on_rig(data, rig, source)
+    if warning is not None:
+        print_warning(warning)
+    return data, {
+        "calibration_rig": status,
+        "calibration_rig_warning": warning,
+        "allow_other_rig": allow_other_rig,
+    }

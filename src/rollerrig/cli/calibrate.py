@@ -36,12 +36,14 @@ __all__ = ["calibrate", "print_calibration"]
 
 def calibrate(
     recording: Annotated[
-        Path,
+        Path | None,
         typer.Argument(
             help="Recording of an adhesion test with the torque request, the torque sensor, "
-            "both encoder counts and the air-spring pressure (or the normal load)."
+            "both encoder counts and the air-spring pressure (or the normal load); not needed "
+            "with --list-keys.",
+            show_default=False,
         ),
-    ],
+    ] = None,
     free: Annotated[
         str | None,
         typer.Option(
@@ -91,8 +93,13 @@ def calibrate(
         from rollerrig.calibrate import free_parameter_catalogue
 
         for key in free_parameter_catalogue():
-            console.print(key)
+            console.print(key, markup=False, highlight=False)
         return
+    if recording is None:
+        raise UserError(
+            "give the RECORDING to calibrate to (rollerrig calibrate RECORDING --free KEYS), or "
+            "--list-keys to list the keys --free accepts"
+        )
     if not free:
         raise UserError(
             "--free is required: name the parameters to fit, e.g. --free "

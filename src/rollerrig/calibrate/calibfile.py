@@ -1,0 +1,834 @@
+"""``calibration.json`` read back: its values checked like rig keys, and bound to its rig.
+
+:func:`read_calibration` reads the file that :func:`rollerrig.calibrate.write_calibration`
+wrote (or one edited by hand) and checks every part that is used later, each problem in the
+package's one error format (:mod:`rollerrig._validation`), all of them at once:
+
+- each key of ``parameters`` must be a key ``rollerrig calibrate`` fits
+  (:func:`~rollerrig.calibrate.free_parameter_catalogue`); its ``value`` a finite number (or
+  null: not identified) that passes the rig file's own check of that key (the field's type and
+  range of :mod:`rollerrig.rig.sections`; the Polach ranges for ``polach.*``) and lies within
+  :data:`MAX_FACTOR` of its recorded starting value ``initial``; its ``standard_error`` null,
+  0, or a finite number between :data:`MIN_RELATIVE_SE` and
+  :data:`~rollerrig.calibrate.fit.MAX_RELATIVE_SE` times the value (what ``calibrate`` itself
+  calls identified); its ``unit``, when given, the key's SI unit;
+- ``values`` (each value again) must agree with ``parameters``; ``correlation`` must be a
+  symmetric, positive semi-definite matrix of numbers in [-1, 1] (null: unknown), one row per
+  entry of its ``keys``; ``warnings`` a list of strings; ``rig`` (below) of the form written.
+
+A problem reads ``calibration.json: inertia.roller.standard_error: must be >= 0 [kg.m^2];
+allowed 0, or [...]; got -1``.
+
+The rig binding (:func:`check_rig`): a calibration holds for the rig it was made on. The file
+records that rig (``rig``: its name, every value [SI] before the calibration, the SHA-256 of
+those values without the calibrated keys, :func:`rig_binding`). A rig in use that differs from
+it in any other key is another rig: one error naming both rigs (file, name, hash) and the first
+keys that differ, unless the user insists (``allow_other_rig``: a warning, which the command
+records in its outputs' provenance). The calibrated rig ``calibrated-rig.toml`` differs only
+in the calibrated keys: it is the same rig. A file from before the binding was recorded holds
+only the hash of its whole rig (``provenance.rig.sha256``), which is checked with the
+calibrated keys at their starting values; a file with neither (written by hand) cannot be
+checked, which is a warning.
+
+Examples
+--------
+>>> from rollerrig.rig.parameters import default_rig
+>>> doc = {"parameters": {"inertia.roller": {"value": 46.0, "standard_error": 0.5}}}
+>>> check_calibration(doc)["parameters"]["inertia.roller"]["value"]
+46.0
+>>> doc["parameters"]["inertia.roller"]["standard_error"] = -1
+>>> try:
+...     check_calibration(doc)
+... except CalibrationError as exc:
+...     print(exc)
+calibration.json: inertia.roller.standard_error: must be >= 0 [kg.m^2]; allowed 0, or [4.6e-11, 23]; got -1
+"""  # noqa: E501
+
+from __future__ import annotations
+
+import difflib
+import errno
+import functools
+import hashlib
+import json
+import math
+import os
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from pydantic import ConfigDict, ValidationError, create_model
+
+from rollerrig._validation import Problem, Verbatim, interval, pydantic_problems, show_value
+from rollerrig.calibrate.problem import (
+    _POLACH_RANGES,
+    _POLACH_UNITS,
+    POLACH_KEYS,
+    CalibrationError,
+    free_parameter_catalogue,
+)
+from rollerrig.rig.sections import SECTIONS, si_unit_of
+
+__all__ = [
+    "MAX_CALIBRATION_BYTES",
+    "MAX_FACTOR",
+    "MIN_RELATIVE_SE",
+    "calibrated_rig_keys",
+    "check_calibration",
+    "check_rig",
+    "check_values_on_rig",
+    "read_calibration",
+    "rig_binding",
+    "rig_values",
+]
+
+MAX_CALIBRATION_BYTES = 16 * 2**20
+"""Largest ``calibration.json`` read (16 MiB); ``rollerrig calibrate`` writes tens of kB."""
+
+MAX_FACTOR = 1.0e3
+"""A calibrated value [SI] may lie at most this factor above or below its starting value
+(``initial``, the rig's value), counted from the key's lower bound: a calibration corrects a
+rig's value, three decades away it has found something else."""
+
+MIN_RELATIVE_SE = 1.0e-12
+"""Smallest non-zero standard error, relative to the value [1]: finer than the fit's
+finite differences and double precision resolve."""
+
+_CORRELATION_TOLERANCE = 1.0e-6  # symmetry, unit diagonal, smallest eigenvalue
+_SHOWN_DIFFERENCES = 5  # keys named in a mismatch of the rig
+
+
+def _fail(source: str, problems: list[Problem]) -> CalibrationError:
+    lines = [p.format(source) for p in problems]
+    exc = CalibrationError("\n".join(lines))
+    exc.problems = tuple(lines)
+    return exc
+
+
+# --------------------------------------------------------------------------------------------
+# Reading
+# --------------------------------------------------------------------------------------------
+
+
+def read_calibration(
+    path: str | os.PathLike, source: str | None = None, rig=None
+) -> dict[str, Any]:
+    """Read and check a ``calibration.json`` (see the module's docstring).
+
+    Parameters
+    ----------
+    path : path
+        The file.
+    source : str, optional
+        How errors name the file (default: the path as given).
+    rig : RigParameters, optional
+        The rig in use: the reference of a value's plausibility where the file gives no
+        starting value (see :func:`check_calibration`).
+
+    Returns
+    -------
+    dict
+        The file's content, checked.
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file.
+    CalibrationError
+        Not a JSON object of the form written, or values that are not plausible; one line per
+        problem, each naming the file and the key.
+    """
+    path = Path(path)
+    source = str(path) if source is None else source
+    if not path.is_file():
+        raise FileNotFoundError(errno.ENOENT, "calibration file not found", str(path))
+    size = path.stat().st_size
+    if size > MAX_CALIBRATION_BYTES:
+        raise _fail(
+            source,
+            [
+                Problem(
+                    "",
+                    "too large for a calibration.json",
+                    unit="bytes",
+                    allowed=f"at most {MAX_CALIBRATION_BYTES}",
+                    got=size,
+                )
+            ],
+        )
+    try:
+        data = json.loads(path.read_bytes().decode("utf-8"))
+    except UnicodeDecodeError:
+        raise _fail(source, [Problem("", "not a JSON file (not UTF-8 text)")]) from None
+    except RecursionError:
+        raise _fail(source, [Problem("", "not a calibration.json (nested too deep)")]) from None
+    except ValueError as exc:  # json.JSONDecodeError, an integer of too many digits
+        text = " ".join(str(exc).split())[:200]
+        raise _fail(
+            source,
+            [
+                Problem(
+                    "",
+                    f"not a JSON file ({text}); give the calibration.json that "
+                    "`rollerrig calibrate` wrote",
+                )
+            ],
+        ) from None
+    return check_calibration(data, source, rig)
+
+
+def check_calibration(data: Any, source: str = "calibration.json", rig=None) -> dict[str, Any]:
+    """Check the content of a ``calibration.json``; return it unchanged.
+
+    Parameters
+    ----------
+    data : object
+        What the JSON parser gave.
+    source : str
+        How errors name the file.
+    rig : RigParameters, optional
+        The rig in use. A value must lie within :data:`MAX_FACTOR` of its starting value
+        (``initial``), or, where the file gives none, of this rig's value.
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    CalibrationError
+        Every problem at once, one line each (``source: key.field: ...``).
+    """
+    if not isinstance(data, dict):
+        raise _fail(
+            source,
+            [
+                Problem(
+                    "",
+                    "must be a JSON object (the calibration.json that `rollerrig calibrate` wrote)",
+                    got=Verbatim(_kind(data)),
+                )
+            ],
+        )
+    problems: list[Problem] = []
+    params = data.get("parameters")
+    if "parameters" not in data:
+        problems.append(
+            Problem("parameters", "missing key (the fitted values: {key: {value, standard_error}})")
+        )
+    elif not isinstance(params, dict):
+        problems.append(Problem("parameters", "must be an object", got=Verbatim(_kind(params))))
+    else:
+        here = {} if rig is None else rig_values(rig)
+        for key, entry in params.items():
+            problems += _entry_problems(str(key), entry, here.get(str(key)))
+        problems += _values_problems(data.get("values"), params)
+    problems += _correlation_problems(data)
+    problems += _report_problems(data)
+    problems += _rig_record_problems(data)
+    if problems:
+        raise _fail(source, problems)
+    return data
+
+
+def _kind(value: Any) -> str:
+    return {dict: "an object", list: "an array", str: "a string", bool: "true/false"}.get(
+        type(value), "null" if value is None else "a number"
+    )
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+# ----------------------------------------------------------------------------- one parameter
+
+
+@functools.cache
+def _rig_key_model(key: str):
+    """A one-field pydantic model with the rig file's own field of ``key`` (its type, range and
+    validators), named ``value``."""
+    section, _, name = key.partition(".")
+    base = SECTIONS[section]
+    field = base.model_fields[name]
+    config = ConfigDict(strict=True, allow_inf_nan=False, extra="forbid")
+    return create_model(f"Calibrated_{section}_{name}", __config__=config, value=(float, field))
+
+
+def _key_unit(key: str) -> str:
+    if key in POLACH_KEYS:
+        return _POLACH_UNITS.get(key.partition(".")[2], "1")
+    section, _, name = key.partition(".")
+    return si_unit_of(SECTIONS[section].model_fields[name])
+
+
+def _lower_bound(key: str) -> float:
+    if key in POLACH_KEYS:
+        return _POLACH_RANGES[key.partition(".")[2]][0]
+    from rollerrig.calibrate.problem import _bounds
+
+    section, _, name = key.partition(".")
+    return _bounds(SECTIONS[section].model_fields[name])[0]
+
+
+_POLACH_INTERVALS = {  # (low, high, low inclusive, high inclusive): PolachParameters' checks
+    "static_friction": (0.0, math.inf, False, False),
+    "limit_ratio": (0.0, 1.0, False, True),
+    "friction_decay": (0.0, math.inf, True, False),
+    "k_adhesion": (0.0, 1.0, False, True),
+    "k_slip": (0.0, 1.0, False, True),
+}
+
+
+def _value_problems(key: str, field: str, value: Any) -> list[Problem]:
+    """The rig file's (or the Polach law's) check of one number of ``key``."""
+    where = f"{key}.{field}"
+    unit = _key_unit(key)
+    if not _is_number(value):
+        return [Problem(where, "must be a number", unit=unit, got=value)]
+    if not math.isfinite(value):
+        return [Problem(where, "must be finite", unit=unit, got=value)]
+    if key in POLACH_KEYS:
+        low, high, low_in, high_in = _POLACH_INTERVALS[key.partition(".")[2]]
+        above = value >= low if low_in else value > low
+        below = value <= high if high_in else value < high
+        if above and below:
+            return []
+        allowed = interval(low, high, low_inclusive=low_in, high_inclusive=high_in)
+        return [Problem(where, f"must lie in {allowed}", unit=unit, allowed=allowed, got=value)]
+    model = _rig_key_model(key)
+    try:
+        model.model_validate({"value": float(value)})
+    except ValidationError as exc:
+        # the unit as the rig file's errors show it (a ratio: what it is a multiple of)
+        shown = model.model_fields["value"].json_schema_extra.get("unit") or unit
+        problems = pydantic_problems(exc, {"value": shown}, model=model)
+        return [Problem(where, p.message, p.unit, p.allowed, value) for p in problems]
+    return []
+
+
+def _entry_problems(key: str, entry: Any, rig_value: Any = None) -> list[Problem]:
+    catalogue = free_parameter_catalogue()
+    if key not in catalogue:
+        close = difflib.get_close_matches(key, catalogue, n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        return [
+            Problem(
+                key,
+                f"not a key rollerrig calibrate fits{hint}",
+                allowed=Verbatim("the keys `rollerrig calibrate --list-keys` lists"),
+                got=key,
+            )
+        ]
+    if not isinstance(entry, dict):
+        return [
+            Problem(
+                key,
+                "must be an object {value, standard_error} (SI; null where not identified)",
+                got=Verbatim(_kind(entry)),
+            )
+        ]
+    problems: list[Problem] = []
+    unit = _key_unit(key)
+    if "unit" in entry and entry["unit"] != unit:
+        problems.append(
+            Problem(
+                f"{key}.unit",
+                "must be the key's SI unit (calibration.json holds SI values)",
+                allowed=[unit],
+                got=entry["unit"],
+            )
+        )
+    for name in ("why_null", "reason"):
+        if entry.get(name) is not None and not isinstance(entry[name], str):
+            problems.append(Problem(f"{key}.{name}", "must be a string", got=entry[name]))
+    identified = entry.get("identified")
+    if identified is not None and not isinstance(identified, bool):
+        problems.append(Problem(f"{key}.identified", "must be true or false", got=identified))
+    initial = entry.get("initial")
+    initial_ok = False
+    if initial is not None:
+        found = _value_problems(key, "initial", initial)
+        problems += found
+        initial_ok = not found
+    if "value" not in entry:
+        problems.append(Problem(f"{key}.value", "missing key (null where not identified)"))
+        return problems
+    value, se = entry["value"], entry.get("standard_error")
+    if value is None:
+        if se is not None:
+            problems.append(
+                Problem(
+                    f"{key}.standard_error",
+                    "must be null when the value is null (not identified)",
+                    unit=unit,
+                    got=se,
+                )
+            )
+        return problems
+    if identified is False:
+        problems.append(
+            Problem(
+                f"{key}.identified",
+                "is false but a value is given (calibrate writes null for a value it does not "
+                "identify)",
+                got=identified,
+            )
+        )
+    found = _value_problems(key, "value", value)
+    problems += found
+    if found:
+        return problems
+    if initial_ok:
+        found = _factor_problems(key, float(value), float(initial), "its starting value")
+    elif _is_number(rig_value):
+        found = _factor_problems(key, float(value), float(rig_value), "the rig's value")
+    else:
+        found = []
+    problems += found
+    if found:
+        return problems
+    if se is not None:
+        problems += _se_problems(key, float(value), se)
+    return problems
+
+
+def _factor_problems(key: str, value: float, reference: float, what: str) -> list[Problem]:
+    """``value`` within :data:`MAX_FACTOR` of ``reference``, counted from the lower bound."""
+    lower = _lower_bound(key)
+    span, ref_span = value - lower, reference - lower
+    if not ref_span > 0 or not span > 0:
+        return []
+    if ref_span / MAX_FACTOR <= span <= ref_span * MAX_FACTOR:
+        return []
+    low, high = lower + ref_span / MAX_FACTOR, lower + ref_span * MAX_FACTOR
+    return [
+        Problem(
+            f"{key}.value",
+            f"not plausible: more than {MAX_FACTOR:g} times away from {what} "
+            f"{show_value(reference)}",
+            unit=_key_unit(key),
+            allowed=Verbatim(f"[{low:.6g}, {high:.6g}]"),
+            got=value,
+        )
+    ]
+
+
+def _se_problems(key: str, value: float, se: Any) -> list[Problem]:
+    from rollerrig.calibrate.fit import MAX_RELATIVE_SE
+
+    where, unit = f"{key}.standard_error", _key_unit(key)
+    low, high = MIN_RELATIVE_SE * abs(value), MAX_RELATIVE_SE * abs(value)
+    allowed = Verbatim(f"0, or [{low:.3g}, {high:.3g}]" if high > 0 else "0")
+    if not _is_number(se):
+        return [Problem(where, "must be a number or null", unit=unit, allowed=allowed, got=se)]
+    if not math.isfinite(se):
+        return [Problem(where, "must be finite", unit=unit, allowed=allowed, got=se)]
+    if se < 0:
+        return [Problem(where, "must be >= 0", unit=unit, allowed=allowed, got=se)]
+    if se == 0 or low <= se <= high:
+        return []
+    if se > high:
+        message = (
+            f"more than {MAX_RELATIVE_SE:g} times the value: rollerrig calibrate reports such a "
+            "key as not identified (value null)"
+        )
+    else:
+        message = (
+            f"less than {MIN_RELATIVE_SE:g} times the value: finer than the fit resolves "
+            "(0 states an exact value)"
+        )
+    return [Problem(where, message, unit=unit, allowed=allowed, got=se)]
+
+
+def _values_problems(values: Any, params: dict) -> list[Problem]:
+    """``values`` (each identified value again) must agree with ``parameters``."""
+    if values is None:
+        return []
+    if not isinstance(values, dict):
+        return [Problem("values", "must be an object", got=Verbatim(_kind(values)))]
+    problems = []
+    for key, value in values.items():
+        entry = params.get(key)
+        stated = entry.get("value") if isinstance(entry, dict) else None
+        if entry is None or stated is None:
+            problems.append(
+                Problem(
+                    f"values.{key}",
+                    "has no identified value in parameters (edit parameters, the values "
+                    "analyze uses, and this copy alike)",
+                    got=value,
+                )
+            )
+        elif value != stated or not _is_number(value):
+            problems.append(
+                Problem(
+                    f"values.{key}",
+                    f"differs from parameters.{key}.value ({show_value(stated)}); the file "
+                    "states each value twice: edit both",
+                    got=value,
+                )
+            )
+    return problems
+
+
+# ----------------------------------------------------------------------------- correlation
+
+
+def _correlation_problems(data: dict) -> list[Problem]:
+    corr = data.get("correlation")
+    if corr is None:
+        return []
+    where = "correlation"
+    keys = data.get("keys", list(data.get("parameters") or {}))
+    if isinstance(corr, dict):
+        keys, corr, where = corr.get("keys"), corr.get("matrix"), "correlation.matrix"
+        if not isinstance(keys, list) or not all(isinstance(k, str) for k in keys):
+            return [Problem("correlation.keys", "must be an array of keys", got=keys)]
+        if corr is None:
+            return []
+    elif not isinstance(keys, list) or not all(isinstance(k, str) for k in keys):
+        return [Problem("keys", "must be an array of keys (the rows of correlation)", got=keys)]
+    if len(set(keys)) != len(keys):
+        return [Problem(f"{where.rpartition('.')[0] or 'correlation'}.keys", "repeats a key")]
+    n = len(keys)
+    shape_problem = Problem(
+        where,
+        f"must be a {n} x {n} array of numbers in [-1, 1] (null where unknown), one row per key",
+    )
+    if not isinstance(corr, list) or len(corr) != n:
+        return [shape_problem]
+    rows = []
+    for row in corr:
+        if not isinstance(row, list) or len(row) != n:
+            return [shape_problem]
+        if not all(v is None or _is_number(v) for v in row):
+            return [shape_problem]
+        rows.append([math.nan if v is None else float(v) for v in row])
+    matrix = np.array(rows, dtype=float).reshape(n, n)
+    known = np.isfinite(matrix)
+    entries = matrix[known]
+    if entries.size and np.max(np.abs(entries)) > 1.0 + _CORRELATION_TOLERANCE:
+        worst = float(entries[np.argmax(np.abs(entries))])
+        return [Problem(where, "holds a correlation outside [-1, 1]", allowed="[-1, 1]", got=worst)]
+    diagonal = np.diag(matrix)
+    if np.any(np.abs(diagonal[np.isfinite(diagonal)] - 1.0) > _CORRELATION_TOLERANCE):
+        return [Problem(where, "must have 1 on its diagonal (a key's correlation with itself)")]
+    both = known & known.T
+    if np.any(np.abs(np.where(both, matrix - matrix.T, 0.0)) > _CORRELATION_TOLERANCE):
+        return [Problem(where, "must be symmetric")]
+    filled = np.where(known & known.T, matrix, 0.0)
+    np.fill_diagonal(filled, 1.0)
+    if n and np.min(np.linalg.eigvalsh(filled)) < -_CORRELATION_TOLERANCE * n:
+        return [
+            Problem(
+                where,
+                "is not a correlation matrix: not positive semi-definite (no set of variables "
+                "has these correlations)",
+            )
+        ]
+    return []
+
+
+# ----------------------------------------------------------------------------- report parts
+
+
+def _report_problems(data: dict) -> list[Problem]:
+    problems = []
+    warnings = data.get("warnings")
+    if warnings is not None and (
+        not isinstance(warnings, list) or not all(isinstance(w, str) for w in warnings)
+    ):
+        problems.append(Problem("warnings", "must be an array of strings", got=warnings))
+    recording = data.get("recording")
+    if recording is not None and not isinstance(recording, dict):
+        problems.append(Problem("recording", "must be an object", got=Verbatim(_kind(recording))))
+    elif isinstance(recording, dict) and not isinstance(recording.get("source", ""), str):
+        problems.append(Problem("recording.source", "must be a string", got=recording["source"]))
+    return problems
+
+
+def _rig_record_problems(data: dict) -> list[Problem]:
+    problems = []
+    record = data.get("rig")
+    if record is not None:
+        if not isinstance(record, dict):
+            return [Problem("rig", "must be an object", got=Verbatim(_kind(record)))]
+        for name in ("name", "sha256", "parameters_sha256"):
+            if not isinstance(record.get(name, ""), str | None):
+                problems.append(Problem(f"rig.{name}", "must be a string", got=record[name]))
+        values = record.get("parameters")
+        if not isinstance(values, dict) or not all(
+            v is None or isinstance(v, str) or _is_number(v) for v in values.values()
+        ):
+            problems.append(
+                Problem("rig.parameters", "must be an object of the rig's values (numbers)")
+            )
+        keys = record.get("calibrated_keys", [])
+        if not isinstance(keys, list) or not all(isinstance(k, str) for k in keys):
+            problems.append(Problem("rig.calibrated_keys", "must be an array of keys", got=keys))
+    provenance = data.get("provenance")
+    if provenance is not None and not isinstance(provenance, dict):
+        problems.append(Problem("provenance", "must be an object", got=Verbatim(_kind(provenance))))
+    return problems
+
+
+# --------------------------------------------------------------------------------------------
+# The rig binding
+# --------------------------------------------------------------------------------------------
+
+
+def rig_values(rig) -> dict[str, Any]:
+    """Every value of a rig parameter set outside ``[meta]``, by dotted key [SI].
+
+    Examples
+    --------
+    >>> from rollerrig.rig.parameters import default_rig
+    >>> rig_values(default_rig())["inertia.roller"]
+    45.0
+    """
+    out: dict[str, Any] = {}
+    for section in SECTIONS:
+        if section == "meta":
+            continue
+        values = getattr(rig, section, None)
+        if values is None:
+            continue
+        for key in type(values).model_fields:
+            out[f"{section}.{key}"] = getattr(values, key)
+    return out
+
+
+def _values_sha256(values: Mapping[str, Any]) -> str:
+    text = json.dumps(dict(values), sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def rig_binding(rig, calibrated: Iterable[str]) -> dict[str, Any]:
+    """The record of the rig a calibration was made on (``rig`` in ``calibration.json``).
+
+    Parameters
+    ----------
+    rig : RigParameters
+        The rig the calibration started from.
+    calibrated : iterable of str
+        The rig keys whose values the calibration replaces.
+
+    Returns
+    -------
+    dict
+        ``name``, ``sha256`` (:func:`rollerrig.output.rig_sha256` of the whole rig, as in the
+        provenance), ``calibrated_keys``, ``parameters_sha256`` (SHA-256 of the canonical JSON
+        of the values without the calibrated keys: the rig's identity) and ``parameters`` (every
+        value outside ``[meta]`` [SI]).
+    """
+    from rollerrig.output.provenance import rig_sha256
+
+    keys = sorted(set(calibrated))
+    values = rig_values(rig)
+    return {
+        "what": (
+            "the rig this calibration was made on: its values [SI] before the calibration. "
+            "`rollerrig analyze --calibration` refuses a rig that differs in any key but the "
+            "calibrated ones (--allow-other-rig: used with a warning). parameters_sha256: "
+            "SHA-256 of the sorted, compact JSON of parameters without calibrated_keys"
+        ),
+        "name": rig.meta.name,
+        "sha256": rig_sha256(rig),
+        "calibrated_keys": keys,
+        "parameters_sha256": _values_sha256({k: v for k, v in values.items() if k not in keys}),
+        "parameters": values,
+    }
+
+
+def calibrated_rig_keys(data: Mapping[str, Any]) -> list[str]:
+    """The rig keys a (checked) calibration gives a value for (not ``polach.*``)."""
+    params = data.get("parameters") or {}
+    return [
+        k
+        for k, e in params.items()
+        if k not in POLACH_KEYS and isinstance(e, dict) and e.get("value") is not None
+    ]
+
+
+def _same(a: Any, b: Any) -> bool:
+    if _is_number(a) and _is_number(b):
+        return math.isclose(float(a), float(b), rel_tol=1e-12, abs_tol=0.0)
+    return a == b
+
+
+def _rig_file(data: Mapping[str, Any]) -> str:
+    """Which file the calibration's rig came from, as its provenance says."""
+    provenance = data.get("provenance")
+    if not isinstance(provenance, dict):
+        return "rig file not recorded"
+    inputs = provenance.get("inputs")
+    rig = inputs.get("rig") if isinstance(inputs, dict) else None
+    if isinstance(rig, dict) and isinstance(rig.get("path"), str):
+        return rig["path"]
+    return "the bundled rig" if isinstance(inputs, dict) else "rig file not recorded"
+
+
+def _legacy_match(data: Mapping[str, Any], rig, sha: str) -> bool:
+    """Whether ``rig``, with the calibrated keys at their starting values and the name and
+    description before calibration, has the whole-rig hash ``sha``."""
+    from rollerrig.output.provenance import rig_sha256
+
+    params = data.get("parameters") or {}
+    starts = {
+        k: e["initial"]
+        for k in calibrated_rig_keys(data)
+        if _is_number((e := params[k]).get("initial"))
+    }
+    try:
+        start = rig.with_overrides(starts) if starts else rig
+    except ValueError:
+        return False
+    meta = start.meta
+    name = meta.name.removesuffix("-calibrated")
+    description = meta.description.split(" Calibrated by rollerrig calibrate on ")[0]
+    restored = start.model_copy(
+        update={"meta": meta.model_copy(update={"name": name, "description": description})}
+    )
+    return sha in (rig_sha256(start), rig_sha256(restored))
+
+
+def check_rig(
+    data: Mapping[str, Any],
+    rig,
+    *,
+    source: str = "calibration.json",
+    rig_source: str = "the bundled rig",
+    allow_other_rig: bool = False,
+) -> tuple[str, str | None]:
+    """Whether a calibration was made on ``rig``; an error if not (unless allowed).
+
+    Parameters
+    ----------
+    data : mapping
+        A checked ``calibration.json`` (:func:`check_calibration`).
+    rig : RigParameters
+        The rig in use.
+    source : str
+        How errors name the calibration file.
+    rig_source : str
+        How to name the rig in use (its file).
+    allow_other_rig : bool
+        Use a calibration of another rig anyway (a warning instead of the error).
+
+    Returns
+    -------
+    status : str
+        ``"same rig"``, ``"other rig"`` (allowed) or ``"not recorded"``.
+    warning : str or None
+        What the command must print and record in its outputs' provenance.
+
+    Raises
+    ------
+    CalibrationError
+        Another rig, naming both rigs (file, name, hash) and the first keys that differ.
+    """
+    from rollerrig.output.provenance import rig_sha256
+
+    calibrated = set(calibrated_rig_keys(data))
+    here_values = rig_values(rig)
+    record = data.get("rig")
+    there_file = _rig_file(data)
+    provenance = data.get("provenance") if isinstance(data.get("provenance"), dict) else {}
+    legacy = provenance.get("rig") if isinstance(provenance.get("rig"), dict) else None
+    if isinstance(record, dict) and isinstance(record.get("parameters"), dict):
+        recorded = record["parameters"]
+        excluded = calibrated | set(record.get("calibrated_keys") or [])
+        differ = [
+            k
+            for k, v in recorded.items()
+            if k not in excluded and k in here_values and not _same(v, here_values[k])
+        ]
+        if not differ:
+            return "same rig", None
+        there_name = record.get("name")
+        there_hash = record.get("parameters_sha256") or "not recorded"
+        here_hash = _values_sha256(
+            {k: v for k, v in here_values.items() if k in recorded and k not in excluded}
+        )
+        shown = ", ".join(
+            f"{k} ({show_value(recorded[k])} there, {show_value(here_values[k])} here)"
+            for k in differ[:_SHOWN_DIFFERENCES]
+        )
+        more = len(differ) - _SHOWN_DIFFERENCES
+        what = f"they differ in {shown}" + (f" and {more} more key(s)" if more > 0 else "")
+        head = "made on another rig"
+    elif legacy is not None and isinstance(legacy.get("sha256"), str):
+        if _legacy_match(data, rig, legacy["sha256"]):
+            return "same rig", None
+        there_name, there_hash, here_hash = legacy.get("name"), legacy["sha256"], rig_sha256(rig)
+        what = (
+            "it records only the SHA-256 of its whole rig (written by an older rollerrig), "
+            "which the rig in use does not have with the calibrated keys at their starting "
+            "values (another rig, or the same one read by a rollerrig whose rig files have "
+            "gained keys since; which keys differ is not recorded)"
+        )
+        head = "not shown to be made on this rig"
+    else:
+        return "not recorded", (
+            f"{source}: records no rig it was made on (written by hand or edited): whether it "
+            f"belongs to the rig in use ({rig.meta.name!r}, {rig_source}) cannot be checked"
+        )
+    there = f"{there_name!r} ({there_file}; sha256 {str(there_hash)[:12]})"
+    here = f"{rig.meta.name!r} ({rig_source}; sha256 {here_hash[:12]})"
+    if allow_other_rig:
+        return "other rig", (
+            f"{source}: {head}, used as --allow-other-rig asks: made on rig {there}, used on "
+            f"rig {here}: {what}; its values and standard errors belong to the rig it was "
+            "made on"
+        )
+    raise _fail(
+        source,
+        [
+            Problem(
+                "rig",
+                f"{head}: {what}. Use the rig it was made on (or the "
+                "calibrated-rig.toml written beside it), calibrate again on this rig, or pass "
+                "--allow-other-rig to use it anyway",
+                allowed=Verbatim(f"the rig {there}"),
+                got=Verbatim(f"the rig {here}"),
+            )
+        ],
+    )
+
+
+def check_values_on_rig(data: Mapping[str, Any], rig, source: str = "calibration.json") -> None:
+    """The calibrated rig keys as the rig in use takes them: each within :data:`MAX_FACTOR` of
+    the rig's value, and the rig with them passing its own checks (the consistency of each
+    section, e.g. ``pmsm.max_current >= pmsm.rated_current``).
+
+    Raises
+    ------
+    CalibrationError
+        Naming ``source: key.value`` (or the key the rig's check names).
+    """
+    params = data.get("parameters") or {}
+    values = {k: float(params[k]["value"]) for k in calibrated_rig_keys(data)}
+    here = rig_values(rig)
+    problems: list[Problem] = []
+    for key, value in values.items():
+        if _is_number(here.get(key)):
+            problems += _factor_problems(key, value, float(here[key]), "the rig's value")
+    if problems:
+        raise _fail(source, problems)
+    if not values:
+        return
+    try:
+        rig.with_overrides(values)
+    except ValueError as exc:
+        lines = []
+        for line in getattr(exc, "problems", None) or [str(exc)]:
+            text = str(line).removeprefix("overrides: ")
+            key, sep, rest = text.partition(": ")
+            if sep and key in values:
+                text = f"{key}.value: {rest}"
+            lines.append(f"{source}: {text} (with the calibrated values on rig {rig.meta.name!r})")
+        err = CalibrationError("\n".join(lines))
+        err.problems = tuple(lines)
+        raise err from None

@@ -1,0 +1,493 @@
+"""``calibration.json`` read back (issue 24, points 6 and 8): every hand edit is one error in the
+one format naming ``file: key.field``; a calibration holds only for the rig it was made on.
+
+No fit runs here: the files are built as :meth:`Calibration.to_json` writes them (the
+parameters' entries, the correlation and the ``rig`` record of :func:`rig_binding`); the end to
+end run through ``rollerrig calibrate`` and ``analyze`` is in ``tests/cli/test_calibrate.py``.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from rollerrig._validation import ParameterError
+from rollerrig.calibrate import CalibrationError, free_parameter_catalogue
+from rollerrig.calibrate.calibfile import (
+    MAX_CALIBRATION_BYTES,
+    check_calibration,
+    check_rig,
+    check_values_on_rig,
+    read_calibration,
+    rig_binding,
+    rig_values,
+)
+from rollerrig.output import rig_sha256
+from rollerrig.rig.parameters import default_rig
+
+PROPERTIES = settings(
+    max_examples=60,
+    deadline=None,
+    database=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
+
+CALIBRATED = {
+    "stiffness.roller_shaft": (47850.0, 1.7, 43500.0),
+    "inertia.roller": (45.2, 0.01, 45.0),
+}
+
+
+def _entry(value, se, initial, unit):
+    return {
+        "value": value,
+        "standard_error": se,
+        "unit": unit,
+        "initial": initial,
+        "identified": True,
+        "relative_standard_error": se / value,
+        "at_upper_bound": False,
+    }
+
+
+def calibration_doc(rig=None) -> dict:
+    """A calibration.json as ``rollerrig calibrate`` writes it, made on ``rig`` (default: the
+    bundled rig) with two identified keys and one that is not."""
+    rig = default_rig() if rig is None else rig
+    units = {"stiffness.roller_shaft": "N.m/rad", "inertia.roller": "kg.m^2"}
+    params = {k: _entry(v, se, i, units[k]) for k, (v, se, i) in CALIBRATED.items()}
+    params["damping.wheel_shaft"] = {
+        "value": None,
+        "standard_error": None,
+        "unit": "N.m.s/rad",
+        "initial": 10.0,
+        "identified": False,
+        "why_null": "relative standard error 3.2 > 0.5",
+    }
+    keys = [*CALIBRATED, "experiment.roller_speed"]
+    return {
+        "parameters": params,
+        "values": {k: v for k, (v, _, _) in CALIBRATED.items()},
+        "correlation": {
+            "keys": keys,
+            "matrix": [[1.0, 0.1, 0.0], [0.1, 1.0, -0.2], [0.0, -0.2, 1.0]],
+        },
+        "warnings": ["damping.wheel_shaft: relative standard error 3.2 > 0.5"],
+        "recording": {"source": "test.tdms"},
+        "rig": rig_binding(rig, CALIBRATED),
+        "provenance": {"software": "rollerrig", "inputs": {}, "rig": {"sha256": rig_sha256(rig)}},
+    }
+
+
+def _write(tmp_path, doc, name="calibration.json") -> str:
+    path = tmp_path / name
+    path.write_text(json.dumps(doc), encoding="utf-8")
+    return path
+
+
+def _problems(doc, source="calibration.json") -> tuple[str, ...]:
+    with pytest.raises(CalibrationError) as info:
+        check_calibration(doc, source)
+    assert str(info.value) == "\n".join(info.value.problems)
+    return info.value.problems
+
+
+def test_a_calibration_as_written_is_accepted_unchanged(tmp_path):
+    doc = calibration_doc()
+    assert read_calibration(_write(tmp_path, doc)) == json.loads(json.dumps(doc))
+
+
+# One row per hand edit of the audit: (key, field, edited value, the whole expected line after
+# the file name). The standard error is bounded by what calibrate itself calls identified
+# (MAX_RELATIVE_SE = 0.5 of the value) and by the resolution of the fit (1e-12 of it).
+EDITS = [
+    (
+        "inertia.roller",
+        "standard_error",
+        1e300,
+        "inertia.roller.standard_error: more than 0.5 times the value: rollerrig calibrate "
+        "reports such a key as not identified (value null) [kg.m^2]; allowed 0, or "
+        "[4.52e-11, 22.6]; got 1e+300",
+    ),
+    (
+        "inertia.roller",
+        "standard_error",
+        1e-300,
+        "inertia.roller.standard_error: less than 1e-12 times the value: finer than the fit "
+        "resolves (0 states an exact value) [kg.m^2]; allowed 0, or [4.52e-11, 22.6]; got 1e-300",
+    ),
+    (
+        "inertia.roller",
+        "standard_error",
+        -0.01,
+        "inertia.roller.standard_error: must be >= 0 [kg.m^2]; allowed 0, or [4.52e-11, 22.6]; "
+        "got -0.01",
+    ),
+    (
+        "inertia.roller",
+        "standard_error",
+        math.nan,
+        "inertia.roller.standard_error: must be finite [kg.m^2]; allowed 0, or "
+        "[4.52e-11, 22.6]; got nan",
+    ),
+    (
+        "inertia.roller",
+        "standard_error",
+        "0.01",
+        "inertia.roller.standard_error: must be a number or null [kg.m^2]; allowed 0, or "
+        "[4.52e-11, 22.6]; got '0.01'",
+    ),
+    (
+        "inertia.roller",
+        "value",
+        "45",
+        "inertia.roller.value: must be a number [kg.m^2]; got '45'",
+    ),
+    (
+        "inertia.roller",
+        "value",
+        -45.0,
+        "inertia.roller.value: must be > 0 [kg.m^2]; allowed (0, inf); got -45",
+    ),
+    (
+        "inertia.roller",
+        "value",
+        1e300,
+        "inertia.roller.value: not plausible: more than 1000 times away from its starting value "
+        "45 [kg.m^2]; allowed [0.045, 45000]; got 1e+300",
+    ),
+    (
+        "inertia.roller",
+        "value",
+        1e-300,
+        "inertia.roller.value: not plausible: more than 1000 times away from its starting value "
+        "45 [kg.m^2]; allowed [0.045, 45000]; got 1e-300",
+    ),
+    (
+        "inertia.roller",
+        "value",
+        math.inf,
+        "inertia.roller.value: must be finite [kg.m^2]; got inf",
+    ),
+    (
+        "inertia.roller",
+        "unit",
+        "g.m^2",
+        "inertia.roller.unit: must be the key's SI unit (calibration.json holds SI values); "
+        "allowed 'kg.m^2'; got 'g.m^2'",
+    ),
+    (
+        "stiffness.roller_shaft",
+        "value",
+        True,
+        "stiffness.roller_shaft.value: must be a number [N.m/rad]; got true",
+    ),
+    (
+        "damping.wheel_shaft",
+        "standard_error",
+        0.3,
+        "damping.wheel_shaft.standard_error: must be null when the value is null (not "
+        "identified) [N.m.s/rad]; got 0.3",
+    ),
+]
+
+
+@pytest.mark.parametrize(("key", "field", "edited", "line"), EDITS)
+def test_each_hand_edit_is_one_error_naming_the_key_and_field(tmp_path, key, field, edited, line):
+    doc = calibration_doc()
+    doc["parameters"][key][field] = edited
+    doc.pop("values")  # the copy of the values has its own check, below
+    path = _write(tmp_path, doc)
+    with pytest.raises(CalibrationError) as info:
+        read_calibration(path)
+    assert info.value.problems == (f"{path}: {line}",)
+
+
+def test_a_value_outside_the_rig_keys_range_is_the_rig_files_own_error():
+    # Exactly as in a rig file: bearing.friction_coefficient in [0, 1), poisson in (0, 0.5),
+    # and the [roller_drive_vf] ranges.
+    doc = calibration_doc()
+    doc["parameters"]["bearing.friction_coefficient"] = {"value": 3.0, "standard_error": 0.1}
+    doc["parameters"]["roller_drive_vf.current_limit"] = {"value": 1e-9, "standard_error": None}
+    assert _problems(doc) == (
+        "calibration.json: bearing.friction_coefficient.value: must be < 1; allowed [0, 1); got 3",
+        "calibration.json: roller_drive_vf.current_limit.value: must be >= 1 "
+        "[x induction_motor.rated_current]; allowed [1, 4]; got 1e-09",
+    )
+
+
+def test_a_key_calibrate_does_not_fit_is_named_with_the_closest_one():
+    doc = calibration_doc()
+    doc["parameters"]["inertia.rolller"] = doc["parameters"].pop("inertia.roller")
+    doc["values"]["inertia.rolller"] = doc["values"].pop("inertia.roller")
+    problems = _problems(doc)
+    assert problems[0] == (
+        "calibration.json: inertia.rolller: not a key rollerrig calibrate fits (did you mean "
+        "'inertia.roller'?); allowed the keys `rollerrig calibrate --list-keys` lists; got "
+        "'inertia.rolller'"
+    )
+    assert "sensors.daq_rate" not in free_parameter_catalogue()
+    doc = calibration_doc()
+    doc["parameters"]["sensors.daq_rate"] = {"value": 1000.0, "standard_error": 1.0}
+    assert "calibration.json: sensors.daq_rate: not a key" in _problems(doc)[0]
+
+
+def test_the_second_copy_of_the_values_must_agree():
+    doc = calibration_doc()
+    doc["values"]["inertia.roller"] = 50.0
+    assert _problems(doc) == (
+        "calibration.json: values.inertia.roller: differs from parameters.inertia.roller.value "
+        "(45.2); the file states each value twice: edit both; got 50",
+    )
+
+
+@pytest.mark.parametrize(
+    ("matrix", "message"),
+    [
+        ([[1.0, 2.0, 0.0], [2.0, 1.0, 0.0], [0.0, 0.0, 1.0]], "outside [-1, 1]"),
+        ([[1.0, 0.9, 0.9], [0.9, 1.0, -0.9], [0.9, -0.9, 1.0]], "not positive semi-definite"),
+        ([[1.0, 0.5, 0.0], [0.1, 1.0, 0.0], [0.0, 0.0, 1.0]], "must be symmetric"),
+        ([[1.0, 0.1], [0.1, 1.0]], "must be a 3 x 3 array"),
+        ([[1.0, "x", 0.0], [0.1, 1.0, 0.0], [0.0, 0.0, 1.0]], "must be a 3 x 3 array"),
+        ([[0.5, 0.1, 0.0], [0.1, 1.0, 0.0], [0.0, 0.0, 1.0]], "1 on its diagonal"),
+    ],
+)
+def test_a_correlation_that_no_variables_can_have_is_refused(matrix, message):
+    # rho = 0.9, 0.9, -0.9 among three keys: eigenvalue 1 - 0.9 - 0.9 - ... < 0.
+    doc = calibration_doc()
+    doc["correlation"]["matrix"] = matrix
+    (line,) = _problems(doc)
+    assert line.startswith("calibration.json: correlation.matrix: ") and message in line
+
+
+def test_a_null_correlation_entry_is_unknown_not_an_error():
+    doc = calibration_doc()
+    doc["correlation"]["matrix"][0][1] = doc["correlation"]["matrix"][1][0] = None
+    assert check_calibration(doc) is doc
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        (b"", "not a JSON file"),
+        (b"\xff\xfe{", "not UTF-8"),
+        (b"[" * 100_000, "nested too deep"),
+        (b"[1, 2]", "must be a JSON object"),
+        (b'{"free": []}', "parameters: missing key"),
+        (b'{"parameters": 3}', "parameters: must be an object"),
+        (b'{"parameters": {"inertia.roller": 45}}', "inertia.roller: must be an object"),
+        (b'{"parameters": {"inertia.roller": {}}}', "inertia.roller.value: missing key"),
+        (b'{"parameters": {}, "warnings": [1]}', "warnings: must be an array of strings"),
+        (b'{"parameters": {}, "rig": {"parameters": 1}}', "rig.parameters: must be an object"),
+        (b'{"parameters": {}, "x": 1' + b"0" * 5000 + b"}", "not a JSON file"),
+    ],
+)
+def test_a_file_that_is_not_a_calibration_is_one_clear_error(tmp_path, content, message):
+    path = tmp_path / "calibration.json"
+    path.write_bytes(content)
+    with pytest.raises(CalibrationError) as info:
+        read_calibration(path)
+    assert str(info.value).startswith(f"{path}: ") and message in str(info.value)
+    assert isinstance(info.value, ParameterError)  # the CLI's boundary: one error line, exit 2
+
+
+def test_a_huge_file_is_refused_before_it_is_read(tmp_path):
+    path = tmp_path / "calibration.json"
+    with path.open("wb") as f:
+        f.truncate(MAX_CALIBRATION_BYTES + 1)
+    with pytest.raises(CalibrationError, match=r"too large for a calibration\.json"):
+        read_calibration(path)
+    with pytest.raises(FileNotFoundError):
+        read_calibration(tmp_path / "none.json")
+
+
+# --------------------------------------------------------------------------------------------
+# The rig binding (point 6)
+# --------------------------------------------------------------------------------------------
+
+
+def test_the_rig_it_was_made_on_and_its_calibrated_rig_are_the_same_rig():
+    rig = default_rig()
+    doc = calibration_doc(rig)
+    assert check_rig(doc, rig) == ("same rig", None)
+    calibrated = rig.with_overrides({k: v for k, (v, _, _) in CALIBRATED.items()})
+    calibrated = calibrated.model_copy(
+        update={"meta": calibrated.meta.model_copy(update={"name": "x-calibrated"})}
+    )
+    assert check_rig(doc, calibrated) == ("same rig", None)
+    # The record: every value outside [meta], the hash without the calibrated keys.
+    record = doc["rig"]
+    assert record["parameters"] == rig_values(rig)
+    assert record["sha256"] == rig_sha256(rig)
+    assert record["calibrated_keys"] == sorted(CALIBRATED)
+
+
+def test_another_rig_is_an_error_naming_both_rigs_and_the_keys_that_differ():
+    made_on = default_rig()
+    doc = calibration_doc(made_on)
+    doc["provenance"]["inputs"] = {"rig": {"path": "/rigs/pardubice.toml", "sha256": "ab"}}
+    other = made_on.with_overrides({"stiffness.am_mount": 2.0e5, "geometry.wheel_radius_x": 0.35})
+    with pytest.raises(CalibrationError) as info:
+        check_rig(doc, other, source="cal.json", rig_source="--rig other.toml")
+    (line,) = info.value.problems
+    assert line.startswith(
+        "cal.json: rig: made on another rig: they differ in stiffness.am_mount (500000 there, "
+        "200000 here), geometry.wheel_radius_x (0.348 there, 0.35 here). "
+    )
+    assert "--allow-other-rig" in line
+    here = rig_values(other)
+    here_hash = (
+        __import__("hashlib")
+        .sha256(
+            json.dumps(
+                {k: v for k, v in here.items() if k not in CALIBRATED},
+                sort_keys=True,
+                separators=(",", ":"),
+            ).encode()
+        )
+        .hexdigest()
+    )
+    assert (
+        f"allowed the rig 'pardubice-tram-roller-rig' (/rigs/pardubice.toml; sha256 "
+        f"{doc['rig']['parameters_sha256'][:12]}); got the rig 'pardubice-tram-roller-rig' "
+        f"(--rig other.toml; sha256 {here_hash[:12]})"
+    ) in line
+    # Insisting: a warning with the same facts, for the outputs' provenance.
+    status, warning = check_rig(doc, other, source="cal.json", allow_other_rig=True)
+    assert status == "other rig"
+    assert warning.startswith(
+        "cal.json: made on another rig, used as --allow-other-rig asks: made on rig 'pardubice"
+    )
+    assert "stiffness.am_mount (500000 there, 200000 here)" in warning
+
+
+def test_a_change_of_a_key_that_was_free_but_not_identified_is_another_rig():
+    # The fit assumed damping.wheel_shaft at the rig's value: changing it is another rig.
+    rig = default_rig()
+    doc = calibration_doc(rig)
+    with pytest.raises(CalibrationError, match=r"damping\.wheel_shaft"):
+        check_rig(doc, rig.with_overrides({"damping.wheel_shaft": 99.0}))
+
+
+def test_an_older_file_is_checked_by_the_hash_of_its_whole_rig():
+    rig = default_rig()
+    doc = calibration_doc(rig)
+    doc.pop("rig")
+    assert check_rig(doc, rig) == ("same rig", None)
+    calibrated = rig.with_overrides({k: v for k, (v, _, _) in CALIBRATED.items()})
+    meta = calibrated.meta.model_copy(
+        update={
+            "name": f"{rig.meta.name}-calibrated",
+            "description": f"{rig.meta.description} Calibrated by rollerrig calibrate on x: y.",
+        }
+    )
+    assert check_rig(doc, calibrated.model_copy(update={"meta": meta})) == ("same rig", None)
+    with pytest.raises(CalibrationError, match="records only the SHA-256 of its whole rig"):
+        check_rig(doc, rig.with_overrides({"stiffness.am_mount": 2.0e5}))
+
+
+def test_a_file_that_records_no_rig_is_a_warning():
+    doc = {"parameters": {"inertia.roller": {"value": 46.0, "standard_error": 0.5}}}
+    status, warning = check_rig(check_calibration(doc), default_rig(), rig_source="--rig a.toml")
+    assert status == "not recorded" and "cannot be checked" in warning and "a.toml" in warning
+
+
+def test_values_the_rig_in_use_does_not_take_name_the_key_and_field():
+    rig = default_rig()
+    doc = {"parameters": {"pmsm.max_current": {"value": 1.0, "standard_error": 0.1}}}
+    with pytest.raises(CalibrationError) as info:
+        check_values_on_rig(check_calibration(doc), rig, "cal.json")
+    (line,) = info.value.problems
+    assert line.startswith("cal.json: pmsm.max_current.value: must be >= rated_current [A]")
+    doc = {"parameters": {"inertia.roller": {"value": 1e6, "standard_error": 1.0}}}
+    with pytest.raises(CalibrationError, match=r"cal\.json: inertia\.roller\.value: not plaus"):
+        check_values_on_rig(check_calibration(doc), rig, "cal.json")
+    check_values_on_rig(calibration_doc(rig), rig)  # the calibration's own values pass
+
+
+# --------------------------------------------------------------------------------------------
+# Property: any JSON gives a result or the calibration's error, never another exception
+# --------------------------------------------------------------------------------------------
+
+JSON = st.recursive(
+    st.none()
+    | st.booleans()
+    | st.integers(min_value=-(10**30), max_value=10**30)
+    | st.floats(allow_nan=True, allow_infinity=True)
+    | st.text(max_size=12),
+    lambda inner: (
+        st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=12), inner, max_size=4)
+    ),
+    max_leaves=12,
+)
+PLACES = [
+    ("parameters",),
+    ("parameters", "inertia.roller"),
+    ("parameters", "inertia.roller", "value"),
+    ("parameters", "inertia.roller", "standard_error"),
+    ("parameters", "inertia.roller", "initial"),
+    ("parameters", "inertia.roller", "unit"),
+    ("parameters", "inertia.roller", "identified"),
+    ("parameters", "damping.wheel_shaft", "value"),
+    ("parameters", "roller_drive_vf.filter_time"),
+    ("values",),
+    ("values", "inertia.roller"),
+    ("correlation",),
+    ("correlation", "keys"),
+    ("correlation", "matrix"),
+    ("keys",),
+    ("warnings",),
+    ("recording",),
+    ("rig",),
+    ("rig", "parameters"),
+    ("rig", "calibrated_keys"),
+    ("provenance",),
+    ("provenance", "rig"),
+    ("provenance", "inputs"),
+]
+
+
+def _outcome(doc, rig):
+    """check_calibration, then the rig binding and the values on the rig, as analyze runs them:
+    a result or CalibrationError."""
+    try:
+        data = check_calibration(doc)
+        check_rig(data, rig, allow_other_rig=True)
+        check_values_on_rig(data, rig)
+    except CalibrationError:
+        return "error"
+    return "ok"
+
+
+@PROPERTIES
+@given(doc=JSON)
+def test_any_json_is_a_result_or_a_calibration_error(doc):
+    _outcome(doc, default_rig())
+
+
+@PROPERTIES
+@given(place=st.sampled_from(PLACES), value=JSON)
+def test_any_json_anywhere_in_a_calibration_is_a_result_or_a_calibration_error(place, value):
+    doc = copy.deepcopy(calibration_doc())
+    node = doc
+    for part in place[:-1]:
+        node = node[part]
+    node[place[-1]] = value
+    _outcome(doc, default_rig())
+
+
+@PROPERTIES
+@given(text=st.binary(max_size=64) | JSON.map(lambda v: json.dumps(v).encode()))
+def test_any_bytes_are_a_result_or_a_calibration_error(tmp_path_factory, text):
+    path = tmp_path_factory.mktemp("cal") / "calibration.json"
+    path.write_bytes(text)
+    try:
+        read_calibration(path)
+    except CalibrationError:
+        pass
