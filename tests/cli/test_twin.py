@@ -68,6 +68,27 @@ def test_simulate_rejects_bad_options(tmp_path, runner, args, message):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_roller_lag_is_refused_with_the_drive_that_takes_none(tmp_path, runner):
+    # Issue 24, point 9: --roller-lag-s was accepted with induction_dq (and put in the output's
+    # name) though that drive does not use it.
+    args = ["simulate", "--out", str(tmp_path), "--roller-drive", "induction_dq"]
+    result = runner.invoke(app, [*args, "--roller-lag-s", "0.3"])
+    assert result.exit_code == 2, result.output
+    assert " ".join(result.output.split()) == (
+        "error: --roller-lag-s 0.3 with --roller-drive induction_dq: that drive takes no response "
+        "lag (its dynamics are the dq machine's fluxes and its V/f controller, see the rig's "
+        "[roller_drive_vf]); leave out --roller-lag-s, or choose a --roller-drive that uses it: "
+        "induction, induction_linear, ideal_speed, servo"
+    )
+    assert list(tmp_path.iterdir()) == []
+    # The default (no --roller-lag-s) passes that check with induction_dq, and the lag passes it
+    # with a drive that uses it: both go on to the next error, the unknown experiment.
+    for more in ([], ["--roller-drive", "servo", "--roller-lag-s", "0.3"]):
+        result = runner.invoke(app, [*args, *more, "--experiment", "no-such-experiment"])
+        assert result.exit_code == 2, result.output
+        assert "no-such-experiment" in result.output and "--roller-lag-s" not in result.output
+
+
 @pytest.mark.slow  # compiles the twin unless cached (~20 s), then 0.5 s of replay
 def test_simulate_of_a_replay_never_overwrites_the_replayed_csv(tmp_path, runner):
     # Issue 8: the outputs are named after the experiment ("replay-example"); with --format

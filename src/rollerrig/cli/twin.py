@@ -143,7 +143,11 @@ def simulate(
         typer.Option(help="Roller drive: induction motor (V/f), its linear fit, ideal, servo."),
     ] = RollerDrive.induction,
     roller_lag_s: Annotated[
-        float | None, typer.Option(help="Roller-drive lag τ [s]; default from the rig (c_lp).")
+        float | None,
+        typer.Option(
+            help="Roller-drive lag τ [s]; default from the rig (c_lp). Not with --roller-drive "
+            "induction_dq (its dynamics are the machine's own)."
+        ),
     ] = None,
     frame: Annotated[
         FrameModel,
@@ -186,6 +190,7 @@ def simulate(
         require(module, purpose="rollerrig simulate")
     for module in _FORMAT_NEEDS.get(output_format.value, ()):
         require(module, purpose=f"rollerrig simulate --format {output_format.value}")
+    _lag_used_by(roller_drive, roller_lag_s)
     rig = load_rig(rig_file)
     drives = DriveConfig(
         wheel=wheel_drive.value,
@@ -245,6 +250,24 @@ def simulate(
     if release:
         console.print(release)
     print_written(stage.written)
+
+
+LAGLESS_ROLLER_DRIVES = (RollerDrive.induction_dq,)
+"""Roller drives that take no response lag τ (:class:`rollerrig.rig.model.DriveConfig`): the dq
+machine's dynamics are its fluxes and its V/f controller."""
+
+
+def _lag_used_by(roller_drive: RollerDrive, roller_lag_s: float | None) -> None:
+    """Refuse an explicitly given ``--roller-lag-s`` with a roller drive that ignores it (it
+    would only change the output's name)."""
+    if roller_lag_s is not None and roller_drive in LAGLESS_ROLLER_DRIVES:
+        raise UserError(
+            f"--roller-lag-s {roller_lag_s:g} with --roller-drive {roller_drive.value}: that "
+            "drive takes no response lag (its dynamics are the dq machine's fluxes and its V/f "
+            "controller, see the rig's [roller_drive_vf]); leave out --roller-lag-s, or choose "
+            "a --roller-drive that uses it: "
+            + ", ".join(d.value for d in RollerDrive if d not in LAGLESS_ROLLER_DRIVES)
+        )
 
 
 def _progress():
