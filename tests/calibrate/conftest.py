@@ -74,3 +74,65 @@ def random_truth(rng: np.random.Generator, spread: float = 0.03) -> dict:
 @pytest.fixture(scope="session")
 def truth_drawer():
     return random_truth
+
+
+# --------------------------------------------------------------------------------------------
+# calibration.json as rollerrig calibrate writes it (no fit): tests of calibfile and binding
+# --------------------------------------------------------------------------------------------
+
+CALIBRATED = {
+    "stiffness.roller_shaft": (47850.0, 1.7, 43500.0),
+    "inertia.roller": (45.2, 0.01, 45.0),
+}
+
+
+def _entry(value, se, initial, unit):
+    return {
+        "value": value,
+        "standard_error": se,
+        "unit": unit,
+        "initial": initial,
+        "identified": True,
+        "relative_standard_error": se / value,
+        "at_upper_bound": False,
+    }
+
+
+def _calibration_doc(rig=None) -> dict:
+    """A calibration.json as ``rollerrig calibrate`` writes it, made on ``rig`` (default: the
+    bundled rig) with two identified keys and one that is not."""
+    from rollerrig.calibrate.binding import rig_binding
+    from rollerrig.output import rig_sha256
+
+    rig = default_rig() if rig is None else rig
+    units = {"stiffness.roller_shaft": "N.m/rad", "inertia.roller": "kg.m^2"}
+    params = {k: _entry(v, se, i, units[k]) for k, (v, se, i) in CALIBRATED.items()}
+    params["damping.wheel_shaft"] = {
+        "value": None,
+        "standard_error": None,
+        "unit": "N.m.s/rad",
+        "initial": 10.0,
+        "identified": False,
+        "why_null": "relative standard error 3.2 > 0.5",
+    }
+    keys = [*CALIBRATED, "experiment.roller_speed"]
+    return {
+        "parameters": params,
+        "values": {k: v for k, (v, _, _) in CALIBRATED.items()},
+        "correlation": {
+            "keys": keys,
+            "matrix": [[1.0, 0.1, 0.0], [0.1, 1.0, -0.2], [0.0, -0.2, 1.0]],
+        },
+        "warnings": ["damping.wheel_shaft: relative standard error 3.2 > 0.5"],
+        "recording": {"source": "test.tdms"},
+        "rig": rig_binding(rig, CALIBRATED),
+        "provenance": {"software": "rollerrig", "inputs": {}, "rig": {"sha256": rig_sha256(rig)}},
+    }
+
+
+@pytest.fixture(scope="session")
+def calibration_doc():
+    """``calibration_doc(rig=None)``: a calibration.json as ``rollerrig calibrate`` writes it,
+    made on ``rig`` (default: the bundled rig), with :data:`CALIBRATED` identified and
+    ``damping.wheel_shaft`` not."""
+    return _calibration_doc

@@ -1,8 +1,10 @@
-"""``calibration.json`` read back (issue 24, points 6 and 8): every hand edit is one error in the
-one format naming ``file: key.field``; a calibration holds only for the rig it was made on.
+"""``calibration.json`` read back (issue 24, point 8): every hand edit is one error in the one
+format naming ``file: key.field``; whatever JSON it holds, reading it (and binding it to a rig,
+as ``analyze`` does) gives a result or the calibration's error.
 
 No fit runs here: the files are built as :meth:`Calibration.to_json` writes them (the
-parameters' entries, the correlation and the ``rig`` record of :func:`rig_binding`); the end to
+parameters' entries, the correlation and the ``rig`` record: the ``calibration_doc`` fixture of
+conftest.py); the end to
 end run through ``rollerrig calibrate`` and ``analyze`` is in ``tests/cli/test_calibrate.py``.
 """
 
@@ -18,16 +20,8 @@ from hypothesis import strategies as st
 
 from rollerrig._validation import ParameterError
 from rollerrig.calibrate import CalibrationError, free_parameter_catalogue
-from rollerrig.calibrate.calibfile import (
-    MAX_CALIBRATION_BYTES,
-    check_calibration,
-    check_rig,
-    check_values_on_rig,
-    read_calibration,
-    rig_binding,
-    rig_values,
-)
-from rollerrig.output import rig_sha256
+from rollerrig.calibrate.binding import check_rig, check_values_on_rig
+from rollerrig.calibrate.calibfile import MAX_CALIBRATION_BYTES, check_calibration, read_calibration
 from rollerrig.rig.parameters import default_rig
 
 PROPERTIES = settings(
@@ -37,52 +31,6 @@ PROPERTIES = settings(
     derandomize=True,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
-
-CALIBRATED = {
-    "stiffness.roller_shaft": (47850.0, 1.7, 43500.0),
-    "inertia.roller": (45.2, 0.01, 45.0),
-}
-
-
-def _entry(value, se, initial, unit):
-    return {
-        "value": value,
-        "standard_error": se,
-        "unit": unit,
-        "initial": initial,
-        "identified": True,
-        "relative_standard_error": se / value,
-        "at_upper_bound": False,
-    }
-
-
-def calibration_doc(rig=None) -> dict:
-    """A calibration.json as ``rollerrig calibrate`` writes it, made on ``rig`` (default: the
-    bundled rig) with two identified keys and one that is not."""
-    rig = default_rig() if rig is None else rig
-    units = {"stiffness.roller_shaft": "N.m/rad", "inertia.roller": "kg.m^2"}
-    params = {k: _entry(v, se, i, units[k]) for k, (v, se, i) in CALIBRATED.items()}
-    params["damping.wheel_shaft"] = {
-        "value": None,
-        "standard_error": None,
-        "unit": "N.m.s/rad",
-        "initial": 10.0,
-        "identified": False,
-        "why_null": "relative standard error 3.2 > 0.5",
-    }
-    keys = [*CALIBRATED, "experiment.roller_speed"]
-    return {
-        "parameters": params,
-        "values": {k: v for k, (v, _, _) in CALIBRATED.items()},
-        "correlation": {
-            "keys": keys,
-            "matrix": [[1.0, 0.1, 0.0], [0.1, 1.0, -0.2], [0.0, -0.2, 1.0]],
-        },
-        "warnings": ["damping.wheel_shaft: relative standard error 3.2 > 0.5"],
-        "recording": {"source": "test.tdms"},
-        "rig": rig_binding(rig, CALIBRATED),
-        "provenance": {"software": "rollerrig", "inputs": {}, "rig": {"sha256": rig_sha256(rig)}},
-    }
 
 
 def _write(tmp_path, doc, name="calibration.json") -> str:
@@ -98,7 +46,7 @@ def _problems(doc, source="calibration.json") -> tuple[str, ...]:
     return info.value.problems
 
 
-def test_a_calibration_as_written_is_accepted_unchanged(tmp_path):
+def test_a_calibration_as_written_is_accepted_unchanged(calibration_doc, tmp_path):
     doc = calibration_doc()
     assert read_calibration(_write(tmp_path, doc)) == json.loads(json.dumps(doc))
 
@@ -199,7 +147,9 @@ EDITS = [
 
 
 @pytest.mark.parametrize(("key", "field", "edited", "line"), EDITS)
-def test_each_hand_edit_is_one_error_naming_the_key_and_field(tmp_path, key, field, edited, line):
+def test_each_hand_edit_is_one_error_naming_the_key_and_field(
+    calibration_doc, tmp_path, key, field, edited, line
+):
     doc = calibration_doc()
     doc["parameters"][key][field] = edited
     doc.pop("values")  # the copy of the values has its own check, below
@@ -209,7 +159,7 @@ def test_each_hand_edit_is_one_error_naming_the_key_and_field(tmp_path, key, fie
     assert info.value.problems == (f"{path}: {line}",)
 
 
-def test_a_value_outside_the_rig_keys_range_is_the_rig_files_own_error():
+def test_a_value_outside_the_rig_keys_range_is_the_rig_files_own_error(calibration_doc):
     # Exactly as in a rig file: bearing.friction_coefficient in [0, 1), poisson in (0, 0.5),
     # and the [roller_drive_vf] ranges.
     doc = calibration_doc()
@@ -222,7 +172,7 @@ def test_a_value_outside_the_rig_keys_range_is_the_rig_files_own_error():
     )
 
 
-def test_a_key_calibrate_does_not_fit_is_named_with_the_closest_one():
+def test_a_key_calibrate_does_not_fit_is_named_with_the_closest_one(calibration_doc):
     doc = calibration_doc()
     doc["parameters"]["inertia.rolller"] = doc["parameters"].pop("inertia.roller")
     doc["values"]["inertia.rolller"] = doc["values"].pop("inertia.roller")
@@ -238,7 +188,7 @@ def test_a_key_calibrate_does_not_fit_is_named_with_the_closest_one():
     assert "calibration.json: sensors.daq_rate: not a key" in _problems(doc)[0]
 
 
-def test_the_second_copy_of_the_values_must_agree():
+def test_the_second_copy_of_the_values_must_agree(calibration_doc):
     doc = calibration_doc()
     doc["values"]["inertia.roller"] = 50.0
     assert _problems(doc) == (
@@ -258,7 +208,7 @@ def test_the_second_copy_of_the_values_must_agree():
         ([[0.5, 0.1, 0.0], [0.1, 1.0, 0.0], [0.0, 0.0, 1.0]], "1 on its diagonal"),
     ],
 )
-def test_a_correlation_that_no_variables_can_have_is_refused(matrix, message):
+def test_a_correlation_that_no_variables_can_have_is_refused(calibration_doc, matrix, message):
     # rho = 0.9, 0.9, -0.9 among three keys: eigenvalue 1 - 0.9 - 0.9 - ... < 0.
     doc = calibration_doc()
     doc["correlation"]["matrix"] = matrix
@@ -266,7 +216,7 @@ def test_a_correlation_that_no_variables_can_have_is_refused(matrix, message):
     assert line.startswith("calibration.json: correlation.matrix: ") and message in line
 
 
-def test_a_null_correlation_entry_is_unknown_not_an_error():
+def test_a_null_correlation_entry_is_unknown_not_an_error(calibration_doc):
     doc = calibration_doc()
     doc["correlation"]["matrix"][0][1] = doc["correlation"]["matrix"][1][0] = None
     assert check_calibration(doc) is doc
@@ -305,110 +255,6 @@ def test_a_huge_file_is_refused_before_it_is_read(tmp_path):
         read_calibration(path)
     with pytest.raises(FileNotFoundError):
         read_calibration(tmp_path / "none.json")
-
-
-# --------------------------------------------------------------------------------------------
-# The rig binding (point 6)
-# --------------------------------------------------------------------------------------------
-
-
-def test_the_rig_it_was_made_on_and_its_calibrated_rig_are_the_same_rig():
-    rig = default_rig()
-    doc = calibration_doc(rig)
-    assert check_rig(doc, rig) == ("same rig", None)
-    calibrated = rig.with_overrides({k: v for k, (v, _, _) in CALIBRATED.items()})
-    calibrated = calibrated.model_copy(
-        update={"meta": calibrated.meta.model_copy(update={"name": "x-calibrated"})}
-    )
-    assert check_rig(doc, calibrated) == ("same rig", None)
-    # The record: every value outside [meta], the hash without the calibrated keys.
-    record = doc["rig"]
-    assert record["parameters"] == rig_values(rig)
-    assert record["sha256"] == rig_sha256(rig)
-    assert record["calibrated_keys"] == sorted(CALIBRATED)
-
-
-def test_another_rig_is_an_error_naming_both_rigs_and_the_keys_that_differ():
-    made_on = default_rig()
-    doc = calibration_doc(made_on)
-    doc["provenance"]["inputs"] = {"rig": {"path": "/rigs/pardubice.toml", "sha256": "ab"}}
-    other = made_on.with_overrides({"stiffness.am_mount": 2.0e5, "geometry.wheel_radius_x": 0.35})
-    with pytest.raises(CalibrationError) as info:
-        check_rig(doc, other, source="cal.json", rig_source="--rig other.toml")
-    (line,) = info.value.problems
-    assert line.startswith(
-        "cal.json: rig: made on another rig: they differ in stiffness.am_mount (500000 there, "
-        "200000 here), geometry.wheel_radius_x (0.348 there, 0.35 here). "
-    )
-    assert "--allow-other-rig" in line
-    here = rig_values(other)
-    here_hash = (
-        __import__("hashlib")
-        .sha256(
-            json.dumps(
-                {k: v for k, v in here.items() if k not in CALIBRATED},
-                sort_keys=True,
-                separators=(",", ":"),
-            ).encode()
-        )
-        .hexdigest()
-    )
-    assert (
-        f"allowed the rig 'pardubice-tram-roller-rig' (/rigs/pardubice.toml; sha256 "
-        f"{doc['rig']['parameters_sha256'][:12]}); got the rig 'pardubice-tram-roller-rig' "
-        f"(--rig other.toml; sha256 {here_hash[:12]})"
-    ) in line
-    # Insisting: a warning with the same facts, for the outputs' provenance.
-    status, warning = check_rig(doc, other, source="cal.json", allow_other_rig=True)
-    assert status == "other rig"
-    assert warning.startswith(
-        "cal.json: made on another rig, used as --allow-other-rig asks: made on rig 'pardubice"
-    )
-    assert "stiffness.am_mount (500000 there, 200000 here)" in warning
-
-
-def test_a_change_of_a_key_that_was_free_but_not_identified_is_another_rig():
-    # The fit assumed damping.wheel_shaft at the rig's value: changing it is another rig.
-    rig = default_rig()
-    doc = calibration_doc(rig)
-    with pytest.raises(CalibrationError, match=r"damping\.wheel_shaft"):
-        check_rig(doc, rig.with_overrides({"damping.wheel_shaft": 99.0}))
-
-
-def test_an_older_file_is_checked_by_the_hash_of_its_whole_rig():
-    rig = default_rig()
-    doc = calibration_doc(rig)
-    doc.pop("rig")
-    assert check_rig(doc, rig) == ("same rig", None)
-    calibrated = rig.with_overrides({k: v for k, (v, _, _) in CALIBRATED.items()})
-    meta = calibrated.meta.model_copy(
-        update={
-            "name": f"{rig.meta.name}-calibrated",
-            "description": f"{rig.meta.description} Calibrated by rollerrig calibrate on x: y.",
-        }
-    )
-    assert check_rig(doc, calibrated.model_copy(update={"meta": meta})) == ("same rig", None)
-    with pytest.raises(CalibrationError, match="records only the SHA-256 of its whole rig"):
-        check_rig(doc, rig.with_overrides({"stiffness.am_mount": 2.0e5}))
-
-
-def test_a_file_that_records_no_rig_is_a_warning():
-    doc = {"parameters": {"inertia.roller": {"value": 46.0, "standard_error": 0.5}}}
-    status, warning = check_rig(check_calibration(doc), default_rig(), rig_source="--rig a.toml")
-    assert status == "not recorded" and "cannot be checked" in warning and "a.toml" in warning
-
-
-def test_values_the_rig_in_use_does_not_take_name_the_key_and_field():
-    rig = default_rig()
-    doc = {"parameters": {"pmsm.max_current": {"value": 1.0, "standard_error": 0.1}}}
-    with pytest.raises(CalibrationError) as info:
-        check_values_on_rig(check_calibration(doc), rig, "cal.json")
-    (line,) = info.value.problems
-    assert line.startswith("cal.json: pmsm.max_current.value: must be >= rated_current [A]")
-    doc = {"parameters": {"inertia.roller": {"value": 1e6, "standard_error": 1.0}}}
-    with pytest.raises(CalibrationError, match=r"cal\.json: inertia\.roller\.value: not plaus"):
-        check_values_on_rig(check_calibration(doc), rig, "cal.json")
-    check_values_on_rig(calibration_doc(rig), rig)  # the calibration's own values pass
 
 
 # --------------------------------------------------------------------------------------------
@@ -473,7 +319,9 @@ def test_any_json_is_a_result_or_a_calibration_error(doc):
 
 @PROPERTIES
 @given(place=st.sampled_from(PLACES), value=JSON)
-def test_any_json_anywhere_in_a_calibration_is_a_result_or_a_calibration_error(place, value):
+def test_any_json_anywhere_in_a_calibration_is_a_result_or_a_calibration_error(
+    calibration_doc, place, value
+):
     doc = copy.deepcopy(calibration_doc())
     node = doc
     for part in place[:-1]:

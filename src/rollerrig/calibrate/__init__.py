@@ -17,7 +17,9 @@ identify, and the calibrated rig (:attr:`Calibration.rig`), written by
 - :mod:`~rollerrig.calibrate.stats` — Newey–West covariance, whiteness checks;
 - :mod:`~rollerrig.calibrate.result` — :class:`Calibration` and its files;
 - :mod:`~rollerrig.calibrate.calibfile` — ``calibration.json`` read back and checked
-  (:func:`read_calibration`), bound to the rig it was made on (:func:`check_rig`).
+  (:func:`read_calibration`);
+- :mod:`~rollerrig.calibrate.binding` — a calibration bound to the rig it was made on
+  (:func:`check_rig`).
 
 Examples
 --------
@@ -26,7 +28,8 @@ Examples
 True
 """
 
-from rollerrig.calibrate.calibfile import check_calibration, check_rig, read_calibration
+from rollerrig.calibrate.binding import check_rig
+from rollerrig.calibrate.calibfile import check_calibration, read_calibration
 from rollerrig.calibrate.fit import FD_STEP, HAC_WINDOW, MAX_RELATIVE_SE, calibrate
 from rollerrig.calibrate.measurement import quantisation_noise
 from rollerrig.calibrate.problem import (

@@ -218,7 +218,7 @@ class Calibration:
         ``time`` [s] and per channel ``measured``, ``start`` and ``fitted`` arrays.
     start_rig : RigParameters or None
         The rig the calibration started from: recorded in ``calibration.json`` (``rig``,
-        :func:`rollerrig.calibrate.calibfile.rig_binding`), which binds the calibration to it.
+        :func:`rollerrig.calibrate.binding.rig_binding`), which binds the calibration to it.
     """
 
     parameters: dict[str, FittedParameter]
@@ -286,7 +286,7 @@ class Calibration:
         }
 
     def _rig_binding(self) -> dict[str, Any]:
-        from rollerrig.calibrate.calibfile import rig_binding
+        from rollerrig.calibrate.binding import rig_binding
 
         replaced = [
             k

@@ -168,7 +168,7 @@ def calibration_for(
         ``calibration_rig`` (``"same rig"``, ``"other rig"`` or ``"not recorded"``),
         ``calibration_rig_warning`` and ``allow_other_rig``; empty without ``--calibration``.
     """
-    from rollerrig.calibrate.calibfile import check_rig, check_values_on_rig
+    from rollerrig.calibrate.binding import check_rig, check_values_on_rig
     from rollerrig.cli._console import print_warning
 
     if path is None:
