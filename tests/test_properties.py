@@ -65,6 +65,9 @@ def originals(tmp_path_factory):
         "lvm": vf.labview_lvm(folder, rec),
         "mat5": vf.matlab_struct_mat(folder, rec, version="5"),
         "mat73": vf.matlab_struct_mat(folder, rec, version="7.3"),
+        "mat73cell": vf.matlab_struct_mat(
+            folder, rec, version="7.3", time_cell="scalars", name="cell.mat"
+        ),
     }
     return _Originals(
         {
@@ -99,7 +102,18 @@ def _check_read(path: Path, cmap) -> Recording | None:
     return rec
 
 
-FORMATS = ["tdms", "daqmx", "mf4", "picoscope", "catman", "bench", "lvm", "mat5", "mat73"]
+FORMATS = [
+    "tdms",
+    "daqmx",
+    "mf4",
+    "picoscope",
+    "catman",
+    "bench",
+    "lvm",
+    "mat5",
+    "mat73",
+    "mat73cell",  # the time a cell array of per-sample scalars (HDF5 object references)
+]
 
 
 @FAST
@@ -349,3 +363,63 @@ def _toml_dump(data: dict, prefix: str = "") -> str:
 def test_toml_dump_round_trips_the_maps(originals):
     for _, _, cmap in originals.values():
         assert tomllib.loads(_toml_dump(cmap)) == cmap
+
+
+# ----------------------------------------------------------- names, vendor files (issue 24)
+
+NAME_TEXT = st.text(st.characters(codec="utf-8", exclude_categories=["Cs"]), max_size=80)
+
+
+@FAST
+@given(names=st.lists(NAME_TEXT, min_size=1, max_size=12, unique=True))
+def test_every_name_maps_to_a_distinct_identifier(names):
+    import re
+
+    from rollerrig.output.varnames import MAX_NAME_LENGTH, storable_names
+
+    for fmt in ("nc", "mat"):
+        stored = storable_names(names, fmt, reserved=["time", "units"])
+        assert list(stored) == names
+        assert len(set(stored.values())) == len(names)
+        for given_name, name in stored.items():
+            assert re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name), (given_name, name)
+            assert len(name) <= MAX_NAME_LENGTH[fmt] and name not in ("time", "units")
+            if re.fullmatch(r"[A-Za-z][A-Za-z0-9_]{0,62}", given_name) and given_name not in (
+                "time",
+                "units",
+            ):
+                assert name == given_name
+
+
+@SLOW
+@given(names=st.lists(NAME_TEXT.filter(lambda n: n.strip() not in ("", "time")), min_size=1,
+                      max_size=5, unique_by=lambda n: n.strip()))  # fmt: skip
+def test_netcdf_and_mat_files_take_any_channel_name_and_keep_it(names):
+    import xarray as xr
+
+    from rollerrig.output import write_table
+
+    cols = {n: (np.arange(3.0) + i, "1") for i, n in enumerate(names)}
+    with tempfile.TemporaryDirectory() as d:
+        nc = write_table(Path(d) / "x.nc", cols, time=[0.0, 0.1, 0.2])
+        with xr.open_dataset(nc, engine="h5netcdf") as ds:
+            back = {v.attrs.get("original_name", k): v.values.tolist() for k, v in ds.items()}
+        # HDF5 strings hold no NUL: the original name keeps it escaped as \x00
+        expect = {n.replace("\x00", "\\x00"): i for i, n in enumerate(names)}
+        assert back == {n: (np.arange(3.0) + i).tolist() for n, i in expect.items()}
+        write_table(Path(d) / "x.mat", cols, time=[0.0, 0.1, 0.2])
+
+
+@FAST
+@given(
+    magic=st.sampled_from([b"|CF,", b"DEWESOFT"]),
+    tail=st.binary(max_size=64),
+    suffix=st.sampled_from([".raw", ".dxd", ".d7d", ".csv", ".mf4", ".mat", ".tdms", ".txt"]),
+)
+def test_vendor_files_not_read_are_named_whatever_their_suffix(magic, tail, suffix):
+    vendor = "imc FAMOS" if magic == b"|CF," else "Dewesoft"
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / f"file{suffix}"
+        path.write_bytes(magic + tail)
+        with pytest.raises(ParameterError, match=vendor):
+            read_recording(path)

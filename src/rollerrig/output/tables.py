@@ -370,9 +370,10 @@ def _mat73(cols, meta, tmp: Path) -> None:
 
 
 def _attr_value(value: Any) -> Any:
-    """A NetCDF attribute value: strings and finite numbers as they are, the rest as JSON."""
+    """A NetCDF attribute value: strings (a NUL, which HDF5 strings cannot hold, written as
+    ``\\x00``) and finite numbers as they are, the rest as JSON."""
     if isinstance(value, str | bool | np.bool_):
-        return str(value) if isinstance(value, str) else int(value)
+        return value.replace("\x00", "\\x00") if isinstance(value, str) else int(value)
     if isinstance(value, int | float | np.integer | np.floating) and np.isfinite(value):
         return value
     return json_text(value)
