@@ -3,6 +3,11 @@
 :func:`coa_recording` builds what the rig's DAQ records (torque with white noise, quantised
 encoder counts of wheel and roller, air-spring pressure with noise) around a known contact CoA,
 so that the dynamics correction's exact answer is known: T56 = μ r_r N − J5 α5 − R05.
+
+The wheel hangs on the rig's swinging arm: the air spring's force S is what the DAQ sees, the
+contact carries N = S + W_d + κ μ N, written here in closed form in μ,
+N = (S + W_d) / (1 − κ μ) (κ = σ h/l), independently of the correction's form, which solves
+for F_x.
 """
 
 from __future__ import annotations
@@ -42,14 +47,17 @@ def coa_recording(rig=None, *, seconds=12.0, fs=250.0, seed=0, torque_noise=1.0,
     w_w = (1 + np.interp(fine, t, creep)) * np.interp(fine, t, omega) * rr / rw
     steps = np.diff(fine) * 0.5 * (w_w[1:] + w_w[:-1])
     theta_w = np.interp(t, fine, np.concatenate([[0.0], np.cumsum(steps)])) + 0.11
-    load = 4300.0
+    spring = 4300.0  # the air spring's force S [N]
+    arm = rig.arm
+    kappa = (1.0 if arm.pivot_side == "rear" else -1.0) * arm.pivot_height / arm.arm_length
+    load = (spring + arm.dead_weight) / (1.0 - kappa * mu)  # at the contact
     bearing = b.friction_coefficient * b.roller_bearing_radius * (b.roller_subsystem_weight + load)
     t56 = mu * rr * load - j5 * alpha - bearing * np.tanh(omega / b.regularisation_speed)
     channels = {
         "torque": t56 + torque_noise * rng.standard_normal(t.size),
         "roller_encoder_counts": np.floor(theta_r * cpr / (2 * math.pi)),
         "wheel_encoder_counts": np.floor(theta_w * cpr / (2 * math.pi)),
-        "air_spring_pressure": load / area + pressure_noise * rng.standard_normal(t.size),
+        "air_spring_pressure": spring / area + pressure_noise * rng.standard_normal(t.size),
     }
     units = {"torque": "N.m", "roller_encoder_counts": "1", "wheel_encoder_counts": "1",
              "air_spring_pressure": "Pa"}  # fmt: skip
@@ -61,6 +69,29 @@ def coa_recording(rig=None, *, seconds=12.0, fs=250.0, seed=0, torque_noise=1.0,
 def closed_form_test():
     """:func:`coa_recording` with the default rig and seed 0."""
     return coa_recording()
+
+
+NO_ARM = {
+    "arm.pivot_height": 0.0,
+    "arm.pivot_height_tolerance": 0.0,
+    "arm.arm_length_tolerance": 0.0,
+    "arm.dead_weight_uncertainty": 0.0,
+}
+"""Rig overrides of a contact that carries exactly the air-spring force (no arm transfer, known
+exactly): the rig the GUM and Monte Carlo machinery tests were derived for, where the sensors'
+own inputs dominate."""
+
+
+def no_arm_rig():
+    """The default rig with :data:`NO_ARM`."""
+    return default_rig().with_overrides(NO_ARM)
+
+
+@pytest.fixture(scope="session")
+def closed_form_no_arm():
+    """:func:`coa_recording` on :func:`no_arm_rig`, seed 0: ``(rig, recording, μ, release)``."""
+    rig = no_arm_rig()
+    return (rig, *coa_recording(rig))
 
 
 @pytest.fixture(scope="session")

@@ -37,6 +37,8 @@ def test_correction_brings_the_rig_coa_to_the_contact_coa(measured):
         bearing_radius=b.roller_bearing_radius,
         roller_weight=b.roller_subsystem_weight,
         regularisation_speed=b.regularisation_speed,
+        load_transfer=rig.arm.transfer_ratio,
+        dead_weight=rig.arm.dead_weight,
     )
     true = truth["coa"].values
     raw_error = np.sqrt(np.mean((rec["coa"] - true) ** 2))

@@ -37,10 +37,10 @@ def test_numerical_tolerance_of_jcgm101_7_9_2():
     assert float(numerical_tolerance(0.0)) == 0.0
 
 
-def test_lpu_and_monte_carlo_agree_where_the_model_is_near_linear(closed_form_test):
+def test_lpu_and_monte_carlo_agree_where_the_model_is_near_linear(closed_form_no_arm):
     """Default inputs: relative uncertainties of a few % -> u agrees to within δ at every point."""
-    rec, _, release = closed_form_test
-    unc = _unc(rec, releases=[release], quiet=[(0.0, 2.0)])
+    rig0, rec, _, release = closed_form_no_arm
+    unc = _unc(rec, rig0, releases=[release], quiet=[(0.0, 2.0)])
     mc = monte_carlo(unc, POINTS, seed=1, adaptive=False, max_runs=10)
     v = jcgm101_validation(unc, mc)
     assert mc.draws == 100_000
@@ -49,11 +49,11 @@ def test_lpu_and_monte_carlo_agree_where_the_model_is_near_linear(closed_form_te
     assert np.all(np.abs(mc.mean - unc.value[POINTS]) < 0.05 * unc.u[POINTS])
 
 
-def test_the_gum_interval_is_validated_for_an_additive_normal_model(closed_form_test):
+def test_the_gum_interval_is_validated_for_an_additive_normal_model(closed_form_no_arm):
     """JCGM 101 §8 passes where the model is additive in normal inputs: classes, tolerances,
     J5 and the area set to no uncertainty (noise, quantisation and bearing loss remain)."""
-    rec, _, _ = closed_form_test
-    rig = RIG.with_overrides({
+    rig0, rec, _, _ = closed_form_no_arm
+    rig = rig0.with_overrides({
         "sensors.torque_sensor_accuracy": 0.0, "sensors.pressure_sensor_accuracy": 0.0,
         "sensors.roller_radius_tolerance": 0.0, "sensors.roller_inertia_uncertainty": 0.0,
         "sensors.air_spring_area_uncertainty": 0.0,
@@ -65,12 +65,12 @@ def test_the_gum_interval_is_validated_for_an_additive_normal_model(closed_form_
     assert np.all(v["interval_validated"]), (v["d_low"] / v["delta"], v["d_high"] / v["delta"])
 
 
-def test_second_order_terms_skew_the_output_at_high_coa(closed_form_test):
+def test_second_order_terms_skew_the_output_at_high_coa(closed_form_no_arm):
     """With the default inputs u agrees, but 1/N (2.3 % pressure class, 2 % area) skews the
     output at CoA 0.3: the MC interval is asymmetric about y by more than the 2-digit
     tolerance, so §8 does not validate y ± 1.96 u there (a real, small effect: 0.15 u)."""
-    rec, _, _ = closed_form_test
-    rig = RIG.with_overrides({"sensors.pressure_sensor_accuracy": 0.0})  # area alone, normal
+    rig0, rec, _, _ = closed_form_no_arm
+    rig = rig0.with_overrides({"sensors.pressure_sensor_accuracy": 0.0})  # area alone, normal
     unc = _unc(rec, rig)
     mc = monte_carlo(unc, [1700], seed=6, adaptive=False, max_runs=50)
     y, u = unc.value[1700], unc.u[1700]
@@ -81,11 +81,11 @@ def test_second_order_terms_skew_the_output_at_high_coa(closed_form_test):
     assert jcgm101_validation(unc, mc)["u_agrees"][0]
 
 
-def test_a_dominant_rectangular_input_gives_a_narrower_95_percent_interval(closed_form_test):
+def test_a_dominant_rectangular_input_gives_a_narrower_95_percent_interval(closed_form_no_arm):
     """Pressure class dominant at the hold: the output is nearly rectangular, so its 95 %
     interval is ±0.95·√3·u = ±1.645 u, not ±1.96 u: §8 rejects the GUM interval there."""
-    rec, _, _ = closed_form_test
-    rig = RIG.with_overrides({"sensors.pressure_sensor_accuracy": 0.02,
+    rig0, rec, _, _ = closed_form_no_arm
+    rig = rig0.with_overrides({"sensors.pressure_sensor_accuracy": 0.02,
                               "sensors.air_spring_area_uncertainty": 0.0})  # fmt: skip
     unc = _unc(rec, rig)
     hold = np.array([1600, 1650, 1700])

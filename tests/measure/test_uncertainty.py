@@ -44,6 +44,7 @@ def test_value_is_the_corrected_coa_and_it_finds_the_contact(closed_form_test):
         roller_radius=RIG.geometry.roller_radius_x, roller_inertia=RIG.inertia.roller,
         bearing_friction=b.friction_coefficient, bearing_radius=b.roller_bearing_radius,
         roller_weight=b.roller_subsystem_weight, window=WINDOW, order=4,
+        load_transfer=RIG.arm.transfer_ratio, dead_weight=RIG.arm.dead_weight,
     )  # fmt: skip
     np.testing.assert_allclose(unc.value, terms.coa, rtol=1e-12, atol=1e-13)
     quiet = (rec.time > 1) & (rec.time < 6.5)  # away from the ends and the release
@@ -72,6 +73,7 @@ def test_sensitivities_are_the_derivatives_of_the_model(closed_form_test):
         t56=terms.torque[i], d_t=0.0, e_t=0.0, alpha=terms.acceleration[i], e_a=0.0,
         p=m["pressure"][i], d_p=0.0, e_p=0.0, area=p["area"], radius=p["radius"], j5=p["j5"],
         k_b=1.0, f_g=p["f_g"], r_b=p["r_b"], w_r=p["w_r"], th=m["th"][i],
+        kappa=p["sign"] * p["h"] / p["l"], w_d=p["w_d"],
     )  # fmt: skip
     np.testing.assert_allclose(_coa(**base), unc.value[i], rtol=1e-12)
     inputs = {
@@ -81,12 +83,19 @@ def test_sensitivities_are_the_derivatives_of_the_model(closed_form_test):
         "roller_inertia": ("j5", 0.1), "bearing_loss": ("k_b", 0.01),
         "bearing_friction": ("f_g", 1e-4), "bearing_radius": ("r_b", 1e-4),
         "roller_weight": ("w_r", 10.0), "encoder_quantisation": ("e_a", 1e-3),
+        "arm_dead_weight": ("w_d", 1.0),
     }  # fmt: skip
     for name, (arg, h) in inputs.items():
         up = _coa(**{**base, arg: base[arg] + h})
         down = _coa(**{**base, arg: base[arg] - h})
         c = m["sensitivity"][name][i]
         np.testing.assert_allclose(c, (up - down) / (2 * h), rtol=1e-5, err_msg=name)
+    # The arm's geometry enters through κ = σ h/l.
+    for name, dh, dl in (("arm_pivot_height", 1e-4, 0.0), ("arm_length", 0.0, 1e-4)):
+        up = _coa(**{**base, "kappa": p["sign"] * (p["h"] + dh) / (p["l"] + dl)})
+        down = _coa(**{**base, "kappa": p["sign"] * (p["h"] - dh) / (p["l"] - dl)})
+        c = m["sensitivity"][name][i]
+        np.testing.assert_allclose(c, (up - down) / (2 * (dh + dl)), rtol=1e-5, err_msg=name)
 
 
 def test_quantisation_through_the_derivative_matches_a_simulated_encoder(make_coa_recording):
@@ -154,16 +163,39 @@ def test_the_systematic_inputs_come_from_the_rig_file(closed_form_test):
     assert {i.kind for i in inputs.values()} == {"systematic", "random", "residual"}
 
 
-def test_pressure_class_dominates_at_high_coa_and_quantisation_at_rest(closed_form_test):
-    """At 4.3 kN (0.86 bar on a 10 bar sensor) the load's accuracy dominates at CoA 0.3."""
-    rec, _, release = closed_form_test
-    unc = _unc(rec, releases=[release], quiet=[(0.0, 2.0)])
+def test_pressure_class_dominates_at_high_coa_and_quantisation_at_rest(closed_form_no_arm):
+    """At 4.3 kN (0.86 bar on a 10 bar sensor) the load's accuracy dominates at CoA 0.3 when the
+    contact carries the air spring's force (no arm)."""
+    rig0, rec, _, release = closed_form_no_arm
+    unc = _unc(rec, rig0, releases=[release], quiet=[(0.0, 2.0)])
     hold = (rec.time > 6.2) & (rec.time < 6.9)
     free = (rec.time > 0.5) & (rec.time < 1.8)
     assert unc.dominant(hold) == "pressure_class"
     assert unc.dominant(free) == "encoder_quantisation"
     # U at the 0.3 hold: 2·√(0.3²·(0.0235² + 0.02²) + ...) ≈ 0.019
     assert float(np.median(unc.expanded[hold])) == pytest.approx(0.019, abs=0.002)
+
+
+def test_the_arm_dominates_at_high_coa_when_its_geometry_is_only_assumed(closed_form_test):
+    """The default rig's arm is an assumption (h ± 0.15 m, l ± 0.15 m rectangular, W_d 200 N):
+    at CoA 0.3 on 4.3 kN its terms outweigh the pressure sensor's class. Closed forms of
+    μ = F/(S + W_d + κF) at fixed F (the bearing's share is 0.1 %): ∂μ/∂W_d = −F/N² = −μ/N and
+    ∂μ/∂κ = −F²/N² = −μ², with N = S/(1 − κμ) at the hold."""
+    rec, _, release = closed_form_test
+    unc = _unc(rec, releases=[release], quiet=[(0.0, 2.0)])
+    hold = (rec.time > 6.2) & (rec.time < 6.9)
+    assert unc.dominant(hold) in ("arm_dead_weight", "arm_pivot_height")
+    arm = RIG.arm
+    kappa = arm.transfer_ratio
+    n_c = 4300.0 / (1 - kappa * 0.3)
+    expected_wd = 0.3 / n_c * arm.dead_weight_uncertainty
+    got = float(np.median(unc.contributions["arm_dead_weight"][hold]))
+    assert got == pytest.approx(expected_wd, rel=0.03)
+    u_kappa = arm.transfer_ratio_uncertainty
+    expected_kappa = 0.3**2 * u_kappa
+    got_h = float(np.median(np.hypot(unc.contributions["arm_pivot_height"][hold],
+                                     unc.contributions["arm_length"][hold])))  # fmt: skip
+    assert got_h == pytest.approx(expected_kappa, rel=0.03)
 
 
 def test_release_residual_is_stated_and_decays():

@@ -203,7 +203,7 @@ def test_hz_bandwidth_is_angular():
             "[sensor]",
             "sensor: unknown section (did you mean 'sensors'?); allowed 'meta', 'inertia', "
             "'stiffness', 'damping', 'geometry', 'material', 'bearing', 'pmsm', "
-            "'induction_motor', 'servo_roller_drive', 'sensors', 'frame', 'roller_drive_vf'",
+            "'induction_motor', 'servo_roller_drive', 'sensors', 'frame', 'roller_drive_vf', 'arm'",
         ),
         (
             'value = 2.75, unit = "1/s"',

@@ -282,6 +282,8 @@ def _smoothed_and_corrected(rec: Recording, rig, window: int, order: int) -> Rec
         regularisation_speed=b.regularisation_speed,
         window=_odd(CORRECTION_WINDOW * fs),
         order=4,
+        load_transfer=rig.arm.transfer_ratio,
+        dead_weight=rig.arm.dead_weight,
     )
     return rec.with_channels(
         torque_smoothed=torque_s,
@@ -351,13 +353,20 @@ def _polach_fits(
         notes.append("too few ascending-branch points for a Polach fit")
         return None, None
     creep_s, slip_s = rec["creep_smoothed"], rec["slip_velocity_smoothed"]
-    load = rec["normal_load"][points]
-    stiffness = creep_stiffness_for_rig(float(np.median(load)), rig)
+    spring = rec["normal_load"][points]
+    corrected = rec["coa_corrected"][points]
+    # The corrected CoA is on the contact's load N = S + W_d + κ μ N (the swinging arm), the
+    # rig's on the air-spring force S it measures.
+    arm = rig.arm
+    contact_load = (spring + arm.dead_weight) / (1.0 - arm.transfer_ratio * corrected)
     fits = []
-    for label, coa_points in (
-        ("corrected CoA", rec["coa_corrected"][points]),
-        ("rig CoA", rec["coa_smoothed"][points]),
+    for label, coa_points, load in (
+        ("corrected CoA", corrected, contact_load),
+        ("rig CoA", rec["coa_smoothed"][points], spring),
     ):
+        # Kalker's stiffness scales with N^(2/3) (Hertz at a fixed a/b): per point, as the twin.
+        q_med = float(np.median(load))
+        stiffness = creep_stiffness_for_rig(q_med, rig) * np.cbrt((load / q_med) ** 2)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             fits.append(

@@ -8,6 +8,15 @@ motion gives the contact force exactly (DESIGN.md §3; Kayaalp eq. 4.5 with cons
 
 with α5 the roller's angular acceleration (here the Savitzky-Golay derivative of the measured
 roller speed) and R05 = f_g (W_r + N) r_b tanh(ω5/ω_reg) the bearing loss torque.
+
+The rig divides by the air-spring force S it measures, but the wheel hangs on a swinging arm:
+the load at the contact is N = S + W_d + κ F_x with κ = σ h/l
+(:class:`rollerrig.rig.sections.ArmParameters`). The bearing loss grows with N, so F_x solves
+
+.. math:: F_x (r_r - κ b) = T_{56} + J_5 \\alpha_5 + b (W_r + S + W_d),
+          \\qquad b = f_g r_b \\tanh(\\omega_5/\\omega_{reg})
+
+and the corrected CoA is F_x / N. With κ = 0 and W_d = 0 this is the correction above.
 """
 
 from __future__ import annotations
@@ -36,6 +45,8 @@ def corrected_adhesion(
     regularisation_speed: float = 0.05,
     window: int = 51,
     order: int = 4,
+    load_transfer: float = 0.0,
+    dead_weight: float = 0.0,
 ):
     """Contact-force CoA from the torque sensor, corrected for roller inertia and bearing loss.
 
@@ -48,7 +59,7 @@ def corrected_adhesion(
     roller_speed : array_like
         Roller angular speed ω5 [rad/s].
     normal_load : array_like
-        N [N].
+        The load the rig measures, the air-spring force S [N].
     sample_rate : float
         [Hz].
     roller_radius : float
@@ -65,6 +76,11 @@ def corrected_adhesion(
         ω_reg of the bearing model [rad/s].
     window, order : int
         Savitzky-Golay window [samples] and order for the torque, speed and acceleration.
+    load_transfer : float
+        κ = σ h/l of the swinging arm [1] (:attr:`ArmParameters.transfer_ratio
+        <rollerrig.rig.sections.ArmParameters.transfer_ratio>`); 0: the contact carries S.
+    dead_weight : float
+        W_d, weight on the contact outside S [N].
 
     Returns
     -------
@@ -97,6 +113,8 @@ def corrected_adhesion(
         regularisation_speed=regularisation_speed,
         window=window,
         order=order,
+        load_transfer=load_transfer,
+        dead_weight=dead_weight,
     )
     return terms.coa, terms.acceleration
 
@@ -116,11 +134,17 @@ class CorrectionTerms:
     bearing_torque : ndarray
         R05 [N.m].
     normal_load : ndarray
-        N [N] (as given, not smoothed).
+        The air-spring force S [N] (as given, not smoothed).
     coa : ndarray
-        μ_corr = (T56 + J5 α5 + R05)/(r_r N) [-].
+        μ_corr = F_x / N_c [-].
     window, order : int
         The Savitzky-Golay window [samples] and order used.
+    contact_force : ndarray
+        F_x = (T56 + J5 α5 + R05)/r_r [N].
+    contact_load : ndarray
+        N_c = S + W_d + κ F_x [N], the load at the contact.
+    load_transfer, dead_weight : float
+        κ [1] and W_d [N] of the swinging arm used.
     """
 
     torque: np.ndarray
@@ -131,6 +155,10 @@ class CorrectionTerms:
     coa: np.ndarray
     window: int
     order: int
+    contact_force: np.ndarray | None = None
+    contact_load: np.ndarray | None = None
+    load_transfer: float = 0.0
+    dead_weight: float = 0.0
 
 
 def correction_terms(
@@ -147,6 +175,8 @@ def correction_terms(
     regularisation_speed: float = 0.05,
     window: int = 51,
     order: int = 4,
+    load_transfer: float = 0.0,
+    dead_weight: float = 0.0,
 ) -> CorrectionTerms:
     """The smoothed torque and speed, α5, R05 and μ_corr of :func:`corrected_adhesion`.
 
@@ -165,6 +195,15 @@ def correction_terms(
     ...     bearing_radius=0.065, roller_weight=5000.0)
     >>> round(float(terms.bearing_torque[0]), 6), round(float(terms.coa[0]), 6)
     (6.825, 0.021365)
+
+    With a swinging arm that adds half the contact force to the load (κ = 0.5), the same
+    torque is the same force on a larger load:
+
+    >>> arm = correction_terms(np.full(500, 100.0), np.full(500, 20.0), np.full(500, 1e4),
+    ...     250.0, roller_radius=0.5, roller_inertia=45.0, bearing_friction=0.007,
+    ...     bearing_radius=0.065, roller_weight=5000.0, load_transfer=0.5)
+    >>> round(float(arm.contact_load[0]), 3), round(float(arm.coa[0]), 6)
+    (10106.874, 0.021149)
     """
     t56 = require_finite("torque", torque, "N.m")
     w = require_finite("roller_speed", roller_speed, "rad/s")
@@ -172,15 +211,19 @@ def correction_terms(
     fs = float(require_positive("sample_rate", sample_rate, "Hz"))
     rr = float(require_positive("roller_radius", roller_radius, "m"))
     j5 = float(require_positive("roller_inertia", roller_inertia, "kg.m^2"))
+    kappa = float(require_finite("load_transfer", load_transfer, "1"))
+    w_d = float(require_finite("dead_weight", dead_weight, "N"))
     t56_s = savitzky_golay(t56, window, order)
     w_s = savitzky_golay(w, window, order)
     alpha = savitzky_golay(w, window, order, deriv=1, sample_rate=fs)
-    bearing = (
-        bearing_friction
-        * bearing_radius
-        * (roller_weight + n)
-        * np.tanh(w_s / regularisation_speed)
-    )
+    b = bearing_friction * bearing_radius * np.tanh(w_s / regularisation_speed)
     n = np.broadcast_to(n, t56_s.shape)
-    coa = (t56_s + j5 * alpha + bearing) / (rr * n)
-    return CorrectionTerms(t56_s, w_s, alpha, bearing, n, coa, int(window), int(order))
+    # F_x (r_r − κ b) = T56 + J5 α5 + b (W_r + S + W_d): the bearing loss at the contact's load.
+    force = (t56_s + j5 * alpha + b * (roller_weight + n + w_d)) / (rr - kappa * b)
+    contact_load = n + w_d + kappa * force
+    bearing = b * (roller_weight + contact_load)
+    coa = force / contact_load
+    return CorrectionTerms(
+        t56_s, w_s, alpha, bearing, n, coa, int(window), int(order),
+        force, contact_load, kappa, w_d,
+    )  # fmt: skip

@@ -51,11 +51,14 @@ def numerical_tolerance(u, ndig: int = 2):
     return np.where(u > 0, 0.5 * 10.0**exponent, 0.0)
 
 
-def _coa(t56, d_t, e_t, alpha, e_a, p, d_p, e_p, area, radius, j5, k_b, f_g, r_b, w_r, th):
-    """μ_corr of the measurement model (module docstring) [-]; arrays broadcast."""
+def _coa(t56, d_t, e_t, alpha, e_a, p, d_p, e_p, area, radius, j5, k_b, f_g, r_b, w_r, th,
+         kappa=0.0, w_d=0.0):  # fmt: skip
+    """μ_corr of the measurement model (:mod:`rollerrig.measure.uncertainty`) [-]; arrays
+    broadcast. ``kappa`` [1], ``w_d`` [N]: the swinging arm's σ h/l and dead weight."""
     load = (p + d_p + e_p) * area
-    num = t56 + d_t + e_t + j5 * (alpha + e_a) + k_b * f_g * r_b * (w_r + load) * th
-    return num / (radius * load)
+    b = k_b * f_g * r_b * th
+    force = (t56 + d_t + e_t + j5 * (alpha + e_a) + b * (w_r + load + w_d)) / (radius - kappa * b)
+    return force / (load + w_d + kappa * force)
 
 
 @dataclass
@@ -141,6 +144,12 @@ def _draw(unc: CoaUncertainty, index: np.ndarray, size: int, rng) -> np.ndarray:
         "w_r": np.full(shape, p["w_r"]),
     }
     k_b = systematic("bearing_loss", 1.0) if "bearing_loss" in u_sys else np.ones(shape)
+    if "h" in p:  # the swinging arm (rig files before it have none)
+        h = systematic("arm_pivot_height", p["h"])
+        arm_l = systematic("arm_length", p["l"])
+        kappa, w_d = p["sign"] * h / arm_l, systematic("arm_dead_weight", p["w_d"])
+    else:
+        kappa, w_d = 0.0, 0.0
     names = m["calibrated"]
     if names:  # multivariate normal with the calibration's covariance
         est = {
@@ -179,7 +188,7 @@ def _draw(unc: CoaUncertainty, index: np.ndarray, size: int, rng) -> np.ndarray:
     mu = _coa(
         terms.torque[index], d_t, e_t, terms.acceleration[index], e_a, m["pressure"][index],
         d_p, e_p, drawn["area"], drawn["radius"], drawn["j5"], k_b, drawn["f_g"], drawn["r_b"],
-        drawn["w_r"], m["th"][index],
+        drawn["w_r"], m["th"][index], kappa, w_d,
     )  # fmt: skip
     return mu + res
 

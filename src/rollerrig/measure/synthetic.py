@@ -379,7 +379,9 @@ def synthetic_recording(
             torque_lines += amp * np.sin(mult * angle + phase)
 
     t56 = np.asarray(ds["t56"].values, dtype=float)
-    load = np.asarray(ds["normal_load"].values, dtype=float)
+    # The DAQ sees the air spring's pressure: its force S, not the contact's load (the arm).
+    spring = "air_spring_force" if "air_spring_force" in ds else "normal_load"
+    load = np.asarray(ds[spring].values, dtype=float)
     torque_analog = t56 + torque_lines + a.torque_noise * rng.standard_normal(t_twin.size)
     pressure_analog = load / area + a.pressure_noise * rng.standard_normal(t_twin.size)
     # Laser at the torque sensor (Kayaalp 4.5.2.1): the shaft's eccentricity runs at the roller

@@ -3,12 +3,17 @@
 Measurement model (per sample; :mod:`rollerrig.measure.correction`)
 
 .. math::
-    \\mu_{corr} = \\frac{T_{56} + \\delta T + e_T + J_5 (\\alpha_5 + e_\\alpha)
-                  + k_b f_g r_b (W_r + N) \\tanh(\\omega_5/\\omega_{reg})}{r_r N} + e_{res},
-    \\qquad N = (p + \\delta p + e_p) A
+    \\mu_{corr} = \\frac{F_x}{N_c} + e_{res}, \\qquad
+    F_x = \\frac{T_{56} + \\delta T + e_T + J_5 (\\alpha_5 + e_\\alpha) + k_b b (W_r + S + W_d)}
+               {r_r - κ k_b b}, \\qquad N_c = S + W_d + κ F_x,
+
+    S = (p + \\delta p + e_p) A, \\qquad b = f_g r_b \\tanh(\\omega_5/\\omega_{reg}),
+    \\qquad κ = σ h / l
 
 with T56, α5, ω5 the Savitzky-Golay estimates of the correction, p the air-spring pressure
-(N/A when the recording gives the load), and these inputs (:data:`INPUT_NAMES`):
+(S/A when the recording gives the load), the swinging arm's load transfer κ and dead weight
+W_d (:class:`rollerrig.rig.sections.ArmParameters`: the rig measures S, the contact carries
+N_c), and these inputs (:data:`INPUT_NAMES`):
 
 ============================  ==========  ============  =========================================
 input                         kind        distribution  standard uncertainty
@@ -24,6 +29,9 @@ input                         kind        distribution  standard uncertainty
                                                         calibrated: then those, normal)
 ``encoder_quantisation`` e_α  random      normal        √(1/12) count through the encoder speed
                                                         and the derivative weights, ‖a_i‖
+``arm_pivot_height`` h        systematic  rectangular   tolerance / √3 (rig ``arm``)
+``arm_length`` l              systematic  rectangular   tolerance / √3 (rig ``arm``)
+``arm_dead_weight`` W_d       systematic  normal        stated (rig ``arm``)
 ``residual_steady``           residual    normal        type A: in-band disturbances in quiet
                                                         phases
 ``residual_release``          residual    normal        stated (twin): after each release
@@ -115,6 +123,9 @@ INPUT_NAMES = (
     "bearing_radius",
     "roller_weight",
     "encoder_quantisation",
+    "arm_pivot_height",
+    "arm_length",
+    "arm_dead_weight",
     "residual_steady",
     "residual_release",
 )
@@ -517,6 +528,8 @@ def corrected_coa_uncertainty(
         regularisation_speed=b.regularisation_speed,
         window=window,
         order=order,
+        load_transfer=rig.arm.transfer_ratio,
+        dead_weight=rig.arm.dead_weight,
     )
     area, radius, j5 = s.air_spring_effective_area, g.roller_radius_x, rig.inertia.roller
     f_g, r_b, w_r = b.friction_coefficient, b.roller_bearing_radius, b.roller_subsystem_weight
@@ -583,6 +596,9 @@ def corrected_coa_uncertainty(
         "roller_radius": s.roller_radius_tolerance / math.sqrt(3.0),
         "roller_inertia": s.roller_inertia_uncertainty * j5,
         "bearing_loss": s.bearing_loss_uncertainty,
+        "arm_pivot_height": rig.arm.pivot_height_tolerance / math.sqrt(3.0),
+        "arm_length": rig.arm.arm_length_tolerance / math.sqrt(3.0),
+        "arm_dead_weight": rig.arm.dead_weight_uncertainty,
     }
     dist = {
         "torque_class": "rectangular",
@@ -591,6 +607,9 @@ def corrected_coa_uncertainty(
         "roller_radius": "rectangular" if s.roller_radius_tolerance > 0 else "normal",
         "roller_inertia": "normal",
         "bearing_loss": "normal",
+        "arm_pivot_height": "rectangular",
+        "arm_length": "rectangular",
+        "arm_dead_weight": "normal",
     }
     basis = {
         "torque_class": f"accuracy class {s.torque_sensor_accuracy:g} of "
@@ -605,6 +624,12 @@ def corrected_coa_uncertainty(
         "(sensors.roller_inertia_uncertainty)",
         "bearing_loss": f"{s.bearing_loss_uncertainty:g} relative of R05 "
         "(sensors.bearing_loss_uncertainty)",
+        "arm_pivot_height": f"tolerance ±{rig.arm.pivot_height_tolerance:g} m of the swinging "
+        "arm's pivot height (arm.pivot_height_tolerance)",
+        "arm_length": f"tolerance ±{rig.arm.arm_length_tolerance:g} m of the arm's length "
+        "(arm.arm_length_tolerance)",
+        "arm_dead_weight": f"{rig.arm.dead_weight_uncertainty:g} N standard "
+        "(arm.dead_weight_uncertainty)",
     }
     calibrated: list[str] = []
     covariance = np.zeros((0, 0))
@@ -635,23 +660,36 @@ def corrected_coa_uncertainty(
                 "calibration: the bearing loss's stated uncertainty is replaced by "
                 "the calibrated bearing parameters"
             )
-    # Sensitivity coefficients (∂μ/∂x at the estimates).
-    den = radius * load
+    # Sensitivity coefficients (∂μ/∂x at the estimates) of μ = F/N_c with
+    # F = (T + J5 α + b (W_r + S + W_d)) / D, D = r_r − κ b, N_c = S + W_d + κ F (module
+    # docstring): ∂μ/∂F|_S = (S + W_d)/N_c² =: G, ∂μ/∂S|_F = ∂μ/∂W_d|_F = −F/N_c²,
+    # ∂μ/∂κ|_F = −F²/N_c²; ∂F/∂S = b/D, ∂F/∂κ = F b/D.
+    arm = rig.arm
+    kappa, w_d = arm.transfer_ratio, arm.dead_weight
     mu = terms.coa
-    bearing = f_g * r_b * (w_r + load) * th
+    force, n_c = terms.contact_force, terms.contact_load
+    b_th = f_g * r_b * th
+    d = radius - kappa * b_th
+    gain = (load + w_d) / n_c**2 / d  # ∂μ/∂(numerator of F)
+    d_load = gain * b_th - force / n_c**2  # dμ/dS (and dμ/dW_d)
+    d_kappa = gain * force * b_th - (force / n_c) ** 2
+    bearing = b_th * (w_r + n_c)
     sens = {
-        "torque_class": 1.0 / den,
-        "torque_noise": 1.0 / den,
-        "pressure_class": f_g * r_b * th / (radius * pressure) - mu / pressure,
-        "pressure_noise": f_g * r_b * th / (radius * pressure) - mu / pressure,
-        "air_spring_area": f_g * r_b * th / (radius * area) - mu / area,
-        "roller_radius": -mu / radius,
-        "roller_inertia": terms.acceleration / den,
-        "bearing_loss": bearing / den,
-        "bearing_friction": r_b * (w_r + load) * th / den,
-        "bearing_radius": f_g * (w_r + load) * th / den,
-        "roller_weight": f_g * r_b * th / den,
-        "encoder_quantisation": j5 / den,
+        "torque_class": gain,
+        "torque_noise": gain,
+        "pressure_class": d_load * area,
+        "pressure_noise": d_load * area,
+        "air_spring_area": d_load * pressure,
+        "roller_radius": -gain * force,
+        "roller_inertia": gain * terms.acceleration,
+        "bearing_loss": gain * bearing,
+        "bearing_friction": gain * r_b * (w_r + n_c) * th,
+        "bearing_radius": gain * f_g * (w_r + n_c) * th,
+        "roller_weight": gain * b_th,
+        "encoder_quantisation": gain * j5,
+        "arm_pivot_height": d_kappa * arm.sign / arm.arm_length,
+        "arm_length": -d_kappa * kappa / arm.arm_length,
+        "arm_dead_weight": d_load,
         "residual_steady": np.ones(n),
         "residual_release": np.ones(n),
     }
@@ -695,7 +733,18 @@ def corrected_coa_uncertainty(
         "sigma_counts": sigma_c,
         "u_sys": u_sys,
         "dist": dist,
-        "params": {"area": area, "radius": radius, "j5": j5, "f_g": f_g, "r_b": r_b, "w_r": w_r},
+        "params": {
+            "area": area,
+            "radius": radius,
+            "j5": j5,
+            "f_g": f_g,
+            "r_b": r_b,
+            "w_r": w_r,
+            "h": arm.pivot_height,
+            "l": arm.arm_length,
+            "sign": arm.sign,
+            "w_d": w_d,
+        },
         "calibrated": calibrated,
         "covariance": covariance,
         "sensitivity": sens,
@@ -767,6 +816,9 @@ def _input_table(names, u_sys, dist, basis, rig, sigma_t, sigma_p, sigma_c, q_un
         "bearing_friction": ("f_g", b.friction_coefficient, "1", "bearing.friction_coefficient"),
         "bearing_radius": ("r_b", b.roller_bearing_radius, "m", "bearing.roller_bearing_radius"),
         "roller_weight": ("W_r", b.roller_subsystem_weight, "N", "bearing.roller_subsystem_weight"),
+        "arm_pivot_height": ("h", rig.arm.pivot_height, "m", "arm.pivot_height"),
+        "arm_length": ("l", rig.arm.arm_length, "m", "arm.arm_length"),
+        "arm_dead_weight": ("W_d", rig.arm.dead_weight, "N", "arm.dead_weight"),
     }
     out = []
     for name in names:

@@ -184,6 +184,8 @@ def _base_parameters(rig: RigParameters, drives: m.DriveConfig, reference_load: 
     p[m.P_FRAME_C] = (
         2.0 * frame.damping_ratio * np.sqrt(frame.longitudinal_stiffness * frame.modal_mass)
     )
+    p[m.P_ARM_RATIO] = rig.arm.transfer_ratio
+    p[m.P_ARM_WEIGHT] = rig.arm.dead_weight
     return p, contact_reference
 
 
@@ -427,18 +429,22 @@ def steady_free_rolling_state(
         steady state exists.
     """
     speed = float(np.interp(t, tables[m.TAB_SPEED_T], tables[m.TAB_SPEED]))
-    load = float(np.interp(t, tables[m.TAB_LOAD_T], tables[m.TAB_LOAD]))
+    air_spring = float(np.interp(t, tables[m.TAB_LOAD_T], tables[m.TAB_LOAD]))
+    load = max(air_spring + p[m.P_ARM_WEIGHT], 0.0)
     rw, rr = p[m.P_RW], p[m.P_RR]
     omega_ref = speed / rr
     at = f"at {speed * 3.6:.4g} km/h and normal load {load:.4g} N"
 
     omega_roller = omega_ref
-    for _ in range(3):  # fixed point: bearing loss depends weakly on speed through tanh
+    # Fixed point: the bearing loss depends weakly on speed (tanh) and on the normal load,
+    # which the arm changes by κ F_x (F_x here is the small drag of the bearing losses).
+    for _ in range(5):
         bearing_w, bearing_r = m._bearing_torques(load, omega_roller * rr / rw, omega_roller, p)
         force = -bearing_w / rw  # the roller drags the wheel against its bearing friction
         t56 = force * rr - bearing_r
         t_roller = -t56
         omega_roller = _roller_speed(p, omega_ref, t_roller, load, at)
+        load = max(air_spring + p[m.P_ARM_WEIGHT] + p[m.P_ARM_RATIO] * force, 0.0)
 
     v_roller = omega_roller * rr
     polach = (p[m.P_MU0], p[m.P_A], p[m.P_B], p[m.P_KA], p[m.P_KS])

@@ -109,7 +109,8 @@ P_LAG_TAU = 52  # roller-drive response lag τ [s]; 0 means none
 P_SERVO_KP, P_SERVO_KI, P_SERVO_TLIM = 53, 54, 55
 P_FRAME_MODE = 56  # 0 rigid frame, 1 one longitudinal degree of freedom at the contact
 P_FRAME_K, P_FRAME_M, P_FRAME_C = 57, 58, 59  # [N/m], [kg], [N.s/m]
-N_PARAMS = 60
+P_ARM_RATIO, P_ARM_WEIGHT = 60, 61  # swinging arm: σ h/l [1], dead weight W_d [N]
+N_PARAMS = 62
 
 WHEEL_MODES = {"ideal_torque": 0.0, "pmsm": 1.0}
 ROLLER_MODES = {
@@ -128,6 +129,7 @@ N_TABLE_ROWS = 6
 TERM_NAMES = (
     "torque_request",
     "roller_speed_setpoint",
+    "air_spring_force",
     "normal_load",
     "creep",
     "slip_velocity",
@@ -238,6 +240,56 @@ def _creep_stiffness_at(load, p):
     return p[P_CREEP_STIFF_REF] * np.cbrt(ratio * ratio)  # cbrt: a third of the cost of pow
 
 
+_ARM_NEWTON_STEPS = 6
+"""Most Newton steps of the normal-load loop (:func:`_contact_load_and_force`); it converges
+to round-off in 3-4 from the air-spring force."""
+
+
+def _contact_load_and_force(air_spring, creep, friction, p):
+    """Normal load N [N] and creep force F_x [N] at the contact, with the arm's load transfer.
+
+    The swinging arm makes the normal load depend on the creep force it produces (moments about
+    the arm's pivot; :class:`rollerrig.rig.sections.ArmParameters`):
+
+        N = S + W_d + κ F_x(N),    κ = σ h / l,
+
+    where F_x(N) is Polach's force (Kayaalp eq. 4.16) with μN and the creep stiffness at N. The
+    algebraic loop is solved, not lagged: Newton's method on g(N) = N − S − W_d − κ F_x(N) from
+    N = S + W_d, with a forward-difference dF/dN, stopped at a change below 1e-13 N relative
+    (3-4 steps: |κ dF/dN| is at most about μ|κ| < 0.5), so the right-hand side stays a smooth
+    function of the state for the solver's forward-difference Jacobian. A normal load that
+    the arm would make negative (a front pivot lifting the wheel) is held at 0.
+    """
+    load = air_spring + p[P_ARM_WEIGHT]
+    if load < 0.0:
+        load = 0.0
+    force = _polach_force_at_friction_kernel(
+        creep, load * friction, _creep_stiffness_at(load, p), p[P_KA], p[P_KS]
+    )
+    kappa = p[P_ARM_RATIO]
+    if kappa == 0.0:
+        return load, force
+    for _ in range(_ARM_NEWTON_STEPS):
+        residual = load - air_spring - p[P_ARM_WEIGHT] - kappa * force
+        step = 1e-7 * load + 1e-3
+        probe = load + step
+        force_probe = _polach_force_at_friction_kernel(
+            creep, probe * friction, _creep_stiffness_at(probe, p), p[P_KA], p[P_KS]
+        )
+        slope = 1.0 - kappa * (force_probe - force) / step
+        new = load - residual / slope
+        if new < 0.0:
+            new = 0.0
+        change = abs(new - load)
+        load = new
+        force = _polach_force_at_friction_kernel(
+            creep, load * friction, _creep_stiffness_at(load, p), p[P_KA], p[P_KS]
+        )
+        if change <= 1e-13 * (load + 1.0):
+            break
+    return load, force
+
+
 def _open_loop_roller_torque(rotor_speed, omega_ref, p):
     """Air-gap torque of the open-loop roller drive [N.m] (roller modes 1 and 2).
 
@@ -270,7 +322,7 @@ def rig_terms(t, x, p, tables):
     """
     torque_request = _interp(t, tables[TAB_TORQUE_T], tables[TAB_TORQUE])
     speed_setpoint = _interp(t, tables[TAB_SPEED_T], tables[TAB_SPEED])
-    load = _interp(t, tables[TAB_LOAD_T], tables[TAB_LOAD])
+    air_spring = _interp(t, tables[TAB_LOAD_T], tables[TAB_LOAD])
 
     th1, th2, th3, th4, th5, th6, th7 = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
     w1, w2, w3, w4, w5, w6, w7 = x[7], x[8], x[9], x[10], x[11], x[12], x[13]
@@ -282,19 +334,17 @@ def rig_terms(t, x, p, tables):
     t56 = p[P_K56] * (th5 - th6) + p[P_B56] * (w5 - w6)
     t70 = p[P_K70] * (th7 - 0.0) + p[P_B70] * (w7 - 0.0)
 
-    bearing_w, bearing_r = _bearing_torques(load, w3, w5, p)
-
     # Contact: Polach's creep force with the creep stiffness at the present load. With a
     # flexible frame the roller's contact point moves with the frame at x[X_FRAME_V] relative
     # to the wheel's: the slip is ω4 r_w − (ω5 r_r + v_f) (the state is 0 for a rigid frame).
+    # The normal load is the air spring's force plus the arm's transfer of the creep force.
     v_frame = x[X_FRAME_V] if p[P_FRAME_MODE] != 0.0 else 0.0  # rigid: not a degree of freedom
     w5_contact = w5 + v_frame / p[P_RR]
     creep, slip_velocity = _creep_kernel(w4, w5_contact, p[P_RW], p[P_RR], p[P_VREG])
-    creep_stiffness = _creep_stiffness_at(load, p)
     friction = _friction_kernel(slip_velocity, p[P_MU0], p[P_A], p[P_B])
-    force = _polach_force_at_friction_kernel(
-        creep, load * friction, creep_stiffness, p[P_KA], p[P_KS]
-    )
+    load, force = _contact_load_and_force(air_spring, creep, friction, p)
+
+    bearing_w, bearing_r = _bearing_torques(load, w3, w5, p)
 
     # Wheel drive: PMSM with field-oriented current control, or an ideal torque source.
     v_d = 0.0
@@ -348,6 +398,7 @@ def rig_terms(t, x, p, tables):
     return (
         torque_request,
         speed_setpoint,
+        air_spring,
         load,
         creep,
         slip_velocity,
@@ -383,7 +434,7 @@ def rig_rhs(t, x, p, tables, dx):
     p : ndarray, shape (N_PARAMS,)
         Flat parameter vector (see the ``P_*`` indices).
     tables : ndarray, shape (6, n)
-        Piecewise-linear inputs: torque request, roller speed set point, normal load.
+        Piecewise-linear inputs: torque request, roller speed set point, air-spring force.
     dx : ndarray, shape (N_STATES,)
         Output: time derivative of the state.
     """

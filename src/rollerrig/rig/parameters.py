@@ -48,6 +48,7 @@ from rollerrig.rig.rigfile import (
 )
 from rollerrig.rig.sections import (
     SECTIONS,
+    ArmParameters,
     BearingParameters,
     DampingParameters,
     FrameParameters,
@@ -97,6 +98,7 @@ class RigParameters(BaseModel):
     sensors: SensorParameters
     frame: FrameParameters = FrameParameters()
     roller_drive_vf: RollerDriveVfParameters = RollerDriveVfParameters()
+    arm: ArmParameters = ArmParameters()
     provenance: dict[str, dict[str, Any]] = Field(
         default_factory=dict,
         description="'section.key' -> {'value', 'unit', 'source' | 'assumption'} as written.",

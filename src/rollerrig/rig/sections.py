@@ -26,6 +26,7 @@ from rollerrig.units import QUANTITIES
 
 __all__ = [
     "SECTIONS",
+    "ArmParameters",
     "BearingParameters",
     "DampingParameters",
     "FrameParameters",
@@ -435,6 +436,103 @@ class SensorParameters(_Section):
         return self.encoder_pulses_per_revolution * self.encoder_quadrature_factor
 
 
+class ArmParameters(_Section):
+    """The swinging arm that carries the wheel: how the normal load at the contact differs from
+    the air-spring force the rig measures (Kayaalp 4.1.1; DESIGN.md §3).
+
+    The wheel hangs on an arm pivoted on the rear columns; the air spring pushes the arm down
+    with the force S the DAQ computes from its pressure. Moments about the pivot give
+
+        N = S + W_d + σ (h / l) F_x
+
+    with h the pivot's height above the contact, l the horizontal distance from the pivot to
+    the wheel centre, σ = +1 when the pivot lies on the side toward which positive traction
+    pushes the wheel at the contact (``pivot_side = "rear"``: traction presses the wheel on the
+    roller), −1 on the other side, and W_d the weight of arm, wheel and PMSM that the air
+    spring's load calibration does not include. The dissertation gives none of these values
+    (its figures are lost): each default is a stated assumption with its own uncertainty, which
+    the uncertainty of the corrected CoA carries as type-B terms. ``pivot_height = 0`` means no
+    transfer. Rig files without an ``[arm]`` table get these defaults.
+    """
+
+    pivot_height: Annotated[float, _si("length", ge=-5.0, le=5.0)] = 0.348
+    """Height h of the arm's pivot above the contact point [m]."""
+    pivot_height_tolerance: Annotated[float, _si("length", ge=0, le=5.0)] = 0.15
+    """Half-width of the rectangular distribution of h [m] (standard uncertainty
+    tolerance/√3)."""
+    arm_length: Annotated[float, _si("length", gt=0.05, le=10.0)] = 0.70
+    """Horizontal distance l from the pivot to the wheel centre [m]."""
+    arm_length_tolerance: Annotated[float, _si("length", ge=0, le=5.0)] = 0.15
+    """Half-width of the rectangular distribution of l [m]."""
+    pivot_side: Annotated[Literal["rear", "front"], _si("dimensionless")] = "rear"
+    """``"rear"``: the pivot lies on the side toward which positive traction pushes the wheel
+    at the contact, so traction adds σ (h/l) F_x to the load (the Pardubice rig's rear columns);
+    ``"front"``: the other side, traction takes it away."""
+    dead_weight: Annotated[float, _si("force", ge=-1.0e5, le=1.0e5)] = 0.0
+    """Weight share W_d of arm, wheel and PMSM on the contact that the air-spring force S does
+    not include [N]."""
+    dead_weight_uncertainty: Annotated[float, _si("force", ge=0, le=1.0e5)] = 200.0
+    """Standard uncertainty of W_d [N] (normal)."""
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        if self.arm_length_tolerance >= self.arm_length:
+            raise FieldProblem(
+                "arm_length_tolerance",
+                "must be below arm_length (the arm's length must stay positive)",
+                unit="m",
+                allowed=interval(0, self.arm_length, high_inclusive=False),
+                got=self.arm_length_tolerance,
+            )
+        if abs(self.transfer_ratio) >= 1.0:
+            raise FieldProblem(
+                "pivot_height",
+                f"h/l = {self.transfer_ratio:g}: the load transfer σ h/l must stay within ±1 "
+                "(a pivot higher above the contact than the arm is long would lift the wheel "
+                "off at a CoA of 1)",
+                unit="m",
+                allowed=interval(-self.arm_length, self.arm_length, high_inclusive=False),
+                got=self.pivot_height,
+            )
+        return self
+
+    @property
+    def sign(self) -> float:
+        """σ: +1 for ``pivot_side = "rear"``, −1 for ``"front"`` [1]."""
+        return 1.0 if self.pivot_side == "rear" else -1.0
+
+    @property
+    def transfer_ratio(self) -> float:
+        """σ h / l [1]: the share of the contact force F_x that adds to the normal load."""
+        return self.sign * self.pivot_height / self.arm_length
+
+    @property
+    def transfer_ratio_uncertainty(self) -> float:
+        """Standard uncertainty of σ h/l [1] from the rectangular tolerances of h and l (first
+        order, JCGM 100 eq. 10)."""
+        u_h = self.pivot_height_tolerance / math.sqrt(3.0)
+        u_l = self.arm_length_tolerance / math.sqrt(3.0)
+        return math.hypot(u_h / self.arm_length, self.pivot_height * u_l / self.arm_length**2)
+
+    def contact_load(self, air_spring_force, contact_force):
+        """Normal load at the contact N = S + W_d + σ (h/l) F_x [N].
+
+        Parameters
+        ----------
+        air_spring_force : array_like
+            S [N], what the rig measures.
+        contact_force : array_like
+            F_x [N], traction positive.
+
+        Examples
+        --------
+        >>> arm = ArmParameters()
+        >>> round(arm.transfer_ratio, 4), round(float(arm.contact_load(4300.0, 1000.0)), 1)
+        (0.4971, 4797.1)
+        """
+        return air_spring_force + self.dead_weight + self.transfer_ratio * contact_force
+
+
 class RollerDriveVfParameters(_Section):
     """The roller inverter's open-loop V/f control, used by the dq roller drive
     (``DriveConfig(roller="induction_dq")``, :func:`rollerrig.drives.vf.vf_control_for`).
@@ -521,5 +619,6 @@ SECTIONS: dict[str, type[BaseModel]] = {
     "sensors": SensorParameters,
     "frame": FrameParameters,
     "roller_drive_vf": RollerDriveVfParameters,
+    "arm": ArmParameters,
 }
 """Section name -> model, in file order."""

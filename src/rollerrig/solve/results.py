@@ -42,7 +42,8 @@ _TRUTH = {
         "roller-drive torque before the response lag",
     ),
     "roller_speed_setpoint": ("roller_speed_setpoint", "m/s", "roller peripheral speed set point"),
-    "normal_load": ("normal_load", "N", "normal load N"),
+    "air_spring_force": ("air_spring_force", "N", "air-spring force S (the load the rig sets)"),
+    "normal_load": ("normal_load", "N", "normal load N at the contact, S + W_d + σ (h/l) F_x"),
     "contact_force": ("contact_force", "N", "longitudinal contact force F_x (true)"),
     "creep": ("creep", "1", "creep at the contact (true, from tyre and roller speeds)"),
     "slip_velocity": ("slip_velocity", "m/s", "slip velocity at the contact (true)"),
@@ -200,12 +201,18 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
     if inputs.drives.roller == "induction_dq":  # the machine's fluxes
         for name, (idx, units, long_name) in _DQ_STATES.items():
             data[name] = ("time", x[:, idx], {"units": units, "long_name": long_name})
-    load = term["normal_load"]
-    loaded = load > 0.0
 
-    def per_load(values: np.ndarray) -> np.ndarray:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.where(loaded, values / np.where(loaded, load, 1.0), np.nan)
+    def per(load: np.ndarray):
+        loaded = load > 0.0
+
+        def divide(values: np.ndarray) -> np.ndarray:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                return np.where(loaded, values / np.where(loaded, load, 1.0), np.nan)
+
+        return divide
+
+    # The truth divides by the load at the contact, the rig by the air-spring force it measures.
+    per_load, per_spring = per(term["normal_load"]), per(term["air_spring_force"])
 
     data["coa"] = (
         "time",
@@ -227,11 +234,15 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
         "measured_t56": (t56, "N.m", "roller-shaft torque sensor T56"),
         "measured_wheel_speed": (wheel_enc, "rad/s", "wheel encoder speed (quantised)"),
         "measured_roller_speed": (roller_enc, "rad/s", "roller encoder speed (quantised)"),
-        "measured_normal_load": (load, "N", "normal force from the air-spring pressure"),
+        "measured_normal_load": (
+            term["air_spring_force"],
+            "N",
+            "normal force from the air-spring pressure",
+        ),
         "measured_slip_velocity": (slip, "m/s", "slip velocity from the encoders"),
         "measured_creep": (creep_meas, "1", "creep from the encoders (Kayaalp eq. 4.21)"),
         "measured_force": (t56 / rr, "N", "tangential force the rig derives, T56 / r_r"),
-        "measured_coa": (per_load(t56 / rr), "1", "CoA the rig reports, T56 / (r_r N)"),
+        "measured_coa": (per_spring(t56 / rr), "1", "CoA the rig reports, T56 / (r_r S)"),
     }
     for name, (values, units, long_name) in measured.items():
         data[name] = ("time", values, {"units": units, "long_name": long_name})

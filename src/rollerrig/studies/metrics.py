@@ -59,7 +59,10 @@ class RunChannels(NamedTuple):
     """The channels of one run the metrics need, on the output time base (SI).
 
     ``time`` [s]; ``t56`` [N.m] the roller-shaft torque (the sensor); ``contact_force`` [N] the
-    true F_x; ``normal_load`` [N]; ``roller_radius`` [m].
+    true F_x; ``normal_load`` [N] the true normal load at the contact; ``roller_radius`` [m];
+    ``air_spring_force`` [N] the load the rig measures and divides by (the swinging arm makes
+    it differ from the contact's, :class:`rollerrig.rig.sections.ArmParameters`); None: the
+    same as ``normal_load``.
     """
 
     time: np.ndarray
@@ -67,6 +70,12 @@ class RunChannels(NamedTuple):
     contact_force: np.ndarray
     normal_load: np.ndarray
     roller_radius: float
+    air_spring_force: np.ndarray | None = None
+
+    @property
+    def measured_load(self) -> np.ndarray:
+        """The load the rig divides by: the air-spring force S [N]."""
+        return self.normal_load if self.air_spring_force is None else self.air_spring_force
 
     @classmethod
     def from_dataset(cls, ds, roller_radius: float | None = None) -> RunChannels:
@@ -82,6 +91,7 @@ class RunChannels(NamedTuple):
             ds.contact_force.values,
             ds.normal_load.values,
             roller_radius,
+            ds.measured_normal_load.values if "measured_normal_load" in ds else None,
         )
 
     @property
@@ -101,6 +111,7 @@ def run_channels(inputs, t: np.ndarray, x: np.ndarray) -> RunChannels:
         term["contact_force"],
         term["normal_load"],
         inputs.rig.geometry.roller_radius_x,
+        term["air_spring_force"],
     )
 
 
@@ -195,10 +206,14 @@ def _settling_time(run, protocol):
 
 
 def _loaded_bias(run):
-    loaded = run.normal_load > 0
+    """The rig's CoA, T56 / (r_r S), minus the true F_x / N where both loads are positive."""
+    loaded = (run.normal_load > 0) & (run.measured_load > 0)
     if not loaded.any():
         return None
-    return (run.measured_force[loaded] - run.contact_force[loaded]) / run.normal_load[loaded]
+    return (
+        run.measured_force[loaded] / run.measured_load[loaded]
+        - run.contact_force[loaded] / run.normal_load[loaded]
+    )
 
 
 def _coa_bias_rms(run, protocol):
@@ -212,10 +227,10 @@ def _coa_bias_peak(run, protocol):
 
 
 def _peak_coa(run, protocol):
-    loaded = run.normal_load > 0
+    loaded = run.measured_load > 0
     if not loaded.any():
         return np.nan
-    return float(np.max(run.measured_force[loaded] / run.normal_load[loaded]))
+    return float(np.max(run.measured_force[loaded] / run.measured_load[loaded]))
 
 
 def _peak_true_coa(run, protocol):
