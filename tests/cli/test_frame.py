@@ -83,6 +83,8 @@ def test_frame_file_option_and_its_errors(tmp_path, runner):
         (["--vertical-kn", "-5"], "--vertical-kn must be >= 0 [kN]"),
         (["--horizontal-kn", "nan"], "--horizontal-kn must be a finite number [kN]"),
         (["--modes", "0"], "--modes must be in [1, 50]"),
+        (["--vertical-kn", "1e6"], "--vertical-kn must be at most 10000 kN in magnitude"),
+        (["--horizontal-kn", "-2e4"], "--horizontal-kn must be at most 10000 kN in magnitude"),
     ],
 )
 def test_frame_rejects_bad_options(tmp_path, runner, args, message):
@@ -98,3 +100,48 @@ def test_frame_help_keeps_the_units(runner):
     text = " ".join(result.output.split())
     for fragment in ("[kN], >= 0", "contact [kN]", "--frame", "frame.json"):
         assert fragment in text, fragment
+
+
+def _hostile(text: str, old: str, new: str) -> str:
+    assert old in text, old
+    return text.replace(old, new, 1)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (
+            (
+                'spring_plate = { value = [0.0, 0.0, 2.00], unit = "m",',
+                'spring_plate = { value = [0.0, 0.0, 1e200], unit = "m",',
+            ),
+            "nodes.spring_plate.value: outside the plausible range (a rig frame lies within 1 km "
+            "of its origin) [m]; allowed [-1000, 1000]",
+        ),
+        (
+            ("youngs_modulus = { value = 210.0,", "youngs_modulus = { value = 1e-300,"),
+            "materials.steel.youngs_modulus.value: outside the plausible range",
+        ),
+        ("members", "members: too many entries for the frame analysis"),
+    ],
+)
+def test_hostile_frame_files_are_one_clear_error(tmp_path, runner, change, message):
+    from importlib import resources
+
+    text = resources.files("rollerrig.frame").joinpath("data/default-frame.toml").read_text()
+    if change == "members":  # 20 000 more members (joining the same two nodes)
+        text += "".join(
+            f'\n[members.extra{i}]\nnodes = ["base_front_left", "base_rear_left"]\n'
+            'section = "column"\n'
+            for i in range(20_000)
+        )
+    else:
+        text = _hostile(text, *change)
+    path = tmp_path / "hostile.toml"
+    path.write_text(text)
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["frame", "--frame", str(path), "--out", str(out)])
+    assert result.exit_code == 2, result.output
+    assert message in " ".join(result.output.split())
+    assert "Traceback" not in result.output and "mechanism" not in result.output
+    assert not out.exists() or list(out.iterdir()) == []

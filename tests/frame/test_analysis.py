@@ -13,12 +13,14 @@ frequency (St Venant torsion of a fixed-free bar: f = sqrt(G J / (ρ I_p)) / (4 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
-from rollerrig.frame import analyze_frame, contact_dof
+from rollerrig._validation import ParameterError
+from rollerrig.frame import FrameFileError, analyze_frame, contact_dof
 
 pytest.importorskip("Pynite")
 
@@ -289,3 +291,40 @@ def test_default_frame_is_as_firm_as_the_dissertation_found():
     # Low stresses (Kayaalp 4.4.3: 'quite low even for the most stressed places').
     assert r.max_von_mises.value < 50e6
     assert r.gauge_stresses["top_beam"] > 0  # the air spring bends the top beam upwards
+
+
+def test_sparse_eigensolvers_agree_with_dense_lapack(monkeypatch):
+    """The stability check and the modes are solved sparse (ARPACK shift-invert) above
+    ``_DENSE_BELOW`` free DOFs: on the bundled frame (~700 DOFs) they agree with LAPACK's dense
+    solution of the same matrices, and a frame that size on rollers is still a mechanism."""
+    from rollerrig.frame import analysis, default_frame
+
+    frame = default_frame()
+    sparse = analyze_frame(frame, 20e3, 2e3, n_modes=6)
+    monkeypatch.setattr(analysis, "_DENSE_BELOW", 10**9)
+    dense = analyze_frame(frame, 20e3, 2e3, n_modes=6)
+    np.testing.assert_allclose(sparse.frequencies, dense.frequencies, rtol=1e-7)
+    np.testing.assert_allclose(sparse.mode_shapes, dense.mode_shapes, atol=1e-6)
+    monkeypatch.setattr(analysis, "_DENSE_BELOW", 0)
+    rolling = dataclasses.replace(
+        frame, supports={n: (False, False, True, False, False, False) for n in frame.supports}
+    )
+    with pytest.raises(FrameFileError, match="the frame is a mechanism"):
+        analyze_frame(rolling, 1.0, 1.0, n_modes=1)
+
+
+@pytest.mark.parametrize(
+    ("kw", "message"),
+    [
+        ({"normal_load": 1e300}, "normal_load must be finite and at most 1e+07 N"),
+        ({"traction_force": -math.inf}, "traction_force must be finite"),
+        ({"elements_per_member": 0}, "elements_per_member must be in [1, 64]"),
+        ({"elements_per_member": 64}, "more than the 800 elements the analysis takes"),
+    ],
+)
+def test_absurd_analysis_arguments_never_reach_the_solver(kw, message):
+    from rollerrig.frame import default_frame
+
+    with pytest.raises(ParameterError) as info:
+        analyze_frame(default_frame(), **kw)
+    assert message in str(info.value)

@@ -33,7 +33,10 @@ def frame(
     ] = None,
     vertical_kn: Annotated[
         float,
-        typer.Option("--vertical-kn", help="Normal load: the air-spring force [kN], >= 0."),
+        typer.Option(
+            "--vertical-kn",
+            help="Normal load: the air-spring force [kN], >= 0, at most 10000.",
+        ),
     ] = 20.0,
     horizontal_kn: Annotated[
         float,
@@ -55,9 +58,17 @@ def frame(
     frame's longitudinal stiffness and modal mass at the contact; writes frame.json (SI
     units), frame-deformed.png and frame-modes.png (magnification in each title).
     """
+    from rollerrig.frame.analysis import MAX_TEST_LOAD
+
+    limit_kn = MAX_TEST_LOAD / 1e3
     for option, value in (("--vertical-kn", vertical_kn), ("--horizontal-kn", horizontal_kn)):
         if not math.isfinite(value):
             raise UserError(f"{option} must be a finite number [kN], got {value!r}")
+        if abs(value) > limit_kn:
+            raise UserError(
+                f"{option} must be at most {limit_kn:g} kN in magnitude [kN] (a linear model "
+                f"of a rig frame means nothing beyond), got {value:g}"
+            )
     if vertical_kn < 0:
         raise UserError(
             f"--vertical-kn must be >= 0 [kN] (the air spring only pushes), got {vertical_kn:g}"

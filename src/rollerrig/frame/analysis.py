@@ -42,7 +42,8 @@ from typing import Any
 import numpy as np
 
 from rollerrig._optional import require
-from rollerrig.frame.framefile import DOF_NAMES, Frame, FrameFileError
+from rollerrig._validation import ParameterError
+from rollerrig.frame.framefile import DOF_NAMES, MAX_MEMBERS, Frame, FrameFileError
 
 __all__ = [
     "ContactDof",
@@ -64,6 +65,14 @@ CASES = ("normal", "traction")
 DEFAULT_ELEMENTS_PER_MEMBER = 4
 """Elements per member: the first bending mode of a cantilever member with its own mass is
 0.05 % high with four (Euler–Bernoulli consistent mass), 2 % with one."""
+
+MAX_ELEMENTS = MAX_MEMBERS * DEFAULT_ELEMENTS_PER_MEMBER
+"""Most beam elements of a model (members x elements per member) [1]: the size
+:data:`rollerrig.frame.framefile.MAX_MEMBERS` is chosen for (about a minute on two cores)."""
+
+MAX_TEST_LOAD = 1e7
+"""Largest test load, normal or traction, in magnitude [N] (10 MN; the rig's air spring gives
+20 kN): far beyond any rig, a linear model means nothing there."""
 
 _PURPOSE = "the frame analysis (rollerrig frame)"
 
@@ -195,6 +204,9 @@ def check_stability(mesh: _Mesh, *, tolerance: float = 1e-9) -> None:
     The stiffness matrix of the free DOFs is scaled to a unit diagonal; an eigenvalue below
     ``tolerance`` is a zero-energy mode (a mechanism: too few supports, or a part that can move
     without straining any member). The error names the node and the DOF that move most in it.
+    The smallest eigenvalue is found sparse (shift-invert Lanczos about a small negative shift,
+    where the scaled matrix minus the shift is positive definite), so that the check costs about
+    what a static solution does; a tiny matrix is solved dense.
     """
     from Pynite import Analysis
 
@@ -203,7 +215,54 @@ def check_stability(mesh: _Mesh, *, tolerance: float = 1e-9) -> None:
         model.add_load_combo("stiffness", {"stiffness": 1.0})
     Analysis._prepare_model(model)
     combo = next(iter(model.load_combos))
-    k = np.asarray(model.Ke(combo, check_stability=False, sparse=False), dtype=float)
+    k = model.Ke(combo, check_stability=False, sparse=True).tocsr()
+    free = np.asarray(_free_dofs(model), dtype=int)
+    if not free.size:
+        return
+    kff = k[free][:, free]
+    diag = kff.diagonal().copy()
+    zero = np.flatnonzero(diag <= 1e-12 * max(float(diag.max()), 1.0))
+    if zero.size:
+        _mechanism(frame, model, int(free[zero[0]]), "with no stiffness at all")
+    scale = scipy_sparse().diags(1.0 / np.sqrt(diag))
+    s = (scale @ kff @ scale).tocsc()
+    value, vector = _lowest_mode(s, tolerance)
+    if value < tolerance:
+        _mechanism(
+            frame,
+            model,
+            int(free[int(np.argmax(np.abs(vector)))]),
+            "without straining any member (a zero-energy mode)",
+        )
+
+
+def scipy_sparse():
+    """:mod:`scipy.sparse` (imported when first needed)."""
+    import scipy.sparse
+
+    return scipy.sparse
+
+
+_DENSE_BELOW = 200
+"""Matrices with fewer rows than this are solved dense (ARPACK needs k < n and gains nothing)."""
+
+
+def _lowest_mode(s, tolerance: float) -> tuple[float, np.ndarray]:
+    """The smallest eigenvalue of a symmetric positive semi-definite sparse matrix with a unit
+    diagonal, and its eigenvector; the shift ``-tolerance`` makes a zero-energy mode stand out
+    (inverted, it is a billion times any mode above 1)."""
+    if s.shape[0] < _DENSE_BELOW:
+        values, vectors = np.linalg.eigh(s.toarray())
+        return float(values[0]), vectors[:, 0]
+    from scipy.sparse.linalg import eigsh
+
+    # The eigenvalues lie in [0, n]; about a small negative shift the nearest is the smallest.
+    values, vectors = eigsh(s, k=1, sigma=-tolerance, which="LM")
+    return float(values[0]), vectors[:, 0]
+
+
+def _free_dofs(model) -> list[int]:
+    """Global indices of the DOFs no support holds (PyNite's numbering: node ID * 6 + DOF)."""
     free = []
     for node in model.nodes.values():
         held = (
@@ -215,24 +274,7 @@ def check_stability(mesh: _Mesh, *, tolerance: float = 1e-9) -> None:
             node.support_RZ,
         )
         free += [node.ID * 6 + d for d in range(6) if not held[d]]
-    if not free:
-        return
-    kff = k[np.ix_(free, free)]
-    diag = np.diag(kff).copy()
-    zero = np.flatnonzero(diag <= 1e-12 * max(float(diag.max()), 1.0))
-    if zero.size:
-        _mechanism(frame, model, free[int(zero[0])], "with no stiffness at all")
-    scale = 1.0 / np.sqrt(diag)
-    s = kff * scale[:, None] * scale[None, :]
-    values, vectors = np.linalg.eigh(s)
-    if values[0] < tolerance:
-        v = vectors[:, 0]
-        _mechanism(
-            frame,
-            model,
-            free[int(np.argmax(np.abs(v)))],
-            "without straining any member (a zero-energy mode)",
-        )
+    return free
 
 
 def _frame_node(name: str) -> str:
@@ -516,6 +558,9 @@ def analyze_frame(
     ------
     FrameFileError
         The frame is a mechanism (names the node and DOF).
+    ParameterError
+        A test load that is not finite or beyond :data:`MAX_TEST_LOAD`, or more than
+        :data:`MAX_ELEMENTS` elements in all.
 
     Examples
     --------
@@ -525,10 +570,19 @@ def analyze_frame(
     (True, 3)
     """
     for name, value in (("normal_load", normal_load), ("traction_force", traction_force)):
-        if not math.isfinite(value):
-            from rollerrig._validation import ParameterError
-
-            raise ParameterError(f"{name} must be finite [N], got {value!r}")
+        if not math.isfinite(value) or abs(value) > MAX_TEST_LOAD:
+            raise ParameterError(
+                f"{name} must be finite and at most {MAX_TEST_LOAD:g} N in magnitude [N], "
+                f"got {value!r}"
+            )
+    if not 1 <= elements_per_member <= 64:
+        raise ParameterError(f"elements_per_member must be in [1, 64], got {elements_per_member}")
+    if elements_per_member * len(frame.members) > MAX_ELEMENTS:
+        raise ParameterError(
+            f"{len(frame.members)} members x {elements_per_member} elements each is more than "
+            f"the {MAX_ELEMENTS} elements the analysis takes (MAX_ELEMENTS); use fewer "
+            "elements per member or a smaller frame"
+        )
     patterns = unit_load_patterns(frame)
     mesh = build_model(frame, elements_per_member=elements_per_member, loads=patterns)
     check_stability(mesh)
@@ -604,16 +658,22 @@ def _modes(frame: Frame, elements_per_member: int, n_modes: int):
     takes the torsion constant J for the rotary inertia of a section about the member's axis,
     where the polar moment I_p = I_y + I_z belongs (HEB 200: J = 59 cm^4, I_p = 7699 cm^4); the
     missing ``ρ L (I_p - J) / 6 [[2, 1], [1, 2]]`` is added on each element's twist DOFs. The
-    generalised eigenproblem of the free DOFs is solved with ``scipy.linalg.eigh``.
+    generalised eigenproblem of the free DOFs is solved sparse (shift-invert Lanczos,
+    ``scipy.sparse.linalg.eigsh``, about a shift of -1 (rad/s)^2, below every frequency, so that
+    the nearest eigenvalues are the lowest); a small one dense (``scipy.linalg.eigh``).
     """
     import scipy.linalg
     from Pynite import Analysis
+    from scipy.sparse.linalg import eigsh
 
+    sparse = scipy_sparse()
     mesh = build_model(frame, elements_per_member=elements_per_member, masses=True)
     model = mesh.model
     Analysis._prepare_model(model)
-    k = np.asarray(model.Ke("mass", check_stability=False, sparse=False), dtype=float)
-    m = np.asarray(model.M("mass", "Z", 1.0, sparse=False), dtype=float)
+    k = model.Ke("mass", check_stability=False, sparse=True).tocsr()
+    m = model.M("mass", "Z", 1.0, sparse=True).tocoo()
+    rows, cols, data = [m.row], [m.col], [m.data]
+    block = np.arange(3)
     for member, elements in mesh.elements.items():
         mb = frame.members[member]
         s, rho = frame.sections[mb.section], frame.materials[mb.material].density
@@ -623,20 +683,32 @@ def _modes(frame: Frame, elements_per_member: int, n_modes: int):
             axis = e.T()[0, :3]
             i, j = e.i_node.ID * 6 + 3, e.j_node.ID * 6 + 3
             for a, b, w in ((i, i, 2.0), (j, j, 2.0), (i, j, 1.0), (j, i, 1.0)):
-                m[a : a + 3, b : b + 3] += w * extra * np.outer(axis, axis)
+                rows.append(np.repeat(a + block, 3))
+                cols.append(np.tile(b + block, 3))
+                data.append((w * extra * np.outer(axis, axis)).ravel())
+    m = sparse.coo_matrix(
+        (np.concatenate(data), (np.concatenate(rows), np.concatenate(cols))), shape=m.shape
+    ).tocsr()
     order = np.concatenate([np.arange(6) + model.nodes[n].ID * 6 for n in mesh.nodes])
     held = np.concatenate(
         [np.asarray(frame.supports.get(n, (False,) * 6), dtype=bool) for n in mesh.nodes]
     )
     free = order[~held]
     n = max(1, min(int(n_modes), free.size))
-    values, vectors = scipy.linalg.eigh(
-        k[np.ix_(free, free)], m[np.ix_(free, free)], subset_by_index=[0, n - 1]
-    )
+    kff, mff = k[free][:, free], m[free][:, free]
+    if free.size < _DENSE_BELOW or n >= free.size - 1:
+        values, vectors = scipy.linalg.eigh(
+            kff.toarray(), mff.toarray(), subset_by_index=[0, n - 1]
+        )
+    else:
+        values, vectors = eigsh(kff.tocsc(), k=n, M=mff.tocsc(), sigma=-1.0, which="LM")
+        ranked = np.argsort(values)
+        values, vectors = values[ranked], vectors[:, ranked]
+        vectors = vectors / np.sqrt(np.einsum("ij,ij->j", vectors, mff @ vectors))
     shapes = []
     for v in vectors.T:
         phi = np.zeros(order.size)
-        phi[~held] = v  # eigh normalises: vᵀ M v = 1 [kg]
+        phi[~held] = v  # normalised: vᵀ M v = 1 [kg]
         big = int(np.argmax(np.abs(phi)))
         shapes.append(np.sign(phi[big]) * phi.reshape(-1, 6))  # largest component positive
     total = frame.total_mass()

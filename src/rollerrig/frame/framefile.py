@@ -61,9 +61,13 @@ Reading checks everything and reports every problem at once, one line each namin
 key, and what to change (:class:`FrameFileError`): unknown keys, units, non-physical values,
 unknown designations (with the closest ones), members naming unknown nodes, zero-length members,
 a node lying inside a member's span, nodes on no member, parts of the frame held by no support,
-load points on no node, gauges outside their member or with a fibre along its axis. A mechanism
-(too few supports) is found by the analysis (:func:`rollerrig.frame.analysis.check_stability`),
-with the same error type.
+load points on no node, gauges outside their member or with a fibre along its axis, and every
+number outside its plausible range (:data:`PLAUSIBLE`: a node 1e200 m away or a modulus of
+1e-300 GPa is named as such, and never reaches the FE solver). A file larger than the analysis
+can take (:data:`MAX_NODES`, :data:`MAX_MEMBERS`, :data:`MAX_ENTRIES`) is refused before any of
+it is read; every check after that is near-linear in the size of the frame (hash maps and a
+k-d tree, no loops over pairs). A mechanism (too few supports) is found by the analysis
+(:func:`rollerrig.frame.analysis.check_stability`), with the same error type.
 """
 
 from __future__ import annotations
@@ -79,17 +83,22 @@ from typing import Any
 import numpy as np
 
 from rollerrig._toml import parse_toml, read_toml
-from rollerrig._validation import ParameterError, Problem, interval
+from rollerrig._validation import ParameterError, Problem, Verbatim, interval, show_value
 from rollerrig.frame.sections import SectionProperties, standard_section
 from rollerrig.units import QUANTITIES, UnitError, apply_factor, quantity_factor
 
 __all__ = [
     "DOF_NAMES",
+    "MAX_ENTRIES",
+    "MAX_MEMBERS",
+    "MAX_NODES",
+    "PLAUSIBLE",
     "Frame",
     "FrameFileError",
     "LoadPoint",
     "Material",
     "Member",
+    "Plausible",
     "PointMass",
     "StrainGauge",
     "default_frame",
@@ -106,6 +115,102 @@ NODE_TOLERANCE = 1e-6
 """Two nodes closer than this are one point [m]; a load point given by coordinates must lie
 within it of a node."""
 
+MAX_MEMBERS = 200
+"""Most members a frame file may hold [1]. The analysis divides each member into four beam
+elements and builds the model three times in PyNite's pure Python (stability check, static,
+modal), whose meshing looks at every node for each element: the cost grows faster than the
+size. Measured on two cores: a ladder frame of 199 members in 9 s (36 s with the cores shared
+by four other processes), one of 499 members in over 10 minutes. The bundled rig frame has 28.
+Checked before any entry is read."""
+
+MAX_NODES = 2 * MAX_MEMBERS
+"""Most nodes a frame file may hold [1]: every node is the end of a member, so a frame of
+:data:`MAX_MEMBERS` members has at most twice as many. Checked before any entry is read."""
+
+MAX_ENTRIES = MAX_NODES
+"""Most entries in each of the other tables (materials, sections, supports, load points,
+masses, strain gauges) [1]: none can usefully hold more than one per node."""
+
+MAX_PROBLEMS_SHOWN = 100
+"""Problems listed in one :class:`FrameFileError`; the rest are counted in a last line."""
+
+
+@dataclass(frozen=True)
+class Plausible:
+    """The plausible range of a kind of number in a frame file, in SI units.
+
+    Attributes
+    ----------
+    low, high : float
+        The bounds [``unit``].
+    unit : str
+        The SI unit of the bounds.
+    why : str
+        What the range covers, shown with a value outside it.
+    low_inclusive, high_inclusive : bool
+        Whether the bounds themselves are allowed.
+    """
+
+    low: float
+    high: float
+    unit: str
+    why: str
+    low_inclusive: bool = True
+    high_inclusive: bool = True
+
+    def __contains__(self, value: float) -> bool:
+        above = value >= self.low if self.low_inclusive else value > self.low
+        below = value <= self.high if self.high_inclusive else value < self.high
+        return above and below
+
+    @property
+    def allowed(self) -> str:
+        """The range in interval notation, e.g. ``[1e+06, 1e+13]``."""
+        return (
+            f"{'[' if self.low_inclusive else '('}{self.low:g}, "
+            f"{self.high:g}{']' if self.high_inclusive else ')'}"
+        )
+
+
+PLAUSIBLE: dict[str, Plausible] = {
+    "coordinate": Plausible(-1e3, 1e3, "m", "a rig frame lies within 1 km of its origin"),
+    "youngs_modulus": Plausible(
+        1e6, 1e13, "Pa", "from soft rubber (1 MPa) to beyond diamond (1.2 TPa)"
+    ),
+    "poisson": Plausible(
+        0.0,
+        0.5,
+        "1",
+        "an isotropic solid that neither grows under tension nor is incompressible",
+        low_inclusive=False,
+        high_inclusive=False,
+    ),
+    "density": Plausible(10.0, 3e4, "kg/m^3", "from foams to the densest metals (osmium 22 590)"),
+    "area": Plausible(1e-6, 100.0, "m^2", "from 1 mm^2 to 100 m^2, a near-rigid link"),
+    "second_moment": Plausible(1e-14, 100.0, "m^4", "from a 1 mm wire to a near-rigid link"),
+    "section_modulus": Plausible(1e-10, 100.0, "m^3", "from a 1 mm wire to a near-rigid link"),
+    "section_size": Plausible(1e-4, 10.0, "m", "a section's depth or width, 0.1 mm to 10 m"),
+    "member_length": Plausible(
+        1e-3,
+        math.inf,
+        "m",
+        "a member shorter than 1 mm is a joint, not a beam",
+        high_inclusive=False,
+    ),
+    "mass": Plausible(0.0, 1e6, "kg", "a lumped mass of at most 1000 t"),
+    "load_factor": Plausible(
+        -100.0, 100.0, "N/N", "a force on the frame per newton of test load, at most 100 N/N"
+    ),
+}
+"""Plausible ranges of every number of a frame file, in SI units, checked as it is read:
+node and load point coordinates and gauge positions (``coordinate``), the material's
+``youngs_modulus``, ``poisson`` and ``density``, a section's ``area`` and shear areas
+(``area``), second moments and torsion constant (``second_moment``), ``torsion_modulus``
+(``section_modulus``), ``depth`` and ``width`` (``section_size``), a member's length
+(``member_length``), a lumped ``mass``, and each component of a load point's ``normal`` and
+``traction`` (``load_factor``). A number outside is a typing or unit mistake: it is named with
+its key, unit and range before the FE solver could turn it into a false mechanism or NaN."""
+
 
 class FrameFileError(ParameterError):
     """A frame file is malformed, non-physical, or describes a frame that cannot carry load.
@@ -118,14 +223,21 @@ class FrameFileError(ParameterError):
     origin : str
         The file (or ``"<dict>"``) the problems were found in.
     problems : list of str
-        One line per problem.
+        One line per problem (at most :data:`MAX_PROBLEMS_SHOWN`, then one line counting the
+        rest).
     """
 
     def __init__(self, origin: str, problems: list[Problem | str]):
         self.origin = origin
         self.problems = [
-            p.format(origin) if isinstance(p, Problem) else f"{origin}: {p}" for p in problems
+            p.format(origin) if isinstance(p, Problem) else f"{origin}: {p}"
+            for p in problems[:MAX_PROBLEMS_SHOWN]
         ]
+        if len(problems) > MAX_PROBLEMS_SHOWN:
+            self.problems.append(
+                f"{origin}: ... and {len(problems) - MAX_PROBLEMS_SHOWN} more problems "
+                "(fix these first)"
+            )
         super().__init__("\n".join(self.problems))
 
 
@@ -301,6 +413,12 @@ _SECTION_PROPERTIES = {
     "shear_area_strong": "area",
     "shear_area_weak": "area",
 }
+_SECTION_PLAUSIBLE = {
+    "area": "area",
+    "second_moment": "second_moment",
+    "length": "section_size",
+    "section_modulus": "section_modulus",
+}
 _SECTION_REQUIRED = ("area", "second_moment_strong", "second_moment_weak", "torsion_constant")
 _TOP_KEYS = (
     "meta",
@@ -315,6 +433,30 @@ _TOP_KEYS = (
     "output",
 )
 _ENTRY_FORM = "an inline table { value = ..., unit = ..., source | assumption = ... }"
+_HINTED_PROBLEMS = 20
+"""Problems after which no 'did you mean' hint is looked for."""
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool)
+
+
+def _finite_or_nan(v) -> float:
+    """``float(v)``; NaN for an integer too large for a float."""
+    try:
+        return float(v)
+    except OverflowError:
+        return math.nan
+
+
+def _written(si: float, written, value, unit, si_unit: str):
+    """A value as it was written (a whole list), with the SI value when the unit is not the
+    SI one."""
+    if isinstance(value, list):
+        return value if unit == si_unit else Verbatim(f"{show_value(value)} {unit}")
+    if unit == si_unit:
+        return written
+    return Verbatim(f"{si:.4g} ({show_value(written)} {unit})")
 
 
 class _Reader:
@@ -326,6 +468,8 @@ class _Reader:
         self.provenance: dict[str, Any] = {}
         self.invalid: set[tuple[str, str]] = set()
         """(kind, name) of entries given but invalid: references to them add no problem."""
+        self.nodes_tree: tuple[list[str], Any] = ([], None)
+        """The valid nodes' names and their k-d tree (rows in the same order)."""
 
     def problem(self, key: str, message: str, **kw) -> None:
         self.problems.append(Problem(key, message, **kw))
@@ -342,12 +486,9 @@ class _Reader:
         return value
 
     def unknown_keys(self, table: Mapping, prefix: str, known) -> None:
-        import difflib
-
         for k in table:
             if k not in known:
-                close = difflib.get_close_matches(str(k), list(known), n=1)
-                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                hint = self.hint(str(k), known)
                 self.problem(
                     f"{prefix}.{k}" if prefix else str(k), f"unknown key{hint}", allowed=list(known)
                 )
@@ -358,15 +499,14 @@ class _Reader:
         prefix: str,
         key: str,
         quantity: str,
+        plausible: str,
         *,
         required: bool = True,
         size: int | None = None,
-        low: float | None = None,
-        high: float | None = None,
-        low_inclusive: bool = False,
     ):
         """The SI value of a physical entry ``{ value, unit, source | assumption }`` (a number,
-        or a list of ``size`` numbers), or None with its problems recorded."""
+        or a list of ``size`` numbers) in its range ``PLAUSIBLE[plausible]``, or None with its
+        problems recorded."""
         name = f"{prefix}.{key}"
         raw = table.get(key)
         if raw is None:
@@ -392,31 +532,25 @@ class _Reader:
         if (
             not isinstance(numbers, list)
             or (size is not None and len(numbers) != size)
-            or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in numbers)
+            or not all(_is_number(v) for v in numbers)
         ):
             what = f"a list of {size} numbers" if size is not None else "a number"
             self.problem(f"{name}.value", f"must be {what}", got=value)
             return None
-        si = [apply_factor(float(v), factor) for v in numbers]
+        si = [_finite_or_nan(v) for v in numbers]
+        si = [apply_factor(v, factor) if math.isfinite(v) else v for v in si]
         if not all(math.isfinite(v) for v in si):
             self.problem(f"{name}.value", "must be finite", got=value)
             return None
-        for v in si:
-            bad_low = low is not None and (v < low if low_inclusive else v <= low)
-            bad_high = high is not None and v >= high
-            if bad_low or bad_high:
+        rng = PLAUSIBLE[plausible]
+        for v, written in zip(si, numbers, strict=True):
+            if v not in rng:
                 self.problem(
                     f"{name}.value",
-                    f"must be {'>=' if low_inclusive else '>'} {low:g}"
-                    if bad_low
-                    else f"must be < {high:g}",
-                    unit=_si_unit(quantity),
-                    allowed=interval(
-                        low if low is not None else -math.inf,
-                        high if high is not None else math.inf,
-                        low_inclusive=low_inclusive,
-                    ),
-                    got=value,
+                    f"outside the plausible range ({rng.why})",
+                    unit=rng.unit,
+                    allowed=rng.allowed,
+                    got=_written(v, written, value, unit, rng.unit),
                 )
                 return None
         self.provenance[name] = dict(raw)
@@ -435,29 +569,60 @@ class _Reader:
             return False
         return True
 
-    def vector(self, table: Mapping, prefix: str, key: str, *, default=None, unit_vector=False):
-        """A plain list of three numbers (no unit: a direction or a force per unit load)."""
+    def vector(
+        self,
+        table: Mapping,
+        prefix: str,
+        key: str,
+        *,
+        default=None,
+        unit_vector=False,
+        plausible: str | None = None,
+    ):
+        """A plain list of three numbers (no unit: a direction, or a force per unit load in
+        the range ``PLAUSIBLE[plausible]``)."""
         raw = table.get(key, default)
         if raw is None:
             return None
         if (
             not isinstance(raw, list)
             or len(raw) != 3
-            or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in raw)
-            or not all(math.isfinite(float(v)) for v in raw)
+            or not all(_is_number(v) for v in raw)
+            or not all(math.isfinite(_finite_or_nan(v)) for v in raw)
         ):
             self.problem(
                 f"{prefix}.{key}", "must be a list of three finite numbers [x, y, z]", got=raw
             )
             return None
         v = tuple(float(x) for x in raw)
+        if plausible is not None:
+            rng = PLAUSIBLE[plausible]
+            if not all(x in rng for x in v):
+                self.problem(
+                    f"{prefix}.{key}",
+                    f"a component is outside the plausible range ({rng.why})",
+                    unit=rng.unit,
+                    allowed=rng.allowed,
+                    got=raw,
+                )
+                return None
         if unit_vector:
-            n = math.sqrt(sum(x * x for x in v))
+            n = math.hypot(*v)  # no overflow or underflow in the squares
             if n == 0.0:
                 self.problem(f"{prefix}.{key}", "must not be the zero vector", got=raw)
                 return None
             v = tuple(x / n for x in v)
         return v
+
+    def hint(self, raw, known) -> str:
+        """`` (did you mean 'x'?)`` for a misspelt name; none once many problems are found
+        (each costs a fuzzy match against every known name)."""
+        if len(self.problems) >= _HINTED_PROBLEMS or not isinstance(raw, str):
+            return ""
+        import difflib
+
+        close = difflib.get_close_matches(raw, list(known), n=1)
+        return f" (did you mean {close[0]!r}?)" if close else ""
 
     def name_ref(self, table: Mapping, prefix: str, key: str, known, what: str) -> str | None:
         raw = table.get(key)
@@ -467,10 +632,7 @@ class _Reader:
         if isinstance(raw, str) and (what, raw) in self.invalid:
             return None  # its own problem is reported
         if not isinstance(raw, str) or raw not in known:
-            import difflib
-
-            close = difflib.get_close_matches(str(raw), list(known), n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            hint = self.hint(raw, known)
             self.problem(
                 f"{prefix}.{key}",
                 f"not a {what} of the frame{hint}; define it under "
@@ -495,6 +657,9 @@ def frame_from_dict(data: Mapping[str, Any], origin: str = "<dict>") -> Frame:
     r = _Reader(origin)
     if not isinstance(data, Mapping):
         raise FrameFileError(origin, [Problem("", "must be a TOML table")])
+    too_big = _size_problems(data)
+    if too_big:
+        raise FrameFileError(origin, too_big)
     r.unknown_keys(data, "", _TOP_KEYS)
 
     meta = r.table(data, "meta")
@@ -523,7 +688,11 @@ def frame_from_dict(data: Mapping[str, Any], origin: str = "<dict>") -> Frame:
     if top is None:
         zmax = max((p[2] for p in nodes.values()), default=0.0)
         top_nodes = tuple(n for n, p in nodes.items() if p[2] >= zmax - 1e-3)
-    elif not isinstance(top, list) or not top or any(t not in nodes for t in top):
+    elif (
+        not isinstance(top, list)
+        or not top
+        or any(not isinstance(t, str) or t not in nodes for t in top)
+    ):
         r.problem("output.top_nodes", "must be a non-empty list of node names", got=top)
         top_nodes = ()
     else:
@@ -547,6 +716,35 @@ def frame_from_dict(data: Mapping[str, Any], origin: str = "<dict>") -> Frame:
     )
 
 
+_LIMITS = {
+    "nodes": MAX_NODES,
+    "members": MAX_MEMBERS,
+    **{
+        key: MAX_ENTRIES
+        for key in ("materials", "sections", "supports", "load_points", "masses", "strain_gauges")
+    },
+}
+
+
+def _size_problems(data: Mapping) -> list[Problem]:
+    """Tables with more entries than the analysis can take (:data:`MAX_NODES`,
+    :data:`MAX_MEMBERS`, :data:`MAX_ENTRIES`), found before any entry is read."""
+    out = []
+    for key, limit in _LIMITS.items():
+        table = data.get(key)
+        if isinstance(table, Mapping) and len(table) > limit:
+            out.append(
+                Problem(
+                    key,
+                    f"too many entries for the frame analysis (each {key} entry adds to "
+                    "the FE model; split the frame or merge entries)",
+                    allowed=f"at most {limit}",
+                    got=len(table),
+                )
+            )
+    return out
+
+
 def _materials(r: _Reader, table: Mapping) -> dict[str, Material]:
     out = {}
     if not table:
@@ -557,9 +755,9 @@ def _materials(r: _Reader, table: Mapping) -> dict[str, Material]:
             r.problem(prefix, "must be a table", got=spec)
             continue
         r.unknown_keys(spec, prefix, ("youngs_modulus", "poisson", "density"))
-        e = r.entry(spec, prefix, "youngs_modulus", "pressure", low=0.0)
-        nu = r.entry(spec, prefix, "poisson", "dimensionless", low=0.0, high=0.5)
-        rho = r.entry(spec, prefix, "density", "density", low=0.0)
+        e = r.entry(spec, prefix, "youngs_modulus", "pressure", "youngs_modulus")
+        nu = r.entry(spec, prefix, "poisson", "dimensionless", "poisson")
+        rho = r.entry(spec, prefix, "density", "density", "density")
         if None not in (e, nu, rho):
             out[name] = Material(name, e, nu, rho)
         else:
@@ -609,7 +807,9 @@ def _sections(r: _Reader, table: Mapping) -> dict[str, SectionProperties]:
         values = {}
         for key, quantity in _SECTION_PROPERTIES.items():
             required = key in _SECTION_REQUIRED or key in ("depth", "width")
-            values[key] = r.entry(spec, prefix, key, quantity, required=required, low=0.0)
+            values[key] = r.entry(
+                spec, prefix, key, quantity, _SECTION_PLAUSIBLE[quantity], required=required
+            )
         if any(values[k] is None for k in (*_SECTION_REQUIRED, "depth", "width")):
             continue
         area, it = values["area"], values["torsion_constant"]
@@ -633,7 +833,7 @@ def _sections(r: _Reader, table: Mapping) -> dict[str, SectionProperties]:
 
 
 def _nodes(r: _Reader, table: Mapping) -> dict[str, tuple[float, float, float]]:
-    out: dict[str, tuple[float, float, float]] = {}
+    read: dict[str, tuple[float, float, float]] = {}
     if not table:
         r.problem(
             "nodes",
@@ -649,21 +849,38 @@ def _nodes(r: _Reader, table: Mapping) -> dict[str, tuple[float, float, float]]:
             )
             r.invalid.add(("node", name))
             continue
-        p = r.entry(table, "nodes", name, "length", size=3)
+        p = r.entry(table, "nodes", name, "length", "coordinate", size=3)
         if p is None:
             r.invalid.add(("node", name))
             continue
-        for other, q in out.items():
-            if math.dist(p, q) < NODE_TOLERANCE:
-                r.problem(
-                    f"nodes.{name}",
-                    f"is at the same point as node {other!r}; merge them or move one",
-                    got=list(p),
-                )
-                break
+        read[name] = p
+    # Nodes at one point: the pairs closer than the tolerance, from a k-d tree (n log n); a
+    # node is refused when an earlier one, itself kept, is at its point.
+    names = list(read)
+    partners: dict[int, list[int]] = {}
+    if len(names) > 1:
+        for i, j in sorted(_tree(read.values()).query_pairs(NODE_TOLERANCE)):
+            partners.setdefault(j, []).append(i)
+    out: dict[str, tuple[float, float, float]] = {}
+    for j, name in enumerate(names):
+        other = next((names[i] for i in sorted(partners.get(j, ())) if names[i] in out), None)
+        if other is None:
+            out[name] = read[name]
         else:
-            out[name] = p
+            r.problem(
+                f"nodes.{name}",
+                f"is at the same point as node {other!r}; merge them or move one",
+                got=list(read[name]),
+            )
+    r.nodes_tree = (list(out), _tree(out.values()) if out else None)
     return out
+
+
+def _tree(points):
+    """A k-d tree of points [m] (:class:`scipy.spatial.cKDTree`)."""
+    from scipy.spatial import cKDTree
+
+    return cKDTree(np.asarray(list(points), dtype=float).reshape(-1, 3))
 
 
 def _members(r, table, nodes, sections, materials) -> dict[str, Member]:
@@ -671,6 +888,7 @@ def _members(r, table, nodes, sections, materials) -> dict[str, Member]:
     if not table:
         r.problem("members", "needs the frame's members, e.g. [members.column]")
     ends: dict[frozenset, str] = {}
+    given_materials = [*materials, *(n for kind, n in r.invalid if kind == "material")]
     for name, spec in table.items():
         prefix = f"members.{name}"
         r.invalid.add(("member", name))  # until it is read
@@ -715,12 +933,23 @@ def _members(r, table, nodes, sections, materials) -> dict[str, Member]:
             )
             continue
         section = r.name_ref(spec, prefix, "section", sections, "section")
-        if "material" in spec or len(materials) != 1:
+        if "material" in spec or len(given_materials) != 1:
             material = r.name_ref(spec, prefix, "material", materials, "material")
-        else:
-            material = next(iter(materials))
+        else:  # the one material, if it is valid (its own problem is reported)
+            material = materials.get(given_materials[0]) and given_materials[0]
         a, b = np.asarray(nodes[pair[0]]), np.asarray(nodes[pair[1]])
-        ex = (b - a) / np.linalg.norm(b - a)
+        length = float(np.linalg.norm(b - a))
+        if length not in PLAUSIBLE["member_length"]:
+            rng = PLAUSIBLE["member_length"]
+            r.problem(
+                f"{prefix}.nodes",
+                f"too short: its nodes are {length:.3g} m apart ({rng.why}); merge them",
+                unit=rng.unit,
+                allowed=rng.allowed,
+                got=pair,
+            )
+            continue
+        ex = (b - a) / length
         web = r.vector(spec, prefix, "web", unit_vector=True)
         if web is None and "web" not in spec:
             web = (1.0, 0.0, 0.0) if abs(ex[2]) > 0.999 else (0.0, 0.0, 1.0)
@@ -740,23 +969,31 @@ def _members(r, table, nodes, sections, materials) -> dict[str, Member]:
         r.invalid.discard(("member", name))
         out[name] = Member(name, pair[0], pair[1], section, material, tuple(float(x) for x in w))
     # A node strictly inside a member's span would be connected by the FE library without
-    # being an end of it: make that explicit.
+    # being an end of it: make that explicit. The candidates are the nodes in the ball around
+    # the member's midpoint that holds the member (a k-d tree query), not every node.
+    names, tree = r.nodes_tree
+    if tree is None:
+        return out
+    points = tree.data
     for name, m in out.items():
         a, b = np.asarray(nodes[m.start]), np.asarray(nodes[m.end])
-        length = np.linalg.norm(b - a)
-        for n, p in nodes.items():
-            if n in (m.start, m.end):
-                continue
-            s = np.dot(np.asarray(p) - a, b - a) / length
-            if NODE_TOLERANCE < s < length - NODE_TOLERANCE:
-                off = np.linalg.norm(np.asarray(p) - a - s * (b - a) / length)
-                if off < NODE_TOLERANCE:
-                    r.problem(
-                        f"members.{name}.nodes",
-                        f"node {n!r} lies on the member between "
-                        "its ends; split the member there into two members",
-                        got=[m.start, m.end],
-                    )
+        length = float(np.linalg.norm(b - a))
+        near = tree.query_ball_point((a + b) / 2.0, length / 2.0 + NODE_TOLERANCE)
+        near = np.asarray([i for i in near if names[i] not in (m.start, m.end)], dtype=int)
+        if not near.size:
+            continue
+        ex = (b - a) / length
+        rel = points[near] - a
+        s = rel @ ex
+        off = np.linalg.norm(rel - s[:, None] * ex, axis=1)
+        inside = (s > NODE_TOLERANCE) & (s < length - NODE_TOLERANCE) & (off < NODE_TOLERANCE)
+        for i in sorted(near[inside]):
+            r.problem(
+                f"members.{name}.nodes",
+                f"node {names[i]!r} lies on the member between "
+                "its ends; split the member there into two members",
+                got=[m.start, m.end],
+            )
     return out
 
 
@@ -794,10 +1031,11 @@ def _supports(r, table, nodes) -> dict[str, tuple[bool, ...]]:
 def _at_node(r, spec, prefix, nodes) -> str | None:
     """The node of a load point or mass: ``node = "name"`` or ``at = { value = [x, y, z] }``."""
     if "at" in spec and "node" not in spec:
-        p = r.entry(spec, prefix, "at", "length", size=3)
+        p = r.entry(spec, prefix, "at", "length", "coordinate", size=3)
         if p is None:
             return None
-        near = min(nodes, key=lambda n: math.dist(nodes[n], p), default=None)
+        names, tree = r.nodes_tree
+        near = names[int(tree.query(p)[1])] if tree is not None else None
         if near is None or math.dist(nodes[near], p) > 1e-3:
             where = (
                 f"; the nearest is {near!r} at {math.dist(nodes[near], p) * 1e3:.1f} mm"
@@ -830,8 +1068,8 @@ def _load_points(r, table, nodes) -> dict[str, LoadPoint]:
             continue
         r.unknown_keys(spec, prefix, ("node", "at", "normal", "traction", "source", "assumption"))
         node = _at_node(r, spec, prefix, nodes)
-        normal = r.vector(spec, prefix, "normal", default=[0, 0, 0])
-        traction = r.vector(spec, prefix, "traction", default=[0, 0, 0])
+        normal = r.vector(spec, prefix, "normal", default=[0, 0, 0], plausible="load_factor")
+        traction = r.vector(spec, prefix, "traction", default=[0, 0, 0], plausible="load_factor")
         given = [k for k in ("source", "assumption") if k in spec]
         if len(given) != 1:
             r.problem(
@@ -839,6 +1077,10 @@ def _load_points(r, table, nodes) -> dict[str, LoadPoint]:
                 "needs exactly one of 'source' or 'assumption' (how the load reaches the frame)",
                 got=given or "none",
             )
+            continue
+        text = spec[given[0]]
+        if not isinstance(text, str) or not text.strip():
+            r.problem(f"{prefix}.{given[0]}", "must be a non-empty string", got=text)
             continue
         if None in (node, normal, traction):
             continue
@@ -860,7 +1102,7 @@ def _masses(r, table, nodes) -> dict[str, PointMass]:
             continue
         r.unknown_keys(spec, prefix, ("node", "at", "mass"))
         node = _at_node(r, spec, prefix, nodes)
-        mass = r.entry(spec, prefix, "mass", "mass", low=0.0, low_inclusive=True)
+        mass = r.entry(spec, prefix, "mass", "mass", "mass")
         if node is not None and mass is not None:
             out[name] = PointMass(name, node, mass)
     return out
@@ -888,11 +1130,14 @@ def _connectivity(r, nodes, members, supports) -> None:
     parts: dict[str, list[str]] = {}
     for n in used:
         parts.setdefault(root(n), []).append(n)
-    for part in parts.values():
+    part_members: dict[str, list[str]] = {}
+    for m, spec in members.items():
+        part_members.setdefault(root(spec.start), []).append(m)
+    for key, part in parts.items():
         if not any(n in supports for n in part):
             names = sorted(part)
             shown = ", ".join(names[:6]) + (" ..." if len(names) > 6 else "")
-            held = [m for m, spec in members.items() if spec.start in part]
+            held = part_members.get(key, [])
             r.problem(
                 "supports",
                 f"the part of the frame with nodes {shown} (members "
@@ -911,7 +1156,7 @@ def _gauges(r, table, nodes, members, sections) -> dict[str, StrainGauge]:
             continue
         r.unknown_keys(spec, prefix, ("member", "position", "fibre", "source", "assumption"))
         member = r.name_ref(spec, prefix, "member", members, "member")
-        position = r.entry(spec, prefix, "position", "length", low=0.0, low_inclusive=True)
+        position = r.entry(spec, prefix, "position", "length", "coordinate")
         fibre = spec.get("fibre")
         direction = _FIBRES.get(fibre) if isinstance(fibre, str) else None
         if direction is None:
@@ -923,10 +1168,10 @@ def _gauges(r, table, nodes, members, sections) -> dict[str, StrainGauge]:
         m = members[member]
         a, b = np.asarray(nodes[m.start]), np.asarray(nodes[m.end])
         length = float(np.linalg.norm(b - a))
-        if position > length + 1e-9:
+        if not 0.0 <= position <= length + 1e-9:
             r.problem(
                 f"{prefix}.position",
-                f"lies beyond member {member!r} ({length:g} m long, from node {m.start!r})",
+                f"lies outside member {member!r} ({length:g} m long, from node {m.start!r})",
                 unit="m",
                 allowed=interval(0, length, low_inclusive=True, high_inclusive=True),
                 got=position,
