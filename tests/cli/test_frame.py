@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import pytest
 
@@ -145,3 +146,18 @@ def test_hostile_frame_files_are_one_clear_error(tmp_path, runner, change, messa
     assert message in " ".join(result.output.split())
     assert "Traceback" not in result.output and "mechanism" not in result.output
     assert not out.exists() or list(out.iterdir()) == []
+
+
+def test_frame_without_traction_is_refused_before_the_analysis(tmp_path, runner):
+    from importlib import resources
+
+    text = resources.files("rollerrig.frame").joinpath("data/default-frame.toml").read_text()
+    path = tmp_path / "f.toml"
+    no_traction = re.sub(r"(?m)^traction = \[.*\]$", "traction = [0, 0, 0]", text)
+    assert no_traction.count("traction = [0, 0, 0]") == 5
+    path.write_text(no_traction)
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["frame", "--frame", str(path), "--out", str(out)])
+    assert result.exit_code == 2, result.output
+    assert "load_points: every load point's traction is [0, 0, 0]" in result.output
+    assert "internal error" not in result.output

@@ -328,3 +328,17 @@ def test_absurd_analysis_arguments_never_reach_the_solver(kw, message):
     with pytest.raises(ParameterError) as info:
         analyze_frame(default_frame(), **kw)
     assert message in str(info.value)
+
+
+def test_no_traction_pattern_is_one_clear_error(make_frame):
+    """Load points with traction [0, 0, 0] everywhere give no contact coordinate: a clear
+    error, not a division by zero (found with a 200-member frame file, issue 24)."""
+    frame = make_frame(
+        {"a": (0, 0, 0), "b": (0, 0, 2)},
+        {"col": ("a", "b")},
+        {"a": "fixed"},
+        {"p": ("b", (0, 0, -1), (0, 0, 0))},
+    )
+    r = analyze_frame(frame, 1e3, 0.0, n_modes=2)
+    with pytest.raises(FrameFileError, match="every load point's traction is"):
+        contact_dof(r)

@@ -77,10 +77,12 @@ def frame(
         raise UserError(f"--modes must be in [1, 50], got {modes}")
     require("Pynite", "frame", "rollerrig frame")
     from rollerrig.frame import analyze_frame, contact_dof, default_frame, load_frame
+    from rollerrig.frame.analysis import check_contact
     from rollerrig.output import save_figure, write_json
     from rollerrig.report.frame import deformed_shape_figure, mode_shape_figure
 
     structure = default_frame() if frame_file is None else load_frame(frame_file)
+    check_contact(structure)
     normal, traction = vertical_kn * 1e3, horizontal_kn * 1e3
     with command_outputs(
         out,

@@ -53,6 +53,7 @@ __all__ = [
     "StressPeak",
     "analyze_frame",
     "build_model",
+    "check_contact",
     "check_stability",
     "contact_dof",
     "unit_load_patterns",
@@ -771,11 +772,33 @@ class ContactDof:
         }
 
 
+def check_contact(frame: Frame) -> None:
+    """Raise :class:`FrameFileError` when the load points put no force on the frame under
+    traction: the contact coordinate of :func:`contact_dof` is then undefined (checked before
+    an analysis that would end there)."""
+    if not any(any(lp.traction) for lp in frame.load_points.values()):
+        raise FrameFileError(
+            frame.origin,
+            [
+                "load_points: every load point's traction is [0, 0, 0], so the frame has no "
+                "stiffness at the contact; give the force a unit traction force puts on the "
+                "frame (traction = [x, y, z]) at the load points"
+            ],
+        )
+
+
 def contact_dof(result: FrameResult) -> ContactDof:
     """The frame's longitudinal stiffness and the dominant mode's mass at the contact.
 
     The mode chosen is the one with the largest share ``q_r² / ω_r²`` of the contact's static
     flexibility (the first longitudinal mode seen from the contact).
+
+    Raises
+    ------
+    FrameFileError
+        The frame's load points put no force on it under traction (no contact coordinate).
+    ParameterError
+        No mode computed moves the contact.
 
     Examples
     --------
@@ -784,10 +807,15 @@ def contact_dof(result: FrameResult) -> ContactDof:
     >>> dof.stiffness > 1e7 and 0 < dof.participation <= 1.0 + 1e-9
     True
     """
+    check_contact(result.frame)
     omega = 2.0 * np.pi * result.frequencies
     share = result.contact_participation**2 / omega**2
     r = int(np.argmax(share))
     q = float(result.contact_participation[r])
+    if not share[r] > 0.0:
+        raise ParameterError(
+            f"none of the {len(omega)} modes computed moves the contact; compute more modes"
+        )
     modal_mass = 1.0 / (q * q)  # shapes are mass-normalised: m_r = 1
     k = result.longitudinal_stiffness_at_contact
     return ContactDof(
