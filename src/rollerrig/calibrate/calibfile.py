@@ -96,7 +96,7 @@ def _fail(source: str, problems: list[Problem]) -> CalibrationError:
 
 
 def read_calibration(
-    path: str | os.PathLike, source: str | None = None, rig=None
+    path: str | os.PathLike, source: str | None = None, rig=None, *, allow_invalid: bool = False
 ) -> dict[str, Any]:
     """Read and check a ``calibration.json`` (see the module's docstring).
 
@@ -109,6 +109,9 @@ def read_calibration(
     rig : RigParameters, optional
         The rig in use: the reference of a value's plausibility where the file gives no
         starting value (see :func:`check_calibration`).
+    allow_invalid : bool
+        Accept a calibration that says it is not valid (``"valid": false``: its fit did not
+        converge or ended worse than it started); without it that is an error naming why.
 
     Returns
     -------
@@ -121,7 +124,7 @@ def read_calibration(
         No such file.
     CalibrationError
         Not a JSON object of the form written, or values that are not plausible; one line per
-        problem, each naming the file and the key.
+        problem, each naming the file and the key; a calibration marked not valid.
     """
     path = Path(path)
     source = str(path) if source is None else source
@@ -159,7 +162,23 @@ def read_calibration(
                 )
             ],
         ) from None
-    return check_calibration(data, source, rig)
+    data = check_calibration(data, source, rig)
+    if data.get("valid") is False and not allow_invalid:
+        reasons = data.get("invalid_reasons") or ["no reason recorded"]
+        raise _fail(
+            source,
+            [
+                Problem(
+                    "valid",
+                    "this calibration is not valid (" + "; ".join(map(str, reasons)) + "): its "
+                    "values are not a calibrated rig; calibrate again (more iterations, a better "
+                    "start, or the other roller-drive model: rollerrig calibrate "
+                    "--compare-drives), or force its use (read_calibration(..., "
+                    "allow_invalid=True))",
+                )
+            ],
+        )
+    return data
 
 
 def check_calibration(data: Any, source: str = "calibration.json", rig=None) -> dict[str, Any]:
@@ -295,7 +314,7 @@ def _value_problems(key: str, field: str, value: Any) -> list[Problem]:
 
 
 def _entry_problems(key: str, entry: Any, rig_value: Any = None) -> list[Problem]:
-    catalogue = free_parameter_catalogue()
+    catalogue = free_parameter_catalogue("induction_dq")  # every drive's keys
     if key not in catalogue:
         close = difflib.get_close_matches(key, catalogue, n=1)
         hint = f" (did you mean {close[0]!r}?)" if close else ""
@@ -527,11 +546,41 @@ def _report_problems(data: dict) -> list[Problem]:
         not isinstance(warnings, list) or not all(isinstance(w, str) for w in warnings)
     ):
         problems.append(Problem("warnings", "must be an array of strings", got=warnings))
+    for name in ("valid", "standard_errors_conditional_on_model"):
+        if name in data and not isinstance(data[name], bool):
+            problems.append(Problem(name, "must be true or false", got=data[name]))
+    reasons = data.get("invalid_reasons")
+    if reasons is not None and (
+        not isinstance(reasons, list) or not all(isinstance(r, str) for r in reasons)
+    ):
+        problems.append(Problem("invalid_reasons", "must be an array of strings", got=reasons))
+    problems += _discrepancy_problems(data.get("model_discrepancy"))
     recording = data.get("recording")
     if recording is not None and not isinstance(recording, dict):
         problems.append(Problem("recording", "must be an object", got=Verbatim(_kind(recording))))
     elif isinstance(recording, dict) and not isinstance(recording.get("source", ""), str):
         problems.append(Problem("recording.source", "must be a string", got=recording["source"]))
+    return problems
+
+
+def _discrepancy_problems(record: Any) -> list[Problem]:
+    """``model_discrepancy``: {keys: {key: {standard_uncertainty >= 0, ...}}} or absent."""
+    if record is None:
+        return []
+    keys = record.get("keys") if isinstance(record, dict) else None
+    if not isinstance(keys, dict):
+        return [Problem("model_discrepancy", "must be an object with 'keys' {key: {...}}")]
+    problems = []
+    for key, entry in keys.items():
+        u = entry.get("standard_uncertainty") if isinstance(entry, dict) else None
+        if not _is_number(u) or not (0.0 <= float(u) < math.inf):
+            problems.append(
+                Problem(
+                    f"model_discrepancy.keys.{key}.standard_uncertainty",
+                    "must be a finite number >= 0",
+                    got=u,
+                )
+            )
     return problems
 
 

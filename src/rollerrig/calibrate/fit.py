@@ -321,6 +321,7 @@ def calibrate(
     search_width: float = SEARCH_WIDTH,
     lines: bool = True,
     h_max: float | None = None,
+    roller_drive: str | None = None,
 ):
     """Fit the free parameters of the twin so that it reproduces a recorded test.
 
@@ -351,6 +352,12 @@ def calibrate(
         ``progress(iteration, max_iterations, text)`` after each iteration.
     drives : DriveConfig, optional
         Drive models of the twin (default PMSM wheel drive, induction roller drive with lag).
+    roller_drive : {"induction", "induction_dq"}, optional
+        The roller drive of the replayed twin (replaces ``drives.roller``): the Thevenin torque
+        with its first-order lag (c_lp, ``induction_motor.response_lag_clp``, is its own free
+        key), or the dq machine under open-loop V/f, whose settings
+        (``roller_drive_vf.*``) are then free keys too. Default ``drives.roller`` or
+        ``"induction"``. :func:`rollerrig.calibrate.compare.compare_drives` fits both.
     torque_noise : float, optional
         Standard deviation of the torque sensor's noise [N.m] for the first weights.
     lines : bool
@@ -385,8 +392,9 @@ def calibrate(
 
         recording = read_recording(recording, channel_map)
     rig = default_rig() if rig is None else rig
+    drives = _drives(drives, roller_drive)
     law = friction_parameters(friction)
-    fitted = free_parameters(free, rig, law)
+    fitted = free_parameters(free, rig, law, drives.roller)
     measurement = prepare_measurement(recording, rig, torque_noise=torque_noise, lines=lines)
     nuisance = [
         FreeParameter(
@@ -497,6 +505,25 @@ def calibrate(
         recording=recording,
         wall_time=_time.perf_counter() - started,
     )
+
+
+def _drives(drives, roller_drive: str | None):
+    """The twin's DriveConfig with the roller drive ``roller_drive`` (checked)."""
+    import dataclasses
+
+    from rollerrig.calibrate.problem import ROLLER_DRIVES
+    from rollerrig.rig.model import DriveConfig
+
+    drives = DriveConfig() if drives is None else drives
+    roller = drives.roller if roller_drive is None else str(roller_drive)
+    if roller not in ROLLER_DRIVES:
+        raise CalibrationError(
+            f"roller drive {roller!r} cannot be calibrated; choose one of {list(ROLLER_DRIVES)}"
+        )
+    if roller != drives.roller:
+        lag = None if roller == "induction_dq" else drives.roller_lag
+        drives = dataclasses.replace(drives, roller=roller, roller_lag=lag)
+    return drives
 
 
 def _show_factor(x: float) -> str:

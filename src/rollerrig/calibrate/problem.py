@@ -36,16 +36,21 @@ import numpy as np
 from rollerrig._validation import ParameterError
 from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters
 from rollerrig.rig.parameters import RigParameters
-from rollerrig.rig.sections import SECTIONS, si_unit_of
+from rollerrig.rig.sections import SECTIONS, quantity_of, si_unit_of
 
 if TYPE_CHECKING:
     from rollerrig.calibrate.measurement import Measurement
 
 __all__ = [
+    "DRIVE_KEY_PREFERENCE",
+    "LAG_DRIVE_KEYS",
     "NUISANCE_KEYS",
     "POLACH_KEYS",
+    "ROLLER_DRIVES",
+    "VF_SECTION",
     "CalibrationError",
     "FreeParameter",
+    "drive_keys",
     "free_parameter_catalogue",
     "free_parameters",
     "friction_parameters",
@@ -68,6 +73,42 @@ NUISANCE_KEYS = ("experiment.roller_speed", "experiment.normal_load")
 normal load of the replay [N] (not when the load channel is exactly constant). The load is
 known only as well as the pressure's scatter allows, and the torque near the adhesion limit is
 proportional to it: a fixed load would pass its error to the other parameters unseen."""
+
+ROLLER_DRIVES = ("induction", "induction_dq")
+"""Roller-drive models a calibration may fit (:class:`rollerrig.rig.model.DriveConfig`): the
+Thevenin torque with a first-order lag (``induction``, the default) and the dq machine under
+open-loop V/f (``induction_dq``)."""
+
+VF_SECTION = "roller_drive_vf"
+"""The rig-file table of the V/f settings: its keys are free keys of the dq drive only (the lag
+model does not read them)."""
+
+LAG_DRIVE_KEYS = ("induction_motor.response_lag_clp",)
+"""The lag model's own drive key: c_lp of Kayaalp eq. 4.29, which sets the lag time constant
+(τ from c_lp, :class:`rollerrig.rig.model.DriveConfig` ``roller_lag=None``)."""
+
+DRIVE_KEY_PREFERENCE = (
+    "slip_compensation",
+    "slip_filter_time",
+    "current_filter_time",
+    "filter_time",
+)
+"""The V/f settings the comparison frees with the dq drive, those of them that the rig file's
+``[roller_drive_vf]`` table has (:func:`drive_keys`): the settings that shape the torque after a
+release (the slip compensation's gain and its two filters; the slip estimate uses the filtered
+current). ``filter_time``, the former single key of both filters, only where the table has
+neither ``slip_filter_time`` nor ``current_filter_time``. Not freed unless named: boost, ramp
+and current limit (they act at start-up and in overload only) and ``rotor_resistance_estimate``
+(the slip compensation scales the estimated slip by it and by the gain alike: the two are one
+combination in the torque)."""
+
+_VF_START_TIME = 0.3
+"""Starting value [s] of a V/f filter time that the rig leaves at 0 (the machine's default, about
+0.37 s on the bundled rig): the fit steps in ln(value), so it needs a start above 0."""
+
+_VF_START_FRACTION = 0.5
+"""Starting value of any other V/f setting that the rig leaves at its lower bound, as a fraction
+of its plausible range (:data:`rollerrig.drives.vf.VF_SETTING_RANGES`): slip compensation 0.75."""
 
 _EXCLUDED_SECTIONS = ("meta", "sensors")  # names and the DAQ: how the data are read, not fitted
 _POLACH_RANGES = {  # (lower, upper) of each Polach parameter [-, -, s/m, -, -]
@@ -139,16 +180,63 @@ def _rig_float_fields() -> dict[str, Any]:
     return out
 
 
-def free_parameter_catalogue() -> tuple[str, ...]:
-    """Every key :func:`rollerrig.calibrate.calibrate` accepts in ``free``.
+def _check_roller(roller: str) -> str:
+    if roller not in ROLLER_DRIVES:
+        raise CalibrationError(
+            f"roller drive {roller!r} cannot be calibrated; choose one of {list(ROLLER_DRIVES)}"
+        )
+    return roller
+
+
+def free_parameter_catalogue(roller: str = "induction") -> tuple[str, ...]:
+    """Every key :func:`rollerrig.calibrate.calibrate` accepts in ``free`` with the roller drive
+    ``roller`` (the ``roller_drive_vf.*`` keys with ``"induction_dq"`` only).
 
     Examples
     --------
     >>> keys = free_parameter_catalogue()
     >>> "stiffness.roller_shaft" in keys, "polach.k_slip" in keys, "sensors.daq_rate" in keys
     (True, True, False)
+    >>> "roller_drive_vf.slip_compensation" in keys
+    False
+    >>> "roller_drive_vf.slip_compensation" in free_parameter_catalogue("induction_dq")
+    True
     """
-    return (*_rig_float_fields(), *POLACH_KEYS)
+    dq = _check_roller(roller) == "induction_dq"
+    rig = [k for k in _rig_float_fields() if dq or not k.startswith(f"{VF_SECTION}.")]
+    return (*rig, *POLACH_KEYS)
+
+
+def drive_keys(roller: str) -> tuple[str, ...]:
+    """The drive model's own free keys: c_lp for the lag model, the V/f settings of
+    :data:`DRIVE_KEY_PREFERENCE` that the rig file has for the dq drive.
+
+    Examples
+    --------
+    >>> drive_keys("induction")
+    ('induction_motor.response_lag_clp',)
+    >>> "roller_drive_vf.slip_compensation" in drive_keys("induction_dq")
+    True
+    """
+    if _check_roller(roller) == "induction":
+        return LAG_DRIVE_KEYS
+    fields = _rig_float_fields()
+    keys = [k for k in DRIVE_KEY_PREFERENCE if f"{VF_SECTION}.{k}" in fields]
+    if "filter_time" in keys and {"slip_filter_time", "current_filter_time"} & set(keys):
+        keys.remove("filter_time")
+    return tuple(f"{VF_SECTION}.{k}" for k in keys)
+
+
+def _vf_start(name: str, field, lower: float) -> float | None:
+    """Starting value of a V/f setting the rig leaves at its lower bound (None: no rule)."""
+    from rollerrig.drives.vf import VF_SETTING_RANGES
+
+    if "time" in name and (quantity_of(field) == "time"):
+        return _VF_START_TIME
+    if name in VF_SETTING_RANGES:
+        low, high = VF_SETTING_RANGES[name]
+        return max(low, lower) + _VF_START_FRACTION * (high - max(low, lower))
+    return None
 
 
 def _bounds(field) -> tuple[float, float | None]:
@@ -165,7 +253,10 @@ def _bounds(field) -> tuple[float, float | None]:
 
 
 def free_parameters(
-    free: str | Iterable[str], rig: RigParameters, friction: PolachParameters
+    free: str | Iterable[str],
+    rig: RigParameters,
+    friction: PolachParameters,
+    roller: str = "induction",
 ) -> tuple[FreeParameter, ...]:
     """The free parameters named by ``free``, started from ``rig`` and ``friction``.
 
@@ -177,6 +268,11 @@ def free_parameters(
         Starting values of the rig keys.
     friction : PolachParameters
         Starting values of the ``polach.*`` keys.
+    roller : {"induction", "induction_dq"}
+        The roller drive of the twin: the ``roller_drive_vf.*`` keys are free keys of the dq
+        drive only. A V/f setting the rig leaves at its lower bound (no slip compensation, a
+        filter time of 0 = the machine's default) starts from 0.3 s (times) or the middle of
+        its plausible range (others), since the fit steps in relative terms.
 
     Returns
     -------
@@ -206,12 +302,21 @@ def free_parameters(
             "stiffness.roller_shaft,bearing.friction_coefficient"
         )
     fields = _rig_float_fields()
+    _check_roller(roller)
+    vf = [k for k in keys if k.startswith(f"{VF_SECTION}.") and k in fields]
+    if vf and roller != "induction_dq":
+        raise CalibrationError(
+            f"free parameter(s) {vf}: the V/f settings act on the dq roller drive only; the "
+            f"roller drive {roller!r} does not read them (its lag is "
+            f"{LAG_DRIVE_KEYS[0]}); calibrate with the roller drive induction_dq "
+            "(--roller-drive induction_dq), or leave them out"
+        )
     unknown = [k for k in keys if k not in fields and k not in POLACH_KEYS]
     if unknown:
         raise CalibrationError(
             f"unknown free parameter(s) {unknown}; valid keys are the floats of a rig file "
             f"outside [meta] and [sensors] and the friction law of the recording: "
-            f"{', '.join(free_parameter_catalogue())}"
+            f"{', '.join(free_parameter_catalogue(roller))}"
         )
     out = []
     for key in keys:
@@ -228,6 +333,9 @@ def free_parameters(
             value = float(getattr(getattr(rig, section), name))
             unit = si_unit_of(field)
             kind = "rig"
+            if section == VF_SECTION and not value > lower:
+                start = _vf_start(name, field, lower)
+                value = value if start is None else start
         if not value > lower:
             raise CalibrationError(
                 f"free parameter {key}: starting value {value:g} {unit} is at its lower bound "

@@ -10,6 +10,7 @@ after the fit (``calibration-fit.nc``) for the report's figure.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -17,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from rollerrig.calibrate.problem import FreeParameter, split_values, with_polach
+from rollerrig.calibrate.problem import ROLLER_DRIVES, FreeParameter, split_values, with_polach
 from rollerrig.calibrate.stats import LJUNG_BOX_LAGS
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.rig.parameters import RigParameters
@@ -46,6 +47,27 @@ _MEANING = {
 _MISFIT_FACTOR = 5.0  # residual RMS above this many sensor sigmas: the twin misses the data
 _QUANTISATION_LAG1 = -0.5  # lag-1 autocorrelation of a gated speed's quantisation error
 _LAG1_MARGIN = 0.1  # above -0.5 + this: structure beyond the quantisation
+
+STRUCTURE_LAG1 = 0.5
+"""Lag-1 autocorrelation of a channel's residuals above which they show structure the model
+does not explain, whatever Ljung-Box says (white residuals of the >= 1000 samples of a test
+give |r1| < 0.1; the twin that made a synthetic recording leaves r1 = 0.00 in the torque once
+its lines are fitted, a wrong drive model 0.88 to 0.99)."""
+
+STRUCTURE_ALPHA = 0.01
+"""Level of the Ljung-Box test of whiteness (:func:`rollerrig.calibrate.stats.whiteness`)."""
+
+WORSE_MARGIN = 0.01
+"""A channel ends "worse than it started" when its residual RMS after the fit exceeds the one
+before by more than this fraction and exceeds its sensor noise (a channel at its noise, such as
+the normal load, moves by 1e-7 between fits)."""
+
+CONDITIONAL_NOTE = (
+    "conditional on the model: the residuals show structure the fitted model does not explain "
+    "(Ljung-Box p < {alpha:g} or lag-1 autocorrelation > {lag1:g} in a channel, the encoders' "
+    "quantisation (lag-1 -0.5) excepted); each standard error is what the data allow if the "
+    "model were right, not the distance to the truth"
+)
 
 STANDARD_ERROR_CONVENTION = (
     "standard_error: one standard deviation [SI unit of the value] from the Newey-West "
@@ -96,6 +118,7 @@ class FittedParameter:
     identified: bool
     reason: str = ""
     at_bound: bool = False
+    conditional_on_model: bool = False
 
     @property
     def relative_standard_error(self) -> float | None:
@@ -124,6 +147,7 @@ class FittedParameter:
                 "standard_error_white": self.standard_error_white,
                 "inflation": inflation,
                 "at_upper_bound": self.at_bound,
+                "conditional_on_model": self.conditional_on_model,
             }
         else:
             out["why_null"] = self.reason
@@ -219,6 +243,20 @@ class Calibration:
     start_rig : RigParameters or None
         The rig the calibration started from: recorded in ``calibration.json`` (``rig``,
         :func:`rollerrig.calibrate.binding.rig_binding`), which binds the calibration to it.
+    valid : bool
+        False when the fit did not converge, ended with a larger cost than it started with,
+        or with a larger residual in a channel (:attr:`invalid_reasons`): no calibrated rig is
+        written and ``analyze --calibration`` refuses it.
+    conditional : bool
+        The residuals show structure (:data:`STRUCTURE_LAG1`, :data:`STRUCTURE_ALPHA`) in the
+        channels :attr:`structured_channels`: every standard error is conditional on the model.
+    roller_drive : str
+        The roller drive of the twin that was fitted.
+    suggestion : str
+        What to try when the model looks inadequate (the other roller-drive model).
+    model_discrepancy : dict or None
+        The type-B term from the spread of the values between adequate drive models
+        (:func:`rollerrig.calibrate.compare.compare_drives`), per key.
     """
 
     parameters: dict[str, FittedParameter]
@@ -236,6 +274,13 @@ class Calibration:
     recording: dict[str, Any]
     series: dict[str, Any] = field(repr=False)
     start_rig: RigParameters | None = field(default=None, repr=False)
+    valid: bool = True
+    invalid_reasons: tuple[str, ...] = ()
+    conditional: bool = False
+    structured_channels: tuple[str, ...] = ()
+    roller_drive: str = "induction"
+    suggestion: str = ""
+    model_discrepancy: dict[str, Any] | None = None
 
     @property
     def values(self) -> dict[str, float | None]:
@@ -252,6 +297,32 @@ class Calibration:
         keys = list(self.keys)
         return {
             "what": "calibration of the rig's twin to a recorded test (rollerrig calibrate)",
+            "valid": bool(self.valid),
+            **({"invalid_reasons": list(self.invalid_reasons)} if not self.valid else {}),
+            "roller_drive": self.roller_drive,
+            "standard_errors_conditional_on_model": bool(self.conditional),
+            "conditional_on_model": {
+                "flag": bool(self.conditional),
+                "structured_channels": list(self.structured_channels),
+                "test": (
+                    f"a channel's residuals show structure when Ljung-Box rejects whiteness at "
+                    f"p < {STRUCTURE_ALPHA:g} or the lag-1 autocorrelation exceeds "
+                    f"{STRUCTURE_LAG1:g}; an encoder speed's lag-1 autocorrelation up to "
+                    f"{_QUANTISATION_LAG1 + _LAG1_MARGIN:g} is its quantisation's"
+                ),
+                "meaning": CONDITIONAL_NOTE.format(alpha=STRUCTURE_ALPHA, lag1=STRUCTURE_LAG1)
+                if self.conditional
+                else "the residuals are white: the standard errors hold for the model fitted",
+                "budget": "rollerrig analyze --calibration uses, for a key of a calibration "
+                "conditional on the model, the larger of its standard error and the rig's "
+                "stated type-B uncertainty of that input",
+                **({"suggestion": self.suggestion} if self.suggestion else {}),
+            },
+            **(
+                {"model_discrepancy": self.model_discrepancy}
+                if self.model_discrepancy is not None
+                else {}
+            ),
             "recording": self.recording,
             "free": list(self.parameters),
             "parameters": {k: p.as_dict() for k, p in self.parameters.items()},
@@ -487,6 +558,43 @@ def build_calibration(
                 "Newey-West covariance, which accounts for its correlation, not for a bias"
             )
 
+    structured = tuple(
+        c
+        for c in measurement.channels
+        if channel_structured(
+            white[c], c in ("wheel_speed", "roller_speed") and measurement.encoder_counts
+        )
+    )
+    roller = model.drives.roller
+    suggestion = ""
+    if structured:
+        free = {
+            k: dataclasses.replace(p, conditional_on_model=p.identified) for k, p in free.items()
+        }
+        nuisance = {
+            k: dataclasses.replace(p, conditional_on_model=p.identified)
+            for k, p in nuisance.items()
+        }
+        other = [d for d in ROLLER_DRIVES if d != roller]
+        if other:
+            suggestion = (
+                f"the roller drive model {roller!r} may be the wrong one for this recording: "
+                f"compare it with {other[0]!r} on the same recording (rollerrig calibrate "
+                f"RECORDING --free ... --compare-drives, or --roller-drive {other[0]})"
+            )
+        note_text = CONDITIONAL_NOTE.format(alpha=STRUCTURE_ALPHA, lag1=STRUCTURE_LAG1)
+        warnings.append(
+            f"every standard error is {note_text} (structured: {', '.join(structured)})"
+            + (f"; {suggestion}" if suggestion else "")
+        )
+    invalid = _invalid_reasons(channels, converged, fit.iterations)
+    if invalid:
+        warnings.insert(
+            0,
+            "NOT A VALID CALIBRATION: " + "; ".join(invalid) + ": no calibrated rig is written "
+            "and rollerrig analyze --calibration refuses this calibration.json",
+        )
+
     values = [p.value(point.z[i]) for i, p in enumerate(params)]
     _, polach_values, experiment = split_values(params, values)
     identified_polach = {k: v for k, v in polach_values.items() if fitted[f"polach.{k}"].identified}
@@ -560,7 +668,51 @@ def build_calibration(
         recording=facts,
         series=series,
         start_rig=model.rig,
+        valid=not invalid,
+        invalid_reasons=tuple(invalid),
+        conditional=bool(structured),
+        structured_channels=structured,
+        roller_drive=roller,
+        suggestion=suggestion,
     )
+
+
+def channel_structured(w: dict, quantised: bool) -> bool:
+    """Whether a channel's residuals show structure the model does not explain
+    (:data:`STRUCTURE_ALPHA`, :data:`STRUCTURE_LAG1`; an encoder speed's quantisation, lag-1
+    autocorrelation -0.5, is no structure)."""
+    r1 = float(w["lag1_autocorrelation"])
+    if quantised and r1 <= _QUANTISATION_LAG1 + _LAG1_MARGIN:
+        return False
+    return bool(w["ljung_box_p"] < STRUCTURE_ALPHA or r1 > STRUCTURE_LAG1)
+
+
+def _invalid_reasons(channels: dict[str, ChannelFit], converged: bool, iterations: int):
+    """Why a fit is not a valid calibration (empty: valid): no convergence, a larger cost
+    (with the sensor-noise weights) or a larger residual in a channel than at the start."""
+    out = []
+    if not converged:
+        out.append(f"the fit did not converge within {iterations} iterations")
+
+    def cost(which: str) -> float:
+        return sum(
+            ch.samples * (getattr(ch, which) / ch.sigma_sensor) ** 2 for ch in channels.values()
+        )
+
+    before, after = cost("rms_before"), cost("rms_after")
+    if after > before:
+        out.append(
+            f"it ended with a larger cost than it started with ({after:.6g} against {before:.6g}, "
+            "sum of squared residuals over the sensor noise)"
+        )
+    worse = [
+        f"{c} ({ch.rms_after:.4g} against {ch.rms_before:.4g} {ch.unit})"
+        for c, ch in channels.items()
+        if ch.rms_after > (1.0 + WORSE_MARGIN) * ch.rms_before and ch.rms_after > ch.sigma_sensor
+    ]
+    if worse:
+        out.append("it ended with larger residuals than it started with in " + ", ".join(worse))
+    return out
 
 
 def _solver_settings(model) -> dict[str, Any]:
@@ -587,9 +739,18 @@ def _renamed(friction: PolachParameters, name: str) -> PolachParameters:
 
 
 def write_calibration(
-    calibration: Calibration, folder: str | os.PathLike, *, overwrite: bool = True
+    calibration: Calibration,
+    folder: str | os.PathLike,
+    *,
+    overwrite: bool = True,
+    write_rig: bool = True,
 ) -> list[Path]:
     """Write ``calibration.json``, ``calibrated-rig.toml`` and ``calibration-fit.nc``.
+
+    A calibration that is not valid (:attr:`Calibration.valid`: no convergence, or worse than
+    its start) gets no ``calibrated-rig.toml``: its ``calibration.json`` says ``"valid":
+    false`` and why. ``write_rig=False`` leaves the rig out in any case (the comparison of drive
+    models when no model is adequate).
 
     Every file carries the provenance of the run (:mod:`rollerrig.output`); the rig file holds
     it as its first comment line, and each calibrated key's own provenance names the
@@ -613,12 +774,15 @@ def write_calibration(
 
     folder = Path(folder)
     rig = calibration.rig
-    text = write_sections({s: getattr(rig, s) for s in SECTIONS}, rig.provenance)
     paths = [
         write_json(folder / CALIBRATION_JSON_NAME, calibration.to_json(), overwrite=overwrite),
-        write_text(folder / CALIBRATED_RIG_NAME, text, overwrite=overwrite, comment="#"),
         write_dataset(folder / FIT_DATASET_NAME, calibration.fit_dataset(), overwrite=overwrite),
     ]
+    if calibration.valid and write_rig:
+        text = write_sections({s: getattr(rig, s) for s in SECTIONS}, rig.provenance)
+        paths.insert(
+            1, write_text(folder / CALIBRATED_RIG_NAME, text, overwrite=overwrite, comment="#")
+        )
     return paths
 
 

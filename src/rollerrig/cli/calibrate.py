@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
@@ -31,7 +32,15 @@ from rollerrig.cli._outputs import command_outputs
 FIT_FIGURE_NAME = "calibration-fit.png"
 """The figure of the fit: recorded against simulated T56 and speeds, before and after."""
 
-__all__ = ["calibrate", "print_calibration"]
+__all__ = ["CalibrationDrive", "calibrate", "print_calibration", "print_comparison"]
+
+
+class CalibrationDrive(StrEnum):
+    """The roller drive of the twin a calibration fits, or ``compare`` for both."""
+
+    induction = "induction"
+    induction_dq = "induction_dq"
+    compare = "compare"
 
 
 def calibrate(
@@ -72,10 +81,36 @@ def calibrate(
         int,
         typer.Option(min=1, help="Most Levenberg-Marquardt iterations per stage [1]."),
     ] = 20,
+    roller_drive: Annotated[
+        CalibrationDrive,
+        typer.Option(
+            "--roller-drive",
+            help="Roller drive of the twin the fit replays: induction (Thevenin torque with "
+            "its first-order lag; induction_motor.response_lag_clp is its free key), "
+            "induction_dq (the dq machine under open-loop V/f; the roller_drive_vf.* settings "
+            "are free keys too), or compare (both fitted, the one the recording supports "
+            "chosen by evidence; as --compare-drives).",
+        ),
+    ] = CalibrationDrive.induction,
+    compare_drives: Annotated[
+        bool,
+        typer.Option(
+            "--compare-drives",
+            help="Fit each roller-drive model (the same free keys plus each model's own drive "
+            "keys) and report which one the recording supports: residual whiteness, AIC/BIC, "
+            "the ringing after each release; writes calibration-compare.json, and the "
+            "winner's calibration files only when it is adequate.",
+        ),
+    ] = False,
     out: OutOption = DEFAULT_OUT,
     lenient: LenientOption = False,
     list_keys: Annotated[
-        bool, typer.Option("--list-keys", help="List the keys --free accepts and exit.")
+        bool,
+        typer.Option(
+            "--list-keys",
+            help="List the keys --free accepts (with --roller-drive induction_dq the V/f "
+            "settings too) and exit.",
+        ),
     ] = False,
 ) -> None:
     """Fit the twin's parameters to a recorded test: values with standard errors [SI].
@@ -87,12 +122,17 @@ def calibrate(
     are fitted. Writes calibration.json (each value and standard error [SI], correlations,
     residuals before and after, whiteness, warnings for what the recording cannot identify),
     calibrated-rig.toml (a complete rig file for --rig), calibration-fit.nc (recorded against
-    simulated channels) and its figure calibration-fit.png; all of them or none.
+    simulated channels) and its figure calibration-fit.png; all of them or none. A fit that
+    does not converge or ends worse than it started is marked "valid": false and gets no
+    calibrated-rig.toml; residuals with structure mark every standard error "conditional on
+    the model".
     """
+    compare = compare_drives or roller_drive is CalibrationDrive.compare
+    roller = "induction_dq" if roller_drive is CalibrationDrive.induction_dq else "induction"
     if list_keys:
         from rollerrig.calibrate import free_parameter_catalogue
 
-        for key in free_parameter_catalogue():
+        for key in free_parameter_catalogue("induction_dq" if compare else roller):
             console.print(key, markup=False, highlight=False)
         return
     if recording is None:
@@ -113,12 +153,20 @@ def calibrate(
     from rollerrig.cli.twin import _progress, _say_compile_stage
 
     keys = [k.strip() for k in free.split(",") if k.strip()]
-    unknown = [k for k in keys if k not in free_parameter_catalogue()]
+    catalogue = free_parameter_catalogue("induction_dq" if compare else roller)
+    unknown = [k for k in keys if k not in catalogue]
     if unknown:  # before reading anything: one line naming what is accepted
         from rollerrig.calibrate import CalibrationError
 
+        vf = [k for k in unknown if k in free_parameter_catalogue("induction_dq")]
+        if vf:
+            raise CalibrationError(
+                f"--free: {vf} are settings of the V/f controller, which only the dq roller "
+                f"drive reads; add --roller-drive induction_dq (or --compare-drives), or leave "
+                "them out"
+            )
         raise CalibrationError(
-            f"--free: unknown key(s) {unknown}; valid: {', '.join(free_parameter_catalogue())} "
+            f"--free: unknown key(s) {unknown}; valid: {', '.join(catalogue)} "
             "(--list-keys lists them)"
         )
     rig = load_rig(rig_file)
@@ -133,35 +181,64 @@ def calibrate(
         torque_noise=torque_noise,
         max_iterations=max_iterations,
         lenient=lenient,
+        roller_drive="compare" if compare else roller,
     ) as stage:
         rec = read(recording, channels, lenient)
-        _say_compile_stage(batch=True)
+        _say_compile_stage(batch=True, dq=compare or roller == "induction_dq")
+        comparison = None
         with _progress() as bar:
             task = bar.add_task("calibrating", total=3 * max_iterations, info="replaying")
 
             def progress(done: int, total: int, text: str) -> None:
                 bar.update(task, completed=done, total=total, info=text)
 
-            result = run_calibration(
-                rec,
-                keys,
-                rig=rig,
-                friction=friction.value,
-                max_iterations=max_iterations,
-                progress=progress,
-                torque_noise=torque_noise,
-            )
-            bar.update(task, completed=bar.tasks[0].total, info="done")
-        write_calibration(result, stage.dir)
-        from rollerrig.output import save_figure
-        from rollerrig.report.calibration import calibration_figure
+            if compare:
+                from rollerrig.calibrate.compare import compare_drives as run_comparison
 
-        save_figure(
-            calibration_figure(result.fit_dataset(), title=f"Calibration to {recording.name}"),
-            stage.dir / FIT_FIGURE_NAME,
-        )
+                comparison = run_comparison(
+                    rec,
+                    keys,
+                    rig=rig,
+                    friction=friction.value,
+                    max_iterations=max_iterations,
+                    progress=lambda d, i, n, text: progress(i, n, f"{d}: {text}"),
+                    torque_noise=torque_noise,
+                )
+                result = comparison.winning_calibration
+            else:
+                result = run_calibration(
+                    rec,
+                    keys,
+                    rig=rig,
+                    friction=friction.value,
+                    max_iterations=max_iterations,
+                    progress=progress,
+                    torque_noise=torque_noise,
+                    roller_drive=roller,
+                )
+            bar.update(task, completed=bar.tasks[0].total, info="done")
+        if comparison is not None:
+            from rollerrig.calibrate.compare import write_comparison
+
+            write_comparison(comparison, stage.dir)
+        else:
+            write_calibration(result, stage.dir)
+        if comparison is None or comparison.adequate:
+            from rollerrig.output import save_figure
+            from rollerrig.report.calibration import calibration_figure
+
+            title = f"Calibration to {recording.name} ({result.roller_drive} roller drive)"
+            save_figure(
+                calibration_figure(result.fit_dataset(), title=title),
+                stage.dir / FIT_FIGURE_NAME,
+            )
     print_recording_notes(rec)
-    print_calibration(result)
+    if comparison is not None:
+        print_comparison(comparison)
+        if comparison.adequate:
+            print_calibration(result)
+    else:
+        print_calibration(result)
     print_written(stage.written)
 
 
@@ -171,16 +248,28 @@ def _number(value: float | None, digits: int = 6) -> str:
 
 def print_calibration(result) -> None:
     """The fitted values, the channels' residuals, the warnings and notes of a calibration."""
-    table = Table(title="Calibrated parameters (one standard error, Newey-West)")
+    if not result.valid:
+        print_warning(
+            "NOT A VALID CALIBRATION: "
+            + "; ".join(result.invalid_reasons)
+            + '. calibration.json says "valid": false; no calibrated-rig.toml was written and '
+            "rollerrig analyze --calibration refuses it."
+        )
+    title = (
+        f"Calibrated parameters, {result.roller_drive} roller drive (one standard error, "
+        "Newey-West" + (", CONDITIONAL ON THE MODEL)" if result.conditional else ")")
+    )
+    table = Table(title=title)
     for col in ("parameter", "value", "± standard error", "unit", "start", "rel. error"):
         table.add_column(col, justify="left" if col in ("parameter", "unit") else "right")
     rows = [*result.parameters.values(), *result.nuisance.values()]
     for p in rows:
         rel = p.relative_standard_error
+        se = _number(p.standard_error, 3)
         table.add_row(
             p.key,
             _number(p.value) if p.identified else "not identified",
-            _number(p.standard_error, 3),
+            f"{se} (conditional on the model)" if p.conditional_on_model else se,
             p.unit,
             _number(p.initial),
             "–" if rel is None else f"{100 * rel:.3g} %",
@@ -205,6 +294,63 @@ def print_calibration(result) -> None:
         soft_wrap=True,
     )
     for text in result.warnings:
-        print_warning(text)
+        if not text.startswith("NOT A VALID CALIBRATION"):  # said first
+            print_warning(text)
     for text in result.notes:
         note(text)
+
+
+def print_comparison(comparison) -> None:
+    """The evidence of :func:`rollerrig.calibrate.compare.compare_drives`, one row per model."""
+    table = Table(title="Roller-drive models fitted to the recording")
+    cols = (
+        "model",
+        "adequate",
+        "valid",
+        "BIC",
+        "ΔBIC",
+        "torque RMS [N.m]",
+        "torque r1",
+        "torque LB p",
+        "structured",
+    )
+    for col in cols:
+        table.add_column(col, justify="left" if col in ("model", "structured") else "right")
+    best = min(e["information_criteria"]["BIC"] for e in comparison.evidence.values())
+    for drive, ev in comparison.evidence.items():
+        torque = ev["channels"].get("torque", {})
+        bic = ev["information_criteria"]["BIC"]
+        table.add_row(
+            drive + (" (winner)" if drive == comparison.winner else ""),
+            "yes" if ev["adequate"] else "no",
+            "yes" if ev["valid"] else "no",
+            f"{bic:.7g}",
+            f"{bic - best:.4g}",
+            _number(torque.get("rms_after"), 4),
+            _number(torque.get("lag1_autocorrelation"), 2),
+            _number(torque.get("ljung_box_p"), 2),
+            ", ".join(ev["structured_channels"]) or "–",
+        )
+    console.print(table)
+    if comparison.ringing:
+        ring = Table(title="Ringing after each release: first minimum of T56 after it, frequency")
+        ring.add_column("release [s]", justify="right")
+        ring.add_column("source")
+        ring.add_column("first minimum after [s]", justify="right")
+        ring.add_column("ringing [Hz]", justify="right")
+        for entry in comparison.ringing:
+            for name in ("measured", *comparison.evidence):
+                item = entry.get(name) or {}
+                ring.add_row(
+                    f"{entry['release [s]']:.3f}",
+                    name,
+                    _number(item.get("first_minimum_after_release [s]"), 4),
+                    _number(item.get("ringing_frequency [Hz]"), 4),
+                )
+        console.print(ring)
+    for key, item in (comparison.discrepancy.get("keys") or {}).items():
+        note(
+            f"model discrepancy of {key}: half-width {item['half_width']:.3g} {item['unit']} "
+            f"(rectangular, u = {item['standard_uncertainty']:.3g}) between the adequate models"
+        )
+    (note if comparison.adequate else print_warning)(comparison.verdict())

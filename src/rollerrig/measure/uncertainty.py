@@ -372,6 +372,17 @@ def calibration_covariance(calibration: Mapping) -> tuple[dict, dict, np.ndarray
             cov[a, b] = cov[b, a] = rho * math.sqrt(cov[a, a] * cov[b, b])
     if corr is None and len(names) > 1:
         notes.append("the calibration gives no correlation: its keys taken as uncorrelated")
+    discrepancy = calibration.get("model_discrepancy")
+    discrepancy = discrepancy.get("keys") if isinstance(discrepancy, Mapping) else None
+    for i, n in enumerate(names):  # type-B term of the drive models' spread (calibrate compare)
+        item = (discrepancy or {}).get(used[n])
+        u_md = item.get("standard_uncertainty") if isinstance(item, Mapping) else None
+        if isinstance(u_md, int | float) and math.isfinite(u_md) and u_md > 0.0:
+            cov[i, i] += float(u_md) ** 2
+            notes.append(
+                f"{used[n]}: model discrepancy u = {u_md:.3g} (spread between adequate drive "
+                "models, rectangular) added to its variance"
+            )
     for key in values:
         if key not in MODEL_KEYS and not key.startswith("polach."):
             notes.append(f"{key}: calibrated, not an input of the corrected CoA (used in the rig)")
@@ -636,6 +647,7 @@ def corrected_coa_uncertainty(
     if calibration is not None:
         values, used, covariance, calibrated, cal_notes = calibration_covariance(calibration)
         notes.extend(f"calibration: {x}" for x in cal_notes)
+        conditional: set[str] = set()
         current = {
             "air_spring_area": area,
             "roller_radius": radius,
@@ -651,10 +663,36 @@ def corrected_coa_uncertainty(
                     f"calibration: {key} = {values[key]:.6g} differs from the rig's "
                     f"{current[name]:.6g}: pass the calibrated rig (analyze_test does)"
                 )
-            u_sys[name] = math.sqrt(covariance[calibrated.index(name), calibrated.index(name)])
+            u_cal = math.sqrt(covariance[calibrated.index(name), calibrated.index(name)])
+            entry = calibration["parameters"].get(key) or {}
+            if entry.get("conditional_on_model") and u_cal < u_sys.get(name, 0.0):
+                # residuals with structure: the standard error holds only if the model were
+                # right; the larger of it and the rig's stated type-B uncertainty is kept
+                conditional.add(name)
+                basis[name] += f" (kept: the calibration of {key} is conditional on the model)"
+                notes.append(
+                    f"calibration: {key}'s standard error {u_cal:.3g} is conditional on the "
+                    f"model (structured residuals): the rig's stated {u_sys[name]:.3g} is kept"
+                )
+                continue
+            u_sys[name] = u_cal
             dist[name] = "normal"
             basis[name] = f"calibrated ({key}), standard error with the calibration's covariance"
-        if {"bearing_friction", "bearing_radius", "roller_weight"} & set(calibrated):
+        for name in conditional:  # its stated u, no longer correlated with the calibration's
+            i = calibrated.index(name)
+            covariance[i, :] = covariance[:, i] = 0.0
+            covariance[i, i] = u_sys[name] ** 2
+        bearing_keys = {"bearing_friction", "bearing_radius", "roller_weight"}
+        if any(
+            (calibration["parameters"].get(used[n]) or {}).get("conditional_on_model")
+            for n in bearing_keys & set(calibrated)
+        ):
+            bearing_keys = set()  # conditional on the model: the stated bearing loss stays
+            notes.append(
+                "calibration: the bearing parameters' standard errors are conditional on the "
+                "model: the bearing loss's stated uncertainty is kept beside them"
+            )
+        if bearing_keys & set(calibrated):
             del u_sys["bearing_loss"]
             notes.append(
                 "calibration: the bearing loss's stated uncertainty is replaced by "

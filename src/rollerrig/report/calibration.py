@@ -110,14 +110,42 @@ def calibration_section(rep, calibration: dict, fit=None) -> None:
         "CoA's uncertainty. One standard error each, as calibration.json states it "
         "(standard_error_convention there)."
     )
+    if calibration.get("valid") is False:
+        rep.paragraph(
+            "warning: this calibration is NOT VALID ("
+            + "; ".join(calibration.get("invalid_reasons") or ["no reason recorded"])
+            + "); it was used only because its use was forced.",
+            note=True,
+        )
+    drive = calibration.get("roller_drive")
+    if drive:
+        rep.paragraph(f"The twin fitted had the roller drive {drive!r}.")
+    if calibration.get("standard_errors_conditional_on_model"):
+        flag = calibration.get("conditional_on_model") or {}
+        rep.paragraph(
+            "warning: every standard error is conditional on the model: the calibration's "
+            "residuals show structure in "
+            + (", ".join(flag.get("structured_channels") or []) or "some channel")
+            + " that the fitted model does not explain, so a standard error is what the data "
+            "allow if the model were right, not the distance to the truth. The budget keeps the "
+            "larger of it and the rig's stated uncertainty."
+            + (f" {flag['suggestion']}." if flag.get("suggestion") else ""),
+            note=True,
+        )
+    discrepancy = (calibration.get("model_discrepancy") or {}).get("keys") or {}
     rows = []
     for key, entry in (calibration.get("parameters") or {}).items():
         value, se = entry.get("value"), entry.get("standard_error")
+        se_text = "–" if se is None else f"{se:.3g}"
+        if se is not None and entry.get("conditional_on_model"):
+            se_text += " (conditional on the model)"
+        if key in discrepancy:
+            se_text += f"; model discrepancy {discrepancy[key]['standard_uncertainty']:.3g}"
         rows.append(
             (
                 key,
                 "not identified" if value is None else f"{value:.6g}",
-                "–" if se is None else f"{se:.3g}",
+                se_text,
                 entry.get("unit", ""),
                 entry.get("reason") or entry.get("why_null") or "",
             )
