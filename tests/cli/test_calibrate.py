@@ -224,3 +224,48 @@ def test_allow_other_rig_needs_a_calibration(runner, tmp_path, adhesion_csv):
     result = runner.invoke(app, ["analyze", str(rec), "--allow-other-rig", "--out", str(tmp_path)])
     assert result.exit_code == 2
     assert "--allow-other-rig needs --calibration" in _flat(result.output)
+
+
+def test_list_keys_lists_the_vf_settings_for_the_dq_drive_only(runner, tmp_path):
+    # Issue 25 part 2: the V/f settings are free keys of the dq drive.
+    lag = runner.invoke(app, ["calibrate", "--list-keys"]).output.split()
+    dq = runner.invoke(app, ["calibrate", "--list-keys", "--roller-drive", "induction_dq"])
+    assert dq.exit_code == 0, dq.output
+    assert "roller_drive_vf.slip_compensation" in dq.output.split()
+    assert not any(k.startswith("roller_drive_vf.") for k in lag)
+    assert "induction_motor.response_lag_clp" in lag
+    result = runner.invoke(
+        app,
+        [
+            "calibrate",
+            "x.tdms",
+            "--free",
+            "roller_drive_vf.slip_compensation",
+            "--out",
+            str(tmp_path / "o"),
+        ],
+    )
+    assert result.exit_code == 2, result.output
+    assert "--roller-drive induction_dq" in _flat(result.output)
+    assert not (tmp_path / "o").exists()
+
+
+def test_analyze_refuses_a_calibration_that_is_not_valid(runner, tmp_path, adhesion_csv):
+    # Issue 25 part 2, item 4: a fit that did not converge is no calibration analyze uses.
+    rec = adhesion_csv(tmp_path / "test.csv")
+    entry = {"value": 46.0, "standard_error": 0.5}
+    doc = {
+        "parameters": {"inertia.roller": entry},
+        "valid": False,
+        "invalid_reasons": ["the fit did not converge within 3 iterations"],
+    }
+    path = tmp_path / "calibration.json"
+    path.write_text(json.dumps(doc))
+    out = tmp_path / "out"
+    result = runner.invoke(
+        app, ["analyze", str(rec), "--calibration", str(path), "--out", str(out)]
+    )
+    assert result.exit_code == 2, result.output
+    text = _flat(result.output)
+    assert "not valid (the fit did not converge within 3 iterations)" in text
+    assert not out.exists()
