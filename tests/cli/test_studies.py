@@ -1,7 +1,13 @@
 """``rollerrig study run|show|list``: progress, the store, tables, figures, resume, errors."""
 
 import json
+import os
+import signal
 import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
 
 import pytest
 
@@ -129,3 +135,208 @@ def test_study_drive_dynamics_answers_the_question(tmp_path, runner):
     assert doc["seed_lag [s]"] == pytest.approx(0.3635, abs=1e-3)
     assert all(h["tau [s]"] < 0.1 for h in doc["lag_held_speed"])  # 37-60 ms
     assert (tmp_path / "study-drive-dynamics.png").stat().st_size > 10_000
+
+
+# --------------------------------------------------------------------------------------------
+# Issue 24: --restart, names, lost chunk files, --scheduler, Ctrl-C on dask
+# --------------------------------------------------------------------------------------------
+
+TINY = "name = 'tiny'\n[grid]\n'drive.roller_lag' = [0.0, 0.2]\n"
+
+
+@pytest.fixture
+def tiny(tmp_path):
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY, encoding="utf-8")
+    return path
+
+
+def _local(study, out, *extra):
+    return ["study", "run", str(study), "--executor", "local", "--out", str(out), *extra]
+
+
+def _plant(kind, path, elsewhere):
+    """Something at ``path`` that is not tiny's store; returns a file that must survive."""
+    import zarr
+
+    from rollerrig.studies.store import StudyStore
+
+    if kind == "foreign zarr store":
+        zarr.open_group(path, mode="w").create_array("x", shape=(2,), dtype="f8")[:] = [1, 2]
+        return path / "x" / "zarr.json"
+    if kind == "plain folder":
+        path.mkdir()
+        (path / "notes.txt").write_text("keep me")
+        return path / "notes.txt"
+    if kind == "file":
+        path.write_text("keep me")
+        return path
+    if kind == "symlink":
+        elsewhere.mkdir()
+        (elsewhere / "zarr.json").write_text("{}")
+        (elsewhere / "notes.txt").write_text("keep me")
+        path.symlink_to(elsewhere, target_is_directory=True)
+        return elsewhere / "notes.txt"
+    StudyStore.create(path, attrs={"study": "other", "study_sha256": "x"}, parameters={},
+                      labels=["a"], metrics={"release_overshoot": {"units": "1"}})  # fmt: skip
+    return path / "zarr.json"
+
+
+@pytest.mark.parametrize(
+    "kind", ["foreign zarr store", "plain folder", "file", "symlink", "another study's store"]
+)
+def test_restart_refuses_and_keeps_whatever_is_not_this_studys_store(tmp_path, runner, tiny, kind):
+    out = tmp_path / "out"
+    out.mkdir()
+    store = out / "study-tiny.zarr"
+    witness = _plant(kind, store, tmp_path / "elsewhere")
+    result = runner.invoke(app, _local(tiny, out, "--restart"))
+    assert result.exit_code == 2, result.output
+    text = " ".join(result.output.split())
+    assert f"error: {store}: " in text and "nothing was removed" in text
+    assert "Traceback" not in text and witness.exists()
+
+
+def test_a_hostile_study_name_is_refused_and_writes_nothing(tmp_path, runner):
+    study = tmp_path / "a" / "b" / "evil.toml"
+    study.parent.mkdir(parents=True)
+    study.write_text('name = "x/../../../escaped"\n' + TINY.split("\n", 1)[1], encoding="utf-8")
+    out = tmp_path / "a" / "b" / "out"
+    result = runner.invoke(app, _local(study, out))
+    assert result.exit_code == 2, result.output
+    assert "name: not a study name" in result.output
+    assert sorted(p.name for p in tmp_path.rglob("*")) == ["a", "b", "evil.toml"]
+
+
+def test_a_study_named_by_an_odd_file_name_writes_safe_names_into_out(tmp_path, runner):
+    study = tmp_path / "my study [v2].toml"
+    study.write_text(TINY.split("\n", 1)[1], encoding="utf-8")  # no name: the file's stem
+    out = tmp_path / "out"
+    result = runner.invoke(app, _local(study, out))
+    assert result.exit_code == 0, result.output
+    names = sorted(p.name for p in out.iterdir())
+    assert names == [
+        "study-my_study__v2_-points.csv",
+        "study-my_study__v2_-points.metadata.json",
+        "study-my_study__v2_-release_overshoot-line.png",
+        "study-my_study__v2_-run.json",
+        "study-my_study__v2_.json",
+        "study-my_study__v2_.zarr",
+    ]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["my study [v2].toml", "out"]
+
+
+def test_a_lost_chunk_file_is_reported_damaged_and_computed_again(tmp_path, runner, tiny):
+    out = tmp_path / "out"
+    assert runner.invoke(app, _local(tiny, out)).exit_code == 0
+    store = out / "study-tiny.zarr"
+    (store / "release_overshoot" / "c" / "0").unlink()  # a partial copy, a sync tool
+    shown = runner.invoke(app, ["study", "show", str(store), "--out", str(tmp_path / "shown")])
+    assert shown.exit_code == 0, shown.output
+    text = " ".join(shown.output.split())
+    assert "2 of 2 points are damaged" in text and "release_overshoot/c/0" in text
+    doc = json.loads((tmp_path / "shown" / "study-tiny.json").read_text())
+    assert doc["status_counts"] == {"damaged": 2}
+    assert "release_overshoot/c/0" in doc["failures"][0]["reason"]
+    again = runner.invoke(app, _local(tiny, out))
+    assert again.exit_code == 0, again.output
+    text = " ".join(again.output.split())
+    assert "2 points of" in text and "had lost their results" in text
+    assert "2 points computed" in text and "nothing to compute" not in text
+    doc = json.loads((out / "study-tiny.json").read_text())
+    assert doc["status_counts"] == {"ok": 2} and doc["damaged_recomputed"] == 2
+    assert all(r["release_overshoot [-]"] > 0 for r in doc["rows"])
+
+
+@pytest.mark.parametrize(
+    "address", ["not an address", "tcp://", "999.1.1.1:99999", "tcp://host:0", "http://h:8786"]
+)
+def test_a_scheduler_that_is_not_an_address_is_refused_naming_the_option(tmp_path, runner, address):
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["study", "run", "lag", "--scheduler", address, "--out", str(out)])
+    assert result.exit_code == 2, result.output
+    text = " ".join(result.output.split())
+    assert f"error: --scheduler {address!r}: not a dask scheduler address" in text
+    assert "internal error" not in text and not out.exists()
+
+
+def test_a_scheduler_nobody_listens_at_is_an_error_naming_the_address(
+    tmp_path, runner, tiny, monkeypatch
+):
+    pytest.importorskip("distributed")
+    import socket
+
+    from rollerrig.studies import runner as study_runner
+
+    monkeypatch.setattr(study_runner, "SCHEDULER_TIMEOUT", 1.0)
+    with socket.socket() as s:  # a loopback port nothing listens on
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    address = f"127.0.0.1:{port}"
+    result = runner.invoke(
+        app, ["study", "run", str(tiny), "--scheduler", address, "--out", str(tmp_path)]
+    )
+    assert result.exit_code == 2, result.output
+    text = " ".join(result.output.split())
+    assert f"error: --scheduler {address!r}: cannot reach the dask scheduler" in text
+
+
+def _ignores_sigint(pid: int) -> bool:
+    """Whether process ``pid`` ignores SIGINT (Linux: the SigIgn mask in /proc)."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    mask = next(line.split()[1] for line in status.splitlines() if line.startswith("SigIgn"))
+    return bool(int(mask, 16) & (1 << (signal.SIGINT - 1)))
+
+
+def _worker_processes(pid: int) -> list[int]:
+    """The dask worker processes that ``pid`` started (multiprocessing's spawned children)."""
+    kids = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                parent = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+                command = (entry / "cmdline").read_bytes()
+            except (OSError, IndexError, ValueError):
+                continue
+            if parent == pid and b"spawn_main" in command:
+                kids.append(int(entry.name))
+    return kids
+
+
+@pytest.mark.slow  # ~30 s: a local dask cluster of 2 workers and a first batch of 32 points
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_ctrl_c_during_a_dask_study_prints_one_line(tmp_path):
+    pytest.importorskip("distributed")
+    study = tmp_path / "many.toml"
+    study.write_text("name = 'many'\n[grid]\n'drive.roller_lag' = { start = 0, stop = 0.4, "
+                     "num = 128 }\n", encoding="utf-8")  # fmt: skip
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "rollerrig.cli", "study", "run", str(study), "--workers",
+               "2", "--out", str(out)]  # fmt: skip
+    proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)  # fmt: skip
+    try:
+        # Wait (no fixed delay) until the workers are up and the first batch is in the store:
+        # the study is then in its loop over results, with batches running on both workers.
+        status_chunk = out / "study-many.zarr" / "status" / "c" / "0"
+        for _ in range(3000):
+            workers = _worker_processes(proc.pid)
+            if status_chunk.is_file() and sum(map(_ignores_sigint, workers)) == 2:
+                break
+            if proc.poll() is not None:
+                break
+            time.sleep(0.1)
+        assert proc.poll() is None, proc.communicate()
+        os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C: every process of the group
+        _, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
+    assert proc.returncode == 128 + signal.SIGINT
+    assert err.splitlines() == [
+        "error: interrupted by SIGINT; --out holds no partial output of this run"
+    ]

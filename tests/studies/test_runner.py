@@ -6,11 +6,16 @@ soft CV shaft (43.5 kN.m/rad); the overshoot falls as the shaft stiffness grows;
 with no lag and a stiff shaft.
 """
 
+import socket
+
 import numpy as np
 import pytest
 
+from rollerrig._validation import ParameterError
 from rollerrig.studies import StudyFileError, load_study, run_study
-from rollerrig.studies.store import StoreError
+from rollerrig.studies import runner as runner_module
+from rollerrig.studies.runner import check_scheduler_address
+from rollerrig.studies.store import StoreError, open_study
 from rollerrig.studies.studyfile import study_from_toml_string
 
 # The bundled studies before they became study files: rollerrig.studies.run_study(name,
@@ -151,13 +156,69 @@ def test_a_store_of_another_study_is_refused_and_restart_replaces_it(tmp_path):
     run_study(load_study("lag"), executor="local", store=store)
     with pytest.raises(StoreError, match="holds another study"):
         run_study(load_study("stiffness"), executor="local", store=store)
-    r = run_study(load_study("stiffness"), executor="local", store=store, restart=True)
-    assert r.computed == 6 and r.dataset.attrs["study"] == "stiffness"
+    # --restart removes only a store of this study (by name): not lag's for stiffness.
+    with pytest.raises(StoreError, match=r"another study \('lag', not 'stiffness'\)"):
+        run_study(load_study("stiffness"), executor="local", store=store, restart=True)
+    assert open_study(store).attrs["study"] == "lag"
+    changed = study_from_toml_string("name = 'lag'\n[grid]\n'drive.roller_lag' = [0.0, 0.2]")
+    with pytest.raises(StoreError, match="holds another study"):
+        run_study(changed, executor="local", store=store)
+    r = run_study(changed, executor="local", store=store, restart=True)
+    assert r.computed == 2 and r.dataset.sizes["point"] == 2
+    assert [p.name for p in tmp_path.iterdir()] == ["s.zarr"]  # no removal leftovers
+
+
+@pytest.mark.parametrize(
+    "address",
+    ["tcp://10.0.0.5:8786", "10.0.0.5:8786", "scheduler.example.org:8786", "tls://h-1:1",
+     "ucx://node7:65535", "tcp://[::1]:8786", "[fe80::1]:99", "inproc://10.0.0.5/123/1",
+     "ws://localhost:8786"],
+)  # fmt: skip
+def test_scheduler_addresses_of_every_dask_form_are_accepted(address):
+    assert check_scheduler_address(address) == address
+
+
+@pytest.mark.parametrize(
+    ("address", "why"),
+    [
+        ("not an address", "no host and port"),
+        ("tcp://", "no host and port"),
+        ("999.1.1.1:99999", "port '99999'"),
+        ("999.1.1.1:8786", "not an IPv4 address"),
+        ("tcp://host:0", "port '0'"),
+        ("host:port", "port 'port'"),
+        ("http://host:8786", "unknown protocol 'http'"),
+        ("tcp://[not-ipv6]:1", "host '[not-ipv6]'"),
+        ("tcp://bad_host!:1", "host 'bad_host!'"),
+        ("", ""),
+        ("inproc://", ""),
+    ],
+)
+def test_a_scheduler_address_that_is_not_one_is_refused_naming_the_option(address, why):
+    with pytest.raises(ParameterError) as info:
+        check_scheduler_address(address)
+    text = str(info.value)
+    assert text.startswith(f"--scheduler {address!r}: not a dask scheduler address")
+    assert "tcp://HOST:PORT" in text and why in text
+    with pytest.raises(ParameterError, match="--scheduler"):  # the Python API checks it too
+        run_study("lag", scheduler=address)
+
+
+def test_a_scheduler_nobody_listens_at_is_a_clear_error_naming_it(monkeypatch):
+    pytest.importorskip("distributed")
+    monkeypatch.setattr(runner_module, "SCHEDULER_TIMEOUT", 1.0)
+    with socket.socket() as s:  # a port of this machine that nothing listens on
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    address = f"tcp://127.0.0.1:{port}"
+    with pytest.raises(ParameterError) as info:
+        runner_module._DaskExecutor(address, None)
+    text = str(info.value)
+    assert text.startswith(f"--scheduler {address!r}: cannot reach the dask scheduler")
+    assert "within 1 s" in text
 
 
 def test_bad_arguments_are_clear_errors():
-    from rollerrig._validation import ParameterError
-
     with pytest.raises(ParameterError, match="executor"):
         run_study("lag", executor="spark")
     with pytest.raises(ParameterError, match="workers"):

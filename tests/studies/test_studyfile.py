@@ -1,6 +1,8 @@
 """The study file: the issue's minimal form, units, designs, bundled studies, clear errors."""
 
 import math
+import re
+import tracemalloc
 
 import numpy as np
 import pytest
@@ -8,6 +10,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from rollerrig.studies.studyfile import (
+    MAX_STUDY_POINTS,
     StudyFileError,
     bundled_studies,
     load_study,
@@ -196,3 +199,188 @@ def test_any_study_table_is_read_or_refused_with_a_study_file_error(design, body
         assert exc.problems
     else:
         assert spec.size >= 1
+
+
+# --------------------------------------------------------------------------------------------
+# The study's name names files: checked (issue 24, point 3)
+# --------------------------------------------------------------------------------------------
+
+GRID = "[grid]\nload = [4300.0]\n"
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["x/../../../escaped", "a/b", "", ".hidden", "..", "a b", "x" * 65, "ünïcode", "a\\b",
+     "tab\there", "nul\x00"],
+)  # fmt: skip
+def test_a_study_name_that_is_not_a_plain_name_is_refused(name):
+    with pytest.raises(StudyFileError) as info:
+        study_from_dict({"name": name, "grid": {"load": [4300.0]}}, origin="s.toml")
+    (line,) = info.value.problems
+    assert line.startswith("s.toml: name: not a study name; allowed 1-64 characters of letters")
+    assert "not starting with '.'" in line
+
+
+def test_a_study_name_that_is_not_text_is_refused():
+    with pytest.raises(StudyFileError, match=r"name: not a study name.*got 3"):
+        study_from_toml_string("name = 3\n" + GRID)
+
+
+@pytest.mark.parametrize("name", ["stiffness", "k56-v2.1", "a+b_c", "0", "x" * 64])
+def test_plain_study_names_are_kept(name):
+    assert study_from_toml_string(f"name = '{name}'\n" + GRID).name == name
+
+
+@pytest.mark.parametrize(
+    ("file_name", "expected"),
+    [
+        ("my study [v2].toml", "my_study__v2_"),
+        (".hidden.toml", "hidden"),
+        ("..toml", "_"),
+        ("étude.toml", "_tude"),
+        ("a" * 200 + ".toml", "a" * 64),
+        ("semi;colon $(x).toml", "semi_colon___x_"),
+    ],
+)
+def test_a_name_from_an_odd_file_name_is_made_safe(tmp_path, file_name, expected):
+    path = tmp_path / file_name
+    path.write_text(GRID, encoding="utf-8")
+    assert load_study(path).name == expected
+
+
+def test_the_name_given_by_a_caller_is_checked_too():
+    with pytest.raises(StudyFileError, match=r"name: not a study name \(the name of the study"):
+        study_from_toml_string(GRID, name="../x")
+
+
+# --------------------------------------------------------------------------------------------
+# Size bombs: the design's size is checked from the numbers first (issue 24, point 7)
+# --------------------------------------------------------------------------------------------
+
+LIMIT = f"allowed at most {MAX_STUDY_POINTS} points in a study"
+SOBOL = (
+    "[sample]\nn = {n}\n{extra}[sample.parameters]\n"
+    "load = {{ distribution = 'uniform', low = 1, high = 2 }}\n"
+    "speed = {{ distribution = 'uniform', low = 1, high = 2 }}\n"
+)
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("[grid]\nload = { start = 1, stop = 2, num = 1_000_000_000 }",
+         "grid.load.num: too many values for one axis"),
+        ("[grid]\nload = { start = 1, stop = 2, num = 10_000_000_000_000_000_000_000 }",
+         "grid.load.num: too many values for one axis"),
+        ("[grid]\nload = { start = 1, stop = 2, num = 1000 }\n"
+         "speed = { start = 1, stop = 2, num = 1000 }\n"
+         "'drive.roller_lag' = { start = 0, stop = 2, num = 1000 }",
+         "grid: too many points: the product of the axis lengths (1000 x 1000 x 1000)"),
+        (SOBOL.format(n=2**40, extra=""), "sample.n: too many points (1099511627776 x 4 ="),
+        (SOBOL.format(n=2**18, extra="second_order = true\n"),
+         "sample.n: too many points (262144 x 6 = 1572864 points)"),
+        (SOBOL.format(n=10**12, extra="method = 'lhs'\n"),
+         "sample.n: too many points (1000000000000 points)"),
+        (SOBOL.format(n=2**70, extra="method = 'random'\n"), "sample.n: too many points"),
+    ],
+)  # fmt: skip
+def test_a_size_bomb_is_refused_from_its_numbers_before_anything_is_made(text, expected):
+    tracemalloc.start()
+    try:
+        with pytest.raises(StudyFileError) as info:
+            study_from_toml_string(text)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert expected in str(info.value) and LIMIT in str(info.value)
+    assert peak < 20 * 2**20  # [bytes]: nothing of the design's size was made
+
+
+def test_a_design_at_the_limit_is_read_without_making_its_points():
+    spec = study_from_toml_string(
+        "[grid]\nload = { start = 1, stop = 2, num = 1000 }\n"
+        "speed = { start = 1, stop = 2, num = 1000 }"
+    )
+    assert spec.size == MAX_STUDY_POINTS
+    # Sobol': n (D + 2) with D = 2 parameters; 2**17 x 4 = 524288 points is within the limit.
+    assert study_from_toml_string(SOBOL.format(n=2**17, extra="")).size == 2**19
+
+
+# --------------------------------------------------------------------------------------------
+# Whatever a user writes gives a StudySpec or a StudyFileError (properties)
+# --------------------------------------------------------------------------------------------
+
+PROPERTY = settings(
+    max_examples=150,
+    deadline=None,
+    database=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
+_big_ints = st.one_of(
+    st.integers(-3, 5),
+    st.sampled_from([2**10, 2**20, 2**40, 10**9, 10**30, 2**64 + 1, -(2**63)]),
+)
+_fragments = st.sampled_from(
+    ["[grid]", "[sample]", "[sample.parameters]", "[[cases]]", "[outputs]", "[solver]",
+     "load = [4300.0, 1e4]", "speed = {{ start = 1, stop = 10, num = {i} }}",
+     "'drive.roller_lag' = {{ values = [0, {i}], unit = 's' }}",
+     "friction = ['dry', 'wet']", "n = {i}", "method = 'lhs'", "method = 'sobol'",
+     "second_order = true", "seed = {i}", "label = 'a'",
+     "load = {{ distribution = 'uniform', low = 1, high = {i} }}",
+     "speed = {{ distribution = 'normal', mean = 1, std = {i} }}",
+     "name = '{s}'", "name = 'ok-name'", "description = '{s}'", "experiment = '{s}'",
+     "metrics = ['release_overshoot']", "metrics = 'all'", "output_rate = {i}",
+     "h_max = {i}", "x = {i}", "= broken", "[grid", "load = [{i}]"]
+)  # fmt: skip
+
+
+@st.composite
+def _study_texts(draw):
+    lines = []
+    for fragment in draw(st.lists(_fragments, max_size=12)):
+        i = draw(_big_ints)
+        s = draw(st.text(alphabet=st.characters(blacklist_characters="'\\\n\r"), max_size=12))
+        lines.append(fragment.format(i=i, s=s))
+    return "\n".join(lines)
+
+
+@PROPERTY
+@given(text=st.one_of(_study_texts(), st.text(max_size=200)))
+def test_any_study_text_is_read_or_refused_with_a_study_file_error(text):
+    tracemalloc.start()
+    try:
+        try:
+            spec = study_from_toml_string(text, origin="p.toml")
+        except StudyFileError as exc:
+            assert exc.problems and all(p.startswith("p.toml") for p in exc.problems)
+        else:
+            assert 1 <= spec.size <= MAX_STUDY_POINTS
+            assert re.fullmatch(r"[A-Za-z0-9_+-][A-Za-z0-9._+-]{0,63}", spec.name)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < 64 * 2**20  # [bytes]
+
+
+@PROPERTY
+@given(
+    name=st.one_of(st.text(max_size=80), st.integers(), st.none(), st.lists(st.text(), max_size=2)),
+    num=_big_ints,
+    n=_big_ints,
+    design=st.sampled_from(["grid", "sample", "cases"]),
+)
+def test_any_study_dict_is_read_or_refused_with_a_study_file_error(name, num, n, design):
+    params = {"load": {"distribution": "uniform", "low": 1.0, "high": 2.0},
+              "speed": {"distribution": "uniform", "low": 1.0, "high": 2.0}}  # fmt: skip
+    body = {
+        "grid": {"grid": {"load": {"start": 1.0, "stop": 2.0, "num": num}, "speed": [1.0, 2.0]}},
+        "sample": {"sample": {"n": n, "method": "sobol", "parameters": params}},
+        "cases": {"cases": [{"label": "a", "load": 4300.0}] * max(1, min(num, 3))},
+    }[design]
+    try:
+        spec = study_from_dict({"name": name, **body})
+    except StudyFileError as exc:
+        assert exc.problems
+    else:
+        assert spec.name == name and 1 <= spec.size <= MAX_STUDY_POINTS

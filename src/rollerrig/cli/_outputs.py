@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import re
 import shutil
 import tempfile
 from collections.abc import Iterable, Iterator, Mapping
@@ -29,6 +28,7 @@ from pathlib import Path
 
 from rollerrig.cli._boundary import command_line, signals_deferred, warnings_printed
 from rollerrig.output import OutputError
+from rollerrig.output.names import MAX_OUTPUT_STEM, safe_file_name
 
 try:
     import fcntl
@@ -44,31 +44,10 @@ __all__ = [
     "staged_outputs",
 ]
 
-MAX_OUTPUT_STEM = 120
-"""Longest output file stem [characters] (the suffix is kept whole)."""
 LOCK_NAME = ".rollerrig.lock"
 """Lock file in ``--out`` while a run writes there (holds the run's pid)."""
 STAGE_PREFIX = ".rollerrig-stage-"
 """Name prefix of the hidden staging folders inside ``--out``."""
-
-
-def safe_file_name(name: str) -> str:
-    """``name`` as a plain, portable file name (see :meth:`staged_outputs.path`).
-
-    Leading dots are dropped: a hidden name would be taken for a writer's temporary file, and
-    ``..`` must not climb out of the output folder.
-
-    Examples
-    --------
-    >>> safe_file_name("../escaped.nc"), safe_file_name("run 05 [wet].png")
-    ('_escaped.nc', 'run_05__wet_.png')
-    """
-    text = re.sub(r"[^A-Za-z0-9._+-]", "_", str(name)).lstrip(".") or "_"
-    stem, dot, suffix = text.rpartition(".")
-    if not dot or not stem:
-        stem, suffix = text, ""
-    stem = stem[:MAX_OUTPUT_STEM]
-    return f"{stem}.{suffix}" if suffix else stem
 
 
 def _reason(exc: OSError) -> str:

@@ -20,6 +20,7 @@ from rich.table import Table
 from rollerrig.cli._boundary import Interrupted, UserError
 from rollerrig.cli._console import console, note, print_written
 from rollerrig.cli._options import DEFAULT_OUT, Executor, OutOption, RigOption
+from rollerrig.output.names import safe_file_name
 
 __all__ = ["study_app"]
 
@@ -48,7 +49,15 @@ def _format(value: float, unit: str) -> str:
 
 
 def _stem(name: str) -> str:
-    return f"study-{name}"
+    """The stem of a study's output names, made safe (a store's name is data too)."""
+    return safe_file_name(f"study-{name}")
+
+
+def _files(names) -> str:
+    """A list of file names for one line: the first few and how many more."""
+    names = list(names)
+    shown = ", ".join(names[:5])
+    return shown + (f" and {len(names) - 5} more" if len(names) > 5 else "")
 
 
 def _results(ds, stem: str, stage, *, run_info: dict) -> None:
@@ -183,8 +192,9 @@ def run(
     scheduler: Annotated[
         str | None,
         typer.Option(
-            help="Address of a running dask scheduler, e.g. tcp://10.0.0.5:8786 (default: a "
-            "local cluster on this machine)."
+            help="Address of a running dask scheduler, e.g. tcp://10.0.0.5:8786 (HOST:PORT, "
+            "tls://, ucx://, ws://, wss:// or inproc:// also; default: a local cluster on this "
+            "machine)."
         ),
     ] = None,
     workers: Annotated[
@@ -199,7 +209,10 @@ def run(
     ] = Executor.dask,
     restart: Annotated[
         bool,
-        typer.Option(help="Start again: remove this study's store in --out first."),
+        typer.Option(
+            help="Start again: remove this study's store in --out first (only a rollerrig "
+            "study store of this study; anything else there is refused and kept)."
+        ),
     ] = False,
     out: OutOption = DEFAULT_OUT,
 ) -> None:
@@ -208,19 +221,21 @@ def run(
     from rollerrig.cli._outputs import command_outputs
     from rollerrig.cli.twin import _progress, _say_compile_stage
     from rollerrig.rig.parameters import load_rig as _load_rig
-    from rollerrig.studies.runner import run_study
+    from rollerrig.studies.runner import check_scheduler_address, run_study
     from rollerrig.studies.studyfile import load_study
 
     executor = executor.value
-    if executor == "local" and (scheduler or workers):
+    if executor == "local" and (scheduler is not None or workers):
         raise UserError("--scheduler and --workers need --executor dask")
+    if scheduler is not None:
+        check_scheduler_address(scheduler, "--scheduler")
     spec = load_study(study)
     rig_path = rig_file or spec.rig
     rig = _load_rig(rig_path) if rig_path else None
     stem = _stem(spec.name)
     inputs = {"study": None if spec.origin.startswith("bundled:") else spec.origin, "rig": rig_path}
     with command_outputs(out, run=stem, inputs=inputs, rig=rig, study=spec.name) as stage:
-        store = Path(out) / f"{stem}.zarr"
+        store = Path(out) / safe_file_name(f"{stem}.zarr")
         _say_compile_stage(batch=True)
         where = scheduler or (
             f"a local dask cluster of {workers or 'all'} workers"
@@ -258,6 +273,11 @@ def run(
                     "again to resume"
                 )
                 raise
+        if result.damaged:
+            note(
+                f"{result.damaged} points of {store} had lost their results (missing chunk "
+                f"files: {_files(result.damaged_files)}): computed again"
+            )
         if result.skipped and not result.computed:
             note(
                 f"all {result.skipped} points were already in {store}: nothing to compute "
@@ -278,6 +298,7 @@ def run(
             "workers": result.workers,
             "computed": result.computed,
             "resumed_from_store": result.skipped,
+            "damaged_recomputed": result.damaged,
             "wall_time_s": result.wall_time,
             "points_per_second": result.rate,
         }
@@ -293,13 +314,21 @@ def show(
 ) -> None:
     """Tables, figures and sensitivity of a study store (a finished or a partial study)."""
     from rollerrig.cli._outputs import command_outputs
-    from rollerrig.studies.store import open_study
+    from rollerrig.studies.store import DAMAGED, open_study
 
     ds = open_study(store)
     status = np.asarray(ds.status.values, dtype=str)
     pending = int((status == "pending").sum())
     if pending:
         note(f"{pending} of {status.size} points are still pending (an interrupted study)")
+    damaged = int((status == DAMAGED).sum())
+    if damaged:
+        lost = json.loads(ds.attrs.get("damaged_files", "[]"))
+        note(
+            f"{damaged} of {status.size} points are damaged: their results are missing from "
+            f"the store (lost chunk files: {_files(lost)}); study run of the same study into "
+            "the same --out computes them again"
+        )
     stem = _stem(ds.attrs["study"])
     with command_outputs(out, run=f"{stem}-show", inputs={"store": None}) as stage:
         _results(ds, stem, stage, run_info={"store": str(store)})

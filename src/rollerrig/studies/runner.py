@@ -8,7 +8,11 @@ Two executors run the same batches (:func:`run_batch`) and give identical result
     On ``dask.distributed``: a local cluster of ``workers`` processes (one thread each) by
     default, or any running scheduler (``scheduler="tcp://host:8786"``) for a real cluster.
     Each worker loads the compiled backend once (from the on-disk cache; a worker on another
-    machine compiles it there once) and runs batches one after the other.
+    machine compiles it there once) and runs batches one after the other. A scheduler address
+    is checked for its form first (:func:`check_scheduler_address`) and must answer within
+    :data:`SCHEDULER_TIMEOUT`. After an interruption (Ctrl-C) the cluster shuts down quietly:
+    the local workers ignore SIGINT (their nanny ends them) and the library loggers
+    (:data:`QUIET_LOGGERS`) are silenced while the client and cluster close.
 
 Every point ends with a status (:data:`rollerrig.studies.store.STATUSES`): a value the rig or
 the experiment refuses is ``invalid parameters``, a run the solver cannot finish ``solver
@@ -20,9 +24,12 @@ pending.
 
 from __future__ import annotations
 
+import contextlib
+import ipaddress
 import logging
 import math
 import os
+import re
 import shutil
 import tempfile
 import time
@@ -36,6 +43,7 @@ import numpy as np
 from rollerrig._optional import require
 from rollerrig._validation import ParameterError
 from rollerrig.experiment import Protocol, load_protocol
+from rollerrig.output.names import safe_file_name
 from rollerrig.rig.parameters import RigParameters, default_rig, load_rig
 from rollerrig.studies.design import (
     DesignTable,
@@ -45,13 +53,17 @@ from rollerrig.studies.design import (
     protocol_groups,
 )
 from rollerrig.studies.metrics import METRICS, compute_metrics, run_channels
-from rollerrig.studies.store import StoreError, StudyStore
+from rollerrig.studies.store import StudyStore, remove_store
 from rollerrig.studies.studyfile import StudySpec, load_study
 
 __all__ = [
     "EXECUTORS",
+    "QUIET_LOGGERS",
+    "SCHEDULER_PROTOCOLS",
+    "SCHEDULER_TIMEOUT",
     "Progress",
     "StudyRun",
+    "check_scheduler_address",
     "run_batch",
     "run_study",
 ]
@@ -63,6 +75,16 @@ BATCH_BYTES = 256 * 2**20
 DASK_BATCH = 32
 """Points per dask task: long enough (a fraction of a second) that scheduling costs little,
 short enough that progress moves and the workers share the load evenly."""
+SCHEDULER_PROTOCOLS = ("tcp", "tls", "ucx", "ws", "wss", "inproc")
+"""Protocols of a dask scheduler address (``tcp://HOST:PORT``; ``HOST:PORT`` means tcp)."""
+SCHEDULER_TIMEOUT = 10.0
+"""How long to try to reach a given dask scheduler before giving up [s]."""
+QUIET_LOGGERS = ("distributed", "tornado", "asyncio")
+"""Library loggers silenced while dask shuts down after an interruption (their tracebacks of
+cancelled tasks and lost workers say nothing the one-line message does not)."""
+_WORKER_SETUP = "rollerrig.studies._dask_worker"
+"""Preload of each local dask worker (:mod:`rollerrig.studies._dask_worker`)."""
+_HOST_LABEL = re.compile(r"[A-Za-z0-9_]([A-Za-z0-9_-]{0,61}[A-Za-z0-9_])?")
 
 
 @dataclass(frozen=True)
@@ -102,6 +124,11 @@ class StudyRun:
     executor : str
     workers : int
         Processes (dask) or numba threads (local) that ran the points.
+    counts : dict of str to int
+        Points per status.
+    damaged : int
+        Points of a resumed store whose results were missing (lost chunk files,
+        ``damaged_files``) and that this run computed again.
     """
 
     spec: StudySpec
@@ -113,6 +140,8 @@ class StudyRun:
     executor: str
     workers: int
     counts: dict[str, int] = field(default_factory=dict)
+    damaged: int = 0
+    damaged_files: tuple[str, ...] = ()
 
     @property
     def rate(self) -> float:
@@ -229,10 +258,8 @@ def _store_parameters(table: DesignTable, spec: StudySpec) -> dict:
 def _open_store(path: Path, spec: StudySpec, table: DesignTable, restart: bool) -> StudyStore:
     from rollerrig.output.provenance import provenance
 
-    if path.exists() and restart:
-        if not (path / "zarr.json").is_file():
-            raise StoreError(f"{path}: exists and is not a study store; not removing it")
-        shutil.rmtree(path)
+    if restart:
+        remove_store(path, study=spec.name)  # only a study store of this study
     if path.exists():
         return StudyStore.open(path, study_sha256=spec.sha256)
     attrs = {
@@ -294,6 +321,80 @@ def _local(batches, args) -> Iterator[list]:
         yield run_batch(*args[:2], batch, *args[2:])
 
 
+def check_scheduler_address(address: str, option: str = "--scheduler") -> str:
+    """``address`` if it has the form of a dask scheduler address, else a ParameterError
+    naming ``option``.
+
+    Accepted: ``tcp://HOST:PORT`` (or ``HOST:PORT``), ``tls://``, ``ucx://``, ``ws://``,
+    ``wss://`` likewise, and ``inproc://NAME``; HOST a host name, an IPv4 address or an IPv6
+    address in brackets; PORT 1 to 65535. Whether a scheduler answers there is found when the
+    study connects (:data:`SCHEDULER_TIMEOUT`).
+
+    Examples
+    --------
+    >>> check_scheduler_address("tcp://10.0.0.5:8786"), check_scheduler_address("[::1]:8786")
+    ('tcp://10.0.0.5:8786', '[::1]:8786')
+    >>> check_scheduler_address("999.1.1.1:99999")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    rollerrig._validation.ParameterError: --scheduler '999.1.1.1:99999': not a dask scheduler ...
+    """
+    form = (
+        "not a dask scheduler address; give tcp://HOST:PORT (or HOST:PORT; tls://, ucx://, "
+        "ws://, wss:// likewise, or inproc://NAME) with PORT in 1-65535"
+    )
+
+    def refuse(why: str = "") -> ParameterError:
+        return ParameterError(f"{option} {address!r}: {form}{why}")
+
+    if not isinstance(address, str) or not address or len(address) > 300:
+        raise refuse()
+    scheme, sep, rest = address.partition("://")
+    if not sep:
+        scheme, rest = "tcp", address
+    if scheme not in SCHEDULER_PROTOCOLS:
+        raise refuse(f" (unknown protocol {scheme!r})")
+    if scheme == "inproc":
+        if not rest or any(c.isspace() for c in rest):
+            raise refuse()
+        return address
+    host, colon, port = rest.rpartition(":")
+    if not colon or not host:
+        raise refuse(" (no host and port)")
+    if not port.isdigit() or not 1 <= int(port) <= 65535:
+        raise refuse(f" (port {port!r})")
+    if host.startswith("[") and host.endswith("]"):
+        try:
+            ipaddress.IPv6Address(host[1:-1])
+        except ValueError:
+            raise refuse(f" (host {host!r})") from None
+        return address
+    if re.fullmatch(r"[0-9.]+", host):
+        try:
+            ipaddress.IPv4Address(host)
+        except ValueError:
+            raise refuse(f" (host {host!r} is not an IPv4 address)") from None
+        return address
+    labels = host.split(".")
+    if len(host) > 253 or not all(_HOST_LABEL.fullmatch(label) for label in labels):
+        raise refuse(f" (host {host!r})")
+    return address
+
+
+@contextlib.contextmanager
+def _quiet_libraries() -> Iterator[None]:
+    """Silence :data:`QUIET_LOGGERS` for the block (levels restored after it)."""
+    loggers = [logging.getLogger(name) for name in QUIET_LOGGERS]
+    levels = [lg.level for lg in loggers]
+    for lg in loggers:
+        lg.setLevel(logging.CRITICAL + 1)
+    try:
+        yield
+    finally:
+        for lg, level in zip(loggers, levels, strict=True):
+            lg.setLevel(level)
+
+
 class _DaskExecutor:
     """A dask client on a local cluster or on a given scheduler; closed on exit."""
 
@@ -302,12 +403,15 @@ class _DaskExecutor:
         self.distributed = distributed
         self.cluster = None
         if scheduler:
+            check_scheduler_address(scheduler)
             try:
-                self.client = distributed.Client(scheduler, timeout="20s")
-            except OSError as exc:
+                with _quiet_libraries():
+                    self.client = distributed.Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+            except (OSError, ValueError, TypeError) as exc:
                 raise ParameterError(
-                    f"--scheduler {scheduler}: cannot reach the dask scheduler ({exc}); start "
-                    "it (dask scheduler) or leave --scheduler out for a local cluster"
+                    f"--scheduler {scheduler!r}: cannot reach the dask scheduler at that address "
+                    f"within {SCHEDULER_TIMEOUT:g} s ({_one_line(exc)}); start it (dask "
+                    "scheduler), check the address, or leave --scheduler out for a local cluster"
                 ) from None
         else:
             try:
@@ -317,6 +421,7 @@ class _DaskExecutor:
                     processes=True,
                     dashboard_address=None,
                     silence_logs=logging.ERROR,
+                    preload=[_WORKER_SETUP],
                 )
             except RuntimeError as exc:
                 raise ParameterError(
@@ -324,8 +429,17 @@ class _DaskExecutor:
                     'the study under `if __name__ == "__main__":` (dask starts each worker '
                     'process by importing the script), or use executor="local"'
                 ) from None
-            self.client = distributed.Client(self.cluster)
-        self.workers = len(self.client.scheduler_info().get("workers", {})) or (workers or 1)
+            try:
+                self.client = distributed.Client(self.cluster)
+            except BaseException:  # an interruption while connecting: close the workers
+                with _quiet_libraries():
+                    self.cluster.close()
+                raise
+        try:
+            self.workers = len(self.client.scheduler_info().get("workers", {})) or (workers or 1)
+        except BaseException:
+            self.close(interrupted=True)
+            raise
 
     def run(self, batches, args) -> Iterator[list]:
         rig, protocol, metrics, rate, h_max = args
@@ -343,10 +457,13 @@ class _DaskExecutor:
             for f in futures:
                 f.cancel()
 
-    def close(self) -> None:
-        self.client.close()
-        if self.cluster is not None:
-            self.cluster.close()
+    def close(self, *, interrupted: bool = False) -> None:
+        """Close the client and the local cluster; after an interruption, quietly (the
+        libraries log the cancelled tasks and the lost workers as errors)."""
+        with _quiet_libraries() if interrupted else contextlib.nullcontext():
+            self.client.close()
+            if self.cluster is not None:
+                self.cluster.close()
 
 
 def run_study(
@@ -398,6 +515,8 @@ def run_study(
     spec = study if isinstance(study, StudySpec) else load_study(study)
     if executor not in EXECUTORS:
         raise ParameterError(f"executor must be one of {list(EXECUTORS)}, got {executor!r}")
+    if scheduler is not None:
+        check_scheduler_address(scheduler)
     if workers is not None and not (isinstance(workers, int) and workers >= 1):
         raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
     if batch_size is not None and not (isinstance(batch_size, int) and batch_size >= 1):
@@ -411,13 +530,15 @@ def run_study(
 
     temporary = store is None
     path = (
-        Path(tempfile.mkdtemp(prefix="rollerrig-study-")) / f"{spec.name}.zarr"
+        Path(tempfile.mkdtemp(prefix="rollerrig-study-")) / safe_file_name(f"{spec.name}.zarr")
         if temporary
         else Path(store)
     )
     start = time.perf_counter()
     try:
         st = _open_store(path, spec, table, restart)
+        damaged_files = st.missing
+        damaged = st.reset_damaged()  # marked pending in the store: computed again below
         pending = st.pending()
         skipped = len(table) - pending.size
         failed = int(np.isin(st.status(), ("solver failed", "invalid parameters")).sum())
@@ -426,6 +547,7 @@ def run_study(
         limit = _batch_limit(protocol, spec.output_rate)
         runner = None
         workers_used = 1
+        interrupted = True  # until the points are all in: any exception ends the run early
         try:
             if pending.size:
                 _ensure_compiled()
@@ -449,10 +571,11 @@ def run_study(
                     if progress is not None:
                         elapsed = time.perf_counter() - start
                         progress(Progress(done, len(table), failed, skipped, elapsed))
+            interrupted = False
         finally:
             st.flush()
             if runner is not None:
-                runner.close()
+                runner.close(interrupted=interrupted)
         wall = time.perf_counter() - start
         ds = st.dataset()
         status = np.asarray(ds.status.values, dtype=str)
@@ -467,6 +590,8 @@ def run_study(
             executor,
             workers_used,
             counts,
+            damaged,
+            damaged_files,
         )
     finally:
         if temporary:  # the dataset is in memory already (numpy arrays read from the store)

@@ -15,12 +15,21 @@ Why zarr: each chunk is its own file, written atomically (a temporary file renam
 killed at any moment leaves a store whose finished points are intact; resuming runs only the
 points still ``pending``. Results are buffered and written every few seconds
 (:data:`FLUSH_SECONDS`): an interruption loses at most that much work.
+
+A store proves its completeness: every chunk is written as a file, even one that holds only
+the fill value (zarr leaves those out by default, and reads a missing chunk as the fill value,
+so a chunk file lost to a partial copy would otherwise read as "ok, no value"). A finished
+point whose results chunk file (a metric's, the reason's) is missing is ``"damaged"``
+(:data:`DAMAGED`): :func:`open_study` reports it so, with the missing files as its reason, and
+a resumed run computes it again (:meth:`StudyStore.reset_damaged`). A missing chunk file of the
+design (a varied quantity, the labels) is a :class:`StoreError`.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import shutil
 import time
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
@@ -31,19 +40,30 @@ from rollerrig._optional import require
 from rollerrig._validation import ParameterError
 
 __all__ = [
+    "DAMAGED",
     "FLUSH_SECONDS",
     "STATUSES",
     "StoreError",
     "StudyStore",
     "open_study",
+    "remove_store",
 ]
 
 STATUSES = ("ok", "solver failed", "invalid parameters", "pending")
 """The status a point can have in a store."""
 FLUSH_SECONDS = 2.0
 """Finished points are written to the store at least this often [s]."""
-FORMAT_VERSION = 1
-"""Version of the store layout (attribute ``rollerrig_study_store``)."""
+DAMAGED = "damaged"
+"""Status :func:`open_study` gives a finished point whose stored results are missing (a lost
+chunk file); a resumed run computes it again."""
+FORMAT_VERSION = 2
+"""Version of the store layout (attribute ``rollerrig_study_store``). Version 2 writes every
+chunk as a file (version 1 left out chunks of fill values, so a lost chunk could not be told
+from an empty one)."""
+_ALL_CHUNKS = {"write_empty_chunks": True}
+"""zarr array configuration of every write: a chunk of fill values is a file too."""
+MAX_METADATA_BYTES = 64 * 2**20
+"""Largest ``zarr.json`` that :func:`remove_store` reads to check what it removes [bytes]."""
 
 
 class StoreError(ParameterError):
@@ -85,6 +105,7 @@ class StudyStore:
         self._flushed = time.monotonic()
         self.metrics: tuple[str, ...] = tuple(json.loads(group.attrs["metrics"]))
         self.size = int(group["status"].shape[0])
+        self.damaged, self.missing = _damage(group)
 
     # ------------------------------------------------------------------ create / open
 
@@ -124,12 +145,13 @@ class StudyStore:
             values = np.asarray(values)
             kind = str if values.dtype.kind in "OUS" else "f8"
             arr = group.create_array(key, shape=(n,), chunks=(chunk,), dtype=kind)
+            arr = arr.with_config(_ALL_CHUNKS)
             arr[:] = values.astype(str) if kind is str else values.astype(float)
             arr.attrs.update(dict(a))
         for name, fill in (("label", ""), ("status", "pending"), ("reason", "")):
             arr = group.create_array(name, shape=(n,), chunks=(chunk,), dtype=str, fill_value=fill)
             if name == "label":
-                arr[:] = np.asarray(labels, dtype=str)
+                arr.with_config(_ALL_CHUNKS)[:] = np.asarray(labels, dtype=str)
         for name, a in metrics.items():
             arr = group.create_array(
                 name, shape=(n,), chunks=(chunk,), dtype="f8", fill_value=np.nan
@@ -146,7 +168,12 @@ class StudyStore:
 
     @classmethod
     def open(cls, path: str | os.PathLike, *, study_sha256: str | None = None) -> StudyStore:
-        """Reopen a store to resume it; with ``study_sha256``, check it holds that study."""
+        """Reopen a store to resume it; with ``study_sha256``, check it holds that study.
+
+        Finished points whose results chunk files are missing are listed in ``damaged`` (the
+        missing files in ``missing``): :meth:`status` gives them as :data:`DAMAGED` and
+        :meth:`pending` includes them; :meth:`reset_damaged` marks them pending in the store.
+        """
         path = Path(path)
         group = _open_group(path, "r+")
         if study_sha256 is not None and group.attrs.get("study_sha256") != study_sha256:
@@ -160,15 +187,26 @@ class StudyStore:
     # ------------------------------------------------------------------ points
 
     def status(self) -> np.ndarray:
-        """Status of every point."""
-        return _text(_read(self._group, "status"))
+        """Status of every point (:data:`DAMAGED` for a point whose results are missing)."""
+        status = _text(_read(self._group, "status"))
+        return _marked(status, self.damaged, DAMAGED)
 
     def pending(self) -> np.ndarray:
-        """Indices of the points not yet run (including those in the write buffer)."""
+        """Indices of the points not yet run, or damaged (excluding those in the write
+        buffer)."""
         buffered = {i for i, *_ in self._buffer}
-        return np.array(
-            [i for i in np.flatnonzero(self.status() == "pending") if i not in buffered], dtype=int
-        )
+        todo = np.flatnonzero(np.isin(self.status(), ("pending", DAMAGED)))
+        return np.array([i for i in todo if i not in buffered], dtype=int)
+
+    def reset_damaged(self) -> int:
+        """Mark the damaged points pending in the store (so that an interruption while they
+        are computed again cannot leave them ``ok`` without their values); returns how many."""
+        n = int(self.damaged.size)
+        if n:
+            self._write("status", self.damaged, np.array(["pending"] * n))
+            self._write("reason", self.damaged, np.array([""] * n))
+            self.damaged = np.array([], dtype=int)
+        return n
 
     def record(self, rows: Iterable[tuple[int, str, str, Mapping[str, float]]]) -> None:
         """Add finished points ``(index, status, reason, metrics)``; written by :meth:`flush`
@@ -196,7 +234,7 @@ class StudyStore:
         self._buffer.clear()
 
     def _write(self, name: str, index: np.ndarray, values: np.ndarray) -> None:
-        arr = self._group[name]
+        arr = self._group[name].with_config(_ALL_CHUNKS)
         chunk = arr.chunks[0]
         # One write per chunk touched (a chunk is rewritten whole, atomically): points of one
         # batch may be strided over the grid, and a write per point would rewrite a chunk each.
@@ -236,8 +274,62 @@ def _read(group, name: str, where: slice = slice(None)) -> np.ndarray:
         ) from None
 
 
+def _damage(group) -> tuple[np.ndarray, tuple[str, ...]]:
+    """``(points, files)``: the finished points whose results chunk files are missing, and
+    those files (relative to the store); a missing chunk file of the design is a
+    :class:`StoreError`.
+
+    ``flush`` writes each touched chunk of every metric and of ``reason`` before the chunk of
+    ``status``, and every chunk is a file (format version 2): a ``status`` chunk file without
+    its companions means they were lost after they were written.
+    """
+    root = getattr(group.store, "root", None)
+    if root is None:  # not a folder: nothing to check (the package writes folders only)
+        return np.array([], dtype=int), ()
+    root = Path(root)
+    attrs = group.attrs
+    status = group["status"]
+    n, chunk = int(status.shape[0]), int(status.chunks[0])
+    count = -(-n // chunk)
+
+    def missing(name: str) -> list[int]:
+        arr = group[name]
+        return [
+            c
+            for c in range(count)
+            if not (root / arr.path / arr.metadata.encode_chunk_key((c,))).is_file()
+        ]
+
+    def file(name: str, c: int) -> str:
+        return f"{name}/{group[name].metadata.encode_chunk_key((c,))}"
+
+    design = [*json.loads(attrs["parameters"]), "label"]
+    lost = [file(name, c) for name in design for c in missing(name)]
+    if lost:
+        shown = ", ".join(lost[:5]) + (f" and {len(lost) - 5} more" if len(lost) > 5 else "")
+        raise StoreError(
+            f"{root}: the store is damaged: chunk files of the design are missing ({shown}); "
+            "run again with --restart to compute the study anew"
+        )
+    written = set(range(count)) - set(missing("status"))
+    lost: dict[int, list[str]] = {}
+    for name in [*json.loads(attrs["metrics"]), "reason"]:
+        for c in missing(name):
+            if c in written:
+                lost.setdefault(c, []).append(file(name, c))
+    points, files = [], []
+    for c in sorted(lost):
+        lo, hi = c * chunk, min(n, (c + 1) * chunk)
+        finished = np.flatnonzero(_text(_read(group, "status", slice(lo, hi))) != "pending")
+        if finished.size:  # a chunk whose points are all pending has nothing to lose
+            points.extend(lo + finished)
+            files.extend(lost[c])
+    return np.array(points, dtype=int), tuple(files)
+
+
 def _dataset(group):
     xr = require("xarray", purpose="reading a study store")
+    damaged, lost = _damage(group)
     attrs = dict(group.attrs)
     data = {}
     for key in json.loads(attrs["parameters"]):
@@ -252,6 +344,16 @@ def _dataset(group):
         data[name] = ("point", _text(_read(group, name)))
     for name in json.loads(attrs["metrics"]):
         data[name] = ("point", np.asarray(_read(group, name), dtype=float), dict(group[name].attrs))
+    if damaged.size:
+        reason = _one_line(
+            f"its results are missing from the store (lost chunk files: {', '.join(lost)}); "
+            "study run into the same --out computes it again"
+        )
+        data["status"] = ("point", _marked(data["status"][1], damaged, DAMAGED))
+        data["reason"] = ("point", _marked(data["reason"][1], damaged, reason))
+        for name in json.loads(attrs["metrics"]):
+            data[name][1][damaged] = np.nan
+        attrs["damaged_files"] = json.dumps(list(lost))
     n = int(group["status"].shape[0])
     return xr.Dataset(data, coords={"point": np.arange(n)}, attrs=attrs)
 
@@ -280,6 +382,17 @@ def open_study(path: str | os.PathLike):
     )
 
 
+def _marked(values: np.ndarray, index: np.ndarray, text: str) -> np.ndarray:
+    """``values`` (text) with ``text`` at ``index`` (the array widened to hold it)."""
+    mask = np.zeros(values.shape, dtype=bool)
+    mask[index] = True
+    return np.where(mask, text, values).astype(str)
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
 def _open_group(path: Path, mode: str, hint: str = "remove it or choose another --out"):
     """The zarr group of a study store of this version, or :class:`StoreError`."""
     zarr = _zarr()
@@ -290,8 +403,68 @@ def _open_group(path: Path, mode: str, hint: str = "remove it or choose another 
         raise StoreError(
             f"{path}: not a rollerrig study store ({type(exc).__name__}: {exc}); {hint}"
         ) from None
+    if isinstance(version, str) and version.isdigit() and int(version) < FORMAT_VERSION:
+        raise StoreError(
+            f"{path}: a study store written by an older rollerrig (store version {version}, "
+            f"this one reads {FORMAT_VERSION}); run the study again with --restart"
+        )
     if version != str(FORMAT_VERSION):
         raise StoreError(
             f"{path}: not a rollerrig study store of this version (found {version!r}); {hint}"
         )
     return group
+
+
+def _store_attributes(path: Path) -> dict | None:
+    """The group attributes of the zarr store at ``path`` read from its ``zarr.json`` (a plain
+    file, at most :data:`MAX_METADATA_BYTES`), or None when it has none."""
+    meta = path / "zarr.json"
+    try:
+        if not meta.is_file() or meta.is_symlink() or meta.stat().st_size > MAX_METADATA_BYTES:
+            return None
+        doc = json.loads(meta.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return None
+    if not isinstance(doc, dict) or doc.get("node_type") != "group":
+        return None
+    attrs = doc.get("attributes")
+    return attrs if isinstance(attrs, dict) else None
+
+
+def remove_store(path: str | os.PathLike, *, study: str) -> None:
+    """Remove the study store at ``path`` (``--restart``), only if it is one of study ``study``.
+
+    Anything else at ``path`` (a symbolic link, a file, a plain folder, a zarr store that is
+    not a rollerrig study store, the store of another study) is refused with a
+    :class:`StoreError` naming it, and nothing is removed. The store is first renamed to a
+    hidden name beside it (so an interruption never leaves half a store under its name), then
+    removed without following symbolic links. Nothing at ``path``: nothing to do.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> (folder / "photos").mkdir()
+    >>> remove_store(folder / "photos", study="demo")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    rollerrig.studies.store.StoreError: .../photos: not a rollerrig study store; nothing was ...
+    """
+    path = Path(path)
+    keep = "nothing was removed; remove it yourself or choose another --out"
+    if path.is_symlink():
+        raise StoreError(f"{path}: a symbolic link, not a study store folder; {keep}")
+    if not path.exists():
+        return
+    if not path.is_dir():
+        raise StoreError(f"{path}: a file, not a study store; {keep}")
+    attrs = _store_attributes(path)
+    if attrs is None or "rollerrig_study_store" not in attrs:
+        raise StoreError(f"{path}: not a rollerrig study store; {keep}")
+    if attrs.get("study") != study:
+        raise StoreError(
+            f"{path}: the store of another study ({attrs.get('study')!r}, not {study!r}); {keep}"
+        )
+    doomed = path.with_name(f".{path.name}.removing-{os.getpid()}")
+    os.replace(path, doomed)
+    shutil.rmtree(doomed)

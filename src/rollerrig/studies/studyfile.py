@@ -27,6 +27,11 @@ A varied quantity is named by
   (``"rigid"`` or ``"flexible"``: the frame's degree of freedom at the contact, with the rig's
   ``frame.*`` keys).
 
+``name`` names the study and the files its run writes (``study-NAME.zarr``, ...): 1 to 64
+letters, digits, ``.``, ``_``, ``+`` and ``-``, not starting with a dot; default: the file's
+stem (made safe). A study has at most :data:`MAX_STUDY_POINTS` points, checked from the file's
+numbers before any point is made.
+
 A number without a unit is SI. ``[outputs] metrics`` chooses the metrics of each run by name
 (:data:`rollerrig.studies.metrics.METRICS`); ``[solver]`` sets the output rate and the largest
 step. The minimal study::
@@ -45,6 +50,7 @@ import hashlib
 import json
 import math
 import os
+import re
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -56,9 +62,12 @@ import numpy as np
 
 from rollerrig._toml import parse_toml
 from rollerrig._validation import ParameterError, Problem
+from rollerrig.output.names import safe_file_name
 from rollerrig.units import QUANTITIES, UnitError, apply_factor, quantity_factor
 
 __all__ = [
+    "MAX_NAME_LENGTH",
+    "MAX_STUDY_POINTS",
     "MODEL_KEYS",
     "PROTOCOL_KEYS",
     "Axis",
@@ -71,6 +80,7 @@ __all__ = [
     "load_study",
     "study_from_dict",
     "study_from_toml_string",
+    "study_name_from_stem",
 ]
 
 PROTOCOL_KEYS = {"load": "force", "speed": "speed", "friction": None}
@@ -97,6 +107,19 @@ _TOP_KEYS = {
     "outputs",
     "solver",
 }
+MAX_STUDY_POINTS = 1_000_000
+"""Largest design a study file may ask for [points]: a grid's product of axis lengths, a
+sample's points (Sobol: ``n (D + 2)`` or ``n (2D + 2)``), the number of cases. It is checked
+from the numbers the file gives (``values``, ``num``, ``n``) before any point or axis value is
+made, so that a file of three lines cannot exhaust memory. The bundled studies run at most a
+few thousand points; a million points is hours of computing on a cluster."""
+MAX_NAME_LENGTH = 64
+"""Longest study name [characters]."""
+_NAME = re.compile(f"[A-Za-z0-9_+-][A-Za-z0-9._+-]{{0,{MAX_NAME_LENGTH - 1}}}")
+_NAME_RULE = (
+    f"1-{MAX_NAME_LENGTH} characters of letters, digits, '.', '_', '+' and '-', not starting "
+    "with '.' (it names the files a run writes: study-NAME.zarr, study-NAME.json)"
+)
 DEFAULT_EXPERIMENT = "release-test"
 """The experiment of a study that names none: one ramp, hold and sudden release at 30 km/h."""
 
@@ -369,7 +392,11 @@ class _Reader:
         if isinstance(value, bool) or not isinstance(value, int | float):
             self.problem(key, "must be a number", got=value)
             return None
-        if not math.isfinite(value):
+        try:
+            finite = math.isfinite(value)
+        except OverflowError:  # an integer beyond the range of a float
+            finite = False
+        if not finite:
             self.problem(key, "must be finite", got=value)
             return None
         if quantity is None:
@@ -431,6 +458,54 @@ def _check_value(reader: _Reader, key: str, where: str, value, quantity, choices
         reader.problem(where, "must be >= 0 (0: no lag)", unit="s", got=value)
         return None
     return value
+
+
+def _axis_length(spec) -> tuple[str, int] | None:
+    """``(key, length)`` of a grid axis from the numbers its spec gives (``values`` or
+    ``num``), before any value is made; None when the spec does not say (its own problem)."""
+    if isinstance(spec, list):
+        return "values", len(spec)
+    if not isinstance(spec, dict):
+        return None
+    if "values" in spec:
+        values = spec["values"]
+        return ("values", len(values)) if isinstance(values, list) else None
+    num = spec.get("num")
+    if isinstance(num, int) and not isinstance(num, bool) and num >= 1:
+        return "num", num
+    return None
+
+
+def _grid_size_ok(reader: _Reader, grid: dict) -> bool:
+    """Whether the grid stays within :data:`MAX_STUDY_POINTS` (each axis and the product of
+    their lengths), from the numbers alone; records the problem otherwise."""
+    ok = True
+    total = 1
+    for key, spec in grid.items():
+        length = _axis_length(spec)
+        if length is None:
+            continue
+        what, n = length
+        if n > MAX_STUDY_POINTS:
+            reader.problem(
+                f"grid.{key}.{what}",
+                "too many values for one axis",
+                allowed=f"at most {MAX_STUDY_POINTS} points in a study",
+                got=n,
+            )
+            ok = False
+        total = min(total * n, MAX_STUDY_POINTS + 1)  # capped: never a huge integer
+    if ok and total > MAX_STUDY_POINTS:
+        lengths = {k: v[1] for k, v in ((k, _axis_length(g)) for k, g in grid.items()) if v}
+        reader.problem(
+            "grid",
+            "too many points: the product of the axis lengths "
+            f"({' x '.join(str(n) for n in lengths.values())})",
+            allowed=f"at most {MAX_STUDY_POINTS} points in a study",
+            got=math.prod(lengths.values()),
+        )
+        ok = False
+    return ok
 
 
 def _axis(reader: _Reader, key: str, spec) -> Axis | None:
@@ -591,6 +666,19 @@ def _sample(reader: _Reader, spec) -> SampleDesign | None:
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         reader.problem("sample.n", "must be an integer >= 1 (the base sample size)", got=n)
         return None
+    params = spec.get("parameters")
+    d = len(params) if isinstance(params, dict) else 1
+    factor = {"sobol": (2 * d + 2 if spec.get("second_order") is True else d + 2)}.get(method, 1)
+    if n > MAX_STUDY_POINTS or n * factor > MAX_STUDY_POINTS:
+        what = f"{n} x {factor} = {n * factor} points" if factor > 1 else f"{n} points"
+        rule = " (Sobol' runs n (D + 2) points, n (2D + 2) with second_order)" if factor > 1 else ""
+        reader.problem(
+            "sample.n",
+            f"too many points ({what})",
+            allowed=f"at most {MAX_STUDY_POINTS} points in a study{rule}",
+            got=n,
+        )
+        return None
     if method == "sobol" and n & (n - 1):
         reader.problem("sample.n", "Sobol' sequences need a power of 2", got=n)
         return None
@@ -602,7 +690,6 @@ def _sample(reader: _Reader, spec) -> SampleDesign | None:
     if not isinstance(second, bool):
         reader.problem("sample.second_order", "must be true or false", got=second)
         return None
-    params = spec.get("parameters")
     if not isinstance(params, dict) or not params:
         reader.problem("sample.parameters", "give at least one parameter with its distribution")
         return None
@@ -620,6 +707,14 @@ def _sample(reader: _Reader, spec) -> SampleDesign | None:
 def _cases(reader: _Reader, spec) -> tuple[Case, ...] | None:
     if not isinstance(spec, list) or not spec:
         reader.problem("cases", "give one or more [[cases]] tables")
+        return None
+    if len(spec) > MAX_STUDY_POINTS:
+        reader.problem(
+            "cases",
+            "too many cases",
+            allowed=f"at most {MAX_STUDY_POINTS} points in a study",
+            got=len(spec),
+        )
         return None
     out, labels = [], set()
     for i, case in enumerate(spec):
@@ -650,6 +745,31 @@ def _cases(reader: _Reader, spec) -> tuple[Case, ...] | None:
     return tuple(out)
 
 
+def _study_name(reader: _Reader, name, *, given: bool) -> str:
+    """The study's name, checked (it names files: see :data:`MAX_NAME_LENGTH`)."""
+    if isinstance(name, str) and _NAME.fullmatch(name):
+        return name
+    where = "" if given else " (the name of the study file, or the name given)"
+    reader.problem("name", f"not a study name{where}", allowed=_NAME_RULE, got=name)
+    return "study"
+
+
+def study_name_from_stem(stem: str) -> str:
+    """A study name made from a file's stem: :func:`~rollerrig.output.names.safe_file_name`,
+    cut to :data:`MAX_NAME_LENGTH` characters (a study file names its study unless it has a
+    ``name`` key).
+
+    Examples
+    --------
+    >>> study_name_from_stem("my study (v2)"), study_name_from_stem(".hidden")
+    ('my_study__v2_', 'hidden')
+    >>> study_name_from_stem("."), len(study_name_from_stem("x" * 300))
+    ('_', 64)
+    """
+    name = safe_file_name(stem)[:MAX_NAME_LENGTH]
+    return name if _NAME.fullmatch(name) else "study"
+
+
 def study_from_toml_string(
     text: str, *, origin: str = "<string>", base_dir: Path | None = None, name: str = "study"
 ) -> StudySpec:
@@ -664,7 +784,10 @@ def study_from_toml_string(
     base_dir : Path, optional
         Relative ``experiment`` and ``rig`` paths are resolved against it.
     name : str
-        The study's name when the file gives none (the file stem).
+        The study's name when the file gives none (for a file: its stem made safe,
+        :func:`study_name_from_stem`). A name, given either way, is 1 to
+        :data:`MAX_NAME_LENGTH` letters, digits, ``.``, ``_``, ``+`` and ``-``, not starting
+        with a dot: it names the files of the study's run.
 
     Returns
     -------
@@ -731,7 +854,7 @@ def study_from_dict(
         grid = data["grid"]
         if not isinstance(grid, dict) or not grid:
             reader.problem("grid", "give at least one axis")
-        else:
+        elif _grid_size_ok(reader, grid):
             parsed = [_axis(reader, k, v) for k, v in grid.items()]
             axes = tuple(a for a in parsed if a is not None)
     elif design == "sample":
@@ -746,7 +869,7 @@ def study_from_dict(
             return default
         return value
 
-    study_name = text_of("name", name)
+    study_name = _study_name(reader, data.get("name", name), given="name" in data)
     description = text_of("description", "")
     experiment = text_of("experiment", DEFAULT_EXPERIMENT)
     rig = text_of("rig", None)
@@ -872,5 +995,8 @@ def load_study(path_or_name: str | os.PathLike) -> StudySpec:
     except (OSError, UnicodeDecodeError) as exc:
         raise StudyFileError(str(path), [Problem("", f"cannot read the file ({exc})")]) from None
     return study_from_toml_string(
-        text, origin=str(path), base_dir=path.parent.resolve(), name=path.stem
+        text,
+        origin=str(path),
+        base_dir=path.parent.resolve(),
+        name=study_name_from_stem(path.stem),
     )
