@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from rollerrig.experiment import load_protocol
-from rollerrig.studies.metrics import METRICS, RunChannels, compute_metrics
+from rollerrig.studies.metrics import METRICS, RunChannels, compute_metrics, release_overshoots
 
 RR = 0.2  # roller radius [m] of the synthetic runs
 LOAD = 4300.0  # [N]
@@ -87,3 +87,46 @@ def test_metrics_without_a_release_are_nan_and_say_why():
 def test_every_metric_has_units_and_a_meaning_for_nan():
     for name, metric in METRICS.items():
         assert metric.name == name and metric.units and metric.long_name and metric.nan_meaning
+
+
+def _swing_run(protocol, amplitude, frequency, decay, ripple=0.0, rate=1000.0, before=500.0):
+    """After the release T56 swings as -A e^(-s/decay) sin(2π f s) (the slow mode's half-swing
+    below zero), with a 13.8 Hz ripple of ``ripple`` × A on it (the roller-shaft ringing)."""
+    t = np.arange(0.0, protocol.duration, 1 / rate)
+    t56 = np.where(t <= 3.5, before * np.clip((t - 1.0) / 2.0, 0, 1), 0.0)
+    after = t > 3.5
+    s = t[after] - 3.5
+    t56[after] = -amplitude * np.exp(-s / decay) * np.sin(2 * np.pi * frequency * s)
+    t56[after] += ripple * amplitude * np.sin(2 * np.pi * 13.8 * s)
+    return RunChannels(t, t56, t56 / RR, np.full(t.size, LOAD), RR)
+
+
+@pytest.mark.parametrize(("frequency", "decay"), [(0.78, 0.64), (1.6, 1.0)])
+@pytest.mark.parametrize("ripple", [0.0, 0.1])
+def test_release_minimum_time_and_ringing_frequency_of_a_damped_swing(
+    protocol, frequency, decay, ripple
+):
+    # Closed form of -A e^(-σs) sin(ωs): its first minimum where tan(ωs) = ω/σ,
+    # s_min = arctan(ω/σ)/ω, the next maximum π/ω later: 1/(2 Δt) = ω/2π, the damped
+    # frequency. A 13.8 Hz ripple (the shaft mode) must not move either.
+    run = _swing_run(protocol, 300.0, frequency, decay, ripple)
+    m = compute_metrics(run, protocol, ["release_minimum_time", "release_ringing_frequency"])
+    w, sigma = 2 * np.pi * frequency, 1.0 / decay
+    assert m["release_minimum_time"] == pytest.approx(np.arctan(w / sigma) / w, abs=0.004)
+    assert m["release_ringing_frequency"] == pytest.approx(frequency, rel=0.02)
+    rows = release_overshoots(run, protocol)
+    assert rows[0]["time_to_minimum [s]"] == m["release_minimum_time"]
+
+
+def test_no_swing_back_gives_no_ringing_frequency(protocol):
+    # An overdamped return (-A s e^(-s/τ), one minimum at s = τ, no maximum after it within
+    # the window above zero): the minimum is timed, the frequency is NaN.
+    t = np.arange(0.0, protocol.duration, 1e-3)
+    t56 = np.where(t <= 3.5, 500.0 * np.clip((t - 1.0) / 2.0, 0, 1), 0.0)
+    s = np.clip(t - 3.5, 0.0, None)
+    t56 = np.where(t > 3.5, -300.0 * (s / 0.2) * np.exp(1.0 - s / 0.2), t56)
+    run = RunChannels(t, t56, t56 / RR, np.full(t.size, LOAD), RR)
+    m = compute_metrics(run, protocol, ["release_minimum_time", "release_ringing_frequency"])
+    # (the centred moving average moves the flat, asymmetric minimum by a few ms)
+    assert m["release_minimum_time"] == pytest.approx(0.2, abs=0.005)
+    assert np.isnan(m["release_ringing_frequency"])

@@ -12,6 +12,10 @@ release_overshoot          1        how far the force the rig derives from its t
                                     release, relative to its value before (largest over the
                                     releases; Kayaalp Figs. 42-43)
 true_release_overshoot     1        the same for the true contact force F_x
+release_minimum_time       s        time from the release to the first minimum of that swing
+                                    (of the release with the largest overshoot)
+release_ringing_frequency  Hz       frequency of that swing, 1/(2 Δt) from its first minimum to
+                                    the next maximum
 settling_time              s        time after a release until T56 stays within 5 % of its
                                     value before the release around its final value (largest)
 coa_bias_rms               1        RMS of the CoA the rig reports, T56 / (r_r N), minus the true
@@ -48,6 +52,9 @@ __all__ = [
 
 RELEASE_WINDOW = 3.0
 """Time after a release searched for the overshoot's minimum [s]."""
+SWING_SMOOTHING = 1.0 / 13.8
+"""Width of the moving average before the swing after a release is timed [s]: one period of
+the 13.8 Hz roller-shaft mode, which it removes (a moving average has a zero at 1/width)."""
 SETTLING_BAND = 0.05
 """Settling band: this share of |T56| before the release [-]."""
 LINE_BAND = (2.0, 50.0)
@@ -132,6 +139,7 @@ def _release_rows(run: RunChannels, protocol: Protocol, window: float) -> list[d
             continue
         measured = float(measured_force[span].min())
         true = float(run.contact_force[span].min())
+        t_min, f_ring = _swing(t[span] - event.start, measured_force[span])
         rows.append(
             {
                 "time [s]": event.start,
@@ -140,9 +148,40 @@ def _release_rows(run: RunChannels, protocol: Protocol, window: float) -> list[d
                 "measured_overshoot [-]": -measured / before,
                 "true_min [N]": true,
                 "true_overshoot [-]": -true / before,
+                "time_to_minimum [s]": t_min,
+                "ringing_frequency [Hz]": f_ring,
             }
         )
     return rows
+
+
+def _swing(t, y) -> tuple[float, float]:
+    """Time of the first minimum of the swing after a release [s] (from the release) and the
+    frequency of that swing [Hz], 1/(2 (t_max − t_min)) from the first minimum to the next
+    maximum; NaN where the window holds no minimum, or no maximum after it.
+
+    The signal is first smoothed over :data:`SWING_SMOOTHING` (a centred moving average, so
+    that the lightly damped 13.8 Hz roller-shaft ringing riding on it makes no extrema of its
+    own); the first minimum is the first local minimum below zero (the overshoot), else the
+    lowest sample.
+    """
+    if t.size < 3:
+        return np.nan, np.nan
+    dt = float(np.median(np.diff(t)))
+    width = max(1, round(SWING_SMOOTHING / dt)) if dt > 0 else 1
+    width = min(width, max(1, t.size // 4))
+    pad = np.pad(y, (width // 2, width - 1 - width // 2), mode="edge")
+    smooth = np.convolve(pad, np.ones(width) / width, mode="valid")
+    inner = np.arange(1, smooth.size - 1)
+    minima = inner[(smooth[inner] < smooth[inner - 1]) & (smooth[inner] <= smooth[inner + 1])]
+    below = minima[smooth[minima] < 0.0]
+    k = int(below[0]) if below.size else int(np.argmin(smooth))
+    if k == 0 or k == smooth.size - 1:
+        return np.nan, np.nan
+    after = inner[(inner > k) & (smooth[inner] > smooth[inner - 1])]
+    after = after[smooth[after] >= smooth[np.minimum(after + 1, smooth.size - 1)]]
+    f_ring = 1.0 / (2.0 * (t[after[0]] - t[k])) if after.size else np.nan
+    return float(t[k]), float(f_ring)
 
 
 def release_overshoots(ds, protocol: Protocol, window: float = RELEASE_WINDOW) -> list[dict]:
@@ -161,8 +200,10 @@ def release_overshoots(ds, protocol: Protocol, window: float = RELEASE_WINDOW) -
     -------
     list of dict
         Per release from a positive force: time [s], force from T56 before it [N], its minimum
-        after [N], the relative overshoot [-], and the true contact force's minimum and relative
-        overshoot.
+        after [N], the relative overshoot [-], the true contact force's minimum and relative
+        overshoot, the time from the release to the swing's first minimum
+        (``time_to_minimum [s]``) and the swing's frequency (``ringing_frequency [Hz]``, from
+        the first minimum to the next maximum: 1/(2 Δt)); see :func:`_swing`.
     """
     if not isinstance(ds, RunChannels):
         ds = RunChannels.from_dataset(ds)
@@ -172,6 +213,21 @@ def release_overshoots(ds, protocol: Protocol, window: float = RELEASE_WINDOW) -
 def _release_overshoot(run, protocol):
     rows = _release_rows(run, protocol, RELEASE_WINDOW)
     return max((r["measured_overshoot [-]"] for r in rows), default=np.nan)
+
+
+def _largest_release(run, protocol):
+    rows = _release_rows(run, protocol, RELEASE_WINDOW)
+    return max(rows, key=lambda r: r["measured_overshoot [-]"], default=None)
+
+
+def _release_minimum_time(run, protocol):
+    row = _largest_release(run, protocol)
+    return np.nan if row is None else row["time_to_minimum [s]"]
+
+
+def _release_ringing_frequency(run, protocol):
+    row = _largest_release(run, protocol)
+    return np.nan if row is None else row["ringing_frequency [Hz]"]
 
 
 def _true_release_overshoot(run, protocol):
@@ -320,6 +376,20 @@ METRICS: dict[str, Metric] = {
             "overshoot of F_x below zero after a release",
             _NO_RELEASE,
             _true_release_overshoot,
+        ),
+        Metric(
+            "release_minimum_time",
+            "s",
+            "time from the release to the first minimum of T56/r_r",
+            _NO_RELEASE + "; or no minimum in the window",
+            _release_minimum_time,
+        ),
+        Metric(
+            "release_ringing_frequency",
+            "Hz",
+            "frequency of the swing after the release, first minimum to next maximum",
+            _NO_RELEASE + "; or no maximum after the first minimum in the window",
+            _release_ringing_frequency,
         ),
         Metric(
             "settling_time",
