@@ -332,3 +332,27 @@ def test_kernels_compile_with_numba(kernel, args):
     expected = kernel(*args)
     got = numba.njit(kernel)(*args)
     np.testing.assert_allclose(np.asarray(got, float), np.asarray(expected, float), rtol=1e-14)
+
+
+def test_delta_resistance_is_three_times_the_equivalent_star():
+    # A delta of impedances Z is a star of Z/3 (Kennelly 1899): the rig's delta machine with
+    # R_s = 0.085 ohm per delta phase at 380 V line and the star machine with 0.085/3 ohm per
+    # star phase at the same line voltage have the same torque curve (eq. 4.28), and the
+    # dq machine of either has the same equivalent-star R_s.
+    from rollerrig.drives.induction_dq import inverse_gamma_from_nameplate
+    from rollerrig.rig.parameters import default_rig
+
+    am = default_rig().induction_motor
+    assert am.connection == "delta" and am.stator_resistance == pytest.approx(0.085)
+    assert am.equivalent_star_stator_resistance == pytest.approx(0.085 / 3.0, rel=1e-15)
+    # 1.7 % of the base impedance U_line/(I_line/√3) = 380/(133/√3) = 4.949 ohm
+    assert am.stator_resistance_per_unit == pytest.approx(0.085 / (380.0 / (133.0 / np.sqrt(3))))
+    delta = thevenin_from_nameplate(stator_resistance=0.085, connection="delta")
+    star = thevenin_from_nameplate(stator_resistance=0.085 / 3.0, connection="star")
+    w = np.linspace(0.5, 1.2, 15) * delta.synchronous_speed()
+    np.testing.assert_allclose(star.torque(w), delta.torque(w), rtol=1e-10)
+    assert star.rotor_resistance == pytest.approx(delta.rotor_resistance / 3.0, rel=1e-12)
+    m_delta = inverse_gamma_from_nameplate(stator_resistance=0.085, connection="delta")
+    m_star = inverse_gamma_from_nameplate(stator_resistance=0.085 / 3.0, connection="star")
+    assert m_delta.stator_resistance == pytest.approx(m_star.stator_resistance, rel=1e-15)
+    assert m_delta.rotor_resistance == pytest.approx(m_star.rotor_resistance, rel=1e-9)

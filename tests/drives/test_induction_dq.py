@@ -48,7 +48,10 @@ def test_nameplate_targets_are_met():
     speeds = M.synchronous_speed * (1.0 - slip)
     assert dq.steady_torque(M, speeds, 50.0).max() == pytest.approx(2.5 * 891.0, rel=1e-7)
     assert M.rated_voltage == pytest.approx(380.0 * np.sqrt(2.0 / 3.0))
-    assert M.stator_resistance == pytest.approx(0.045 / 3.0)  # delta phase -> star
+    # the rig's key is per delta phase (0.085 ohm); a delta of Z is a star of Z/3
+    assert RIG_AM.connection == "delta"
+    assert M.stator_resistance == pytest.approx(RIG_AM.stator_resistance / 3.0, rel=1e-15)
+    assert M.stator_resistance == RIG_AM.equivalent_star_stator_resistance
 
 
 def test_steady_state_is_the_rig_thevenin_curve_at_rated_frequency():
@@ -78,7 +81,9 @@ def test_closed_form_relations_to_the_thevenin_circuit():
 @pytest.mark.parametrize("kmh", [5.0, 10.0, 20.0, 30.0])
 def test_low_frequency_v_f_against_the_thevenin_curve(kmh):
     # Under V ∝ f the two differ only through b = R_s/(ω L_M) (closed form of the ratio from
-    # the identity above), by 1.4 % at 5 km/h (2.4 Hz) down to 0.04 % at 30 km/h.
+    # the identity above), by 5.0 % at 5 km/h (2.4 Hz) down to 0.15 % at 30 km/h with R_s =
+    # 0.0283 ohm (equivalent star): below the no-load flux loss b²/(1 + b²) of the
+    # magnetising branch fed through R_s (1.2 x for the leakage it neglects).
     omega = kmh / 3.6 / 0.452
     f = 5 * omega / (2 * np.pi)
     k = f / 50.0
@@ -93,7 +98,8 @@ def test_low_frequency_v_f_against_the_thevenin_curve(kmh):
     den_dq = rs**2 + (k * xs) ** 2 + 2 * rs * rho + (a * a + (b_n / k) ** 2) * rho**2
     den_th = (rs**2 + (k * k) * (c_n * (rs**2 + xs**2) - rs**2)) / c_n + 2 * rs * rho + c_n * rho**2
     np.testing.assert_allclose(ratio, den_th / den_dq, rtol=1e-9)
-    assert np.all(np.abs(ratio - 1.0) < 0.015)
+    b_k = b_n / k  # R_s/(ω L_M) at this frequency
+    assert np.all(np.abs(ratio - 1.0) < 1.2 * b_k**2 / (1.0 + b_k**2))
 
 
 def test_steady_torque_equals_exact_thevenin_of_the_model():

@@ -135,6 +135,9 @@ _VF_KEYS = (
     "slip_compensation",
     "current_limit",
     "ramp_time",
+    "current_filter_time",
+    "slip_filter_time",
+    "rotor_resistance_estimate",
     "filter_time",
 )
 
@@ -205,11 +208,25 @@ def _rig_with_vf(table):
             "got 1e+300",
         ),
         (
-            "filter_time",
+            "slip_filter_time",
             1e-6,
             "s",
-            "rig.toml: roller_drive_vf.filter_time: must be 0 (the machine's default) or at "
-            "least 1 ms [s]; allowed 0 or [0.001, 10]; got 1e-06",
+            "rig.toml: roller_drive_vf.slip_filter_time: must be 0 (the machine's default) or "
+            "at least 1 ms [s]; allowed 0 or [0.001, 10]; got 1e-06",
+        ),
+        (
+            "current_filter_time",
+            11.0,
+            "s",
+            "rig.toml: roller_drive_vf.current_filter_time: must be <= 10 [s]; allowed [0, 10]; "
+            "got 11",
+        ),
+        (
+            "rotor_resistance_estimate",
+            3.0,
+            "1",
+            "rig.toml: roller_drive_vf.rotor_resistance_estimate: must be <= 2 [x the "
+            "machine's rotor resistance]; allowed [0.5, 2]; got 3",
         ),
     ],
 )
@@ -227,6 +244,8 @@ def test_the_vf_defaults_and_range_ends_are_accepted():
     from rollerrig.drives.vf import VF_SETTING_RANGES
 
     for key, (low, high) in VF_SETTING_RANGES.items():
+        if key == "filter_time":  # deprecated: test_the_old_filter_time_is_read_as_both_filters
+            continue
         for value in (low, high):
             unit = "s" if key.endswith("time") else "1"
             sections, _ = _rig_with_vf({key: {"value": value, "unit": unit, "source": "x"}})
@@ -288,3 +307,43 @@ def test_any_vf_table_gives_a_rig_or_a_rig_file_error():
         default_dq_drive(rig)  # the settings are within what the controller accepts
 
     check()
+
+
+def test_the_two_filters_are_two_keys():
+    # The study's variants set only the slip filter: the rig file can say the same.
+    sections, _ = _rig_with_vf({"slip_filter_time": {"value": 100.0, "unit": "ms", "source": "x"}})
+    options = sections["roller_drive_vf"].options()
+    assert options["slip_filter_time"] == pytest.approx(0.1)
+    assert options["current_filter_time"] is None  # the machine's default
+    assert options["rotor_resistance_estimate"] == 1.0
+
+
+def test_the_old_filter_time_is_read_as_both_filters():
+    from rollerrig.rig.rigfile import RigFileError
+
+    with pytest.warns(FutureWarning, match="filter_time is deprecated"):
+        sections, _ = _rig_with_vf({"filter_time": {"value": 0.1, "unit": "s", "source": "x"}})
+    options = sections["roller_drive_vf"].options()
+    assert options["current_filter_time"] == options["slip_filter_time"] == 0.1
+    # with either new key it is ambiguous: one error naming it
+    with pytest.raises(RigFileError) as info:
+        _rig_with_vf(
+            {
+                "filter_time": {"value": 0.1, "unit": "s", "source": "x"},
+                "slip_filter_time": {"value": 0.2, "unit": "s", "source": "x"},
+            }
+        )
+    assert "roller_drive_vf.filter_time: is the deprecated key" in info.value.problems[0]
+
+
+def test_the_stator_resistance_says_its_connection():
+    # DESIGN.md §3: 1.5-2 % per unit for a 55 kW, 380 V delta machine; the rig's key is per
+    # delta phase: base impedance U_line/(I_line/√3) = 380/(133/√3) = 4.949 ohm, so 0.085
+    # ohm is 1.72 %; the equivalent star has a third, 0.0283 ohm (base 219.4 V/133 A).
+    am = default_rig().induction_motor
+    assert am.connection == "delta"
+    assert am.stator_resistance == pytest.approx(0.085)
+    assert am.equivalent_star_stator_resistance == pytest.approx(0.085 / 3.0, rel=1e-15)
+    assert am.stator_resistance_per_unit == pytest.approx(0.085 / 4.949, rel=1e-3)
+    assert 0.015 <= am.stator_resistance_per_unit <= 0.02
+    assert "per delta phase" in (am.model_fields["stator_resistance"].description or "")

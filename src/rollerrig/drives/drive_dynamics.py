@@ -45,6 +45,7 @@ from rollerrig._validation import ParameterError, require_positive
 from rollerrig.contact.creep import POLACH_PARAMETER_SETS
 from rollerrig.drives import induction_dq as dq
 from rollerrig.drives import vf
+from rollerrig.drives.drive_verdicts import band_class, band_verdict, mode_class, robustness
 from rollerrig.drives.induction import clp_from_lag_time_constant, lag_time_constant_from_clp
 from rollerrig.experiment.protocol import Protocol
 from rollerrig.rig import model as m
@@ -59,6 +60,7 @@ from rollerrig.rig.linear import (
 __all__ = [
     "SEED_LAG",
     "STATE_NAMES",
+    "VARIANTS",
     "DqDrive",
     "DqTwin",
     "DriveOperatingPoint",
@@ -98,11 +100,17 @@ class DqDrive:
         The controller.
     label : str
         Short name for tables.
+    settings : dict or None
+        Keyword arguments of :func:`default_dq_drive` it was built with (None: built
+        otherwise).
     """
 
     machine: dq.InverseGammaMachine
     control: vf.VfControl
     label: str = "dq V/f"
+    settings: dict | None = field(default=None, compare=False)
+    """The V/f settings it was built with over the rig file's (:func:`default_dq_drive`);
+    None: built otherwise."""
 
     def electrical_omega_command(self, roller_speed_setpoint, roller_radius):
         """ω* [rad/s] for a roller surface speed set point [m/s]."""
@@ -112,10 +120,17 @@ class DqDrive:
 def default_dq_drive(rig, *, label: str = "dq V/f", **vf_options) -> DqDrive:
     """The rig's AM as a dq machine (:func:`~rollerrig.drives.induction_dq.inverse_gamma_from_rig`)
     with the rig file's V/f settings (``[roller_drive_vf]``; keyword arguments replace them,
-    see :func:`~rollerrig.drives.vf.vf_control_for`)."""
+    see :func:`~rollerrig.drives.vf.vf_control_for`).
+
+    The one way from V/f settings to a dq drive: the rig file's drive, the study's variants
+    (:func:`drive_variants`) and the checks of their verdicts over the assumptions
+    (:mod:`rollerrig.drives.drive_verdicts`) are all built here, so that the same settings
+    give the same drive (e.g. a slip filter set alone leaves the current filter at the
+    machine's default, whether set in the rig file or in a variant).
+    """
     machine = dq.inverse_gamma_from_rig(rig.induction_motor)
     options = {**rig.roller_drive_vf.options(), **vf_options}  # the rig file's, then these
-    return DqDrive(machine, vf.vf_control_for(machine, **options), label)
+    return DqDrive(machine, vf.vf_control_for(machine, **options), label, dict(vf_options))
 
 
 # --------------------------------------------------------------------------------------------
@@ -630,7 +645,7 @@ def _row(modes, speed, load, label, band, threshold=DEFAULT_DAMPING_THRESHOLD):
     osc = [md for md in modes if md.kind == "oscillatory" and md.frequency < 20.0]
     in_band = [md for md in osc if band[0] <= md.frequency <= band[1]]
     unstable = [md for md in modes if md.kind != "rigid" and md.eigenvalue.real > 0.0]
-    return {
+    row = {
         "speed [km/h]": speed * 3.6,
         "normal_load [kN]": load / 1e3,
         "drive": label,
@@ -638,13 +653,14 @@ def _row(modes, speed, load, label, band, threshold=DEFAULT_DAMPING_THRESHOLD):
             {
                 "frequency [Hz]": md.frequency,
                 "damping_ratio [-]": md.damping_ratio,
+                "class": mode_class(md.damping_ratio, threshold),
                 "what_moves": md.what_moves,
                 "am_rotor_share [-]": md.bodies.get("am_rotor", 0.0),
             }
             for md in osc
         ],
         f"lightly damped in {band[0]:g}-{band[1]:g} Hz": any(
-            md.damping_ratio < threshold for md in in_band
+            0.0 <= md.damping_ratio < threshold for md in in_band
         ),
         "least damped in band": (
             None
@@ -653,6 +669,8 @@ def _row(modes, speed, load, label, band, threshold=DEFAULT_DAMPING_THRESHOLD):
         ),
         "unstable": [(float(md.eigenvalue.real), md.frequency) for md in unstable],
     }
+    row[f"class in {band[0]:g}-{band[1]:g} Hz"] = band_class(row, band)
+    return row
 
 
 def eigen_table(
@@ -666,8 +684,9 @@ def eigen_table(
 ) -> list[dict]:
     """Modes of the twin with each dq drive at steady free rolling, one row per (drive, speed
     [m/s], load [N]): the oscillatory modes below 20 Hz with what moves, whether one in ``band``
-    [Hz] is lightly damped (ζ below :data:`rollerrig.rig.linear.DEFAULT_DAMPING_THRESHOLD`),
-    and any unstable eigenvalue."""
+    [Hz] is lightly damped (0 <= ζ below :data:`rollerrig.rig.linear.DEFAULT_DAMPING_THRESHOLD`;
+    a growing mode, ζ < 0, is ``unstable``, never lightly damped), the class of the band
+    (:func:`rollerrig.drives.drive_verdicts.band_class`) and any unstable eigenvalue."""
     rows = []
     for d in drives:
         for v in speeds:
@@ -708,15 +727,16 @@ def format_eigen_table(rows: Sequence[dict]) -> str:
     >>> text.splitlines()[0].split()[:3]
     ['drive', 'speed', '[km/h]']
     """
-    lines = [f"{'drive':<28} {'speed [km/h]':>12} {'N [kN]':>7}  modes below 20 Hz: f [Hz]/zeta"]
+    lines = [f"{'drive':<38} {'speed [km/h]':>12} {'N [kN]':>7}  modes below 20 Hz: f [Hz]/zeta"]
     for r in rows:
         modes = " ".join(
             f"{md['frequency [Hz]']:.2f}/{md['damping_ratio [-]']:.3f}"
             for md in r["modes below 20 Hz"]
         )
         flag = " UNSTABLE" if r["unstable"] else ""
+        flag += "".join(f" [{v}]" for k, v in r.items() if k.startswith("class in "))
         lines.append(
-            f"{r['drive']:<28} {r['speed [km/h]']:>12.0f} {r['normal_load [kN]']:>7.1f}  "
+            f"{r['drive']:<38} {r['speed [km/h]']:>12.0f} {r['normal_load [kN]']:>7.1f}  "
             f"{modes}{flag}"
         )
     return "\n".join(lines)
@@ -866,8 +886,17 @@ def fit_lag_in_rig(
             m.rig_rhs(tk, full, p, inputs.tables, buf)
             return buf[keep].copy()
 
+        # max_step: without it scipy's Radau can stall in Newton failures after a long step
+        # (4177 Jacobians, 28 s at τ = 0.04 s with R_s = 0.085 ohm); with it 0.5 s at every τ
         s = solve_ivp(
-            f, (0.0, duration), full[keep], method="Radau", t_eval=t, rtol=1e-6, atol=1e-8
+            f,
+            (0.0, duration),
+            full[keep],
+            method="Radau",
+            t_eval=t,
+            rtol=1e-6,
+            atol=1e-8,
+            max_step=0.02,
         )
         y = np.repeat(inputs.initial_state[:, None], t.size, axis=1)
         y[keep] = s.y
@@ -900,34 +929,32 @@ def fit_lag_in_rig(
 # --------------------------------------------------------------------------------------------
 # The study
 # --------------------------------------------------------------------------------------------
-def drive_variants(rig) -> list[DqDrive]:
-    """The V/f settings the study compares, on the rig's nameplate machine.
+VARIANTS: tuple[tuple[str, dict], ...] = (
+    ("dq default", {}),
+    ("dq pure V/f", {"boost": 0.0}),
+    ("dq slip comp 1.0, 0.1 s", {"slip_compensation": 1.0, "slip_filter_time": 0.1}),
+    ("dq slip comp 1.0, 0.05 s", {"slip_compensation": 1.0, "slip_filter_time": 0.05}),
+    (
+        "dq slip comp 1.0, 0.1 s, R_R est. 1.5",
+        {"slip_compensation": 1.0, "slip_filter_time": 0.1, "rotor_resistance_estimate": 1.5},
+    ),
+    ("dq slip comp 1.5, 0.1 s", {"slip_compensation": 1.5, "slip_filter_time": 0.1}),
+    ("dq slip comp 1.5, 0.05 s", {"slip_compensation": 1.5, "slip_filter_time": 0.05}),
+)
+"""The study's V/f variants: label and settings over the rig file's ``[roller_drive_vf]``."""
 
-    ``default`` (:func:`~rollerrig.drives.vf.vf_control_for` defaults), ``pure V/f`` (no boost:
-    the existing twin's law), full slip compensation with a 0.1 s filter, and 150 %
-    compensation with 0.1 s and 0.05 s filters (the settings that make the whole-assembly mode
-    lightly damped near 1.3-1.6 Hz).
+
+def drive_variants(rig) -> list[DqDrive]:
+    """The V/f settings the study compares (:data:`VARIANTS`), each built by
+    :func:`default_dq_drive` over the rig file's settings.
+
+    ``dq default`` (the rig file's settings), ``pure V/f`` (no boost: the existing twin's
+    law), full slip compensation with a 0.1 s and a 0.05 s slip filter, full compensation
+    with a rotor-resistance estimate 50 % high (which acts exactly as 150 % compensation), and
+    150 % compensation with 0.1 s and 0.05 s filters. Only the slip filter is set; the current
+    filter keeps the rig file's value (the machine's default on the bundled rig).
     """
-    machine = dq.inverse_gamma_from_rig(rig.induction_motor)
-    return [
-        DqDrive(machine, vf.vf_control_for(machine), "dq default"),
-        DqDrive(machine, vf.vf_control_for(machine, boost=0.0), "dq pure V/f"),
-        DqDrive(
-            machine,
-            vf.vf_control_for(machine, slip_compensation=1.0, slip_filter_time=0.1),
-            "dq slip comp 1.0, 0.1 s",
-        ),
-        DqDrive(
-            machine,
-            vf.vf_control_for(machine, slip_compensation=1.5, slip_filter_time=0.1),
-            "dq slip comp 1.5, 0.1 s",
-        ),
-        DqDrive(
-            machine,
-            vf.vf_control_for(machine, slip_compensation=1.5, slip_filter_time=0.05),
-            "dq slip comp 1.5, 0.05 s",
-        ),
-    ]
+    return [default_dq_drive(rig, label=label, **settings) for label, settings in VARIANTS]
 
 
 def drive_dynamics_study(
@@ -937,13 +964,24 @@ def drive_dynamics_study(
     drives: Sequence[DqDrive] | None = None,
     *,
     rig_fit_points: Sequence[tuple[float, float]] = ((10 / 3.6, 4.3e3), (30 / 3.6, 4.3e3)),
+    check_loads: Sequence[float] | None = None,
+    band: tuple[float, float] = (1.0, 1.7),
 ) -> dict:
-    """The issue-13 study, JSON-ready: mode tables with and without the dq drive, the lag fits.
+    """The issue-13 study, JSON-ready: mode tables with and without the dq drive, the lag fits,
+    the verdict of each drive about ``band`` [Hz] and whether it holds over its assumptions.
+
+    ``check_loads`` [N]: the loads of the robustness checks (default ``loads``: the whole
+    grid of speeds × loads); an empty sequence skips the checks. Drives not built by
+    :func:`default_dq_drive` are not checked. Cost (one core): the checks linearise the twin
+    at about 950 operating points, about 15 s; the rest of the study about 11 s.
 
     Returns
     -------
     dict
         ``thevenin`` and ``dq`` (rows of :func:`thevenin_eigen_table` / :func:`eigen_table`),
+        ``verdicts`` (per drive: :func:`~rollerrig.drives.drive_verdicts.band_verdict` and
+        :func:`~rollerrig.drives.drive_verdicts.robustness`), ``robustness_grid`` (speeds and
+        loads of the checks),
         ``lag_held_speed`` (per speed: τ [s] and c_lp [1/s] of :func:`fit_lag_at_held_speed`
         for the first drive), ``lag_in_rig`` (per point of ``rig_fit_points``:
         :func:`fit_lag_in_rig`), ``seed_lag [s]`` (τ of c_lp = 2.75) and the machine's
@@ -977,10 +1015,33 @@ def drive_dynamics_study(
                 "peak_response [N.m]": fit.peak_response,
             }
         )
+    dq_rows = eigen_table(rig, drives, speeds, loads, band=band)
+    if check_loads is None:
+        check_loads = tuple(loads)
+    cache: dict = {}
+
+    def rows_for(r, settings):
+        # the same drive on the same rig recurs across variants and assumptions: once each
+        key = (r.model_dump_json(exclude={"provenance"}), tuple(sorted(settings.items())))
+        if key not in cache:
+            drive = default_dq_drive(r, **settings)
+            cache[key] = eigen_table(r, [drive], speeds, check_loads, band=band)
+        return cache[key]
+
+    verdicts = []
+    for d in drives:
+        nominal = band_verdict([r for r in dq_rows if r["drive"] == d.label], band)
+        entry = {"drive": d.label, "settings": d.settings, **nominal}
+        if check_loads and d.settings is not None:
+            entry["robustness"] = robustness(rig, d.settings, rows_for, nominal, band=band)
+        verdicts.append(entry)
     mach = first.machine
     return {
         "machine": {
-            "stator_resistance [ohm]": mach.stator_resistance,
+            "stator_resistance_equivalent_star [ohm]": mach.stator_resistance,
+            "stator_resistance_as_connected [ohm]": rig.induction_motor.stator_resistance,
+            "connection": rig.induction_motor.connection,
+            "stator_resistance_per_unit [-]": rig.induction_motor.stator_resistance_per_unit,
             "rotor_resistance [ohm]": mach.rotor_resistance,
             "leakage_inductance [H]": mach.leakage_inductance,
             "magnetising_inductance [H]": mach.magnetising_inductance,
@@ -990,7 +1051,14 @@ def drive_dynamics_study(
         },
         "controls": {d.label: list(d.control.assumptions) for d in drives},
         "thevenin": thevenin_eigen_table(rig, speeds=speeds, loads=loads),
-        "dq": eigen_table(rig, drives, speeds, loads),
+        "dq": dq_rows,
+        "band [Hz]": list(band),
+        "verdicts": verdicts,
+        "robustness_grid": {
+            "speeds [km/h]": [v * 3.6 for v in speeds],
+            "normal_loads [kN]": [n / 1e3 for n in check_loads],
+            "one at a time": "each assumption over its range, the others at the drive's values",
+        },
         "lag_held_speed": held,
         "lag_in_rig": in_rig,
         "seed_lag [s]": SEED_LAG,

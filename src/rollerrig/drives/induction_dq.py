@@ -888,7 +888,7 @@ def inverse_gamma_from_nameplate(
     connection="delta",
     pole_pairs=5,
     breakdown_torque_ratio=2.5,
-    stator_resistance=0.045,
+    stator_resistance=0.085,
     *,
     magnetising_inductance=None,
     no_load_current_ratio=None,
@@ -896,9 +896,9 @@ def inverse_gamma_from_nameplate(
     r"""Inverse-Γ parameters from the nameplate, consistent with the rig's Thevenin circuit.
 
     Defaults: the roller AM of Kayaalp Table 2 with the bundled rig's stator resistance and
-    breakdown ratio. Result with them (equivalent star): R_s = 15 mΩ, L_σ = 1.335 mH,
-    L_M = 6.90 mH, R_R = 30.2 mΩ; L_σ/R_R = 44 ms, L_M/R_R = 0.229 s; no-load current
-    0.64 of rated.
+    breakdown ratio (R_s = 0.085 Ω per delta phase, 1.7 % per unit). Result with them
+    (equivalent star): R_s = 28.3 mΩ, L_σ = 1.302 mH, L_M = 6.90 mH, R_R = 30.1 mΩ;
+    L_σ/R_R = 43 ms, L_M/R_R = 0.229 s; no-load current 0.64 of rated.
 
     Three targets at the rated frequency and voltage, three unknowns (L_σ, R_R, L_M); R_s is
     given. The targets are the rig's, so this is the Thevenin fit of

@@ -79,6 +79,9 @@ VF_SETTING_RANGES: dict[str, tuple[float, float]] = {
     "slip_compensation": (0.0, 1.5),
     "current_limit": (1.0, 4.0),
     "ramp_time": (0.01, 650.0),
+    "current_filter_time": (1e-3, 10.0),
+    "slip_filter_time": (1e-3, 10.0),
+    "rotor_resistance_estimate": (0.5, 2.0),
     "filter_time": (1e-3, 10.0),
 }
 """Plausible range (inclusive) of each setting of :func:`vf_control_for` and of the rig file's
@@ -92,8 +95,13 @@ VF_SETTING_RANGES: dict[str, tuple[float, float]] = {
   rig, and a limit of 0.65 I_N cannot hold 800 N.m at 30 km/h: the drive stalls and has no
   steady state), above 4 I_N no inverter of the class delivers (V20 P0640: at most 400 %);
 * ``ramp_time``: 0 to f_n [s], 10 ms to 650 s (V20 P1120: up to 650 s);
-* ``filter_time`` (current and slip filters) [s], 1 ms to 10 s; ``0`` in the rig file means
-  the machine's default.
+* ``current_filter_time``, ``slip_filter_time``: the time constants of the current filter
+  (IR compensation, slip estimate's flux, current limit) and of the slip-estimate filter [s],
+  1 ms to 10 s; ``0`` in the rig file means the machine's default;
+* ``rotor_resistance_estimate``: R̂_R / R_R [1], the inverter's rotor resistance over the
+  machine's, 0.5 to 2 (a cage between 20 °C and a hot 150 °C changes its resistance by
+  +50 % (aluminium, α = 0.0039/K), and a commissioning estimate can be off either way);
+* ``filter_time`` [s]: the former single key of both filters (deprecated; read as both).
 """
 
 
@@ -405,6 +413,7 @@ def vf_control_for(
     current_filter_time: float | None = None,
     slip_filter_time: float | None = None,
     limit_gain: float | None = None,
+    rotor_resistance_estimate: float = 1.0,
 ) -> VfControl:
     """V/f settings for a machine, with each default stated as an assumption.
 
@@ -412,9 +421,9 @@ def vf_control_for(
     volts per Hertz"): a general-purpose inverter in its linear V/f mode as shipped.
 
     * ``boost = 0.5``: continuous boost U_0 = 0.5 R_s I_N (the form of Siemens' P1310, in % of
-      R_s I_N; 50 % assumed as the factory value). With the rig's R_s it is 1.4 V rms of
-      219 V, 9 % of the voltage at 5 km/h (2.4 Hz). 0 gives the pure V ∝ f law of the
-      existing twin.
+      R_s I_N; 50 % assumed as the factory value). With the rig's R_s (0.0283 Ω equivalent
+      star) it is 1.9 V rms of 219 V, 15 % of the voltage at 5 km/h (2.4 Hz). 0 gives the
+      pure V ∝ f law of the existing twin.
     * ``ir_compensation = False``: no automatic IR compensation (a separate option in drives).
     * ``slip_compensation = 0``: none (Siemens P1335 ships at 0 %; Kayaalp's model has the
       speed droop with load, i.e. no slip compensation).
@@ -425,6 +434,10 @@ def vf_control_for(
       changes of the speed set point.
     * filters: the motulator/Hinkkanen default bandwidth 0.1 (R_R/L_σ + R_R/L_M) for both
       the current and the slip filter when the features using them are on.
+    * ``rotor_resistance_estimate = 1``: the inverter knows the machine's R_R. Its slip
+      estimate is proportional to R̂_R (ω̂_r = R̂_R Im{i_s ψ̂_R*}/|ψ̂_R|²) and enters the
+      frequency only as k_sc ω̂_r, so an estimate e × R_R acts exactly like the gain e k_sc
+      with an exact estimate (an estimate 50 % high with k_sc = 1 is k_sc = 1.5).
 
     Parameters
     ----------
@@ -445,6 +458,9 @@ def vf_control_for(
     limit_gain : float, optional
         K_lim [rad/s per A]; default ω_n/I_N (the frequency drops by ω_n when the current
         exceeds the limit by I_N).
+    rotor_resistance_estimate : float
+        R̂_R / R_R [-] in [0.5, 2]: the rotor resistance of the inverter's slip estimate over
+        the machine's (a cold machine with a hot estimate: > 1).
 
     Returns
     -------
@@ -458,6 +474,7 @@ def vf_control_for(
     """
     b = _in_range("boost", boost, "-")
     k_sc = _in_range("slip_compensation", slip_compensation, "-")
+    r_est = _in_range("rotor_resistance_estimate", rotor_resistance_estimate, "-")
     rs, rr = machine.stator_resistance, machine.rotor_resistance
     ls, lm = machine.leakage_inductance, machine.magnetising_inductance
     psi_nom = machine.nominal_stator_flux
@@ -465,12 +482,12 @@ def vf_control_for(
     alpha_i = (
         0.1 * w_rb
         if current_filter_time is None
-        else 1.0 / _in_range("current_filter_time", current_filter_time, "s", "filter_time")
+        else 1.0 / _in_range("current_filter_time", current_filter_time, "s")
     )
     alpha_f = (
         0.1 * w_rb
         if slip_filter_time is None
-        else 1.0 / _in_range("slip_filter_time", slip_filter_time, "s", "filter_time")
+        else 1.0 / _in_range("slip_filter_time", slip_filter_time, "s")
     )
     if current_limit is None:
         i_lim, k_lim = np.inf, 0.0
@@ -500,8 +517,20 @@ def vf_control_for(
         ),
         "frequency ramp "
         + (f"0 -> f_n in {ramp_time:g} s (a usual factory ramp)." if ramp_time else "none."),
-        "filters 0.1 (R_R/L_σ + R_R/L_M) (Hinkkanen et al. 2022; motulator's default).",
-        "controller model of the machine = the machine (R̂_s, R̂_R, L̂_σ exact).",
+        "current filter "
+        + (
+            "0.1 (R_R/L_σ + R_R/L_M) (Hinkkanen et al. 2022; motulator's default)"
+            if current_filter_time is None
+            else f"{current_filter_time:g} s"
+        )
+        + ", slip filter "
+        + ("0.1 (R_R/L_σ + R_R/L_M)." if slip_filter_time is None else f"{slip_filter_time:g} s."),
+        "controller model of the machine = the machine (R̂_s, L̂_σ exact), R̂_R = "
+        + (
+            "R_R."
+            if r_est == 1.0
+            else f"{r_est:g} R_R (the slip compensation acts as k_sc = {r_est * k_sc:g})."
+        ),
     )
     return VfControl(
         rated_voltage=machine.rated_voltage,
@@ -511,7 +540,7 @@ def vf_control_for(
         ir_resistance=rs if ir_compensation else 0.0,
         magnetising_current=psi_nom / (lm + ls),
         slip_gain=k_sc,
-        rotor_resistance=rr,
+        rotor_resistance=r_est * rr,
         leakage_inductance=ls,
         nominal_flux=psi_nom,
         current_bandwidth=alpha_i,

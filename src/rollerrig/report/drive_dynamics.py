@@ -9,7 +9,7 @@ import matplotlib
 matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 
-__all__ = ["LINE_HZ", "drive_dynamics_figure"]
+__all__ = ["LINE_HZ", "drive_dynamics_figure", "verdict_text"]
 
 LINE_HZ = 1.33
 """The line Kayaalp 5.1.2 reports in the roller torque at all speeds and conditions [Hz]."""
@@ -32,7 +32,10 @@ def drive_dynamics_figure(study: dict, *, normal_load_kn: float = 4.3):
     -------
     matplotlib.figure.Figure
     """
-    fig, (ax, lag) = plt.subplots(1, 2, figsize=(12.5, 5.0), gridspec_kw={"width_ratios": (2, 1)})
+    fig = plt.figure(figsize=(12.5, 8.5))
+    grid = fig.add_gridspec(2, 2, width_ratios=(2, 1), height_ratios=(5, 3))
+    ax, lag = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])
+    text = fig.add_subplot(grid[1, :])
     rows = [*study["thevenin"], *study["dq"]]
     drives = list(dict.fromkeys(r["drive"] for r in rows))
     speeds = sorted({r["speed [km/h]"] for r in rows})
@@ -46,14 +49,19 @@ def drive_dynamics_figure(study: dict, *, normal_load_kn: float = 4.3):
                 ax.plot(mode["frequency [Hz]"], mode["damping_ratio [-]"],
                         marker=markers[r["speed [km/h]"]], ls="none", color=colours(i % 10),
                         ms=6, alpha=0.85)  # fmt: skip
+                if mode.get("class") == "unstable":  # a class of its own: ringed in red
+                    ax.plot(mode["frequency [Hz]"], mode["damping_ratio [-]"], marker="o",
+                            ms=11, mfc="none", mec="red", ls="none")  # fmt: skip
     ax.axvspan(1.2, 1.45, color="0.85", zorder=0)
     ax.axvline(LINE_HZ, color="k", ls=":", lw=1.0)
     ax.axhline(RING_ZETA, color="k", ls="--", lw=0.8)
+    ax.axhspan(-0.35, 0.0, color="mistyrose", zorder=0)
+    ax.text(19.5, -0.02, "unstable (ζ < 0)", fontsize=8, ha="right", va="top", color="red")
     ax.text(LINE_HZ, 0.02, " 1.33 Hz line\n (Kayaalp 5.1.2)", fontsize=8, va="bottom")
     ax.text(19.5, RING_ZETA, "can ring below", fontsize=8, ha="right", va="bottom")
     ax.set_xscale("log")
     ax.set_xlim(0.5, 20.0)
-    ax.set_ylim(-0.05, 1.0)
+    ax.set_ylim(-0.35, 1.0)
     ax.set_xticks([0.5, 1, 1.33, 2, 5, 10, 20], ["0.5", "1", "1.33", "2", "5", "10", "20"])
     ax.set_xlabel("damped frequency [Hz]")
     ax.set_ylabel("damping ratio [-]")
@@ -78,6 +86,34 @@ def drive_dynamics_figure(study: dict, *, normal_load_kn: float = 4.3):
     lag.set_title("response lag fitted to the dq machine", fontsize=10)
     lag.grid(True, alpha=0.3)
     lag.legend(fontsize=7, loc="center right")
+    text.axis("off")
+    text.text(0.0, 1.0, verdict_text(study), fontsize=7.5, va="top", ha="left", wrap=True,
+              family="monospace", transform=text.transAxes)  # fmt: skip
     fig.suptitle("The roller drive as a dynamic induction machine under open-loop V/f", fontsize=11)
     fig.tight_layout()
     return fig
+
+
+def verdict_text(study: dict, width: int = 150) -> str:
+    """Each dq drive's verdict about the band and its robustness, one short block per drive
+    (what the figure prints under the plots; the full text is in the JSON)."""
+    import textwrap
+
+    lo, hi = study.get("band [Hz]", (1.0, 1.7))
+    lines = [f"verdicts about {lo:g}-{hi:g} Hz, each checked over its assumptions' ranges:"]
+    for v in study.get("verdicts", []):
+        rob = v.get("robustness")
+        if rob is None:
+            tail = "not checked"
+        elif rob["holds"]:
+            tail = "holds over the assumed ranges"
+        else:
+            flips = [
+                f"{a['label']} at " + ", ".join(f"{x:.3g}" for x in a["flips"])
+                for a in rob["assumptions"]
+                if a.get("flips")
+            ]
+            tail = "depends on " + "; ".join(flips)
+        lines += textwrap.wrap(f"{v['drive']}: {v['text']} -- {tail}", width,
+                               subsequent_indent="    ")  # fmt: skip
+    return "\n".join(lines)

@@ -16,6 +16,7 @@ Examples
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Annotated, Any, Literal
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validator
@@ -312,7 +313,11 @@ class InductionMotorParameters(_Section):
     breakdown_torque_ratio: Annotated[float, _si("dimensionless", gt=1)]
     """Breakdown (pull-out) torque over rated torque [1], > 1."""
     stator_resistance: _Resistance
-    """Stator resistance per phase of the equivalent star [ohm]."""
+    """Stator resistance per phase of the winding *as connected* [ohm]: per delta phase for a
+    delta machine (the Thevenin circuit, :meth:`circuit`, takes it with the delta phase voltage,
+    the line voltage), per star phase for a star machine. The equivalent star has
+    :attr:`equivalent_star_stator_resistance` (R_Δ/3 for delta), the value the dq machine
+    (:func:`rollerrig.drives.induction_dq.inverse_gamma_from_rig`) uses."""
     response_lag_clp: Annotated[float, _si("rate", gt=0)]
     """Response-lag parameter c_lp of Kayaalp eq. 4.29 [1/s] (weight c_lp·Δt)."""
     response_lag_reference_step: _Time
@@ -363,6 +368,18 @@ class InductionMotorParameters(_Section):
     def phase_voltage(self) -> float:
         """Phase voltage of the equivalent star, ``V_line / √3`` (RMS) [V]."""
         return self.rated_line_voltage / math.sqrt(3.0)
+
+    @property
+    def equivalent_star_stator_resistance(self) -> float:
+        """Stator resistance of the equivalent star [ohm]: R_Δ/3 for a delta winding (a delta
+        of impedances Z is a star of Z/3), the value itself for a star winding."""
+        return self.stator_resistance / (3.0 if self.connection == "delta" else 1.0)
+
+    @property
+    def stator_resistance_per_unit(self) -> float:
+        """R_s over the base impedance of a phase of the winding as connected [1]: delta
+        U_line / (I_line/√3), star (U_line/√3) / I_line (the same per unit either way)."""
+        return self.equivalent_star_stator_resistance * self.rated_current / self.phase_voltage
 
     def circuit(self):
         """The Thevenin circuit derived from this nameplate
@@ -556,25 +573,66 @@ class RollerDriveVfParameters(_Section):
     """Current limit as a multiple of the rated current [1], in [1, 4]."""
     ramp_time: Annotated[float, _vf("ramp_time")] = 10.0
     """Frequency-command ramp from 0 to the rated frequency [s], in [0.01, 650]."""
+    current_filter_time: Annotated[
+        float,
+        _si("time", ge=0, le=VF_SETTING_RANGES["current_filter_time"][1]),
+        AfterValidator(_filter_time),
+    ] = 0.0
+    """Time constant of the current filter (IR and slip compensation, current limit) [s], in
+    [0.001, 10]; 0: the machine's default 1/(0.1 (R_R/L_σ + R_R/L_M)) (Hinkkanen et al. 2022;
+    0.36 s on the bundled rig)."""
+    slip_filter_time: Annotated[
+        float,
+        _si("time", ge=0, le=VF_SETTING_RANGES["slip_filter_time"][1]),
+        AfterValidator(_filter_time),
+    ] = 0.0
+    """Time constant of the slip-estimate filter of the slip compensation [s], in [0.001, 10];
+    0: the machine's default (as ``current_filter_time``)."""
+    rotor_resistance_estimate: Annotated[
+        float, _vf("rotor_resistance_estimate", "x the machine's rotor resistance")
+    ] = 1.0
+    """The inverter's rotor resistance R̂_R over the machine's [1], in [0.5, 2]: its slip
+    estimate scales with it, so an estimate 50 % high acts like 1.5 × the slip compensation."""
     filter_time: Annotated[
         float,
         _si("time", ge=0, le=VF_SETTING_RANGES["filter_time"][1]),
         AfterValidator(_filter_time),
     ] = 0.0
-    """Time constant of the current and slip filters [s], in [0.001, 10]; 0: the machine's
-    default 1/(0.1 (R_R/L_σ + R_R/L_M)) (Hinkkanen et al. 2022; 0.37 s on the bundled rig)."""
+    """Deprecated: the former single key of both filters [s]; read as ``current_filter_time``
+    and ``slip_filter_time`` (with a :class:`FutureWarning`); 0: not given."""
+
+    @model_validator(mode="after")
+    def _one_filter_key(self):
+        if self.filter_time > 0.0:
+            if self.current_filter_time > 0.0 or self.slip_filter_time > 0.0:
+                raise FieldProblem(
+                    "filter_time",
+                    "is the deprecated key of both filters: give current_filter_time and "
+                    "slip_filter_time instead, not with it",
+                    unit="s",
+                    got=self.filter_time,
+                )
+            warnings.warn(
+                "roller_drive_vf.filter_time is deprecated: it is read as both "
+                f"current_filter_time and slip_filter_time ({self.filter_time:g} s); write "
+                "those two keys instead",
+                FutureWarning,
+                stacklevel=2,
+            )
+        return self
 
     def options(self) -> dict:
         """Keyword arguments of :func:`rollerrig.drives.vf.vf_control_for`."""
-        filt = self.filter_time or None
+        old = self.filter_time or None  # the deprecated key of both filters
         return {
             "boost": self.boost,
             "ir_compensation": self.ir_compensation > 0.0,
             "slip_compensation": self.slip_compensation,
             "current_limit": self.current_limit,
             "ramp_time": self.ramp_time,
-            "current_filter_time": filt,
-            "slip_filter_time": filt,
+            "current_filter_time": self.current_filter_time or old,
+            "slip_filter_time": self.slip_filter_time or old,
+            "rotor_resistance_estimate": self.rotor_resistance_estimate,
         }
 
 
