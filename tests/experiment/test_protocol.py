@@ -85,10 +85,10 @@ def test_breakpoints_of_bundled_dry():
 def test_interp_scalar_and_vector():
     p = load_protocol("seed-30kmh-dry")
     assert isinstance(p.torque_at(3.5), float)
-    assert p.torque_at(3.5) == pytest.approx(360.0)  # half-way up the 3 s ramp from 2 s
+    assert p.torque_at(3.5) == pytest.approx(456.0)  # half-way up the 3 s ramp to 912 N.m
     out = p.torque_at(np.array([[2.0, 3.5], [5.0, 40.0]]))
     assert out.shape == (2, 2)
-    np.testing.assert_allclose(out, [[0.0, 360.0], [720.0, 0.0]])
+    np.testing.assert_allclose(out, [[0.0, 456.0], [912.0, 0.0]])
 
 
 def test_protocol_constructor_validates():

@@ -265,8 +265,8 @@ def test_compilation_by_hand():
 def seed_protocol_in_python(name: str) -> Protocol:
     """The bundled seed protocols, written with step objects from their TOML files' numbers."""
     level, speed_kmh, friction = {
-        "seed-30kmh-dry": (720.0, 30.0, "dry"),
-        "seed-10kmh-wet": (380.0, 10.0, "wet"),
+        "seed-30kmh-dry": (912.0, 30.0, "dry"),
+        "seed-10kmh-wet": (440.0, 10.0, "wet"),
     }[name]
     file = load_protocol(name)
     return Protocol.from_steps(

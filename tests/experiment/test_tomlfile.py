@@ -70,7 +70,7 @@ def test_bundled_names():
 
 @pytest.mark.parametrize(
     ("name", "speed_kmh", "friction", "level_Nm"),
-    [("seed-30kmh-dry", 30.0, "dry", 720.0), ("seed-10kmh-wet", 10.0, "wet", 380.0)],
+    [("seed-30kmh-dry", 30.0, "dry", 912.0), ("seed-10kmh-wet", 10.0, "wet", 440.0)],
 )
 def test_seed_protocols(name, speed_kmh, friction, level_Nm):
     # Kayaalp 4.5.1.6: 30 km/h dry, 10 km/h wet; 4.2.1: three repetitions with sudden release.

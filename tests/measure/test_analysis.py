@@ -188,9 +188,10 @@ def test_missing_speed_channels_name_the_map_entries_to_add():
 
 def test_every_phase_and_curve_point_has_its_uncertainty(analysed):
     """The corrected CoA per phase and per creep–CoA point with U (k = 2), the budget and the
-    Monte Carlo check. Measured on this recording (30 km/h, 4.3 kN): U of a ramp sample
-    0.015 (pressure class 0.0054, area 0.0046, quantisation 0.0023 of CoA), of a rest sample
-    0.014 (release ring); u of the law of propagation and of the Monte Carlo agree to 0.5 %."""
+    Monte Carlo check. On this recording (30 km/h, 4.3 kN, the default rig's assumed arm) the
+    arm's dead weight (200 N standard: μ/N · 200 N ≈ 0.008 at CoA 0.2) dominates a ramp sample,
+    then the arm's h/l (μ² u(κ)), the pressure class and the area; a rest sample is the release
+    ring's; u of the law of propagation and of the Monte Carlo agree within 2 %."""
     result, _, _ = analysed
     budget = result.coa_uncertainty
     summary = budget.summary()
@@ -198,12 +199,15 @@ def test_every_phase_and_curve_point_has_its_uncertainty(analysed):
     phases = {(r["name"], r["cycle"]): r for r in summary["phases"]}
     assert len(phases) == len(result.phases)
     ramp, rest = phases[("ramp_up", 1)], phases[("rest", 1)]
-    assert ramp["dominant_sample"] == "pressure_class"
+    assert ramp["dominant_sample"] == "arm_dead_weight"
     assert rest["dominant_sample"] == "residual_release"
-    assert 0.010 < ramp["U_sample_median [-]"] < 0.025
+    assert 0.010 < ramp["U_sample_median [-]"] < 0.035
     assert ramp["corrected_coa_mean [-]"] == pytest.approx(ramp["true_coa_mean [-]"], abs=0.002)
     points = summary["curve_points"]
-    assert len(points) > 30 and all(p["u_agrees"] for p in points)
+    # The arm makes μ = F/(S + κF) curve: at the high points the LPU's u is within 2 % of the
+    # Monte Carlo's but not always within its two-digit tolerance δ
+    assert len(points) > 30
+    assert np.mean([p["u_agrees"] for p in points]) > 0.8
     assert {p["branch"] for p in points} == {"ascending", "descending"}
     assert summary["validation"]["largest |u_MC - u_LPU| / u_LPU"] < 0.02
     assert summary["monte_carlo"]["draws per point"] == 100_000
@@ -245,9 +249,22 @@ def test_a_calibration_replaces_the_rig_values_and_their_uncertainty(analysed):
     diff = calibrated.recording["coa_corrected"] - result.recording["coa_corrected"]
     alpha = result.recording["roller_acceleration"]
     big = np.abs(alpha) > 1.0
-    ratio = diff[big] / alpha[big]
-    # ΔJ5 α5 / (r_r N) + Δf_g r_b (W_r + N)/(r_r N): the J5 part per rad/s² is 1/(0.452·4300)
-    assert np.median(ratio) == pytest.approx(1.0 / (0.452 * 4300.0), rel=0.1)
+    # Δμ = ∂μ/∂F · (ΔJ5 α5 + Δf_g r_b (W_r + N) tanh(ω5/ω_reg)) / r_r, and with the arm
+    # μ = F/(S + κF), so ∂μ/∂F = S/N² (1/N where the contact is unloaded)
+    terms = result.coa_uncertainty.uncertainty.terms
+    rig, b = default_rig(), default_rig().bearing
+    bearing = (
+        (0.008 - b.friction_coefficient)
+        * b.roller_bearing_radius
+        * (b.roller_subsystem_weight + terms.contact_load)
+        * np.tanh(terms.roller_speed / b.regularisation_speed)
+    )
+    expected = (
+        terms.normal_load
+        / (rig.geometry.roller_radius_x * terms.contact_load**2)
+        * (1.0 * alpha + bearing)
+    )
+    assert np.median(diff[big] / expected[big]) == pytest.approx(1.0, rel=0.1)
 
 
 def test_a_malformed_calibration_names_the_entry(analysed):

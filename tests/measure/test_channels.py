@@ -156,7 +156,7 @@ CANONICAL = ", ".join(repr(name) for name in CANONICAL_CHANNELS)
         ),
         (
             {"time": {"sample_rate_Hz": -1}, "channels": {}},
-            "time.sample_rate_Hz: must be > 0 [Hz]; allowed (0, inf); got -1",
+            "time.sample_rate_Hz: must be > 0 [Hz]; allowed (0, 100000000]; got -1",
         ),
         (
             {"time": {"column": "t"}, "chanels": {}},

@@ -344,6 +344,8 @@ def test_online_estimate_against_the_rig_and_the_offline_correction(demo_recordi
         regularisation_speed=b.regularisation_speed,
         window=51,
         order=4,
+        load_transfer=rig.arm.transfer_ratio,
+        dead_weight=rig.arm.dead_weight,
     )
     true = truth["coa"].values
     raw = estimator_performance(measured["coa"], true, fs, unit="-")
@@ -814,6 +816,8 @@ def test_smoother_against_the_rig_the_offline_correction_and_the_filter(demo_rec
         regularisation_speed=b.regularisation_speed,
         window=51,
         order=4,
+        load_transfer=rig.arm.transfer_ratio,
+        dead_weight=rig.arm.dead_weight,
     )
 
     def rms(x):

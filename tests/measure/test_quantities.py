@@ -99,9 +99,10 @@ def test_creep_slip_force_and_coa_closed_forms():
 def test_derive_quantities_reproduces_the_twins_measured_coa(twin):
     rec, truth = synthetic_recording(twin, DisturbanceModel.none())
     out = derive_quantities(rec)  # rig from the recording's metadata
-    # CoA = T56 / (r_r N) with N = p A_eff: the twin's measured_coa, to rounding.
+    # CoA = T56 / (r_r S) with S = p A_eff, the air spring's force (not the contact's load,
+    # which the arm changes): the twin's measured_coa, to rounding.
     np.testing.assert_allclose(out["coa"], twin.measured_coa, rtol=1e-12, atol=1e-15)
-    np.testing.assert_allclose(out["normal_load"], twin.normal_load, rtol=1e-12)
+    np.testing.assert_allclose(out["normal_load"], twin.air_spring_force, rtol=1e-12)
     np.testing.assert_allclose(out["tangential_force"], twin.measured_force, rtol=1e-12)
     assert out.units["coa"] == "1" and out.units["slip_velocity"] == "m/s"
     # Counts over one sample come from the trapezoid angle, whose increment is the mean of the

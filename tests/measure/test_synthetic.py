@@ -151,7 +151,8 @@ def test_twin_without_disturbances_keeps_the_clean_channels(twin):
     np.testing.assert_array_equal(rec["torque"], twin.t56.values)
     np.testing.assert_array_equal(rec["torque_request"], twin.torque_request.values)
     area = RIG.sensors.air_spring_effective_area
-    np.testing.assert_allclose(rec["air_spring_pressure"] * area, twin.normal_load, rtol=1e-14)
+    # The DAQ sees the air spring's force S, not the contact's load (the arm adds σ(h/l) F_x).
+    np.testing.assert_allclose(rec["air_spring_pressure"] * area, twin.air_spring_force, rtol=1e-14)
     assert set(rec.channels) <= set(CANONICAL_CHANNELS)
     for name, unit in rec.units.items():
         assert unit == CANONICAL_CHANNELS[name][0]

@@ -56,8 +56,13 @@ def test_other_channels_are_finite_and_the_coa_states_when_it_would_not_be(ds):
     for name, var in ds.data_vars.items():
         if name != "measured_creep" and np.issubdtype(var.dtype, np.number):
             assert np.all(np.isfinite(var.values)), name
-    # the CoA the rig reports is T56 / (r_r N) where the load is on
-    np.testing.assert_allclose(ds.measured_coa, ds.t56 / (0.452 * ds.normal_load), rtol=1e-12)
+    # the CoA the rig reports is T56 / (r_r S), S the air spring's force; the truth's is F_x / N
+    # with N = S + σ (h/l) F_x at the contact (the default rig's arm, h/l = 0.348/0.70)
+    np.testing.assert_allclose(ds.measured_coa, ds.t56 / (0.452 * ds.air_spring_force), rtol=1e-12)
+    np.testing.assert_allclose(
+        ds.normal_load, ds.air_spring_force + 0.348 / 0.70 * ds.contact_force, rtol=1e-11
+    )
+    np.testing.assert_allclose(ds.coa, ds.contact_force / ds.normal_load, rtol=1e-12)
 
 
 def test_provenance_has_the_package_record_and_the_rig_hash(ds):

@@ -96,8 +96,8 @@ def test_results_carry_units_provenance_and_round_trip(tmp_path):
     assert prov["rig_parameters"]["stiffness"]["roller_shaft"] == 43.5e3
     assert prov["protocol"]["name"] == "seed-10kmh-wet"
     assert prov["solver"]["stats"]["status"] == 0
-    # The rig's CoA is T56 / (r_r N) by construction.
-    np.testing.assert_allclose(ds.measured_coa, ds.t56 / (0.452 * ds.normal_load), rtol=1e-12)
+    # The rig's CoA is T56 / (r_r S) by construction (S: the air spring's force).
+    np.testing.assert_allclose(ds.measured_coa, ds.t56 / (0.452 * ds.air_spring_force), rtol=1e-12)
 
     import xarray as xr
 
