@@ -279,3 +279,14 @@ def test_a_malformed_calibration_names_the_entry(analysed):
             read_recording(path), default_rig(), run_study=False,
             calibration={"parameters": {"inertia.wheel": {"value": 1.0}}},
         )  # fmt: skip
+
+
+def test_the_report_says_how_large_the_arms_transfer_is_for_this_test(analysed):
+    """Issue 25: the analysis states the arm's term for the test at hand: at the dry peak
+    (CoA ~0.46) the default rig's arm (h/l 0.497) adds 0.497 · 0.46 N, so N/S = 1/(1 − 0.23)."""
+    import re
+
+    result, _, _ = analysed
+    note = next(n for n in result.notes if n.startswith("swinging arm"))
+    share = float(re.search(r"\(([+-][\d.]+) %\)", note).group(1))
+    assert share == pytest.approx(100.0 * (1 / (1 - 0.497 * 0.46) - 1), abs=3.0)

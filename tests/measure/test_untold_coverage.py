@@ -27,7 +27,7 @@ CASES = {
     ),
     # The dq machine with 100 % slip compensation and 0.1 s filters (the rig: lag model).
     "dq drive, slip compensation": lambda: dq_recording(
-        {"slip_compensation": 1.0, "filter_time": 0.1}
+        {"slip_compensation": 1.0, "current_filter_time": 0.1, "slip_filter_time": 0.1}
     ),
 }
 

@@ -189,3 +189,35 @@ def test_scalar_interp_is_numpy_interp(breaks, values, t):
     xs = np.sort(np.array(breaks, dtype=float))
     ys = np.array(values[: xs.size])
     assert m._interp(t, xs, ys) == pytest.approx(np.interp(t, xs, ys), rel=1e-12, abs=1e-9)
+
+
+# --- the swinging arm's load loop (issue 25) -------------------------------------------------
+
+
+@pytest.mark.parametrize("creep", [1e-4, 3e-3, 0.01, 0.08, -0.02])
+@pytest.mark.parametrize("spring", [4300.0, 20e3])
+def test_the_arm_loop_solves_n_equals_s_plus_transfer_of_the_polach_force(creep, spring):
+    """N = S + W_d + κ F_x(N) with F_x the package's Polach kernel at N (not a lagged N), and
+    the analytic dF_x/dN against central differences of that kernel."""
+    from rollerrig.contact.creep import _polach_force_at_friction_kernel
+    from rollerrig.experiment import load_protocol
+
+    rig = default_rig().with_overrides({"arm.dead_weight": 150.0})
+    p = assemble(rig, load_protocol("seed-30kmh-dry")).segments[0].params
+    mu = 0.5
+    load, force = m._contact_load_and_force(spring, creep, mu, p)
+
+    def polach(n):
+        return _polach_force_at_friction_kernel(
+            creep, n * mu, m._creep_stiffness_at(n, p), p[m.P_KA], p[m.P_KS]
+        )
+
+    assert force == pytest.approx(polach(load), rel=1e-14)
+    assert load == pytest.approx(spring + 150.0 + rig.arm.transfer_ratio * force, rel=1e-14)
+    h = 1e-3 * load
+    slope = m._force_and_slope(creep, load, mu, p)[1]
+    assert slope == pytest.approx((polach(load + h) - polach(load - h)) / (2 * h), rel=1e-6)
+    # No arm: the contact carries the spring's force.
+    p0 = p.copy()
+    p0[m.P_ARM_RATIO], p0[m.P_ARM_WEIGHT] = 0.0, 0.0
+    assert m._contact_load_and_force(spring, creep, mu, p0) == (spring, polach(spring))

@@ -337,7 +337,7 @@ class InverseGammaMachine:
     --------
     >>> m = inverse_gamma_from_nameplate()
     >>> round(m.leakage_inductance * 1e3, 3), round(m.magnetising_inductance * 1e3, 2)
-    (1.335, 6.9)
+    (1.302, 6.9)
     """
 
     stator_resistance: float

@@ -214,6 +214,7 @@ def analyze_test(
     budget = _coa_uncertainty(
         rec, rig, phases, branches, (order, window), true_coa, calibration, notes
     )
+    _note_arm(budget, rig, notes)
     true_params, true_source = true_polach_parameters(recording, truth)
     if true_params is not None:
         _note_truth_distance({"corrected CoA": fit, "rig CoA": fit_rig}, true_params, notes)
@@ -378,6 +379,26 @@ def _polach_fits(
                 f"fit to the {label}: {m}" for m in dict.fromkeys(str(w.message) for w in caught)
             )
     return fits[0], fits[1]
+
+
+def _note_arm(budget, rig, notes: list[str]) -> None:
+    """A note on the swinging arm's share of this test: the contact's load against the air
+    spring's at the largest corrected CoA, and what dividing by S instead of N does there."""
+    terms = budget.uncertainty.terms
+    if terms.contact_load is None or not np.any(np.isfinite(terms.coa)):
+        return
+    i = int(np.nanargmax(terms.coa))
+    spring, load = float(terms.normal_load[i]), float(terms.contact_load[i])
+    arm = rig.arm
+    notes.append(
+        f"swinging arm (rig [arm]: h/l = {arm.transfer_ratio:.3g} ± "
+        f"{arm.transfer_ratio_uncertainty:.2g}, W_d = {arm.dead_weight:g} ± "
+        f"{arm.dead_weight_uncertainty:g} N): at the largest corrected CoA "
+        f"({float(terms.coa[i]):.3f}, t = {budget.uncertainty.time[i]:.2f} s) the contact carries "
+        f"N = {load:.0f} N against the air spring's S = {spring:.0f} N "
+        f"({100.0 * (load / spring - 1.0):+.1f} %); the CoA on S would be "
+        f"{float(terms.contact_force[i]) / spring:.3f}"
+    )
 
 
 def _note_truth_distance(

@@ -34,7 +34,11 @@ from typing import Literal
 
 import numpy as np
 
-from rollerrig.contact.creep import _friction_kernel, _polach_force_at_friction_kernel
+from rollerrig.contact.creep import (
+    _adhesion_gradient_kernel,
+    _friction_kernel,
+    _polach_force_at_friction_kernel,
+)
 from rollerrig.contact.kinematics import _creep_kernel
 from rollerrig.drives.induction import (
     induction_torque,
@@ -240,9 +244,29 @@ def _creep_stiffness_at(load, p):
     return p[P_CREEP_STIFF_REF] * np.cbrt(ratio * ratio)  # cbrt: a third of the cost of pow
 
 
-_ARM_NEWTON_STEPS = 6
-"""Most Newton steps of the normal-load loop (:func:`_contact_load_and_force`); it converges
-to round-off in 3-4 from the air-spring force."""
+_ARM_NEWTON_STEPS = 8
+"""Most Newton steps of the normal-load loop (:func:`_contact_load_and_force`); from its first
+guess it converges to round-off in 1-3."""
+
+
+def _force_and_slope(creep, load, friction, p):
+    """Polach's force F_x [N] at the normal load ``load`` [N] and its derivative dF_x/dN [1].
+
+    F = (2/π) N μ h(ε), h(ε) = k_A ε/(1 + (k_A ε)²) + arctan(k_S ε), with ε ∝ C(N)/N ∝ N^(-1/3)
+    (the creep stiffness scales with N^(2/3)), so dF/dN = F/N − (2/π) μ ε h'(ε)/3. The force is
+    the package's kernel's (:func:`rollerrig.contact.creep._polach_force_at_friction_kernel`).
+    """
+    q_mu = load * friction
+    if q_mu <= 0.0:
+        return 0.0, 0.0
+    stiffness = _creep_stiffness_at(load, p)
+    force = _polach_force_at_friction_kernel(creep, q_mu, stiffness, p[P_KA], p[P_KS])
+    eps = _adhesion_gradient_kernel(creep, q_mu, stiffness)
+    ka_eps = p[P_KA] * eps
+    ks_eps = p[P_KS] * eps
+    denom = 1.0 + ka_eps * ka_eps
+    dh = p[P_KA] * (1.0 - ka_eps * ka_eps) / (denom * denom) + p[P_KS] / (1.0 + ks_eps * ks_eps)
+    return force, force / load - (2.0 / np.pi) * friction * eps * dh / 3.0
 
 
 def _contact_load_and_force(air_spring, creep, friction, p):
@@ -254,38 +278,35 @@ def _contact_load_and_force(air_spring, creep, friction, p):
         N = S + W_d + κ F_x(N),    κ = σ h / l,
 
     where F_x(N) is Polach's force (Kayaalp eq. 4.16) with μN and the creep stiffness at N. The
-    algebraic loop is solved, not lagged: Newton's method on g(N) = N − S − W_d − κ F_x(N) from
-    N = S + W_d, with a forward-difference dF/dN, stopped at a change below 1e-13 N relative
-    (3-4 steps: |κ dF/dN| is at most about μ|κ| < 0.5), so the right-hand side stays a smooth
-    function of the state for the solver's forward-difference Jacobian. A normal load that
-    the arm would make negative (a front pivot lifting the wheel) is held at 0.
+    algebraic loop is solved, not lagged. F_x/N depends on N only through ε ∝ N^(-1/3), so the
+    first guess holds the CoA m = F_x(N_0)/N_0 at N_0 = S + W_d fixed, N_1 = N_0/(1 − κ m); then
+    Newton's method on g(N) = N − S − W_d − κ F_x(N) with the exact dF_x/dN
+    (:func:`_force_and_slope`), stopped after a step below 1e-6 of N (quadratic convergence
+    leaves an error at round-off; 2 steps from the first guess on the seed's tests), so the
+    right-hand side is a smooth function of the state for the solver's forward-difference
+    Jacobian. A normal load that the arm would make negative (a front pivot lifting the wheel)
+    is held at 0.
     """
-    load = air_spring + p[P_ARM_WEIGHT]
+    base = air_spring + p[P_ARM_WEIGHT]
+    if base < 0.0:
+        base = 0.0
+    kappa = p[P_ARM_RATIO]
+    force, slope = _force_and_slope(creep, base, friction, p)
+    if kappa == 0.0 or base == 0.0:
+        return base, force
+    load = base / (1.0 - kappa * force / base)
     if load < 0.0:
         load = 0.0
-    force = _polach_force_at_friction_kernel(
-        creep, load * friction, _creep_stiffness_at(load, p), p[P_KA], p[P_KS]
-    )
-    kappa = p[P_ARM_RATIO]
-    if kappa == 0.0:
-        return load, force
     for _ in range(_ARM_NEWTON_STEPS):
-        residual = load - air_spring - p[P_ARM_WEIGHT] - kappa * force
-        step = 1e-7 * load + 1e-3
-        probe = load + step
-        force_probe = _polach_force_at_friction_kernel(
-            creep, probe * friction, _creep_stiffness_at(probe, p), p[P_KA], p[P_KS]
-        )
-        slope = 1.0 - kappa * (force_probe - force) / step
-        new = load - residual / slope
-        if new < 0.0:
-            new = 0.0
-        change = abs(new - load)
-        load = new
-        force = _polach_force_at_friction_kernel(
-            creep, load * friction, _creep_stiffness_at(load, p), p[P_KA], p[P_KS]
-        )
-        if change <= 1e-13 * (load + 1.0):
+        force, slope = _force_and_slope(creep, load, friction, p)
+        step = -(load - base - kappa * force) / (1.0 - kappa * slope)
+        if load + step < 0.0:
+            step = -load
+        load = load + step
+        force = force + slope * step  # F at the new N to O(step²): round-off once converged
+        # Newton converges quadratically: after a step of 1e-6 N relative the error is ~1e-12
+        # of that step's size, below round-off.
+        if abs(step) <= 1e-6 * (load + 1.0):
             break
     return load, force
 
