@@ -288,13 +288,19 @@ def test_a_scheduler_nobody_listens_at_is_an_error_naming_the_address(
 
 
 def _ignores_sigint(pid: int) -> bool:
-    """Whether process ``pid`` ignores SIGINT (Linux: the SigIgn mask in /proc)."""
+    """Whether process ``pid`` has its own SIGINT disposition: ignored or caught by the study's
+    worker preload (Linux: the SigIgn and SigCgt masks in /proc)."""
     try:
         status = Path(f"/proc/{pid}/status").read_text()
     except OSError:
         return False
-    mask = next(line.split()[1] for line in status.splitlines() if line.startswith("SigIgn"))
-    return bool(int(mask, 16) & (1 << (signal.SIGINT - 1)))
+    bit = 1 << (signal.SIGINT - 1)
+    masks = [
+        int(line.split()[1], 16)
+        for line in status.splitlines()
+        if line.startswith(("SigIgn", "SigCgt"))
+    ]
+    return any(mask & bit for mask in masks)
 
 
 def _worker_processes(pid: int) -> list[int]:
