@@ -57,6 +57,13 @@ its lines are fitted, a wrong drive model 0.88 to 0.99)."""
 STRUCTURE_ALPHA = 0.01
 """Level of the Ljung-Box test of whiteness (:func:`rollerrig.calibrate.stats.whiteness`)."""
 
+STRUCTURE_TAU = 2.0
+"""Integrated autocorrelation time [samples] a channel's residuals must also exceed for a
+Ljung-Box rejection to count as structure: with thousands of samples Ljung-Box rejects the
+DAQ's anti-alias filter over white sensor noise (the demo's torque: lag-1 0.26, 1.1 samples),
+which the Newey-West standard errors already account for; a wrong drive model leaves far more
+(lag-1 0.88-0.99)."""
+
 WORSE_MARGIN = 0.01
 """A channel ends "worse than it started" when its residual RMS after the fit exceeds the one
 before by more than this fraction and exceeds its sensor noise (a channel at its noise, such as
@@ -64,7 +71,8 @@ the normal load, moves by 1e-7 between fits)."""
 
 CONDITIONAL_NOTE = (
     "conditional on the model: the residuals show structure the fitted model does not explain "
-    "(Ljung-Box p < {alpha:g} or lag-1 autocorrelation > {lag1:g} in a channel, the encoders' "
+    "(Ljung-Box p < {alpha:g} with an autocorrelation time above {tau:g} samples, or lag-1 "
+    "autocorrelation > {lag1:g}, in a channel; the encoders' "
     "quantisation (lag-1 -0.5) excepted); each standard error is what the data allow if the "
     "model were right, not the distance to the truth"
 )
@@ -306,11 +314,14 @@ class Calibration:
                 "structured_channels": list(self.structured_channels),
                 "test": (
                     f"a channel's residuals show structure when Ljung-Box rejects whiteness at "
-                    f"p < {STRUCTURE_ALPHA:g} or the lag-1 autocorrelation exceeds "
+                    f"p < {STRUCTURE_ALPHA:g} with an integrated autocorrelation time above "
+                    f"{STRUCTURE_TAU:g} samples, or the lag-1 autocorrelation exceeds "
                     f"{STRUCTURE_LAG1:g}; an encoder speed's lag-1 autocorrelation up to "
                     f"{_QUANTISATION_LAG1 + _LAG1_MARGIN:g} is its quantisation's"
                 ),
-                "meaning": CONDITIONAL_NOTE.format(alpha=STRUCTURE_ALPHA, lag1=STRUCTURE_LAG1)
+                "meaning": CONDITIONAL_NOTE.format(
+                    alpha=STRUCTURE_ALPHA, lag1=STRUCTURE_LAG1, tau=STRUCTURE_TAU
+                )
                 if self.conditional
                 else "the residuals are white: the standard errors hold for the model fitted",
                 "budget": "rollerrig analyze --calibration uses, for a key of a calibration "
@@ -582,7 +593,9 @@ def build_calibration(
                 f"compare it with {other[0]!r} on the same recording (rollerrig calibrate "
                 f"RECORDING --free ... --compare-drives, or --roller-drive {other[0]})"
             )
-        note_text = CONDITIONAL_NOTE.format(alpha=STRUCTURE_ALPHA, lag1=STRUCTURE_LAG1)
+        note_text = CONDITIONAL_NOTE.format(
+            alpha=STRUCTURE_ALPHA, lag1=STRUCTURE_LAG1, tau=STRUCTURE_TAU
+        )
         warnings.append(
             f"every standard error is {note_text} (structured: {', '.join(structured)})"
             + (f"; {suggestion}" if suggestion else "")
@@ -684,7 +697,8 @@ def channel_structured(w: dict, quantised: bool) -> bool:
     r1 = float(w["lag1_autocorrelation"])
     if quantised and r1 <= _QUANTISATION_LAG1 + _LAG1_MARGIN:
         return False
-    return bool(w["ljung_box_p"] < STRUCTURE_ALPHA or r1 > STRUCTURE_LAG1)
+    tau = float(w.get("integrated_autocorrelation_time [samples]", np.inf))
+    return bool((w["ljung_box_p"] < STRUCTURE_ALPHA and tau > STRUCTURE_TAU) or r1 > STRUCTURE_LAG1)
 
 
 def _invalid_reasons(channels: dict[str, ChannelFit], converged: bool, iterations: int):
