@@ -193,24 +193,19 @@ def _make_private(folder: Path) -> None:
 def _private_problem(root: Path, folder: Path) -> str | None:
     """Make ``root`` and then ``folder`` (its key folder) where missing and say why they are not
     private, or None (see the module docstring). Nothing is made inside a folder that fails."""
-    try:
-        _make_private(root)
-    except OSError as exc:
-        return f"cannot create {root}: {exc.strerror or exc}"
-    if _POSIX:
-        problem = _owner_problem(root, own=True)
-        # The folders above, as the system resolves them (a link above is the user's choice).
-        real = Path(os.path.realpath(root.parent))
-        for above in (real, *real.parents):
-            problem = problem or _owner_problem(above, own=False)
-        if problem:
-            return problem
-    try:
-        _make_private(folder)
-    except OSError as exc:
-        return f"cannot create {folder}: {exc.strerror or exc}"
-    if _POSIX:
-        problem = _owner_problem(folder, own=True)
+    for own, check_above in ((root, True), (folder, False)):
+        try:
+            _make_private(own)
+        except OSError as exc:
+            return f"cannot create {own}: {exc.strerror or exc}"
+        if not _POSIX:
+            continue
+        problem = _owner_problem(own, own=True)
+        if check_above:
+            # The folders above, as the system resolves them (a link above is the user's choice).
+            real = Path(os.path.realpath(root.parent))
+            for above in (real, *real.parents):
+                problem = problem or _owner_problem(above, own=False)
         if problem:
             return problem
     try:
