@@ -59,7 +59,7 @@ def test_rig_versus_corrected_figure(analysed):
     a, b = fig.axes
     assert (a.get_xlabel(), a.get_ylabel()) == ("time [s]", "CoA [-]")
     assert (b.get_xlabel(), b.get_ylabel()) == ("creep [%]", "CoA [-]")
-    assert _legend(a) == ["rig: T56 / (r_r N)", "corrected: + J5·α5 + R05"]
+    assert _legend(a) == ["rig: T56 / (r_r S)", "corrected: + J5·α5 + R05"]
     fits = [e for e in _legend(b) if e.startswith("Polach fit to")]
     assert [f.split(" (")[0] for f in fits] == [
         "Polach fit to rig CoA",
@@ -171,3 +171,10 @@ def test_results_carry_the_uncertainty(written):
     html = written[2].read_text(encoding="utf-8")
     assert "<h2>Uncertainty of the corrected CoA (JCGM 100 and JCGM 101)" in html
     assert "<th>U of the mean</th>" in html and "JCGM 101 §8" in html
+
+
+def test_every_input_of_the_budget_has_words():
+    from rollerrig.measure.uncertainty import INPUT_NAMES
+    from rollerrig.report.analysis import _BUDGET_LABELS
+
+    assert set(INPUT_NAMES) <= set(_BUDGET_LABELS)

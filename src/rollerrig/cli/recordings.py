@@ -187,7 +187,7 @@ def print_analysis(result) -> None:
     table = Table(title="Polach fit to the ascending branches")
     table.add_column("parameter")
     table.add_column("corrected CoA", justify="right")
-    table.add_column("rig CoA T56/(r_r N)", justify="right")
+    table.add_column("rig CoA T56/(r_r S)", justify="right")
     if truth is not None:
         table.add_column("true (twin)", justify="right")
     for i, (key, name) in enumerate(_FIT_ROWS):

@@ -81,8 +81,9 @@ class CoaBudget:
             "method": "JCGM 100 law of propagation per sample (sensitivity coefficients, "
             "covariances of calibrated parameters), U = k u with k = 2; JCGM 101 Monte Carlo "
             "at the creep–CoA points, validated by JCGM 101 §8",
-            "model": "mu = (T56 + dT + e_T + J5 (alpha5 + e_alpha) + k_b f_g r_b (W_r + N) "
-            "tanh(omega5/omega_reg)) / (r_r N) + e_res, N = (p + dp + e_p) A",
+            "model": "mu = F_x / N + e_res, F_x = (T56 + dT + e_T + J5 (alpha5 + e_alpha) + "
+            "k_b b (W_r + S + W_d)) / (r_r - kappa k_b b), N = S + W_d + kappa F_x, "
+            "S = (p + dp + e_p) A, b = f_g r_b tanh(omega5/omega_reg), kappa = sigma h/l",
             "coverage_factor": unc.coverage_factor,
             "inputs": [inp.as_dict() for inp in unc.inputs],
             "typical": self.typical(),

@@ -44,7 +44,7 @@ class TestAnalysis:
     branches: list[Branches]
     hysteresis: list[Hysteresis | None]
     fit: PolachFit | None  # to the dynamics-corrected CoA
-    fit_rig_coa: PolachFit | None  # to the CoA as the rig reports it, T56 / (r_r N)
+    fit_rig_coa: PolachFit | None  # to the CoA as the rig reports it, T56 / (r_r S)
     fit_points: np.ndarray  # indices of the samples both fits used
     spectrum: ExplainedSpectrum | None
     spectrum_window: tuple[float, float] | None  # [s]

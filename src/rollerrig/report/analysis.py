@@ -87,7 +87,7 @@ def rig_versus_corrected_figure(result: TestAnalysis, truth=None):
     rec = result.recording
     t = rec.time
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.5))
-    a.plot(*envelope(t, rec["coa_smoothed"]), color="tab:blue", lw=1, label="rig: T56 / (r_r N)")
+    a.plot(*envelope(t, rec["coa_smoothed"]), color="tab:blue", lw=1, label="rig: T56 / (r_r S)")
     a.plot(
         *envelope(t, rec["coa_corrected"]), color="tab:red", lw=1, label="corrected: + J5·α5 + R05"
     )
@@ -160,6 +160,9 @@ _BUDGET_LABELS = {
     "bearing_radius": "bearing radius (calibrated)",
     "roller_weight": "roller weight (calibrated)",
     "encoder_quantisation": "encoder quantisation (α5)",
+    "arm_pivot_height": "arm: pivot height h",
+    "arm_length": "arm: length l",
+    "arm_dead_weight": "arm: dead weight W_d",
     "residual_steady": "residual: in-band lines",
     "residual_release": "residual: release transient",
 }
@@ -568,8 +571,9 @@ def _uncertainty_section(rep: HtmlReport, result: TestAnalysis) -> None:
     words = _labels(unc)
     rep.heading("Uncertainty of the corrected CoA (JCGM 100 and JCGM 101)")
     rep.paragraph(
-        "μ = (T56 + δT + e_T + J5 (α5 + e_α) + k_b R05) / (r_r N) + e_res with "
-        "N = (p + δp + e_p) A. "
+        "μ = F_x / N + e_res with F_x r_r = T56 + δT + e_T + J5 (α5 + e_α) + k_b R05, the "
+        "contact's load N = S + W_d + σ (h/l) F_x (the swinging arm) and the air spring's force "
+        "S = (p + δp + e_p) A. "
         "Systematic inputs (sensor accuracy classes, air-spring area, radius, J5, bearing "
         "loss) take one error for the whole test, so they do not average down in a phase mean; "
         "random inputs (torque and pressure noise, encoder quantisation) pass the correction's "
@@ -728,7 +732,7 @@ def write_analysis(
 
     rep.heading("Adhesion: the rig's CoA and the CoA corrected for the rig's dynamics")
     rep.paragraph(
-        "The torque sensor sits on the roller shaft, so the rig's CoA = T56/(r_r N) misses the "
+        "The torque sensor sits on the roller shaft, so the rig's CoA = T56/(r_r S) misses the "
         "torque that accelerates the roller and its bearing loss. The corrected CoA adds them: "
         "F_x r_r = T56 + J5·α5 + R05, with α5 the Savitzky–Golay derivative of the roller speed."
     )

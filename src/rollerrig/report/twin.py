@@ -73,7 +73,7 @@ def experiment_figure(ds, title: str | None = None):
         ms=1.5,
         color=MEASURED_STYLE["color"],
         zorder=MEASURED_STYLE["zorder"],
-        label="measured: T56/(r_r N) vs encoder creep",
+        label="measured: T56/(r_r S) vs encoder creep",
     )
     b.plot(100 * ds.creep.values, ds.coa.values, color="tab:red", **TRUE_STYLE,
            label="true: F_x/N vs contact creep")  # fmt: skip

@@ -19,7 +19,8 @@ the PMSM air-gap torque between bodies 1-2, T_a the AM's between 6-7); R03 and R
 with tanh(ω/ω_reg) so that standstill is finite.
 
 The torque sensor sits on the roller shaft and measures T56; the rig reports
-CoA_measured = T56 / (r_r N), while the true contact force satisfies
+CoA_measured = T56 / (r_r S) with S the air spring's force, while the contact carries
+N = S + W_d + σ (h/l) F_x (the swinging arm) and the true contact force satisfies
 F_x r_r = T56 + J5 α5 + R05.
 
 Everything in this module that the solvers call (:func:`rig_terms`, :func:`rig_rhs`) is written

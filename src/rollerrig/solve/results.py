@@ -6,7 +6,7 @@ The dataset holds, on one time axis sampled at the DAQ rate:
   and speed of the chain, the drive currents and voltages;
 - measured (``measured_*``): the roller-shaft torque T56 (the torque sensor), the speeds the
   encoders report (quantised: counts per sample interval), the normal force, and the creep, slip
-  velocity, force and CoA the rig software derives from them, CoA = T56 / (r_r N);
+  velocity, force and CoA the rig software derives from them, CoA = T56 / (r_r S);
 - ``coa_error``: measured minus true CoA, the gap this project exists to expose.
 
 NaN policy (:mod:`rollerrig.output`): a derived channel holds NaN only where it is undefined,

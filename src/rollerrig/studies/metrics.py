@@ -18,7 +18,7 @@ release_ringing_frequency  Hz       frequency of that swing, 1/(2 Δt) from its 
                                     the next maximum
 settling_time              s        time after a release until T56 stays within 5 % of its
                                     value before the release around its final value (largest)
-coa_bias_rms               1        RMS of the CoA the rig reports, T56 / (r_r N), minus the true
+coa_bias_rms               1        RMS of the CoA the rig reports, T56 / (r_r S), minus the true
                                     CoA F_x / N, over the loaded samples
 coa_bias_peak              1        largest absolute value of that difference
 peak_coa                   1        largest CoA the rig reports
@@ -415,7 +415,7 @@ METRICS: dict[str, Metric] = {
         Metric(
             "peak_coa",
             "1",
-            "largest CoA the rig reports, T56/(r_r N)",
+            "largest CoA the rig reports, T56/(r_r S)",
             "no loaded sample, or the run failed",
             _peak_coa,
         ),
