@@ -1,7 +1,8 @@
-"""``rollerrig contact``: the wheel-roller contact (Hertz, Kalker, Polach) against a rail."""
+"""``rollerrig contact``: the wheel-roller contact (Hertz, Kalker, a creep law) against a rail."""
 
 from __future__ import annotations
 
+from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
@@ -13,7 +14,16 @@ from rollerrig.cli._console import console, print_written
 from rollerrig.cli._options import DEFAULT_OUT, RigOption, load_rig
 from rollerrig.cli._outputs import command_outputs
 
-__all__ = ["contact"]
+__all__ = ["CreepLaw", "contact"]
+
+
+class CreepLaw(StrEnum):
+    """The creep laws of :data:`rollerrig.contact.laws.CREEP_LAWS`."""
+
+    polach = "polach"
+    fastsim = "fastsim"
+    modified_fastsim = "modified-fastsim"
+    fastrip = "fastrip"
 
 
 def contact(
@@ -37,20 +47,40 @@ def contact(
     k_slip: Annotated[
         float | None, typer.Option("--ks", help="Override Polach's kS of both friction sets [-].")
     ] = None,
+    law: Annotated[
+        CreepLaw,
+        typer.Option(
+            "--law",
+            help="Creep law: polach (Polach 2005), fastsim (Kalker 1982), modified-fastsim "
+            "(k0, alpha_inf, beta; Spiryagin et al. 2013) or fastrip (Sichani et al. 2016).",
+        ),
+    ] = CreepLaw.polach,
+    friction_sets: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--friction-set",
+            help="Named friction parameter set(s), repeatable: polach-dry, polach-wet, "
+            "eurosprinter-coulomb, eurosprinter-modified-fastsim. Default: Polach's dry and "
+            "wet [mu0, A, B in s/m], or the Eurosprinter set for modified-fastsim.",
+        ),
+    ] = None,
     out: Annotated[
         Path, typer.Option("--out", help="Output folder for the figures and the summary.")
     ] = DEFAULT_OUT,
 ) -> None:
-    """Contact of the rig's wheel-roller pair: Hertz ellipse, Kalker C11, Polach curves.
+    """Contact of the rig's wheel-roller pair: Hertz ellipse, Kalker C11, creep curves.
 
-    Prints the contact at the chosen load beside the same wheel on a tangent rail, and writes
-    two figures: creep-adhesion curves (dry, wet; roller and tangent rail) and contact size
-    versus roller radius.
+    Prints the contact at the chosen load [kN] beside the same wheel on a tangent rail, and
+    writes two figures: creep-adhesion curves by the chosen law (each friction set; roller and
+    tangent rail) and contact size versus roller radius; for the FASTSIM family also the
+    traction distribution (adhesion and slip zones) on the roller.
     """
     from dataclasses import replace
 
-    from rollerrig.contact.creep import POLACH_PARAMETER_SETS
+    from rollerrig._validation import ParameterError
+    from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters
     from rollerrig.contact.curves import polach_creep_curve
+    from rollerrig.contact.laws import default_parameter_sets, law_creep_curve, parameter_set
     from rollerrig.contact.roller import contact_versus_roller_radius
     from rollerrig.output import save_figure, write_json
     from rollerrig.report.contact import contact_size_figure, creep_curve_figure
@@ -62,7 +92,17 @@ def contact(
     wheel_rx = g.wheel_radius_x if wheel_radius_mm is None else wheel_radius_mm * 1e-3
     roller_rx = g.roller_radius_x if roller_radius_mm is None else roller_radius_mm * 1e-3
     nu = mat.poisson if poisson is None else poisson
-    sets = dict(POLACH_PARAMETER_SETS)
+    law = CreepLaw(law).value
+    if friction_sets:
+        sets = {name: parameter_set(name) for name in friction_sets}
+    elif law == "polach":
+        sets = dict(POLACH_PARAMETER_SETS)
+    else:
+        sets = default_parameter_sets(law)
+    if (k_adhesion is not None or k_slip is not None) and law != "polach":
+        raise ParameterError("--ka and --ks are Polach's: they apply with --law polach only")
+    if law == "polach" and not all(isinstance(p, PolachParameters) for p in sets.values()):
+        raise ParameterError("--law polach needs Polach sets: polach-dry or polach-wet")
     if k_adhesion is not None or k_slip is not None:
         sets = {
             name: replace(
@@ -82,14 +122,22 @@ def contact(
         "poisson": nu,
         "polach": [p.to_dict() for p in sets.values()],
     }
+    if law != "polach":
+        parameters["law"] = law
+        parameters["friction_sets"] = parameters.pop("polach")
     with command_outputs(
         out, run="contact", inputs={"rig": rig_file}, rig=rig, **parameters
     ) as stage:
         creep = np.linspace(0.0, 0.30, 3001)  # wide enough to contain the wet peak
         rows = {}
         for where, rx in (("roller", roller_rx), ("tangent rail", np.inf)):
+            curve = (
+                polach_creep_curve
+                if law == "polach"
+                else lambda *args, **kw: law_creep_curve(law, *args, **kw)
+            )
             rows[where] = {
-                name: polach_creep_curve(
+                name: curve(
                     creep,
                     load,
                     speed,
@@ -106,15 +154,26 @@ def contact(
 
         first = next(iter(sets))
         c_roll, c_rail = rows["roller"][first], rows["tangent rail"][first]
-        fig1, _ = creep_curve_figure(
-            sets,
-            load,
-            speed,
-            *geometry,
-            youngs_modulus=mat.youngs_modulus,
-            poisson=nu,
-            max_creep=0.10,
-        )
+        if law == "polach":
+            fig1, _ = creep_curve_figure(
+                sets,
+                load,
+                speed,
+                *geometry,
+                youngs_modulus=mat.youngs_modulus,
+                poisson=nu,
+                max_creep=0.10,
+            )
+        else:
+            from rollerrig.contact.hertz import combined_elastic_constants
+            from rollerrig.report.traction import law_curve_figure, traction_figure
+
+            elastic_nu = float(
+                combined_elastic_constants(mat.youngs_modulus, nu, mat.youngs_modulus, nu).poisson
+            )
+
+            fig1 = law_curve_figure(rows, law, roller_rx, max_creep=0.10)
+            fig3 = traction_figure(rows["roller"][first], law, elastic_nu)
         comparison = contact_versus_roller_radius(
             np.geomspace(max(wheel_rx, 0.1), 100.0, 300),
             normal_load=load,
@@ -126,6 +185,7 @@ def contact(
         )
         fig2 = contact_size_figure(comparison, rig_roller_radius=roller_rx)
         summary = {
+            "law": law,
             "contact": {
                 where: {
                     "semi_axis_x_m": float(c.contact.semi_axis_x),
@@ -144,15 +204,23 @@ def contact(
         }
         save_figure(fig1, stage.path("contact-creep-curves.png"))
         save_figure(fig2, stage.path("contact-vs-roller-radius.png"))
+        if law != "polach":
+            save_figure(fig3, stage.path("contact-traction.png"))
         write_json(stage.path("contact-report.json"), summary)
     title = (
         f"Wheel-roller contact at N = {load_kn:g} kN "
         f"(E = {mat.youngs_modulus / 1e9:g} GPa, ν = {nu:g})"
     )
     console.print(_contact_table(title, rows, roller_rx, speed_kmh))
+    law_note = {
+        "polach": "Polach (2005) creep law",
+        "fastsim": "Kalker's FASTSIM (1982)",
+        "modified-fastsim": "modified FASTSIM (Spiryagin et al. 2013)",
+        "fastrip": "FaStrip (Sichani et al. 2016)",
+    }[law]
     console.print(
-        "Creep is referred to the roller's peripheral speed (Kayaalp eq. 4.21); Polach (2005) "
-        "dry/wet parameter sets; Kalker C11 from Kalker (1990) Table E.3."
+        f"Creep is referred to the roller's peripheral speed (Kayaalp eq. 4.21); {law_note}; "
+        f"friction sets: {', '.join(sets)}; Kalker C11 from Kalker (1990) Table E.3."
     )
     print_written(stage.written)
 
