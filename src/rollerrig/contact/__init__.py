@@ -7,6 +7,10 @@
 - :mod:`~rollerrig.contact.kinematics` — creep and slip velocity from wheel and roller speeds.
 - :mod:`~rollerrig.contact.roller` — roller versus tangent rail (contact size).
 - :mod:`~rollerrig.contact.curves` — creep-adhesion curves for a geometry.
+- :mod:`~rollerrig.contact.fastsim` — Kalker's FASTSIM and the modified FASTSIM (k0, α∞, β).
+- :mod:`~rollerrig.contact.strip` — FaStrip (Sichani, Enblom & Berg 2016).
+- :mod:`~rollerrig.contact.laws` — creep laws and friction parameter sets by name.
+- :mod:`~rollerrig.contact.cntc` — optional backend: Kalker's exact theory through CONTACT.
 """
 
 from rollerrig.contact.creep import (
@@ -20,6 +24,14 @@ from rollerrig.contact.creep import (
     polach_creep_force,
 )
 from rollerrig.contact.curves import CreepCurve, polach_creep_curve
+from rollerrig.contact.fastsim import (
+    FastsimGrid,
+    TangentialResult,
+    TractionField,
+    fastsim,
+    fastsim_grid,
+    kalker_flexibilities,
+)
 from rollerrig.contact.hertz import (
     CombinedElasticConstants,
     HertzContact,
@@ -33,34 +45,56 @@ from rollerrig.contact.kalker import (
     kalker_coefficients,
 )
 from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED, creep_and_slip_velocity
+from rollerrig.contact.laws import (
+    CREEP_LAWS,
+    FRICTION_PARAMETER_SETS,
+    FastsimParameters,
+    creep_force,
+    law_creep_curve,
+    parameter_set,
+)
 from rollerrig.contact.roller import (
     RollerRailComparison,
     area_ratio_to_tangent_rail,
     contact_versus_roller_radius,
 )
+from rollerrig.contact.strip import fastrip
 
 __all__ = [
+    "CREEP_LAWS",
     "DEFAULT_REGULARISATION_SPEED",
+    "FRICTION_PARAMETER_SETS",
     "KALKER_TABLE",
     "POLACH_DRY",
     "POLACH_PARAMETER_SETS",
     "POLACH_WET",
     "CombinedElasticConstants",
     "CreepCurve",
+    "FastsimGrid",
+    "FastsimParameters",
     "HertzContact",
     "KalkerCoefficients",
     "KalkerTable",
     "PolachParameters",
     "RollerRailComparison",
+    "TangentialResult",
+    "TractionField",
     "adhesion_gradient",
     "area_ratio_to_tangent_rail",
     "combined_elastic_constants",
     "contact_versus_roller_radius",
     "creep_and_slip_velocity",
+    "creep_force",
+    "fastrip",
+    "fastsim",
+    "fastsim_grid",
     "friction_coefficient",
     "hertz_contact",
     "kalker_coefficients",
+    "kalker_flexibilities",
     "kalker_linear_force",
+    "law_creep_curve",
+    "parameter_set",
     "polach_creep_curve",
     "polach_creep_force",
 ]
