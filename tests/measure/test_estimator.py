@@ -826,8 +826,8 @@ def test_smoother_against_the_rig_the_offline_correction_and_the_filter(demo_rec
     raw, off = rms(measured["coa"]), rms(offline)
     causal = rms(estimate_from_recording(rec, rig).coa)
     roller = smooth_from_recording(rec, rig, chain=None)
-    plain = smooth_from_recording(rec, rig, lines=False)
-    best = smooth_from_recording(rec, rig)
+    plain = smooth_from_recording(rec, rig, chain="induction", lines=False)
+    best = smooth_from_recording(rec, rig, chain="induction")
     assert 0.0050 < rms(roller.coa) < 0.0066
     assert 0.0026 < rms(plain.coa) < 0.0036
     assert 0.0017 < rms(best.coa) < 0.0025
@@ -842,3 +842,88 @@ def test_smoother_against_the_rig_the_offline_correction_and_the_filter(demo_rec
         rig.geometry.roller_radius_x * measured["normal_load"]
     )
     assert np.mean(np.abs(best.coa - true) < 2 * sd) > 0.95
+
+
+# ------------------------------------------------------------------ which smoother to trust
+
+
+def _rms(est, truth):
+    return float(np.sqrt(np.mean((est.coa - truth["coa"].values) ** 2)))
+
+
+def test_the_innovations_of_the_right_model_are_consistent(demo_recording):
+    """On the twin's own recording the roller alone predicts the encoder angle to its stated
+    variance (quantisation and torque noise): the innovations over their prediction have a
+    variance near 1 (measured 1.10; the uniform rounding error is not Gaussian) and no lag-1
+    correlation, so a chain must match that to be used."""
+    rig, rec, _ = demo_recording
+    w = smooth_from_recording(rec, rig, chain=None).innovations["angle"]
+    assert 0.9 < w["variance"] < 1.3
+    assert abs(w["lag1_autocorrelation"]) < 0.15
+
+
+def test_the_drive_noise_by_maximum_likelihood_maximises_the_likelihood(demo_recording):
+    rig, rec, truth = demo_recording
+    ml = smooth_from_recording(rec, rig, chain="induction", drive_noise="ml")
+    ll = ml.innovations["log_likelihood_per_sample"]
+    for factor in (0.2, 5.0):
+        other = smooth_from_recording(
+            rec, rig, chain="induction", drive_noise=ml.drive_noise * factor
+        )
+        assert other.innovations["log_likelihood_per_sample"] < ll
+    # The lag model holds on the twin's own recording: tens of times the default, no worse.
+    assert 1e2 < ml.drive_noise < 1e5
+    default = smooth_from_recording(rec, rig, chain="induction")
+    assert _rms(ml, truth) < 1.1 * _rms(default, truth)
+
+
+def test_auto_takes_the_roller_alone_until_the_shaft_is_calibrated(demo_recording):
+    rig, rec, truth = demo_recording
+    uncalibrated = smooth_from_recording(rec, rig)
+    assert uncalibrated.drive_noise is None  # the roller alone
+    assert "not calibrated" in uncalibrated.choice
+    calibrated = smooth_from_recording(rec, rig, shaft_calibrated=True)
+    assert calibrated.drive_noise is not None  # the chain
+    assert "maximum likelihood" in calibrated.choice and "holds" in calibrated.choice
+    assert _rms(calibrated, truth) < 0.5 * _rms(uncalibrated, truth)
+
+
+def test_a_chain_that_predicts_the_encoder_worse_is_not_trusted(demo_recording):
+    """choose_smoother compares the angle innovations' variance over their prediction."""
+    import dataclasses
+
+    from rollerrig.measure.estimator import CHAIN_CONSISTENCY, choose_smoother
+
+    rig, rec, _ = demo_recording
+    alone = smooth_from_recording(rec, rig, chain=None)
+    chained = smooth_from_recording(rec, rig, chain="induction", drive_noise="ml")
+    v = alone.innovations["angle"]["variance"]
+    worse = dict(chained.innovations, angle={"variance": 1.01 * CHAIN_CONSISTENCY * v})
+    got = choose_smoother(alone, dataclasses.replace(chained, innovations=worse), True)
+    assert got.drive_noise is None and "worse than the roller alone" in got.choice
+    fine = dict(chained.innovations, angle={"variance": 0.99 * CHAIN_CONSISTENCY * v})
+    got = choose_smoother(alone, dataclasses.replace(chained, innovations=fine), True)
+    assert got.drive_noise == chained.drive_noise
+    got = choose_smoother(alone, "k56 missing", True)
+    assert got.drive_noise is None and "k56 missing" in got.choice
+
+
+def test_drive_noise_ml_is_refused_where_no_recording_is_given():
+    with pytest.raises(ParameterError, match="drive_noise"):
+        smoother_weights(
+            250.0,
+            counts_per_rev=10000,
+            roller_inertia=45.0,
+            chain=RollerChain.from_rig(default_rig()),
+            drive_noise="ml",
+        )
+    with pytest.raises(ParameterError, match="maximum likelihood"):
+        smooth_contact_torque(
+            np.zeros(100),
+            np.arange(100.0),
+            4300.0,
+            250.0,
+            chain=RollerChain.from_rig(default_rig()),
+            drive_noise="most likely",
+            **RIG,
+        )

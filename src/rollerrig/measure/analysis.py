@@ -30,7 +30,11 @@ from rollerrig.measure.checks import (
     require_analysis_inputs,
 )
 from rollerrig.measure.correction import corrected_adhesion
-from rollerrig.measure.estimator import estimate_from_recording, smooth_from_recording
+from rollerrig.measure.estimator import (
+    choose_smoother,
+    estimate_from_recording,
+    smooth_from_recording,
+)
 from rollerrig.measure.facts import (
     describe_channel,
     recording_facts,
@@ -511,7 +515,7 @@ def _coa_uncertainty(
     creep_u = creep_uncertainty(rec, rig, window, order)
     budget = coa_budget(unc, rec, phases, branches, creep_u=creep_u, true_coa=true_coa)
     budget.online_coa = _online_coa(rec, rig, budget.notes)
-    budget.model_coa = _model_based_coa(rec, rig, budget.notes)
+    budget.model_coa, budget.model_choice = _model_based_coa(rec, rig, budget.notes, calibration)
     return budget
 
 
@@ -523,37 +527,70 @@ MODEL_BASED = {
     ),
     "coa_smoother_chain": (
         "induction",
-        "CoA from the two-sided Kalman (RTS) smoother of roller, shaft, motor rotor and V/f "
-        "drive, T56 and the encoder as measurements, order lines removed (needs k56 and J6 of "
-        "a calibrated rig)",
+        "CoA from the two-sided Kalman (RTS) smoother of roller, shaft, motor rotor and the "
+        "drive's lag model linearised (its noise by maximum likelihood), T56 and the encoder as "
+        "measurements, order lines removed (needs k56 and J6 of a calibrated rig)",
     ),
 }
 """The model-based estimates :func:`analyze_test` makes: name -> (chain of
 :func:`rollerrig.measure.estimator.smooth_from_recording`, description)."""
 
+SHAFT_KEYS = ("stiffness.roller_shaft", "inertia.am_rotor")
+"""The rig keys the chain smoother needs from a calibration (k56, J6)."""
 
-def _model_based_coa(rec: Recording, rig, notes: list[str]) -> dict:
+SHAFT_RELATIVE_ERROR = 0.03
+"""Largest relative standard error of k56 and J6 at which a calibration counts as knowing the
+roller shaft's mode (the chain's error doubles at ±10 % of k56; ±5 % keeps it under the
+roller alone's on the bundled test) [1]."""
+
+
+def shaft_calibrated(calibration) -> tuple[bool, str]:
+    """Whether ``calibration`` (calibration.json's content) gives k56 and J6 well enough for the
+    chain smoother: each with a value, a standard error within :data:`SHAFT_RELATIVE_ERROR` of
+    it, not conditional on the model, in a calibration not marked invalid; and why not."""
+    if not calibration:
+        return False, "no calibration"
+    if calibration.get("valid") is False:
+        return False, "the calibration is not valid"
+    params = calibration.get("parameters") or {}
+    for key in SHAFT_KEYS:
+        entry = params.get(key)
+        if not isinstance(entry, dict) or entry.get("value") in (None, 0):
+            return False, f"the calibration does not give {key}"
+        se = entry.get("standard_error")
+        if se is None or not math.isfinite(se) or se > SHAFT_RELATIVE_ERROR * abs(entry["value"]):
+            return False, f"{key} is not calibrated to {SHAFT_RELATIVE_ERROR:.0%}"
+        if entry.get("conditional_on_model"):
+            return False, f"the calibration of {key} is conditional on its model"
+    return True, "k56 and J6 calibrated"
+
+
+def _model_based_coa(rec: Recording, rig, notes: list[str], calibration=None):
     """The two-sided model-based CoA estimates on the analysis axis (name -> (CoA,
-    description)); none (noted) without the roller encoder counts they need."""
+    description)) and the one to trust ((name, why),
+    :func:`rollerrig.measure.estimator.choose_smoother`); none (noted) without the roller
+    encoder counts they need."""
     if "roller_encoder_counts" not in rec:
         notes.append("model-based estimates: not made (they need roller_encoder_counts)")
-        return {}
-    out = {}
+        return {}, ()
+    out, made = {}, {}
     for name, (chain, what) in MODEL_BASED.items():
+        options = {} if chain is None else {"drive_noise": "ml"}
         try:
-            est = smooth_from_recording(rec, rig, chain=chain)
+            made[name] = smooth_from_recording(rec, rig, chain=chain, **options)
         except ParameterError as exc:  # a rig or recording the model cannot take
             notes.append(f"{name}: not made ({exc})")
+            made[name] = str(exc)
             continue
-        out[name] = (np.asarray(est.coa, dtype=float), what)
-    if "coa_smoother_chain" in out:
-        notes.append(
-            "coa_smoother_chain models the roller shaft and motor rotor: it is as good as k56 "
-            "and J6 of the rig (±5 % keeps it under 1/8 of the rig's error on the bundled test, "
-            "±10 % makes it worse than the corrected CoA); calibrate them first (rollerrig "
-            "calibrate --free stiffness.roller_shaft,inertia.am_rotor)"
-        )
-    return out
+        out[name] = (np.asarray(made[name].coa, dtype=float), what)
+    if "coa_smoother" not in out:
+        return out, ()
+    known, why_not = shaft_calibrated(calibration)
+    chosen = choose_smoother(made["coa_smoother"], made.get("coa_smoother_chain"), known)
+    name = "coa_smoother" if chosen.drive_noise is None else "coa_smoother_chain"
+    why = chosen.choice if known else f"{chosen.choice} ({why_not})"
+    notes.append(f"model-based estimate to trust: {name}, {why}")
+    return out, (name, why)
 
 
 def _online_coa(rec: Recording, rig, notes: list[str]) -> np.ndarray | None:

@@ -61,6 +61,9 @@ class CoaBudget:
     model_coa : dict
         The two-sided model-based estimates (:func:`rollerrig.measure.estimator.
         smooth_contact_torque`) on the analysis axis: name -> (CoA, description).
+    model_choice : tuple of str
+        (name in ``model_coa``, why) of the model-based estimate to trust
+        (:func:`rollerrig.measure.estimator.choose_smoother`); empty when none was made.
     notes : list of str
     """
 
@@ -72,6 +75,7 @@ class CoaBudget:
     truth_coverage: dict | None = None
     online_coa: np.ndarray | None = None
     model_coa: dict = field(default_factory=dict)
+    model_choice: tuple = ()
     notes: list = field(default_factory=list)
 
     def summary(self) -> dict:
@@ -94,6 +98,11 @@ class CoaBudget:
             "truth_coverage": self.truth_coverage,
             "notes": list(unc.notes) + list(self.notes),
         }
+        if self.model_choice:
+            out["model_based_estimate"] = {
+                "name": self.model_choice[0],
+                "why": self.model_choice[1],
+            }
         if self.monte_carlo is None:
             out["monte_carlo_null_because"] = "no creep–CoA points (no branches)"
         if self.truth_coverage is None:

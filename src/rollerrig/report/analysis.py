@@ -224,10 +224,12 @@ def coa_uncertainty_figure(result: TestAnalysis):
         if budget.online_coa is not None:
             ax.plot(*envelope(t[sel], budget.online_coa[sel]), color="tab:green", lw=0.6,
                     alpha=0.8, label="online estimate (causal)")  # fmt: skip
-        if "coa_smoother_chain" in budget.model_coa:
-            ax.plot(*envelope(t[sel], budget.model_coa["coa_smoother_chain"][0][sel]),
+        if budget.model_choice and budget.model_choice[0] in budget.model_coa:
+            chosen = budget.model_choice[0]
+            which = "chain" if chosen == "coa_smoother_chain" else "roller alone"
+            ax.plot(*envelope(t[sel], budget.model_coa[chosen][0][sel]),
                     color="tab:purple", lw=0.7, alpha=0.9,
-                    label="model-based, two-sided (chain)")  # fmt: skip
+                    label=f"model-based, two-sided ({which})")  # fmt: skip
         if result.true_coa is not None:
             ax.plot(*envelope(t[sel], result.true_coa[sel]), "k--", lw=0.7,
                     label="true contact CoA (twin)")  # fmt: skip
