@@ -290,3 +290,42 @@ def test_the_report_says_how_large_the_arms_transfer_is_for_this_test(analysed):
     note = next(n for n in result.notes if n.startswith("swinging arm"))
     share = float(re.search(r"\(([+-][\d.]+) %\)", note).group(1))
     assert share == pytest.approx(100.0 * (1 / (1 - 0.497 * 0.46) - 1), abs=3.0)
+
+
+def test_the_chain_smoother_is_trusted_only_with_the_shaft_calibrated():
+    from rollerrig.measure.analysis import shaft_calibrated
+
+    good = {
+        "valid": True,
+        "parameters": {
+            "stiffness.roller_shaft": {"value": 43500.0, "standard_error": 400.0},
+            "inertia.am_rotor": {"value": 6.6, "standard_error": 0.05},
+        },
+    }
+    assert shaft_calibrated(good) == (True, "k56 and J6 calibrated")
+    assert not shaft_calibrated(None)[0]
+    assert "not valid" in shaft_calibrated({**good, "valid": False})[1]
+    loose = {
+        "parameters": {
+            **good["parameters"],
+            "inertia.am_rotor": {"value": 6.6, "standard_error": 0.5},
+        }
+    }
+    assert "not calibrated to 3%" in shaft_calibrated(loose)[1]
+    conditional = {
+        "parameters": {
+            **good["parameters"],
+            "stiffness.roller_shaft": {
+                "value": 43500.0,
+                "standard_error": 400.0,
+                "conditional_on_model": True,
+            },
+        }
+    }
+    assert "conditional" in shaft_calibrated(conditional)[1]
+    assert (
+        "does not give inertia.am_rotor"
+        in shaft_calibrated(
+            {"parameters": {"stiffness.roller_shaft": good["parameters"]["stiffness.roller_shaft"]}}
+        )[1]
+    )
