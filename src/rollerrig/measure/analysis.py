@@ -549,7 +549,7 @@ def shaft_calibrated(calibration) -> tuple[bool, str]:
     chain smoother: each with a value, a standard error within :data:`SHAFT_RELATIVE_ERROR` of
     it, not conditional on the model, in a calibration not marked invalid; and why not."""
     if not calibration:
-        return False, "no calibration"
+        return False, "no calibration was given"
     if calibration.get("valid") is False:
         return False, "the calibration is not valid"
     params = calibration.get("parameters") or {}
@@ -586,9 +586,11 @@ def _model_based_coa(rec: Recording, rig, notes: list[str], calibration=None):
     if "coa_smoother" not in out:
         return out, ()
     known, why_not = shaft_calibrated(calibration)
-    chosen = choose_smoother(made["coa_smoother"], made.get("coa_smoother_chain"), known)
+    chosen = choose_smoother(
+        made["coa_smoother"], made.get("coa_smoother_chain"), known, f"here {why_not}"
+    )
     name = "coa_smoother" if chosen.drive_noise is None else "coa_smoother_chain"
-    why = chosen.choice if known else f"{chosen.choice} ({why_not})"
+    why = chosen.choice
     notes.append(f"model-based estimate to trust: {name}, {why}")
     return out, (name, why)
 

@@ -2014,7 +2014,12 @@ def _chain_or_roller(
     return choose_smoother(alone, chained, shaft_calibrated)
 
 
-def choose_smoother(alone: ContactEstimate, chained, shaft_calibrated: bool) -> ContactEstimate:
+def choose_smoother(
+    alone: ContactEstimate,
+    chained,
+    shaft_calibrated: bool,
+    not_calibrated: str = "they are not calibrated",
+) -> ContactEstimate:
     """The smoother to trust: the chain where k56 and J6 are calibrated and its angle
     innovations are consistent (:data:`CHAIN_CONSISTENCY`), else the roller alone; the
     returned estimate's ``choice`` says which and why.
@@ -2028,6 +2033,9 @@ def choose_smoother(alone: ContactEstimate, chained, shaft_calibrated: bool) -> 
         not be made, or None (not made).
     shaft_calibrated : bool
         As :func:`smooth_from_recording`.
+    not_calibrated : str
+        Why k56 and J6 are not known well enough, for the reason (when not
+        ``shaft_calibrated``).
 
     Returns
     -------
@@ -2039,7 +2047,7 @@ def choose_smoother(alone: ContactEstimate, chained, shaft_calibrated: bool) -> 
     if not shaft_calibrated:
         why = (
             "roller alone: the chain needs k56 and J6 to a few per cent (k56 ±10 % doubles its "
-            "error) and they are not calibrated (rollerrig calibrate --free "
+            f"error) and {not_calibrated} (rollerrig calibrate --free "
             "stiffness.roller_shaft,inertia.am_rotor)"
         )
         return dataclasses.replace(alone, choice=why)
