@@ -253,3 +253,15 @@ def test_require_helpers_name_parameter_unit_and_range():
     with pytest.raises(ParameterError, match=r"must lie in \(0, 0.5\)"):
         require_in_range("poisson", 0.5, 0.0, 0.5)
     assert require_in_range("x", 1.0, 0.0, 1.0, high_inclusive=True) == 1.0
+
+
+def test_did_you_mean_is_the_one_hint_of_the_package():
+    from rollerrig._validation import close_matches, did_you_mean
+
+    assert did_you_mean("drivs", ["arm", "drives", "lag"]) == " (did you mean 'drives'?)"
+    assert did_you_mean("drivs", ["arm", "drives"], style=";") == "; did you mean 'drives'?"
+    assert did_you_mean("zzzz", ["arm", "drives"]) == ""
+    # case and - versus _ first, then the closest spellings
+    assert close_matches("Induction-DQ", ["induction", "induction_dq"])[0] == "induction_dq"
+    three = did_you_mean("inertia.roler", ["inertia.roller", "inertia.rotor", "x.y"], n=3)
+    assert three == " (did you mean 'inertia.roller' or 'inertia.rotor'?)"

@@ -22,6 +22,8 @@ __all__ = [
     "ParameterError",
     "Problem",
     "Verbatim",
+    "close_matches",
+    "did_you_mean",
     "field_error",
     "from_pydantic",
     "interval",
@@ -41,6 +43,79 @@ class ParameterError(ValueError):
     """
 
     problems: tuple[str, ...] = ()
+
+
+def close_matches(name: str, known, *, n: int = 3, cutoff: float = 0.6) -> list[str]:
+    """The names in ``known`` closest to a misspelt ``name`` (at most ``n``, best first).
+
+    The one did-you-mean look-up of the package (:func:`difflib.get_close_matches`); a match
+    that differs only in case or in ``-``/``_`` comes first.
+
+    Parameters
+    ----------
+    name : str
+        What the user typed.
+    known : iterable of str
+        The names that exist.
+    n : int, optional
+        How many matches at most.
+    cutoff : float, optional
+        Similarity in [0, 1] below which a name is no match.
+
+    Returns
+    -------
+    list of str
+        The matches, best first; empty when none is close.
+
+    Examples
+    --------
+    >>> close_matches("seed-10kmh-wte", ["seed-10kmh-wet", "seed-30kmh-dry", "release-test"])
+    ['seed-10kmh-wet', 'seed-30kmh-dry']
+    """
+    known = [str(k) for k in known]
+
+    def plain(s: str) -> str:
+        return s.casefold().replace("-", "_")
+
+    same = [k for k in known if plain(k) == plain(str(name))]
+    rest = difflib.get_close_matches(str(name), known, n=n, cutoff=cutoff)
+    return list(dict.fromkeys([*same, *rest]))[:n]
+
+
+def did_you_mean(name: str, known, *, n: int = 1, cutoff: float = 0.6, style: str = "()") -> str:
+    """A did-you-mean hint for a misspelt ``name``: ``" (did you mean 'x'?)"`` or ``""``.
+
+    Parameters
+    ----------
+    name : str
+        What the user typed.
+    known : iterable of str
+        The names that exist.
+    n : int, optional
+        How many near names to offer.
+    cutoff : float, optional
+        Similarity in [0, 1] below which a name is no match (:func:`close_matches`).
+    style : {"()", ";"}, optional
+        ``" (did you mean 'x'?)"`` or ``"; did you mean 'x'?"``.
+
+    Returns
+    -------
+    str
+        The hint with its leading separator, or an empty string when nothing is close.
+
+    Examples
+    --------
+    >>> did_you_mean("drivs", ["arm", "drives", "lag"])
+    " (did you mean 'drives'?)"
+    >>> did_you_mean("zzz", ["arm", "drives"])
+    ''
+    """
+    close = close_matches(name, known, n=n, cutoff=cutoff)
+    if not close:
+        return ""
+    shown = [repr(c) for c in close]
+    text = shown[0] if len(shown) == 1 else f"{', '.join(shown[:-1])} or {shown[-1]}"
+    return f"; did you mean {text}?" if style == ";" else f" (did you mean {text}?)"
 
 
 def _as_float_array(name: str, value) -> np.ndarray:
@@ -358,8 +433,7 @@ def _describe(err, ctx, cause, parent, field, loc) -> tuple[str, Any]:
         return f"must be {sign} {show_value(ctx[name])}", bounds
     if kind in _UNKNOWN_KEY:
         known = _known_keys(parent)
-        close = difflib.get_close_matches(loc[-1], known, n=1) if known else []
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        hint = did_you_mean(loc[-1], known) if known else ""
         return f"unknown key{hint}", (known or None)
     if kind == "literal_error":
         return "not one of the allowed values", ctx.get("expected")

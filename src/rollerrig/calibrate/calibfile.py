@@ -38,7 +38,6 @@ calibration.json: inertia.roller.standard_error: must be >= 0 [kg.m^2]; allowed 
 
 from __future__ import annotations
 
-import difflib
 import errno
 import functools
 import json
@@ -50,7 +49,14 @@ from typing import Any
 import numpy as np
 from pydantic import ConfigDict, ValidationError, create_model
 
-from rollerrig._validation import Problem, Verbatim, interval, pydantic_problems, show_value
+from rollerrig._validation import (
+    Problem,
+    Verbatim,
+    did_you_mean,
+    interval,
+    pydantic_problems,
+    show_value,
+)
 from rollerrig.calibrate.problem import (
     _POLACH_RANGES,
     _POLACH_UNITS,
@@ -316,8 +322,7 @@ def _value_problems(key: str, field: str, value: Any) -> list[Problem]:
 def _entry_problems(key: str, entry: Any, rig_value: Any = None) -> list[Problem]:
     catalogue = free_parameter_catalogue("induction_dq")  # every drive's keys
     if key not in catalogue:
-        close = difflib.get_close_matches(key, catalogue, n=1)
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        hint = did_you_mean(key, catalogue)
         return [
             Problem(
                 key,

@@ -19,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import importlib
 import os
+import re
 import signal
 import sys
 import threading
@@ -49,6 +50,7 @@ __all__ = [
     "debug_wanted",
     "domain_warnings_printed",
     "fail",
+    "plain_usage_error",
     "signals_deferred",
     "signals_end_the_command",
     "user_message",
@@ -255,6 +257,66 @@ def _pass_through() -> tuple[type[BaseException], ...]:
 
 _PASS_THROUGH = _pass_through()
 
+_NOT_ONE_OF = re.compile(r"^(?:Value error, )?(?P<given>'.*') is not one of (?P<choices>.*?)\.?$")
+
+
+_BOUNDS = {
+    "greater_than": ("gt", ">"),
+    "greater_than_equal": ("ge", ">="),
+    "less_than": ("lt", "<"),
+    "less_than_equal": ("le", "<="),
+}
+"""pydantic's bound errors: the key of the bound in the error's context, and its sign."""
+
+
+def plain_usage_error(exc: BaseException) -> None:
+    """Say a bad option value in the user's words, in place (a ``BadParameter``'s message).
+
+    typer checks option values with pydantic, whose messages read "Value error, 'x' is not
+    one of 'a', 'b'." or "Input should be a valid number, unable to parse string as a
+    number". They become "'x' is not one of a, b; did you mean 'a'?" and "'abc' is not a
+    number". Other messages are left as they are.
+
+    Parameters
+    ----------
+    exc : BaseException
+        The usage error; only a ``BadParameter`` is changed.
+    """
+    from rollerrig._validation import did_you_mean
+
+    if not isinstance(exc, _click("exceptions").BadParameter):
+        return
+    message = str(exc.message)
+    errors = []
+    with contextlib.suppress(Exception):  # a ValidationError of typer's coercion, if any
+        errors = list(exc.__cause__.errors())
+    first = errors[0] if errors else {}
+    given = first.get("input")
+    shown = repr(given) if isinstance(given, str) else repr(str(given))
+    kind = first.get("type", "")
+    match = _NOT_ONE_OF.match(message)
+    if match is not None:
+        choices = re.findall(r"'([^']*)'", match["choices"])
+        name = match["given"][1:-1]
+        exc.message = (
+            f"{match['given']} is not one of {', '.join(choices)}"
+            f"{did_you_mean(name, choices, style=';')}"
+        )
+    elif kind in ("float_parsing", "float_type", "finite_number"):
+        exc.message = f"{shown} is not a number"
+    elif kind in ("int_parsing", "int_type", "int_from_float"):
+        exc.message = f"{shown} is not a whole number"
+    elif kind in ("bool_parsing", "bool_type"):
+        exc.message = f"{shown} is not a yes/no value (true, false, 1, 0)"
+    elif kind in _BOUNDS:
+        key, sign = _BOUNDS[kind]
+        bound = (first.get("ctx") or {}).get(key)
+        exc.message = f"must be {sign} {bound}, got {given}"
+    elif message.startswith("Value error, "):
+        exc.message = message.removeprefix("Value error, ")
+    elif message.startswith("Input should be "):
+        exc.message = f"{shown}: must be {message.removeprefix('Input should be ')}"
+
 
 ARGV_KEY = "rollerrig.argv"
 """Key of ``click.Context.meta`` holding the command line as given."""
@@ -283,7 +345,8 @@ class BoundaryGroup(TyperGroup):
         try:
             with signals_end_the_command(), domain_warnings_printed():
                 return super().invoke(ctx)
-        except _PASS_THROUGH:
+        except _PASS_THROUGH as exc:
+            plain_usage_error(exc)
             raise
         except Interrupted as exc:
             print_error(str(exc))

@@ -31,6 +31,7 @@ __all__ = [
     "RollerDrive",
     "Solver",
     "WheelDrive",
+    "check_option",
     "load_rig",
 ]
 
@@ -115,3 +116,57 @@ def load_rig(rig_file: Path | None):
     from rollerrig.rig.parameters import load_rig as load
 
     return default_rig() if rig_file is None else load(rig_file)
+
+
+def check_option(
+    option: str,
+    value: float | None,
+    unit: str,
+    *,
+    above: float | None = None,
+    at_most: float | None = None,
+    why: str = "",
+) -> None:
+    """Check an option's value in the unit the user typed it in, before any conversion to SI.
+
+    So ``--load-kn -3`` is answered "--load-kn must be > 0 kN, got -3 kN", not in newtons.
+
+    Parameters
+    ----------
+    option : str
+        The option as typed (``"--load-kn"``).
+    value : float or None
+        Its value; None (not given) passes.
+    unit : str
+        The option's unit as the user reads it (``"kN"``, ``"km/h"``, ``"mm"``; ``""`` for a
+        pure number).
+    above : float, optional
+        Exclusive lower bound.
+    at_most : float, optional
+        Inclusive upper bound.
+    why : str, optional
+        What the bound means, appended in parentheses.
+
+    Raises
+    ------
+    rollerrig.cli._boundary.UserError
+        NaN, infinite or out of bounds.
+    """
+    import math
+
+    from rollerrig.cli._boundary import UserError
+
+    if value is None:
+        return
+    u = f" {unit}" if unit else ""
+    reason = f" ({why})" if why else ""
+    if not math.isfinite(value):
+        given_in = f" (in {unit})" if unit else ""
+        raise UserError(f"{option} must be a finite number{given_in}, got {value!r}")
+    if above is not None and at_most is not None and not above < value <= at_most:
+        span = f"({above:g}, {at_most:g}]"
+        raise UserError(f"{option} must be in {span}{u}{reason}, got {value:g}{u}")
+    if above is not None and not value > above:
+        raise UserError(f"{option} must be > {above:g}{u}{reason}, got {value:g}{u}")
+    if at_most is not None and not value <= at_most:
+        raise UserError(f"{option} must be <= {at_most:g}{u}{reason}, got {value:g}{u}")

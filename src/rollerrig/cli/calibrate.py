@@ -165,9 +165,12 @@ def calibrate(
                 f"drive reads; add --roller-drive induction_dq (or --compare-drives), or leave "
                 "them out"
             )
+        from rollerrig._validation import did_you_mean
+
+        each = "; ".join(f"{k!r}{did_you_mean(k, catalogue, n=3)}" for k in unknown)
         raise CalibrationError(
-            f"--free: unknown key(s) {unknown}; valid: {', '.join(catalogue)} "
-            "(--list-keys lists them)"
+            f"--free: not a key rollerrig calibrate fits: {each} "
+            "(--list-keys lists all of them)"
         )
     rig = load_rig(rig_file)
     with command_outputs(

@@ -11,7 +11,7 @@ import typer
 from rich.table import Table
 
 from rollerrig.cli._console import console, print_written
-from rollerrig.cli._options import DEFAULT_OUT, RigOption, load_rig
+from rollerrig.cli._options import DEFAULT_OUT, RigOption, check_option, load_rig
 from rollerrig.cli._outputs import command_outputs
 
 __all__ = ["CreepLaw", "contact"]
@@ -85,6 +85,10 @@ def contact(
     from rollerrig.output import save_figure, write_json
     from rollerrig.report.contact import contact_size_figure, creep_curve_figure
 
+    check_option("--load-kn", load_kn, "kN", above=0)
+    check_option("--speed-kmh", speed_kmh, "km/h", above=0)
+    check_option("--wheel-radius-mm", wheel_radius_mm, "mm", above=0)
+    check_option("--roller-radius-mm", roller_radius_mm, "mm", above=0)
     rig = load_rig(rig_file)
     g, mat = rig.geometry, rig.material
     load = load_kn * 1e3

@@ -408,7 +408,7 @@ def frame(
 
 
 def _drive_answer(study: dict) -> str:
-    """The answer to issue 13's question, in the study's own numbers: each drive's verdict
+    """Where a 1-1.7 Hz mode comes from, in the study's own numbers: each drive's verdict
     about the band, and whether it holds over the assumptions it rests on."""
     lo, hi = study["band [Hz]"]
     lines = [
@@ -436,11 +436,11 @@ def drive_dynamics(
     rig_file: RigOption = None,
     out: OutOption = DEFAULT_OUT,
 ) -> None:
-    """The roller drive as a dynamic induction machine under open-loop V/f (issue 13): the
-    twin's modes with the Thevenin+lag drive and with dq drives (default V/f, pure V/f, slip
-    compensation) at 5/10/20/30 km/h and 4.3/10/20 kN, and the lag fitted to the machine;
-    each drive's verdict about 1-1.7 Hz (unstable modes a class of their own) checked over
-    the ranges of R_s, J5 and the V/f settings (about 40 s on one core)."""
+    """The roller drive as a dynamic induction machine under open-loop V/f: where a 1-1.7 Hz
+    mode of the rig comes from. The twin's modes with the Thevenin+lag drive and with dq drives
+    (default V/f, pure V/f, slip compensation) at 5/10/20/30 km/h and 4.3/10/20 kN, and the lag
+    fitted to the machine; each drive's verdict about 1-1.7 Hz (unstable modes a class of their
+    own) checked over the ranges of R_s, J5 and the V/f settings (about 40 s on one core)."""
     import warnings
 
     from rollerrig.cli._outputs import command_outputs

@@ -123,6 +123,21 @@ def protocol_inputs(experiment: str) -> dict[str, Path]:
     return found
 
 
+def _experiment_list(names) -> str:
+    """One line per bundled experiment: its name, duration and the first sentence of its
+    description (``simulate --list``)."""
+    from rollerrig.experiment import load_protocol
+
+    protocols = {name: load_protocol(name) for name in names}
+    width = max((len(n) for n in protocols), default=0)
+    lines = []
+    for name, p in protocols.items():
+        text = " ".join(p.description.split())
+        first = text.split(". ")[0].rstrip(".") + "." if text else "(no description)"
+        lines.append(f"{name:<{width}}  {p.duration:5.1f} s  {first}")
+    return "\n".join(lines)
+
+
 def simulate(
     experiment: Annotated[
         str,
@@ -161,7 +176,10 @@ def simulate(
         typer.Option("--format", case_sensitive=False, help="Results file format."),
     ] = ResultsFormat.nc,
     list_experiments: Annotated[
-        bool, typer.Option("--list", help="List the bundled experiments and exit.")
+        bool,
+        typer.Option(
+            "--list", help="List the bundled experiments (duration, what each does) and exit."
+        ),
     ] = False,
 ) -> None:
     """Simulate an adhesion experiment on the digital twin and write results and figures.
@@ -175,8 +193,7 @@ def simulate(
     from rollerrig.experiment import bundled_protocols
 
     if list_experiments:
-        for name in bundled_protocols():
-            console.print(name)
+        console.print(_experiment_list(bundled_protocols()), soft_wrap=True)
         return
     from rollerrig.output import save_figure, write_text
     from rollerrig.report.twin import experiment_figure

@@ -50,7 +50,6 @@ experiment's load, speed and friction (see :mod:`rollerrig.experiment.replay`).
 
 from __future__ import annotations
 
-import difflib
 import hashlib
 import math
 import tomllib
@@ -58,7 +57,7 @@ from importlib import resources
 from pathlib import Path
 
 from rollerrig._toml import parse_toml
-from rollerrig._validation import toml_string
+from rollerrig._validation import did_you_mean, toml_string
 from rollerrig.experiment.protocol import Protocol, ProtocolError
 from rollerrig.experiment.replay import replay_protocol
 from rollerrig.experiment.steps import (
@@ -160,8 +159,7 @@ def _table(
 
 
 def _unknown_key(origin: str, dotted: str, what: str, known: list[str]) -> ProtocolError:
-    close = difflib.get_close_matches(dotted.rpartition(".")[2], known, n=1)
-    hint = f" (did you mean {close[0]!r}?)" if close else ""
+    hint = did_you_mean(dotted.rpartition(".")[2], known)
     return protocol_error(origin, dotted, f"unknown key {what}{hint}", allowed=known)
 
 
@@ -338,9 +336,10 @@ def load_protocol(path_or_name: str | Path) -> Protocol:
             "[replay] table"
         )
     if not path.is_file():
+        hint = did_you_mean(str(path_or_name), bundled_protocols(), style=";")
         raise ProtocolError(
             f"{path_or_name!s}: neither a bundled protocol ({', '.join(bundled_protocols())}) "
-            "nor an existing TOML file"
+            f"nor an existing TOML file{hint}"
         )
     try:
         text = path.read_text(encoding="utf-8")

@@ -41,7 +41,6 @@ Units are converted to SI here, at the edge, through the package's one unit regi
 
 from __future__ import annotations
 
-import difflib
 import re
 import tomllib
 from collections.abc import Mapping
@@ -53,7 +52,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from rollerrig._toml import read_toml
-from rollerrig._validation import Problem, pydantic_problems
+from rollerrig._validation import Problem, did_you_mean, pydantic_problems
 from rollerrig.measure.mapfile import DECIMALS, SEPARATORS, EntrySection, FileSpec, MapFile
 from rollerrig.measure.recording import CANONICAL_CHANNELS, RecordingError, RecordingFileNotFound
 from rollerrig.units import QUANTITIES, UNITS_BY_SI, UnitError, normalize_unit, si_factor
@@ -330,8 +329,7 @@ def _entry_problems(channels: list[ChannelSpec], extra: list[ChannelSpec]) -> li
     for spec in channels:
         key = f"channels.{spec.name}"
         if spec.name not in CANONICAL_CHANNELS:
-            close = difflib.get_close_matches(spec.name, names, n=3)
-            hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+            hint = did_you_mean(spec.name, names, n=3)
             problems.append(
                 Problem(
                     key,

@@ -61,7 +61,7 @@ from typing import Any
 import numpy as np
 
 from rollerrig._toml import parse_toml
-from rollerrig._validation import ParameterError, Problem
+from rollerrig._validation import ParameterError, Problem, did_you_mean
 from rollerrig.output.names import safe_file_name
 from rollerrig.units import QUANTITIES, UnitError, apply_factor, quantity_factor
 
@@ -986,7 +986,8 @@ def load_study(path_or_name: str | os.PathLike) -> StudySpec:
                 Problem(
                     "",
                     f"neither a bundled study ({', '.join(bundled_studies())}) nor an "
-                    "existing TOML file",
+                    "existing TOML file"
+                    + did_you_mean(str(path_or_name), bundled_studies(), style=";"),
                 )
             ],
         )

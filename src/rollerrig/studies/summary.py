@@ -31,14 +31,13 @@ True
 
 from __future__ import annotations
 
-import difflib
 import json
 import math
 from collections.abc import Sequence
 
 import numpy as np
 
-from rollerrig._validation import ParameterError
+from rollerrig._validation import ParameterError, did_you_mean
 
 __all__ = ["STATUS_OK", "STATUS_PENDING", "failures", "metric_summary", "metric_table"]
 
@@ -123,8 +122,7 @@ def _check_metric(ds, metric: str) -> str:
     names = _metric_names(ds)
     if metric in names and metric in ds.variables:
         return metric
-    close = difflib.get_close_matches(str(metric), names, n=1)
-    hint = f" (did you mean {close[0]!r}?)" if close else ""
+    hint = did_you_mean(str(metric), names)
     raise ParameterError(
         f"study {_study_name(ds)!r} has no metric {metric!r}{hint}; its metrics: "
         f"{', '.join(repr(m) for m in names) or 'none'}. Choose one of them, or add it to "
