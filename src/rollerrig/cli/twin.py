@@ -155,7 +155,11 @@ def simulate(
     ] = WheelDrive.pmsm,
     roller_drive: Annotated[
         RollerDrive,
-        typer.Option(help="Roller drive: induction motor (V/f), its linear fit, ideal, servo."),
+        typer.Option(
+            help="Roller drive: induction (the induction motor under V/f with a response lag), "
+            "induction_linear (its linear fit), ideal_speed, servo, or induction_dq (the "
+            "dynamic dq machine under open-loop V/f, the rig's [roller_drive_vf] settings)."
+        ),
     ] = RollerDrive.induction,
     roller_lag_s: Annotated[
         float | None,
