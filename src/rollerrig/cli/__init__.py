@@ -13,7 +13,8 @@ One module per concern:
   manifest and the run's provenance;
 - :mod:`~rollerrig.cli._options` — shared options and an enum for every choice;
 - :mod:`~rollerrig.cli._inputs` — reading recordings (whole or streamed) and the truth;
-- the commands: :mod:`~rollerrig.cli.contact`, :mod:`~rollerrig.cli.twin` (``simulate``,
+- the commands: :mod:`~rollerrig.cli.contact`, :mod:`~rollerrig.cli.transfer`,
+  :mod:`~rollerrig.cli.twin` (``simulate``,
   ``modes``), :mod:`~rollerrig.cli.studies` (``study run|show|list``),
   :mod:`~rollerrig.cli.frame`, :mod:`~rollerrig.cli.recordings` (``analyze``, ``spectrum``,
   ``filters``), :mod:`~rollerrig.cli.demo`.
@@ -36,6 +37,7 @@ from rollerrig.cli import demo as _demo
 from rollerrig.cli import frame as _frame
 from rollerrig.cli import recordings as _recordings
 from rollerrig.cli import studies as _studies
+from rollerrig.cli import transfer as _transfer
 from rollerrig.cli import twin as _twin
 from rollerrig.cli._boundary import DEBUG_ENV, BoundaryGroup, UserError
 from rollerrig.cli._console import console, err_console, note
@@ -105,6 +107,7 @@ def _root(
 
 COMMANDS = (
     _contact.contact,
+    _transfer.transfer,
     _twin.simulate,
     _twin.modes,
     _frame.frame,

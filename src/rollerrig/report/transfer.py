@@ -1,0 +1,123 @@
+"""Figure and files of a roller-to-track transfer (:mod:`rollerrig.contact.transfer`)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only
+import matplotlib.pyplot as plt
+import numpy as np
+
+from rollerrig.contact.transfer import TransferResult, kalker_creepage
+
+__all__ = ["transfer_figure", "write_transfer"]
+
+_SCATTER = 600
+
+
+def transfer_figure(result: TransferResult):
+    """Measured points, the fitted curve on the roller and the predicted curve on the rail,
+    each with its 95 % band (left); the transfer factor F_track/F_roller with its band (right).
+
+    Parameters
+    ----------
+    result : TransferResult
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    xi = 100 * result.creepage
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.8), gridspec_kw={"width_ratios": [3, 2]})
+    m = result.measured
+    if m is not None:
+        step = max(1, int(np.ceil(m.creep.size / _SCATTER)))
+        ax.plot(
+            100 * kalker_creepage(m.creep[::step]),
+            m.coa[::step],
+            ".",
+            ms=2.5,
+            color="0.6",
+            label="measured on the roller (points fitted)",
+        )
+    r_mm = result.geometry.roller_radius_x * 1e3
+    ax.fill_between(xi, result.roller_low, result.roller_high, color="tab:blue", alpha=0.25, lw=0)
+    ax.plot(
+        xi, result.roller, color="tab:blue", label=f"{result.law} fit, roller r = {r_mm:.0f} mm"
+    )
+    ax.fill_between(xi, result.track_low, result.track_high, color="tab:red", alpha=0.25, lw=0)
+    ax.plot(xi, result.track, color="tab:red", label="predicted on the rail (95 % band)")
+    for name, colour in (("roller", "tab:blue"), ("track", "tab:red")):
+        pk = result.peaks[name]
+        ax.plot(100 * pk["creepage [-]"], pk["coa [-]"], "o", color=colour, ms=4)
+    ax.set_xlabel("creepage ξ (Kalker: referred to the mean rolling speed) [%]")
+    ax.set_ylabel("CoA F/N [-]")
+    ax.set_title(
+        f"Roller to rail: N = {result.normal_load / 1e3:.3g} kN, "
+        f"V = {result.rolling_speed * 3.6:.3g} km/h"
+    )
+    ax.set_xlim(0, xi[-1])
+    ax.set_ylim(0, None)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    bx.fill_between(xi, result.factor_low, result.factor_high, color="tab:purple", alpha=0.25, lw=0)
+    bx.plot(xi, result.factor, color="tab:purple", label="F_rail / F_roller (95 % band)")
+    bx.axhline(
+        result.stiffness_ratio,
+        color="k",
+        ls="--",
+        lw=1,
+        label=f"ratio of G·a·b·C11: {result.stiffness_ratio:.3f}",
+    )
+    bx.axhline(1.0, color="0.5", ls=":", lw=1, label="1: saturation at μN on both")
+    bx.set_xlabel("creepage ξ [%]")
+    bx.set_ylabel("transfer factor at equal creepage [-]")
+    bx.set_title("What the geometry changes")
+    bx.set_xlim(0, xi[-1])
+    bx.grid(True, alpha=0.3)
+    bx.legend(fontsize=8, loc="upper right")
+    fig.text(
+        0.01,
+        0.005,
+        "Surface parameters (slope reduction, μ0, A, B) carried over from the roller as "
+        "measured: an assumption. Band: Monte Carlo of the fit's covariance and the geometry's "
+        "stated uncertainty.",
+        fontsize=7,
+        color="0.3",
+    )
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    return fig
+
+
+def write_transfer(result: TransferResult, out: str | os.PathLike, stem: str) -> list[Path]:
+    """Write ``<stem>-transfer.csv`` (the curves, units on every column, metadata sidecar),
+    ``<stem>-transfer.json`` (the summary) and ``<stem>-transfer.png`` (the figure), each with
+    the run's provenance, atomically, through :mod:`rollerrig.output`.
+
+    Returns
+    -------
+    list of Path
+        The written files.
+    """
+    from rollerrig.output import save_figure, write_json, write_table
+
+    out = Path(out)
+    summary = result.summary()
+    paths = [
+        write_table(
+            out / f"{stem}-transfer.csv",
+            result.columns(),
+            attrs={"law": result.law, "assumptions": result.assumptions},
+            overwrite=True,
+        ),
+        write_json(out / f"{stem}-transfer.json", summary),
+    ]
+    fig = transfer_figure(result)
+    try:
+        paths.append(save_figure(fig, out / f"{stem}-transfer.png"))
+    finally:
+        plt.close(fig)
+    return paths

@@ -1,0 +1,56 @@
+"""``rollerrig transfer``: help, a CSV curve end to end, clear errors."""
+
+import json
+
+import numpy as np
+
+from rollerrig.cli import app
+from rollerrig.contact import polach_creep_curve
+
+
+def test_help_keeps_units(runner):
+    result = runner.invoke(app, ["transfer", "--help"], terminal_width=200)
+    assert result.exit_code == 0
+    text = " ".join(result.output.split())
+    for unit in ("[kN]", "[km/h]", "[mm]", "'creep [-]'", "'coa [-]'", "[m/s]"):
+        assert unit in text, unit
+    assert "transfer" in runner.invoke(app, ["--help"]).output
+
+
+def _curve_csv(path):
+    s = np.linspace(0.0005, 0.08, 40)
+    c = polach_creep_curve(s, 4300.0, 30 / 3.6, 0.348, 0.291, 0.452, 1.89)
+    rows = ["creep [-],coa [-],normal_load [kN],rolling_speed [km/h]"]
+    rows += [f"{a:.9g},{b:.9g},4.3,30" for a, b in zip(s, c.adhesion_coefficient, strict=True)]
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+def test_csv_end_to_end(tmp_path, runner):
+    src = _curve_csv(tmp_path / "curve.csv")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["transfer", str(src), "--draws", "60", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    summary = json.loads((out / "curve-transfer.json").read_text())
+    ratio = summary["transfer_factor"]["small_creepage (= creep stiffness ratio) [-]"]
+    assert abs(1 / ratio - 0.757) < 0.001
+    assert summary["provenance"]["inputs"]["source"]["sha256"]
+    header = (out / "curve-transfer.csv").read_text().splitlines()[0]
+    assert "coa_track [1]" in header and "creep [1]" in header
+    assert (out / "curve-transfer.png").stat().st_size > 20_000
+    assert "carried over" in summary["carried_over_as_measured"]["assumption"]
+
+
+def test_errors_are_one_line(tmp_path, runner):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("creep,coa [-]\n0.1,0.2\n")
+    result = runner.invoke(app, ["transfer", str(bad), "--load-kn", "4.3", "--speed-kmh", "30",
+                                 "--out", str(tmp_path / "o")])  # fmt: skip
+    assert result.exit_code == 2 and "has no unit" in result.output
+    result = runner.invoke(app, ["transfer", str(tmp_path / "none.json"), "--out",
+                                 str(tmp_path / "o")])  # fmt: skip
+    assert result.exit_code == 2
+    src = _curve_csv(tmp_path / "c.csv")
+    result = runner.invoke(app, ["transfer", str(src), "--law", "fastsim", "--out",
+                                 str(tmp_path / "o")])  # fmt: skip
+    assert result.exit_code == 2
