@@ -1,5 +1,6 @@
 """Roller-to-track transfer (issue 19 point 4): invariants, the issue's numbers, CSV inputs."""
 
+import dataclasses
 import math
 import warnings
 
@@ -176,3 +177,24 @@ def test_hostile_csv_is_refused_cleanly_or_read(tmp_path, header, rows):
     except ParameterError:
         return
     assert np.all(np.isfinite(c.creep)) and np.all(np.diff(c.creep) >= 0)
+
+
+def test_the_points_stated_uncertainty_enters_the_band_by_default():
+    """A curve that carries its standard uncertainty (an analysis's) widens the band by it
+    unless the user gives coa_systematic; without it the band is the fit's alone."""
+    from rollerrig.contact.transfer import _stated_systematic
+
+    creep = np.linspace(0.001, 0.03, 40)
+    coa = 0.4 * np.tanh(creep / 0.004)
+    curve = MeasuredCurve(
+        creep=creep,
+        coa=coa,
+        slip_velocity=creep * 8.0,
+        normal_load=np.full(40, 5000.0),
+        rolling_speed=np.full(40, 8.0),
+        coa_uncertainty=0.03 * coa,
+    )
+    assert _stated_systematic(curve) == pytest.approx(0.03)
+    assert (
+        _stated_systematic(dataclasses.replace(curve, coa_uncertainty=np.full(40, np.nan))) is None
+    )

@@ -940,6 +940,19 @@ def _peak(xi, curves):
     return xi[k], np.take_along_axis(curves, k[..., None], axis=-1)[..., 0]
 
 
+def _stated_systematic(measured: MeasuredCurve) -> float | None:
+    """The median relative standard uncertainty u/CoA of the points above half the largest
+    CoA [-], capped below 0.5; None without finite values."""
+    coa = np.asarray(measured.coa, float)
+    u = np.asarray(measured.coa_uncertainty, float)
+    high = coa >= 0.5 * np.max(coa)
+    rel = u[high] / coa[high]
+    rel = rel[np.isfinite(rel)]
+    if rel.size == 0:
+        return None
+    return float(min(np.median(rel), 0.49))
+
+
 def transfer_curve(
     measured: MeasuredCurve,
     geometry: ContactGeometry,
@@ -983,8 +996,10 @@ def transfer_curve(
         Seed of the draws.
     coa_systematic : float, optional
         Relative standard uncertainty of the measured CoA common to all points [-] (a
-        systematic error of the rig: load, torque class, arm); default: none in the band. A
-        number enters each draw as a common factor (1 + δ).
+        systematic error of the rig: load, torque class, arm). A number enters each draw as a
+        common factor (1 + δ). Default: where the points carry their standard uncertainty
+        (an analysis's), the median of u/CoA over the points above half the largest CoA,
+        taken as common to all points (conservative: part of it is random); else none, noted.
     inflate_for_structure : bool
         Inflate the fit's covariance by the square of its residuals' AR(1) factor.
     points : int
@@ -1042,6 +1057,14 @@ def transfer_curve(
     grid = fastsim_grid() if grid is None else grid
     geo = geometry
     notes = list(measured.notes)
+    if coa_systematic is None and measured.coa_uncertainty is not None:
+        coa_systematic = _stated_systematic(measured)
+        if coa_systematic is not None:
+            notes.append(
+                f"the measured CoA's stated uncertainty enters the band as a common relative "
+                f"error u = {coa_systematic:.3g} (the median u/CoA of the points above half the "
+                "largest CoA, taken as common to all points: conservative)"
+            )
     xi_pts = measured.creepage
     y = np.asarray(measured.coa, float)
     w_pts = np.asarray(measured.slip_velocity, float)

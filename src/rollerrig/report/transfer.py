@@ -84,7 +84,12 @@ def transfer_figure(result: TransferResult):
         0.005,
         "Surface parameters (slope reduction, μ0, A, B) carried over from the roller as "
         "measured: an assumption. Band: Monte Carlo of the fit's covariance and the geometry's "
-        "stated uncertainty.",
+        "stated uncertainty"
+        + (
+            ", and the measured CoA's systematic error."
+            if any("systematic" in str(i.get("name", "")) for i in result.band.get("inputs", []))
+            else " (not the measured CoA's systematic error)."
+        ),
         fontsize=7,
         color="0.3",
     )
