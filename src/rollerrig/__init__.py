@@ -30,8 +30,21 @@ The names a notebook needs are importable from the top level (loaded on first us
 ...     normal_load=4300.0, roller_speed=30 / 3.6)
 >>> round(protocol.duration, 2)
 3.02
+
+Top-level names (``help(rollerrig.NAME)`` for each; ``help(rollerrig)`` lists them without
+importing them, so it stays fast):
+
+- the twin: ``Simulation``, ``SolverError``, ``DriveConfig``;
+- experiments: ``Protocol``, ``Hold``, ``RampTorque``, ``StepTorque``, ``ReleaseTorque``,
+  ``SetRollerSpeed``, ``SetNormalLoad``, ``SetFriction``, ``Repeat``, ``load_protocol``;
+- the rig: ``RigParameters``, ``default_rig``, ``load_rig``;
+- recordings and their analysis: ``Recording``, ``read_recording``, ``write_recording``,
+  ``synthetic_recording``, ``analyze``, ``explain_recording``, ``write_analysis``;
+- studies: ``run_study``, ``load_study``, ``open_study``;
+- errors and warnings: ``ParameterError``, ``DomainWarning``.
 """
 
+import sys
 from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 
@@ -81,9 +94,25 @@ _EXPORTS: dict[str, str] = {
 __all__ = ["__version__", *_EXPORTS]
 
 
+def _listed_by_pydoc() -> bool:
+    """Whether the attribute is looked up by ``help(rollerrig)`` listing the module's members
+    (:func:`inspect.getmembers` called from :mod:`pydoc`): the lazy names are then left out
+    rather than imported (every subpackage, seconds), and the docstring lists them."""
+    frame = sys._getframe(2)  # the caller of __getattr__'s caller: getattr is builtin
+    if frame.f_globals.get("__name__") != "inspect":
+        return False
+    for _ in range(8):
+        frame = frame.f_back
+        if frame is None:
+            return False
+        if frame.f_globals.get("__name__") == "pydoc":
+            return True
+    return False
+
+
 def __getattr__(name: str):
     module = _EXPORTS.get(name)
-    if module is None:
+    if module is None or _listed_by_pydoc():
         raise AttributeError(f"module 'rollerrig' has no attribute {name!r}")
     value = getattr(import_module(module), name)
     globals()[name] = value  # later lookups skip this function

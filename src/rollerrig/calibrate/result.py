@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from rollerrig._display import fmt, html_table, pretty_unit, text_block
 from rollerrig.calibrate.problem import ROLLER_DRIVES, FreeParameter, split_values, with_polach
 from rollerrig.calibrate.stats import LJUNG_BOX_LAGS
 from rollerrig.contact.creep import PolachParameters
@@ -299,6 +300,40 @@ class Calibration:
     def standard_errors(self) -> dict[str, float | None]:
         """Key -> standard error [SI] (None where not identified)."""
         return {k: p.standard_error for k, p in self.parameters.items()}
+
+    def _repr_rows(self) -> tuple[str, list[tuple[str, str]]]:
+        """The title and the (what, value) rows of the repr and the HTML table."""
+        source = (self.recording or {}).get("source")
+        name = Path(str(source)).name if source else "a recording"
+        verdict = "valid" if self.valid else "NOT valid: " + "; ".join(self.invalid_reasons)
+        model = "conditional on the model" if self.conditional else "white residuals"
+        title = f"Calibration to {name} ({verdict}; roller drive {self.roller_drive}; {model})"
+        rows = []
+        for key, p in self.parameters.items():
+            unit = pretty_unit(p.unit)
+            if p.identified and p.value is not None:
+                se = fmt(p.standard_error, 2)
+                text = f"{fmt(p.value)} ± {se} {unit} (start {fmt(p.initial)})"
+            else:
+                text = f"not identified ({p.reason or 'the recording does not determine it'})"
+            rows.append((key, text))
+        for name_, ch in self.channels.items():
+            rows.append(
+                (f"residual RMS, {name_}", f"{fmt(ch.rms_before, 3)} -> {fmt(ch.rms_after, 3)} "
+                 f"{pretty_unit(ch.unit)}")
+            )  # fmt: skip
+        rows.append(("warnings", f"{len(self.warnings)} (.warnings); the file: .to_json()"))
+        return title, rows
+
+    def __repr__(self) -> str:
+        """A few lines: validity, each free key with its standard error, the residuals."""
+        title, rows = self._repr_rows()
+        return text_block(title, [f"{what}: {value}" for what, value in rows])
+
+    def _repr_html_(self) -> str:
+        """The same as :meth:`__repr__`, as a small HTML table."""
+        title, rows = self._repr_rows()
+        return html_table(title, rows)
 
     def to_json(self) -> dict[str, Any]:
         """The content of ``calibration.json`` (SI units; null with a reason, never NaN)."""

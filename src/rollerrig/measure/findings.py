@@ -11,6 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from rollerrig._display import fmt, html_table, short_list, text_block
+from rollerrig.fit.model import PARAMETER_NAMES
 from rollerrig.fit.polach import PolachFit
 from rollerrig.measure.budget import CoaBudget
 from rollerrig.measure.facts import recording_facts
@@ -21,6 +23,15 @@ from rollerrig.signal.scoring import StudyRow
 from rollerrig.signal.workflow import ExplainedSpectrum
 
 __all__ = ["TRUTH_SIGMA", "TestAnalysis"]
+
+SYMBOLS = {
+    "static_friction": "μ0",
+    "limit_ratio": "A",
+    "friction_decay": "B",
+    "k_adhesion": "kA",
+    "k_slip": "kS",
+}
+"""Polach's symbols for :data:`rollerrig.fit.model.PARAMETER_NAMES`."""
 
 TRUTH_SIGMA = 3.0
 """Fitted parameters further than this many standard errors from a known truth are flagged."""
@@ -60,6 +71,44 @@ class TestAnalysis:
     analysis_rate: dict | None = None  # rate of the analysis and the decimation before it
     coa_uncertainty: CoaBudget | None = None  # the corrected CoA's uncertainty and budget
     rig_sha256: str | None = None  # rollerrig.output.rig_sha256 of the rig analysed with
+
+    def _repr_rows(self) -> tuple[str, list[tuple[str, str]]]:
+        """The title and the (what, value) rows of the repr and the HTML table."""
+        from pathlib import Path
+
+        source = self.recording.metadata.get("source")
+        name = Path(str(source)).name if source else "a recording"
+        title = f"TestAnalysis of {name} on {self.rig_name}"
+        rec = self.recording
+        rows = [
+            ("recording", f"{rec.time.size} samples at {fmt(rec.sample_rate)} Hz, "
+             f"{fmt(rec.duration)} s"),
+            ("phases", f"{len(self.phases)} ({short_list([p.name for p in self.phases], 4)})"),
+            ("smoothing", f"Savitzky-Golay, order {self.smoothing_order}, "
+             f"{self.smoothing_window} samples"),
+        ]  # fmt: skip
+        for label, fit in (("corrected CoA", self.fit), ("rig's CoA", self.fit_rig_coa)):
+            if fit is None:
+                rows.append((f"Polach fit, {label}", "none"))
+                continue
+            values = dict(zip(PARAMETER_NAMES, fit.parameters.as_tuple(), strict=True))
+            text = ", ".join(
+                f"{SYMBOLS[k]} {fmt(v, 3)} ± {fmt(fit.stderr.get(k), 2)}" for k, v in values.items()
+            )
+            verdict = "identifiable" if fit.identifiable else "not identifiable (see .notes)"
+            rows.append((f"Polach fit, {label}", f"{text}; RMS {fmt(fit.rmse, 3)}; {verdict}"))
+        rows.append(("notes", f"{len(self.notes)} (.notes); every result: .summary()"))
+        return title, rows
+
+    def __repr__(self) -> str:
+        """A few lines: the recording, phases, smoothing, the Polach fits and their verdicts."""
+        title, rows = self._repr_rows()
+        return text_block(title, [f"{what}: {value}" for what, value in rows])
+
+    def _repr_html_(self) -> str:
+        """The same as :meth:`__repr__`, as a small HTML table."""
+        title, rows = self._repr_rows()
+        return html_table(title, rows)
 
     @property
     def smoothing_tuned_at(self) -> float | None:

@@ -8,11 +8,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
+from rollerrig._display import fmt, html_table, short_list, text_block
 from rollerrig._validation import ParameterError
 
 __all__ = ["CANONICAL_CHANNELS", "ChannelLookup", "Recording", "RecordingError"]
@@ -169,6 +171,39 @@ class Recording(ChannelLookup):
             self.units,
             self.metadata,
         )
+
+    def _repr_lines(self) -> tuple[str, list[str]]:
+        source = self.metadata.get("source")
+        title = (
+            f"Recording: {self.time.size} samples at {fmt(self.sample_rate)} Hz, "
+            f"{fmt(self.duration)} s"
+        )
+        lines = [
+            f"channels ({len(self.channels)}): "
+            + short_list([f"{k} [{self.units[k]}]" for k in self.channels])
+        ]
+        if source:
+            fmt_name = self.metadata.get("format")
+            lines.append(f"from {Path(str(source)).name}" + (f" ({fmt_name})" if fmt_name else ""))
+        notes = list(self.metadata.get("notes") or [])
+        if notes:
+            lines.append(f"{len(notes)} reader note(s): .metadata['notes']")
+        return title, lines
+
+    def __repr__(self) -> str:
+        """A few lines: size, rate, duration, channels with units, source file."""
+        return text_block(*self._repr_lines())
+
+    def _repr_html_(self) -> str:
+        """A small table for notebooks: each channel with its unit and range."""
+        title, lines = self._repr_lines()
+        rows = []
+        for name, values in self.channels.items():
+            finite = values[np.isfinite(values)]
+            low, high = (finite.min(), finite.max()) if finite.size else (None, None)
+            rows.append((name, self.units[name], fmt(low), fmt(high)))
+        note = "; ".join(lines[1:])
+        return html_table(title, rows, header=("channel", "unit", "min", "max"), note=note)
 
     def to_dataset(self):
         """The recording as an ``xarray.Dataset`` (units in the attributes)."""

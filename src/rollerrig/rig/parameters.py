@@ -36,6 +36,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from rollerrig._display import fmt, html_table, pretty_unit, text_block
 from rollerrig._toml import parse_toml, read_toml
 from rollerrig._validation import FieldProblem, Problem, show_value
 from rollerrig.output import write_text
@@ -103,6 +104,42 @@ class RigParameters(BaseModel):
         default_factory=dict,
         description="'section.key' -> {'value', 'unit', 'source' | 'assumption'} as written.",
     )
+
+    def _display_rows(self, sections=("inertia", "stiffness", "damping", "geometry")):
+        """(section, key, value, unit) of the chain's sections, for the repr and HTML."""
+        rows = []
+        for section in sections:
+            model = getattr(self, section)
+            for key, field in type(model).model_fields.items():
+                rows.append((section, key, getattr(model, key), pretty_unit(si_unit_of(field))))
+        return rows
+
+    def __repr__(self) -> str:
+        """A few lines: the rig's name, its inertias, stiffnesses and radii."""
+        lines = []
+        for section in ("inertia", "stiffness", "geometry"):
+            rows = self._display_rows((section,))
+            units = sorted({r[3] for r in rows})
+            unit = f" [{units[0]}]" if len(units) == 1 else ""
+            lines.append(
+                f"{section}{unit}: " + ", ".join(f"{key} {fmt(value)}" for _, key, value, _ in rows)
+            )
+        lines.append(
+            f"{len(type(self).model_fields) - 1} sections; every value: .to_dict(), "
+            "its source: .provenance"
+        )
+        return text_block(f"RigParameters {self.meta.name!r}", lines)
+
+    def _repr_html_(self) -> str:
+        """The rig's name and its chain (inertias, stiffnesses, damping, radii) as a table."""
+        chain = self._display_rows()
+        rows = [(f"{sec}.{key}", fmt(value), unit) for sec, key, value, unit in chain]
+        return html_table(
+            f"RigParameters {self.meta.name!r}",
+            rows,
+            header=("key", "value", "unit"),
+            note=self.meta.description,
+        )
 
     def to_dict(self, *, include_provenance: bool = False) -> dict[str, dict[str, Any]]:
         """Plain nested dict of SI values ``{section: {key: value}}`` (for provenance records).
