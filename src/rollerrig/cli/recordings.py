@@ -22,7 +22,7 @@ from rollerrig.cli._options import (
     RigOption,
     load_rig,
 )
-from rollerrig.cli._outputs import command_outputs
+from rollerrig.cli._outputs import command_outputs, safe_file_name
 
 __all__ = ["analyze", "filters", "print_analysis", "spectrum"]
 
@@ -52,6 +52,15 @@ def analyze(
     ] = False,
     out: OutOption = DEFAULT_OUT,
     study: Annotated[bool, typer.Option(help="Run the full smoothing-filter study.")] = True,
+    on_track: Annotated[
+        bool,
+        typer.Option(
+            "--on-track",
+            help="Also predict the measured creep curve on a tangent rail with the roller's "
+            "crown (Polach law; `rollerrig transfer` for other rails and laws): an 'On track' "
+            "section in the report and <name>-transfer.csv/.json/.png.",
+        ),
+    ] = False,
     lenient: LenientOption = False,
 ) -> None:
     """Analyse an adhesion test: phases, corrected CoA with its uncertainty, creep-CoA branches,
@@ -84,16 +93,55 @@ def analyze(
             result = analyze_test(
                 loaded, rig, truth=truth_ds, run_study=study, calibration=calibrated
             )
+        sections = [_calibration_section(calibration, calibrated)]
+        if on_track:
+            sections.append(_on_track_section(result, rig, stage.dir, recording.stem))
         write_analysis(
             result,
             stage.dir,
             recording.stem,
             source=str(recording),
             truth=truth_ds,
-            extra_sections=_calibration_section(calibration, calibrated),
+            extra_sections=_sections(sections),
         )
     print_analysis(result)
     print_written(stage.written)
+
+
+def _sections(sections):
+    """One report hook running every section that is not None (or None without any)."""
+    sections = [f for f in sections if f is not None]
+    if not sections:
+        return None
+
+    def run(rep):
+        for section in sections:
+            section(rep)
+
+    return run
+
+
+def _on_track_section(result, rig, out: Path, stem: str):
+    """The transfer of the analysis's curve to a tangent rail (written beside the analysis)
+    and its report section; a note and no section when the curve cannot be transferred."""
+    from rollerrig.contact.transfer import (
+        ContactGeometry,
+        RailGeometry,
+        curve_from_analysis,
+        transfer_curve,
+    )
+    from rollerrig.report.transfer import transfer_section, write_transfer
+
+    try:
+        measured = curve_from_analysis(result, rig)
+        transferred = transfer_curve(
+            measured, ContactGeometry.from_rig(rig), RailGeometry(), "polach"
+        )
+    except ParameterError as exc:
+        note(f"on track: not made ({exc})")
+        return None
+    write_transfer(transferred, out, safe_file_name(stem))
+    return lambda rep: transfer_section(rep, transferred)
 
 
 def _calibration_section(path: Path | None, calibrated: dict | None):

@@ -184,7 +184,7 @@ def transfer(
     for line in result.assumptions:
         note(line)
     for line in result.notes:
-        console.print(Text(line), soft_wrap=True)
+        note(line)
     print_written(stage.written)
 
 

@@ -94,6 +94,7 @@ __all__ = [
     "MeasuredCurve",
     "RailGeometry",
     "TransferResult",
+    "curve_from_analysis",
     "kalker_creepage",
     "read_analysis",
     "read_curve_csv",
@@ -437,7 +438,7 @@ def read_analysis(path, rig=None) -> MeasuredCurve:
     """
     import xarray as xr
 
-    from rollerrig.measure.segmentation import Phase, adhesion_branches
+    from rollerrig.measure.segmentation import Phase
     from rollerrig.output import rig_sha256
     from rollerrig.rig.parameters import default_rig
 
@@ -474,9 +475,81 @@ def read_analysis(path, rig=None) -> MeasuredCurve:
             f"(sha256 {str(analysed_with['sha256'])[:12]}...), not the rig given here "
             f"({rig.meta.name!r}, {rig_sha256(rig)[:12]}...): pass the analysis's rig with --rig"
         )
-    t = np.asarray(ds["time"].values, float)
-    creep = np.asarray(ds["creep_smoothed"].values, float)
-    coa = np.asarray(ds["coa_corrected"].values, float)
+    u = None
+    if "coa_corrected_standard_uncertainty" in ds:
+        u = np.asarray(ds["coa_corrected_standard_uncertainty"].values, float)
+    channels = {name: np.asarray(ds[name].values, float) for name in _ANALYSIS_CHANNELS}
+    return _curve_from_channels(
+        np.asarray(ds["time"].values, float),
+        channels,
+        u,
+        phases,
+        rig,
+        source=str(json_path),
+        notes=notes,
+        fit=summary.get("polach_fit_corrected_coa"),
+        sha=analysed_with.get("sha256"),
+        where=str(nc_path),
+    )
+
+
+def curve_from_analysis(result, rig=None) -> MeasuredCurve:
+    """The ascending-branch creep–CoA points of an analysis in memory
+    (:func:`rollerrig.measure.analysis.analyze_test`'s result), as :func:`read_analysis`
+    takes them from its files.
+
+    Parameters
+    ----------
+    result : TestAnalysis
+        The analysis.
+    rig : RigParameters, optional
+        The rig it was made with (its ``[arm]`` puts the CoA on the contact's load); default
+        the bundled rig.
+
+    Returns
+    -------
+    MeasuredCurve
+
+    Raises
+    ------
+    ParameterError
+        Too few points or a missing channel.
+    """
+    from rollerrig.rig.parameters import default_rig
+
+    rig = default_rig() if rig is None else rig
+    rec = result.recording
+    missing = [c for c in _ANALYSIS_CHANNELS if c not in rec]
+    if missing:
+        raise ParameterError(f"the analysis has no channels {missing}")
+    channels = {name: np.asarray(rec[name], float) for name in _ANALYSIS_CHANNELS}
+    u = None
+    budget = getattr(result, "coa_uncertainty", None)
+    if budget is not None:
+        unc = budget.uncertainty
+        u = np.interp(rec.time, unc.time, np.asarray(unc.u, float))
+    fit = result.summary().get("polach_fit_corrected_coa") if hasattr(result, "summary") else None
+    return _curve_from_channels(
+        np.asarray(rec.time, float),
+        channels,
+        u,
+        list(result.phases),
+        rig,
+        source="the analysis",
+        notes=[],
+        fit=fit,
+        sha=getattr(result, "rig_sha256", None),
+        where="the analysis",
+    )
+
+
+def _curve_from_channels(t, ch, u, phases, rig, *, source, notes, fit, sha, where):
+    """The points the analysis's fits took (ascending branches, creep > 1e-4, CoA > 0.01) on
+    the contact's load of the rig's arm."""
+    from rollerrig.measure.segmentation import adhesion_branches
+
+    creep = ch["creep_smoothed"]
+    coa = ch["coa_corrected"]
     branches = adhesion_branches(t, creep, phases)
     points = np.array([], dtype=int)
     if branches:
@@ -485,19 +558,17 @@ def read_analysis(path, rig=None) -> MeasuredCurve:
     points = points[np.isfinite(creep[points]) & np.isfinite(coa[points])]
     if points.size < _MIN_POINTS:
         raise ParameterError(
-            f"{nc_path}: {points.size} ascending-branch points with creep > 1e-4 and CoA > 0.01"
+            f"{where}: {points.size} ascending-branch points with creep > 1e-4 and CoA > 0.01"
             f", {_MIN_POINTS} needed"
         )
-    spring = np.asarray(ds["normal_load"].values, float)[points]
+    spring = ch["normal_load"][points]
     arm = rig.arm
     load = (spring + arm.dead_weight) / (1.0 - arm.transfer_ratio * coa[points])
-    speed = np.asarray(ds["roller_speed"].values, float)[points] * rig.geometry.roller_radius_x
-    u = None
-    if "coa_corrected_standard_uncertainty" in ds:
-        u = np.asarray(ds["coa_corrected_standard_uncertainty"].values, float)[points]
+    speed = ch["roller_speed"][points] * rig.geometry.roller_radius_x
+    if u is not None:
+        u = u[points]
         if not np.all(np.isfinite(u)):
             u = None
-    fit = summary.get("polach_fit_corrected_coa")
     if isinstance(fit, dict) and fit.get("points") not in (None, points.size):
         notes.append(
             f"the analysis's Polach fit used {fit.get('points')} points, {points.size} read here"
@@ -510,14 +581,14 @@ def read_analysis(path, rig=None) -> MeasuredCurve:
     return MeasuredCurve(
         creep=creep[points],
         coa=coa[points],
-        slip_velocity=np.asarray(ds["slip_velocity_smoothed"].values, float)[points],
+        slip_velocity=ch["slip_velocity_smoothed"][points],
         normal_load=load,
         rolling_speed=speed,
         coa_uncertainty=u,
-        source=str(json_path),
+        source=source,
         notes=tuple(notes),
         analysis_fit=fit if isinstance(fit, dict) else None,
-        rig_sha256=analysed_with.get("sha256"),
+        rig_sha256=sha,
     )
 
 

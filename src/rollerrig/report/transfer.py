@@ -126,3 +126,48 @@ def write_transfer(result: TransferResult, out: str | os.PathLike, stem: str) ->
     finally:
         plt.close(fig)
     return paths
+
+
+def transfer_section(rep, result: TransferResult) -> None:
+    """The report's "On track" section (:class:`rollerrig.report.html.HtmlReport`): the curve
+    measured on the roller predicted on the rail, its band, the assumptions and the figure."""
+    pr, pt = result.peaks["roller"], result.peaks["track"]
+    rep.heading("On track: the measured curve predicted on the rail")
+    rep.paragraph(
+        f"Law {result.law}, fitted on the roller and evaluated on the rail at the same normal "
+        f"load ({result.normal_load / 1e3:.3g} kN) and rolling speed "
+        f"({result.rolling_speed * 3.6:.3g} km/h); creepage ξ referred to the mean rolling "
+        "speed (Kalker), converted from the rig's creep (Kayaalp eq. 4.21)."
+    )
+    lo, hi = result.elastic["ratio_track_over_roller"]["creep_stiffness_95"]
+    rep.table(
+        ["quantity", "roller", "rail", "rail / roller"],
+        [
+            [
+                "peak CoA (95 %)",
+                f"{pr['coa [-]']:.3f} ({pr['coa_95 [-]'][0]:.3f}–{pr['coa_95 [-]'][1]:.3f})",
+                f"{pt['coa [-]']:.3f} ({pt['coa_95 [-]'][0]:.3f}–{pt['coa_95 [-]'][1]:.3f})",
+                f"{pt['coa [-]'] / pr['coa [-]']:.3f}",
+            ],
+            [
+                "peak creepage ξ [%]",
+                f"{100 * pr['creepage [-]']:.2f}",
+                f"{100 * pt['creepage [-]']:.2f}",
+                f"{pt['creepage [-]'] / pr['creepage [-]']:.3f}",
+            ],
+            [
+                "creep stiffness G·a·b·C11 (95 %)",
+                "",
+                "",
+                f"{result.stiffness_ratio:.3f} ({lo:.3f}–{hi:.3f})",
+            ],
+        ],
+    )
+    for line in result.assumptions:
+        rep.paragraph(line, note=True)
+    fig = transfer_figure(result)
+    try:
+        rep.figure(fig, "The curve measured on the roller and predicted on the rail, with the "
+                   "95 % band; right: the transfer factor at equal creepage.")  # fmt: skip
+    finally:
+        plt.close(fig)
