@@ -333,7 +333,7 @@ p = Protocol.from_steps(
     normal_load=4300.0, roller_speed=30 / 3.6,
 )
 ds = Simulation(experiment=p).run()
-s = fast._integrate.stats
+s = fast._integrate_exp.stats  # the default method's driver (ETDRK4, ROS34PW2 inside)
 print(json.dumps({
     "hits": sum(s.cache_hits.values()), "misses": sum(s.cache_misses.values()),
     "compiled_before": before, "t56": ds.t56.values.tolist(), "wall": time.perf_counter() - t0,
@@ -380,7 +380,7 @@ def test_a_damaged_driver_cache_is_rebuilt_in_a_fresh_process(five_runs, tmp_pat
     shutil.copytree(cache, damaged)
     touched = 0
     for p in damaged.rglob("*"):  # the machine code a warm run loads
-        if ("fast._integrate-" in p.name or "rig_terms_series" in p.name) and p.suffix in (
+        if ("fast._integrate_exp-" in p.name or "rig_terms_series" in p.name) and p.suffix in (
             ".nbc",
             ".nbi",
         ):

@@ -148,7 +148,7 @@ def simulate(
     rig_file: RigOption = None,
     out: OutOption = DEFAULT_OUT,
     solver: Annotated[
-        Solver, typer.Option(help="fast (numba ROS34PW2) or reference (scipy Radau).")
+        Solver, typer.Option(help="fast (numba ETDRK4, ROS34PW2 fallback) or reference (scipy Radau).")
     ] = Solver.fast,
     wheel_drive: Annotated[
         WheelDrive, typer.Option(help="Wheel drive: PMSM model or ideal torque source.")

@@ -65,6 +65,7 @@ SOURCES = (
     "solve/_compiled_dq.py",
     "solve/_wdriver.py",
     "solve/ros34pw.py",
+    "solve/etdrk4.py",
     "solve/fast.py",
     "rig/model.py",
     "rig/model_dq.py",

@@ -26,7 +26,7 @@ _KERNELS = (
 for _fn in _KERNELS:
     register_jitable(_fn)
 
-rig_dq_rhs = _cache.njit(_model_dq.rig_dq_rhs)
+rig_dq_rhs = _cache.njit(_model_dq.rig_dq_rhs, error_model="numpy")  # as _compiled.rig_rhs
 """Compiled :func:`rollerrig.rig.model_dq.rig_dq_rhs`."""
 
 rig_terms_series = _rig.rig_terms_series

@@ -1,7 +1,12 @@
-"""Fast backend: the compiled model integrated by the ROS34PW2 W-method, segment by segment.
+"""Fast backend: the compiled model integrated segment by segment, by ETDRK4 or ROS34PW2.
 
-One compiled call runs a whole experiment (every protocol segment, with its own friction
-parameters); :func:`integrate_batch` runs many variants of it in parallel threads, for sweeps.
+The default method is the exponential integrator ETDRK4 (:mod:`rollerrig.solve.etdrk4`): the
+stator mounts and the contact exact, classical RK4 on the rest, a fixed step per protocol
+segment set by the explicit part's stability, the adaptive ROS34PW2 W-method
+(:mod:`rollerrig.solve.ros34pw`) as the fallback of a segment it cannot take (near standstill);
+``method="ros34pw2"`` runs ROS34PW2 throughout. One compiled call runs a whole experiment
+(every protocol segment, with its own friction parameters); :func:`integrate_batch` runs many
+variants of it in parallel threads, for sweeps.
 Both are compiled once and then loaded from the on-disk cache (:mod:`rollerrig.solve._cache`;
 :func:`is_compiled` says whether a run will compile). A failure is a status, not an exception:
 the stats give it with the simulated time reached and :func:`failure_reason` says what failed
@@ -13,8 +18,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from rollerrig.rig.model import N_STATES
-from rollerrig.solve import _cache
+from rollerrig.rig.model import N_STATES, X_FRAME_V, X_OMEGA, X_THETA
+from rollerrig.solve import _cache, etdrk4
 from rollerrig.solve import _wdriver as _wd
 from rollerrig.solve._compiled import RIG
 from rollerrig.solve.ros34pw import (
@@ -29,6 +34,7 @@ from rollerrig.solve.ros34pw import (
 
 __all__ = [
     "FAST_DEFAULTS",
+    "METHODS",
     "SWEEP_H_MAX",
     "default_tolerances",
     "dq_tolerances",
@@ -38,15 +44,30 @@ __all__ = [
     "is_compiled",
 ]
 
-FAST_DEFAULTS = {"rtol": 1e-5, "angle_atol": 1e-6, "h_max": 0.9e-3, "jac_every": 100}
-"""Default settings of the fast backend: relative tolerance [-], absolute tolerance of the
-angles [rad], largest step [s], Jacobian refresh interval [accepted steps].
+METHODS = ("etdrk4", "ros34pw2")
+"""Methods of the fast backend: the exponential integrator (default) and the W-method."""
 
-Chosen for max |ΔT56| <= 0.1 N.m: on the bundled 30 s dry experiment at 250 Hz output it is
-0.075 N.m against Radau at rtol 1e-10 (``python benchmarks/run.py``). In this regime the error
-is set by ``h_max``, not by the tolerances, and it is the phase drift of the lightly damped
-13.8 Hz shaft mode (damping ratio about 0.004) ringing for seconds after a torque release:
-third order in ``h_max`` (2, 1, 0.9, 0.8 ms give 0.86, 0.103, 0.075, 0.053 N.m).
+FAST_DEFAULTS = {
+    "method": "etdrk4",
+    "rtol": 1e-5,
+    "angle_atol": 1e-6,
+    "h_max": 0.9e-3,
+    "jac_every": 100,
+    "exp_step": 1.6e-3,
+    "relinearise": 4,
+}
+"""Default settings of the fast backend: the method (:data:`METHODS`); for ROS34PW2 (also the
+fallback of ETDRK4) the relative tolerance [-], absolute tolerance of the angles [rad], largest
+step [s] and Jacobian refresh interval [accepted steps]; for ETDRK4 the largest fixed step
+``exp_step`` [s] (shorter where the explicit part's stability needs it) and the interval of the
+contact block's re-linearisation ``relinearise`` [steps].
+
+ROS34PW2's were chosen for max |ΔT56| <= 0.1 N.m: on the bundled 30 s dry experiment at 250 Hz
+output 0.075 N.m against Radau at rtol 1e-10 (``python benchmarks/run.py``), an error set by
+``h_max`` (third order: 2, 1, 0.9, 0.8 ms give 0.86, 0.103, 0.075, 0.053 N.m), the phase drift
+of the lightly damped 13.8 Hz shaft mode ringing for seconds after a torque release. ETDRK4 is
+of fourth order, with the stiff mounts and contact exact: ``exp_step`` 1.6 ms is the step of
+max |ΔT56| <= 0.05 N.m on that experiment (``python benchmarks/run.py`` prints the figures).
 """
 
 SWEEP_H_MAX = 2e-3
@@ -198,25 +219,79 @@ def _integrate(
     return status
 
 
+_exp_segment = etdrk4.bind(RIG, "rig")
+
+
+@_cache.njit
+def _integrate_exp(
+    x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, t_stop,
+    exp_step, relinearise, static_blocks, dynamic_blocks,
+):  # fmt: skip
+    """:func:`_integrate` with ETDRK4 on every segment it can take, ROS34PW2 on the others
+    (``stats[3]`` counts those)."""
+    n_out = t_out.shape[0]
+    x = x0.copy()
+    k = 0
+    t_stop[0] = bounds[0, 0]
+    while k < n_out and t_out[k] <= bounds[0, 0]:
+        x_out[k, :] = x
+        k += 1
+    status = STATUS_OK
+    for s in range(bounds.shape[0]):
+        t0 = bounds[s, 0]
+        t1 = bounds[s, 1]
+        while k < n_out and t_out[k] <= t0 + _LANDING_TOLERANCE * max(1.0, abs(t0)):
+            x_out[k, :] = x
+            k += 1
+        k_end = k
+        while k_end < n_out and t_out[k_end] <= t1:
+            k_end += 1
+        m = k_end - k
+        ts = np.empty(m + 1)
+        ts[:m] = t_out[k:k_end]
+        ts[m] = t1
+        xs = np.empty((m + 1, x.shape[0]))
+        done = _exp_segment(
+            x, t0, t1, ts, params[s], tables, exp_step, relinearise, static_blocks,
+            dynamic_blocks, xs, stats,
+        )  # fmt: skip
+        if done == 0:
+            t_stop[0] = t1
+        else:
+            stats[3] += 1
+            n_steps, n_rej, n_jac, status = _rig_integrate(
+                x, t0, t1, ts, params[s], tables, rtol, atol, 0.0, h_max, jac_every, xs,
+                DEFAULT_MAX_STEPS, FT_NONE, None, t_stop, _DENSE,
+            )  # fmt: skip
+            stats[0] += n_steps
+            stats[1] += n_rej
+            stats[2] += n_jac
+            if status != STATUS_OK:
+                for j in range(k, n_out):
+                    x_out[j, :] = np.nan
+                return status
+        x_out[k:k_end, :] = xs[:m]
+        x = xs[m].copy()
+        k = k_end
+    return status
+
+
 @_cache.njit(parallel=True)
 def _integrate_batch(
-    x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, t_stop, status
-):
+    x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, t_stop, status,
+    method, exp_step, relinearise, static_blocks, dynamic_blocks,
+):  # fmt: skip
     for i in numba.prange(x0.shape[0]):
-        status[i] = _integrate(
-            x0[i],
-            bounds,
-            params[i],
-            tables,
-            t_out,
-            rtol,
-            atol,
-            h_max,
-            jac_every,
-            x_out[i],
-            stats[i],
-            t_stop[i],
-        )
+        if method == 0:
+            status[i] = _integrate_exp(
+                x0[i], bounds, params[i], tables, t_out, rtol, atol, h_max, jac_every, x_out[i],
+                stats[i], t_stop[i], exp_step, relinearise, static_blocks, dynamic_blocks[i],
+            )  # fmt: skip
+        else:
+            status[i] = _integrate(
+                x0[i], bounds, params[i], tables, t_out, rtol, atol, h_max, jac_every, x_out[i],
+                stats[i], t_stop[i],
+            )  # fmt: skip
 
 
 _DQ: dict[str, object] = {}
@@ -238,11 +313,14 @@ def _dq_drivers():
 
         ns = dict(globals())
         ns["_rig_integrate"] = RIG_DQ.integrate
+        ns["_exp_segment"] = etdrk4.bind(RIG_DQ, "rig_dq")
         single = _wd._compiled_copy(_integrate.py_func, ns, "rig_dq", True)
         ns["_integrate"] = single
+        single_exp = _wd._compiled_copy(_integrate_exp.py_func, ns, "rig_dq", True)
+        ns["_integrate_exp"] = single_exp
         batch = _wd._compiled_copy(_integrate_batch.py_func, ns, "rig_dq", True, parallel=True)
-        _DQ["single"], _DQ["batch"] = single, batch
-    return _DQ["single"], _DQ["batch"]
+        _DQ["single"], _DQ["batch"], _DQ["single_exp"] = single, batch, single_exp
+    return _DQ["single"], _DQ["batch"], _DQ["single_exp"]
 
 
 def _settings(rtol, h_max, jac_every, angle_atol, dq=False):
@@ -256,21 +334,52 @@ def _settings(rtol, h_max, jac_every, angle_atol, dq=False):
     return rt, at, h_max, jac_every
 
 
+_STATIC_BLOCKS = np.array(
+    [[X_THETA + 0, X_OMEGA + 0, -1], [X_THETA + 6, X_OMEGA + 6, -1]], dtype=np.int64
+)
+"""ETDRK4's constant linear blocks: the PMSM and AM stator mounts, (θ1, ω1) and (θ7, ω7)."""
+
+
+def _exp_settings(inputs, method, exp_step, relinearise, h_max):
+    """``(method code, step [s], relinearise [steps], static blocks, dynamic blocks)``.
+
+    The dynamic block is the contact's (ω4, ω5), with a flexible frame (ω4, ω5, v_f). An
+    explicit ``h_max`` caps ETDRK4's step as well (the sweeps' setting).
+    """
+    method = FAST_DEFAULTS["method"] if method is None else method
+    if method not in METHODS:
+        from rollerrig._validation import ParameterError
+
+        raise ParameterError(f"method must be one of {METHODS}, got {method!r}")
+    step = FAST_DEFAULTS["exp_step"] if exp_step is None else float(exp_step)
+    if h_max is not None:
+        step = min(step, float(h_max))
+    relinearise = FAST_DEFAULTS["relinearise"] if relinearise is None else int(relinearise)
+    contact = [X_OMEGA + 3, X_OMEGA + 4, -1]
+    if inputs.drives.frame != "rigid":
+        contact[2] = X_FRAME_V
+    dynamic = np.array([contact], dtype=np.int64)
+    return METHODS.index(method), step, max(1, relinearise), _STATIC_BLOCKS, dynamic
+
+
 def _segment_arrays(segments):
     bounds = np.array([[s.start, s.end] for s in segments], dtype=float)
     params = np.stack([s.params for s in segments])
     return bounds, params
 
 
-def _stats(counts, status, t_stop) -> dict:
+def _stats(counts, status, t_stop, method="ros34pw2") -> dict:
     status = int(status)
     out = {
+        "method": method,
         "accepted_steps": int(counts[0]),
         "rejected_steps": int(counts[1]),
         "jacobians": int(counts[2]),
         "status": status,
         "t_stop": float(t_stop),
     }
+    if method == "etdrk4":
+        out["fallback_segments"] = int(counts[3])
     if status != STATUS_OK:
         out["reason"] = failure_reason(status, float(t_stop))
     return out
@@ -288,9 +397,9 @@ def is_compiled(batch: bool = False, dq: bool = False) -> bool:
         Ask about the drivers of the model with the dq roller drive (``"induction_dq"``).
     """
     if dq:
-        single, parallel = _dq_drivers()
+        _, parallel, single = _dq_drivers()
         return _cache.is_cached(parallel if batch else single)
-    return _cache.is_cached(_integrate_batch if batch else _integrate)
+    return _cache.is_cached(_integrate_batch if batch else _integrate_exp)
 
 
 def integrate_experiment(
@@ -301,6 +410,9 @@ def integrate_experiment(
     jac_every=None,
     angle_atol=None,
     progress=None,
+    method=None,
+    exp_step=None,
+    relinearise=None,
 ):
     """Integrate one experiment with the fast backend.
 
@@ -322,6 +434,14 @@ def integrate_experiment(
         ``progress(t_reached, t_end)`` [s], called after each smooth segment of the protocol
         (the compiled driver then runs segment by segment; the result is the same to the bit,
         since every segment starts its integration afresh anyway).
+    method : {"etdrk4", "ros34pw2"}, optional
+        The integrator (:data:`METHODS`; default :data:`FAST_DEFAULTS`). ``rtol``,
+        ``angle_atol``, ``h_max`` and ``jac_every`` are ROS34PW2's (ETDRK4's fallback);
+        an explicit ``h_max`` also caps ETDRK4's step.
+    exp_step : float, optional
+        ETDRK4's largest step [s].
+    relinearise : int, optional
+        ETDRK4 re-linearises the contact block every this many steps [-].
 
     Returns
     -------
@@ -330,18 +450,28 @@ def integrate_experiment(
         drive ``"induction_dq"``, whose model :func:`_dq_drivers` compiles on first use);
         NaN from the first output time the integration did not reach.
     stats : dict
-        ``accepted_steps``, ``rejected_steps``, ``jacobians``, ``status`` (0: success),
-        ``t_stop`` (the simulated time reached [s]) and, on a failure, ``reason``
-        (:func:`failure_reason`).
+        ``method``, ``accepted_steps``, ``rejected_steps``, ``jacobians`` (linearisations
+        with ETDRK4), ``status`` (0: success), ``t_stop`` (the simulated time reached [s]),
+        with ETDRK4 ``fallback_segments`` (segments ROS34PW2 took) and, on a failure,
+        ``reason`` (:func:`failure_reason`).
     """
     dq = _uses_dq(inputs)
+    code, step, relin, static, dynamic = _exp_settings(inputs, method, exp_step, relinearise, h_max)
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
-    integrate = _dq_drivers()[0] if dq else _integrate
+    drivers = _dq_drivers() if dq else (_integrate, None, _integrate_exp)
+    if code == 0:
+        single = drivers[2]
+
+        def integrate(*args):
+            return single(*args, step, relin, static, dynamic)
+    else:
+        integrate = drivers[0]
+    name = METHODS[code]
     n_states = inputs.initial_state.size
     bounds, params = _segment_arrays(inputs.segments)
     t_out = np.ascontiguousarray(t_out, dtype=float)
     x_out = np.empty((t_out.size, n_states))
-    counts = np.zeros(3, dtype=np.int64)
+    counts = np.zeros(4, dtype=np.int64)
     t_stop = np.zeros(1)
     if progress is None:
         status = integrate(
@@ -358,7 +488,7 @@ def integrate_experiment(
             counts,
             t_stop,
         )
-        return x_out, _stats(counts, status, t_stop[0])
+        return x_out, _stats(counts, status, t_stop[0], name)
     # Segment by segment, with the state carried over: the outputs up to each segment's end
     # (those of the first one from the start), as the single call lands them.
     x = np.ascontiguousarray(inputs.initial_state, dtype=float)
@@ -383,10 +513,20 @@ def integrate_experiment(
         x = chunk[-1].copy()
         k = k_end
         progress(min(float(bounds[s, 1]), t_end), t_end)
-    return x_out, _stats(counts, status, t_stop[0])
+    return x_out, _stats(counts, status, t_stop[0], name)
 
 
-def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, angle_atol=None):
+def integrate_batch(
+    inputs_list,
+    t_out,
+    rtol=None,
+    h_max=None,
+    jac_every=None,
+    angle_atol=None,
+    method=None,
+    exp_step=None,
+    relinearise=None,
+):
     """Integrate several variants of one experiment in parallel (numba threads).
 
     All variants must share the protocol (segments and tables); they differ in parameters and
@@ -397,7 +537,7 @@ def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, a
     ----------
     inputs_list : sequence of ModelInputs
         The variants (:func:`rollerrig.rig.assemble.assemble`).
-    t_out, rtol, h_max, jac_every, angle_atol
+    t_out, rtol, h_max, jac_every, angle_atol, method, exp_step, relinearise
         As in :func:`integrate_experiment`.
 
     Returns
@@ -415,6 +555,11 @@ def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, a
             "integrate_batch: the variants mix the roller drive 'induction_dq' with other "
             "roller drives (different models); run them in separate batches"
         )
+    code, step, relin, static, _ = _exp_settings(first, method, exp_step, relinearise, h_max)
+    # Each variant's contact block (a flexible frame adds its velocity to it).
+    dynamic = np.stack(
+        [_exp_settings(i, method, exp_step, relinearise, h_max)[4] for i in inputs_list]
+    )
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
     integrate_batch_ = _dq_drivers()[1] if dq else _integrate_batch
     bounds, _ = _segment_arrays(first.segments)
@@ -423,7 +568,7 @@ def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, a
     t_out = np.ascontiguousarray(t_out, dtype=float)
     n = len(inputs_list)
     x_out = np.empty((n, t_out.size, x0.shape[1]))
-    counts = np.zeros((n, 3), dtype=np.int64)
+    counts = np.zeros((n, 4), dtype=np.int64)
     t_stop = np.zeros((n, 1))
     status = np.zeros(n, dtype=np.int64)
     # One variant at a time per thread (not fixed shares): variants differ in cost (a stiffer
@@ -432,8 +577,9 @@ def integrate_batch(inputs_list, t_out, rtol=None, h_max=None, jac_every=None, a
     try:
         integrate_batch_(
             x0, bounds, params, first.tables, t_out, rt, at, h_max, jac_every, x_out, counts,
-            t_stop, status,
+            t_stop, status, code, step, relin, static, dynamic,
         )  # fmt: skip
     finally:
         numba.set_parallel_chunksize(chunk)
-    return x_out, [_stats(counts[i], status[i], t_stop[i, 0]) for i in range(n)]
+    name = METHODS[code]
+    return x_out, [_stats(counts[i], status[i], t_stop[i, 0], name) for i in range(n)]

@@ -3,7 +3,8 @@
 The dataset holds, on one time axis sampled at the DAQ rate:
 
 - truth: the contact force and true CoA, creep and slip velocity at the contact, every torque
-  and speed of the chain, the drive currents and voltages;
+  and speed of the chain, the angular accelerations of tyre, roller and AM rotor (the equations
+  of motion at each sample), the drive currents and voltages;
 - measured (``measured_*``): the roller-shaft torque T56 (the torque sensor), the speeds the
   encoders report (quantised: counts per sample interval), the normal force, and the creep, slip
   velocity, force and CoA the rig software derives from them, CoA = T56 / (r_r S);
@@ -70,6 +71,15 @@ _STATES = {
     "i_q": (m.X_IQ, "A", "PMSM q-axis current"),
 }
 
+_ACCELERATIONS = {
+    "wheel_acceleration": (m.X_OMEGA + 3, "rad/s2", "wheel tyre angular acceleration α4"),
+    "roller_acceleration": (m.X_OMEGA + 4, "rad/s2", "roller angular acceleration α5"),
+    "am_rotor_acceleration": (m.X_OMEGA + 5, "rad/s2", "AM rotor angular acceleration α6"),
+}
+"""Accelerations of the truth [rad/s²]: the right-hand side at the output instants
+(:func:`rollerrig.solve._compiled.rig_rates_series`), so that the roller's equation of motion
+F_x r_r = T56 + J5 α5 + R05 holds at every sample, at any output rate (issue 20, point 4)."""
+
 _FRAME_STATES = {
     "frame_displacement": (
         m.X_FRAME_X,
@@ -134,23 +144,32 @@ def evaluate_terms(inputs, t, x) -> dict[str, np.ndarray]:
     -------
     dict of str to ndarray
         Term name -> values (SI units, see :data:`_TRUTH`), e.g. ``"t56"`` [N.m],
-        ``"contact_force"`` [N], ``"normal_load"`` [N].
+        ``"contact_force"`` [N], ``"normal_load"`` [N]; and the accelerations of
+        :data:`_ACCELERATIONS` [rad/s²] from the right-hand side at the same instants.
     """
-    from rollerrig.solve._compiled import rig_terms_series
+    from rollerrig.solve._compiled import rig_rates_series, rig_terms_series
 
     dq = inputs.drives.roller == "induction_dq"
     if dq:  # the rig's part, with the machine's air-gap torque in the roller-drive slot
         x = _rig_part_of_dq(inputs, x)
     terms = np.empty((t.size, len(m.TERM_NAMES)))
+    rates = np.empty((t.size, m.N_STATES))
     # Terms depend on friction through the segment's parameters: evaluate per segment.
     seg_of = _segment_of(inputs, t)
     for i, seg in enumerate(inputs.segments):
         sel = np.flatnonzero(seg_of == i)
         if sel.size:
             out = np.empty((sel.size, len(m.TERM_NAMES)))
-            rig_terms_series(t[sel], np.ascontiguousarray(x[sel]), seg.params, inputs.tables, out)
+            xs = np.ascontiguousarray(x[sel, : m.N_STATES])
+            p = np.ascontiguousarray(seg.params[: m.N_PARAMS])
+            rig_terms_series(t[sel], xs, p, inputs.tables, out)
             terms[sel] = out
+            out = np.empty((sel.size, m.N_STATES))
+            rig_rates_series(t[sel], xs, p, inputs.tables, out)
+            rates[sel] = out
     result = {name: terms[:, j] for j, name in enumerate(m.TERM_NAMES)}
+    for name, (idx, _, _) in _ACCELERATIONS.items():
+        result[name] = rates[:, idx]
     if dq:  # no lag: the torque is the machine's own
         result["roller_drive_torque_target"] = result["roller_drive_torque"].copy()
     return result
@@ -195,6 +214,8 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
         data[name] = ("time", term[src], {"units": units, "long_name": long_name})
     for name, (idx, units, long_name) in _STATES.items():
         data[name] = ("time", x[:, idx], {"units": units, "long_name": long_name})
+    for name, (_, units, long_name) in _ACCELERATIONS.items():
+        data[name] = ("time", term[name], {"units": units, "long_name": long_name})
     if inputs.drives.frame != "rigid":  # the frame's degree of freedom, when it has one
         for name, (idx, units, long_name) in _FRAME_STATES.items():
             data[name] = ("time", x[:, idx], {"units": units, "long_name": long_name})

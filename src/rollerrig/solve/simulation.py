@@ -74,7 +74,8 @@ class Simulation:
     friction_sets : mapping, optional
         Polach parameters by friction-condition name (default: Polach 2005 dry and wet).
     solver : {"fast", "reference"}
-        The compiled ROS34PW2 W-method, or scipy's Radau on the compiled model.
+        The compiled fast backend (ETDRK4 with the ROS34PW2 W-method as its fallback,
+        :mod:`rollerrig.solve.fast`), or scipy's Radau on the compiled model.
     output_rate : float, optional
         Sampling rate of the results [Hz]; default the rig's DAQ rate.
     rtol : float, optional
@@ -168,7 +169,10 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
 
             x, stats = integrate_experiment(self.inputs, t, rtol=self.rtol, progress=progress)
             settings = dict(FAST_DEFAULTS) | ({"rtol": self.rtol} if self.rtol else {})
-            name = "ROS34PW2 W-method (numba)"
+            if stats.get("method") == "etdrk4":
+                name = "ETDRK4 exponential integrator (numba), ROS34PW2 W-method fallback"
+            else:
+                name = "ROS34PW2 W-method (numba)"
         else:
             from rollerrig.solve.reference import integrate_reference
 

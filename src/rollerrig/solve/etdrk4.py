@@ -1,0 +1,509 @@
+"""Exponential time differencing RK4 (ETDRK4, Cox & Matthews 2002) for the rig's twin.
+
+The twin ``x' = f(t, x)`` is split as ``x' = L x + N(t, x)`` with ``N = f − L x`` and ``L``
+block diagonal, made of small blocks (at most 3 states each) on the states where the model is
+stiff:
+
+- *static* blocks, linear and constant within a protocol segment: the two stator mounts
+  ``(θ1, ω1)`` and ``(θ7, ω7)``, ``[[0, 1], [−k/J, −b/J]]``; their entries are taken once per
+  segment by forward differences of the right-hand side (exact up to rounding, since they are
+  linear);
+- *dynamic* blocks, re-linearised every ``relinearise`` steps from forward differences of the
+  right-hand side: the contact's ``(ω4, ω5)`` (with a flexible frame ``(ω4, ω5, v_f)``), whose
+  pole, the creep law's slope, changes sign past the adhesion peak and reaches −12 000 1/s at
+  20 kN and 10 km/h.
+
+On every other state ``L = 0`` and the method is the classical RK4. One step of length ``h``
+(Cox & Matthews 2002, eqs. 26-29; φ-function form of Hochbruck & Ostermann 2010, Sec. 2.3)::
+
+    a = e^{hL/2} u + (h/2) φ1(hL/2) N(t, u)
+    b = e^{hL/2} u + (h/2) φ1(hL/2) N(t + h/2, a)
+    c = e^{hL/2} a + (h/2) φ1(hL/2) (2 N(t + h/2, b) − N(t, u))
+    u_new = e^{hL} u + h [(φ1 − 3φ2 + 4φ3) N_u + 2(φ2 − 2φ3)(N_a + N_b) + (4φ3 − φ2) N_c]
+
+with ``φ_k(hL)``; for ``L = 0`` the weights are 1/6, 1/3, 1/6 (RK4). Four right-hand sides a
+step (the one at the new state is the next step's first). The φ-functions of a block are those
+of its small matrix, by a Taylor series of φ3 after scaling, the recurrence
+``φ_{k−1}(Z) = Z φ_k(Z) + I/(k−1)!`` and the doubling formulas of Skaflestad & Wright (2009),
+``φ_k(2Z) = 2^{−k} [e^Z φ_k(Z) + Σ_{j=1..k} φ_j(Z)/(k−j)!]`` (:func:`phi_functions`).
+
+The step is fixed within a protocol segment: the largest step not above ``h_max`` that divides
+the segment and keeps the explicit part (the forward-difference Jacobian at the segment's start
+without the blocks) inside RK4's stability region with a margin (:func:`rk4_stable_step`). The
+output between steps is the cubic Hermite interpolant of the step's ends and derivatives. A
+segment on which the stable step would be very short (near standstill, where the bearing
+friction's regularisation is stiff), or which ends non-finite, is integrated by the fallback,
+the adaptive ROS34PW2 W-method (:mod:`rollerrig.solve.ros34pw`).
+
+Lawson's integrating factor (``e^{hL}`` applied to an RK4 of the transformed equation) was
+measured on this model and gets the forced stiff mount modes wrong (issue 20): it is not used.
+
+References
+----------
+- S. M. Cox, P. C. Matthews, "Exponential time differencing for stiff systems", J. Comput.
+  Phys. 176 (2002) 430-455.
+- M. Hochbruck, A. Ostermann, "Exponential integrators", Acta Numerica 19 (2010) 209-286.
+- B. Skaflestad, W. M. Wright, "The scaling and modified squaring method for matrix functions
+  related to the exponential", Appl. Numer. Math. 59 (2009) 783-799.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rollerrig.solve import _cache
+from rollerrig.solve import _wdriver as _wd
+
+__all__ = ["MAX_BLOCK", "bind", "phi_functions", "rk4_stable_step"]
+
+MAX_BLOCK = 3
+"""Largest block of the linear part [states]."""
+
+_TAYLOR_TERMS = 10  # Taylor terms of φ3 at ‖Z‖ <= 1/2: truncation below 1e-15
+_STABILITY_MARGIN = 1.25  # the explicit part's eigenvalues are scaled by this before the check
+_MIN_STEP_RATIO = 0.2  # below this share of h_max the segment goes to the fallback
+_SQRT_EPS = np.sqrt(np.finfo(float).eps)
+
+# Coefficient slots of a block (see _block_coefficients).
+C_L, C_E, C_E2, C_Q, C_F1, C_F2, C_F3 = 0, 1, 2, 3, 4, 5, 6
+_N_COEF = 7
+
+
+@_cache.njit(error_model="numpy")
+def _matmul(a, b, n, out):
+    for i in range(n):
+        for j in range(n):
+            s = 0.0
+            for k in range(n):
+                s += a[i, k] * b[k, j]
+            out[i, j] = s
+
+
+@_cache.njit(error_model="numpy")
+def phi_functions(z, n, e, p1, p2, p3, e_half, p1_half):
+    """``e^Z``, ``φ1(Z)``, ``φ2(Z)``, ``φ3(Z)``, ``e^{Z/2}`` and ``φ1(Z/2)`` of a small matrix.
+
+    ``φ0(Z) = e^Z``, ``φ_k(Z) = Σ_j Z^j/(j + k)!``. ``Z`` is scaled by ``2^−s`` (``s ≥ 1``) to a
+    norm of at most 1/2, ``φ3`` summed by Horner's rule (10 terms), ``φ2, φ1, e^Z`` from the
+    recurrence ``φ_{k−1} = Z φ_k + I/(k−1)!``, then doubled ``s`` times (Skaflestad & Wright
+    2009, eq. 2.4); the functions of ``Z/2`` are those before the last doubling.
+
+    Parameters
+    ----------
+    z : ndarray of float64, shape (>= n, >= n)
+        ``h L`` [-].
+    n : int
+        Size of the block, at most :data:`MAX_BLOCK` (the leading ``n × n`` part of every
+        array is used).
+    e, p1, p2, p3, e_half, p1_half : ndarray of float64, shape (>= n, >= n)
+        Outputs [-].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> z = np.array([[-2.0]]); out = [np.empty((1, 1)) for _ in range(6)]
+    >>> phi_functions(z, 1, *out)
+    >>> bool(abs(out[1][0, 0] - (np.exp(-2.0) - 1.0) / -2.0) < 1e-14)
+    True
+    """
+    scratch = np.empty((2, MAX_BLOCK, MAX_BLOCK))
+    _phi_into(z, n, e, p1, p2, p3, e_half, p1_half, scratch)
+
+
+@_cache.njit(error_model="numpy")
+def _phi_into(z, n, e, p1, p2, p3, e_half, p1_half, scratch):
+    """:func:`phi_functions` with scratch space ``scratch`` (2, 3, 3), allocating nothing."""
+    norm = 0.0
+    for i in range(n):
+        row = 0.0
+        for j in range(n):
+            row += abs(z[i, j])
+        norm = max(norm, row)
+    s = 1
+    scale = 0.5
+    while norm * scale > 0.5:
+        s += 1
+        scale *= 0.5
+    a = scratch[0]
+    tmp = scratch[1]
+    for i in range(n):
+        for j in range(n):
+            a[i, j] = z[i, j] * scale
+    # φ3(A) = Σ_{j=0}^{K} A^j / (j + 3)!  (Horner)
+    fact = 1.0
+    for j in range(1, _TAYLOR_TERMS + 4):
+        fact *= j  # (K + 3)!
+    for i in range(n):
+        for j in range(n):
+            p3[i, j] = (1.0 / fact) if i == j else 0.0
+    for j in range(_TAYLOR_TERMS - 1, -1, -1):
+        fact /= j + 4  # (j + 3)!
+        _matmul(a, p3, n, tmp)
+        for r in range(n):
+            for c in range(n):
+                p3[r, c] = tmp[r, c] + ((1.0 / fact) if r == c else 0.0)
+    _matmul(a, p3, n, p2)
+    for i in range(n):
+        p2[i, i] += 0.5
+    _matmul(a, p2, n, p1)
+    for i in range(n):
+        p1[i, i] += 1.0
+    _matmul(a, p1, n, e)
+    for i in range(n):
+        e[i, i] += 1.0
+    for k in range(s):
+        if k == s - 1:
+            for i in range(n):
+                for j in range(n):
+                    e_half[i, j] = e[i, j]
+                    p1_half[i, j] = p1[i, j]
+        # φ3(2A) = (e^A φ3 + φ1/2 + φ2 + φ3)/8, φ2(2A) = (e^A φ2 + φ1 + φ2)/4,
+        # φ1(2A) = (e^A φ1 + φ1)/2, e^{2A} = e^A e^A (all functions of A commute).
+        _matmul(e, p3, n, tmp)
+        for i in range(n):
+            for j in range(n):
+                tmp[i, j] = 0.125 * (tmp[i, j] + 0.5 * p1[i, j] + p2[i, j] + p3[i, j])
+        for i in range(n):
+            for j in range(n):
+                p3[i, j] = tmp[i, j]
+        _matmul(e, p2, n, tmp)
+        for i in range(n):
+            for j in range(n):
+                p2[i, j] = 0.25 * (tmp[i, j] + p1[i, j] + p2[i, j])
+        _matmul(e, p1, n, tmp)
+        for i in range(n):
+            for j in range(n):
+                p1[i, j] = 0.5 * (tmp[i, j] + p1[i, j])
+        _matmul(e, e, n, tmp)
+        for i in range(n):
+            for j in range(n):
+                e[i, j] = tmp[i, j]
+
+
+@_cache.njit(error_model="numpy")
+def _block_coefficients(lin, n, h, coef, scratch):
+    """The step's matrices of one block with linear part ``lin`` (n × n) and step ``h`` [s].
+
+    ``coef[C_L] = L``, ``coef[C_E] = e^{hL}``, ``coef[C_E2] = e^{hL/2}``,
+    ``coef[C_Q] = (h/2) φ1(hL/2)``, ``coef[C_F1] = h (φ1 − 3φ2 + 4φ3)``,
+    ``coef[C_F2] = 2h (φ2 − 2φ3)``, ``coef[C_F3] = h (4φ3 − φ2)``, all of ``hL``; ``scratch``
+    is (7, 3, 3) scratch space.
+    """
+    z = scratch[0]
+    p1 = scratch[1]
+    p2 = scratch[2]
+    p3 = scratch[3]
+    p1h = scratch[4]
+    for i in range(n):
+        for j in range(n):
+            z[i, j] = h * lin[i, j]
+            coef[C_L, i, j] = lin[i, j]
+    _phi_into(z, n, coef[C_E], p1, p2, p3, coef[C_E2], p1h, scratch[5:7])
+    for i in range(n):
+        for j in range(n):
+            coef[C_Q, i, j] = 0.5 * h * p1h[i, j]
+            coef[C_F1, i, j] = h * (p1[i, j] - 3.0 * p2[i, j] + 4.0 * p3[i, j])
+            coef[C_F2, i, j] = 2.0 * h * (p2[i, j] - 2.0 * p3[i, j])
+            coef[C_F3, i, j] = h * (4.0 * p3[i, j] - p2[i, j])
+
+
+@_cache.njit(error_model="numpy")
+def _rk4_stable(z):
+    """True when ``|R(z)| <= 1`` for RK4's ``R(z) = 1 + z + z²/2 + z³/6 + z⁴/24``."""
+    r = 1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))
+    return abs(r) <= 1.0 + 1e-12
+
+
+@_cache.njit(error_model="numpy")
+def rk4_stable_step(eigenvalues, h_max):
+    """Largest step ``h <= h_max`` [s] at which RK4 is stable on every eigenvalue [1/s].
+
+    An eigenvalue ``λ`` counts with a margin (``1.25 λ``); ``h λ`` must lie in RK4's region of
+    absolute stability at ``h``, ``3h/4``, ``h/2`` and ``h/4`` (the region along a ray from the
+    origin is an interval). Eigenvalues with a non-negative real part (growth of the physics
+    itself, and the rigid-body modes at 0) are not a limit. Tried from ``h_max`` down by
+    factors of 0.9; 0 when none of 80 tries is stable.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> h = rk4_stable_step(np.array([-1000.0 + 0j]), 1.0)
+    >>> bool(2.0e-3 < h < 2.785 / 1000 / 1.25)
+    True
+    """
+    h = h_max
+    for _ in range(80):
+        ok = True
+        for lam in eigenvalues:
+            if lam.real >= 0.0:
+                continue
+            z = _STABILITY_MARGIN * h * lam
+            if not (
+                _rk4_stable(z)
+                and _rk4_stable(0.75 * z)
+                and _rk4_stable(0.5 * z)
+                and _rk4_stable(0.25 * z)
+            ):
+                ok = False
+                break
+        if ok:
+            return h
+        h *= 0.9
+    return 0.0
+
+
+# ---------------------------------------------------------------------------------------------
+# Templates: compiled per right-hand side by bind() (globals rhs and fd_jacobian).
+# ---------------------------------------------------------------------------------------------
+rhs = fd_jacobian = _wd.rhs
+
+
+def _block_jacobian(t, x, f0, p, tables, idx, n, lin, xp, fp):
+    """Forward-difference Jacobian of the block ``idx[:n]`` of the state at ``(t, x)``."""
+    for j in range(x.shape[0]):
+        xp[j] = x[j]
+    for c in range(n):
+        j = idx[c]
+        xj = x[j]
+        xp[j] = xj + _SQRT_EPS * max(abs(xj), 1.0)
+        delta = xp[j] - xj
+        rhs(t, xp, p, tables, fp)
+        xp[j] = xj
+        for r in range(n):
+            lin[r, c] = (fp[idx[r]] - f0[idx[r]]) / delta
+
+
+def _block_sizes(blocks):
+    sizes = np.zeros(blocks.shape[0], dtype=np.int64)
+    for b in range(blocks.shape[0]):
+        n = 0
+        while n < blocks.shape[1] and blocks[b, n] >= 0:
+            n += 1
+        sizes[b] = n
+    return sizes
+
+
+def _stable_step(t, x, f0, p, tables, blocks, sizes, h_max):
+    """Largest stable RK4 step [s] of the explicit part (Jacobian without the blocks)."""
+    n = x.shape[0]
+    jac = np.empty((n, n))
+    work = np.empty((2, n))
+    fd_jacobian(t, x, p, tables, f0, jac, work)
+    for b in range(blocks.shape[0]):
+        for r in range(sizes[b]):
+            for c in range(sizes[b]):
+                jac[blocks[b, r], blocks[b, c]] = 0.0
+    for i in range(n):
+        for j in range(n):
+            if not abs(jac[i, j]) < 1e100:  # non-finite, or beyond what LAPACK balances
+                return 0.0
+    try:
+        lam = np.linalg.eigvals(jac.astype(np.complex128))
+    except Exception:  # the QR algorithm did not converge: leave the segment to the fallback
+        return 0.0
+    for v in lam:
+        if not np.isfinite(v.real) or not np.isfinite(v.imag):
+            return 0.0
+    return rk4_stable_step(lam, h_max)
+
+
+def _apply_nonlinear(fx, x, blocks, sizes, coef, out):
+    """``out = f(x) − L x``: ``f`` off the blocks, ``f − L x`` on them."""
+    for i in range(x.shape[0]):
+        out[i] = fx[i]
+    for b in range(blocks.shape[0]):
+        n = sizes[b]
+        for r in range(n):
+            s = 0.0
+            for c in range(n):
+                s += coef[b, C_L, r, c] * x[blocks[b, c]]
+            out[blocks[b, r]] -= s
+
+
+def _half_stage(u, nl, h, blocks, sizes, coef, out):
+    """``out = e^{hL/2} u + (h/2) φ1(hL/2) nl``."""
+    half = 0.5 * h
+    for i in range(u.shape[0]):
+        out[i] = u[i] + half * nl[i]
+    for b in range(blocks.shape[0]):
+        n = sizes[b]
+        for r in range(n):
+            s = 0.0
+            for c in range(n):
+                j = blocks[b, c]
+                s += coef[b, C_E2, r, c] * u[j] + coef[b, C_Q, r, c] * nl[j]
+            out[blocks[b, r]] = s
+
+
+def _step(t, h, x, fx, p, tables, blocks, sizes, coef, x_new, work):
+    """One ETDRK4 step from ``(t, x)`` with ``fx = f(t, x)``; ``x_new`` at ``t + h``."""
+    n = x.shape[0]
+    nu = work[0]
+    na = work[1]
+    nb = work[2]
+    nc = work[3]
+    a = work[4]
+    b_ = work[5]
+    c_ = work[6]
+    fs = work[7]
+    _apply_nonlinear(fx, x, blocks, sizes, coef, nu)
+    _half_stage(x, nu, h, blocks, sizes, coef, a)
+    rhs(t + 0.5 * h, a, p, tables, fs)
+    _apply_nonlinear(fs, a, blocks, sizes, coef, na)
+    _half_stage(x, na, h, blocks, sizes, coef, b_)
+    rhs(t + 0.5 * h, b_, p, tables, fs)
+    _apply_nonlinear(fs, b_, blocks, sizes, coef, nb)
+    for i in range(n):
+        fs[i] = 2.0 * nb[i] - nu[i]
+    _half_stage(a, fs, h, blocks, sizes, coef, c_)
+    rhs(t + h, c_, p, tables, fs)
+    _apply_nonlinear(fs, c_, blocks, sizes, coef, nc)
+    h6 = h / 6.0
+    h3 = h / 3.0
+    for i in range(n):
+        x_new[i] = x[i] + h6 * (nu[i] + nc[i]) + h3 * (na[i] + nb[i])
+    for bk in range(blocks.shape[0]):
+        m = sizes[bk]
+        for r in range(m):
+            s = 0.0
+            for c in range(m):
+                j = blocks[bk, c]
+                s += (
+                    coef[bk, C_E, r, c] * x[j]
+                    + coef[bk, C_F1, r, c] * nu[j]
+                    + coef[bk, C_F2, r, c] * (na[j] + nb[j])
+                    + coef[bk, C_F3, r, c] * nc[j]
+                )
+            x_new[blocks[bk, r]] = s
+
+
+def _hermite(t, h, x, f, x_new, f_new, t_at, out):
+    """Cubic Hermite interpolant of a step at ``t_at`` (local error O(h⁴))."""
+    s = (t_at - t) / h
+    s2 = s * s
+    h00 = 1.0 - s2 * (3.0 - 2.0 * s)
+    h01 = 1.0 - h00
+    h10 = h * s * (1.0 - s) * (1.0 - s)
+    h11 = h * s2 * (s - 1.0)
+    for i in range(x.shape[0]):
+        out[i] = h00 * x[i] + h01 * x_new[i] + h10 * f[i] + h11 * f_new[i]
+
+
+def _segment(
+    x0, t0, t1, t_out, p, tables, h_max, relinearise, static_blocks, dynamic_blocks, x_out,
+    counts,
+):  # fmt: skip
+    """ETDRK4 over one smooth segment ``[t0, t1]``; ``x_out[k]`` at ``t_out[k]`` (in
+    ``[t0, t1]``, increasing), the last row ``t_out[-1] == t1`` being the end state.
+
+    Returns a status: 0 done; -1 the segment needs the fallback (the stable step is below
+    ``0.2 h_max``, or the state became non-finite). ``counts`` gets the steps (0) and the
+    linearisations (2) added.
+    """
+    n = x0.shape[0]
+    n_out = t_out.shape[0]
+    ns = static_blocks.shape[0]
+    nd = dynamic_blocks.shape[0]
+    blocks = np.empty((ns + nd, MAX_BLOCK), dtype=np.int64)
+    blocks[:ns] = static_blocks
+    blocks[ns:] = dynamic_blocks
+    sizes = _block_sizes(blocks)
+    x = x0.copy()
+    fx = np.empty(n)
+    rhs(t0, x, p, tables, fx)
+    if not (_wd._all_finite(x) and _wd._all_finite(fx)):
+        return -1
+    length = t1 - t0
+    h_stable = _stable_step(t0, x, fx, p, tables, blocks, sizes, h_max)
+    if h_stable < _MIN_STEP_RATIO * h_max:
+        return -1
+    m = max(1, int(np.ceil(length / h_stable * (1.0 - 1e-12))))
+    h = length / m
+    coef = np.zeros((ns + nd, _N_COEF, MAX_BLOCK, MAX_BLOCK))
+    lin = np.zeros((MAX_BLOCK, MAX_BLOCK))
+    scratch = np.empty((7, MAX_BLOCK, MAX_BLOCK))
+    xp = np.empty(n)
+    fp = np.empty(n)
+    for b in range(ns + nd):
+        _block_jacobian(t0, x, fx, p, tables, blocks[b], sizes[b], lin, xp, fp)
+        _block_coefficients(lin, sizes[b], h, coef[b], scratch)
+    counts[2] += 1
+    x_new = np.empty(n)
+    f_new = np.empty(n)
+    work = np.empty((8, n))
+    k = 0
+    while k < n_out and t_out[k] <= t0:
+        x_out[k, :] = x
+        k += 1
+    since = 0
+    t = t0
+    for i in range(m):
+        t_new = t1 if i == m - 1 else t0 + (i + 1) * h
+        if since >= relinearise and nd > 0:
+            for b in range(ns, ns + nd):
+                _block_jacobian(t, x, fx, p, tables, blocks[b], sizes[b], lin, xp, fp)
+                _block_coefficients(lin, sizes[b], h, coef[b], scratch)
+            counts[2] += 1
+            since = 0
+        _step(t, h, x, fx, p, tables, blocks, sizes, coef, x_new, work)
+        rhs(t_new, x_new, p, tables, f_new)
+        if not (_wd._all_finite(x_new) and _wd._all_finite(f_new)):
+            return -1
+        while k < n_out and t_out[k] < t_new:
+            _hermite(t, h, x, fx, x_new, f_new, t_out[k], x_out[k])
+            k += 1
+        for j in range(n):
+            x[j] = x_new[j]
+            fx[j] = f_new[j]
+        t = t_new
+        since += 1
+        counts[0] += 1
+        while k < n_out and t_out[k] <= t:
+            x_out[k, :] = x
+            k += 1
+    return 0
+
+
+_NAMED: dict[str, object] = {}
+
+
+def bind(driver, name: str):
+    """The ETDRK4 segment integrator compiled for the right-hand side of a W-method driver.
+
+    Parameters
+    ----------
+    driver : rollerrig.solve._wdriver.Driver
+        A bound driver (:func:`rollerrig.solve.ros34pw.bind`) whose ``rhs`` and
+        ``fd_jacobian`` the method uses.
+    name : str
+        Cache name (the package's own models only: their sources are in the cache key).
+
+    Returns
+    -------
+    numba dispatcher
+        ``segment(x0, t0, t1, t_out, p, tables, h_max, relinearise, static_blocks,
+        dynamic_blocks, x_out, counts) -> status`` (see the template ``_segment``).
+    """
+    if name in _NAMED:
+        return _NAMED[name]
+    ns = dict(globals())
+    ns["rhs"] = driver.rhs
+    ns["fd_jacobian"] = driver.fd_jacobian
+    # The step's helpers are inlined into the step loop (numba's IR inlining): a call of a
+    # separately compiled function passes every array with a reference count taken and given
+    # back, which cost about 1 µs a step, as much as three right-hand sides.
+    for template, inline in (
+        (_block_jacobian, "never"),
+        (_block_sizes, "never"),
+        (_stable_step, "never"),
+        (_apply_nonlinear, "always"),
+        (_half_stage, "always"),
+        (_step, "always"),
+        (_hermite, "always"),
+        (_segment, "never"),
+    ):
+        ns[template.__name__] = _wd._compiled_copy(
+            template, ns, f"etdrk4_{name}", True, error_model="numpy", inline=inline
+        )
+    _NAMED[name] = ns["_segment"]
+    return ns["_segment"]
