@@ -198,3 +198,32 @@ def test_the_points_stated_uncertainty_enters_the_band_by_default():
     assert (
         _stated_systematic(dataclasses.replace(curve, coa_uncertainty=np.full(40, np.nan))) is None
     )
+
+
+def test_the_polach_transfer_factor_against_the_strip_theory():
+    """FaStrip is within 0.003 of μN of CONTACT's exact theory (tests/contact/test_strip.py,
+    tractcurv.ref_out cases 1-11): its factor F_rail/F_roller at equal creepage stands in for
+    the exact one. Polach's factor agrees at small creepage (the ratio of G·a·b·C11) and
+    differs by up to 3.6 % in the transition (LAW_FACTOR_ERROR states it); the issue's target
+    of 2 % is not met by the closed-form law, which the transfer says."""
+    from rollerrig.contact.laws import law_creep_curve, parameter_set
+    from rollerrig.contact.transfer import LAW_FACTOR_ERROR
+    from rollerrig.fit.polach import PolachParameters
+
+    creep = np.linspace(1e-5, 0.03, 300)
+    geometry = (0.348, 0.291, 0.452, 1.89)  # the bundled rig's wheel and roller radii [m]
+    rail = (0.348, 0.291, 1e9, 1.89)  # a tangent rail with the roller's crown
+    coulomb = PolachParameters(
+        0.33, 1.0, 0.0, 1.0, 1.0, name="coulomb", source="test"
+    )  # as the set
+
+    def factor(law, params):
+        on = [law_creep_curve(law, creep, 5000.0, 30 / 3.6, *g, params) for g in (rail, geometry)]
+        return on[0].adhesion_coefficient / on[1].adhesion_coefficient
+
+    strip = factor("fastrip", parameter_set("eurosprinter-coulomb"))
+    polach = factor("polach", coulomb)
+    rel = np.abs(polach / strip - 1.0)
+    assert rel[0] < 0.002
+    assert 0.025 < rel.max() < 0.045
+    assert "3.6 %" in LAW_FACTOR_ERROR
