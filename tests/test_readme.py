@@ -21,13 +21,21 @@ def _notebook_block() -> str:
 @pytest.mark.slow
 def test_notebook_block_runs(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
-    exec(compile(_notebook_block(), str(README), "exec"), {"__name__": "readme"})
+    namespace = {"__name__": "readme"}
+    exec(compile(_notebook_block(), str(README), "exec"), namespace)
     printed = capsys.readouterr().out
     assert "ramp" in printed  # the analysis found the ramps of the simulated protocol
     assert (tmp_path / "two-releases.tdms").is_file()
     written = sorted(p.name for p in (tmp_path / "notebook-output").iterdir())
     assert "two-releases-analysis.json" in written
     assert "two-releases-report.html" in written
+    # The block switches to wet friction before its last ramp: the fits keep the dry points
+    # only, and say so (issue 23, point 2); the repr stays a few lines (point 8).
+    result = namespace["result"]
+    assert any("changes friction (dry from 0 s, wet from" in n for n in result.notes)
+    assert result.recording.time[result.fit_points].max() < 6.04
+    assert "'dry' set" in result.true_parameters_source
+    assert len(repr(result).splitlines()) <= 8
 
 
 def test_top_level_names_resolve():

@@ -37,6 +37,7 @@ from rollerrig.measure.estimator import (
 )
 from rollerrig.measure.facts import (
     describe_channel,
+    friction_schedule,
     recording_facts,
     recording_note_lines,
     true_polach_parameters,
@@ -214,12 +215,16 @@ def analyze_test(
     branches = adhesion_branches(t, creep_s, phases)
     hyst = _hysteresis_per_cycle(branches, creep_s, coa_s, notes)
     points, available, step = _fit_points(branches, creep_s, coa_s, cap, notes)
+    schedule = friction_schedule(recording, truth)
+    points, condition = _one_friction_condition(t, points, schedule, notes)
+    if schedule is None:
+        _note_friction_change(branches, creep_s, coa_s, rec["normal_load"], rig, notes)
     fit, fit_rig = _polach_fits(rec, rig, points, notes)
     budget = _coa_uncertainty(
         rec, rig, phases, branches, (order, window), true_coa, calibration, notes
     )
     _note_arm(budget, rig, notes)
-    true_params, true_source = true_polach_parameters(recording, truth)
+    true_params, true_source = true_polach_parameters(recording, truth, condition)
     if true_params is not None:
         _note_truth_distance({"corrected CoA": fit, "rig CoA": fit_rig}, true_params, notes)
     spectrum, window_s = _quiet_phase_spectrum(rec, rig, phases, notes)
@@ -348,6 +353,82 @@ def _fit_points(
             "same creep and slip-velocity range"
         )
     return points, available, step
+
+
+FRICTION_SLOPE_RATIO = 1.6
+"""Cycles whose initial creep-CoA slopes (normalised by the rig's creep stiffness) differ by
+more than this factor are noted as a probable change of friction (a dry and a wet branch of
+Polach's sets differ by 2.4-2.9; the cycles of one condition by at most 1.2)."""
+
+
+def _one_friction_condition(
+    t: np.ndarray, points: np.ndarray, schedule, notes: list[str]
+) -> tuple[np.ndarray, str | None]:
+    """The fit points under one friction condition, and that condition.
+
+    A recording the twin made with several friction conditions (``schedule``:
+    :func:`~rollerrig.measure.facts.friction_schedule`) is fitted on the condition with the
+    most ascending-branch points only, noted: one law is never fitted across two conditions.
+    Without a schedule, or with one condition, ``points`` as they are.
+    """
+    if not schedule or points.size == 0:
+        return points, None
+    starts = np.array([start for start, _ in schedule])
+    names = np.array([name for _, name in schedule])
+    which = names[np.clip(np.searchsorted(starts, t[points], side="right") - 1, 0, None)]
+    counts = {str(c): int(np.sum(which == c)) for c in dict.fromkeys(which.tolist())}
+    if len(counts) == 1:
+        return points, next(iter(counts))
+    chosen = max(counts, key=counts.get)
+    kept = points[which == chosen]
+    when = ", ".join(f"{name} from {start:g} s" for start, name in schedule)
+    left = ", ".join(f"{n} under {c!r}" for c, n in counts.items() if c != chosen)
+    notes.append(
+        f"the test changes friction ({when}): the Polach fits use the {kept.size} "
+        f"ascending-branch points under {chosen!r} only and leave out {left}, another law "
+        "(one law is never fitted across two friction conditions; analyse the other "
+        "condition's cycles on their own, Recording.select, to fit it)"
+    )
+    return kept, chosen
+
+
+def _note_friction_change(
+    branches: list[Branches],
+    creep: np.ndarray,
+    coa: np.ndarray,
+    normal_load: np.ndarray,
+    rig,
+    notes: list[str],
+) -> None:
+    """A note when the cycles' initial creep-CoA slopes differ as a change of friction makes
+    them (Polach's kA), for a recording that does not say its friction condition: the fits
+    then take every cycle as one law, and the note says so."""
+    slopes = {}
+    for br in branches:
+        a = br.ascending
+        c, m = creep[a], coa[a]
+        ok = (c > 1e-4) & (m > 0.01)
+        if np.count_nonzero(ok) < 5:
+            continue
+        c, m, q = c[ok], m[ok], normal_load[a][ok]
+        low = m <= 0.5 * float(np.max(m))  # the initial, nearly linear part
+        if np.count_nonzero(low) < 3:
+            continue
+        q_med = float(np.median(q[low]))
+        stiffness = creep_stiffness_for_rig(q_med, rig) / q_med  # slope of Kalker's line [-]
+        slopes[br.cycle] = float(np.median(m[low] / c[low])) / stiffness
+    if len(slopes) < 2:
+        return
+    low_c, high_c = min(slopes, key=slopes.get), max(slopes, key=slopes.get)
+    ratio = slopes[high_c] / slopes[low_c]
+    if ratio > FRICTION_SLOPE_RATIO:
+        notes.append(
+            f"the cycles' initial creep-CoA slopes differ by x{ratio:.2g} (cycle {high_c}: "
+            f"{slopes[high_c]:.2g}, cycle {low_c}: {slopes[low_c]:.2g} of Kalker's slope): the "
+            "friction condition probably changed during the test (water or contamination "
+            "lowers Polach's kA), yet the Polach fits take every cycle as one law; analyse "
+            "each condition's cycles on their own (Recording.select) if it did"
+        )
 
 
 def _polach_fits(

@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import ast
 import json
 
 import numpy as np
@@ -20,6 +21,7 @@ from rollerrig.measure.validate import describe_gap
 
 __all__ = [
     "describe_channel",
+    "friction_schedule",
     "recording_facts",
     "recording_note_lines",
     "source_prefix",
@@ -110,13 +112,91 @@ def recording_note_lines(recording: Recording) -> list[str]:
     return lines
 
 
-def true_polach_parameters(recording: Recording, truth=None) -> tuple[dict | None, str]:
-    """The twin's Polach parameters of a synthetic recording, if it ran with one friction set.
+def _listed(value) -> list:
+    """A list stored as it is or as its text (provenance keeps ``"['dry', 'wet']"``)."""
+    if isinstance(value, str):
+        try:
+            value = ast.literal_eval(value)
+        except (ValueError, SyntaxError):
+            return []
+    return list(value) if isinstance(value, list | tuple) else []
+
+
+def _twin_provenances(recording: Recording, truth=None):
+    """(where, provenance dict) of the twin that made a synthetic recording, best first."""
+    stored = _stored(recording)
+    candidates = [
+        ("the twin's provenance in the recording", recording.metadata.get("twin_provenance")),
+        ("the twin's provenance stored in the file", stored.get("twin_provenance")),
+        (
+            "the truth dataset's provenance",
+            None if truth is None else truth.attrs.get("provenance"),
+        ),
+    ]
+    for where, raw in candidates:
+        if raw is None:
+            continue
+        try:
+            prov = json.loads(raw) if isinstance(raw, str) else dict(raw)
+        except (TypeError, ValueError):
+            continue
+        if isinstance(prov, dict):
+            yield where, prov
+
+
+def friction_schedule(recording: Recording, truth=None) -> list[tuple[float, str]] | None:
+    """When each friction condition began, for a recording the twin made with several.
+
+    Read from the twin's provenance (the protocol's ``friction_time [s]`` and
+    ``friction_condition``) stored with the recording or in the ``truth`` dataset. A recording
+    of a real rig says nothing about its friction: None.
+
+    Parameters
+    ----------
+    recording : Recording
+        The recording.
+    truth : xarray.Dataset, optional
+        The twin's truth of a synthetic recording.
+
+    Returns
+    -------
+    list of (float, str) or None
+        ``(start [s], condition)`` in time order, one entry per change; None when unknown.
+    """
+    for _, prov in _twin_provenances(recording, truth):
+        protocol = prov.get("protocol") or {}
+        if not isinstance(protocol, dict):
+            continue
+        times = _listed(protocol.get("friction_time [s]"))
+        names = _listed(protocol.get("friction_condition"))
+        if times and len(times) == len(names):
+            try:
+                return [(float(t), str(c)) for t, c in zip(times, names, strict=True)]
+            except (TypeError, ValueError):
+                continue
+    return None
+
+
+def true_polach_parameters(
+    recording: Recording, truth=None, condition: str | None = None
+) -> tuple[dict | None, str]:
+    """The twin's Polach parameters of a synthetic recording, if it ran with one friction set
+    (or ``condition``'s set, when it ran with several and the analysis used that one).
 
     Looked up in the recording's metadata (``true_polach_parameters``, written by
     :func:`rollerrig.measure.synthetic.synthetic_recording`, also after a round trip through a
     file as ``stored_metadata``), else in the twin's provenance (``friction_sets`` and the
     protocol's ``friction_condition``) stored with the recording or in the ``truth`` dataset.
+
+    Parameters
+    ----------
+    recording : Recording
+        The recording.
+    truth : xarray.Dataset, optional
+        The twin's truth of a synthetic recording.
+    condition : str, optional
+        The friction condition whose set is wanted when the twin ran with several (the one
+        the analysis fitted, :func:`friction_schedule`).
 
     Returns
     -------
@@ -131,26 +211,20 @@ def true_polach_parameters(recording: Recording, truth=None) -> tuple[dict | Non
             if len(sets) == 1:
                 ((name, params),) = sets.items()
                 return dict(params), f"{where}: the twin's '{name}' set"
+            if condition in sets:
+                return dict(sets[condition]), (
+                    f"{where}: the twin's '{condition}' set, the condition the fits used"
+                )
             return None, f"{where}: several friction sets ({', '.join(sets)}), no single truth"
-    candidates = [
-        ("the twin's provenance in the recording", md.get("twin_provenance")),
-        ("the twin's provenance stored in the file", stored.get("twin_provenance")),
-        (
-            "the truth dataset's provenance",
-            None if truth is None else truth.attrs.get("provenance"),
-        ),
-    ]
-    for where, raw in candidates:
-        if raw is None:
-            continue
-        try:
-            prov = json.loads(raw) if isinstance(raw, str) else dict(raw)
-        except (TypeError, ValueError):
-            continue
+    for where, prov in _twin_provenances(recording, truth):
         sets = prov.get("friction_sets") or {}
-        used = sorted(set(prov.get("protocol", {}).get("friction_condition", []) or []))
+        used = sorted(set(_listed((prov.get("protocol") or {}).get("friction_condition"))))
         if len(used) == 1 and used[0] in sets:
             return dict(sets[used[0]]), f"{where}: the twin's '{used[0]}' set"
+        if len(used) > 1 and condition in used and condition in sets:
+            return dict(sets[condition]), (
+                f"{where}: the twin's '{condition}' set, the condition the fits used"
+            )
     return None, "no twin truth known (not a synthetic recording)"
 
 
