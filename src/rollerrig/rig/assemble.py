@@ -18,10 +18,16 @@ from scipy.optimize import brentq
 
 from rollerrig._validation import ParameterError
 from rollerrig._warnings import DomainWarning
-from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters, _polach_force_kernel
+from rollerrig.contact.creep import (
+    POLACH_PARAMETER_SETS,
+    PolachParameters,
+    _friction_kernel,
+    _polach_force_kernel,
+)
 from rollerrig.contact.hertz import hertz_contact
 from rollerrig.contact.kalker import kalker_coefficients
 from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED
+from rollerrig.contact.laws import EUROSPRINTER_MODIFIED_FASTSIM, FastsimParameters
 from rollerrig.drives.induction import lag_time_constant_from_clp
 from rollerrig.drives.pmsm import max_phase_voltage, pi_gains_for_bandwidth, pmsm_torque
 from rollerrig.drives.servo import servo_gains_for_bandwidth
@@ -49,7 +55,7 @@ class ModelInputs:
     rig: RigParameters
     drives: m.DriveConfig
     protocol: Protocol
-    friction_sets: Mapping[str, PolachParameters]
+    friction_sets: Mapping[str, PolachParameters | FastsimParameters]
     tables: np.ndarray = field(repr=False)
     segments: tuple[Segment, ...] = field(repr=False)
     initial_state: np.ndarray = field(repr=False)
@@ -186,12 +192,51 @@ def _base_parameters(rig: RigParameters, drives: m.DriveConfig, reference_load: 
     )
     p[m.P_ARM_RATIO] = rig.arm.transfer_ratio
     p[m.P_ARM_WEIGHT] = rig.arm.dead_weight
+
+    # Creep law: Polach's closed form, or the law's table in eps (rollerrig.contact.table).
+    p[m.P_LAW] = m.LAW_CODES[drives.law]
+    p[m.P_K0], p[m.P_ALPHA_INF], p[m.P_BETA] = 1.0, 1.0, 0.0
+    contact_reference["creep_law"] = drives.law
+    if drives.law != "polach":
+        from rollerrig.contact.table import creep_table
+
+        table = creep_table(drives.law, a / bb, mat.poisson, nodes=m.N_TAB)
+        p[m.P_TAB_STEP] = table.step
+        p[m.P_TAB_F : m.P_TAB_F + m.N_TAB] = table.values
+        p[m.P_TAB_DF : m.P_TAB_DF + m.N_TAB] = table.slopes
+        contact_reference["creep_table"] = table.to_dict()
     return p, contact_reference
 
 
-def _polach_into(p: np.ndarray, params: PolachParameters) -> np.ndarray:
+def _friction_into(
+    p: np.ndarray, params: PolachParameters | FastsimParameters, law: str, condition: str
+) -> np.ndarray:
+    """The parameter vector ``p`` with a friction condition's parameters for the creep law.
+
+    Every law takes μ0, A, B (μ(w) of Polach's form); Polach's law needs k_A, k_S (a
+    :class:`PolachParameters`); the modified FASTSIM takes k0, α_∞, β from a
+    :class:`FastsimParameters`, or the Eurosprinter set's
+    (:data:`rollerrig.contact.laws.EUROSPRINTER_MODIFIED_FASTSIM`) with a Polach set.
+    """
     q = p.copy()
-    q[[m.P_MU0, m.P_A, m.P_B, m.P_KA, m.P_KS]] = params.as_tuple()
+    if isinstance(params, PolachParameters):
+        q[[m.P_MU0, m.P_A, m.P_B, m.P_KA, m.P_KS]] = params.as_tuple()
+    elif law == "polach":
+        raise ParameterError(
+            f"creep law 'polach' needs Polach's k_A, k_S: the friction set of condition "
+            f"{condition!r} ({params.name!r}) has none; give a PolachParameters, or choose "
+            "the law 'fastsim' or 'modified-fastsim'"
+        )
+    else:
+        q[[m.P_MU0, m.P_A, m.P_B]] = (
+            params.static_friction,
+            params.limit_ratio,
+            params.friction_decay,
+        )
+        q[[m.P_KA, m.P_KS]] = 0.0
+    if law == "modified-fastsim":
+        source = params if isinstance(params, FastsimParameters) else EUROSPRINTER_MODIFIED_FASTSIM
+        q[[m.P_K0, m.P_ALPHA_INF, m.P_BETA]] = source.k0, source.alpha_inf, source.beta
     return q
 
 
@@ -199,7 +244,7 @@ def assemble(
     rig: RigParameters,
     protocol: Protocol,
     drives: m.DriveConfig | None = None,
-    friction_sets: Mapping[str, PolachParameters] | None = None,
+    friction_sets: Mapping[str, PolachParameters | FastsimParameters] | None = None,
 ) -> ModelInputs:
     """Build the solver inputs for one experiment on one rig.
 
@@ -211,8 +256,11 @@ def assemble(
         Compiled experiment protocol.
     drives : DriveConfig, optional
         Drive models; default PMSM wheel drive, induction-motor roller drive with the rig's lag.
-    friction_sets : mapping of str to PolachParameters, optional
-        Polach parameters by friction-condition name; default Polach (2005) dry and wet.
+    friction_sets : mapping of str to PolachParameters or FastsimParameters, optional
+        Friction parameters by friction-condition name; default Polach (2005) dry and wet. The
+        creep law (``drives.law``) takes μ0, A, B of each; Polach's law needs a
+        :class:`PolachParameters`, the modified FASTSIM takes k0, α_∞, β from a
+        :class:`FastsimParameters` (else the Eurosprinter set's).
 
     Returns
     -------
@@ -265,7 +313,10 @@ def assemble(
         condition = str(np.asarray(condition).item()) if np.ndim(condition) else str(condition)
         segments.append(
             Segment(
-                float(start), float(end), condition, _polach_into(base, friction_sets[condition])
+                float(start),
+                float(end),
+                condition,
+                _friction_into(base, friction_sets[condition], drives.law, condition),
             )
         )
     if drives.roller == "induction_dq":
@@ -452,7 +503,11 @@ def steady_free_rolling_state(
 
     def braking_force(d):  # −F_x at the slip velocity w = −d (wheel slower than the roller)
         creep = -d / np.hypot(v_roller, p[m.P_VREG])  # as in contact.kinematics
-        return -_polach_force_kernel(creep, -d, load, creep_stiffness, *polach)
+        if p[m.P_LAW] == 0.0:
+            return -_polach_force_kernel(creep, -d, load, creep_stiffness, *polach)
+        mu = _friction_kernel(-d, p[m.P_MU0], p[m.P_A], p[m.P_B])
+        force = [m._table_force_and_slope(c, load, f, p)[0] for c, f in np.broadcast(creep, mu)]
+        return -np.reshape(force, np.shape(creep))
 
     slip = 0.0
     if force != 0.0:

@@ -115,7 +115,13 @@ P_SERVO_KP, P_SERVO_KI, P_SERVO_TLIM = 53, 54, 55
 P_FRAME_MODE = 56  # 0 rigid frame, 1 one longitudinal degree of freedom at the contact
 P_FRAME_K, P_FRAME_M, P_FRAME_C = 57, 58, 59  # [N/m], [kg], [N.s/m]
 P_ARM_RATIO, P_ARM_WEIGHT = 60, 61  # swinging arm: σ h/l [1], dead weight W_d [N]
-N_PARAMS = 62
+P_LAW = 62  # creep law (LAW_CODES): 0 Polach's closed form, else the table below
+P_K0, P_ALPHA_INF, P_BETA = 63, 64, 65  # modified FASTSIM's slope reduction (1, 1, 0: none)
+P_TAB_STEP = 66  # node spacing of the creep table in ε = G a b C11 ξ/(μN) [-]
+N_TAB = 513  # nodes of the creep table (rollerrig.contact.table.TABLE_NODES)
+P_TAB_F = 67  # F/(μN) at the nodes [-], N_TAB values
+P_TAB_DF = P_TAB_F + N_TAB  # d(F/(μN))/dε at the nodes [-], N_TAB values
+N_PARAMS = P_TAB_DF + N_TAB
 
 WHEEL_MODES = {"ideal_torque": 0.0, "pmsm": 1.0}
 ROLLER_MODES = {
@@ -126,6 +132,8 @@ ROLLER_MODES = {
     "induction_dq": 4.0,
 }
 FRAME_MODES = {"rigid": 0.0, "flexible": 1.0}
+LAW_CODES = {"polach": 0.0, "fastsim": 1.0, "modified-fastsim": 2.0, "fastrip": 3.0}
+"""Creep laws of the twin (:data:`rollerrig.contact.CREEP_LAWS`) -> ``p[P_LAW]``."""
 
 # Table rows (piecewise-linear inputs, padded by repeating the last breakpoint)
 TAB_TORQUE_T, TAB_TORQUE, TAB_SPEED_T, TAB_SPEED, TAB_LOAD_T, TAB_LOAD = 0, 1, 2, 3, 4, 5
@@ -196,6 +204,12 @@ class DriveConfig:
         The rig frame: rigid (the seed's model), or one longitudinal degree of freedom at the
         contact with the rig's ``[frame]`` stiffness, mass and damping (Kayaalp 4.3.1's
         hypothesis, :class:`rollerrig.rig.sections.FrameParameters`).
+    law : {"polach", "fastsim", "modified-fastsim", "fastrip"}
+        The creep law of the contact force (:data:`rollerrig.contact.CREEP_LAWS`): Polach's
+        closed form (Kayaalp eq. 4.16), or a law of the FASTSIM family from its table in
+        ε = G a b C11 ξ/(μN) (:mod:`rollerrig.contact.table`), with μ(w) of Polach's form.
+        ``"modified-fastsim"`` takes k0, α_∞, β from a friction set that has them
+        (:class:`rollerrig.contact.FastsimParameters`), else the Eurosprinter set's.
     """
 
     wheel: Literal["pmsm", "ideal_torque"] = "pmsm"
@@ -204,6 +218,7 @@ class DriveConfig:
     )
     roller_lag: float | None = None
     frame: Literal["rigid", "flexible"] = "rigid"
+    law: Literal["polach", "fastsim", "modified-fastsim", "fastrip"] = "polach"
 
     def __post_init__(self) -> None:
         from rollerrig._validation import ParameterError
@@ -218,6 +233,13 @@ class DriveConfig:
             )
         if self.frame not in FRAME_MODES:
             raise ParameterError(f"frame must be one of {sorted(FRAME_MODES)}, got {self.frame!r}")
+        if self.law not in LAW_CODES:
+            from rollerrig._validation import did_you_mean
+
+            raise ParameterError(
+                f"creep law must be one of {list(LAW_CODES)}, got {self.law!r}"
+                + did_you_mean(str(self.law), LAW_CODES)
+            )
         if self.roller_lag is not None and not (
             np.isfinite(self.roller_lag) and self.roller_lag >= 0
         ):
@@ -250,13 +272,69 @@ _ARM_NEWTON_STEPS = 8
 guess it converges to round-off in 1-3."""
 
 
-def _force_and_slope(creep, load, friction, p):
-    """Polach's force F_x [N] at the normal load ``load`` [N] and its derivative dF_x/dN [1].
+def _table_ratio(e, p):
+    """F/(μN) [-] of the tabulated law at ε = ``e`` >= 0 and its derivative d(F/(μN))/dε [-].
 
-    F = (2/π) N μ h(ε), h(ε) = k_A ε/(1 + (k_A ε)²) + arctan(k_S ε), with ε ∝ C(N)/N ∝ N^(-1/3)
-    (the creep stiffness scales with N^(2/3)), so dF/dN = F/N − (2/π) μ ε h'(ε)/3. The force is
-    the package's kernel's (:func:`rollerrig.contact.creep._polach_force_at_friction_kernel`).
+    Cubic Hermite interpolation between the nodes ``p[P_TAB_F:]``, ``p[P_TAB_DF:]`` spaced
+    ``p[P_TAB_STEP]`` (:mod:`rollerrig.contact.table`); saturated (constant) beyond the last.
     """
+    h = p[P_TAB_STEP]
+    u = e / h
+    if u != u:  # NaN creep: let it show as NaN
+        return u, u
+    if u >= N_TAB - 1:
+        return p[P_TAB_F + N_TAB - 1], 0.0
+    i = int(u)
+    t = u - i
+    y0 = p[P_TAB_F + i]
+    y1 = p[P_TAB_F + i + 1]
+    s0 = p[P_TAB_DF + i] * h
+    s1 = p[P_TAB_DF + i + 1] * h
+    t2 = t * t
+    t3 = t2 * t
+    value = (2.0 * t3 - 3.0 * t2 + 1.0) * y0 + (t3 - 2.0 * t2 + t) * s0
+    value = value + (3.0 * t2 - 2.0 * t3) * y1 + (t3 - t2) * s1
+    slope = (
+        6.0 * (t2 - t) * (y0 - y1) + (3.0 * t2 - 4.0 * t + 1.0) * s0 + (3.0 * t2 - 2.0 * t) * s1
+    ) / h
+    return value, slope
+
+
+def _table_force_and_slope(creep, load, friction, p):
+    """Force F_x [N] of a tabulated law at the normal load ``load`` [N] and dF_x/dN [1].
+
+    F = μN sgn(ε) f(k(|ε|)|ε|), ε = C(N) ξ/(μN) with C(N) = G a b C11 at N (∝ N^(2/3)); k is
+    the modified FASTSIM's slope reduction k0 (α_∞ + (1 − α_∞)/(1 + β ε_s)), ε_s = (π/4) k0 |ε|
+    (:func:`rollerrig.contact.fastsim.slope_reduction`; k = 1 for FASTSIM and FaStrip). As
+    ε ∝ N^(-1/3), dF/dN = F/N − μ ε g'(|ε|)/3 with g(e) = f(k(e) e), g' = f' (k + e dk/de).
+    """
+    q_mu = load * friction
+    if q_mu <= 0.0:
+        return 0.0, 0.0
+    eps = _creep_stiffness_at(load, p) * creep / q_mu
+    e = abs(eps)
+    k0 = p[P_K0]
+    alpha = p[P_ALPHA_INF]
+    beta = p[P_BETA]
+    denom = 1.0 + beta * 0.25 * np.pi * k0 * e
+    k = k0 * (alpha + (1.0 - alpha) / denom)
+    dk = -k0 * (1.0 - alpha) * beta * 0.25 * np.pi * k0 / (denom * denom)
+    ratio, dratio = _table_ratio(k * e, p)
+    force = q_mu * ratio if eps >= 0.0 else -q_mu * ratio
+    return force, force / load - friction * eps * dratio * (k + e * dk) / 3.0
+
+
+def _force_and_slope(creep, load, friction, p):
+    """The creep law's force F_x [N] at the normal load ``load`` [N] and dF_x/dN [1].
+
+    Polach (``p[P_LAW]`` = 0): F = (2/π) N μ h(ε), h(ε) = k_A ε/(1 + (k_A ε)²) + arctan(k_S ε),
+    with ε ∝ C(N)/N ∝ N^(-1/3) (the creep stiffness scales with N^(2/3)), so
+    dF/dN = F/N − (2/π) μ ε h'(ε)/3. The force is the package's kernel's
+    (:func:`rollerrig.contact.creep._polach_force_at_friction_kernel`). Any other law: its
+    table (:func:`_table_force_and_slope`).
+    """
+    if p[P_LAW] != 0.0:
+        return _table_force_and_slope(creep, load, friction, p)
     q_mu = load * friction
     if q_mu <= 0.0:
         return 0.0, 0.0
@@ -278,7 +356,8 @@ def _contact_load_and_force(air_spring, creep, friction, p):
 
         N = S + W_d + κ F_x(N),    κ = σ h / l,
 
-    where F_x(N) is Polach's force (Kayaalp eq. 4.16) with μN and the creep stiffness at N. The
+    where F_x(N) is the creep law's force (Polach's, Kayaalp eq. 4.16, by default) with μN and
+    the creep stiffness at N. The
     algebraic loop is solved, not lagged. F_x/N depends on N only through ε ∝ N^(-1/3), so the
     first guess holds the CoA m = F_x(N_0)/N_0 at N_0 = S + W_d fixed, N_1 = N_0/(1 − κ m); then
     Newton's method on g(N) = N − S − W_d − κ F_x(N) with the exact dF_x/dN

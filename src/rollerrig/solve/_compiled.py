@@ -40,6 +40,8 @@ _KERNELS = (
     _model._interp_slope,
     _model._bearing_torques,
     _model._creep_stiffness_at,
+    _model._table_ratio,
+    _model._table_force_and_slope,
     _model._force_and_slope,
     _model._contact_load_and_force,
     _model._open_loop_roller_torque,

@@ -298,6 +298,7 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
                 else float(inputs.segments[0].params[m.P_LAG_TAU])
             ),
             "frame": inputs.drives.frame,
+            "law": inputs.drives.law,
         },
         "friction_sets": {k: v.to_dict() for k, v in inputs.friction_sets.items()},
         "contact_reference": inputs.contact_reference,
