@@ -32,6 +32,7 @@ from rollerrig.cli._options import (
     load_rig,
 )
 from rollerrig.cli._outputs import command_outputs
+from rollerrig.cli.contact import CreepLaw
 
 __all__ = ["modes", "protocol_inputs", "simulate", "variant_stem"]
 
@@ -48,6 +49,7 @@ def variant_stem(
     solver: str = Solver.fast.value,
     rig_file: Path | None = None,
     frame: str = FrameModel.rigid.value,
+    law: str = CreepLaw.polach.value,
 ) -> str:
     """Output stem of a simulation: the experiment's name and what differs from the defaults.
 
@@ -72,6 +74,8 @@ def variant_stem(
         parts.append(f"lag-{roller_lag:g}s")
     if frame != FrameModel.rigid.value:
         parts.append(f"frame-{frame}")
+    if law != CreepLaw.polach.value:
+        parts.append(f"law-{law}")
     if solver != Solver.fast.value:
         parts.append(f"solver-{solver}")
     if rig_file is not None:
@@ -148,7 +152,8 @@ def simulate(
     rig_file: RigOption = None,
     out: OutOption = DEFAULT_OUT,
     solver: Annotated[
-        Solver, typer.Option(help="fast (numba ETDRK4, ROS34PW2 fallback) or reference (scipy Radau).")
+        Solver,
+        typer.Option(help="fast (numba ETDRK4, ROS34PW2 fallback) or reference (scipy Radau)."),
     ] = Solver.fast,
     wheel_drive: Annotated[
         WheelDrive, typer.Option(help="Wheel drive: PMSM model or ideal torque source.")
@@ -175,6 +180,15 @@ def simulate(
             "contact with the rig's [frame] stiffness [N/m], mass [kg] and damping)."
         ),
     ] = FrameModel.rigid,
+    law: Annotated[
+        CreepLaw,
+        typer.Option(
+            "--law",
+            help="Creep law of the contact force: polach (Polach 2005), fastsim (Kalker 1982), "
+            "modified-fastsim (k0, alpha_inf, beta of the Eurosprinter set) or fastrip "
+            "(Sichani et al. 2016), the FASTSIM family from a table in G a b C11 xi/(mu N).",
+        ),
+    ] = CreepLaw.polach,
     output_format: Annotated[
         ResultsFormat,
         typer.Option("--format", case_sensitive=False, help="Results file format."),
@@ -218,6 +232,7 @@ def simulate(
         roller=roller_drive.value,
         roller_lag=roller_lag_s,
         frame=frame.value,
+        law=law.value,
     )
     sim = Simulation(rig, experiment, drives=drives, solver=solver.value)
     stem = variant_stem(
@@ -228,6 +243,7 @@ def simulate(
         solver=solver.value,
         rig_file=rig_file,
         frame=frame.value,
+        law=law.value,
     )
     inputs = {**protocol_inputs(experiment), "rig": rig_file}
     with command_outputs(
@@ -240,6 +256,7 @@ def simulate(
         roller_drive=drives.roller,
         roller_lag_s=roller_lag_s,
         frame=frame.value,
+        creep_law=law.value,
         solver=solver.value,
     ) as stage:
         console.print(
@@ -248,7 +265,8 @@ def simulate(
                 (sim.protocol.name, "bold"),
                 f" ({sim.protocol.duration:g} s) on ",
                 (rig.meta.name, "bold"),
-                f": wheel {drives.wheel}, roller {drives.roller}, solver {solver.value}",
+                f": wheel {drives.wheel}, roller {drives.roller}, law {drives.law}, "
+                f"solver {solver.value}",
             )
         )
         with _progress() as bar:

@@ -154,8 +154,8 @@ def point_setup(
 
     Rig keys become overrides (validated: a non-physical value raises the rig's error naming
     the key); ``load`` and ``speed`` scale the experiment's schedule to that largest value;
-    ``friction`` replaces every friction condition; ``drive.*`` choose the drives and
-    ``frame`` the frame model.
+    ``friction`` replaces every friction condition; ``drive.*`` choose the drives,
+    ``frame`` the frame model and ``contact.law`` the creep law.
 
     Raises
     ------
@@ -180,6 +180,7 @@ def point_setup(
         roller=values.get("drive.roller", "induction"),
         roller_lag=values.get("drive.roller_lag"),
         frame=values.get("frame", "rigid"),
+        law=values.get("contact.law", "polach"),
     )
     return rig, protocol, drive
 

@@ -25,7 +25,9 @@ A varied quantity is named by
   ``"ideal_speed"``), ``"drive.wheel"`` (``"pmsm"``, ``"ideal_torque"``),
   ``"drive.roller_lag"`` (the roller drive's response lag τ [s]; 0: none), ``"frame"``
   (``"rigid"`` or ``"flexible"``: the frame's degree of freedom at the contact, with the rig's
-  ``frame.*`` keys).
+  ``frame.*`` keys), ``"contact.law"`` (the creep law of the contact force: ``"polach"``,
+  ``"fastsim"``, ``"modified-fastsim"``, ``"fastrip"``; :class:`rollerrig.rig.model.
+  DriveConfig`).
 
 ``name`` names the study and the files its run writes (``study-NAME.zarr``, ...): 1 to 64
 letters, digits, ``.``, ``_``, ``+`` and ``-``, not starting with a dot; default: the file's
@@ -85,8 +87,15 @@ __all__ = [
 
 PROTOCOL_KEYS = {"load": "force", "speed": "speed", "friction": None}
 """Protocol quantities a study may vary -> their quantity (None: a name)."""
-MODEL_KEYS = {"drive.roller": None, "drive.wheel": None, "drive.roller_lag": "time", "frame": None}
-"""Model choices a study may vary (the drives, the frame) -> their quantity (None: a name)."""
+MODEL_KEYS = {
+    "drive.roller": None,
+    "drive.wheel": None,
+    "drive.roller_lag": "time",
+    "frame": None,
+    "contact.law": None,
+}
+"""Model choices a study may vary (the drives, the frame, the creep law) -> their quantity
+(None: a name)."""
 _DESIGNS = ("grid", "sample", "cases")
 _METHODS = ("sobol", "lhs", "random")
 _DISTRIBUTIONS = {
@@ -145,7 +154,7 @@ def key_quantity(key: str) -> tuple[str | None, list[str] | None]:
     None and the allowed names of a categorical one.
     """
     from rollerrig.contact.creep import POLACH_PARAMETER_SETS
-    from rollerrig.rig.model import FRAME_MODES, ROLLER_MODES, WHEEL_MODES
+    from rollerrig.rig.model import FRAME_MODES, LAW_CODES, ROLLER_MODES, WHEEL_MODES
     from rollerrig.rig.sections import SECTIONS, quantity_of
 
     if key in PROTOCOL_KEYS:
@@ -155,7 +164,12 @@ def key_quantity(key: str) -> tuple[str | None, list[str] | None]:
         q = MODEL_KEYS[key]
         if q:
             return q, None
-        modes = {"drive.roller": ROLLER_MODES, "drive.wheel": WHEEL_MODES, "frame": FRAME_MODES}
+        modes = {
+            "drive.roller": ROLLER_MODES,
+            "drive.wheel": WHEEL_MODES,
+            "frame": FRAME_MODES,
+            "contact.law": LAW_CODES,
+        }
         return None, sorted(modes[key])
     section, _, name = key.partition(".")
     allowed = [*PROTOCOL_KEYS, *MODEL_KEYS, "<section>.<key> of the rig file"]
