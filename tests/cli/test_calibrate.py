@@ -77,7 +77,7 @@ def test_list_keys_and_missing_or_unknown_keys(runner, tmp_path):
     )
     assert result.exit_code == 2, result.output
     text = _flat(result.output)
-    assert "['inertia.rolller']" in text and "inertia.roller" in text
+    assert "'inertia.rolller' (did you mean 'inertia.roller'" in text
     assert not (tmp_path / "o").exists()
 
 
