@@ -38,7 +38,7 @@ from typing import Any
 from rollerrig._validation import Problem, Verbatim, show_value
 from rollerrig.calibrate.calibfile import _factor_problems, _fail, _is_number
 from rollerrig.calibrate.problem import POLACH_KEYS, CalibrationError
-from rollerrig.rig.sections import SECTIONS
+from rollerrig.rig.parameters import rig_values
 
 __all__ = [
     "calibrated_rig_keys",
@@ -49,27 +49,6 @@ __all__ = [
 ]
 
 _SHOWN_DIFFERENCES = 5  # keys named in a mismatch of the rig
-
-
-def rig_values(rig) -> dict[str, Any]:
-    """Every value of a rig parameter set outside ``[meta]``, by dotted key [SI].
-
-    Examples
-    --------
-    >>> from rollerrig.rig.parameters import default_rig
-    >>> rig_values(default_rig())["inertia.roller"]
-    45.0
-    """
-    out: dict[str, Any] = {}
-    for section in SECTIONS:
-        if section == "meta":
-            continue
-        values = getattr(rig, section, None)
-        if values is None:
-            continue
-        for key in type(values).model_fields:
-            out[f"{section}.{key}"] = getattr(values, key)
-    return out
 
 
 def _values_sha256(values: Mapping[str, Any]) -> str:

@@ -64,6 +64,8 @@ from rollerrig.calibrate.problem import (
     CalibrationError,
     free_parameter_catalogue,
 )
+from rollerrig.calibrate.settings import MAX_RELATIVE_SE
+from rollerrig.rig.parameters import rig_values
 from rollerrig.rig.sections import SECTIONS, si_unit_of
 
 __all__ = [
@@ -229,8 +231,6 @@ def check_calibration(data: Any, source: str = "calibration.json", rig=None) -> 
     elif not isinstance(params, dict):
         problems.append(Problem("parameters", "must be an object", got=Verbatim(_kind(params))))
     else:
-        from rollerrig.calibrate.binding import rig_values
-
         here = {} if rig is None else rig_values(rig)
         for key, entry in params.items():
             problems += _entry_problems(str(key), entry, here.get(str(key)))
@@ -426,8 +426,6 @@ def _factor_problems(key: str, value: float, reference: float, what: str) -> lis
 
 
 def _se_problems(key: str, value: float, se: Any) -> list[Problem]:
-    from rollerrig.calibrate.fit import MAX_RELATIVE_SE
-
     where, unit = f"{key}.standard_error", _key_unit(key)
     low, high = MIN_RELATIVE_SE * abs(value), MAX_RELATIVE_SE * abs(value)
     allowed = Verbatim(f"0, or [{low:.3g}, {high:.3g}]" if high > 0 else "0")

@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from rollerrig._validation import ParameterError
-from rollerrig.calibrate.problem import CalibrationError
+from rollerrig.calibrate.errors import CalibrationError
 from rollerrig.measure.checks import check_channel_values
 from rollerrig.measure.facts import describe_channel, source_prefix
 from rollerrig.measure.quantities import encoder_speed, normal_force_from_pressure

@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from rollerrig._validation import ParameterError
+from rollerrig.calibrate.errors import CalibrationError
 from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters
 from rollerrig.rig.parameters import RigParameters
 from rollerrig.rig.sections import SECTIONS, quantity_of, si_unit_of
@@ -119,11 +119,6 @@ _POLACH_RANGES = {  # (lower, upper) of each Polach parameter [-, -, s/m, -, -]
     "k_slip": (0.0, 1.0),
 }
 _POLACH_UNITS = {"friction_decay": "s/m"}
-
-
-class CalibrationError(ParameterError):
-    """A calibration cannot run as asked: the message names the key, channel or file and what
-    to change."""
 
 
 @dataclass(frozen=True)

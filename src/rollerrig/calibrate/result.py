@@ -20,7 +20,8 @@ import numpy as np
 
 from rollerrig._display import fmt, html_table, pretty_unit, text_block
 from rollerrig.calibrate.problem import ROLLER_DRIVES, FreeParameter, split_values, with_polach
-from rollerrig.calibrate.stats import LJUNG_BOX_LAGS
+from rollerrig.calibrate.settings import FD_STEP, HAC_WINDOW, MAX_CORRELATION
+from rollerrig.calibrate.stats import LJUNG_BOX_LAGS, whiteness
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.rig.parameters import RigParameters
 
@@ -500,7 +501,6 @@ def build_calibration(
     wall_time: float,
 ) -> Calibration:
     """Assemble the :class:`Calibration` from the state of a finished fit."""
-    from rollerrig.calibrate.fit import HAC_WINDOW, MAX_CORRELATION, channel_whiteness
     from rollerrig.measure.facts import recording_facts
 
     act = np.flatnonzero(active)
@@ -557,7 +557,7 @@ def build_calibration(
 
     notes = list(measurement.notes)
     residual_after = fit.channel_residuals(point.prediction)
-    white = channel_whiteness(fit, point.prediction)
+    white = {c: whiteness(e) for c, e in residual_after.items()}
     channels = {}
     for c in measurement.channels:
         channels[c] = ChannelFit(
@@ -776,7 +776,6 @@ def _solver_settings(model) -> dict[str, Any]:
 
 
 def _fd_step() -> float:
-    from rollerrig.calibrate.fit import FD_STEP
 
     return FD_STEP
 

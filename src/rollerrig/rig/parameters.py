@@ -66,7 +66,14 @@ from rollerrig.rig.sections import (
     si_unit_of,
 )
 
-__all__ = ["RigFileError", "RigParameters", "default_rig", "load_rig", "save_rig"]
+__all__ = [
+    "RigFileError",
+    "RigParameters",
+    "default_rig",
+    "load_rig",
+    "rig_values",
+    "save_rig",
+]
 # The section models (InertiaParameters, ...) live in rollerrig.rig.sections; they are imported
 # here for RigParameters and stay importable from this module.
 
@@ -320,3 +327,23 @@ def save_rig(rig: RigParameters, path: str | os.PathLike, *, overwrite: bool = F
     """
     sections = {section: getattr(rig, section) for section in SECTIONS}
     write_text(path, write_sections(sections, rig.provenance), overwrite=overwrite)
+
+
+def rig_values(rig) -> dict[str, Any]:
+    """Every value of a rig parameter set outside ``[meta]``, by dotted key [SI].
+
+    Examples
+    --------
+    >>> rig_values(default_rig())["inertia.roller"]
+    45.0
+    """
+    out: dict[str, Any] = {}
+    for section in SECTIONS:
+        if section == "meta":
+            continue
+        values = getattr(rig, section, None)
+        if values is None:
+            continue
+        for key in type(values).model_fields:
+            out[f"{section}.{key}"] = getattr(values, key)
+    return out
