@@ -128,6 +128,16 @@ def test_an_unknown_suffix_names_no_python_argument(tmp_path, runner):
     assert "format=" not in line and "rename" in line
 
 
+def test_a_file_recognised_by_its_content_keeps_the_readers_own_words(tmp_path, runner):
+    # an imc FAMOS file under '.dat': the reader names the vendor and the export to make
+    export = tmp_path / "export.dat"
+    export.write_bytes(b"|CF,2,1,1;|CK,1,3,1,1;\r\n|NO,1,  20,0,9,imc STUDIO,0,;\r\n")
+    result = runner.invoke(app, ["analyze", str(export), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    line = _one_error(result)
+    assert "imc FAMOS" in line and "unsupported file suffix" not in line, line
+
+
 @pytest.mark.parametrize(
     "command",
     [

@@ -10,13 +10,13 @@ from rollerrig.cli._boundary import UserError, current_context, debug_wanted
 
 __all__ = [
     "calibration_for",
-    "check_suffix",
     "derived",
     "in_memory_limit",
     "load_calibration",
     "load_truth",
     "open_input",
     "read",
+    "suffix_in_cli_words",
 ]
 
 
@@ -41,37 +41,25 @@ def quiet_reader_console_logs() -> None:
     log_manager.console_handler.setLevel(logging.ERROR)
 
 
-def check_suffix(path: Path) -> None:
-    """A recording file whose suffix names no format rollerrig reads: one error in command-line
-    terms (the Python API's ``format=`` has no option here).
-
-    Parameters
-    ----------
-    path : Path
-        The recording file; one that does not exist is left to the reader's own error.
-
-    Raises
-    ------
-    UserError
-        The suffix is not one of :data:`rollerrig.measure.readers.FORMATS`'s.
-    """
-    from rollerrig.measure.readers import FORMATS, detect_format
+@contextlib.contextmanager
+def suffix_in_cli_words():
+    """A recording whose suffix names no format rollerrig reads (and whose content names
+    none either): the reader's error in command-line terms, without the Python API's
+    ``format=``, which has no option here. Every other error passes unchanged."""
+    from rollerrig.measure.readers import FORMATS
     from rollerrig.measure.recording import RecordingError
 
-    if not Path(path).is_file():
-        return
     try:
-        detect_format(path)
+        yield
     except RecordingError as exc:
-        suffix = Path(path).suffix.lower()
-        if any(suffix in suffixes for suffixes in FORMATS.values()):
+        text = str(exc)
+        if not text.endswith(" (or pass format=)") or "unsupported file suffix" not in text:
             raise
         known = ", ".join(s for ss in FORMATS.values() for s in ss)
-        if "unsupported file suffix" not in str(exc):  # a format named as not read, and why
-            raise UserError(str(exc)) from None
+        head = text.split("; supported:", 1)[0]
         raise UserError(
-            f"{path}: unsupported file suffix {suffix!r}; rollerrig reads {known}. A file in "
-            "one of these formats under another name: rename it to its format's suffix"
+            f"{head}; rollerrig reads {known}. A file in one of these formats under another "
+            "name: rename it to its format's suffix"
         ) from None
 
 
@@ -79,14 +67,14 @@ def read(path: Path, channels: Path | None, lenient: bool, needed=None):
     """Read a recording; ``needed``: the channels the command needs (others only noted)."""
     from rollerrig.measure.readers import read_recording
 
-    check_suffix(path)
     quiet_reader_console_logs()
-    return read_recording(
-        path,
-        channels,
-        validate="lenient" if lenient else "strict",
-        channels=None if needed is None else list(needed),
-    )
+    with suffix_in_cli_words():
+        return read_recording(
+            path,
+            channels,
+            validate="lenient" if lenient else "strict",
+            channels=None if needed is None else list(needed),
+        )
 
 
 def open_input(path: Path, channels, lenient: bool, needed, files):
@@ -103,7 +91,6 @@ def open_input(path: Path, channels, lenient: bool, needed, files):
     from rollerrig.measure.recording import RecordingError
     from rollerrig.measure.source import open_recording
 
-    check_suffix(path)
     quiet_reader_console_logs()
     try:
         source = files.enter_context(open_recording(path, channels, channels=needed))
