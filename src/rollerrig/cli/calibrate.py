@@ -169,8 +169,7 @@ def calibrate(
 
         each = "; ".join(f"{k!r}{did_you_mean(k, catalogue, n=3)}" for k in unknown)
         raise CalibrationError(
-            f"--free: not a key rollerrig calibrate fits: {each} "
-            "(--list-keys lists all of them)"
+            f"--free: not a key rollerrig calibrate fits: {each} (--list-keys lists all of them)"
         )
     rig = load_rig(rig_file)
     with command_outputs(
