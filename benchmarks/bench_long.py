@@ -14,7 +14,7 @@ seed-like Parquet file (rows smoothing, filter study, decimation)
     ripple, noise; :func:`rollerrig.signal.scoring.seed_like_torque`, repeated every minute
     with fresh noise) and three displacement channels (lines and noise), with a float64 time
     column, in Parquet row groups of 2^20 rows (~41 MB per minute). Read in chunks through the
-    package's reader (:func:`rollerrig.measure.source.open_recording` with a channel map:
+    package's reader (:func:`rollerrig.recordings.source.open_recording` with a channel map:
     units, strict checks), so the chunked rows include the reader.
 adhesion-test TDMS file (rows spectrum, analyze, filters)
     the digital twin's 30 s adhesion test (``seed-30kmh-dry``: three ramps, holds and
@@ -180,7 +180,7 @@ def parquet_chunks(path: str, columns):
     map, SI units, strict checks), so that the chunked rows cover the reader too."""
     import numpy as np
 
-    from rollerrig.measure.source import open_recording
+    from rollerrig.recordings.source import open_recording
 
     with open_recording(path, CHANNEL_MAP, channels=columns) as src:
         for chunk in src.iter_chunks(tuple(columns), ROW_GROUP):
@@ -192,12 +192,12 @@ def twin_test_pattern(path: Path) -> None:
     """One 30 s adhesion test of the digital twin (seed-30kmh-dry, 1 kHz), saved as ``.npz``.
 
     The twin's clean roller-shaft torque plus the disturbance lines the synthetic DAQ adds
-    (:func:`rollerrig.measure.synthetic.synthetic_recording`: motor lines, ripple, orders),
+    (:func:`rollerrig.recordings.synthetic.synthetic_recording`: motor lines, ripple, orders),
     the torque request, wheel and roller speeds, normal load and the true contact CoA.
     """
     import numpy as np
 
-    from rollerrig.measure.synthetic import synthetic_recording
+    from rollerrig.recordings.synthetic import synthetic_recording
     from rollerrig.rig.parameters import default_rig
     from rollerrig.solve.simulation import Simulation
 
@@ -367,16 +367,16 @@ def case_cli_analyze(path: str) -> dict:
 
 
 def case_analyze_whole(path: str) -> dict:
-    from rollerrig.measure.analysis import analyze_test
-    from rollerrig.measure.readers import read_recording
+    from rollerrig.analysis.adhesion import analyze_test
+    from rollerrig.recordings.readers import read_recording
 
     result = analyze_test(read_recording(path))  # in memory, decimated to 1 kHz there
     return {"mu0": round(result.fit.parameters.static_friction, 4)}
 
 
 def case_analyze_fullrate(path: str) -> dict:
-    from rollerrig.measure.analysis import analyze_test
-    from rollerrig.measure.readers import read_recording
+    from rollerrig.analysis.adhesion import analyze_test
+    from rollerrig.recordings.readers import read_recording
 
     # what `analyze` did before issue 7: every sample at 19.2 kHz, every ascending-branch point
     result = analyze_test(read_recording(path), analysis_rate=FS, max_fit_points=1 << 40)
@@ -388,7 +388,7 @@ def case_cli_filters(path: str) -> dict:
 
 
 def case_filters_whole(path: str) -> dict:
-    from rollerrig.measure.readers import read_recording
+    from rollerrig.recordings.readers import read_recording
     from rollerrig.signal.scoring import prepare_study_signal
 
     rec = read_recording(path, channels=["torque"])
@@ -440,7 +440,7 @@ def run_child(case: str, path: str) -> None:
     # import what the cases import before timing, so that the time is the work only
     for module in ("numpy", "pandas", "pyarrow.parquet", "scipy.signal", "nptdms",
                    "rollerrig.signal.chunked", "rollerrig.signal.decimate",
-                   "rollerrig.signal.scoring", "rollerrig.measure.source"):  # fmt: skip
+                   "rollerrig.signal.scoring", "rollerrig.recordings.source"):  # fmt: skip
         importlib.import_module(module)
 
     start = time.perf_counter()

@@ -103,8 +103,8 @@ CHANNEL_MAP = {
 _CHILD = r"""
 import json, resource, sys, threading, time
 import numpy as np
-from rollerrig.measure.readers import read_recording
-from rollerrig.measure.source import open_recording
+from rollerrig.recordings.readers import read_recording
+from rollerrig.recordings.source import open_recording
 import nptdms, asammdf  # imported before the baseline: library code is not the read
 path, mode, cmap, chunk = sys.argv[1], sys.argv[2], json.loads(sys.argv[3]), int(sys.argv[4])
 

@@ -24,8 +24,8 @@ from typer.testing import CliRunner
 import vendor_files as vf
 from rollerrig._validation import ParameterError
 from rollerrig.cli import app
-from rollerrig.measure.readers import read_recording
-from rollerrig.measure.recording import Recording
+from rollerrig.recordings.readers import read_recording
+from rollerrig.recordings.recording import Recording
 
 runner = CliRunner()
 
@@ -236,14 +236,14 @@ def _rig():
 @SLOW
 @given(rec=recordings())
 def test_analyze_test_gives_a_result_or_a_clear_error(rec):
-    from rollerrig.measure.analysis import analyze_test
+    from rollerrig.analysis.adhesion import analyze_test
 
     _result_or_parameter_error(analyze_test, rec, _rig(), run_study=False)
 
 
 def test_analyze_test_of_two_samples_is_a_clear_error():
     # Found by Hypothesis: segmentation.segment_test lets scipy's padlen ValueError escape.
-    from rollerrig.measure.analysis import analyze_test
+    from rollerrig.analysis.adhesion import analyze_test
 
     _result_or_parameter_error(
         analyze_test, _two_zero_samples(pressure=86000.0), _rig(), run_study=False

@@ -230,8 +230,8 @@ def test_without_the_model_the_bound_in_the_error_is_given():
 
 def test_user_files_share_the_format(tmp_path):
     # The rig file and the channel map report through the same format.
-    from rollerrig.measure.channels import ChannelMap
-    from rollerrig.measure.recording import RecordingError
+    from rollerrig.recordings.channels import ChannelMap
+    from rollerrig.recordings.recording import RecordingError
     from rollerrig.rig.parameters import RigFileError, default_rig
 
     with pytest.raises(RigFileError) as rig:

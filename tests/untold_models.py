@@ -25,7 +25,7 @@ from typing import NamedTuple
 import numpy as np
 
 from rollerrig.experiment import load_protocol
-from rollerrig.measure.synthetic import synthetic_recording
+from rollerrig.recordings.synthetic import synthetic_recording
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import default_rig
 from rollerrig.solve.simulation import Simulation

@@ -6,10 +6,10 @@ rates, start times, the quirk it reproduces, the error a reader should give). Th
 checked against public descriptions of each tool's output (named in each docstring); where no
 public description was found, the docstring says so and what the layout is modelled on.
 
-Signals come from a :class:`rollerrig.measure.recording.Recording` in SI units (canonical
+Signals come from a :class:`rollerrig.recordings.recording.Recording` in SI units (canonical
 channel names): :func:`bench_recording` (closed-form, cheap: constant speed, motor line, an
 extra unexplained line, noise) or :func:`adhesion_recording` (a short adhesion test on the
-digital twin, :func:`rollerrig.measure.synthetic.synthetic_recording`, plus an extra
+digital twin, :func:`rollerrig.recordings.synthetic.synthetic_recording`, plus an extra
 unexplained 37 Hz line). Builders convert to the units the tool would store (N.m, bar, 1/min,
 mm, V) and the channel maps convert back, so a read-back can be compared with the source.
 """
@@ -26,7 +26,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from rollerrig.measure.recording import CANONICAL_CHANNELS, Recording
+from rollerrig.recordings.recording import CANONICAL_CHANNELS, Recording
 
 __all__ = [
     "ADHESION_PROTOCOL",
@@ -243,7 +243,7 @@ def adhesion_recording(
 
     The twin (:data:`ADHESION_PROTOCOL`, the bundled rig, the reference Radau solver at 500 Hz:
     about 2 s, no compilation) is recorded by
-    :func:`rollerrig.measure.synthetic.synthetic_recording` with its default disturbances; the
+    :func:`rollerrig.recordings.synthetic.synthetic_recording` with its default disturbances; the
     wheel and roller speeds [rad/s] of the twin are added (a speed sensor, as INCA/CANape and
     catman files carry) and a line at ``extra_line_Hz`` [Hz] of ``extra_line_Nm`` [N.m] is
     added to the torque (a pump on the rig: explained by nothing the toolkit knows). Cached.
@@ -257,7 +257,7 @@ def adhesion_recording(
         The twin's truth on the recording's time axis.
     """
     from rollerrig.experiment.protocol import protocol_from_toml_string
-    from rollerrig.measure.synthetic import synthetic_recording
+    from rollerrig.recordings.synthetic import synthetic_recording
     from rollerrig.rig.parameters import default_rig
     from rollerrig.solve.simulation import Simulation
 

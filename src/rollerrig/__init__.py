@@ -8,7 +8,13 @@ Packages, one per concern:
 - :mod:`rollerrig.drives` — PMSM, induction motor, ideal sources, speed-controlled roller drive.
 - :mod:`rollerrig.experiment` — experiment protocols, from step objects or TOML files.
 - :mod:`rollerrig.solve` — reference and fast solvers, labelled results.
-- :mod:`rollerrig.measure` — recordings: readers, writers, channel maps, the test analysis.
+- :mod:`rollerrig.recordings` — what acquisition software writes: readers, channel maps, time
+  bases, checks, writers, the :class:`Recording` type, synthetic recordings of the twin.
+- :mod:`rollerrig.measure` — physical quantities from channels: normal force, speeds, creep,
+  CoA, the test's phases, the dynamics correction.
+- :mod:`rollerrig.estimation` — the contact estimated from the sensors (Kalman filter, RTS
+  smoothers) and the corrected CoA's uncertainty (JCGM 100, JCGM 101, budgets).
+- :mod:`rollerrig.analysis` — the analysis of an adhesion test (:func:`analyze_test`).
 - :mod:`rollerrig.signal` — spectra, peak attribution, smoothing filters and their study.
 - :mod:`rollerrig.fit` — Polach fits and their honesty checks.
 - :mod:`rollerrig.calibrate` — the twin fitted to a recording: parameters with their errors.
@@ -48,6 +54,10 @@ import sys
 from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 
+from rollerrig._moved import install as _install_moved
+
+_install_moved()  # modules that moved stay importable under their old names for one release
+
 try:
     __version__ = version("rollerrig")
 except PackageNotFoundError:  # running from a source tree without installation
@@ -75,10 +85,10 @@ _EXPORTS: dict[str, str] = {
     "default_rig": "rollerrig.rig.parameters",
     "load_rig": "rollerrig.rig.parameters",
     # recordings and their analysis
-    "Recording": "rollerrig.measure.recording",
-    "read_recording": "rollerrig.measure.readers",
-    "write_recording": "rollerrig.measure.writers",
-    "synthetic_recording": "rollerrig.measure.synthetic",
+    "Recording": "rollerrig.recordings.recording",
+    "read_recording": "rollerrig.recordings.readers",
+    "write_recording": "rollerrig.recordings.writers",
+    "synthetic_recording": "rollerrig.recordings.synthetic",
     "analyze": "rollerrig._api",
     # studies
     "run_study": "rollerrig.studies",

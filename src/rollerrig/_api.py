@@ -37,8 +37,8 @@ def analyze(
     Parameters
     ----------
     recording : Recording or str or path-like
-        A :class:`rollerrig.measure.recording.Recording` (SI units), or a DAQ file (CSV, LVM,
-        Parquet, TDMS, MF4, MAT) read with :func:`rollerrig.measure.readers.read_recording`.
+        A :class:`rollerrig.recordings.recording.Recording` (SI units), or a DAQ file (CSV, LVM,
+        Parquet, TDMS, MF4, MAT) read with :func:`rollerrig.recordings.readers.read_recording`.
     channel_map : ChannelMap, path or dict, optional
         Channel map of the file (which column is which quantity, in which unit); ignored for a
         :class:`Recording`.
@@ -59,7 +59,7 @@ def analyze(
 
     Returns
     -------
-    rollerrig.measure.analysis.TestAnalysis
+    rollerrig.analysis.adhesion.TestAnalysis
         Phases, creep and CoA as the rig computes them, the corrected CoA, creep–CoA branches,
         Polach fits, the explained spectrum and (optionally) the filter study. Write it with
         :func:`rollerrig.report.analysis.write_analysis`.
@@ -70,8 +70,8 @@ def analyze(
     >>> result = rollerrig.analyze("run.tdms", channel_map="map.toml")  # doctest: +SKIP
     >>> result.phases  # doctest: +SKIP
     """
-    from rollerrig.measure.analysis import analyze_test
-    from rollerrig.measure.readers import read_recording
+    from rollerrig.analysis.adhesion import analyze_test
+    from rollerrig.recordings.readers import read_recording
 
     if isinstance(recording, str | os.PathLike):
         recording = read_recording(Path(recording), channel_map, validate=validate)
@@ -91,7 +91,7 @@ def explain_recording(recording, channel: str = "torque", rig=None, *, channel_m
     """The spectrum of one channel of a recording, every peak explained.
 
     :func:`rollerrig.signal.workflow.explain_recording` for a recording in memory or a file:
-    a file is streamed from disk (:func:`rollerrig.measure.source.open_recording`), never held
+    a file is streamed from disk (:func:`rollerrig.recordings.source.open_recording`), never held
     whole.
 
     Parameters
@@ -122,7 +122,7 @@ def explain_recording(recording, channel: str = "torque", rig=None, *, channel_m
     rig = _rig(rig)
     if not isinstance(recording, str | os.PathLike):
         return explain(recording, channel, rig, **kwargs)
-    from rollerrig.measure.source import open_recording
+    from rollerrig.recordings.source import open_recording
 
     with open_recording(Path(recording), channel_map) as source:
         return explain(source, channel, rig, **kwargs)

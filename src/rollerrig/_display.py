@@ -1,7 +1,7 @@
 """Notebook manners: a short ``repr`` and a small escaped HTML table for the result objects.
 
-:class:`~rollerrig.measure.recording.Recording`,
-:class:`~rollerrig.measure.findings.TestAnalysis`,
+:class:`~rollerrig.recordings.recording.Recording`,
+:class:`~rollerrig.analysis.findings.TestAnalysis`,
 :class:`~rollerrig.rig.parameters.RigParameters` and
 :class:`~rollerrig.calibrate.result.Calibration` hold arrays and nested tables; their
 ``repr`` is a few lines (what the object is, its size, the results a reader looks for first)

@@ -54,7 +54,7 @@ def explain_free_rolling(paths, rig):
     spectra : rollerrig.signal.workflow.SpectraSet
     """
     from rollerrig.measure.quantities import derive_quantities
-    from rollerrig.measure.readers import read_recording
+    from rollerrig.recordings.readers import read_recording
     from rollerrig.signal.workflow import explain_recordings
 
     free = [derive_quantities(read_recording(p), rig) for p in paths]
@@ -65,7 +65,7 @@ def explain_free_rolling(paths, rig):
 
 def _relocated(recording, path):
     """The recording with ``metadata["source"]`` naming where its file ends up."""
-    from rollerrig.measure.recording import Recording
+    from rollerrig.recordings.recording import Recording
 
     meta = {**recording.metadata, "source": str(path)}
     return Recording(recording.time, recording.channels, recording.units, meta)
@@ -123,9 +123,9 @@ def run_demo(out, console=None, free_rolling_duration: float = 20.0, *, workdir=
 
 def _adhesion_test(rig, out: Path, say) -> dict:
     """The 30 km/h dry test on the twin: its figure, the DAQ's TDMS file, the truth (NetCDF)."""
-    from rollerrig.measure.synthetic import synthetic_recording
-    from rollerrig.measure.writers import write_recording
     from rollerrig.output import save_figure, write_dataset
+    from rollerrig.recordings.synthetic import synthetic_recording
+    from rollerrig.recordings.writers import write_recording
     from rollerrig.report.twin import experiment_figure
     from rollerrig.solve.simulation import Simulation
 
@@ -142,8 +142,8 @@ def _adhesion_test(rig, out: Path, say) -> dict:
 
 def _free_rolling_files(rig, out: Path, duration: float) -> list[Path]:
     """Free rolling at each of :data:`FREE_ROLLING_SPEEDS_KMH`, as ASAM MDF4 files (600 Hz)."""
-    from rollerrig.measure.synthetic import synthetic_recording
-    from rollerrig.measure.writers import write_recording
+    from rollerrig.recordings.synthetic import synthetic_recording
+    from rollerrig.recordings.writers import write_recording
     from rollerrig.solve.simulation import Simulation
 
     paths = []
@@ -159,9 +159,9 @@ def _analyse(rig, out: Path, final: Path, written: dict, mdf_paths: list[Path]) 
     """Read the files back: the test's analysis and report, the free-rolling spectra."""
     import xarray as xr
 
-    from rollerrig.measure.analysis import analyze_test, recording_facts
-    from rollerrig.measure.readers import read_recording
+    from rollerrig.analysis.adhesion import analyze_test, recording_facts
     from rollerrig.output import save_figure, write_json
+    from rollerrig.recordings.readers import read_recording
     from rollerrig.report.analysis import write_analysis
     from rollerrig.report.spectra import order_map_figure, spectrum_figure
 

@@ -1,5 +1,5 @@
 """Synthetic recordings for the calibration tests: the twin with parameters the calibration is
-not told, through the disturbance model of :mod:`rollerrig.measure.synthetic` (noise, the motor
+not told, through the disturbance model of :mod:`rollerrig.recordings.synthetic` (noise, the motor
 and order lines, quantised encoders, the air-spring pressure's noise).
 
 The data come from :class:`~rollerrig.solve.simulation.Simulation` as a user makes them (the
@@ -14,7 +14,7 @@ import pytest
 
 from rollerrig.contact.creep import POLACH_DRY
 from rollerrig.experiment import Hold, Protocol, RampTorque, ReleaseTorque
-from rollerrig.measure.synthetic import synthetic_recording
+from rollerrig.recordings.synthetic import synthetic_recording
 from rollerrig.rig.parameters import default_rig
 from rollerrig.solve.simulation import Simulation
 

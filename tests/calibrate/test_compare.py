@@ -32,9 +32,9 @@ from rollerrig.calibrate.problem import (
     free_parameters,
 )
 from rollerrig.contact.creep import POLACH_DRY
+from rollerrig.estimation.uncertainty import calibration_covariance
 from rollerrig.experiment import Hold, Protocol, RampTorque, ReleaseTorque
-from rollerrig.measure.synthetic import synthetic_recording
-from rollerrig.measure.uncertainty import calibration_covariance
+from rollerrig.recordings.synthetic import synthetic_recording
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import default_rig
 from rollerrig.solve.simulation import Simulation

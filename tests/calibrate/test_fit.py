@@ -16,7 +16,7 @@ from rollerrig.calibrate import (
     calibrate,
     write_calibration,
 )
-from rollerrig.measure.recording import Recording, RecordingError
+from rollerrig.recordings.recording import Recording, RecordingError
 from rollerrig.rig.parameters import default_rig, load_rig
 
 FREE = [

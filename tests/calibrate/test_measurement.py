@@ -14,7 +14,7 @@ from rollerrig.calibrate.measurement import (
 )
 from rollerrig.calibrate.problem import replay_protocol_from_recording
 from rollerrig.measure.quantities import encoder_speed
-from rollerrig.measure.recording import Recording, RecordingError
+from rollerrig.recordings.recording import Recording, RecordingError
 from rollerrig.rig.parameters import default_rig
 
 

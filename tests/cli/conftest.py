@@ -57,8 +57,8 @@ def _fast_test(path, fs=19_200.0, duration=8.0):
     an inverter line at 2.35 kHz (far above the analysis band: decimation must not alias it),
     written with the package's writer (format from the suffix); returns the path and the true
     CoA on the file's time axis."""
-    from rollerrig.measure.recording import Recording
-    from rollerrig.measure.writers import write_recording
+    from rollerrig.recordings.recording import Recording
+    from rollerrig.recordings.writers import write_recording
 
     rng = np.random.default_rng(1)
     t = np.arange(int(duration * fs)) / fs

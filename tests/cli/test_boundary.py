@@ -105,7 +105,7 @@ def test_a_broken_import_inside_rollerrig_is_an_internal_error(tmp_path, monkeyp
 
 
 def test_a_reader_that_names_the_extra_keeps_its_sentence(tmp_path, monkeypatch, runner):
-    import rollerrig.measure.readers as readers
+    import rollerrig.recordings.readers as readers
 
     def no_nptdms(*args, **kwargs):
         raise ImportError("reading TDMS files needs nptdms: pip install 'rollerrig[io]'")
@@ -120,7 +120,7 @@ def test_a_reader_that_names_the_extra_keeps_its_sentence(tmp_path, monkeypatch,
 
 
 def test_a_missing_reader_package_names_the_extra_of_the_job(tmp_path, monkeypatch, runner):
-    import rollerrig.measure.readers as readers
+    import rollerrig.recordings.readers as readers
 
     def no_nptdms(*args, **kwargs):
         raise ModuleNotFoundError("No module named 'nptdms'", name="nptdms")

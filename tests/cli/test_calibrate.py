@@ -18,8 +18,8 @@ def synthetic_tdms(tmp_path_factory):
     """A short synthetic test of the twin with altered roller-shaft stiffness and bearing
     friction, written as NI TDMS."""
     from rollerrig.experiment import Hold, Protocol, RampTorque, ReleaseTorque
-    from rollerrig.measure.synthetic import synthetic_recording
-    from rollerrig.measure.writers import write_recording
+    from rollerrig.recordings.synthetic import synthetic_recording
+    from rollerrig.recordings.writers import write_recording
     from rollerrig.rig.parameters import default_rig
     from rollerrig.solve.simulation import Simulation
 

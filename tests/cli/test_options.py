@@ -17,6 +17,7 @@ from rollerrig.cli._options import (
 
 NAMES = (
     "contact",
+    "transfer",
     "simulate",
     "modes",
     "frame",

@@ -20,7 +20,7 @@ from typer.testing import CliRunner
 
 import vendor_files as vf
 from rollerrig.cli import app
-from rollerrig.measure.recording import CANONICAL_CHANNELS, Recording
+from rollerrig.recordings.recording import CANONICAL_CHANNELS, Recording
 
 runner = CliRunner()
 

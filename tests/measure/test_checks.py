@@ -9,8 +9,8 @@ from rollerrig.measure.checks import (
     require_adhesion_test,
     require_analysis_inputs,
 )
-from rollerrig.measure.recording import Recording, RecordingError
 from rollerrig.measure.segmentation import segment_test
+from rollerrig.recordings.recording import Recording, RecordingError
 from rollerrig.rig.parameters import default_rig
 
 

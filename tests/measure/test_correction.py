@@ -10,7 +10,7 @@ import pytest
 
 from rollerrig.measure.correction import corrected_adhesion
 from rollerrig.measure.quantities import derive_quantities
-from rollerrig.measure.synthetic import DisturbanceModel, synthetic_recording
+from rollerrig.recordings.synthetic import DisturbanceModel, synthetic_recording
 from rollerrig.rig.parameters import default_rig
 from rollerrig.solve.simulation import Simulation
 

@@ -15,7 +15,7 @@ from rollerrig.measure.facts import (
     true_polach_parameters,
     truth_coa,
 )
-from rollerrig.measure.recording import Recording, RecordingError
+from rollerrig.recordings.recording import Recording, RecordingError
 
 DRY = {
     "static_friction": 0.55,

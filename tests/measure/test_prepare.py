@@ -16,9 +16,9 @@ from rollerrig.measure.prepare import (
     fill_short_gaps,
     nominal_rate,
 )
-from rollerrig.measure.recording import Recording, RecordingError
-from rollerrig.measure.validate import MAX_INTERPOLATED_NAN_RUN
-from rollerrig.measure.writers import write_recording
+from rollerrig.recordings.recording import Recording, RecordingError
+from rollerrig.recordings.validate import MAX_INTERPOLATED_NAN_RUN
+from rollerrig.recordings.writers import write_recording
 
 
 def _with_gap(missing: int) -> Recording:
@@ -52,7 +52,7 @@ def test_uniform_recording_is_returned_as_it_is():
 
 
 def test_analysis_recording_streams_a_source_and_equals_the_whole_decimation(tmp_path):
-    from rollerrig.measure.source import open_recording
+    from rollerrig.recordings.source import open_recording
 
     t = np.arange(40_000) / 19_200.0
     torque = 100.0 + 10.0 * np.sin(2 * np.pi * 3.0 * t) + 2.0 * np.sin(2 * np.pi * 2350.0 * t)

@@ -14,8 +14,8 @@ from rollerrig.measure.quantities import (
     normal_force_from_pressure,
     tangential_force,
 )
-from rollerrig.measure.recording import Recording, RecordingError
-from rollerrig.measure.synthetic import DisturbanceModel, synthetic_recording
+from rollerrig.recordings.recording import Recording, RecordingError
+from rollerrig.recordings.synthetic import DisturbanceModel, synthetic_recording
 from rollerrig.rig.parameters import default_rig
 from rollerrig.solve.simulation import Simulation
 

@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 from rollerrig.experiment import load_protocol
-from rollerrig.measure.recording import Recording, RecordingError
 from rollerrig.measure.segmentation import (
     PHASE_NAMES,
     adhesion_branches,
     hysteresis,
     segment_test,
 )
-from rollerrig.measure.synthetic import synthetic_recording
+from rollerrig.recordings.recording import Recording, RecordingError
+from rollerrig.recordings.synthetic import synthetic_recording
 from rollerrig.solve.simulation import Simulation
 
 PROTOCOL = load_protocol("seed-30kmh-dry")

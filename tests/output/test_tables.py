@@ -11,8 +11,8 @@ import pytest
 import xarray as xr
 
 from rollerrig._validation import ParameterError
-from rollerrig.measure.readers import read_recording
 from rollerrig.output import OutputError, run_context, write_dataset, write_table
+from rollerrig.recordings.readers import read_recording
 
 N = 500
 T = 0.5 + np.arange(N) / 250.0

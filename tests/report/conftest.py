@@ -12,8 +12,8 @@ import itertools
 import numpy as np
 import pytest
 
-from rollerrig.measure.analysis import analyze_test
-from rollerrig.measure.recording import Recording
+from rollerrig.analysis.adhesion import analyze_test
+from rollerrig.recordings.recording import Recording
 from rollerrig.rig.parameters import default_rig
 
 FS = 250.0  # [Hz]
@@ -58,7 +58,7 @@ def adhesion_test_recording(seed: int = 0) -> Recording:
 
 @pytest.fixture(scope="session")
 def analysed():
-    """:class:`rollerrig.measure.analysis.TestAnalysis` of :func:`adhesion_test_recording`."""
+    """:class:`rollerrig.analysis.adhesion.TestAnalysis` of :func:`adhesion_test_recording`."""
     return analyze_test(adhesion_test_recording(), default_rig())
 
 

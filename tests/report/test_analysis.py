@@ -12,7 +12,7 @@ import numpy as np
 import xarray as xr
 
 from rollerrig.measure.quantities import ANALYSIS_CHANNELS, DERIVED_CHANNELS
-from rollerrig.measure.recording import CANONICAL_CHANNELS
+from rollerrig.recordings.recording import CANONICAL_CHANNELS
 from rollerrig.report.analysis import (
     analysis_columns,
     overview_figure,
@@ -174,7 +174,7 @@ def test_results_carry_the_uncertainty(written):
 
 
 def test_every_input_of_the_budget_has_words():
-    from rollerrig.measure.uncertainty import INPUT_NAMES
+    from rollerrig.estimation.uncertainty import INPUT_NAMES
     from rollerrig.report.analysis import _BUDGET_LABELS
 
     assert set(INPUT_NAMES) <= set(_BUDGET_LABELS)

@@ -13,7 +13,7 @@ from contextlib import redirect_stdout
 import numpy as np
 
 from rollerrig._display import MAX_ROWS, fmt, html_table
-from rollerrig.measure.recording import Recording
+from rollerrig.recordings.recording import Recording
 from rollerrig.rig.parameters import default_rig
 
 MAX_REPR_LINES = 8

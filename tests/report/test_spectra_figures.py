@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from rollerrig.measure.recording import Recording
+from rollerrig.recordings.recording import Recording
 from rollerrig.report.labels import LABEL_GID
 from rollerrig.report.spectra import (
     coherence_figure,

@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rollerrig.contact.transfer import (
+from rollerrig.analysis.transfer import (
     ContactGeometry,
     RailGeometry,
     curve_from_analysis,

@@ -11,7 +11,7 @@ from scipy import signal as sps
 
 import rollerrig.signal.decimate as dec
 from rollerrig._validation import ParameterError
-from rollerrig.measure.recording import Recording, RecordingError
+from rollerrig.recordings.recording import Recording, RecordingError
 from rollerrig.signal.decimate import (
     decimate,
     decimate_chunks,
@@ -242,9 +242,9 @@ def test_decimate_recording_refuses_non_uniform_time_naming_the_source():
 def test_decimate_recording_streams_an_open_source_like_the_recording_in_memory(tmp_path):
     # open_recording (measure/source.py) reads the file in chunks; the result must equal the
     # decimation of the whole recording read at once, with the source's notes kept.
-    from rollerrig.measure.readers import read_recording
-    from rollerrig.measure.source import open_recording
-    from rollerrig.measure.writers import write_recording
+    from rollerrig.recordings.readers import read_recording
+    from rollerrig.recordings.source import open_recording
+    from rollerrig.recordings.writers import write_recording
 
     fs = 19200.0
     t = np.arange(int(2.5 * fs)) / fs

@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from scipy import signal as sps
 
 from rollerrig._validation import ParameterError
-from rollerrig.measure.recording import Recording, RecordingError
+from rollerrig.recordings.recording import Recording, RecordingError
 from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
 from rollerrig.signal.spectra import (
     ExplainedSpectrum,

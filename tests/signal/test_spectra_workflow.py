@@ -16,10 +16,10 @@ import pytest
 from typer.testing import CliRunner
 
 from rollerrig.cli import app
-from rollerrig.measure.readers import read_recording
-from rollerrig.measure.recording import Recording, RecordingError
-from rollerrig.measure.source import open_recording
-from rollerrig.measure.writers import write_recording
+from rollerrig.recordings.readers import read_recording
+from rollerrig.recordings.recording import Recording, RecordingError
+from rollerrig.recordings.source import open_recording
+from rollerrig.recordings.writers import write_recording
 from rollerrig.rig.parameters import default_rig
 from rollerrig.signal.workflow import explain_recording, explain_recordings
 
@@ -187,7 +187,7 @@ def test_operating_point_from_encoders_and_default_load():
 
 
 class _ChunkedSource:
-    """The chunked-source interface (as rollerrig.measure.source.RecordingSource)."""
+    """The chunked-source interface (as rollerrig.recordings.source.RecordingSource)."""
 
     def __init__(self, rec: Recording):
         self.rec = rec

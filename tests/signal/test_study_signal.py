@@ -110,9 +110,9 @@ def test_analysis_rate_choices_and_errors():
 def test_study_of_an_open_source_reads_the_span_in_chunks(tmp_path):
     # open_recording (measure/source.py) gives the channel chunk by chunk; the study signal is
     # the one of the same samples in memory
-    from rollerrig.measure.recording import Recording
-    from rollerrig.measure.source import open_recording
-    from rollerrig.measure.writers import write_recording
+    from rollerrig.recordings.recording import Recording
+    from rollerrig.recordings.source import open_recording
+    from rollerrig.recordings.writers import write_recording
 
     fs = 2000.0
     sig = seed_like_torque(sample_rate=fs, duration=20.0)

@@ -30,7 +30,7 @@ The spread of the values between adequate models is a type-B model-discrepancy t
 half the range of the adequate models' values as the half-width of a rectangular distribution
 (standard uncertainty half-width/√3), written into the winner's ``calibration.json``
 (``model_discrepancy``) and added to the variance of that key by
-:func:`rollerrig.measure.uncertainty.calibration_covariance`.
+:func:`rollerrig.estimation.uncertainty.calibration_covariance`.
 """
 
 from __future__ import annotations
@@ -442,7 +442,7 @@ def compare_drives(
     from rollerrig.calibrate.fit import calibrate
     from rollerrig.calibrate.measurement import prepare_measurement
     from rollerrig.calibrate.problem import VF_SECTION
-    from rollerrig.measure.recording import Recording
+    from rollerrig.recordings.recording import Recording
     from rollerrig.rig.parameters import default_rig
 
     started = _time.perf_counter()
@@ -453,7 +453,7 @@ def compare_drives(
             f"compare at least two roller drives of {list(ROLLER_DRIVES)}; got {drives}"
         )
     if not isinstance(recording, Recording):
-        from rollerrig.measure.readers import read_recording
+        from rollerrig.recordings.readers import read_recording
 
         recording = read_recording(recording, channel_map)
     rig = default_rig() if rig is None else rig

@@ -66,7 +66,7 @@ from rollerrig.calibrate.settings import (
 )
 from rollerrig.calibrate.stats import hac_covariance, whiteness
 from rollerrig.contact.creep import PolachParameters
-from rollerrig.measure.recording import Recording
+from rollerrig.recordings.recording import Recording
 from rollerrig.rig.parameters import RigParameters, default_rig
 
 __all__ = [
@@ -310,7 +310,7 @@ def calibrate(
     Parameters
     ----------
     recording : Recording or path
-        A recording read in SI units (:func:`rollerrig.measure.readers.read_recording`), or a
+        A recording read in SI units (:func:`rollerrig.recordings.readers.read_recording`), or a
         file to read (with ``channel_map``).
     free : str or iterable of str
         Dotted keys of the free parameters (:func:`~rollerrig.calibrate.problem.
@@ -364,7 +364,7 @@ def calibrate(
     if int(max_iterations) < 1:
         raise CalibrationError(f"max_iterations must be >= 1, got {max_iterations!r}")
     if not isinstance(recording, Recording):
-        from rollerrig.measure.readers import read_recording
+        from rollerrig.recordings.readers import read_recording
 
         recording = read_recording(recording, channel_map)
     rig = default_rig() if rig is None else rig

@@ -45,9 +45,9 @@ from rollerrig.calibrate.errors import CalibrationError
 from rollerrig.measure.checks import check_channel_values
 from rollerrig.measure.facts import describe_channel, source_prefix
 from rollerrig.measure.quantities import encoder_speed, normal_force_from_pressure
-from rollerrig.measure.recording import Recording, RecordingError
+from rollerrig.recordings.recording import Recording, RecordingError
+from rollerrig.recordings.timebase import uniform_sample_rate
 from rollerrig.rig.parameters import RigParameters
-from rollerrig.signal._numeric import uniform_sample_rate
 
 __all__ = [
     "CHANNELS",
@@ -68,7 +68,7 @@ DEFAULT_TORQUE_NOISE_FRACTION = 1.0 / 3000.0
 """White noise of the torque channel as a fraction of ``sensors.torque_sensor_range`` [-]:
 1 N.m on the default rig's 3000 N.m range (an assumption: a strain-gauge torque flange's noise
 floor of about 0.03 % of its range; the same value as
-:attr:`rollerrig.measure.synthetic.DisturbanceModel.torque_noise`). Only the first weights use
+:attr:`rollerrig.recordings.synthetic.DisturbanceModel.torque_noise`). Only the first weights use
 it: the fit then re-weights each channel by its own residual scatter (see
 :mod:`rollerrig.calibrate.fit`)."""
 

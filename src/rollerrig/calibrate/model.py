@@ -182,17 +182,14 @@ class ReplayModel:
         return out  # type: ignore[return-value]
 
     def _prediction(self, inputs, x: np.ndarray, stats: dict) -> Prediction:
-        from rollerrig.solve._compiled import rig_terms_series
+        from rollerrig.solve.results import first_segment_terms
 
         if stats["status"] != 0 or not np.all(np.isfinite(x)):
             reason = stats.get("reason") or "the states became NaN or infinite"
             return Prediction(None, f"the fast solver failed: {reason}")
         t = self.measurement.time
-        terms = np.empty((t.size, len(m.TERM_NAMES)))
         # T56 does not depend on friction: the first segment's parameters serve every sample.
-        rig_terms_series(
-            t, np.ascontiguousarray(x), inputs.segments[0].params, inputs.tables, terms
-        )
+        terms = first_segment_terms(inputs, t, x)
         load = float(inputs.protocol.normal_load[0])
         channels = self.measurement.predicted(
             terms[:, _T56], x[:, _WHEEL_ANGLE], x[:, _ROLLER_ANGLE], load

@@ -47,7 +47,7 @@ def print_written(paths) -> None:
 
 def print_recording_notes(rec) -> None:
     """The reader's notes, interpolated NaN runs, gaps and injected lines, one line each."""
-    from rollerrig.measure.analysis import recording_note_lines
+    from rollerrig.analysis.adhesion import recording_note_lines
 
     for line in recording_note_lines(rec):
         note(f"recording: {line}")

@@ -46,8 +46,8 @@ def suffix_in_cli_words():
     """A recording whose suffix names no format rollerrig reads (and whose content names
     none either): the reader's error in command-line terms, without the Python API's
     ``format=``, which has no option here. Every other error passes unchanged."""
-    from rollerrig.measure.readers import FORMATS
-    from rollerrig.measure.recording import RecordingError
+    from rollerrig.recordings.readers import FORMATS
+    from rollerrig.recordings.recording import RecordingError
 
     try:
         yield
@@ -65,7 +65,7 @@ def suffix_in_cli_words():
 
 def read(path: Path, channels: Path | None, lenient: bool, needed=None):
     """Read a recording; ``needed``: the channels the command needs (others only noted)."""
-    from rollerrig.measure.readers import read_recording
+    from rollerrig.recordings.readers import read_recording
 
     quiet_reader_console_logs()
     with suffix_in_cli_words():
@@ -83,13 +83,13 @@ def open_input(path: Path, channels, lenient: bool, needed, files):
     Short files, multi-rate files (the reader resamples them onto one base) and ``--lenient``
     reads are read whole (:func:`read`), a ``Recording``. A file on one time base with more
     than :func:`in_memory_limit` samples per channel, read strictly, is opened for chunked
-    reading (:func:`rollerrig.measure.source.open_recording`, entered into the ExitStack
+    reading (:func:`rollerrig.recordings.source.open_recording`, entered into the ExitStack
     ``files``) and returned as a ``RecordingSource``: the command streams it and never holds
     it whole. With ``--lenient`` such a file is still read whole (interpolating NaN runs and
     keeping gaps needs the whole file), and a note says so and how large it is.
     """
-    from rollerrig.measure.recording import RecordingError
-    from rollerrig.measure.source import open_recording
+    from rollerrig.recordings.recording import RecordingError
+    from rollerrig.recordings.source import open_recording
 
     quiet_reader_console_logs()
     try:
@@ -118,7 +118,7 @@ def open_input(path: Path, channels, lenient: bool, needed, files):
 @contextlib.contextmanager
 def _strict_stream_hint():
     """A streamed file that stops at a NaN/inf sample or a gap: say what the option is called."""
-    from rollerrig.measure.recording import RecordingError
+    from rollerrig.recordings.recording import RecordingError
 
     try:
         yield

@@ -71,7 +71,7 @@ def analyze(
     <name>-analysis.json (every result with units), <name>-analysis.nc (the processed channels)
     and a self-contained <name>-report.html with the figures; all three or none.
     """
-    from rollerrig.measure.analysis import analyze_test
+    from rollerrig.analysis.adhesion import analyze_test
     from rollerrig.report.analysis import write_analysis
 
     rig = load_rig(rig_file)
@@ -124,7 +124,7 @@ def _sections(sections):
 def _on_track_section(result, rig, out: Path, stem: str):
     """The transfer of the analysis's curve to a tangent rail (written beside the analysis)
     and its report section; a note and no section when the curve cannot be transferred."""
-    from rollerrig.contact.transfer import (
+    from rollerrig.analysis.transfer import (
         ContactGeometry,
         RailGeometry,
         curve_from_analysis,
@@ -311,7 +311,7 @@ def spectrum(
     lines that stay put at every speed (speed-independent). Settings are chosen from each
     signal and stated; the coupled twin's damped modes at each recording's speed and load are
     among the sources."""
-    from rollerrig.measure.analysis import recording_facts
+    from rollerrig.analysis.adhesion import recording_facts
     from rollerrig.output import save_figure, write_json
     from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
     from rollerrig.signal.workflow import explain_recordings
@@ -416,13 +416,13 @@ def filters(
     Recordings faster than 500 Hz are studied at 250 Hz (the seed's rate; anti-alias
     decimation, stated); long files are decimated while they are read, never held whole.
     """
-    from rollerrig.measure.analysis import (
+    from rollerrig.analysis.adhesion import (
         check_channel_values,
         fill_short_gaps,
         recording_facts,
     )
-    from rollerrig.measure.recording import RecordingError
     from rollerrig.output import save_figure, write_json
+    from rollerrig.recordings.recording import RecordingError
     from rollerrig.report.filters import savitzky_golay_grid_figure, study_ranking_figure
     from rollerrig.signal.scoring import prepare_study_signal, study_signal_from_source
 

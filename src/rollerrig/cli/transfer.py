@@ -19,7 +19,7 @@ __all__ = ["Creepage", "TransferLaw", "transfer"]
 
 
 class TransferLaw(StrEnum):
-    """The laws of :data:`rollerrig.contact.transfer.TRANSFER_LAWS`."""
+    """The laws of :data:`rollerrig.analysis.transfer.TRANSFER_LAWS`."""
 
     modified_fastsim = "modified-fastsim"
     polach = "polach"
@@ -124,7 +124,7 @@ def transfer(
     <name>-transfer.csv, <name>-transfer.json and <name>-transfer.png.
     """
     from rollerrig._validation import ParameterError
-    from rollerrig.contact.transfer import (
+    from rollerrig.analysis.transfer import (
         ContactGeometry,
         RailGeometry,
         read_analysis,

@@ -38,8 +38,10 @@ __all__ = [
     "PolachParameters",
     "adhesion_gradient",
     "friction_coefficient",
+    "friction_kernel",
     "kalker_linear_force",
     "polach_creep_force",
+    "polach_force_kernel",
 ]
 
 
@@ -343,3 +345,8 @@ def kalker_linear_force(creep, semi_axis_x, semi_axis_y, c11, shear_modulus):
     """
     s = require_finite("creep", creep, "-")
     return _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus) * s
+
+
+# Public names of the compiled kernels, for the twin's right-hand side and the fits.
+polach_force_kernel = _polach_force_kernel
+friction_kernel = _friction_kernel

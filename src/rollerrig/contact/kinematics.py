@@ -12,7 +12,7 @@ import numpy as np
 
 from rollerrig._validation import require_finite, require_positive
 
-__all__ = ["DEFAULT_REGULARISATION_SPEED", "creep_and_slip_velocity"]
+__all__ = ["DEFAULT_REGULARISATION_SPEED", "creep_and_slip_velocity", "creep_kernel"]
 
 DEFAULT_REGULARISATION_SPEED = 0.05
 """Speed v_ε below which the creep definition is regularised [m/s] (0.18 km/h).
@@ -84,3 +84,7 @@ def creep_and_slip_velocity(
     rr = require_positive("roller_radius", roller_radius, "m")
     ve = require_positive("regularisation_speed", regularisation_speed, "m/s")
     return _creep_kernel(ww, wr, rw, rr, ve)
+
+
+# Public name of the compiled kernel, for the twin's right-hand side and the measurement.
+creep_kernel = _creep_kernel

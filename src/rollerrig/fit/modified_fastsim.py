@@ -50,7 +50,7 @@ import numpy as np
 from scipy import optimize, stats
 
 from rollerrig._validation import ParameterError, require_finite, require_positive
-from rollerrig.contact.creep import _friction_kernel
+from rollerrig.contact.creep import friction_kernel as _friction_kernel
 from rollerrig.contact.fastsim import FastsimGrid, fastsim, fastsim_grid
 from rollerrig.contact.laws import FastsimParameters
 from rollerrig.fit import diagnostics as _diag
@@ -63,8 +63,11 @@ from rollerrig.fit.diagnostics import (
 __all__ = [
     "MAX_FIT_POINTS",
     "MODIFIED_FASTSIM_PARAMETER_NAMES",
+    "PARAMETER_LOWER",
+    "PARAMETER_UPPER",
     "ModifiedFastsimFit",
     "ModifiedFastsimFitWarning",
+    "coa_kernel",
     "fit_modified_fastsim",
     "modified_fastsim_coa",
 ]
@@ -388,7 +391,7 @@ def fit_modified_fastsim(
     ----------
     creep : array_like, shape (n,)
         Creepage ξ [-], Kalker's (referred to the mean rolling speed; convert a rig's creep
-        with :func:`rollerrig.contact.transfer.kalker_creepage`).
+        with :func:`rollerrig.analysis.transfer.kalker_creepage`).
     coa : array_like, shape (n,)
         Measured CoA F/N [-].
     normal_load : float or array_like
@@ -711,3 +714,9 @@ def _coverage(s, w, q, y, theta, model, best_cost, cost_with, ab_problems, n_ref
         a_and_b_identifiable=not reasons,
         reasons=tuple(reasons),
     )
+
+
+# Public names for the roller-to-track transfer (rollerrig.analysis.transfer).
+coa_kernel = _coa_kernel
+PARAMETER_LOWER = _LOWER
+PARAMETER_UPPER = _UPPER

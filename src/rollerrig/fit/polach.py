@@ -42,7 +42,8 @@ import numpy as np
 from scipy import optimize, stats
 
 from rollerrig._validation import ParameterError, require_finite, require_positive
-from rollerrig.contact.creep import PolachParameters, _polach_force_kernel
+from rollerrig.contact.creep import PolachParameters
+from rollerrig.contact.creep import polach_force_kernel as _polach_force_kernel
 from rollerrig.contact.curves import CreepCurve
 from rollerrig.fit.diagnostics import (
     ResidualStructure,

@@ -1,6 +1,6 @@
 """Refuse recordings an adhesion-test analysis cannot compute with, saying what to change.
 
-Each check raises :class:`~rollerrig.measure.recording.RecordingError` naming the file, the
+Each check raises :class:`~rollerrig.recordings.recording.RecordingError` naming the file, the
 channel, its file column and channel-map entry: inputs missing from the channel map
 (:func:`require_analysis_inputs`), values no analysis can compute with
 (:func:`check_channel_values`), a recording without a torque ramp
@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from rollerrig.measure.facts import describe_channel, source_prefix
-from rollerrig.measure.recording import Recording, RecordingError
+from rollerrig.recordings.recording import Recording, RecordingError
 
 __all__ = [
     "ANALYSED_CHANNELS",
@@ -72,7 +72,7 @@ def check_channel_values(recording: Recording, names, rig=None) -> None:
     >>> check_channel_values(rec, ["torque"])
     Traceback (most recent call last):
     ...
-    rollerrig.measure.recording.RecordingError: channel 'torque' (map entry [channels.torque]) reaches 1e+300 N.m: too large to compute with (its squares overflow); check the unit, scale and offset of that map entry
+    rollerrig.recordings.recording.RecordingError: channel 'torque' (map entry [channels.torque]) reaches 1e+300 N.m: too large to compute with (its squares overflow); check the unit, scale and offset of that map entry
     """  # noqa: E501
     for name in names:
         if name not in recording:

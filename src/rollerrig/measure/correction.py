@@ -181,7 +181,7 @@ def correction_terms(
     """The smoothed torque and speed, α5, R05 and μ_corr of :func:`corrected_adhesion`.
 
     Same parameters as :func:`corrected_adhesion`; the terms are what the uncertainty of the
-    corrected CoA (:mod:`rollerrig.measure.uncertainty`) takes its sensitivities at.
+    corrected CoA (:mod:`rollerrig.estimation.uncertainty`) takes its sensitivities at.
 
     Returns
     -------

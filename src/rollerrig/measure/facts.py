@@ -16,8 +16,8 @@ import json
 
 import numpy as np
 
-from rollerrig.measure.recording import Recording, RecordingError
-from rollerrig.measure.validate import describe_gap
+from rollerrig.recordings.recording import Recording, RecordingError
+from rollerrig.recordings.validate import describe_gap
 
 __all__ = [
     "describe_channel",
@@ -184,7 +184,7 @@ def true_polach_parameters(
     (or ``condition``'s set, when it ran with several and the analysis used that one).
 
     Looked up in the recording's metadata (``true_polach_parameters``, written by
-    :func:`rollerrig.measure.synthetic.synthetic_recording`, also after a round trip through a
+    :func:`rollerrig.recordings.synthetic.synthetic_recording`, also after a round trip through a
     file as ``stored_metadata``), else in the twin's provenance (``friction_sets`` and the
     protocol's ``friction_condition``) stored with the recording or in the ``truth`` dataset.
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from rollerrig.measure.facts import source_prefix
-from rollerrig.measure.recording import Recording, RecordingError
-from rollerrig.measure.validate import MAX_INTERPOLATED_NAN_RUN, describe_gap, find_gaps
+from rollerrig.recordings.recording import Recording, RecordingError
+from rollerrig.recordings.validate import MAX_INTERPOLATED_NAN_RUN, describe_gap, find_gaps
 
 __all__ = [
     "ANALYSIS_RATE",
@@ -46,7 +46,7 @@ def fill_short_gaps(recording: Recording) -> tuple[Recording, list[str]]:
     """The recording on a uniform time base, short gaps filled; for analyses that need one.
 
     A lenient read keeps gaps (dropped samples, ``metadata["gaps"]``). Gaps of at most
-    :data:`rollerrig.measure.validate.MAX_INTERPOLATED_NAN_RUN` missing samples are filled by
+    :data:`rollerrig.recordings.validate.MAX_INTERPOLATED_NAN_RUN` missing samples are filled by
     linear interpolation of every channel onto the uniform grid t0 + k/f_s (the policy of
     NaN runs); a longer gap is an error naming it. The recording's metadata keeps its
     ``gaps``; the notes say what was filled.
@@ -96,7 +96,7 @@ def analysis_recording(recording, *, rate: float | None = None, above: float | N
     ``rate`` (default :data:`ANALYSIS_RATE`, 1 kHz) by the zero-phase anti-alias FIR of
     :func:`rollerrig.signal.decimate.decimate_recording` (every channel; the metadata's
     ``notes`` and ``decimated`` say how). An open
-    :class:`rollerrig.measure.source.RecordingSource` is decimated while it is read, chunk by
+    :class:`rollerrig.recordings.source.RecordingSource` is decimated while it is read, chunk by
     chunk, and never held at its own rate; a source at or below ``above`` is read whole.
 
     Parameters

@@ -22,9 +22,10 @@ from typing import Any
 import numpy as np
 
 from rollerrig._validation import require_finite, require_positive
-from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED, _creep_kernel
+from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED
 from rollerrig.contact.kinematics import creep_and_slip_velocity as _creep_and_slip
-from rollerrig.measure.recording import CANONICAL_CHANNELS, Recording, RecordingError
+from rollerrig.contact.kinematics import creep_kernel as _creep_kernel
+from rollerrig.recordings.recording import CANONICAL_CHANNELS, Recording, RecordingError
 
 __all__ = [
     "ANALYSIS_CHANNELS",
@@ -61,7 +62,7 @@ ANALYSIS_CHANNELS: dict[str, tuple[str, str]] = {
         "roller angular acceleration alpha5 (Savitzky-Golay derivative of the roller speed)",
     ),
 }
-"""Channels :func:`rollerrig.measure.analysis.analyze_test` adds: name -> (SI unit, meaning)."""
+"""Channels :func:`rollerrig.analysis.adhesion.analyze_test` adds: name -> (SI unit, meaning)."""
 
 creep_and_slip_velocity = _creep_and_slip
 

@@ -43,7 +43,8 @@ import numpy as np
 from scipy import signal
 
 from rollerrig._validation import ParameterError
-from rollerrig.measure.recording import Recording, RecordingError
+from rollerrig.recordings.recording import Recording, RecordingError
+from rollerrig.recordings.validate import true_runs
 
 __all__ = [
     "PHASE_NAMES",
@@ -120,21 +121,6 @@ class Hysteresis(NamedTuple):
     creep_grid: np.ndarray
     ascending: np.ndarray
     descending: np.ndarray
-
-
-def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """(first, last) index of each run of True in ``mask``.
-
-    Examples
-    --------
-    >>> true_runs(np.array([False, True, True, False, True]))
-    [(1, 2), (4, 4)]
-    """
-    m = np.concatenate([[False], mask, [False]]).astype(int)
-    d = np.diff(m)
-    starts = np.flatnonzero(d == 1)
-    ends = np.flatnonzero(d == -1) - 1
-    return list(zip(starts.tolist(), ends.tolist(), strict=True))
 
 
 def segment_test(

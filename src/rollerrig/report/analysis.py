@@ -11,11 +11,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rollerrig.analysis.adhesion import TestAnalysis
 from rollerrig.fit.polach import PARAMETER_NAMES
-from rollerrig.measure.analysis import TestAnalysis
 from rollerrig.measure.quantities import ANALYSIS_CHANNELS, DERIVED_CHANNELS
-from rollerrig.measure.recording import CANONICAL_CHANNELS
 from rollerrig.output import json_text, provenance, write_json, write_table
+from rollerrig.recordings.recording import CANONICAL_CHANNELS
 from rollerrig.report.adhesion import adhesion_figure
 from rollerrig.report.filters import filter_comparison_figure, study_ranking_figure
 from rollerrig.report.html import HtmlReport
@@ -166,7 +166,7 @@ _BUDGET_LABELS = {
     "residual_steady": "residual: in-band lines",
     "residual_release": "residual: release transient",
 }
-"""Words for the inputs of the uncertainty budget (rollerrig.measure.uncertainty.INPUT_NAMES)."""
+"""Words for the inputs of the uncertainty budget (rollerrig.estimation.uncertainty.INPUT_NAMES)."""
 
 
 def _labels(unc) -> dict[str, str]:
@@ -349,12 +349,12 @@ def channel_attributes(recording) -> dict[str, dict[str, str]]:
 
     Units are the recording's (SI), except for the channels the analysis adds, whose units and
     meanings are :data:`ANALYSIS_CHANNELS`; meanings of the others come from
-    :data:`rollerrig.measure.recording.CANONICAL_CHANNELS` and
+    :data:`rollerrig.recordings.recording.CANONICAL_CHANNELS` and
     :data:`rollerrig.measure.quantities.DERIVED_CHANNELS` (else the channel's name).
 
     Examples
     --------
-    >>> from rollerrig.measure.recording import Recording
+    >>> from rollerrig.recordings.recording import Recording
     >>> rec = Recording(np.arange(3.0), {"roller_acceleration": np.zeros(3)},
     ...                 {"roller_acceleration": "1"})
     >>> channel_attributes(rec)["roller_acceleration"]["units"]
@@ -380,7 +380,7 @@ def analysis_columns(recording) -> dict[str, tuple]:
     Parameters
     ----------
     recording : Recording
-        The analysed recording (:attr:`rollerrig.measure.analysis.TestAnalysis.recording`).
+        The analysed recording (:attr:`rollerrig.analysis.adhesion.TestAnalysis.recording`).
 
     Returns
     -------
@@ -401,7 +401,7 @@ def analysis_columns(recording) -> dict[str, tuple]:
 
 def _recording_section(rep: HtmlReport, result: TestAnalysis) -> None:
     """What the reader and the generator said: notes, interpolated runs, gaps, injected lines."""
-    from rollerrig.measure.analysis import recording_facts, recording_note_lines
+    from rollerrig.analysis.adhesion import recording_facts, recording_note_lines
 
     facts = recording_facts(result.recording)
     lines = recording_note_lines(result.recording)

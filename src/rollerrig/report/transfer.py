@@ -1,4 +1,4 @@
-"""Figure and files of a roller-to-track transfer (:mod:`rollerrig.contact.transfer`)."""
+"""Figure and files of a roller-to-track transfer (:mod:`rollerrig.analysis.transfer`)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ matplotlib.use("Agg")  # files only
 import matplotlib.pyplot as plt
 import numpy as np
 
-from rollerrig.contact.transfer import TransferResult, kalker_creepage
+from rollerrig.analysis.transfer import TransferResult, kalker_creepage
 
 __all__ = ["transfer_figure", "write_transfer"]
 

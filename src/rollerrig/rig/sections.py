@@ -413,7 +413,7 @@ class SensorParameters(_Section):
     """Data acquisition and sensors (Kayaalp 4.1.3), and the accuracy of the measurement chain.
 
     The accuracy keys feed the uncertainty of the corrected CoA
-    (:mod:`rollerrig.measure.uncertainty`); each has a default (the bundled rig's value).
+    (:mod:`rollerrig.estimation.uncertainty`); each has a default (the bundled rig's value).
     """
 
     daq_rate: _Frequency
@@ -426,7 +426,7 @@ class SensorParameters(_Section):
     """Effective area of the air spring: normal force = pressure × area [m^2]."""
     torque_sensor_range: _Torque
     """Full-scale range of the torque sensor [N.m]."""
-    # The accuracy of the measurement chain (rollerrig.measure.uncertainty). Defaults equal the
+    # The accuracy of the measurement chain (rollerrig.estimation.uncertainty). Defaults equal the
     # bundled rig's values, so rig files written before these keys existed still load.
     torque_sensor_accuracy: _Fraction = 0.001
     """Accuracy class of the torque sensor: bound of its error as a fraction of

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from rollerrig._validation import ParameterError
+from rollerrig.recordings.timebase import uniform_sample_rate
 
 __all__ = [
     "check_samples",
@@ -25,9 +26,6 @@ __all__ = [
     "tidy_rate",
     "uniform_sample_rate",
 ]
-
-UNIFORM_STEP_TOLERANCE = 0.01
-"""Largest deviation of a time step from the median step of a uniform time base [1]."""
 
 
 def odd(n: float, minimum: int = 3) -> int:
@@ -80,44 +78,6 @@ def tidy_rate(rate: float) -> float:
     19200.0
     """
     return float(f"{float(rate):.10g}")
-
-
-def uniform_sample_rate(time) -> float:
-    """Rate ``1 / median step`` [Hz] of a uniform time base.
-
-    Parameters
-    ----------
-    time : ndarray, shape (n,)
-        Sample times [s], strictly increasing, every step within 1 % of the median step.
-
-    Returns
-    -------
-    float
-        Sampling rate [Hz] (not rounded: see :func:`tidy_rate`).
-
-    Raises
-    ------
-    ParameterError
-        Fewer than 2 samples, a step that is not positive, or a non-uniform time base (naming
-        the worst step and where it is).
-
-    Examples
-    --------
-    >>> uniform_sample_rate(np.arange(5) / 250.0)
-    250.0
-    """
-    time = np.asarray(time, dtype=float)
-    steps = np.diff(time)
-    if steps.size == 0 or np.any(steps <= 0):
-        raise ParameterError("time must be strictly increasing with at least 2 samples [s]")
-    step = float(np.median(steps))
-    k = int(np.argmax(np.abs(steps - step)))
-    if abs(steps[k] - step) > UNIFORM_STEP_TOLERANCE * step:
-        raise ParameterError(
-            f"a non-uniform time base (step {steps[k]:.6g} s at t = {time[k]:.6g} s against the "
-            f"median {step:.6g} s; every step must be within 1 % of the median)"
-        )
-    return 1.0 / step
 
 
 def check_samples(values, start: int, limit: float, why: str, name: str = "the signal") -> None:

@@ -37,7 +37,7 @@ Output instants
     input's span, never extrapolated.
 
 :func:`decimate_recording` applies it to every channel of a
-:class:`rollerrig.measure.recording.Recording` and records the operation in the metadata
+:class:`rollerrig.recordings.recording.Recording` and records the operation in the metadata
 (``notes``, ``decimated``).
 """
 
@@ -522,9 +522,9 @@ def decimate_recording(
 ):
     """Every channel of a recording brought to ``target_rate_Hz`` by :func:`decimate`.
 
-    ``recording`` is a :class:`rollerrig.measure.recording.Recording` in memory, or an open
-    :class:`rollerrig.measure.source.RecordingSource` (from
-    :func:`rollerrig.measure.source.open_recording`), which is then read chunk by chunk and
+    ``recording`` is a :class:`rollerrig.recordings.recording.Recording` in memory, or an open
+    :class:`rollerrig.recordings.source.RecordingSource` (from
+    :func:`rollerrig.recordings.source.open_recording`), which is then read chunk by chunk and
     never held whole: one hour at 19.2 kHz × 4 channels (2.2 GB as float64) comes out at
     1 kHz (115 MB) holding one chunk.
 
@@ -559,7 +559,7 @@ def decimate_recording(
 
     Examples
     --------
-    >>> from rollerrig.measure.recording import Recording
+    >>> from rollerrig.recordings.recording import Recording
     >>> t = np.arange(19200) / 19200.0
     >>> rec = Recording(t, {"torque": 100.0 + t}, {"torque": "N.m"})
     >>> out = decimate_recording(rec, 1000.0)
@@ -568,7 +568,7 @@ def decimate_recording(
     >>> out.metadata["notes"][-1][:41]
     'decimated from 19200 Hz to 1000 Hz (facto'
     """
-    from rollerrig.measure.recording import Recording, RecordingError
+    from rollerrig.recordings.recording import Recording, RecordingError
 
     source = recording.metadata.get("source", "the recording")
     streamed = hasattr(recording, "iter_chunks")
@@ -601,7 +601,7 @@ def decimate_recording(
 
 def _uniform_rate(time: np.ndarray, source: str) -> float:
     """Rate [Hz] of a uniform time base; RecordingError naming the worst step otherwise."""
-    from rollerrig.measure.recording import RecordingError
+    from rollerrig.recordings.recording import RecordingError
 
     try:
         return tidy_rate(uniform_sample_rate(time))

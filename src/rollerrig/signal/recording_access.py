@@ -1,8 +1,8 @@
 """One way to read a recording's channels, whether it is in memory or streamed from disk.
 
 The spectrum workflow (:mod:`rollerrig.signal.workflow`) takes a
-:class:`rollerrig.measure.recording.Recording` or a chunked source (an object with
-``iter_chunks``, such as :class:`rollerrig.measure.source.RecordingSource`).
+:class:`rollerrig.recordings.recording.Recording` or a chunked source (an object with
+``iter_chunks``, such as :class:`rollerrig.recordings.source.RecordingSource`).
 :class:`RecordingAccess` gives both the same interface: channel names and units, the rate and
 length, chunks of chosen channels, per-channel (mean, first, last) in one pass, and errors that
 name the recording.
@@ -90,6 +90,6 @@ class RecordingAccess:
 
     def fail(self, message: str):
         """A RecordingError ``"<source>: <message>"`` (to raise)."""
-        from rollerrig.measure.recording import RecordingError
+        from rollerrig.recordings.recording import RecordingError
 
         return RecordingError(f"{self.source}: {message}")

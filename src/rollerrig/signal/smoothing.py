@@ -57,6 +57,8 @@ __all__ = [
     "lowess",
     "method_reach",
     "moving_average",
+    "savgol_basis",
+    "savgol_kernel",
     "savitzky_golay",
     "smooth",
 ]
@@ -720,3 +722,8 @@ def method_reach(method: str, **params) -> int:
     if not spec.finite_support:
         raise ParameterError(f"method {method!r} has no finite support (IIR or global weights)")
     return int(params["window"]) // 2
+
+
+# Public names of the Savitzky-Golay weights, for the filters' exact weights (estimation).
+savgol_basis = _savgol_basis
+savgol_kernel = _savgol_kernel

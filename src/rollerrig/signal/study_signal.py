@@ -414,8 +414,8 @@ def study_signal_from_source(
 ) -> StudySignal:
     """The study signal of one channel of an open recording, read chunk by chunk.
 
-    ``source`` is a :class:`rollerrig.measure.source.RecordingSource` (from
-    :func:`rollerrig.measure.source.open_recording`); only the samples inside ``span`` are read
+    ``source`` is a :class:`rollerrig.recordings.source.RecordingSource` (from
+    :func:`rollerrig.recordings.source.open_recording`); only the samples inside ``span`` are read
     from disk, and only one chunk plus the decimated signal are held
     (:func:`study_signal_from_chunks`): one hour at 19.2 kHz is studied in about 20 s within
     300 MB (2 CPUs).

@@ -88,7 +88,7 @@ def explain_recording(
     Parameters
     ----------
     recording : Recording or chunked source
-        In memory (:class:`rollerrig.measure.recording.Recording`), or an object with
+        In memory (:class:`rollerrig.recordings.recording.Recording`), or an object with
         ``iter_chunks(names=, chunk_samples=)``, ``names``, ``units``, ``sample_rate``,
         ``n_samples`` and ``metadata`` (streamed from disk: bounded memory).
     channel : str
@@ -126,7 +126,7 @@ def explain_recording(
 
     Examples
     --------
-    >>> from rollerrig.measure.recording import Recording
+    >>> from rollerrig.recordings.recording import Recording
     >>> fs, w_r = 250.0, 30 / 3.6 / 0.452
     >>> t = np.arange(30_000) / fs
     >>> rng = np.random.default_rng(0)
@@ -327,7 +327,7 @@ relative_tolerance, am_slip, rig_modes
 
     Examples
     --------
-    >>> from rollerrig.measure.recording import Recording
+    >>> from rollerrig.recordings.recording import Recording
     >>> fs, w_r = 250.0, 30 / 3.6 / 0.452
     >>> t = np.arange(30_000) / fs
     >>> T = 5.0 * np.sin(2 * np.pi * 5 * w_r / (2 * np.pi) * t)
@@ -339,7 +339,7 @@ relative_tolerance, am_slip, rig_modes
     recording.require(channel)
     w_r = _given_mean_speed(recording, "roller_speed", roller_speed, required=True)
     w_w = _given_mean_speed(recording, "wheel_speed", wheel_speed, required=False)
-    from rollerrig.measure.recording import RecordingError
+    from rollerrig.recordings.recording import RecordingError
 
     try:
         spec = power_spectrum(

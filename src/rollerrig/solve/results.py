@@ -30,7 +30,13 @@ from rollerrig.output.provenance import provenance as _provenance
 from rollerrig.output.provenance import rig_sha256
 from rollerrig.rig import model as m
 
-__all__ = ["SAVE_FORMATS", "build_dataset", "evaluate_terms", "save_dataset"]
+__all__ = [
+    "SAVE_FORMATS",
+    "build_dataset",
+    "evaluate_terms",
+    "first_segment_terms",
+    "save_dataset",
+]
 
 # name: (source, units, long name); source is a TERM name or ("state", index)
 _TRUTH = {
@@ -126,6 +132,29 @@ def _segment_of(inputs, t: np.ndarray) -> np.ndarray:
     """Index of the protocol segment of each sample time."""
     seg_of = np.searchsorted([s.end for s in inputs.segments], t, side="left")
     return np.minimum(seg_of, len(inputs.segments) - 1)
+
+
+def first_segment_terms(inputs, t, x) -> np.ndarray:
+    """The model's derived quantities at every sample with the first protocol segment's
+    parameters, as an array (n, len(TERM_NAMES)) in the order of
+    :data:`rollerrig.rig.model.TERM_NAMES`: exact for the terms that do not depend on a
+    segment's friction or set points (T56, the shaft torques), and cheap (one compiled pass,
+    no accelerations); :func:`evaluate_terms` for everything.
+
+    Parameters
+    ----------
+    inputs : ModelInputs
+        What was simulated (the rig's own states: not the dq drive's).
+    t : ndarray, shape (n,)
+        Sample times [s].
+    x : ndarray, shape (n, N_STATES)
+        States at those times.
+    """
+    from rollerrig.solve._compiled import rig_terms_series
+
+    terms = np.empty((np.size(t), len(m.TERM_NAMES)))
+    rig_terms_series(t, np.ascontiguousarray(x), inputs.segments[0].params, inputs.tables, terms)
+    return terms
 
 
 def evaluate_terms(inputs, t, x) -> dict[str, np.ndarray]:

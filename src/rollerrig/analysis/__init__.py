@@ -1,0 +1,9 @@
+"""The analysis of an adhesion test: the orchestration over recordings, measurement and
+estimation.
+
+- :mod:`~rollerrig.analysis.adhesion`: :func:`analyze_test` (phases, corrected CoA and its
+  uncertainty, creep–CoA branches, Polach fits, spectrum, filter study);
+- :mod:`~rollerrig.analysis.findings`: the result (:class:`TestAnalysis`) and its JSON summary;
+- :mod:`~rollerrig.analysis.transfer`: a creep curve measured on the roller predicted on the
+  rail (the elastic part by contact mechanics, the surface's part carried over as measured).
+"""

@@ -1,0 +1,11 @@
+"""Estimation: the contact estimated from the sensors, and the corrected CoA's uncertainty.
+
+- :mod:`~rollerrig.estimation.estimator`: the contact torque from T56 and the encoders, by a
+  causal Kalman filter (online, one sample at a time) and by Rauch-Tung-Striebel smoothers of
+  the roller alone or of the roller-shaft-rotor-drive chain, which choose their model by the
+  evidence of their innovations;
+- :mod:`~rollerrig.estimation.uncertainty` (JCGM 100 law of propagation, per sample),
+  :mod:`~rollerrig.estimation.montecarlo` (JCGM 101 and its validation),
+  :mod:`~rollerrig.estimation.budget` (per phase and creep–CoA point),
+  :mod:`~rollerrig.estimation.filterweights` (the correction's filters as exact weights).
+"""

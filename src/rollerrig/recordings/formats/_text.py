@@ -1,0 +1,145 @@
+"""Cells, lines and bytes of text files: what the CSV and LVM readers share.
+
+- cell kinds (:func:`cell_kind`: empty, number, timestamp, NaN/inf word, text) and the words
+  that stand for a missing or infinite sample (:data:`NAN_WORDS`);
+- :func:`split_cells`: one line into its cells;
+- :func:`decode_text`: the bytes of a file as text (the map's ``[file] encoding``, UTF-16 with
+  BOM, UTF-8 with or without BOM, else a fallback code page, noted);
+- :func:`unique_names`: column names made unique (``name``, ``name.1``, ...).
+"""
+
+from __future__ import annotations
+
+import codecs
+import csv
+import re
+from collections import Counter
+from pathlib import Path
+
+from rollerrig.recordings.recording import RecordingError
+
+__all__ = [
+    "COMMA_NUMBER",
+    "NAN_WORDS",
+    "NEGATIVE_INFINITY_WORDS",
+    "POSITIVE_INFINITY_WORDS",
+    "cell_kind",
+    "datalike",
+    "decode_text",
+    "split_cells",
+    "unique_names",
+]
+
+NUMBER = re.compile(r"[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)(?:[eE][+-]?\d+)?")
+"""A number with a decimal point or comma."""
+COMMA_NUMBER = re.compile(r"[+-]?\d*,\d+(?:[eE][+-]?\d+)?")
+"""A number written with a decimal comma."""
+DOT_NUMBER = re.compile(r"[+-]?\d*\.\d+(?:[eE][+-]?\d+)?")
+"""A number written with a decimal point."""
+_TIMESTAMP = re.compile(
+    r"(?:\d{1,4}[./-]\d{1,2}[./-]\d{1,4}(?:[ T]+\d{1,2}:\d{2}(?::\d{2}(?:[.,]\d+)?)?)?"
+    r"|\d{1,2}:\d{2}:\d{2}(?:[.,]\d+)?)"
+    r"(?:\s*(?:Z|[+-]\d{2}:?\d{2}))?"
+)
+POSITIVE_INFINITY_WORDS = frozenset({"∞", "+∞", "inf", "+inf", "infinity", "+infinity"})
+"""Cells that stand for +inf (lower case)."""
+NEGATIVE_INFINITY_WORDS = frozenset({"-∞", "-inf", "-infinity"})
+"""Cells that stand for -inf (lower case)."""
+NAN_WORDS = frozenset(
+    {"nan", "-nan", "+nan", "na", "n/a", "#n/a", "null", "none"}
+    | POSITIVE_INFINITY_WORDS
+    | NEGATIVE_INFINITY_WORDS
+)
+"""Cells that stand for a missing or infinite sample (case-insensitive)."""
+
+
+def cell_kind(cell: str) -> str:
+    """Classify one cell: "empty", "num", "time", "nan" or "text"."""
+    c = cell.strip()
+    if not c:
+        return "empty"
+    if NUMBER.fullmatch(c):
+        return "num"
+    if c.lower() in NAN_WORDS:
+        return "nan"
+    if _TIMESTAMP.fullmatch(c):
+        return "time"
+    return "text"
+
+
+def datalike(fields: list[str]) -> bool:
+    """Whether a row is one of numbers: no text cell, at least one number or timestamp."""
+    kinds = [cell_kind(f) for f in fields]
+    return all(k != "text" for k in kinds) and any(k in ("num", "time") for k in kinds)
+
+
+def split_cells(line: str, sep: str) -> list[str]:
+    """The cells of ``line`` (``sep`` ``" "``: any run of whitespace; else CSV quoting)."""
+    if sep == " ":
+        return line.split()
+    return [f.strip() for f in next(csv.reader([line], delimiter=sep, quotechar='"'), [""])]
+
+
+def decode_text(
+    path: Path,
+    raw: bytes,
+    encoding: str | None,
+    notes: list[str],
+    *,
+    truncated: bool,
+    fallback: str,
+    fallback_name: str,
+    binary_hint: str,
+) -> tuple[str, str]:
+    """(encoding, text) of the bytes of a text file.
+
+    ``encoding`` (the map's ``[file] encoding``) when given; else UTF-16 when the bytes start
+    with its BOM, UTF-8 (with or without BOM), else ``fallback`` (noted as ``fallback_name``).
+    With ``truncated`` (``raw`` is the head of a longer file) a character cut at the end of
+    ``raw`` is dropped.
+
+    Raises
+    ------
+    RecordingError
+        Bytes that are not valid text in ``encoding`` (naming the line and ``[file] encoding``),
+        a NUL byte without a UTF-16 BOM (a binary file; ``binary_hint`` says what to do).
+    """
+    if encoding is not None:
+        try:
+            return encoding, raw.decode(encoding)
+        except UnicodeDecodeError as exc:
+            if not truncated or exc.start < len(raw) - 4:
+                line = raw[: exc.start].count(b"\n") + 1
+                raise RecordingError(
+                    f"{path}: line {line} is not valid {encoding!r} text ({exc.reason}); "
+                    "fix [file] encoding in the channel map"
+                ) from None
+            return encoding, raw[: exc.start].decode(encoding)
+    if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        return "utf-16", raw.decode("utf-16", errors="ignore")
+    nul = raw.find(b"\x00")
+    if nul >= 0:
+        raise RecordingError(f"{path}: not a text file (a NUL byte at byte {nul}); {binary_hint}")
+    try:
+        return "utf-8-sig", raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        if truncated and exc.start >= len(raw) - 4:
+            return "utf-8-sig", raw[: exc.start].decode("utf-8-sig")
+    notes.append(f"the file is not UTF-8; read as {fallback_name}")
+    return fallback, raw.decode(fallback, errors="replace")
+
+
+def unique_names(names: list[str]) -> list[str]:
+    """``names`` with repeats renamed ``name.1``, ``name.2``, ... (pandas' convention).
+
+    Examples
+    --------
+    >>> unique_names(["t", "U", "U", "U"])
+    ['t', 'U', 'U.1', 'U.2']
+    """
+    seen: Counter = Counter()
+    unique = []
+    for nm in names:
+        seen[nm] += 1
+        unique.append(nm if seen[nm] == 1 else f"{nm}.{seen[nm] - 1}")
+    return unique

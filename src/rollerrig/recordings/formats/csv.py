@@ -1,0 +1,196 @@
+"""Delimited text files (CSV, TSV, ASCII exports) as acquisition software writes them.
+
+:func:`read_csv` reads the numbers where :func:`rollerrig.recordings.formats.sniff.sniff_layout`
+found them (separator, decimal mark, encoding, header and units rows: see there; every key of
+the channel map's ``[file]`` section beats the sniffer) with :func:`pandas.read_csv`.
+
+Malformed files give one :class:`~rollerrig.recordings.recording.RecordingError` naming the file and
+the line: empty file, header without rows, binary content (NUL bytes), rows with more or fewer
+cells than the header. Blank lines inside the numbers are skipped (noted); a last line cut short
+without a line end (a file copied while written) is dropped (noted). Cells are converted later,
+in :mod:`rollerrig.recordings.translate` (numbers, and timestamps with one format per column:
+:mod:`rollerrig.recordings.formats.timestamps`). A ``<stem>.metadata.json`` sidecar beside the file
+(written by rollerrig) is read as the file's provenance.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from rollerrig.recordings.channels import FileSpec
+from rollerrig.recordings.formats._table import Table, header_table, require_module
+from rollerrig.recordings.formats._text import NAN_WORDS, split_cells
+from rollerrig.recordings.formats.sniff import HEAD_BYTES, TextLayout, sniff_layout
+from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
+from rollerrig.recordings.recording import RecordingError
+
+__all__ = [
+    "NAN_WORDS",
+    "TextLayout",
+    "TextTable",
+    "looks_like_timestamp",
+    "parse_timestamps",
+    "read_csv",
+    "sniff_layout",
+]
+
+
+@dataclass
+class TextTable(Table):
+    """A :class:`Table` of a text file; row ``k`` of every column is file line ``line_of(k)``."""
+
+    rows_lines: list[int] = field(default_factory=list)  # 1-based file line of each row
+
+    def line_of(self, row: int) -> int | None:
+        """1-based file line of data row ``row`` (None when unknown)."""
+        return self.rows_lines[row] if 0 <= row < len(self.rows_lines) else None
+
+
+def _lines(path: Path, encoding: str, wanted: set[int]) -> dict[int, str]:
+    """Text of the 0-based file lines ``wanted`` (one pass, stops after the last)."""
+    out: dict[int, str] = {}
+    if not wanted:
+        return out
+    last = max(wanted)
+    with path.open("r", encoding=encoding, errors="replace", newline="") as fh:
+        for i, line in enumerate(fh):
+            if i in wanted:
+                out[i] = line
+            if i >= last:
+                break
+    return out
+
+
+def _read_frame(layout: TextLayout, notes: list[str]):
+    pd = require_module("pandas", "CSV files")
+
+    kwargs = layout.pandas_kwargs()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", pd.errors.ParserWarning)
+            frame = pd.read_csv(layout.path, **kwargs)
+    except UnicodeDecodeError:
+        if layout.encoding != "utf-8-sig":
+            raise RecordingError(
+                f"{layout.path}: not valid {layout.encoding!r} text after the first "
+                f"{HEAD_BYTES} bytes; fix [file] encoding in the channel map"
+            ) from None
+        notes.append("the file is not UTF-8 (beyond its first lines); read as Latin-1")
+        kwargs["encoding"] = "latin-1"
+        return _read_frame_with(layout, kwargs)
+    except pd.errors.ParserWarning as exc:
+        raise RecordingError(
+            f"{layout.path}: rows with more cells than the header: {exc}"
+        ) from None
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, ValueError) as exc:
+        m = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
+        if m:
+            raise RecordingError(
+                f"{layout.path}: line {m.group(2)} has {m.group(3)} cells, the rows before it "
+                f"{m.group(1)}; fix or remove that line"
+            ) from None
+        raise RecordingError(f"{layout.path}: not a readable CSV file: {exc}") from None
+    return frame, kwargs["encoding"]
+
+
+def _read_frame_with(layout: TextLayout, kwargs: dict):
+    pd = require_module("pandas", "CSV files")
+
+    try:
+        return pd.read_csv(layout.path, **kwargs), kwargs["encoding"]
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, ValueError) as exc:
+        raise RecordingError(f"{layout.path}: not a readable CSV file: {exc}") from None
+
+
+def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
+    """Read a delimited text file into a :class:`TextTable` (see the module docstring).
+
+    Parameters
+    ----------
+    path : path-like
+        The file (read-only).
+    spec : FileSpec, optional
+        Explicit layout from the channel map's ``[file]`` section.
+    """
+    path = Path(path)
+    layout = sniff_layout(path, spec)
+    notes = list(layout.notes)
+    frame, encoding = _read_frame(layout, notes)
+    if layout.trailing:
+        frame = frame.drop(columns="__trailing__")
+    n = len(frame)
+    first = layout.data_line  # 0-based file line of frame row 0
+    # rows with a missing cell: blank lines, short rows, a cut last line, or a real empty cell
+    missing = frame.isna().to_numpy()
+    gappy = missing.any(axis=1).nonzero()[0]
+    drop: list[int] = []
+    if gappy.size:
+        check = set(gappy[:200].tolist()) | ({n - 1} if n else set())
+        raw = _lines(path, encoding, {first + k for k in check})
+        ends_with_newline = _ends_with_newline(path)
+        for k in sorted(check):
+            line = raw.get(first + k)
+            if line is None:
+                continue
+            body = line.rstrip("\r\n")
+            if not body.strip() or (layout.separator != " " and not body.strip(layout.separator)):
+                drop.append(k)
+                continue
+            cells = len(split_cells(body, layout.separator))
+            if cells < layout.n_fields:
+                if k == n - 1 and not ends_with_newline:
+                    drop.append(k)
+                    notes.append(
+                        f"last line {first + k + 1} is cut short ({cells} of {layout.n_fields} "
+                        "cells, no line end): dropped"
+                    )
+                    continue
+                raise RecordingError(
+                    f"{path}: line {first + k + 1} has {cells} cells, the header "
+                    f"{layout.n_fields}; fix or remove that line"
+                )
+    blank = [k for k in drop if k < n - 1 and not _is_trailing_blank(drop, k, n)]
+    if blank:
+        notes.append(
+            f"{len(blank)} blank line(s) inside the data skipped "
+            f"(first: line {first + blank[0] + 1})"
+        )
+    keep_lines = [first + k + 1 for k in range(n)]
+    if drop:
+        frame = frame.drop(index=drop).reset_index(drop=True)
+        dropped = set(drop)
+        keep_lines = [ln for k, ln in enumerate(keep_lines) if k not in dropped]
+    if len(frame) == 0:
+        raise RecordingError(f"{path}: has a header but no data rows; the recording is empty")
+    units = {nm: u for nm, u in zip(layout.names, layout.units, strict=True) if u}
+    base = header_table(frame, units=units)
+    table = TextTable(**{f: getattr(base, f) for f in Table.__dataclass_fields__})
+    table.rows_lines = keep_lines
+    table.notes += notes
+    sidecar = path.with_suffix(".metadata.json")
+    if sidecar.is_file():
+        try:
+            table.stored_metadata = json.loads(sidecar.read_text(encoding="utf-8"))
+            table.notes.append(f"provenance read from {sidecar.name}")
+        except (json.JSONDecodeError, UnicodeDecodeError):
+            table.notes.append(f"sidecar {sidecar.name} is not valid JSON; ignored")
+    return table
+
+
+def _is_trailing_blank(drop: list[int], k: int, n: int) -> bool:
+    """Whether row ``k`` belongs to the run of dropped rows that ends the file."""
+    tail = set(drop)
+    return all(j in tail for j in range(k, n))
+
+
+def _ends_with_newline(path: Path) -> bool:
+    with path.open("rb") as fh:
+        fh.seek(0, 2)
+        if fh.tell() == 0:
+            return False
+        fh.seek(-1, 2)
+        return fh.read(1) in (b"\n", b"\r")

@@ -1,0 +1,359 @@
+"""MATLAB .mat files (v4/v5/v7 via scipy; v7.3 and plain HDF5 via h5py, read lazily).
+
+Variables that are numeric vectors become columns; structs are flattened (``meas.torque``).
+Units come from a struct ``units`` of text fields (``units.torque = 'N.m'``, as
+:func:`rollerrig.output.write_table` writes it) or from the JSON text variable
+``rollerrig_units`` of older rollerrig files; ``rollerrig_metadata`` and ``provenance`` (JSON
+text) give the stored metadata and provenance.
+HDF5-based files (v7.3) are read one variable at a time, and :attr:`Table.slicer` reads parts
+of a variable (chunked reading); v4-v7 files are read whole by :func:`scipy.io.loadmat`.
+
+Cell arrays of numbers (v7.3: a dataset of HDF5 object references into ``#refs#``, as MATLAB
+writes them) are read as one column: a cell of numeric vectors (segments) is joined in
+MATLAB's order, a cell of per-sample scalars becomes the vector of those scalars. Every element
+is an HDF5 object of its own (slow to open), so a cell of more than :data:`MAX_CELL_ELEMENTS`
+elements, or one that holds text, structs or nested cells, is not read; the note (and the error
+when a channel map names it) names the field and what to save instead (``cell2mat``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import weakref
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rollerrig.recordings.formats._table import (
+    META_KEY,
+    PROVENANCE_KEY,
+    UNITS_KEY,
+    UNITS_STRUCT,
+    Column,
+    Slicer,
+    Table,
+    require_module,
+)
+from rollerrig.recordings.recording import RecordingError
+
+MAX_CELL_ELEMENTS = 10_000
+"""Most elements of a v7.3 cell array read as a column (each is an HDF5 object of its own)."""
+
+
+def _cell_advice(name: str, numbers: bool = True) -> str:
+    """What to save instead of the cell array ``name`` (MATLAB code for the user to run)."""
+    if numbers:
+        fix = f"in MATLAB: {name} = cell2mat({name}(:)); then save again"
+    else:
+        fix = "convert it to numbers in MATLAB (e.g. seconds since the start) and save again"
+    return f"save a numeric vector instead ({fix}), or export the signals as CSV or MDF4"
+
+
+def _flatten_mat(data: Mapping[str, Any], prefix: str, out: dict, skipped: list) -> None:
+    for key, value in data.items():
+        if key.startswith("__") or key.startswith("#"):
+            continue
+        name = f"{prefix}{key}"
+        if isinstance(value, Mapping):
+            _flatten_mat(value, f"{name}.", out, skipped)
+        elif isinstance(value, str):
+            out[name] = value
+        elif isinstance(value, list | tuple) or (
+            isinstance(value, np.ndarray) and value.dtype == object
+        ):
+            _flatten_cell(name, value, out, skipped)
+        else:
+            arr = np.asarray(value)
+            if arr.dtype.kind in "biuf" and arr.size >= 1:
+                squeezed = arr.reshape(-1) if arr.ndim <= 1 or max(arr.shape) == arr.size else arr
+                if squeezed.ndim == 1:
+                    out[name] = squeezed
+                    continue
+            skipped.append(f"{name} ({arr.dtype}, shape {arr.shape})")
+
+
+def _flatten_cell(name: str, value, out: dict, skipped: list) -> None:
+    """A v5 cell array (a list from :func:`scipy.io.loadmat`) of numbers as one column."""
+    items = value if isinstance(value, list | tuple) else list(value.reshape(-1, order="F"))
+    if len(items) > MAX_CELL_ELEMENTS:
+        skipped.append(f"{name} (cell array of {len(items)} elements; {_cell_advice(name)})")
+        return
+    parts = []
+    for k, item in enumerate(items):
+        arr = np.asarray(item)
+        if arr.dtype.kind not in "biuf" or arr.size < 1 or sum(d != 1 for d in arr.shape) > 1:
+            kind = "text" if arr.dtype.kind in "SU" else f"{arr.dtype}, shape {arr.shape}"
+            kind = "a struct" if isinstance(item, Mapping) else kind
+            skipped.append(
+                f"{name} (cell array whose element {k + 1} is {kind}, not a number or numeric "
+                f"vector; {_cell_advice(name, arr.dtype.kind in 'biuf')})"
+            )
+            return
+        parts.append(arr.astype(float).reshape(-1))
+    if parts:
+        out[name] = np.concatenate(parts)
+    else:
+        skipped.append(f"{name} (empty cell array)")
+
+
+def _is_hdf5(path: Path) -> bool:
+    signature = b"\x89HDF\r\n\x1a\n"
+    with path.open("rb") as fh:
+        for offset in (0, 512, 1024, 2048):
+            fh.seek(offset)
+            if fh.read(8) == signature:
+                return True
+    return False
+
+
+_NUMERIC_CLASSES = {
+    "double",
+    "single",
+    "int8",
+    "int16",
+    "int32",
+    "int64",
+    "uint8",
+    "uint16",
+    "uint32",
+    "uint64",
+    "logical",
+}
+
+
+def _attr_text(item, key: str) -> str:
+    value = item.attrs.get(key, b"")
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+def _hdf5_table(path: Path, what: str) -> Table:
+    """Table over an HDF5 file (MATLAB v7.3 or plain): numeric vectors read lazily with h5py.
+
+    MATLAB stores an n x 1 (or 1 x n) vector as an HDF5 dataset of shape (1, n) (or (n, 1));
+    each is one column, read (whole or a slice) by opening the file for that read only. Structs
+    are groups (``meas.torque``); char arrays (uint16 text) are read whole; cells, sparse and
+    complex arrays and matrices are listed as not readable.
+    """
+    h5py = require_module("h5py", what)
+    datasets: dict[str, tuple[str, int, int]] = {}  # name -> (HDF5 path, long axis, length)
+    cells: dict[str, np.ndarray] = {}  # name -> the values of a cell array of numbers
+    strings: dict[str, str] = {}
+    skipped: list[str] = []
+
+    def cell(f, name: str, item) -> None:
+        """A cell array of numbers as one column (module docstring), else a skipped entry."""
+        refs = np.asarray(item[()], dtype=object).reshape(-1)  # MATLAB's column-major order
+        if refs.size > MAX_CELL_ELEMENTS:
+            skipped.append(
+                f"{name} (cell array of {refs.size} elements, more than {MAX_CELL_ELEMENTS} "
+                f"read one by one; {_cell_advice(name)})"
+            )
+            return
+        parts = []
+        for k, ref in enumerate(refs):
+            target = f[ref] if ref else None
+            cls = "" if target is None else _attr_text(target, "MATLAB_class")
+            ok = (
+                isinstance(target, h5py.Dataset)
+                and target.dtype.kind in "biuf"
+                and (not cls or cls in _NUMERIC_CLASSES)
+                and "MATLAB_empty" not in target.attrs
+                and sum(d != 1 for d in target.shape) <= 1
+            )
+            if not ok:
+                kind = cls or ("group" if isinstance(target, h5py.Group) else "empty")
+                skipped.append(
+                    f"{name} (cell array whose element {k + 1} is {kind}, not a number or "
+                    f"numeric vector; {_cell_advice(name, kind not in ('char', 'cell'))})"
+                )
+                return
+            parts.append(np.asarray(target[()], dtype=float).reshape(-1))
+        if not parts:
+            skipped.append(f"{name} (empty cell array)")
+            return
+        cells[name] = np.concatenate(parts)
+        scalars = all(p.size == 1 for p in parts)
+        notes.append(
+            f"MAT variable {name} is a cell array: read as one column ("
+            + (
+                f"{len(parts)} per-sample scalars)"
+                if scalars
+                else f"{len(parts)} numeric arrays joined in order)"
+            )
+        )
+
+    notes: list[str] = []
+
+    def walk(group, prefix: str) -> None:
+        for key, item in group.items():
+            if key.startswith("#"):
+                continue
+            name = f"{prefix}{key}"
+            if isinstance(item, h5py.Group):
+                if "MATLAB_sparse" in item.attrs:
+                    skipped.append(f"{name} (sparse)")
+                else:
+                    walk(item, f"{name}.")
+                continue
+            cls = _attr_text(item, "MATLAB_class")
+            shape, dtype = tuple(item.shape), item.dtype
+            if cls == "cell" or h5py.check_ref_dtype(dtype) is not None:
+                cell(group.file, name, item)
+                continue
+            if cls == "char":
+                codes = np.asarray(item[()], dtype=np.uint16)
+                strings[name] = codes.T.tobytes().decode("utf-16-le", errors="replace")
+                continue
+            long = [k for k, d in enumerate(shape) if d != 1]
+            numeric = dtype.kind in "biuf" and (not cls or cls in _NUMERIC_CLASSES)
+            if (
+                not numeric
+                or "MATLAB_empty" in item.attrs
+                or len(long) > 1
+                or int(np.prod(shape)) < 1
+            ):
+                skipped.append(f"{name} ({cls or dtype}, shape {shape})")
+                continue
+            axis = long[0] if long else 0
+            datasets[name] = (item.name, axis, int(np.prod(shape)))
+
+    try:
+        with h5py.File(path, "r") as f:
+            walk(f, "")
+    except Exception as exc:  # h5py raises OSError, RuntimeError, KeyError... on damaged files
+        raise RecordingError(
+            f"{path}: not a readable HDF5 file: {exc} (damaged or truncated?)"
+        ) from exc
+
+    handle: list = []  # the file, opened on the first read, closed with the table
+
+    def read(name: str, start: int, stop: int) -> Column:
+        if name in cells:
+            return Column(cells[name][max(0, start) : max(0, stop)], units.get(name))
+        h5path, axis, n = datasets[name]
+        start, stop = max(0, start), min(n, stop)
+        try:
+            if not handle:
+                handle.append(h5py.File(path, "r"))
+            ds = handle[0][h5path]
+            index = [0] * ds.ndim
+            if ds.ndim:
+                index[axis] = slice(start, stop)
+            values = np.asarray(ds[tuple(index)]).reshape(-1)
+        except Exception as exc:  # h5py: OSError, RuntimeError, KeyError, ValueError...
+            raise RecordingError(
+                f"{path}: MAT variable {name!r} could not be read: {exc}; the file is damaged "
+                "or truncated"
+            ) from exc
+        return Column(values, units.get(name))
+
+    def length(name: str) -> int:
+        return cells[name].size if name in cells else datasets[name][2]
+
+    units: dict[str, str] = {}
+    table = _finish(
+        path,
+        [*datasets, *cells],
+        lambda n: read(n, 0, length(n)),
+        strings,
+        skipped,
+        units,
+        notes,
+    )
+    table.slicer = Slicer(length=length, read=read)
+    weakref.finalize(table.slicer, _close, handle)  # the slicer outlives the table in use
+    return table
+
+
+def _close(handles: list) -> None:
+    for h in handles:
+        with contextlib.suppress(Exception):
+            h.close()
+
+
+def _finish(
+    path: Path,
+    names: list[str],
+    load,
+    strings: dict[str, str],
+    skipped: list[str],
+    units: dict[str, str],
+    notes: list[str],
+) -> Table:
+    """The table of a MAT file, with rollerrig's stored units and metadata (char variables).
+
+    Units: the text fields of the struct ``units`` (``units.torque``) and, from older rollerrig
+    files, the JSON text variable ``rollerrig_units``.
+    """
+    stored = _json_text(strings, META_KEY)
+    provenance = _json_text(strings, PROVENANCE_KEY)
+    legacy = _json_text(strings, UNITS_KEY)
+    if isinstance(legacy, dict):
+        units.update({str(k): str(v) for k, v in legacy.items()})
+    prefix = f"{UNITS_STRUCT}."
+    units.update({k[len(prefix) :]: v for k, v in strings.items() if k.startswith(prefix) and v})
+    table = Table(
+        names=names,
+        load=load,
+        base={n: n for n in names},
+        notes=notes,
+        skipped=skipped,
+        stored_metadata=stored,
+    )
+    if isinstance(provenance, dict) and table.stored_provenance is None:
+        table.stored_provenance = provenance
+    if skipped:
+        table.notes.append(f"MAT variables not read (not numeric vectors): {skipped}")
+    return table
+
+
+def _json_text(strings: dict[str, str], key: str) -> Any:
+    """The JSON value of text variable ``key``; None when absent or not JSON."""
+    if key in strings:
+        with contextlib.suppress(json.JSONDecodeError):
+            return json.loads(strings[key])
+    return None
+
+
+def read_mat(path: Path) -> Table:
+    from scipy.io import loadmat
+    from scipy.io.matlab import matfile_version
+
+    try:
+        major, _ = matfile_version(str(path))
+    except Exception as exc:
+        if not _is_hdf5(path):
+            raise RecordingError(f"{path}: not a MATLAB .mat file: {exc}") from exc
+        major = -1  # HDF5 without the MATLAB header (written by h5py or other tools)
+    if major == -1:
+        table = _hdf5_table(path, "HDF5 .mat files")
+        table.notes.insert(0, "HDF5 file without a MATLAB header read with h5py")
+        return table
+    if major == 2:  # v7.3 = HDF5
+        if not _is_hdf5(path):
+            raise RecordingError(f"{path}: a MATLAB v7.3 header but no HDF5 data (truncated?)")
+        table = _hdf5_table(path, "MATLAB v7.3 files")
+        table.notes.insert(0, "MATLAB v7.3 (HDF5) read with h5py")
+        return table
+    try:
+        data = loadmat(str(path), squeeze_me=True, simplify_cells=True)
+    except Exception as exc:
+        raise RecordingError(f"{path}: not a readable MATLAB file: {exc}") from exc
+    flat: dict[str, Any] = {}
+    skipped: list[str] = []
+    _flatten_mat(data, "", flat, skipped)
+    strings = {k: v for k, v in flat.items() if isinstance(v, str)}
+    columns = {k: v for k, v in flat.items() if not isinstance(v, str)}
+    units: dict[str, str] = {}
+    return _finish(
+        path,
+        list(columns),
+        lambda n: Column(columns[n], units.get(n)),
+        strings,
+        skipped,
+        units,
+        [],
+    )

@@ -1,0 +1,324 @@
+"""Sniff the layout of a delimited text file (CSV, TSV, ASCII exports of acquisition software).
+
+The layout is sniffed from the first lines of the file; every key of the channel map's
+``[file]`` section (:class:`rollerrig.recordings.channels.FileSpec`) beats the sniffer:
+
+- **preamble**: lines before the header (catman, DIAdem, PicoScope, CANape ASCII exports write
+  the file name, date, comments there) are skipped. The numbers are the trailing block of lines
+  whose every cell is a number, a timestamp, empty or a NaN/inf word; the header is the nearest
+  non-blank line above it.
+- **units row**: a non-numeric row between the header and the numbers whose cells look like
+  units (``(ms)``, ``[V]``, ``N·m``, ``1/min``; PicoScope, catman, DIAdem, CANape) gives the
+  columns' units (:mod:`rollerrig.recordings.formats._header`). It is never used to sniff the
+  decimal mark.
+- **separator**: ``,`` ``;`` tab ``|`` or whitespace, the one under which the trailing block of
+  numbers is longest and consistent with the header (ties: that order).
+- **decimal mark**: ``,`` when the number cells of the data rows (never the header or units row)
+  use it; a file mixing both marks is an error asking for ``[file] decimal``.
+- **encoding**: UTF-8 (with or without BOM), UTF-16 with BOM, else Latin-1 (noted).
+
+The result, a :class:`TextLayout`, is what :func:`rollerrig.recordings.formats.csv.read_csv` and
+the chunked reader (:mod:`rollerrig.recordings.source`) read the numbers with.
+"""
+
+from __future__ import annotations
+
+import re
+from collections import Counter
+from dataclasses import dataclass
+from pathlib import Path
+
+from rollerrig.recordings.channels import FileSpec
+from rollerrig.recordings.formats._header import column_names, column_units, header_rows
+from rollerrig.recordings.formats._text import (
+    COMMA_NUMBER,
+    DOT_NUMBER,
+    cell_kind,
+    datalike,
+    decode_text,
+    split_cells,
+)
+from rollerrig.recordings.recording import RecordingError
+
+__all__ = ["HEAD_BYTES", "TextLayout", "sniff_layout"]
+
+HEAD_BYTES = 1 << 18
+"""Bytes read to sniff the layout (256 KiB; the whole file when smaller)."""
+
+_SNIFF_SEPARATORS = ("\t", ";", ",", "|", " ")
+
+
+@dataclass(frozen=True)
+class TextLayout:
+    """Where a text file's names, units and numbers are, and how its cells are written.
+
+    Line indices are 0-based and count every line of the file (blank lines included).
+    :meth:`pandas_kwargs` reads the numbers with :func:`pandas.read_csv` (also in chunks).
+    """
+
+    path: Path
+    encoding: str
+    separator: str
+    decimal: str
+    header_line: int | None
+    units_line: int | None
+    data_line: int
+    names: tuple[str, ...]
+    units: tuple[str | None, ...]
+    trailing: bool = False
+    notes: tuple[str, ...] = ()
+
+    @property
+    def n_fields(self) -> int:
+        """Cells per data row (a trailing separator adds one empty cell)."""
+        return len(self.names) + (1 if self.trailing else 0)
+
+    def pandas_kwargs(self) -> dict:
+        """Keyword arguments of :func:`pandas.read_csv` for the rows of numbers."""
+        names = list(self.names) + (["__trailing__"] if self.trailing else [])
+        return {
+            "sep": r"\s+" if self.separator == " " else self.separator,
+            "decimal": self.decimal,
+            "encoding": self.encoding,
+            "header": None,
+            "names": names,
+            "skiprows": self.data_line,
+            "skip_blank_lines": False,
+            "index_col": False,
+            "quotechar": '"',
+            "engine": "c",
+        }
+
+
+def _data_block(
+    rows: list[tuple[int, list[str]]], partial_last: bool
+) -> tuple[list[tuple[int, list[str]]], int]:
+    """(trailing block of data rows, cells per row).
+
+    Walking up from the last row, a row belongs to the data when it has a number or timestamp
+    and at most half of the numeric columns (columns that are numbers in >= 80 % of the last
+    rows) hold text in it: a stray ``ERR`` cell stays in the data (reported later with its line),
+    a header or units row, text in every numeric column, ends the block.
+    """
+    kinds = [(i, f, [cell_kind(c) for c in f]) for i, f in rows]
+    tail = [x for x in kinds[-50:] if any(k in ("num", "time") for k in x[2])]
+    if not tail:
+        return [], 0
+    sample = tail[:-1] if partial_last and len(tail) > 1 else tail
+    n = Counter(len(f) for _, f, _ in sample).most_common(1)[0][0]
+    ref = [x for x in sample if len(x[1]) == n]
+    numeric = [j for j in range(n) if sum(x[2][j] != "text" for x in ref) >= 0.8 * len(ref)]
+    allowed = len(numeric) // 2
+    block: list[tuple[int, list[str]]] = []
+    for i, f, k in reversed(kinds):
+        if not any(x in ("num", "time") for x in k):
+            break
+        if sum(1 for j in numeric if j < len(k) and k[j] == "text") > allowed:
+            break
+        block.append((i, f))
+    return block[::-1], n
+
+
+def _score(
+    lines: list[tuple[int, str]], sep: str, partial_last: bool
+) -> tuple[int, int, list[tuple[int, list[str]]]]:
+    """(rows with the usual cell count, cells per row, block) of ``sep``; score 0 when the
+    header above the block does not fit the rows. Ties go to the earlier separator of
+    :data:`_SNIFF_SEPARATORS` (whitespace last)."""
+    rows = [(i, split_cells(t, sep)) for i, t in lines]
+    block, n = _data_block(rows, partial_last)
+    if not block:
+        return 0, 0, block
+    above = [f for i, f in rows if i < block[0][0]]
+    if above:
+        h = len(above[-1])
+        trailing = all(f[-1] == "" for _, f in block if len(f) == n)
+        header_ok = (
+            h == n or (h == n - 1 and trailing) or (h == n + 1 and above[-1][-1].strip() == "")
+        )
+        if not header_ok:
+            return 0, n, block
+    return sum(1 for _, f in block if len(f) == n), n, block
+
+
+def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
+    """Sniff where the names, units and numbers of a text file are (``[file]`` keys win).
+
+    Parameters
+    ----------
+    path : path-like
+        The text file (read-only).
+    spec : FileSpec, optional
+        Explicit layout keys from the channel map's ``[file]`` section.
+
+    Raises
+    ------
+    RecordingError
+        Empty file, binary content, no rows of numbers, a header whose cell count does not match
+        the data rows, mixed decimal marks.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "pico.csv"
+    >>> _ = f.write_text("Time,Channel A\\n(ms),(V)\\n\\n0.0,0.5\\n0.1,0.6\\n")
+    >>> lay = sniff_layout(f)
+    >>> lay.separator, lay.names, lay.units, lay.data_line
+    (',', ('Time', 'Channel A'), ('ms', 'V'), 3)
+    """
+    p = Path(path)
+    spec = spec or FileSpec()
+    notes: list[str] = []
+    size = p.stat().st_size
+    with p.open("rb") as fh:
+        raw = fh.read(HEAD_BYTES)
+    if not raw.strip():
+        raise RecordingError(f"{p}: the file is empty")
+    encoding, text = decode_text(
+        p,
+        raw,
+        spec.encoding,
+        notes,
+        truncated=size > len(raw),
+        fallback="latin-1",
+        fallback_name="Latin-1",
+        binary_hint="is it a binary file with a text suffix? Export the recording as CSV/ASCII, "
+        "or read it with its own format (format='tdms', 'mf4', 'mat', ...)",
+    )
+    all_lines = re.split(r"\r\n|\r|\n", text)
+    truncated_head = size > len(raw)
+    if truncated_head and len(all_lines) > 1:
+        all_lines = all_lines[:-1]  # the head ends inside a line
+    elif all_lines and all_lines[-1] == "":
+        all_lines = all_lines[:-1]
+    partial_last = not truncated_head and not text.endswith(("\n", "\r"))
+    lines = [(i, t) for i, t in enumerate(all_lines) if t.strip()]
+    if not lines:
+        raise RecordingError(f"{p}: the file is empty (only blank lines)")
+    where = "channel map [file]"
+
+    # --- separator and the rows of numbers
+    first_data = spec.data_row
+    if first_data is not None:
+        if first_data >= len(all_lines) and not truncated_head:
+            raise RecordingError(
+                f"{p}: {where} data_row = {first_data} but the file has {len(all_lines)} lines"
+            )
+        lines_for_sniff = [(i, t) for i, t in lines if i >= first_data]
+    else:
+        # the numbers start after the header / units rows the map names
+        given = [r for r in (spec.header_row, spec.units_row) if r is not None and r is not False]
+        after = max(given, default=-1)
+        lines_for_sniff = [(i, t) for i, t in lines if i > after]
+    candidates = (spec.separator,) if spec.separator is not None else _SNIFF_SEPARATORS
+    best = None
+    for sep in candidates:
+        if sep == "," and spec.decimal == ",":
+            continue
+        score, n, block = _score(lines_for_sniff, sep, partial_last)
+        if first_data is not None:
+            block = [(i, split_cells(t, sep)) for i, t in lines_for_sniff]
+            n = Counter(len(f) for _, f in block).most_common(1)[0][0] if block else 0
+            score = len(block)
+        if spec.separator is not None or (n >= 2 and score > 0):
+            if best is None or score > best[0]:
+                best = (score, n, block, sep)
+    if best is None or not best[2]:
+        # one column (the separator is one that does not occur) or no numbers at all
+        sep = spec.separator or next(
+            (c for c in ("\t", ";", "|", ",") if not any(c in t for _, t in lines_for_sniff)),
+            "\t",
+        )
+        score, n, block = _score(lines_for_sniff, sep, partial_last)
+        if first_data is not None:
+            block = [(i, split_cells(t, sep)) for i, t in lines_for_sniff]
+        if not block:
+            shown = [t[:80] for _, t in lines[:5]]
+            if len(lines) <= 3:
+                raise RecordingError(
+                    f"{p}: has a header but no data rows (lines: {shown}); the recording is empty"
+                )
+            raise RecordingError(
+                f"{p}: no rows of numbers found (first lines: {shown}); give the layout in the "
+                "channel map's [file] section (separator, decimal, header_row, data_row)"
+            )
+        best = (score, 1, block, sep)
+    _, n, block, sep = best
+    data_line = block[0][0] if first_data is None else first_data
+    if spec.separator is None and sep != ",":
+        notes.append(f"separator {sep!r} sniffed")
+
+    if first_data is None and n >= 2:
+        # rows of numbers above the header: two recordings appended, a repeated header
+        earlier = [
+            i
+            for i, t in lines_for_sniff
+            if i < data_line and len(f := split_cells(t, sep)) == n and datalike(f)
+        ]
+        if len(earlier) >= 2:
+            header_at = max(i for i, _ in lines if i < data_line)
+            raise RecordingError(
+                f"{p}: rows of numbers (lines {earlier[0] + 1}..{earlier[-1] + 1}) above the "
+                f"header at line {header_at + 1}: a header repeated inside the data (recordings "
+                "appended to one file?); split the file, or give [file] header_row and data_row "
+                "in the channel map"
+            )
+
+    # --- decimal mark, from the number cells of the data rows only
+    decimal = spec.decimal
+    if decimal is None:
+        cells = [c.strip() for _, f in block[:2000] for c in f]
+        comma = next((c for c in cells if COMMA_NUMBER.fullmatch(c)), None)
+        dot = next((c for c in cells if DOT_NUMBER.fullmatch(c)), None)
+        if comma is not None and sep != ",":
+            if dot is not None:
+                raise RecordingError(
+                    f"{p}: the data rows mix decimal marks ({comma!r} and {dot!r}); give "
+                    '[file] decimal = "." or "," in the channel map'
+                )
+            decimal = ","
+            notes.append("CSV uses decimal commas (sniffed from the data rows)")
+        else:
+            decimal = "."
+
+    # --- header and units rows
+    above = [(i, t) for i, t in lines if i < data_line]
+    header_line, units_line = header_rows(above, sep, spec)
+    text_of = dict(lines)
+    if header_line is not None and header_line >= len(all_lines):
+        raise RecordingError(
+            f"{p}: {where} header_row = {header_line} but the file has {len(all_lines)} lines"
+        )
+    trailing = n >= 2 and all(len(f) == n and f[-1] == "" for _, f in block[:200])
+    names = column_names(
+        p,
+        text_of,
+        header_line,
+        sep,
+        n,
+        trailing,
+        data_line=data_line,
+        separator_given=spec.separator is not None,
+        notes=notes,
+    )
+    if units_line is not None:
+        if units_line >= len(all_lines):
+            raise RecordingError(
+                f"{p}: {where} units_row = {units_line} but the file has {len(all_lines)} lines"
+            )
+        if spec.units_row is None:
+            notes.append(f"units row (line {units_line + 1}) used for the columns' units")
+    units = column_units(text_of, units_line, sep, n, len(names))
+    return TextLayout(
+        path=p,
+        encoding=encoding,
+        separator=sep,
+        decimal=decimal,
+        header_line=header_line,
+        units_line=units_line,
+        data_line=data_line,
+        names=tuple(names),
+        units=tuple(units),
+        trailing=trailing,
+        notes=tuple(notes),
+    )

@@ -1,0 +1,200 @@
+"""NI TDMS files (LabVIEW, DAQmx logging).
+
+Each channel ``Group/Channel`` carries its own time base when it was written as a waveform
+(LabVIEW waveform data type, DAQmx logging): ``wf_increment`` (sample interval [s]),
+``wf_start_offset`` [s] and ``wf_start_time`` (absolute start, a timestamp). Channels whose
+``wf_start_time`` differ are put on one absolute clock: seconds since the earliest start time in
+the file. A DAQmx file with several tasks has one group per task, each with its own rate
+(e.g. 19.2 kHz torque and 10 Hz pressure); such channels are never index-aligned.
+
+The file is opened with ``nptdms.TdmsFile.open`` (streaming): only the channels asked for are
+read, and :attr:`Table.slicer` reads parts of a channel (chunked reading). A file that ends
+inside a segment (cut off during acquisition or copying) is an error, not a shorter recording.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+
+from rollerrig.recordings.formats._sliced import (
+    add_channel,
+    checked_slice,
+    read_in_slices,
+    store_json,
+)
+from rollerrig.recordings.formats._table import META_KEY, Column, Table, require_module
+from rollerrig.recordings.recording import RecordingError
+
+_TDMS_EPOCH = np.datetime64("1904-01-01T00:00:00", "us")
+"""LabVIEW's zero timestamp: a ``wf_start_time`` equal to it was never set."""
+
+
+class _Collect(logging.Handler):
+    """Collects nptdms' warnings (it reports truncated or damaged files only as warnings)."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.messages.append(record.getMessage())
+
+
+def _check(log: _Collect, path: Path, seen: int) -> int:
+    """Raise when nptdms reported a truncated or damaged file since message ``seen``."""
+    new = log.messages[seen:]
+    damaged = [
+        m
+        for m in new
+        if any(
+            key in m
+            for key in (
+                "incomplete",
+                "less data than expected",
+                "not a multiple of the chunk size",
+                "Cropping data",
+            )
+        )
+    ]
+    if damaged:
+        raise RecordingError(
+            f"{path}: the TDMS file is truncated or damaged (nptdms: {damaged[0]}); it ends "
+            "inside a data segment, e.g. cut off during acquisition or copying; use the complete "
+            "file, or repair it (LabVIEW/DIAdem 'TDMS Defragment') and read the repaired copy"
+        )
+    return len(log.messages)
+
+
+def _start_time(props) -> np.datetime64 | None:
+    st = props.get("wf_start_time")
+    if isinstance(st, np.datetime64):
+        st = st.astype("datetime64[us]")
+        if st != _TDMS_EPOCH and not np.isnat(st):
+            return st
+    return None
+
+
+@contextlib.contextmanager
+def open_tdms(path: Path) -> Iterator[Table]:
+    nptdms = require_module("nptdms", "TDMS files")
+    log = _Collect()
+    logger = logging.getLogger("nptdms")
+    logger.addHandler(log)
+    # nptdms prints its warnings itself; they become the error message here instead
+    console = getattr(
+        getattr(getattr(nptdms, "log", None), "log_manager", None), "console_handler", None
+    )
+    level = console.level if console is not None else None
+    if console is not None:
+        console.setLevel(logging.CRITICAL + 1)
+    try:
+        try:
+            tdms = nptdms.TdmsFile.open(str(path))
+        except Exception as exc:
+            raise RecordingError(f"{path}: not a readable TDMS file: {exc}") from exc
+        with tdms:
+            seen = _check(log, path, 0)
+            try:
+                table = _table(tdms, path, log, seen)
+            except RecordingError:
+                raise
+            except Exception as exc:  # damaged metadata nptdms read without complaint
+                raise RecordingError(f"{path}: not a readable TDMS file: {exc}") from exc
+            yield table
+    finally:
+        logger.removeHandler(log)
+        if console is not None:
+            console.setLevel(level)
+
+
+def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
+    chans = {}
+    table = Table(names=[], load=lambda n: None)  # type: ignore[arg-type,return-value]
+    waveform: dict[str, tuple[float, float]] = {}  # name -> (wf_start_offset [s], increment [s])
+    starts: dict[str, np.datetime64] = {}
+    for group in tdms.groups():
+        for ch in group.channels():
+            name = f"{group.name}/{ch.name}"
+            chans[name] = ch
+            props = ch.properties
+            ni_name = props.get("NI_ChannelName")
+            aliases = [ch.name, ch.path]
+            if isinstance(ni_name, str) and ni_name not in (ch.name, name):
+                aliases.append(ni_name)
+            add_channel(table, name, ch.name, groups=[group.name], aliases=aliases)
+            try:
+                inc = float(props.get("wf_increment", 0.0))
+                offset = float(props.get("wf_start_offset", 0.0))
+            except (TypeError, ValueError):
+                inc, offset = 0.0, 0.0
+            if inc > 0 and np.isfinite(inc) and np.isfinite(offset):
+                waveform[name] = (offset, inc)
+                st = _start_time(props)
+                if st is not None:
+                    starts[name] = st
+            n_wf = props.get("wf_samples")
+            if isinstance(n_wf, int | np.integer) and 0 < len(ch) < int(n_wf):
+                table.notes.append(
+                    f"TDMS channel {name!r} holds {len(ch)} samples, fewer than its wf_samples "
+                    f"= {int(n_wf)}"
+                )
+
+    # one absolute clock: seconds since the earliest wf_start_time
+    shift: dict[str, float] = {}
+    if starts:
+        t_ref = min(starts.values())
+        for name, st in starts.items():
+            shift[name] = float((st - t_ref) / np.timedelta64(1, "us")) * 1e-6
+        table.notes.append(f"absolute start time (earliest TDMS wf_start_time): {t_ref}")
+        if any(s != 0.0 for s in shift.values()):
+            table.notes.append(
+                "TDMS channels start at different absolute times (wf_start_time); put on one "
+                "clock, seconds since the earliest: "
+                + ", ".join(f"{n} +{s:.9g} s" for n, s in shift.items() if s != 0.0)
+            )
+        unset = sorted(set(waveform) - set(starts))
+        if unset:
+            table.notes.append(
+                f"TDMS channels {unset} have no wf_start_time; assumed to start at {t_ref}"
+            )
+
+    def length(name: str) -> int:
+        return len(chans[name])
+
+    def read(name: str, start: int, stop: int) -> Column:
+        nonlocal seen
+        ch = chans[name]
+        n = len(ch)
+        if n == 0:
+            raise RecordingError(f"{path}: TDMS channel {name!r} holds no samples")
+        start, stop = max(0, start), min(n, stop)
+
+        def get() -> tuple[np.ndarray]:
+            nonlocal seen
+            values = np.asarray(ch[start:stop])
+            seen = _check(log, path, seen)  # nptdms reports damage as log warnings
+            return (values,)
+
+        (values,) = checked_slice(
+            f"{path}: TDMS channel {name!r} (samples {start}..{stop})",
+            get,
+            stop - start,
+            "the file's index",
+        )
+        own = None
+        if name in waveform:
+            offset, inc = waveform[name]
+            own = shift.get(name, 0.0) + offset + np.arange(start, stop) * inc
+        props = ch.properties
+        unit = props.get("unit_string") or props.get("NI_UnitDescription") or None
+        return Column(values, unit if isinstance(unit, str) else None, own)
+
+    raw = tdms.properties.get(META_KEY)
+    if raw:
+        store_json(table, raw)
+    return read_in_slices(table, length, read)

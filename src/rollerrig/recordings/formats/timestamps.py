@@ -1,0 +1,243 @@
+"""Date/time strings in a time column as seconds since the first sample: one format per column.
+
+Text exports of acquisition software write absolute timestamps (``05.08.24 13:46:13,250``,
+``2024-08-05T13:46:13.250Z``, ``13:46:13``); :func:`parse_timestamps` decides one format for the
+whole column (never a per-row guess) and applies it to every row. Used for any format's time
+column that holds strings (:mod:`rollerrig.recordings.translate`).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+
+import numpy as np
+
+from rollerrig.recordings.formats._table import require_module
+from rollerrig.recordings.recording import RecordingError
+
+__all__ = ["looks_like_timestamp", "parse_timestamps"]
+
+_TIME_OF_DAY = r"(?P<H>\d{1,2}):(?P<M>\d{2})(?::(?P<S>\d{2})(?:[.,](?P<f>\d+))?)?"
+_TZ = r"(?:\s*(?P<tz>Z|[+-]\d{2}:?\d{2}))?"
+_DATE_PATTERNS = {
+    # day or month first: 05.08.24 13:46:13, 05/08/2024 13:46:13.250
+    "dmy": re.compile(
+        r"^(?P<a>\d{1,2})(?P<sep>[./-])(?P<b>\d{1,2})(?P=sep)(?P<y>\d{4}|\d{2})"
+        rf"(?:[ T]+{_TIME_OF_DAY})?{_TZ}$"
+    ),
+    # year first: 2024-08-05T13:46:13.250Z, 2024/08/05 13:46:13
+    "ymd": re.compile(
+        r"^(?P<y>\d{4})(?P<sep>[./-])(?P<b>\d{1,2})(?P=sep)(?P<a>\d{1,2})"
+        rf"(?:[ T]+{_TIME_OF_DAY})?{_TZ}$"
+    ),
+    # time of day only: 13:46:13,250
+    "tod": re.compile(rf"^{_TIME_OF_DAY}$"),
+}
+
+
+def looks_like_timestamp(cell: str) -> bool:
+    """Whether a cell is a date/time such as ``05.08.24 13:46:13`` (not a plain number)."""
+    c = str(cell).strip()
+    return any(p.match(c) for p in _DATE_PATTERNS.values())
+
+
+def _row_name(k: int, line_of: Callable[[int], int | None] | None) -> str:
+    line = line_of(k) if line_of is not None else None
+    return f"row {k}" + (f" (file line {line})" if line is not None else "")
+
+
+def parse_timestamps(
+    values,
+    *,
+    what: str,
+    dayfirst: bool | None = None,
+    date_format: str | None = None,
+    line_of: Callable[[int], int | None] | None = None,
+    decided: dict | None = None,
+) -> tuple[np.ndarray, str]:
+    """Seconds since the first sample of a column of date/time strings, and a note.
+
+    One format is decided for the whole column and applied to every row (never a per-row guess,
+    so a file crossing midnight or a day boundary cannot switch between day-first and
+    month-first): ``date_format`` when given (:func:`time.strptime` codes); else dotted dates
+    (``05.08.24 13:46:13,250``) are day-first (unless ``dayfirst`` is False), slash or dash dates
+    are day-first when ``dayfirst`` is True or any first field of the column exceeds 12,
+    month-first when any second field does (both: an error), month-first otherwise (noted as
+    ambiguous); year-first dates (ISO 8601) are year-month-day, with ``Z``/``+hh:mm`` offsets
+    applied. Times of day without a date are unwrapped at midnight (noted). Two-digit years are
+    19xx from 69, else 20xx (as ``%y``).
+
+    Parameters
+    ----------
+    values : array_like of str
+        The column.
+    what : str
+        The column, for error messages (file and column name).
+    dayfirst : bool, optional
+        ``[file] dayfirst`` of the channel map.
+    date_format : str, optional
+        ``[file] date_format`` of the channel map (beats ``dayfirst``).
+    line_of : callable, optional
+        Row index -> 1-based file line, for error messages.
+    decided : dict, optional
+        For a column read in chunks: pass the same dict for every chunk. The first call stores
+        the format it decided (pattern and day/month order) there, later calls apply it instead
+        of deciding again, so every chunk is read the same way (a later chunk that does not fit
+        is an error naming its row).
+
+    Returns
+    -------
+    seconds : ndarray
+        Time since the first row [s].
+    note : str
+        The format used and the first timestamp.
+
+    Raises
+    ------
+    RecordingError
+        An empty cell, a row that does not match the column's format (named with its line), an
+        impossible date under the chosen order, slash dates that are day-first in some rows and
+        month-first in others.
+
+    Examples
+    --------
+    >>> t, note = parse_timestamps(["31.12.24 23:59:59", "01.01.25 00:00:01"], what="Zeit")
+    >>> t.tolist()
+    [0.0, 2.0]
+    """
+    pd = require_module("pandas", "date/time columns")
+
+    s = pd.Series(np.asarray(values, dtype=object)).map(
+        lambda v: "" if v is None or (isinstance(v, float) and v != v) else str(v).strip()
+    )
+    if s.empty:
+        raise RecordingError(f"{what}: no timestamps")
+    empty = (s == "").to_numpy()
+    if empty.any():
+        k = int(np.flatnonzero(empty)[0])
+        raise RecordingError(f"{what}: empty timestamp at {_row_name(k, line_of)}")
+    if date_format is not None:
+        stamps = pd.to_datetime(s, format=date_format, errors="coerce")
+        bad = stamps.isna().to_numpy()
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise RecordingError(
+                f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} does not match [file] "
+                f"date_format {date_format!r} ({int(bad.sum())} row(s) in total)"
+            )
+        ns = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64)
+        secs = (ns - ns[0]) / 1e9
+        return secs, (
+            f"absolute timestamps parsed with [file] date_format {date_format!r}, converted to "
+            f"seconds since the first sample ({stamps.iloc[0]})"
+        )
+    first = s.iloc[0]
+    kind = next((k for k, p in _DATE_PATTERNS.items() if p.match(first)), None)
+    if decided and kind is not None and decided.get("kind", kind) != kind:
+        kind = decided["kind"]  # rows of another format are named below
+    if kind is None:
+        raise RecordingError(
+            f"{what}: {_row_name(0, line_of)} {first!r} is neither a number nor a date/time this "
+            "reader knows; give [file] date_format (e.g. '%d.%m.%Y %H:%M:%S') in the channel map"
+        )
+    if decided is not None:
+        decided.setdefault("kind", kind)
+    parts = s.str.extract(_DATE_PATTERNS[kind].pattern)
+    nomatch = parts["H" if kind == "tod" else "a"].isna().to_numpy().copy()
+    if kind != "tod":
+        sep0 = parts["sep"].iloc[0]
+        nomatch |= (parts["sep"] != sep0).to_numpy()
+    if nomatch.any():
+        k = int(np.flatnonzero(nomatch)[0])
+        raise RecordingError(
+            f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} does not have the format of the "
+            f"first row {first!r}; give [file] date_format in the channel map"
+        )
+    tod = np.zeros(len(s))
+    if "H" in parts and parts["H"].notna().any():
+        has_time = parts["H"].notna().to_numpy()
+        if not has_time.all():
+            k = int(np.flatnonzero(~has_time)[0])
+            raise RecordingError(
+                f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} has no time of day, the first "
+                f"row {first!r} has"
+            )
+        frac = parts["f"].fillna("0")
+        tod = (
+            parts["H"].astype(int).to_numpy() * 3600.0
+            + parts["M"].astype(int).to_numpy() * 60.0
+            + parts["S"].fillna("0").astype(int).to_numpy()
+            + pd.to_numeric("0." + frac).to_numpy()
+        )
+    if kind == "tod":
+        steps = np.diff(tod)
+        wraps = np.concatenate(([0.0], np.cumsum(np.where(steps < -43200.0, 86400.0, 0.0))))
+        note = f"times of day (first {first!r}) converted to seconds since the first sample"
+        if wraps[-1]:
+            note += f"; {int(wraps[-1] // 86400)} midnight crossing(s) unwrapped"
+        t = tod + wraps
+        return t - t[0], note
+    a = parts["a"].astype(int).to_numpy()
+    b = parts["b"].astype(int).to_numpy()
+    y = parts["y"].astype(int).to_numpy()
+    y = np.where(y < 100, np.where(y < 69, 2000 + y, 1900 + y), y)
+    sep = parts["sep"].iloc[0]
+    if kind == "ymd":
+        day, month, order = a, b, "year-month-day"
+    else:
+        if decided and "first_is_day" in decided:
+            first_is_day, order = decided["first_is_day"], decided["order"]
+        elif sep == "." and dayfirst is not False:
+            first_is_day, order = True, "day-first (dotted date)"
+        elif dayfirst is not None:
+            first_is_day = dayfirst
+            order = f"{'day' if dayfirst else 'month'}-first ([file] dayfirst = {dayfirst})"
+        else:
+            day_a, day_b = a > 12, b > 12
+            if day_a.any() and day_b.any():
+                ka, kb = int(np.flatnonzero(day_a)[0]), int(np.flatnonzero(day_b)[0])
+                raise RecordingError(
+                    f"{what}: dates are day-first at {_row_name(ka, line_of)} "
+                    f"({s.iloc[ka]!r}) but month-first at {_row_name(kb, line_of)} "
+                    f"({s.iloc[kb]!r}); give [file] date_format in the channel map"
+                )
+            if day_a.any():
+                first_is_day, order = True, "day-first (a first field > 12)"
+            elif day_b.any():
+                first_is_day, order = False, "month-first (a second field > 12)"
+            else:
+                first_is_day = False
+                order = (
+                    "month-first: AMBIGUOUS (every day and month field <= 12); set [file] "
+                    "dayfirst = true in the channel map if the dates are day-first"
+                )
+        day, month = (a, b) if first_is_day else (b, a)
+        if decided is not None:
+            decided.setdefault("first_is_day", first_is_day)
+            decided.setdefault("order", order)
+    dates = pd.to_datetime(
+        pd.DataFrame({"year": y, "month": month, "day": day}), errors="coerce"
+    ).to_numpy()
+    bad = np.isnat(dates)
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise RecordingError(
+            f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} is not a valid date read {order}; "
+            "give [file] dayfirst or date_format in the channel map"
+        )
+    days = dates.astype("datetime64[D]").astype(np.int64)
+    offset = np.zeros(len(s))
+    if "tz" in parts and parts["tz"].notna().any():
+        tz = parts["tz"].fillna("Z")
+        sign = np.where(tz.str[0] == "-", -1.0, 1.0)
+        digits = tz.str.replace(":", "", regex=False).str[1:]
+        hh = pd.to_numeric(digits.str[:2], errors="coerce").fillna(0).to_numpy()
+        mm = pd.to_numeric(digits.str[2:4], errors="coerce").fillna(0).to_numpy()
+        offset = np.where(tz == "Z", 0.0, sign * (hh * 3600.0 + mm * 60.0))
+    t = (days - days[0]) * 86400.0 + (tod - tod[0]) - (offset - offset[0])
+    start = pd.Timestamp(dates[0]) + pd.Timedelta(seconds=float(tod[0]))
+    return t, (
+        f"absolute timestamps read {order} (first {first!r} = {start}), converted to seconds "
+        "since the first sample"
+    )

@@ -1,0 +1,432 @@
+"""A file's columns translated by a channel map into canonical channels in SI units.
+
+:func:`apply_map` takes a format reader's :class:`~rollerrig.recordings.formats.Table` and the
+channel map (:mod:`rollerrig.recordings.channels`) and gives the time [s] and the channels in SI
+units, on one common time base (:mod:`rollerrig.recordings.timebase`):
+
+- each map entry names a file column (:func:`resolve_column`: a missing or ambiguous column is
+  an error with close matches; entries the caller does not need, and ``optional`` ones, are
+  noted instead), or, without a map, the file's own names (:func:`auto_entries`);
+- cells are numbers (:func:`as_float`: NaN/inf words, decimal commas) converted with the map's
+  unit, scale and offset; the time is a column (:func:`time_seconds`: numbers in a time unit,
+  or date/time strings), the map's sample rate (checked against the file's own rate), or the
+  channels' own time bases (TDMS waveforms, MDF masters, LVM X columns).
+
+Both :func:`rollerrig.recordings.readers.read_recording` and the chunked reader
+(:mod:`rollerrig.recordings.source`) resolve the map through this module.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rollerrig.output.varnames import ORIGINAL_NAME
+from rollerrig.recordings.channels import (
+    RATE_TOLERANCE,
+    TIME_UNITS,
+    ChannelMap,
+    ChannelSpec,
+    FileSpec,
+    normalize_unit,
+)
+from rollerrig.recordings.formats import Table
+from rollerrig.recordings.formats._table import require_module
+from rollerrig.recordings.formats._text import (
+    COMMA_NUMBER,
+    NAN_WORDS,
+    NEGATIVE_INFINITY_WORDS,
+    POSITIVE_INFINITY_WORDS,
+)
+from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
+from rollerrig.recordings.recording import CANONICAL_CHANNELS, RecordingError
+from rollerrig.recordings.timebase import align_channels
+
+__all__ = ["apply_map", "as_float", "auto_entries", "resolve_column", "time_seconds"]
+
+
+def resolve_column(
+    table: Table,
+    column: str,
+    entry: str,
+    cmap: ChannelMap,
+    path: Path,
+    *,
+    skip: str | None = None,
+) -> str | None:
+    """The file column that ``column`` names; missing or ambiguous: an error with close matches.
+
+    With ``skip`` (why the entry may be absent, e.g. ``"optional"``), a missing or ambiguous
+    column is noted in ``table.notes`` instead, and None is returned.
+    """
+    if column in table.names:
+        return column
+    candidates = table.aliases.get(column, [])
+    if len(candidates) == 1:
+        return candidates[0]
+    pool = table.names + [a for a in table.aliases if a not in table.names]
+    close = difflib.get_close_matches(column, pool, n=3, cutoff=0.6)
+    if skip is not None:
+        problem = f"ambiguous: {candidates}" if candidates else "not in the file"
+        table.notes.append(
+            f"channel map entry {entry} ({skip}) not read: column {column!r} is {problem}"
+            + (f"; close matches: {close}" if close and not candidates else "")
+        )
+        return None
+    if len(candidates) > 1:
+        raise RecordingError(
+            f"{path}: channel map entry {entry} (map {cmap.source}) names column {column!r}, "
+            f"which is ambiguous in the file: {candidates}; give the full name"
+        )
+    unreadable = [s for s in table.skipped if s.startswith(f"{column} (")]
+    if unreadable:
+        raise RecordingError(
+            f"{path}: channel map entry {entry} (map {cmap.source}) names column {column!r}, "
+            f"which the file holds but cannot be read as numbers: {unreadable[0]}"
+        )
+    shown = table.names if len(table.names) <= 60 else [*table.names[:60], "..."]
+    raise RecordingError(
+        f"{path}: channel map entry {entry} (map {cmap.source}) names column {column!r}, "
+        f"which is not in the file"
+        + (f"; close matches: {close}" if close else "")
+        + f"; available columns: {shown}"
+        + (f"; not readable: {table.skipped}" if table.skipped else "")
+    )
+
+
+def as_float(values: np.ndarray, what: str, line_of=None) -> np.ndarray:
+    """Numbers of a column; NaN/inf words (``NaN``, ``inf``, PicoScope's ``∞``) become NaN/inf.
+
+    ``line_of`` maps a row to its 1-based file line (text files) for the error message.
+    """
+    arr = np.asarray(values)
+    if arr.dtype.kind in "biuf":
+        return arr.astype(float)
+    if arr.dtype.kind in "OUT":
+        pd = require_module("pandas", "text columns")
+        text = pd.Series(arr, dtype=object).map(lambda v: v.strip() if isinstance(v, str) else v)
+        is_str = text.map(lambda v: isinstance(v, str)).to_numpy(dtype=bool)
+        words = text.map(lambda v: v.lower() if isinstance(v, str) else "").to_numpy(dtype=object)
+        infinite = np.isin(words, list(POSITIVE_INFINITY_WORDS))
+        neg_inf = np.isin(words, list(NEGATIVE_INFINITY_WORDS))
+        comma = text.map(
+            lambda v: v.replace(",", ".") if isinstance(v, str) and COMMA_NUMBER.fullmatch(v) else v
+        )
+        num = pd.to_numeric(comma, errors="coerce").to_numpy(dtype=float, copy=True)
+        num[infinite] = np.inf
+        num[neg_inf] = -np.inf
+        known = np.isin(words, list(NAN_WORDS)) | (is_str & (words == ""))
+        bad = np.isnan(num) & ~pd.isna(text).to_numpy() & ~known
+        if not bad.any():
+            return num
+        k = int(np.flatnonzero(bad)[0])
+        line = line_of(k) if line_of is not None else None
+        raise RecordingError(
+            f"{what} has {int(bad.sum())} non-numeric entries, first at row {k}: {arr[k]!r}"
+            + (f" (file line {line})" if line is not None else "")
+        )
+    raise RecordingError(f"{what} is not numeric (dtype {arr.dtype})")
+
+
+def time_seconds(
+    values: np.ndarray,
+    unit: str,
+    what: str,
+    notes: list,
+    *,
+    file: FileSpec | None = None,
+    line_of=None,
+    decided: dict | None = None,
+) -> np.ndarray:
+    """A time column in seconds: numbers in ``unit``, or date/time strings (one format for the
+    whole column, from ``[file] date_format`` / ``dayfirst``; see
+    :func:`rollerrig.recordings.formats.timestamps.parse_timestamps`) as seconds since the first
+    sample.
+
+    ``decided``: for a column read in chunks, one dict passed with every chunk, so that every
+    chunk's timestamps are read in the format decided for the first."""
+    file = file or FileSpec()
+    arr = np.asarray(values)
+    if arr.dtype.kind in "OUT":
+        first = next((str(v).strip() for v in arr.ravel()[:1000] if str(v).strip()), "")
+        if file.date_format is not None or looks_like_timestamp(first):
+            secs, note = parse_timestamps(
+                arr,
+                what=what,
+                dayfirst=file.dayfirst,
+                date_format=file.date_format,
+                line_of=line_of,
+                decided=decided,
+            )
+            notes.append(note)
+            return secs
+        return as_float(arr, what, line_of) * TIME_UNITS[unit]
+    if arr.dtype.kind == "M":
+        t0 = arr[0]
+        notes.append(f"absolute timestamps converted to seconds since the first sample ({t0})")
+        return (arr - t0) / np.timedelta64(1, "s")
+    return as_float(arr, what) * TIME_UNITS[unit]
+
+
+def auto_entries(table: Table, cmap: ChannelMap, path: Path) -> list[ChannelSpec]:
+    """The file's own names as channels (no map). In a file rollerrig wrote, a column named in
+    its stored ``variables`` keeps that name whole (``[x]`` is not a unit there), and a column
+    the writer renamed for the format (``oil_temp_bearing`` in a MAT file) gets its
+    ``original_name`` back."""
+    specs: list[ChannelSpec] = []
+    seen: dict[str, str] = {}
+    stored = table.stored_variables if isinstance(table.stored_variables, Mapping) else {}
+    for name in table.names:
+        base = table.base.get(name, name)
+        if name in stored:  # rollerrig wrote this very name (not "name [unit]")
+            base = name
+        entry = stored.get(base)
+        original = entry.get(ORIGINAL_NAME) if isinstance(entry, Mapping) else None
+        if isinstance(original, str) and original and original != "time":
+            base = original
+        if base == "time":
+            continue
+        canonical = base in CANONICAL_CHANNELS
+        if base in seen:
+            if canonical:
+                raise RecordingError(
+                    f"{path}: canonical channel {base!r} occurs twice ({seen[base]!r}, {name!r}); "
+                    "give a channel map"
+                )
+            continue
+        seen[base] = name
+        specs.append(ChannelSpec(base, name, None, canonical=canonical))
+    return specs
+
+
+_TIME_NAMES = frozenset(
+    {"time", "zeit", "t", "x_value", "timestamp", "timestamps", "time_s", "time_ms", "datetime"}
+)
+"""Column names (lower case, unit stripped) taken as a time column when checking a stated rate."""
+
+
+def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict, path, line_of):
+    """Raise when the map's ``[time] sample_rate_Hz`` contradicts the file's own rate.
+
+    The file's rate is that of each channel's own time base (TDMS ``wf_increment``, MDF master,
+    LVM X column) and of a column named like a time (``Time``, ``Zeit``, ``t``, ``X_Value``;
+    numbers in its stated unit, else seconds or milliseconds, or timestamps). A difference of
+    more than :data:`~rollerrig.recordings.channels.RATE_TOLERANCE` is an error naming both rates.
+    """
+    stated = cmap.time.sample_rate_Hz
+
+    def off(rate: float) -> bool:
+        return not np.isfinite(rate) or abs(rate - stated) > RATE_TOLERANCE * stated
+
+    def fail(rate: float, source: str) -> None:
+        raise RecordingError(
+            f"{path}: the channel map's [time] sample_rate_Hz = {stated:g} Hz (map "
+            f"{cmap.source}) contradicts the file's own rate of {rate:.6g} Hz ({source}); "
+            "remove sample_rate_Hz to use the file's time base, or correct it"
+        )
+
+    def median_rate(t: np.ndarray) -> float:
+        d = np.diff(t)
+        d = d[np.isfinite(d)]
+        med = float(np.median(d)) if d.size else 0.0
+        return 1.0 / med if med > 0 else float("nan")
+
+    for spec, _values, _si, own in loaded:
+        if own is not None and own.size > 1:
+            rate = median_rate(np.asarray(own, dtype=float))
+            if off(rate):
+                fail(rate, f"time base of column {info['columns'][spec.name]!r}")
+    used = set(info["columns"].values())
+    for name in table.names:
+        base = str(table.base.get(name, name)).strip().lower()
+        if name in used or base not in _TIME_NAMES:
+            continue
+        try:
+            col = table.load(name)
+            file_unit = normalize_unit(col.unit) if col.unit else None
+            scratch: list[str] = []
+            unit = file_unit if file_unit in TIME_UNITS else "s"
+            secs = time_seconds(
+                col.values,
+                unit,
+                f"{path}: column {name!r}",
+                scratch,
+                file=cmap.file,
+                line_of=line_of,
+            )
+        except RecordingError:
+            table.notes.append(
+                f"column {name!r} looks like a time column but is not readable; "
+                "the stated sample_rate_Hz was not checked against it"
+            )
+            continue
+        if secs.size < 2:
+            continue
+        rate = median_rate(secs)
+        numeric = np.asarray(col.values).dtype.kind in "biuf"
+        if off(rate) and not (numeric and file_unit is None and not off(rate * 1e3)):
+            fail(rate, f"column {name!r}" + ("" if file_unit or not numeric else " read in s"))
+
+
+def apply_map(
+    table: Table, cmap: ChannelMap, path: Path, needed: Iterable[str] | None = None
+) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, str], dict[str, Any]]:
+    """Time [s] and channels in SI units from a table through the channel map.
+
+    ``needed``: the channels the caller needs; entries not needed, and ``optional`` ones, are
+    noted instead of failing when their column is missing (None: every entry is needed).
+    """
+    notes = table.notes
+    info: dict[str, Any] = {"columns": {}, "source_units": {}}
+    where = f"{path}:"
+    needed = None if needed is None else set(needed)
+    line_of = getattr(table, "line_of", None)  # text files: row -> file line
+
+    # --- time from a column
+    time = None
+    tspec = cmap.time
+    if tspec is not None and tspec.column is not None:
+        col_name = None
+        if cmap.auto:
+            hits = [n for n in table.names if table.base.get(n, n) == tspec.column]
+            col_name = hits[0] if hits else None
+        else:
+            col_name = resolve_column(table, tspec.column, "[time]", cmap, path)
+        if col_name is not None:
+            col = table.load(col_name)
+            unit = tspec.unit
+            file_unit = normalize_unit(col.unit) if col.unit else None
+            if cmap.auto and file_unit is not None:
+                if file_unit not in TIME_UNITS:
+                    raise RecordingError(
+                        f"{where} time column {col_name!r} has unit {col.unit!r}; "
+                        f"allowed: {sorted(TIME_UNITS)}"
+                    )
+                unit = file_unit
+            elif file_unit in TIME_UNITS and file_unit != unit:
+                if tspec.unit_stated:
+                    raise RecordingError(
+                        f"{where} channel map entry [time] (map {cmap.source}) says unit "
+                        f"{unit!r} but column {col_name!r} says {col.unit!r}"
+                    )
+                unit = file_unit
+                notes.append(f"time unit {col.unit!r} taken from the file (the map gives none)")
+            time = time_seconds(
+                col.values,
+                unit,
+                f"{where} time column {col_name!r}",
+                notes,
+                file=cmap.file,
+                line_of=line_of,
+            )
+            info["columns"]["time"] = col_name
+            info["source_units"]["time"] = unit
+
+    # --- channels
+    specs = auto_entries(table, cmap, path) if cmap.auto else list(cmap.entries)
+    loaded: list[tuple[ChannelSpec, np.ndarray, str, np.ndarray | None]] = []
+    for spec in specs:
+        skip = None
+        if cmap.auto:
+            name = spec.column
+        else:
+            skip = (
+                "optional"
+                if spec.optional and (needed is None or spec.name not in needed)
+                else "not needed here"
+                if needed is not None and spec.name not in needed
+                else None
+            )
+            name = resolve_column(table, spec.column, spec.entry, cmap, path, skip=skip)
+            if name is None:
+                continue
+            if skip is not None:  # present but unreadable (e.g. an MDF group without samples)
+                try:
+                    col = table.load(name)
+                except RecordingError as exc:
+                    notes.append(
+                        f"channel map entry {spec.entry} ({skip}) not read: "
+                        + str(exc).removeprefix(where).strip()
+                    )
+                    continue
+        if skip is None:
+            col = table.load(name)
+        what = f"{where} column {name!r} (channel map entry {spec.entry}, map {cmap.source})"
+        if cmap.auto and not spec.canonical:
+            if col.unit is None or np.asarray(col.values).dtype.kind not in "biuf":
+                notes.append(f"column {name!r} not read (no unit or not numeric)")
+                continue
+        if spec.unit is None and col.unit is None:
+            raise RecordingError(
+                f"{what}: no unit in the channel map nor in the file; "
+                f"give 'unit' (SI unit {CANONICAL_CHANNELS.get(spec.name, ('?',))[0]!r})"
+            )
+        unit = spec.unit if spec.unit is not None else col.unit
+        try:
+            si, factor = spec.conversion(unit)
+        except RecordingError as exc:
+            raise RecordingError(f"{what}: {exc}") from None
+        if spec.unit is not None and col.unit is not None and spec.canonical:
+            if normalize_unit(col.unit) != normalize_unit(spec.unit):
+                try:
+                    _, file_factor = spec.conversion(col.unit)
+                except RecordingError:
+                    file_factor = None
+                if file_factor is not None and spec.scale == 1.0 and spec.offset == 0.0:
+                    raise RecordingError(
+                        f"{what}: the map says unit {spec.unit!r} but the file says "
+                        f"{col.unit!r}; fix the map (or give scale/offset)"
+                    )
+                notes.append(
+                    f"{spec.name}: file unit {col.unit!r}, map unit {spec.unit!r} used "
+                    f"(scale {spec.scale}, offset {spec.offset})"
+                )
+        raw = as_float(col.values, what, line_of)
+        # A corrupted or absurd raw value may overflow to inf here: validation then names the
+        # channel and the samples; numpy's overflow warning would only say "multiply".
+        with np.errstate(over="ignore", invalid="ignore"):
+            values = (spec.scale * raw + spec.offset) * factor
+        own = None if col.time is None else np.asarray(col.time, dtype=float)
+        loaded.append((spec, values, si, own))
+        info["columns"][spec.name] = name
+        info["source_units"][spec.name] = unit
+
+    if not loaded:
+        raise RecordingError(
+            f"{where} no channels found (map {cmap.source}); file columns: {table.names[:60]}"
+        )
+
+    # --- time from the sample rate or from the first channel's own time base
+    _, first_values, _, first_own = loaded[0]
+    if time is None and tspec is not None and tspec.sample_rate_Hz is not None:
+        _check_stated_rate(table, cmap, loaded, info, path, line_of)
+        time = np.arange(first_values.size) / tspec.sample_rate_Hz
+        info["source_units"]["time"] = f"sample_rate_Hz = {tspec.sample_rate_Hz}"
+        own_times: list = [None] * len(loaded)
+    elif time is None:
+        if first_own is None:
+            raise RecordingError(
+                f"{where} no time: the channel map (map {cmap.source}) gives no [time] column "
+                "nor sample_rate_Hz, and the file's channels carry no time base "
+                "(TDMS wf_increment / MDF master)"
+            )
+        # time stays None: align_channels chooses the common base from the own time bases
+        own_times = [own for _, _, _, own in loaded]
+    else:
+        own_times = [own for _, _, _, own in loaded]
+
+    time, channels, units = align_channels(
+        time,
+        loaded,
+        own_times,
+        own_time_exact=table.own_time_exact,
+        info=info,
+        notes=notes,
+        where=where,
+        resample_Hz=getattr(tspec, "resample_Hz", None),
+    )
+    return np.asarray(time, dtype=float), channels, units, info

@@ -1,0 +1,249 @@
+"""Validation of a recording at the boundary: time, NaN/inf samples, gaps.
+
+- time must be finite and strictly increasing (duplicated or backward time: an error with the
+  sample index and the times);
+- NaN/inf samples: ``mode="strict"`` raises, naming the channel, the count and the first run of
+  bad samples; ``mode="lenient"`` linearly interpolates runs of at most
+  :data:`MAX_INTERPOLATED_NAN_RUN` samples and still raises for longer runs;
+- gaps (dropped samples: an interval > :data:`GAP_FACTOR` x the median interval,
+  :func:`find_gaps`): strict raises with the gap's location and size, lenient keeps them;
+- the sampling rate (1 / median interval) may not exceed :data:`MAX_SAMPLE_RATE_HZ`, and no
+  time base is built with more than :data:`MAX_GRID_SAMPLES` samples
+  (:func:`check_sample_rate`, :func:`check_grid`): a time in the wrong unit (picoseconds read
+  as seconds) or an absurd ``sample_rate_Hz``/``resample_Hz`` is refused before anything is
+  allocated for it. The limits live here, and only here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from rollerrig.recordings.recording import RecordingError
+
+__all__ = [
+    "GAP_FACTOR",
+    "MAX_GRID_SAMPLES",
+    "MAX_INTERPOLATED_NAN_RUN",
+    "MAX_SAMPLE_RATE_HZ",
+    "check_grid",
+    "check_sample_rate",
+    "describe_gap",
+    "find_gaps",
+    "true_runs",
+    "validate_samples",
+]
+
+MAX_INTERPOLATED_NAN_RUN = 3
+"""Longest run of NaN/inf samples that ``validate="lenient"`` interpolates [samples]."""
+
+GAP_FACTOR = 1.5
+"""A sample interval longer than this multiple of the median interval is a gap."""
+
+MAX_SAMPLE_RATE_HZ = 1e8
+"""Highest sampling rate of a recording [Hz] (100 MHz: above the fastest transient recorders
+on a test rig; a higher rate is a time in the wrong unit or a damaged header)."""
+
+MAX_GRID_SAMPLES = 2**28
+"""Most samples of a time base the readers build (a resampling grid, a time from a stated
+rate) [1]: 2 GiB per channel of float64."""
+
+
+def check_sample_rate(rate: float, where: str, source: str) -> None:
+    """RecordingError when ``rate`` [Hz] is not finite or above :data:`MAX_SAMPLE_RATE_HZ`.
+
+    ``source`` says where the rate comes from (``"median interval of column 'time'"``).
+
+    Examples
+    --------
+    >>> check_sample_rate(19200.0, "run.csv:", "the time column")
+    >>> try:
+    ...     check_sample_rate(1e12, "run.csv:", "the time column")
+    ... except RecordingError as exc:
+    ...     print(str(exc)[:71])
+    run.csv: sampling rate 1e+12 Hz (the time column) is above the limit of
+    """
+    if not (np.isfinite(rate) and rate <= MAX_SAMPLE_RATE_HZ):
+        raise RecordingError(
+            f"{where} sampling rate {rate:.6g} Hz ({source}) is above the limit of "
+            f"{MAX_SAMPLE_RATE_HZ:g} Hz (MAX_SAMPLE_RATE_HZ); check the time unit (ms or µs "
+            "read as s?) or the stated rate"
+        )
+
+
+def check_grid(duration: float, rate: float, where: str, source: str) -> int:
+    """The number of samples of a ``rate`` [Hz] grid over ``duration`` [s], or a
+    RecordingError when it exceeds :data:`MAX_GRID_SAMPLES` (checked before allocation)."""
+    check_sample_rate(rate, where, source)
+    n = float(duration) * float(rate) + 1.0
+    if not (np.isfinite(n) and n <= MAX_GRID_SAMPLES):
+        raise RecordingError(
+            f"{where} a {rate:.6g} Hz time base over {duration:.6g} s ({source}) would hold "
+            f"{n:.3g} samples, above the limit of {MAX_GRID_SAMPLES} (MAX_GRID_SAMPLES); "
+            "choose a lower rate"
+        )
+    return int(n)
+
+
+def find_gaps(time: np.ndarray) -> tuple[float, list[dict[str, Any]]]:
+    """The median sample interval [s] and the gaps (dropped samples) of increasing ``time``.
+
+    A gap is an interval longer than :data:`GAP_FACTOR` x the median; each is a dict with
+    ``sample`` (the index before it), ``start_s``, ``end_s``, ``duration_s`` [s] and
+    ``missing_samples`` (about how many samples at the median interval are missing).
+
+    Examples
+    --------
+    >>> step, gaps = find_gaps(np.array([0.0, 0.1, 0.2, 0.5, 0.6]))
+    >>> round(step, 3), gaps[0]["sample"], gaps[0]["missing_samples"]
+    (0.1, 2, 2)
+    """
+    dt = np.diff(time)
+    median = float(np.median(dt))
+    return median, [
+        {
+            "sample": int(k),
+            "start_s": float(time[k]),
+            "end_s": float(time[k + 1]),
+            "duration_s": float(dt[k]),
+            "missing_samples": round(float(dt[k]) / median) - 1,
+        }
+        for k in np.flatnonzero(dt > GAP_FACTOR * median)
+    ]
+
+
+def describe_gap(gap: Mapping[str, Any]) -> str:
+    """A gap of :func:`find_gaps` in words: duration, where, about how many samples missing."""
+    nan = float("nan")
+    return (
+        f"{gap.get('duration_s', nan):.6g} s after t = {gap.get('start_s', nan):.6g} s (sample "
+        f"{gap.get('sample')}, about {gap.get('missing_samples')} missing sample(s))"
+    )
+
+
+def validate_samples(
+    time: np.ndarray, channels: dict[str, np.ndarray], mode: str, where: str
+) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+    """The channels checked (``mode`` "lenient": short NaN/inf runs interpolated) and a report.
+
+    Parameters
+    ----------
+    time : ndarray
+        Sample times [s].
+    channels : dict of str to ndarray
+        Channel values (SI units), each as long as ``time``.
+    mode : {"strict", "lenient"}
+        See the module docstring.
+    where : str
+        Prefix of error messages (the file).
+
+    Returns
+    -------
+    channels : dict of str to ndarray
+        The channels, NaN/inf runs interpolated (lenient).
+    report : dict
+        ``gaps`` (:func:`find_gaps`) and ``interpolated`` (channel, first and last sample,
+        start and end time [s], method of each run).
+
+    Raises
+    ------
+    RecordingError
+        Fewer than 2 samples, non-finite or non-increasing time; strict: a gap or a NaN/inf
+        sample; lenient: a NaN/inf run longer than :data:`MAX_INTERPOLATED_NAN_RUN`.
+    """
+    report: dict[str, Any] = {"gaps": [], "interpolated": []}
+    if time.size < 2:
+        raise RecordingError(f"{where} only {time.size} sample(s); need at least 2")
+    bad = ~np.isfinite(time)
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise RecordingError(
+            f"{where} time has {int(bad.sum())} non-finite samples, first at sample {k}"
+        )
+    dt = np.diff(time)
+    if np.any(dt <= 0):
+        idx = np.flatnonzero(dt <= 0)
+        k = int(idx[0])
+        kind = "duplicated" if dt[k] == 0 else "goes backwards"
+        raise RecordingError(
+            f"{where} time {kind} at sample {k + 1}: t[{k}] = {time[k]:.9g} s, "
+            f"t[{k + 1}] = {time[k + 1]:.9g} s ({idx.size} non-increasing step(s) in total); "
+            "time must be strictly increasing"
+        )
+    median, gaps = find_gaps(time)
+    check_sample_rate(1.0 / median, where, "1 / the median sample interval of the time")
+    if gaps and mode == "strict":
+        g = gaps[0]
+        raise RecordingError(
+            f"{where} gap (dropped samples) between sample {g['sample']} (t = {g['start_s']:.9g} s)"
+            f" and {g['sample'] + 1} (t = {g['end_s']:.9g} s): {g['duration_s']:.6g} s, about "
+            f"{g['missing_samples']} missing sample(s) at the median interval {median:.6g} s; "
+            f"{len(gaps)} gap(s) in total; validate='lenient' (--lenient on the command line) "
+            "keeps them and lists them"
+        )
+    report["gaps"] = gaps
+    out: dict[str, np.ndarray] = {}
+    for name, values in channels.items():
+        v = np.asarray(values, dtype=float)
+        bad = ~np.isfinite(v)
+        if not bad.any():
+            out[name] = v
+            continue
+        runs = true_runs(bad)
+        longest = max(runs, key=lambda r: r[1] - r[0])
+        first = runs[0]
+
+        def describe(run: tuple[int, int]) -> str:
+            a, b = run
+            return f"samples {a}..{b} (t = {time[a]:.9g} s .. {time[b]:.9g} s, {b - a + 1} samples)"
+
+        if mode == "strict" or bad.all():
+            raise RecordingError(
+                f"{where} channel {name!r} has {int(bad.sum())} NaN/inf samples in {len(runs)} "
+                f"run(s); first run: {describe(first)}"
+                + ("" if mode == "strict" else "; every sample is bad")
+                + (
+                    "; validate='lenient' (--lenient on the command line) interpolates runs of "
+                    f"at most {MAX_INTERPOLATED_NAN_RUN} samples"
+                    if mode == "strict"
+                    else ""
+                )
+            )
+        if longest[1] - longest[0] + 1 > MAX_INTERPOLATED_NAN_RUN:
+            raise RecordingError(
+                f"{where} channel {name!r} has a run of NaN/inf samples too long to interpolate "
+                f"(more than {MAX_INTERPOLATED_NAN_RUN}): {describe(longest)}"
+            )
+        good = ~bad
+        v = v.copy()
+        v[bad] = np.interp(time[bad], time[good], v[good])
+        for a, b in runs:
+            report["interpolated"].append(
+                {
+                    "channel": name,
+                    "first_sample": a,
+                    "last_sample": b,
+                    "start_s": float(time[a]),
+                    "end_s": float(time[b]),
+                    "method": "linear" if a > 0 and b < v.size - 1 else "held (edge)",
+                }
+            )
+        out[name] = v
+    return out, report
+
+
+def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) index of each run of True in ``mask``.
+
+    Examples
+    --------
+    >>> true_runs(np.array([False, True, True, False, True]))
+    [(1, 2), (4, 4)]
+    """
+    m = np.concatenate([[False], mask, [False]]).astype(int)
+    d = np.diff(m)
+    starts = np.flatnonzero(d == 1)
+    ends = np.flatnonzero(d == -1) - 1
+    return list(zip(starts.tolist(), ends.tolist(), strict=True))
