@@ -1662,21 +1662,25 @@ def smooth_contact_torque(
         par["regularisation_speed"],
     )
 
-    def filtered(q_drive):
+    def filtered(q_drive, lines=None, judge=True):
         sd = _smoother_design(
             model, fs, par["roller_inertia"], par["counts_per_rev"], q, sigma_t, chain, q_drive
         )
-        lines = np.zeros(n)
-        if angles_orders and n > 1:  # chain only: u is the bearing loss
-            lines = _order_lines(sd, dth, t56, bearing, angles_orders, fs)
+        if lines is None:
+            lines = np.zeros(n)
+            if angles_orders and n > 1:  # chain only: u is the bearing loss
+                lines = _order_lines(sd, dth, t56, bearing, angles_orders, fs)
         t_clean = t56 - lines
         u = t_clean + bearing if chain is None else bearing
         Z = _smoother_forward(sd, dth, t_clean, u, _start(sd, t_clean[0], u[0]))
-        innovations = _innovation_whiteness(sd, _innovations(sd, dth, t_clean, u, Z))
+        innovations = _innovation_whiteness(sd, _innovations(sd, dth, t_clean, u, Z), judge)
         return sd, lines, u, Z, innovations
 
     if q_drive == "ml":
-        q_drive = _most_likely_drive_noise(lambda qd: filtered(qd)[-1])
+        # The lines hardly depend on the drive noise: fitted once at the default for the
+        # search (the likelihood alone at each trial), again at the noise found.
+        fixed = filtered(DEFAULT_DRIVE_NOISE, judge=False)[1]
+        q_drive = _most_likely_drive_noise(lambda qd: filtered(qd, fixed, judge=False)[-1])
     sd, lines, u, Z, innovations = filtered(q_drive)
     x = _smoother_backward(sd, Z, dth, u) * sd.scale
     contact = x[:, sd.i_d]
@@ -1711,7 +1715,7 @@ says nothing any more (the drive torque then follows the torque sensor alone).""
 def _most_likely_drive_noise(log_likelihood) -> float:
     """The drive noise [N².m²/s] in :data:`DRIVE_NOISE_RANGE` that maximises the innovations'
     log-likelihood per sample (``log_likelihood(q)`` returns the innovations' dict): a bounded
-    scalar search on log10 q to 0.1 decade (the likelihood is smooth and single-peaked in it
+    scalar search on log10 q to 0.2 decade (the likelihood is smooth and single-peaked in it
     on every recording tried, the twin's own, the dq drive's and the arm's)."""
     from scipy.optimize import minimize_scalar
 
@@ -1720,7 +1724,7 @@ def _most_likely_drive_noise(log_likelihood) -> float:
         lambda z: -log_likelihood(10.0**z)["log_likelihood_per_sample"],
         bounds=(lo, hi),
         method="bounded",
-        options={"xatol": 0.1},
+        options={"xatol": 0.2},
     )
     return float(10.0**res.x)
 
@@ -1728,7 +1732,7 @@ def _most_likely_drive_noise(log_likelihood) -> float:
 _MIN_INNOVATIONS = 30  # steady-state innovations below which none are judged
 
 
-def _innovation_whiteness(sd: _Smoother, e: np.ndarray) -> dict:
+def _innovation_whiteness(sd: _Smoother, e: np.ndarray, judge: bool = True) -> dict:
     """The innovations' log-likelihood per sample (Gaussian, steady-state covariance
     S = H P⁻ Hᵀ + R in the scaled measurements) and, per measurement (``angle``, ``torque``),
     the whiteness (:func:`rollerrig.fit.whiteness.whiteness`) and ``variance`` of each
@@ -1750,6 +1754,8 @@ def _innovation_whiteness(sd: _Smoother, e: np.ndarray) -> dict:
             - 0.5 * np.log(np.linalg.det(S))
         )
     }
+    if not judge:  # the likelihood alone (the drive noise's search)
+        return out
     for j, name in enumerate(("angle", "torque")[: e.shape[1]]):
         x = e[:, j] / sd_pred[j]
         w = whiteness(x)
