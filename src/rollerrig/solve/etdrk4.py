@@ -307,35 +307,68 @@ def _stable_step(t, x, f0, p, tables, blocks, sizes, h_max):
     return rk4_stable_step(lam, h_max)
 
 
-def _apply_nonlinear(fx, x, blocks, sizes, coef, out):
+def _triplets(blocks, sizes):
+    """The blocks as (row, column) pairs of state indices, and the block's rows.
+
+    Returns ``(tr, tc, rows, first)``: pair ``k`` is ``L[tr[k], tc[k]]``; the pairs of block
+    ``b`` are ``first[b]:first[b + 1]`` in row-major order; ``rows`` lists every state in a
+    block. The step applies the blocks' matrices as these sparse triplets, one short loop each
+    (the block loops with their indirect indices had cost 0.5 µs a step).
+    """
+    nb = blocks.shape[0]
+    first = np.zeros(nb + 1, dtype=np.int64)
+    for b in range(nb):
+        first[b + 1] = first[b] + sizes[b] * sizes[b]
+    tr = np.empty(first[nb], dtype=np.int64)
+    tc = np.empty(first[nb], dtype=np.int64)
+    n_rows = 0
+    for b in range(nb):
+        n_rows += sizes[b]
+    rows = np.empty(n_rows, dtype=np.int64)
+    k = 0
+    q = 0
+    for b in range(nb):
+        for r in range(sizes[b]):
+            rows[q] = blocks[b, r]
+            q += 1
+            for c in range(sizes[b]):
+                tr[k] = blocks[b, r]
+                tc[k] = blocks[b, c]
+                k += 1
+    return tr, tc, rows, first
+
+
+def _store_block(coef, n, first, cf):
+    """Copy one block's matrices (``coef``, (7, 3, 3)) into its pairs of ``cf`` (7, nnz)."""
+    k = first
+    for r in range(n):
+        for c in range(n):
+            for slot in range(_N_COEF):
+                cf[slot, k] = coef[slot, r, c]
+            k += 1
+
+
+def _apply_nonlinear(fx, x, tr, tc, cf, out):
     """``out = f(x) − L x``: ``f`` off the blocks, ``f − L x`` on them."""
     for i in range(x.shape[0]):
         out[i] = fx[i]
-    for b in range(blocks.shape[0]):
-        n = sizes[b]
-        for r in range(n):
-            s = 0.0
-            for c in range(n):
-                s += coef[b, C_L, r, c] * x[blocks[b, c]]
-            out[blocks[b, r]] -= s
+    for k in range(tr.shape[0]):
+        out[tr[k]] -= cf[C_L, k] * x[tc[k]]
 
 
-def _half_stage(u, nl, h, blocks, sizes, coef, out):
+def _half_stage(u, nl, h, tr, tc, rows, cf, out):
     """``out = e^{hL/2} u + (h/2) φ1(hL/2) nl``."""
     half = 0.5 * h
     for i in range(u.shape[0]):
         out[i] = u[i] + half * nl[i]
-    for b in range(blocks.shape[0]):
-        n = sizes[b]
-        for r in range(n):
-            s = 0.0
-            for c in range(n):
-                j = blocks[b, c]
-                s += coef[b, C_E2, r, c] * u[j] + coef[b, C_Q, r, c] * nl[j]
-            out[blocks[b, r]] = s
+    for q in range(rows.shape[0]):
+        out[rows[q]] = 0.0
+    for k in range(tr.shape[0]):
+        j = tc[k]
+        out[tr[k]] += cf[C_E2, k] * u[j] + cf[C_Q, k] * nl[j]
 
 
-def _step(t, h, x, fx, p, tables, blocks, sizes, coef, x_new, work):
+def _step(t, h, x, fx, p, tables, tr, tc, rows, cf, x_new, work):
     """One ETDRK4 step from ``(t, x)`` with ``fx = f(t, x)``; ``x_new`` at ``t + h``."""
     n = x.shape[0]
     nu = work[0]
@@ -346,35 +379,32 @@ def _step(t, h, x, fx, p, tables, blocks, sizes, coef, x_new, work):
     b_ = work[5]
     c_ = work[6]
     fs = work[7]
-    _apply_nonlinear(fx, x, blocks, sizes, coef, nu)
-    _half_stage(x, nu, h, blocks, sizes, coef, a)
+    _apply_nonlinear(fx, x, tr, tc, cf, nu)
+    _half_stage(x, nu, h, tr, tc, rows, cf, a)
     rhs(t + 0.5 * h, a, p, tables, fs)
-    _apply_nonlinear(fs, a, blocks, sizes, coef, na)
-    _half_stage(x, na, h, blocks, sizes, coef, b_)
+    _apply_nonlinear(fs, a, tr, tc, cf, na)
+    _half_stage(x, na, h, tr, tc, rows, cf, b_)
     rhs(t + 0.5 * h, b_, p, tables, fs)
-    _apply_nonlinear(fs, b_, blocks, sizes, coef, nb)
+    _apply_nonlinear(fs, b_, tr, tc, cf, nb)
     for i in range(n):
         fs[i] = 2.0 * nb[i] - nu[i]
-    _half_stage(a, fs, h, blocks, sizes, coef, c_)
+    _half_stage(a, fs, h, tr, tc, rows, cf, c_)
     rhs(t + h, c_, p, tables, fs)
-    _apply_nonlinear(fs, c_, blocks, sizes, coef, nc)
+    _apply_nonlinear(fs, c_, tr, tc, cf, nc)
     h6 = h / 6.0
     h3 = h / 3.0
     for i in range(n):
         x_new[i] = x[i] + h6 * (nu[i] + nc[i]) + h3 * (na[i] + nb[i])
-    for bk in range(blocks.shape[0]):
-        m = sizes[bk]
-        for r in range(m):
-            s = 0.0
-            for c in range(m):
-                j = blocks[bk, c]
-                s += (
-                    coef[bk, C_E, r, c] * x[j]
-                    + coef[bk, C_F1, r, c] * nu[j]
-                    + coef[bk, C_F2, r, c] * (na[j] + nb[j])
-                    + coef[bk, C_F3, r, c] * nc[j]
-                )
-            x_new[blocks[bk, r]] = s
+    for q in range(rows.shape[0]):
+        x_new[rows[q]] = 0.0
+    for k in range(tr.shape[0]):
+        j = tc[k]
+        x_new[tr[k]] += (
+            cf[C_E, k] * x[j]
+            + cf[C_F1, k] * nu[j]
+            + cf[C_F2, k] * (na[j] + nb[j])
+            + cf[C_F3, k] * nc[j]
+        )
 
 
 def _hermite(t, h, x, f, x_new, f_new, t_at, out):
@@ -419,14 +449,17 @@ def _segment(
         return -1
     m = max(1, int(np.ceil(length / h_stable * (1.0 - 1e-12))))
     h = length / m
-    coef = np.zeros((ns + nd, _N_COEF, MAX_BLOCK, MAX_BLOCK))
+    tr, tc, rows, first = _triplets(blocks, sizes)
+    cf = np.empty((_N_COEF, tr.shape[0]))
+    coef = np.zeros((_N_COEF, MAX_BLOCK, MAX_BLOCK))
     lin = np.zeros((MAX_BLOCK, MAX_BLOCK))
     scratch = np.empty((7, MAX_BLOCK, MAX_BLOCK))
     xp = np.empty(n)
     fp = np.empty(n)
     for b in range(ns + nd):
         _block_jacobian(t0, x, fx, p, tables, blocks[b], sizes[b], lin, xp, fp)
-        _block_coefficients(lin, sizes[b], h, coef[b], scratch)
+        _block_coefficients(lin, sizes[b], h, coef, scratch)
+        _store_block(coef, sizes[b], first[b], cf)
     counts[2] += 1
     x_new = np.empty(n)
     f_new = np.empty(n)
@@ -442,10 +475,11 @@ def _segment(
         if since >= relinearise and nd > 0:
             for b in range(ns, ns + nd):
                 _block_jacobian(t, x, fx, p, tables, blocks[b], sizes[b], lin, xp, fp)
-                _block_coefficients(lin, sizes[b], h, coef[b], scratch)
+                _block_coefficients(lin, sizes[b], h, coef, scratch)
+                _store_block(coef, sizes[b], first[b], cf)
             counts[2] += 1
             since = 0
-        _step(t, h, x, fx, p, tables, blocks, sizes, coef, x_new, work)
+        _step(t, h, x, fx, p, tables, tr, tc, rows, cf, x_new, work)
         rhs(t_new, x_new, p, tables, f_new)
         if not (_wd._all_finite(x_new) and _wd._all_finite(f_new)):
             return -1
@@ -495,6 +529,8 @@ def bind(driver, name: str):
     for template, inline in (
         (_block_jacobian, "never"),
         (_block_sizes, "never"),
+        (_triplets, "never"),
+        (_store_block, "always"),
         (_stable_step, "never"),
         (_apply_nonlinear, "always"),
         (_half_stage, "always"),
