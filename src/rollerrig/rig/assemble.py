@@ -201,7 +201,7 @@ def _base_parameters(rig: RigParameters, drives: m.DriveConfig, reference_load: 
         from rollerrig.contact.table import creep_table
 
         table = creep_table(drives.law, a / bb, mat.poisson, nodes=m.N_TAB)
-        p[m.P_TAB_STEP] = table.step
+        p[m.P_TAB_STEP], p[m.P_TAB_INV] = table.step, 1.0 / table.step
         p[m.P_TAB_F : m.P_TAB_F + m.N_TAB] = table.values
         p[m.P_TAB_DF : m.P_TAB_DF + m.N_TAB] = table.slopes
         contact_reference["creep_table"] = table.to_dict()

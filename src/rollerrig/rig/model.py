@@ -40,7 +40,7 @@ from rollerrig.contact.creep import (
     _friction_kernel,
     _polach_force_at_friction_kernel,
 )
-from rollerrig.contact.kinematics import _creep_kernel
+from rollerrig.contact.kinematics import creep_kernel as _creep_kernel
 from rollerrig.drives.induction import (
     induction_torque,
     lag_derivative,
@@ -117,9 +117,9 @@ P_FRAME_K, P_FRAME_M, P_FRAME_C = 57, 58, 59  # [N/m], [kg], [N.s/m]
 P_ARM_RATIO, P_ARM_WEIGHT = 60, 61  # swinging arm: σ h/l [1], dead weight W_d [N]
 P_LAW = 62  # creep law (LAW_CODES): 0 Polach's closed form, else the table below
 P_K0, P_ALPHA_INF, P_BETA = 63, 64, 65  # modified FASTSIM's slope reduction (1, 1, 0: none)
-P_TAB_STEP = 66  # node spacing of the creep table in ε = G a b C11 ξ/(μN) [-]
+P_TAB_STEP, P_TAB_INV = 66, 67  # node spacing h of the creep table in ε = G a b C11 ξ/(μN), 1/h
 N_TAB = 513  # nodes of the creep table (rollerrig.contact.table.TABLE_NODES)
-P_TAB_F = 67  # F/(μN) at the nodes [-], N_TAB values
+P_TAB_F = 68  # F/(μN) at the nodes [-], N_TAB values
 P_TAB_DF = P_TAB_F + N_TAB  # d(F/(μN))/dε at the nodes [-], N_TAB values
 N_PARAMS = P_TAB_DF + N_TAB
 
@@ -279,7 +279,7 @@ def _table_ratio(e, p):
     ``p[P_TAB_STEP]`` (:mod:`rollerrig.contact.table`); saturated (constant) beyond the last.
     """
     h = p[P_TAB_STEP]
-    u = e / h
+    u = e * p[P_TAB_INV]
     if u != u:  # NaN creep: let it show as NaN
         return u, u
     if u >= N_TAB - 1:
@@ -296,7 +296,7 @@ def _table_ratio(e, p):
     value = value + (3.0 * t2 - 2.0 * t3) * y1 + (t3 - t2) * s1
     slope = (
         6.0 * (t2 - t) * (y0 - y1) + (3.0 * t2 - 4.0 * t + 1.0) * s0 + (3.0 * t2 - 2.0 * t) * s1
-    ) / h
+    ) * p[P_TAB_INV]
     return value, slope
 
 
@@ -305,7 +305,8 @@ def _table_force_and_slope(creep, load, friction, p):
 
     F = μN sgn(ε) f(k(|ε|)|ε|), ε = C(N) ξ/(μN) with C(N) = G a b C11 at N (∝ N^(2/3)); k is
     the modified FASTSIM's slope reduction k0 (α_∞ + (1 − α_∞)/(1 + β ε_s)), ε_s = (π/4) k0 |ε|
-    (:func:`rollerrig.contact.fastsim.slope_reduction`; k = 1 for FASTSIM and FaStrip). As
+    (:func:`rollerrig.contact.fastsim.slope_reduction`; ``p[P_LAW]`` = 2 only, k = 1 for
+    FASTSIM and FaStrip). As
     ε ∝ N^(-1/3), dF/dN = F/N − μ ε g'(|ε|)/3 with g(e) = f(k(e) e), g' = f' (k + e dk/de).
     """
     q_mu = load * friction
@@ -313,15 +314,19 @@ def _table_force_and_slope(creep, load, friction, p):
         return 0.0, 0.0
     eps = _creep_stiffness_at(load, p) * creep / q_mu
     e = abs(eps)
-    k0 = p[P_K0]
-    alpha = p[P_ALPHA_INF]
-    beta = p[P_BETA]
-    denom = 1.0 + beta * 0.25 * np.pi * k0 * e
-    k = k0 * (alpha + (1.0 - alpha) / denom)
-    dk = -k0 * (1.0 - alpha) * beta * 0.25 * np.pi * k0 / (denom * denom)
-    ratio, dratio = _table_ratio(k * e, p)
+    if p[P_LAW] == 2.0:  # the modified FASTSIM: f at k ε
+        k0 = p[P_K0]
+        alpha = p[P_ALPHA_INF]
+        beta = p[P_BETA]
+        denom = 1.0 + beta * 0.25 * np.pi * k0 * e
+        k = k0 * (alpha + (1.0 - alpha) / denom)
+        dk = -k0 * (1.0 - alpha) * beta * 0.25 * np.pi * k0 / (denom * denom)
+        ratio, dratio = _table_ratio(k * e, p)
+        dratio = dratio * (k + e * dk)
+    else:
+        ratio, dratio = _table_ratio(e, p)
     force = q_mu * ratio if eps >= 0.0 else -q_mu * ratio
-    return force, force / load - friction * eps * dratio * (k + e * dk) / 3.0
+    return force, force / load - friction * eps * dratio * (1.0 / 3.0)
 
 
 def _force_and_slope(creep, load, friction, p):
