@@ -51,6 +51,9 @@ MOVED: dict[str, str] = {
     "rollerrig.measure.findings": "rollerrig.analysis.findings",
     # the roller-to-track transfer reads analyses and fits laws: above contact mechanics
     "rollerrig.contact.transfer": "rollerrig.analysis.transfer",
+    # the dq drive coupled with the rig, its modes and study: the rig's layer
+    "rollerrig.drives.drive_dynamics": "rollerrig.rig.drive_dynamics",
+    "rollerrig.drives.drive_verdicts": "rollerrig.rig.drive_verdicts",
 }
 """Old module name -> new module name (a package's submodules follow it)."""
 

@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 
 from rollerrig._validation import ParameterError
-from rollerrig.drives import drive_dynamics as dd
 from rollerrig.drives import induction_dq as dq
 from rollerrig.drives import vf
+from rollerrig.rig import drive_dynamics as dd
 from rollerrig.rig.parameters import default_rig
 
 RIG_AM = default_rig().induction_motor

@@ -1,12 +1,12 @@
 """The rig with the dq V/f roller drive in the compiled backend (rig.model_dq, roller drive
 "induction_dq") against the python-level coupled twin it ports
-(:class:`rollerrig.drives.drive_dynamics.DqTwin`, scipy Radau)."""
+(:class:`rollerrig.rig.drive_dynamics.DqTwin`, scipy Radau)."""
 
 import numpy as np
 import pytest
 
 from rollerrig._validation import ParameterError
-from rollerrig.drives import drive_dynamics as dd
+from rollerrig.rig import drive_dynamics as dd
 from rollerrig.rig import model as m
 from rollerrig.rig import model_dq
 from rollerrig.rig.assemble import assemble

@@ -286,7 +286,7 @@ def test_any_vf_table_gives_a_rig_or_a_rig_file_error():
     # RigFileError; never another exception.
     from hypothesis import HealthCheck, given, settings
 
-    from rollerrig.drives.drive_dynamics import default_dq_drive
+    from rollerrig.rig.drive_dynamics import default_dq_drive
     from rollerrig.rig.parameters import RigParameters
     from rollerrig.rig.rigfile import RigFileError
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from rollerrig._validation import ParameterError
-from rollerrig.drives import drive_dynamics as dd
+from rollerrig.rig import drive_dynamics as dd
 from rollerrig.rig import model as m
 from rollerrig.rig import model_dq
 from rollerrig.rig.assemble import assemble

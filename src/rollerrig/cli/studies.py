@@ -444,9 +444,9 @@ def drive_dynamics(
     import warnings
 
     from rollerrig.cli._outputs import command_outputs
-    from rollerrig.drives.drive_dynamics import drive_dynamics_study, format_eigen_table
     from rollerrig.output import save_figure, write_json
     from rollerrig.report.drive_dynamics import drive_dynamics_figure
+    from rollerrig.rig.drive_dynamics import drive_dynamics_study, format_eigen_table
     from rollerrig.rig.parameters import default_rig
     from rollerrig.rig.parameters import load_rig as _load_rig
 

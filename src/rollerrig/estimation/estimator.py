@@ -56,11 +56,11 @@ seed-10kmh-wet test and four protocols of two ramp-hold-release cycles (20 km/h 
 4.3 kN wet 350 N.m in 2.5 s). RMS error of the CoA against the twin's true contact CoA over all
 15 (the rig's raw CoA: 0.0303; the offline correction: 0.0062) and the mean lag:
 
-========================  ======  ======  ======  ======  ======  ======  ======  ======
-random walk q [N².m²/s]    1e3     3.2e3   1e4     1.8e4   3.2e4   5.6e4   1e5     3.2e5
-RMS error [-]              0.0149  0.0134  0.0123  0.0121  0.0120  0.0124  0.0132  0.0168
-lag [ms]                   51      42      35      32      29      26      24      19
-========================  ======  ======  ======  ======  ======  ======  ======  ======
+=======================  ======  ======  ======  ======  ======  ======  ======  ======
+random walk q [N².m²/s]  1e3     3.2e3   1e4     1.8e4   3.2e4   5.6e4   1e5     3.2e5
+RMS error [-]            0.0149  0.0134  0.0123  0.0121  0.0120  0.0124  0.0132  0.0168
+lag [ms]                 51      42      35      32      29      26      24      19
+=======================  ======  ======  ======  ======  ======  ======  ======  ======
 
 The integrated random walk is worse at every setting (best 0.0141 at 1e7 N².m²/s³, lag
 25 ms): it follows the ramps without lag but overshoots each sudden release and passes more
@@ -75,13 +75,13 @@ the demo writes it; the CoA against the true contact CoA, :func:`estimator_perfo
 2 and 3, and a twin run at 250 Hz, change the RMS errors by at most 0.0001 and the lags by at
 most 0.2 ms):
 
-=======================================  ========  =============  ================
-CoA                                       lag [ms]  RMS error [-]  largest error [-]
-=======================================  ========  =============  ================
-rig, T56/(r_r N)                          79.5      0.0383         0.28
-offline correction (SG 0.2 s, order 4)    2.4       0.0088         0.11
-this estimate, causal, default tuning     29.1      0.0162         0.29
-=======================================  ========  =============  ================
+======================================  ========  =============  =================
+CoA                                     lag [ms]  RMS error [-]  largest error [-]
+======================================  ========  =============  =================
+rig, T56/(r_r N)                        79.5      0.0383         0.28
+offline correction (SG 0.2 s, order 4)  2.4       0.0088         0.11
+this estimate, causal, default tuning   29.1      0.0162         0.29
+======================================  ========  =============  =================
 
 (As a contact torque: RMS error 31 N.m, lag 29 ms. The offline correction's 2.4 ms is mostly
 half a sample, 2 ms, of the encoder's backward-difference speed.) Two thirds of the causal
@@ -146,14 +146,14 @@ causal filter 0.0116.
 - Chain (the default rig's k56, b56, J6, κ, τ), with the lines at roller orders 1, 2, 5, 10,
   15 and wheel orders 1, 2, 22, drive noise 1e2 N².m²/s:
 
-  ===================  ========  ========  ========
-  q \\ σ_T [N.m]         0.7       1.0       1.5
-  ===================  ========  ========  ========
-  1e4                  0.00134   0.00144   0.00161
-  2e4                  0.00132   0.00136   0.00149
-  3e4                  0.00135   0.00134   0.00144
-  5e4                  0.00146   0.00135   0.00140
-  ===================  ========  ========  ========
+  ==============  =======  =======  =======
+  q \\ σ_T [N.m]  0.7      1.0      1.5
+  ==============  =======  =======  =======
+  1e4             0.00134  0.00144  0.00161
+  2e4             0.00132  0.00136  0.00149
+  3e4             0.00135  0.00134  0.00144
+  5e4             0.00146  0.00135  0.00140
+  ==============  =======  =======  =======
 
   (1e5: 0.00148 at 1.0, 0.00148 at 2.0; 1e6: 0.0023 to 0.0032.) Drive noise 30, 100, 300,
   1000: 0.00146, 0.00144, 0.00144, 0.00145. Roller orders alone: 0.00208. No lines:
@@ -172,18 +172,18 @@ used for tuning: 50 km/h 6 kN dry 750 N.m in 1 s, seeds 21 and 22, and 25 km/h 1
 850 N.m in 2.5 s made with k56 = 60 kN.m/rad, J6 = 8 kg.m², b56 = 3 N.m.s/rad, which the
 estimates are not told, seeds 31 and 32):
 
-=============================  ===============  ===============  ===============
-CoA                             seed-30kmh-dry   50 km/h          25 km/h, altered
-=============================  ===============  ===============  ===============
-rig, T56/(r_r N)                0.0383 / 0.28    0.0407 / 0.25    0.0194 / 0.13
-offline correction (SG)         0.0088 / 0.11    0.0079 / 0.10    0.0045 / 0.057
-causal filter                   0.0162 / 0.29    0.0148 / 0.24    0.0076 / 0.13
-smoother, roller alone          0.0058 / 0.084   0.0053 / 0.081   0.0029 / 0.043
-smoother, chain                 0.0031 / 0.064   0.0033 / 0.060   0.0058 / 0.031
-smoother, chain and lines       0.0021 / 0.048   0.0023 / 0.045   0.0057 / 0.022
-... with the true k56, J6                                         0.0009 / 0.017
-1/8 of the rig's error          0.0048           0.0051           0.0024
-=============================  ===============  ===============  ===============
+=========================  ==============  ==============  ================
+CoA                        seed-30kmh-dry  50 km/h         25 km/h, altered
+=========================  ==============  ==============  ================
+rig, T56/(r_r N)           0.0383 / 0.28   0.0407 / 0.25   0.0194 / 0.13
+offline correction (SG)    0.0088 / 0.11   0.0079 / 0.10   0.0045 / 0.057
+causal filter              0.0162 / 0.29   0.0148 / 0.24   0.0076 / 0.13
+smoother, roller alone     0.0058 / 0.084  0.0053 / 0.081  0.0029 / 0.043
+smoother, chain            0.0031 / 0.064  0.0033 / 0.060  0.0058 / 0.031
+smoother, chain and lines  0.0021 / 0.048  0.0023 / 0.045  0.0057 / 0.022
+... with the true k56, J6  0.0009 / 0.017
+1/8 of the rig's error     0.0048          0.0051          0.0024
+=========================  ==============  ==============  ================
 
 The smoothers have no lag (|lag| < 0.6 ms). The chain model needs the roller shaft's mode,
 √(k56 (1/J5 + 1/J6))/2π, to a few per cent: on seed-30kmh-dry with the lines, k56 +5 % / −5 %

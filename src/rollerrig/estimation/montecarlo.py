@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from rollerrig.estimation.uncertainty import CoaUncertainty
+    from rollerrig.estimation.coa_uncertainty import CoaUncertainty
 
 __all__ = [
     "K95",

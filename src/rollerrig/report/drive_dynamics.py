@@ -24,7 +24,7 @@ def drive_dynamics_figure(study: dict, *, normal_load_kn: float = 4.3):
     Parameters
     ----------
     study : dict
-        :func:`rollerrig.drives.drive_dynamics.drive_dynamics_study`.
+        :func:`rollerrig.rig.drive_dynamics.drive_dynamics_study`.
     normal_load_kn : float
         The load whose rows are drawn [kN] (the modes move by < 1 % from 4.3 to 20 kN).
 

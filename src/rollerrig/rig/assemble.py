@@ -343,12 +343,12 @@ def _with_dq_drive(rig: RigParameters, segments: list[Segment], tables: np.ndarr
 
     The parameter vectors get the machine's and the controller's parameters after the rig's
     (:func:`rollerrig.rig.model_dq.rig_dq_params`; the rig's nameplate machine,
-    :func:`rollerrig.drives.drive_dynamics.default_dq_drive`), the speed set point passes the
-    drive's frequency ramp (as :class:`rollerrig.drives.drive_dynamics.DqTwin`), and the initial
+    :func:`rollerrig.rig.drive_dynamics.default_dq_drive`), the speed set point passes the
+    drive's frequency ramp (as :class:`rollerrig.rig.drive_dynamics.DqTwin`), and the initial
     state is the dq drive's steady free rolling (:func:`dq_steady_free_rolling_state`).
     """
-    from rollerrig.drives.drive_dynamics import _ramped_tables, default_dq_drive
     from rollerrig.rig import model_dq
+    from rollerrig.rig.dq_drive import _ramped_tables, default_dq_drive
 
     drive = default_dq_drive(rig)
     rr = rig.geometry.roller_radius_x
@@ -374,11 +374,11 @@ def dq_steady_free_rolling_state(
 ) -> np.ndarray:
     """Steady free rolling with the dq V/f roller drive (the state of
     :mod:`rollerrig.rig.model_dq`), as
-    :meth:`rollerrig.drives.drive_dynamics.DqTwin.steady_free_rolling`.
+    :meth:`rollerrig.rig.drive_dynamics.DqTwin.steady_free_rolling`.
 
     The chain's state is :func:`steady_free_rolling_state` with the roller held at the dq
     drive's steady speed; that speed is where the drive delivers the bearing losses
-    (:func:`rollerrig.drives.drive_dynamics.drive_steady_state`, three fixed-point passes).
+    (:func:`rollerrig.rig.drive_dynamics.drive_steady_state`, three fixed-point passes).
 
     Raises
     ------
@@ -386,8 +386,8 @@ def dq_steady_free_rolling_state(
         No steady state (see :func:`steady_free_rolling_state`), or a set speed of 0 at ``t``
         (the V/f drive has no steady state at zero frequency: start the protocol moving).
     """
-    from rollerrig.drives.drive_dynamics import drive_steady_state
     from rollerrig.rig import model_dq
+    from rollerrig.rig.dq_drive import drive_steady_state
 
     p_ideal = p[: m.N_PARAMS].copy()
     p_ideal[m.P_ROLLER_MODE] = m.ROLLER_MODES["ideal_speed"]

@@ -257,7 +257,7 @@ def linearise_twin(
     if drives.roller == "induction_dq":
         raise ParameterError(
             "the linearised twin covers the drives of the 22-state model; for the dq induction "
-            "machine use rollerrig.drives.drive_dynamics.dq_coupled_modes (rollerrig study "
+            "machine use rollerrig.rig.drive_dynamics.dq_coupled_modes (rollerrig study "
             "drive-dynamics)"
         )
     try:

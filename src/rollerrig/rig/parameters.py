@@ -242,7 +242,9 @@ def load_rig(path: str | os.PathLike) -> RigParameters:
     Parameters
     ----------
     path : str or path-like
-        TOML file in the format of ``rollerrig/rig/data/default_rig.toml``.
+        TOML file in the format of ``rollerrig/rig/data/default_rig.toml``, or the name of a
+        registered rig set (``"pardubice"``, ``"vt-fra-quarter-scale"``, ...; a set of an
+        installed package: :mod:`rollerrig.rig.library`) when no such file exists.
 
     Returns
     -------
@@ -266,7 +268,14 @@ def load_rig(path: str | os.PathLike) -> RigParameters:
     """
     path = Path(path)
     if not path.is_file():
-        raise RigFileError(str(path), ["rig file not found"])
+        from rollerrig.rig.library import rig_sets
+
+        if str(path) in rig_sets():  # a set's name: its file
+            from rollerrig.rig.library import rig_set
+
+            path = rig_set(str(path)).path
+        else:
+            raise RigFileError(str(path), ["rig file not found"])
     try:
         data = read_toml(path)
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:

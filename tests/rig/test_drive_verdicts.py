@@ -1,4 +1,4 @@
-"""Tests of the drive-dynamics study's verdicts (rollerrig.drives.drive_verdicts).
+"""Tests of the drive-dynamics study's verdicts (rollerrig.rig.drive_verdicts).
 
 References used below:
 - The definition of the damping ratio: ζ < 0 is a growing oscillation (an unstable mode), never
@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rollerrig.drives import drive_dynamics as dd
-from rollerrig.drives import drive_verdicts as dv
+from rollerrig.rig import drive_dynamics as dd
+from rollerrig.rig import drive_verdicts as dv
 from rollerrig.rig.parameters import default_rig
 
 RIG = default_rig()

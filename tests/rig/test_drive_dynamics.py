@@ -19,9 +19,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rollerrig.drives import drive_dynamics as dd
 from rollerrig.drives import induction_dq as dq
 from rollerrig.drives import vf
+from rollerrig.rig import drive_dynamics as dd
 from rollerrig.rig import linear
 from rollerrig.rig import model as m
 from rollerrig.rig.parameters import default_rig
@@ -166,7 +166,7 @@ def test_eigen_tables_have_the_study_fields():
 
 
 def test_the_rig_files_vf_settings_reach_the_dq_drive():
-    from rollerrig.drives.drive_dynamics import default_dq_drive
+    from rollerrig.rig.drive_dynamics import default_dq_drive
     from rollerrig.rig.parameters import default_rig
 
     rig = default_rig().with_overrides(
