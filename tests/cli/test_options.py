@@ -37,7 +37,9 @@ def test_every_command_is_registered():
     assert tuple(c.__name__ for c in COMMANDS) == NAMES
 
 
-@pytest.mark.parametrize("command", [*NAMES, "study", "study run", "study show", "study list"])
+@pytest.mark.parametrize(
+    "command", [*NAMES, "study", "study run", "study show", "study list", "rig", "rig list"]
+)
 def test_help_of_every_command_keeps_units_in_brackets(command, runner):
     result = runner.invoke(app, [*command.split(), "--help"])
     assert result.exit_code == 0, result.output

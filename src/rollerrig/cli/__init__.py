@@ -17,7 +17,7 @@ One module per concern:
   :mod:`~rollerrig.cli.twin` (``simulate``,
   ``modes``), :mod:`~rollerrig.cli.studies` (``study run|show|list``),
   :mod:`~rollerrig.cli.frame`, :mod:`~rollerrig.cli.recordings` (``analyze``, ``spectrum``,
-  ``filters``), :mod:`~rollerrig.cli.demo`.
+  ``filters``), :mod:`~rollerrig.cli.rigs` (``rig list``), :mod:`~rollerrig.cli.demo`.
 
 Conventions for a command: raise :class:`UserError` (or a ``ParameterError``) for a bad option,
 never ``try`` around the work; do the work inside ``with command_outputs(out, run=..., inputs=...)
@@ -36,6 +36,7 @@ from rollerrig.cli import contact as _contact
 from rollerrig.cli import demo as _demo
 from rollerrig.cli import frame as _frame
 from rollerrig.cli import recordings as _recordings
+from rollerrig.cli import rigs as _rigs
 from rollerrig.cli import studies as _studies
 from rollerrig.cli import transfer as _transfer
 from rollerrig.cli import twin as _twin
@@ -122,6 +123,7 @@ COMMANDS = (
 for _command in COMMANDS:
     app.command()(_command)
 app.add_typer(_studies.study_app, name="study")
+app.add_typer(_rigs.rig_app, name="rig")
 
 
 def main() -> None:  # pragma: no cover - console entry point

@@ -92,9 +92,28 @@ class Friction(StrEnum):
     wet = "wet"
 
 
+def _rig_by_name(value: Path | None) -> Path | None:
+    """``--rig NAME``: a value that is no file and has no suffix names a registered rig set
+    (``rollerrig rig list``), whose file it becomes; a path is left to the rig-file reader."""
+    if value is None or value.is_file() or value.suffix or len(value.parts) > 1:
+        return value
+    from rollerrig._validation import ParameterError
+    from rollerrig.rig.library import rig_set
+
+    try:
+        return rig_set(str(value)).path
+    except ParameterError as exc:
+        raise typer.BadParameter(str(exc)) from None
+
+
 RigOption = Annotated[
     Path | None,
-    typer.Option("--rig", help="Rig parameter file (TOML); default: bundled rig."),
+    typer.Option(
+        "--rig",
+        help="Rig parameter file (TOML) or the name of a rig set (rollerrig rig list); "
+        "default: the bundled Pardubice rig.",
+        callback=_rig_by_name,
+    ),
 ]
 OutOption = Annotated[Path, typer.Option("--out", help="Output folder.")]
 ChannelsOption = Annotated[
