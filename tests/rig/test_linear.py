@@ -224,3 +224,27 @@ def test_cli_modes_prints_both_tables_with_units():
 def test_format_is_plain_text(rig):
     text = format_coupled_modes(coupled_modes(rig, SPEED, LOAD))
     assert "can ring" in text and "4.3 kN" in text
+
+
+def test_one_entry_gives_the_modes_of_every_roller_drive():
+    """rig.modes.twin_modes: the lag model through the 22-state linearisation, the dq machine
+    through its coupled twin; the wheel shaft's mode (PMSM rotor on the wheel, 110.8 Hz) does
+    not depend on the roller drive, the machine's fluxes take part in the dq twin's modes."""
+    from rollerrig.rig.modes import twin_modes
+
+    rig = default_rig()
+    lag = twin_modes(rig, 30 / 3.6, 4.3e3)
+    dq = twin_modes(rig, 30 / 3.6, 4.3e3, drives=m.DriveConfig(roller="induction_dq"))
+    assert lag.ringing[-1].frequency == pytest.approx(dq.ringing[-1].frequency, rel=1e-3)
+    assert "am_psi" in format_coupled_modes(dq)
+    assert "roller_drive_vf" in format_coupled_modes(dq)
+    with pytest.raises(ParameterError, match="twin_modes"):
+        linearise_twin(rig, 30 / 3.6, 4.3e3, drives=m.DriveConfig(roller="induction_dq"))
+
+
+def test_modes_takes_the_roller_drive():
+    result = CliRunner().invoke(
+        app, ["modes", "--speed-kmh", "30", "--roller-drive", "induction_dq"]
+    )
+    assert result.exit_code == 0, result.output
+    assert "roller drive induction_dq" in result.output and "am_psi" in result.output

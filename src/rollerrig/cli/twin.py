@@ -373,12 +373,24 @@ def modes(
     friction: Annotated[
         Friction, typer.Option(help="Friction condition of the coupled twin's contact.")
     ] = Friction.dry,
+    roller_drive: Annotated[
+        RollerDrive,
+        typer.Option(
+            "--roller-drive",
+            help="Roller drive of the coupled twin: induction (the lag model, default), "
+            "induction_linear, ideal_speed, servo, or induction_dq (the dq machine under "
+            "open-loop V/f with the rig's [roller_drive_vf] settings, its fluxes and filters "
+            "among the states).",
+        ),
+    ] = RollerDrive.induction,
 ) -> None:
     """Natural frequencies, damping and dominant bodies of the torsional chain; with
     --speed-kmh (and --load-kn), the damped modes of the coupled, linearised twin beside them:
-    frequency, damping ratio and what moves, and which modes can ring."""
+    frequency, damping ratio and what moves, and which modes can ring (any roller drive)."""
     from rollerrig.rig.chain import format_modal_table, modal_table
-    from rollerrig.rig.linear import DEFAULT_NORMAL_LOAD, coupled_modes, format_coupled_modes
+    from rollerrig.rig.linear import DEFAULT_NORMAL_LOAD, format_coupled_modes
+    from rollerrig.rig.model import DriveConfig
+    from rollerrig.rig.modes import twin_modes
 
     rig = load_rig(rig_file)
     coupled = None
@@ -393,8 +405,13 @@ def modes(
             raise UserError(f"--load-kn must be in (0, 200] [kN], got {load_kn:g}")
         load = DEFAULT_NORMAL_LOAD if load_kn is None else load_kn * 1e3
         source = "--load-kn" if load_kn is not None else "default: the seed's test load"
-        coupled = coupled_modes(
-            rig, speed_kmh / 3.6, load, friction=friction.value, load_source=source
+        coupled = twin_modes(
+            rig,
+            speed_kmh / 3.6,
+            load,
+            drives=DriveConfig(roller=roller_drive.value),
+            friction=friction.value,
+            load_source=source,
         )
     console.print("Free torsional chain (no contact, no drives):")
     console.print(format_modal_table(modal_table(rig)), soft_wrap=True)

@@ -256,9 +256,9 @@ def linearise_twin(
     drives = drives or m.DriveConfig()
     if drives.roller == "induction_dq":
         raise ParameterError(
-            "the linearised twin covers the drives of the 22-state model; for the dq induction "
-            "machine use rollerrig.rig.drive_dynamics.dq_coupled_modes (rollerrig study "
-            "drive-dynamics)"
+            "the linearised twin covers the drives of the 22-state model; for the modes with "
+            "the dq induction machine use rollerrig.rig.modes.twin_modes (any drive; rollerrig "
+            "modes --roller-drive induction_dq)"
         )
     try:
         inputs = assemble(rig, _operating_point_protocol(v, load, friction), drives, sets)
@@ -602,6 +602,14 @@ def coupled_modes(
     )
 
 
+def _lag_text(modes: CoupledModes) -> str:
+    """What sets the roller drive's dynamics, for the table's header."""
+    if modes.drives.roller == "induction_dq":
+        return "the rig's [roller_drive_vf] settings; no lag"
+    lag = modes.drives.roller_lag
+    return f"lag {'rig value' if lag is None else f'{lag:g} s'}"
+
+
 def format_coupled_modes(modes: CoupledModes) -> str:
     """Plain-text table of the coupled modes (frequency, ζ, time constant, what moves).
 
@@ -616,8 +624,8 @@ def format_coupled_modes(modes: CoupledModes) -> str:
     lines = [
         f"Coupled twin linearised at steady free rolling: {op['roller_speed [km/h]']:.1f} km/h, "
         f"N = {modes.normal_load / 1e3:.3g} kN ({modes.load_source}), {modes.friction} contact,",
-        f"wheel drive {modes.drives.wheel}, roller drive {modes.drives.roller} (lag "
-        f"{'rig value' if modes.drives.roller_lag is None else f'{modes.drives.roller_lag:g} s'})",
+        f"wheel drive {modes.drives.wheel}, roller drive {modes.drives.roller} "
+        f"({_lag_text(modes)})",
         f"can ring: oscillatory with zeta < {modes.damping_threshold:g}; real and rigid modes "
         "never explain a spectral line",
         f"{'mode':>4} {'f_d [Hz]':>9} {'zeta':>8} {'tau [s]':>9}  {'ring':<4}  what moves "
