@@ -12,9 +12,19 @@ from __future__ import annotations
 
 import html
 import math
+import re
 from collections.abc import Iterable, Sequence
 
-__all__ = ["fmt", "html_table", "pretty_unit", "short_list", "text_block"]
+__all__ = [
+    "fmt",
+    "html_table",
+    "key_words",
+    "number",
+    "pretty_unit",
+    "short_list",
+    "text_block",
+    "typeset_units",
+]
 
 MAX_ROWS = 24
 """Rows an HTML table shows at most; the rest are counted in its last row."""
@@ -65,6 +75,101 @@ def pretty_unit(unit: str) -> str:
     text = str(unit).replace(".", "·")
     for power, sup in (("^-1", "⁻¹"), ("^2", "²"), ("^3", "³")):
         text = text.replace(power, sup)
+    return text
+
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def number(value, digits: int = 4) -> str:
+    """A number as typeset in a table: ``digits`` significant digits, powers of ten as
+    ``× 10ⁿ`` outside 0.001-99 999, no float noise, ``-0`` shown as ``0``.
+
+    Parameters
+    ----------
+    value : float, int, str or None
+        The value; None and NaN show as ``—``, a string as it is.
+    digits : int, optional
+        Significant digits.
+
+    Examples
+    --------
+    >>> number(7.748e-06), number(2.6390000000000002), number(83500.0), number(-0.0)
+    ('7.748 × 10⁻⁶', '2.639', '83500', '0')
+    >>> number(1234567.0), number(0.00123456), number(1e-9), number(float("inf"))
+    ('1.235 × 10⁶', '0.001235', '10⁻⁹', '∞')
+    """
+    if value is None or isinstance(value, bool | str | int):
+        return fmt(value, digits)
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        return str(value)
+    if math.isnan(x):
+        return "—"
+    if math.isinf(x):
+        return "∞" if x > 0 else "−∞"
+    if x == 0:
+        return "0"
+    if 1e-3 <= abs(x) < 1e5:
+        decimals = digits - 1 - math.floor(math.log10(abs(x)))
+        text = f"{round(x, decimals):.{max(decimals, 0)}f}"
+        return text.rstrip("0").rstrip(".") if "." in text else text
+    mantissa, exponent = f"{x:.{digits - 1}e}".split("e")
+    mantissa = mantissa.rstrip("0").rstrip(".")
+    power = f"10{str(int(exponent)).translate(_SUPERSCRIPT)}"
+    return power if mantissa == "1" else f"{mantissa} × {power}"
+
+
+_UNIT = r"(?:kg|N|m|mm|rad|s|ms|W|V|A|Pa|kN|Hz|J)"
+_COMPOUND_UNIT = re.compile(
+    rf"(?<![\w.]){_UNIT}(?:\^-?[123])?(?:[./]{_UNIT}(?:\^-?[123])?)*(?![\w^])"
+)
+
+
+def typeset_units(text: str) -> str:
+    """Units in running text typeset: ``N.m`` -> ``N·m``, ``kg.m^2`` -> ``kg·m²``.
+
+    Only tokens made of unit symbols joined by ``.`` or carrying a power change; words, file
+    names and numbers are left as they are.
+
+    Examples
+    --------
+    >>> typeset_units("1.732 N.m and 45 kg.m^2 of rig.toml, area 0.05 m^2, 3 rad/s^2.")
+    '1.732 N·m and 45 kg·m² of rig.toml, area 0.05 m², 3 rad/s².'
+    """
+
+    def one(match: re.Match) -> str:
+        token = match.group(0)
+        return pretty_unit(token) if ("." in token or "^" in token) else token
+
+    return _COMPOUND_UNIT.sub(one, str(text))
+
+
+_WORDS = {"coa": "CoA", "rms": "RMS", "vs": "vs.", "mu": "μ", "mu0": "μ0", "max": "largest"}
+
+
+def key_words(key: str) -> str:
+    """A result's key as words: ``rig_coa_vs_true_rms [-]`` -> ``rig CoA vs. true, RMS``.
+
+    Underscores become spaces, abbreviations their usual spelling; a unit in brackets is
+    typeset (:func:`pretty_unit`) and a dimensionless one (``[-]``, ``[1]``) dropped.
+
+    Examples
+    --------
+    >>> key_words("rig_coa_vs_true_rms [-]"), key_words("free_rolling")
+    ('rig CoA vs. true, RMS', 'free rolling')
+    >>> key_words("coa_smoother_chain_vs_true_max [-]"), key_words("inertia [kg.m^2]")
+    ('CoA smoother chain vs. true, largest', 'inertia [kg·m²]')
+    """
+    name, _, unit = str(key).partition(" [")
+    unit = unit.rstrip("]")
+    words = [_WORDS.get(w, w) for w in name.split("_") if w]
+    if len(words) > 1 and words[-1] in ("RMS", "largest") and "vs." in words:
+        words[-2] += ","
+    text = " ".join(words)
+    if unit and unit not in ("-", "1", ""):
+        text += f" [{pretty_unit(unit)}]"
     return text
 
 

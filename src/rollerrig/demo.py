@@ -200,6 +200,7 @@ def _analyse(rig, out: Path, final: Path, written: dict, mdf_paths: list[Path]) 
         truth=truth,
         extra_provenance={"free_rolling": [str(final / p.name) for p in mdf_paths]},
         extra_sections=lambda rep: _free_rolling_section(rep, rig, mdf_paths, spectra),
+        report_folder=final,
     )
     found.update({p.name: p for p in paths})
     # What the reader/generator said about each free-rolling recording (notes, injected lines).

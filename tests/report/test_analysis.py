@@ -131,8 +131,30 @@ def test_html_report_holds_the_figures_tables_and_provenance(written):
     assert "<h2>Provenance</h2>" in html and "&quot;software&quot;: &quot;rollerrig&quot;" in html
     for heading in ("Phases of the test", "Smoothing-filter study"):
         assert f"<h2>{heading}" in html
-    # Table headers keep their units in brackets.
-    assert re.search(r"<th>start \[s\]</th>", html) and "<th>lag [s]</th>" in html
+    # Table headers keep their units in brackets; numbers' columns are right-aligned.
+    assert re.search(r'<th class="n">start \[s\]</th>', html)
+    assert '<th class="n">lag [ms]</th>' in html
+
+
+def test_html_report_speaks_the_readers_language(written, analysed):
+    html = written[2].read_text(encoding="utf-8")
+    tables = re.findall(r"<table>.*?</table>", html, flags=re.S)
+    text = " ".join(tables)
+    # phases as words, cycles numbered 1..n as the console numbers them
+    phases = next(t for t in tables if "<th>phase</th><th" in t and "end [s]" in t)
+    assert "ramp_up" not in phases and "<td>ramp up</td>" in phases
+    cycles = {int(c) for c in re.findall(r'<td>[a-z ]+</td><td class="n">(\d+)</td>', phases)}
+    assert cycles == {1, 2, 3}
+    assert '<td>free rolling</td><td class="n">–</td>' in phases  # before the first cycle
+    # typeset units and symbols, no e-notation, no dimensionless "[-]"
+    assert "N·m" in text and "N.m" not in text and "m^2" not in text and "m²" in text
+    assert "W<sub>d</sub>" in text and "e<sub>res,s</sub>" in text
+    assert not re.search(r"\d\.?\d*e[-+]\d", text) and "[-]" not in text
+    assert "e<sub>res</sub>" in html  # the uncertainty model as a formula
+    # provenance: no absolute path, every path relative to the report's folder
+    provenance = html[html.index("<h2>Provenance</h2>") :]
+    assert str(written[2].parent) not in provenance
+    assert not re.search(r"&quot;/", provenance)
 
 
 def test_coa_uncertainty_figure_shows_the_band_the_points_and_the_budget(analysed):
@@ -170,7 +192,7 @@ def test_results_carry_the_uncertainty(written):
         assert float(u.min()) > 0
     html = written[2].read_text(encoding="utf-8")
     assert "<h2>Uncertainty of the corrected CoA (JCGM 100 and JCGM 101)" in html
-    assert "<th>U of the mean</th>" in html and "JCGM 101 §8" in html
+    assert '<th class="n">U of the mean</th>' in html and "JCGM 101 §8" in html
 
 
 def test_every_input_of_the_budget_has_words():

@@ -149,6 +149,52 @@ def test_write_gives_the_rendered_page_and_provenance(tmp_path):
     assert "<h2>Provenance</h2>" in text and "&lt;y&gt;" in text
 
 
+def test_tables_typeset_units_numbers_and_symbols():
+    r = HtmlReport("t")
+    r.table(
+        ["input", "symbol", "J [kg.m^2]", "CoA [-]", "lag [s]", "unit"],
+        [["roller inertia", "W_d", 45.0, 0.1234567, 7.748e-06, "N.m"],
+         ["rig CoA", "e_res,s", 2.6390000000000002, -0.0, "3.3e-14", "kg.m^2"]],
+        math_columns=(1,),
+    )  # fmt: skip
+    text = r.render()
+    assert '<div class="table"><table>' in text  # its own box, which scrolls (the CSS)
+    assert ".table { max-width: 100%; overflow-x: auto;" in text
+    assert '<th class="n">J [kg·m²]</th>' in text and '<th class="n">CoA</th>' in text
+    assert "<td>W<sub>d</sub></td>" in text and "<td>e<sub>res,s</sub></td>" in text
+    assert '<td class="n">7.748 × 10⁻⁶</td>' in text and '<td class="n">3.3 × 10⁻¹⁴</td>' in text
+    assert '<td class="n">2.639</td>' in text and '<td class="n">0</td>' in text
+    assert "<td>N·m</td>" in text and "<td>kg·m²</td>" in text
+    assert "e-06" not in text and "[-]" not in text and "-0<" not in text
+
+
+def test_paragraphs_are_typeset_and_formulas_get_subscripts():
+    r = HtmlReport("t")
+    r.paragraph("mu0 of 0.3 x the peak, 3 N.m, J^T J singular (8.68e+32), file a_b.csv")
+    r.paragraph("F_x r_r = T56 + J5 (α5 + e_α), |c_i| u(x_i)", math=True)
+    plain, formula = r.parts
+    assert plain == ("<p>μ0 of 0.3 × the peak, 3 N·m, JᵀJ singular (8.68 × 10³²), file a_b.csv</p>")
+    assert formula == (
+        "<p>F<sub>x</sub> r<sub>r</sub> = T56 + J5 (α5 + e<sub>α</sub>), "
+        "|c<sub>i</sub>| u(x<sub>i</sub>)</p>"
+    )
+
+
+def test_provenance_paths_are_relative_to_the_report(tmp_path):
+    out = tmp_path / "run"
+    r = HtmlReport("t")
+    r.provenance(
+        {"command": ["rollerrig", "demo", "--out", str(out)],
+         "inputs": {"recording": {"path": str(out / "a.tdms")},
+                    "rig": {"path": str(tmp_path / "rigs" / "r.toml")}}},
+        relative_to=out,
+    )  # fmt: skip
+    text = r.render()
+    assert str(tmp_path) not in text
+    assert "&quot;a.tdms&quot;" in text and "&quot;../rigs/r.toml&quot;" in text
+    assert "&quot;--out&quot;,\n    &quot;.&quot;" in text
+
+
 # ------------------------------------------------------------------ the page in a browser
 
 
@@ -158,6 +204,29 @@ def _chromium() -> str | None:
 
 def browser_errors(path: Path, timeout: float = 60.0) -> list[str]:
     """Console errors, uncaught exceptions and failed loads of ``path`` in headless Chromium."""
+    return _in_chromium(path, timeout)[0]
+
+
+_WIDTHS_JS = """(() => {
+  const page = document.documentElement.scrollWidth;
+  const boxes = [...document.querySelectorAll('body > *')]
+    .filter(e => e.getBoundingClientRect().right > window.innerWidth + 0.5)
+    .map(e => e.tagName + '.' + e.className);
+  const tables = [...document.querySelectorAll('div.table')]
+    .filter(d => d.scrollWidth > d.clientWidth + 0.5).length;
+  return JSON.stringify({page, window: window.innerWidth, beyond: boxes, scrolling: tables});
+})()"""
+
+
+def page_widths(path: Path, widths=(1100, 1400), timeout: float = 60.0) -> dict[int, dict]:
+    """What overflows ``path`` at each window width [CSS px]: the document's scroll width
+    (``page``), the window's (``window``), top-level elements reaching past the window
+    (``beyond``) and the count of tables that scroll inside their box (``scrolling``)."""
+    return _in_chromium(path, timeout, widths)[1]
+
+
+def _in_chromium(path: Path, timeout: float = 60.0, widths=()) -> tuple[list[str], dict]:
+    """Load ``path`` in headless Chromium over its DevTools pipe: (errors, measured widths)."""
     to_r, to_w = os.pipe()  # we write commands, Chromium reads them on fd 3
     from_r, from_w = os.pipe()  # Chromium writes replies and events on fd 4
 
@@ -178,6 +247,7 @@ def browser_errors(path: Path, timeout: float = 60.0) -> list[str]:
     os.close(from_w)
     deadline = time.monotonic() + timeout
     events: list[dict] = []
+    measured: dict[int, dict] = {}
     pending = b""
     counter = 0
 
@@ -218,6 +288,12 @@ def browser_errors(path: Path, timeout: float = 60.0) -> list[str]:
         call("Page.navigate", {"url": path.resolve().as_uri()}, session=session)
         if not any(e.get("method") == "Page.loadEventFired" for e in events):
             receive(lambda m: m.get("method") == "Page.loadEventFired")
+        for width in widths:
+            call("Emulation.setDeviceMetricsOverride",
+                 {"width": width, "height": 900, "deviceScaleFactor": 1, "mobile": False},
+                 session=session)  # fmt: skip
+            value = call("Runtime.evaluate", {"expression": _WIDTHS_JS}, session=session)
+            measured[width] = json.loads(value["result"]["value"])
         deadline = min(deadline, time.monotonic() + 0.5)  # late messages
         try:
             receive(lambda m: False)
@@ -248,7 +324,7 @@ def browser_errors(path: Path, timeout: float = 60.0) -> list[str]:
             errors.append("exception: " + d.get("exception", {}).get("description", d["text"]))
         elif method == "Log.entryAdded" and p["entry"]["level"] == "error":
             errors.append(f"{p['entry']['text']} {p['entry'].get('url', '')}".strip())
-    return errors
+    return errors, measured
 
 
 needs_chromium = pytest.mark.skipif(
@@ -271,3 +347,15 @@ def test_the_browser_check_sees_console_errors_exceptions_and_failed_loads(tmp_p
 @needs_chromium
 def test_the_report_opens_in_headless_chromium_without_console_errors(written):
     assert browser_errors(written[2]) == []
+
+
+@needs_chromium
+def test_the_page_never_scrolls_sideways_wide_tables_scroll_in_their_box(written, tmp_path):
+    wide = HtmlReport("wide")
+    wide.table([f"column {i} [N.m]" for i in range(40)], [[1234.5678] * 40] * 3)
+    pages = [wide.write(tmp_path / "wide.html"), written[2]]
+    for page in pages:
+        for width, m in page_widths(page, (1100, 1400)).items():
+            assert m["page"] <= m["window"] and m["beyond"] == [], (page.name, width, m)
+    # the 40-column table is wider than the column, and scrolls inside its own box
+    assert all(m["scrolling"] == 1 for m in page_widths(pages[0], (1100, 1400)).values())

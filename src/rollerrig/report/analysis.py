@@ -11,6 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rollerrig._display import key_words, number
 from rollerrig.analysis.adhesion import TestAnalysis
 from rollerrig.fit.polach import PARAMETER_NAMES
 from rollerrig.measure.quantities import ANALYSIS_CHANNELS, DERIVED_CHANNELS
@@ -18,7 +19,7 @@ from rollerrig.output import json_text, provenance, write_json, write_table
 from rollerrig.recordings.recording import CANONICAL_CHANNELS
 from rollerrig.report.adhesion import adhesion_figure
 from rollerrig.report.filters import filter_comparison_figure, study_ranking_figure
-from rollerrig.report.html import HtmlReport
+from rollerrig.report.html import HtmlReport, relative_paths
 from rollerrig.report.lines import PLOT_POINTS, envelope
 from rollerrig.report.spectra import spectrum_figure
 from rollerrig.signal.smoothing import smooth
@@ -176,6 +177,30 @@ def _labels(unc) -> dict[str, str]:
         if i.name == "encoder_quantisation" and i.unit != "count":
             labels[i.name] = "roller speed noise (α5)"
     return labels
+
+
+def phase_words(name: str) -> str:
+    """A phase's name as words: ``ramp_up`` -> ``ramp up``."""
+    return str(name).replace("_", " ")
+
+
+def cycle_number(cycle) -> int | None:
+    """A cycle as the console numbers it: 1 to n; ``None`` (shown "–") before the first."""
+    return None if cycle is None or int(cycle) < 0 else int(cycle) + 1
+
+
+def _contribution(value: float) -> str:
+    """A budget entry [10⁻³ of CoA], two significant digits; below 0.001 shown as such."""
+    if value == 0 or not np.isfinite(value):
+        return number(value)
+    return number(value, 2) if abs(value) >= 1e-3 else "< 0.001"
+
+
+def _ms(seconds) -> float | None:
+    """A time in s as ms rounded to 0.01 ms (a filter's lag: samples are ms apart)."""
+    if seconds is None or not np.isfinite(seconds):
+        return None
+    return round(1e3 * float(seconds), 2) + 0.0  # + 0.0: no -0
 
 
 def _band(t, low, high):
@@ -490,9 +515,7 @@ def _fit_honesty_section(rep: HtmlReport, result: TestAnalysis) -> None:
     if result.true_parameters is None:
         return
     rep.paragraph(f"Truth: {result.true_parameters_source}.")
-    names = dict(
-        zip(PARAMETER_NAMES, ("μ0 [-]", "A [-]", "B [s/m]", "kA [-]", "kS [-]"), strict=True)
-    )
+    names = dict(zip(PARAMETER_NAMES, ("μ0", "A", "B [s/m]", "kA", "kS"), strict=True))
     trows = []
     for key in PARAMETER_NAMES:
         row = [names[key], result.true_parameters[key]]
@@ -509,7 +532,7 @@ def _fit_honesty_section(rep: HtmlReport, result: TestAnalysis) -> None:
 
 
 def _fit_rows(result: TestAnalysis, truth_parameters=None):
-    names = ("μ0 [-]", "A [-]", "B [s/m]", "kA [-]", "kS [-]")
+    names = ("μ0", "A", "B [s/m]", "kA", "kS")
     keys = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
     rows = []
     for i, (name, key) in enumerate(zip(names, keys, strict=True)):
@@ -582,7 +605,8 @@ def _uncertainty_section(rep: HtmlReport, result: TestAnalysis) -> None:
         "filters, whose weights give their variance per sample and per phase mean; the residual "
         "covers what the correction cannot resolve (in-band disturbance lines, the contact's "
         "transient after a release). Law of propagation per sample, U = 2u; Monte Carlo "
-        "(JCGM 101) at the creep–CoA points, compared with it as JCGM 101 §8 asks."
+        "(JCGM 101) at the creep–CoA points, compared with it as JCGM 101 §8 asks.",
+        math=True,
     )
     rep.paragraph(
         f"Typical expanded uncertainty (k = 2): {typical['U_k2_median_all_samples [-]']:.3g} "
@@ -602,26 +626,35 @@ def _uncertainty_section(rep: HtmlReport, result: TestAnalysis) -> None:
              i.unit, i.basis]
             for i in unc.inputs
         ],
+        math_columns=(1,),
     )  # fmt: skip
     names = list(unc.contributions)
     rep.paragraph(
-        "Budget per phase: each input's contribution |c_i| u(x_i) in 10⁻³ of CoA for the "
-        "phase's median sample; U of the phase mean; the dominant input of a sample and of "
-        "the mean."
+        "The corrected CoA per phase: its mean, U of the phase mean (systematic inputs do not "
+        "average down), U of the phase's median sample, and the input that dominates each."
     )
-    rows = []
-    for r in budget.phases:
-        b = r["budget_sample_median [-]"]
-        rows.append(
-            [r["name"].replace("_", " "), r["cycle"], r["rig_coa_mean [-]"],
-             r["corrected_coa_mean [-]"], r["U_mean [-]"], r["U_sample_median [-]"],
-             *[f"{1e3 * b[n]:.2g}" for n in names],
-             words.get(r["dominant_sample"]), words.get(r["dominant_mean"])]
-        )  # fmt: skip
     rep.table(
         ["phase", "cycle", "rig CoA", "corrected CoA", "U of the mean", "U of a sample",
-         *[words.get(n, n) for n in names], "dominant (sample)", "dominant (mean)"],
-        rows,
+         "dominant (sample)", "dominant (mean)"],
+        [
+            [phase_words(r["name"]), cycle_number(r["cycle"]), r["rig_coa_mean [-]"],
+             r["corrected_coa_mean [-]"], r["U_mean [-]"], r["U_sample_median [-]"],
+             words.get(r["dominant_sample"]), words.get(r["dominant_mean"])]
+            for r in budget.phases
+        ],
+    )  # fmt: skip
+    rep.paragraph(
+        "Budget per phase: each input's contribution |c_i| u(x_i) to the phase's median sample, "
+        "in 10⁻³ of CoA.",
+        math=True,
+    )
+    rep.table(
+        ["phase", "cycle", *[words.get(n, n) for n in names]],
+        [
+            [phase_words(r["name"]), cycle_number(r["cycle"]),
+             *[_contribution(1e3 * r["budget_sample_median [-]"][n]) for n in names]]
+            for r in budget.phases
+        ],
     )  # fmt: skip
     validation = summary["validation"]
     if validation is not None:
@@ -660,6 +693,7 @@ def write_analysis(
     truth=None,
     extra_provenance: dict | None = None,
     extra_sections=None,
+    report_folder: str | os.PathLike | None = None,
 ) -> list[Path]:
     """Write the results (JSON summary, NetCDF channels) and the self-contained HTML report.
 
@@ -668,6 +702,10 @@ def write_analysis(
     written by :func:`rollerrig.output.write_table`; see :func:`analysis_columns`) and
     ``<stem>-report.html`` (self-contained: figures embedded as PNG data URIs). Each file
     replaces one of the same name.
+
+    The report names files relative to ``report_folder`` (default ``out``; the folder the
+    report will be read from, when ``out`` is a staging folder moved there afterwards): no
+    absolute path, no home directory, in a report that is shared.
     """
     from rollerrig.output.provenance import current_run, run_context
 
@@ -683,6 +721,7 @@ def write_analysis(
                 truth=truth,
                 extra_provenance=extra_provenance,
                 extra_sections=extra_sections,
+                report_folder=report_folder,
             )
     out = Path(out)
     record = provenance(source=source, **(extra_provenance or {}))
@@ -716,9 +755,11 @@ def write_analysis(
         )
     )
 
+    report_folder = out if report_folder is None else Path(report_folder)
     rep = HtmlReport(f"Adhesion test analysis: {stem}")
+    shown = relative_paths(source, report_folder) or stem
     rep.paragraph(
-        f"Recording {source or stem}: {rec.duration:.2f} s at {rec.sample_rate:.4g} Hz, "
+        f"Recording {shown}: {rec.duration:.2f} s at {rec.sample_rate:.4g} Hz, "
         f"channels {', '.join(sorted(rec.channels))}. Rig: {result.rig_name}."
     )
     _recording_section(rep, result)
@@ -728,7 +769,7 @@ def write_analysis(
     rep.heading("Phases of the test")
     rep.table(
         ["phase", "cycle", "start [s]", "end [s]"],
-        [[ph.name, ph.cycle, ph.start, ph.end] for ph in result.phases],
+        [[phase_words(ph.name), cycle_number(ph.cycle), ph.start, ph.end] for ph in result.phases],
     )
     rep.figure(overview_figure(result), "Torque, speeds and creep; phases shaded.")
 
@@ -749,7 +790,8 @@ def write_analysis(
     _fit_honesty_section(rep, result)
     if result.truth_errors:
         rep.table(
-            ["error against the true contact CoA", "value"], list(result.truth_errors.items())
+            ["error against the true contact CoA", "value"],
+            [[key_words(k), v] for k, v in result.truth_errors.items()],
         )
     if result.fit is not None:
         rep.figure(
@@ -772,10 +814,17 @@ def write_analysis(
     rows = []
     for br, h in zip(result.branches, result.hysteresis, strict=True):
         if h is not None:
-            rows.append([br.cycle, h.abs_area, h.max_difference, 100 * h.creep_at_max_difference])
+            rows.append(
+                [
+                    cycle_number(br.cycle),
+                    h.abs_area,
+                    h.max_difference,
+                    100 * h.creep_at_max_difference,
+                ]
+            )
     if rows:
         rep.heading("Hysteresis between ascending and descending branches (rig CoA)")
-        rep.table(["cycle", "|area| [-]", "max ΔCoA [-]", "at creep [%]"], rows)
+        rep.table(["cycle", "|area|", "largest ΔCoA", "at creep [%]"], rows)
 
     if result.spectrum is not None:
         rep.heading("Spectrum of the roller-shaft torque in the longest quiet phase")
@@ -847,14 +896,22 @@ def write_analysis(
             "Raw versus filtered torque, with zooms on a quiet part and on the first release.",
         )
         rep.table(
-            ["rank", "filter", "noise left", "peak kept", "lag [s]", "cost"],
+            ["rank", "filter", "noise left", "peak kept", "lag [ms]", "cost"],
             [
-                [r.rank, r.label, r.score.noise_left, r.score.peak_kept, r.score.lag, r.score.cost]
+                [
+                    r.rank,
+                    r.label,
+                    r.score.noise_left,
+                    r.score.peak_kept,
+                    _ms(r.score.lag),
+                    r.score.cost,
+                ]
                 for r in result.study[:15]
             ],
+            digits=3,
         )
     if extra_sections is not None:
         extra_sections(rep)
-    rep.provenance(summary["provenance"])
+    rep.provenance(summary["provenance"], relative_to=report_folder)
     paths.append(rep.write(out / f"{stem}-report.html"))
     return paths
