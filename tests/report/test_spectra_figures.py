@@ -329,3 +329,18 @@ def test_order_map_with_a_given_limit_names_the_peaks_it_hides():
     assert title.startswith(f"{len(hidden)} listed peaks above the 60 Hz shown")
     assert f"{hidden[0]:.2f}" in title
     plt.close(fig)
+
+
+def test_a_one_segment_coherence_is_not_drawn():
+    """One segment gives γ² = 1 at every frequency: the figure draws neither the curve nor
+    values at the peaks, and says why (the console and the tables withhold it too)."""
+    from dataclasses import replace
+
+    one = replace(_coherence(), n_segments=1)
+    fig = coherence_figure(one, [14.67, 29.3], ["AM electrical ×1", "AM electrical ×2"])
+    ax = fig.axes[0]
+    assert ax.get_lines() == []  # no curve, no markers at γ² = 1
+    text = _texts(fig)
+    assert "γ² not estimated: one segment" in text and "γ² = 1.00" not in text
+    assert "1 segment: γ² not estimated" in ax.get_title()
+    plt.close(fig)

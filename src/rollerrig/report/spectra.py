@@ -320,12 +320,24 @@ def coherence_figure(
     from rollerrig.signal.spectra import coherence_at
 
     fig, ax = plt.subplots(figsize=(10.0, 4.8))
-    ax.plot(coh.frequency, coh.coherence, color="tab:blue", lw=0.9, zorder=2)
+    # One segment: γ² = 1 at every frequency, whatever the signals: withheld, as the console
+    # and the tables withhold it (ExplainedSpectrum.coherence_at_peaks).
+    withheld = coh.n_segments < 2
+    if not withheld:
+        ax.plot(coh.frequency, coh.coherence, color="tab:blue", lw=0.9, zorder=2)
     marks = np.asarray(mark_frequencies, dtype=float)
     fmax = max_frequency or frequency_limit(marks.tolist(), float(coh.frequency[-1]))
     low = _frequency_axis(ax, marks.tolist(), float(coh.frequency[1]), fmax, log_frequency)
     labels = []
-    if marks.size:
+    if withheld:
+        ax.text(
+            0.5, 0.5,
+            "γ² not estimated: one segment (with one segment γ² = 1 at every frequency, "
+            "whatever the signals;\nit needs at least two averaged segments: a longer "
+            "recording or shorter segments)",
+            transform=ax.transAxes, ha="center", va="center", fontsize=9, color="0.25",
+        )  # fmt: skip
+    elif marks.size:
         values = coherence_at(coh, marks)
         texts = list(mark_labels) if mark_labels is not None else [""] * marks.size
         # The most coherent marks are labelled first (kept if the row is too long).
@@ -344,8 +356,9 @@ def coherence_figure(
     ax.set_ylabel("coherence γ² [-]")
     df = float(coh.frequency[1] - coh.frequency[0])
     seg = f", {coh.nperseg}-sample segments" if coh.nperseg else ""
+    count = "1 segment: γ² not estimated" if withheld else f"{coh.n_segments} segments"
     ax.set_title(
-        f"coherence of {names[0]} and {names[1]} ({coh.n_segments} segments{seg}, Δf {df:.4g} Hz)",
+        f"coherence of {names[0]} and {names[1]} ({count}{seg}, Δf {df:.4g} Hz)",
         fontsize=9,
     )
     hidden = _hidden_note([float(m) for m in marks if m > fmax], fmax)
