@@ -4,16 +4,16 @@ A protocol is a list of steps, written in Python (a notebook) or in TOML (the sa
 built from the file by :mod:`rollerrig.experiment.tomlfile`, so the two cannot drift). Each step
 is a frozen dataclass in SI units that validates itself when it is made:
 
-==============================  ==========================================================
-``Hold(duration)``              keep every input as it is for ``duration`` [s] (>= 0)
-``RampTorque(to, duration)``    ramp the wheel-torque request to ``to`` [N.m] in ``duration`` [s]
-``StepTorque(to, duration)``    the same, fast: ``duration`` defaults to 0.02 s
-``ReleaseTorque(duration)``     fast ramp of the request to 0 N.m (default 0.02 s)
+================================  ==========================================================
+``Hold(duration)``                keep every input as it is for ``duration`` [s] (>= 0)
+``RampTorque(to, duration)``      ramp the wheel-torque request to ``to`` [N.m] in ``duration`` [s]
+``StepTorque(to, duration)``      the same, fast: ``duration`` defaults to 0.02 s
+``ReleaseTorque(duration)``       fast ramp of the request to 0 N.m (default 0.02 s)
 ``SetRollerSpeed(to, duration)``  ramp the roller speed set point to ``to`` [m/s]
 ``SetNormalLoad(to, duration)``   ramp the normal load to ``to`` [N]
-``SetFriction(condition)``      switch the friction condition (a name, e.g. ``"wet"``)
-``Repeat(count, steps)``        the nested ``steps``, ``count`` times
-==============================  ==========================================================
+``SetFriction(condition)``        switch the friction condition (a name, e.g. ``"wet"``)
+``Repeat(count, steps)``          the nested ``steps``, ``count`` times
+================================  ==========================================================
 
 Changes of torque, speed and load are ramps of positive duration, never jumps, so the inputs are
 continuous; a friction switch is instantaneous. :func:`build_protocol` (behind

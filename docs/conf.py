@@ -1,0 +1,124 @@
+"""Sphinx configuration of the rollerrig documentation.
+
+Build: ``bash docs/build.sh`` (the executed gallery), or without running the examples
+``python -m sphinx -W --keep-going -D plot_gallery=0 docs docs/_build/html``.
+
+The API reference is written at each build from the package itself (:mod:`docs._api`): one
+page per public package, one per public module, every name of the module's ``__all__``
+documented from its numpydoc docstring.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+from _api import write_api_pages  # noqa: E402
+
+import rollerrig  # noqa: E402
+
+project = "rollerrig"
+author = "rollerrig developers"
+copyright = "rollerrig developers, BSD-3-Clause"
+release = rollerrig.__version__
+version = release
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.doctest",
+    "numpydoc",
+    "sphinx_gallery.gen_gallery",
+]
+
+templates_path = ["_templates"]
+exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "auto_examples/*.ipynb"]
+root_doc = "index"
+language = "en"
+
+# API reference: generated from the package's __all__ lists at each build.
+write_api_pages(HERE / "api")
+autosummary_generate = False  # the module pages document every name themselves
+autodoc_default_options = {"members": False}
+autodoc_typehints = "none"  # the numpydoc docstrings state types and units
+autodoc_member_order = "bysource"
+numpydoc_show_class_members = False
+numpydoc_class_members_toctree = False
+numpydoc_xref_param_type = False
+numpydoc_validation_checks: set[str] = set()
+
+# The executed gallery (sphinx-gallery): examples/plot_*.py, run at build time.
+sphinx_gallery_conf = {
+    "examples_dirs": str(HERE.parent / "examples"),
+    "gallery_dirs": "auto_examples",
+    "filename_pattern": r"/plot_",
+    "within_subsection_order": "FileNameSortKey",
+    "download_all_examples": True,
+    "remove_config_comments": True,
+    "show_memory": False,
+    "capture_repr": ("_repr_html_", "__repr__"),
+    "matplotlib_animations": False,
+    "reference_url": {"rollerrig": None},
+    "min_reported_time": 1,
+}
+
+html_theme = "pydata_sphinx_theme"
+html_title = f"rollerrig {release}"
+html_static_path: list[str] = []
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+    "navbar_align": "left",
+    "header_links_before_dropdown": 6,
+    # the gallery's code needs the width; the API and guide pages keep their table of contents
+    "secondary_sidebar_items": {"**": ["page-toc", "sourcelink"], "auto_examples/**": []},
+    "footer_start": ["copyright"],
+    "footer_end": ["sphinx-version"],
+}
+html_show_sourcelink = True
+html_sidebars = {"index": [], "install": []}
+
+# Doctests of the user guide (python -m sphinx -b doctest docs docs/_build/doctest).
+doctest_global_setup = "import numpy as np\nimport rollerrig as rr\n"
+
+# numpydoc renames the citations of a References section; a docstring that cites a reference
+# listed elsewhere (its module's docstring) leaves the citation without a target.
+suppress_warnings = ["ref.citation"]
+
+_BAR = re.compile(r"(?<!\\)\|")
+_CITE = re.compile(r"\[(\d+)\]_")
+
+
+def _plain_docstring(app, what, name, obj, options, lines):
+    """Docstrings are written for ``help()``: ``|w|`` is an absolute value, not a
+    substitution; a cited ``[4]_`` listed in another docstring is plain text here; a constant
+    without a docstring of its own does not show its type's (``int``, ``ndarray``)."""
+    if what in ("data", "attribute") and obj is not None:
+        own = [x.strip() for x in (type(obj).__doc__ or "").splitlines() if x.strip()][1:12]
+        mine = {x.strip() for x in lines if x.strip()}
+        if own and sum(x in mine for x in own) >= min(3, len(own)):
+            lines[:] = []
+            return
+    text = "\n".join(lines)
+    defined = set(re.findall(r"^\s*\.\. \[(\d+)\]", text, re.MULTILINE))
+    defined |= set(re.findall(r"^\s*\[(\d+)\]\s", text, re.MULTILINE))
+    for i, line in enumerate(lines):
+        stripped = line.strip()
+        if stripped[:1] in "|+" and stripped[-1:] in "|+" and len(stripped) > 1:
+            continue  # grid tables
+        line = _BAR.sub(r"\|", line)
+        lines[i] = _CITE.sub(
+            lambda m: m.group(0) if m.group(1) in defined else f"[{m.group(1)}]", line
+        )
+
+
+def setup(app):
+    app.connect("autodoc-process-docstring", _plain_docstring, priority=400)  # before numpydoc
