@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 
 import numpy as np
 
@@ -112,6 +113,7 @@ def analyze_test(
     analysis_rate: float | None = None,
     max_fit_points: int | None = None,
     calibration=None,
+    progress: Callable[[str], None] | None = None,
 ) -> TestAnalysis:
     """Analyse one adhesion test.
 
@@ -166,11 +168,17 @@ def analyze_test(
         uncertainty with their standard errors and correlations instead of the rig's stated
         accuracies.
 
+    progress : callable, optional
+        Called as ``progress(step)`` with a few words as each step starts ("fitting the
+        Polach law", ...): what a command or a notebook shows while the analysis runs.
+
     Returns
     -------
     TestAnalysis
     """
     from rollerrig.rig.parameters import default_rig
+
+    say = progress if progress is not None else (lambda step: None)
 
     notes: list[str] = []
     if rig is None:
@@ -182,6 +190,7 @@ def analyze_test(
     if cap < 10:
         raise RecordingError(f"max_fit_points must be at least 10, got {max_fit_points!r}")
     require_analysis_inputs(recording)
+    say("reading the recording")
     if hasattr(recording, "iter_chunks"):  # an open file, read strictly chunk by chunk
         recording, rate_note = analysis_recording(recording, rate=analysis_rate)
         check_channel_values(recording, ANALYSED_CHANNELS, rig)
@@ -193,6 +202,7 @@ def analyze_test(
         recording, rate_note = analysis_recording(recording, rate=analysis_rate)
     if rate_note:
         notes.append(rate_note)
+    say("deriving the quantities and the phases")
     rec = derive_quantities(recording, rig)
     rec.require("torque", "creep", "coa", "normal_load", "roller_speed", "wheel_speed")
     check_channel_values(rec, ("creep", "coa", "normal_load", "roller_speed", "wheel_speed"))
@@ -205,6 +215,7 @@ def analyze_test(
     study_signal = (
         prepare_study_signal(t, rec["torque"]) if smoothing is None or run_study else None
     )
+    say("tuning the smoothing" if smoothing is None else "smoothing")
     if smoothing is None:
         order, window, table = study_signal.tune_savitzky_golay()
     else:
@@ -219,7 +230,9 @@ def analyze_test(
     points, condition = _one_friction_condition(t, points, schedule, notes)
     if schedule is None:
         _note_friction_change(branches, creep_s, coa_s, rec["normal_load"], rig, notes)
+    say("fitting the Polach law")
     fit, fit_rig = _polach_fits(rec, rig, points, notes)
+    say("the corrected CoA's uncertainty (law of propagation, Monte Carlo)")
     budget = _coa_uncertainty(
         rec, rig, phases, branches, (order, window), true_coa, calibration, notes
     )
@@ -227,7 +240,10 @@ def analyze_test(
     true_params, true_source = true_polach_parameters(recording, truth, condition)
     if true_params is not None:
         _note_truth_distance({"corrected CoA": fit, "rig CoA": fit_rig}, true_params, notes)
+    say("the spectrum of the quiet phase")
     spectrum, window_s = _quiet_phase_spectrum(rec, rig, phases, notes)
+    if run_study:
+        say("the smoothing-filter study")
     study = study_signal.filter_study() if run_study else []
 
     result = TestAnalysis(

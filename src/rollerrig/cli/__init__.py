@@ -41,7 +41,7 @@ from rollerrig.cli import studies as _studies
 from rollerrig.cli import transfer as _transfer
 from rollerrig.cli import twin as _twin
 from rollerrig.cli._boundary import DEBUG_ENV, BoundaryGroup, UserError
-from rollerrig.cli._console import console, err_console, note
+from rollerrig.cli._console import console, err_console, note, set_quiet
 from rollerrig.cli._outputs import MAX_OUTPUT_STEM, command_outputs, safe_file_name, staged_outputs
 
 __all__ = [
@@ -102,8 +102,17 @@ def _root(
             help=f"Show the full traceback of an error (also: environment {DEBUG_ENV}=1).",
         ),
     ] = False,
+    quiet: Annotated[
+        bool,
+        typer.Option(
+            "--quiet",
+            "-q",
+            help="No progress lines or bars from any command (also each command's --quiet).",
+        ),
+    ] = False,
 ) -> None:
     """Wheel-roller adhesion rig toolkit."""
+    set_quiet(quiet)  # every invocation starts from the option given (or not)
 
 
 COMMANDS = (

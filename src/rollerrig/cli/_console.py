@@ -3,21 +3,41 @@
 Text is printed literally (Rich markup off), so ``[kN]``, ``[channels.torque]`` or
 ``rollerrig[io]`` survive. Style a part with :class:`rich.text.Text`
 (``Text.assemble(("bold part", "bold"), " plain part")``), never with ``[bold]`` markup.
+
+Progress of a long command: one helper for every command, :func:`progress` (a bar with a known
+total: ``bar.add_task(...)``, ``bar.update(task, completed=..., info=...)``) or :func:`steps`
+(what runs now: ``say("fitting the Polach law")``). On a terminal a live bar or status; piped
+or in a notebook (stdout not a terminal) plain lines, never a redrawn bar: one per step, and
+for a bar one at each tenth of the way or every :data:`LINE_EVERY_S` seconds; nothing with
+``--quiet`` (:func:`set_quiet`; the option :data:`QuietOption`).
 """
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Annotated
+
+import typer
 from rich.console import Console
 from rich.text import Text
 
 __all__ = [
+    "LINE_EVERY_S",
+    "QuietOption",
     "console",
     "err_console",
+    "is_quiet",
     "note",
     "print_error",
     "print_recording_notes",
     "print_warning",
     "print_written",
+    "progress",
+    "set_quiet",
+    "steps",
 ]
 
 console = Console(width=110, markup=False, highlight=False)
@@ -51,3 +71,152 @@ def print_recording_notes(rec) -> None:
 
     for line in recording_note_lines(rec):
         note(f"recording: {line}")
+
+
+# ------------------------------------------------------------------------------- progress
+
+LINE_EVERY_S = 5.0
+"""Least time between two progress lines of a bar when stdout is not a terminal [s] (a line
+also at each tenth of the way)."""
+
+_quiet = False
+
+
+def set_quiet(value: bool) -> None:
+    """Progress shown (False) or not (True); the root command resets it at every invocation."""
+    global _quiet
+    _quiet = bool(value)
+
+
+def is_quiet() -> bool:
+    """Whether ``--quiet`` was given."""
+    return _quiet
+
+
+def _quiet_callback(value: bool) -> bool:
+    if value:
+        set_quiet(True)
+    return value
+
+
+QuietOption = Annotated[
+    bool,
+    typer.Option(
+        "--quiet",
+        "-q",
+        help="No progress lines or bars (results, notes, warnings and errors still print).",
+        callback=_quiet_callback,
+    ),
+]
+"""``--quiet``: no progress (the option sets :func:`set_quiet`; the command needs no code)."""
+
+
+@dataclass
+class _Task:
+    description: str
+    total: float | None
+    completed: float = 0.0
+    info: str = ""
+    started: float = 0.0
+    shown_at: float = 0.0
+    shown_tenth: int = -1
+    shown_info: str | None = None
+
+
+class ProgressLines:
+    """The part of :class:`rich.progress.Progress` the commands use (``add_task``, ``update``,
+    ``tasks``), printing plain lines: for stdout that is not a terminal, or nothing when
+    ``silent``."""
+
+    def __init__(self, out: Console, silent: bool = False, every_s: float = LINE_EVERY_S):
+        self.out, self.silent, self.every_s = out, silent, every_s
+        self.tasks: list[_Task] = []
+
+    def __enter__(self) -> ProgressLines:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        return None
+
+    def add_task(self, description: str, total: float | None = None, info: str = "", **_) -> int:
+        now = time.monotonic()
+        self.tasks.append(_Task(description, total, 0.0, info, now, now))
+        self._line(self.tasks[-1], force=True)
+        return len(self.tasks) - 1
+
+    def update(self, task_id: int, *, completed=None, total=None, info=None, advance=None, **_):
+        task = self.tasks[task_id]
+        if total is not None:
+            task.total = total
+        if completed is not None:
+            task.completed = float(completed)
+        if advance is not None:
+            task.completed += float(advance)
+        if info is not None:
+            task.info = str(info)
+        self._line(task)
+
+    def _line(self, task: _Task, force: bool = False) -> None:
+        now = time.monotonic()
+        done = task.total is not None and task.completed >= task.total > 0
+        if task.total:
+            tenth = min(int(10 * task.completed / task.total), 10)
+            due = tenth > task.shown_tenth or now - task.shown_at >= self.every_s
+        else:
+            tenth = -1
+            due = task.info != task.shown_info  # a step: one line per step
+        if not (force or due or (done and task.shown_tenth < 10)):
+            return
+        task.shown_at, task.shown_tenth, task.shown_info = now, tenth, task.info
+        if self.silent:
+            return
+        parts = [f"{task.description}:"]
+        if task.total:
+            parts.append(f"{100 * min(task.completed / task.total, 1.0):3.0f} %")
+        if task.info:
+            parts.append(task.info)
+        parts.append(f"({now - task.started:.1f} s)")
+        self.out.print(Text(" ".join(parts)), soft_wrap=True)
+
+
+def progress(out: Console | None = None):
+    """The progress display of every long command (a context manager): a live bar on a
+    terminal, plain lines when stdout is piped or in a notebook, nothing with ``--quiet``.
+
+    Use as ``with progress() as bar: task = bar.add_task("simulating", total=30.0,
+    info="solving"); bar.update(task, completed=t, info=...)``; a task without a total is a
+    status (each new ``info`` a step).
+    """
+    out = console if out is None else out
+    if _quiet:
+        return ProgressLines(out, silent=True)
+    if not out.is_terminal:
+        return ProgressLines(out)
+    from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    return Progress(
+        SpinnerColumn(),
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.fields[info]}"),
+        TimeElapsedColumn(),
+        console=out,
+    )
+
+
+@contextmanager
+def steps(description: str, first: str = "starting") -> Iterator[Callable[[str], None]]:
+    """Progress of a command made of steps: ``with steps("analyze") as say: say("reading")``.
+
+    A line per step when piped (``analyze: reading (0.0 s)``), a live status on a terminal,
+    nothing with ``--quiet``; ``done`` with the time taken at the end. ``say`` is the callback
+    the Python API takes (``progress=``).
+    """
+    with progress() as bar:
+        task = bar.add_task(description, total=None, info=first)
+
+        def say(text: str) -> None:
+            bar.update(task, info=str(text))
+
+        yield say
+        bar.update(task, info="done")

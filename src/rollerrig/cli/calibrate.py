@@ -12,6 +12,7 @@ from rich.table import Table
 from rollerrig._optional import require
 from rollerrig.cli._boundary import UserError
 from rollerrig.cli._console import (
+    QuietOption,
     console,
     note,
     print_recording_notes,
@@ -112,6 +113,7 @@ def calibrate(
             "settings too) and exit.",
         ),
     ] = False,
+    quiet: QuietOption = False,
 ) -> None:
     """Fit the twin's parameters to a recorded test: values with standard errors [SI].
 

@@ -11,7 +11,7 @@ from rich.table import Table
 
 from rollerrig._optional import require
 from rollerrig.cli._boundary import UserError
-from rollerrig.cli._console import console, note, print_written
+from rollerrig.cli._console import QuietOption, console, note, print_written, steps
 from rollerrig.cli._options import DEFAULT_OUT, OutOption
 from rollerrig.cli._outputs import command_outputs
 
@@ -50,6 +50,7 @@ def frame(
         int, typer.Option("--modes", help="Natural modes to compute [1], 1 to 50.")
     ] = 6,
     out: OutOption = DEFAULT_OUT,
+    quiet: QuietOption = False,
 ) -> None:
     """Static and modal FE analysis of the rig frame under the test load (Kayaalp 4.4).
 
@@ -93,15 +94,17 @@ def frame(
         traction_force_N=traction,
         modes=modes,
     ) as stage:
-        result = analyze_frame(structure, normal, traction, n_modes=modes)
-        dof = contact_dof(result)
-        summary = frame_summary(result, dof, frame_file)
-        fig, _ = deformed_shape_figure(result)
-        save_figure(fig, stage.path("frame-deformed.png"))
-        shown = sorted({*range(min(3, modes)), dof.mode})  # the first three and the contact's
-        fig, _ = mode_shape_figure(result, modes=shown, contact_mode=dof.mode)
-        save_figure(fig, stage.path("frame-modes.png"))
-        write_json(stage.path("frame.json"), summary)
+        with steps(f"frame {structure.name}", f"static load case and {modes} modes (FE)") as say:
+            result = analyze_frame(structure, normal, traction, n_modes=modes)
+            dof = contact_dof(result)
+            summary = frame_summary(result, dof, frame_file)
+            say("figures: deformed shape, mode shapes")
+            fig, _ = deformed_shape_figure(result)
+            save_figure(fig, stage.path("frame-deformed.png"))
+            shown = sorted({*range(min(3, modes)), dof.mode})  # the first three, the contact's
+            fig, _ = mode_shape_figure(result, modes=shown, contact_mode=dof.mode)
+            save_figure(fig, stage.path("frame-modes.png"))
+            write_json(stage.path("frame.json"), summary)
     console.print(_table(result, dof))
     if frame_file is None:
         note(

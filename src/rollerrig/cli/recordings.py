@@ -12,7 +12,14 @@ from rich.table import Table
 from rich.text import Text
 
 from rollerrig._validation import ParameterError
-from rollerrig.cli._console import console, note, print_recording_notes, print_written
+from rollerrig.cli._console import (
+    QuietOption,
+    console,
+    note,
+    print_recording_notes,
+    print_written,
+    steps,
+)
 from rollerrig.cli._inputs import calibration_for, derived, load_truth, open_input
 from rollerrig.cli._options import (
     DEFAULT_OUT,
@@ -62,6 +69,7 @@ def analyze(
         ),
     ] = False,
     lenient: LenientOption = False,
+    quiet: QuietOption = False,
 ) -> None:
     """Analyse an adhesion test: phases, corrected CoA with its uncertainty, creep-CoA branches,
     Polach fit, spectrum.
@@ -87,23 +95,28 @@ def analyze(
         filter_study=study,
         **bound,
     ) as stage:
-        truth_ds = None if truth is None else load_truth(truth)
-        with contextlib.ExitStack() as files:
-            loaded = open_input(recording, channels, lenient, None, files)
-            result = analyze_test(
-                loaded, rig, truth=truth_ds, run_study=study, calibration=calibrated
+        with steps(f"analyze {recording.name}", "opening the recording") as say:
+            truth_ds = None if truth is None else load_truth(truth)
+            with contextlib.ExitStack() as files:
+                loaded = open_input(recording, channels, lenient, None, files)
+                result = analyze_test(
+                    loaded, rig, truth=truth_ds, run_study=study, calibration=calibrated,
+                    progress=say,
+                )  # fmt: skip
+            sections = [_calibration_section(calibration, calibrated)]
+            if on_track:
+                say("the curve on track")
+                sections.append(_on_track_section(result, rig, stage.dir, recording.stem))
+            say("writing the results and the report (figures)")
+            write_analysis(
+                result,
+                stage.dir,
+                recording.stem,
+                source=str(recording),
+                truth=truth_ds,
+                extra_sections=_sections(sections),
+                report_folder=stage.out,
             )
-        sections = [_calibration_section(calibration, calibrated)]
-        if on_track:
-            sections.append(_on_track_section(result, rig, stage.dir, recording.stem))
-        write_analysis(
-            result,
-            stage.dir,
-            recording.stem,
-            source=str(recording),
-            truth=truth_ds,
-            extra_sections=_sections(sections),
-        )
     print_analysis(result)
     print_written(stage.written)
 
@@ -306,6 +319,7 @@ def spectrum(
     ] = None,
     out: OutOption = DEFAULT_OUT,
     lenient: LenientOption = False,
+    quiet: QuietOption = False,
 ) -> None:
     """Spectra whose peaks explain themselves; with several recordings, an order map and the
     lines that stay put at every speed (speed-independent). Settings are chosen from each
@@ -338,10 +352,12 @@ def spectrum(
         coherence_with=coherence_with,
         lenient=lenient,
     ) as stage:
-        with contextlib.ExitStack() as files:
-            loaded = [
-                derived(open_input(p, channels, lenient, needed, files), rig) for p in recordings
-            ]
+        with steps("spectrum", "reading") as say, contextlib.ExitStack() as files:
+            loaded = []
+            for p in recordings:
+                say(f"reading {p.name}")
+                loaded.append(derived(open_input(p, channels, lenient, needed, files), rig))
+            say("spectra, peaks and their sources" + (" and coherence" if coherence_with else ""))
             result = explain_recordings(loaded, channel, rig, coherence_with=coherence_with)
         for path, stem, key, rec, e in zip(
             recordings, stems, keys, loaded, result.spectra, strict=True

@@ -18,7 +18,7 @@ import typer
 from rich.table import Table
 
 from rollerrig.cli._boundary import Interrupted, UserError
-from rollerrig.cli._console import console, note, print_written
+from rollerrig.cli._console import QuietOption, console, note, print_written, steps
 from rollerrig.cli._options import DEFAULT_OUT, Executor, OutOption, RigOption
 from rollerrig.output.names import safe_file_name
 
@@ -215,6 +215,7 @@ def run(
         ),
     ] = False,
     out: OutOption = DEFAULT_OUT,
+    quiet: QuietOption = False,
 ) -> None:
     """Run a study (or resume it): every point simulated and measured, with progress; the
     store study-NAME.zarr in --out, then the points as CSV, a JSON summary and figures."""
@@ -361,6 +362,7 @@ def frame(
     ] = None,
     rig_file: RigOption = None,
     out: OutOption = DEFAULT_OUT,
+    quiet: QuietOption = False,
 ) -> None:
     """Does the frame matter? The release test with a rigid frame, the frame and one ten
     times softer (Kayaalp 4.3.1's hypothesis, simulated): overshoot, ringing line, spectra."""
@@ -382,7 +384,8 @@ def frame(
     with command_outputs(
         out, run="study-frame", inputs={"frame": frame_file, "rig": rig_file}, rig=rig
     ) as stage:
-        result = frame_study(rig, structure)
+        with steps("study frame", "simulating the experiment with each frame") as say:
+            result = frame_study(rig, structure, progress=say)
         table = Table(title=f"Frame study on {result.experiment}")
         for col in ("frame", "f [Hz]", "overshoot T56/r_r", "ringing line", "T56 at f_frame"):
             table.add_column(col, justify="left" if col == "frame" else "right")
@@ -435,6 +438,7 @@ def _drive_answer(study: dict) -> str:
 def drive_dynamics(
     rig_file: RigOption = None,
     out: OutOption = DEFAULT_OUT,
+    quiet: QuietOption = False,
 ) -> None:
     """The roller drive as a dynamic induction machine under open-loop V/f: where a 1-1.7 Hz
     mode of the rig comes from. The twin's modes with the Thevenin+lag drive and with dq drives
@@ -454,10 +458,10 @@ def drive_dynamics(
     with command_outputs(
         out, run="study-drive-dynamics", inputs={"rig": rig_file}, rig=rig
     ) as stage:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), steps("study drive-dynamics") as say:
             # scipy's numerical Jacobian in the lag fits overflows a scaling factor harmlessly
             warnings.filterwarnings("ignore", category=RuntimeWarning, module="scipy")
-            study = drive_dynamics_study(rig)
+            study = drive_dynamics_study(rig, progress=say)
         at_load = [r for r in study["thevenin"] + study["dq"] if r["normal_load [kN]"] == 4.3]
         console.print("Modes below 20 Hz at 4.3 kN, free rolling (all loads in the JSON):")
         console.print(format_eigen_table(at_load), soft_wrap=True)

@@ -11,7 +11,7 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
-from rollerrig.cli._console import console, note, print_written
+from rollerrig.cli._console import QuietOption, console, note, print_written, steps
 from rollerrig.cli._options import DEFAULT_OUT, OutOption, RigOption, load_rig
 from rollerrig.cli._outputs import command_outputs, safe_file_name
 
@@ -112,6 +112,7 @@ def transfer(
     draws: Annotated[int, typer.Option("--draws", help="Monte Carlo draws [1].")] = 400,
     seed: Annotated[int, typer.Option("--seed", help="Seed of the draws.")] = 0,
     out: OutOption = DEFAULT_OUT,
+    quiet: QuietOption = False,
 ) -> None:
     """Transfer a creep-CoA curve measured on the rig's roller to the rail, with its band.
 
@@ -168,18 +169,19 @@ def transfer(
         draws=draws,
         seed=seed,
     ) as stage:
-        result = transfer_curve(
-            measured,
-            geometry,
-            rail,
-            TransferLaw(law).value,
-            normal_load=load,
-            rolling_speed=speed,
-            draws=draws,
-            seed=seed,
-            coa_systematic=coa_systematic,
-        )
-        write_transfer(result, stage.dir, safe_file_name(stem))
+        with steps(f"transfer {stem}", f"{draws} draws of the uncertain inputs"):
+            result = transfer_curve(
+                measured,
+                geometry,
+                rail,
+                TransferLaw(law).value,
+                normal_load=load,
+                rolling_speed=speed,
+                draws=draws,
+                seed=seed,
+                coa_systematic=coa_systematic,
+            )
+            write_transfer(result, stage.dir, safe_file_name(stem))
     console.print(_table(result))
     for line in result.assumptions:
         note(line)

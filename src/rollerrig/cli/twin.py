@@ -18,7 +18,7 @@ from rich.text import Text
 from rollerrig._optional import require
 from rollerrig._toml import read_toml
 from rollerrig.cli._boundary import UserError
-from rollerrig.cli._console import console, note, print_written
+from rollerrig.cli._console import QuietOption, console, note, print_written
 from rollerrig.cli._options import (
     DEFAULT_OUT,
     FrameModel,
@@ -199,6 +199,7 @@ def simulate(
             "--list", help="List the bundled experiments (duration, what each does) and exit."
         ),
     ] = False,
+    quiet: QuietOption = False,
 ) -> None:
     """Simulate an adhesion experiment on the digital twin and write results and figures.
 
@@ -310,16 +311,11 @@ def _lag_used_by(roller_drive: RollerDrive, roller_lag_s: float | None) -> None:
 
 
 def _progress():
-    """The progress bar of the twin's commands: what runs, how far, and the time it took."""
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+    """The progress bar of the twin's commands: what runs, how far, and the time it took
+    (:func:`rollerrig.cli._console.progress`: plain lines when piped, none with --quiet)."""
+    from rollerrig.cli._console import progress
 
-    return Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        TextColumn("{task.fields[info]}"),
-        TimeElapsedColumn(),
-        console=console,
-    )
+    return progress()
 
 
 def _say_compile_stage(*, batch: bool, dq: bool = False) -> None:

@@ -34,7 +34,7 @@ Not integrated into the compiled twin: the fast backend's state layout
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -593,6 +593,7 @@ def drive_dynamics_study(
     rig_fit_points: Sequence[tuple[float, float]] = ((10 / 3.6, 4.3e3), (30 / 3.6, 4.3e3)),
     check_loads: Sequence[float] | None = None,
     band: tuple[float, float] = (1.0, 1.7),
+    progress: Callable[[str], None] | None = None,
 ) -> dict:
     """The issue-13 study, JSON-ready: mode tables with and without the dq drive, the lag fits,
     the verdict of each drive about ``band`` [Hz] and whether it holds over its assumptions.
@@ -601,6 +602,7 @@ def drive_dynamics_study(
     grid of speeds × loads); an empty sequence skips the checks. Drives not built by
     :func:`default_dq_drive` are not checked. Cost (one core): the checks linearise the twin
     at about 950 operating points, about 15 s; the rest of the study about 11 s.
+    ``progress``: called as ``progress(step)`` as each step starts (a command's progress).
 
     Returns
     -------
@@ -614,10 +616,12 @@ def drive_dynamics_study(
         :func:`fit_lag_in_rig`), ``seed_lag [s]`` (τ of c_lp = 2.75) and the machine's
         parameters and assumptions.
     """
+    say = progress if progress is not None else (lambda step: None)
     drives = list(drives or drive_variants(rig))
     first = drives[0]
     rr = rig.geometry.roller_radius_x
     held = []
+    say(f"the dq machine's lag at held speed ({len(speeds)} speeds)")
     for v in speeds:
         fit = fit_lag_at_held_speed(first, v, rr)
         held.append(
@@ -630,6 +634,7 @@ def drive_dynamics_study(
             }
         )
     in_rig = []
+    say(f"the lag fitted in the rig ({len(rig_fit_points)} points)")
     for v, n in rig_fit_points:
         fit = fit_lag_in_rig(rig, v, n, drive=first)
         in_rig.append(
@@ -642,6 +647,7 @@ def drive_dynamics_study(
                 "peak_response [N.m]": fit.peak_response,
             }
         )
+    say(f"modes of the twin with {len(drives)} dq drives at {len(speeds) * len(loads)} points")
     dq_rows = eigen_table(rig, drives, speeds, loads, band=band)
     if check_loads is None:
         check_loads = tuple(loads)
@@ -656,13 +662,16 @@ def drive_dynamics_study(
         return cache[key]
 
     verdicts = []
-    for d in drives:
+    for i, d in enumerate(drives):
+        if check_loads and d.settings is not None:
+            say(f"verdicts over the assumptions: {d.label} ({i + 1} of {len(drives)})")
         nominal = band_verdict([r for r in dq_rows if r["drive"] == d.label], band)
         entry = {"drive": d.label, "settings": d.settings, **nominal}
         if check_loads and d.settings is not None:
             entry["robustness"] = robustness(rig, d.settings, rows_for, nominal, band=band)
         verdicts.append(entry)
     mach = first.machine
+    say("modes with the Thevenin drive")
     return {
         "machine": {
             "stator_resistance_equivalent_star [ohm]": mach.stator_resistance,

@@ -14,6 +14,7 @@ ringing line of T56 (frequency and amplitude) and the T56 spectrum at the frame'
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -99,6 +100,7 @@ def frame_study(
     *,
     experiment: str = "release-test",
     output_rate: float = 1000.0,
+    progress: Callable[[str], None] | None = None,
 ) -> FrameStudy:
     """Simulate the release test with a rigid frame, the FE frame and one ten times softer.
 
@@ -114,6 +116,8 @@ def frame_study(
         Bundled experiment or file with a sudden release (default: the release test).
     output_rate : float
         Sampling of the runs [Hz]: 1 kHz resolves the frame's mode (tens of Hz).
+    progress : callable, optional
+        Called as ``progress(step)`` as each step starts ("simulating: rigid frame (1 of 3)").
 
     Returns
     -------
@@ -126,6 +130,8 @@ def frame_study(
     if frame is not None:
         from rollerrig.frame import analyze_frame, contact_dof
 
+        if progress is not None:
+            progress(f"FE of frame {frame.name!r}")
         result = analyze_frame(frame)
         dof = contact_dof(result)
         rig = rig.with_overrides(
@@ -155,7 +161,9 @@ def frame_study(
         ),
     ]
     cases = []
-    for label, r, mode, stiffness, mass in variants:
+    for i, (label, r, mode, stiffness, mass) in enumerate(variants):
+        if progress is not None:
+            progress(f"simulating {protocol.name}: {label} ({i + 1} of {len(variants)})")
         sim = Simulation(r, protocol, DriveConfig(frame=mode), output_rate=output_rate)
         ds = sim.run()
         run = RunChannels.from_dataset(ds, r.geometry.roller_radius_x)
