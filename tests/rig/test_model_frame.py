@@ -84,5 +84,5 @@ def test_the_default_frame_changes_the_release_by_less_than_a_percent(runs):
 def test_the_linearised_twin_refuses_the_dq_drive_and_names_where_it_is(rig):
     from rollerrig._validation import ParameterError
 
-    with pytest.raises(ParameterError, match="dq_coupled_modes"):
+    with pytest.raises(ParameterError, match="twin_modes"):
         linearise_twin(rig, 30 / 3.6, 4300.0, drives=DriveConfig(roller="induction_dq"))
