@@ -73,13 +73,22 @@ sphinx_gallery_conf = {
 html_theme = "pydata_sphinx_theme"
 html_title = f"rollerrig {release}"
 html_static_path: list[str] = []
+_GALLERY_PAGES = [
+    "index",
+    "sg_execution_times",
+    *sorted(p.stem for p in (Path(__file__).parent.parent / "examples").glob("plot_*.py")),
+]
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
     "navbar_align": "left",
     "header_links_before_dropdown": 6,
     # the gallery's code needs the width; the API and guide pages keep their table of contents
-    "secondary_sidebar_items": {"**": ["page-toc", "sourcelink"], "auto_examples/**": []},
+    # (exact page names, not a second wildcard: a page matching two patterns is a warning)
+    "secondary_sidebar_items": {
+        "**": ["page-toc", "sourcelink"],
+        **{f"auto_examples/{page}": [] for page in _GALLERY_PAGES},
+    },
     "footer_start": ["copyright"],
     "footer_end": ["sphinx-version"],
 }
