@@ -554,6 +554,13 @@ def modes_of(
     return tuple(out)
 
 
+def check_damping_threshold(damping_threshold: float) -> float:
+    """``damping_threshold`` [1] as a float, or a ParameterError when it is not in (0, 1)."""
+    if not 0.0 < float(damping_threshold) < 1.0:
+        raise ParameterError(f"damping_threshold must lie in (0, 1) [1], got {damping_threshold}")
+    return float(damping_threshold)
+
+
 def coupled_modes(
     rig,
     speed: float,
@@ -587,8 +594,7 @@ def coupled_modes(
     >>> [round(md.frequency, 1) for md in cm.ringing]
     [0.8, 13.8, 110.8]
     """
-    if not 0.0 < float(damping_threshold) < 1.0:
-        raise ParameterError(f"damping_threshold must lie in (0, 1) [1], got {damping_threshold}")
+    check_damping_threshold(damping_threshold)
     lin = linearise_twin(rig, speed, normal_load, drives=drives, friction=friction)
     return CoupledModes(
         speed=lin.speed,

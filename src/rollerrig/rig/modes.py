@@ -12,10 +12,14 @@ controller's filters among the states). Both use the same model inputs
 
 from __future__ import annotations
 
-from rollerrig._validation import ParameterError
 from rollerrig.rig import model as m
 from rollerrig.rig.drive_dynamics import DqTwin, default_dq_drive
-from rollerrig.rig.linear import DEFAULT_DAMPING_THRESHOLD, CoupledModes, coupled_modes
+from rollerrig.rig.linear import (
+    DEFAULT_DAMPING_THRESHOLD,
+    CoupledModes,
+    check_damping_threshold,
+    coupled_modes,
+)
 
 __all__ = ["twin_modes"]
 
@@ -76,8 +80,7 @@ def twin_modes(
             damping_threshold=damping_threshold,
             load_source=load_source,
         )
-    if not 0.0 < float(damping_threshold) < 1.0:
-        raise ParameterError(f"damping_threshold must lie in (0, 1) [1], got {damping_threshold}")
+    threshold = check_damping_threshold(damping_threshold)
     twin = DqTwin.at(
         rig, speed, normal_load, default_dq_drive(rig), wheel=drives.wheel, friction=friction
     )
@@ -87,6 +90,6 @@ def twin_modes(
         load_source=str(load_source),
         drives=drives,
         friction=friction,
-        damping_threshold=float(damping_threshold),
-        modes=twin.modes(float(damping_threshold)),
+        damping_threshold=threshold,
+        modes=twin.modes(threshold),
     )
