@@ -4,7 +4,11 @@
   causal Kalman filter (online, one sample at a time) and by Rauch-Tung-Striebel smoothers of
   the roller alone or of the roller-shaft-rotor-drive chain, which choose their model by the
   evidence of their innovations;
-- :mod:`~rollerrig.estimation.uncertainty` (JCGM 100 law of propagation, per sample),
+- :mod:`~rollerrig.estimation.uncertainty` (JCGM 100 law of propagation, per sample) with its
+  inputs (:mod:`~rollerrig.estimation.gum_inputs`), the calibrated ones' covariance
+  (:mod:`~rollerrig.estimation.calibrated_inputs`), the stated release residual
+  (:mod:`~rollerrig.estimation.release_residual`) and its result
+  (:mod:`~rollerrig.estimation.coa_uncertainty`),
   :mod:`~rollerrig.estimation.montecarlo` (JCGM 101 and its validation),
   :mod:`~rollerrig.estimation.budget` (per phase and creep–CoA point),
   :mod:`~rollerrig.estimation.filterweights` (the correction's filters as exact weights).

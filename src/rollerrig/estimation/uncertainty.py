@@ -13,7 +13,7 @@ Measurement model (per sample; :mod:`rollerrig.measure.correction`)
 with T56, α5, ω5 the Savitzky-Golay estimates of the correction, p the air-spring pressure
 (S/A when the recording gives the load), the swinging arm's load transfer κ and dead weight
 W_d (:class:`rollerrig.rig.sections.ArmParameters`: the rig measures S, the contact carries
-N_c), and these inputs (:data:`INPUT_NAMES`):
+N_c), and these inputs (:data:`~rollerrig.estimation.gum_inputs.INPUT_NAMES`):
 
 ============================  ==========  ============  =========================================
 input                         kind        distribution  standard uncertainty
@@ -50,8 +50,8 @@ keeps that share of the white quantisation noise). **Residual** terms cover what
 does not resolve: the torque's periodic disturbances within the correction's pass band
 (``residual_steady``, from the scatter of the corrected CoA in quiet phases, less the random
 part) and the contact's own transient at a release, which a 0.2 s filter cannot follow
-(``residual_release``, :class:`CorrectionResidual`, stated from the twin). Residual terms are
-treated as correlated over one correction window.
+(``residual_release``, :class:`~rollerrig.estimation.release_residual.CorrectionResidual`,
+stated from the twin). Residual terms are treated as correlated over one correction window.
 
 Law of propagation (JCGM 100 §5.1-5.2): u²(μ) = Σ c_i² u²(x_i), with covariances between
 calibrated parameters (§5.2.2); U = k u, k = 2. Monte Carlo (JCGM 101 §7): draws of every
@@ -62,23 +62,30 @@ y ± U against the MC 95 % probabilistically symmetric interval, d_low and d_hig
 rectangular input that dominates makes the output flat-topped: then y ± 2u is wider than the
 95 % interval (conservative) and the §8 check fails on the shape, not on the linearity, which
 the agreement of u itself shows.
+
+This module propagates (:func:`corrected_coa_uncertainty`); the inputs' names and table are in
+:mod:`~rollerrig.estimation.gum_inputs`, the calibrated ones' covariance in
+:mod:`~rollerrig.estimation.calibrated_inputs`, the stated release residual in
+:mod:`~rollerrig.estimation.release_residual`, the result type in
+:mod:`~rollerrig.estimation.coa_uncertainty` and the Monte Carlo in
+:mod:`~rollerrig.estimation.montecarlo`.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig._validation import ParameterError
+from rollerrig.estimation.calibrated_inputs import MODEL_KEYS, calibration_covariance
 from rollerrig.estimation.coa_uncertainty import COVERAGE_FACTOR, CoaUncertainty
 from rollerrig.estimation.filterweights import (
     BandedFilter,
     after_encoder_speed,
     savitzky_golay_matrix,
 )
+from rollerrig.estimation.gum_inputs import INPUT_NAMES, InputQuantity, _input_table, noise_level
 from rollerrig.estimation.montecarlo import (
     K95,
     MonteCarloResult,
@@ -86,6 +93,7 @@ from rollerrig.estimation.montecarlo import (
     monte_carlo,
     numerical_tolerance,
 )
+from rollerrig.estimation.release_residual import CorrectionResidual, release_residual_from_truth
 from rollerrig.measure.correction import correction_terms
 from rollerrig.measure.quantities import encoder_speed
 
@@ -106,333 +114,6 @@ __all__ = [
     "numerical_tolerance",
     "release_residual_from_truth",
 ]
-
-
-INPUT_NAMES = (
-    "torque_class",
-    "torque_noise",
-    "pressure_class",
-    "pressure_noise",
-    "air_spring_area",
-    "roller_radius",
-    "roller_inertia",
-    "bearing_loss",
-    "bearing_friction",
-    "bearing_radius",
-    "roller_weight",
-    "encoder_quantisation",
-    "arm_pivot_height",
-    "arm_length",
-    "arm_dead_weight",
-    "residual_steady",
-    "residual_release",
-)
-"""Inputs of the model, in budget order (the bearing's three appear only when calibrated)."""
-
-MODEL_KEYS = {
-    "sensors.air_spring_effective_area": "air_spring_area",
-    "geometry.roller_radius_x": "roller_radius",
-    "inertia.roller": "roller_inertia",
-    "bearing.friction_coefficient": "bearing_friction",
-    "bearing.roller_bearing_radius": "bearing_radius",
-    "bearing.roller_subsystem_weight": "roller_weight",
-}
-"""Calibrated rig keys that are inputs of the corrected CoA -> input name."""
-
-
-@dataclass(frozen=True)
-class CorrectionResidual:
-    """The stated residual of the dynamics correction after a release (type B, from the twin).
-
-    A release drops the contact CoA within tens of ms and sets the wheel-roller system
-    ringing; a 0.2 s correction filter follows neither. With H the span of the corrected CoA
-    over the release (± one correction window), H_r the drop from the cycle's level (the largest
-    corrected CoA in the 4 s before the release's end) to the value after it, s the largest
-    measured creep in the 0.5 s before the release and Δ the time from the release's end, the
-    standard uncertainty is ``fast·H`` from a quarter window before the release to half a window
-    after it, and ``(ring + ring_slip·min(1, s/slip_scale))·H_r·exp(-Δ/ring_decay)`` after it
-    (in quadrature). A wheel released from macro-slip rings harder and longer than one
-    released on the adhesion branch, and its CoA has already fallen from the level during the
-    slip, which H no longer shows: so the ring scales with H_r and grows with s.
-
-    Derived with :func:`release_residual_from_truth` on the bundled rig's twin (with its
-    swinging arm), seed-30kmh-dry at 250 Hz, synthetic seed 3, and the same test with the
-    level raised so that the wheel slips deeper before each release (912 / 930 / 950 / 980
-    N.m: creep at the release 0.048 / 0.14 / 0.30 / 0.61): ring amplitudes of 0.046 / 0.079 /
-    0.096 / 0.23 of H_r, decaying with 2.5-3.1 s, the fast part 0.24 of H at most. Stated: fast
-    0.25, ring 0.045, ring_slip 0.055 over slip_scale 0.15 (0.063 at the seed's 5 % creep, 0.10
-    from 15 % on), decay 3.0 s: at or above each of those up to 30 % creep at the release. A
-    wheel released from a runaway deeper than that (61 %: slip velocity 5 m/s) rings more than
-    twice as hard as stated: the band does not cover it. Another rig (shaft, lag, damping, arm)
-    rings otherwise: derive it again on its twin.
-
-    Attributes
-    ----------
-    fast : float
-        [-] of H.
-    ring : float
-        [-] of H_r.
-    ring_decay : float
-        [s].
-    ring_slip : float
-        [-] of H_r added at a creep of ``slip_scale`` or more before the release.
-    slip_scale : float
-        [-] creep.
-    """
-
-    fast: float = 0.25
-    ring: float = 0.045
-    ring_decay: float = 3.0
-    ring_slip: float = 0.055
-    slip_scale: float = 0.15
-
-    def standard_uncertainty(
-        self, time, coa, releases, window_s: float, creep=None
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """u [-] of the fast part and of the ring at ``time`` [s] for ``releases`` [(start, end) s].
-
-        ``creep`` [-]: the measured creep at ``time`` (None: taken as on the adhesion branch).
-        The fast part is normal; the ring is a decaying oscillation of unknown phase, whose
-        value at an instant has the arcsine PDF of standard deviation given in the class
-        docstring (JCGM 101 §6.4.6); several releases add in quadrature.
-        """
-        t = np.asarray(time, dtype=float)
-        fast_var, ring_var = np.zeros_like(t), np.zeros_like(t)
-        for start, end in releases:
-            span = (t >= start - window_s) & (t <= end + window_s)
-            if not np.any(span):
-                continue
-            height = float(np.ptp(coa[span]))
-            fast = (t >= start - 0.25 * window_s) & (t <= end + 0.5 * window_s)
-            fast_var += np.where(fast, (self.fast * height) ** 2, 0.0)
-            after = t >= end
-            coefficient = self.ring + self.ring_slip * min(
-                1.0, _slip_before(t, creep, start) / self.slip_scale
-            )
-            ring_height = max(height, _ring_height(t, coa, start, end, window_s))
-            ring = (
-                coefficient * ring_height * np.exp(-np.where(after, t - end, 0.0) / self.ring_decay)
-            )
-            ring_var += np.where(after, ring**2, 0.0)
-        return np.sqrt(fast_var), np.sqrt(ring_var)
-
-    def as_dict(self) -> dict:
-        return {
-            "fast [-] of H": self.fast,
-            "ring [-] of H_r": self.ring,
-            "ring_slip [-] of H_r": self.ring_slip,
-            "slip_scale [-]": self.slip_scale,
-            "ring_decay [s]": self.ring_decay,
-            "basis": "stated, type B: RMS error of the corrected CoA against the twin's contact "
-            "CoA after releases (bundled rig with its arm, seed-30kmh-dry and deeper-slipping "
-            "variants, 250 Hz, synthetic seed 3), relative to the release's drop from the "
-            "cycle's level H_r (release_residual_from_truth)",
-        }
-
-
-def _slip_before(t: np.ndarray, creep, start: float) -> float:
-    """The largest |creep| [-] in the 0.5 s before ``start`` (0 without a creep channel)."""
-    if creep is None:
-        return 0.0
-    c = np.asarray(creep, dtype=float)
-    before = (t >= start - 0.5) & (t < start) & np.isfinite(c)
-    return float(np.max(np.abs(c[before]))) if np.any(before) else 0.0
-
-
-def _ring_height(t: np.ndarray, coa, start: float, end: float, window_s: float) -> float:
-    """H_r [-]: the largest CoA in the 4 s before ``end`` less the median one to two windows
-    after it."""
-    level = (t >= start - 4.0) & (t <= end)
-    after = (t > end + window_s) & (t < end + 2.0 * window_s)
-    if not (np.any(level) and np.any(after)):
-        return 0.0
-    return max(0.0, float(np.max(coa[level]) - np.median(coa[after])))
-
-
-@dataclass(frozen=True)
-class InputQuantity:
-    """One input of the model: its estimate, standard uncertainty, PDF and basis."""
-
-    name: str
-    symbol: str
-    kind: str  # "systematic" | "random" | "residual"
-    distribution: str  # "rectangular" | "normal"
-    estimate: float | None  # None: per sample (the recording's)
-    standard_uncertainty: float | None  # of the input [unit]; None: per sample
-    unit: str
-    basis: str
-    key: str | None = None  # the rig key, for parameters
-
-    def as_dict(self) -> dict:
-        out = {
-            "name": self.name,
-            "symbol": self.symbol,
-            "kind": self.kind,
-            "distribution": self.distribution,
-            "estimate": self.estimate,
-            "standard_uncertainty": self.standard_uncertainty,
-            "unit": self.unit,
-            "basis": self.basis,
-            "rig_key": self.key,
-        }
-        if self.estimate is None:
-            out["estimate_null_because"] = "an estimate per sample (the recording's)"
-        if self.standard_uncertainty is None:
-            out["standard_uncertainty_null_because"] = "per sample: see the budget"
-        if self.distribution == "rectangular" and self.standard_uncertainty is not None:
-            out["half_width"] = self.standard_uncertainty * math.sqrt(3.0)
-        return out
-
-
-def noise_level(x) -> float:
-    """Type A white-noise level [unit of x]: MAD of the second differences / (0.6745·√6).
-
-    The second difference of white noise of standard deviation σ has standard deviation √6 σ;
-    the median absolute value of a normal variable is 0.6745 of its standard deviation. A smooth
-    signal adds little to the second differences; lines near the Nyquist frequency do
-    (conservative).
-
-    Examples
-    --------
-    >>> x = np.random.default_rng(1).normal(0.0, 2.0, 100_000) + np.linspace(0, 50, 100_000)
-    >>> round(noise_level(x), 1)
-    2.0
-    """
-    x = np.asarray(x, dtype=float)
-    if x.size < 5:
-        return 0.0
-    return float(np.median(np.abs(np.diff(x, 2))) / (0.6745 * math.sqrt(6.0)))
-
-
-# --------------------------------------------------------------------------------------------
-# Calibration: values and covariance of the model's rig keys
-# --------------------------------------------------------------------------------------------
-
-
-def calibration_covariance(calibration: Mapping) -> tuple[dict, dict, np.ndarray, list[str], list]:
-    """Values, standard errors and covariance of the calibrated keys the corrected CoA uses.
-
-    Parameters
-    ----------
-    calibration : mapping
-        As ``calibration.json`` (``rollerrig calibrate``) holds it: ``{"parameters": {key:
-        {"value": v, "standard_error": s}}, "correlation": {"keys": [...], "matrix": [[...]]}}``
-        (SI). Also accepted: ``"correlation": [[...]]`` with the row order in a top-level
-        ``"keys"``. Without a correlation the keys are taken uncorrelated; a ``value`` of null
-        (not identified) leaves the rig's value and stated accuracy; a ``standard_error`` of
-        null keeps the value without a calibrated uncertainty (the stated one stays); a null
-        correlation entry counts as 0 (noted).
-
-    Returns
-    -------
-    values : dict
-        Every calibrated key with a finite value -> value (to override the rig with).
-    used : dict
-        Input name -> key, for the keys of :data:`MODEL_KEYS` with a finite standard error.
-    covariance : ndarray
-        Covariance of the ``used`` inputs, in their order.
-    names : list of str
-        The ``used`` input names in that order.
-    notes : list of str
-        What was not used and why.
-
-    Raises
-    ------
-    ParameterError
-        A malformed dictionary, naming the entry.
-    """
-    if not isinstance(calibration, Mapping) or not isinstance(
-        calibration.get("parameters"), Mapping
-    ):
-        raise ParameterError(
-            "calibration: must be a mapping with 'parameters' {key: {value, standard_error}} "
-            "(the content of calibration.json)"
-        )
-    params = calibration["parameters"]
-    values, errors, notes = {}, {}, []
-    for key, entry in params.items():
-        where = f"calibration: parameters.{key}"
-        if not isinstance(entry, Mapping) or "value" not in entry:
-            raise ParameterError(f"{where}: must be a mapping with 'value' and 'standard_error'")
-        value, se = entry["value"], entry.get("standard_error")
-        if value is None:
-            why = entry.get("why_null") or entry.get("reason") or "not identified"
-            notes.append(f"{key}: no calibrated value ({why}): the rig's value is used")
-            continue
-        if (
-            isinstance(value, bool)
-            or not isinstance(value, int | float)
-            or not math.isfinite(value)
-        ):
-            raise ParameterError(f"{where}.value: must be a finite number; got {value!r}")
-        values[str(key)] = float(value)
-        if se is None:
-            notes.append(f"{key}: no standard error (not identified by the calibration)")
-            continue
-        if (
-            isinstance(se, bool)
-            or not isinstance(se, int | float)
-            or not (se >= 0)
-            or not (math.isfinite(se))
-        ):
-            raise ParameterError(
-                f"{where}.standard_error: must be a finite number >= 0 or null; got {se!r}"
-            )
-        errors[str(key)] = float(se)
-    corr = calibration.get("correlation")
-    keys = calibration.get("keys", list(params))
-    if isinstance(corr, Mapping):  # calibration.json: {"keys": [...], "matrix": [[...]]}
-        keys, corr = corr.get("keys", keys), corr.get("matrix")
-    keys = [str(k) for k in keys]
-    if corr is not None:
-        try:
-            corr = np.array(
-                [[math.nan if v is None else v for v in row] for row in corr], dtype=float
-            )
-        except (TypeError, ValueError):
-            raise ParameterError(
-                "calibration: correlation: must be a square matrix of numbers (null where the "
-                "calibration could not give one)"
-            ) from None
-        if corr.shape != (len(keys), len(keys)):
-            raise ParameterError(
-                f"calibration: correlation: must be {len(keys)} x {len(keys)} (one row per entry "
-                f"of 'keys'); got shape {corr.shape}"
-            )
-    used = {MODEL_KEYS[k]: k for k in MODEL_KEYS if k in errors}
-    names = list(used)
-    cov = np.diag([errors[used[n]] ** 2 for n in names])
-    for a, na in enumerate(names):
-        for b, nb in enumerate(names[:a]):
-            if corr is None or used[na] not in keys or used[nb] not in keys:
-                continue
-            rho = corr[keys.index(used[na]), keys.index(used[nb])]
-            if not math.isfinite(rho) or abs(rho) > 1.0 + 1e-9:
-                notes.append(f"correlation of {used[na]} and {used[nb]} is {rho!r}: taken as 0")
-                continue
-            cov[a, b] = cov[b, a] = rho * math.sqrt(cov[a, a] * cov[b, b])
-    if corr is None and len(names) > 1:
-        notes.append("the calibration gives no correlation: its keys taken as uncorrelated")
-    discrepancy = calibration.get("model_discrepancy")
-    discrepancy = discrepancy.get("keys") if isinstance(discrepancy, Mapping) else None
-    for i, n in enumerate(names):  # type-B term of the drive models' spread (calibrate compare)
-        item = (discrepancy or {}).get(used[n])
-        u_md = item.get("standard_uncertainty") if isinstance(item, Mapping) else None
-        if isinstance(u_md, int | float) and math.isfinite(u_md) and u_md > 0.0:
-            cov[i, i] += float(u_md) ** 2
-            notes.append(
-                f"{used[n]}: model discrepancy u = {u_md:.3g} (spread between adequate drive "
-                "models, rectangular) added to its variance"
-            )
-    for key in values:
-        if key not in MODEL_KEYS and not key.startswith("polach."):
-            notes.append(f"{key}: calibrated, not an input of the corrected CoA (used in the rig)")
-    return values, used, cov, names, notes
-
-
-# --------------------------------------------------------------------------------------------
-# The model
-# --------------------------------------------------------------------------------------------
 
 
 def corrected_coa_uncertainty(
@@ -465,9 +146,11 @@ def corrected_coa_uncertainty(
     quiet : sequence of (float, float)
         Quiet phases [s] (free rolling, rest) for ``residual_steady``.
     calibration : mapping, optional
-        ``calibration.json`` content (:func:`calibration_covariance`).
+        ``calibration.json`` content
+        (:func:`~rollerrig.estimation.calibrated_inputs.calibration_covariance`).
     residual : CorrectionResidual, optional
-        The stated release residual; default :class:`CorrectionResidual` ().
+        The stated release residual; default
+        :class:`~rollerrig.estimation.release_residual.CorrectionResidual` ().
 
     Returns
     -------
@@ -793,111 +476,3 @@ def _steady_residual(t, mu, random_u2, release_u, quiet, window) -> tuple[float,
         f"{int(ok.sum())} quiet samples, {math.sqrt(float(np.mean(r**2))):.2g} RMS, less the "
         "random part in quadrature)"
     )
-
-
-def _input_table(names, u_sys, dist, basis, rig, sigma_t, sigma_p, sigma_c, q_unit, q_basis,
-                 p_basis, steady, residual) -> list[InputQuantity]:  # fmt: skip
-    s, g, b = rig.sensors, rig.geometry, rig.bearing
-    table = {
-        "torque_class": ("δT", 0.0, "N.m", "torque_sensor_accuracy"),
-        "pressure_class": ("δp", 0.0, "Pa", "pressure_sensor_accuracy"),
-        "air_spring_area": ("A", s.air_spring_effective_area, "m^2", "air_spring_effective_area"),
-        "roller_radius": ("r_r", g.roller_radius_x, "m", "geometry.roller_radius_x"),
-        "roller_inertia": ("J5", rig.inertia.roller, "kg.m^2", "inertia.roller"),
-        "bearing_loss": ("k_b", 1.0, "1", "bearing_loss_uncertainty"),
-        "bearing_friction": ("f_g", b.friction_coefficient, "1", "bearing.friction_coefficient"),
-        "bearing_radius": ("r_b", b.roller_bearing_radius, "m", "bearing.roller_bearing_radius"),
-        "roller_weight": ("W_r", b.roller_subsystem_weight, "N", "bearing.roller_subsystem_weight"),
-        "arm_pivot_height": ("h", rig.arm.pivot_height, "m", "arm.pivot_height"),
-        "arm_length": ("l", rig.arm.arm_length, "m", "arm.arm_length"),
-        "arm_dead_weight": ("W_d", rig.arm.dead_weight, "N", "arm.dead_weight"),
-    }
-    out = []
-    for name in names:
-        if name in table:
-            symbol, estimate, unit, key = table[name]
-            if not key.count("."):
-                key = f"sensors.{key}"
-            out.append(InputQuantity(name, symbol, "systematic", dist[name], estimate,
-                                     u_sys[name], unit, basis[name], key))  # fmt: skip
-        elif name == "torque_noise":
-            out.append(InputQuantity(
-                name, "e_T", "random", "normal", None, sigma_t, "N.m",
-                "type A: white noise of the raw torque (MAD of second differences), through "
-                "the correction's smoothing weights (‖h_i‖); lines above the pass band inflate "
-                "it (conservative)"))  # fmt: skip
-        elif name == "pressure_noise":
-            out.append(InputQuantity(
-                name, "e_p", "random", "normal", None, sigma_p, "Pa",
-                f"type A: white noise of the {p_basis} (MAD of second differences); the load "
-                "enters the correction unsmoothed"))  # fmt: skip
-        elif name == "encoder_quantisation":
-            out.append(InputQuantity(name, "e_α", "random", "normal", None, sigma_c, q_unit,
-                                     q_basis))  # fmt: skip
-        elif name == "residual_steady":
-            out.append(InputQuantity(
-                name, "e_res,s", "residual", "normal", 0.0, steady, "1",
-                "type A: in-band disturbances (motor lines, rotation orders) and what else "
-                "scatters the corrected CoA in quiet phases beyond the random inputs"))  # fmt: skip
-        elif name == "residual_release":
-            out.append(InputQuantity(
-                name, "e_res,r", "residual", "normal (fast), arcsine (ring)", 0.0, None, "1",
-                f"stated (type B, twin): fast {residual.fast:g}·H, ring {residual.ring:g}·H "
-                f"decaying with {residual.ring_decay:g} s after each release of height H "
-                "(CorrectionResidual)"))  # fmt: skip
-    return out
-
-
-def release_residual_from_truth(time, error, releases, coa, random_u, window_s: float) -> dict:
-    """The :class:`CorrectionResidual` parameters from a synthetic test's error against truth.
-
-    Parameters
-    ----------
-    time : ndarray
-        [s].
-    error : ndarray
-        μ_corr − true contact CoA [-].
-    releases : sequence of (float, float)
-        Release start and end [s].
-    coa : ndarray
-        μ_corr [-] (for the heights H).
-    random_u : ndarray
-        The random part of u per sample [-], removed in quadrature.
-    window_s : float
-        Correction window [s].
-
-    Returns
-    -------
-    dict
-        ``fast`` [-] of H, ``ring`` [-] of H_r and ``ring_decay`` [s]: the largest relative RMS
-        error over sub-spans of 0.15 window within the fast span, and a log-linear fit of the
-        relative RMS error in 0.5 s bins after it (the ring's decay); H and H_r as in
-        :class:`CorrectionResidual`.
-    """
-    t = np.asarray(time, dtype=float)
-    fast, ring_t, ring_v = [], [], []
-    for start, end in releases:
-        span = (t >= start - window_s) & (t <= end + window_s)
-        height = float(np.ptp(coa[span]))
-        if height <= 0:
-            continue
-        excess = np.maximum(error**2 - random_u**2, 0.0) / height**2
-        edges = np.arange(start - 0.25 * window_s, end + 0.5 * window_s, 0.15 * window_s)
-        for a in edges:  # the largest RMS over sub-spans of 0.15 window (30 ms at 0.2 s)
-            f = (t >= a) & (t < a + 0.15 * window_s)
-            if np.any(f):
-                fast.append(float(np.sqrt(np.mean(excess[f]))))
-        ring_height = max(height, _ring_height(t, coa, start, end, window_s))
-        excess_r = excess * (height / ring_height) ** 2
-        for a in np.arange(end + 0.5 * window_s, end + 5.0, 0.5):
-            m = (t >= a) & (t < a + 0.5)
-            if np.any(m):
-                ring_t.append(a + 0.25 - end)
-                ring_v.append(float(np.sqrt(np.mean(excess_r[m]))))
-    ok = np.asarray(ring_v) > 0
-    slope, intercept = np.polyfit(np.asarray(ring_t)[ok], np.log(np.asarray(ring_v)[ok]), 1)
-    return {
-        "fast": float(np.max(fast)),
-        "ring": float(np.exp(intercept)),
-        "ring_decay": float(-1.0 / slope),
-    }
