@@ -5,5 +5,8 @@ estimation.
   uncertainty, creep–CoA branches, Polach fits, spectrum, filter study);
 - :mod:`~rollerrig.analysis.findings`: the result (:class:`TestAnalysis`) and its JSON summary;
 - :mod:`~rollerrig.analysis.transfer`: a creep curve measured on the roller predicted on the
-  rail (the elastic part by contact mechanics, the surface's part carried over as measured).
+  rail (the elastic part by contact mechanics, the surface's part carried over as measured);
+  its inputs in :mod:`~rollerrig.analysis.measured_curve` (the points, from an analysis or a
+  CSV) and :mod:`~rollerrig.analysis.transfer_geometry` (wheel, roller, rail, the Hertz
+  ellipse on each side), its output in :mod:`~rollerrig.analysis.transfer_result`.
 """

@@ -10,9 +10,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from rollerrig._validation import require_finite, require_positive
+from rollerrig._validation import ParameterError, require_finite, require_positive
 
-__all__ = ["DEFAULT_REGULARISATION_SPEED", "creep_and_slip_velocity", "creep_kernel"]
+__all__ = [
+    "DEFAULT_REGULARISATION_SPEED",
+    "creep_and_slip_velocity",
+    "creep_kernel",
+    "kalker_creepage",
+    "rig_creep",
+]
 
 DEFAULT_REGULARISATION_SPEED = 0.05
 """Speed v_ε below which the creep definition is regularised [m/s] (0.18 km/h).
@@ -88,3 +94,57 @@ def creep_and_slip_velocity(
 
 # Public name of the compiled kernel, for the twin's right-hand side and the measurement.
 creep_kernel = _creep_kernel
+
+
+def kalker_creepage(creep):
+    """Kalker's creepage ξ (mean rolling speed) from the rig's creep s (roller speed).
+
+    .. math:: \\xi = \\frac{w}{(v_w + v_r)/2} = \\frac{2s}{2+s}, \\quad s = \\frac{w}{v_r}
+
+    Parameters
+    ----------
+    creep : array_like
+        s [-] (Kayaalp eq. 4.21), s > −2.
+
+    Returns
+    -------
+    numpy.ndarray
+        ξ [-].
+
+    Examples
+    --------
+    >>> float(kalker_creepage(0.02))
+    0.019801980198019802
+    >>> float(rig_creep(kalker_creepage(0.02)))
+    0.02
+    """
+    s = require_finite("creep", creep, "-")
+    if np.any(s <= -2.0):
+        raise ParameterError("creep s must be above -2 (the wheel would turn backwards)")
+    return 2.0 * s / (2.0 + s)
+
+
+def rig_creep(creepage):
+    """The rig's creep s (roller speed, Kayaalp eq. 4.21) from Kalker's creepage ξ.
+
+    .. math:: s = \\frac{2\\xi}{2-\\xi}
+
+    Parameters
+    ----------
+    creepage : array_like
+        ξ [-], |ξ| < 2.
+
+    Returns
+    -------
+    numpy.ndarray
+        s [-].
+
+    Examples
+    --------
+    >>> round(float(rig_creep(0.1)), 6)
+    0.105263
+    """
+    xi = require_finite("creepage", creepage, "-")
+    if np.any(np.abs(xi) >= 2.0):
+        raise ParameterError("Kalker's creepage must lie in (-2, 2)")
+    return 2.0 * xi / (2.0 - xi)

@@ -391,7 +391,7 @@ def fit_modified_fastsim(
     ----------
     creep : array_like, shape (n,)
         Creepage ξ [-], Kalker's (referred to the mean rolling speed; convert a rig's creep
-        with :func:`rollerrig.analysis.transfer.kalker_creepage`).
+        with :func:`rollerrig.contact.kinematics.kalker_creepage`).
     coa : array_like, shape (n,)
         Measured CoA F/N [-].
     normal_load : float or array_like
