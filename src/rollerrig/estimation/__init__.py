@@ -3,7 +3,11 @@
 - :mod:`~rollerrig.estimation.estimator`: the contact torque from T56 and the encoders, by a
   causal Kalman filter (online, one sample at a time) and by Rauch-Tung-Striebel smoothers of
   the roller alone or of the roller-shaft-rotor-drive chain, which choose their model by the
-  evidence of their innovations;
+  evidence of their innovations (the smoother in :mod:`~rollerrig.estimation.smoother`, its
+  model and gains in :mod:`~rollerrig.estimation.smoother_model`, its passes in
+  :mod:`~rollerrig.estimation.smoother_passes`, the torque's order lines in
+  :mod:`~rollerrig.estimation.order_lines`, its innovations and the drive noise by maximum
+  likelihood in :mod:`~rollerrig.estimation.smoother_likelihood`);
 - :mod:`~rollerrig.estimation.uncertainty` (JCGM 100 law of propagation, per sample) with its
   inputs (:mod:`~rollerrig.estimation.gum_inputs`), the calibrated ones' covariance
   (:mod:`~rollerrig.estimation.calibrated_inputs`), the stated release residual
