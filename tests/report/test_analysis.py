@@ -197,6 +197,6 @@ def test_results_carry_the_uncertainty(written):
 
 def test_every_input_of_the_budget_has_words():
     from rollerrig.estimation.uncertainty import INPUT_NAMES
-    from rollerrig.report.analysis import _BUDGET_LABELS
+    from rollerrig.report.analysis_figures import _BUDGET_LABELS
 
     assert set(INPUT_NAMES) <= set(_BUDGET_LABELS)

@@ -11,7 +11,7 @@ import pytest
 from matplotlib.colors import LogNorm
 
 from rollerrig._validation import ParameterError
-from rollerrig.report.analysis import _params_at
+from rollerrig.report.analysis_sections import _params_at
 from rollerrig.report.filters import (
     filter_comparison_figure,
     savitzky_golay_grid_figure,
