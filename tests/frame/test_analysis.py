@@ -297,15 +297,15 @@ def test_sparse_eigensolvers_agree_with_dense_lapack(monkeypatch):
     """The stability check and the modes are solved sparse (ARPACK shift-invert) above
     ``_DENSE_BELOW`` free DOFs: on the bundled frame (~700 DOFs) they agree with LAPACK's dense
     solution of the same matrices, and a frame that size on rollers is still a mechanism."""
-    from rollerrig.frame import analysis, default_frame
+    from rollerrig.frame import default_frame, modes
 
     frame = default_frame()
     sparse = analyze_frame(frame, 20e3, 2e3, n_modes=6)
-    monkeypatch.setattr(analysis, "_DENSE_BELOW", 10**9)
+    monkeypatch.setattr(modes, "_DENSE_BELOW", 10**9)
     dense = analyze_frame(frame, 20e3, 2e3, n_modes=6)
     np.testing.assert_allclose(sparse.frequencies, dense.frequencies, rtol=1e-7)
     np.testing.assert_allclose(sparse.mode_shapes, dense.mode_shapes, atol=1e-6)
-    monkeypatch.setattr(analysis, "_DENSE_BELOW", 0)
+    monkeypatch.setattr(modes, "_DENSE_BELOW", 0)
     rolling = dataclasses.replace(
         frame, supports={n: (False, False, True, False, False, False) for n in frame.supports}
     )
