@@ -15,7 +15,11 @@ identify, and the calibrated rig (:attr:`Calibration.rig`), written by
 - :mod:`~rollerrig.calibrate.model` — the twin as a function of the parameters, in batches;
 - :mod:`~rollerrig.calibrate.fit` — Levenberg–Marquardt, identifiability, :func:`calibrate`;
 - :mod:`~rollerrig.calibrate.stats` — Newey–West covariance, whiteness checks;
-- :mod:`~rollerrig.calibrate.result` — :class:`Calibration` and its files;
+- :mod:`~rollerrig.calibrate.result` — the result's names, gathered from
+  :mod:`~rollerrig.calibrate.calibration` (:class:`Calibration` and its parts),
+  :mod:`~rollerrig.calibrate.assembly` (the result of a finished fit),
+  :mod:`~rollerrig.calibrate.diagnostics` (structure in the residuals, validity) and
+  :mod:`~rollerrig.calibrate.files` (:func:`write_calibration` and the file names);
 - :mod:`~rollerrig.calibrate.calibfile` — ``calibration.json`` read back and checked
   (:func:`read_calibration`);
 - :mod:`~rollerrig.calibrate.binding` — a calibration bound to the rig it was made on
@@ -30,21 +34,19 @@ True
 
 from rollerrig.calibrate.binding import check_rig
 from rollerrig.calibrate.calibfile import check_calibration, read_calibration
+from rollerrig.calibrate.calibration import Calibration, ChannelFit, FittedParameter
+from rollerrig.calibrate.files import (
+    CALIBRATED_RIG_NAME,
+    CALIBRATION_JSON_NAME,
+    FIT_DATASET_NAME,
+    write_calibration,
+)
 from rollerrig.calibrate.fit import FD_STEP, HAC_WINDOW, MAX_RELATIVE_SE, calibrate
 from rollerrig.calibrate.measurement import quantisation_noise
 from rollerrig.calibrate.problem import (
     POLACH_KEYS,
     CalibrationError,
     free_parameter_catalogue,
-)
-from rollerrig.calibrate.result import (
-    CALIBRATED_RIG_NAME,
-    CALIBRATION_JSON_NAME,
-    FIT_DATASET_NAME,
-    Calibration,
-    ChannelFit,
-    FittedParameter,
-    write_calibration,
 )
 
 __all__ = [

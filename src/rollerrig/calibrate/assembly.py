@@ -1,0 +1,339 @@
+"""The :class:`~rollerrig.calibrate.calibration.Calibration` assembled from a finished fit
+(:func:`build_calibration`): standard errors and correlations in the values' units, each
+channel's residuals before and after, the warnings and notes, the calibrated rig and friction
+law with their provenance, the fit's settings.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from rollerrig.calibrate.calibration import _UNITS, Calibration, ChannelFit, FittedParameter
+from rollerrig.calibrate.diagnostics import (
+    _LAG1_MARGIN,
+    _QUANTISATION_LAG1,
+    CONDITIONAL_NOTE,
+    STRUCTURE_ALPHA,
+    STRUCTURE_LAG1,
+    STRUCTURE_TAU,
+    _invalid_reasons,
+    channel_structured,
+)
+from rollerrig.calibrate.problem import ROLLER_DRIVES, FreeParameter, split_values, with_polach
+from rollerrig.calibrate.settings import FD_STEP, HAC_WINDOW, MAX_CORRELATION
+from rollerrig.calibrate.stats import whiteness
+from rollerrig.contact.creep import PolachParameters
+from rollerrig.rig.parameters import RigParameters
+
+__all__ = ["build_calibration"]
+
+_MISFIT_FACTOR = 5.0  # residual RMS above this many sensor sigmas: the twin misses the data
+
+
+def _identified_rig(
+    rig: RigParameters, fitted: dict[str, FittedParameter], source: str, sha: str | None
+) -> RigParameters:
+    """``rig`` with the identified rig keys replaced, their provenance the calibration's."""
+    values = {k: p.value for k, p in fitted.items() if p.identified and "." in k}
+    values = {k: v for k, v in values.items() if not k.startswith(("polach.", "experiment."))}
+    if not values:
+        return rig
+    out = rig.with_overrides(values)
+    provenance = {k: dict(v) for k, v in out.provenance.items()}
+    where = f"{source}" + (f" (sha256 {sha[:12]})" if sha else "")
+    for key in values:
+        p = fitted[key]
+        old = rig.provenance.get(key, {})
+        old_text = old.get("source") or old.get("assumption") or "no provenance"
+        old_value = f"{old['value']} {old['unit']}" if "value" in old else f"{p.initial:g}"
+        provenance[key] = {
+            "value": p.value,
+            "unit": p.unit,
+            "source": (
+                f"calibrated by rollerrig calibrate on {where}: {p.value:.6g} +- "
+                f"{p.standard_error:.3g}{_unit_text(p.unit)} (one standard error, Newey-West); "
+                f"started from {old_value} ({old_text})"
+            ),
+        }
+    meta = out.meta.model_copy(
+        update={
+            "name": f"{rig.meta.name}-calibrated",
+            "description": (
+                f"{rig.meta.description} Calibrated by rollerrig calibrate on {where}: "
+                f"{', '.join(values)}."
+            ),
+        }
+    )
+    return out.model_copy(update={"provenance": provenance, "meta": meta})
+
+
+def build_calibration(
+    *,
+    params: tuple[FreeParameter, ...],
+    n_free: int,
+    measurement,
+    model,
+    fit,
+    point,
+    active: np.ndarray,
+    covariance_z: np.ndarray,
+    white_z: np.ndarray,
+    dropped: dict[int, str],
+    before: dict[str, np.ndarray],
+    start_prediction: dict[str, np.ndarray],
+    converged: bool,
+    recording,
+    wall_time: float,
+) -> Calibration:
+    """Assemble the :class:`Calibration` from the state of a finished fit."""
+    from rollerrig.measure.facts import recording_facts
+
+    act = np.flatnonzero(active)
+    scale = np.array([params[i].value(point.z[i]) - params[i].lower for i in act])
+    cov = covariance_z * np.outer(scale, scale)
+    cov_white = white_z * np.outer(scale, scale)
+    se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    se_white = np.sqrt(np.clip(np.diag(cov_white), 0.0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(se, se)
+    corr = np.where(np.isfinite(corr), corr, 0.0)
+    np.fill_diagonal(corr, 1.0)
+    position = {int(i): k for k, i in enumerate(act)}
+
+    fitted: dict[str, FittedParameter] = {}
+    for i, p in enumerate(params):
+        if i in position:
+            k = position[i]
+            value = p.value(point.z[i])
+            fitted[p.key] = FittedParameter(
+                p.key,
+                p.unit,
+                p.initial,
+                float(value),
+                float(se[k]),
+                float(se_white[k]),
+                True,
+                at_bound=bool(p.upper is not None and value >= p.upper * (1 - 1e-9)),
+            )
+        else:
+            fitted[p.key] = FittedParameter(
+                p.key, p.unit, p.initial, None, None, None, False, dropped.get(i, "fixed")
+            )
+    free = {p.key: fitted[p.key] for p in params[:n_free]}
+    nuisance = {p.key: fitted[p.key] for p in params[n_free:]}
+    keys = tuple(params[i].key for i in act)
+
+    warnings = [f"{k}: {p.reason}" for k, p in free.items() if not p.identified]
+    for a in range(len(keys)):
+        for b in range(a + 1, len(keys)):
+            if abs(corr[a, b]) > MAX_CORRELATION:
+                warnings.append(
+                    f"{keys[a]} and {keys[b]} are correlated ({corr[a, b]:+.3f}): the recording "
+                    "determines mainly a combination of the two"
+                )
+    for k, p in free.items():
+        if p.at_bound:
+            warnings.append(f"{k}: the fit stops at its upper bound; its error is one-sided")
+    if not converged:
+        warnings.append(
+            f"the fit did not converge within {fit.iterations} iterations; the values are the "
+            "best found (raise max_iterations)"
+        )
+
+    notes = list(measurement.notes)
+    residual_after = fit.channel_residuals(point.prediction)
+    white = {c: whiteness(e) for c, e in residual_after.items()}
+    channels = {}
+    for c in measurement.channels:
+        channels[c] = ChannelFit(
+            name=c,
+            unit=_UNITS[c],
+            samples=int(measurement.valid[c].sum()),
+            sigma_sensor=float(measurement.sensor_noise[c]),
+            sigma_basis=measurement.noise_basis[c],
+            sigma_used=float(fit.sigma[c]),
+            rms_before=float(np.sqrt(np.mean(before[c] ** 2))),
+            rms_after=float(np.sqrt(np.mean(residual_after[c] ** 2))),
+            whiteness=white[c],
+            lines=(
+                measurement.line_amplitudes(measurement.values[c] - point.prediction[c])
+                if c == "torque"
+                else []
+            ),
+        )
+        if channels[c].rms_after > _MISFIT_FACTOR * channels[c].sigma_sensor:
+            warnings.append(
+                f"the twin does not reproduce {c}: residual RMS {channels[c].rms_after:.3g} "
+                f"{_UNITS[c]} after the fit against a sensor noise of "
+                f"{channels[c].sigma_sensor:.3g} {_UNITS[c]}; check the rig file, the channel "
+                "map (units, signs) and which parameters are free"
+            )
+        w = white[c]
+        quantised = c in ("wheel_speed", "roller_speed") and measurement.encoder_counts
+        if quantised:
+            w["expected_lag1_autocorrelation"] = _QUANTISATION_LAG1
+        if w["white"]:
+            continue
+        what = (
+            f"residuals of {c} are not white (Ljung-Box p = {w['ljung_box_p']:.2g}, lag-1 "
+            f"autocorrelation {w['lag1_autocorrelation']:+.2f})"
+        )
+        if quantised and w["lag1_autocorrelation"] <= _QUANTISATION_LAG1 + _LAG1_MARGIN:
+            notes.append(
+                f"{what}, as the encoder's quantisation makes them (the difference of two count "
+                f"errors: lag-1 autocorrelation {_QUANTISATION_LAG1:+g})"
+            )
+        else:
+            warnings.append(
+                f"{what}: structure the twin does not explain; the standard errors use the "
+                "Newey-West covariance, which accounts for its correlation, not for a bias"
+            )
+
+    structured = tuple(
+        c
+        for c in measurement.channels
+        if channel_structured(
+            white[c], c in ("wheel_speed", "roller_speed") and measurement.encoder_counts
+        )
+    )
+    roller = model.drives.roller
+    suggestion = ""
+    if structured:
+        free = {
+            k: dataclasses.replace(p, conditional_on_model=p.identified) for k, p in free.items()
+        }
+        nuisance = {
+            k: dataclasses.replace(p, conditional_on_model=p.identified)
+            for k, p in nuisance.items()
+        }
+        other = [d for d in ROLLER_DRIVES if d != roller]
+        if other:
+            suggestion = (
+                f"the roller drive model {roller!r} may be the wrong one for this recording: "
+                f"compare it with {other[0]!r} on the same recording (rollerrig calibrate "
+                f"RECORDING --free ... --compare-drives, or --roller-drive {other[0]})"
+            )
+        note_text = CONDITIONAL_NOTE.format(
+            alpha=STRUCTURE_ALPHA, lag1=STRUCTURE_LAG1, tau=STRUCTURE_TAU
+        )
+        warnings.append(
+            f"every standard error is {note_text} (structured: {', '.join(structured)})"
+            + (f"; {suggestion}" if suggestion else "")
+        )
+    invalid = _invalid_reasons(channels, converged, fit.iterations)
+    if invalid:
+        warnings.insert(
+            0,
+            "NOT A VALID CALIBRATION: " + "; ".join(invalid) + ": no calibrated rig is written "
+            "and rollerrig analyze --calibration refuses this calibration.json",
+        )
+
+    values = [p.value(point.z[i]) for i, p in enumerate(params)]
+    _, polach_values, experiment = split_values(params, values)
+    identified_polach = {k: v for k, v in polach_values.items() if fitted[f"polach.{k}"].identified}
+    friction = with_polach(model.friction, identified_polach)
+    if identified_polach:
+        friction = _renamed(friction, "calibrated")
+    facts = recording_facts(recording)
+    rig = _identified_rig(model.rig, free, measurement.source, facts.get("sha256"))
+
+    series: dict[str, Any] = {"time": measurement.time + measurement.start_time}
+    for c in measurement.channels:
+        series[c] = {
+            "measured": measurement.values[c],
+            "start": start_prediction[c],
+            "fitted": point.prediction[c],
+        }
+    speed = experiment.get("roller_speed", measurement.roller_speed_start)
+    if measurement.encoder_counts:
+        notes.append(
+            "encoder speeds from the counts by the analysis' own function (gate of one sample "
+            "interval); the twin's counts are not floored: its speeds are the gate means, the "
+            "quantisation is the noise model (variance (2 pi/(CPR dt))^2/6, lag-1 correlation "
+            "-1/2)"
+        )
+    notes.append(
+        "the recorded wheel-torque request replayed at a constant normal load and roller speed "
+        "set point (nuisance parameters fitted with the others); the torque's motor and order "
+        "lines fitted as linear nuisance parameters"
+    )
+
+    return Calibration(
+        parameters=free,
+        nuisance=nuisance,
+        keys=keys,
+        covariance=cov,
+        correlation=corr,
+        channels=channels,
+        rig=rig,
+        friction=friction,
+        warnings=warnings,
+        notes=notes,
+        experiment={
+            "normal_load [N]": measurement.normal_load,
+            "normal_load_spread [N]": measurement.normal_load_spread,
+            "roller_speed_setpoint [m/s]": float(speed),
+            "duration [s]": float(measurement.time[-1]),
+            "samples": int(measurement.time.size),
+            "sample_rate [Hz]": 1.0 / measurement.sample_interval,
+            "free_rolling_until [s]": measurement.quiet_until,
+            "friction_start": model.friction.to_dict(),
+            "drives": {"wheel": model.drives.wheel, "roller": model.drives.roller},
+        },
+        fit={
+            "method": "Levenberg-Marquardt in z = ln(value - lower bound), forward differences "
+            "in batches of the fast backend, central differences at the optimum",
+            "converged": bool(converged),
+            "iterations": int(fit.iterations),
+            "simulations": int(model.simulations),
+            "wall_time [s]": float(wall_time),
+            "finite_difference_step_z": _fd_step(),
+            "solver": _solver_settings(model),
+            "lag_window [s]": float(fit.lag_window),
+            "lag_window_rule": (
+                "Andrews (1991) AR(1) plug-in, Bartlett kernel"
+                if HAC_WINDOW is None
+                else f"fixed {HAC_WINDOW:g} s"
+            ),
+            "history": fit.history,
+            "parameters_fixed": {params[i].key: r for i, r in dropped.items()},
+        },
+        recording=facts,
+        series=series,
+        start_rig=model.rig,
+        valid=not invalid,
+        invalid_reasons=tuple(invalid),
+        conditional=bool(structured),
+        structured_channels=structured,
+        roller_drive=roller,
+        suggestion=suggestion,
+    )
+
+
+def _solver_settings(model) -> dict[str, Any]:
+    from rollerrig.solve.fast import FAST_DEFAULTS, SWEEP_H_MAX
+
+    return {
+        "backend": "fast (ROS34PW2 W-method, numba), integrate_batch",
+        "h_max [s]": FAST_DEFAULTS["h_max"] if model.h_max is None else model.h_max,
+        "rtol": FAST_DEFAULTS["rtol"] if model.rtol is None else model.rtol,
+        "search_h_max [s]": SWEEP_H_MAX,
+    }
+
+
+def _fd_step() -> float:
+
+    return FD_STEP
+
+
+def _renamed(friction: PolachParameters, name: str) -> PolachParameters:
+    from dataclasses import replace
+
+    return replace(friction, name=name, source=f"calibrated from {friction.name}")
+
+
+def _unit_text(unit: str) -> str:
+    return "" if unit == "1" else f" {unit}"
