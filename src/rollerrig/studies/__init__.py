@@ -1,6 +1,9 @@
 """Studies on the twin: any grid, sampled design or set of cases, run at scale.
 
-- :mod:`~rollerrig.studies.studyfile` — the study file (TOML) and the bundled studies;
+- :mod:`~rollerrig.studies.studyfile` — the study file (TOML) and the bundled studies; the
+  keys a study may vary (:mod:`~rollerrig.studies.varied_keys`), its design tables read
+  (:mod:`~rollerrig.studies.design_tables`), the study in memory
+  (:mod:`~rollerrig.studies.spec`);
 - :mod:`~rollerrig.studies.design` — its points, and what each point simulates;
 - :mod:`~rollerrig.studies.metrics` — the metrics of one run, by name;
 - :mod:`~rollerrig.studies.runner` — running the points in this process or on dask;
@@ -19,8 +22,9 @@ from rollerrig.studies.sensitivity import (
     rank_correlations,
     sobol_indices,
 )
+from rollerrig.studies.spec import StudySpec
 from rollerrig.studies.store import open_study
-from rollerrig.studies.studyfile import StudyFileError, StudySpec, bundled_studies, load_study
+from rollerrig.studies.studyfile import StudyFileError, bundled_studies, load_study
 from rollerrig.studies.summary import failures, metric_summary, metric_table
 
 __all__ = [
