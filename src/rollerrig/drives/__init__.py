@@ -5,6 +5,9 @@
 - :mod:`~rollerrig.drives.induction` — induction motor Thevenin torque under open-loop V/f
   (eq. 4.28), circuit from the nameplate, linear torque-slip fit, response lag (eq. 4.29).
 - :mod:`~rollerrig.drives.servo` — speed-controlled servo/PMSM roller drive (the seed's fix).
+- :mod:`~rollerrig.drives.induction_dq` — the induction motor's dynamics (inverse-Γ dq model:
+  kernels, steady state, linearisation), its parameters in :mod:`~rollerrig.drives.inverse_gamma`
+  and from the nameplate in :mod:`~rollerrig.drives.inverse_gamma_nameplate`.
 """
 
 from rollerrig.drives import induction, pmsm, servo
