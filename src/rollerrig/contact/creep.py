@@ -37,10 +37,12 @@ __all__ = [
     "POLACH_WET",
     "PolachParameters",
     "adhesion_gradient",
+    "adhesion_gradient_kernel",
     "friction_coefficient",
     "friction_kernel",
     "kalker_linear_force",
     "polach_creep_force",
+    "polach_force_at_friction_kernel",
     "polach_force_kernel",
 ]
 
@@ -349,4 +351,6 @@ def kalker_linear_force(creep, semi_axis_x, semi_axis_y, c11, shear_modulus):
 
 # Public names of the compiled kernels, for the twin's right-hand side and the fits.
 polach_force_kernel = _polach_force_kernel
+polach_force_at_friction_kernel = _polach_force_at_friction_kernel
 friction_kernel = _friction_kernel
+adhesion_gradient_kernel = _adhesion_gradient_kernel

@@ -1,7 +1,7 @@
 """The model a Polach fit fits: Polach's CoA and the creep stiffness of the rig's contact.
 
 Polach's creep law with slip-velocity-dependent friction (Polach 2005; Kayaalp eqs. 4.19-4.20),
-evaluated by the same kernel as the twin (:func:`rollerrig.contact.creep._polach_force_kernel`):
+evaluated by the same kernel as the twin (:func:`rollerrig.contact.creep.polach_force_kernel`):
 
 .. math::
     \\mathrm{CoA}(s, w) = \\frac{2\\mu}{\\pi}\\left(\\frac{k_A\\varepsilon}{1+(k_A\\varepsilon)^2}

@@ -37,16 +37,16 @@ from matplotlib.patches import Patch, Rectangle
 from rollerrig._validation import ParameterError
 from rollerrig.studies.summary import (
     STATUS_OK,
-    _check_metric,
-    _design,
-    _grid_shape,
-    _is_numeric,
-    _json_attr,
-    _metric_names,
-    _missing_counts,
-    _parameters,
-    _study_name,
-    _text,
+    check_metric,
+    design_kind,
+    grid_shape,
+    is_numeric,
+    json_attribute,
+    metric_names,
+    missing_counts,
+    study_name,
+    text_values,
+    varied_parameters,
 )
 from rollerrig.units import apply_factor, si_factor
 
@@ -104,7 +104,7 @@ class _Quantity:
 
     @property
     def numeric(self) -> bool:
-        return _is_numeric(self.values)
+        return is_numeric(self.values)
 
     @property
     def label(self) -> str:
@@ -115,7 +115,7 @@ def _quantity(ds, key: str) -> _Quantity:
     var = ds[key]
     raw = np.asarray(var.values).ravel()
     name = str(var.attrs.get("long_name", "") or key)
-    if not _is_numeric(raw):
+    if not is_numeric(raw):
         return _Quantity(key, name, "", np.asarray([str(v) for v in raw], dtype=object))
     unit, factor = display_unit(str(var.attrs.get("units", "")))
     values = np.asarray(raw, dtype=float)
@@ -138,7 +138,7 @@ def _fmt(value) -> str:
 
 def _counts_text(ds, y: np.ndarray) -> str:
     """The points of ``y`` without a value, by status: ``solver failed 2, pending 1``."""
-    counts = _missing_counts(ds, y)
+    counts = missing_counts(ds, y)
     return ", ".join(f"{s} {n}" for s, n in sorted(counts.items()))
 
 
@@ -219,7 +219,7 @@ def _title(ds, what: str, width: int = 80) -> str:
     """``study: what``, each line wrapped at ``width`` characters."""
     import textwrap
 
-    lines = f"{_study_name(ds)}: {what}".split("\n")
+    lines = f"{study_name(ds)}: {what}".split("\n")
     return "\n".join("\n".join(textwrap.wrap(line, width)) for line in lines)
 
 
@@ -375,16 +375,16 @@ def _missing_text_cells(status: np.ndarray) -> str:
 
 def _cell_status(ds, y: np.ndarray) -> np.ndarray:
     """Status per point, "metric undefined" where it ran but the metric has no value."""
-    status = _text(ds, "status").astype(object)
+    status = text_values(ds, "status").astype(object)
     undefined = (status == STATUS_OK) & ~np.isfinite(y)
     status[undefined] = "metric undefined"
     return status
 
 
 def _grid_figures(ds, metric: _Quantity) -> dict:
-    keys = _parameters(ds)
-    shape = _grid_shape(ds, keys)
-    scales = [str(s) for s in _json_attr(ds, "grid_scales", ["list"] * len(keys))]
+    keys = varied_parameters(ds)
+    shape = grid_shape(ds, keys)
+    scales = [str(s) for s in json_attribute(ds, "grid_scales", ["list"] * len(keys))]
     qs = [_quantity(ds, k) for k in keys]
     y = metric.values
     grid = y.reshape(shape)
@@ -487,9 +487,9 @@ def _main_effect_figure(ds, metric: _Quantity, qs, shape, scales):
 def _cases_figure(ds, metric: _Quantity):
     y = metric.values
     n = y.size
-    labels = list(_text(ds, "label"))
+    labels = list(text_values(ds, "label"))
     labels = [lab or f"case {i}" for i, lab in enumerate(labels)]
-    status, reason = _cell_status(ds, y), _text(ds, "reason")
+    status, reason = _cell_status(ds, y), text_values(ds, "reason")
     fig, ax = plt.subplots(figsize=(8.5, max(2.6, 0.38 * n + 1.4)))
     pos = np.arange(n)
     ok = np.isfinite(y)
@@ -676,9 +676,9 @@ def _wrap(text: str, width: int = 90) -> str:
 
 
 def _sample_figures(ds, metric: _Quantity) -> dict:
-    keys = _parameters(ds)
+    keys = varied_parameters(ds)
     qs = [_quantity(ds, k) for k in keys]
-    spec = _json_attr(ds, "sample", {})
+    spec = json_attribute(ds, "sample", {})
     spec = spec if isinstance(spec, dict) else {}
     figs = {f"{metric.key}-scatter": _scatter_figure(ds, metric, qs, spec)}
     figs[f"{metric.key}-rank-correlation"] = _rank_figure(ds, metric, qs)
@@ -729,11 +729,11 @@ def study_figures(ds, metrics=None) -> dict:
     (['peak_coa-line'], 'speed [km/h]')
     >>> plt.close("all")
     """
-    names = _metric_names(ds) if metrics is None else (
+    names = metric_names(ds) if metrics is None else (
         [metrics] if isinstance(metrics, str) else [str(m) for m in metrics])  # fmt: skip
-    design = _design(ds)
+    design = design_kind(ds)
     for m in names:
-        _check_metric(ds, m)
+        check_metric(ds, m)
     figs: dict = {}
     for m in names:
         metric = _quantity(ds, m)

@@ -21,9 +21,9 @@ from rollerrig._warnings import DomainWarning
 from rollerrig.contact.creep import (
     POLACH_PARAMETER_SETS,
     PolachParameters,
-    _friction_kernel,
-    _polach_force_kernel,
 )
+from rollerrig.contact.creep import friction_kernel as _friction_kernel
+from rollerrig.contact.creep import polach_force_kernel as _polach_force_kernel
 from rollerrig.contact.hertz import hertz_contact
 from rollerrig.contact.kalker import kalker_coefficients
 from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED

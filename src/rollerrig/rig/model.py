@@ -35,10 +35,10 @@ from typing import Literal
 
 import numpy as np
 
+from rollerrig.contact.creep import adhesion_gradient_kernel as _adhesion_gradient_kernel
+from rollerrig.contact.creep import friction_kernel as _friction_kernel
 from rollerrig.contact.creep import (
-    _adhesion_gradient_kernel,
-    _friction_kernel,
-    _polach_force_at_friction_kernel,
+    polach_force_at_friction_kernel as _polach_force_at_friction_kernel,
 )
 from rollerrig.contact.kinematics import creep_kernel as _creep_kernel
 from rollerrig.drives.induction import (
@@ -335,7 +335,7 @@ def _force_and_slope(creep, load, friction, p):
     Polach (``p[P_LAW]`` = 0): F = (2/π) N μ h(ε), h(ε) = k_A ε/(1 + (k_A ε)²) + arctan(k_S ε),
     with ε ∝ C(N)/N ∝ N^(-1/3) (the creep stiffness scales with N^(2/3)), so
     dF/dN = F/N − (2/π) μ ε h'(ε)/3. The force is the package's kernel's
-    (:func:`rollerrig.contact.creep._polach_force_at_friction_kernel`). Any other law: its
+    (:func:`rollerrig.contact.creep.polach_force_at_friction_kernel`). Any other law: its
     table (:func:`_table_force_and_slope`).
     """
     if p[P_LAW] != 0.0:

@@ -38,16 +38,16 @@ from rollerrig._optional import require
 from rollerrig._validation import ParameterError
 from rollerrig.studies.summary import (
     _describe_missing,
-    _design,
-    _grid_shape,
-    _is_numeric,
-    _json_attr,
     _metric_values,
-    _missing_counts,
-    _parameters,
     _python,
-    _study_name,
     _unit,
+    design_kind,
+    grid_shape,
+    is_numeric,
+    json_attribute,
+    missing_counts,
+    study_name,
+    varied_parameters,
 )
 
 __all__ = [
@@ -135,15 +135,15 @@ class SobolIndices:
 
 
 def _sample_spec(ds) -> dict:
-    if _design(ds) != "sample":
+    if design_kind(ds) != "sample":
         raise ParameterError(
-            f"study {_study_name(ds)!r} has design {ds.attrs.get('design')!r}, not a [sample] "
+            f"study {study_name(ds)!r} has design {ds.attrs.get('design')!r}, not a [sample] "
             "design: Sobol indices and rank correlations need sampled points; for a grid use "
             "main_effects"
         )
-    spec = _json_attr(ds, "sample")
+    spec = json_attribute(ds, "sample")
     if not isinstance(spec, dict):
-        raise ParameterError(f"study {_study_name(ds)!r}: attribute 'sample' must be a table")
+        raise ParameterError(f"study {study_name(ds)!r}: attribute 'sample' must be a table")
     return spec
 
 
@@ -152,7 +152,7 @@ def _columns(ds, keys: list[str]) -> list[np.ndarray]:
     out = []
     for k in keys:
         values = np.asarray(ds[k].values).ravel()
-        out.append(values.astype(float) if _is_numeric(values) else values.astype(str))
+        out.append(values.astype(float) if is_numeric(values) else values.astype(str))
     return out
 
 
@@ -173,7 +173,7 @@ def _saltelli_blocks(ds, spec: dict, keys: list[str]) -> tuple[int, int, bool]:
     n = int(ds.sizes["point"])
     if d < 1 or n_base < 1 or n != n_base * step:
         raise ParameterError(
-            f"study {_study_name(ds)!r}: a Sobol design with N = {n_base} and D = {d} "
+            f"study {study_name(ds)!r}: a Sobol design with N = {n_base} and D = {d} "
             f"parameters ({'with' if second else 'without'} second order) has N × "
             f"{step} = {n_base * step} points, the store has {n}; Sobol indices need the "
             "complete design in SALib's Saltelli order"
@@ -193,7 +193,7 @@ def _saltelli_blocks(ds, spec: dict, keys: list[str]) -> tuple[int, int, bool]:
             good = good and bool(np.all(got == want))
     if not good:
         raise ParameterError(
-            f"study {_study_name(ds)!r}: the points are not in SALib's Saltelli order "
+            f"study {study_name(ds)!r}: the points are not in SALib's Saltelli order "
             "(A, AB_1..AB_D, [BA_1..BA_D], B for each base row); Sobol indices need the "
             "store's points in design order"
         )
@@ -258,19 +258,19 @@ def sobol_indices(
     method = str(spec.get("method", ""))
     if method != "sobol":
         raise ParameterError(
-            f"study {_study_name(ds)!r} was sampled with method {method!r}: Sobol indices need "
+            f"study {study_name(ds)!r} was sampled with method {method!r}: Sobol indices need "
             "[sample] method = 'sobol' (Saltelli's scheme); for this study use "
             "rank_correlations"
         )
-    keys = _parameters(ds)
+    keys = varied_parameters(ds)
     y = _metric_values(ds, metric)
     n_base, _, second = _saltelli_blocks(ds, spec, keys)
     bad = ~np.isfinite(y)
     if bad.any():
         raise ParameterError(
-            f"study {_study_name(ds)!r}: Sobol indices of {metric!r} need a value at every "
+            f"study {study_name(ds)!r}: Sobol indices of {metric!r} need a value at every "
             f"point, but {int(bad.sum())} of {y.size} points have none "
-            f"({_describe_missing(_missing_counts(ds, y))}); finish pending points by running "
+            f"({_describe_missing(missing_counts(ds, y))}); finish pending points by running "
             "the study again (it resumes), narrow the ranges where points fail, or use "
             "rank_correlations, which ignores them"
         )
@@ -388,7 +388,7 @@ def rank_correlations(ds, metric: str) -> RankCorrelations:
     from scipy import stats
 
     spec = _sample_spec(ds)
-    keys = _parameters(ds)
+    keys = varied_parameters(ds)
     y = _metric_values(ds, metric)
     columns = _columns(ds, keys)
     numeric = np.array([c.dtype.kind == "f" for c in columns])
@@ -401,12 +401,12 @@ def rank_correlations(ds, metric: str) -> RankCorrelations:
         use[0::step] = True
         use[step - 1 :: step] = True
         where = f": the A and B rows of the Saltelli sample ({y.size} points in all)"
-    counts = _missing_counts(ds, np.where(use, y, 0.0))
+    counts = missing_counts(ds, np.where(use, y, 0.0))
     ok = use & np.isfinite(y)
     n_used, n_ignored = int(ok.sum()), int((use & ~np.isfinite(y)).sum())
     if n_used < 3:
         raise ParameterError(
-            f"study {_study_name(ds)!r}: rank correlations of {metric!r} need at least 3 points "
+            f"study {study_name(ds)!r}: rank correlations of {metric!r} need at least 3 points "
             f"with a value, it has {n_used}"
             + (f" ({_describe_missing(counts)} without)" if counts else "")
         )
@@ -548,21 +548,21 @@ def main_effects(ds, metric: str) -> MainEffects:
     The shares describe the grid as designed: they depend on where its levels lie (a log
     axis weights its low decades as much as its high ones).
     """
-    if _design(ds) != "grid":
+    if design_kind(ds) != "grid":
         raise ParameterError(
-            f"study {_study_name(ds)!r} has design {ds.attrs.get('design')!r}: main effects "
+            f"study {study_name(ds)!r} has design {ds.attrs.get('design')!r}: main effects "
             "need a full-factorial [grid]; for a [sample] study use sobol_indices or "
             "rank_correlations"
         )
-    keys = _parameters(ds)
-    shape = _grid_shape(ds, keys)
+    keys = varied_parameters(ds)
+    shape = grid_shape(ds, keys)
     y = _metric_values(ds, metric)
     bad = ~np.isfinite(y)
     if bad.any():
         raise ParameterError(
-            f"study {_study_name(ds)!r}: main effects of {metric!r} need a value at every grid "
+            f"study {study_name(ds)!r}: main effects of {metric!r} need a value at every grid "
             f"point, but {int(bad.sum())} of {y.size} have none "
-            f"({_describe_missing(_missing_counts(ds, y))}); run the pending points (the "
+            f"({_describe_missing(missing_counts(ds, y))}); run the pending points (the "
             "study resumes) or leave the failing levels out of the grid"
         )
     grid = y.reshape(shape)

@@ -39,7 +39,23 @@ import numpy as np
 
 from rollerrig._validation import ParameterError, did_you_mean
 
-__all__ = ["STATUS_OK", "STATUS_PENDING", "failures", "metric_summary", "metric_table"]
+__all__ = [
+    "STATUS_OK",
+    "STATUS_PENDING",
+    "check_metric",
+    "design_kind",
+    "failures",
+    "grid_shape",
+    "is_numeric",
+    "json_attribute",
+    "metric_names",
+    "metric_summary",
+    "metric_table",
+    "missing_counts",
+    "study_name",
+    "text_values",
+    "varied_parameters",
+]
 
 STATUS_OK = "ok"
 """Status of a point that ran and was measured."""
@@ -55,17 +71,18 @@ PERCENTILES = (5.0, 50.0, 95.0)
 # --------------------------------------------------------------------------------------------
 
 
-def _study_name(ds) -> str:
+def study_name(ds) -> str:
+    """The study's name from its Dataset (``"(unnamed)"`` when it has none)."""
     return str(ds.attrs.get("study", "") or "(unnamed)")
 
 
-def _json_attr(ds, key: str, default=None):
+def json_attribute(ds, key: str, default=None):
     """A JSON attribute of the study, decoded; ``default`` when absent."""
     if key not in ds.attrs:
         if default is not None:
             return default
         raise ParameterError(
-            f"study {_study_name(ds)!r}: the Dataset has no attribute {key!r}; open the study "
+            f"study {study_name(ds)!r}: the Dataset has no attribute {key!r}; open the study "
             "with rollerrig.studies.store.open_study (it writes the attributes a study needs)"
         )
     value = ds.attrs[key]
@@ -74,57 +91,58 @@ def _json_attr(ds, key: str, default=None):
             return json.loads(value)
         except json.JSONDecodeError as exc:
             raise ParameterError(
-                f"study {_study_name(ds)!r}: attribute {key!r} is not JSON text: {value[:80]!r}"
+                f"study {study_name(ds)!r}: attribute {key!r} is not JSON text: {value[:80]!r}"
             ) from exc
     return value
 
 
-def _design(ds) -> str:
+def design_kind(ds) -> str:
+    """The study's design: ``"grid"``, ``"sample"`` or ``"cases"`` (checked)."""
     design = str(ds.attrs.get("design", ""))
     if design not in ("grid", "sample", "cases"):
         raise ParameterError(
-            f"study {_study_name(ds)!r}: attribute 'design' must be 'grid', 'sample' or "
+            f"study {study_name(ds)!r}: attribute 'design' must be 'grid', 'sample' or "
             f"'cases', got {design!r}"
         )
     return design
 
 
-def _parameters(ds) -> list[str]:
+def varied_parameters(ds) -> list[str]:
     """The varied quantities, in design order; each must be a variable of the Dataset."""
-    keys = [str(k) for k in _json_attr(ds, "parameters", [])]
+    keys = [str(k) for k in json_attribute(ds, "parameters", [])]
     missing = [k for k in keys if k not in ds.variables]
     if missing:
         raise ParameterError(
-            f"study {_study_name(ds)!r}: parameters {missing} are listed in attrs 'parameters' "
+            f"study {study_name(ds)!r}: parameters {missing} are listed in attrs 'parameters' "
             "but have no variable in the Dataset"
         )
     return keys
 
 
-def _grid_shape(ds, keys: list[str]) -> tuple[int, ...]:
+def grid_shape(ds, keys: list[str]) -> tuple[int, ...]:
     """``grid_shape`` of a grid study, checked against its axes and points."""
-    shape = tuple(int(s) for s in _json_attr(ds, "grid_shape"))
+    shape = tuple(int(s) for s in json_attribute(ds, "grid_shape"))
     if len(shape) != len(keys) or int(np.prod(shape)) != ds.sizes["point"]:
         raise ParameterError(
-            f"study {_study_name(ds)!r}: grid_shape {list(shape)} does not fit the "
+            f"study {study_name(ds)!r}: grid_shape {list(shape)} does not fit the "
             f"{len(keys)} axes {keys} and {ds.sizes['point']} points (C order over the axes)"
         )
     return shape
 
 
-def _metric_names(ds) -> list[str]:
+def metric_names(ds) -> list[str]:
     """The metrics of the study, in the order of attrs ``metrics``."""
-    return [str(m) for m in _json_attr(ds, "metrics", [])]
+    return [str(m) for m in json_attribute(ds, "metrics", [])]
 
 
-def _check_metric(ds, metric: str) -> str:
+def check_metric(ds, metric: str) -> str:
     """``metric`` if the study has it, else a :class:`ParameterError` listing those it has."""
-    names = _metric_names(ds)
+    names = metric_names(ds)
     if metric in names and metric in ds.variables:
         return metric
     hint = did_you_mean(str(metric), names)
     raise ParameterError(
-        f"study {_study_name(ds)!r} has no metric {metric!r}{hint}; its metrics: "
+        f"study {study_name(ds)!r} has no metric {metric!r}{hint}; its metrics: "
         f"{', '.join(repr(m) for m in names) or 'none'}. Choose one of them, or add it to "
         "[outputs] metrics of the study file and run the study again"
     )
@@ -132,10 +150,10 @@ def _check_metric(ds, metric: str) -> str:
 
 def _metric_values(ds, metric: str) -> np.ndarray:
     """Values of a metric per point [its unit], float, NaN where there is none."""
-    return np.asarray(ds[_check_metric(ds, metric)].values, dtype=float)
+    return np.asarray(ds[check_metric(ds, metric)].values, dtype=float)
 
 
-def _text(ds, name: str) -> np.ndarray:
+def text_values(ds, name: str) -> np.ndarray:
     """A text variable per point (``status``, ``label``, ``reason``) as str; '' if absent."""
     n = ds.sizes["point"]
     if name not in ds.variables:
@@ -147,7 +165,7 @@ def _unit(ds, name: str) -> str:
     return str(ds[name].attrs.get("units", "")) if name in ds.variables else ""
 
 
-def _is_numeric(values: np.ndarray) -> bool:
+def is_numeric(values: np.ndarray) -> bool:
     return np.asarray(values).dtype.kind in "biuf"
 
 
@@ -174,13 +192,15 @@ def _python(value):
 
 def _parameter_columns(ds) -> list[tuple[str, np.ndarray]]:
     """(column name with unit, values per point) of each varied quantity."""
-    return [(_column(k, _unit(ds, k)), np.asarray(ds[k].values).ravel()) for k in _parameters(ds)]
+    return [
+        (_column(k, _unit(ds, k)), np.asarray(ds[k].values).ravel()) for k in varied_parameters(ds)
+    ]
 
 
-def _missing_counts(ds, values: np.ndarray) -> dict[str, int]:
+def missing_counts(ds, values: np.ndarray) -> dict[str, int]:
     """Points without a value, by why: their status, or "metric undefined" where the point
     ran but the metric has no value there [points]."""
-    status = _text(ds, "status")
+    status = text_values(ds, "status")
     bad = ~np.isfinite(values)
     counts: dict[str, int] = {}
     for s in status[bad]:
@@ -226,7 +246,11 @@ def metric_table(ds, metric: str) -> list[dict]:
     unit = _unit(ds, metric)
     meaning = str(ds[metric].attrs.get("nan_meaning", "the metric is undefined at this point"))
     params = _parameter_columns(ds)
-    labels, status, reason = _text(ds, "label"), _text(ds, "status"), _text(ds, "reason")
+    labels, status, reason = (
+        text_values(ds, "label"),
+        text_values(ds, "status"),
+        text_values(ds, "reason"),
+    )
     name = _column(metric, unit)
     rows = []
     for i in range(y.size):
@@ -271,9 +295,9 @@ def metric_summary(ds, metrics: Sequence[str] | None = None) -> list[dict]:
     the spread; for a grid or cases the statistics are over the points as designed, with
     equal weights.
     """
-    names = _metric_names(ds) if metrics is None else [str(m) for m in metrics]
-    sampled = _design(ds) == "sample"
-    status = _text(ds, "status")
+    names = metric_names(ds) if metrics is None else [str(m) for m in metrics]
+    sampled = design_kind(ds) == "sample"
+    status = text_values(ds, "status")
     rows = []
     for metric in names:
         y = _metric_values(ds, metric)
@@ -308,10 +332,10 @@ def failures(ds) -> list[dict]:
         In point order: ``point``, ``label``, one ``"<key> [<unit>]"`` per varied quantity,
         ``status`` and ``reason``. Empty when every point ran (or is still pending).
     """
-    status = _text(ds, "status")
+    status = text_values(ds, "status")
     bad = np.flatnonzero((status != STATUS_OK) & (status != STATUS_PENDING))
     params = _parameter_columns(ds)
-    labels, reason = _text(ds, "label"), _text(ds, "reason")
+    labels, reason = text_values(ds, "label"), text_values(ds, "reason")
     rows = []
     for i in bad:
         row: dict = {"point": int(i), "label": labels[i]}
