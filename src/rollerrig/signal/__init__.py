@@ -12,7 +12,10 @@ The filter study (entry points in :mod:`~rollerrig.signal.scoring`)
     :mod:`~rollerrig.signal.study_table` (the ranked result),
     :mod:`~rollerrig.signal.synthetic_torque` (a seed-like torque with known truth).
 Spectra (public names gathered in :mod:`~rollerrig.signal.spectra`)
-    :mod:`~rollerrig.signal.welch` (Welch spectra and coherence, streamed),
+    :mod:`~rollerrig.signal.welch` (Welch spectra and coherence of arrays, the periodogram),
+    :mod:`~rollerrig.signal.streamed_welch` (the same of a stream of chunks, bounded memory),
+    :mod:`~rollerrig.signal.welch_settings` (their settings checked),
+    :mod:`~rollerrig.signal.spectrum_results` (the spectra as results),
     :mod:`~rollerrig.signal.peaks` (peak finding), :mod:`~rollerrig.signal.attribution` (the
     source of each peak), :mod:`~rollerrig.signal.ordermap` (order maps),
     :mod:`~rollerrig.signal.workflow` (the one spectrum workflow: ``explain_recording``),
