@@ -1,7 +1,10 @@
 """Signal processing: smoothing filters, filter scoring and tuning, spectra with attribution.
 
 Smoothing and long recordings
-    :mod:`~rollerrig.signal.smoothing` (the filters, MATLAB semantics, :func:`smooth`),
+    :mod:`~rollerrig.signal.smoothing` (the filters, MATLAB semantics, :func:`smooth`), each
+    filter in its module: :mod:`~rollerrig.signal.averaging_filters` (moving average,
+    Gaussian), :mod:`~rollerrig.signal.local_regression` (LOWESS/LOESS),
+    :mod:`~rollerrig.signal.savitzky_golay_filter`, :mod:`~rollerrig.signal.butterworth_filter`;
     :mod:`~rollerrig.signal.chunked` (the filters over a stream of chunks),
     :mod:`~rollerrig.signal.decimate` (zero-phase anti-alias decimation, streamed).
 The filter study (entry points in :mod:`~rollerrig.signal.scoring`)
