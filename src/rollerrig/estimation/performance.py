@@ -7,7 +7,9 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal
 
-from rollerrig.estimation.kalman import ContactEstimate, _array, _positive
+from rollerrig.estimation.contact_estimate import ContactEstimate
+from rollerrig.estimation.estimator_inputs import _array
+from rollerrig.estimation.estimator_parameters import _positive
 from rollerrig.recordings.recording import RecordingError
 
 __all__ = ["estimator_performance"]

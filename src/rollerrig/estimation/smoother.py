@@ -17,13 +17,11 @@ import math
 import numpy as np
 
 from rollerrig._validation import ParameterError
-from rollerrig.estimation.kalman import (
+from rollerrig.estimation.contact_estimate import ContactEstimate
+from rollerrig.estimation.estimator_inputs import _array, _bearing, _inputs
+from rollerrig.estimation.estimator_parameters import (
     DEFAULT_TORQUE_NOISE,
-    ContactEstimate,
-    _array,
-    _bearing,
     _check_model,
-    _inputs,
     _nonnegative,
     _positive,
     _roller_parameters,

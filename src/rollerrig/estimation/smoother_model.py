@@ -17,7 +17,7 @@ import numpy as np
 from scipy import linalg
 
 from rollerrig._validation import ParameterError
-from rollerrig.estimation.kalman import (
+from rollerrig.estimation.estimator_parameters import (
     _GAIN_TOLERANCE,
     _MAX_SETTLING,
     INITIAL_ACCELERATION_SD,

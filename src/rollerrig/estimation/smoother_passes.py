@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import linalg
 
-from rollerrig.estimation.kalman import _GAIN_TOLERANCE, _triangular
+from rollerrig.estimation.estimator_parameters import _GAIN_TOLERANCE
+from rollerrig.estimation.schur_recursion import _triangular
 from rollerrig.estimation.smoother_model import _Smoother
 
 __all__: list[str] = []

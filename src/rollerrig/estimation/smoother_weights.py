@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rollerrig._validation import ParameterError
-from rollerrig.estimation.kalman import _MAX_SETTLING, _positive
+from rollerrig.estimation.estimator_parameters import _MAX_SETTLING, _positive
 from rollerrig.estimation.smoother import (
     RollerChain,
     _smoother_backward,
