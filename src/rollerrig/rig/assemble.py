@@ -306,19 +306,19 @@ def assemble(
         np.clip(np.concatenate([[0.0, protocol.duration], cuts]), 0.0, protocol.duration)
     )
     segments = []
-    for start, end in pairwise(cuts):
-        if end - start <= 1e-12:
-            continue
-        condition = protocol.friction_at(0.5 * (start + end))
-        condition = str(np.asarray(condition).item()) if np.ndim(condition) else str(condition)
-        segments.append(
-            Segment(
-                float(start),
-                float(end),
-                condition,
-                _friction_into(base, friction_sets[condition], drives.law, condition),
+    # One parameter vector per friction condition, shared by its segments (an input table at
+    # the DAQ's rate makes tens of thousands of segments, and few conditions).
+    spans = [(s, e) for s, e in pairwise(cuts) if e - s > 1e-12]
+    middles = np.array([0.5 * (s + e) for s, e in spans])
+    conditions = protocol.friction_at(middles) if spans else []
+    vectors: dict[str, np.ndarray] = {}
+    for (start, end), condition in zip(spans, conditions, strict=True):
+        condition = str(condition)
+        if condition not in vectors:
+            vectors[condition] = _friction_into(
+                base, friction_sets[condition], drives.law, condition
             )
-        )
+        segments.append(Segment(float(start), float(end), condition, vectors[condition]))
     if drives.roller == "induction_dq":
         segments, tables, x0 = _with_dq_drive(rig, segments, tables)
     else:

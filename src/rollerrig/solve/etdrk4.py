@@ -62,6 +62,11 @@ MAX_BLOCK = 3
 _TAYLOR_TERMS = 10  # Taylor terms of φ3 at ‖Z‖ <= 1/2: truncation below 1e-15
 _STABILITY_MARGIN = 1.25  # the explicit part's eigenvalues are scaled by this before the check
 _MIN_STEP_RATIO = 0.2  # below this share of h_max the segment goes to the fallback
+# A segment that starts within this time [s] of the last stability estimate reuses it: a long
+# segment keeps the estimate made at its start anyway, and an input table sampled at 1 kHz (a
+# replayed recording) would otherwise pay a full Jacobian and its eigenvalues (about 0.3 ms)
+# for every millisecond simulated, fifty times the steps' own cost.
+STABILITY_RECHECK = 0.01
 _SQRT_EPS = np.sqrt(np.finfo(float).eps)
 
 # Coefficient slots of a block (see _block_coefficients).
@@ -421,14 +426,16 @@ def _hermite(t, h, x, f, x_new, f_new, t_at, out):
 
 def _segment(
     x0, t0, t1, t_out, p, tables, h_max, relinearise, static_blocks, dynamic_blocks, x_out,
-    counts,
+    counts, memo,
 ):  # fmt: skip
     """ETDRK4 over one smooth segment ``[t0, t1]``; ``x_out[k]`` at ``t_out[k]`` (in
     ``[t0, t1]``, increasing), the last row ``t_out[-1] == t1`` being the end state.
 
     Returns a status: 0 done; -1 the segment needs the fallback (the stable step is below
     ``0.2 h_max``, or the state became non-finite). ``counts`` gets the steps (0) and the
-    linearisations (2) added.
+    linearisations (2) added. ``memo`` (two floats, zeros at the start of a run) holds the last
+    stable step and when it was estimated; a segment starting within
+    :data:`STABILITY_RECHECK` of it reuses it.
     """
     n = x0.shape[0]
     n_out = t_out.shape[0]
@@ -444,7 +451,12 @@ def _segment(
     if not (_wd._all_finite(x) and _wd._all_finite(fx)):
         return -1
     length = t1 - t0
-    h_stable = _stable_step(t0, x, fx, p, tables, blocks, sizes, h_max)
+    if memo[0] > 0.0 and t0 - memo[1] < STABILITY_RECHECK:
+        h_stable = memo[0]
+    else:
+        h_stable = _stable_step(t0, x, fx, p, tables, blocks, sizes, h_max)
+        memo[0] = h_stable
+        memo[1] = t0
     if h_stable < _MIN_STEP_RATIO * h_max:
         return -1
     m = max(1, int(np.ceil(length / h_stable * (1.0 - 1e-12))))
@@ -516,7 +528,7 @@ def bind(driver, name: str):
     -------
     numba dispatcher
         ``segment(x0, t0, t1, t_out, p, tables, h_max, relinearise, static_blocks,
-        dynamic_blocks, x_out, counts) -> status`` (see the template ``_segment``).
+        dynamic_blocks, x_out, counts, memo) -> status`` (see the template ``_segment``).
     """
     if name in _NAMED:
         return _NAMED[name]

@@ -244,6 +244,7 @@ def _integrate_exp(
         x_out[k, :] = x
         k += 1
     status = STATUS_OK
+    memo = np.zeros(2)  # the last stability estimate and its time (etdrk4._segment)
     for s in range(bounds.shape[0]):
         t0 = bounds[s, 0]
         t1 = bounds[s, 1]
@@ -260,7 +261,7 @@ def _integrate_exp(
         xs = np.empty((m + 1, x.shape[0]))
         done = _exp_segment(
             x, t0, t1, ts, params[s], tables, exp_step, relinearise, static_blocks,
-            dynamic_blocks, xs, stats,
+            dynamic_blocks, xs, stats, memo,
         )  # fmt: skip
         if done == 0:
             t_stop[0] = t1
