@@ -42,11 +42,19 @@ def short_test() -> Protocol:
     )
 
 
-def make_recording(truth=None, seed=0, friction=None, protocol=None):
-    """(recording, truth dataset) of the twin with ``truth`` overrides and ``friction``."""
+def make_recording(truth=None, seed=0, friction=None, protocol=None, law="polach"):
+    """(recording, truth dataset) of the twin with ``truth`` overrides, ``friction`` and the
+    creep law ``law``."""
+    from rollerrig.rig.model import DriveConfig
+
     rig = default_rig().with_overrides(TRUTH if truth is None else truth)
     sets = None if friction is None else {"dry": friction}
-    sim = Simulation(rig, short_test() if protocol is None else protocol, friction_sets=sets)
+    sim = Simulation(
+        rig,
+        short_test() if protocol is None else protocol,
+        drives=DriveConfig(law=law),
+        friction_sets=sets,
+    )
     return synthetic_recording(sim.run(), seed=seed)
 
 

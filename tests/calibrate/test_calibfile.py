@@ -339,3 +339,30 @@ def test_any_bytes_are_a_result_or_a_calibration_error(tmp_path_factory, text):
         read_calibration(path)
     except CalibrationError:
         pass
+
+
+def test_a_calibration_of_another_creep_law_is_read_with_its_own_keys(calibration_doc):
+    """``law`` names the creep law fitted: its keys (``fastsim.*`` for the modified FASTSIM)
+    are checked against that law's ranges; another law's keys, or an unknown law, are errors."""
+    entry = {"value": 0.6, "standard_error": 0.002, "unit": "1", "initial": 0.54}
+    doc = calibration_doc()
+    doc["law"] = "modified-fastsim"
+    doc["parameters"]["fastsim.k0"] = dict(entry)
+    assert check_calibration(doc)["parameters"]["fastsim.k0"]["value"] == 0.6
+
+    doc["parameters"]["fastsim.k0"]["value"] = 1.2  # 0 < k0 <= 1
+    assert _problems(doc) == (
+        "calibration.json: fastsim.k0.value: must lie in (0, 1]; allowed (0, 1]; got 1.2",
+    )
+    doc = calibration_doc()  # no law: Polach's, which has no k0
+    doc["parameters"]["fastsim.k0"] = dict(entry)
+    assert _problems(doc) == (
+        "calibration.json: fastsim.k0: not a parameter of the calibration's creep law 'polach' "
+        "(its keys: polach.static_friction, polach.limit_ratio, polach.friction_decay, "
+        "polach.k_adhesion, polach.k_slip); got 'fastsim.k0'",
+    )
+    doc["law"] = "modified-fastsm"
+    assert (
+        "law: not a creep law rollerrig calibrate fits (did you mean 'modified-fastsim'?)"
+        in (_problems(doc)[0])
+    )

@@ -1,8 +1,10 @@
 """Calibrate the twin to a recorded test: fitted rig and friction parameters with their errors.
 
 :func:`calibrate` replays a recording's wheel-torque request through the twin (fast backend)
-and fits the free parameters, named by their dotted rig-file keys and ``polach.*``, so that
-the simulated roller-shaft torque T56 and both encoder speeds match the recording. The result,
+and fits the free parameters, named by their dotted rig-file keys and the creep law's keys
+(``polach.*``; ``fastsim.*`` with ``law="modified-fastsim"``, ``"fastsim"`` or ``"fastrip"``:
+the law is a choice), so that the simulated roller-shaft torque T56 and both encoder speeds
+match the recording. The result,
 a :class:`Calibration`, holds each value with its standard error, the correlations, the
 residuals before and after with their whiteness, warnings for what the recording cannot
 identify, and the calibrated rig (:attr:`Calibration.rig`), written by
@@ -44,14 +46,19 @@ from rollerrig.calibrate.files import (
 from rollerrig.calibrate.fit import FD_STEP, HAC_WINDOW, MAX_RELATIVE_SE, calibrate
 from rollerrig.calibrate.measurement import quantisation_noise
 from rollerrig.calibrate.problem import (
+    CALIBRATION_LAWS,
+    FASTSIM_KEYS,
     POLACH_KEYS,
     CalibrationError,
     free_parameter_catalogue,
+    law_keys,
 )
 
 __all__ = [
     "CALIBRATED_RIG_NAME",
     "CALIBRATION_JSON_NAME",
+    "CALIBRATION_LAWS",
+    "FASTSIM_KEYS",
     "FD_STEP",
     "FIT_DATASET_NAME",
     "HAC_WINDOW",
@@ -65,6 +72,7 @@ __all__ = [
     "check_calibration",
     "check_rig",
     "free_parameter_catalogue",
+    "law_keys",
     "quantisation_noise",
     "read_calibration",
     "write_calibration",

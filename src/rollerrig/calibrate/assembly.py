@@ -1,7 +1,7 @@
 """The :class:`~rollerrig.calibrate.calibration.Calibration` assembled from a finished fit
 (:func:`build_calibration`): standard errors and correlations in the values' units, each
 channel's residuals before and after, the warnings and notes, the calibrated rig and friction
-law with their provenance, the fit's settings.
+law (of the creep law fitted) with their provenance, the fit's settings.
 """
 
 from __future__ import annotations
@@ -22,10 +22,17 @@ from rollerrig.calibrate.diagnostics import (
     _invalid_reasons,
     channel_structured,
 )
-from rollerrig.calibrate.problem import ROLLER_DRIVES, FreeParameter, split_values, with_polach
+from rollerrig.calibrate.problem import (
+    LAW_KEY_PREFIXES,
+    ROLLER_DRIVES,
+    FreeParameter,
+    split_values,
+    with_polach,
+)
 from rollerrig.calibrate.settings import FD_STEP, HAC_WINDOW, MAX_CORRELATION
 from rollerrig.calibrate.stats import whiteness
 from rollerrig.contact.creep import PolachParameters
+from rollerrig.contact.laws import FastsimParameters
 from rollerrig.rig.parameters import RigParameters
 
 __all__ = ["build_calibration"]
@@ -38,7 +45,8 @@ def _identified_rig(
 ) -> RigParameters:
     """``rig`` with the identified rig keys replaced, their provenance the calibration's."""
     values = {k: p.value for k, p in fitted.items() if p.identified and "." in k}
-    values = {k: v for k, v in values.items() if not k.startswith(("polach.", "experiment."))}
+    not_rig = (*LAW_KEY_PREFIXES, "experiment.")
+    values = {k: v for k, v in values.items() if not k.startswith(not_rig)}
     if not values:
         return rig
     out = rig.with_overrides(values)
@@ -232,10 +240,14 @@ def build_calibration(
         )
 
     values = [p.value(point.z[i]) for i, p in enumerate(params)]
-    _, polach_values, experiment = split_values(params, values)
-    identified_polach = {k: v for k, v in polach_values.items() if fitted[f"polach.{k}"].identified}
-    friction = with_polach(model.friction, identified_polach)
-    if identified_polach:
+    _, _, experiment = split_values(params, values)
+    identified_law = {
+        p.key.partition(".")[2]: v
+        for p, v in zip(params, values, strict=True)
+        if p.kind in ("polach", "fastsim") and fitted[p.key].identified
+    }
+    friction = with_polach(model.friction, identified_law)
+    if identified_law:
         friction = _renamed(friction, "calibrated")
     facts = recording_facts(recording)
     rig = _identified_rig(model.rig, free, measurement.source, facts.get("sha256"))
@@ -281,7 +293,11 @@ def build_calibration(
             "sample_rate [Hz]": 1.0 / measurement.sample_interval,
             "free_rolling_until [s]": measurement.quiet_until,
             "friction_start": model.friction.to_dict(),
-            "drives": {"wheel": model.drives.wheel, "roller": model.drives.roller},
+            "drives": {
+                "wheel": model.drives.wheel,
+                "roller": model.drives.roller,
+                "law": model.drives.law,
+            },
         },
         fit={
             "method": "Levenberg-Marquardt in z = ln(value - lower bound), forward differences "
@@ -291,6 +307,7 @@ def build_calibration(
             "simulations": int(model.simulations),
             "wall_time [s]": float(wall_time),
             "finite_difference_step_z": _fd_step(),
+            **_law_steps(params),
             "solver": _solver_settings(model),
             "lag_window [s]": float(fit.lag_window),
             "lag_window_rule": (
@@ -309,6 +326,7 @@ def build_calibration(
         conditional=bool(structured),
         structured_channels=structured,
         roller_drive=roller,
+        law=model.drives.law,
         suggestion=suggestion,
     )
 
@@ -329,7 +347,24 @@ def _fd_step() -> float:
     return FD_STEP
 
 
-def _renamed(friction: PolachParameters, name: str) -> PolachParameters:
+def _law_steps(params) -> dict[str, Any]:
+    """The steps of a tabulated creep law's keys, where they differ from :data:`FD_STEP`."""
+    from rollerrig.calibrate.fit import fd_steps
+
+    steps = fd_steps(params)
+    other = {p.key: float(h) for p, h in zip(params, steps, strict=True) if h != FD_STEP}
+    if not other:
+        return {}
+    return {
+        "finite_difference_step_z_law": other,
+        "finite_difference_step_law_rule": "the creep law's force is tabulated (cubic Hermite "
+        "between nodes): its keys step below one node spacing (FD_STEP_TABULATED)",
+    }
+
+
+def _renamed(
+    friction: PolachParameters | FastsimParameters, name: str
+) -> PolachParameters | FastsimParameters:
     from dataclasses import replace
 
     return replace(friction, name=name, source=f"calibrated from {friction.name}")

@@ -37,7 +37,7 @@ from typing import Any
 
 from rollerrig._validation import Problem, Verbatim, show_value
 from rollerrig.calibrate.calibfile import _factor_problems, _fail, _is_number
-from rollerrig.calibrate.problem import POLACH_KEYS, CalibrationError
+from rollerrig.calibrate.problem import CalibrationError, is_law_key
 from rollerrig.rig.parameters import rig_values
 
 __all__ = [
@@ -94,12 +94,13 @@ def rig_binding(rig, calibrated: Iterable[str]) -> dict[str, Any]:
 
 
 def calibrated_rig_keys(data: Mapping[str, Any]) -> list[str]:
-    """The rig keys a (checked) calibration gives a value for (not ``polach.*``)."""
+    """The rig keys a (checked) calibration gives a value for (not the creep law's
+    ``polach.*``, ``fastsim.*``)."""
     params = data.get("parameters") or {}
     return [
         k
         for k, e in params.items()
-        if k not in POLACH_KEYS and isinstance(e, dict) and e.get("value") is not None
+        if not is_law_key(k) and isinstance(e, dict) and e.get("value") is not None
     ]
 
 

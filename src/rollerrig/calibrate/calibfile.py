@@ -7,7 +7,9 @@ package's one error format (:mod:`rollerrig._validation`), all of them at once:
 - each key of ``parameters`` must be a key ``rollerrig calibrate`` fits
   (:func:`~rollerrig.calibrate.free_parameter_catalogue`); its ``value`` a finite number (or
   null: not identified) that passes the rig file's own check of that key (the field's type and
-  range of :mod:`rollerrig.rig.sections`; the Polach ranges for ``polach.*``) and lies within
+  range of :mod:`rollerrig.rig.sections`; the creep law's ranges for ``polach.*`` and
+  ``fastsim.*``, whose keys must be those of the file's ``law``, Polach's without one) and lies
+  within
   :data:`MAX_FACTOR` of its recorded starting value ``initial``; its ``standard_error`` null,
   0, or a finite number between :data:`MIN_RELATIVE_SE` and
   :data:`~rollerrig.calibrate.fit.MAX_RELATIVE_SE` times the value (what ``calibrate`` itself
@@ -58,11 +60,16 @@ from rollerrig._validation import (
     show_value,
 )
 from rollerrig.calibrate.problem import (
+    _FASTSIM_RANGES,
     _POLACH_RANGES,
     _POLACH_UNITS,
+    CALIBRATION_LAWS,
+    FASTSIM_KEYS,
     POLACH_KEYS,
     CalibrationError,
     free_parameter_catalogue,
+    is_law_key,
+    law_keys,
 )
 from rollerrig.calibrate.settings import MAX_RELATIVE_SE
 from rollerrig.rig.parameters import rig_values
@@ -235,6 +242,7 @@ def check_calibration(data: Any, source: str = "calibration.json", rig=None) -> 
         for key, entry in params.items():
             problems += _entry_problems(str(key), entry, here.get(str(key)))
         problems += _values_problems(data.get("values"), params)
+    problems += _law_problems(data)
     problems += _correlation_problems(data)
     problems += _report_problems(data)
     problems += _rig_record_problems(data)
@@ -268,7 +276,7 @@ def _rig_key_model(key: str):
 
 
 def _key_unit(key: str) -> str:
-    if key in POLACH_KEYS:
+    if is_law_key(key):
         return _POLACH_UNITS.get(key.partition(".")[2], "1")
     section, _, name = key.partition(".")
     return si_unit_of(SECTIONS[section].model_fields[name])
@@ -277,6 +285,8 @@ def _key_unit(key: str) -> str:
 def _lower_bound(key: str) -> float:
     if key in POLACH_KEYS:
         return _POLACH_RANGES[key.partition(".")[2]][0]
+    if key in FASTSIM_KEYS:
+        return _FASTSIM_RANGES[key.partition(".")[2]][0]
     from rollerrig.calibrate.problem import _bounds
 
     section, _, name = key.partition(".")
@@ -290,6 +300,14 @@ _POLACH_INTERVALS = {  # (low, high, low inclusive, high inclusive): PolachParam
     "k_adhesion": (0.0, 1.0, False, True),
     "k_slip": (0.0, 1.0, False, True),
 }
+_FASTSIM_INTERVALS = {  # FastsimParameters' checks
+    "static_friction": (0.0, math.inf, False, False),
+    "limit_ratio": (0.0, 1.0, False, True),
+    "friction_decay": (0.0, math.inf, True, False),
+    "k0": (0.0, 1.0, False, True),
+    "alpha_inf": (0.0, 1.0, True, True),
+    "beta": (0.0, math.inf, True, False),
+}
 
 
 def _value_problems(key: str, field: str, value: Any) -> list[Problem]:
@@ -300,8 +318,9 @@ def _value_problems(key: str, field: str, value: Any) -> list[Problem]:
         return [Problem(where, "must be a number", unit=unit, got=value)]
     if not math.isfinite(value):
         return [Problem(where, "must be finite", unit=unit, got=value)]
-    if key in POLACH_KEYS:
-        low, high, low_in, high_in = _POLACH_INTERVALS[key.partition(".")[2]]
+    if is_law_key(key):
+        intervals = _POLACH_INTERVALS if key in POLACH_KEYS else _FASTSIM_INTERVALS
+        low, high, low_in, high_in = intervals[key.partition(".")[2]]
         above = value >= low if low_in else value > low
         below = value <= high if high_in else value < high
         if above and below:
@@ -320,7 +339,7 @@ def _value_problems(key: str, field: str, value: Any) -> list[Problem]:
 
 
 def _entry_problems(key: str, entry: Any, rig_value: Any = None) -> list[Problem]:
-    catalogue = free_parameter_catalogue("induction_dq")  # every drive's keys
+    catalogue = (*free_parameter_catalogue("induction_dq"), *FASTSIM_KEYS)  # every drive, law
     if key not in catalogue:
         hint = did_you_mean(key, catalogue)
         return [
@@ -540,6 +559,34 @@ def _correlation_problems(data: dict) -> list[Problem]:
 
 
 # ----------------------------------------------------------------------------- report parts
+
+
+def _law_problems(data: dict) -> list[Problem]:
+    """``law`` one of the creep laws; the law keys of ``parameters`` that law's."""
+    law = data.get("law", "polach")
+    if law not in CALIBRATION_LAWS:
+        return [
+            Problem(
+                "law",
+                "not a creep law rollerrig calibrate fits"
+                + did_you_mean(str(law), CALIBRATION_LAWS),
+                allowed=list(CALIBRATION_LAWS),
+                got=law,
+            )
+        ]
+    params = data.get("parameters")
+    if not isinstance(params, dict):
+        return []
+    own = law_keys(law)
+    wrong = [str(k) for k in params if is_law_key(str(k)) and k not in own]
+    return [
+        Problem(
+            key,
+            f"not a parameter of the calibration's creep law {law!r} (its keys: {', '.join(own)})",
+            got=key,
+        )
+        for key in wrong
+    ]
 
 
 def _report_problems(data: dict) -> list[Problem]:

@@ -26,8 +26,10 @@ from rollerrig.calibrate.diagnostics import (
     STRUCTURE_LAG1,
     STRUCTURE_TAU,
 )
+from rollerrig.calibrate.problem import LAW_KEY_PREFIXES
 from rollerrig.calibrate.stats import LJUNG_BOX_LAGS
 from rollerrig.contact.creep import PolachParameters
+from rollerrig.contact.laws import FastsimParameters
 from rollerrig.rig.parameters import RigParameters
 
 __all__ = ["STANDARD_ERROR_CONVENTION", "Calibration", "ChannelFit", "FittedParameter"]
@@ -39,6 +41,14 @@ _MEANING = {
     "wheel_speed": "wheel encoder speed (gate of one sample interval)",
     "roller_speed": "roller encoder speed (gate of one sample interval)",
     "normal_load": "normal load (air-spring pressure x effective area)",
+}
+
+
+_LAW_PARAMETERS = {
+    "polach": "Polach",
+    "fastsim": "FASTSIM (mu0, A, B)",
+    "modified-fastsim": "Modified FASTSIM",
+    "fastrip": "FaStrip (mu0, A, B)",
 }
 
 
@@ -198,8 +208,9 @@ class Calibration:
     rig : RigParameters
         The starting rig with the identified rig keys replaced; the provenance of each
         replaced key records the calibration.
-    friction : PolachParameters
-        The recording's friction law with the identified ``polach.*`` keys replaced.
+    friction : PolachParameters or FastsimParameters
+        The recording's friction law, of the creep law :attr:`law`, with its identified keys
+        (``polach.*`` or ``fastsim.*``) replaced.
     warnings : list of str
         Parameters not identified, strong correlations, a fit that did not converge,
         residuals that are not white.
@@ -226,6 +237,9 @@ class Calibration:
         :attr:`structured_channels`: every standard error is conditional on the model.
     roller_drive : str
         The roller drive of the twin that was fitted.
+    law : str
+        The creep law of the twin that was fitted (:class:`rollerrig.rig.model.DriveConfig`
+        ``law``): the calibrated twin is this law with :attr:`friction`.
     suggestion : str
         What to try when the model looks inadequate (the other roller-drive model).
     model_discrepancy : dict or None
@@ -240,7 +254,7 @@ class Calibration:
     correlation: np.ndarray
     channels: dict[str, ChannelFit]
     rig: RigParameters
-    friction: PolachParameters
+    friction: PolachParameters | FastsimParameters
     warnings: list[str]
     notes: list[str]
     experiment: dict[str, Any]
@@ -253,6 +267,7 @@ class Calibration:
     conditional: bool = False
     structured_channels: tuple[str, ...] = ()
     roller_drive: str = "induction"
+    law: str = "polach"
     suggestion: str = ""
     model_discrepancy: dict[str, Any] | None = None
 
@@ -272,7 +287,10 @@ class Calibration:
         name = Path(str(source)).name if source else "a recording"
         verdict = "valid" if self.valid else "NOT valid: " + "; ".join(self.invalid_reasons)
         model = "conditional on the model" if self.conditional else "white residuals"
-        title = f"Calibration to {name} ({verdict}; roller drive {self.roller_drive}; {model})"
+        title = (
+            f"Calibration to {name} ({verdict}; roller drive {self.roller_drive}; creep law "
+            f"{self.law}; {model})"
+        )
         rows = []
         for key, p in self.parameters.items():
             unit = pretty_unit(p.unit)
@@ -308,6 +326,7 @@ class Calibration:
             "valid": bool(self.valid),
             **({"invalid_reasons": list(self.invalid_reasons)} if not self.valid else {}),
             "roller_drive": self.roller_drive,
+            "law": self.law,
             "standard_errors_conditional_on_model": bool(self.conditional),
             "conditional_on_model": {
                 "flag": bool(self.conditional),
@@ -356,8 +375,9 @@ class Calibration:
                 "for the correlation through the Newey-West covariance, not through n/tau"
             ),
             "friction": {
-                "what": "Polach parameters of the recording's friction condition (not part of "
-                "the rig file)",
+                "what": f"{_LAW_PARAMETERS.get(self.law, self.law)} parameters of the "
+                "recording's friction condition (not part of the rig file)",
+                "law": self.law,
                 **self.friction.to_dict(),
             },
             "experiment": self.experiment,
@@ -373,7 +393,7 @@ class Calibration:
         replaced = [
             k
             for k, p in self.parameters.items()
-            if p.identified and not k.startswith(("polach.", "experiment."))
+            if p.identified and not k.startswith((*LAW_KEY_PREFIXES, "experiment."))
         ]
         return rig_binding(self.start_rig, replaced)
 

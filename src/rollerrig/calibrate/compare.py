@@ -422,7 +422,8 @@ def compare_drives(
     recording : Recording or path
         As :func:`rollerrig.calibrate.calibrate`.
     free : str or iterable of str
-        The free rig (and ``polach.*``) keys every model fits; each model adds its own drive keys
+        The free rig (and creep-law: ``polach.*``, or ``fastsim.*`` with ``law=``) keys every
+        model fits; each model adds its own drive keys
         (:func:`~rollerrig.calibrate.problem.drive_keys`) unless they are named here already.
         V/f keys named here are freed for the dq drive only.
     drives : sequence of str
@@ -433,7 +434,7 @@ def compare_drives(
         ``progress(drive, iteration, max_iterations, text)``.
     **options
         Further keyword arguments of :func:`rollerrig.calibrate.calibrate` (``torque_noise``,
-        ``search_width``, ``h_max``, ...).
+        ``search_width``, ``h_max``, ``law``, ...).
 
     Returns
     -------

@@ -16,9 +16,11 @@ The algorithm (:func:`calibrate`):
    (:func:`rollerrig.solve.fast.integrate_batch` with its own settings, see
    :class:`~rollerrig.calibrate.model.ReplayModel`): the trial point and, around it, the
    central-difference variants of every parameter (step :data:`FD_STEP` in z, i.e. 0.1 % of
-   the value; one-sided next to an upper bound). When the trial is accepted its Jacobian is
-   already there; when it is rejected, the damping grows and the last Jacobian is kept. Variants
-   of the nuisance parameters change the replayed protocol and run in batches of their own.
+   the value, :data:`~rollerrig.calibrate.settings.FD_STEP_TABULATED` for the parameters of a
+   tabulated creep law; one-sided next to an upper bound). When the trial is accepted its
+   Jacobian is already there; when it is rejected, the damping grows and the last Jacobian is
+   kept. Variants of the nuisance parameters change the replayed protocol and run in batches of
+   their own.
 4. Re-weighting: after the first convergence, each channel's σ becomes the RMS of its own
    residuals, and the fit continues until the Gauss–Newton decrement is below 1e-3 s²: a
    two-step feasible weighted least squares.
@@ -58,6 +60,7 @@ from rollerrig.calibrate.problem import (
 from rollerrig.calibrate.settings import (
     DROP_AT_START,
     FD_STEP,
+    FD_STEP_TABULATED,
     HAC_WINDOW,
     MAX_CORRELATION,
     MAX_RELATIVE_SE,
@@ -66,6 +69,7 @@ from rollerrig.calibrate.settings import (
 )
 from rollerrig.calibrate.stats import hac_covariance, whiteness
 from rollerrig.contact.creep import PolachParameters
+from rollerrig.contact.laws import FastsimParameters
 from rollerrig.recordings.recording import Recording
 from rollerrig.rig.parameters import RigParameters, default_rig
 
@@ -111,6 +115,7 @@ class _Fit:
         self.instants = np.concatenate(
             [idx[measurement.valid[c]] for c in self.measurement.channels]
         )
+        self.fd_steps = fd_steps(model.params)
 
     # -- stacking ------------------------------------------------------------------------
 
@@ -151,7 +156,9 @@ class _Fit:
         respect to the active parameters (None when ``z`` failed), and the reasons of failed
         variants.
         """
-        vectors, steps = finite_difference_vectors(z[active], upper[active], FD_STEP, central)
+        vectors, steps = finite_difference_vectors(
+            z[active], upper[active], self.fd_steps[active], central
+        )
         full = []
         for v in vectors:
             zz = z.copy()
@@ -289,7 +296,7 @@ def calibrate(
     *,
     rig: RigParameters | None = None,
     channel_map=None,
-    friction: str | PolachParameters | None = None,
+    friction: str | PolachParameters | FastsimParameters | None = None,
     max_iterations: int = 20,
     progress: Callable[[int, int, str], None] | None = None,
     drives=None,
@@ -298,6 +305,7 @@ def calibrate(
     lines: bool = True,
     h_max: float | None = None,
     roller_drive: str | None = None,
+    law: str | None = None,
 ):
     """Fit the free parameters of the twin so that it reproduces a recorded test.
 
@@ -314,14 +322,18 @@ def calibrate(
         file to read (with ``channel_map``).
     free : str or iterable of str
         Dotted keys of the free parameters (:func:`~rollerrig.calibrate.problem.
-        free_parameter_catalogue`), e.g. ``"stiffness.roller_shaft,bearing.friction_coefficient"``.
+        free_parameter_catalogue`), e.g. ``"stiffness.roller_shaft,bearing.friction_coefficient"``;
+        the creep law's keys are those of ``law`` (``polach.*``, or ``fastsim.*`` for the
+        FASTSIM family: :func:`~rollerrig.calibrate.problem.law_keys`).
     rig : RigParameters, optional
         The rig the fit starts from (and whose other values it keeps); default the bundled one.
     channel_map : path, optional
         Channel map for reading ``recording`` when it is a path.
-    friction : str or PolachParameters, optional
+    friction : str, PolachParameters or FastsimParameters, optional
         The friction law of the recording the fit starts from: a set's name (``"dry"``,
-        ``"wet"``) or parameters; default ``"dry"``.
+        ``"wet"``) or parameters; default ``"dry"``. With a law of the FASTSIM family, a
+        Polach set gives μ0, A, B and the modified FASTSIM takes k0, α_∞, β of the Eurosprinter
+        set, as the twin does (:func:`~rollerrig.calibrate.problem.friction_parameters`).
     max_iterations : int
         Most Levenberg–Marquardt iterations (each one batch of simulations) of each stage [1].
     progress : callable, optional
@@ -334,6 +346,12 @@ def calibrate(
         key), or the dq machine under open-loop V/f, whose settings
         (``roller_drive_vf.*``) are then free keys too. Default ``drives.roller`` or
         ``"induction"``. :func:`rollerrig.calibrate.compare.compare_drives` fits both.
+    law : {"polach", "fastsim", "modified-fastsim", "fastrip"}, optional
+        The creep law of the replayed twin (replaces ``drives.law``; default ``drives.law`` or
+        ``"polach"``): its parameters are the friction keys that may be free, and the result
+        names it (:attr:`Calibration.law`). The FASTSIM family runs from its table, which a
+        change of the law's parameters does not rebuild (a simulation costs about 1.3 times a
+        Polach one).
     torque_noise : float, optional
         Standard deviation of the torque sensor's noise [N.m] for the first weights.
     lines : bool
@@ -353,8 +371,9 @@ def calibrate(
     Raises
     ------
     CalibrationError
-        An unknown free key (the valid ones are listed), a starting point the twin cannot
-        simulate, ``max_iterations`` < 1.
+        An unknown free key (the valid ones are listed), a key of another creep law than
+        ``law`` (the law's keys are named), a starting point the twin cannot simulate,
+        ``max_iterations`` < 1.
     RecordingError
         A recording without the channels the fit needs (``torque_request`` among them).
     """
@@ -368,9 +387,9 @@ def calibrate(
 
         recording = read_recording(recording, channel_map)
     rig = default_rig() if rig is None else rig
-    drives = _drives(drives, roller_drive)
-    law = friction_parameters(friction)
-    fitted = free_parameters(free, rig, law, drives.roller)
+    drives = _drives(drives, roller_drive, law)
+    law_parameters = friction_parameters(friction, drives.law)
+    fitted = free_parameters(free, rig, law_parameters, drives.roller, drives.law)
     measurement = prepare_measurement(recording, rig, torque_noise=torque_noise, lines=lines)
     nuisance = [
         FreeParameter(
@@ -382,7 +401,7 @@ def calibrate(
             FreeParameter("experiment.normal_load", "experiment", measurement.normal_load, "N")
         )
     params = (*fitted, *nuisance)
-    model = ReplayModel(measurement, rig, law, params, drives, h_max=h_max)
+    model = ReplayModel(measurement, rig, law_parameters, params, drives, h_max=h_max)
     fit = _Fit(model, measurement, progress, 3 * int(max_iterations))
     z0 = np.array([p.z_initial for p in params])
     upper = np.array([p.z_upper for p in params])
@@ -483,14 +502,25 @@ def calibrate(
     )
 
 
-def _drives(drives, roller_drive: str | None):
-    """The twin's DriveConfig with the roller drive ``roller_drive`` (checked)."""
+def fd_steps(params) -> np.ndarray:
+    """The finite-difference step in z of each parameter [-]: :data:`FD_STEP`, and
+    :data:`~rollerrig.calibrate.settings.FD_STEP_TABULATED` for a tabulated creep law's
+    (``fastsim.*``) keys."""
+    return np.array([FD_STEP_TABULATED if p.kind == "fastsim" else FD_STEP for p in params])
+
+
+def _drives(drives, roller_drive: str | None, law: str | None = None):
+    """The twin's DriveConfig with the roller drive ``roller_drive`` and the creep law ``law``
+    (checked)."""
     import dataclasses
 
-    from rollerrig.calibrate.problem import ROLLER_DRIVES
+    from rollerrig.calibrate.problem import ROLLER_DRIVES, _check_law
     from rollerrig.rig.model import DriveConfig
 
     drives = DriveConfig() if drives is None else drives
+    if law is not None and str(law) != drives.law:
+        drives = dataclasses.replace(drives, law=_check_law(str(law)))
+    _check_law(drives.law)
     roller = drives.roller if roller_drive is None else str(roller_drive)
     if roller not in ROLLER_DRIVES:
         raise CalibrationError(

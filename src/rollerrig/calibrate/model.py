@@ -2,8 +2,8 @@
 
 :class:`ReplayModel` turns parameter vectors z (``z_i = ln(p_i − p_low,i)``, see
 :mod:`rollerrig.calibrate.problem`) into the channels the recording holds: it builds one rig
-variant per vector (:meth:`RigParameters.with_overrides`, the Polach set of the recording, the
-roller speed set point), assembles them on the replayed protocol
+variant per vector (:meth:`RigParameters.with_overrides`, the creep law's parameter set of the
+recording, the roller speed set point), assembles them on the replayed protocol
 (:func:`rollerrig.rig.assemble.assemble`) and integrates every variant that shares a protocol
 in one call of the fast backend, :func:`rollerrig.solve.fast.integrate_batch` (numba threads).
 Variants of the speed set point or of the normal load have a protocol of their own (inputs of
@@ -26,6 +26,7 @@ from rollerrig.calibrate.problem import (
     with_polach,
 )
 from rollerrig.contact.creep import PolachParameters
+from rollerrig.contact.laws import FastsimParameters
 from rollerrig.rig import model as m
 from rollerrig.rig.assemble import assemble
 from rollerrig.rig.parameters import RigParameters
@@ -67,12 +68,18 @@ class ReplayModel:
         The recording's channels, load, time base and torque request.
     rig : RigParameters
         The rig the free keys are applied to.
-    friction : PolachParameters
-        The friction law of the recording the ``polach.*`` keys are applied to.
+    friction : PolachParameters or FastsimParameters
+        The friction law of the recording the ``polach.*`` (or ``fastsim.*``) keys are
+        applied to: of the creep law ``drives.law``
+        (:func:`~rollerrig.calibrate.problem.friction_parameters`).
     params : sequence of FreeParameter
         The free parameters, the nuisance ``experiment.*`` ones among them.
     drives : DriveConfig, optional
-        Drive models (default: PMSM wheel drive, induction-motor roller drive with its lag).
+        Drive models and the creep law (default: PMSM wheel drive, induction-motor roller
+        drive with its lag, Polach's law). A law of the FASTSIM family runs from its table
+        (:mod:`rollerrig.contact.table`), which none of its parameters enters: a variant
+        builds no table, and costs about 1.3 times a Polach one (its steady free rolling is
+        solved in Python from the table; 46 against 35 ms on a 7.5 s test).
     rtol : float, optional
         Relative tolerance of the fast backend (default its own).
     h_max : float, optional
@@ -95,7 +102,7 @@ class ReplayModel:
         self,
         measurement: Measurement,
         rig: RigParameters,
-        friction: PolachParameters,
+        friction: PolachParameters | FastsimParameters,
         params: Sequence[FreeParameter],
         drives: m.DriveConfig | None = None,
         rtol: float | None = None,
@@ -118,18 +125,20 @@ class ReplayModel:
         """Parameter values [SI] of the vector ``z``."""
         return [p.value(float(zi)) for p, zi in zip(self.params, z, strict=True)]
 
-    def variant(self, z: np.ndarray) -> tuple[RigParameters, PolachParameters, float, float]:
+    def variant(
+        self, z: np.ndarray
+    ) -> tuple[RigParameters, PolachParameters | FastsimParameters, float, float]:
         """(rig, friction law, roller speed set point [m/s], normal load [N]) of ``z``.
 
         Raises
         ------
         ParameterError
-            A value outside what the rig file or Polach's law accepts (e.g. k_S > k_A).
+            A value outside what the rig file or the creep law accepts (e.g. k_S > k_A).
         """
         values = self.values(z)
-        rig_values, polach_values, experiment = split_values(self.params, values)
+        rig_values, law_values, experiment = split_values(self.params, values)
         rig = self.rig.with_overrides(rig_values) if rig_values else self.rig
-        friction = with_polach(self.friction, polach_values)
+        friction = with_polach(self.friction, law_values)
         speed = experiment.get("roller_speed", self.measurement.roller_speed_start)
         load = experiment.get("normal_load", self.measurement.normal_load)
         return rig, friction, float(speed), float(load)
@@ -200,12 +209,13 @@ class ReplayModel:
 
 
 def finite_difference_vectors(
-    z: np.ndarray, upper: np.ndarray, step: float, central: bool = False
+    z: np.ndarray, upper: np.ndarray, step: float | np.ndarray, central: bool = False
 ) -> tuple[list[np.ndarray], np.ndarray]:
     """The perturbed vectors of a finite-difference Jacobian in z, and their steps.
 
     Forward differences step up by ``step`` unless that passes the upper bound (then down);
-    central differences step both ways (one-sided next to a bound).
+    central differences step both ways (one-sided next to a bound). ``step``: one step for
+    every parameter, or one per parameter.
 
     Returns
     -------
@@ -215,13 +225,15 @@ def finite_difference_vectors(
         The (up, down) displacement of each parameter [-]; down is 0 for forward differences.
     """
     n = z.size
+    each = np.broadcast_to(np.asarray(step, dtype=float), (n,))
     steps = np.zeros((n, 2))
     vectors = []
     for i in range(n):
-        up = step if z[i] + step <= upper[i] else -step
-        down = -step if central else 0.0
+        h = float(each[i])
+        up = h if z[i] + h <= upper[i] else -h
+        down = -h if central else 0.0
         if central and up < 0.0:  # at the bound: one-sided, two points below
-            up, down = -step, -2.0 * step
+            up, down = -h, -2.0 * h
         steps[i] = (up, down)
         zu = z.copy()
         zu[i] += up

@@ -12,6 +12,7 @@ import math
 __all__ = [
     "DROP_AT_START",
     "FD_STEP",
+    "FD_STEP_TABULATED",
     "HAC_WINDOW",
     "MAX_CORRELATION",
     "MAX_RELATIVE_SE",
@@ -24,6 +25,17 @@ FD_STEP = 1e-3
 outputs are smooth in the parameters at this step (its error is set by its largest step, the
 same for every variant); the roller-shaft stiffness moves the phase of the shaft oscillation,
 and its Jacobian changes by 0.5 % between steps of 1e-3 and 1e-4."""
+
+FD_STEP_TABULATED = 3e-4
+"""Finite-difference step in z of the ``fastsim.*`` keys (the FASTSIM family, whose force comes
+from a table, :mod:`rollerrig.contact.table`) [-]. The table's Hermite interpolant is smooth
+(C1) in its parameters, and no noise shows: on the 7.5 s test of the calibration tests (modified
+FASTSIM, k0 = 0.6, μ0 = 0.52) the central-difference columns of k0 at steps from 3e-3 to 3e-5
+agree to 2e-5 (relative), as Polach's k_A's do. But the discrete FASTSIM's last kink (full
+slip) is smoothed over one node spacing only (2e-3 of ε there), and a central difference of
+±1e-3 spans it: the μ0 column at 1e-3 differs by 3.4e-3 from those at 3e-4 to 3e-6, which
+agree to 3e-4 among themselves (Polach's μ0 column: 2e-5). A step of 3e-4 resolves the
+interpolant; below 1e-4 the fast backend's own error (1e-5 of the column) begins to show."""
 
 HAC_WINDOW: float | None = None
 """Lag window L of the Newey–West covariance [s]; None: Andrews' (1991) AR(1) plug-in from the
