@@ -29,6 +29,7 @@ from rollerrig.cli._options import (
     load_rig,
 )
 from rollerrig.cli._outputs import command_outputs
+from rollerrig.cli.contact import CreepLaw
 
 FIT_FIGURE_NAME = "calibration-fit.png"
 """The figure of the fit: recorded against simulated T56 and speeds, before and after."""
@@ -60,16 +61,33 @@ def calibrate(
             "--free",
             help="Free parameters, comma-separated dotted keys of the rig file (e.g. "
             "stiffness.roller_shaft,bearing.friction_coefficient,inertia.roller) or of the "
-            "recording's friction law (polach.static_friction, polach.limit_ratio, "
-            "polach.friction_decay, polach.k_adhesion, polach.k_slip); --list-keys lists them.",
+            "recording's friction law (with --law polach: polach.static_friction, "
+            "polach.limit_ratio, polach.friction_decay, polach.k_adhesion, polach.k_slip; with "
+            "--law modified-fastsim: fastsim.static_friction, fastsim.limit_ratio, "
+            "fastsim.friction_decay, fastsim.k0, fastsim.alpha_inf, fastsim.beta; fastsim and "
+            "fastrip: the first three); --list-keys lists them.",
         ),
     ] = None,
     channels: ChannelsOption = None,
     rig_file: RigOption = None,
     friction: Annotated[
         Friction,
-        typer.Option(help="Polach set the recording's friction law starts from."),
+        typer.Option(
+            help="Polach set the recording's friction law starts from (with a law of the "
+            "FASTSIM family its mu0, A, B; modified-fastsim takes k0, alpha_inf, beta of the "
+            "Eurosprinter set, as the twin does)."
+        ),
     ] = Friction.dry,
+    law: Annotated[
+        CreepLaw,
+        typer.Option(
+            "--law",
+            help="Creep law of the twin the fit replays: polach (Polach 2005; polach.* keys), "
+            "modified-fastsim (fastsim.* keys incl. k0, alpha_inf, beta), fastsim or fastrip "
+            "(fastsim.static_friction, limit_ratio, friction_decay). The result names the law "
+            "and its fitted parameters.",
+        ),
+    ] = CreepLaw.polach,
     torque_noise: Annotated[
         float | None,
         typer.Option(
@@ -110,7 +128,7 @@ def calibrate(
         typer.Option(
             "--list-keys",
             help="List the keys --free accepts (with --roller-drive induction_dq the V/f "
-            "settings too) and exit.",
+            "settings too, with --law its law's keys) and exit.",
         ),
     ] = False,
     quiet: QuietOption = False,
@@ -134,7 +152,7 @@ def calibrate(
     if list_keys:
         from rollerrig.calibrate import free_parameter_catalogue
 
-        for key in free_parameter_catalogue("induction_dq" if compare else roller):
+        for key in free_parameter_catalogue("induction_dq" if compare else roller, law.value):
             console.print(key, markup=False, highlight=False)
         return
     if recording is None:
@@ -155,12 +173,15 @@ def calibrate(
     from rollerrig.cli.twin import _progress, _say_compile_stage
 
     keys = [k.strip() for k in free.split(",") if k.strip()]
-    catalogue = free_parameter_catalogue("induction_dq" if compare else roller)
+    from rollerrig.calibrate.problem import check_law_keys
+
+    check_law_keys(keys, law.value)  # a key of another creep law: its own message
+    catalogue = free_parameter_catalogue("induction_dq" if compare else roller, law.value)
     unknown = [k for k in keys if k not in catalogue]
     if unknown:  # before reading anything: one line naming what is accepted
         from rollerrig.calibrate import CalibrationError
 
-        vf = [k for k in unknown if k in free_parameter_catalogue("induction_dq")]
+        vf = [k for k in unknown if k in free_parameter_catalogue("induction_dq", law.value)]
         if vf:
             raise CalibrationError(
                 f"--free: {vf} are settings of the V/f controller, which only the dq roller "
@@ -186,6 +207,7 @@ def calibrate(
         max_iterations=max_iterations,
         lenient=lenient,
         roller_drive="compare" if compare else roller,
+        law=law.value,
     ) as stage:
         rec = read(recording, channels, lenient)
         _say_compile_stage(batch=True, dq=compare or roller == "induction_dq")
@@ -207,6 +229,7 @@ def calibrate(
                     max_iterations=max_iterations,
                     progress=lambda d, i, n, text: progress(i, n, f"{d}: {text}"),
                     torque_noise=torque_noise,
+                    law=law.value,
                 )
                 result = comparison.winning_calibration
             else:
@@ -219,6 +242,7 @@ def calibrate(
                     progress=progress,
                     torque_noise=torque_noise,
                     roller_drive=roller,
+                    law=law.value,
                 )
             bar.update(task, completed=bar.tasks[0].total, info="done")
         if comparison is not None:
@@ -231,7 +255,10 @@ def calibrate(
             from rollerrig.output import save_figure
             from rollerrig.report.calibration import calibration_figure
 
-            title = f"Calibration to {recording.name} ({result.roller_drive} roller drive)"
+            title = (
+                f"Calibration to {recording.name} ({result.roller_drive} roller drive, "
+                f"{result.law} creep law)"
+            )
             save_figure(
                 calibration_figure(result.fit_dataset(), title=title),
                 stage.dir / FIT_FIGURE_NAME,
@@ -260,8 +287,9 @@ def print_calibration(result) -> None:
             "rollerrig analyze --calibration refuses it."
         )
     title = (
-        f"Calibrated parameters, {result.roller_drive} roller drive (one standard error, "
-        "Newey-West" + (", CONDITIONAL ON THE MODEL)" if result.conditional else ")")
+        f"Calibrated parameters, {result.roller_drive} roller drive, {result.law} creep law "
+        "(one standard error, Newey-West"
+        + (", CONDITIONAL ON THE MODEL)" if result.conditional else ")")
     )
     table = Table(title=title)
     for col in ("parameter", "value", "± standard error", "unit", "start", "rel. error"):
