@@ -161,7 +161,7 @@ def analyze_test(
         What ``calibration.json`` holds (``rollerrig calibrate``): ``{"parameters": {key:
         {"value": v, "standard_error": s}}, "correlation": {"keys": [...], "matrix": [[...]]}}``
         (or ``"correlation": [[...]]`` with a top-level ``"keys"``), dotted rig keys in SI
-        (``polach.*`` keys are ignored here; see
+        (the creep law's ``polach.*``, ``fastsim.*`` keys are ignored here; see
         :func:`~rollerrig.estimation.uncertainty.calibration_covariance`). The calibrated values
         replace the rig's (noted); the keys the corrected CoA depends on
         (:data:`~rollerrig.estimation.uncertainty.MODEL_KEYS`: J5, r_r, A, f_g, r_b, W_r) enter its
@@ -570,9 +570,10 @@ def _truth_errors(
 
 
 def _calibrated_rig(rig, calibration, notes: list[str]):
-    """``rig`` with the calibrated values of ``calibration`` (noted); polach.* keys skipped."""
+    """``rig`` with the calibrated values of ``calibration`` (noted); the creep law's keys
+    (``polach.*``, ``fastsim.*``) skipped."""
     values, *_ = calibration_covariance(calibration)
-    overrides = {k: v for k, v in values.items() if not k.startswith("polach.")}
+    overrides = {k: v for k, v in values.items() if not k.startswith(("polach.", "fastsim."))}
     if not overrides:
         return rig
     try:

@@ -142,6 +142,6 @@ def calibration_covariance(calibration: Mapping) -> tuple[dict, dict, np.ndarray
                 "models, rectangular) added to its variance"
             )
     for key in values:
-        if key not in MODEL_KEYS and not key.startswith("polach."):
+        if key not in MODEL_KEYS and not key.startswith(("polach.", "fastsim.")):
             notes.append(f"{key}: calibrated, not an input of the corrected CoA (used in the rig)")
     return values, used, cov, names, notes
