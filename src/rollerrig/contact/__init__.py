@@ -8,6 +8,11 @@
 - :mod:`~rollerrig.contact.roller` — roller versus tangent rail (contact size).
 - :mod:`~rollerrig.contact.curves` — creep-adhesion curves for a geometry.
 - :mod:`~rollerrig.contact.fastsim` — Kalker's FASTSIM and the modified FASTSIM (k0, α∞, β).
+- :mod:`~rollerrig.contact.flexibilities` — the simplified theory's flexibilities (Kalker's,
+  CONTACT's blend).
+- :mod:`~rollerrig.contact.slope_reduction` — the modified FASTSIM's slope reduction k.
+- :mod:`~rollerrig.contact.ellipse_grid` — FASTSIM's grids of the contact ellipse.
+- :mod:`~rollerrig.contact.tangential_result` — forces and traction fields of a creep law.
 - :mod:`~rollerrig.contact.strip` — FaStrip (Sichani, Enblom & Berg 2016).
 - :mod:`~rollerrig.contact.laws` — creep laws and friction parameter sets by name.
 - :mod:`~rollerrig.contact.cntc` — optional backend: Kalker's exact theory through CONTACT.

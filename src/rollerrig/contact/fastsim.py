@@ -40,6 +40,12 @@ Two discretisations:
   elliptic) bound is positive, step dq = dx, spin at x + dq/6 (CONTACT ``set_tang_rhs``).
   Used to compare with CONTACT at equal discretisation.
 
+The integration along the strips (:func:`fastsim`) is defined here; its parts in their own
+modules: the flexibilities in :mod:`~rollerrig.contact.flexibilities`, the modified FASTSIM's
+k in :mod:`~rollerrig.contact.slope_reduction`, the grids and the pressure on them in
+:mod:`~rollerrig.contact.ellipse_grid`, the result types in
+:mod:`~rollerrig.contact.tangential_result` (their public names are also importable from here).
+
 References
 ----------
 .. [1] J.J. Kalker, "A fast algorithm for the simplified theory of rolling contact", Vehicle
@@ -55,19 +61,39 @@ References
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from rollerrig._validation import (
     ParameterError,
     require_finite,
     require_in_range,
-    require_nonnegative,
     require_positive,
 )
+from rollerrig.contact.ellipse_grid import (
+    _BOUNDS,
+    FastsimGrid,
+    _equivalent_ellipse,
+    _pressure_shape,
+    fastsim_grid,
+)
+from rollerrig.contact.flexibilities import (
+    Flexibilities,
+    _blend,
+    _kalker_flex,
+    blended_flexibilities,
+    kalker_flexibilities,
+)
 from rollerrig.contact.kalker import kalker_coefficients
+from rollerrig.contact.slope_reduction import (
+    _check_modification,
+    _slope_reduction_kernel,
+    _total_creepage,
+    slope_reduction,
+)
+from rollerrig.contact.tangential_result import TangentialResult, TractionField
 
+# rollerrig.contact.strip takes the kernel's helpers (_cases, _fastsim_kernel, _kalker_flex,
+# _pressure_shape) from here.
 __all__ = [
     "FastsimGrid",
     "Flexibilities",
@@ -79,454 +105,6 @@ __all__ = [
     "kalker_flexibilities",
     "slope_reduction",
 ]
-
-_BOUNDS = ("parabolic", "elliptic")
-
-
-@dataclass(frozen=True)
-class Flexibilities:
-    """Flexibilities of the simplified theory L1, L2, L3 [m³/N] (arrays broadcast over cases)."""
-
-    l1: np.ndarray
-    l2: np.ndarray
-    l3: np.ndarray
-
-
-@dataclass(frozen=True)
-class FastsimGrid:
-    """A discretisation of the unit ellipse (x/a, y/b), reusable for every a, b.
-
-    All arrays are normalised: x by a, y by b, areas by a·b. Rows are strips y = const; columns
-    are processed from the leading edge (+x) to the trailing edge.
-
-    Attributes
-    ----------
-    kind : str
-        ``"strips"`` or ``"contact"``.
-    x : ndarray, shape (ny, nx)
-        Element centres x/a.
-    y : ndarray, shape (ny,)
-        Strip centres y/b.
-    step : ndarray, shape (ny, nx)
-        Step h/a from the previous evaluation point to this one.
-    x_spin : ndarray, shape (ny, nx)
-        Where the spin's rigid slip is evaluated for this step, x/a.
-    area : ndarray, shape (ny, nx)
-        Element area / (a b).
-    inside : ndarray of bool, shape (ny, nx)
-        Element in the contact.
-    shape : ndarray, shape (ny, nx)
-        1 - x²/a² - y²/b², clipped at 0, at the element centres.
-    width : ndarray, shape (ny, nx)
-        Element length along x / a.
-    """
-
-    kind: str
-    x: np.ndarray
-    y: np.ndarray
-    step: np.ndarray
-    x_spin: np.ndarray
-    area: np.ndarray
-    inside: np.ndarray
-    shape: np.ndarray
-    width: np.ndarray
-    extent: tuple[float, float] = field(default=(1.0, 1.0))
-
-    @property
-    def size(self) -> tuple[int, int]:
-        """(ny, nx)."""
-        return self.x.shape
-
-
-@dataclass(frozen=True)
-class TractionField:
-    """Surface tractions of each case on the grid (for plots of adhesion and slip zones).
-
-    Attributes
-    ----------
-    x, y : ndarray, shape (ny, nx)
-        Element centres [m] (x along rolling, leading edge at +x).
-    px, py : ndarray, shape (n_cases, ny, nx)
-        Tangential tractions [Pa], with the package's sign (that of the creepage).
-    bound : ndarray, shape (n_cases, ny, nx)
-        Traction bound μ p_n [Pa].
-    state : ndarray of int8, shape (n_cases, ny, nx)
-        0 outside the contact, 1 adhesion, 2 slip.
-    """
-
-    x: np.ndarray
-    y: np.ndarray
-    px: np.ndarray
-    py: np.ndarray
-    bound: np.ndarray
-    state: np.ndarray
-
-    @property
-    def slip_fraction(self) -> np.ndarray:
-        """Fraction of the contact's elements in slip, per case [-]."""
-        inside = self.state > 0
-        return (self.state == 2).sum(axis=(1, 2)) / np.maximum(inside.sum(axis=(1, 2)), 1)
-
-
-@dataclass(frozen=True)
-class TangentialResult:
-    """Total tangential forces of a creep law for one or more cases.
-
-    Attributes
-    ----------
-    fx, fy : ndarray, shape (n_cases,)
-        Creep forces [N] (sign of the creepage).
-    mz : ndarray, shape (n_cases,)
-        Spin moment ∫(x p_y - y p_x) dA [N m].
-    friction : ndarray, shape (n_cases,)
-        μ used in each case [-].
-    k_eff : ndarray, shape (n_cases,)
-        Slope reduction factor k (1 for Kalker's FASTSIM) [-].
-    flexibilities : Flexibilities
-        L1, L2, L3 [m³/N] used (before division by k).
-    tractions : TractionField or None
-        Only when asked for.
-    """
-
-    fx: np.ndarray
-    fy: np.ndarray
-    mz: np.ndarray
-    friction: np.ndarray
-    k_eff: np.ndarray
-    flexibilities: Flexibilities
-    tractions: TractionField | None = None
-
-
-# --------------------------------------------------------------------------------------------
-# Flexibilities
-# --------------------------------------------------------------------------------------------
-
-
-def _kalker_flex(a, b, g, c11, c22, c23):
-    c = np.sqrt(a * b)
-    return (
-        8.0 * a / (3.0 * g * c11),
-        8.0 * a / (3.0 * g * c22),
-        np.pi * a * a / (4.0 * g * c * c23),
-    )
-
-
-def kalker_flexibilities(semi_axis_x, semi_axis_y, shear_modulus, poisson) -> Flexibilities:
-    """Kalker's three flexibilities of the simplified theory for a Hertzian ellipse.
-
-    .. math:: L_1 = \\frac{8a}{3 G C_{11}}, \\quad L_2 = \\frac{8a}{3 G C_{22}}, \\quad
-              L_3 = \\frac{\\pi a^2}{4 G c\\, C_{23}}, \\quad c = \\sqrt{ab}
-
-    Kalker (1982), VSD 11, eq. (8); Kalker (1990) §3.2; CONTACT subroutine ``simpflex``
-    (``flx(3) = π a √(a/b) / (4 C23 G)``, the same expression). They make the simplified theory
-    reproduce Kalker's linear theory at vanishing creepage.
-
-    Parameters
-    ----------
-    semi_axis_x, semi_axis_y : array_like
-        Semi-axes a (rolling direction) and b [m].
-    shear_modulus : array_like
-        Combined shear modulus G [Pa].
-    poisson : array_like
-        Combined Poisson's ratio ν [-], in [0, 0.5].
-
-    Returns
-    -------
-    Flexibilities
-        L1, L2, L3 [m³/N].
-
-    Examples
-    --------
-    >>> f = kalker_flexibilities(8e-3, 4e-3, 82e9, 0.28)
-    >>> round(float(f.l1) * 1e14, 3)  # m³/N
-    5.0
-    """
-    a = require_positive("semi_axis_x", semi_axis_x, "m")
-    b = require_positive("semi_axis_y", semi_axis_y, "m")
-    g = require_positive("shear_modulus", shear_modulus, "Pa")
-    nu = require_in_range(
-        "poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True
-    )
-    k = kalker_coefficients(a / b, nu)
-    return Flexibilities(*(np.asarray(v) for v in _kalker_flex(a, b, g, k.c11, k.c22, k.c23)))
-
-
-def _blend(a, b, g, nu, normal_load, friction, xi, eta, phi):
-    """CONTACT's blending of L1, L2, L3 towards one flexibility at larger creepage."""
-    k = kalker_coefficients(a / b, nu)
-    l1, l2, l3 = _kalker_flex(a, b, g, k.c11, k.c22, k.c23)
-    cc2 = a * b
-    ch_xi = friction * normal_load / (cc2 * g * k.c11)
-    ch_eta = friction * normal_load / (cc2 * g * k.c22)
-    f3 = 8.0 * a / 3.0
-    f4 = np.pi * a * a / 4.0
-    spin = phi * f4 / f3
-    numer = xi**2 + eta**2 + spin**2
-    denom = xi**2 / l1 + eta**2 / l2 + spin**2 / l3
-    l_cross = np.where(denom > 0.0, numer / np.where(denom > 0.0, denom, 1.0), l1)
-    f_crp = np.maximum(1e-10, np.sqrt((xi**2 + eta**2) / (ch_xi**2 + ch_eta**2)))
-    w = np.clip(f_crp / 3.0, 0.0, 1.0)
-    return (
-        (1.0 - w) * l1 + w * l_cross,
-        (1.0 - w) * l2 + w * l_cross,
-        (1.0 - w) * l3 + w * l_cross,
-    )
-
-
-def blended_flexibilities(
-    semi_axis_x,
-    semi_axis_y,
-    shear_modulus,
-    poisson,
-    normal_load,
-    friction,
-    long_creep,
-    lat_creep=0.0,
-    spin=0.0,
-) -> Flexibilities:
-    """Kalker's flexibilities blended towards one flexibility as the creepage grows (CONTACT).
-
-    CONTACT's FASTSIM (``M = 3``) blends, with weight w = min(1, f/3),
-    f = √((ξ²+η²)/(ξ_c²+η_c²)), ξ_c = μN/(ab G C11), η_c = μN/(ab G C22), each L_i towards
-
-    .. math:: L_\\times = \\frac{\\xi^2 + \\eta^2 + (\\varphi f_4/f_3)^2}
-              {\\xi^2/L_1 + \\eta^2/L_2 + (\\varphi f_4/f_3)^2/L_3},
-              \\quad f_3 = 8a/3,\\; f_4 = \\pi a^2/4
-
-    (Vollebregt & Voltr 2023; CONTACT ``simpflex``). At small creepage they are Kalker's.
-
-    Parameters
-    ----------
-    semi_axis_x, semi_axis_y : float
-        a, b [m].
-    shear_modulus : float
-        G [Pa].
-    poisson : float
-        ν [-].
-    normal_load : float
-        N [N].
-    friction : array_like
-        μ [-] (CONTACT uses the static coefficient).
-    long_creep, lat_creep : array_like
-        ξ, η [-].
-    spin : array_like
-        φ [1/m].
-
-    Returns
-    -------
-    Flexibilities
-        Arrays over the cases [m³/N].
-
-    Examples
-    --------
-    >>> f = blended_flexibilities(8e-3, 4e-3, 82e9, 0.28, 82e3, 0.3, 0.0, -6.25e-4, 0.625)
-    >>> round(float(f.l1) * 1e14, 3)  # CONTACT fastsim.ref_out prints 0.4937E-04 mm^3/N
-    4.937
-    """
-    a = float(require_positive("semi_axis_x", semi_axis_x, "m"))
-    b = float(require_positive("semi_axis_y", semi_axis_y, "m"))
-    g = float(require_positive("shear_modulus", shear_modulus, "Pa"))
-    nu = float(
-        require_in_range("poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True)
-    )
-    n = float(require_positive("normal_load", normal_load, "N"))
-    mu = require_positive("friction", friction, "-")
-    xi = require_finite("long_creep", long_creep, "-")
-    eta = require_finite("lat_creep", lat_creep, "-")
-    phi = require_finite("spin", spin, "1/m")
-    return Flexibilities(*(np.asarray(v) for v in _blend(a, b, g, nu, n, mu, xi, eta, phi)))
-
-
-# --------------------------------------------------------------------------------------------
-# Slope reduction of the modified FASTSIM
-# --------------------------------------------------------------------------------------------
-
-
-def _total_creepage(xi, eta, phi, a):
-    """Spiryagin's total creepage: ν_φ = η + φ a, unless |η + φ a| < |η| (CONTACT)."""
-    nu_phi = eta + phi * a
-    nu_phi = np.where(np.abs(nu_phi) < np.abs(eta), eta, nu_phi)
-    return np.sqrt(xi**2 + nu_phi**2)
-
-
-def _slope_reduction_kernel(a, b, g, c11, normal_load, friction, total_creep, k0, alpha_inf, beta):
-    eps = g * np.pi * a * b * k0 * c11 * total_creep / (4.0 * friction * normal_load)
-    return k0 * (alpha_inf + (1.0 - alpha_inf) / (1.0 + beta * eps))
-
-
-def slope_reduction(
-    semi_axis_x,
-    semi_axis_y,
-    shear_modulus,
-    poisson,
-    normal_load,
-    friction,
-    long_creep,
-    lat_creep=0.0,
-    spin=0.0,
-    *,
-    k0=1.0,
-    alpha_inf=1.0,
-    beta=0.0,
-):
-    """Slope reduction factor k of the modified FASTSIM (L_eff = L/k).
-
-    .. math::
-        k = k_0\\left(\\alpha_\\infty + \\frac{1-\\alpha_\\infty}{1+\\beta\\varepsilon}\\right),
-        \\quad \\varepsilon = \\frac{G \\pi a b\\, k_0 C_{11}\\, \\nu_{tot}}{4 \\mu N},
-        \\quad \\nu_{tot} = \\sqrt{\\xi^2 + \\nu_\\varphi^2},\\; \\nu_\\varphi = \\eta + \\varphi a
-
-    Spiryagin, Polach & Cole (2013), eqs. (11)-(13); CONTACT user guide, eq. (k_modif_fs), and
-    subroutine ``fastsim_params`` (which keeps ν_φ = η where |η + φa| < |η|). ε is Polach's
-    gradient of the tangential stress (package: :func:`~rollerrig.contact.adhesion_gradient`)
-    times k0.
-
-    Parameters
-    ----------
-    semi_axis_x, semi_axis_y : float
-        a, b [m].
-    shear_modulus : float
-        G [Pa].
-    poisson : float
-        ν [-].
-    normal_load : float
-        N [N].
-    friction : array_like
-        μ [-].
-    long_creep, lat_creep : array_like
-        ξ, η [-].
-    spin : array_like
-        φ [1/m].
-    k0 : float
-        Initial reduction factor, 0 < k0 <= 1.
-    alpha_inf : float
-        k_∞/k0, in [0, 1].
-    beta : float
-        Rate of the reduction's change, >= 0.
-
-    Returns
-    -------
-    numpy.ndarray
-        k [-], one per case.
-
-    Examples
-    --------
-    >>> float(slope_reduction(6e-3, 12e-3, 82e9, 0.28, 1e5, 0.36, 0.0, k0=0.54,
-    ...                       alpha_inf=0.02, beta=0.62))
-    0.54
-    """
-    a = float(require_positive("semi_axis_x", semi_axis_x, "m"))
-    b = float(require_positive("semi_axis_y", semi_axis_y, "m"))
-    g = float(require_positive("shear_modulus", shear_modulus, "Pa"))
-    nu = float(
-        require_in_range("poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True)
-    )
-    n = float(require_positive("normal_load", normal_load, "N"))
-    mu = require_positive("friction", friction, "-")
-    xi = require_finite("long_creep", long_creep, "-")
-    eta = require_finite("lat_creep", lat_creep, "-")
-    phi = require_finite("spin", spin, "1/m")
-    k0, alpha_inf, beta = _check_modification(k0, alpha_inf, beta)
-    c11 = float(kalker_coefficients(a / b, nu).c11)
-    total = _total_creepage(xi, eta, phi, a)
-    return _slope_reduction_kernel(a, b, g, c11, n, mu, total, k0, alpha_inf, beta)
-
-
-def _check_modification(k0, alpha_inf, beta):
-    k0 = float(require_in_range("k0", k0, 0.0, 1.0, "-", high_inclusive=True))
-    alpha_inf = float(
-        require_in_range(
-            "alpha_inf", alpha_inf, 0.0, 1.0, "-", low_inclusive=True, high_inclusive=True
-        )
-    )
-    beta = float(require_nonnegative("beta", beta, "-"))
-    return k0, alpha_inf, beta
-
-
-# --------------------------------------------------------------------------------------------
-# Grids
-# --------------------------------------------------------------------------------------------
-
-
-def fastsim_grid(
-    nx: int = 30, ny: int = 30, kind: str = "strips", scale: float = 1.1
-) -> FastsimGrid:
-    """A FASTSIM discretisation of the unit ellipse.
-
-    Parameters
-    ----------
-    nx, ny : int
-        Elements per strip (``"strips"``) or grid columns (``"contact"``: CONTACT's MX), and
-        strips (MY).
-    kind : {"strips", "contact"}
-        Kalker-type strips (each strip cut into ``nx`` equal elements, default), or CONTACT's
-        rectangular potential-contact grid (for comparison at equal discretisation).
-    scale : float
-        Potential contact half-size / semi-axis for ``"contact"`` (CONTACT's SCALE) [-].
-
-    Returns
-    -------
-    FastsimGrid
-
-    Examples
-    --------
-    >>> fastsim_grid(20, 10).size
-    (10, 20)
-    """
-    nx = int(require_positive("nx", nx, "-"))
-    ny = int(require_positive("ny", ny, "-"))
-    if kind == "strips":
-        y = -1.0 + (np.arange(ny) + 0.5) * 2.0 / ny
-        half = np.sqrt(1.0 - y * y)  # strip half-length / a
-        h = 2.0 * half / nx
-        i = np.arange(nx)
-        x = half[:, None] - (i[None, :] + 0.5) * h[:, None]
-        step = np.broadcast_to(h[:, None], (ny, nx)).copy()
-        width = step.copy()
-        step[:, 0] = 0.5 * h
-        x_spin = x + 0.5 * step
-        area = h[:, None] * (2.0 / ny) * np.ones((1, nx))
-        inside = np.ones((ny, nx), dtype=bool)
-        extent = (1.0, 1.0)
-    elif kind == "contact":
-        s = float(require_positive("scale", scale, "-"))
-        dx, dy = 2.0 * s / nx, 2.0 * s / ny
-        xc = -s + (np.arange(nx) + 0.5) * dx
-        y = -s + (np.arange(ny) + 0.5) * dy
-        x = np.broadcast_to(xc[::-1][None, :], (ny, nx)).copy()  # leading edge (+x) first
-        step = np.full((ny, nx), dx)
-        width = step.copy()
-        x_spin = x + dx / 6.0  # CONTACT set_tang_rhs: offset dq * facphi, facphi = 1/6
-        area = np.full((ny, nx), dx * dy)
-        inside = (1.0 - x * x - (y * y)[:, None]) > 0.0
-        extent = (s, s)
-    else:
-        raise ParameterError(f"kind must be one of 'strips', 'contact', got {kind!r}")
-    shape = np.maximum(0.0, 1.0 - x * x - (y * y)[:, None])
-    return FastsimGrid(kind, x, y, step, x_spin, area, inside, shape, width, extent)
-
-
-def _pressure_shape(grid: FastsimGrid, bound: str, a: float, b: float) -> np.ndarray:
-    """Normal pressure per newton of load, p_n/N [1/m²], at the element centres."""
-    if bound == "parabolic":
-        return 2.0 / (np.pi * a * b) * grid.shape
-    return 1.5 / (np.pi * a * b) * np.sqrt(grid.shape)
-
-
-def _equivalent_ellipse(grid: FastsimGrid, inside: np.ndarray, a: float, b: float):
-    """CONTACT's equivalent ellipse of a gridded contact (Kik-Piotrowski: area and a/b kept)."""
-    area = float(np.sum(grid.area[inside])) * a * b
-    cols = np.flatnonzero(inside.any(axis=0))
-    rows = np.flatnonzero(inside.any(axis=1))
-    length = float(grid.step[0, 0]) * a * (cols.max() - cols.min() + 1)
-    width = (2.0 * grid.extent[1] / grid.size[0]) * b * (rows.max() - rows.min() + 1)
-    r = np.sqrt(area / np.pi)
-    return r * np.sqrt(length / width), r * np.sqrt(width / length)
-
-
-# --------------------------------------------------------------------------------------------
-# Kernel
-# --------------------------------------------------------------------------------------------
 
 
 def _fastsim_kernel(grid, a, b, xi, eta, phi, gain1, gain2, gain3, bound_per_n, mu_n, want_fields):
@@ -630,7 +208,8 @@ def fastsim(
     Vectorised over cases: the creepages and μ broadcast to one array of cases; each case is
     solved on the same grid in one pass along the strips (Kalker 1982, eqs. 12-16, see the
     module docstring). With ``k0 = alpha_inf = 1`` (the defaults) this is Kalker's FASTSIM;
-    otherwise the flexibilities are divided by Spiryagin's k (:func:`slope_reduction`).
+    otherwise the flexibilities are divided by Spiryagin's k
+    (:func:`~rollerrig.contact.slope_reduction.slope_reduction`).
 
     Parameters
     ----------
@@ -653,7 +232,7 @@ def fastsim(
         Modified FASTSIM's slope reduction parameters (Spiryagin et al. 2013).
     flexibility : {"kalker", "blended"}
         Kalker's three flexibilities (original FASTSIM), or CONTACT's blend towards one
-        (:func:`blended_flexibilities`).
+        (:func:`~rollerrig.contact.flexibilities.blended_flexibilities`).
     bound : {"parabolic", "elliptic"}
         Traction bound: Kalker's parabolic p_n = 2N/(πab)(1 - x²/a² - y²/b²) (original
         FASTSIM) or the Hertzian p_n = 3N/(2πab)√(…).

@@ -1,0 +1,142 @@
+"""FASTSIM's discretisations of the unit contact ellipse, and the normal pressure on them.
+
+Two discretisations (see :mod:`rollerrig.contact.fastsim`): Kalker-type strips of equal width,
+each cut into equal elements between its own leading and trailing edge (``"strips"``), and
+CONTACT's rectangular grid over the potential contact (``"contact"``), used to compare with
+CONTACT at equal discretisation. A grid is normalised (x by a, y by b), so one grid serves every
+ellipse. The pressure on it is Kalker's parabolic traction bound or the Hertzian one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rollerrig._validation import ParameterError, require_positive
+
+__all__ = ["FastsimGrid", "fastsim_grid"]
+
+_BOUNDS = ("parabolic", "elliptic")
+
+
+@dataclass(frozen=True)
+class FastsimGrid:
+    """A discretisation of the unit ellipse (x/a, y/b), reusable for every a, b.
+
+    All arrays are normalised: x by a, y by b, areas by a·b. Rows are strips y = const; columns
+    are processed from the leading edge (+x) to the trailing edge.
+
+    Attributes
+    ----------
+    kind : str
+        ``"strips"`` or ``"contact"``.
+    x : ndarray, shape (ny, nx)
+        Element centres x/a.
+    y : ndarray, shape (ny,)
+        Strip centres y/b.
+    step : ndarray, shape (ny, nx)
+        Step h/a from the previous evaluation point to this one.
+    x_spin : ndarray, shape (ny, nx)
+        Where the spin's rigid slip is evaluated for this step, x/a.
+    area : ndarray, shape (ny, nx)
+        Element area / (a b).
+    inside : ndarray of bool, shape (ny, nx)
+        Element in the contact.
+    shape : ndarray, shape (ny, nx)
+        1 - x²/a² - y²/b², clipped at 0, at the element centres.
+    width : ndarray, shape (ny, nx)
+        Element length along x / a.
+    """
+
+    kind: str
+    x: np.ndarray
+    y: np.ndarray
+    step: np.ndarray
+    x_spin: np.ndarray
+    area: np.ndarray
+    inside: np.ndarray
+    shape: np.ndarray
+    width: np.ndarray
+    extent: tuple[float, float] = field(default=(1.0, 1.0))
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(ny, nx)."""
+        return self.x.shape
+
+
+def fastsim_grid(
+    nx: int = 30, ny: int = 30, kind: str = "strips", scale: float = 1.1
+) -> FastsimGrid:
+    """A FASTSIM discretisation of the unit ellipse.
+
+    Parameters
+    ----------
+    nx, ny : int
+        Elements per strip (``"strips"``) or grid columns (``"contact"``: CONTACT's MX), and
+        strips (MY).
+    kind : {"strips", "contact"}
+        Kalker-type strips (each strip cut into ``nx`` equal elements, default), or CONTACT's
+        rectangular potential-contact grid (for comparison at equal discretisation).
+    scale : float
+        Potential contact half-size / semi-axis for ``"contact"`` (CONTACT's SCALE) [-].
+
+    Returns
+    -------
+    FastsimGrid
+
+    Examples
+    --------
+    >>> fastsim_grid(20, 10).size
+    (10, 20)
+    """
+    nx = int(require_positive("nx", nx, "-"))
+    ny = int(require_positive("ny", ny, "-"))
+    if kind == "strips":
+        y = -1.0 + (np.arange(ny) + 0.5) * 2.0 / ny
+        half = np.sqrt(1.0 - y * y)  # strip half-length / a
+        h = 2.0 * half / nx
+        i = np.arange(nx)
+        x = half[:, None] - (i[None, :] + 0.5) * h[:, None]
+        step = np.broadcast_to(h[:, None], (ny, nx)).copy()
+        width = step.copy()
+        step[:, 0] = 0.5 * h
+        x_spin = x + 0.5 * step
+        area = h[:, None] * (2.0 / ny) * np.ones((1, nx))
+        inside = np.ones((ny, nx), dtype=bool)
+        extent = (1.0, 1.0)
+    elif kind == "contact":
+        s = float(require_positive("scale", scale, "-"))
+        dx, dy = 2.0 * s / nx, 2.0 * s / ny
+        xc = -s + (np.arange(nx) + 0.5) * dx
+        y = -s + (np.arange(ny) + 0.5) * dy
+        x = np.broadcast_to(xc[::-1][None, :], (ny, nx)).copy()  # leading edge (+x) first
+        step = np.full((ny, nx), dx)
+        width = step.copy()
+        x_spin = x + dx / 6.0  # CONTACT set_tang_rhs: offset dq * facphi, facphi = 1/6
+        area = np.full((ny, nx), dx * dy)
+        inside = (1.0 - x * x - (y * y)[:, None]) > 0.0
+        extent = (s, s)
+    else:
+        raise ParameterError(f"kind must be one of 'strips', 'contact', got {kind!r}")
+    shape = np.maximum(0.0, 1.0 - x * x - (y * y)[:, None])
+    return FastsimGrid(kind, x, y, step, x_spin, area, inside, shape, width, extent)
+
+
+def _pressure_shape(grid: FastsimGrid, bound: str, a: float, b: float) -> np.ndarray:
+    """Normal pressure per newton of load, p_n/N [1/m²], at the element centres."""
+    if bound == "parabolic":
+        return 2.0 / (np.pi * a * b) * grid.shape
+    return 1.5 / (np.pi * a * b) * np.sqrt(grid.shape)
+
+
+def _equivalent_ellipse(grid: FastsimGrid, inside: np.ndarray, a: float, b: float):
+    """CONTACT's equivalent ellipse of a gridded contact (Kik-Piotrowski: area and a/b kept)."""
+    area = float(np.sum(grid.area[inside])) * a * b
+    cols = np.flatnonzero(inside.any(axis=0))
+    rows = np.flatnonzero(inside.any(axis=1))
+    length = float(grid.step[0, 0]) * a * (cols.max() - cols.min() + 1)
+    width = (2.0 * grid.extent[1] / grid.size[0]) * b * (rows.max() - rows.min() + 1)
+    r = np.sqrt(area / np.pi)
+    return r * np.sqrt(length / width), r * np.sqrt(width / length)
