@@ -350,8 +350,8 @@ def calibrate(
         The creep law of the replayed twin (replaces ``drives.law``; default ``drives.law`` or
         ``"polach"``): its parameters are the friction keys that may be free, and the result
         names it (:attr:`Calibration.law`). The FASTSIM family runs from its table, which a
-        change of the law's parameters does not rebuild (a simulation costs about 1.3 times a
-        Polach one).
+        change of the law's parameters does not rebuild (a simulation costs about 1.1-1.2
+        times a Polach one: :class:`~rollerrig.calibrate.model.ReplayModel`).
     torque_noise : float, optional
         Standard deviation of the torque sensor's noise [N.m] for the first weights.
     lines : bool
