@@ -10,6 +10,14 @@ def test_rig_list_names_every_bundled_set(runner):
         assert name in result.output
 
 
+def test_rig_list_shows_each_file_once_with_its_names(runner):
+    """The default rig loads as ``default`` and ``pardubice``: one block names both."""
+    result = runner.invoke(app, ["rig", "list"])
+    assert result.exit_code == 0, result.output
+    assert result.output.count("default_rig.toml") == 1
+    assert "pardubice (also: default)" in result.output
+
+
 def test_rig_name_loads_the_set(runner, tmp_path):
     out = tmp_path / "out"
     result = runner.invoke(
