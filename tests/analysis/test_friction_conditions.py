@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 import pytest
 
-from rollerrig.analysis.adhesion import (
+from rollerrig.analysis.polach_fits import (
     FRICTION_SLOPE_RATIO,
     _note_friction_change,
     _one_friction_condition,
