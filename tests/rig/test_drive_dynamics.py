@@ -21,8 +21,8 @@ import pytest
 
 from rollerrig.drives import induction_dq as dq
 from rollerrig.drives import vf
+from rollerrig.rig import dq_drive, linear
 from rollerrig.rig import drive_dynamics as dd
-from rollerrig.rig import linear
 from rollerrig.rig import model as m
 from rollerrig.rig.parameters import default_rig
 
@@ -73,7 +73,7 @@ def test_jacobian_reuses_the_twin_and_the_machine_linearisation():
     # different slip (1e-4 relative), which moves the contact's creep slope a little
     np.testing.assert_allclose(block_dq, block_tw, rtol=2e-3, atol=1e-6 * np.abs(block_tw).max())
     # the AM rotor's acceleration depends on the fluxes through dT/dψ / J6
-    _, _, c = dq.jacobian(MACHINE, x0[dd.X_PSI : dd.X_PSI + 4], 0.0, 0.0)
+    _, _, c = dq.jacobian(MACHINE, x0[dq_drive.X_PSI : dq_drive.X_PSI + 4], 0.0, 0.0)
     row = names.index("omega6")
     cols = [names.index(n) for n in dq.STATE_NAMES]
     np.testing.assert_allclose(jac[row, cols], c / RIG.inertia.am_rotor, rtol=1e-6)
@@ -93,7 +93,7 @@ def test_modes_against_the_two_inertia_reduction(kmh):
     x0 = twin.steady_free_rolling()
     w = vf.frequency_command(kmh / 3.6, g.roller_radius_x, MACHINE.pole_pairs)
     speed = x0[m.X_OMEGA + 5] - x0[m.X_OMEGA + 6]
-    a, b, c = dq.jacobian(MACHINE, x0[dd.X_PSI : dd.X_PSI + 4], w, speed)
+    a, b, c = dq.jacobian(MACHINE, x0[dq_drive.X_PSI : dq_drive.X_PSI + 4], w, speed)
     red = np.zeros((7, 7))  # [ψ (4), Ω6, Ω_rest, θ_rest − θ6]
     red[:4, :4], red[:4, 4] = a, b[:, 3]
     red[4, :4] = c / j6
@@ -144,7 +144,7 @@ def test_simulation_stays_at_steady_free_rolling():
 
 def test_speed_setpoint_is_ramped():
     twin = dd.DqTwin.at(RIG, 10 / 3.6, 4.3e3, dd.default_dq_drive(RIG, ramp_time=10.0))
-    tables = dd._ramped_tables(
+    tables = dq_drive._ramped_tables(
         np.array([[0.0, 1.0], [0.0, 0.0], [0.0, 1.0], [1.0, 3.0], [0.0, 1.0], [1e3, 1e3]]),
         1.0,
     )

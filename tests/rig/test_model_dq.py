@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from rollerrig._validation import ParameterError
+from rollerrig.rig import dq_twin, model_dq
 from rollerrig.rig import drive_dynamics as dd
 from rollerrig.rig import model as m
-from rollerrig.rig import model_dq
 from rollerrig.rig.assemble import assemble
 from rollerrig.rig.parameters import default_rig
 from rollerrig.solve.fast import integrate_experiment
@@ -28,7 +28,7 @@ def rig():
 
 
 def _inputs(rig, torque_time=None, torque=None, wheel="ideal_torque"):
-    proto = dd._protocol(SPEED, LOAD, "dry", torque_time, torque)
+    proto = dq_twin._protocol(SPEED, LOAD, "dry", torque_time, torque)
     inputs = assemble(rig, proto, m.DriveConfig(wheel=wheel, roller="induction_dq"))
     for seg in inputs.segments:  # DqTwin runs without the inverter's torque ripple
         seg.params[m.P_RIPPLE_AMP] = 0.0
@@ -104,7 +104,7 @@ def test_release_test_agrees_with_the_scipy_dq_twin(rig):
 
 
 def test_simulation_dataset_has_the_machine_torque_and_fluxes(rig):
-    proto = dd._protocol(SPEED, LOAD, "dry", TORQUE_TIME, TORQUE)
+    proto = dq_twin._protocol(SPEED, LOAD, "dry", TORQUE_TIME, TORQUE)
     ds = Simulation(rig, proto, m.DriveConfig(roller="induction_dq"), output_rate=250.0).run()
     for name in ("am_psi_s_d", "am_psi_s_q", "am_psi_r_d", "am_psi_r_q"):
         assert ds[name].attrs["units"] == "Wb"
@@ -121,7 +121,7 @@ def test_simulation_dataset_has_the_machine_torque_and_fluxes(rig):
 
 @pytest.mark.slow
 def test_reference_backend_runs_the_dq_drive(rig):
-    proto = dd._protocol(SPEED, LOAD, "dry", TORQUE_TIME, TORQUE)
+    proto = dq_twin._protocol(SPEED, LOAD, "dry", TORQUE_TIME, TORQUE)
     drives = m.DriveConfig(roller="induction_dq")
     fast = Simulation(rig, proto, drives, output_rate=250.0).run()
     ref = Simulation(rig, proto, drives, solver="reference", output_rate=250.0, rtol=1e-7).run()

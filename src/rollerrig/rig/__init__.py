@@ -7,6 +7,10 @@
 - :mod:`~rollerrig.rig.chain` — mass, stiffness and damping matrices; modal analysis.
 - :mod:`~rollerrig.rig.model` — the coupled nonlinear model (chain, contact, drives).
 - :mod:`~rollerrig.rig.assemble` — numeric solver inputs from rig, drives and protocol.
+- :mod:`~rollerrig.rig.drive_dynamics` — the study of the dq V/f roller drive coupled with the
+  rig; its parts in :mod:`~rollerrig.rig.dq_drive` (machine and controller),
+  :mod:`~rollerrig.rig.dq_twin` (the coupled twin), :mod:`~rollerrig.rig.drive_mode_tables`
+  (mode tables) and :mod:`~rollerrig.rig.lag_in_rig` (the lag it amounts to).
 """
 
 from rollerrig.rig.chain import (
