@@ -343,8 +343,8 @@ def _with_dq_drive(rig: RigParameters, segments: list[Segment], tables: np.ndarr
 
     The parameter vectors get the machine's and the controller's parameters after the rig's
     (:func:`rollerrig.rig.model_dq.rig_dq_params`; the rig's nameplate machine,
-    :func:`rollerrig.rig.drive_dynamics.default_dq_drive`), the speed set point passes the
-    drive's frequency ramp (as :class:`rollerrig.rig.drive_dynamics.DqTwin`), and the initial
+    :func:`rollerrig.rig.dq_drive.default_dq_drive`), the speed set point passes the
+    drive's frequency ramp (as :class:`rollerrig.rig.dq_twin.DqTwin`), and the initial
     state is the dq drive's steady free rolling (:func:`dq_steady_free_rolling_state`).
     """
     from rollerrig.rig import model_dq
@@ -374,11 +374,11 @@ def dq_steady_free_rolling_state(
 ) -> np.ndarray:
     """Steady free rolling with the dq V/f roller drive (the state of
     :mod:`rollerrig.rig.model_dq`), as
-    :meth:`rollerrig.rig.drive_dynamics.DqTwin.steady_free_rolling`.
+    :meth:`rollerrig.rig.dq_twin.DqTwin.steady_free_rolling`.
 
     The chain's state is :func:`steady_free_rolling_state` with the roller held at the dq
     drive's steady speed; that speed is where the drive delivers the bearing losses
-    (:func:`rollerrig.rig.drive_dynamics.drive_steady_state`, three fixed-point passes).
+    (:func:`rollerrig.rig.dq_drive.drive_steady_state`, three fixed-point passes).
 
     Raises
     ------

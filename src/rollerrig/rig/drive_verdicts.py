@@ -1,6 +1,6 @@
 """Verdicts of the drive-dynamics study and whether they survive their assumptions.
 
-A mode table (:func:`rollerrig.rig.drive_dynamics.eigen_table`) gives, per drive, speed and
+A mode table (:func:`rollerrig.rig.drive_mode_tables.eigen_table`) gives, per drive, speed and
 load, the twin's oscillatory modes below 20 Hz. This module
 
 * classes each mode by its damping ratio ζ (:func:`mode_class`): ``unstable`` (ζ < 0, a
@@ -250,7 +250,7 @@ def robustness(
         The rig.
     settings : mapping
         The drive's V/f settings (keyword arguments of
-        :func:`rollerrig.rig.drive_dynamics.default_dq_drive`, over the rig file's).
+        :func:`rollerrig.rig.dq_drive.default_dq_drive`, over the rig file's).
     rows_for : callable
         ``rows_for(rig, settings)`` -> the mode table rows of that drive on that rig (the study
         passes its grid).

@@ -8,7 +8,7 @@ that the default twin keeps its 22 states: the state here is the rig's 22
 and the V/f controller's three filter states (:data:`rollerrig.drives.vf.STATE_NAMES`).
 
 The right-hand side wraps :func:`rollerrig.rig.model.rig_rhs` exactly as
-:meth:`rollerrig.rig.drive_dynamics.DqTwin.rhs` does: the roller-drive torque slot
+:meth:`rollerrig.rig.dq_twin.DqTwin.rhs` does: the roller-drive torque slot
 (``X_T_ROLLER``, read as a lagged torque state in roller mode 4) is set to the machine's air-gap
 torque, and the machine and controller (:func:`rollerrig.drives.vf.vf_control_kernel`,
 :func:`rollerrig.drives.induction_dq.im_flux_derivatives_kernel`) are driven by the frequency

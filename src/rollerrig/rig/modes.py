@@ -4,7 +4,7 @@
 :class:`~rollerrig.rig.linear.CoupledModes`, whichever roller drive the twin has: the drives of
 the 22-state model (the lag model of the induction motor, the servo) through
 :func:`rollerrig.rig.linear.coupled_modes`, the dq induction machine under open-loop V/f through
-its coupled twin (:class:`rollerrig.rig.drive_dynamics.DqTwin`, the machine's fluxes and the
+its coupled twin (:class:`rollerrig.rig.dq_twin.DqTwin`, the machine's fluxes and the
 controller's filters among the states). Both use the same model inputs
 (:func:`rollerrig.rig.assemble.assemble`) and the same modal analysis
 (:func:`rollerrig.rig.linear.modes_of`).
