@@ -164,3 +164,14 @@ def test_frame_prints_its_steps_and_quiet_silences_them(tmp_path, runner):
 def test_every_long_command_takes_quiet(runner, command):
     result = runner.invoke(app, [*command, "--help"], terminal_width=200)
     assert result.exit_code == 0 and "--quiet" in result.output, result.output
+
+
+@pytest.mark.parametrize(
+    "command",
+    ["demo", "simulate", "analyze", "spectrum", "filters", "frame", "calibrate", "transfer",
+     "contact", "study run"],
+)  # fmt: skip
+def test_every_command_that_works_for_long_takes_quiet(runner, command):
+    result = runner.invoke(app, [*command.split(), "--help"], env={"COLUMNS": "200"})
+    assert result.exit_code == 0, result.output
+    assert "--quiet" in result.output

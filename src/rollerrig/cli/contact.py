@@ -10,7 +10,7 @@ import numpy as np
 import typer
 from rich.table import Table
 
-from rollerrig.cli._console import console, print_written
+from rollerrig.cli._console import QuietOption, console, print_written
 from rollerrig.cli._options import DEFAULT_OUT, RigOption, check_option, load_rig
 from rollerrig.cli._outputs import command_outputs
 
@@ -67,6 +67,7 @@ def contact(
     out: Annotated[
         Path, typer.Option("--out", help="Output folder for the figures and the summary.")
     ] = DEFAULT_OUT,
+    quiet: QuietOption = False,
 ) -> None:
     """Contact of the rig's wheel-roller pair: Hertz ellipse, Kalker C11, creep curves.
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from rollerrig.cli._console import console, print_written
+from rollerrig.cli._console import QuietOption, console, print_written
 from rollerrig.cli._options import DEFAULT_OUT, OutOption
 from rollerrig.cli._outputs import command_outputs
 from rollerrig.cli.recordings import print_analysis
@@ -10,7 +10,7 @@ from rollerrig.cli.recordings import print_analysis
 __all__ = ["demo"]
 
 
-def demo(out: OutOption = DEFAULT_OUT) -> None:
+def demo(out: OutOption = DEFAULT_OUT, quiet: QuietOption = False) -> None:
     """End to end on the bundled rig: simulate, record, analyse, report.
 
     \b

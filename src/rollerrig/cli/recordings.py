@@ -425,6 +425,7 @@ def filters(
     out: OutOption = DEFAULT_OUT,
     top: Annotated[int, typer.Option(help="Rows of the ranked table to print.")] = 15,
     lenient: LenientOption = False,
+    quiet: QuietOption = False,
 ) -> None:
     """The seed's smoothing-filter study as a ranked table and figures (truth-free scoring).
 
