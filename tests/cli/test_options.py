@@ -4,7 +4,7 @@ wrong one is one usage error, each enum equals the package's own table."""
 import pytest
 
 from rollerrig import __version__
-from rollerrig.cli import COMMANDS, app
+from rollerrig.cli import COMMANDS, app, load_command
 from rollerrig.cli._options import (
     Executor,
     FrameModel,
@@ -34,7 +34,9 @@ def _flat(text: str) -> str:
 
 
 def test_every_command_is_registered():
-    assert tuple(c.__name__ for c in COMMANDS) == NAMES
+    assert tuple(COMMANDS) == (*NAMES, "study", "rig")
+    for name in NAMES:
+        assert load_command(name).__name__ == name
 
 
 @pytest.mark.parametrize(

@@ -17,7 +17,9 @@ One module per concern:
   :mod:`~rollerrig.cli.twin` (``simulate``,
   ``modes``), :mod:`~rollerrig.cli.studies` (``study run|show|list``),
   :mod:`~rollerrig.cli.frame`, :mod:`~rollerrig.cli.recordings` (``analyze``, ``spectrum``,
-  ``filters``), :mod:`~rollerrig.cli.rigs` (``rig list``), :mod:`~rollerrig.cli.demo`.
+  ``filters``), :mod:`~rollerrig.cli.rigs` (``rig list``), :mod:`~rollerrig.cli.demo`;
+  registered by name in :data:`COMMANDS`, each module imported only when its command runs or a
+  help lists it (a new command: its function in a module, one line in :data:`COMMANDS`).
 
 Conventions for a command: raise :class:`UserError` (or a ``ParameterError``) for a bad option,
 never ``try`` around the work; do the work inside ``with command_outputs(out, run=..., inputs=...)
@@ -27,19 +29,15 @@ as stage:`` writing every file into ``stage.path(name)`` / ``stage.dir``; print 
 
 from __future__ import annotations
 
+import importlib
+from collections.abc import Iterator, Mapping, MutableMapping
 from typing import Annotated
 
+import click
 import typer
+from typer.main import get_command_from_info, get_group_from_info
+from typer.models import CommandInfo, TyperInfo
 
-from rollerrig.cli import calibrate as _calibrate
-from rollerrig.cli import contact as _contact
-from rollerrig.cli import demo as _demo
-from rollerrig.cli import frame as _frame
-from rollerrig.cli import recordings as _recordings
-from rollerrig.cli import rigs as _rigs
-from rollerrig.cli import studies as _studies
-from rollerrig.cli import transfer as _transfer
-from rollerrig.cli import twin as _twin
 from rollerrig.cli._boundary import DEBUG_ENV, BoundaryGroup, UserError
 from rollerrig.cli._console import console, err_console, note, set_quiet
 from rollerrig.cli._outputs import MAX_OUTPUT_STEM, command_outputs, safe_file_name, staged_outputs
@@ -47,11 +45,13 @@ from rollerrig.cli._outputs import MAX_OUTPUT_STEM, command_outputs, safe_file_n
 __all__ = [
     "COMMANDS",
     "MAX_OUTPUT_STEM",
+    "LazyCommands",
     "UserError",
     "app",
     "command_outputs",
     "console",
     "err_console",
+    "load_command",
     "main",
     "note",
     "safe_file_name",
@@ -73,10 +73,96 @@ def _version_callback(value: bool) -> None:
         raise typer.Exit()
 
 
+COMMANDS: dict[str, str] = {
+    "contact": "contact:contact",
+    "transfer": "transfer:transfer",
+    "simulate": "twin:simulate",
+    "modes": "twin:modes",
+    "frame": "frame:frame",
+    "analyze": "recordings:analyze",
+    "spectrum": "recordings:spectrum",
+    "filters": "recordings:filters",
+    "calibrate": "calibrate:calibrate",
+    "demo": "demo:demo",
+    "study": "studies:study_app",
+    "rig": "rigs:rig_app",
+}
+"""The commands, in the order ``rollerrig --help`` lists them: name -> ``module:object`` in
+:mod:`rollerrig.cli` (a command function, or a :class:`typer.Typer` of subcommands). A command's
+module is imported when that command runs or a help lists it, never before: ``rollerrig
+simulate`` does not pay for the imports of ``calibrate`` or ``study``."""
+
+
+def load_command(name: str):
+    """The function (or sub-:class:`typer.Typer`) of the command ``name`` (a key of
+    :data:`COMMANDS`), importing its module.
+
+    Examples
+    --------
+    >>> load_command("simulate").__module__
+    'rollerrig.cli.twin'
+    """
+    module, attribute = COMMANDS[name].split(":")
+    return getattr(importlib.import_module(f"rollerrig.cli.{module}"), attribute)
+
+
+class LazyCommands(BoundaryGroup):
+    """The root command: the error boundary (:class:`~rollerrig.cli._boundary.BoundaryGroup`)
+    over the commands of :data:`COMMANDS`, each built from its module when it is first asked
+    for (to run it, or to list it in a help), with the settings of :data:`app`. Every name is
+    known before any is built, so a mistyped command is still answered with the close ones."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.commands = _CommandTable(self.commands)
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return list(self.commands)  # the names alone: nothing is imported to list them
+
+
+class _CommandTable(MutableMapping):
+    """Name -> click command: the commands of :data:`COMMANDS` built on first access."""
+
+    def __init__(self, built: Mapping[str, click.Command]) -> None:
+        self._built = dict(built)
+
+    def __getitem__(self, name: str) -> click.Command:
+        if name not in self._built:
+            if name not in COMMANDS:
+                raise KeyError(name)
+            self._built[name] = _click_command(name, load_command(name))
+        return self._built[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter({**dict.fromkeys(COMMANDS), **dict.fromkeys(self._built)})
+
+    def __len__(self) -> int:
+        return len({*COMMANDS, *self._built})
+
+    def __setitem__(self, name: str, command: click.Command) -> None:
+        self._built[name] = command
+
+    def __delitem__(self, name: str) -> None:
+        raise TypeError(f"the command {name!r} cannot be removed")
+
+
+def _click_command(name: str, target) -> click.Command:
+    """The click command typer builds for ``target`` registered as ``app.command()(target)``
+    or ``app.add_typer(target, name=name)`` would be (same options, help and settings)."""
+    settings = {
+        "pretty_exceptions_short": app.pretty_exceptions_short,
+        "rich_markup_mode": app.rich_markup_mode,
+    }
+    if isinstance(target, typer.Typer):
+        info = TyperInfo(target, name=name)
+        return get_group_from_info(info, suggest_commands=app.suggest_commands, **settings)
+    return get_command_from_info(CommandInfo(name=name, callback=target), **settings)
+
+
 app = typer.Typer(
     name="rollerrig",
     help="Wheel-roller adhesion rig toolkit: contact mechanics, digital twin, measurements.",
-    cls=BoundaryGroup,
+    cls=LazyCommands,
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
@@ -113,26 +199,6 @@ def _root(
 ) -> None:
     """Wheel-roller adhesion rig toolkit."""
     set_quiet(quiet)  # every invocation starts from the option given (or not)
-
-
-COMMANDS = (
-    _contact.contact,
-    _transfer.transfer,
-    _twin.simulate,
-    _twin.modes,
-    _frame.frame,
-    _recordings.analyze,
-    _recordings.spectrum,
-    _recordings.filters,
-    _calibrate.calibrate,
-    _demo.demo,
-)
-"""The commands, in the order ``rollerrig --help`` lists them."""
-
-for _command in COMMANDS:
-    app.command()(_command)
-app.add_typer(_studies.study_app, name="study")
-app.add_typer(_rigs.rig_app, name="rig")
 
 
 def main() -> None:  # pragma: no cover - console entry point
