@@ -385,8 +385,7 @@ _TIME_ATTRS = {"units": "s", "long_name": "time since the start of the record"}
 
 
 def _nc(cols, meta, tmp: Path, title: str) -> None:
-    """Columns as a NetCDF file (one dimension, ``time`` when given)."""
-    xr = _require("xarray", "NetCDF files")
+    """Columns as a NetCDF file (one dimension, ``time`` when given), written without xarray."""
 
     def var_attrs(c: TableColumn) -> dict[str, Any]:
         a: dict[str, Any] = {"units": c.unit} if c.unit else {}
@@ -395,29 +394,42 @@ def _nc(cols, meta, tmp: Path, title: str) -> None:
         return {**a, **{k: v for k, v in c.attrs.items() if k not in a}}
 
     dim = "time" if "time" in cols else "index"
-    coords = {"time": ("time", cols["time"].values, _TIME_ATTRS)} if "time" in cols else {}
-    data = {n: (dim, c.values, var_attrs(c)) for n, c in cols.items() if n != "time"}
-    _cf_netcdf(xr.Dataset(data, coords=coords), meta, tmp, title)
+    variables = {
+        n: _NcVariable((dim,), c.values, var_attrs(c)) for n, c in cols.items() if n != "time"
+    }
+    if "time" in cols:  # xarray's order: data variables, then the coordinate
+        variables["time"] = _NcVariable(("time",), cols["time"].values, dict(_TIME_ATTRS))
+    _write_netcdf(tmp, *_cf_attributes(variables, meta, title))
 
 
-def _cf_netcdf(ds, meta: Mapping[str, Any], tmp: Path, title: str) -> None:
-    """Write an xarray Dataset with CF-1.10 attributes: ``Conventions``, ``title``,
-    ``history``, ``source``, ``units``/``long_name`` per variable, and the provenance."""
-    _require("h5netcdf", "NetCDF files")
-    ds = ds.copy(deep=False)
-    for name, var in ds.variables.items():
+class _NcVariable(NamedTuple):
+    """One NetCDF variable: its dimensions, values and attributes."""
+
+    dims: tuple[str, ...]
+    values: np.ndarray
+    attrs: dict[str, Any]
+
+
+def _cf_attributes(
+    variables: Mapping[str, _NcVariable], meta: Mapping[str, Any], title: str
+) -> tuple[dict[str, _NcVariable], dict[str, Any]]:
+    """The variables with their CF-1.10 attributes (``units``, ``long_name``; values a NetCDF
+    attribute can hold) and the file's: ``Conventions``, ``title``, ``history``, ``source``,
+    the provenance and the metadata object."""
+    out = {}
+    for name, var in variables.items():
         attrs = {k: _attr_value(v) for k, v in var.attrs.items()}
         if name == "time":
             attrs = {**_TIME_ATTRS, **attrs}
         attrs.setdefault("long_name", str(name))
-        var.attrs = attrs
+        out[name] = var._replace(attrs=attrs)
     prov = meta[PROVENANCE_KEY]
     attrs = {k: v for k, v in meta.items() if k not in (PROVENANCE_KEY, VARIABLES_KEY)}
     command = " ".join(prov.get("command") or []) if isinstance(prov, Mapping) else ""
     version = prov.get("version", "") if isinstance(prov, Mapping) else ""
     created = prov.get("created_utc", "") if isinstance(prov, Mapping) else ""
     history = f"{created} rollerrig {version}: {command}".strip()
-    ds.attrs = {
+    file_attrs = {
         "Conventions": CONVENTIONS,
         "title": str(attrs.get("title") or title),
         "history": str(attrs.get("history") or history),
@@ -431,8 +443,93 @@ def _cf_netcdf(ds, meta: Mapping[str, Any], tmp: Path, title: str) -> None:
         PROVENANCE_KEY: json_text(prov),
         META_KEY: json_text(attrs),
     }
+    return out, file_attrs
+
+
+def _cf_netcdf(ds, meta: Mapping[str, Any], tmp: Path, title: str) -> None:
+    """Write an xarray Dataset with CF-1.10 attributes: ``Conventions``, ``title``,
+    ``history``, ``source``, ``units``/``long_name`` per variable, and the provenance.
+
+    Numbers, booleans and text along dimensions (each dimension coordinate a variable of its
+    own) are written by :func:`_write_netcdf`, through h5netcdf from the numpy arrays: no dask
+    or ``distributed`` imported by xarray's scheduler probe, the file as xarray would write
+    it. Anything else (times, non-dimension coordinates, ...) goes through xarray's own
+    encoders (:meth:`xarray.Dataset.to_netcdf`)."""
+    variables = {
+        str(name): _NcVariable(tuple(map(str, var.dims)), var.values, dict(var.attrs))
+        for name, var in ds.variables.items()
+    }
+    variables, attrs = _cf_attributes(variables, meta, title)
+    if _writable_directly(ds, variables):
+        _write_netcdf(tmp, variables, attrs)
+        return
+    ds = ds.copy(deep=False)
+    for name, var in ds.variables.items():
+        var.attrs = variables[str(name)].attrs
+    ds.attrs = attrs
     encoding = {n: {"_FillValue": None} for n, v in ds.variables.items() if v.dtype.kind in "biuf"}
     ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding)
+
+
+def _writable_directly(ds, variables: Mapping[str, _NcVariable]) -> bool:
+    """Whether :func:`_write_netcdf` writes ``ds`` as xarray would: every variable numbers,
+    booleans or text, every coordinate a dimension's own, no encoding to honour but none."""
+    if set(ds.coords) - set(ds.dims) or "coordinates" in ds.attrs:
+        return False
+    for name, var in variables.items():
+        kind = var.values.dtype.kind
+        if (kind not in "biufU" and not _is_text(var.values)) or "coordinates" in var.attrs:
+            return False
+        # Numbers are written with encoding {"_FillValue": None} alone; text as xarray writes
+        # it unless its encoding asks for characters or compression (a file read back).
+        encoding = ds[name].encoding if kind not in "biuf" else {}
+        dtype = encoding.get("dtype")
+        if dtype not in (None, str) and np.dtype(dtype).kind != "U":
+            return False
+        if any(encoding.get(k) for k in ("zlib", "compression", "chunksizes", "shuffle")):
+            return False
+    return True
+
+
+def _is_text(values: np.ndarray) -> bool:
+    """An object array of Python strings (what xarray writes as variable-length text)."""
+    return values.dtype.kind == "O" and all(isinstance(v, str) for v in values.flat)
+
+
+def _write_netcdf(tmp: Path, variables: Mapping[str, _NcVariable], attrs: Mapping) -> None:
+    """Write a NetCDF-4 file through h5netcdf as xarray's h5netcdf backend writes it.
+
+    Dimensions in the order the variables first name them; numbers as they are, with no
+    ``_FillValue`` (the NaN policy says what a NaN means); booleans as int8 with
+    ``dtype = "bool"`` (read back as booleans); text as variable-length UTF-8 strings.
+    """
+    h5netcdf = _require("h5netcdf", "NetCDF files")
+    import h5py
+
+    sizes: dict[str, int] = {}
+    for name, var in variables.items():
+        if var.values.ndim != len(var.dims):
+            raise ParameterError(f"{tmp}: variable {name!r}: {var.dims} for {var.values.shape}")
+        for dim, size in zip(var.dims, var.values.shape, strict=True):
+            if sizes.setdefault(dim, size) != size:
+                raise ParameterError(f"{tmp}: dimension {dim!r} has sizes {sizes[dim]}, {size}")
+    with h5netcdf.File(tmp, "w", invalid_netcdf=None, format="NETCDF4") as f:
+        for key, value in attrs.items():
+            f.attrs[key] = value
+        for dim, size in sizes.items():
+            f.dimensions[dim] = size
+        for name, var in variables.items():
+            values, var_attrs = var.values, dict(var.attrs)
+            dtype = values.dtype
+            if dtype.kind == "b":
+                values, dtype = values.astype("i1"), np.dtype("i1")
+                var_attrs["dtype"] = "bool"
+            elif dtype.kind in "UO":
+                values, dtype = values.astype(object), h5py.string_dtype()
+            created = f.create_variable(name, var.dims, dtype=dtype, fillvalue=None)
+            for key, value in var_attrs.items():
+                created.attrs[key] = value
+            created[...] = values
 
 
 def write_dataset(
