@@ -32,6 +32,7 @@ from rollerrig.cli._options import (
     load_rig,
 )
 from rollerrig.cli._outputs import command_outputs
+from rollerrig.cli._probes import dask_probes_deferred
 from rollerrig.cli.contact import CreepLaw
 
 __all__ = ["modes", "protocol_inputs", "simulate", "variant_stem"]
@@ -142,6 +143,7 @@ def _experiment_list(names) -> str:
     return "\n".join(lines)
 
 
+@dask_probes_deferred()  # one run, no dask array: xarray need not import dask to ask
 def simulate(
     experiment: Annotated[
         str,
