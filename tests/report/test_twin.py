@@ -122,6 +122,34 @@ def test_the_panels_draw_the_datasets_values(figure):
     assert "set point" in _legend(e)
 
 
+@pytest.mark.parametrize("scale", [1.0, -6.0])
+def test_the_fixed_layout_clips_nothing_and_nothing_overlaps(scale):
+    """The experiment figure is laid out once, with fixed margins (no tight bounding box when
+    saved): every panel with its tick labels, axis labels, title and legend lies inside the
+    figure, apart from the other panels and from the figure's title; also with tick labels of
+    five characters (forces and torques of -12000)."""
+    ds = _twin_dataset()
+    for name in ("torque_request", "pmsm_torque", "contact_force", "measured_force"):
+        ds[name] = ds[name] * scale
+    fig = experiment_figure(ds)
+    try:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        whole = fig.bbox
+        boxes = [ax.get_tightbbox(renderer) for ax in fig.axes]
+        title = fig.texts[0].get_window_extent(renderer)
+        for ax, box in zip(fig.axes, [*boxes], strict=True):
+            assert whole.x0 <= box.x0 and box.x1 <= whole.x1, ax.get_title()
+            assert whole.y0 <= box.y0 and box.y1 <= whole.y1, ax.get_title()
+            assert not box.overlaps(title), ax.get_title()
+        for i, box in enumerate(boxes):
+            for other in boxes[i + 1 :]:
+                assert not box.overlaps(other), (fig.axes[i].get_title(), box, other)
+        assert fig.get_layout_engine() is None  # nothing to compute again when saved
+    finally:
+        plt.close(fig)
+
+
 @pytest.mark.parametrize("values", [[1e5, 3e5, 1e6], ["pmsm + induction", "ideal drives"]])
 def test_sweep_figure_draws_one_series_per_legend_entry(values):
     amplitudes = {"measured": [0.1] * len(values), "true": [0.05] * len(values)}

@@ -217,7 +217,7 @@ def simulate(
         console.print(_experiment_list(bundled_protocols()), soft_wrap=True)
         return
     from rollerrig.output import save_figure, write_text
-    from rollerrig.report.twin import experiment_figure
+    from rollerrig.report.twin import EXPERIMENT_FIGURE_DPI, experiment_figure
     from rollerrig.rig.chain import format_modal_table, modal_table
     from rollerrig.rig.model import DriveConfig
     from rollerrig.solve.results import save_dataset
@@ -286,7 +286,8 @@ def simulate(
         text = format_modal_table(modal_table(rig))
         release = _release_summary(ds, sim.protocol)
         save_dataset(ds, stage.path(f"{stem}.{output_format.value}"), overwrite=True)
-        save_figure(experiment_figure(ds), stage.path(f"{stem}.png"))
+        figure = experiment_figure(ds)  # laid out already: drawn once, at 100 dpi
+        save_figure(figure, stage.path(f"{stem}.png"), dpi=EXPERIMENT_FIGURE_DPI, tight=False)
         write_text(stage.path(f"{stem}-modes.txt"), text + "\n", comment="#")
     console.print(text)
     if release:

@@ -90,6 +90,7 @@ def save_figure(
     path: str | os.PathLike,
     *,
     dpi: int = 150,
+    tight: bool = True,
     metadata: dict[str, Any] | None = None,
     overwrite: bool = True,
 ) -> Path:
@@ -105,6 +106,10 @@ def save_figure(
         record as JSON (:func:`figure_provenance` reads it back).
     dpi : int
         Resolution of raster output [dots per inch].
+    tight : bool
+        Crop to what is drawn (``bbox_inches="tight"``: the figure is drawn once more to find
+        it; default). False keeps the figure's own size and layout, drawn once: for a figure
+        whose layout is fixed (e.g. :func:`rollerrig.report.twin.experiment_figure`).
     metadata : dict, optional
         A provenance record (:func:`rollerrig.output.provenance`) to embed as it is, or extra
         parameters for a new one.
@@ -140,7 +145,9 @@ def save_figure(
         meta = _metadata(fmt, dict(record))  # type: ignore[arg-type]
         return atomic_write(
             path,
-            lambda p: fig.savefig(p, format=fmt, dpi=dpi, bbox_inches="tight", metadata=meta),
+            lambda p: fig.savefig(
+                p, format=fmt, dpi=dpi, bbox_inches="tight" if tight else None, metadata=meta
+            ),
             overwrite=overwrite,
         )
     finally:

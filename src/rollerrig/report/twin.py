@@ -13,13 +13,42 @@ import numpy as np
 
 from rollerrig.report.lines import envelope
 
-__all__ = ["MEASURED_STYLE", "TRUE_STYLE", "experiment_figure", "sweep_figure"]
+__all__ = [
+    "EXPERIMENT_FIGURE_DPI",
+    "MEASURED_STYLE",
+    "TRUE_STYLE",
+    "experiment_figure",
+    "sweep_figure",
+]
 
 MEASURED_STYLE = {"color": "0.72", "lw": 0.6, "zorder": 1}
 """How a trace the rig measures (encoder staircase, torque sensor) is drawn: thin, light, behind."""
 
 TRUE_STYLE = {"lw": 1.5, "zorder": 3}
 """How the twin's truth is drawn: a strong colour (given per panel), on top of the measurement."""
+
+
+EXPERIMENT_FIGURE_SIZE = (12.0, 10.0)
+"""Size of the six-panel experiment figure [in]."""
+
+EXPERIMENT_FIGURE_DPI = 100
+"""Resolution the experiment figure is saved at [dots per inch]: 1200 x 1000 pixels, every
+label readable at 100 % on a screen; ``rollerrig simulate`` writes it so, with no re-render to
+crop it (its layout is fixed, see :data:`_EXPERIMENT_MARGINS`)."""
+
+_EXPERIMENT_MARGINS = {
+    "left": 0.85 / EXPERIMENT_FIGURE_SIZE[0],
+    "right": 1 - 0.15 / EXPERIMENT_FIGURE_SIZE[0],
+    "bottom": 0.55 / EXPERIMENT_FIGURE_SIZE[1],
+    "top": 1 - 0.7 / EXPERIMENT_FIGURE_SIZE[1],
+    "wspace": 0.2,
+    "hspace": 0.36,
+}
+"""The experiment figure's layout, fixed: margins in inches over the figure's size (left 0.85
+for tick labels of five characters and the y label, top 0.7 for the title and the panels'
+titles), the gaps as fractions of a panel. What ``tight_layout`` found for the bundled
+experiments, with room to spare; fixed, the figure is drawn once when saved, not three times
+(layout, tight bounding box, the image)."""
 
 
 def _measured_and_true(ax, t, measured, true, colour: str, what: str, how: str) -> None:
@@ -51,12 +80,14 @@ def experiment_figure(ds, title: str | None = None):
     Returns
     -------
     matplotlib.figure.Figure
+        :data:`EXPERIMENT_FIGURE_SIZE`, laid out already (fixed margins): save it with
+        ``save_figure(fig, path, dpi=EXPERIMENT_FIGURE_DPI, tight=False)``, drawn once.
     """
     t = ds["time"].values
     prov = json.loads(ds.attrs["provenance"])
     geo = (prov.get("rig_parameters") or prov["rig"])["geometry"]  # "rig": before 0.1.0
     rw, rr = geo["wheel_radius_x"], geo["roller_radius_x"]
-    fig, axes = plt.subplots(3, 2, figsize=(12, 10))
+    fig, axes = plt.subplots(3, 2, figsize=EXPERIMENT_FIGURE_SIZE, gridspec_kw=_EXPERIMENT_MARGINS)
     (a, b), (c, d), (e, f) = axes
 
     a.plot(*envelope(t, ds.pmsm_torque.values), color="tab:orange", lw=1.5, zorder=2,
@@ -135,7 +166,6 @@ def experiment_figure(ds, title: str | None = None):
         ax.legend(fontsize=7, loc="upper left", ncol=2)
         ax.set_xlabel("time [s]")
     fig.suptitle(title or ds.attrs.get("title", ""), fontsize=11)
-    fig.tight_layout()
     return fig
 
 
