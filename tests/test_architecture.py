@@ -70,3 +70,53 @@ def test_the_private_name_check_reads_whole_statements(tmp_path):
     )
     seen = [(m, n) for _, m, names in _imports_from(module) for n in names if _private(n)]
     assert seen == [("rollerrig.studies.summary", "_text"), ("rollerrig.fit.polach", "_cost")]
+
+
+def test_no_module_imports_itself_through_others():
+    """No import circles between modules (issue 21), counting imports inside functions and
+    under TYPE_CHECKING (grimp sees them all): the strongly connected parts of the import
+    graph are single modules."""
+    graph = grimp.build_graph("rollerrig", include_external_packages=False, cache_dir=None)
+    edges = {m: set(graph.find_modules_directly_imported_by(m)) - {m} for m in graph.modules}
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    circles: list[list[str]] = []
+
+    def visit(start: str) -> None:  # Tarjan's algorithm, iterative (the graph is deep)
+        work = [(start, iter(sorted(edges[start])))]
+        index[start] = low[start] = len(index)
+        stack.append(start)
+        on_stack.add(start)
+        while work:
+            node, children = work[-1]
+            for child in children:
+                if child not in index:
+                    index[child] = low[child] = len(index)
+                    stack.append(child)
+                    on_stack.add(child)
+                    work.append((child, iter(sorted(edges[child]))))
+                    break
+                if child in on_stack:
+                    low[node] = min(low[node], index[child])
+            else:
+                work.pop()
+                if work:
+                    parent = work[-1][0]
+                    low[parent] = min(low[parent], low[node])
+                if low[node] == index[node]:
+                    part = []
+                    while True:
+                        member = stack.pop()
+                        on_stack.discard(member)
+                        part.append(member)
+                        if member == node:
+                            break
+                    if len(part) > 1:
+                        circles.append(sorted(part))
+
+    for module in sorted(edges):
+        if module not in index:
+            visit(module)
+    assert circles == []

@@ -8,8 +8,8 @@ import pytest
 import rollerrig as rr
 from rollerrig._validation import ParameterError
 from rollerrig.rig import library
-from rollerrig.rig.library import ENTRY_POINT_GROUP, load_rig_set, resolve_rig, rig_set, rig_sets
-from rollerrig.rig.parameters import default_rig, load_rig
+from rollerrig.rig.library import ENTRY_POINT_GROUP, resolve_rig, rig_set, rig_sets
+from rollerrig.rig.parameters import default_rig, load_rig, load_rig_set
 
 LITERATURE = ("vt-fra-quarter-scale", "twin-disc-suros-type")
 

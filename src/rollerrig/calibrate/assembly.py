@@ -26,6 +26,7 @@ from rollerrig.calibrate.problem import (
     LAW_KEY_PREFIXES,
     ROLLER_DRIVES,
     FreeParameter,
+    fd_steps,
     split_values,
     with_polach,
 )
@@ -349,8 +350,6 @@ def _fd_step() -> float:
 
 def _law_steps(params) -> dict[str, Any]:
     """The steps of a tabulated creep law's keys, where they differ from :data:`FD_STEP`."""
-    from rollerrig.calibrate.fit import fd_steps
-
     steps = fd_steps(params)
     other = {p.key: float(h) for p, h in zip(params, steps, strict=True) if h != FD_STEP}
     if not other:

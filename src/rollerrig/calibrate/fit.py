@@ -54,13 +54,13 @@ from rollerrig.calibrate.model import (
 from rollerrig.calibrate.problem import (
     CalibrationError,
     FreeParameter,
+    fd_steps,
     free_parameters,
     friction_parameters,
 )
 from rollerrig.calibrate.settings import (
     DROP_AT_START,
     FD_STEP,
-    FD_STEP_TABULATED,
     HAC_WINDOW,
     MAX_CORRELATION,
     MAX_RELATIVE_SE,
@@ -377,7 +377,7 @@ def calibrate(
     RecordingError
         A recording without the channels the fit needs (``torque_request`` among them).
     """
-    from rollerrig.calibrate.result import build_calibration
+    from rollerrig.calibrate.assembly import build_calibration
 
     started = _time.perf_counter()
     if int(max_iterations) < 1:
@@ -500,13 +500,6 @@ def calibrate(
         recording=recording,
         wall_time=_time.perf_counter() - started,
     )
-
-
-def fd_steps(params) -> np.ndarray:
-    """The finite-difference step in z of each parameter [-]: :data:`FD_STEP`, and
-    :data:`~rollerrig.calibrate.settings.FD_STEP_TABULATED` for a tabulated creep law's
-    (``fastsim.*``) keys."""
-    return np.array([FD_STEP_TABULATED if p.kind == "fastsim" else FD_STEP for p in params])
 
 
 def _drives(drives, roller_drive: str | None, law: str | None = None):

@@ -47,6 +47,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from rollerrig.calibrate.errors import CalibrationError
+from rollerrig.calibrate.settings import FD_STEP, FD_STEP_TABULATED
 from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters
 from rollerrig.contact.laws import (
     CREEP_LAWS,
@@ -74,6 +75,7 @@ __all__ = [
     "FreeParameter",
     "check_law_keys",
     "drive_keys",
+    "fd_steps",
     "free_parameter_catalogue",
     "free_parameters",
     "friction_parameters",
@@ -680,3 +682,13 @@ def with_polach(
     """``friction`` with some fields replaced (validated by its class: Polach's or the FASTSIM
     family's)."""
     return dataclasses.replace(friction, **values) if values else friction
+
+
+def fd_steps(params) -> np.ndarray:
+    """The finite-difference step in z of each free parameter [-].
+
+    :data:`~rollerrig.calibrate.settings.FD_STEP`, and
+    :data:`~rollerrig.calibrate.settings.FD_STEP_TABULATED` for a tabulated creep law's
+    (``fastsim.*``) keys.
+    """
+    return np.array([FD_STEP_TABULATED if p.kind == "fastsim" else FD_STEP for p in params])

@@ -28,17 +28,20 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from importlib import import_module
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from rollerrig._validation import ParameterError
 
-if TYPE_CHECKING:
-    from rollerrig.experiment.steps import Step
+# The convenience constructors' builders, by name, registered by the modules that define them
+# (experiment.steps, .replay, .tomlfile). Those import Protocol, so Protocol cannot import them
+# without an import circle; the experiment package imports all three whenever this module is
+# imported, so the registry is full before anyone can call a constructor.
+_BUILDERS: dict[str, Callable[..., Any]] = {}
 
 __all__ = ["Protocol", "ProtocolError", "ProtocolEvent"]
 
@@ -170,7 +173,7 @@ class Protocol:
     events: tuple[ProtocolEvent, ...] = ()
     origin: str = ""
     origin_sha256: str = ""
-    steps: tuple[Step, ...] = ()
+    steps: tuple[Any, ...] = ()  # the Step objects of experiment.steps
 
     def __post_init__(self) -> None:
         duration = float(self.duration)
@@ -226,7 +229,7 @@ class Protocol:
     def from_steps(
         cls,
         name: str,
-        steps: Sequence[Step],
+        steps: Sequence[Any],
         *,
         normal_load: float,
         roller_speed: float,
@@ -272,11 +275,9 @@ class Protocol:
         >>> p.roller_speed_at(1.0), p.friction_at(2.5)
         (7.5, 'wet')
         """
-        from rollerrig.experiment.steps import build_protocol
-
         settings = {"name": name, "normal_load": normal_load, "roller_speed": roller_speed}
         settings |= {"friction": friction, "description": description, "source": source}
-        return build_protocol(steps, settings)
+        return _BUILDERS["steps"](steps, settings)  # experiment.steps.build_protocol
 
     @classmethod
     def replay(
@@ -323,14 +324,13 @@ class Protocol:
         >>> p.duration, float(p.torque_request.max())
         (10.0, 600.0)
         """
-        from rollerrig.experiment.replay import replay_protocol
-
         settings = {"normal_load": normal_load, "roller_speed": roller_speed}
         settings |= {"friction": friction, "description": description}
         columns = {"time_column": time_column, "torque_column": torque_column}
-        return replay_protocol(csv_path, settings | ({"name": name} if name else {}), columns)
+        named = settings | ({"name": name} if name else {})
+        return _BUILDERS["replay"](csv_path, named, columns)  # experiment.replay.replay_protocol
 
-    def to_steps(self) -> tuple[Step, ...]:
+    def to_steps(self) -> tuple[Any, ...]:
         """The step objects this protocol was compiled from.
 
         ``Protocol.from_steps(p.name, p.to_steps(), normal_load=p.normal_load[0],
@@ -359,9 +359,7 @@ class Protocol:
         ProtocolError
             For a protocol without steps (see :meth:`to_steps`).
         """
-        from rollerrig.experiment.tomlfile import protocol_to_toml
-
-        return protocol_to_toml(self)
+        return _BUILDERS["toml"](self)  # experiment.tomlfile.protocol_to_toml
 
     # -- evaluation ---------------------------------------------------------------------------
 

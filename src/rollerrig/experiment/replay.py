@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from rollerrig.experiment.protocol import Protocol, ProtocolError, ProtocolEvent
+from rollerrig.experiment.protocol import _BUILDERS, Protocol, ProtocolError, ProtocolEvent
 from rollerrig.experiment.steps import DEFAULT_SETTINGS, SETTINGS, protocol_error
 from rollerrig.units import UnitError, apply_factor, si_factor
 
@@ -232,3 +232,6 @@ def protocol_from_csv(path, normal_load, roller_speed, friction="dry", **options
     columns = {k: options.pop(k) for k in ("time_column", "torque_column") if k in options}
     settings = {"normal_load": normal_load, "roller_speed": roller_speed, "friction": friction}
     return replay_protocol(path, settings | options, columns)
+
+
+_BUILDERS["replay"] = replay_protocol  # Protocol's constructor uses it (experiment.protocol)

@@ -51,7 +51,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from rollerrig._validation import field_error, interval, show_value
-from rollerrig.experiment.protocol import Protocol, ProtocolError, ProtocolEvent
+from rollerrig.experiment.protocol import _BUILDERS, Protocol, ProtocolError, ProtocolEvent
 
 __all__ = [
     "DEFAULT_FAST_RAMP_DURATION",
@@ -544,3 +544,6 @@ def build_protocol(
         origin_sha256=origin_sha256,
         steps=steps,
     )
+
+
+_BUILDERS["steps"] = build_protocol  # Protocol's constructor uses it (experiment.protocol)

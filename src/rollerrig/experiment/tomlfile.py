@@ -58,7 +58,7 @@ from pathlib import Path
 
 from rollerrig._toml import parse_toml
 from rollerrig._validation import did_you_mean, toml_string
-from rollerrig.experiment.protocol import Protocol, ProtocolError
+from rollerrig.experiment.protocol import _BUILDERS, Protocol, ProtocolError
 from rollerrig.experiment.replay import replay_protocol
 from rollerrig.experiment.steps import (
     LOAD,
@@ -426,3 +426,6 @@ def protocol_to_toml(protocol: Protocol) -> str:
         f"friction = {toml_string(protocol.friction_condition[0])}",
     ]
     return "\n".join(lines + _steps_toml(steps, "step", "")) + "\n"
+
+
+_BUILDERS["toml"] = protocol_to_toml  # Protocol's constructor uses it (experiment.protocol)

@@ -37,16 +37,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from rollerrig._validation import ParameterError, require_finite
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.fit.model import PARAMETER_NAMES, polach_coa
-
-if TYPE_CHECKING:
-    from rollerrig.fit.polach import PolachFit
 
 __all__ = [
     "ResidualStructure",
@@ -424,13 +420,14 @@ def slip_velocity_coverage(
     )
 
 
-def truth_distance(fit: PolachFit, truth, warn_sigma: float = 3.0) -> dict:
+def truth_distance(fit, truth, warn_sigma: float = 3.0) -> dict:
     """Distance of each fitted parameter from a known truth, in standard errors.
 
     Parameters
     ----------
-    fit : PolachFit
-        The fit (its parameters, standard errors and residual structure).
+    fit : rollerrig.fit.polach.PolachFit
+        The fit (its parameters, standard errors and residual structure); taken by what it
+        has, so that this module need not import the one that uses it.
     truth : PolachParameters or mapping
         The true set (e.g. the twin's, from a synthetic recording's metadata), by
         :data:`rollerrig.fit.model.PARAMETER_NAMES`.

@@ -26,8 +26,8 @@ Examples
 >>> sets = rig_sets()
 >>> "pardubice" in sets and "vt-fra-quarter-scale" in sets
 True
->>> load_rig_set("pardubice").inertia.roller
-45.0
+>>> rig_set("pardubice").path.name
+'default_rig.toml'
 >>> rig_set("pardubise")
 Traceback (most recent call last):
 ...
@@ -50,7 +50,6 @@ __all__ = [
     "BUNDLED_ALIASES",
     "ENTRY_POINT_GROUP",
     "RigSet",
-    "load_rig_set",
     "resolve_rig",
     "rig_set",
     "rig_sets",
@@ -72,7 +71,7 @@ class RigSet:
     Attributes
     ----------
     name : str
-        The name ``--rig`` and :func:`load_rig_set` take.
+        The name ``--rig`` and :func:`rollerrig.rig.parameters.load_rig_set` take.
     path : pathlib.Path or None
         The rig file; None where the entry point could not be loaded.
     title : str
@@ -186,19 +185,6 @@ def rig_set(name: str) -> RigSet:
     if found.problem:
         raise ParameterError(f"rig set {name!r} ({found.origin}) cannot be loaded: {found.problem}")
     return found
-
-
-def load_rig_set(name: str):
-    """Load and validate the registered rig set ``name``.
-
-    Returns
-    -------
-    RigParameters
-        As :func:`rollerrig.rig.parameters.load_rig` reads the set's file.
-    """
-    from rollerrig.rig.parameters import load_rig
-
-    return load_rig(rig_set(name).path)
 
 
 def resolve_rig(value: str | os.PathLike) -> Path:

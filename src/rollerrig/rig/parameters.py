@@ -40,6 +40,7 @@ from rollerrig._display import fmt, html_table, pretty_unit, text_block
 from rollerrig._toml import parse_toml, read_toml
 from rollerrig._validation import FieldProblem, Problem, show_value
 from rollerrig.output import write_text
+from rollerrig.rig.library import rig_set, rig_sets
 from rollerrig.rig.rigfile import (
     RigFileError,
     read_sections,
@@ -71,6 +72,7 @@ __all__ = [
     "RigParameters",
     "default_rig",
     "load_rig",
+    "load_rig_set",
     "rig_values",
     "save_rig",
 ]
@@ -268,11 +270,7 @@ def load_rig(path: str | os.PathLike) -> RigParameters:
     """
     path = Path(path)
     if not path.is_file():
-        from rollerrig.rig.library import rig_sets
-
         if str(path) in rig_sets():  # a set's name: its file
-            from rollerrig.rig.library import rig_set
-
             path = rig_set(str(path)).path
         else:
             raise RigFileError(str(path), ["rig file not found"])
@@ -356,3 +354,14 @@ def rig_values(rig) -> dict[str, Any]:
         for key in type(values).model_fields:
             out[f"{section}.{key}"] = getattr(values, key)
     return out
+
+
+def load_rig_set(name: str):
+    """Load and validate the registered rig set ``name`` (:mod:`rollerrig.rig.library`).
+
+    Returns
+    -------
+    RigParameters
+        As :func:`rollerrig.rig.parameters.load_rig` reads the set's file.
+    """
+    return load_rig(rig_set(name).path)
