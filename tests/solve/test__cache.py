@@ -6,8 +6,12 @@ cached under a folder keyed by the compiled sources; these tests check that fres
 the driver instead of compiling it, that the cache stops growing after the first run, and that
 damaged cache files are rebuilt instead of failing (in process for a small function, and in
 fresh processes for the fast backend's driver).
+
+Issue 23, point 1: a reinstall (new file times) or an install elsewhere (another path) of the
+same sources compiled everything again; the package's functions are now found by content.
 """
 
+import importlib.util
 import json
 import os
 import shutil
@@ -64,6 +68,103 @@ def test_a_cached_function_is_saved_with_sidecars_and_loaded_by_a_new_dispatcher
     assert sum(again.stats.cache_misses.values()) == 0
     assert _files(cache_folder) == files  # loading writes nothing
     assert _cache.is_cached(again)
+
+
+KERNEL = """
+def sum_of_squares(x):
+    total = 0.0
+    for v in x:
+        total += v * v
+    return total
+"""
+
+
+def _install(site: Path, monkeypatch) -> Path:
+    """A package with one compiled source, ``solve/kernel.py``, written into ``site`` as pip
+    writes it (new files, new times); _cache takes it for rollerrig's package."""
+    package = site / "rollerrig"
+    (package / "solve").mkdir(parents=True, exist_ok=True)
+    (package / "solve" / "kernel.py").write_text(KERNEL)
+    monkeypatch.setattr(_cache, "_PACKAGE", package)
+    monkeypatch.setattr(_cache, "SOURCES", ("solve/kernel.py",))
+    return package
+
+
+def _compile(package: Path):
+    """The kernel of a fresh import of ``package`` (as in a new process), made by _cache.njit."""
+    path = package / "solve" / "kernel.py"
+    spec = importlib.util.spec_from_file_location(f"kernel_{abs(hash(str(path)))}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return _cache.njit(module.sum_of_squares)
+
+
+def _counts(fn) -> tuple[int, int]:
+    return sum(fn.stats.cache_hits.values()), sum(fn.stats.cache_misses.values())
+
+
+@pytest.fixture
+def sites(tmp_path, cache_folder):
+    """A folder for installs beside (not inside) the test's cache folder."""
+    folder = tmp_path.parent / f"{tmp_path.name}-sites"
+    folder.mkdir()
+    yield folder
+    shutil.rmtree(folder, ignore_errors=True)
+
+
+def test_a_reinstall_of_the_same_sources_loads_the_cache(cache_folder, sites, monkeypatch):
+    """Issue 23, point 1: ``pip install .`` again writes the same sources with new times."""
+    from numba.core import caching
+
+    def mtime_stamp(locator):  # numba's stamp in older releases (0.68.1 hashes the content)
+        st = os.stat(locator._py_file)
+        return st.st_mtime, st.st_size
+
+    monkeypatch.setattr(caching._SourceFileBackedLocatorMixin, "get_source_stamp", mtime_stamp)
+    package = _install(sites / "site", monkeypatch)
+    first = _compile(package)
+    assert first(X) == 30.0 and _counts(first) == (0, 1)
+    files = _files(cache_folder)
+    later = time.time() + 3600
+    _install(sites / "site", monkeypatch)
+    os.utime(package / "solve" / "kernel.py", (later, later))
+    again = _compile(package)
+    assert again(X) == 30.0 and _counts(again) == (1, 0)  # loaded, not compiled
+    assert _files(cache_folder) == files
+
+
+def test_the_same_sources_at_another_path_load_the_same_cache(cache_folder, sites, monkeypatch):
+    """Issue 23, point 1: another environment (another path) with the same sources: the key
+    folder names their content, so their files are found there whatever the path."""
+    first = _compile(_install(sites / "venv-a", monkeypatch))
+    assert first(X) == 30.0 and _counts(first) == (0, 1)
+    files = _files(cache_folder)
+    other = _compile(_install(sites / "venv-b", monkeypatch))
+    assert other(X) == 30.0 and _counts(other) == (1, 0)
+    assert _files(cache_folder) == files and _cache.is_cached(other)
+    # Under the source's folder in the package, not under a hash of the install's path.
+    assert {str(Path(name).parent) for name in files} == {"solve"}
+    assert next(name for name in files if name.endswith(".nbi")).startswith(
+        "solve/kernel.sum_of_squares-2.py"
+    )
+    edited = sites / "venv-c" / "rollerrig" / "solve" / "kernel.py"
+    _install(sites / "venv-c", monkeypatch)
+    edited.write_text(KERNEL + "# another content, the same function\n")
+    changed = _compile(edited.parents[1])  # the index is stamped with the content
+    assert changed(X) == 30.0 and _counts(changed) == (0, 1)
+
+
+def test_numba_locates_every_other_function_as_before(cache_folder, sites, monkeypatch):
+    """The locator answers only for the package's compiled sources, and only inside njit."""
+    here = _cache.njit(_sum_of_squares)  # a function of the tests, not of SOURCES
+    assert Path(here.stats.cache_path).parent == cache_folder
+    assert Path(here.stats.cache_path).name.startswith("solve_")  # numba's path hash
+    package = _install(sites / "site", monkeypatch)
+    ours = _compile(package)
+    assert Path(ours.stats.cache_path) == cache_folder / "solve"
+    monkeypatch.setattr(numba.config, "CACHE_DIR", str(sites / "plain"))
+    plain = numba.njit(cache=True)(ours.py_func)  # numba's njit, not rollerrig's
+    assert Path(plain.stats.cache_path).parent == sites / "plain"
 
 
 def _truncate_data(folder):

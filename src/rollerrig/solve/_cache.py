@@ -41,6 +41,18 @@ another numba) is removed as well. The function is then compiled again and saved
 numba reads its cache folder when a ``cache=True`` function is created, so :func:`njit` sets
 ``numba.config.CACHE_DIR`` for that moment only; numba functions of other packages in the same
 process keep their own cache.
+
+**The same sources hit the same files, wherever they are installed.** numba's own locator files
+a function under a hash of its source file's absolute path, and older numba releases (this
+package allows 0.59; 0.68.1 hashes the content) stamp its index with the file's modification
+time and size: an install in another environment (another path), or with those releases a
+reinstall (new times), of the very same sources compiled everything again (about 70 s). The key
+folder already names the content, so rollerrig's functions get a locator of their own
+(:func:`_locator`, put first in numba's list of locators): the files of ``solve/fast.py`` go to
+``<key>/solve/``, and the index is stamped with the SHA-256 of the file's content. It answers
+only while :func:`njit` creates a dispatcher and only for a function defined in one of
+:data:`SOURCES` of this package; every other function (of rollerrig's tests, of other packages)
+gets numba's locators as before.
 """
 
 from __future__ import annotations
@@ -417,6 +429,86 @@ def _guard(dispatcher) -> None:
 
 
 # ---------------------------------------------------------------------------------------------
+# The locator: files found by the content of the sources, not by the install's path or times
+# ---------------------------------------------------------------------------------------------
+_creating = threading.local()
+"""``folder``: the key folder while :func:`njit` creates a dispatcher in this thread."""
+
+
+def _source_name(py_file: str) -> str | None:
+    """The name in :data:`SOURCES` of ``py_file`` when it is a compiled source of this
+    package, else None."""
+    try:
+        rel = Path(py_file).resolve().relative_to(_PACKAGE.resolve()).as_posix()
+    except (OSError, RuntimeError, ValueError):
+        return None
+    return rel if rel in SOURCES else None
+
+
+def _locator():
+    """The numba cache locator of rollerrig's compiled functions, registered on first use.
+
+    Made here rather than at import because numba is imported only by the fast backend (an
+    optional extra). It is put first in numba's list of locators, which numba consults when a
+    ``cache=True`` dispatcher is created; it declines (``from_function`` returns None) unless
+    :func:`njit` is creating the dispatcher in this thread and the function is defined in one of
+    :data:`SOURCES`, so numba's own locators serve everything else. Where numba's internals
+    differ (no list to join), or the user names numba's locators in
+    ``NUMBA_CACHE_LOCATOR_CLASSES``, numba's locators place the package's functions as before
+    (in the key folder but per install path, for numba's default list).
+    """
+    if "locator" in _state:
+        return _state["locator"]
+    from numba.core import caching
+
+    class ContentLocator(caching._CacheLocator):
+        """Cache files of ``<package>/<rel>`` in ``<key folder>/<folder of rel>``, stamped with
+        the content of the source file (numba's locators use its absolute path and, in older
+        releases, its modification time)."""
+
+        def __init__(self, py_func, py_file, folder, stamp):
+            self._py_file = py_file  # numba names it in its warnings
+            self._lineno = py_func.__code__.co_firstlineno
+            self._cache_path = str(folder)
+            self._stamp = stamp
+
+        def ensure_cache_path(self):
+            _make_private(Path(self._cache_path))
+            tempfile.TemporaryFile(dir=self._cache_path).close()
+
+        def get_cache_path(self):
+            return self._cache_path
+
+        def get_source_stamp(self):
+            return self._stamp
+
+        def get_disambiguator(self):
+            return str(self._lineno)
+
+        @classmethod
+        def from_function(cls, py_func, py_file):
+            folder = getattr(_creating, "folder", None)
+            rel = None if folder is None else _source_name(py_file)
+            if rel is None:
+                return None
+            try:
+                # The same sources give the same stamp wherever and whenever they were written.
+                stamp = hashlib.sha256(Path(py_file).read_bytes()).hexdigest()
+                locator = cls(py_func, py_file, folder / Path(rel).parent, stamp)
+                locator.ensure_cache_path()
+            except OSError:  # unreadable source or folder: numba's locators, as before
+                return None
+            return locator
+
+    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)
+    classes = getattr(impl, "_locator_classes", None)
+    if isinstance(classes, list):
+        classes.insert(0, ContentLocator)
+    _state["locator"] = ContentLocator
+    return ContentLocator
+
+
+# ---------------------------------------------------------------------------------------------
 # The decorator
 # ---------------------------------------------------------------------------------------------
 _compiled_files: set[str] = set()
@@ -436,12 +528,15 @@ def njit(fn=None, **options):
         if folder is None:
             return numba.njit(**options)(f)
         with _LOCK:
+            _locator()
             saved = numba.config.CACHE_DIR
             numba.config.CACHE_DIR = str(folder)
+            _creating.folder = folder
             try:
                 dispatcher = numba.njit(cache=True, **options)(f)
             finally:
                 numba.config.CACHE_DIR = saved
+                _creating.folder = None
         _guard(dispatcher)
         return dispatcher
 
