@@ -156,6 +156,20 @@ def blended_flexibilities(
     >>> round(float(f.l1) * 1e14, 3)  # CONTACT fastsim.ref_out prints 0.4937E-04 mm^3/N
     4.937
     """
+    a, b, g, nu, n, mu, xi, eta, phi = _checked_contact(
+        semi_axis_x, semi_axis_y, shear_modulus, poisson, normal_load, friction,
+        long_creep, lat_creep, spin,
+    )  # fmt: skip
+    return Flexibilities(*(np.asarray(v) for v in _blend(a, b, g, nu, n, mu, xi, eta, phi)))
+
+
+def _checked_contact(
+    semi_axis_x, semi_axis_y, shear_modulus, poisson, normal_load, friction, long_creep,
+    lat_creep, spin,
+):  # fmt: skip
+    """The contact's inputs checked and in SI: a, b [m], G [Pa], ν [-], N [N] as floats; μ [-],
+    ξ, η [-], φ [1/m] as arrays (one per case). Shared by the flexibilities and the modified
+    FASTSIM's slope reduction."""
     a = float(require_positive("semi_axis_x", semi_axis_x, "m"))
     b = float(require_positive("semi_axis_y", semi_axis_y, "m"))
     g = float(require_positive("shear_modulus", shear_modulus, "Pa"))
@@ -167,4 +181,4 @@ def blended_flexibilities(
     xi = require_finite("long_creep", long_creep, "-")
     eta = require_finite("lat_creep", lat_creep, "-")
     phi = require_finite("spin", spin, "1/m")
-    return Flexibilities(*(np.asarray(v) for v in _blend(a, b, g, nu, n, mu, xi, eta, phi)))
+    return a, b, g, nu, n, mu, xi, eta, phi

@@ -18,11 +18,10 @@ from __future__ import annotations
 import numpy as np
 
 from rollerrig._validation import (
-    require_finite,
     require_in_range,
     require_nonnegative,
-    require_positive,
 )
+from rollerrig.contact.flexibilities import _checked_contact
 from rollerrig.contact.kalker import kalker_coefficients
 
 __all__ = ["slope_reduction"]
@@ -101,17 +100,10 @@ def slope_reduction(
     ...                       alpha_inf=0.02, beta=0.62))
     0.54
     """
-    a = float(require_positive("semi_axis_x", semi_axis_x, "m"))
-    b = float(require_positive("semi_axis_y", semi_axis_y, "m"))
-    g = float(require_positive("shear_modulus", shear_modulus, "Pa"))
-    nu = float(
-        require_in_range("poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True)
-    )
-    n = float(require_positive("normal_load", normal_load, "N"))
-    mu = require_positive("friction", friction, "-")
-    xi = require_finite("long_creep", long_creep, "-")
-    eta = require_finite("lat_creep", lat_creep, "-")
-    phi = require_finite("spin", spin, "1/m")
+    a, b, g, nu, n, mu, xi, eta, phi = _checked_contact(
+        semi_axis_x, semi_axis_y, shear_modulus, poisson, normal_load, friction,
+        long_creep, lat_creep, spin,
+    )  # fmt: skip
     k0, alpha_inf, beta = _check_modification(k0, alpha_inf, beta)
     c11 = float(kalker_coefficients(a / b, nu).c11)
     total = _total_creepage(xi, eta, phi, a)
