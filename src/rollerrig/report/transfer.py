@@ -83,10 +83,15 @@ def transfer_figure(result: TransferResult):
         0.01,
         0.005,
         "Surface parameters (slope reduction, μ0, A, B) carried over from the roller as "
-        "measured: an assumption. Band: Monte Carlo of the fit's covariance and the geometry's "
+        "measured: an assumption. Band: Monte Carlo of the fit's covariance, the geometry's "
         "stated uncertainty"
         + (
-            ", and the measured CoA's systematic error."
+            ", the law's error in the factor (against Kalker's exact theory)"
+            if any("law's error" in str(i.get("name", "")) for i in result.band.get("inputs", []))
+            else ""
+        )
+        + (
+            " and the measured CoA's systematic error."
             if any("systematic" in str(i.get("name", "")) for i in result.band.get("inputs", []))
             else " (not the measured CoA's systematic error)."
         ),
