@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -79,9 +80,7 @@ def transfer_figure(result: TransferResult):
     bx.set_xlim(0, xi[-1])
     bx.grid(True, alpha=0.3)
     bx.legend(fontsize=8, loc="upper right")
-    fig.text(
-        0.01,
-        0.005,
+    footnote = (
         "Surface parameters (slope reduction, μ0, A, B) carried over from the roller as "
         "measured: an assumption. Band: Monte Carlo of the fit's covariance, the geometry's "
         "stated uncertainty"
@@ -94,11 +93,11 @@ def transfer_figure(result: TransferResult):
             " and the measured CoA's systematic error."
             if any("systematic" in str(i.get("name", "")) for i in result.band.get("inputs", []))
             else " (not the measured CoA's systematic error)."
-        ),
-        fontsize=7,
-        color="0.3",
+        )
     )
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    # wrapped to the figure's width: a longer line would widen the saved (tight) figure
+    fig.text(0.01, 0.005, "\n".join(textwrap.wrap(footnote, 190)), fontsize=7, color="0.3")
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
     return fig
 
 
