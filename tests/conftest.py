@@ -6,6 +6,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+import pytest
+
 _TESTS = str(Path(__file__).resolve().parent)
 if _TESTS not in sys.path:
     sys.path.insert(0, _TESTS)
@@ -18,3 +20,30 @@ if _TESTS not in sys.path:
 if "NUMBA_CACHE_DIR" not in os.environ:
     _user = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
     os.environ["NUMBA_CACHE_DIR"] = str(Path(tempfile.gettempdir()) / f"rollerrig-tests-{_user}")
+
+
+def pytest_sessionstart(session):
+    """On a full run (``pytest`` with no paths), compile the fast backend once, before workers.
+
+    pytest-xdist's workers would otherwise each compile the same drivers at the same time (about
+    250 s of CPU each on a cold cache). The controller compiles the two models' drivers in two
+    processes at once (:mod:`_precompile`); the workers then load them. A run of chosen tests
+    skips this and compiles only what it uses. Workers (``workerinput``) never do it.
+    """
+    import subprocess
+
+    config = session.config
+    if hasattr(config, "workerinput") or config.args_source != pytest.Config.ArgsSource.TESTPATHS:
+        return
+    import _precompile
+
+    todo = [g for g in _precompile.GROUPS if _precompile.pending(g)]
+    if not todo:
+        return
+    script = str(Path(__file__).with_name("_precompile.py"))
+    reporter = config.pluginmanager.get_plugin("terminalreporter")
+    if reporter is not None:
+        reporter.write_line(f"compiling the fast backend's drivers once ({', '.join(todo)}) ...")
+    runs = [subprocess.Popen([sys.executable, script, g]) for g in todo]
+    for run in runs:
+        run.wait()

@@ -1,0 +1,56 @@
+"""Compile the fast backend's drivers into the test session's cache, in parallel, once.
+
+Without this, every pytest-xdist worker that first runs a simulation compiles the same drivers
+at the same time (about 250 s of CPU for the six on 2 cores, measured cold: the ETDRK4 driver
+73 s, its batch 45 s, the dq model's 59 s and 36 s, the ROS34PW2 drivers 12 s and 10 s after
+them). The controller runs this script in two processes, each compiling a chain of drivers
+whose callees the chain itself compiles first, so no function is compiled twice; the workers
+then load everything from the cache. Used by ``conftest.py`` on a full run only.
+
+Run as ``python tests/_precompile.py GROUP`` with GROUP ``plain`` or ``dq``.
+"""
+
+from __future__ import annotations
+
+import sys
+
+GROUPS = ("plain", "dq")
+"""The default model's drivers, and the dq roller drive's model's."""
+
+DRIVERS = ("etdrk4", "batch", "ros34pw2")
+"""In this order: the batch and the ROS34PW2 driver call what the ETDRK4 driver compiled."""
+
+
+def pending(group: str) -> bool:
+    """True when a driver of ``group`` is not in the cache yet."""
+    from rollerrig.solve import _cache, fast
+
+    if group == "dq":
+        drivers = fast._dq_drivers()
+    else:
+        drivers = (fast._integrate, fast._integrate_batch, fast._integrate_exp)
+    return not all(_cache.is_cached(d) for d in drivers)
+
+
+def compile_group(group: str) -> None:
+    """Run a 10 ms simulation through each driver of ``group`` (compiling what is missing)."""
+    import numpy as np
+
+    from rollerrig.experiment import load_protocol
+    from rollerrig.rig import default_rig
+    from rollerrig.rig.assemble import assemble
+    from rollerrig.rig.model import DriveConfig
+    from rollerrig.solve.fast import integrate_batch, integrate_experiment
+
+    drives = DriveConfig(roller="induction_dq") if group == "dq" else None
+    inputs = assemble(default_rig(), load_protocol("release-test"), drives=drives)
+    t = np.array([0.0, 0.01])
+    for driver in DRIVERS:
+        if driver == "batch":
+            integrate_batch([inputs], t)
+        else:
+            integrate_experiment(inputs, t, method=driver)
+
+
+if __name__ == "__main__":
+    compile_group(sys.argv[1])
