@@ -10,12 +10,21 @@ log scale when the peaks span a factor of :data:`LOG_SPAN` or more (:func:`log_f
 Peak labels stand in a row above the data (:func:`rollerrig.report.labels.label_peaks`), legends
 and line names outside the axes: nothing written covers a peak, a marker or the curve. Source
 kinds are named in words (:func:`source_name`).
+
+The spectra of one set (several recordings of one command or report, shown side by side) share
+one axis convention: :func:`shared_log_frequency` decides linear or logarithmic once over every
+spectrum's listed peaks, so 5 and 30 km/h are not drawn on different scales. The order map is
+a Campbell diagram when the twin's coupled modes are given (:func:`order_map_figure`): the
+modes as horizontal lines with frequency and damping ratio, and the speeds where an order line
+crosses a mode (:func:`resonance_speeds`).
 """
 
 from __future__ import annotations
 
 import textwrap
 from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
 
 import matplotlib
 
@@ -30,10 +39,13 @@ from rollerrig.signal.spectra import CoherenceSpectrum, ExplainedSpectrum, Order
 from rollerrig.signal.welch import power_unit
 
 __all__ = [
+    "Resonance",
     "coherence_figure",
     "frequency_limit",
     "log_frequency_axis",
     "order_map_figure",
+    "resonance_speeds",
+    "shared_log_frequency",
     "source_name",
     "spectrum_figure",
 ]
@@ -128,6 +140,35 @@ def log_frequency_axis(peaks: Sequence[float]) -> bool:
     return bool(positive) and max(positive) >= LOG_SPAN * min(positive)
 
 
+def shared_log_frequency(spectra: Sequence[ExplainedSpectrum]) -> bool:
+    """One frequency-axis convention for a set of spectra shown side by side [bool].
+
+    :func:`log_frequency_axis` of the listed peaks of every spectrum together: when any
+    spectrum of the set needs a log axis to keep its lines apart, all are drawn on one, so a
+    reader comparing 5 km/h with 30 km/h compares like with like. Pass the answer as
+    ``log_frequency`` to :func:`spectrum_figure` and :func:`coherence_figure` of the set.
+
+    Parameters
+    ----------
+    spectra : sequence of ExplainedSpectrum
+        The spectra of one command or report (e.g. ``SpectraSet.spectra``).
+
+    Returns
+    -------
+    bool
+        True: logarithmic frequency axes for the whole set.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> slow = NS(rows=[NS(frequency=f) for f in (0.49, 2.44, 83.6)])
+    >>> fast = NS(rows=[NS(frequency=f) for f in (2.93, 14.67, 83.8)])
+    >>> log_frequency_axis([r.frequency for r in fast.rows]), shared_log_frequency([slow, fast])
+    (False, True)
+    """
+    return log_frequency_axis([r.frequency for e in spectra for r in e.rows])
+
+
 def _frequency_axis(ax, peaks: Sequence[float], low: float, high: float, log: bool | None):
     """Set the frequency axis: linear from 0, or logarithmic from below the lowest peak."""
     positive = [float(f) for f in peaks if np.isfinite(f) and 0 < f <= high]
@@ -193,7 +234,8 @@ def spectrum_figure(
     max_labels : int
         Label at most this many peaks, the most powerful; the others keep their marker.
     title : str, optional
-        Figure title; default names the channel and the mean roller speed.
+        Figure title; default names the recording (``explained.source``, when known), the
+        channel and the mean roller speed.
     log_frequency : bool, optional
         A logarithmic frequency axis (from just below the lowest listed peak); default
         :func:`log_frequency_axis` of the listed peaks.
@@ -264,12 +306,15 @@ def spectrum_figure(
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel(f"power [{_power_unit(explained)}]")
     speed = explained.roller_speed
+    source = getattr(explained, "source", "")
+    where = f"{Path(source).name}, " if source else ""  # the recording, when known
     ax.set_title(
         title
         or (
-            f"{explained.channel}: {spec.method} spectrum, roller at rest (orders unattributed)"
+            f"{where}{explained.channel}: {spec.method} spectrum, roller at rest "
+            "(orders unattributed)"
             if speed is None
-            else f"{explained.channel}: {spec.method} spectrum, roller {speed:.2f} rad/s "
+            else f"{where}{explained.channel}: {spec.method} spectrum, roller {speed:.2f} rad/s "
             f"(f_r = {explained.roller_frequency:.3f} Hz, f_AM = {explained.am_frequency:.3f} Hz)"
         ),
         fontsize=9,
@@ -397,18 +442,150 @@ def _inferred_lines(omap: OrderMap) -> list:
     return extra
 
 
+@dataclass(frozen=True)
+class Resonance:
+    """A speed at which an order line of an order map crosses a coupled mode of the twin.
+
+    Attributes
+    ----------
+    line : str
+        The order line's label, e.g. ``"AM electrical ×1"``.
+    source : str
+        Its source kind (:data:`rollerrig.signal.attribution.SOURCE_KINDS`).
+    order : int
+        Its harmonic number.
+    mode_frequency : float
+        The mode's damped frequency [Hz] (median over the operating points given).
+    damping_ratio : tuple of float
+        The mode's damping ratio ζ, lowest and highest over the operating points [1].
+    speed : float
+        Roller angular speed at the crossing [rad/s]: ``mode_frequency / slope`` with
+        ``slope = k p / 2π`` [Hz per rad/s] of the line (AM: p = 5 pole pairs on the roller).
+    """
+
+    line: str
+    source: str
+    order: int
+    mode_frequency: float
+    damping_ratio: tuple[float, float]
+    speed: float
+
+
+@dataclass(frozen=True)
+class _ModeLine:
+    """A ringing mode matched over operating points: frequency and ζ ranges [Hz], [1]."""
+
+    frequency: float
+    frequencies: tuple[float, float]
+    damping_ratio: tuple[float, float]
+
+    @property
+    def label(self) -> str:
+        lo, hi = self.frequencies
+        f = f"{self.frequency:.2f} Hz" if hi - lo <= 0.005 * hi else f"{lo:.2f}-{hi:.2f} Hz"
+        za, zb = self.damping_ratio
+        zeta = f"{za:.2g}" if f"{za:.2g}" == f"{zb:.2g}" else f"{za:.2g}-{zb:.2g}"
+        return f"mode {f}, ζ {zeta}"
+
+
+def _mode_lines(modes) -> list[_ModeLine]:
+    """The ringing modes of one or several :class:`CoupledModes` (one per operating point),
+    matched by frequency (within 5 %) across the points."""
+    sets = [modes] if hasattr(modes, "ringing") else [m for m in modes if m is not None]
+    groups: list[list] = []
+    for cm in sets:
+        for md in cm.ringing:
+            for g in groups:
+                if abs(md.frequency - g[0].frequency) <= 0.05 * g[0].frequency:
+                    g.append(md)
+                    break
+            else:
+                groups.append([md])
+    out = []
+    for g in groups:
+        f = [md.frequency for md in g]
+        z = [md.damping_ratio for md in g]
+        out.append(_ModeLine(float(np.median(f)), (min(f), max(f)), (min(z), max(z))))
+    return sorted(out, key=lambda m: m.frequency)
+
+
+def resonance_speeds(omap: OrderMap, modes) -> tuple[Resonance, ...]:
+    """Speeds where the order lines of ``omap`` cross the twin's ringing modes (Campbell).
+
+    A speed-proportional line ``f = s ω_r`` (``s = k p / 2π`` for an AM harmonic, ``k / 2π``
+    for a roller order, ``k p ω_w / (2π ω_r)`` for the wheel side) meets a mode at
+    ``f_mode`` at ``ω_r = f_mode / s``; crossings within the map's speed grid are returned,
+    by speed. A rotating excitation at that speed drives the mode at resonance (the Campbell
+    diagram's reading: Ewins, *Modal Testing*, 2000, section 6.11; Kayaalp, section 4.5.2.4).
+
+    Parameters
+    ----------
+    omap : OrderMap
+        From :func:`rollerrig.signal.spectra.order_map` (its lines, and the attributed orders
+        :func:`order_map_figure` draws besides them).
+    modes : CoupledModes or sequence of CoupledModes
+        The twin's modes (:func:`rollerrig.rig.linear.coupled_modes`), e.g. one per recording
+        (``ExplainedSpectrum.modes``); the ringing ones are used, matched across points.
+
+    Returns
+    -------
+    tuple of Resonance
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> from rollerrig.signal.ordermap import order_map
+    >>> omap = order_map([(18.44, [14.67])], roller_orders=(), am_harmonics=(1,))
+    >>> mode = NS(frequency=13.78, damping_ratio=0.0039)
+    >>> [(r.line, round(r.speed, 2)) for r in resonance_speeds(omap, NS(ringing=(mode,)))]
+    [('AM electrical ×1', 17.32)]
+    """
+    grid = omap.speed_grid
+    end = float(grid[-1])
+    out = []
+    for line in [*omap.lines, *_inferred_lines(omap)]:
+        slope = float(line.frequency[-1]) / end if end > 0 else 0.0
+        if line.order <= 0 or slope <= 0:
+            continue
+        for md in _mode_lines(modes):
+            speed = md.frequency / slope
+            if 0.0 < speed <= end:
+                out.append(
+                    Resonance(
+                        line.label, line.source, line.order, md.frequency, md.damping_ratio, speed
+                    )
+                )
+    return tuple(sorted(out, key=lambda r: (r.mode_frequency, r.speed)))
+
+
+def _resonance_text(found: Sequence[Resonance], scale: float, unit: str) -> str:
+    """The resonance speeds in words, grouped by mode, for the figure's small print."""
+    parts = []
+    for f in dict.fromkeys(r.mode_frequency for r in found):
+        mine = [f"{r.line} {r.speed * scale:.1f}" for r in found if r.mode_frequency == f]
+        parts.append(f"{f:.2f} Hz: " + ", ".join(mine))
+    text = f"resonance speeds [{unit}] (order line crosses a mode, open circles): "
+    return textwrap.fill(text + "; ".join(parts), 120)
+
+
 def order_map_figure(
     omap: OrderMap,
     roller_radius: float | None = None,
     max_frequency: float | None = None,
     log_frequency: bool | None = None,
+    modes=None,
+    title: str | None = None,
 ):
-    """Peak frequency versus speed with the order lines overlaid (a Campbell-like map).
+    """Peak frequency versus speed with the order lines overlaid; a Campbell diagram when the
+    twin's modes are given.
 
     Besides the lines of ``omap``, a line is drawn for every attributed order that has none
     (e.g. the wheel's second order, the PMSM's sixth). Each line is named outside the axes,
     on the right where it leaves the speed range (above the axes where it leaves through the
-    top), so the names cover no point.
+    top), so the names cover no point. With ``modes``, each ringing mode of the coupled twin
+    is a horizontal brown line named with its frequency and damping ratio ζ, and every speed
+    where an order line crosses a mode (:func:`resonance_speeds`) is circled and listed under
+    the axes: there a rotating excitation drives the mode at resonance.
 
     Parameters
     ----------
@@ -425,12 +602,30 @@ def order_map_figure(
         A logarithmic frequency axis (from just below the lowest peak); default
         :func:`log_frequency_axis` of the peaks (the low orders of a slow rotation stay apart
         next to the motor lines).
+    modes : CoupledModes or sequence of CoupledModes, optional
+        The coupled twin's modes (:func:`rollerrig.rig.linear.coupled_modes`), e.g. those of
+        each recording's operating point (``[e.modes for e in spectra_set.spectra]``): the
+        ringing ones are drawn (frequency and ζ ranges over the points in the label). Modes
+        outside the frequency range shown are named in the small print.
+    title : str, optional
+        Figure title; default says what the map shows (and the recordings' count).
 
     Returns
     -------
     matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> from rollerrig.rig.linear import coupled_modes
+    >>> from rollerrig.rig.parameters import default_rig
+    >>> from rollerrig.signal.ordermap import order_map
+    >>> omap = order_map([(3.07, [2.45]), (18.44, [14.67, 1.333])])
+    >>> fig = order_map_figure(omap, 0.452, modes=coupled_modes(default_rig(), 8.33, 4.3e3))
+    >>> "Campbell" in fig.axes[0].get_title()
+    True
     """
     scale = 3.6 * roller_radius if roller_radius is not None else 1.0
+    unit = "km/h" if roller_radius is not None else "rad/s"
     fig, ax = plt.subplots(figsize=(8.5, 5.6))
     styles = {
         "am_electrical": "-",
@@ -460,6 +655,39 @@ def order_map_figure(
             alpha=0.7,
             gid="order-line",
         )
+    from rollerrig.signal.ordermap import OrderLine
+
+    mode_lines, outside, found = [], [], ()
+    if modes is not None:
+        low = bottom if log_frequency else 0.0
+        for md in _mode_lines(modes):
+            if not low < md.frequency <= top:
+                outside.append(md)
+                continue
+            mode_lines.append(
+                OrderLine("rig_mode", 0, md.label, np.full(omap.speed_grid.shape, md.frequency))
+            )
+            ax.axhline(md.frequency, color=_COLOURS["rig_mode"], lw=1.6, alpha=0.8, gid="mode")
+        drawn = {round(m.frequency[0], 9) for m in mode_lines}
+        found = tuple(
+            r for r in resonance_speeds(omap, modes) if round(r.mode_frequency, 9) in drawn
+        )
+        if found:
+            ax.plot(
+                [r.speed * scale for r in found],
+                [r.mode_frequency for r in found],
+                "o",
+                ms=8,
+                mfc="none",
+                mec="k",
+                mew=1.0,
+                zorder=5,
+                gid="resonance",
+            )
+        # Legend entries of what a Campbell diagram adds (drawn nowhere: proxies).
+        ax.plot([], [], color=_COLOURS["rig_mode"], lw=1.6, label="twin mode (ζ: damping ratio)")
+        if found:
+            ax.plot([], [], "o", ms=8, mfc="none", mec="k", label="order line crosses a mode")
     for kind in dict.fromkeys(omap.source.tolist()):
         sel = omap.source == kind
         ax.plot(
@@ -472,21 +700,37 @@ def order_map_figure(
             label=source_name(kind),
         )
     ax.set_xlabel("speed [km/h]" if roller_radius is not None else "roller speed [rad/s]")
-    ax.set_ylabel("peak frequency [Hz]")
-    if omap.frequency.size:  # below the axes: it hides no point and no line
-        kinds = len(set(omap.source.tolist()))
-        hidden = _hidden_note([float(f) for f in omap.frequency if f > top], top)
+    ax.set_ylabel("frequency [Hz]" if modes is not None else "peak frequency [Hz]")
+    notes = [_hidden_note([float(f) for f in omap.frequency if f > top], top)]
+    if outside:
+        notes.append(
+            "twin modes outside the range shown: "
+            + ", ".join(m.label.removeprefix("mode ") for m in outside)
+        )
+    if found:
+        notes.append(_resonance_text(found, scale, unit))
+    small_print = "\n".join(n for n in notes if n)
+    handles, _ = ax.get_legend_handles_labels()
+    if handles or small_print:  # below the axes: it hides no point and no line
         ax.legend(
             fontsize=7,
             loc="upper center",
             bbox_to_anchor=(0.5, -0.11),
-            ncol=kinds,
-            title=hidden or None,  # what a given frequency limit leaves out
+            ncol=max(1, min(len(handles), 4)),
+            title=small_print or None,  # what a given limit leaves out; the resonance speeds
             title_fontsize=6.5,
+            alignment="left",
         )
     ax.grid(True, which="both" if log_frequency else "major", alpha=0.3)
-    names = _line_names(ax, lines, omap.speed_grid * scale)
-    ax.set_title("order map: spectral peaks versus speed", pad=6 + (14 if names else 0))
+    names = _line_names(ax, [*lines, *mode_lines], omap.speed_grid * scale)
+    n_rec = len(set(omap.recording.tolist()))
+    what = (
+        "Campbell diagram: peaks, order lines and the twin's coupled modes versus speed"
+        if modes is not None
+        else "order map: spectral peaks versus speed"
+    )
+    default = f"{what} ({n_rec} recording{'s' if n_rec != 1 else ''})"
+    ax.set_title(textwrap.fill(title or default, 90), fontsize=10, pad=6 + (14 if names else 0))
     fig.tight_layout()
     _place_line_names(ax, names)
     return fig
