@@ -122,8 +122,15 @@ def test_the_panels_draw_the_datasets_values(figure):
     assert "set point" in _legend(e)
 
 
-@pytest.mark.parametrize("scale", [1.0, -6.0])
-def test_the_fixed_layout_clips_nothing_and_nothing_overlaps(scale):
+LONG_TITLE = (
+    "rollerrig simulation: seed-30kmh-dry on Pardubice tram roller rig; variant: wheel drive "
+    "ideal_torque, roller drive induction_linear, roller lag 0.05 s, flexible frame, law "
+    "modified-fastsim, solver reference, rig file soft-shaft.toml"
+)
+
+
+@pytest.mark.parametrize(("scale", "title"), [(1.0, None), (-6.0, None), (1.0, LONG_TITLE)])
+def test_the_fixed_layout_clips_nothing_and_nothing_overlaps(scale, title):
     """The experiment figure is laid out once, with fixed margins (no tight bounding box when
     saved): every panel with its tick labels, axis labels, title and legend lies inside the
     figure, apart from the other panels and from the figure's title; also with tick labels of
@@ -131,17 +138,19 @@ def test_the_fixed_layout_clips_nothing_and_nothing_overlaps(scale):
     ds = _twin_dataset()
     for name in ("torque_request", "pmsm_torque", "contact_force", "measured_force"):
         ds[name] = ds[name] * scale
-    fig = experiment_figure(ds)
+    fig = experiment_figure(ds, title=title)
     try:
         fig.canvas.draw()
         renderer = fig.canvas.get_renderer()
         whole = fig.bbox
         boxes = [ax.get_tightbbox(renderer) for ax in fig.axes]
-        title = fig.texts[0].get_window_extent(renderer)
+        heading = fig.texts[0].get_window_extent(renderer)
+        assert whole.x0 <= heading.x0 and heading.x1 <= whole.x1  # a variant's title fits too
+        assert fig.texts[0].get_text() == (title or "twin test")
         for ax, box in zip(fig.axes, [*boxes], strict=True):
             assert whole.x0 <= box.x0 and box.x1 <= whole.x1, ax.get_title()
             assert whole.y0 <= box.y0 and box.y1 <= whole.y1, ax.get_title()
-            assert not box.overlaps(title), ax.get_title()
+            assert not box.overlaps(heading), ax.get_title()
         for i, box in enumerate(boxes):
             for other in boxes[i + 1 :]:
                 assert not box.overlaps(other), (fig.axes[i].get_title(), box, other)

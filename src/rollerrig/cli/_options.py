@@ -3,6 +3,7 @@
 Each enum lists the values its option accepts: ``--help`` shows them and a wrong value is one
 usage error naming them. The values are the package's own names (a test checks that each enum
 equals the table it mirrors: :data:`rollerrig.rig.model.WHEEL_MODES`, ``ROLLER_MODES``,
+:data:`rollerrig.output.figures.FIGURE_FORMATS`,
 :data:`rollerrig.solve.simulation.SOLVERS`, :data:`rollerrig.solve.results.SAVE_FORMATS`,
 :data:`rollerrig.studies.runner.EXECUTORS`,
 :data:`rollerrig.contact.creep.POLACH_PARAMETER_SETS`); they
@@ -22,6 +23,8 @@ __all__ = [
     "DEFAULT_OUT",
     "ChannelsOption",
     "Executor",
+    "FigureFormat",
+    "FigureFormatOption",
     "FrameModel",
     "Friction",
     "LenientOption",
@@ -32,6 +35,7 @@ __all__ = [
     "Solver",
     "WheelDrive",
     "check_option",
+    "figure_file",
     "load_rig",
 ]
 
@@ -78,9 +82,44 @@ class ResultsFormat(StrEnum):
     mat = "mat"
 
 
+class FigureFormat(StrEnum):
+    """File format of a command's figures (:data:`rollerrig.output.figures.FIGURE_FORMATS`)."""
+
+    png = "png"
+    svg = "svg"
+    pdf = "pdf"
+
+
+FigureFormatOption = Annotated[
+    FigureFormat,
+    typer.Option(
+        "--figure-format",
+        help="File format of the figures: png (raster, 150 dpi), svg or pdf (vector, for "
+        "print); each carries the run's provenance. An HTML report embeds PNG whatever this is.",
+        case_sensitive=False,
+    ),
+]
+"""``--figure-format``: one definition for every command that writes figures."""
+
+
+def figure_file(stem: str, figure_format: FigureFormat | str = FigureFormat.png) -> str:
+    """File name of a figure: ``stem`` with the suffix of ``--figure-format``.
+
+    The one way a command names its figures; :func:`rollerrig.output.save_figure` writes the
+    format the suffix says.
+
+    Examples
+    --------
+    >>> figure_file("order-map"), figure_file("order-map", FigureFormat.svg)
+    ('order-map.png', 'order-map.svg')
+    """
+    return f"{stem}.{FigureFormat(figure_format).value}"
+
+
 class Executor(StrEnum):
     """Where a study runs (:data:`rollerrig.studies.runner.EXECUTORS`)."""
 
+    auto = "auto"
     dask = "dask"
     local = "local"
 

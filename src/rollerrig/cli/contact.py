@@ -11,7 +11,15 @@ import typer
 from rich.table import Table
 
 from rollerrig.cli._console import QuietOption, console, print_written
-from rollerrig.cli._options import DEFAULT_OUT, RigOption, check_option, load_rig
+from rollerrig.cli._options import (
+    DEFAULT_OUT,
+    FigureFormat,
+    FigureFormatOption,
+    RigOption,
+    check_option,
+    figure_file,
+    load_rig,
+)
 from rollerrig.cli._outputs import command_outputs
 
 __all__ = ["CreepLaw", "contact"]
@@ -67,6 +75,7 @@ def contact(
     out: Annotated[
         Path, typer.Option("--out", help="Output folder for the figures and the summary.")
     ] = DEFAULT_OUT,
+    figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
 ) -> None:
     """Contact of the rig's wheel-roller pair: Hertz ellipse, Kalker C11, creep curves.
@@ -207,10 +216,10 @@ def contact(
                 )
             },
         }
-        save_figure(fig1, stage.path("contact-creep-curves.png"))
-        save_figure(fig2, stage.path("contact-vs-roller-radius.png"))
+        save_figure(fig1, stage.path(figure_file("contact-creep-curves", figure_format)))
+        save_figure(fig2, stage.path(figure_file("contact-vs-roller-radius", figure_format)))
         if law != "polach":
-            save_figure(fig3, stage.path("contact-traction.png"))
+            save_figure(fig3, stage.path(figure_file("contact-traction", figure_format)))
         write_json(stage.path("contact-report.json"), summary)
     title = (
         f"Wheel-roller contact at N = {load_kn:g} kN "

@@ -12,7 +12,13 @@ from rich.table import Table
 from rollerrig._optional import require
 from rollerrig.cli._boundary import UserError
 from rollerrig.cli._console import QuietOption, console, note, print_written, steps
-from rollerrig.cli._options import DEFAULT_OUT, OutOption
+from rollerrig.cli._options import (
+    DEFAULT_OUT,
+    FigureFormat,
+    FigureFormatOption,
+    OutOption,
+    figure_file,
+)
 from rollerrig.cli._outputs import command_outputs
 
 __all__ = ["DISSERTATION_TOP_DEFLECTION", "frame"]
@@ -50,6 +56,7 @@ def frame(
         int, typer.Option("--modes", help="Natural modes to compute [1], 1 to 50.")
     ] = 6,
     out: OutOption = DEFAULT_OUT,
+    figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
 ) -> None:
     """Static and modal FE analysis of the rig frame under the test load (Kayaalp 4.4).
@@ -57,7 +64,7 @@ def frame(
     Prints the largest von Mises stress, the top horizontal deflection (beside the
     dissertation's 0.04 mm), the stress at each strain gauge, the natural frequencies and the
     frame's longitudinal stiffness and modal mass at the contact; writes frame.json (SI
-    units), frame-deformed.png and frame-modes.png (magnification in each title).
+    units), frame-deformed and frame-modes figures (magnification in each title).
     """
     from rollerrig.frame.analysis import MAX_TEST_LOAD
 
@@ -100,10 +107,10 @@ def frame(
             summary = frame_summary(result, dof, frame_file)
             say("figures: deformed shape, mode shapes")
             fig, _ = deformed_shape_figure(result)
-            save_figure(fig, stage.path("frame-deformed.png"))
+            save_figure(fig, stage.path(figure_file("frame-deformed", figure_format)))
             shown = sorted({*range(min(3, modes)), dof.mode})  # the first three, the contact's
             fig, _ = mode_shape_figure(result, modes=shown, contact_mode=dof.mode)
-            save_figure(fig, stage.path("frame-modes.png"))
+            save_figure(fig, stage.path(figure_file("frame-modes", figure_format)))
             write_json(stage.path("frame.json"), summary)
     console.print(_table(result, dof))
     if frame_file is None:

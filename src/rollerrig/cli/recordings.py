@@ -24,9 +24,12 @@ from rollerrig.cli._inputs import calibration_for, derived, load_truth, open_inp
 from rollerrig.cli._options import (
     DEFAULT_OUT,
     ChannelsOption,
+    FigureFormat,
+    FigureFormatOption,
     LenientOption,
     OutOption,
     RigOption,
+    figure_file,
     load_rig,
 )
 from rollerrig.cli._outputs import command_outputs, safe_file_name
@@ -319,6 +322,7 @@ def spectrum(
     ] = None,
     out: OutOption = DEFAULT_OUT,
     lenient: LenientOption = False,
+    figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
 ) -> None:
     """Spectra whose peaks explain themselves; with several recordings, an order map and the
@@ -327,7 +331,12 @@ def spectrum(
     among the sources."""
     from rollerrig.analysis.adhesion import recording_facts
     from rollerrig.output import save_figure, write_json
-    from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
+    from rollerrig.report.spectra import (
+        coherence_figure,
+        order_map_figure,
+        shared_log_frequency,
+        spectrum_figure,
+    )
     from rollerrig.signal.workflow import explain_recordings
 
     rig = load_rig(rig_file)
@@ -359,6 +368,7 @@ def spectrum(
                 loaded.append(derived(open_input(p, channels, lenient, needed, files), rig))
             say("spectra, peaks and their sources" + (" and coherence" if coherence_with else ""))
             result = explain_recordings(loaded, channel, rig, coherence_with=coherence_with)
+        log = shared_log_frequency(result.spectra)  # one axis convention for the set
         for path, stem, key, rec, e in zip(
             recordings, stems, keys, loaded, result.spectra, strict=True
         ):
@@ -377,8 +387,8 @@ def spectrum(
             for text in e.notes:
                 note(text)
             save_figure(
-                spectrum_figure(e, title=fig_title),
-                stage.path(f"{stem}-spectrum.png"),
+                spectrum_figure(e, title=f"{fig_title}: {channel}", log_frequency=log),
+                stage.path(figure_file(f"{stem}-spectrum", figure_format)),
             )
             summary[key] = e.summary() | {"recording": recording_facts(rec)}
             if e.coherence is not None:
@@ -400,9 +410,10 @@ def spectrum(
                         e.coherence,
                         [r.frequency for r in e.rows],
                         [r.label for r in e.rows],
-                        names=(channel, coherence_with),
+                        names=(f"{path.name}: {channel}", coherence_with),
+                        log_frequency=log,
                     ),
-                    stage.path(f"{stem}-coherence.png"),
+                    stage.path(figure_file(f"{stem}-coherence", figure_format)),
                 )
         fixed = result.speed_independent
         if len(result.spectra) > 1:
@@ -410,8 +421,12 @@ def spectrum(
                 "speed-independent lines [Hz]: " + (", ".join(f"{f:.3f}" for f in fixed) or "none")
             )
             save_figure(
-                order_map_figure(result.order_map(), roller_radius=rig.geometry.roller_radius_x),
-                stage.path("order-map.png"),
+                order_map_figure(
+                    result.order_map(),
+                    roller_radius=rig.geometry.roller_radius_x,
+                    modes=[e.modes for e in result.spectra if e.modes is not None] or None,
+                ),
+                stage.path(figure_file("order-map", figure_format)),
             )
         summary["speed_independent_lines [Hz]"] = [float(f) for f in fixed]
         write_json(stage.path("spectra.json"), summary)
@@ -425,6 +440,7 @@ def filters(
     out: OutOption = DEFAULT_OUT,
     top: Annotated[int, typer.Option(help="Rows of the ranked table to print.")] = 15,
     lenient: LenientOption = False,
+    figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
 ) -> None:
     """The seed's smoothing-filter study as a ranked table and figures (truth-free scoring).
@@ -502,8 +518,10 @@ def filters(
                 "tuned at [Hz]": tuned_at,
             },
         }
-        save_figure(ranking_fig, stage.path(f"{recording.stem}-filter-ranking.png"))
-        save_figure(grid_fig, stage.path(f"{recording.stem}-sg-grid.png"))
+        save_figure(
+            ranking_fig, stage.path(figure_file(f"{recording.stem}-filter-ranking", figure_format))
+        )
+        save_figure(grid_fig, stage.path(figure_file(f"{recording.stem}-sg-grid", figure_format)))
         write_json(stage.path(f"{recording.stem}-filters.json"), summary)
     console.print(table)
     console.print(

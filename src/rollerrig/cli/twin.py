@@ -21,6 +21,8 @@ from rollerrig.cli._boundary import UserError
 from rollerrig.cli._console import QuietOption, console, note, print_written
 from rollerrig.cli._options import (
     DEFAULT_OUT,
+    FigureFormat,
+    FigureFormatOption,
     FrameModel,
     Friction,
     OutOption,
@@ -29,6 +31,7 @@ from rollerrig.cli._options import (
     RollerDrive,
     Solver,
     WheelDrive,
+    figure_file,
     load_rig,
 )
 from rollerrig.cli._outputs import command_outputs
@@ -66,22 +69,50 @@ def variant_stem(
     >>> variant_stem("x", solver="reference", rig_file=Path("rigs/soft.toml"))
     'x_solver-reference_rig-soft'
     """
-    parts = [_bounded(name)]
+    parts = _variant_parts(wheel, roller, roller_lag, solver, rig_file, frame, law)
+    return "_".join([_bounded(name), *(stem for stem, _ in parts)])
+
+
+def _variant_parts(wheel, roller, roller_lag, solver, rig_file, frame, law):
+    """What differs from the defaults: (file-name part, words for a title) each."""
+    parts = []
     if wheel != WheelDrive.pmsm.value:
-        parts.append(f"wheel-{wheel}")
+        parts.append((f"wheel-{wheel}", f"wheel drive {wheel}"))
     if roller != RollerDrive.induction.value:
-        parts.append(f"roller-{roller}")
+        parts.append((f"roller-{roller}", f"roller drive {roller}"))
     if roller_lag is not None:
-        parts.append(f"lag-{roller_lag:g}s")
+        parts.append((f"lag-{roller_lag:g}s", f"roller lag {roller_lag:g} s"))
     if frame != FrameModel.rigid.value:
-        parts.append(f"frame-{frame}")
+        parts.append((f"frame-{frame}", f"{frame} frame"))
     if law != CreepLaw.polach.value:
-        parts.append(f"law-{law}")
+        parts.append((f"law-{law}", f"law {law}"))
     if solver != Solver.fast.value:
-        parts.append(f"solver-{solver}")
+        parts.append((f"solver-{solver}", f"solver {solver}"))
     if rig_file is not None:
-        parts.append(f"rig-{Path(rig_file).stem}")
-    return "_".join(parts)
+        parts.append((f"rig-{Path(rig_file).stem}", f"rig file {Path(rig_file).name}"))
+    return parts
+
+
+def variant_title(title: str, **variant) -> str:
+    """A figure title that names the variant: ``title`` and what differs from the defaults.
+
+    Takes the keywords of :func:`variant_stem` (without the name).
+
+    Examples
+    --------
+    >>> variant_title("seed-30kmh-dry on Pardubice", roller_lag=0.0)
+    'seed-30kmh-dry on Pardubice; variant: roller lag 0 s'
+    >>> variant_title("seed-30kmh-dry on Pardubice")
+    'seed-30kmh-dry on Pardubice'
+    """
+    keys = ("wheel", "roller", "roller_lag", "solver", "rig_file", "frame", "law")
+    defaults = dict(
+        zip(keys, (WheelDrive.pmsm.value, RollerDrive.induction.value, None,
+                   Solver.fast.value, None, FrameModel.rigid.value, CreepLaw.polach.value),
+            strict=True)
+    )  # fmt: skip
+    words = [w for _, w in _variant_parts(**(defaults | variant))]
+    return f"{title}; variant: {', '.join(words)}" if words else title
 
 
 MAX_NAME_IN_STEM = 64
@@ -195,6 +226,7 @@ def simulate(
         ResultsFormat,
         typer.Option("--format", case_sensitive=False, help="Results file format."),
     ] = ResultsFormat.nc,
+    figure_format: FigureFormatOption = FigureFormat.png,
     list_experiments: Annotated[
         bool,
         typer.Option(
@@ -286,8 +318,23 @@ def simulate(
         text = format_modal_table(modal_table(rig))
         release = _release_summary(ds, sim.protocol)
         save_dataset(ds, stage.path(f"{stem}.{output_format.value}"), overwrite=True)
-        figure = experiment_figure(ds)  # laid out already: drawn once, at 100 dpi
-        save_figure(figure, stage.path(f"{stem}.png"), dpi=EXPERIMENT_FIGURE_DPI, tight=False)
+        title = variant_title(
+            ds.attrs.get("title", sim.protocol.name),
+            wheel=drives.wheel,
+            roller=drives.roller,
+            roller_lag=roller_lag_s,
+            solver=solver.value,
+            rig_file=rig_file,
+            frame=frame.value,
+            law=law.value,
+        )
+        figure = experiment_figure(ds, title=title)  # laid out already: drawn once, at 100 dpi
+        save_figure(
+            figure,
+            stage.path(figure_file(stem, figure_format)),
+            dpi=EXPERIMENT_FIGURE_DPI,
+            tight=False,
+        )
         write_text(stage.path(f"{stem}-modes.txt"), text + "\n", comment="#")
     console.print(text)
     if release:

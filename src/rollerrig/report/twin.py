@@ -75,7 +75,9 @@ def experiment_figure(ds, title: str | None = None):
         Result of :meth:`rollerrig.solve.simulation.Simulation.run` (truth beside the measured
         channels; the rig's radii in the ``provenance`` attribute).
     title : str, optional
-        Figure title; default the dataset's ``title`` attribute.
+        Figure title (e.g. naming the variant:
+        :func:`rollerrig.cli.twin.variant_title`); default the dataset's ``title`` attribute.
+        One line; a long one is set smaller to fit the figure's width.
 
     Returns
     -------
@@ -165,8 +167,19 @@ def experiment_figure(ds, title: str | None = None):
         ax.set_ylim(lo, hi + 0.3 * (hi - lo))
         ax.legend(fontsize=7, loc="upper left", ncol=2)
         ax.set_xlabel("time [s]")
-    fig.suptitle(title or ds.attrs.get("title", ""), fontsize=11)
+    _fitted_title(fig, title or ds.attrs.get("title", ""))
     return fig
+
+
+def _fitted_title(fig, text: str) -> None:
+    """The figure's title in one line within the figure's width: 11 pt, smaller (down to
+    7 pt) for a long one (a title naming a variant), so it fits the fixed top margin."""
+    sup = fig.suptitle(text, fontsize=11)
+    renderer = fig.canvas.get_renderer()
+    size = 11.0
+    while size > 7.0 and sup.get_window_extent(renderer).width > 0.98 * fig.bbox.width:
+        size -= 0.5
+        sup.set_fontsize(size)
 
 
 def sweep_figure(values, amplitudes: dict, xlabel: str, title: str):
