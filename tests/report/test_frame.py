@@ -10,7 +10,12 @@ from rollerrig.frame import analyze_frame, default_frame
 
 pytest.importorskip("Pynite")
 
-from rollerrig.report.frame import auto_scale, deformed_shape_figure, mode_shape_figure
+from rollerrig.report.frame import (
+    _force_scale,
+    auto_scale,
+    deformed_shape_figure,
+    mode_shape_figure,
+)
 
 
 @pytest.fixture(scope="module")
@@ -58,3 +63,49 @@ def test_auto_scale_is_round_and_draws_a_visible_shape(result):
     peak = np.max(np.linalg.norm(result.displacements[:, :3], axis=1))
     assert 0.05 < s * peak / 1.4 <= 0.12 + 1e-12  # 1.4 m: the default frame's largest side
     assert auto_scale(result, np.zeros((3, 3))) == 1.0
+
+
+def _tick_label_boxes(fig):
+    """Display boxes of every visible, non-empty tick label of every axis of ``fig``."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    boxes = []
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis, *((ax.zaxis,) if hasattr(ax, "zaxis") else ())):
+            lo, hi = sorted(axis.get_view_interval())
+            for tick in axis.get_major_ticks():  # those drawn: inside the axis' range
+                label = tick.label1
+                if lo <= tick.get_loc() <= hi and label.get_visible() and label.get_text():
+                    boxes.append((label.get_text(), label.get_window_extent(renderer)))
+    return boxes
+
+
+@pytest.mark.parametrize("which", ["deformed", "modes"])
+def test_no_tick_label_overprints_another(result, which):
+    """Issue 23: the 3-D panels ran their tick labels into each other at the box's corners
+    (x "0.8" on y "-0.6") and, three panels wide, along whole axes. Checked on the renderer's
+    boxes, across panels too."""
+    fig = deformed_shape_figure(result)[0] if which == "deformed" else mode_shape_figure(result)[0]
+    boxes = _tick_label_boxes(fig)
+    assert len(boxes) >= 6
+    for i, (text, box) in enumerate(boxes):
+        for other, obox in boxes[:i]:
+            assert not box.overlaps(obox), (text, other)
+    plt.close(fig)
+
+
+def test_the_legend_says_what_the_arrows_are_and_their_scale(result):
+    fig, scale = deformed_shape_figure(result)
+    (legend,) = fig.legends
+    entries = [t.get_text() for t in legend.get_texts()]
+    assert f"deformed (displacements x {scale:g})" in entries
+    (arrow,) = [e for e in entries if e.startswith("force on the frame")]
+    assert arrow == "force on the frame (arrow 0.1 m = 10 kN)"  # N = 20 kN drawn as 0.2 m
+    # The scale is round and draws the largest force (the air spring's 20 kN) at 0.2 m, 14 %
+    # of the frame's 1.4 m: visible, and not longer than the frame's members.
+    assert _force_scale(20e3, 1.4) == 100e3  # [N per m of arrow]
+    assert _force_scale(20e3, 0.5) == 500e3 and _force_scale(0.0, 1.4) == 1.0
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    assert legend.get_window_extent(renderer).y1 <= fig.axes[0].get_window_extent(renderer).y0
+    plt.close(fig)

@@ -2,7 +2,10 @@
 
 Both are 3-D line drawings of the members (through each member's inner FE nodes) over the
 undeformed frame in grey. Displacements are magnified; the factor is stated in the title
-(``displacements x 2000``) and returned, so a reader can take lengths off the figure.
+(``displacements x 2000``) and returned, so a reader can take lengths off the figure. The
+axes carry at most four ticks each (labels that never run into each other at the corners of
+the box), and a legend says what every mark is: undeformed and deformed frame, supports,
+strain gauges, and the forces on the frame as arrows drawn to a stated scale.
 """
 
 from __future__ import annotations
@@ -12,6 +15,8 @@ import matplotlib
 matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.lines import Line2D
+from matplotlib.ticker import MaxNLocator
 
 from rollerrig.frame.analysis import FrameResult
 
@@ -77,9 +82,12 @@ def _draw(ax, result: FrameResult, translations: np.ndarray, scale: float, colou
         ax.plot(*moved[chain].T, color=colour, lw=1.8)
     supports = [result.nodes.index(n) for n in result.frame.supports]
     ax.scatter(*xyz[supports].T, marker="s", s=30, color="k", label="support")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_zlabel("z [m]")
+    ax.set_xlabel("x [m]", fontsize=8)
+    ax.set_ylabel("y [m]", fontsize=8)
+    ax.set_zlabel("z [m]", fontsize=8)
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # few, short tick labels: none overprint
+        axis.set_major_locator(MaxNLocator(nbins=3, steps=(1, 2, 5, 10)))
+    ax.tick_params(labelsize=7, pad=0)
     lo, hi = xyz.min(axis=0), xyz.max(axis=0)
     ax.set_box_aspect(np.maximum(hi - lo, 0.1 * _span(result)))
     ax.view_init(elev=20, azim=-60)
@@ -88,7 +96,9 @@ def _draw(ax, result: FrameResult, translations: np.ndarray, scale: float, colou
 def deformed_shape_figure(result: FrameResult, *, scale: float | None = None):
     """The frame deformed under the test load (magnified), over the undeformed frame.
 
-    Load points are marked with arrows in the direction of their force, gauges with dots.
+    The forces on the frame at its load points are arrows ending at the point they act on,
+    drawn to one scale (stated in the legend: 0.1 m of arrow = so many kN); gauges are dots,
+    supports squares.
 
     Returns
     -------
@@ -101,15 +111,17 @@ def deformed_shape_figure(result: FrameResult, *, scale: float | None = None):
     ax = fig.add_subplot(projection="3d")
     _draw(ax, result, translations, scale, "tab:red")
     frame = result.frame
-    span = _span(result)
-    for lp in frame.load_points.values():
-        f = result.normal_load * np.asarray(lp.normal) + result.traction_force * np.asarray(
-            lp.traction
-        )
-        norm = np.linalg.norm(f)
-        if norm > 0:
-            p = frame.coordinates(lp.node)
-            d = 0.15 * span * f / norm
+    forces = {
+        lp.node: result.normal_load * np.asarray(lp.normal)
+        + result.traction_force * np.asarray(lp.traction)
+        for lp in frame.load_points.values()
+    }
+    largest = max((float(np.linalg.norm(f)) for f in forces.values()), default=0.0)
+    per_metre = _force_scale(largest, _span(result))  # [N per m of arrow]
+    for node, f in forces.items():
+        if np.linalg.norm(f) > 0:
+            p = frame.coordinates(node)
+            d = f / per_metre  # the arrow ends at the point the force acts on
             ax.quiver(*(p - d), *d, color="tab:blue", lw=1.2, arrow_length_ratio=0.3)
     for g in frame.gauges.values():
         m = frame.members[g.member]
@@ -117,6 +129,15 @@ def deformed_shape_figure(result: FrameResult, *, scale: float | None = None):
         p = a + (b - a) * g.position / frame.length(g.member)
         ax.scatter(*p, color="tab:green", s=25)
         ax.text(*p, f" {g.name}", fontsize=7, color="tab:green")
+    arrow = f"force on the frame (arrow 0.1 m = {per_metre * 0.1 / 1e3:g} kN)"
+    handles = [
+        Line2D([], [], color="0.75", lw=1.0, label="undeformed"),
+        Line2D([], [], color="tab:red", lw=1.8, label=f"deformed (displacements x {scale:g})"),
+        Line2D([], [], color="tab:blue", lw=1.2, marker=">", ms=6, label=arrow),
+        Line2D([], [], color="tab:green", marker="o", ls="none", ms=5, label="strain gauge"),
+        Line2D([], [], color="k", marker="s", ls="none", ms=5, label="support (fixed)"),
+    ]
+    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=7, frameon=False)
     peak = float(np.max(np.linalg.norm(translations, axis=1)))
     ax.set_title(
         f"{frame.name}: N = {result.normal_load / 1e3:g} kN, F_x = "
@@ -125,8 +146,26 @@ def deformed_shape_figure(result: FrameResult, *, scale: float | None = None):
         f"top horizontal {result.top_horizontal_deflection * 1e3:.3f} mm",
         fontsize=9,
     )
-    fig.tight_layout()
+    fig.tight_layout(rect=(0.0, 0.07, 1.0, 1.0))  # room for the legend underneath
     return fig, scale
+
+
+def _force_scale(largest: float, span: float) -> float:
+    """Newtons per metre of arrow [N/m]: round (0.1 m of arrow = 1, 2 or 5 x 10^k kN) and
+    drawing the largest force [N] at about 15 % of the frame's span [m] (at most).
+
+    Examples
+    --------
+    >>> _force_scale(20e3, 2.2)  # 0.1 m = 10 kN: 20 kN drawn as 0.2 m
+    100000.0
+    """
+    if largest <= 0.0 or not np.isfinite(largest):
+        return 1.0
+    raw = largest * 0.1 / (0.15 * span)  # [N per 0.1 m]
+    exponent = np.floor(np.log10(raw))
+    mantissa = raw / 10**exponent
+    step = next(m for m in (1.0, 2.0, 5.0, 10.0) if m >= mantissa - 1e-12)
+    return float(step * 10**exponent / 0.1)
 
 
 def mode_shape_figure(result: FrameResult, modes=3, *, contact_mode: int | None = None):
@@ -154,7 +193,7 @@ def mode_shape_figure(result: FrameResult, modes=3, *, contact_mode: int | None 
     else:
         chosen = [int(i) for i in modes if 0 <= int(i) < count] or [0]
     n = len(chosen)
-    fig = plt.figure(figsize=(4.6 * n, 5.0))
+    fig = plt.figure(figsize=(4.8 * n, 5.4))
     scales = []
     for panel, i in enumerate(chosen):
         ax = fig.add_subplot(1, n, panel + 1, projection="3d")
@@ -169,7 +208,17 @@ def mode_shape_figure(result: FrameResult, modes=3, *, contact_mode: int | None 
             fontsize=9,
         )
     fig.suptitle(f"{result.frame.name}: natural modes", fontsize=10)
-    fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.9))
+    handles = [
+        Line2D([], [], color="0.75", lw=1.0, label="undeformed"),
+        Line2D([], [], color="tab:purple", lw=1.8, label="mode shape (magnified as titled)"),
+    ]
+    if contact_mode in chosen:
+        handles.append(
+            Line2D([], [], color="tab:red", lw=1.8, label="the contact's longitudinal mode")
+        )
+    handles.append(Line2D([], [], color="k", marker="s", ls="none", ms=5, label="support (fixed)"))
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0.0, 0.06, 1.0, 0.9))
     return fig, scales
 
 
