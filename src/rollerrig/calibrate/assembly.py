@@ -21,10 +21,10 @@ from rollerrig.calibrate.diagnostics import (
     STRUCTURE_TAU,
     _invalid_reasons,
     channel_structured,
+    model_suggestion,
 )
 from rollerrig.calibrate.problem import (
     LAW_KEY_PREFIXES,
-    ROLLER_DRIVES,
     FreeParameter,
     fd_steps,
     split_values,
@@ -218,13 +218,7 @@ def build_calibration(
             k: dataclasses.replace(p, conditional_on_model=p.identified)
             for k, p in nuisance.items()
         }
-        other = [d for d in ROLLER_DRIVES if d != roller]
-        if other:
-            suggestion = (
-                f"the roller drive model {roller!r} may be the wrong one for this recording: "
-                f"compare it with {other[0]!r} on the same recording (rollerrig calibrate "
-                f"RECORDING --free ... --compare-drives, or --roller-drive {other[0]})"
-            )
+        suggestion = model_suggestion(roller, model.drives.law)
         note_text = CONDITIONAL_NOTE.format(
             alpha=STRUCTURE_ALPHA, lag1=STRUCTURE_LAG1, tau=STRUCTURE_TAU
         )

@@ -40,7 +40,7 @@ import math
 import time as _time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -49,10 +49,12 @@ from rollerrig.calibrate.problem import ROLLER_DRIVES, CalibrationError, drive_k
 __all__ = [
     "COMPARE_JSON_NAME",
     "DriveComparison",
+    "ModelComparison",
     "compare_drives",
     "information_criteria",
     "model_discrepancy",
     "ringing",
+    "weigh",
     "write_comparison",
 ]
 
@@ -228,7 +230,9 @@ def ringing(time, request, measured, models: dict[str, np.ndarray]) -> list[dict
     return out
 
 
-def model_discrepancy(calibrations: dict[str, Any]) -> dict[str, Any]:
+def model_discrepancy(
+    calibrations: dict[str, Any], *, models: str = "roller-drive models"
+) -> dict[str, Any]:
     """The type-B model-discrepancy term from the spread of the values between adequate models.
 
     Per key identified by every model given: half-width a = (max − min)/2 of their values,
@@ -237,7 +241,10 @@ def model_discrepancy(calibrations: dict[str, Any]) -> dict[str, Any]:
     Parameters
     ----------
     calibrations : dict of str to Calibration
-        The adequate models' calibrations by roller drive.
+        The adequate models' calibrations by model name (keys that mean the same thing under
+        the same name in each).
+    models : str
+        What the models are, for the record's ``what``.
     """
     drives = list(calibrations)
     keys: dict[str, Any] = {}
@@ -260,7 +267,7 @@ def model_discrepancy(calibrations: dict[str, Any]) -> dict[str, Any]:
             }
     return {
         "what": "type-B model-discrepancy term: per key, half the spread of the values of the "
-        "adequate roller-drive models as the half-width a of a rectangular distribution, "
+        f"adequate {models} as the half-width a of a rectangular distribution, "
         "standard uncertainty a/sqrt(3) (JCGM 100, 4.3.7); rollerrig analyze --calibration adds "
         "its square to the key's variance",
         "models": drives,
@@ -279,13 +286,14 @@ def model_discrepancy(calibrations: dict[str, Any]) -> dict[str, Any]:
 
 
 @dataclass(frozen=True)
-class DriveComparison:
-    """What :func:`compare_drives` found.
+class ModelComparison:
+    """What a comparison of models fitted to one recording found (:func:`compare_drives`,
+    :func:`rollerrig.calibrate.lawcompare.compare_laws`).
 
     Attributes
     ----------
     calibrations : dict of str to Calibration
-        Each candidate's calibration, by roller drive.
+        Each candidate's calibration, by model name.
     evidence : dict of str to dict
         Per model: ``adequate``, ``valid``, ``structured_channels``, per channel whiteness,
         the information criteria.
@@ -299,6 +307,8 @@ class DriveComparison:
         :func:`model_discrepancy` of the adequate models.
     wall_time : float
         [s].
+    free : tuple of str
+        The keys every model fitted.
     """
 
     calibrations: dict[str, Any]
@@ -310,10 +320,22 @@ class DriveComparison:
     wall_time: float = 0.0
     free: tuple[str, ...] = field(default=())
 
+    MODEL: ClassVar[str] = "model"
+    """What a candidate is, in the verdict (``roller-drive model``, ``creep law``)."""
+    OPTION: ClassVar[str] = ""
+    """The ``rollerrig calibrate`` option that runs the comparison."""
+    JSON_NAME: ClassVar[str] = COMPARE_JSON_NAME
+    """The file :func:`write_comparison` writes the comparison to."""
+
     @property
     def winning_calibration(self):
         """The winner's :class:`Calibration`, with the model-discrepancy term."""
         return self.calibrations[self.winner]
+
+    def delta_bic(self, model: str) -> float:
+        """BIC of ``model`` minus the winner's [1]."""
+        ic = {m: e["information_criteria"]["BIC"] for m, e in self.evidence.items()}
+        return float(ic[model] - ic[self.winner])
 
     def verdict(self) -> str:
         """One sentence: which model the recording supports and why."""
@@ -321,16 +343,13 @@ class DriveComparison:
         others = [d for d in self.evidence if d != self.winner]
         if not self.adequate:
             return (
-                f"no candidate roller-drive model is adequate: every fit leaves structure in "
+                f"no candidate {self.MODEL} is adequate: every fit leaves structure in "
                 f"its residuals or is not a valid calibration; the smallest BIC is "
                 f"{self.winner!r}'s (BIC {ev['information_criteria']['BIC']:.6g}); no calibrated "
                 "rig is written"
             )
         text = f"the recording supports {self.winner!r}: its residuals are white"
         for o in others:
-            d_bic = (
-                self.evidence[o]["information_criteria"]["BIC"] - ev["information_criteria"]["BIC"]
-            )
             why = (
                 "also adequate"
                 if self.evidence[o]["adequate"]
@@ -338,15 +357,19 @@ class DriveComparison:
                 + (", ".join(self.evidence[o]["structured_channels"]) or "no channel")
                 + ("" if self.evidence[o]["valid"] else ", not a valid fit")
             )
-            text += f"; {o!r}: BIC larger by {d_bic:.4g}, {why}"
+            text += f"; {o!r}: BIC larger by {self.delta_bic(o):.4g}, {why}"
         return text
 
+    def _extra_json(self) -> dict[str, Any]:
+        return {}
+
     def to_json(self) -> dict[str, Any]:
-        """The content of ``calibration-compare.json``."""
+        """The content of the comparison's JSON file (:attr:`JSON_NAME`)."""
         return {
-            "what": "comparison of roller-drive models fitted to one recording (rollerrig "
-            "calibrate --compare-drives)",
+            "what": f"comparison of {self.MODEL}s fitted to one recording (rollerrig "
+            f"calibrate {self.OPTION})",
             "free": list(self.free),
+            **self._extra_json(),
             "winner": self.winner,
             "winner_adequate": bool(self.adequate),
             "verdict": self.verdict(),
@@ -364,6 +387,15 @@ class DriveComparison:
             "model_discrepancy": self.discrepancy,
             "wall_time [s]": self.wall_time,
         }
+
+
+@dataclass(frozen=True)
+class DriveComparison(ModelComparison):
+    """What :func:`compare_drives` found: the candidates are roller drives
+    (:class:`ModelComparison`)."""
+
+    MODEL: ClassVar[str] = "roller-drive model"
+    OPTION: ClassVar[str] = "--compare-drives"
 
 
 def _evidence(cal) -> dict[str, Any]:
@@ -441,7 +473,6 @@ def compare_drives(
     DriveComparison
     """
     from rollerrig.calibrate.fit import calibrate
-    from rollerrig.calibrate.measurement import prepare_measurement
     from rollerrig.calibrate.problem import VF_SECTION
     from rollerrig.recordings.recording import Recording
     from rollerrig.rig.parameters import default_rig
@@ -483,43 +514,89 @@ def compare_drives(
             roller_drive=d,
             **options,
         )
+    return DriveComparison(
+        **weigh(calibrations, recording, rig),
+        wall_time=_time.perf_counter() - started,
+        free=tuple(shared),
+    )
+
+
+def weigh(
+    calibrations: dict[str, Any],
+    recording,
+    rig,
+    *,
+    models: str = "roller-drive models",
+    same_keys: Callable[[str, Any], Any] | None = None,
+) -> dict[str, Any]:
+    """The evidence of each fitted model and the winner (module docstring, items 1 to 3).
+
+    Parameters
+    ----------
+    calibrations : dict of str to Calibration
+        Each candidate's calibration (in the order of preference on a tie); the winner's is
+        replaced by one with the model-discrepancy term.
+    recording : Recording
+        The recording they were fitted to (its torque request finds the releases).
+    rig : RigParameters
+        The rig the fits started from.
+    models : str
+        What the candidates are, for the discrepancy's record.
+    same_keys : callable, optional
+        ``same_keys(winner, calibration)``: the calibration with its keys named as the winner
+        names the same quantities (a creep law's μ0 is ``polach.static_friction`` under one law
+        and ``fastsim.static_friction`` under another), for the model-discrepancy term.
+
+    Returns
+    -------
+    dict
+        ``calibrations``, ``evidence``, ``ringing``, ``winner``, ``adequate``,
+        ``discrepancy``: the fields of a :class:`ModelComparison`.
+    """
+    from rollerrig.calibrate.measurement import prepare_measurement
+
+    names = list(calibrations)
+    calibrations = dict(calibrations)
     evidence = {d: _evidence(c) for d, c in calibrations.items()}
-    adequate = [d for d in drives if evidence[d]["adequate"]]
-    pool = adequate or drives
+    adequate = [d for d in names if evidence[d]["adequate"]]
+    pool = adequate or names
     winner = min(pool, key=lambda d: evidence[d]["information_criteria"]["BIC"])
-    discrepancy = model_discrepancy({d: calibrations[d] for d in adequate})
+    rename = same_keys or (lambda _w, c: c)
+    discrepancy = model_discrepancy(
+        {d: rename(winner, calibrations[d]) for d in adequate}, models=models
+    )
     calibrations[winner] = dataclasses.replace(calibrations[winner], model_discrepancy=discrepancy)
     measurement = prepare_measurement(recording, rig, lines=False)
-    first = calibrations[drives[0]]
+    first = calibrations[names[0]]
     rings = ringing(
         first.series["time"],
         measurement.torque_request,
         first.series["torque"]["measured"],
         {d: c.series["torque"]["fitted"] for d, c in calibrations.items()},
     )
-    return DriveComparison(
-        calibrations=calibrations,
-        evidence=evidence,
-        ringing=rings,
-        winner=winner,
-        adequate=bool(adequate),
-        discrepancy=discrepancy,
-        wall_time=_time.perf_counter() - started,
-        free=tuple(shared),
-    )
+    return {
+        "calibrations": calibrations,
+        "evidence": evidence,
+        "ringing": rings,
+        "winner": winner,
+        "adequate": bool(adequate),
+        "discrepancy": discrepancy,
+    }
 
 
-def write_comparison(comparison: DriveComparison, folder, *, overwrite: bool = True) -> list:
-    """Write ``calibration-compare.json``, and, only when the winner is adequate, its
-    calibration files (:func:`rollerrig.calibrate.write_calibration`: ``calibration.json`` with
-    the model-discrepancy term, ``calibrated-rig.toml``, ``calibration-fit.nc``)."""
+def write_comparison(comparison: ModelComparison, folder, *, overwrite: bool = True) -> list:
+    """Write the comparison's JSON (``calibration-compare.json`` of the roller drives,
+    ``calibration-compare-laws.json`` of the creep laws: :attr:`ModelComparison.JSON_NAME`),
+    and, only when the winner is adequate, its calibration files
+    (:func:`rollerrig.calibrate.write_calibration`: ``calibration.json`` with the
+    model-discrepancy term, ``calibrated-rig.toml``, ``calibration-fit.nc``)."""
     from pathlib import Path
 
     from rollerrig.calibrate.result import write_calibration
     from rollerrig.output import write_json
 
     folder = Path(folder)
-    paths = [write_json(folder / COMPARE_JSON_NAME, comparison.to_json(), overwrite=overwrite)]
+    paths = [write_json(folder / comparison.JSON_NAME, comparison.to_json(), overwrite=overwrite)]
     if comparison.adequate:
         paths += write_calibration(comparison.winning_calibration, folder, overwrite=overwrite)
     return paths

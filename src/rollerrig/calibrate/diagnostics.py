@@ -1,6 +1,9 @@
 """What a calibration's residuals say about it: structure the fitted model does not explain
-(:func:`channel_structured`: every standard error is then conditional on the model) and a fit
-that is no valid calibration (no convergence, or worse than its start).
+(:func:`channel_structured`: every standard error is then conditional on the model), what to
+try then (:func:`model_suggestion`: the two suspects, the roller drive model and the creep law,
+each with the comparison that tests it; :func:`law_comparison_suggestion` once a creep-law
+comparison has named the law that lost) and a fit that is no valid calibration (no
+convergence, or worse than its start).
 
 The thresholds are recorded in ``calibration.json``
 (:meth:`rollerrig.calibrate.calibration.Calibration.to_json`).
@@ -10,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from rollerrig.calibrate.problem import ROLLER_DRIVES
+
 __all__ = [
     "CONDITIONAL_NOTE",
     "STRUCTURE_ALPHA",
@@ -17,6 +22,8 @@ __all__ = [
     "STRUCTURE_TAU",
     "WORSE_MARGIN",
     "channel_structured",
+    "law_comparison_suggestion",
+    "model_suggestion",
 ]
 
 _QUANTISATION_LAG1 = -0.5  # lag-1 autocorrelation of a gated speed's quantisation error
@@ -62,6 +69,81 @@ def channel_structured(w: dict, quantised: bool) -> bool:
         return False
     tau = float(w.get("integrated_autocorrelation_time [samples]", np.inf))
     return bool((w["ljung_box_p"] < STRUCTURE_ALPHA and tau > STRUCTURE_TAU) or r1 > STRUCTURE_LAG1)
+
+
+_LAW_RIVAL = {"polach": "modified-fastsim"}  # the law to compare with; any other: polach
+
+
+def model_suggestion(roller: str, law: str) -> str:
+    """What to try when a calibration's residuals show structure: the two suspects.
+
+    The structure comes from something the fitted twin does not model; on the rig the two
+    model choices a calibration makes are the roller drive model and the creep law, and each
+    has a comparison that tests it on the same recording (``--compare-drives``,
+    ``--compare-laws``). Neither is blamed before its comparison has run.
+
+    Parameters
+    ----------
+    roller : str
+        The roller drive model fitted (``"induction"`` or ``"induction_dq"``).
+    law : str
+        The creep law fitted (:data:`rollerrig.contact.laws.CREEP_LAWS`).
+
+    Returns
+    -------
+    str
+        One clause naming both suspects and the command that tests each.
+
+    Examples
+    --------
+    >>> model_suggestion("induction", "modified-fastsim")[:78]
+    'the structure may come from the roller drive model (induction) or the creep la'
+    """
+    other_drive = next((d for d in ROLLER_DRIVES if d != roller), ROLLER_DRIVES[0])
+    rival = _LAW_RIVAL.get(law, "polach")
+    return (
+        f"the structure may come from the roller drive model ({roller}) or the creep law "
+        f"({law}): test the drive with rollerrig calibrate RECORDING --free ... "
+        f"--compare-drives (or --roller-drive {other_drive}), the law with rollerrig calibrate "
+        f"RECORDING --free ... --compare-laws (default: polach against modified-fastsim; or "
+        f"--law {rival})"
+    )
+
+
+def law_comparison_suggestion(
+    law: str, winner: str, delta_bic: float, roller: str, *, lost: bool
+) -> str:
+    """The advice of a calibration after a creep-law comparison on its recording.
+
+    Parameters
+    ----------
+    law : str
+        The creep law of this calibration.
+    winner : str
+        The law the comparison chose.
+    delta_bic : float
+        BIC of this law minus the winner's [1] (0 for the winner itself).
+    roller : str
+        The roller drive model fitted: the suspect left when this law won.
+    lost : bool
+        Whether this law lost the comparison.
+
+    Examples
+    --------
+    >>> law_comparison_suggestion("fastsim", "polach", 120.0, "induction", lost=True)[:60]
+    "the creep law 'fastsim' lost the creep-law comparison on thi"
+    """
+    if lost:
+        return (
+            f"the creep law {law!r} lost the creep-law comparison on this recording to "
+            f"{winner!r} (BIC larger by {delta_bic:.4g}): calibrate with --law {winner}"
+        )
+    return (
+        f"the creep law {law!r} won the creep-law comparison on this recording; the structure "
+        f"left points at the roller drive model ({roller}) or at something neither comparison "
+        f"fits: compare the drives with rollerrig calibrate RECORDING --free ... "
+        f"--compare-drives --law {law}"
+    )
 
 
 def _invalid_reasons(channels: dict, converged: bool, iterations: int):
