@@ -1,7 +1,12 @@
 """Studies on the command line: ``study run``, ``study show``, ``study list``.
 
-``study run`` runs a study file (or a bundled study) on dask (a local cluster by default, or
-``--scheduler ADDRESS``) or in this process (``--executor local``), with progress; the store
+``study run`` runs a study file (or a bundled study) in this process or on dask (a local
+cluster, or ``--scheduler ADDRESS``), with progress. ``--executor auto`` (the default) takes dask
+for ``--scheduler`` or ``--workers`` (a number of workers is a request for a local dask cluster),
+and otherwise runs the first batch here and stays here unless the rest of the study repays a
+local cluster's start-up (:mod:`rollerrig.studies.executor_choice`); it prints which and why,
+and the JSON summary and the store record it. ``--executor local`` with ``--scheduler`` or
+``--workers`` is an error (they only exist on dask). The store
 (``study-<name>.zarr``) is written into ``--out`` as points finish, so that an interrupted run
 resumes when started again. At the end it writes, as one set, the points as CSV, a JSON summary
 (counts, rate, sensitivity) and the figures. ``study show`` writes the same from a store.
@@ -27,7 +32,7 @@ __all__ = ["study_app"]
 study_app = typer.Typer(
     name="study",
     help="Studies on the twin: any grid, sampled design or set of cases of rig parameters, "
-    "experiment and drives, run on dask; their tables, figures and sensitivity indices.",
+    "experiment and drives, run here or on dask; their tables, figures and sensitivity indices.",
     no_args_is_help=True,
     rich_markup_mode=None,
 )  # the root command's error boundary covers these commands (a second one would print twice)
@@ -193,20 +198,26 @@ def run(
         str | None,
         typer.Option(
             help="Address of a running dask scheduler, e.g. tcp://10.0.0.5:8786 (HOST:PORT, "
-            "tls://, ucx://, ws://, wss:// or inproc:// also; default: a local cluster on this "
-            "machine)."
+            "tls://, ucx://, ws://, wss:// or inproc:// also); means --executor dask under auto."
         ),
     ] = None,
     workers: Annotated[
         int | None,
-        typer.Option(min=1, help="Worker processes of the local cluster (default: the cores)."),
+        typer.Option(
+            min=1,
+            help="Worker processes of a local dask cluster (default: the cores this process may "
+            "use); under --executor auto, a request for dask.",
+        ),
     ] = None,
     executor: Annotated[
         Executor,
         typer.Option(
-            help="dask (a local cluster or --scheduler) or local (this process, numba threads)."
+            help="auto: dask for --scheduler or --workers, else the first batch runs here and "
+            "the study stays here unless its size repays a local dask cluster's start-up "
+            "(about 5 [s] on 2 cores: a few hundred points there); local: this process, numba "
+            "threads; dask: a local cluster or --scheduler."
         ),
-    ] = Executor.dask,
+    ] = Executor.auto,
     restart: Annotated[
         bool,
         typer.Option(
@@ -227,7 +238,10 @@ def run(
 
     executor = executor.value
     if executor == "local" and (scheduler is not None or workers):
-        raise UserError("--scheduler and --workers need --executor dask")
+        raise UserError(
+            "--scheduler and --workers need --executor dask (or auto, the default): they only "
+            "exist on dask"
+        )
     if scheduler is not None:
         check_scheduler_address(scheduler, "--scheduler")
     spec = load_study(study)
@@ -238,12 +252,17 @@ def run(
     with command_outputs(out, run=stem, inputs=inputs, rig=rig, study=spec.name) as stage:
         store = Path(out) / safe_file_name(f"{stem}.zarr")
         _say_compile_stage(batch=True)
-        where = scheduler or (
-            f"a local dask cluster of {workers or 'all'} workers"
-            if executor == "dask"
-            else "this process"
-        )
+        if executor == "auto" and scheduler is None and not workers:
+            where = "executor auto: the first batch here, then local or dask"
+        elif executor == "local":
+            where = "this process"
+        else:
+            where = scheduler or f"a local dask cluster of {workers or 'all'} workers"
         console.print(f"study {spec.name!r}: {spec.size} points ({spec.design}) on {where}")
+
+        def said(choice) -> None:
+            console.print(f"executor {choice.executor}: {choice.reason}", soft_wrap=True)
+
         with _progress() as bar:
             task = bar.add_task(f"study {spec.name}", total=spec.size, info="starting")
 
@@ -267,6 +286,7 @@ def run(
                     workers=workers,
                     restart=restart,
                     progress=shown,
+                    chosen=said,
                 )
             except Interrupted:
                 note(
@@ -290,11 +310,15 @@ def run(
             console.print(
                 f"{result.computed} points computed in {result.wall_time:.1f} s "
                 f"({result.rate:.1f} points/s on {result.workers} "
-                f"{'workers' if executor == 'dask' else 'threads'})"
+                f"{'workers' if result.executor == 'dask' else 'threads'})"
             )
         run_info = {
             "store": str(store),
-            "executor": executor,
+            "executor": result.executor,
+            "executor_asked": executor,
+            "executor_reason": result.reason,
+            "fixed_cost_s": result.fixed_cost,
+            "serial_s_per_point": result.serial_s,
             "scheduler": scheduler,
             "workers": result.workers,
             "computed": result.computed,

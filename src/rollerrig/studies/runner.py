@@ -1,14 +1,24 @@
 """Running a study: batches of points on the compiled backend, in this process or on dask.
 
-Two executors run the same batches (:func:`run_batch`) and give identical results:
+Two executors run the same batches (:func:`run_batch`) and give identical results; ``"auto"``
+(the default) chooses between them (:mod:`rollerrig.studies.executor_choice`):
 
+``"auto"``
+    A given scheduler address or a number of workers means dask. Otherwise the first batch
+    runs locally and its per-point cost decides: local, unless the rest of the study is large
+    enough that a local cluster's start-up and each worker's solver load are repaid (the rule
+    and the numbers behind it in :func:`~rollerrig.studies.executor_choice.choose_executor`).
+    The choice and its reason are in :attr:`StudyRun.reason` and the store's ``runs``.
 ``"local"``
     In this process, each batch integrated in parallel by numba's threads (all cores).
 ``"dask"``
     On ``dask.distributed``: a local cluster of ``workers`` processes (one thread each) by
     default, or any running scheduler (``scheduler="tcp://host:8786"``) for a real cluster.
-    Each worker loads the compiled backend once (from the on-disk cache; a worker on another
-    machine compiles it there once) and runs batches one after the other. A scheduler address
+    Each worker loads the compiled backend once, when it is warmed up before the first batch
+    (from the on-disk cache; a worker on another machine compiles it there once), and keeps it
+    for every later batch: a worker runs batches one after the other in the same process.
+    The start-up (the cluster, then the warm-up) is timed apart from the points
+    (:attr:`StudyRun.fixed_cost`). A scheduler address
     is checked for its form first (:func:`check_scheduler_address`) and must answer within
     :data:`SCHEDULER_TIMEOUT`. After an interruption (Ctrl-C) the cluster shuts down quietly:
     the local workers ignore SIGINT (their nanny ends them) and the library loggers
@@ -31,6 +41,7 @@ import math
 import os
 import re
 import shutil
+import statistics
 import tempfile
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -52,6 +63,12 @@ from rollerrig.studies.design import (
     point_setup,
     protocol_groups,
 )
+from rollerrig.studies.executor_choice import (
+    ExecutorChoice,
+    available_cores,
+    choose_executor,
+    cpu_share,
+)
 from rollerrig.studies.metrics import METRICS, compute_metrics, run_channels
 from rollerrig.studies.store import StudyStore, remove_store
 from rollerrig.studies.studyfile import StudySpec, load_study
@@ -68,8 +85,8 @@ __all__ = [
     "run_study",
 ]
 
-EXECUTORS = ("local", "dask")
-"""The executors a study can run on."""
+EXECUTORS = ("auto", "local", "dask")
+"""The executors a study can run on (``"auto"`` chooses one of the other two)."""
 BATCH_BYTES = 256 * 2**20
 """Largest solution a batch holds in memory [bytes] (states of every point at every sample)."""
 DASK_BATCH = 32
@@ -122,8 +139,18 @@ class StudyRun:
     wall_time : float
         Of this run [s], workers' start included.
     executor : str
+        ``"local"`` or ``"dask"``: where the points ran (``"auto"`` resolved).
     workers : int
         Processes (dask) or numba threads (local) that ran the points.
+    reason : str
+        Why this executor (one line; for ``"auto"``, with the numbers the choice rests on).
+    fixed_cost : dict of str to float
+        The start-up of this run, apart from the points [s]: ``solver_load_s`` (the compiled
+        solver loaded in this process), and on dask ``cluster_start_s`` (the local cluster
+        started, or the scheduler reached), ``worker_warm_up_s`` (every worker's import of
+        rollerrig and load of the compiled solver, in parallel) and ``cluster_close_s``.
+    serial_s : float or None
+        Per-point Python work measured on the first batch under ``"auto"`` [s] (median).
     counts : dict of str to int
         Points per status.
     damaged : int
@@ -142,6 +169,9 @@ class StudyRun:
     counts: dict[str, int] = field(default_factory=dict)
     damaged: int = 0
     damaged_files: tuple[str, ...] = ()
+    reason: str = ""
+    fixed_cost: dict[str, float] = field(default_factory=dict)
+    serial_s: float | None = None
 
     @property
     def rate(self) -> float:
@@ -162,6 +192,7 @@ def run_batch(
     output_rate: float,
     h_max: float | None = None,
     threads: int | None = None,
+    timing: dict | None = None,
 ) -> list[tuple[int, str, str, dict[str, float]]]:
     """Simulate and measure points that share one experiment; never raises for a bad point.
 
@@ -182,6 +213,11 @@ def run_batch(
         Largest step [s]; default :data:`rollerrig.solve.fast.SWEEP_H_MAX`.
     threads : int, optional
         numba threads to use here (a dask worker uses 1); default: numba's setting.
+    timing : dict, optional
+        Filled with ``serial_s`` (per point: its setup and measuring, the Python work of one
+        core [s]), ``serial_cpu_s`` (the CPU time of this thread in that work [s]: below
+        ``serial_s`` when other processes share the core) and ``integrate_s`` (the batch's
+        integration [s]).
 
     Returns
     -------
@@ -197,22 +233,32 @@ def run_batch(
 
         numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
     rows: dict[int, tuple] = {}
+    serial: dict[int, float] = {}
+    cpu: dict[int, float] = {}
     ready, inputs = [], []
     point_protocol = None
     for index, values in points:
+        started, cpu_started = time.perf_counter(), time.thread_time()
         try:
             r, p, d = point_setup(rig, protocol, values)
             inp = assemble(r, p, d)
         except ParameterError as exc:
             rows[index] = (index, "invalid parameters", _one_line(exc), {})
             continue
+        finally:
+            serial[index] = time.perf_counter() - started
+            cpu[index] = time.thread_time() - cpu_started
         point_protocol = p
         ready.append(index)
         inputs.append(inp)
+    integrate_s = 0.0
     if inputs:
         t = output_times(point_protocol.duration, output_rate)
+        started = time.perf_counter()
         x, stats = integrate_batch(inputs, t, h_max=h_max or SWEEP_H_MAX)
+        integrate_s = time.perf_counter() - started
         for index, inp, xi, st in zip(ready, inputs, x, stats, strict=True):
+            started, cpu_started = time.perf_counter(), time.thread_time()
             if st["status"] != 0:
                 reason = f"the fast solver failed {failure_reason(st['status'], st['t_stop'])}"
                 rows[index] = (index, "solver failed", _one_line(reason), {})
@@ -223,7 +269,14 @@ def run_batch(
                 reason = f"measuring the run failed: {type(exc).__name__}: {exc}"
                 rows[index] = (index, "solver failed", _one_line(reason), {})
                 continue
+            finally:
+                serial[index] += time.perf_counter() - started
+                cpu[index] += time.thread_time() - cpu_started
             rows[index] = (index, "ok", "", values)
+    if timing is not None:
+        timing["serial_s"] = [serial[index] for index, _ in points]
+        timing["serial_cpu_s"] = [cpu[index] for index, _ in points]
+        timing["integrate_s"] = integrate_s
     return [rows[index] for index, _ in points]
 
 
@@ -303,17 +356,28 @@ def _batch_limit(protocol: Protocol, output_rate: float) -> int:
     return max(1, BATCH_BYTES // per_point)
 
 
-def _ensure_compiled() -> None:
-    """Compile the batch driver here, once, before workers start: they then load it from the
-    cache instead of each compiling it at the same time."""
+def _ensure_compiled(load: bool = True) -> float:
+    """Compile the batch driver here, once, before workers start (they then load it from the
+    cache instead of each compiling it at the same time); with ``load``, also load it into
+    this process. The seconds this took (about 0 when this process holds it already)."""
+    from rollerrig.rig.assemble import assemble
     from rollerrig.solve.fast import integrate_batch, is_compiled
 
-    if is_compiled(batch=True):
-        return
-    from rollerrig.rig.assemble import assemble
-
+    if not load and is_compiled(batch=True):
+        return 0.0
+    started = time.perf_counter()
     inp = assemble(default_rig(), load_protocol("release-test"))
     integrate_batch([inp], np.array([0.0, 0.01]))
+    return time.perf_counter() - started
+
+
+def _warm_worker(*args) -> float:
+    """A dask worker's warm-up: :func:`run_batch` of one point (rollerrig imported, the
+    compiled solver loaded, the metrics' imports done; the point is computed again later);
+    the seconds it took."""
+    started = time.perf_counter()
+    run_batch(*args)
+    return time.perf_counter() - started
 
 
 def _local(batches, args) -> Iterator[list]:
@@ -402,6 +466,7 @@ class _DaskExecutor:
         distributed = require("distributed", purpose="running a study on dask")
         self.distributed = distributed
         self.cluster = None
+        started = time.perf_counter()
         if scheduler:
             check_scheduler_address(scheduler)
             try:
@@ -416,7 +481,7 @@ class _DaskExecutor:
         else:
             try:
                 self.cluster = distributed.LocalCluster(
-                    n_workers=workers or os.cpu_count() or 1,
+                    n_workers=workers or available_cores(),
                     threads_per_worker=1,
                     processes=True,
                     dashboard_address=None,
@@ -440,6 +505,27 @@ class _DaskExecutor:
         except BaseException:
             self.close(interrupted=True)
             raise
+        self.start_s = time.perf_counter() - started
+        self.warm_s = 0.0
+
+    def warm(self, point: tuple[int, dict], args) -> None:
+        """Warm every worker up now (:func:`_warm_worker`, one task pinned to each), so that
+        the first batches do not pay the solver's load and the start-up is timed apart."""
+        rig, protocol, metrics, rate, h_max = args
+        started = time.perf_counter()
+        one = (rig, protocol, [point], metrics, rate, h_max, 1)
+        futures = [
+            self.client.submit(
+                _warm_worker, *one, workers=[address], allow_other_workers=False, pure=False
+            )
+            for address in self.client.scheduler_info().get("workers", {})
+        ]
+        try:
+            self.distributed.wait(futures)
+        finally:
+            for f in futures:
+                f.cancel()
+        self.warm_s = time.perf_counter() - started
 
     def run(self, batches, args) -> Iterator[list]:
         rig, protocol, metrics, rate, h_max = args
@@ -471,12 +557,13 @@ def run_study(
     *,
     rig: RigParameters | str | os.PathLike | None = None,
     store: str | os.PathLike | None = None,
-    executor: str = "dask",
+    executor: str = "auto",
     scheduler: str | None = None,
     workers: int | None = None,
     batch_size: int | None = None,
     restart: bool = False,
     progress: Callable[[Progress], None] | None = None,
+    chosen: Callable[[ExecutorChoice], None] | None = None,
 ) -> StudyRun:
     """Run a study (or resume it) and return every point with its status and metrics.
 
@@ -490,18 +577,23 @@ def run_study(
     store : path, optional
         The store's folder (``<study>.zarr``); an existing store of the same study is resumed.
         Default: a temporary store, removed after it is read.
-    executor : {"dask", "local"}
-        Where the points run (see the module docstring).
+    executor : {"auto", "local", "dask"}
+        Where the points run (see the module docstring); ``"auto"``: dask when ``scheduler``
+        or ``workers`` is given or the study repays a local cluster's start-up, else local.
     scheduler : str, optional
-        Address of a running dask scheduler (``executor="dask"``); default: a local cluster.
+        Address of a running dask scheduler (dask); default: a local cluster.
     workers : int, optional
-        Worker processes of the local cluster; default: the machine's cores.
+        Worker processes of the local dask cluster (under ``"auto"``, a request for dask);
+        default: the cores this process may use (``os.sched_getaffinity``).
     batch_size : int, optional
         Points per batch; default: 32 per dask task, 8 per numba thread locally.
     restart : bool
         Remove an existing store first and compute every point again.
     progress : callable, optional
         Called with a :class:`Progress` after every batch.
+    chosen : callable, optional
+        Called with the :class:`~rollerrig.studies.executor_choice.ExecutorChoice` once the
+        executor is known (under ``"auto"``, after the first batch).
 
     Returns
     -------
@@ -511,6 +603,12 @@ def run_study(
     ------
     StudyFileError, RigFileError, ProtocolError, StoreError
         A bad study, rig or experiment, or a store of another study, before anything runs.
+
+    Examples
+    --------
+    >>> run = run_study("lag")  # doctest: +SKIP
+    >>> run.executor, run.reason  # doctest: +SKIP
+    ('local', 'every point ran in the first batch')
     """
     spec = study if isinstance(study, StudySpec) else load_study(study)
     if executor not in EXECUTORS:
@@ -547,36 +645,95 @@ def run_study(
         limit = _batch_limit(protocol, spec.output_rate)
         runner = None
         workers_used = 1
+        choice = ExecutorChoice(
+            "local" if executor == "auto" else executor,
+            "nothing to compute: every point was in the store",
+        )
+        fixed_cost: dict[str, float] = {}
+        serial_s = None
+
+        def record(rows) -> None:
+            nonlocal done, failed
+            st.record(rows)
+            done += len(rows)
+            failed += sum(r[1] != "ok" for r in rows)
+            if progress is not None:
+                elapsed = time.perf_counter() - start
+                progress(Progress(done, len(table), failed, skipped, elapsed))
+
         interrupted = True  # until the points are all in: any exception ends the run early
         try:
             if pending.size:
-                _ensure_compiled()
-                if executor == "dask":
-                    runner = _DaskExecutor(scheduler, workers)
-                    workers_used = runner.workers
-                    size = min(batch_size or DASK_BATCH, limit)
-                    results = runner.run(_batches(table, pending, size), args)
-                else:
-                    import numba
-
-                    workers_used = numba.get_num_threads()
-                    size = min(batch_size or 8 * workers_used, limit)
-                    results = _local(_batches(table, pending, size), args)
+                asks_dask = bool(scheduler or workers)
+                load = executor == "local" or (executor == "auto" and not asks_dask)
+                fixed_cost["solver_load_s"] = _ensure_compiled(load=load)
                 if progress is not None:
                     progress(Progress(done, len(table), failed, skipped, 0.0))
+                import numba
+
+                threads = numba.get_num_threads()
+                local_size = min(batch_size or 8 * threads, limit)
+                if executor == "auto" and asks_dask:
+                    choice = choose_executor(
+                        pending.size, cores=available_cores(), scheduler=scheduler,
+                        workers=workers,
+                    )  # fmt: skip
+                elif executor == "auto":
+                    first = _batches(table, pending, local_size)[0]
+                    timing: dict = {}
+                    record(run_batch(*args[:2], first, *args[2:], timing=timing))
+                    pending = np.setdiff1d(pending, [i for i, _ in first])
+                    serial_s = statistics.median(timing["serial_s"])
+                    share = cpu_share(timing["serial_cpu_s"], timing["serial_s"])
+                    choice = choose_executor(
+                        pending.size, cores=available_cores(), serial_s=serial_s, share=share
+                    )
+                else:
+                    why = f"executor={executor!r} asked for"
+                    choice = ExecutorChoice(executor, why, workers=workers)
+                if chosen is not None:
+                    chosen(choice)
+                if not pending.size:
+                    workers_used = threads
+                    results: Iterator[list] = iter(())
+                elif choice.executor == "dask":
+                    runner = _DaskExecutor(scheduler, workers or choice.workers)
+                    fixed_cost["cluster_start_s"] = runner.start_s
+                    workers_used = runner.workers
+                    size = min(batch_size or DASK_BATCH, limit)
+                    batches = _batches(table, pending, size)
+                    runner.warm(batches[0][0], args)
+                    fixed_cost["worker_warm_up_s"] = runner.warm_s
+                    results = runner.run(batches, args)
+                else:
+                    workers_used = threads
+                    results = _local(_batches(table, pending, local_size), args)
                 for rows in results:
-                    st.record(rows)
-                    done += len(rows)
-                    failed += sum(r[1] != "ok" for r in rows)
-                    if progress is not None:
-                        elapsed = time.perf_counter() - start
-                        progress(Progress(done, len(table), failed, skipped, elapsed))
+                    record(rows)
             interrupted = False
         finally:
             st.flush()
             if runner is not None:
+                closing = time.perf_counter()
                 runner.close(interrupted=interrupted)
+                fixed_cost["cluster_close_s"] = time.perf_counter() - closing
         wall = time.perf_counter() - start
+        computed = len(table) - skipped
+        if computed:
+            st.note_run(
+                {
+                    "executor": choice.executor,
+                    "asked": executor,
+                    "reason": choice.reason,
+                    "workers": workers_used,
+                    "computed": computed,
+                    "wall_time_s": wall,
+                    "fixed_cost_s": fixed_cost,
+                    "serial_s_per_point": serial_s,
+                    "cpu_share": choice.share,
+                    "cores": available_cores(),
+                }
+            )
         ds = st.dataset()
         status = np.asarray(ds.status.values, dtype=str)
         counts = {s: int((status == s).sum()) for s in np.unique(status)}
@@ -584,14 +741,17 @@ def run_study(
             spec,
             None if temporary else path,
             ds,
-            int(pending.size),
+            computed,
             int(skipped),
             wall,
-            executor,
+            choice.executor,
             workers_used,
             counts,
             damaged,
             damaged_files,
+            choice.reason,
+            fixed_cost,
+            serial_s,
         )
     finally:
         if temporary:  # the dataset is in memory already (numpy arrays read from the store)

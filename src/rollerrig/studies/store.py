@@ -233,6 +233,13 @@ class StudyStore:
         self._write("status", index, np.array([r[1] for r in rows], dtype=str))
         self._buffer.clear()
 
+    def note_run(self, record: Mapping[str, object]) -> None:
+        """Append one run's record (where it ran and why, its timings) to the store's ``runs``
+        attribute, a JSON list: one entry per run that computed points."""
+        runs = json.loads(self._group.attrs.get("runs", "[]"))
+        runs.append(dict(record))
+        self._group.attrs["runs"] = json.dumps(runs)
+
     def _write(self, name: str, index: np.ndarray, values: np.ndarray) -> None:
         arr = self._group[name].with_config(_ALL_CHUNKS)
         chunk = arr.chunks[0]
