@@ -163,7 +163,7 @@ def _analyse(rig, out: Path, final: Path, written: dict, mdf_paths: list[Path]) 
     from rollerrig.output import save_figure, write_json
     from rollerrig.recordings.readers import read_recording
     from rollerrig.report.analysis import write_analysis
-    from rollerrig.report.spectra import order_map_figure, spectrum_figure
+    from rollerrig.report.spectra import order_map_figure, shared_log_frequency, spectrum_figure
 
     tdms = written["recording"]
     test = _relocated(read_recording(tdms), final / tdms.name)  # rollerrig's own channel map
@@ -172,13 +172,16 @@ def _analyse(rig, out: Path, final: Path, written: dict, mdf_paths: list[Path]) 
     free, spectra = explain_free_rolling(mdf_paths, rig)
     explained, fixed = list(spectra.spectra), spectra.speed_independent
     found: dict = {"result": result, "explained": explained, "speed_independent": fixed}
+    log = shared_log_frequency(explained)  # one axis for the four speeds, side by side
     for path, e in zip(mdf_paths, explained, strict=True):
         found[path.stem] = save_figure(
-            spectrum_figure(e, title=path.name), out / f"{path.stem}.png"
+            spectrum_figure(e, title=path.name, log_frequency=log), out / f"{path.stem}.png"
         )
     omap = spectra.order_map()
     found["order_map"] = save_figure(
-        order_map_figure(omap, roller_radius=rig.geometry.roller_radius_x),
+        order_map_figure(
+            omap, roller_radius=rig.geometry.roller_radius_x, modes=[e.modes for e in explained]
+        ),
         out / "order-map.png",
     )
     # Shaft displacement (laser at the torque sensor) against torque at 30 km/h (§4.5.2.4).
@@ -214,9 +217,15 @@ def _analyse(rig, out: Path, final: Path, written: dict, mdf_paths: list[Path]) 
 
 def _free_rolling_section(rep, rig, mdf_paths, spectra) -> None:
     """The report's free-rolling part: order map, spectra, coherence with the shaft's run-out."""
-    from rollerrig.report.spectra import coherence_figure, order_map_figure, spectrum_figure
+    from rollerrig.report.spectra import (
+        coherence_figure,
+        order_map_figure,
+        shared_log_frequency,
+        spectrum_figure,
+    )
 
     explained, fixed = list(spectra.spectra), spectra.speed_independent
+    log = shared_log_frequency(explained)
     e30 = explained[-1]
     coh_at_peaks = e30.coherence_at_peaks()
     rep.heading("Free rolling at 5, 10, 20 and 30 km/h: where every line comes from")
@@ -227,11 +236,15 @@ def _free_rolling_section(rep, rig, mdf_paths, spectra) -> None:
         f"speed-independent (found: {', '.join(f'{f:.3f} Hz' for f in fixed) or 'none'})."
     )
     rep.figure(
-        order_map_figure(spectra.order_map(), roller_radius=rig.geometry.roller_radius_x),
-        "Order map: peak frequency vs speed.",
+        order_map_figure(
+            spectra.order_map(),
+            roller_radius=rig.geometry.roller_radius_x,
+            modes=[e.modes for e in explained],
+        ),
+        "Campbell diagram: peak frequency vs speed, the twin's modes and where orders cross them.",
     )
     for path, e in zip(mdf_paths, explained, strict=True):
-        rep.figure(spectrum_figure(e, title=path.name), path.name)
+        rep.figure(spectrum_figure(e, title=path.name, log_frequency=log), path.name)
     rep.heading("Does the shaft's run-out cause the torque lines? Coherence at 30 km/h")
     rep.paragraph(
         "Magnitude-squared coherence between the laser displacement at the torque sensor and "
@@ -246,6 +259,7 @@ def _free_rolling_section(rep, rig, mdf_paths, spectra) -> None:
             [r.frequency for r in e30.rows],
             [r.label for r in e30.rows],
             names=("torque", "displacement"),
+            log_frequency=log,
         ),
         "Coherence between shaft displacement and torque.",
     )

@@ -207,3 +207,42 @@ def test_ranking_legend_hides_no_bar():
     assert legend.x0 >= ax.get_window_extent(renderer).x1  # right of the axes
     assert fig.bbox.contains(legend.x1 - 1, legend.y0 + 1)  # and inside the figure
     plt.close(fig)
+
+
+def test_a_flat_optimum_is_called_flat_and_its_cells_outlined():
+    # Costs within 5 % of the lowest: order 3, windows 41, 51, 61 (1.00, 1.04 and 1.04).
+    table = _grid_table(lambda o, w: 1.0 + 0.5 * abs(o - 3) + 4e-3 * abs(w - 51))
+    fig = savitzky_golay_grid_figure(table)
+    ax = fig.axes[0]
+    squares = [ln for ln in ax.get_lines() if ln.get_label().startswith("within 5 %")]
+    assert len(squares) == 1
+    assert sorted(zip(squares[0].get_xdata(), squares[0].get_ydata(), strict=True)) == [
+        (3, 1), (4, 1), (5, 1)
+    ]  # fmt: skip
+    assert "3 cells within 5 % of it" in ax.get_title() and "flat optimum" in ax.get_title()
+    plt.close(fig)
+    # A sharp optimum: one cell, no squares, no word "flat".
+    fig = savitzky_golay_grid_figure(table, flat_tolerance=0.01)
+    ax = fig.axes[0]
+    assert not [ln for ln in ax.get_lines() if ln.get_label().startswith("within")]
+    assert "flat" not in ax.get_title()
+    plt.close(fig)
+
+
+def test_cells_not_computed_and_clipped_cells_are_named_in_the_legend():
+    table = StudyTable(
+        [r for r in _grid_table(_interior) if r.params != {"order": 4, "window": 101}]
+    )
+    fig = savitzky_golay_grid_figure(table)
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert "not computed" in labels and "above the clip" in labels
+    plt.close(fig)
+    fig = savitzky_golay_grid_figure(_grid_table(_interior), clip_percentile=100.0)
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert "not computed" not in labels and "above the clip" not in labels
+    plt.close(fig)
+
+
+def test_grid_refuses_a_negative_flat_tolerance():
+    with pytest.raises(ParameterError, match=r"flat_tolerance must be >= 0 \[1\]"):
+        savitzky_golay_grid_figure(_grid_table(_interior), flat_tolerance=-0.1)

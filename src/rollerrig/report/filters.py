@@ -170,7 +170,9 @@ def study_ranking_figure(
     return fig
 
 
-def savitzky_golay_grid_figure(table: Sequence[StudyRow], *, clip_percentile: float = 90.0):
+def savitzky_golay_grid_figure(
+    table: Sequence[StudyRow], *, clip_percentile: float = 90.0, flat_tolerance: float = 0.05
+):
     """Savitzky-Golay tuning table as a cost map over polynomial order × window.
 
     The window axis counts samples at the rate the tuning ran at (the table's
@@ -183,7 +185,12 @@ def savitzky_golay_grid_figure(table: Sequence[StudyRow], *, clip_percentile: fl
     the bar's triangle. When the shown range spans a factor of 10 or more the scale is
     logarithmic. The colour bar's label says which scale and where it clips.
 
-    The lowest cost is marked with a star. An optimum on the edge of the grid (the smallest or
+    The lowest cost is marked with a star, and the cells within ``flat_tolerance`` of it are
+    outlined: a cost that differs by a few per cent is no evidence of a better filter (the
+    score's own noise is not estimated), so the title says how many cells share the optimum
+    rather than calling one cell the optimum. Grey cells were not computed (not tried, or not
+    scored), white ones are above the colour scale's clip; the legend says so. An optimum on
+    the edge of the grid (the smallest or
     largest window or order tried) is not known to be an optimum: it is circled and the figure
     says "optimum on the grid edge: widen the grid", naming the edge.
 
@@ -194,6 +201,9 @@ def savitzky_golay_grid_figure(table: Sequence[StudyRow], *, clip_percentile: fl
         first row has the lowest cost).
     clip_percentile : float
         Upper end of the colour scale, as a percentile of the finite costs [%], in (0, 100].
+    flat_tolerance : float
+        Relative cost above the lowest within which a cell counts as equally good [1], ≥ 0;
+        default 0.05.
 
     Returns
     -------
@@ -203,6 +213,10 @@ def savitzky_golay_grid_figure(table: Sequence[StudyRow], *, clip_percentile: fl
 
     if not 0.0 < clip_percentile <= 100.0:
         raise ParameterError(f"clip_percentile must be in (0, 100] [%], got {clip_percentile!r}")
+    if not (np.isfinite(flat_tolerance) and flat_tolerance >= 0.0):
+        raise ParameterError(f"flat_tolerance must be >= 0 [1], got {flat_tolerance!r}")
+    from matplotlib.patches import Patch
+
     orders = sorted({r.params["order"] for r in table})
     windows = sorted({r.params["window"] for r in table})
     grid = np.full((len(orders), len(windows)), np.nan)
@@ -228,6 +242,18 @@ def savitzky_golay_grid_figure(table: Sequence[StudyRow], *, clip_percentile: fl
     col, row = windows.index(best["window"]), orders.index(best["order"])
     ax.plot(col, row, "r*", ms=12, label="lowest cost")
     lowest = f"lowest cost (red star): order {best['order']}, window {best['window']}"
+    # Cells as good as the lowest within the tolerance: the optimum is a region, not a cell.
+    near = np.isfinite(grid) & (grid <= lo + flat_tolerance * abs(lo))
+    n_near = int(near.sum())
+    if n_near > 1:
+        rows_near, cols_near = np.nonzero(near)
+        ax.plot(
+            cols_near, rows_near, "s", ms=9, mfc="none", mec="tab:orange", mew=1.2,
+            label=f"within {100 * flat_tolerance:g} % of the lowest",
+        )  # fmt: skip
+        lowest += (
+            f"; {n_near} cells within {100 * flat_tolerance:g} % of it (squares): a flat optimum"
+        )
     edges = _grid_edges(best, orders, windows)
     if edges:
         ax.plot(col, row, "o", ms=20, mfc="none", mec="red", mew=1.5, label="on the grid edge")
@@ -240,8 +266,17 @@ def savitzky_golay_grid_figure(table: Sequence[StudyRow], *, clip_percentile: fl
         )
     else:
         ax.set_title(lowest, fontsize=8)
+    handles, _ = ax.get_legend_handles_labels()
+    if np.isnan(grid).any():
+        handles.append(Patch(facecolor="0.55", label="not computed"))
+    if clipped:
+        handles.append(Patch(facecolor="white", edgecolor="0.3", label="above the clip"))
+    ax.legend(
+        handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.28), ncol=4,
+        frameon=False,
+    )  # fmt: skip
     scale = "log scale" if logarithmic else "linear scale"
-    clip = f"\nclipped at the {clip_percentile:g}th percentile, {hi:.3g}; white: above"
+    clip = f"\nclipped at the {clip_percentile:g}th percentile, {hi:.3g}"
     fig.colorbar(
         im,
         ax=ax,
