@@ -79,15 +79,17 @@ def calibrate(
         ),
     ] = Friction.dry,
     law: Annotated[
-        CreepLaw,
+        list[CreepLaw] | None,
         typer.Option(
             "--law",
-            help="Creep law of the twin the fit replays: polach (Polach 2005; polach.* keys), "
-            "modified-fastsim (fastsim.* keys incl. k0, alpha_inf, beta), fastsim or fastrip "
-            "(fastsim.static_friction, limit_ratio, friction_decay). The result names the law "
-            "and its fitted parameters.",
+            help="Creep law of the twin the fit replays: polach (Polach 2005; polach.* keys; "
+            "the default), modified-fastsim (fastsim.* keys incl. k0, alpha_inf, beta), "
+            "fastsim or fastrip (fastsim.static_friction, limit_ratio, friction_decay). The "
+            "result names the law and its fitted parameters. With --compare-laws, repeat it "
+            "to name the laws compared.",
+            show_default=False,
         ),
-    ] = CreepLaw.polach,
+    ] = None,
     torque_noise: Annotated[
         float | None,
         typer.Option(
@@ -121,6 +123,19 @@ def calibrate(
             "winner's calibration files only when it is adequate.",
         ),
     ] = False,
+    compare_laws: Annotated[
+        bool,
+        typer.Option(
+            "--compare-laws",
+            help="Fit each creep law named by --law (default polach and modified-fastsim) and "
+            "report which one the recording supports and by how much (residual whiteness, "
+            "BIC difference [1]); mu0, A, B are the same keys in every law (polach.* or "
+            "fastsim.* alike), each law frees its own shape keys (those named in --free, else "
+            "all not starting on a bound). Writes calibration-compare-laws.json, and the "
+            "winner's calibration files only when it is adequate. Not with --compare-drives: "
+            "compare the drives under one law, then the laws under the winning drive.",
+        ),
+    ] = False,
     out: OutOption = DEFAULT_OUT,
     lenient: LenientOption = False,
     list_keys: Annotated[
@@ -128,7 +143,8 @@ def calibrate(
         typer.Option(
             "--list-keys",
             help="List the keys --free accepts (with --roller-drive induction_dq the V/f "
-            "settings too, with --law its law's keys) and exit.",
+            "settings too, with --law its law's keys, with --compare-laws every compared "
+            "law's) and exit.",
         ),
     ] = False,
     quiet: QuietOption = False,
@@ -149,10 +165,16 @@ def calibrate(
     """
     compare = compare_drives or roller_drive is CalibrationDrive.compare
     roller = "induction_dq" if roller_drive is CalibrationDrive.induction_dq else "induction"
+    laws = _laws(law, compare_laws, compare)
     if list_keys:
         from rollerrig.calibrate import free_parameter_catalogue
 
-        for key in free_parameter_catalogue("induction_dq" if compare else roller, law.value):
+        catalogue = (
+            k
+            for lw in laws
+            for k in free_parameter_catalogue("induction_dq" if compare else roller, lw)
+        )
+        for key in dict.fromkeys(catalogue):
             console.print(key, markup=False, highlight=False)
         return
     if recording is None:
@@ -173,15 +195,22 @@ def calibrate(
     from rollerrig.cli.twin import _progress, _say_compile_stage
 
     keys = [k.strip() for k in free.split(",") if k.strip()]
-    from rollerrig.calibrate.problem import check_law_keys
+    from rollerrig.calibrate.problem import check_law_keys, is_law_key
 
-    check_law_keys(keys, law.value)  # a key of another creep law: its own message
-    catalogue = free_parameter_catalogue("induction_dq" if compare else roller, law.value)
-    unknown = [k for k in keys if k not in catalogue]
+    if compare_laws:
+        from rollerrig.calibrate.lawcompare import law_free_keys
+
+        law_free_keys(keys, laws, friction.value)  # a key of none of the laws: its own message
+        catalogue = free_parameter_catalogue(roller, laws[0])
+        unknown = [k for k in keys if k not in catalogue and not is_law_key(k)]
+    else:
+        check_law_keys(keys, laws[0])  # a key of another creep law: its own message
+        catalogue = free_parameter_catalogue("induction_dq" if compare else roller, laws[0])
+        unknown = [k for k in keys if k not in catalogue]
     if unknown:  # before reading anything: one line naming what is accepted
         from rollerrig.calibrate import CalibrationError
 
-        vf = [k for k in unknown if k in free_parameter_catalogue("induction_dq", law.value)]
+        vf = [k for k in unknown if k in free_parameter_catalogue("induction_dq", laws[0])]
         if vf:
             raise CalibrationError(
                 f"--free: {vf} are settings of the V/f controller, which only the dq roller "
@@ -207,7 +236,8 @@ def calibrate(
         max_iterations=max_iterations,
         lenient=lenient,
         roller_drive="compare" if compare else roller,
-        law=law.value,
+        law=laws if compare_laws else laws[0],
+        compare_laws=compare_laws,
     ) as stage:
         rec = read(recording, channels, lenient)
         _say_compile_stage(batch=True, dq=compare or roller == "induction_dq")
@@ -218,7 +248,22 @@ def calibrate(
             def progress(done: int, total: int, text: str) -> None:
                 bar.update(task, completed=done, total=total, info=text)
 
-            if compare:
+            if compare_laws:
+                from rollerrig.calibrate.lawcompare import compare_laws as run_law_comparison
+
+                comparison = run_law_comparison(
+                    rec,
+                    keys,
+                    laws=laws,
+                    rig=rig,
+                    friction=friction.value,
+                    max_iterations=max_iterations,
+                    progress=lambda lw, i, n, text: progress(i, n, f"{lw}: {text}"),
+                    torque_noise=torque_noise,
+                    roller_drive=roller,
+                )
+                result = comparison.winning_calibration
+            elif compare:
                 from rollerrig.calibrate.compare import compare_drives as run_comparison
 
                 comparison = run_comparison(
@@ -229,7 +274,7 @@ def calibrate(
                     max_iterations=max_iterations,
                     progress=lambda d, i, n, text: progress(i, n, f"{d}: {text}"),
                     torque_noise=torque_noise,
-                    law=law.value,
+                    law=laws[0],
                 )
                 result = comparison.winning_calibration
             else:
@@ -242,7 +287,7 @@ def calibrate(
                     progress=progress,
                     torque_noise=torque_noise,
                     roller_drive=roller,
-                    law=law.value,
+                    law=laws[0],
                 )
             bar.update(task, completed=bar.tasks[0].total, info="done")
         if comparison is not None:
@@ -271,6 +316,34 @@ def calibrate(
     else:
         print_calibration(result)
     print_written(stage.written)
+
+
+def _laws(law: list[CreepLaw] | None, compare_laws: bool, compare_drives: bool) -> list[str]:
+    """The creep law(s) of the run: one without --compare-laws (default polach), at least two
+    with it (default :data:`rollerrig.calibrate.lawcompare.DEFAULT_LAWS`)."""
+    named = list(dict.fromkeys(lw.value for lw in law or ()))
+    if compare_laws and compare_drives:
+        raise UserError(
+            "--compare-laws and --compare-drives (or --roller-drive compare) together would fit "
+            "every drive with every law; run one comparison at a time: compare the drives under "
+            "one --law, then the laws under the winning --roller-drive"
+        )
+    if compare_laws:
+        if len(named) == 1:
+            raise UserError(
+                f"--compare-laws needs at least two creep laws: --law {named[0]} names one; "
+                "repeat --law (e.g. --law polach --law modified-fastsim) or leave it out for "
+                "polach against modified-fastsim"
+            )
+        from rollerrig.calibrate.lawcompare import DEFAULT_LAWS
+
+        return named or list(DEFAULT_LAWS)
+    if len(named) > 1:
+        raise UserError(
+            f"--law names one creep law, got {', '.join(named)}; to fit several and compare "
+            "them, add --compare-laws"
+        )
+    return named or ["polach"]
 
 
 def _number(value: float | None, digits: int = 6) -> str:
@@ -333,8 +406,9 @@ def print_calibration(result) -> None:
 
 
 def print_comparison(comparison) -> None:
-    """The evidence of :func:`rollerrig.calibrate.compare.compare_drives`, one row per model."""
-    table = Table(title="Roller-drive models fitted to the recording")
+    """The evidence of :func:`rollerrig.calibrate.compare.compare_drives` or
+    :func:`rollerrig.calibrate.lawcompare.compare_laws`, one row per model."""
+    table = Table(title=f"{comparison.MODEL.capitalize()}s fitted to the recording")
     cols = (
         "model",
         "adequate",
@@ -386,3 +460,7 @@ def print_comparison(comparison) -> None:
             f"(rectangular, u = {item['standard_uncertainty']:.3g}) between the adequate models"
         )
     (note if comparison.adequate else print_warning)(comparison.verdict())
+    for model in getattr(comparison, "losers", ()):
+        advice = comparison.calibrations[model].suggestion
+        if advice:
+            note(advice)
