@@ -231,9 +231,10 @@ def test_the_polach_transfer_factor_against_the_strip_theory():
 
 
 def test_the_law_error_widens_the_band_where_the_curve_has_left_its_linear_part():
-    """The law's factor error (LAW_FACTOR_ERROR, measured against CONTACT) enters the band
-    scaled by the roller curve's rise: nothing at ξ → 0, where every law's factor is the ratio
-    of the creep stiffnesses, up to ±LAW_FACTOR_ERROR (rectangular) past the onset."""
+    """The law's factor error (LAW_FACTOR_ERROR, measured against CONTACT) is a bound on the
+    band's edges, scaled by the roller curve's rise: nothing at ξ → 0, where every law's factor
+    is the ratio of the creep stiffnesses, the full ±LAW_FACTOR_ERROR past the onset (edges
+    times 1 ∓ e: the half-width over the factor grows by e·(mid-band / factor) ≥ 0.95 e)."""
     from rollerrig.analysis.transfer import LAW_FACTOR_ERROR
 
     m = _measured()
@@ -242,10 +243,10 @@ def test_the_law_error_widens_the_band_where_the_curve_has_left_its_linear_part(
     def half_width(r):
         return (r.factor_high - r.factor_low) / 2 / r.factor
 
-    assert half_width(with_error)[0] == pytest.approx(half_width(without)[0], rel=0.05)
+    e = LAW_FACTOR_ERROR["polach"]
+    widened = half_width(with_error) - half_width(without)
+    assert abs(widened[0]) < 0.02 * e
     late = with_error.roller >= 0.5 * with_error.roller.max()
-    widened = half_width(with_error)[late] - half_width(without)[late]
-    # a rectangular ±e adds up to e·0.95 at the 95 % quantiles when it dominates
-    assert np.all(widened > 0.3 * LAW_FACTOR_ERROR["polach"])
+    assert np.all(widened[late] > 0.95 * e) and np.all(widened[late] < 1.1 * e)
     assert any("law's error in the transfer factor" in i["name"] for i in with_error.band["inputs"])
     assert "the law's error in the transfer factor" in without.band["not_included"]

@@ -42,26 +42,38 @@ Under Hertz scaling at a fixed a/b the laws depend on ξ and N only through ξ·
 creep stiffness grows as N^(2/3)), so each point enters the fit at its own load and the
 transfer is made at one load, by default the median contact load of the fitted points.
 
-Uncertainty band (Monte Carlo, JCGM 101)
-----------------------------------------
-Each draw takes (i) the law's surface parameters from a normal distribution with the fit's
-covariance, inflated by the AR(1) factor of its residual structure (stated), clipped to the
-parameters' bounds; (ii) the geometry: wheel and roller rolling radii rectangular within the
-rig's stated tolerances (``sensors.wheel_radius_tolerance``, ``roller_radius_tolerance``), the
-transverse profile radii (wheel, roller, rail crown) normal with a stated relative standard
-uncertainty; (iii) the law's own error in the transfer factor against Kalker's exact theory
-(:data:`LAW_FACTOR_ERROR`, measured with CONTACT), rectangular and common to all creepages;
-(iv) optionally a common relative systematic error of the measured CoA. The measured curve is
-what it is: a draw's geometry enters through the transfer factor,
+Uncertainty band (Monte Carlo, JCGM 101), and which construction
+-----------------------------------------------------------------
+Each draw takes (i) the law's surface parameters; (ii) the geometry: wheel and roller rolling
+radii rectangular within the rig's stated tolerances (``sensors.wheel_radius_tolerance``,
+``roller_radius_tolerance``), the transverse profile radii (wheel, roller, rail crown) normal
+with a stated relative standard uncertainty; (iii) optionally a common relative systematic
+error δ of the measured CoA. The geometry enters through the transfer factor,
 
-.. math:: \\mathrm{CoA}_\\mathrm{track} = \\mathrm{CoA}_\\mathrm{roller}(\\theta)\\,
-          \\frac{f(\\theta, \\mathrm{track})}{f(\\theta, \\mathrm{roller})}\\,
-          (1 + e(\\xi)\\,\\delta_\\mathrm{law})(1 + \\delta),
+.. math:: \\mathrm{CoA}_\\mathrm{track} = L(\\theta)\\,
+          \\frac{f(\\theta, \\mathrm{track})}{f(\\theta, \\mathrm{roller})}\\,(1 + \\delta),
 
-with f the law on the drawn ellipse. The band is the 2.5-97.5 % interval of the draws at each
-creepage. Not in the band: how far the law misses the measured points (the fit's residual
-structure says how large it is on the rig), the difference of the surfaces, E and ν (same
-steel on both sides).
+with f the law on the drawn ellipse and L the roller level, which depends on how well the fit
+knows its parameters (:func:`rollerrig.analysis.transfer_band.choose_construction`; the
+output's ``band["construction"]`` and ``["construction_why"]`` say which and why):
+
+* ``"model"`` (identifiable fit, residuals without serial structure): L is the law at θ drawn
+  from the fit's covariance (inflated by the AR(1) factor of its residuals, stated); a draw
+  outside the bounds is drawn again, never clipped.
+* ``"measured points"`` (not identifiable, or structured residuals: the law is not the data's):
+  L is the measured curve itself, the law's curve plus its smoothed residuals, with the
+  points' noise; θ ranges over Beale's 95 % region of parameters that fit the points about as
+  well as the best, and enters only through the factor. Measured on CONTACT's exact roller
+  curve (tests/analysis/test_transfer_coverage.py): the old clipped-covariance band covered
+  CONTACT's rail curve at 4 of 11 creepages (Polach) and held its own central curve at only
+  three quarters of the grid; this one covers 11 of 11 for both laws, within ±5-6 % of the
+  curve. :mod:`rollerrig.analysis.transfer_band` gives the reasons.
+
+The band is the 2.5-97.5 % interval of the draws at each creepage, widened to hold the central
+curve (always inside its band) and then by the law's own error in the transfer factor against
+Kalker's exact theory (:data:`LAW_FACTOR_ERROR`, measured with CONTACT) as a *bound*: the
+edges times (1 ∓ e(ξ)), e scaled by the roller curve's rise. Not in the band: the difference
+of the surfaces, E and ν (same steel on both sides).
 
 References
 ----------
@@ -87,6 +99,12 @@ from rollerrig.analysis.measured_curve import (
     curve_from_analysis,
     read_analysis,
     read_curve_csv,
+)
+from rollerrig.analysis.transfer_band import (
+    MODEL,
+    choose_construction,
+    measured_level,
+    plausible_draws,
 )
 from rollerrig.analysis.transfer_geometry import (
     ContactGeometry,
@@ -160,18 +178,64 @@ def _law_coa(law, theta, xi, w, load, ell: HertzEllipse, g, nu, grid):
 
 _POLACH_NAMES = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
 _POLACH_LOWER = np.array([1e-3, 1e-6, 0.0, 1e-6, 1e-6])
-_POLACH_UPPER = np.array([2.0, 1.0, 50.0, 1.0, 1.0])  # draws only: clip to physical range
+_POLACH_UPPER = np.array([2.0, 1.0, 50.0, 1.0, 1.0])  # draws only: the physical range
+_SSE_POINTS = 150  # points of S(θ) for the plausible set (evenly thinned in creepage order)
 
 
-def _clip_draws(law, draws):
+def _bounds(law):
+    """Lower and upper bounds of a draw, and a further constraint (Polach's kS <= kA)."""
     if law == "polach":
-        out = np.clip(draws, _POLACH_LOWER, _POLACH_UPPER)
-        out[:, 4] = np.minimum(out[:, 4], out[:, 3])
-        return out
+        return _POLACH_LOWER, _POLACH_UPPER, lambda t: t[4] <= t[3]
     from rollerrig.fit.modified_fastsim import PARAMETER_LOWER as _LOWER
     from rollerrig.fit.modified_fastsim import PARAMETER_UPPER as _UPPER
 
-    return np.clip(draws, _LOWER, _UPPER)
+    return _LOWER, _UPPER, None
+
+
+def _draws_within_bounds(theta, cov, lower, upper, feasible, draws, rng):
+    """``draws`` normal draws about ``theta`` with covariance ``cov``; those outside the
+    bounds drawn again (up to 20 rounds, then θ̂ in their place): never clipped."""
+    cov = 0.5 * (cov + cov.T)
+    evals, evecs = np.linalg.eigh(cov)
+    root = evecs * np.sqrt(np.clip(evals, 0.0, None))
+    out = np.tile(theta, (draws, 1))
+    todo = np.arange(draws)
+    for _ in range(20):
+        if todo.size == 0:
+            break
+        t = theta + rng.standard_normal((todo.size, theta.size)) @ root.T
+        ok = np.all((t >= lower) & (t <= upper), axis=1)
+        if feasible is not None:
+            ok &= np.array([bool(feasible(row)) for row in t])
+        out[todo[ok]] = t[ok]
+        todo = todo[~ok]
+    return out
+
+
+def _sse_on_points(law, xi_pts, y, w_pts, q_pts, n_ref, ell, g, nu, grid, theta):
+    """θ -> the sum of squared residuals of the law on the roller at (up to
+    ``_SSE_POINTS``) measured points, each at its own load; and the fitted CoA at every point."""
+    order = np.argsort(xi_pts, kind="stable")
+    keep = order[:: max(1, int(np.ceil(xi_pts.size / _SSE_POINTS)))]
+
+    def model(t, idx):
+        if law == "polach":
+            k = g * ell.a * ell.b * ell.c11 * np.cbrt((q_pts[idx] / n_ref) ** 2)
+            mu0, aa, bb, ka, ks = t
+            return _polach_force_kernel(xi_pts[idx], w_pts[idx], q_pts[idx], k, mu0, aa, bb, ka,
+                                        ks) / q_pts[idx]  # fmt: skip
+        from rollerrig.fit.modified_fastsim import coa_kernel as _coa_kernel
+
+        xi_eq = xi_pts[idx] * np.cbrt(n_ref / q_pts[idx])
+        return _coa_kernel(xi_eq, w_pts[idx], n_ref, ell.a, ell.b, g, nu, np.asarray(t), grid)
+
+    def sse(t):
+        r = model(t, keep) - y[keep]
+        value = float(r @ r)
+        return value if np.isfinite(value) else np.inf
+
+    sse.points = int(keep.size)
+    return sse, model(theta, np.arange(xi_pts.size))
 
 
 # --------------------------------------------------------------------------------------------
@@ -223,8 +287,10 @@ def transfer_curve(
 
     The chosen law's surface parameters are fitted to the measured points on the roller's
     Hertz ellipse and evaluated, unchanged, on the rail's ellipse at the same load and speed
-    (module notes); the band is a Monte Carlo propagation of the fit's covariance and of the
-    geometry's stated uncertainty.
+    (module notes). The band is a Monte Carlo propagation of the parameters and of the
+    geometry's stated uncertainty, on the law's curve where the fit determines its parameters
+    and on the measured points where it does not (``result.band["construction"]``, with the
+    reason); its central curve is always inside it.
 
     Parameters
     ----------
@@ -261,10 +327,10 @@ def transfer_curve(
         Passed to the fit (e.g. ``{"profile": False}`` for the modified FASTSIM).
     law_error : bool
         Include the law's own error in the transfer factor (:data:`LAW_FACTOR_ERROR`, measured
-        against Kalker's exact theory) in the band: each draw multiplies the factor by
-        1 + e(ξ)·δ with δ rectangular on [−1, 1], common to all creepages (a shape error, not
-        noise), and e(ξ) the law's error scaled by the roller curve's rise (zero at ξ → 0, full
-        from :data:`LAW_FACTOR_ERROR_ONSET` of its peak on).
+        against Kalker's exact theory) in the band, as a bound: the band's edges times
+        1 ∓ e(ξ), e(ξ) the law's error scaled by the roller curve's rise (zero at ξ → 0, full
+        from :data:`LAW_FACTOR_ERROR_ONSET` of its peak on). A largest error measured at one
+        geometry is not a distribution, so it is not drawn.
 
     Returns
     -------
@@ -391,6 +457,7 @@ def transfer_curve(
 
     # ---- Monte Carlo ------------------------------------------------------------------------
     rng = np.random.default_rng(seed)
+    construction, why = choose_construction(fit)
     cov = np.array(fit.covariance, float)
     cov = np.where(np.isfinite(cov), cov, 0.0)
     structure = fit.residual_structure
@@ -400,60 +467,110 @@ def transfer_curve(
             float(structure.stderr_inflation) if np.isfinite(structure.stderr_inflation) else 1.0
         )
     cov = cov * inflation**2
-    cov = 0.5 * (cov + cov.T)
-    evals, evecs = np.linalg.eigh(cov)
-    root = evecs * np.sqrt(np.clip(evals, 0.0, None))
-    thetas = _clip_draws(law, theta + rng.standard_normal((draws, theta.size)) @ root.T)
+    lower, upper, feasible = _bounds(law)
+    sse, fitted_pts = _sse_on_points(law, xi_pts, y, w_pts, q_pts, n_ref, roller_e, g, nu, grid,
+                                     theta)  # fmt: skip
+    plausible = None
+    if construction == MODEL:
+        thetas = _draws_within_bounds(theta, cov, lower, upper, feasible, draws, rng)
+        level, level_u = roller, np.zeros_like(xi)
+    else:
+        thetas, plausible = plausible_draws(
+            theta, np.array(fit.covariance, float), sse, lower, upper, draws, rng, feasible
+        )
+        level, level_u, noise_sigma, nodes = measured_level(xi_pts, y, fitted_pts, xi, roller)
+        plausible.update(noise_sigma=noise_sigma, nodes=nodes)
+    n_draws = draws
+    pick = np.arange(n_draws) % len(thetas)
     up = geo.profile_radius_uncertainty
     uc = up if rail.crown_radius_uncertainty is None else rail.crown_radius_uncertainty
-    wx = geo.wheel_radius_x + geo.wheel_radius_tolerance * rng.uniform(-1, 1, draws)
-    rx = geo.roller_radius_x + geo.roller_radius_tolerance * rng.uniform(-1, 1, draws)
-    wy = geo.wheel_radius_y * np.clip(1 + up * rng.standard_normal(draws), 0.2, None)
-    ry = geo.roller_radius_y * np.clip(1 + up * rng.standard_normal(draws), 0.2, None)
+    wx = geo.wheel_radius_x + geo.wheel_radius_tolerance * rng.uniform(-1, 1, n_draws)
+    rx = geo.roller_radius_x + geo.roller_radius_tolerance * rng.uniform(-1, 1, n_draws)
+    wy = geo.wheel_radius_y * np.clip(1 + up * rng.standard_normal(n_draws), 0.2, None)
+    ry = geo.roller_radius_y * np.clip(1 + up * rng.standard_normal(n_draws), 0.2, None)
     if rail.crown_radius is None:
         cr = ry  # the same crown as the roller's, by definition of the comparison
     else:
-        cr = rail.crown_radius * np.clip(1 + uc * rng.standard_normal(draws), 0.2, None)
-    delta = np.zeros(draws) if not coa_systematic else coa_systematic * rng.standard_normal(draws)
-    # The law's shape error of the factor: nil where the factor is the stiffness ratio (small
-    # creepage), up to LAW_FACTOR_ERROR once the curve has left its linear part.
+        cr = rail.crown_radius * np.clip(1 + uc * rng.standard_normal(n_draws), 0.2, None)
+    delta = (
+        np.zeros(n_draws) if not coa_systematic else coa_systematic * rng.standard_normal(n_draws)
+    )
+    z_level = rng.standard_normal(n_draws)
+    # The law's error in the factor, a bound: nil where the factor is the stiffness ratio
+    # (small creepage), up to LAW_FACTOR_ERROR once the curve has left its linear part.
     rise = np.clip(roller / np.max(roller) / LAW_FACTOR_ERROR_ONSET, 0.0, 1.0)
     law_half_width = LAW_FACTOR_ERROR[law] * rise if law_error else np.zeros_like(xi)
-    law_delta = rng.uniform(-1.0, 1.0, draws)
-    roller_d = np.empty((draws, xi.size))
-    track_d = np.empty((draws, xi.size))
-    ratio_k = np.empty(draws)
-    for i in range(draws):
+    roller_d = np.empty((n_draws, xi.size))
+    track_d = np.empty((n_draws, xi.size))
+    law_roller_d = np.empty((n_draws, xi.size))
+    law_track_d = np.empty((n_draws, xi.size))
+    factor_d = np.empty((n_draws, xi.size))
+    ratio_k = np.empty(n_draws)
+    for i in range(n_draws):
         r_e, t_e = ellipses(wx[i], wy[i], rx[i], ry[i], cr[i])
-        base = law_on(thetas[i], roller_e)
-        f_i = law_on(thetas[i], t_e) / law_on(thetas[i], r_e) * (1 + law_delta[i] * law_half_width)
+        th = thetas[pick[i]]
+        if construction == MODEL:
+            base = law_on(th, roller_e)
+        else:
+            base = level + level_u * z_level[i]
+        law_roller_d[i] = law_on(th, r_e)
+        law_track_d[i] = law_on(th, t_e)
+        f_i = law_track_d[i] / law_roller_d[i]
+        factor_d[i] = f_i
         roller_d[i] = base * (1 + delta[i])
         track_d[i] = base * f_i * (1 + delta[i])
         ratio_k[i] = (t_e.a * t_e.b * t_e.c11) / (r_e.a * r_e.b * r_e.c11)
-    factor_d = track_d / roller_d
     lo, hi = 2.5, 97.5
+    law_roller, law_track = roller, track
+    if construction != MODEL:
+        roller = level
+        track = level * factor
 
-    def band(x):
-        return np.percentile(x, lo, axis=0), np.percentile(x, hi, axis=0)
+    def band(x, central, bound=None):
+        low, high = np.percentile(x, lo, axis=0), np.percentile(x, hi, axis=0)
+        low, high = np.minimum(low, central), np.maximum(high, central)
+        if bound is not None:
+            low, high = low * (1.0 - bound), high * (1.0 + bound)
+        return low, high
 
-    roller_lo, roller_hi = band(roller_d)
-    track_lo, track_hi = band(track_d)
-    factor_lo, factor_hi = band(factor_d)
+    roller_lo, roller_hi = band(roller_d, roller)
+    track_lo, track_hi = band(track_d, track, law_half_width)
+    factor_lo, factor_hi = band(factor_d, factor, law_half_width)
 
     # ---- peaks -------------------------------------------------------------------------------
+    # Where the curve is the law's (model), its peak and the draws' give the interval. Where
+    # it is the measured level, a noisy flat top cannot place the peak: the creepage is the
+    # law's (fitted shape; interval from the plausible set's), the CoA the level's there.
     peaks = {}
-    for name, curve, d in (("roller", roller, roller_d), ("track", track, track_d)):
-        x0, c0 = _peak(xi, curve[None])
-        xd, cd = _peak(xi, d)
-        interior = bool(np.argmax(curve) < xi.size - 1)
+    sides = (
+        ("roller", roller, roller_d, law_roller, law_roller_d),
+        ("track", track, track_d, law_track, law_track_d),
+    )
+    for name, curve, d, law_curve, law_d in sides:
+        if construction == MODEL:
+            k0 = int(np.argmax(curve))
+            xd, cd = _peak(xi, d)
+        else:
+            k0 = int(np.argmax(law_curve))
+            xd, _ = _peak(xi, law_d)
+            cd = np.take_along_axis(d, np.argmax(law_d, axis=1)[:, None], axis=1)[:, 0]
+        x0, c0 = float(xi[k0]), float(curve[k0])
+        interior = bool(k0 < xi.size - 1)
+        x95 = [float(np.percentile(xd, lo)), float(np.percentile(xd, hi))]
+        c95 = [float(np.percentile(cd, lo)), float(np.percentile(cd, hi))]
         peaks[name] = {
-            "creepage [-]": float(x0[0]),
-            "creep [-]": float(rig_creep(x0[0])),
-            "coa [-]": float(c0[0]),
-            "creepage_95 [-]": [float(np.percentile(xd, lo)), float(np.percentile(xd, hi))],
-            "coa_95 [-]": [float(np.percentile(cd, lo)), float(np.percentile(cd, hi))],
+            "creepage [-]": x0,
+            "creep [-]": float(rig_creep(x0)),
+            "coa [-]": c0,
+            "creepage_95 [-]": [min(x95[0], x0), max(x95[1], x0)],
+            "coa_95 [-]": [min(c95[0], c0), max(c95[1], c0)],
             "inside_measured_range": interior,
         }
+        if construction != MODEL:
+            peaks[name]["located_by"] = (
+                "the law's fitted shape (the measured level's flat top cannot place it); the "
+                "CoA is the measured level's there"
+            )
         if not interior:
             peaks[name]["note"] = (
                 "the curve still rises at the largest measured creepage: the peak is not "
@@ -515,29 +632,51 @@ def transfer_curve(
         (
             f"The law's own error in the transfer factor, up to {LAW_FACTOR_ERROR[law]:.2%} "
             "against Kalker's exact theory (CONTACT) on the bundled rig's roller and a tangent "
-            "rail, is in the band (rectangular, common to all creepages); on other geometries "
-            "it is assumed to be no larger."
+            "rail, is in the band (a bound on its edges); on other geometries it is assumed to "
+            "be no larger."
             if law_error
             else f"The law's own error in the transfer factor (up to {LAW_FACTOR_ERROR[law]:.2%} "
             "against Kalker's exact theory on the bundled rig) is not in the band."
         ),
     ]
+    if construction == MODEL:
+        parameter_input = {
+            "name": f"{law} surface parameters",
+            "distribution": "multivariate normal, the fit's covariance"
+            + (
+                f" x {inflation:.3g}^2 (AR(1) factor of the structured residuals)"
+                if inflation > 1
+                else ""
+            )
+            + "; draws outside the parameters' bounds drawn again (never clipped)",
+        }
+        level_text = "the law's curve fitted on the roller (each draw: the law at its parameters)"
+    else:
+        parameter_input = {
+            "name": f"{law} surface parameters (through the transfer factor only)",
+            "distribution": "the plausible set: Beale's 95 % region S(theta) <= "
+            f"{plausible['sse_limit']:.3g} (S(theta_fit) = {plausible['sse_fit']:.3g}, on "
+            f"{plausible['points']} points), sampled from the fit's covariance at scale "
+            f"{plausible['scale']:g} (acceptance {plausible['acceptance']:.2f}); "
+            f"{len(thetas)} parameter sets, the fit's among them",
+        }
+        level_text = (
+            "the measured points: the law's curve plus its residuals smoothed by a cubic "
+            f"smoothing spline on {plausible['nodes']} nodes (smoothing by generalised "
+            "cross-validation); its random scatter from the points' noise u = "
+            f"{plausible['noise_sigma']:.3g} (CoA, pseudo-residuals) through the spline, normal"
+        )
     method = {
         "method": "Monte Carlo propagation of distributions (JCGM 101); 95 % probabilistically "
-        "symmetric interval (2.5-97.5 % quantiles) at each creepage",
+        "symmetric interval (2.5-97.5 % quantiles) at each creepage, widened to hold the "
+        "central curve and by the law's error bound",
+        "construction": construction,
+        "construction_why": why,
+        "roller_level": level_text,
         "draws": draws,
         "seed": int(seed),
         "inputs": [
-            {
-                "name": f"{law} surface parameters",
-                "distribution": "multivariate normal, the fit's covariance"
-                + (
-                    f" x {inflation:.3g}^2 (AR(1) factor of the structured residuals)"
-                    if inflation > 1
-                    else ""
-                )
-                + ", clipped to the parameters' bounds",
-            },
+            parameter_input,
             {
                 "name": "wheel and roller rolling radii",
                 "distribution": f"rectangular, half-widths {geo.wheel_radius_tolerance:g} m and "
@@ -555,19 +694,34 @@ def transfer_curve(
         "geometry_enters": "through the transfer factor f(track)/f(roller): the measured curve "
         "on the roller is what it is",
         "not_included": [
-            "the law's error in fitting the measured points (see the fit's residual structure)",
             "differences between the rig's and the rail's surfaces",
             "E and nu (same steel on both sides)",
         ],
         "covariance_inflation [-]": inflation,
     }
+    if construction == MODEL:
+        method["not_included"].insert(
+            0, "the law's error in fitting the measured points (see the fit's residual structure)"
+        )
+    else:
+        method["plausible_set"] = {
+            "sse_fit [CoA2]": plausible["sse_fit"],
+            "sse_limit [CoA2]": plausible["sse_limit"],
+            "points": plausible["points"],
+            "scale [-]": plausible["scale"],
+            "acceptance [-]": plausible["acceptance"],
+            "parameter_sets": len(thetas),
+            "noise_sigma [-]": plausible["noise_sigma"],
+            "spline_nodes": plausible["nodes"],
+        }
     if law_error:
         method["inputs"].append(
             {
                 "name": f"the law's error in the transfer factor ({law})",
-                "distribution": f"rectangular, common to all creepages, half-width "
-                f"{LAW_FACTOR_ERROR[law]:g} (measured against CONTACT's exact theory) scaled by "
-                f"the roller curve's rise to {LAW_FACTOR_ERROR_ONSET:g} of its peak",
+                "distribution": f"a bound, not drawn: the band's edges times 1 -/+ "
+                f"{LAW_FACTOR_ERROR[law]:g} (the largest error measured against CONTACT's "
+                f"exact theory), scaled by the roller curve's rise to "
+                f"{LAW_FACTOR_ERROR_ONSET:g} of its peak",
             }
         )
     else:
@@ -584,11 +738,11 @@ def transfer_curve(
             "the systematic uncertainty of the measured CoA (rig load, torque class, arm): "
             "give coa_systematic to include it"
         )
-    if not fit.identifiable:
+    notes.append(f"band construction: {construction} ({why})")
+    if construction != MODEL:
         notes.append(
-            "the fit is not fully identifiable from these data (see the fit's notes): its "
-            "covariance, hence the band, describes the scatter about this one solution; the "
-            "transfer factor itself depends little on the surface parameters"
+            "the rail curve is the measured roller level times the law's transfer factor: the "
+            "law's fit on the roller is used only for the ratio of the two ellipses"
         )
     return TransferResult(
         law=law,

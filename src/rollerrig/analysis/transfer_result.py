@@ -46,7 +46,8 @@ class TransferResult:
     peaks : dict
         Peak creepage and CoA on each side with their 95 % intervals.
     band : dict
-        How the band was made: method, draws, inputs, what is not in it.
+        How the band was made: its construction ("model" or "measured points") and why,
+        method, draws, inputs, what is not in it.
     assumptions, notes : list of str
     measured : MeasuredCurve
     """

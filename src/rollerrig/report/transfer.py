@@ -45,12 +45,26 @@ def transfer_figure(result: TransferResult):
             label="measured on the roller (points fitted)",
         )
     r_mm = result.geometry.roller_radius_x * 1e3
+    on_points = result.band.get("construction") == "measured points"
     ax.fill_between(xi, result.roller_low, result.roller_high, color="tab:blue", alpha=0.25, lw=0)
     ax.plot(
-        xi, result.roller, color="tab:blue", label=f"{result.law} fit, roller r = {r_mm:.0f} mm"
+        xi,
+        result.roller,
+        color="tab:blue",
+        label=(
+            f"measured level on the roller r = {r_mm:.0f} mm ({result.law} fit + its residuals)"
+            if on_points
+            else f"{result.law} fit, roller r = {r_mm:.0f} mm"
+        ),
     )
     ax.fill_between(xi, result.track_low, result.track_high, color="tab:red", alpha=0.25, lw=0)
-    ax.plot(xi, result.track, color="tab:red", label="predicted on the rail (95 % band)")
+    ax.plot(
+        xi,
+        result.track,
+        color="tab:red",
+        label="predicted on the rail (95 % band)"
+        + (": measured level × the law's factor" if on_points else ""),
+    )
     for name, colour in (("roller", "tab:blue"), ("track", "tab:red")):
         pk = result.peaks[name]
         ax.plot(100 * pk["creepage [-]"], pk["coa [-]"], "o", color=colour, ms=4)
@@ -80,12 +94,21 @@ def transfer_figure(result: TransferResult):
     bx.set_xlim(0, xi[-1])
     bx.grid(True, alpha=0.3)
     bx.legend(fontsize=8, loc="upper right")
+    inputs = (
+        "the measured points' noise, the factor over the parameters that fit them about as "
+        "well as the best (Beale's region)"
+        if on_points
+        else "Monte Carlo of the fit's covariance"
+    )
+    why = result.band.get("construction_why")
     footnote = (
         "Surface parameters (slope reduction, μ0, A, B) carried over from the roller as "
-        "measured: an assumption. Band: Monte Carlo of the fit's covariance, the geometry's "
-        "stated uncertainty"
+        "measured: an assumption. "
+        + (f"Band on the measured points, since {why}: " if on_points and why else "Band: ")
+        + inputs
+        + ", the geometry's stated uncertainty"
         + (
-            ", the law's error in the factor (against Kalker's exact theory)"
+            ", the law's error bound in the factor (against Kalker's exact theory)"
             if any("law's error" in str(i.get("name", "")) for i in result.band.get("inputs", []))
             else ""
         )
