@@ -4,6 +4,7 @@ Run from the repository root:
 
     python benchmarks/bench_studies.py            # about 5 minutes on 2 cores
     python benchmarks/bench_studies.py --quick    # 1000-point large study, fewer points each
+    python benchmarks/bench_studies.py --crossover    # only the fixed costs (2-4 min on 2 cores)
 
 It measures, in one run on this machine, on grids of the release test (one ramp to 600 N.m,
 hold, sudden release at 30 km/h; k56 x c_lp x load x speed) at the studies' default accuracy
@@ -16,7 +17,14 @@ hold, sudden release at 30 km/h; k56 x c_lp x load x speed) at the studies' defa
 - ``run_study`` on a local dask cluster of 1 and of 2 workers (one thread each): points/s,
   and the scaling efficiency rate(2) / (2 rate(1));
 - a study of 10 000 points on 2 dask workers, with its wall time (workers' start, the store,
-  everything ``rollerrig study run`` does except the figures).
+  everything ``rollerrig study run`` does except the figures);
+- fixed costs against per-point costs (issue 20): studies of a few sizes on the local executor
+  and on a local dask cluster of one worker per core, each run's start-up timed apart
+  (:attr:`rollerrig.studies.StudyRun.fixed_cost`: the solver's load in this process; the
+  cluster's start, the workers' warm-up and the cluster's close), the per-point cost of the
+  rest, the ratio dask/local of the wall times, the size where dask starts to pay (measured,
+  and as ``executor="auto"``'s rule estimates it from the per-point Python work measured here)
+  and what ``"auto"`` chooses at each size.
 
 Rates are points per second of wall time of the whole ``run_study`` call (cluster start
 included, so small studies understate the steady rate; the steady rate is printed beside it).
@@ -81,11 +89,123 @@ def _run(spec, **kw):
     return result, wall, rate
 
 
+def _one_group_grid(n_k: int, n_c: int) -> str:
+    """A grid of rig keys only: every point in one protocol group (batches of the same size
+    at every study size)."""
+    return f"""
+name = "bench-fixed"
+experiment = "release-test"
+[grid]
+"stiffness.roller_shaft" = {{ start = 43.5, stop = 143.5, num = {n_k}, unit = "kN.m/rad" }}
+"induction_motor.response_lag_clp" = {{ start = 1.375, stop = 100, num = {n_c}, scale = "log" }}
+"""
+
+
+def _serial_s(spec) -> tuple[float, float]:
+    """Median per-point Python work (setup and metrics) of one local batch [s], and the share
+    of a core this process got in it (as ``executor="auto"`` measures them)."""
+    import statistics
+
+    import numpy as np
+
+    from rollerrig import default_rig, load_protocol
+    from rollerrig.studies.design import design_points
+    from rollerrig.studies.executor_choice import cpu_share
+    from rollerrig.studies.runner import run_batch
+
+    table = design_points(spec)
+    points = [(i, table.point(i)) for i in range(min(16, len(table)))]
+    timing: dict = {}
+    protocol = load_protocol(spec.experiment)
+    run_batch(default_rig(), protocol, points, spec.metrics, spec.output_rate, spec.h_max,
+              timing=timing)  # fmt: skip
+    share = cpu_share(timing["serial_cpu_s"], timing["serial_s"])
+    return float(statistics.median(np.asarray(timing["serial_s"]))), share
+
+
+def crossover(sizes: tuple[tuple[int, int], ...]) -> None:
+    """Fixed and per-point costs of local and dask in one run; where dask starts to pay."""
+    from rollerrig.studies.executor_choice import (
+        MARGIN,
+        available_cores,
+        choose_executor,
+        dask_fixed_cost,
+    )
+    from rollerrig.studies.studyfile import study_from_toml_string
+
+    cores = available_cores()
+    load = os.getloadavg()[0]
+    print(f"fixed against per-point costs: local executor and a local dask cluster of {cores} "
+          f"workers ({cores} cores by affinity; load average {load:.1f})")  # fmt: skip
+    rows, per_point, fixed = [], {"local": [], "dask": []}, []
+    serial = None
+    for n_k, n_c in sizes:
+        spec = study_from_toml_string(_one_group_grid(n_k, n_c))
+        n = spec.size
+        walls = {}
+        for executor in ("local", "dask"):
+            kw = {"workers": cores} if executor == "dask" else {}
+            r, wall, _ = _run(spec, executor=executor, **kw)
+            fc = r.fixed_cost
+            start = fc.get("solver_load_s", 0.0) + fc.get("cluster_start_s", 0.0)
+            warm = fc.get("worker_warm_up_s", 0.0)
+            close = fc.get("cluster_close_s", 0.0)
+            pp = (r.wall_time - start - warm - close) / n
+            per_point[executor].append((n, pp))
+            walls[executor] = wall
+            if executor == "dask":
+                fixed.append(start + warm + close)
+            rows.append([executor, n, wall, start, warm, close, pp])
+        serial, share = _serial_s(spec)  # at each size: the load changes
+        auto = choose_executor(n - 16, cores=cores, serial_s=serial, share=share).executor
+        faster = min(walls, key=walls.get)
+        rows[-2] += [1.0, auto, faster]
+        rows[-1] += [walls["dask"] / walls["local"], auto, faster]
+    print()
+    print(f"{'executor':<9} {'points':>7} {'wall [s]':>9} {'start [s]':>10} "
+          f"{'warm-up [s]':>12} {'close [s]':>10} {'per point [ms]':>15} {'x local':>8} "
+          f"{'auto':>6} {'faster':>7}")  # fmt: skip
+    for ex, n, wall, start, warm, close, pp, ratio, auto, faster in rows:
+        print(f"{ex:<9} {n:>7} {wall:>9.2f} {start:>10.2f} {warm:>12.2f} {close:>10.2f} "
+              f"{pp * 1e3:>15.1f} {ratio:>8.2f} {auto:>6} {faster:>7}")  # fmt: skip
+    # Per-point costs of the largest size (its start-up weighs least).
+    pp_local, pp_dask = per_point["local"][-1][1], per_point["dask"][-1][1]
+    t_fixed = sorted(fixed)[len(fixed) // 2]
+    print()
+    print(f"start-up of dask (median of {len(fixed)}): {t_fixed:.1f} s (the rule's estimate: "
+          f"{dask_fixed_cost(cores, cores):.1f} s); per point: local {pp_local * 1e3:.1f} ms, "
+          f"dask {pp_dask * 1e3:.1f} ms")  # fmt: skip
+    if pp_local > pp_dask:
+        print(f"measured crossover: dask pays from about {t_fixed / (pp_local - pp_dask):.0f} "
+              "points")  # fmt: skip
+    else:
+        print("measured crossover: none (dask's points are not cheaper than local ones here)")
+    print(f"per-point Python work {serial * 1e3:.1f} ms at a share of {share:.2f} of a core; "
+          f"start-up on a free core: {t_fixed * share:.1f} s (the rule's "
+          f"{dask_fixed_cost(cores, cores):.1f} s)")  # fmt: skip
+    # Here, and on the same machine quiet (the Python work then takes its CPU time).
+    for a, s in ((share, serial), (1.0, serial * share)):
+        saving = s * (1 - 1 / max(1.0, a * cores))
+        if saving > 0:
+            est = dask_fixed_cost(cores, cores, a) / saving
+            print(f"the rule at a share of {a:.2f} ({s * 1e3:.1f} ms a point): saving "
+                  f"{saving * 1e3:.1f} ms a point, break-even at about {est:.0f} points, auto "
+                  f"takes dask from about {MARGIN * est:.0f}")  # fmt: skip
+        else:
+            print(f"the rule at a share of {a:.2f}: no free core for dask, auto stays local")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="smaller studies")
     parser.add_argument("--large", type=int, default=None, help="points of the large study")
+    parser.add_argument(
+        "--crossover", action="store_true", help="only the fixed and per-point costs"
+    )
     args = parser.parse_args()
+    if args.crossover:
+        crossover(((4, 8), (8, 16), (16, 25)))
+        return
 
     from rollerrig.solve.fast import SWEEP_H_MAX
     from rollerrig.studies.studyfile import study_from_toml_string
@@ -126,6 +246,8 @@ def main() -> None:
     print(f"scaling efficiency, 2 dask workers against 1 (steady rates): {efficiency:.0%}")
     print(f"large study: {rows[-1][1]} points in {rows[-1][2]:.1f} s wall "
           f"({large_failed} not ok)")  # fmt: skip
+    print()
+    crossover(((4, 8), (8, 16), (16, 25)) if not args.quick else ((4, 4), (8, 16)))
 
 
 if __name__ == "__main__":

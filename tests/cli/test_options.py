@@ -52,7 +52,7 @@ def test_help_of_every_command_keeps_units_in_brackets(command, runner):
         "simulate": ["Roller-drive lag τ [s]", "<nc|csv|parquet|mat>", "<fast|reference>"],
         "modes": ["Roller speed [km/h]", "Normal load [kN]", "<dry|wet>"],
         "analyze": ["--lenient"],
-        "study run": ["--scheduler", "--workers", "<auto|dask|local>", "5 [s]", "--restart"],
+        "study run": ["--scheduler", "--workers", "<auto|dask|local>", "12 [s]", "--restart"],
         "filters": ["--lenient"],
     }
     text = _flat(result.output)

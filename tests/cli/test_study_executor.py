@@ -23,7 +23,7 @@ def test_help_shows_auto_as_the_default_and_keeps_the_units(runner):
     assert result.exit_code == 0
     text = " ".join(result.output.split())
     assert "<auto|dask|local>" in text and "[default: auto]" in text
-    assert "about 5 [s] on 2 cores" in text  # a unit in brackets survives
+    assert "about 12 [s] on 2 free cores, 30 [s] under load" in text  # a unit in brackets survives
     assert "under --executor auto, a request for dask" in text
 
 

@@ -214,8 +214,8 @@ def run(
         typer.Option(
             help="auto: dask for --scheduler or --workers, else the first batch runs here and "
             "the study stays here unless its size repays a local dask cluster's start-up "
-            "(about 5 [s] on 2 cores: a few hundred points there); local: this process, numba "
-            "threads; dask: a local cluster or --scheduler."
+            "(about 12 [s] on 2 free cores, 30 [s] under load: thousands of points there); "
+            "local: this process, numba threads; dask: a local cluster or --scheduler."
         ),
     ] = Executor.auto,
     restart: Annotated[

@@ -29,17 +29,19 @@ cannot gain. A given scheduler address means dask, and so do ``workers`` (they o
 on dask): both are requests, not estimates.
 
 The numbers behind the rule, measured with ``python benchmarks/bench_studies.py --crossover``
-on the 2-core development machine at a load average of 6 (a share ``a`` of about 0.4; the
-release test, 6.52 s, nine metrics): a local cluster of 2 workers started in 11-13 s, its
-workers warmed up (rollerrig imported, the compiled solver loaded) in 12-13 s and it closed in
-4.3 s, against 1.8 s for the solver's load in this process; per point, local 55-74 ms (37.8
-ms of it the Python work), dask 80-115 ms. Dask was slower at every size measured (32, 128,
-400 points: 3.8, 6.0 and 2.1 times the local wall time); the rule, with ``a = 0.4``, chose
-local at each. :data:`DASK_START_S`, :data:`DASK_WARM_S` and :data:`DASK_CLOSE_S` are those
-start-up times times the share (their CPU time on a free core: 12 s x 0.4, 12.5 s x 0.4,
-4.3 s x 0.4); on a quiet 2-core machine (``a = 1``) with ``s`` = 38 ms the break-even is then
-``n = t_fixed / (s (1 - 1/c))`` = 11.7 s / 19 ms = about 620 points, and ``"auto"`` takes dask
-from about 1240.
+on the 2-core development machine shared with other work (load average 6 and 10, a share
+``a`` of 0.4 and 0.5; the release test, 6.52 s, nine metrics; studies of 32, 128 and 400
+points): a local cluster of 2 workers started in 11.7-14.8 s, its workers warmed up (rollerrig
+imported, the compiled solver loaded, the metrics' first run) in 9.7-14.4 s and it closed in
+3.8-4.4 s, against 1.8-2.0 s for the solver's load in this process; per point, local 55-74 ms
+(20-38 ms of it the Python work), dask 80-115 ms. Dask took 2.1-6.0 times the local wall time
+at every size, and the rule chose local at each. :data:`DASK_START_S`, :data:`DASK_WARM_S` and
+:data:`DASK_CLOSE_S` are the first run's start-up times times its share (12 s, 12.5 s and
+4.3 s at 0.4: their CPU time on a free core; the second run gives 15.1 s in all against their
+11.5 s). On the same machine quiet (``a = 1``, the Python work its CPU time, 10-15 ms) the
+break-even ``n = t_fixed / (s (1 - 1/c))`` is 11.5 s / 5-7.5 ms = 1500-2200 points, and
+``"auto"`` takes dask from 3000-4400; on 16 free cores from about 1600-2500 (15/16 of ``s``
+saved a point).
 
 Examples
 --------
