@@ -163,3 +163,61 @@ def test_traction_zones():
     # than the common slip length 2d of strip theory, slide entirely
     assert np.all(t.state[0, 1:-1, 0] == 1) and np.all(t.state[0, :, -1] == 2)
     assert t.state[0, 0, 0] == 2 and t.state[0, -1, 0] == 2
+
+
+# ---------------------------------------------------------------------------------------------
+# Modified FaStrip: the modified FASTSIM's slope reduction k (L/k) applied to the strip theory
+# ---------------------------------------------------------------------------------------------
+MODIFIED = dict(k0=0.6, alpha_inf=0.1, beta=0.3)  # a strongly falling initial slope
+
+
+def test_modified_fastrip_is_fastrip_at_the_creepage_times_k_for_pure_longitudinal_creep():
+    # Scaling every flexibility by 1/k is, for pure creepage, scaling the creepage by k: an
+    # identity that needs none of the code under test to compute the expected value.
+    from rollerrig.contact.slope_reduction import slope_reduction
+
+    xi = np.array([1e-5, 4e-4, 1.2e-3, 2.4e-3, 6e-3])
+    mu = 0.33
+    k = slope_reduction(
+        EURO["semi_axis_x"], EURO["semi_axis_y"], EURO["shear_modulus"], EURO["poisson"],
+        EURO["normal_load"], mu, xi, **MODIFIED,
+    )  # fmt: skip
+    modified = fastrip(xi, friction=mu, **EURO, **MODIFIED)
+    plain = np.array(
+        [fastrip(x * kk, friction=mu, **EURO).fx[0] for x, kk in zip(xi, k, strict=True)]
+    )
+    np.testing.assert_allclose(modified.fx, plain, rtol=1e-9)
+    np.testing.assert_allclose(modified.k_eff, k, rtol=1e-12)
+    assert 0.2 < k[-1] < k[0] < 0.6  # k falls from k0 towards k0 alpha_inf
+
+
+def test_modified_fastrip_keeps_the_initial_slope_times_k0_and_the_saturation():
+    mu, n = 0.33, EURO["normal_load"]
+    plain = fastrip(np.array([1e-7, 0.05]), friction=mu, **EURO)
+    modified = fastrip(np.array([1e-7, 0.05]), friction=mu, **EURO, **MODIFIED)
+    assert modified.fx[0] / plain.fx[0] == pytest.approx(MODIFIED["k0"], rel=1e-5)
+    assert modified.fx[1] == pytest.approx(mu * n, rel=2e-3)  # saturates at mu N
+
+
+def test_modified_fastrip_and_modified_fastsim_share_the_slope_reduction():
+    xi, eta, phi = np.array([8e-4, 2e-3]), np.array([3e-4, -1e-3]), np.array([0.05, 0.2])
+    strip = fastrip(xi, eta, phi, friction=0.33, **EURO, **MODIFIED)
+    sim = fastsim(xi, eta, phi, friction=0.33, **EURO, **MODIFIED)
+    np.testing.assert_allclose(strip.k_eff, sim.k_eff, rtol=1e-12)
+    # Same law family: the two agree within FaStrip's known distance from FASTSIM (< 5 % muN).
+    assert np.max(np.abs(strip.fx - sim.fx)) < 0.05 * 0.33 * EURO["normal_load"]
+
+
+@pytest.mark.parametrize("modification", [{}, MODIFIED], ids=["fastrip", "modified"])
+def test_pure_longitudinal_creep_strip_by_strip_equals_the_element_integration(modification):
+    # Without tractions, pure creepage takes the closed form per strip; with them, the general
+    # path integrates element by element. The two must give the same forces.
+    xi = np.concatenate([-np.logspace(-6, -1, 9), [0.0], np.logspace(-6, -1, 17)])
+    mu = np.full(xi.size, 0.33)
+    fast = fastrip(xi, friction=mu, **EURO, **modification)
+    general = fastrip(xi, friction=mu, **EURO, **modification, tractions=True)
+    scale = 0.33 * EURO["normal_load"]
+    np.testing.assert_allclose(fast.fx / scale, general.fx / scale, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(fast.mz / scale, general.mz / scale, rtol=0, atol=1e-8)
+    np.testing.assert_array_equal(fast.k_eff, general.k_eff)
+    assert np.all(np.sign(fast.fx) == np.sign(xi))
