@@ -31,6 +31,10 @@ half the range of the adequate models' values as the half-width of a rectangular
 (standard uncertainty half-width/√3), written into the winner's ``calibration.json``
 (``model_discrepancy``) and added to the variance of that key by
 :func:`rollerrig.estimation.uncertainty.calibration_covariance`.
+
+Items 1 to 3 and the choice of the winner are :func:`weigh`, which
+:func:`rollerrig.calibrate.lawcompare.compare_laws` shares to weigh creep laws the same way;
+both results are a :class:`ModelComparison`.
 """
 
 from __future__ import annotations
