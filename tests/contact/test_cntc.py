@@ -208,13 +208,14 @@ def test_transfer_factor_against_contacts_exact_theory(law):
 
 def test_the_transfer_states_the_law_error_measured_here():
     """rollerrig.analysis.transfer.LAW_FACTOR_ERROR, which enters the transfer's band, is the
-    largest factor error measured above (Polach; FASTSIM for the modified FASTSIM), rounded up
-    by no more than 10 %: neither understated nor padded."""
+    largest factor error measured above (Polach; FaStrip for the modified FASTSIM, whose factor
+    the transfer takes from the strip theory), rounded up by no more than 10 %: neither
+    understated nor padded."""
     from rollerrig.analysis.transfer import LAW_FACTOR_ERROR
 
     ext = _exact()
     exact_factor = ext["tangent_rail"] / ext["roller"]
-    for law, measured_by in (("polach", "polach"), ("modified-fastsim", "fastsim")):
+    for law, measured_by in (("polach", "polach"), ("modified-fastsim", "fastrip")):
         got = _law_curves(measured_by)
         worst = np.max(np.abs(got["tangent_rail"] / got["roller"] / exact_factor - 1.0))
         assert worst <= LAW_FACTOR_ERROR[law] <= 1.1 * worst, law
