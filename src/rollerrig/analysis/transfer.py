@@ -112,19 +112,23 @@ from rollerrig.analysis.transfer_band import (
 )
 from rollerrig.analysis.transfer_geometry import (
     ContactGeometry,
-    HertzEllipse,
     RailGeometry,
     hertz_ellipse,
     side_summary,
 )
+from rollerrig.analysis.transfer_law import (
+    POLACH_NAMES,
+    draws_within_bounds,
+    factor_coa,
+    law_bounds,
+    law_coa,
+    sse_on_points,
+)
 from rollerrig.analysis.transfer_result import TransferResult
-from rollerrig.contact.creep import friction_kernel as _friction_kernel
-from rollerrig.contact.creep import polach_force_kernel as _polach_force_kernel
 from rollerrig.contact.fastsim import FastsimGrid, fastsim_grid
 from rollerrig.contact.hertz import combined_elastic_constants
 from rollerrig.contact.kinematics import kalker_creepage, rig_creep
 from rollerrig.contact.laws import check_law
-from rollerrig.contact.strip import fastrip
 
 __all__ = [
     "CSV_COLUMNS",
@@ -153,12 +157,12 @@ the 0.452 m roller (a/b 0.847) and on a tangent rail with the roller's crown (a/
 (tests/contact/data/cntc_exact_rig.json, tests/contact/test_cntc.py). Polach's closed form
 misses by up to 3.14 % at xi = 2e-3, in the transition to full sliding. With the modified
 FASTSIM the factor is taken from the strip theory with the fitted parameters (the modified
-FaStrip, :func:`_factor_coa`): FaStrip's factor is within 0.75 % at every creepage (FASTSIM's
-own, 2.46 %, missed the 2 % target); all agree within 0.1 % at small creepage. The band of
-:func:`transfer_curve` includes this error (``law_error=True``); on other geometries it is an
-assumption that it is no larger, and with a slope reduction (k0, alpha_inf, beta) there is no
-exact reference: the strip theory's saturation shape is assumed to carry it as well as
-Coulomb friction."""
+FaStrip, :func:`~rollerrig.analysis.transfer_law.factor_coa`): FaStrip's factor is within
+0.75 % at every creepage (FASTSIM's own, 2.46 %, missed the 2 % target); all agree within
+0.1 % at small creepage. The band of :func:`transfer_curve` includes this error
+(``law_error=True``); on other geometries it is an assumption that it is no larger, and with a
+slope reduction (k0, alpha_inf, beta) there is no exact reference: the strip theory's
+saturation shape is assumed to carry it as well as Coulomb friction."""
 
 LAW_FACTOR_ERROR_ONSET = 0.3
 """Fraction of the roller curve's peak CoA below which the law's factor error is scaled down
@@ -167,111 +171,6 @@ stiffnesses G a b C11 (measured within 0.1 % of the exact theory)."""
 
 TRANSFER_LAWS = ("polach", "modified-fastsim")
 """Laws a transfer can use: those with parameters for the measured slope reduction."""
-
-
-# --------------------------------------------------------------------------------------------
-# The law on an ellipse
-# --------------------------------------------------------------------------------------------
-
-
-def _law_coa(law, theta, xi, w, load, ell: HertzEllipse, g, nu, grid):
-    """CoA of the law with surface parameters ``theta`` on ellipse ``ell`` at one load."""
-    if law == "polach":
-        mu0, aa, bb, ka, ks = theta
-        k = g * ell.a * ell.b * ell.c11
-        return _polach_force_kernel(xi, w, load, k, mu0, aa, bb, ka, ks) / load
-    from rollerrig.fit.modified_fastsim import coa_kernel as _coa_kernel
-
-    return _coa_kernel(xi, w, load, ell.a, ell.b, g, nu, np.asarray(theta), grid)
-
-
-def _factor_coa(law, theta, xi, w, load, ell: HertzEllipse, g, nu):
-    """CoA whose ratio between two ellipses is the law's transfer factor F_rail/F_roller.
-
-    Polach's law: its own closed form. The modified FASTSIM: the modified FaStrip with the same
-    six parameters (:func:`rollerrig.contact.strip.fastrip`, k0, α∞, β on the strip theory),
-    on 30 strips in closed form: the strip theory's saturation shape follows Kalker's exact
-    theory closer (factor within 0.75 % of CONTACT's, FASTSIM's 2.46 %:
-    :data:`LAW_FACTOR_ERROR`), and it is as cheap as FASTSIM for pure creepage.
-    """
-    if law == "polach":
-        return _law_coa(law, theta, xi, w, load, ell, g, nu, None)
-    k0, al, be, mu0, aa, bb = theta
-    mu = _friction_kernel(w, mu0, aa, bb)
-    r = fastrip(
-        xi, semi_axis_x=ell.a, semi_axis_y=ell.b, normal_load=load, shear_modulus=g, poisson=nu,
-        friction=mu, k0=k0, alpha_inf=al, beta=be, grid=_STRIPS,
-    )  # fmt: skip
-    return r.fx / load
-
-
-_STRIPS = fastsim_grid(30, 30)  # FaStrip's default discretisation, as measured against CONTACT
-
-_POLACH_NAMES = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
-_POLACH_LOWER = np.array([1e-3, 1e-6, 0.0, 1e-6, 1e-6])
-_POLACH_UPPER = np.array([2.0, 1.0, 50.0, 1.0, 1.0])  # draws only: the physical range
-_SSE_POINTS = 150  # points of S(θ) for the plausible set (evenly thinned in creepage order)
-
-
-def _bounds(law):
-    """Lower and upper bounds of a draw, and a further constraint (Polach's kS <= kA)."""
-    if law == "polach":
-        return _POLACH_LOWER, _POLACH_UPPER, lambda t: t[4] <= t[3]
-    from rollerrig.fit.modified_fastsim import PARAMETER_LOWER as _LOWER
-    from rollerrig.fit.modified_fastsim import PARAMETER_UPPER as _UPPER
-
-    return _LOWER, _UPPER, None
-
-
-def _draws_within_bounds(theta, cov, lower, upper, feasible, draws, rng):
-    """``draws`` normal draws about ``theta`` with covariance ``cov``; those outside the
-    bounds drawn again (up to 20 rounds, then θ̂ in their place): never clipped."""
-    cov = 0.5 * (cov + cov.T)
-    evals, evecs = np.linalg.eigh(cov)
-    root = evecs * np.sqrt(np.clip(evals, 0.0, None))
-    out = np.tile(theta, (draws, 1))
-    todo = np.arange(draws)
-    for _ in range(20):
-        if todo.size == 0:
-            break
-        t = theta + rng.standard_normal((todo.size, theta.size)) @ root.T
-        ok = np.all((t >= lower) & (t <= upper), axis=1)
-        if feasible is not None:
-            ok &= np.array([bool(feasible(row)) for row in t])
-        out[todo[ok]] = t[ok]
-        todo = todo[~ok]
-    return out
-
-
-def _sse_on_points(law, xi_pts, y, w_pts, q_pts, n_ref, ell, g, nu, grid, theta):
-    """θ -> the sum of squared residuals of the law on the roller at (up to
-    ``_SSE_POINTS``) measured points, each at its own load; and the fitted CoA at every point."""
-    order = np.argsort(xi_pts, kind="stable")
-    keep = order[:: max(1, int(np.ceil(xi_pts.size / _SSE_POINTS)))]
-
-    def model(t, idx):
-        if law == "polach":
-            k = g * ell.a * ell.b * ell.c11 * np.cbrt((q_pts[idx] / n_ref) ** 2)
-            mu0, aa, bb, ka, ks = t
-            return _polach_force_kernel(xi_pts[idx], w_pts[idx], q_pts[idx], k, mu0, aa, bb, ka,
-                                        ks) / q_pts[idx]  # fmt: skip
-        from rollerrig.fit.modified_fastsim import coa_kernel as _coa_kernel
-
-        xi_eq = xi_pts[idx] * np.cbrt(n_ref / q_pts[idx])
-        return _coa_kernel(xi_eq, w_pts[idx], n_ref, ell.a, ell.b, g, nu, np.asarray(t), grid)
-
-    def sse(t):
-        r = model(t, keep) - y[keep]
-        value = float(r @ r)
-        return value if np.isfinite(value) else np.inf
-
-    sse.points = int(keep.size)
-    return sse, model(theta, np.arange(xi_pts.size))
-
-
-# --------------------------------------------------------------------------------------------
-# The result
-# --------------------------------------------------------------------------------------------
 
 
 # --------------------------------------------------------------------------------------------
@@ -453,7 +352,7 @@ def transfer_curve(
             stiffness = k_ref * np.cbrt((q_pts / n_ref) ** 2)
             fit = fit_polach(xi_pts, y, q_pts, stiffness, slip_velocity=w_pts, **options)
             theta = np.array(fit.parameters.as_tuple())
-            names = _POLACH_NAMES
+            names = POLACH_NAMES
         else:
             from rollerrig.fit.modified_fastsim import (
                 MODIFIED_FASTSIM_PARAMETER_NAMES,
@@ -480,10 +379,10 @@ def transfer_curve(
     w = s * v_ref
 
     def law_on(theta_, ell):
-        return _law_coa(law, theta_, xi, w, n_ref, ell, g, nu, grid)
+        return law_coa(law, theta_, xi, w, n_ref, ell, g, nu, grid)
 
     def factor_of(theta_, roller_ell, track_ell):
-        on = [_factor_coa(law, theta_, xi, w, n_ref, e, g, nu) for e in (track_ell, roller_ell)]
+        on = [factor_coa(law, theta_, xi, w, n_ref, e, g, nu) for e in (track_ell, roller_ell)]
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(on[1] != 0.0, on[0] / on[1], 1.0)
 
@@ -503,12 +402,12 @@ def transfer_curve(
             float(structure.stderr_inflation) if np.isfinite(structure.stderr_inflation) else 1.0
         )
     cov = cov * inflation**2
-    lower, upper, feasible = _bounds(law)
-    sse, fitted_pts = _sse_on_points(law, xi_pts, y, w_pts, q_pts, n_ref, roller_e, g, nu, grid,
+    lower, upper, feasible = law_bounds(law)
+    sse, fitted_pts = sse_on_points(law, xi_pts, y, w_pts, q_pts, n_ref, roller_e, g, nu, grid,
                                      theta)  # fmt: skip
     plausible = None
     if construction == MODEL:
-        thetas = _draws_within_bounds(theta, cov, lower, upper, feasible, draws, rng)
+        thetas = draws_within_bounds(theta, cov, lower, upper, feasible, draws, rng)
         level, level_u = roller, np.zeros_like(xi)
     else:
         thetas, plausible = plausible_draws(
