@@ -21,6 +21,7 @@ from rollerrig.calibrate.diagnostics import (
     STRUCTURE_TAU,
     _invalid_reasons,
     channel_structured,
+    identified_combinations,
     model_suggestion,
 )
 from rollerrig.calibrate.problem import (
@@ -136,13 +137,26 @@ def build_calibration(
     keys = tuple(params[i].key for i in act)
 
     warnings = [f"{k}: {p.reason}" for k, p in free.items() if not p.identified]
+    combinations = identified_combinations(
+        keys, [fitted[k].value for k in keys], [fitted[k].unit for k in keys], cov, MAX_CORRELATION
+    )
+    combined = {k for c in combinations for k in c["keys"]}
     for a in range(len(keys)):
         for b in range(a + 1, len(keys)):
-            if abs(corr[a, b]) > MAX_CORRELATION:
+            if abs(corr[a, b]) > MAX_CORRELATION and not {keys[a], keys[b]} <= combined:
                 warnings.append(
                     f"{keys[a]} and {keys[b]} are correlated ({corr[a, b]:+.3f}): the recording "
                     "determines mainly a combination of the two"
                 )
+    for c in combinations:
+        warnings.append(
+            f"{', '.join(c['keys'])} are correlated (|r| up to {c['max_abs_correlation']:.4f}): "
+            f"the recording determines {c['expression']} = {c['value']:.6g}"
+            f"{_unit_text(c['unit'])} +- {100 * c['relative_standard_error']:.3g} %, "
+            f"hardly {c['undetermined']['expression']} (+- "
+            f"{100 * c['undetermined']['relative_standard_error']:.3g} %); each key's own "
+            "standard error is only the shadow of that combination"
+        )
     for k, p in free.items():
         if p.at_bound:
             warnings.append(f"{k}: the fit stops at its upper bound; its error is one-sided")
@@ -253,7 +267,12 @@ def build_calibration(
             "measured": measurement.values[c],
             "start": start_prediction[c],
             "fitted": point.prediction[c],
+            "in_fit": measurement.valid[c],
         }
+        if c == "torque":  # the lines fitted to each residual: what the RMS leaves out
+            for which, pred in (("start", start_prediction[c]), ("fitted", point.prediction[c])):
+                raw = measurement.values[c] - pred
+                series[c][f"lines_{which}"] = raw - measurement.project_lines(raw)
     speed = experiment.get("roller_speed", measurement.roller_speed_start)
     if measurement.encoder_counts:
         notes.append(
@@ -279,6 +298,7 @@ def build_calibration(
         friction=friction,
         warnings=warnings,
         notes=notes,
+        combinations=tuple(combinations),
         experiment={
             "normal_load [N]": measurement.normal_load,
             "normal_load_spread [N]": measurement.normal_load_spread,

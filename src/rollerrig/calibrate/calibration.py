@@ -27,12 +27,28 @@ from rollerrig.calibrate.diagnostics import (
     STRUCTURE_TAU,
 )
 from rollerrig.calibrate.problem import LAW_KEY_PREFIXES
+from rollerrig.calibrate.settings import MAX_CORRELATION
 from rollerrig.calibrate.stats import LJUNG_BOX_LAGS
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.contact.laws import FastsimParameters
 from rollerrig.rig.parameters import RigParameters
 
-__all__ = ["STANDARD_ERROR_CONVENTION", "Calibration", "ChannelFit", "FittedParameter"]
+__all__ = [
+    "RESIDUAL_RMS_MEANING",
+    "STANDARD_ERROR_CONVENTION",
+    "Calibration",
+    "ChannelFit",
+    "FittedParameter",
+]
+
+RESIDUAL_RMS_MEANING = (
+    "rms_before, rms_after: root mean square of recorded minus twin [the channel's unit], "
+    "unweighted, over the samples fitted (a speed's first sample has no gate); for the torque "
+    "with the motor and order lines fitted to that residual removed (least squares on their "
+    "regressors), i.e. the residual the fit minimises; calibration-fit.png plots the same and "
+    "names the RMS with the lines left in"
+)
+"""What ``rms_before`` and ``rms_after`` of each channel are (``calibration.json``)."""
 
 
 _UNITS = {"torque": "N.m", "wheel_speed": "rad/s", "roller_speed": "rad/s", "normal_load": "N"}
@@ -152,7 +168,10 @@ class ChannelFit:
     sigma_used : float
         σ of the final weights: the RMS of the residuals after the first fit [unit].
     rms_before, rms_after : float
-        RMS of the residuals with the starting and the fitted parameters [unit].
+        RMS of the residuals with the starting and the fitted parameters [unit]: over the
+        fitted samples (a speed's first has no gate), the torque with its motor and order lines
+        (fitted to each residual) removed, unweighted: the residual the fit minimises, as
+        ``calibration-fit.png`` plots it (:data:`RESIDUAL_RMS_MEANING`).
     whiteness : dict
         :func:`rollerrig.calibrate.stats.whiteness` of the final residuals.
     lines : list of dict
@@ -216,6 +235,11 @@ class Calibration:
         residuals that are not white.
     notes : list of str
         What was assumed (weights, the encoder model, the experiment).
+    combinations : tuple of dict
+        Where keys are correlated beyond :data:`rollerrig.calibrate.settings.MAX_CORRELATION`:
+        the power product of them the recording determines, with its standard error, and the
+        one it hardly determines
+        (:func:`rollerrig.calibrate.diagnostics.identified_combinations`).
     experiment : dict
         Normal load, roller set point, duration, samples, friction (JSON-ready).
     fit : dict
@@ -270,6 +294,11 @@ class Calibration:
     law: str = "polach"
     suggestion: str = ""
     model_discrepancy: dict[str, Any] | None = None
+    combinations: tuple[dict[str, Any], ...] = ()
+
+    def combination_of(self, key: str) -> dict[str, Any] | None:
+        """The identified combination ``key`` belongs to (None when it is fixed on its own)."""
+        return next((c for c in self.combinations if key in c["keys"]), None)
 
     @property
     def values(self) -> dict[str, float | None]:
@@ -294,12 +323,20 @@ class Calibration:
         rows = []
         for key, p in self.parameters.items():
             unit = pretty_unit(p.unit)
-            if p.identified and p.value is not None:
+            if p.identified and p.value is not None and self.combination_of(key):
+                text = (
+                    f"{fmt(p.value)} {unit} (start {fmt(p.initial)}; in the combination "
+                    f"{self.combination_of(key)['expression']})"
+                )
+            elif p.identified and p.value is not None:
                 se = fmt(p.standard_error, 2)
                 text = f"{fmt(p.value)} ± {se} {unit} (start {fmt(p.initial)})"
             else:
                 text = f"not identified ({p.reason or 'the recording does not determine it'})"
             rows.append((key, text))
+        for c in self.combinations:
+            rel = fmt(100 * c["relative_standard_error"], 2)
+            rows.append((c["expression"], f"{fmt(c['value'])} {pretty_unit(c['unit'])} ± {rel} %"))
         for name_, ch in self.channels.items():
             rows.append(
                 (f"residual RMS, {name_}", f"{fmt(ch.rms_before, 3)} -> {fmt(ch.rms_after, 3)} "
@@ -355,8 +392,18 @@ class Calibration:
             ),
             "recording": self.recording,
             "free": list(self.parameters),
-            "parameters": {k: p.as_dict() for k, p in self.parameters.items()},
-            "nuisance": {k: p.as_dict() for k, p in self.nuisance.items()},
+            "parameters": {k: self._entry(p) for k, p in self.parameters.items()},
+            "nuisance": {k: self._entry(p) for k, p in self.nuisance.items()},
+            "combinations": [
+                {
+                    "what": "a group of keys correlated beyond |r| = "
+                    f"{MAX_CORRELATION:g}: the recording determines this power product of them "
+                    "(value, standard_error [unit], relative_standard_error [-]), hardly the "
+                    "one under undetermined; each member's standard_error is its marginal",
+                    **c,
+                }
+                for c in self.combinations
+            ],
             "values": {k: p.value for k, p in self.parameters.items() if p.identified},
             "covariance": {
                 "keys": keys,
@@ -367,6 +414,7 @@ class Calibration:
             "correlation": {"keys": keys, "matrix": self.correlation.tolist()},
             "standard_error_convention": STANDARD_ERROR_CONVENTION,
             "channels": {c: f.as_dict() for c, f in self.channels.items()},
+            "residual_rms_convention": RESIDUAL_RMS_MEANING,
             "whiteness_convention": (
                 f"per channel, residuals in time order: lag-1 autocorrelation, Durbin-Watson and "
                 f"runs test (structured when r1 > 3/sqrt(n) or runs z < -3), Ljung-Box Q over "
@@ -386,6 +434,18 @@ class Calibration:
             "notes": list(self.notes),
             **({} if self.start_rig is None else {"rig": self._rig_binding()}),
         }
+
+    def _entry(self, p: FittedParameter) -> dict[str, Any]:
+        """A key's entry of ``calibration.json``, naming the combination it belongs to."""
+        out = p.as_dict()
+        c = self.combination_of(p.key)
+        if c is not None:
+            out["in_combination"] = c["expression"]
+            out["standard_error_meaning"] = (
+                "marginal only: the recording determines the combination "
+                f"{c['expression']} (combinations), not this key on its own"
+            )
+        return out
 
     def _rig_binding(self) -> dict[str, Any]:
         from rollerrig.calibrate.binding import rig_binding
@@ -420,6 +480,27 @@ class Calibration:
                     "time",
                     np.asarray(self.series[c][which], dtype=float),
                     {"units": unit, "long_name": f"{_MEANING[c]}, {what}"},
+                )
+            for which, what in (("start", "starting"), ("fitted", "calibrated")):
+                if f"lines_{which}" in self.series[c]:
+                    data[f"{c}_lines_{which}"] = (
+                        "time",
+                        np.asarray(self.series[c][f"lines_{which}"], dtype=float),
+                        {
+                            "units": unit,
+                            "long_name": f"motor and order lines fitted to the recorded minus "
+                            f"the {what} twin's {c} (left out of its residual RMS)",
+                        },
+                    )
+            if "in_fit" in self.series[c]:
+                data[f"{c}_in_fit"] = (
+                    "time",
+                    np.asarray(self.series[c]["in_fit"], dtype=np.int8),
+                    {
+                        "units": "1",
+                        "long_name": f"1 where the {c} sample is fitted (its residual RMS is over "
+                        "these samples), else 0",
+                    },
                 )
         ds = xr.Dataset(
             data, coords={"time": ("time", np.asarray(self.series["time"]), {"units": "s"})}

@@ -22,6 +22,7 @@ __all__ = [
     "STRUCTURE_TAU",
     "WORSE_MARGIN",
     "channel_structured",
+    "identified_combinations",
     "law_comparison_suggestion",
     "model_suggestion",
 ]
@@ -173,3 +174,138 @@ def _invalid_reasons(channels: dict, converged: bool, iterations: int):
     if worse:
         out.append("it ended with larger residuals than it started with in " + ", ".join(worse))
     return out
+
+
+def identified_combinations(
+    keys, values, units, covariance: np.ndarray, threshold: float
+) -> list[dict]:
+    """The combinations a recording determines where fitted keys are strongly correlated.
+
+    Keys whose correlation exceeds ``threshold`` in magnitude are grouped (connected through
+    such pairs). In relative (logarithmic) coordinates x_i = ln v_i the covariance is
+    L = C / (v v^T). Its eigenvector u_min of the smallest eigenvalue is the direction the data
+    fix best; scaled so that its largest component is +1, its components are the exponents g of
+    the power product P = prod v_i^g_i, whose relative standard error follows by the linear
+    transform of L (delta method):
+
+        u_rel(P) = sqrt(g^T L g),    u(P) = P u_rel(P).
+
+    The eigenvector of the largest eigenvalue is the direction the data hardly fix (for a
+    pair correlated +1: both keys times the same factor, i.e. the product when the ratio is
+    what is fixed); its combination is reported the same way, as what the recording cannot
+    tell apart. A member's own (marginal) standard error is the projection of that long, thin
+    ellipse and says little on its own.
+
+    Parameters
+    ----------
+    keys : sequence of str
+        The identified keys, the order of ``covariance``.
+    values : sequence of float
+        Their fitted values [SI unit of each].
+    units : sequence of str
+        Their SI units.
+    covariance : ndarray
+        Their covariance [products of their SI units].
+    threshold : float
+        |correlation| above which a pair is grouped [-] (the calibration's
+        :data:`rollerrig.calibrate.settings.MAX_CORRELATION`).
+
+    Returns
+    -------
+    list of dict
+        One per group of keys with all values > 0 (logarithms need them): ``keys``,
+        ``exponents``, ``expression``, ``value``, ``standard_error`` and
+        ``relative_standard_error`` of the determined combination [its unit], ``unit``,
+        ``max_abs_correlation``, and ``undetermined`` (``exponents``, ``expression``,
+        ``relative_standard_error``) for the direction the data hardly fix.
+
+    References
+    ----------
+    JCGM 100:2008 (GUM), 5.2 (law of propagation of uncertainty for correlated inputs).
+
+    Examples
+    --------
+    Two keys with equal relative standard errors s = 1 % correlated r = 0.999: the ratio is
+    fixed to s sqrt(2 (1 - r)) = 0.0447 %, the product only to s sqrt(2 (1 + r)) = 2.00 %.
+
+    >>> s, r = 0.01, 0.999
+    >>> c = np.array([[s * s * 4.0, r * s * s * 2.0], [r * s * s * 2.0, s * s]])  # v = 2, 1
+    >>> (g,) = identified_combinations(["a", "b"], [2.0, 1.0], ["m", "s"], c, 0.98)
+    >>> g["expression"], round(g["value"], 12), round(100 * g["relative_standard_error"], 4)
+    ('a · b^-1', 2.0, 0.0447)
+    >>> loose = g["undetermined"]
+    >>> loose["expression"], round(100 * loose["relative_standard_error"], 3)
+    ('a · b', 1.999)
+    """
+    keys = list(keys)
+    v = np.asarray(values, dtype=float)
+    cov = np.asarray(covariance, dtype=float)
+    se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(se, se)
+    strong = np.abs(np.where(np.isfinite(corr), corr, 0.0)) > threshold
+    np.fill_diagonal(strong, False)
+    out: list[dict] = []
+    seen: set[int] = set()
+    for start in range(len(keys)):
+        if start in seen or not strong[start].any():
+            continue
+        group, todo = [], [start]
+        while todo:  # connected through strongly correlated pairs
+            i = todo.pop()
+            if i in seen:
+                continue
+            seen.add(i)
+            group.append(i)
+            todo.extend(int(j) for j in np.flatnonzero(strong[i]) if j not in seen)
+        group.sort()
+        if not np.all(v[group] > 0):
+            continue
+        rel = cov[np.ix_(group, group)] / np.outer(v[group], v[group])
+        vectors = np.linalg.eigh(rel)[1]  # eigenvalues ascending
+        names = [keys[i] for i in group]
+        fixed = _power_product(names, v[group], [units[i] for i in group], vectors[:, 0], rel)
+        loose = _power_product(names, v[group], [units[i] for i in group], vectors[:, -1], rel)
+        sub = np.abs(corr[np.ix_(group, group)] - np.eye(len(group)))
+        out.append(
+            {
+                "keys": names,
+                **fixed,
+                "max_abs_correlation": float(np.max(sub)),
+                "undetermined": {
+                    k: loose[k] for k in ("exponents", "expression", "relative_standard_error")
+                },
+                "how": "eigenvector of the smallest eigenvalue of the covariance of ln(value): "
+                "the exponents of the power product the recording fixes best; its standard "
+                "error by the linear transform g^T L g (L: the covariance of ln(value)); "
+                "undetermined: the eigenvector of the largest eigenvalue",
+            }
+        )
+    return out
+
+
+def _power_product(names, values, units, direction, rel) -> dict:
+    """The power product prod v_i^g_i along ``direction`` scaled so its largest |component| is
+    +1 (exponents rounded to 3 significant digits, then the error of exactly that product)."""
+    g = direction / direction[np.argmax(np.abs(direction))]
+    g = np.array([float(f"{x:.3g}") for x in g])
+    g[np.abs(g) < 1e-3] = 0.0
+    value = float(np.prod(values**g))
+    u_rel = float(np.sqrt(max(float(g @ rel @ g), 0.0)))
+
+    def power(text: str, e: float) -> str:
+        return text if e == 1.0 else f"{text}^{e:g}"
+
+    def unit_power(u: str, e: float) -> str:
+        return power(f"({u})" if e != 1.0 and any(c in u for c in "./^ ") else u, e)
+
+    used = [(n, u, e) for n, u, e in zip(names, units, g, strict=True) if e != 0.0]
+    unit = " ".join(unit_power(u, e) for _, u, e in used if u not in ("", "1")) or "1"
+    return {
+        "exponents": {n: float(e) for n, e in zip(names, g, strict=True)},
+        "expression": " · ".join(power(n, e) for n, _, e in used),
+        "value": value,
+        "standard_error": value * u_rel,
+        "relative_standard_error": u_rel,
+        "unit": unit,
+    }

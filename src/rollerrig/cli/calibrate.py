@@ -34,7 +34,13 @@ from rollerrig.cli.contact import CreepLaw
 FIT_FIGURE_NAME = "calibration-fit.png"
 """The figure of the fit: recorded against simulated T56 and speeds, before and after."""
 
-__all__ = ["CalibrationDrive", "calibrate", "print_calibration", "print_comparison"]
+__all__ = [
+    "CalibrationDrive",
+    "calibrate",
+    "print_calibration",
+    "print_combinations",
+    "print_comparison",
+]
 
 
 class CalibrationDrive(StrEnum):
@@ -100,7 +106,7 @@ def calibrate(
     ] = None,
     max_iterations: Annotated[
         int,
-        typer.Option(min=1, help="Most Levenberg-Marquardt iterations per stage [1]."),
+        typer.Option(min=1, help="Most Levenberg-Marquardt iterations per stage [-]."),
     ] = 20,
     roller_drive: Annotated[
         CalibrationDrive,
@@ -129,7 +135,7 @@ def calibrate(
             "--compare-laws",
             help="Fit each creep law named by --law (default polach and modified-fastsim) and "
             "report which one the recording supports and by how much (residual whiteness, "
-            "BIC difference [1]); mu0, A, B are the same keys in every law (polach.* or "
+            "BIC difference [-]); mu0, A, B are the same keys in every law (polach.* or "
             "fastsim.* alike), each law frees its own shape keys (those named in --free, else "
             "all not starting on a bound). Writes calibration-compare-laws.json, and the "
             "winner's calibration files only when it is adequate. Not with --compare-drives: "
@@ -368,9 +374,13 @@ def print_calibration(result) -> None:
     for col in ("parameter", "value", "± standard error", "unit", "start", "rel. error"):
         table.add_column(col, justify="left" if col in ("parameter", "unit") else "right")
     rows = [*result.parameters.values(), *result.nuisance.values()]
+    numbered = {c["expression"]: n for n, c in enumerate(result.combinations, start=1)}
     for p in rows:
         rel = p.relative_standard_error
         se = _number(p.standard_error, 3)
+        combination = result.combination_of(p.key)
+        if combination is not None:  # its own error is the shadow of the combination's
+            se, rel = f"– (combination {numbered[combination['expression']]})", None
         table.add_row(
             p.key,
             _number(p.value) if p.identified else "not identified",
@@ -380,7 +390,12 @@ def print_calibration(result) -> None:
             "–" if rel is None else f"{100 * rel:.3g} %",
         )
     console.print(table)
-    fit = Table(title="Residuals of the fitted channels (RMS)")
+    if result.combinations:
+        print_combinations(result.combinations)
+    fit = Table(
+        title="Residuals of the fitted channels (RMS over the fitted samples, the torque's motor "
+        "and order lines removed: as calibration-fit.png plots them)"
+    )
     for col in ("channel", "before", "after", "unit", "white (Ljung-Box p)"):
         fit.add_column(col, justify="left" if col in ("channel", "unit") else "right")
     for name, ch in result.channels.items():
@@ -403,6 +418,30 @@ def print_calibration(result) -> None:
             print_warning(text)
     for text in result.notes:
         note(text)
+
+
+def print_combinations(combinations) -> None:
+    """The combinations of strongly correlated keys that a calibration determines
+    (:func:`rollerrig.calibrate.diagnostics.identified_combinations`), one row each."""
+    table = Table(
+        title="Correlated keys: the combination the recording determines (one standard error)"
+    )
+    for col in ("", "combination", "value", "± standard error", "unit", "rel. error",
+                "hardly determined (rel. error)"):  # fmt: skip
+        table.add_column(col, justify="right" if col in ("value", "± standard error",
+                         "rel. error") else "left", overflow="fold")  # fmt: skip
+    for n, c in enumerate(combinations, start=1):
+        loose = c["undetermined"]
+        table.add_row(
+            str(n),
+            c["expression"],
+            _number(c["value"]),
+            _number(c["standard_error"], 3),
+            c["unit"],
+            f"{100 * c['relative_standard_error']:.3g} %",
+            f"{loose['expression']} ({100 * loose['relative_standard_error']:.3g} %)",
+        )
+    console.print(table)
 
 
 def print_comparison(comparison) -> None:

@@ -11,7 +11,7 @@ import numpy as np
 from rollerrig.report.lines import envelope
 from rollerrig.report.twin import MEASURED_STYLE
 
-__all__ = ["calibration_figure", "calibration_section"]
+__all__ = ["calibration_figure", "calibration_section", "torque_residual"]
 
 _ROWS = (
     ("torque", "roller-shaft torque T56 [N·m]"),
@@ -44,7 +44,9 @@ def calibration_figure(fit, title: str | None = None):
     -------
     matplotlib.figure.Figure
         Left: the whole test; right: 3 s around the steepest torque release; bottom: the
-        torque residual (recorded − calibrated twin) before and after.
+        torque residual before and after as the fit sees it (:func:`torque_residual`: the
+        lines removed, its RMS the one ``rollerrig calibrate`` prints), its RMS with the lines
+        left in beside it.
     """
     t = np.asarray(fit["time"].values, dtype=float)
     rows = [(name, label) for name, label in _ROWS if f"{name}_measured" in fit]
@@ -69,23 +71,84 @@ def calibration_figure(fit, title: str | None = None):
             axes[i, 0].legend(loc="upper right", fontsize=8)
             axes[i, 0].set_title("whole test")
             axes[i, 1].set_title(f"{zoom[0]:.1f}-{zoom[1]:.1f} s: the steepest release")
-    measured = np.asarray(fit["torque_measured"].values, dtype=float)
+    residuals = {which: torque_residual(fit, which) for which in ("start", "fitted")}
+    lines = "torque_lines_fitted" in fit
     for j, keep in enumerate((slice(None), inside)):
         ax = axes[-1, j]
         for which, colour in (("start", "tab:orange"), ("fitted", "tab:blue")):
-            residual = measured - np.asarray(fit[f"torque_{which}"].values, dtype=float)
-            rms = float(np.sqrt(np.mean(residual**2)))
+            residual, rms, raw = residuals[which]
             what = "start" if which == "start" else "calibrated"
+            text = f"RMS {rms:.3g} N·m; {raw:.3g} with the lines" if lines else f"RMS {rms:.3g} N·m"
             ax.plot(t[keep], residual[keep], color=colour, lw=0.7,
-                    label=f"recorded − twin, {what} (RMS {rms:.3g} N·m)")  # fmt: skip
+                    label=f"recorded − twin, {what} ({text})")  # fmt: skip
         ax.grid(alpha=0.3)
         ax.set_xlabel("time [s]")
         if j == 0:
-            ax.set_ylabel("T56 residual [N·m]")
+            ax.set_ylabel("T56 residual, lines removed [N·m]" if lines else "T56 residual [N·m]")
             ax.legend(loc="upper right", fontsize=8)
+    fig.text(
+        0.5,
+        0.005,
+        (
+            "Residual as the fit sees it: the motor and order lines fitted to each residual "
+            "removed, RMS over the fitted samples (the console's and calibration.json's "
+            "rms_before/rms_after)."
+            if lines
+            else "Residual with the motor and order lines left in (a calibration-fit.nc "
+            "without them): larger than the console's RMS, which removes the lines."
+        ),
+        ha="center",
+        va="bottom",
+        fontsize=8,
+        style="italic",
+    )
     fig.suptitle(title or "Calibration: recording against the twin, before and after the fit")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.02, 1, 1))
     return fig
+
+
+def torque_residual(fit, which: str) -> tuple[np.ndarray, float, float]:
+    """The torque residual of ``calibration-fit.nc`` as the fit sees it, and its RMS.
+
+    Parameters
+    ----------
+    fit : xarray.Dataset
+        ``calibration-fit.nc`` (:meth:`rollerrig.calibrate.Calibration.fit_dataset`).
+    which : {"start", "fitted"}
+        The twin with the starting or the calibrated parameters.
+
+    Returns
+    -------
+    residual : ndarray
+        T56 recorded − twin − the motor and order lines fitted to that difference [N·m]
+        (``torque_lines_<which>``; without it, in a file written before they were stored, the
+        raw difference).
+    rms : float
+        Its root mean square over the fitted samples (``torque_in_fit``) [N·m]: the
+        ``rms_before`` / ``rms_after`` of ``calibration.json``
+        (:data:`rollerrig.calibrate.calibration.RESIDUAL_RMS_MEANING`).
+    rms_with_lines : float
+        The RMS of the raw difference, the lines left in [N·m].
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> ds = xr.Dataset({"torque_measured": ("time", [1.0, 3.0]),
+    ...                  "torque_fitted": ("time", [0.0, 0.0]),
+    ...                  "torque_lines_fitted": ("time", [1.0, 1.0])})
+    >>> _, rms, raw = torque_residual(ds, "fitted")
+    >>> float(rms), round(float(raw), 4)
+    (1.4142135623730951, 2.2361)
+    """
+    raw = np.asarray(fit["torque_measured"].values, dtype=float) - np.asarray(
+        fit[f"torque_{which}"].values, dtype=float
+    )
+    lines = fit.get(f"torque_lines_{which}")
+    residual = raw if lines is None else raw - np.asarray(lines.values, dtype=float)
+    mask = fit.get("torque_in_fit")
+    inside = np.ones(raw.size, bool) if mask is None else np.asarray(mask.values) != 0
+    rms = float(np.sqrt(np.mean(residual[inside] ** 2)))
+    return residual, rms, float(np.sqrt(np.mean(raw[inside] ** 2)))
 
 
 def calibration_section(rep, calibration: dict, fit=None) -> None:
