@@ -16,15 +16,30 @@ import re
 from collections.abc import Iterable, Sequence
 
 __all__ = [
+    "DIMENSIONLESS",
+    "DIMENSIONLESS_LABEL",
     "fmt",
     "html_table",
+    "is_dimensionless",
     "key_words",
+    "labelled",
     "number",
     "pretty_unit",
     "short_list",
     "text_block",
     "typeset_units",
+    "unit_label",
 ]
+
+DIMENSIONLESS = "1"
+"""The unit value of a dimensionless quantity or a count (CF-1.10 and UDUNITS: ``"1"``); the
+rule of the two spellings is stated in :mod:`rollerrig.units`, which exports these helpers (they
+live here, in the lowest layer, so that the output writers and the registry share them)."""
+
+DIMENSIONLESS_LABEL = "[-]"
+"""The dimensionless unit inside a name or label (``"creep [-]"``)."""
+
+_DIMENSIONLESS_SPELLINGS = frozenset({"1", "-"})
 
 MAX_ROWS = 24
 """Rows an HTML table shows at most; the rest are counted in its last row."""
@@ -232,3 +247,44 @@ def html_table(
         parts.append(f"<small>{e(note)}</small>")
     parts.append("</div>")
     return "".join(parts)
+
+
+def is_dimensionless(unit: str | None) -> bool:
+    """Whether ``unit`` is a spelling of the dimensionless unit (``"1"``, ``"-"``; not ``None``
+    or ``""``, which mean *no unit*, a label column of text).
+
+    Examples
+    --------
+    >>> is_dimensionless("1"), is_dimensionless("-"), is_dimensionless(""), is_dimensionless("m")
+    (True, True, False, False)
+    """
+    return isinstance(unit, str) and unit.strip() in _DIMENSIONLESS_SPELLINGS
+
+
+def unit_label(unit: str | None) -> str:
+    """``unit`` in brackets as names and labels show it: ``[N.m]``; ``[-]`` when dimensionless
+    (:data:`DIMENSIONLESS_LABEL`); ``""`` for no unit (``None`` or ``""``).
+
+    Examples
+    --------
+    >>> unit_label("N.m"), unit_label("1"), unit_label(None)
+    ('[N.m]', '[-]', '')
+    """
+    if unit is None or not str(unit).strip():
+        return ""
+    if is_dimensionless(unit):
+        return DIMENSIONLESS_LABEL
+    return f"[{str(unit).strip()}]"
+
+
+def labelled(name: str, unit: str | None) -> str:
+    """A name with its unit, the one spelling of column headers, JSON keys and table headings:
+    ``"torque [N.m]"``, ``"creep [-]"`` (dimensionless), ``"phase"`` (no unit).
+
+    Examples
+    --------
+    >>> labelled("torque", "N.m"), labelled("creep", "1"), labelled("phase", None)
+    ('torque [N.m]', 'creep [-]', 'phase')
+    """
+    label = unit_label(unit)
+    return f"{name} {label}" if label else str(name)

@@ -176,7 +176,10 @@ def require_in_range(
 
 
 def _unit(unit: str) -> str:
-    return f" [{unit}]" if unit else ""
+    # The label rule of rollerrig.units (which imports this module): dimensionless as [-].
+    if not unit:
+        return ""
+    return " [-]" if unit in ("1", "-") else f" [{unit}]"
 
 
 def _show(arr: np.ndarray) -> str:

@@ -16,6 +16,23 @@ protocol traces). Every edge converts through this module:
 pint was tried and misreads ``"Nm"`` (nanometre), ``"U/min"`` and ``"1/min"``; a table of our own
 states exactly what a rig file, a channel map or a DAQ export may say.
 
+Dimensionless quantities (ratios, CoA, creep, damping ratios) and counts have one unit, spelled
+two ways by rule, never otherwise:
+
+- as a unit *value* (a ``units``/``unit`` attribute or field: NetCDF ``units``, Parquet
+  ``unit``, TDMS ``unit_string``, MDF4 and MAT units, the ``variables`` entry of a metadata
+  object, a ``"unit"`` field of a JSON summary, this registry): :data:`DIMENSIONLESS`, ``"1"``,
+  as CF-1.10 (section 3.1) and UDUNITS require;
+- inside a *name or label* (a CSV column header, a JSON key ``"creep [-]"``, a console table's
+  column or unit cell, an option's help, an error message, a figure's axis label):
+  :data:`DIMENSIONLESS_LABEL`, ``[-]`` (``-`` in a unit column), through :func:`unit_label` and
+  :func:`labelled`.
+
+(These helpers and constants live in :mod:`rollerrig._display`, the lowest layer, so that the
+output writers share them; they are exported here.) ``[1]`` is never written, and ``"-"`` never
+as a unit value; both are read (``"-"`` is an alias of
+``"1"``, so a CSV header ``creep [-]`` reads back as unit ``"1"``).
+
 ``value_SI = value * factor``. Where ``1/factor`` is a short decimal (mm, ms, mH, km/h, ...) the
 conversion divides by it instead, so that decimal inputs convert correctly rounded (348 mm ->
 0.348 m, not 0.34800000000000003); see :func:`apply_factor`.
@@ -30,6 +47,8 @@ Examples
 [0.348]
 >>> QUANTITIES["torque"].si_unit, list(QUANTITIES["torque"].units)
 ('N.m', ['N.m', 'kN.m'])
+>>> labelled("creep", "1"), labelled("torque", "N.m"), unit_label("-")
+('creep [-]', 'torque [N.m]', '[-]')
 """
 
 from __future__ import annotations
@@ -42,19 +61,31 @@ from typing import NamedTuple
 
 import numpy as np
 
+from rollerrig._display import (
+    DIMENSIONLESS,
+    DIMENSIONLESS_LABEL,
+    is_dimensionless,
+    labelled,
+    unit_label,
+)
 from rollerrig._validation import ParameterError, Problem, show_allowed
 
 __all__ = [
     "ALIASES",
+    "DIMENSIONLESS",
+    "DIMENSIONLESS_LABEL",
     "QUANTITIES",
     "UNITS_BY_SI",
     "Quantity",
     "UnitError",
     "apply_factor",
+    "is_dimensionless",
+    "labelled",
     "normalize_unit",
     "quantity_factor",
     "si_factor",
     "to_si",
+    "unit_label",
 ]
 
 

@@ -115,7 +115,7 @@ def test_ranking_figure_stacks_the_three_cost_terms_per_row():
     assert [t.get_text() for t in ax.get_legend().get_texts()] == [
         "steady noise left", "peak lost", "lag + peak-time error"
     ]  # fmt: skip
-    assert ax.get_xlabel() == "cost [1] (lower is better)"
+    assert ax.get_xlabel() == "cost [-] (lower is better)"
     top = max(ax.get_yticklabels(), key=lambda t: t.get_position()[1])
     assert top.get_text() == "1. SG order 3 w51"  # the best on top
     assert ax.get_title() == "windows w in samples at 250 Hz"
@@ -134,7 +134,7 @@ def test_grid_colour_scale_is_robust_against_outliers_and_says_so():
     assert norm(1.1) - norm(1.0) > 0.05
     assert norm.vmax == pytest.approx(np.percentile(costs, 90))
     label = bar.get_ylabel()
-    assert label.startswith("cost [1], linear scale") and "clipped at the 90th percentile" in label
+    assert label.startswith("cost [-], linear scale") and "clipped at the 90th percentile" in label
     # The clipped cells are drawn in the over colour, shown as the colour bar's triangle.
     over = ax.images[0].to_rgba(np.array([[costs.max()]]))[0, 0]
     assert tuple(over) == (1.0, 1.0, 1.0, 1.0)  # white: beyond the scale's (light) end
@@ -150,7 +150,7 @@ def test_grid_over_decades_uses_a_log_scale():
     fig = savitzky_golay_grid_figure(_grid_table(lambda o, w: 0.01 * 2.0 ** (o + w / 10)))
     ax, bar = fig.axes
     assert isinstance(ax.images[0].norm, LogNorm)
-    assert bar.get_ylabel().startswith("cost [1], log scale")
+    assert bar.get_ylabel().startswith("cost [-], log scale")
     plt.close(fig)
 
 
@@ -244,5 +244,5 @@ def test_cells_not_computed_and_clipped_cells_are_named_in_the_legend():
 
 
 def test_grid_refuses_a_negative_flat_tolerance():
-    with pytest.raises(ParameterError, match=r"flat_tolerance must be >= 0 \[1\]"):
+    with pytest.raises(ParameterError, match=r"flat_tolerance must be >= 0 \[-\]"):
         savitzky_golay_grid_figure(_grid_table(_interior), flat_tolerance=-0.1)

@@ -53,7 +53,7 @@ def frame(
         ),
     ] = 2.0,
     modes: Annotated[
-        int, typer.Option("--modes", help="Natural modes to compute [1], 1 to 50.")
+        int, typer.Option("--modes", help="Natural modes to compute [-], 1 to 50.")
     ] = 6,
     out: OutOption = DEFAULT_OUT,
     figure_format: FigureFormatOption = FigureFormat.png,

@@ -111,7 +111,7 @@ def transfer(
             "put in the band (default: not in the band, stated).",
         ),
     ] = None,
-    draws: Annotated[int, typer.Option("--draws", help="Monte Carlo draws [1].")] = 400,
+    draws: Annotated[int, typer.Option("--draws", help="Monte Carlo draws [-].")] = 400,
     seed: Annotated[int, typer.Option("--seed", help="Seed of the draws.")] = 0,
     out: OutOption = DEFAULT_OUT,
     quiet: QuietOption = False,

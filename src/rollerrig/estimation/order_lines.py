@@ -61,8 +61,8 @@ def _orders(name: str, orders) -> tuple[float, ...]:
     try:
         values = tuple(float(o) for o in orders)
     except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be numbers (orders of the rotation) [1]") from None
+        raise ParameterError(f"{name} must be numbers (orders of the rotation) [-]") from None
     for o in values:
         if not (math.isfinite(o) and o > 0.0):
-            raise ParameterError(f"{name} must be finite and > 0 [1], got {o!r}")
+            raise ParameterError(f"{name} must be finite and > 0 [-], got {o!r}")
     return values

@@ -66,7 +66,7 @@ class ContactDof:
             "frequency [Hz]": self.frequency,
             "modal_mass [kg]": self.modal_mass,
             "modal_stiffness [N/m]": self.modal_stiffness,
-            "participation [1]": self.participation,
+            "participation [-]": self.participation,
             "equivalent_mass [kg]": self.equivalent_mass,
         }
 

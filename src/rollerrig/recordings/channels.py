@@ -55,7 +55,14 @@ from rollerrig._toml import read_toml
 from rollerrig._validation import Problem, did_you_mean, pydantic_problems
 from rollerrig.recordings.mapfile import DECIMALS, SEPARATORS, EntrySection, FileSpec, MapFile
 from rollerrig.recordings.recording import CANONICAL_CHANNELS, RecordingError, RecordingFileNotFound
-from rollerrig.units import QUANTITIES, UNITS_BY_SI, UnitError, normalize_unit, si_factor
+from rollerrig.units import (
+    QUANTITIES,
+    UNITS_BY_SI,
+    UnitError,
+    labelled,
+    normalize_unit,
+    si_factor,
+)
 
 __all__ = [
     "DECIMALS",
@@ -110,8 +117,9 @@ def split_unit_header(header: str) -> tuple[str, str | None]:
 
 
 def format_unit_header(name: str, unit: str) -> str:
-    """Column header with the unit in brackets, e.g. ``"torque [N.m]"``."""
-    return f"{name} [{unit}]"
+    """Column header with the unit in brackets, e.g. ``"torque [N.m]"``, ``"coa [-]"``
+    (:func:`rollerrig.units.labelled`)."""
+    return labelled(name, unit)
 
 
 @dataclass(frozen=True)

@@ -159,7 +159,7 @@ def study_ranking_figure(
     ax.barh(y, peak, left=noise, color="tab:red", label="peak lost")
     ax.barh(y, timing, left=noise + peak, color="tab:gray", label="lag + peak-time error")
     ax.set_yticks(y, labels, fontsize=8)
-    ax.set_xlabel("cost [1] (lower is better)")
+    ax.set_xlabel("cost [-] (lower is better)")
     rate = _analysis_rate(rows)
     if rate is not None:
         ax.set_title(f"windows w in samples at {rate:g} Hz", fontsize=8)
@@ -214,7 +214,7 @@ def savitzky_golay_grid_figure(
     if not 0.0 < clip_percentile <= 100.0:
         raise ParameterError(f"clip_percentile must be in (0, 100] [%], got {clip_percentile!r}")
     if not (np.isfinite(flat_tolerance) and flat_tolerance >= 0.0):
-        raise ParameterError(f"flat_tolerance must be >= 0 [1], got {flat_tolerance!r}")
+        raise ParameterError(f"flat_tolerance must be >= 0 [-], got {flat_tolerance!r}")
     from matplotlib.patches import Patch
 
     orders = sorted({r.params["order"] for r in table})
@@ -281,7 +281,7 @@ def savitzky_golay_grid_figure(
         im,
         ax=ax,
         extend="max" if clipped else "neither",
-        label=f"cost [1], {scale}" + (clip if clipped else ""),
+        label=f"cost [-], {scale}" + (clip if clipped else ""),
     )
     fig.tight_layout()
     return fig

@@ -557,7 +557,7 @@ def modes_of(
 def check_damping_threshold(damping_threshold: float) -> float:
     """``damping_threshold`` [1] as a float, or a ParameterError when it is not in (0, 1)."""
     if not 0.0 < float(damping_threshold) < 1.0:
-        raise ParameterError(f"damping_threshold must lie in (0, 1) [1], got {damping_threshold}")
+        raise ParameterError(f"damping_threshold must lie in (0, 1) [-], got {damping_threshold}")
     return float(damping_threshold)
 
 

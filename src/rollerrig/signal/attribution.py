@@ -284,15 +284,15 @@ def _check_attribution_options(
         ("max_harmonic", max_harmonic),
     ):
         if int(value) != value or value < 1:
-            raise ParameterError(f"{name} must be a positive integer [1], got {value!r}")
+            raise ParameterError(f"{name} must be a positive integer [-], got {value!r}")
     if tolerance_hz is not None:
         require_positive("tolerance_hz", tolerance_hz, "Hz")
     if not 0.0 <= relative_tolerance < 0.5:
         raise ParameterError(
-            f"relative_tolerance must lie in [0, 0.5) [1], got {relative_tolerance}"
+            f"relative_tolerance must lie in [0, 0.5) [-], got {relative_tolerance}"
         )
     if not -1.0 < am_slip < 1.0:
-        raise ParameterError(f"am_slip must lie in (-1, 1) [1], got {am_slip}")
+        raise ParameterError(f"am_slip must lie in (-1, 1) [-], got {am_slip}")
 
 
 def attribute_peaks(
@@ -496,7 +496,7 @@ def speed_independent_lines(
         am_pole_pairs, pmsm_pole_pairs, max_harmonic, tolerance_hz, relative_tolerance, am_slip
     )
     if not min_speed_ratio >= 1.0:
-        raise ParameterError(f"min_speed_ratio must be >= 1 [1], got {min_speed_ratio}")
+        raise ParameterError(f"min_speed_ratio must be >= 1 [-], got {min_speed_ratio}")
     entries = [_entry(item) for item in spectra]
     resolutions = [e[3] for e in entries if e[3] is not None]
     if tolerance_hz is None:
