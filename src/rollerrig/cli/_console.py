@@ -4,6 +4,11 @@ Text is printed literally (Rich markup off), so ``[kN]``, ``[channels.torque]`` 
 ``rollerrig[io]`` survive. Style a part with :class:`rich.text.Text`
 (``Text.assemble(("bold part", "bold"), " plain part")``), never with ``[bold]`` markup.
 
+Width: 110 columns for tables. Text lines are word-wrapped at that width on a terminal only;
+piped or in a notebook (stdout not a terminal) a line is printed whole, never broken (the
+reader's pager or editor wraps it, and a number is never split from its sign or its unit), as
+the error console always does. Tables keep their layout either way.
+
 Progress of a long command: one helper for every command, :func:`progress` (a bar with a known
 total: ``bar.add_task(...)``, ``bar.update(task, completed=..., info=...)``) or :func:`steps`
 (what runs now: ``say("fitting the Polach law")``). On a terminal a live bar or status; piped
@@ -26,6 +31,7 @@ from rich.text import Text
 
 __all__ = [
     "LINE_EVERY_S",
+    "WIDTH",
     "QuietOption",
     "console",
     "err_console",
@@ -40,8 +46,35 @@ __all__ = [
     "steps",
 ]
 
-console = Console(width=110, markup=False, highlight=False)
-err_console = Console(stderr=True, markup=False, highlight=False, soft_wrap=True)
+WIDTH = 110
+"""Width of the output [characters]: tables are laid out in it; text is word-wrapped at it on a
+terminal only."""
+
+
+class _Console(Console):
+    """A :class:`rich.console.Console` whose text is never wrapped when it does not print to a
+    terminal: its soft wrap (no word wrapping, no cropping) is on whenever its stream is not a
+    TTY, decided at each print (typer's CliRunner and pipes swap the stream). The stream itself
+    decides, not ``FORCE_COLOR``/``TTY_COMPATIBLE``: a CI log with colours forced is still a
+    pipe that must not get lines broken at 110 characters."""
+
+    @property
+    def soft_wrap(self) -> bool:
+        if self._soft_wrap_always:
+            return True
+        isatty = getattr(self.file, "isatty", None)
+        try:
+            return not (isatty is not None and isatty())
+        except ValueError:  # a closed stream
+            return True
+
+    @soft_wrap.setter
+    def soft_wrap(self, value: bool) -> None:
+        self._soft_wrap_always = bool(value)
+
+
+console = _Console(width=WIDTH, markup=False, highlight=False)
+err_console = _Console(stderr=True, markup=False, highlight=False, soft_wrap=True)
 
 
 def note(text: str) -> None:

@@ -429,6 +429,7 @@ def modes(
             "among the states).",
         ),
     ] = RollerDrive.induction,
+    quiet: QuietOption = False,
 ) -> None:
     """Natural frequencies, damping and dominant bodies of the torsional chain; with
     --speed-kmh (and --load-kn), the damped modes of the coupled, linearised twin beside them:
