@@ -45,7 +45,7 @@ def test_help_keeps_the_units_in_brackets(runner):
     for fragment in (
         "standard errors [SI]",
         "Noise of the torque sensor [N.m]",
-        "per stage [1]",
+        "per stage [-]",
         "<dry|wet>",
         "--free",
         "calibrated-rig.toml",

@@ -18,7 +18,7 @@ def test_help_shows_compare_laws_with_its_units(runner):
     assert result.exit_code == 0, result.output
     text = _flat(result.output)
     assert "--compare-laws" in text and "calibration-compare-laws.json" in text
-    assert "BIC difference [1]" in text and "Not with --compare-drives" in text
+    assert "BIC difference [-]" in text and "Not with --compare-drives" in text
     assert "[N.m]" in text and "[SI]" in text and "repeat it to name the laws compared" in text
 
 

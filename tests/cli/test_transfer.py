@@ -36,7 +36,7 @@ def test_csv_end_to_end(tmp_path, runner):
     assert abs(1 / ratio - 0.757) < 0.001
     assert summary["provenance"]["inputs"]["source"]["sha256"]
     header = (out / "curve-transfer.csv").read_text().splitlines()[0]
-    assert "coa_track [1]" in header and "creep [1]" in header
+    assert "coa_track [-]" in header and "creep [-]" in header
     assert (out / "curve-transfer.png").stat().st_size > 20_000
     assert "carried over" in summary["carried_over_as_measured"]["assumption"]
 

@@ -120,7 +120,7 @@ def test_csv_and_parquet_carry_units_and_provenance(ds, tmp_path):
     csv = save_dataset(ds, tmp_path / "run.csv")
     frame = pd.read_csv(csv)
     assert frame.columns[0] == "time [s]" and "t56 [N.m]" in frame.columns
-    assert "measured_creep [1]" in frame.columns and "friction_condition" in frame.columns
+    assert "measured_creep [-]" in frame.columns and "friction_condition" in frame.columns
     meta = json.loads(csv.with_suffix(".metadata.json").read_text())
     assert meta["provenance"] == json.loads(ds.attrs["provenance"])
     assert "standstill" in meta["variables"]["measured_creep"]["nan_meaning"]
