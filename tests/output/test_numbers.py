@@ -75,7 +75,8 @@ def test_csv_numbers_read_back_within_half_a_unit_in_the_12th_digit(tmp_path, va
     tokens = [row[0] for row in rows[1:]]
     for x, token in zip(values, tokens, strict=True):
         assert abs(float(token) - x) <= _half_unit_in_12th_digit(x), (x, token)
-        assert _significant_digits(token) <= 12, token
+        # 12 digits, or exact where rounding would blur the column's steps (epoch times)
+        assert _significant_digits(token) <= 12 or float(token) == x, token
 
 
 def test_the_float_noise_of_a_product_is_not_written(tmp_path):
@@ -110,3 +111,29 @@ def test_a_documented_nan_in_csv_stays_an_empty_cell(tmp_path):
     columns = {"v": ([0.1 * 26.39, float("nan")], "1", "", {"nan_meaning": "not measured"})}
     rows = write_table(tmp_path / "x.csv", columns, time=[0.0, 0.1]).read_text().splitlines()
     assert rows == ["time [s],v [-]", "0.0,2.639", "0.1,"]
+
+
+def test_csv_keeps_absolute_time_stamps_exact_and_still_rounds_the_other_columns(tmp_path):
+    # Epoch seconds at 1 kHz need 13 significant digits: rounding them to 12 would merge
+    # samples (found in review: a written recording read back with its time steps 0 or 10 ms).
+    t = 1712345678.0 + np.arange(2000) / 1000.0
+    noisy = np.full(t.size, 0.1 * 26.39)  # 2.6390000000000002
+    path = write_table(tmp_path / "epoch.csv", {"torque": (noisy, "N.m")}, time=t)
+    with path.open(newline="", encoding="utf-8") as f:
+        rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
+    header, body = rows[0], rows[1:]
+    times = np.array([float(r[header.index(next(h for h in header if h.startswith("time")))])
+                      for r in body])  # fmt: skip
+    np.testing.assert_array_equal(times, t)  # exact: every stamp distinct, as written
+    torque = [r[header.index(next(h for h in header if h.startswith("torque")))] for r in body]
+    assert set(torque) == {"2.639"}  # the other column still loses its float noise
+
+
+def test_a_time_base_whose_stamps_repeat_is_one_recording_error_not_a_crash():
+    import pytest
+
+    from rollerrig.recordings.recording import RecordingError
+    from rollerrig.recordings.timebase import _rate
+
+    with pytest.raises(RecordingError, match="median step is 0 s"):
+        _rate(np.repeat(np.arange(10.0), 10))

@@ -255,11 +255,47 @@ def csv_number(value: float) -> str:
     return repr(json_number(x))
 
 
+_RESOLUTION_KEPT = 1e-3
+"""Largest rounding error of a CSV column, as a fraction of its smallest nonzero step [1]."""
+
+
+def _keeps_resolution(values: np.ndarray) -> bool:
+    """Whether rounding ``values`` to :data:`SIGNIFICANT_DIGITS` digits moves none of them by
+    more than :data:`_RESOLUTION_KEPT` of the column's smallest nonzero step.
+
+    Rounding removes float noise; it must not merge samples. Absolute (epoch) time stamps are
+    the case: 1712345678.001 s at 1 kHz needs 13 digits, so such a column is written in full.
+    """
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if v.size < 2:
+        return True
+    steps = np.abs(np.diff(v))
+    steps = steps[steps > 0.0]
+    if steps.size == 0:
+        return True
+    worst = float(np.max(np.abs(v))) * 0.5 * 10.0 ** (1 - SIGNIFICANT_DIGITS)
+    return worst <= _RESOLUTION_KEPT * float(np.min(steps))
+
+
+def _full_text(values: np.ndarray) -> list[str]:
+    """Each value as the shortest text that reads back exactly; ``""`` for NaN."""
+    return ["" if np.isnan(x) else repr(float(x)) for x in np.asarray(values, dtype=float)]
+
+
 def _csv(cols, meta, tmp: Path) -> None:
+    """Numbers rounded to :data:`SIGNIFICANT_DIGITS` digits (:func:`csv_number`), except in a
+    column that rounding would blur (:func:`_keeps_resolution`): that one is written exactly."""
     import pandas as pd
 
-    frame = pd.DataFrame({labelled(n, c.unit): c.values for n, c in cols.items()})
-    frame.to_csv(tmp, index=False, float_format=csv_number)
+    data = {}
+    for n, c in cols.items():
+        values = c.values
+        if c.unit is not None and np.asarray(values).dtype.kind == "f":
+            if not _keeps_resolution(values):
+                values = _full_text(values)
+        data[labelled(n, c.unit)] = values
+    pd.DataFrame(data).to_csv(tmp, index=False, float_format=csv_number)
 
 
 def _parquet(cols, meta, tmp: Path) -> None:

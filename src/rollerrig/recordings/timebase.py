@@ -65,7 +65,17 @@ _UNIFORM = 1e-3
 
 
 def _rate(t: np.ndarray) -> float:
-    return 1.0 / float(np.median(np.diff(t))) if t.size > 1 else float("nan")
+    """Sample rate [Hz] from the median step of ``t`` [s]; NaN for fewer than 2 samples."""
+    if t.size < 2:
+        return float("nan")
+    step = float(np.median(np.diff(t)))
+    if not step > 0.0:  # most stamps repeat (e.g. absolute times written to too few digits)
+        raise RecordingError(
+            f"time stamps repeat or fall: the median step is {step:g} s over {t.size} samples "
+            "(absolute times rounded to too few digits?); the time base must be strictly "
+            "increasing"
+        )
+    return 1.0 / step
 
 
 def _kernel(pad: int, shift: float, fs_up: float, rate_out: float) -> np.ndarray:
