@@ -91,19 +91,25 @@ class TransferResult:
         """The curves as columns for :func:`rollerrig.output.write_table` (name -> values,
         unit, long name)."""
         ref = "roller (rig) or rail (track) speed, Kayaalp eq. 4.21"
+        measured = (self.band or {}).get("construction") == "measured points"
+        level = "the measured level (the law's fit plus its residuals)" if measured else (
+            f"the {self.law} law fitted"
+        )  # fmt: skip
+        edge = "edge of the 95 % band (draws' quantile, widened to hold the central curve and "
+        edge += "by the law's factor error where included)"
         return {
             "creepage_kalker": (self.creepage, "1", "creepage referred to the mean rolling speed"),
             "creep": (self.creep, "1", f"creep referred to the {ref}"),
             "slip_velocity": (self.slip_velocity, "m/s", "slip velocity w = s V"),
-            "coa_roller": (self.roller, "1", f"CoA on the roller, {self.law} fitted"),
-            "coa_roller_low95": (self.roller_low, "1", "2.5 % quantile of the roller CoA"),
-            "coa_roller_high95": (self.roller_high, "1", "97.5 % quantile of the roller CoA"),
-            "coa_track": (self.track, "1", "CoA predicted on the rail"),
-            "coa_track_low95": (self.track_low, "1", "2.5 % quantile of the rail CoA"),
-            "coa_track_high95": (self.track_high, "1", "97.5 % quantile of the rail CoA"),
+            "coa_roller": (self.roller, "1", f"CoA on the roller: {level}"),
+            "coa_roller_low95": (self.roller_low, "1", f"lower {edge}: roller CoA"),
+            "coa_roller_high95": (self.roller_high, "1", f"upper {edge}: roller CoA"),
+            "coa_track": (self.track, "1", "CoA predicted on the rail: the roller's times factor"),
+            "coa_track_low95": (self.track_low, "1", f"lower {edge}: rail CoA"),
+            "coa_track_high95": (self.track_high, "1", f"upper {edge}: rail CoA"),
             "factor": (self.factor, "1", "F_track / F_roller at equal creepage"),
-            "factor_low95": (self.factor_low, "1", "2.5 % quantile of the factor"),
-            "factor_high95": (self.factor_high, "1", "97.5 % quantile of the factor"),
+            "factor_low95": (self.factor_low, "1", f"lower {edge}: factor"),
+            "factor_high95": (self.factor_high, "1", f"upper {edge}: factor"),
         }
 
     def summary(self) -> dict:

@@ -67,8 +67,8 @@ def analyze(
         typer.Option(
             "--on-track",
             help="Also predict the measured creep curve on a tangent rail with the roller's "
-            "crown (Polach law; `rollerrig transfer` for other rails and laws): an 'On track' "
-            "section in the report and <name>-transfer.csv/.json/.png.",
+            "crown (the modified FASTSIM, as `rollerrig transfer`, which takes other rails "
+            "and laws): an 'On track' section in the report and <name>-transfer.csv/.json/.png.",
         ),
     ] = False,
     lenient: LenientOption = False,
@@ -150,9 +150,7 @@ def _on_track_section(result, rig, out: Path, stem: str):
 
     try:
         measured = curve_from_analysis(result, rig)
-        transferred = transfer_curve(
-            measured, ContactGeometry.from_rig(rig), RailGeometry(), "polach"
-        )
+        transferred = transfer_curve(measured, ContactGeometry.from_rig(rig), RailGeometry())
     except ParameterError as exc:
         note(f"on track: not made ({exc})")
         return None

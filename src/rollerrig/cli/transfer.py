@@ -49,8 +49,8 @@ def transfer(
             "--law",
             help="Creep law fitted on the roller: modified-fastsim (k0, alpha_inf, beta; "
             "Spiryagin et al. 2013; the factor to the rail from the strip theory with the same "
-            "parameters, within 0.8 % of Kalker's exact theory; default) or polach (Polach "
-            "2005; its factor within 3.2 %).",
+            "parameters, within 0.8 % of Kalker's exact theory at Coulomb friction; default) "
+            "or polach (Polach 2005; its factor within 3.2 %).",
         ),
     ] = TransferLaw.modified_fastsim,
     crown_radius_mm: Annotated[

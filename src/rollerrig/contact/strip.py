@@ -100,7 +100,7 @@ def _longitudinal_on_strips(xi, mu, k, a, b, n, g, nu, c11, p0, grid, flex) -> T
     to (μ p0/a) sign(ξ) (π/2) (a_y² - max(0, a_y - d)²): the half-disc of the contact pressure
     less the adhesion zone's half-disc of radius a_y - d. The general path integrates the same
     tractions element by element (exactly in x) over elements that tile each strip, so both give
-    the same forces (tested to 1e-12); this one skips the (cases x ny x nx) arrays, about 30x
+    the same forces (tested to 1e-8 of μN); this one skips the (cases x ny x nx) arrays, about 30x
     faster on the default grid.
     """
     xi_p = 4.0 * (1.0 - nu) * g * c11 * xi * k / (2.0 * mu * p0 * np.pi**2)

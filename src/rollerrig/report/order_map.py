@@ -129,8 +129,9 @@ def resonance_speeds(omap: OrderMap, modes) -> tuple[Resonance, ...]:
     A speed-proportional line ``f = s ω_r`` (``s = k p / 2π`` for an AM harmonic, ``k / 2π``
     for a roller order, ``k p ω_w / (2π ω_r)`` for the wheel side) meets a mode at
     ``f_mode`` at ``ω_r = f_mode / s``; crossings within the map's speed grid are returned,
-    by speed. A rotating excitation at that speed drives the mode at resonance (the Campbell
-    diagram's reading: Ewins, *Modal Testing*, 2000, section 6.11; Kayaalp, section 4.5.2.4).
+    by mode frequency, then speed. A rotating excitation at that speed drives the mode at
+    resonance (the Campbell diagram's reading: Ewins, *Modal Testing*, 2000, section 6.11;
+    Kayaalp, section 4.5.2.4).
 
     Parameters
     ----------

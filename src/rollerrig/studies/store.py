@@ -38,6 +38,7 @@ import numpy as np
 
 from rollerrig._optional import require
 from rollerrig._validation import ParameterError
+from rollerrig.output import json_text
 
 __all__ = [
     "DAMAGED",
@@ -238,7 +239,7 @@ class StudyStore:
         attribute, a JSON list: one entry per run that computed points."""
         runs = json.loads(self._group.attrs.get("runs", "[]"))
         runs.append(dict(record))
-        self._group.attrs["runs"] = json.dumps(runs)
+        self._group.attrs["runs"] = json_text(runs)  # the package's JSON: no NaN, no noise
 
     def _write(self, name: str, index: np.ndarray, values: np.ndarray) -> None:
         arr = self._group[name].with_config(_ALL_CHUNKS)
