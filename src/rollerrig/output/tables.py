@@ -67,10 +67,10 @@ from rollerrig._display import DIMENSIONLESS, is_dimensionless, labelled
 from rollerrig._optional import require
 from rollerrig._validation import ParameterError
 from rollerrig.output.atomic import OutputError, atomic_write
+from rollerrig.output.csv_numbers import csv_number, csv_text
 from rollerrig.output.jsonfile import (
     PROVENANCE_KEY,
     SIGNIFICANT_DIGITS,
-    json_number,
     json_text,
     write_text,
 )
@@ -240,60 +240,16 @@ def _uniform_step(time: np.ndarray) -> float | None:
 # --------------------------------------------------------------------------- formats
 
 
-def csv_number(value: float) -> str:
-    """The text of a number in a CSV file: the shortest that reads back as ``value`` rounded to
-    :data:`SIGNIFICANT_DIGITS` significant digits (no float noise); ``""`` for NaN.
-
-    Examples
-    --------
-    >>> csv_number(0.1 * 26.39), csv_number(2.0), csv_number(1 / 3), csv_number(float("nan"))
-    ('2.639', '2.0', '0.333333333333', '')
-    """
-    x = float(value)
-    if not np.isfinite(x):
-        return "" if np.isnan(x) else repr(x)
-    return repr(json_number(x))
-
-
-_RESOLUTION_KEPT = 1e-3
-"""Largest rounding error of a CSV column, as a fraction of its smallest nonzero step [1]."""
-
-
-def _keeps_resolution(values: np.ndarray) -> bool:
-    """Whether rounding ``values`` to :data:`SIGNIFICANT_DIGITS` digits moves none of them by
-    more than :data:`_RESOLUTION_KEPT` of the column's smallest nonzero step.
-
-    Rounding removes float noise; it must not merge samples. Absolute (epoch) time stamps are
-    the case: 1712345678.001 s at 1 kHz needs 13 digits, so such a column is written in full.
-    """
-    v = np.asarray(values, dtype=float)
-    v = v[np.isfinite(v)]
-    if v.size < 2:
-        return True
-    steps = np.abs(np.diff(v))
-    steps = steps[steps > 0.0]
-    if steps.size == 0:
-        return True
-    worst = float(np.max(np.abs(v))) * 0.5 * 10.0 ** (1 - SIGNIFICANT_DIGITS)
-    return worst <= _RESOLUTION_KEPT * float(np.min(steps))
-
-
-def _full_text(values: np.ndarray) -> list[str]:
-    """Each value as the shortest text that reads back exactly; ``""`` for NaN."""
-    return ["" if np.isnan(x) else repr(float(x)) for x in np.asarray(values, dtype=float)]
-
-
 def _csv(cols, meta, tmp: Path) -> None:
-    """Numbers rounded to :data:`SIGNIFICANT_DIGITS` digits (:func:`csv_number`), except in a
-    column that rounding would blur (:func:`_keeps_resolution`): that one is written exactly."""
+    """Numbers rounded to :data:`SIGNIFICANT_DIGITS` digits, except in a column that rounding
+    would blur, written exactly (:func:`rollerrig.output.csv_numbers.csv_text`)."""
     import pandas as pd
 
     data = {}
     for n, c in cols.items():
         values = c.values
         if c.unit is not None and np.asarray(values).dtype.kind == "f":
-            if not _keeps_resolution(values):
-                values = _full_text(values)
+            values = csv_text(values)
         data[labelled(n, c.unit)] = values
     pd.DataFrame(data).to_csv(tmp, index=False, float_format=csv_number)
 
