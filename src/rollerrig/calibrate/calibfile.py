@@ -187,8 +187,8 @@ def read_calibration(
                     "valid",
                     "this calibration is not valid (" + "; ".join(map(str, reasons)) + "): its "
                     "values are not a calibrated rig; calibrate again (more iterations, a better "
-                    "start, or the other roller-drive model: rollerrig calibrate "
-                    "--compare-drives), or force its use (read_calibration(..., "
+                    "start, the other roller-drive model or creep law: rollerrig calibrate "
+                    "--compare-drives or --compare-laws), or force its use (read_calibration(..., "
                     "allow_invalid=True))",
                 )
             ],

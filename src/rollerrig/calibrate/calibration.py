@@ -265,7 +265,9 @@ class Calibration:
         The creep law of the twin that was fitted (:class:`rollerrig.rig.model.DriveConfig`
         ``law``): the calibrated twin is this law with :attr:`friction`.
     suggestion : str
-        What to try when the model looks inadequate (the other roller-drive model).
+        What to try when the model looks inadequate: the other roller-drive model, the other
+        creep law, and the comparison that tests each
+        (:func:`~rollerrig.calibrate.diagnostics.model_suggestion`).
     model_discrepancy : dict or None
         The type-B term from the spread of the values between adequate drive models
         (:func:`rollerrig.calibrate.compare.compare_drives`), per key.
