@@ -90,7 +90,7 @@ def test_the_rollers_patch_is_shorter_along_the_rolling_direction():
     rail, roller = (_sweep(b, "patch_length_x [m]") for b in BODIES)
     assert np.all(roller <= rail - 4 * h)
     assert np.all(
-        _sweep("roller", "patch_area [m2]") < 0.9 * _sweep("tangent_rail", "patch_area [m2]")
+        _sweep("roller", "patch_area [m^2]") < 0.9 * _sweep("tangent_rail", "patch_area [m^2]")
     )
     np.testing.assert_allclose(
         _sweep("roller", "patch_width_y [m]"), _sweep("tangent_rail", "patch_width_y [m]"),

@@ -116,7 +116,7 @@ class ProfileContact:
         units = {
             "long_creep": "-", "lat_creep": "-", "spin": "1/m", "fx": "N", "fy": "N",
             "normal_force": "N", "n_patches": "-", "patch_length_x": "m", "patch_width_y": "m",
-            "patch_area": "m2", "contact_angle": "rad", "rail_y": "m", "solves": "-",
+            "patch_area": "m^2", "contact_angle": "rad", "rail_y": "m", "solves": "-",
         }  # fmt: skip
         out = {"body": self.body}
         for name, unit in units.items():

@@ -78,9 +78,9 @@ _STATES = {
 }
 
 _ACCELERATIONS = {
-    "wheel_acceleration": (m.X_OMEGA + 3, "rad/s2", "wheel tyre angular acceleration α4"),
-    "roller_acceleration": (m.X_OMEGA + 4, "rad/s2", "roller angular acceleration α5"),
-    "am_rotor_acceleration": (m.X_OMEGA + 5, "rad/s2", "AM rotor angular acceleration α6"),
+    "wheel_acceleration": (m.X_OMEGA + 3, "rad/s^2", "wheel tyre angular acceleration α4"),
+    "roller_acceleration": (m.X_OMEGA + 4, "rad/s^2", "roller angular acceleration α5"),
+    "am_rotor_acceleration": (m.X_OMEGA + 5, "rad/s^2", "AM rotor angular acceleration α6"),
 }
 """Accelerations of the truth [rad/s²]: the right-hand side at the output instants
 (:func:`rollerrig.solve._compiled.rig_rates_series`), so that the roller's equation of motion
