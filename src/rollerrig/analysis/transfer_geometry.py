@@ -218,7 +218,7 @@ def side_summary(ell: HertzEllipse, g: float) -> dict:
         "semi_axis_x [m]": ell.a,
         "semi_axis_y [m]": ell.b,
         "a_over_b [-]": ell.a_over_b,
-        "area [m2]": ell.area,
+        "area [m^2]": ell.area,
         "peak_pressure [Pa]": ell.p0,
         "C11 [-]": ell.c11,
         "C22 [-]": ell.c22,
