@@ -38,6 +38,7 @@ from typing import Any
 from rollerrig._validation import Problem, Verbatim, show_value
 from rollerrig.calibrate.calibfile import _factor_problems, _fail, _is_number
 from rollerrig.calibrate.problem import CalibrationError, is_law_key
+from rollerrig.output.jsonfile import SIGNIFICANT_DIGITS
 from rollerrig.rig.parameters import rig_values
 
 __all__ = [
@@ -104,9 +105,15 @@ def calibrated_rig_keys(data: Mapping[str, Any]) -> list[str]:
     ]
 
 
+_SAME_RTOL = 10.0 ** (1 - SIGNIFICANT_DIGITS)
+"""Relative tolerance of "the same value" between a calibration file and a rig [1]: the JSON
+writer keeps 12 significant digits (up to 5e-12 relative off), so 1256.6370614359173 is read
+back as 1256.63706144 and is still the same rig."""
+
+
 def _same(a: Any, b: Any) -> bool:
     if _is_number(a) and _is_number(b):
-        return math.isclose(float(a), float(b), rel_tol=1e-12, abs_tol=0.0)
+        return math.isclose(float(a), float(b), rel_tol=_SAME_RTOL, abs_tol=0.0)
     return a == b
 
 
