@@ -11,7 +11,7 @@ from rollerrig.cli._options import FigureFormat, figure_file
 from rollerrig.output import figure_provenance
 from rollerrig.output.figures import FIGURE_FORMATS
 
-COMMANDS = ("simulate", "spectrum", "filters", "contact", "frame")
+COMMANDS = ("simulate", "spectrum", "filters", "contact", "frame", "transfer", "calibrate")
 
 
 def _flat(text: str) -> str:

@@ -54,3 +54,13 @@ def test_errors_are_one_line(tmp_path, runner):
     result = runner.invoke(app, ["transfer", str(src), "--law", "fastsim", "--out",
                                  str(tmp_path / "o")])  # fmt: skip
     assert result.exit_code == 2
+
+
+def test_the_figure_in_the_format_asked(tmp_path, runner):
+    src = _curve_csv(tmp_path / "curve.csv")
+    out = tmp_path / "out"
+    args = ["transfer", str(src), "--draws", "50", "--law", "polach", "--figure-format", "pdf"]
+    result = runner.invoke(app, [*args, "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert (out / "curve-transfer.pdf").read_bytes()[:5] == b"%PDF-"
+    assert not (out / "curve-transfer.png").exists()

@@ -22,10 +22,13 @@ from rollerrig.cli._console import (
 from rollerrig.cli._options import (
     DEFAULT_OUT,
     ChannelsOption,
+    FigureFormat,
+    FigureFormatOption,
     Friction,
     LenientOption,
     OutOption,
     RigOption,
+    figure_file,
     load_rig,
 )
 from rollerrig.cli._outputs import command_outputs
@@ -153,6 +156,7 @@ def calibrate(
             "law's) and exit.",
         ),
     ] = False,
+    figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
 ) -> None:
     """Fit the twin's parameters to a recorded test: values with standard errors [SI].
@@ -312,7 +316,7 @@ def calibrate(
             )
             save_figure(
                 calibration_figure(result.fit_dataset(), title=title),
-                stage.dir / FIT_FIGURE_NAME,
+                stage.dir / figure_file(FIT_FIGURE_NAME.removesuffix(".png"), figure_format),
             )
     print_recording_notes(rec)
     if comparison is not None:

@@ -12,7 +12,14 @@ from rich.table import Table
 from rich.text import Text
 
 from rollerrig.cli._console import QuietOption, console, note, print_written, steps
-from rollerrig.cli._options import DEFAULT_OUT, OutOption, RigOption, load_rig
+from rollerrig.cli._options import (
+    DEFAULT_OUT,
+    FigureFormat,
+    FigureFormatOption,
+    OutOption,
+    RigOption,
+    load_rig,
+)
 from rollerrig.cli._outputs import command_outputs, safe_file_name
 
 __all__ = ["Creepage", "TransferLaw", "transfer"]
@@ -114,6 +121,7 @@ def transfer(
     draws: Annotated[int, typer.Option("--draws", help="Monte Carlo draws [-].")] = 400,
     seed: Annotated[int, typer.Option("--seed", help="Seed of the draws.")] = 0,
     out: OutOption = DEFAULT_OUT,
+    figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
 ) -> None:
     """Transfer a creep-CoA curve measured on the rig's roller to the rail, with its band.
@@ -183,7 +191,9 @@ def transfer(
                 seed=seed,
                 coa_systematic=coa_systematic,
             )
-            write_transfer(result, stage.dir, safe_file_name(stem))
+            write_transfer(
+                result, stage.dir, safe_file_name(stem), FigureFormat(figure_format).value
+            )
     console.print(_table(result))
     for line in result.assumptions:
         note(line)

@@ -124,10 +124,13 @@ def transfer_figure(result: TransferResult):
     return fig
 
 
-def write_transfer(result: TransferResult, out: str | os.PathLike, stem: str) -> list[Path]:
+def write_transfer(
+    result: TransferResult, out: str | os.PathLike, stem: str, figure_format: str = "png"
+) -> list[Path]:
     """Write ``<stem>-transfer.csv`` (the curves, units on every column, metadata sidecar),
-    ``<stem>-transfer.json`` (the summary) and ``<stem>-transfer.png`` (the figure), each with
-    the run's provenance, atomically, through :mod:`rollerrig.output`.
+    ``<stem>-transfer.json`` (the summary) and ``<stem>-transfer.png`` (the figure; ``.svg`` or
+    ``.pdf`` for that ``figure_format``), each with the run's provenance, atomically, through
+    :mod:`rollerrig.output`.
 
     Returns
     -------
@@ -149,7 +152,7 @@ def write_transfer(result: TransferResult, out: str | os.PathLike, stem: str) ->
     ]
     fig = transfer_figure(result)
     try:
-        paths.append(save_figure(fig, out / f"{stem}-transfer.png"))
+        paths.append(save_figure(fig, out / f"{stem}-transfer.{figure_format}"))
     finally:
         plt.close(fig)
     return paths
