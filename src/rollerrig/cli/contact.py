@@ -75,6 +75,25 @@ def contact(
     out: Annotated[
         Path, typer.Option("--out", help="Output folder for the figures and the summary.")
     ] = DEFAULT_OUT,
+    wheel_profile: Annotated[
+        str | None,
+        typer.Option(
+            "--wheel-profile",
+            help="Wheel profile file (CONTACT's formats: .prw, Miniprof .whl, ...; mm), or "
+            "'example' for CONTACT's S1002: with --rail-profile, also solve the profiles on "
+            "the tangent rail and on the roller by CONTACT (Kalker's exact theory, "
+            "non-Hertzian; needs CONTACT_DIR, about a minute).",
+        ),
+    ] = None,
+    rail_profile: Annotated[
+        str | None,
+        typer.Option(
+            "--rail-profile",
+            help="Rail profile file (.prr, Miniprof .ban, ...; mm), or 'example' for "
+            "CONTACT's UIC60; the roller's running surface is this profile turned about its "
+            "axle at the roller radius.",
+        ),
+    ] = None,
     figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
 ) -> None:
@@ -88,6 +107,7 @@ def contact(
     from dataclasses import replace
 
     from rollerrig._validation import ParameterError
+    from rollerrig.cli._contact_profiles import profile_files, run_profiles
     from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters
     from rollerrig.contact.curves import polach_creep_curve
     from rollerrig.contact.laws import default_parameter_sets, law_creep_curve, parameter_set
@@ -95,6 +115,7 @@ def contact(
     from rollerrig.output import save_figure, write_json
     from rollerrig.report.contact import contact_size_figure, creep_curve_figure
 
+    profiles = profile_files(wheel_profile, rail_profile)  # before any work: errors first
     check_option("--load-kn", load_kn, "kN", above=0)
     check_option("--speed-kmh", speed_kmh, "km/h", above=0)
     check_option("--wheel-radius-mm", wheel_radius_mm, "mm", above=0)
@@ -220,6 +241,26 @@ def contact(
         save_figure(fig2, stage.path(figure_file("contact-vs-roller-radius", figure_format)))
         if law != "polach":
             save_figure(fig3, stage.path(figure_file("contact-traction", figure_format)))
+        if profiles is not None:
+            from rollerrig.contact.hertz import combined_elastic_constants
+            from rollerrig.contact.kinematics import rig_creep
+
+            def hertz_factor(xi):
+                s = rig_creep(xi)
+                on = [np.interp(s, c.creep, c.adhesion_coefficient) for c in (c_rail, c_roll)]
+                return on[0] / on[1]
+
+            elastic = combined_elastic_constants(mat.youngs_modulus, nu, mat.youngs_modulus, nu)
+            summary["profiles"] = run_profiles(
+                profiles,
+                load=load,
+                wheel_radius=wheel_rx,
+                roller_radius=roller_rx,
+                friction=float(next(iter(sets.values())).static_friction),
+                shear_modulus=float(elastic.shear_modulus),
+                poisson=float(elastic.poisson),
+                hertz_factor=hertz_factor,
+            )
         write_json(stage.path("contact-report.json"), summary)
     title = (
         f"Wheel-roller contact at N = {load_kn:g} kN "

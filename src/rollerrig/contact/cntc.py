@@ -143,7 +143,11 @@ def _library():
             table, version, ierror = cntc.initlibrary(" ", outdir, " ", 0)
         if ierror:
             raise ContactNotAvailable(f"CONTACT's initlibrary failed (ierror = {ierror}). {_HOW}")
-        cntc.setglobalflags([table["if_idebug"]], [0])
+        # One thread per contact patch: with OpenMP threads the gfortran build's module-1 solver
+        # returned NaN (Brent's iteration aborted, ierror -26) in some processes and not in
+        # others, for the same case; sequential it is deterministic (CONTACT's own test_memory
+        # and test_caddon set the same).
+        cntc.setglobalflags([table["if_idebug"], table["if_openmp"]], [0, 1])
         _state.update(module=cntc, table=table, version=version, outdir=outdir)
     return cntc, _state["table"]
 

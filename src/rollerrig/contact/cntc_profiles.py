@@ -61,6 +61,8 @@ _IRE = 2  # CONTACT's result element for module 1 (cntc.exact_creep_force uses 1
 _GAUGE = (14.0, 0.0, 1435.0)  # GAUGHT, GAUGSQ, GAUGWD [mm]: standard gauge
 _WHEELSET = (1360.0, -70.0)  # FBDIST, FBPOS [mm]
 _MAX_SOLVES = 5
+_NO_SOLUTION = -26  # CONTACT's ierror when its solver aborts (e.g. NaN in Brent's iteration)
+_RETRIES = 2  # fresh starts of the result element after _NO_SOLUTION
 _CREEP_RTOL, _CREEP_ATOL = 1e-3, 1e-8
 
 
@@ -170,10 +172,10 @@ def example_profile(name: str) -> Path:
         tried.append(str(path.parent))
         if path.is_file():
             return path
-    where = ", ".join(tried) or "nowhere: CONTACT_DIR and CONTACT_SOURCE are unset"
+    where = f"looked in {', '.join(tried)}" if tried else "CONTACT_DIR and CONTACT_SOURCE unset"
     raise ContactNotAvailable(
-        f"CONTACT's example profile {name} is not in {where}; set CONTACT_SOURCE to the CONTACT "
-        f"checkout (the folder holding examples/). {_HOW}"
+        f"CONTACT's example profile {name} was not found ({where}); set CONTACT_SOURCE to the "
+        f"CONTACT checkout (the folder holding examples/). {_HOW}"
     )
 
 
@@ -358,6 +360,19 @@ def profile_creep_force(
                     first = v / rr if rr else v  # roller: its angular velocity [rad/s]
                     cntc.setwheelsetvelocity(_IRE, 2, [first, vy, 0.0, 0.0, 0.0, -omega])
                     ierror = cntc.calculate(_IRE)
+                    for _ in range(_RETRIES):
+                        if ierror != _NO_SOLUTION:
+                            break
+                        # The gfortran build's normal solver sometimes ends in NaN for a case it
+                        # solves in another process (state left by earlier cases): start the
+                        # result element afresh and solve the same case again.
+                        cntc.finalize(_IRE)
+                        cntc.initialize(_IRE, 1, _state["outdir"], 0)
+                        _configure(cntc, ctab, roller_mm=rr, wheel=wheel, rail=rail, rw_mm=rw,
+                                   fz=fz, mu=mu, gg=gg, nu=nu, dx_mm=dx)  # fmt: skip
+                        cntc.setwheelsetposition(_IRE, 2, [0.0, y_ws, 0.0, 0.0, 0.0, 0.0])
+                        cntc.setwheelsetvelocity(_IRE, 2, [first, vy, 0.0, 0.0, 0.0, -omega])
+                        ierror = cntc.calculate(_IRE)
                     n = int(cntc.getnumcontactpatches(_IRE)) if ierror == 0 else 0
                     if ierror or n < 1:
                         raise RuntimeError(
