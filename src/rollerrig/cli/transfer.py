@@ -224,21 +224,31 @@ def _table(result) -> Table:
     row("creep stiffness G·a·b·C11", "MN", "creep_stiffness G a b C11 [N]", 1e-6, ".3f")
     pr, pt = result.peaks["roller"], result.peaks["track"]
     lo, hi = ratio["creep_stiffness_95"]
+
+    def creepage(p):  # a peak at the end of the measured range is a bound, not a peak
+        if not p.get("inside_measured_range", True):
+            return f"≥ {100 * p['creepage [-]']:.2f} (still rising)"
+        lo95, hi95 = p["creepage_95 [-]"]
+        return f"{100 * p['creepage [-]']:.2f} ({100 * lo95:.2f}-{100 * hi95:.2f})"
+
+    def coa(p):
+        text = f"{p['coa [-]']:.3f} ({p['coa_95 [-]'][0]:.3f}-{p['coa_95 [-]'][1]:.3f})"
+        return text if p.get("inside_measured_range", True) else f"≥ {text}"
+
+    inside = pr.get("inside_measured_range", True) and pt.get("inside_measured_range", True)
     table.add_row(
         Text("peak creepage ξ (95 %)"),
         Text("%"),
-        f"{100 * pr['creepage [-]']:.2f} ({100 * pr['creepage_95 [-]'][0]:.2f}-"
-        f"{100 * pr['creepage_95 [-]'][1]:.2f})",
-        f"{100 * pt['creepage [-]']:.2f} ({100 * pt['creepage_95 [-]'][0]:.2f}-"
-        f"{100 * pt['creepage_95 [-]'][1]:.2f})",
-        f"{pt['creepage [-]'] / pr['creepage [-]']:.3f}",
+        creepage(pr),
+        creepage(pt),
+        f"{pt['creepage [-]'] / pr['creepage [-]']:.3f}" if inside else "-",
     )
     table.add_row(
         Text("peak CoA (95 %)"),
         Text("-"),
-        f"{pr['coa [-]']:.3f} ({pr['coa_95 [-]'][0]:.3f}-{pr['coa_95 [-]'][1]:.3f})",
-        f"{pt['coa [-]']:.3f} ({pt['coa_95 [-]'][0]:.3f}-{pt['coa_95 [-]'][1]:.3f})",
-        f"{pt['coa [-]'] / pr['coa [-]']:.3f}",
+        coa(pr),
+        coa(pt),
+        f"{pt['coa [-]'] / pr['coa [-]']:.3f}" if inside else "-",
     )
     table.caption = (
         f"factor F_rail/F_roller at small creepage {result.stiffness_ratio:.3f} "

@@ -375,8 +375,9 @@ def _say_compile_stage(*, batch: bool, dq: bool = False) -> None:
 
     if not is_compiled(batch=batch, dq=dq):
         note(
-            "compiling the fast solver for this installation (once, about 20-30 s on 2 cores); "
-            "later runs load it from the cache"
+            "compiling the fast solver for this installation (once: about a minute on 2 cores, "
+            "two for the batch solver of studies and calibration); later runs load it from "
+            "the cache"
         )
 
 

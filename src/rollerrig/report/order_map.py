@@ -123,15 +123,21 @@ def _mode_lines(modes) -> list[_ModeLine]:
     return sorted(out, key=lambda m: m.frequency)
 
 
+_LOWEST_CROSSING = 0.05
+"""Crossings below this fraction of the map's largest speed are not listed [1]: every order line
+starts at zero, so a low mode meets the fast lines near standstill (0.81 Hz and PMSM ×6 at
+0.3 km/h), where the rig does not dwell; listing them crowded out the ones that matter."""
+
+
 def resonance_speeds(omap: OrderMap, modes) -> tuple[Resonance, ...]:
     """Speeds where the order lines of ``omap`` cross the twin's ringing modes (Campbell).
 
     A speed-proportional line ``f = s ω_r`` (``s = k p / 2π`` for an AM harmonic, ``k / 2π``
     for a roller order, ``k p ω_w / (2π ω_r)`` for the wheel side) meets a mode at
-    ``f_mode`` at ``ω_r = f_mode / s``; crossings within the map's speed grid are returned,
-    by mode frequency, then speed. A rotating excitation at that speed drives the mode at
-    resonance (the Campbell diagram's reading: Ewins, *Modal Testing*, 2000, section 6.11;
-    Kayaalp, section 4.5.2.4).
+    ``f_mode`` at ``ω_r = f_mode / s``; crossings within the map's speed grid (above
+    :data:`_LOWEST_CROSSING` of it) are returned, by mode frequency, then speed. A rotating
+    excitation at that speed drives the mode at resonance (the Campbell diagram's reading:
+    Ewins, *Modal Testing*, 2000, section 6.11; Kayaalp, section 4.5.2.4).
 
     Parameters
     ----------
@@ -164,7 +170,7 @@ def resonance_speeds(omap: OrderMap, modes) -> tuple[Resonance, ...]:
             continue
         for md in _mode_lines(modes):
             speed = md.frequency / slope
-            if 0.0 < speed <= end:
+            if _LOWEST_CROSSING * end <= speed <= end:
                 out.append(
                     Resonance(
                         line.label, line.source, line.order, md.frequency, md.damping_ratio, speed

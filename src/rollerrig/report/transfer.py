@@ -72,7 +72,7 @@ def transfer_figure(result: TransferResult):
     ax.set_ylabel("CoA F/N [-]")
     ax.set_title(
         f"Roller to rail: N = {result.normal_load / 1e3:.3g} kN, "
-        f"V = {result.rolling_speed * 3.6:.3g} km/h"
+        f"V (mean rolling speed) = {result.rolling_speed * 3.6:.3g} km/h"
     )
     ax.set_xlim(0, xi[-1])
     ax.set_ylim(0, None)
