@@ -270,8 +270,7 @@ def simulate(
         law=law.value,
     )
     sim = Simulation(rig, experiment, drives=drives, solver=solver.value)
-    stem = variant_stem(
-        sim.protocol.name,
+    variant = dict(  # what differs from the defaults: in the file names and the title
         wheel=drives.wheel,
         roller=drives.roller,
         roller_lag=roller_lag_s,
@@ -280,6 +279,7 @@ def simulate(
         frame=frame.value,
         law=law.value,
     )
+    stem = variant_stem(sim.protocol.name, **variant)
     inputs = {**protocol_inputs(experiment), "rig": rig_file}
     with command_outputs(
         out,
@@ -318,16 +318,7 @@ def simulate(
         text = format_modal_table(modal_table(rig))
         release = _release_summary(ds, sim.protocol)
         save_dataset(ds, stage.path(f"{stem}.{output_format.value}"), overwrite=True)
-        title = variant_title(
-            ds.attrs.get("title", sim.protocol.name),
-            wheel=drives.wheel,
-            roller=drives.roller,
-            roller_lag=roller_lag_s,
-            solver=solver.value,
-            rig_file=rig_file,
-            frame=frame.value,
-            law=law.value,
-        )
+        title = variant_title(ds.attrs.get("title", sim.protocol.name), **variant)
         figure = experiment_figure(ds, title=title)  # laid out already: drawn once, at 100 dpi
         save_figure(
             figure,
