@@ -30,7 +30,6 @@ from rollerrig._validation import ParameterError, require_positive
 from rollerrig.contact.creep import POLACH_PARAMETER_SETS
 from rollerrig.drives import induction_dq as dq
 from rollerrig.drives import vf
-from rollerrig.experiment.protocol import Protocol
 from rollerrig.rig import model as m
 from rollerrig.rig.assemble import assemble, steady_free_rolling_state
 from rollerrig.rig.dq_drive import (
@@ -45,26 +44,21 @@ from rollerrig.rig.dq_drive import (
     default_dq_drive,
     drive_steady_state,
 )
-from rollerrig.rig.linear import CoupledMode, modes_of
+from rollerrig.rig.linear import CoupledMode, _operating_point_protocol, modes_of
 
 __all__ = ["DqTwin"]
 
 
 def _protocol(speed: float, load: float, friction: str, torque_time=None, torque=None):
-    duration = 1.0 if torque_time is None else float(torque_time[-1])
-    return Protocol(
+    return _operating_point_protocol(
+        speed,
+        load,
+        friction,
+        torque_time,
+        torque,
         name="dq-drive",
         description="steady free rolling / torque steps for the dq roller drive",
         source="rollerrig.rig.drive_dynamics",
-        duration=duration,
-        torque_time=[0.0] if torque_time is None else list(torque_time),
-        torque_request=[0.0] if torque is None else list(torque),
-        speed_time=[0.0],
-        roller_speed=[speed],
-        load_time=[0.0],
-        normal_load=[load],
-        friction_time=[0.0],
-        friction_condition=(friction,),
     )
 
 

@@ -178,14 +178,26 @@ class LinearisedTwin:
     params: np.ndarray = field(default=None, repr=False)
 
 
-def _operating_point_protocol(speed: float, load: float, friction: str) -> Protocol:
+def _operating_point_protocol(
+    speed: float,
+    load: float,
+    friction: str,
+    torque_time=None,
+    torque=None,
+    *,
+    name: str = "linearisation",
+    description: str = "steady free rolling for the linearised twin",
+    source: str = "rollerrig.rig.linear",
+) -> Protocol:
+    """Steady rolling at ``speed`` [rad/s] and ``load`` [N] with ``friction``, 1 s long, or
+    with a wheel-torque table (``torque_time`` [s], ``torque`` [N m]) to its last instant."""
     return Protocol(
-        name="linearisation",
-        description="steady free rolling for the linearised twin",
-        source="rollerrig.rig.linear",
-        duration=1.0,
-        torque_time=[0.0],
-        torque_request=[0.0],
+        name=name,
+        description=description,
+        source=source,
+        duration=1.0 if torque_time is None else float(torque_time[-1]),
+        torque_time=[0.0] if torque_time is None else list(torque_time),
+        torque_request=[0.0] if torque is None else list(torque),
         speed_time=[0.0],
         roller_speed=[speed],
         load_time=[0.0],
