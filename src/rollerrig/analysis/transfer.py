@@ -444,13 +444,13 @@ def transfer_curve(
     for i in range(n_draws):
         r_e, t_e = ellipses(wx[i], wy[i], rx[i], ry[i], cr[i])
         th = thetas[pick[i]]
+        f_i = factor_of(th, r_e, t_e)
         if construction == MODEL:
             base = law_on(th, roller_e)
-        else:
+        else:  # the law's own curves place the peaks (below); the model's draws do not need them
             base = level + level_u * z_level[i]
-        law_roller_d[i] = law_on(th, r_e)
-        f_i = factor_of(th, r_e, t_e)
-        law_track_d[i] = law_roller_d[i] * f_i
+            law_roller_d[i] = law_on(th, r_e)
+            law_track_d[i] = law_roller_d[i] * f_i
         factor_d[i] = f_i
         roller_d[i] = base * (1 + delta[i])
         track_d[i] = base * f_i * (1 + delta[i])
