@@ -101,7 +101,7 @@ __all__ = [
 ]
 
 MAX_FIT_POINTS = 5000
-"""Most ascending-branch points a Polach fit uses; above it every k-th point is taken [1]."""
+"""Most ascending-branch points a Polach fit uses; above it every k-th point is taken [-]."""
 
 
 def analyze_test(

@@ -81,7 +81,7 @@ SHAFT_KEYS = ("stiffness.roller_shaft", "inertia.am_rotor")
 SHAFT_RELATIVE_ERROR = 0.03
 """Largest relative standard error of k56 and J6 at which a calibration counts as knowing the
 roller shaft's mode (the chain's error doubles at ±10 % of k56; ±5 % keeps it under the
-roller alone's on the bundled test) [1]."""
+roller alone's on the bundled test) [-]."""
 
 
 def shaft_calibrated(calibration) -> tuple[bool, str]:

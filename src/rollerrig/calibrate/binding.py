@@ -106,7 +106,7 @@ def calibrated_rig_keys(data: Mapping[str, Any]) -> list[str]:
 
 
 _SAME_RTOL = 10.0 ** (1 - SIGNIFICANT_DIGITS)
-"""Relative tolerance of "the same value" between a calibration file and a rig [1]: the JSON
+"""Relative tolerance of "the same value" between a calibration file and a rig [-]: the JSON
 writer keeps 12 significant digits (up to 5e-12 relative off), so 1256.6370614359173 is read
 back as 1256.63706144 and is still the same rig."""
 

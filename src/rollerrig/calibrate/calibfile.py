@@ -92,7 +92,7 @@ MAX_FACTOR = 1.0e3
 rig's value, three decades away it has found something else."""
 
 MIN_RELATIVE_SE = 1.0e-12
-"""Smallest non-zero standard error, relative to the value [1]: finer than the fit's
+"""Smallest non-zero standard error, relative to the value [-]: finer than the fit's
 finite differences and double precision resolve."""
 
 _CORRELATION_TOLERANCE = 1.0e-6  # symmetry, unit diagonal, smallest eigenvalue

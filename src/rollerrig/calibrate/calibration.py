@@ -162,7 +162,7 @@ class ChannelFit:
     name, unit : str
         Channel and its SI unit.
     samples : int
-        Samples fitted [1].
+        Samples fitted [-].
     sigma_sensor : float
         Sensor noise of the first weights [unit], with ``sigma_basis``.
     sigma_used : float

@@ -84,7 +84,7 @@ def information_criteria(channels: dict, n_params: int) -> dict[str, Any]:
     channels : dict of str to ChannelFit
         ``samples`` and ``rms_after`` of each fitted channel.
     n_params : int
-        Identified free and nuisance parameters [1] (one variance per channel is added).
+        Identified free and nuisance parameters [-] (one variance per channel is added).
 
     Examples
     --------
@@ -337,7 +337,7 @@ class ModelComparison:
         return self.calibrations[self.winner]
 
     def delta_bic(self, model: str) -> float:
-        """BIC of ``model`` minus the winner's [1]."""
+        """BIC of ``model`` minus the winner's [-]."""
         ic = {m: e["information_criteria"]["BIC"] for m, e in self.evidence.items()}
         return float(ic[model] - ic[self.winner])
 

@@ -123,7 +123,7 @@ def law_comparison_suggestion(
     winner : str
         The law the comparison chose.
     delta_bic : float
-        BIC of this law minus the winner's [1] (0 for the winner itself).
+        BIC of this law minus the winner's [-] (0 for the winner itself).
     roller : str
         The roller drive model fitted: the suspect left when this law won.
     lost : bool

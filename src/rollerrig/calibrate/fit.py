@@ -335,7 +335,7 @@ def calibrate(
         Polach set gives μ0, A, B and the modified FASTSIM takes k0, α_∞, β of the Eurosprinter
         set, as the twin does (:func:`~rollerrig.calibrate.problem.friction_parameters`).
     max_iterations : int
-        Most Levenberg–Marquardt iterations (each one batch of simulations) of each stage [1].
+        Most Levenberg–Marquardt iterations (each one batch of simulations) of each stage [-].
     progress : callable, optional
         ``progress(iteration, max_iterations, text)`` after each iteration.
     drives : DriveConfig, optional

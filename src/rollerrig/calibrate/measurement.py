@@ -87,7 +87,7 @@ def quantisation_noise(counts_per_revolution: float, interval: float) -> float:
     Parameters
     ----------
     counts_per_revolution : float
-        Counts per revolution after quadrature decoding [1].
+        Counts per revolution after quadrature decoding [-].
     interval : float
         Gate duration Δt [s].
 
@@ -126,7 +126,7 @@ class Measurement:
     noise_basis : dict
         Channel -> text.
     counts_per_revolution : float
-        Encoder counts per revolution [1] (of the rig given), or NaN without counts.
+        Encoder counts per revolution [-] (of the rig given), or NaN without counts.
     encoder_counts : bool
         Whether the speeds come from encoder counts (else from speed channels).
     torque_request : ndarray
@@ -137,7 +137,7 @@ class Measurement:
     line_labels : tuple of str
         The lines, two regressors (sine, cosine) each.
     line_regressors_raw : ndarray or None
-        The regressors themselves (n × 2 lines) [1], for their fitted amplitudes.
+        The regressors themselves (n × 2 lines) [-], for their fitted amplitudes.
     normal_load : float
         Mean normal load [N].
     normal_load_spread : float
@@ -275,7 +275,7 @@ def line_regressors(
     Returns
     -------
     regressors : ndarray, shape (n, 2 × lines)
-        [sin, cos] per line of :func:`line_orders` [1].
+        [sin, cos] per line of :func:`line_orders` [-].
     labels : tuple of str
     """
     angles = {"wheel": wheel_angle, "roller": roller_angle}

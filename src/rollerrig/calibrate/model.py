@@ -96,7 +96,7 @@ class ReplayModel:
     Attributes
     ----------
     simulations : int
-        Variants simulated so far [1].
+        Variants simulated so far [-].
     """
 
     def __init__(

@@ -62,4 +62,4 @@ times the start (spaced by :data:`SEARCH_POINTS`: 1.7 %, finer than the basin of
 shaft's stiffness, about ±2.5 % wide on a 7.5 s test)."""
 
 SEARCH_POINTS = 49
-"""Values per free parameter in the coarse search [1]."""
+"""Values per free parameter in the coarse search [-]."""

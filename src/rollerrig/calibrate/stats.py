@@ -100,7 +100,7 @@ def hac_covariance(
     jacobian : ndarray, shape (N, p)
         Weighted Jacobian A of the stacked residuals [1 per unit of z].
     residuals : ndarray, shape (N,)
-        Weighted residuals r [1].
+        Weighted residuals r [-].
     instants : ndarray of int, shape (N,)
         Sample index of each residual (channels at one instant share it).
     lag_window : int, optional

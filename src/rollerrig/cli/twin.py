@@ -116,7 +116,7 @@ def variant_title(title: str, **variant) -> str:
 
 
 MAX_NAME_IN_STEM = 64
-"""Most characters of an experiment's name in an output stem [1]: with the variant parts and
+"""Most characters of an experiment's name in an output stem [-]: with the variant parts and
 suffixes (``_roller-ideal_speed_lag-0s-modes``) the stem stays under the output layer's limit,
 so a long name never cuts away what tells variants apart."""
 

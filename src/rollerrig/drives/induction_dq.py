@@ -584,7 +584,7 @@ def jacobian(machine: InverseGammaMachine, state, omega_s: float, rotor_speed: f
     a : ndarray, shape (4, 4)
         ∂ψ̇/∂ψ [1/s].
     b : ndarray, shape (4, 4)
-        ∂ψ̇/∂[u_d, u_q, ω_s, Ω] ([1], [1], [Wb], [Wb]: per mechanical rad/s).
+        ∂ψ̇/∂[u_d, u_q, ω_s, Ω] ([-], [-], [Wb], [Wb]: per mechanical rad/s).
     c : ndarray, shape (4,)
         ∂T/∂ψ [N.m/Wb].
 

@@ -87,10 +87,10 @@ VF_SETTING_RANGES: dict[str, tuple[float, float]] = {
 """Plausible range (inclusive) of each setting of :func:`vf_control_for` and of the rig file's
 ``[roller_drive_vf]`` table, in the units of those settings:
 
-* ``boost``: U_0 / (R_s I_N) [1], 0 to 2.5 (Siemens SINAMICS V20 P1310: 0-250 %);
-* ``slip_compensation``: k_sc [1], 0 to 1.5 (beyond full compensation the drive speeds up with
+* ``boost``: U_0 / (R_s I_N) [-], 0 to 2.5 (Siemens SINAMICS V20 P1310: 0-250 %);
+* ``slip_compensation``: k_sc [-], 0 to 1.5 (beyond full compensation the drive speeds up with
   load; the controller's own bound);
-* ``current_limit``: I_lim / I_N [1], 1 to 4: below the rated current the limit throttles the
+* ``current_limit``: I_lim / I_N [-], 1 to 4: below the rated current the limit throttles the
   machine in its own normal running (its magnetising current alone is 0.64 I_N on the bundled
   rig, and a limit of 0.65 I_N cannot hold 800 N.m at 30 km/h: the drive stalls and has no
   steady state), above 4 I_N no inverter of the class delivers (V20 P0640: at most 400 %);
@@ -98,7 +98,7 @@ VF_SETTING_RANGES: dict[str, tuple[float, float]] = {
 * ``current_filter_time``, ``slip_filter_time``: the time constants of the current filter
   (IR compensation, slip estimate's flux, current limit) and of the slip-estimate filter [s],
   1 ms to 10 s; ``0`` in the rig file means the machine's default;
-* ``rotor_resistance_estimate``: R̂_R / R_R [1], the inverter's rotor resistance over the
+* ``rotor_resistance_estimate``: R̂_R / R_R [-], the inverter's rotor resistance over the
   machine's, 0.5 to 2 (a cage between 20 °C and a hot 150 °C changes its resistance by
   +50 % (aluminium, α = 0.0039/K), and a commissioning estimate can be off either way);
 * ``filter_time`` [s]: the former single key of both filters (deprecated; read as both).

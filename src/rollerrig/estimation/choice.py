@@ -63,7 +63,7 @@ def estimate_from_recording(recording, rig=None, **options) -> ContactEstimate:
 CHAIN_CONSISTENCY = 1.25
 """With ``chain="auto"`` the chain smoother is used only when the variance of its angle
 innovations, each over its predicted standard deviation, is at most this multiple of the
-roller-alone smoother's [1]: the encoder angle is the measurement both models predict, and a
+roller-alone smoother's [-]: the encoder angle is the measurement both models predict, and a
 chain that does not fit the recording predicts it worse (the dq drive under the lag model's
 default drive noise: 200 to 900 times; with the drive noise by maximum likelihood the chain
 fits the twin's own, the dq drive's and the arm's recordings at 0.9–1.0 times). The test does

@@ -38,7 +38,7 @@ class ContactEstimate:
         chain model, shape (states, 2): per radian of angle and per N.m of torque innovation,
         the states in the order [θ5, ω5, φ, ω6, d(, slope), T_a(, κ ω_s)].
     settling_samples : int
-        Samples filtered with the time-varying gain before the steady-state gain [1].
+        Samples filtered with the time-varying gain before the steady-state gain [-].
     contact_torque_variance : numpy.ndarray or None
         The smoother's variance of the contact torque at each sample [N².m²] (the model's
         P_k|n; None for the causal estimate). Of the CoA: divide by (r_r N)².

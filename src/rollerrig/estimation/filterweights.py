@@ -123,11 +123,11 @@ def encoder_speed_matrix(size: int, fs: float, cpr: float) -> np.ndarray:
     Parameters
     ----------
     size : int
-        Samples [1].
+        Samples [-].
     fs : float
         Sample rate [Hz].
     cpr : float
-        Counts per revolution [1].
+        Counts per revolution [-].
 
     Examples
     --------

@@ -141,7 +141,7 @@ class ContactObserver:
 
     @property
     def settling_samples(self) -> int:
-        """Samples filtered with the time-varying gain [1]."""
+        """Samples filtered with the time-varying gain [-]."""
         return int(self._design.gains.shape[0])
 
     def reset(self) -> None:
@@ -175,7 +175,7 @@ class ContactObserver:
         torque : float
             Measured roller-shaft torque T56 [N.m].
         counts : float
-            Cumulative roller encoder count [1].
+            Cumulative roller encoder count [-].
         load : float
             Normal load N [N], > 0.
 
@@ -260,13 +260,13 @@ def estimate_contact_torque(
     torque : array_like, shape (n,)
         Measured roller-shaft torque T56 [N.m].
     roller_counts : array_like, shape (n,)
-        Cumulative roller encoder counts [1].
+        Cumulative roller encoder counts [-].
     normal_load : array_like, shape (n,) or float
         Normal load N [N], > 0.
     sample_rate : float
         [Hz], > 0; the samples are taken as uniformly spaced.
     counts_per_rev : float
-        Encoder counts per revolution after quadrature decoding [1].
+        Encoder counts per revolution after quadrature decoding [-].
     roller_inertia : float
         J5 [kg.m^2].
     bearing_friction : float

@@ -54,7 +54,7 @@ def numerical_tolerance(u, ndig: int = 2):
 def _coa(t56, d_t, e_t, alpha, e_a, p, d_p, e_p, area, radius, j5, k_b, f_g, r_b, w_r, th,
          kappa=0.0, w_d=0.0):  # fmt: skip
     """μ_corr of the measurement model (:mod:`rollerrig.estimation.uncertainty`) [-]; arrays
-    broadcast. ``kappa`` [1], ``w_d`` [N]: the swinging arm's σ h/l and dead weight."""
+    broadcast. ``kappa`` [-], ``w_d`` [N]: the swinging arm's σ h/l and dead weight."""
     load = (p + d_p + e_p) * area
     b = k_b * f_g * r_b * th
     force = (t56 + d_t + e_t + j5 * (alpha + e_a) + b * (w_r + load + w_d)) / (radius - kappa * b)
@@ -68,7 +68,7 @@ class MonteCarloResult:
     Attributes
     ----------
     index : ndarray
-        The samples [1].
+        The samples [-].
     mean, u : ndarray
         Mean and standard deviation of the draws [-].
     low, high : ndarray

@@ -191,7 +191,7 @@ def smooth_contact_torque(
         Orders of the roller's rotation whose lines are fitted and removed from the torque
         (e.g. 1, 2 and the roller motor's pole pairs p, 2p, 3p); default none.
     wheel_counts : array_like, optional
-        Cumulative wheel encoder counts [1] (same CPR), for ``wheel_orders``.
+        Cumulative wheel encoder counts [-] (same CPR), for ``wheel_orders``.
     wheel_orders : sequence of float
         Orders of the wheel's rotation to remove (e.g. 1, 2 and the wheel motor's pole pairs).
 

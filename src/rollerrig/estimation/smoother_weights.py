@@ -52,7 +52,7 @@ class SmootherWeights:
         torque_sd : float
             Standard deviation of the torque sensor's white noise [N.m].
         counts_per_rev : float
-            Encoder counts per revolution [1] (quantisation variance (2π/CPR)²/12).
+            Encoder counts per revolution [-] (quantisation variance (2π/CPR)²/12).
         """
         q = 2.0 * math.pi / counts_per_rev
         return float(torque_sd**2 * np.sum(self.torque**2) + q * q / 12.0 * np.sum(self.angle**2))

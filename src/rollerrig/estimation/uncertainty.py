@@ -133,7 +133,7 @@ def corrected_coa_uncertainty(
     ----------
     recording : Recording
         With ``torque`` [N.m], ``roller_speed`` [rad/s], ``normal_load`` [N] (and, where the
-        rig recorded them, ``air_spring_pressure`` [Pa] and ``roller_encoder_counts`` [1]), on
+        rig recorded them, ``air_spring_pressure`` [Pa] and ``roller_encoder_counts`` [-]), on
         a uniform time axis (:func:`rollerrig.measure.quantities.derive_quantities`).
     rig : RigParameters
         Geometry, inertia, bearing and the ``sensors`` accuracies. With ``calibration``, pass

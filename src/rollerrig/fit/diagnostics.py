@@ -70,7 +70,7 @@ class ResidualStructure:
     Attributes
     ----------
     n : int
-        Number of residuals [1].
+        Number of residuals [-].
     order : str
         What the residuals were ordered by.
     durbin_watson : float
@@ -83,9 +83,9 @@ class ResidualStructure:
     lag1_threshold : float
         3/√n [-].
     runs : int
-        Runs of equal sign [1].
+        Runs of equal sign [-].
     expected_runs : float
-        Their expectation for independent signs, 2 n₊ n₋/n + 1 [1].
+        Their expectation for independent signs, 2 n₊ n₋/n + 1 [-].
     runs_z : float
         (runs − expected)/σ [-] (no continuity correction).
     runs_z_threshold : float
@@ -225,11 +225,11 @@ class SlipVelocityCoverage:
     slip_velocity_range : (float, float)
         Smallest and largest |w| of all points [m/s].
     saturated_points : int
-        Points with η ≥ 0.5 (CoA at least half proportional to μ) [1].
+        Points with η ≥ 0.5 (CoA at least half proportional to μ) [-].
     saturated_slip_velocity_range : (float, float) or None
         Smallest and largest |w| of the saturated points [m/s]: where A and B are constrained.
     falling_branch_points : int
-        Points past the peak of the fitted curve (the CoA falls with creep there) [1].
+        Points past the peak of the fitted curve (the CoA falls with creep there) [-].
     rolling_speed_ratio : float
         90th over 10th percentile of the saturated points' rolling speed |w/s| [-].
     creep_past_peak : float

@@ -76,7 +76,7 @@ __all__ = [
 ]
 
 MAX_FIT_POINTS = 300
-"""Most points the fit uses; above it every k-th point (sorted by creep) is taken [1]."""
+"""Most points the fit uses; above it every k-th point (sorted by creep) is taken [-]."""
 
 _CORRELATION = 0.995
 _RELATIVE_STDERR = 0.5

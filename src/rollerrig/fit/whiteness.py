@@ -26,7 +26,7 @@ __all__ = [
 ]
 
 LJUNG_BOX_LAGS = 20
-"""Lags of the Ljung–Box statistic [1]."""
+"""Lags of the Ljung–Box statistic [-]."""
 _LJUNG_BOX_ALPHA = 0.01  # white below this p-value is rejected
 _SOKAL_C = 5.0  # Sokal's window constant
 

@@ -56,7 +56,7 @@ __all__ = [
 ]
 
 MAX_ELEMENTS = MAX_MEMBERS * DEFAULT_ELEMENTS_PER_MEMBER
-"""Most beam elements of a model (members x elements per member) [1]: the size
+"""Most beam elements of a model (members x elements per member) [-]: the size
 :data:`rollerrig.frame.limits.MAX_MEMBERS` is chosen for (about a minute on two cores)."""
 
 MAX_TEST_LOAD = 1e7

@@ -81,7 +81,7 @@ class GaugeInfluence:
         }
 
     def strains(self, normal_load, traction_force) -> dict[str, np.ndarray]:
-        """Axial strain at each gauge [1] (σ / E)."""
+        """Axial strain at each gauge [-] (σ / E)."""
         stresses = self.stresses(normal_load, traction_force)
         return {
             name: stresses[name] / e

@@ -18,7 +18,7 @@ NODE_TOLERANCE = 1e-6
 within it of a node."""
 
 MAX_MEMBERS = 200
-"""Most members a frame file may hold [1]. The analysis divides each member into four beam
+"""Most members a frame file may hold [-]. The analysis divides each member into four beam
 elements and builds the model three times in PyNite's pure Python (stability check, static,
 modal), whose meshing looks at every node for each element: the cost grows faster than the
 size. Measured on two cores: a ladder frame of 199 members in 9 s (36 s with the cores shared
@@ -26,12 +26,12 @@ by four other processes), one of 499 members in over 10 minutes. The bundled rig
 Checked before any entry is read."""
 
 MAX_NODES = 2 * MAX_MEMBERS
-"""Most nodes a frame file may hold [1]: every node is the end of a member, so a frame of
+"""Most nodes a frame file may hold [-]: every node is the end of a member, so a frame of
 :data:`MAX_MEMBERS` members has at most twice as many. Checked before any entry is read."""
 
 MAX_ENTRIES = MAX_NODES
 """Most entries in each of the other tables (materials, sections, supports, load points,
-masses, strain gauges) [1]: none can usefully hold more than one per node."""
+masses, strain gauges) [-]: none can usefully hold more than one per node."""
 
 
 @dataclass(frozen=True)

@@ -45,7 +45,7 @@ class ContactDof:
     modal_stiffness : float
         (2π f)² × modal_mass [N/m].
     participation : float
-        (q_r² / ω_r²) / (fᵀ K⁻¹ f) [1].
+        (q_r² / ω_r²) / (fᵀ K⁻¹ f) [-].
     equivalent_mass : float
         stiffness / (2π f)² [kg].
     """

@@ -34,7 +34,7 @@ class Material:
     youngs_modulus : float
         E [Pa].
     poisson : float
-        ν [1].
+        ν [-].
     density : float
         Mass density ρ [kg/m^3].
     """

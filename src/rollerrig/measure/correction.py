@@ -77,7 +77,7 @@ def corrected_adhesion(
     window, order : int
         Savitzky-Golay window [samples] and order for the torque, speed and acceleration.
     load_transfer : float
-        κ = σ h/l of the swinging arm [1] (:attr:`ArmParameters.transfer_ratio
+        κ = σ h/l of the swinging arm [-] (:attr:`ArmParameters.transfer_ratio
         <rollerrig.rig.sections.ArmParameters.transfer_ratio>`); 0: the contact carries S.
     dead_weight : float
         W_d, weight on the contact outside S [N].
@@ -144,7 +144,7 @@ class CorrectionTerms:
     contact_load : ndarray
         N_c = S + W_d + κ F_x [N], the load at the contact.
     load_transfer, dead_weight : float
-        κ [1] and W_d [N] of the swinging arm used.
+        κ [-] and W_d [N] of the swinging arm used.
     """
 
     torque: np.ndarray

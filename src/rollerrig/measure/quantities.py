@@ -102,7 +102,7 @@ def encoder_speed_resolution(counts_per_revolution, interval):
     Parameters
     ----------
     counts_per_revolution : float
-        Counts per revolution after quadrature decoding [1].
+        Counts per revolution after quadrature decoding [-].
     interval : array_like
         Gate duration k·Δt [s].
 
@@ -138,13 +138,13 @@ def encoder_speed(counts, time, counts_per_revolution, gate: int = 1, centred: b
     Parameters
     ----------
     counts : array_like, shape (n,)
-        Cumulative encoder counts [1].
+        Cumulative encoder counts [-].
     time : array_like, shape (n,)
         Sample times [s], strictly increasing.
     counts_per_revolution : float
-        Counts per revolution [1], > 0.
+        Counts per revolution [-], > 0.
     gate : int
-        Gate length k in samples [1], >= 1.
+        Gate length k in samples [-], >= 1.
     centred : bool
         Place each estimate at the middle of its gate.
 
@@ -299,7 +299,7 @@ def derive_quantities(
         mapping in SI (as ``RigParameters.to_dict()`` gives) also works. Default: the ``rig``
         entry of the recording's metadata (synthetic recordings carry it).
     gate : int
-        Encoder gate in samples [1].
+        Encoder gate in samples [-].
     centred : bool
         Centre the encoder speed on its gate (see :func:`encoder_speed`).
 

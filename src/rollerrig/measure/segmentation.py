@@ -332,7 +332,7 @@ def hysteresis(creep_ascending, coa_ascending, creep_descending, coa_descending,
     creep_descending, coa_descending : array_like
         Descending branch: creep [-] and CoA [-].
     grid_points : int
-        Number of grid points [1], >= 2.
+        Number of grid points [-], >= 2.
 
     Returns
     -------

@@ -31,7 +31,7 @@ def csv_number(value: float) -> str:
 
 
 _RESOLUTION_KEPT = 1e-3
-"""Largest rounding error of a CSV column, as a fraction of its smallest nonzero step [1]."""
+"""Largest rounding error of a CSV column, as a fraction of its smallest nonzero step [-]."""
 
 
 def _keeps_resolution(values: np.ndarray) -> bool:

@@ -115,7 +115,7 @@ NAN_MEANING = "nan_meaning"
 format (NetCDF attribute, Parquet field metadata, TDMS channel property, MDF4 signal comment,
 the ``variables`` entry of the metadata object: CSV sidecar, MAT)."""
 NAN_SAMPLES = "nan_samples"
-"""Attribute beside :data:`NAN_MEANING`: how many samples of the column are NaN [1]."""
+"""Attribute beside :data:`NAN_MEANING`: how many samples of the column are NaN [-]."""
 UNITS_STRUCT = "units"
 """MAT struct holding one field per variable: its unit."""
 CONVENTIONS = "CF-1.10"

@@ -117,14 +117,14 @@ class DisturbanceModel:
         Standard deviation of the white noise on the laser displacement [m]: 1e-6 (Keyence
         LK-H 0.02 % of a 50-80 mm range is 10-16 µm full-scale accuracy, random part smaller).
     am_pole_pairs, pmsm_pole_pairs : int or None
-        Pole pairs of the roller motor and the wheel motor [1]; ``None`` takes them from the
+        Pole pairs of the roller motor and the wheel motor [-]; ``None`` takes them from the
         rig in the twin's provenance (5 and 22 on the default rig, Kayaalp Tables 1-2).
     anti_alias : bool
         Apply the anti-alias filter when the twin's rate is above the DAQ rate: True.
     anti_alias_cutoff_ratio : float
         Cut-off of the anti-alias filter relative to the DAQ rate [-]: 0.4 (80 % of Nyquist).
     anti_alias_order : int
-        Order of the Butterworth filter [1]: 8 (applied forward and backward, so the magnitude
+        Order of the Butterworth filter [-]: 8 (applied forward and backward, so the magnitude
         is squared: -31 dB at Nyquist, -56 dB at 0.6·fs, the lowest frequency that folds back
         below the cut-off).
     record_torque_request : bool
@@ -298,7 +298,7 @@ def synthetic_recording(
     -------
     recording : Recording
         Channels ``torque`` [N.m], ``wheel_encoder_counts`` and ``roller_encoder_counts``
-        (cumulative, from 0 at the first sample) [1], ``air_spring_pressure`` [Pa] and, if
+        (cumulative, from 0 at the first sample) [-], ``air_spring_pressure`` [Pa] and, if
         ``record_torque_request``, ``torque_request`` [N.m]. The metadata records the
         disturbance model, the seed, the rates, the rig parameters, the twin's provenance,
         ``provenance`` (:func:`rollerrig.output.provenance` of this generation),

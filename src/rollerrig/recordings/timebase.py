@@ -49,13 +49,13 @@ __all__ = [
 ]
 
 UNIFORM_STEP_TOLERANCE = 0.01
-"""Largest deviation of a time step from the median step of a uniform time base [1]."""
+"""Largest deviation of a time step from the median step of a uniform time base [-]."""
 
 ATTENUATION_DB = 60.0
 """Stop-band attenuation and pass-band ripple ``10^(-A/20)`` of the anti-alias FIR [dB]."""
 
 PASSBAND = 0.8
-"""Pass-band edge of the anti-alias FIR as a fraction of the new Nyquist frequency [1]."""
+"""Pass-band edge of the anti-alias FIR as a fraction of the new Nyquist frequency [-]."""
 
 _MAX_DENOMINATOR = 10_000
 """Largest ``down`` of the rational resampling factor (the FIR has about 36·down taps)."""

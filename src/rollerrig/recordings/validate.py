@@ -48,7 +48,7 @@ on a test rig; a higher rate is a time in the wrong unit or a damaged header).""
 
 MAX_GRID_SAMPLES = 2**28
 """Most samples of a time base the readers build (a resampling grid, a time from a stated
-rate) [1]: 2 GiB per channel of float64."""
+rate) [-]: 2 GiB per channel of float64."""
 
 
 def check_sample_rate(rate: float, where: str, source: str) -> None:

@@ -18,7 +18,7 @@ __all__ = ["coa_uncertainty_figure", "overview_figure", "rig_versus_corrected_fi
 
 
 _SCATTER_POINTS = 50_000
-"""Most points of a scatter of the whole test in a report figure [1] (every k-th sample)."""
+"""Most points of a scatter of the whole test in a report figure [-] (every k-th sample)."""
 
 _PHASE_COLOURS = {
     "free_rolling": "#e8f4e8",

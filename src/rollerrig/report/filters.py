@@ -202,7 +202,7 @@ def savitzky_golay_grid_figure(
     clip_percentile : float
         Upper end of the colour scale, as a percentile of the finite costs [%], in (0, 100].
     flat_tolerance : float
-        Relative cost above the lowest within which a cell counts as equally good [1], ≥ 0;
+        Relative cost above the lowest within which a cell counts as equally good [-], ≥ 0;
         default 0.05.
 
     Returns

@@ -33,7 +33,7 @@ def _span(result: FrameResult) -> float:
 
 def auto_scale(result: FrameResult, translations: np.ndarray) -> float:
     """A round magnification (1, 2 or 5 x 10^k) that draws the largest translation as about
-    12 % of the frame's largest dimension [1].
+    12 % of the frame's largest dimension [-].
 
     Examples
     --------

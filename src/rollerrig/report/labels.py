@@ -32,7 +32,7 @@ LABEL_GID = "peak-label"
 LEADER_GID = "peak-leader"
 """``gid`` of the leader lines :func:`label_peaks` draws."""
 
-_HINTING = 1.1  # rendered text sizes vary by up to ~7 % with the dpi [1]
+_HINTING = 1.1  # rendered text sizes vary by up to ~7 % with the dpi [-]
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,7 @@ import numpy as np
 __all__ = ["PLOT_POINTS", "envelope"]
 
 PLOT_POINTS = 20_000
-"""Most points a line of a report figure draws [1]; longer signals are drawn as their envelope."""
+"""Most points a line of a report figure draws [-]; longer signals are drawn as their envelope."""
 
 
 def envelope(x, y, max_points: int = PLOT_POINTS):

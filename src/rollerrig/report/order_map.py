@@ -71,7 +71,7 @@ class Resonance:
     mode_frequency : float
         The mode's damped frequency [Hz] (median over the operating points given).
     damping_ratio : tuple of float
-        The mode's damping ratio ζ, lowest and highest over the operating points [1].
+        The mode's damping ratio ζ, lowest and highest over the operating points [-].
     speed : float
         Roller angular speed at the crossing [rad/s]: ``mode_frequency / slope`` with
         ``slope = k p / 2π`` [Hz per rad/s] of the line (AM: p = 5 pole pairs on the roller).
@@ -87,7 +87,7 @@ class Resonance:
 
 @dataclass(frozen=True)
 class _ModeLine:
-    """A ringing mode matched over operating points: frequency and ζ ranges [Hz], [1]."""
+    """A ringing mode matched over operating points: frequency and ζ ranges [Hz], [-]."""
 
     frequency: float
     frequencies: tuple[float, float]
@@ -124,7 +124,7 @@ def _mode_lines(modes) -> list[_ModeLine]:
 
 
 _LOWEST_CROSSING = 0.05
-"""Crossings below this fraction of the map's largest speed are not listed [1]: every order line
+"""Crossings below this fraction of the map's largest speed are not listed [-]: every order line
 starts at zero, so a low mode meets the fast lines near standstill (0.81 Hz and PMSM ×6 at
 0.3 km/h), where the rig does not dwell; listing them crowded out the ones that matter."""
 

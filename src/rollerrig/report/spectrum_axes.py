@@ -61,7 +61,7 @@ def frequency_limit(peaks: Sequence[float], nyquist: float) -> float:
 
 LOG_SPAN = 50.0
 """Ratio of the highest to the lowest listed peak from which a frequency axis is logarithmic
-by default [1]: on a linear axis the low orders of a slow rotation (0.5-1.3 Hz at 5 km/h) would
+by default [-]: on a linear axis the low orders of a slow rotation (0.5-1.3 Hz at 5 km/h) would
 sit within a marker's width of each other next to a motor line at 80-170 Hz."""
 
 

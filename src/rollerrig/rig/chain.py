@@ -5,7 +5,7 @@ CONTRIBUTING.md): 1 PMSM stator, 2 PMSM rotor, 3 wheel disc, 4 wheel tyre, 5 rol
 7 AM stator; body 0 is ground. Spring-dampers carry ``T_ij = k_ij (θ_i − θ_j) + b_ij (ω_i − ω_j)``
 with body i receiving ``−T_ij`` and body j ``+T_ij``::
 
-    0 ─k01─ [1] ┆ [2] ─k23─ [3] ─k34─ [4] ╎ [5] ─k56─ [6] ┆ [7] ─k70─ 0
+    0 ─k01─ [-] ┆ [2] ─k23─ [3] ─k34─ [4] ╎ [5] ─k56─ [6] ┆ [7] ─k70─ 0
 
     1 PMSM stator ┆ 2 PMSM rotor (air gap, T12); 3 wheel disc, 4 wheel tyre ╎ 5 roller
     (contact, F_x); 6 AM rotor ┆ 7 AM stator (air gap, T67). Each spring has a damper b_ij.
@@ -354,7 +354,7 @@ class ModalResult:
     damped_frequencies : ndarray, shape (n,) or None
         Damped natural frequencies ``|Im λ| / 2π`` [Hz]; 0 for overdamped and rigid modes.
     damping_ratios : ndarray, shape (n,) or None
-        ``ζ = −Re(λa + λb) / (2 √|λa λb|)`` [1]: ``−Re λ/|λ|`` for a complex pair, > 1 for an
+        ``ζ = −Re(λa + λb) / (2 √|λa λb|)`` [-]: ``−Re λ/|λ|`` for a complex pair, > 1 for an
         overdamped mode (two real poles); NaN for a mode whose poles include 0.
     """
 
@@ -368,7 +368,7 @@ class ModalResult:
 
     @property
     def n_rigid(self) -> int:
-        """Number of rigid-body modes [1]."""
+        """Number of rigid-body modes [-]."""
         return int(np.count_nonzero(self.rigid))
 
 
@@ -476,7 +476,7 @@ def modal_analysis(
         slip damping (:func:`damper_matrix`) at an operating point. May be non-symmetric.
     rigid_tolerance : float, optional
         When K is not a network of non-negative springs, a mode is rigid when
-        ``ω² <= rigid_tolerance · max(ω²)`` [1]. For a spring network (any K from
+        ``ω² <= rigid_tolerance · max(ω²)`` [-]. For a spring network (any K from
         :func:`assemble_chain`) the rigid modes are counted exactly from the topology: one per
         subchain with no spring to ground.
 
@@ -577,13 +577,13 @@ class ModalRow:
     damped_frequency : float
         Damped natural frequency [Hz] (NaN without damping; 0 when overdamped or rigid).
     damping_ratio : float
-        Damping ratio ζ [1] (NaN without damping or for a rigid mode).
+        Damping ratio ζ [-] (NaN without damping or for a rigid mode).
     rigid : bool
         Rigid-body mode of a floating subchain.
     dominant_bodies : tuple of str
         Bodies holding at least ``threshold`` of the modal kinetic energy, largest first.
     kinetic_energy : dict
-        Body name -> fraction of modal kinetic energy ``J_i φ_i²`` [1] (sums to 1).
+        Body name -> fraction of modal kinetic energy ``J_i φ_i²`` [-] (sums to 1).
     dominant_element : str
         Element with the largest share of modal strain energy (``""`` for a rigid mode).
     """
@@ -616,7 +616,7 @@ def modal_table(
     damped : bool, optional
         Include the chain's own damping C (default True).
     threshold : float, optional
-        Kinetic-energy fraction above which a body counts as dominant [1], default 0.1.
+        Kinetic-energy fraction above which a body counts as dominant [-], default 0.1.
 
     Returns
     -------

@@ -80,7 +80,7 @@ DEFAULT_NORMAL_LOAD = 4.3e3
 (Kayaalp 4.5.1.6; the bundled protocols seed-30kmh-dry and seed-10kmh-wet)."""
 
 DEFAULT_DAMPING_THRESHOLD = 0.3
-"""Largest damping ratio of a mode that may explain a spectral line [1]."""
+"""Largest damping ratio of a mode that may explain a spectral line [-]."""
 
 _RIGID = 1e-6  # |λ| / max|λ| below which an eigenvalue is a rigid rotation
 _GROUPS: dict[str, str] = {
@@ -118,7 +118,7 @@ def linearise_rhs(
     t : float
         Time at which the inputs are read [s].
     step : float
-        Relative step [1]: ``h_k = step · max(|x0_k|, 1)``.
+        Relative step [-]: ``h_k = step · max(|x0_k|, 1)``.
 
     Returns
     -------
@@ -162,7 +162,7 @@ class LinearisedTwin:
         Operating point x0 (all states).
     step_difference : float
         Largest difference between the Jacobians with steps ``step`` and ``10·step``, relative to
-        the largest entry of each column [1] (the finite-difference check).
+        the largest entry of each column [-] (the finite-difference check).
     params : ndarray
         Parameter vector used (ripple switched off).
     """
@@ -247,7 +247,7 @@ def linearise_twin(
     friction_sets : mapping, optional
         Polach parameter sets by name; default dry and wet of Polach (2005).
     step : float
-        Relative finite-difference step [1].
+        Relative finite-difference step [-].
 
     Returns
     -------
@@ -322,13 +322,13 @@ class CoupledMode:
     natural_frequency : float
         ``|λ| / 2π`` [Hz].
     damping_ratio : float or None
-        ``−Re λ / |λ|`` [1] of an oscillatory mode; None for a real or rigid one.
+        ``−Re λ / |λ|`` [-] of an oscillatory mode; None for a real or rigid one.
     time_constant : float or None
         ``−1 / Re λ`` [s] (None for a rigid mode).
     participation : dict
-        Body or drive-state group -> participation factor [1] (sums to 1).
+        Body or drive-state group -> participation factor [-] (sums to 1).
     bodies : dict
-        Body -> share of ``J_i |θ_i|²`` [1] (the kinetic-energy distribution; sums to 1).
+        Body -> share of ``J_i |θ_i|²`` [-] (the kinetic-energy distribution; sums to 1).
     element : str
         Chain element that twists (largest strain energy), ``""`` for a rigid-body motion
         against a drive characteristic, a drive-state mode, or a rigid mode.
@@ -349,12 +349,12 @@ class CoupledMode:
 
     @property
     def mechanical_participation(self) -> float:
-        """Participation of the seven bodies' angles and speeds [1]."""
+        """Participation of the seven bodies' angles and speeds [-]."""
         return float(sum(v for k, v in self.participation.items() if k in BODY_NAMES))
 
     @property
     def drive_participation(self) -> dict[str, float]:
-        """Participation of the drive-state groups [1]."""
+        """Participation of the drive-state groups [-]."""
         return {k: v for k, v in self.participation.items() if k not in BODY_NAMES}
 
     @property
@@ -415,11 +415,11 @@ class CoupledModes:
     friction : str
         Friction condition of the contact.
     damping_threshold : float
-        ζ below which an oscillatory mode can ring [1].
+        ζ below which an oscillatory mode can ring [-].
     modes : tuple of CoupledMode
         Oscillatory modes by frequency, then real modes by time constant, then rigid ones.
     step_difference : float
-        Finite-difference check of the Jacobian [1] (:class:`LinearisedTwin`).
+        Finite-difference check of the Jacobian [-] (:class:`LinearisedTwin`).
     """
 
     speed: float
@@ -508,7 +508,7 @@ def modes_of(
     rig : RigParameters
         For the inertias and chain elements.
     damping_threshold : float
-        ζ below which an oscillatory mode can ring [1].
+        ζ below which an oscillatory mode can ring [-].
 
     Returns
     -------
@@ -567,7 +567,7 @@ def modes_of(
 
 
 def check_damping_threshold(damping_threshold: float) -> float:
-    """``damping_threshold`` [1] as a float, or a ParameterError when it is not in (0, 1)."""
+    """``damping_threshold`` [-] as a float, or a ParameterError when it is not in (0, 1)."""
     if not 0.0 < float(damping_threshold) < 1.0:
         raise ParameterError(f"damping_threshold must lie in (0, 1) [-], got {damping_threshold}")
     return float(damping_threshold)
@@ -591,7 +591,7 @@ def coupled_modes(
         Rig parameters, roller surface speed [m/s] (> 0), normal load [N] (> 0), drive models
         and friction condition (Polach set name), as in :func:`linearise_twin`.
     damping_threshold : float
-        ζ below which an oscillatory mode may explain a spectral line [1], in (0, 1).
+        ζ below which an oscillatory mode may explain a spectral line [-], in (0, 1).
     load_source : str
         Where the load came from, stated in every output.
 

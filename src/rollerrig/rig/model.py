@@ -114,7 +114,7 @@ P_LAG_TAU = 52  # roller-drive response lag τ [s]; 0 means none
 P_SERVO_KP, P_SERVO_KI, P_SERVO_TLIM = 53, 54, 55
 P_FRAME_MODE = 56  # 0 rigid frame, 1 one longitudinal degree of freedom at the contact
 P_FRAME_K, P_FRAME_M, P_FRAME_C = 57, 58, 59  # [N/m], [kg], [N.s/m]
-P_ARM_RATIO, P_ARM_WEIGHT = 60, 61  # swinging arm: σ h/l [1], dead weight W_d [N]
+P_ARM_RATIO, P_ARM_WEIGHT = 60, 61  # swinging arm: σ h/l [-], dead weight W_d [N]
 P_LAW = 62  # creep law (LAW_CODES): 0 Polach's closed form, else the table below
 P_K0, P_ALPHA_INF, P_BETA = 63, 64, 65  # modified FASTSIM's slope reduction (1, 1, 0: none)
 P_TAB_STEP, P_TAB_INV = 66, 67  # node spacing h of the creep table in ε = G a b C11 ξ/(μN), 1/h
@@ -301,7 +301,7 @@ def _table_ratio(e, p):
 
 
 def _table_force_and_slope(creep, load, friction, p):
-    """Force F_x [N] of a tabulated law at the normal load ``load`` [N] and dF_x/dN [1].
+    """Force F_x [N] of a tabulated law at the normal load ``load`` [N] and dF_x/dN [-].
 
     F = μN sgn(ε) f(k(|ε|)|ε|), ε = C(N) ξ/(μN) with C(N) = G a b C11 at N (∝ N^(2/3)); k is
     the modified FASTSIM's slope reduction k0 (α_∞ + (1 − α_∞)/(1 + β ε_s)), ε_s = (π/4) k0 |ε|
@@ -330,7 +330,7 @@ def _table_force_and_slope(creep, load, friction, p):
 
 
 def _force_and_slope(creep, load, friction, p):
-    """The creep law's force F_x [N] at the normal load ``load`` [N] and dF_x/dN [1].
+    """The creep law's force F_x [N] at the normal load ``load`` [N] and dF_x/dN [-].
 
     Polach (``p[P_LAW]`` = 0): F = (2/π) N μ h(ε), h(ε) = k_A ε/(1 + (k_A ε)²) + arctan(k_S ε),
     with ε ∝ C(N)/N ∝ N^(-1/3) (the creep stiffness scales with N^(2/3)), so

@@ -50,7 +50,7 @@ def twin_modes(
     friction : str
         Friction condition (Polach's ``"dry"`` or ``"wet"``).
     damping_threshold : float
-        ζ below which an oscillatory mode may ring [1], in (0, 1).
+        ζ below which an oscillatory mode may ring [-], in (0, 1).
     load_source : str
         Where the load came from, stated in every output.
 

@@ -198,12 +198,12 @@ class GeometryParameters(_Section):
 
 
 class MaterialParameters(_Section):
-    """Elastic constants of wheel and roller (both steel) [Pa], [1]."""
+    """Elastic constants of wheel and roller (both steel) [Pa], [-]."""
 
     youngs_modulus: _Pressure
     """Young's modulus E of both bodies [Pa]."""
     poisson: Annotated[float, _si("dimensionless", gt=0, lt=0.5)]
-    """Poisson's ratio ν of both bodies [1], in (0, 0.5)."""
+    """Poisson's ratio ν of both bodies [-], in (0, 0.5)."""
 
 
 class BearingParameters(_Section):
@@ -215,7 +215,7 @@ class BearingParameters(_Section):
     """
 
     friction_coefficient: Annotated[float, _si("dimensionless", ge=0, lt=1)]
-    """Bearing friction coefficient f_g [1], in [0, 1)."""
+    """Bearing friction coefficient f_g [-], in [0, 1)."""
     roller_subsystem_weight: Annotated[float, _si("force", ge=0)]
     """Weight W_r of the roller subsystem carried by the roller bearings [N]."""
     wheel_bearing_radius: _Length
@@ -244,7 +244,7 @@ class PmsmParameters(_Section):
     flux_linkage: Annotated[float, _si("flux_linkage", gt=0)]
     """Permanent-magnet flux linkage φ [Wb]."""
     pole_pairs: _PolePairs
-    """Number of pole pairs p [1]."""
+    """Number of pole pairs p [-]."""
     stator_resistance: _Resistance
     """Stator phase resistance R_s [ohm]."""
     inductance_d: _Inductance
@@ -309,9 +309,9 @@ class InductionMotorParameters(_Section):
     connection: Annotated[Literal["delta", "star"], _si("dimensionless")]
     """Winding connection: 'delta' or 'star' (unit "-")."""
     pole_pairs: _PolePairs
-    """Number of pole pairs p [1]."""
+    """Number of pole pairs p [-]."""
     breakdown_torque_ratio: Annotated[float, _si("dimensionless", gt=1)]
-    """Breakdown (pull-out) torque over rated torque [1], > 1."""
+    """Breakdown (pull-out) torque over rated torque [-], > 1."""
     stator_resistance: _Resistance
     """Stator resistance per phase of the winding *as connected* [ohm]: per delta phase for a
     delta machine (the Thevenin circuit, :meth:`circuit`, takes it with the delta phase voltage,
@@ -356,7 +356,7 @@ class InductionMotorParameters(_Section):
 
     @property
     def rated_slip(self) -> float:
-        """Rated slip ``1 - ω_N / ω_sync`` [1] (≈ 1.76 % for the default rig)."""
+        """Rated slip ``1 - ω_N / ω_sync`` [-] (≈ 1.76 % for the default rig)."""
         return 1.0 - self.rated_speed / self.synchronous_speed
 
     @property
@@ -377,7 +377,7 @@ class InductionMotorParameters(_Section):
 
     @property
     def stator_resistance_per_unit(self) -> float:
-        """R_s over the base impedance of a phase of the winding as connected [1]: delta
+        """R_s over the base impedance of a phase of the winding as connected [-]: delta
         U_line / (I_line/√3), star (U_line/√3) / I_line (the same per unit either way)."""
         return self.equivalent_star_stator_resistance * self.rated_current / self.phase_voltage
 
@@ -419,9 +419,9 @@ class SensorParameters(_Section):
     daq_rate: _Frequency
     """Sampling rate of the DAQ [Hz]."""
     encoder_pulses_per_revolution: _PolePairs
-    """Encoder lines (pulses per revolution per channel) [1]."""
+    """Encoder lines (pulses per revolution per channel) [-]."""
     encoder_quadrature_factor: Annotated[int, _si("count"), AfterValidator(_quadrature)]
-    """Edges counted per line: 1, 2 or 4 (quadrature) [1]."""
+    """Edges counted per line: 1, 2 or 4 (quadrature) [-]."""
     air_spring_effective_area: Annotated[float, _si("area", gt=0)]
     """Effective area of the air spring: normal force = pressure × area [m^2]."""
     torque_sensor_range: _Torque
@@ -430,26 +430,26 @@ class SensorParameters(_Section):
     # bundled rig's values, so rig files written before these keys existed still load.
     torque_sensor_accuracy: _Fraction = 0.001
     """Accuracy class of the torque sensor: bound of its error as a fraction of
-    torque_sensor_range [1] (rectangular, the same error over a test)."""
+    torque_sensor_range [-] (rectangular, the same error over a test)."""
     pressure_sensor_range: _Pressure = 1.0e6
     """Full-scale range of the air-spring pressure sensor [Pa]."""
     pressure_sensor_accuracy: _Fraction = 0.0035
     """Accuracy class of the pressure sensor: bound of its error as a fraction of
-    pressure_sensor_range [1] (rectangular, the same error over a test)."""
+    pressure_sensor_range [-] (rectangular, the same error over a test)."""
     air_spring_area_uncertainty: _Fraction = 0.02
-    """Relative standard uncertainty of air_spring_effective_area [1] (normal)."""
+    """Relative standard uncertainty of air_spring_effective_area [-] (normal)."""
     roller_radius_tolerance: Annotated[float, _si("length", ge=0)] = 2.5e-4
     """Half-width of the tolerance of the roller rolling radius r_rx [m] (rectangular)."""
     wheel_radius_tolerance: Annotated[float, _si("length", ge=0)] = 2.5e-4
     """Half-width of the tolerance of the wheel rolling radius r_wx [m] (rectangular)."""
     roller_inertia_uncertainty: _Fraction = 0.05
-    """Relative standard uncertainty of the roller inertia J5 [1] (normal)."""
+    """Relative standard uncertainty of the roller inertia J5 [-] (normal)."""
     bearing_loss_uncertainty: Annotated[float, _si("dimensionless", ge=0)] = 0.5
-    """Relative standard uncertainty of the roller bearing loss R05 [1] (normal)."""
+    """Relative standard uncertainty of the roller bearing loss R05 [-] (normal)."""
 
     @property
     def encoder_counts_per_revolution(self) -> int:
-        """Counts per revolution after quadrature decoding [1]."""
+        """Counts per revolution after quadrature decoding [-]."""
         return self.encoder_pulses_per_revolution * self.encoder_quadrature_factor
 
 
@@ -515,17 +515,17 @@ class ArmParameters(_Section):
 
     @property
     def sign(self) -> float:
-        """σ: +1 for ``pivot_side = "rear"``, −1 for ``"front"`` [1]."""
+        """σ: +1 for ``pivot_side = "rear"``, −1 for ``"front"`` [-]."""
         return 1.0 if self.pivot_side == "rear" else -1.0
 
     @property
     def transfer_ratio(self) -> float:
-        """σ h / l [1]: the share of the contact force F_x that adds to the normal load."""
+        """σ h / l [-]: the share of the contact force F_x that adds to the normal load."""
         return self.sign * self.pivot_height / self.arm_length
 
     @property
     def transfer_ratio_uncertainty(self) -> float:
-        """Standard uncertainty of σ h/l [1] from the rectangular tolerances of h and l (first
+        """Standard uncertainty of σ h/l [-] from the rectangular tolerances of h and l (first
         order, JCGM 100 eq. 10)."""
         u_h = self.pivot_height_tolerance / math.sqrt(3.0)
         u_l = self.arm_length_tolerance / math.sqrt(3.0)
@@ -563,14 +563,14 @@ class RollerDriveVfParameters(_Section):
     """
 
     boost: Annotated[float, _vf("boost", "U_0/(R_s.I_N)")] = 0.5
-    """Continuous voltage boost U_0 / (R_s I_N) [1] (Siemens P1310 form), in [0, 2.5]; 0:
+    """Continuous voltage boost U_0 / (R_s I_N) [-] (Siemens P1310 form), in [0, 2.5]; 0:
     none."""
     ir_compensation: Annotated[float, _si("dimensionless", ge=0, le=1)] = 0.0
-    """Automatic IR compensation: 1 on, 0 off [1]."""
+    """Automatic IR compensation: 1 on, 0 off [-]."""
     slip_compensation: Annotated[float, _vf("slip_compensation", "x rated slip")] = 0.0
-    """Slip-compensation gain [1] (1: the rated slip is compensated), in [0, 1.5]; 0: none."""
+    """Slip-compensation gain [-] (1: the rated slip is compensated), in [0, 1.5]; 0: none."""
     current_limit: Annotated[float, _vf("current_limit", "x induction_motor.rated_current")] = 1.5
-    """Current limit as a multiple of the rated current [1], in [1, 4]."""
+    """Current limit as a multiple of the rated current [-], in [1, 4]."""
     ramp_time: Annotated[float, _vf("ramp_time")] = 10.0
     """Frequency-command ramp from 0 to the rated frequency [s], in [0.01, 650]."""
     current_filter_time: Annotated[
@@ -591,7 +591,7 @@ class RollerDriveVfParameters(_Section):
     rotor_resistance_estimate: Annotated[
         float, _vf("rotor_resistance_estimate", "x the machine's rotor resistance")
     ] = 1.0
-    """The inverter's rotor resistance R̂_R over the machine's [1], in [0.5, 2]: its slip
+    """The inverter's rotor resistance R̂_R over the machine's [-], in [0.5, 2]: its slip
     estimate scales with it, so an estimate 50 % high acts like 1.5 × the slip compensation."""
     filter_time: Annotated[
         float,
@@ -653,7 +653,7 @@ class FrameParameters(_Section):
     """Mass of the one-degree-of-freedom frame m_f = k_f / ω_f² [kg], so that it keeps both the
     static compliance and the frequency of the first longitudinal mode."""
     damping_ratio: Annotated[float, _si("dimensionless", ge=0, lt=1)] = 0.01
-    """Damping ratio ζ_f of that mode [1]."""
+    """Damping ratio ζ_f of that mode [-]."""
 
     @property
     def frequency(self) -> float:

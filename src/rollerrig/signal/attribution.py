@@ -195,7 +195,7 @@ def _speed_sources(
 
 
 def _mode_candidates(rig_modes) -> list[tuple[float, float, str]]:
-    """(damped frequency [Hz], relative tolerance [1], label) of the modes that can ring.
+    """(damped frequency [Hz], relative tolerance [-], label) of the modes that can ring.
 
     Entries are :class:`rollerrig.rig.linear.CoupledMode` objects (those that cannot ring are
     skipped: an overdamped mode or a real pole never explains a line) or bare frequencies [Hz].
@@ -342,9 +342,9 @@ def attribute_peaks(
         Bin spacing Δf [Hz]; taken from the peaks when they are SpectralPeaks. Needed with bare
         frequencies unless ``tolerance_hz`` is given.
     relative_tolerance : float
-        ε of the tolerance rule [1] (uncertainty of the mean speed).
+        ε of the tolerance rule [-] (uncertainty of the mean speed).
     am_slip : float
-        Slip of the induction motor [1] (Kayaalp: 0).
+        Slip of the induction motor [-] (Kayaalp: 0).
     rig_modes : sequence of CoupledMode or float
         Modes of the coupled twin (:func:`rollerrig.rig.linear.coupled_modes`; only those that
         can ring are used, matched within ``1.5 Δf + (0.02 + ζ) f_d``), or bare frequencies
@@ -474,7 +474,7 @@ def speed_independent_lines(
         Grouping tolerance [Hz]; default 1.5 times the coarsest bin spacing of the peaks. Needed
         when the peaks are bare frequencies.
     min_speed_ratio : float
-        Least ratio of the fastest to the slowest roller speed in a group [1].
+        Least ratio of the fastest to the slowest roller speed in a group [-].
     am_pole_pairs, pmsm_pole_pairs, max_harmonic, relative_tolerance, am_slip
         As in :func:`attribute_peaks` (to set explained peaks aside).
 

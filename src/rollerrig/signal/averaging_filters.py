@@ -63,7 +63,7 @@ def gaussian_kernel(window: int) -> np.ndarray:
     Returns
     -------
     ndarray, shape (window,)
-        Normalised weights [1].
+        Normalised weights [-].
 
     Examples
     --------

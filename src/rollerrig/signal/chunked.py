@@ -52,7 +52,7 @@ def zero_phase_padding(sample_rate: float, cutoff: float, order: int, tolerance:
     order : int
         Filter order.
     tolerance : float
-        Allowed impulse-response tail [1], in (0, 1).
+        Allowed impulse-response tail [-], in (0, 1).
 
     Returns
     -------
@@ -180,7 +180,7 @@ def filter_chunks(
     sample_rate : float, optional
         Sampling rate [Hz] (Butterworth; Savitzky-Golay derivatives).
     tolerance : float
-        Impulse-response tail allowed for zero-phase Butterworth padding [1].
+        Impulse-response tail allowed for zero-phase Butterworth padding [-].
     **params
         The method's parameters.
 

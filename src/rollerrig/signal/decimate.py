@@ -68,10 +68,10 @@ __all__ = [
 ]
 
 MAX_UP = 64
-"""Largest up-sampling factor of a rational decimation [1] (filter length grows with it)."""
+"""Largest up-sampling factor of a rational decimation [-] (filter length grows with it)."""
 
 RATE_TOLERANCE = 1e-3
-"""Largest relative difference between a requested and the achieved output rate [1]."""
+"""Largest relative difference between a requested and the achieved output rate [-]."""
 
 _HUGE = 1e200
 """Largest magnitude a streamed chunk may hold [unit of the signal] (sums stay finite)."""
@@ -100,7 +100,7 @@ class DecimationFilter:
     stopband_edge : float
         Lower edge of the stop band [Hz] (the new Nyquist frequency).
     passband_ripple : float
-        Measured ``max |H(f)/up − 1|`` over the pass band [1].
+        Measured ``max |H(f)/up − 1|`` over the pass band [-].
     stopband_attenuation_dB : float
         Measured ``min −20 log10 |H(f)/up|`` from the stop-band edge to ``sample_rate·up/2``
         [dB].
@@ -175,7 +175,7 @@ def _ratio(sample_rate: float, target_rate: float) -> tuple[int, int]:
 
 
 def _response(taps: np.ndarray, up: int, f_pass: float, f_stop: float, fs_up: float):
-    """Measured pass-band ripple [1] and stop-band attenuation [dB] of the taps (FFT grid)."""
+    """Measured pass-band ripple [-] and stop-band attenuation [dB] of the taps (FFT grid)."""
     nfft = 1 << int(np.ceil(np.log2(max(64 * taps.size, 1 << 16))))
     mag = np.abs(np.fft.rfft(taps, nfft)) / up
     f = np.fft.rfftfreq(nfft, 1.0 / fs_up)
@@ -204,7 +204,7 @@ def design_decimation(
         Kaiser design attenuation [dB], 40-150: stop-band attenuation and pass-band ripple
         ``10^(-A/20)``.
     passband : float
-        Pass-band edge as a fraction of the new Nyquist frequency [1], in (0, 1).
+        Pass-band edge as a fraction of the new Nyquist frequency [-], in (0, 1).
 
     Returns
     -------

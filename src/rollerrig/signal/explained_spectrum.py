@@ -94,7 +94,7 @@ class ExplainedSpectrum:
     am_pole_pairs, pmsm_pole_pairs : int
         Pole pairs used.
     am_slip : float
-        AM slip used [1].
+        AM slip used [-].
     settings : SpectrumSettings or None
         The settings (None for the lower-level
         :func:`rollerrig.signal.workflow.explain_spectrum`).
@@ -157,7 +157,7 @@ class ExplainedSpectrum:
 
     @property
     def n_samples(self) -> int:
-        """Samples the spectrum was estimated from [1]."""
+        """Samples the spectrum was estimated from [-]."""
         s = self.spectrum
         return int((s.n_segments - 1) * (s.nperseg - s.noverlap) + s.nperseg)
 

@@ -9,11 +9,11 @@ flattens the peaks; Savitzky-Golay of order 4-5 with a 111-sample window is best
 
 This module turns those criteria into numbers:
 
-``noise_left`` [1]
+``noise_left`` [-]
     RMS of what the filter leaves in the steady parts, relative to the raw signal's: with a truth,
     ``rms(s − truth) / rms(raw − truth)``; without, the deviation from a slow trend (1 s moving
     average of the raw signal), ``rms(s − trend) / rms(raw − trend)``.
-``peak_kept`` [1]
+``peak_kept`` [-]
     Extreme excursion of the smoothed signal over a transient segment divided by the reference's,
     both measured from the reference's median level in the 0.5 s before the segment; the
     reference is the truth or, truth-free, the raw signal through a 20 ms median filter (a robust
@@ -29,7 +29,7 @@ This module turns those criteria into numbers:
     maximum corrected for the energy entering the shifted window, which keeps ramps from
     flattening the correlation), with parabolic sub-sample refinement; positive means the
     smoothed signal comes late.
-``cost`` [1]
+``cost`` [-]
     ``w_noise·noise_left + w_peak·|1 − peak_kept| + w_timing·(|lag| + |peak_time_error|)/τ``,
     defaults ``w = 1, 2, 1`` and ``τ = 0.5 s``: 10 % of the steady noise left, 5 % of the peak
     lost and 50 ms of delay or peak-time error cost the same (0.1). The seed's verdict rests on
@@ -90,11 +90,11 @@ class ScoreWeights:
     Attributes
     ----------
     noise : float
-        Weight of ``noise_left`` [1].
+        Weight of ``noise_left`` [-].
     peak : float
-        Weight of ``|1 − peak_kept|`` [1].
+        Weight of ``|1 − peak_kept|`` [-].
     timing : float
-        Weight of ``(|lag| + |peak_time_error|) / time_scale`` [1].
+        Weight of ``(|lag| + |peak_time_error|) / time_scale`` [-].
     time_scale : float
         Delay that costs as much as the whole noise or peak [s].
     """
@@ -112,15 +112,15 @@ class FilterScore:
     Attributes
     ----------
     noise_left : float
-        Steady-part noise left [1] (0 = none, 1 = as raw).
+        Steady-part noise left [-] (0 = none, 1 = as raw).
     peak_kept : float
-        Transient peak excursion kept [1] (1 = exact), worst segment.
+        Transient peak excursion kept [-] (1 = exact), worst segment.
     peak_time_error : float
         Peak timing error [s], worst segment.
     lag : float
         Delay on the transients [s], positive = late.
     cost : float
-        Combined cost [1], lower is better.
+        Combined cost [-], lower is better.
     """
 
     noise_left: float

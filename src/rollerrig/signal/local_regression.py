@@ -46,7 +46,7 @@ def local_regression_kernel(window: int, degree: int) -> np.ndarray:
     Returns
     -------
     ndarray, shape (window,)
-        Kernel weights [1] (symmetric, summing to 1).
+        Kernel weights [-] (symmetric, summing to 1).
 
     Examples
     --------

@@ -80,7 +80,7 @@ def window_response(window: np.ndarray, offsets_low: float, offsets_high: float,
     Returns
     -------
     ndarray, shape (m,)
-        Response [1] (1 at d = 0).
+        Response [-] (1 at d = 0).
 
     Examples
     --------
@@ -158,7 +158,8 @@ def find_spectral_peaks(
 
     A bin is a peak when it is a local maximum of ``L = 10 log10(P)`` with a prominence of at
     least ``min_prominence`` dB (:func:`scipy.signal.find_peaks`) and stands at least ``min_snr``
-    dB above the noise floor, the running median of ``L`` over ``floor_bins`` bins. Its frequency
+    dB above the noise floor, the running median of ``L`` over ``floor_bins`` bins (reflected at
+    the ends, so that no single edge bin fills the window). Its frequency
     and power are refined by fitting a parabola to ``L`` at the maximum bin and its two
     neighbours (quadratic interpolation of the log spectrum, Smith 2011): with ``α, β, γ`` the
     three values, the vertex lies ``δ = (α - γ) / (2(α - 2β + γ))`` bins from the maximum and
@@ -243,7 +244,7 @@ def find_spectral_peaks(
     level = 10.0 * np.log10(np.maximum(p, max(top, tiny) * 1e-30))
     width = floor_bins if floor_bins is not None else max(31, int(0.02 * f.size))
     width = min(int(width) | 1, (f.size - 1) | 1)
-    floor = ndimage.median_filter(level, size=width, mode="nearest")
+    floor = ndimage.median_filter(level, size=width, mode="reflect")
     idx, props = sps.find_peaks(level, prominence=float(min_prominence))
     prominence = props["prominences"]
     snr = level[idx] - floor[idx]

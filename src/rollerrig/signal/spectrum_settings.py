@@ -62,9 +62,9 @@ class SpectrumSettings:
     max_harmonic : int
         Highest harmonic / rotation order tried.
     relative_tolerance : float
-        ε of the attribution tolerance rule [1].
+        ε of the attribution tolerance rule [-].
     damping_threshold : float
-        ζ below which a twin mode may label a peak [1].
+        ζ below which a twin mode may label a peak [-].
     reason : str
         How the segment length was chosen.
     """
@@ -89,7 +89,7 @@ class SpectrumSettings:
         return float(sample_rate) / self.nperseg
 
     def segments(self, n_samples: int) -> int:
-        """Welch segments in a record of ``n_samples`` [1]."""
+        """Welch segments in a record of ``n_samples`` [-]."""
         return segment_count(n_samples, self.nperseg, self.noverlap)
 
     def as_dict(self, sample_rate: float | None = None, n_samples: int | None = None) -> dict:
@@ -210,7 +210,7 @@ def choose_settings(
     Parameters
     ----------
     n_samples : int
-        Samples in the record [1].
+        Samples in the record [-].
     sample_rate : float
         Sampling rate [Hz].
     spacing : float or None
@@ -218,7 +218,7 @@ def choose_settings(
         are no lines to resolve (a roller at rest): ``min_averages`` segments at the finest
         resolution the record allows.
     min_averages : int
-        Segments wanted [1]; fewer are stated in ``reason``.
+        Segments wanted [-]; fewer are stated in ``reason``.
     **overrides
         Any other :class:`SpectrumSettings` field (e.g. ``min_snr``).
 

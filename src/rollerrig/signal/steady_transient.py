@@ -95,7 +95,7 @@ def steady_and_transient_masks(
     threshold : float, optional
         Slope threshold [unit of ``signal`` / s]; default from ``k_sigma``.
     k_sigma : float
-        Threshold in robust standard deviations of the slope [1].
+        Threshold in robust standard deviations of the slope [-].
     margin : float
         Widening of the transient runs [s].
 

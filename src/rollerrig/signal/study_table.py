@@ -23,7 +23,7 @@ from rollerrig.signal.smoothing import METHODS, smooth
 __all__ = ["COST_TIE", "StudyBasis", "StudyRow", "StudyTable", "rank_filters"]
 
 COST_TIE = 1e-9
-"""Costs closer than this, relative, are a tie [1], ranked in the order of the candidates.
+"""Costs closer than this, relative, are a tie [-], ranked in the order of the candidates.
 
 Savitzky-Golay of orders 2k and 2k + 1 is one filter away from the ends, so where the ends are not
 scored the two costs agree to about 1e-13 and only rounding (of the convolution, of a chunked

@@ -124,7 +124,7 @@ _DENSE = True
 """Output by cubic Hermite interpolation inside the steps (the step is free of the output grid)."""
 
 _LANDING_TOLERANCE = 1e-12
-"""Relative distance [1] below which a sample instant counts as a segment's start instant."""
+"""Relative distance [-] below which a sample instant counts as a segment's start instant."""
 
 
 _STATUS_REASONS = {

@@ -83,7 +83,7 @@ warm up in parallel, one per core."""
 DASK_CLOSE_S = 1.7
 """Closing a local cluster on a free core [s] (4.3 s measured at a share of 0.4)."""
 MARGIN = 2.0
-"""How many times its estimated start-up dask must save before ``"auto"`` takes it [1]."""
+"""How many times its estimated start-up dask must save before ``"auto"`` takes it [-]."""
 
 
 @dataclass(frozen=True)
@@ -103,7 +103,7 @@ class ExecutorChoice:
     saving_s : float or None
         Estimated time dask's workers save on the points [s], before its start-up.
     share : float or None
-        The share of a core this process got in the first batch [1] (:func:`cpu_share`).
+        The share of a core this process got in the first batch [-] (:func:`cpu_share`).
     """
 
     executor: str
@@ -124,7 +124,7 @@ def available_cores() -> int:
 
 
 def cpu_share(cpu_s, wall_s) -> float:
-    """The share of a core a thread got [1]: its CPU time over the wall time, in (0, 1].
+    """The share of a core a thread got [-]: its CPU time over the wall time, in (0, 1].
 
     Parameters
     ----------
@@ -179,7 +179,7 @@ def choose_executor(
         Per-point Python work measured on the first batch [s] (median per point); None when
         nothing was measured (then local, unless a scheduler or workers ask for dask).
     share : float
-        The share of a core this process gets (:func:`cpu_share`) [1], in (0, 1].
+        The share of a core this process gets (:func:`cpu_share`) [-], in (0, 1].
     scheduler : str, optional
         A dask scheduler address: dask.
     workers : int, optional

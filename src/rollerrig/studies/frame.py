@@ -28,7 +28,7 @@ __all__ = ["MATTERS_THRESHOLD", "FrameCase", "FrameStudy", "frame_study"]
 
 MATTERS_THRESHOLD = 0.05
 """The frame matters when it changes the release overshoot or the ringing line's amplitude by
-more than this share of the rigid frame's value [1], or puts a line at its own frequency larger
+more than this share of the rigid frame's value [-], or puts a line at its own frequency larger
 than this share of the ringing line."""
 METRICS = (
     "release_overshoot",
