@@ -11,7 +11,19 @@ from rollerrig.cli._options import FigureFormat, figure_file
 from rollerrig.output import figure_provenance
 from rollerrig.output.figures import FIGURE_FORMATS
 
-COMMANDS = ("simulate", "spectrum", "filters", "contact", "frame", "transfer", "calibrate")
+COMMANDS = (
+    "simulate",
+    "spectrum",
+    "filters",
+    "contact",
+    "frame",
+    "transfer",
+    "calibrate",
+    "study run",
+    "study show",
+    "study frame",
+    "study drive-dynamics",
+)
 
 
 def _flat(text: str) -> str:
@@ -26,7 +38,7 @@ def test_the_choices_are_the_formats_that_carry_provenance():
 
 @pytest.mark.parametrize("command", COMMANDS)
 def test_every_figure_command_offers_the_option(command, runner):
-    result = runner.invoke(app, [command, "--help"])
+    result = runner.invoke(app, [*command.split(), "--help"])
     assert result.exit_code == 0, result.output
     text = _flat(result.output)
     assert "--figure-format <png|svg|pdf>" in text and "[default: png]" in text

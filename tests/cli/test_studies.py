@@ -13,6 +13,7 @@ import pytest
 
 from rollerrig.cli import app
 from rollerrig.output import figure_provenance
+from rollerrig.output import figure_provenance
 
 
 @pytest.mark.slow  # ~10 s: a local dask cluster of 2 workers starts
@@ -66,10 +67,13 @@ def test_show_writes_tables_and_figures_from_a_store(tmp_path, runner):
                                str(out)]).exit_code == 0  # fmt: skip
     shown = tmp_path / "shown"
     result = runner.invoke(app, ["study", "show", str(out / "study-drives.zarr"), "--out",
-                                 str(shown)])  # fmt: skip
+                                 str(shown), "--figure-format", "svg"])  # fmt: skip
     assert result.exit_code == 0, result.output
     assert "ideal speed source" in result.output
-    assert (shown / "study-drives-release_overshoot-cases.png").is_file()
+    assert (out / "study-drives-release_overshoot-cases.png").is_file()  # run: the default
+    figure = shown / "study-drives-release_overshoot-cases.svg"
+    assert figure_provenance(figure)["command"][1:3] == ["study", "show"]
+    assert not list(shown.glob("*.png"))
     doc = json.loads((shown / "study-drives.json").read_text())
     assert doc["rows"][0]["label"] == "AM V/f with lag (rig today)"
 

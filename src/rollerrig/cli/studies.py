@@ -24,7 +24,15 @@ from rich.table import Table
 
 from rollerrig.cli._boundary import Interrupted, UserError
 from rollerrig.cli._console import QuietOption, console, note, print_written, steps
-from rollerrig.cli._options import DEFAULT_OUT, Executor, OutOption, RigOption
+from rollerrig.cli._options import (
+    DEFAULT_OUT,
+    Executor,
+    FigureFormat,
+    FigureFormatOption,
+    OutOption,
+    RigOption,
+    figure_file,
+)
 from rollerrig.output.names import safe_file_name
 
 __all__ = ["study_app"]
@@ -65,7 +73,9 @@ def _files(names) -> str:
     return shown + (f" and {len(names) - 5} more" if len(names) > 5 else "")
 
 
-def _results(ds, stem: str, stage, *, run_info: dict) -> None:
+def _results(
+    ds, stem: str, stage, *, run_info: dict, figure_format: FigureFormat = FigureFormat.png
+) -> None:
     """Print the table and write CSV, JSON and figures of a study's dataset into ``stage``."""
     from rollerrig.output import save_figure, write_json, write_table
     from rollerrig.report.studies import study_figures
@@ -157,7 +167,7 @@ def _results(ds, stem: str, stage, *, run_info: dict) -> None:
         )
     write_json(stage.path(f"{stem}.json"), summary)
     for name, fig in study_figures(ds, metrics).items():
-        save_figure(fig, stage.path(f"{stem}-{name}.png"))
+        save_figure(fig, stage.path(figure_file(f"{stem}-{name}", figure_format)))
 
 
 def _sensitivity(ds, metrics) -> dict:
@@ -226,6 +236,7 @@ def run(
         ),
     ] = False,
     out: OutOption = DEFAULT_OUT,
+    figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
 ) -> None:
     """Run a study (or resume it): every point simulated and measured, with progress; the
@@ -327,7 +338,7 @@ def run(
             "wall_time_s": result.wall_time,
             "points_per_second": result.rate,
         }
-        _results(result.dataset, stem, stage, run_info=run_info)
+        _results(result.dataset, stem, stage, run_info=run_info, figure_format=figure_format)
     console.print(f"store {store}")
     print_written(stage.written)
 
@@ -336,6 +347,7 @@ def run(
 def show(
     store: Annotated[Path, typer.Argument(help="A study store (study-NAME.zarr).")],
     out: OutOption = DEFAULT_OUT,
+    figure_format: FigureFormatOption = FigureFormat.png,
 ) -> None:
     """Tables, figures and sensitivity of a study store (a finished or a partial study)."""
     from rollerrig.cli._outputs import command_outputs
@@ -356,7 +368,7 @@ def show(
         )
     stem = _stem(ds.attrs["study"])
     with command_outputs(out, run=f"{stem}-show", inputs={"store": None}) as stage:
-        _results(ds, stem, stage, run_info={"store": str(store)})
+        _results(ds, stem, stage, run_info={"store": str(store)}, figure_format=figure_format)
     print_written(stage.written)
 
 
@@ -386,6 +398,7 @@ def frame(
     ] = None,
     rig_file: RigOption = None,
     out: OutOption = DEFAULT_OUT,
+    figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
 ) -> None:
     """Does the frame matter? The release test with a rigid frame, the frame and one ten
@@ -430,7 +443,9 @@ def frame(
             {"experiment": result.experiment, "fe": result.fe, "cases": result.rows(),
              "frame_matters": result.matters, "verdict": result.verdict},
         )  # fmt: skip
-        save_figure(frame_study_figure(result), stage.path("study-frame.png"))
+        save_figure(
+            frame_study_figure(result), stage.path(figure_file("study-frame", figure_format))
+        )
     print_written(stage.written)
 
 
@@ -462,6 +477,7 @@ def _drive_answer(study: dict) -> str:
 def drive_dynamics(
     rig_file: RigOption = None,
     out: OutOption = DEFAULT_OUT,
+    figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
 ) -> None:
     """The roller drive as a dynamic induction machine under open-loop V/f: where a 1-1.7 Hz
@@ -492,5 +508,8 @@ def drive_dynamics(
         answer = _drive_answer(study)
         console.print(answer, soft_wrap=True)
         write_json(stage.path("study-drive-dynamics.json"), {**study, "answer": answer})
-        save_figure(drive_dynamics_figure(study), stage.path("study-drive-dynamics.png"))
+        save_figure(
+            drive_dynamics_figure(study),
+            stage.path(figure_file("study-drive-dynamics", figure_format)),
+        )
     print_written(stage.written)
