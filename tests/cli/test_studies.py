@@ -13,7 +13,6 @@ import pytest
 
 from rollerrig.cli import app
 from rollerrig.output import figure_provenance
-from rollerrig.output import figure_provenance
 
 
 @pytest.mark.slow  # ~10 s: a local dask cluster of 2 workers starts
