@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -10,13 +11,45 @@ from rollerrig.output.atomic import OutputError, atomic_write
 from rollerrig.output.jsonfile import json_text
 from rollerrig.output.provenance import is_provenance, provenance
 
-__all__ = ["FIGURE_FORMATS", "figure_provenance", "save_figure"]
+__all__ = ["FIGURE_FORMATS", "figure_provenance", "save_figure", "typeset_figure_units"]
 
 FIGURE_FORMATS = ("png", "svg", "pdf")
 """Figure formats that can carry the provenance inside the file."""
 
 PNG_PROVENANCE_KEY = "rollerrig_provenance"
 """PNG text chunk holding the provenance record (JSON)."""
+
+
+def typeset_figure_units(fig) -> None:
+    """Units in every text of ``fig`` typeset as a paper prints them (``N.m`` -> ``N·m``).
+
+    Labels are built from units as recordings and the package store them (``N.m``,
+    ``kg.m^2``, ``(N.m)²``); this typesets them once, where every figure passes
+    (:func:`rollerrig._display.typeset_units`: only tokens made of unit symbols change, never
+    words, file names or numbers). Mathtext (``$...$``) is left as it is.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> fig, ax = plt.subplots()
+    >>> _ = ax.set_ylabel("power [(N.m)²]"); _ = ax.set_title("seed-30kmh-dry.tdms, J5 in kg.m^2")
+    >>> typeset_figure_units(fig)
+    >>> ax.get_ylabel(), ax.get_title()
+    ('power [(N·m)²]', 'seed-30kmh-dry.tdms, J5 in kg·m²')
+    >>> plt.close(fig)
+    """
+    from matplotlib.text import Text
+
+    from rollerrig._display import typeset_units
+
+    for artist in fig.findobj(Text):
+        text = artist.get_text()
+        if text and "$" not in text:
+            typeset = typeset_units(text)
+            if typeset != text:
+                artist.set_text(typeset)
 
 
 def _metadata(fmt: str, record: dict[str, Any]) -> dict[str, str]:
@@ -131,8 +164,6 @@ def save_figure(
     >>> figure_provenance(p)["parameters"]
     {'run': 1}
     """
-    import matplotlib.pyplot as plt
-
     path = Path(path)
     fmt = path.suffix.lower().lstrip(".")
     try:
@@ -143,6 +174,7 @@ def save_figure(
             )
         record = metadata if is_provenance(metadata) else provenance(**(metadata or {}))
         meta = _metadata(fmt, dict(record))  # type: ignore[arg-type]
+        typeset_figure_units(fig)
         return atomic_write(
             path,
             lambda p: fig.savefig(
@@ -151,4 +183,8 @@ def save_figure(
             overwrite=overwrite,
         )
     finally:
-        plt.close(fig)  # a long session (CLI, demo, tests) must not pile up open figures
+        # A long session (CLI, demo, tests) must not pile up open figures. Only pyplot holds
+        # figures open: without it imported there is none to close (and no import to pay).
+        pyplot = sys.modules.get("matplotlib.pyplot")
+        if pyplot is not None:
+            pyplot.close(fig)
