@@ -191,6 +191,20 @@ def test_a_strong_line_near_the_low_edge_of_a_short_record_is_found(seed):
     assert [round(p.frequency, 1) for p in peaks] == [0.8, 13.8]
 
 
+def test_red_noise_in_one_segment_rarely_makes_a_false_peak():
+    """The edge padding that finds the line above must not invent lines in noise: 100 records
+    of a random walk (1/f² power, the shape of a quiet torque at low frequency), one segment
+    each, give at most 3 false peaks in all (measured over 300 records: 0.010 per record with
+    the reflected floor, 0.057 with the old padding)."""
+    fs, n = 250.0, 1621
+    false = 0
+    for seed in range(100):
+        x = 0.05 * np.cumsum(np.random.default_rng(seed).standard_normal(n))
+        spectrum = power_spectrum(x, fs, nperseg=n)
+        false += len(find_spectral_peaks(spectrum, min_frequency=2.5 * fs / n, min_snr=15.0))
+    assert false <= 3
+
+
 def test_pure_noise_gives_no_peaks():
     rng = np.random.default_rng(11)
     x = rng.standard_normal(60_000)
