@@ -144,8 +144,18 @@ def _reading_back(files: dict, final: Path, rig):
         yield run
 
 
-def run_demo(out, console=None, free_rolling_duration: float = 20.0, *, workdir=None) -> dict:
+def run_demo(
+    out,
+    console=None,
+    free_rolling_duration: float = 20.0,
+    *,
+    workdir=None,
+    figure_format: str = "png",
+) -> dict:
     """Run the demonstration and write everything to ``out``; returns the written paths.
+
+    ``figure_format``: ``png``, ``svg`` or ``pdf`` for the twin's figure, the free-rolling
+    spectra and the order map (the HTML report embeds its own PNG figures).
 
     ``workdir``: write the files there instead (e.g. a staging folder whose files are moved
     into ``out`` once everything succeeded); sources and provenance still name ``out``. The
@@ -162,7 +172,14 @@ def run_demo(out, console=None, free_rolling_duration: float = 20.0, *, workdir=
     out.mkdir(parents=True, exist_ok=True)
     rig = default_rig()
     start = time.perf_counter()
-    written = _adhesion_test(rig, out, say)
+    from rollerrig._validation import ParameterError
+    from rollerrig.output.figures import FIGURE_FORMATS
+
+    if figure_format not in FIGURE_FORMATS:
+        raise ParameterError(
+            f"figure_format must be one of {', '.join(FIGURE_FORMATS)}, got {figure_format!r}"
+        )
+    written = _adhesion_test(rig, out, say, figure_format)
     written |= _perturbed_test(rig, out, say)
     say("3/4 free rolling at 5/10/20/30 km/h, recorded as ASAM MDF4 at 600 Hz ...")
     mdf_paths = _free_rolling_files(rig, out, free_rolling_duration)
@@ -170,12 +187,12 @@ def run_demo(out, console=None, free_rolling_duration: float = 20.0, *, workdir=
     read_back = {"recording": written["recording"], "truth": written["truth"]}
     read_back |= {f"free_rolling_{p.stem.split('-')[-1]}": p for p in mdf_paths}
     with _reading_back(read_back, final, rig):
-        found = _analyse(rig, out, final, written, mdf_paths)
+        found = _analyse(rig, out, final, written, mdf_paths, figure_format)
     say(f"done in {time.perf_counter() - start:.1f} s")
     return {**written, **found}
 
 
-def _adhesion_test(rig, out: Path, say) -> dict:
+def _adhesion_test(rig, out: Path, say, figure_format: str = "png") -> dict:
     """The 30 km/h dry test on the twin: its figure, the DAQ's TDMS file, the truth (NetCDF)."""
     from rollerrig.output import save_figure, write_dataset
     from rollerrig.recordings.synthetic import synthetic_recording
@@ -185,7 +202,8 @@ def _adhesion_test(rig, out: Path, say) -> dict:
 
     say("1/4 simulating the 30 km/h dry adhesion test on the digital twin (compiles once) ...")
     twin = Simulation(rig, "seed-30kmh-dry", output_rate=1000.0).run()
-    written = {"twin_figure": save_figure(experiment_figure(twin), out / "twin-seed-30kmh-dry.png")}
+    figure = out / f"twin-seed-30kmh-dry.{figure_format}"
+    written = {"twin_figure": save_figure(experiment_figure(twin), figure)}
     say("2/4 writing what the DAQ records: NI TDMS at 250 Hz, truth beside it (NetCDF) ...")
     recording, truth = synthetic_recording(twin, sample_rate=250.0, seed=1)
     truth.attrs["provenance"] = twin.attrs["provenance"]
@@ -256,7 +274,9 @@ def _free_rolling_files(rig, out: Path, duration: float) -> list[Path]:
     return paths
 
 
-def _analyse(rig, out: Path, final: Path, written: dict, mdf_paths: list[Path]) -> dict:
+def _analyse(
+    rig, out: Path, final: Path, written: dict, mdf_paths: list[Path], figure_format: str = "png"
+) -> dict:
     """Read the files back: the test's analysis and report, the free-rolling spectra."""
     import xarray as xr
 
@@ -276,14 +296,15 @@ def _analyse(rig, out: Path, final: Path, written: dict, mdf_paths: list[Path]) 
     log = shared_log_frequency(explained)  # one axis for the four speeds, side by side
     for path, e in zip(mdf_paths, explained, strict=True):
         found[path.stem] = save_figure(
-            spectrum_figure(e, title=path.name, log_frequency=log), out / f"{path.stem}.png"
+            spectrum_figure(e, title=path.name, log_frequency=log),
+            out / f"{path.stem}.{figure_format}",
         )
     omap = spectra.order_map()
     found["order_map"] = save_figure(
         order_map_figure(
             omap, roller_radius=rig.geometry.roller_radius_x, modes=[e.modes for e in explained]
         ),
-        out / "order-map.png",
+        out / f"order-map.{figure_format}",
     )
     # Shaft displacement (laser at the torque sensor) against torque at 30 km/h (§4.5.2.4).
     e30 = explained[-1]

@@ -23,6 +23,7 @@ COMMANDS = (
     "study show",
     "study frame",
     "study drive-dynamics",
+    "demo",
 )
 
 

@@ -3,14 +3,18 @@
 from __future__ import annotations
 
 from rollerrig.cli._console import QuietOption, console, print_written
-from rollerrig.cli._options import DEFAULT_OUT, OutOption
+from rollerrig.cli._options import DEFAULT_OUT, FigureFormat, FigureFormatOption, OutOption
 from rollerrig.cli._outputs import command_outputs
 from rollerrig.cli.recordings import print_analysis
 
 __all__ = ["demo"]
 
 
-def demo(out: OutOption = DEFAULT_OUT, quiet: QuietOption = False) -> None:
+def demo(
+    out: OutOption = DEFAULT_OUT,
+    quiet: QuietOption = False,
+    figure_format: FigureFormatOption = FigureFormat.png,
+) -> None:
     """End to end on the bundled rig: simulate, record, analyse, report.
 
     \b
@@ -30,7 +34,9 @@ def demo(out: OutOption = DEFAULT_OUT, quiet: QuietOption = False) -> None:
         require(module, "all", "rollerrig demo")
 
     with command_outputs(out, run="demo", rig=default_rig()) as stage:
-        paths = run_demo(out, console, workdir=stage.dir)
+        paths = run_demo(
+            out, console, workdir=stage.dir, figure_format=FigureFormat(figure_format).value
+        )
     print_analysis(paths["result"])
     lines = ", ".join(f"{f:.3f} Hz" for f in paths["speed_independent"]) or "none"
     console.print(
