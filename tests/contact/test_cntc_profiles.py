@@ -17,6 +17,7 @@ in ``$CONTACT_DIR/examples`` or ``$CONTACT_SOURCE/examples``); elsewhere they ar
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -229,18 +230,57 @@ def _kwargs(wheel, rail):
     )
 
 
+def _slope(body, key, element="0.2mm"):
+    """The recorded solutions at ξ = -1e-4 and +1e-4 (element 0.2 mm, the sweep's)."""
+    return np.array(REF["slope"][f"{body}_{element}"][key])
+
+
 def test_live_backend_reproduces_the_recorded_transfer():
     wheel, rail = _profiles_or_skip()
-    i = REF["sweep"]["long_creep"].index(1e-3)
+    assert REF["sweep"]["element_size_m"] == 2e-4 and REF["slope"]["long_creep"] == [-1e-4, 1e-4]
     r = profile_transfer_factor(
-        [1e-3], roller_radius=INP["roller_radius_m"], **_kwargs(wheel, rail)
+        [1e-4], roller_radius=INP["roller_radius_m"], **_kwargs(wheel, rail)
     )
-    for body, got in (("tangent_rail", r.rail), ("roller", r.roller)):
-        # the creepage is hit within 1e-3 of itself, from a calibration that here starts at
-        # ξ = 1e-3 instead of the sweep's 1e-5: F_x within 1e-4 (measured 1.4e-5 on the roller)
-        assert got.fx[0] == pytest.approx(_sweep(body, "fx [N]")[i], rel=1e-4)
-        assert got.patch_length_x[0] == pytest.approx(_sweep(body, "patch_length_x [m]")[i])
-    assert r.factor[0] == pytest.approx(REF["sweep"]["transfer_factor"][i], rel=2e-4)
+    for body, plus, minus in (("tangent_rail", r.rail, r.rail_reversed),
+                              ("roller", r.roller, r.roller_reversed)):  # fmt: skip
+        # each creepage hit within 1e-3 of itself from another starting guess: F_x within 1e-4
+        # of the recorded value at ±1e-4 (the smaller of the two, the rail's at -1e-4, 1e-3)
+        fx = _slope(body, "fx [N]")
+        assert plus.fx[0] == pytest.approx(fx[1], rel=1e-4)
+        assert minus.fx[0] == pytest.approx(fx[0], rel=1e-3, abs=0.1)
+    odd = {b: (_slope(b, "fx [N]")[1] - _slope(b, "fx [N]")[0]) / 2 for b in BODIES}
+    assert r.factor[0] == pytest.approx(odd["tangent_rail"] / odd["roller"], rel=1e-3)
+
+
+def test_the_recorded_spin_push_is_why_the_factor_takes_odd_parts():
+    """S1002 on UIC60: at ξ = ±1e-4 the rail's F_x is +567 N and -66 N, the roller's +489 N and
+    +59 N, so the plain ratio at +1e-4 (1.16) and at 1e-5 (0.96, the sweep) say little; the odd
+    parts give 1.47, and the recorded sweep's plain ratio comes near it only where the creepage's
+    force outgrows the push (1.27-1.29 at 2.5e-4 to 5e-4)."""
+    odd = {b: (_slope(b, "fx [N]")[1] - _slope(b, "fx [N]")[0]) / 2 for b in BODIES}
+    even = {b: (_slope(b, "fx [N]")[1] + _slope(b, "fx [N]")[0]) / 2 for b in BODIES}
+    assert odd["tangent_rail"] / odd["roller"] == pytest.approx(1.4724, abs=1e-4)
+    assert 200.0 < even["tangent_rail"] < 300.0 and 250.0 < even["roller"] < 300.0
+    assert REF["sweep"]["transfer_factor"][0] == pytest.approx(0.96, abs=0.01)
+
+
+def test_the_factor_is_the_ratio_of_the_odd_parts(monkeypatch):
+    """A stand-in for CONTACT, F_x = k ξ + push (a spin push that keeps its sign): the factor
+    is k_rail / k_roller at every creepage, whatever the pushes; the plain ratio is not."""
+    import rollerrig.contact.cntc_profiles as cp
+
+    def fake(long_creep, *, roller_radius=None, **kwargs):
+        xi = np.atleast_1d(np.asarray(long_creep, dtype=float))
+        k, push = (3.0e6, 250.0) if roller_radius is None else (2.0e6, 280.0)
+        fields = {f.name: np.zeros(xi.shape) for f in dataclasses.fields(cp.ProfileContact)}
+        return cp.ProfileContact(**{**fields, "long_creep": xi, "fx": k * xi + push})
+
+    monkeypatch.setattr(cp, "profile_creep_force", fake)
+    xi = np.array([1e-5, 1e-4, 1e-3])
+    r = cp.profile_transfer_factor(xi, roller_radius=0.452)
+    np.testing.assert_allclose(r.factor, 1.5, rtol=1e-12)
+    np.testing.assert_allclose(r.rail_fx_odd, 3.0e6 * xi, rtol=1e-12)
+    assert abs(r.rail.fx[0] / r.roller.fx[0] - 1.5) > 0.3  # the plain ratio at 1e-5
 
 
 def test_live_an_unreadable_profile_is_one_error_line(tmp_path):

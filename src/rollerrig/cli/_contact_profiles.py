@@ -73,7 +73,7 @@ def run_profiles(
     """
     from rollerrig._validation import ParameterError
     from rollerrig.contact.cntc import ContactNotAvailable
-    from rollerrig.contact.cntc_profiles import profile_creep_force
+    from rollerrig.contact.cntc_profiles import profile_transfer_factor
 
     xi = np.asarray(PROFILE_CREEPAGES, dtype=float)
     common = dict(
@@ -85,30 +85,28 @@ def run_profiles(
         shear_modulus=shear_modulus,
         poisson=poisson,
     )
-    out = {}
+    solved = []
     try:
         with steps("CONTACT on the profiles") as say:
-            for body, radius in (("tangent_rail", None), ("roller", roller_radius)):
-                per_point = []
-                for k, x in enumerate(xi):
-                    say(f"{body.replace('_', ' ')}: xi = ±{x:g} ({k + 1} of {xi.size})")
-                    per_point.append(
-                        [profile_creep_force(v, roller_radius=radius, **common) for v in (x, -x)]
-                    )
-                out[body] = per_point
+            for k, x in enumerate(xi):
+                say(f"xi = ±{x:g} ({k + 1} of {xi.size}): tangent rail and roller")
+                solved.append(profile_transfer_factor([x], roller_radius=roller_radius, **common))
     except ContactNotAvailable as exc:
         raise UserError(str(exc)) from None
     except (ParameterError, RuntimeError) as exc:
         raise UserError(f"CONTACT on the profiles: {exc}") from None
 
-    def odd(body, name):  # (value at +xi - value at -xi)/2, or the mean for the normal force
-        pairs = [[float(np.ravel(getattr(r, name))[0]) for r in pair] for pair in out[body]]
-        sign = -1.0 if name == "fx" else 1.0
-        return np.array([(a + sign * b) / 2.0 for a, b in pairs])
+    def first(values) -> float:
+        return float(np.ravel(values)[0])
 
-    rail, roller = odd("tangent_rail", "fx"), odd("roller", "fx")
-    n_rail, n_roller = odd("tangent_rail", "normal_force"), odd("roller", "normal_force")
-    factor = rail / roller
+    rail = np.array([first(t.rail_fx_odd) for t in solved])
+    roller = np.array([first(t.roller_fx_odd) for t in solved])
+    # the normal force is even in ξ: the mean of the two solutions
+    n_rail = np.array([(first(t.rail.normal_force) + first(t.rail_reversed.normal_force)) / 2
+                       for t in solved])  # fmt: skip
+    n_roller = np.array([(first(t.roller.normal_force) + first(t.roller_reversed.normal_force))
+                         / 2 for t in solved])  # fmt: skip
+    factor = np.array([first(t.factor) for t in solved])
     hertz = np.asarray(hertz_factor(xi), dtype=float)
     table = Table(
         title=f"Wheel and rail profiles by CONTACT (exact theory, μ {friction:g}, "
@@ -137,6 +135,6 @@ def run_profiles(
         "hertz_factor_rail_over_roller [-]": hertz.tolist(),
         "hertz_note": "the Hertzian factor of the command's creep law on the rig file's radii "
         "(not the profiles' curvatures): a comparison, not a check",
-        "tangent_rail": [[r.to_dict() for r in pair] for pair in out["tangent_rail"]],
-        "roller": [[r.to_dict() for r in pair] for pair in out["roller"]],
+        "tangent_rail": [[t.rail.to_dict(), t.rail_reversed.to_dict()] for t in solved],
+        "roller": [[t.roller.to_dict(), t.roller_reversed.to_dict()] for t in solved],
     }
