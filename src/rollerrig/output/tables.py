@@ -476,24 +476,26 @@ def _cf_attributes(
     return out, file_attrs
 
 
-def _cf_netcdf(ds, meta: Mapping[str, Any], tmp: Path, title: str) -> None:
-    """Write an xarray Dataset with CF-1.10 attributes: ``Conventions``, ``title``,
-    ``history``, ``source``, ``units``/``long_name`` per variable, and the provenance.
+def _cf_netcdf(data, meta: Mapping[str, Any], tmp: Path, title: str, source=None) -> None:
+    """Write labelled data (:class:`~rollerrig.output.labelled.LabelledData`) with CF-1.10
+    attributes: ``Conventions``, ``title``, ``history``, ``source``, ``units``/``long_name``
+    per variable, and the provenance.
 
     Numbers, booleans and text along dimensions (each dimension coordinate a variable of its
-    own) are written by :func:`_write_netcdf`, through h5netcdf from the numpy arrays: no dask
-    or ``distributed`` imported by xarray's scheduler probe, the file as xarray would write
-    it. Anything else (times, non-dimension coordinates, ...) goes through xarray's own
-    encoders (:meth:`xarray.Dataset.to_netcdf`)."""
+    own) are written by :func:`_write_netcdf`, through h5netcdf from the numpy arrays: no
+    xarray, no dask or ``distributed`` imported by xarray's scheduler probe, the file as xarray
+    would write it. Anything else (times, non-dimension coordinates, ...) goes through
+    xarray's own encoders (:meth:`xarray.Dataset.to_netcdf`), from ``source`` (the xarray
+    Dataset ``data`` came from, renamed as ``data`` is) or from ``data`` itself."""
     variables = {
-        str(name): _NcVariable(tuple(map(str, var.dims)), var.values, dict(var.attrs))
-        for name, var in ds.variables.items()
+        name: _NcVariable(var.dims, var.values, dict(var.attrs))
+        for name, var in data.variables.items()
     }
     variables, attrs = _cf_attributes(variables, meta, title)
-    if _writable_directly(ds, variables):
+    if _writable_directly(data, variables):
         _write_netcdf(tmp, variables, attrs)
         return
-    ds = ds.copy(deep=False)
+    ds = data.to_xarray() if source is None else source
     for name, var in ds.variables.items():
         var.attrs = variables[str(name)].attrs
     ds.attrs = attrs
@@ -596,15 +598,19 @@ def write_dataset(
     ...     back.attrs["Conventions"], back["f"].attrs["long_name"], back["time"].attrs["units"]
     ('CF-1.10', 'f', 's')
     """
+    from rollerrig.output.labelled import LabelledData
+
     path = Path(path)
     fmt = table_format(path, format)
-    record = provenance if provenance is not None else ds.attrs.get(PROVENANCE_KEY)
+    source = None if isinstance(ds, LabelledData) else ds
+    data = ds if source is None else LabelledData.from_xarray(ds)
+    record = provenance if provenance is not None else data.attrs.get(PROVENANCE_KEY)
     if isinstance(record, str):
         record = json.loads(record)
-    attrs = {k: v for k, v in ds.attrs.items() if k != PROVENANCE_KEY}
+    attrs = {k: v for k, v in data.attrs.items() if k != PROVENANCE_KEY}
     if fmt != "nc":
         columns = {}
-        for name, var in ds.data_vars.items():
+        for name, var in data.data_vars.items():
             if var.dims != ("time",):
                 raise ParameterError(
                     f"{path}: variable {name!r} has dimensions {var.dims}; {fmt} files hold "
@@ -616,31 +622,37 @@ def write_dataset(
             path,
             columns,
             format=fmt,
-            time=ds["time"].values if "time" in ds.coords else None,
+            time=data["time"].values if "time" in data.coords else None,
             provenance=record,
             attrs=attrs,
             overwrite=overwrite,
             mat_version=mat_version,
         )
-    ds = ds.copy(deep=False)
-    for var in ds.variables.values():
+    variables = {n: v._replace(attrs=dict(v.attrs)) for n, v in data.variables.items()}
+    for var in variables.values():
         if is_dimensionless(var.attrs.get("units")):
             var.attrs["units"] = DIMENSIONLESS
-    for name, var in ds.data_vars.items():
+    for name, var in data.data_vars.items():
         if var.dtype.kind in "biuf":
             values = np.asarray(var.values, dtype=float)
-            _check_numeric(path, str(name), values, var.attrs)
-            if var.attrs.get(NAN_MEANING):
-                var.attrs[NAN_SAMPLES] = int(np.count_nonzero(~np.isfinite(values)))
-    taken = [str(n) for n in (*ds.coords, *ds.dims)]
-    stored = storable_names([str(n) for n in ds.data_vars], "nc", reserved=taken)
+            attrs_of = variables[name].attrs
+            _check_numeric(path, str(name), values, attrs_of)
+            if attrs_of.get(NAN_MEANING):
+                attrs_of[NAN_SAMPLES] = int(np.count_nonzero(~np.isfinite(values)))
+    taken = [*data.coords, *data.sizes]
+    stored = storable_names(list(data.data_vars), "nc", reserved=taken)
     renamed = {n: s for n, s in stored.items() if s != n}
-    if renamed:
-        ds = ds.rename(renamed)
-        for name, new in renamed.items():
-            ds[new].attrs = {**ds[new].attrs, ORIGINAL_NAME: name}
+    for name in renamed:
+        variables[name].attrs[ORIGINAL_NAME] = name
+    data = LabelledData.from_variables(
+        {renamed.get(n, n): v for n, v in variables.items()}, data.coords, data.attrs
+    )
+    if source is not None:  # xarray's own encoders may be needed: its names as written
+        source = source.copy(deep=False).rename(renamed) if renamed else source.copy(deep=False)
     meta = {**attrs, PROVENANCE_KEY: dict(record) if record is not None else _provenance()}
-    return atomic_write(path, lambda tmp: _cf_netcdf(ds, meta, tmp, path.stem), overwrite=overwrite)
+    return atomic_write(
+        path, lambda tmp: _cf_netcdf(data, meta, tmp, path.stem, source), overwrite=overwrite
+    )
 
 
 # --------------------------------------------------------------------------- the writer
