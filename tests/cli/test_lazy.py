@@ -2,8 +2,9 @@
 
 Run in fresh processes (what is imported cannot be seen in the test process, which has
 imported everything): ``rollerrig rig list`` imports no other command's module;
-``rollerrig simulate`` imports neither dask nor distributed (xarray's probes, its NetCDF
-writer's scheduler probe) and writes a NetCDF file xarray reads.
+``rollerrig simulate`` imports neither xarray (nor pandas or pyarrow under it) nor dask,
+distributed or pyplot, and writes the NetCDF file and figure it wrote through xarray: the same
+variables, values and attributes as :meth:`Simulation.run`'s Dataset saved.
 """
 
 from __future__ import annotations
@@ -48,15 +49,42 @@ def test_a_command_imports_no_other_commands_module(tmp_path):
     assert modules & _COMMAND_MODULES == {"rollerrig.cli.rigs"}
 
 
-def test_simulate_imports_neither_dask_nor_distributed(tmp_path):
+_NOT_ON_THE_ONE_RUN_PATH = ("xarray", "pandas", "pyarrow", "dask", "distributed")
+"""Top-level packages ``rollerrig simulate`` must not import: it writes, draws and summarises
+its results without xarray (pandas and pyarrow come with xarray; dask with xarray's probes)."""
+
+
+def test_simulate_imports_no_xarray_pandas_dask_or_pyplot(tmp_path):
     out = tmp_path / "out"
     modules = _imported(tmp_path, "simulate", "-e", "release-test", "--out", str(out), "--quiet")
-    heavy = sorted(m for m in modules if m.split(".")[0] in ("dask", "distributed"))
+    heavy = sorted(m for m in modules if m.split(".")[0] in _NOT_ON_THE_ONE_RUN_PATH)
     assert heavy == []
+    assert "matplotlib.pyplot" not in modules  # the figure on an Agg canvas of its own
+    assert "matplotlib.backends.backend_agg" in modules  # (the check sees matplotlib's names)
     # Only the command's module (and the creep-law choice it shares with `contact`).
     assert modules & _COMMAND_MODULES == {"rollerrig.cli.twin", "rollerrig.cli.contact"}
-    with xr.open_dataset(out / "release-test.nc") as ds:
+    assert (out / "release-test.png").stat().st_size > 10_000
+
+    # The file is the one the Dataset of `Simulation.run` gives, saved the way it was before.
+    from rollerrig.solve.results import save_dataset
+    from rollerrig.solve.simulation import Simulation
+
+    before = save_dataset(Simulation(experiment="release-test").run(), tmp_path / "before.nc")
+    with xr.open_dataset(out / "release-test.nc") as ds, xr.open_dataset(before) as ref:
         assert ds.attrs["Conventions"] == "CF-1.10"
         assert ds["coa"].attrs["units"] == "1" and np.isfinite(ds["coa"].values).any()
         assert "_FillValue" not in ds["coa"].encoding
-    assert (out / "release-test.png").stat().st_size > 10_000
+        assert list(ds.variables) == list(ref.variables)
+        for name, var in ref.variables.items():
+            assert ds[name].attrs == var.attrs, name
+            assert ds[name].dtype == var.dtype, name
+            if var.dtype.kind == "f":  # the solver's wall time aside, the run is deterministic
+                np.testing.assert_array_equal(ds[name].values, var.values, err_msg=name)
+            else:
+                assert list(ds[name].values) == list(var.values), name
+        # The file's attributes alike but for when and by which command it was made.
+        made = ("provenance", "history")
+        assert {k: v for k, v in ds.attrs.items() if k not in made} == {
+            k: v for k, v in ref.attrs.items() if k not in made
+        }
+        assert list(ds.attrs) == list(ref.attrs)

@@ -35,13 +35,13 @@ from rollerrig.cli._options import (
     load_rig,
 )
 from rollerrig.cli._outputs import command_outputs
-from rollerrig.cli._probes import dask_probes_deferred
 from rollerrig.cli.contact import CreepLaw
 
 __all__ = ["modes", "protocol_inputs", "simulate", "variant_stem"]
 
 _FORMAT_NEEDS = {"nc": ("h5netcdf",), "parquet": ("pyarrow",)}
-"""Optional packages the results writer needs per ``--format`` (beyond xarray)."""
+"""Optional packages the results writer needs per ``--format``: the results are written without
+xarray (:func:`rollerrig.solve.simulation.Simulation.solve`)."""
 
 
 def variant_stem(
@@ -174,7 +174,6 @@ def _experiment_list(names) -> str:
     return "\n".join(lines)
 
 
-@dask_probes_deferred()  # one run, no dask array: xarray need not import dask to ask
 def simulate(
     experiment: Annotated[
         str,
@@ -256,8 +255,8 @@ def simulate(
     from rollerrig.solve.simulation import Simulation
 
     # Packages the run will need, checked before the simulation (the error names the extra).
-    for module in ("xarray", *(("numba",) if solver is Solver.fast else ())):
-        require(module, purpose="rollerrig simulate")
+    if solver is Solver.fast:
+        require("numba", purpose="rollerrig simulate")
     for module in _FORMAT_NEEDS.get(output_format.value, ()):
         require(module, purpose=f"rollerrig simulate --format {output_format.value}")
     _lag_used_by(roller_drive, roller_lag_s)
@@ -309,7 +308,7 @@ def simulate(
             if solver is Solver.fast:
                 _say_compile_stage(batch=False, dq=drives.roller == "induction_dq")
             task = bar.add_task("simulating", total=duration, info="solving")
-            ds = sim.run(
+            ds = sim.solve(  # the results without xarray: written, drawn and summarised
                 progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s")
             )
             bar.update(task, completed=duration, info="done")

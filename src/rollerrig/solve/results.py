@@ -20,19 +20,24 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from rollerrig.output import OutputError, write_dataset
 from rollerrig.output.jsonfile import json_text
+from rollerrig.output.labelled import LabelledData
 from rollerrig.output.provenance import provenance as _provenance
 from rollerrig.output.provenance import rig_sha256
 from rollerrig.rig import model as m
 
+if TYPE_CHECKING:
+    import xarray as xr
+
 __all__ = [
     "SAVE_FORMATS",
     "build_dataset",
+    "build_results",
     "evaluate_terms",
     "first_segment_terms",
     "save_dataset",
@@ -216,7 +221,8 @@ def _rig_part_of_dq(inputs, x: np.ndarray) -> np.ndarray:
 
 
 def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
-    """Assemble the labelled dataset from a solution.
+    """Assemble the labelled dataset from a solution: :func:`build_results` as an
+    :class:`xarray.Dataset`.
 
     Parameters
     ----------
@@ -232,6 +238,31 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
     Returns
     -------
     xarray.Dataset
+    """
+    return build_results(inputs, t, x, solver).to_xarray()
+
+
+def build_results(inputs, t, x, solver: dict) -> LabelledData:
+    """Assemble the labelled results from a solution, without xarray.
+
+    Parameters
+    ----------
+    inputs : ModelInputs
+        What was simulated.
+    t : ndarray, shape (n,)
+        Sample times [s].
+    x : ndarray, shape (n, N_STATES)
+        States at those times.
+    solver : dict
+        Solver name, settings and statistics (kept in the provenance).
+
+    Returns
+    -------
+    LabelledData
+        The content of :func:`build_dataset`'s Dataset (variables, coordinate ``time``,
+        attributes), which :func:`save_dataset`, :func:`rollerrig.report.twin.
+        experiment_figure` and :func:`rollerrig.studies.metrics.release_overshoots` take as
+        they take the Dataset.
     """
     from rollerrig import __version__
 
@@ -345,13 +376,15 @@ def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
         **nan_counts,
         "provenance": json_text(provenance),
     }
-    ds = xr.Dataset(data, coords={"time": ("time", t, {"units": "s", "long_name": "time"})})
-    ds.attrs.update(attrs)
-    return ds
+    time = {"time": ("time", t, {"units": "s", "long_name": "time"})}
+    return LabelledData(data, coords=time, attrs=attrs)
 
 
-def save_dataset(ds: xr.Dataset, path: str | os.PathLike, *, overwrite: bool = False) -> Path:
-    """Write a results dataset; the format follows the suffix (.nc, .csv, .parquet, .mat).
+def save_dataset(
+    ds: xr.Dataset | LabelledData, path: str | os.PathLike, *, overwrite: bool = False
+) -> Path:
+    """Write a results dataset (or :func:`build_results`' labelled results); the format
+    follows the suffix (.nc, .csv, .parquet, .mat).
 
     A thin adapter over :func:`rollerrig.output.write_dataset` (one convention per format: units
     on every column; NetCDF with CF-1.10 attributes; CSV with ``name [unit]`` headers and a

@@ -153,14 +153,29 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         return output_times(self.protocol.duration, self.output_rate)
 
     def run(self, progress: Callable[[float, float], None] | None = None):
-        """Run the experiment and return the labelled dataset (:func:`build_dataset`).
+        """Run the experiment and return the labelled dataset
+        (:func:`~rollerrig.solve.results.build_dataset`, an :class:`xarray.Dataset`).
 
         Raises
         ------
         SolverError
             The solver failed: the message names the time it reached and what to try.
         """
-        from rollerrig.solve.results import build_dataset
+        return self.solve(progress).to_xarray()
+
+    def solve(self, progress: Callable[[float, float], None] | None = None):
+        """Run the experiment and return the labelled results without importing xarray
+        (:func:`~rollerrig.solve.results.build_results`, a
+        :class:`~rollerrig.output.labelled.LabelledData`): the content of :meth:`run`'s
+        Dataset, for a caller that only writes, draws or summarises it (``rollerrig
+        simulate``); its ``to_xarray()`` gives the Dataset.
+
+        Raises
+        ------
+        SolverError
+            The solver failed: the message names the time it reached and what to try.
+        """
+        from rollerrig.solve.results import build_results
 
         t = self.times
         start = time.perf_counter()
@@ -184,7 +199,7 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         if stats["status"] != 0 or not np.all(np.isfinite(x)):
             self._fail(name, stats, x, t)
         solver = {"name": name, "settings": settings, "stats": stats, "wall_time_s": wall}
-        return build_dataset(self.inputs, t, x, solver)
+        return build_results(self.inputs, t, x, solver)
 
     def _fail(self, name: str, stats: dict, x: np.ndarray, t: np.ndarray):
         """Raise the :class:`SolverError` of a failed run."""
