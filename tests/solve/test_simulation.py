@@ -31,7 +31,11 @@ def test_fast_backend_agrees_with_reference(name):
     protocol = load_protocol(name)
     inputs = assemble(default_rig(), protocol)
     t = np.arange(0, protocol.duration * 250 + 1) / 250
-    ref, _ = integrate_reference(inputs, t, rtol=1e-9)
+    # Radau at rtol 1e-8 differs from Radau at 1e-10 by at most 0.00077 N.m in T56 and
+    # 6e-6 rad/s in the speeds on these two tests (measured), under 0.1 % of the limits below
+    # (1 N.m, 0.02 rad/s); the fast backend's own error is 0.027 and 0.010 N.m. At 1e-9 it
+    # cost 25 s of CPU, at 1e-8 14 s.
+    ref, _ = integrate_reference(inputs, t, rtol=1e-8)
     fast, stats = integrate_experiment(inputs, t)  # default settings
     assert stats["status"] == 0
     k56 = inputs.rig.stiffness.roller_shaft
