@@ -22,6 +22,36 @@ if "NUMBA_CACHE_DIR" not in os.environ:
     os.environ["NUMBA_CACHE_DIR"] = str(Path(tempfile.gettempdir()) / f"rollerrig-tests-{_user}")
 
 
+def pytest_configure(config):
+    """Keep the file order of :func:`pytest_collection_modifyitems` when xdist hands files out.
+
+    ``--dist loadfile`` otherwise sorts the files by their number of tests (xdist's
+    ``--loadscope-reorder``, on by default), which hands out last the files of one or two
+    long tests (a calibration's coverage over 10 recordings, the demo, the docs build) and
+    leaves one worker running them while the other has nothing left to do.
+    """
+    if hasattr(config.option, "loadscopereorder"):
+        config.option.loadscopereorder = False
+
+
+def pytest_collection_modifyitems(config, items):
+    """On an xdist worker, order the files as the workers should get them: files that hold a
+    test marked ``slow`` first, then the others, each group by number of tests (most first, as
+    xdist's own reorder does), the tests of a file in their order. Every worker collects the
+    same order, which the controller keeps (:func:`pytest_configure`); a run without xdist
+    keeps pytest's order."""
+    if not hasattr(config, "workerinput"):
+        return
+    files: dict[str, list] = {}
+    for item in items:
+        files.setdefault(item.nodeid.split("::", 1)[0], []).append(item)
+
+    def weight(tests):
+        return (not any(t.get_closest_marker("slow") for t in tests), -len(tests))
+
+    items[:] = [t for tests in sorted(files.values(), key=weight) for t in tests]
+
+
 def pytest_sessionstart(session):
     """On a full run (``pytest`` with no paths), compile the fast backend once, before workers.
 
