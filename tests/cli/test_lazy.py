@@ -4,7 +4,8 @@ Run in fresh processes (what is imported cannot be seen in the test process, whi
 imported everything): ``rollerrig rig list`` imports no other command's module;
 ``rollerrig simulate`` imports neither xarray (nor pandas or pyarrow under it) nor dask,
 distributed or pyplot, and writes the NetCDF file and figure it wrote through xarray: the same
-variables, values and attributes as :meth:`Simulation.run`'s Dataset saved.
+variables, values and attributes as :meth:`Simulation.run`'s Dataset saved; with
+``--no-figure`` it imports no matplotlib and writes no figure.
 """
 
 from __future__ import annotations
@@ -88,3 +89,15 @@ def test_simulate_imports_no_xarray_pandas_dask_or_pyplot(tmp_path):
             k: v for k, v in ref.attrs.items() if k not in made
         }
         assert list(ds.attrs) == list(ref.attrs)
+
+
+def test_simulate_without_the_figure_imports_no_matplotlib(tmp_path):
+    out = tmp_path / "out"
+    args = ("simulate", "-e", "release-test", "--no-figure", "--out", str(out), "--quiet")
+    modules = _imported(tmp_path, *args)
+    assert not [m for m in modules if m.split(".")[0] in ("matplotlib", "PIL")]
+    assert sorted(p.name for p in out.iterdir()) == [
+        "release-test-modes.txt",
+        "release-test.nc",
+        "simulate-release-test-run.json",
+    ]
