@@ -33,10 +33,12 @@ class Variable(NamedTuple):
 
     @property
     def dtype(self) -> np.dtype:
+        """The values' dtype."""
         return self.values.dtype
 
     @property
     def shape(self) -> tuple[int, ...]:
+        """The values' shape."""
         return self.values.shape
 
 
@@ -149,10 +151,12 @@ class LabelledData(Mapping):
 
     @property
     def data_vars(self) -> dict[str, Variable]:
+        """The data variables, in order."""
         return {n: v for n, v in self._variables.items() if n not in self._coord_names}
 
     @property
     def coords(self) -> dict[str, Variable]:
+        """The coordinates, in order."""
         return {n: self._variables[n] for n in self._coord_names}
 
     @property
