@@ -7,6 +7,9 @@
 - :func:`write_table` — the one results writer, keyed by format (csv, parquet, tdms, mf4, mat,
   nc), one convention per format with units on every column; :func:`write_dataset` writes an
   xarray Dataset through it (NetCDF: any dimensions, CF-1.10 attributes).
+- :class:`~rollerrig.output.labelled.LabelledData` — a Dataset's content (variables along
+  named dimensions, attributes) without xarray: what :func:`write_dataset` takes besides an
+  xarray Dataset, and what ``rollerrig simulate`` writes and draws without importing xarray.
 - :func:`storable_names` — the one mapping of column names to what NetCDF and MAT store
   (``oil temp/bearing`` -> ``oil_temp_bearing``, the given name kept as ``original_name``).
 - :func:`provenance`, :func:`run_context` — what made a file: package version and commit,
