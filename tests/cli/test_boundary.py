@@ -219,9 +219,9 @@ def test_help_works_without_any_optional_package():
     [
         ("numba", ["simulate"], "rollerrig simulate needs numba: pip install 'rollerrig[twin]'"),
         (
-            "h5netcdf",
+            "h5py",
             ["simulate"],
-            "rollerrig simulate --format nc needs h5netcdf: pip install 'rollerrig[twin]'",
+            "rollerrig simulate --format nc needs h5py: pip install 'rollerrig[twin]'",
         ),
         ("pandas", ["filters"], "pip install 'rollerrig[io]'"),
     ],

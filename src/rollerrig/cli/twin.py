@@ -39,7 +39,7 @@ from rollerrig.cli.contact import CreepLaw
 
 __all__ = ["modes", "protocol_inputs", "simulate", "variant_stem"]
 
-_FORMAT_NEEDS = {"nc": ("h5netcdf",), "parquet": ("pyarrow",)}
+_FORMAT_NEEDS = {"nc": ("h5py",), "parquet": ("pyarrow",)}
 """Optional packages the results writer needs per ``--format``: the results are written without
 xarray (:func:`rollerrig.solve.simulation.Simulation.solve`)."""
 
