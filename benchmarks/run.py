@@ -70,7 +70,7 @@ def _folder_bytes(folder: Path) -> int:
 _IMPORTS = (
     "import rollerrig.cli, rollerrig.cli.twin, rollerrig.solve.simulation, "
     "rollerrig.solve.results, rollerrig.solve.fast, rollerrig.report.twin, rollerrig.rig.chain, "
-    "h5netcdf"
+    "h5py"
 )
 """What ``rollerrig simulate`` imports before it solves (the floor of a fresh process)."""
 
@@ -403,7 +403,7 @@ def main() -> None:
             f"- simulate: a fresh process only importing what it imports (numpy, scipy, numba, "
             f"matplotlib, h5netcdf and rollerrig; no xarray, pandas or pyplot) takes "
             f"{cli['imports']:.2f} s of the {cli['warm']:.2f} s; the rest is loading the "
-            "compiled solver and solving (about 0.55 s), the NetCDF file (0.35 s) and drawing "
+            "compiled solver and solving (about 0.5 s), the NetCDF file (0.06 s) and drawing "
             "the figure (about 1 s; `--no-figure` leaves it and matplotlib out)"
         )
     if duration / f_time < 2000 or lsoda_time / f_time < 20:
