@@ -57,8 +57,13 @@ MOVED: dict[str, str] = {
 }
 """Old module name -> new module name (a package's submodules follow it)."""
 
+_PREFIXES = tuple({old.rsplit(".", 1)[0] + "." for old in MOVED})
+"""The packages that held a moved module (``rollerrig.measure.`` ...)."""
+
 
 def _new_name(fullname: str) -> str | None:
+    if not fullname.startswith(_PREFIXES):  # every other import asks too: answer at once
+        return None
     for old, new in MOVED.items():
         if fullname == old or fullname.startswith(old + "."):
             return new + fullname[len(old) :]

@@ -40,16 +40,31 @@ def typeset_figure_units(fig) -> None:
     ('power [(N·m)²]', 'seed-30kmh-dry.tdms, J5 in kg·m²')
     >>> plt.close(fig)
     """
-    from matplotlib.text import Text
-
     from rollerrig._display import typeset_units
 
-    for artist in fig.findobj(Text):
+    for artist in _labels(fig):
         text = artist.get_text()
         if text and "$" not in text:
             typeset = typeset_units(text)
             if typeset != text:
                 artist.set_text(typeset)
+
+
+def _labels(fig):
+    """The texts of ``fig`` that words and units are written in: the figure's and every axes'
+    titles, axis labels, texts, annotations and legends (not the tick labels, numbers that
+    matplotlib formats; walking every artist cost 0.1 s on the six-panel experiment figure)."""
+    yield from fig.texts
+    legends = list(fig.legends)
+    for ax in fig.axes:
+        yield from (ax.title, ax._left_title, ax._right_title)
+        yield from (ax.xaxis.label, ax.yaxis.label)
+        yield from ax.texts
+        if ax.get_legend() is not None:
+            legends.append(ax.get_legend())
+    for legend in legends:
+        yield legend.get_title()
+        yield from legend.get_texts()
 
 
 def _metadata(fmt: str, record: dict[str, Any]) -> dict[str, str]:
