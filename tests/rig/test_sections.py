@@ -80,7 +80,8 @@ def test_models_are_frozen():
 
 
 def test_every_field_states_its_quantity_and_si_unit():
-    # Each value is SI in the unit of its quantity, and its description says that unit.
+    # Each value is SI in the unit of its quantity, and its description says that unit (the
+    # dimensionless unit "1" written [-], the package's one spelling in text).
     for section, model in SECTIONS.items():
         if model is MetaParameters:
             continue
@@ -88,7 +89,8 @@ def test_every_field_states_its_quantity_and_si_unit():
             assert quantity_of(field) in QUANTITIES, f"{section}.{key}"
             assert field.description, f"{section}.{key}"
             if typing.get_origin(field.annotation) is not typing.Literal:
-                assert f"[{si_unit_of(field)}]" in field.description, f"{section}.{key}"
+                unit = si_unit_of(field)
+                assert f"[{'-' if unit == '1' else unit}]" in field.description, f"{section}.{key}"
 
 
 ACCURACY_KEYS = (
