@@ -350,3 +350,16 @@ def test_machine_against_motulator_with_the_same_voltage():
     assert err_t < 3e-3  # measured 1.0e-3 of rated torque
     assert err_w < 1e-3  # measured 1.8e-4 of the set speed
     assert err_psi < 1e-3  # measured 1.8e-4 of the nominal flux
+
+
+def test_the_nameplate_fit_is_remembered_and_each_caller_gets_its_own_copy():
+    """The fit is a pure function of the nameplate: asked again, the same machine (not the
+    same object, nor the same fit dict); another nameplate, another machine."""
+    from rollerrig.drives.inverse_gamma_nameplate import inverse_gamma_from_nameplate as fit
+
+    first, again = fit(), fit()
+    assert first == again and first is not again and first.fit is not again.fit
+    again.fit["changed"] = True
+    assert "changed" not in fit().fit
+    other = fit(stator_resistance=0.1)
+    assert other.stator_resistance != first.stator_resistance
