@@ -1,4 +1,4 @@
-"""NetCDF through h5netcdf directly: the file xarray's own writer would write (same variables,
+"""NetCDF through h5py directly: the file xarray's own writer would write (same variables,
 dimensions, coordinates, attributes and encodings as read back by ``xarray.open_dataset``),
 without xarray's scheduler probe; a simulation's results round-trip."""
 
@@ -113,6 +113,20 @@ def test_what_needs_xarrays_encoders_still_goes_through_them(tmp_path):
     path = write_dataset(tmp_path / "x.nc", ds, provenance=PROVENANCE)
     with xr.open_dataset(path) as back:
         assert "phase" in back.coords and back["when"].dtype.kind == "M"
+
+
+def test_a_variable_named_as_a_dimension_it_does_not_index_is_written(tmp_path):
+    """``ch`` along ``time`` beside the dimension ``ch`` (found in review: the direct writer
+    made a scale named ``ch`` and then could not create the variable): xarray's writer."""
+    ds = xr.Dataset(
+        {"f": (("time", "ch"), np.ones((2, 3)), {"units": "N"}),
+         "ch": ("time", np.array([1.0, 2.0]), {"units": "m"})},
+        coords={"time": [0.0, 1.0]},
+    )  # fmt: skip
+    path = write_dataset(tmp_path / "clash.nc", ds, provenance=PROVENANCE)
+    with xr.open_dataset(path) as back:
+        assert back["ch"].dims == ("time",) and back["ch"].values.tolist() == [1.0, 2.0]
+        assert back["f"].shape == (2, 3)
 
 
 @pytest.fixture(scope="module")

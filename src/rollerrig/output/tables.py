@@ -505,10 +505,14 @@ def _cf_netcdf(data, meta: Mapping[str, Any], tmp: Path, title: str, source=None
 
 def _writable_directly(ds, variables: Mapping[str, _NcVariable]) -> bool:
     """Whether :func:`_write_netcdf` writes ``ds`` as xarray would: every variable numbers,
-    booleans or text, every coordinate a dimension's own, no encoding to honour but none."""
+    booleans or text, every coordinate a dimension's own, no variable named as a dimension it
+    does not index (xarray writes that one under another scale), no encoding to honour but
+    none."""
     if set(ds.coords) - set(ds.dims) or "coordinates" in ds.attrs:
         return False
     for name, var in variables.items():
+        if name in ds.dims and tuple(var.dims) != (name,):
+            return False
         kind = var.values.dtype.kind
         if (kind not in "biufU" and not _is_text(var.values)) or "coordinates" in var.attrs:
             return False
