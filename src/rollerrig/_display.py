@@ -138,24 +138,31 @@ def number(value, digits: int = 4) -> str:
 
 _UNIT = r"(?:kg|N|m|mm|rad|s|ms|W|V|A|Pa|kN|Hz|J)"
 _COMPOUND_UNIT = re.compile(
-    rf"(?<![\w.]){_UNIT}(?:\^-?[123])?(?:[./]{_UNIT}(?:\^-?[123])?)*(?![\w^])"
+    rf"(?<![\w.])(?<![A-Za-z_]/){_UNIT}(?:\^-?[123])?(?:[./]{_UNIT}(?:\^-?[123])?)*(?![\w^])"
 )
+_INITIALS = re.compile(r"[A-Z](?:\.[A-Z])+")
+"""``J.J``, ``A.A``: a name's initials, not newton-metres (found in review)."""
 
 
 def typeset_units(text: str) -> str:
     """Units in running text typeset: ``N.m`` -> ``N·m``, ``kg.m^2`` -> ``kg·m²``.
 
     Only tokens made of unit symbols joined by ``.`` or carrying a power change; words, file
-    names and numbers are left as they are.
+    names and paths (``data/V.m``), initials (``J.J. Kalker``) and numbers are left as they
+    are.
 
     Examples
     --------
     >>> typeset_units("1.732 N.m and 45 kg.m^2 of rig.toml, area 0.05 m^2, 3 rad/s^2.")
     '1.732 N·m and 45 kg·m² of rig.toml, area 0.05 m², 3 rad/s².'
+    >>> typeset_units("Kalker J.J. (1990), A.A. Shabana, data/V.m, v1.2, 1/s^2, (N.m)²")
+    'Kalker J.J. (1990), A.A. Shabana, data/V.m, v1.2, 1/s², (N·m)²'
     """
 
     def one(match: re.Match) -> str:
         token = match.group(0)
+        if _INITIALS.fullmatch(token):
+            return token
         return pretty_unit(token) if ("." in token or "^" in token) else token
 
     return _COMPOUND_UNIT.sub(one, str(text))
