@@ -401,10 +401,10 @@ def main() -> None:
     if cli is not None and cli["warm"] > 2.0:
         print(
             f"- simulate: a fresh process only importing what it imports (numpy, scipy, numba, "
-            f"matplotlib, h5netcdf and rollerrig; no xarray, pandas or pyplot) takes "
+            f"matplotlib, h5py and rollerrig; no xarray, pandas or pyplot) takes "
             f"{cli['imports']:.2f} s of the {cli['warm']:.2f} s; the rest is loading the "
             "compiled solver and solving (about 0.5 s), the NetCDF file (0.06 s) and drawing "
-            "the figure (about 1 s; `--no-figure` leaves it and matplotlib out)"
+            "the figure (about 1.5 s; `--no-figure` leaves it and matplotlib out)"
         )
     if duration / f_time < 2000 or lsoda_time / f_time < 20:
         print(

@@ -3,8 +3,9 @@
 Run in fresh processes (what is imported cannot be seen in the test process, which has
 imported everything): ``rollerrig rig list`` imports no other command's module;
 ``rollerrig simulate`` imports neither xarray (nor pandas or pyarrow under it) nor dask,
-distributed or pyplot, and writes the NetCDF file and figure it wrote through xarray: the same
-variables, values and attributes as :meth:`Simulation.run`'s Dataset saved; with
+distributed or pyplot, and writes a NetCDF file with the same variables, values and attributes
+as :meth:`Simulation.run`'s Dataset saved through the package's writer (that this writer gives
+the file xarray's own would: tests/output/test_netcdf.py); with
 ``--no-figure`` it imports no matplotlib and writes no figure.
 """
 
@@ -66,7 +67,7 @@ def test_simulate_imports_no_xarray_pandas_dask_or_pyplot(tmp_path):
     assert modules & _COMMAND_MODULES == {"rollerrig.cli.twin", "rollerrig.cli.contact"}
     assert (out / "release-test.png").stat().st_size > 10_000
 
-    # The file is the one the Dataset of `Simulation.run` gives, saved the way it was before.
+    # The file is the one the Dataset of `Simulation.run` gives, saved by the same writer.
     from rollerrig.solve.results import save_dataset
     from rollerrig.solve.simulation import Simulation
 

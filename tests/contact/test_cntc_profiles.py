@@ -252,18 +252,6 @@ def test_live_backend_reproduces_the_recorded_transfer():
     assert r.factor[0] == pytest.approx(odd["tangent_rail"] / odd["roller"], rel=1e-3)
 
 
-def test_the_recorded_spin_push_is_why_the_factor_takes_odd_parts():
-    """S1002 on UIC60: at ξ = ±1e-4 the rail's F_x is +567 N and -66 N, the roller's +489 N and
-    +59 N, so the plain ratio at +1e-4 (1.16) and at 1e-5 (0.96, the sweep) say little; the odd
-    parts give 1.47, and the recorded sweep's plain ratio comes near it only where the creepage's
-    force outgrows the push (1.27-1.29 at 2.5e-4 to 5e-4)."""
-    odd = {b: (_slope(b, "fx [N]")[1] - _slope(b, "fx [N]")[0]) / 2 for b in BODIES}
-    even = {b: (_slope(b, "fx [N]")[1] + _slope(b, "fx [N]")[0]) / 2 for b in BODIES}
-    assert odd["tangent_rail"] / odd["roller"] == pytest.approx(1.4724, abs=1e-4)
-    assert 200.0 < even["tangent_rail"] < 300.0 and 250.0 < even["roller"] < 300.0
-    assert REF["sweep"]["transfer_factor"][0] == pytest.approx(0.96, abs=0.01)
-
-
 def test_the_factor_is_the_ratio_of_the_odd_parts(monkeypatch):
     """A stand-in for CONTACT, F_x = k ξ + push (a spin push that keeps its sign): the factor
     is k_rail / k_roller at every creepage, whatever the pushes; the plain ratio is not."""

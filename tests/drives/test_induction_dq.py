@@ -357,7 +357,9 @@ def test_the_nameplate_fit_is_remembered_and_each_caller_gets_its_own_copy():
     same object, nor the same fit dict); another nameplate, another machine."""
     from rollerrig.drives.inverse_gamma_nameplate import inverse_gamma_from_nameplate as fit
 
+    fit.cache_clear()
     first, again = fit(), fit()
+    assert fit.cache_info().hits == 1 and fit.cache_info().misses == 1  # fitted once
     assert first == again and first is not again and first.fit is not again.fit
     again.fit["changed"] = True
     assert "changed" not in fit().fit

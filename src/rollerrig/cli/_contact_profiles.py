@@ -24,7 +24,7 @@ PROFILE_CREEPAGES = (1e-4, 5e-4, 1e-3, 2e-3, 3e-3, 6e-3)
 saturation. Each is solved at +ξ and -ξ on both bodies (four CONTACT solutions of 1-3 s at
 0.2 mm elements): the spin of a conical profile pushes F_x one way whatever the sign of ξ (about
 250 N at 10 kN on S1002/UIC60), so the force of the creepage is the odd part
-(F(ξ) - F(-ξ))/2; a single ratio at 1e-4 would read 1.03 where the odd parts give 1.46."""
+(F(ξ) - F(-ξ))/2; a single ratio at +1e-4 would read 1.16 where the odd parts give 1.47 (μ 0.33)."""
 
 EXAMPLE = "example"
 """``--wheel-profile example`` (``--rail-profile example``): CONTACT's own S1002 wheel (UIC60

@@ -448,7 +448,7 @@ def profile_transfer_factor(long_creep, *, roller_radius, **kwargs) -> ProfileTr
     The factor is the ratio of the odd parts ``(F_x(ξ) - F_x(-ξ)) / 2``, the force of the
     creepage. On real profiles the contact angle brings spin, and spin pushes F_x one way
     whatever the sign of ξ (about 300 N at 10 kN on S1002/UIC60, CONTACT's examples): a plain
-    ratio at ξ = 1e-4 reads 1.03 where the odd parts give 1.47, and at 1e-5 it is 0.96. Towards
+    ratio at ξ = 1e-4 reads 1.16 where the odd parts give 1.47, and at 1e-5 it is 0.96. Towards
     saturation both forces reach μ F_n and the factor tends to the ratio of the normal forces
     (about 1).
 

@@ -107,6 +107,7 @@ def _remembered(fit):
         return dataclasses.replace(machine, fit=dict(machine.fit))
 
     remembered.cache_clear = cached.cache_clear  # type: ignore[attr-defined]
+    remembered.cache_info = cached.cache_info  # type: ignore[attr-defined]
     return remembered
 
 
