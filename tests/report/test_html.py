@@ -130,8 +130,10 @@ def test_text_is_escaped_and_nan_shown_as_na():
 def test_figures_are_embedded_and_closed():
     fig, ax = plt.subplots()
     ax.plot([0, 1], [0, 1])
+    ax.set_ylabel("power [(N.m)²]")
     r = HtmlReport("t")
     r.figure(fig, caption='a "quoted" caption')
+    assert ax.get_ylabel() == "power [(N·m)²]"  # typeset as every saved figure
     assert not plt.fignum_exists(fig.number)
     (part,) = r.parts
     assert part.startswith(

@@ -182,6 +182,9 @@ class HtmlReport:
         )
 
     def figure(self, fig, caption: str = "", dpi: int = 110) -> None:
+        from rollerrig.output.figures import typeset_figure_units
+
+        typeset_figure_units(fig)  # as every saved figure (found: the spectra read (N.m)²)
         buf = io.BytesIO()
         fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
         data = base64.b64encode(buf.getvalue()).decode("ascii")
