@@ -200,7 +200,10 @@ def _adhesion_test(rig, out: Path, say, figure_format: str = "png") -> dict:
     from rollerrig.report.twin import experiment_figure
     from rollerrig.solve.simulation import Simulation
 
-    say("1/4 simulating the 30 km/h dry adhesion test on the digital twin (compiles once) ...")
+    say(
+        "1/4 simulating the 30 km/h dry adhesion test on the digital twin (the first run "
+        "compiles the solver) ..."
+    )
     twin = Simulation(rig, "seed-30kmh-dry", output_rate=1000.0).run()
     figure = out / f"twin-seed-30kmh-dry.{figure_format}"
     written = {"twin_figure": save_figure(experiment_figure(twin), figure)}
