@@ -68,6 +68,13 @@ def _lines(ax, prefix: str):
     return [ln for ln in ax.get_lines() if ln.get_label().startswith(prefix)]
 
 
+def test_with_pyplot_imported_the_figure_is_pyplots(figure):
+    """So that plt.show(), a notebook and sphinx-gallery (which collects pyplot's figures: the
+    gallery's seed experiment lost its figure without this) see it; without pyplot the
+    command line draws it on a canvas of its own (tests/cli/test_lazy.py)."""
+    assert figure.number in plt.get_fignums()
+
+
 def test_six_panels_with_units_in_brackets(figure):
     axes = figure.axes
     assert len(axes) == 6
