@@ -690,7 +690,7 @@ def write_dataset(
         {renamed.get(n, n): v for n, v in variables.items()}, data.coords, data.attrs
     )
     if source is not None:  # xarray's own encoders may be needed: its names as written
-        source = source.copy(deep=False).rename(renamed) if renamed else source.copy(deep=False)
+        source = source.copy(deep=False).rename(renamed)
     meta = {**attrs, PROVENANCE_KEY: dict(record) if record is not None else _provenance()}
     return atomic_write(
         path, lambda tmp: _cf_netcdf(data, meta, tmp, path.stem, source), overwrite=overwrite

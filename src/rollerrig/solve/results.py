@@ -221,24 +221,8 @@ def _rig_part_of_dq(inputs, x: np.ndarray) -> np.ndarray:
 
 
 def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
-    """Assemble the labelled dataset from a solution: :func:`build_results` as an
-    :class:`xarray.Dataset`.
-
-    Parameters
-    ----------
-    inputs : ModelInputs
-        What was simulated.
-    t : ndarray, shape (n,)
-        Sample times [s].
-    x : ndarray, shape (n, N_STATES)
-        States at those times.
-    solver : dict
-        Solver name, settings and statistics (kept in the provenance).
-
-    Returns
-    -------
-    xarray.Dataset
-    """
+    """Assemble the labelled dataset from a solution: :func:`build_results` (same parameters)
+    as an :class:`xarray.Dataset`."""
     return build_results(inputs, t, x, solver).to_xarray()
 
 
