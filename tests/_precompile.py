@@ -1,11 +1,12 @@
 """Compile the fast backend's drivers into the test session's cache, in parallel, once.
 
 Without this, every pytest-xdist worker that first runs a simulation compiles the same drivers
-at the same time (about 250 s of CPU for the six on 2 cores, measured cold: the ETDRK4 driver
-73 s, its batch 45 s, the dq model's 59 s and 36 s, the ROS34PW2 drivers 12 s and 10 s after
-them). The controller runs this script in two processes, each compiling a chain of drivers
-whose callees the chain itself compiles first, so no function is compiled twice; the workers
-then load everything from the cache. Used by ``conftest.py`` on a full run only.
+at the same time (about 155 s of CPU for the four on 2 cores, measured cold: the ETDRK4 driver
+73 s, the dq model's 59 s, the ROS34PW2 drivers 12 s and 10 s after them; the parallel batch
+drivers, 45 s and 36 s more, are gone: the batch runs the single drivers in threads). The
+controller runs this script in two processes, each compiling a chain of drivers whose callees
+the chain itself compiles first, so no function is compiled twice; the workers then load
+everything from the cache. Used by ``conftest.py`` on a full run only.
 
 Run as ``python tests/_precompile.py GROUP`` with GROUP ``plain`` or ``dq``.
 """
@@ -17,19 +18,16 @@ import sys
 GROUPS = ("plain", "dq")
 """The default model's drivers, and the dq roller drive's model's."""
 
-DRIVERS = ("etdrk4", "batch", "ros34pw2")
-"""In this order: the batch and the ROS34PW2 driver call what the ETDRK4 driver compiled."""
+DRIVERS = ("etdrk4", "ros34pw2")
+"""In this order: the ROS34PW2 driver calls what the ETDRK4 driver compiled (its fallback).
+:func:`rollerrig.solve.fast.integrate_batch` runs these same drivers in threads."""
 
 
 def pending(group: str) -> bool:
     """True when a driver of ``group`` is not in the cache yet."""
-    from rollerrig.solve import _cache, fast
+    from rollerrig.solve import fast
 
-    if group == "dq":
-        drivers = fast._dq_drivers()
-    else:
-        drivers = (fast._integrate, fast._integrate_batch, fast._integrate_exp)
-    return not all(_cache.is_cached(d) for d in drivers)
+    return not all(fast.is_compiled(dq=group == "dq", method=m) for m in DRIVERS)
 
 
 def compile_group(group: str) -> None:
@@ -40,16 +38,13 @@ def compile_group(group: str) -> None:
     from rollerrig.rig import default_rig
     from rollerrig.rig.assemble import assemble
     from rollerrig.rig.model import DriveConfig
-    from rollerrig.solve.fast import integrate_batch, integrate_experiment
+    from rollerrig.solve.fast import integrate_experiment
 
     drives = DriveConfig(roller="induction_dq") if group == "dq" else None
     inputs = assemble(default_rig(), load_protocol("release-test"), drives=drives)
     t = np.array([0.0, 0.01])
     for driver in DRIVERS:
-        if driver == "batch":
-            integrate_batch([inputs], t)
-        else:
-            integrate_experiment(inputs, t, method=driver)
+        integrate_experiment(inputs, t, method=driver)
 
 
 if __name__ == "__main__":

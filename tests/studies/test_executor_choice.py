@@ -168,9 +168,9 @@ def test_a_dask_worker_loads_the_solver_once_when_warmed_and_keeps_it(tmp_path):
             spec.h_max)  # fmt: skip
 
     def state():
-        from rollerrig.solve.fast import _integrate_batch
+        from rollerrig.solve.fast import _integrate_exp
 
-        return os.getpid(), len(_integrate_batch.overloads)
+        return os.getpid(), len(_integrate_exp.overloads)
 
     ex = runner_module._DaskExecutor(None, 1)
     try:

@@ -5,7 +5,7 @@
 variant per vector (:meth:`RigParameters.with_overrides`, the creep law's parameter set of the
 recording, the roller speed set point), assembles them on the replayed protocol
 (:func:`rollerrig.rig.assemble.assemble`) and integrates every variant that shares a protocol
-in one call of the fast backend, :func:`rollerrig.solve.fast.integrate_batch` (numba threads).
+in one call of the fast backend, :func:`rollerrig.solve.fast.integrate_batch` (parallel threads).
 Variants of the speed set point or of the normal load have a protocol of their own (inputs of
 the experiment, not rig parameters) and run in batches of their own.
 """

@@ -250,7 +250,7 @@ def calibrate(
         compare_laws=compare_laws,
     ) as stage:
         rec = read(recording, channels, lenient)
-        _say_compile_stage(batch=True, dq=compare or roller == "induction_dq")
+        _say_compile_stage(dq=compare or roller == "induction_dq")
         comparison = None
         with _progress() as bar:
             task = bar.add_task("calibrating", total=3 * max_iterations, info="replaying")

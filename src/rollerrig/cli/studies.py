@@ -262,7 +262,7 @@ def run(
     inputs = {"study": None if spec.origin.startswith("bundled:") else spec.origin, "rig": rig_path}
     with command_outputs(out, run=stem, inputs=inputs, rig=rig, study=spec.name) as stage:
         store = Path(out) / safe_file_name(f"{stem}.zarr")
-        _say_compile_stage(batch=True)
+        _say_compile_stage()
         if executor == "auto" and scheduler is None and not workers:
             where = "executor auto: the first batch here, then local or dask"
         elif executor == "local":

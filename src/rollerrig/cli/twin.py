@@ -313,7 +313,7 @@ def simulate(
         with _progress() as bar:
             duration = sim.protocol.duration
             if solver is Solver.fast:
-                _say_compile_stage(batch=False, dq=drives.roller == "induction_dq")
+                _say_compile_stage(dq=drives.roller == "induction_dq")
             task = bar.add_task("simulating", total=duration, info="solving")
             ds = sim.solve(  # the results without xarray: written, drawn and summarised
                 progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s")
@@ -371,16 +371,15 @@ def _progress():
     return progress()
 
 
-def _say_compile_stage(*, batch: bool, dq: bool = False) -> None:
+def _say_compile_stage(*, dq: bool = False) -> None:
     """Say when the fast solver will compile (first run after an install or an upgrade) rather
     than load from its cache, so that a silent half minute is not taken for a hang."""
     from rollerrig.solve.fast import is_compiled
 
-    if not is_compiled(batch=batch, dq=dq):
+    if not is_compiled(dq=dq):
         note(
-            "compiling the fast solver for this installation (once: about a minute on 2 cores, "
-            "two for the batch solver of studies and calibration); later runs load it from "
-            "the cache"
+            "compiling the fast solver for this installation (once: about a minute on 2 cores); "
+            "later runs load it from the cache"
         )
 
 

@@ -6,11 +6,11 @@ segment set by the explicit part's stability, the adaptive ROS34PW2 W-method
 (:mod:`rollerrig.solve.ros34pw`) as the fallback of a segment it cannot take (near standstill);
 ``method="ros34pw2"`` runs ROS34PW2 throughout. One compiled call runs a whole experiment
 (every protocol segment, with its own friction parameters); :func:`integrate_batch` runs many
-variants of it in parallel threads, for sweeps.
-Both are compiled once and then loaded from the on-disk cache (:mod:`rollerrig.solve._cache`;
-:func:`is_compiled` says whether a run will compile). A failure is a status, not an exception:
-the stats give it with the simulated time reached and :func:`failure_reason` says what failed
-and what to try.
+variants of it in parallel threads (the same compiled driver, which releases the GIL), for
+sweeps. The drivers are compiled once and then loaded from the on-disk cache
+(:mod:`rollerrig.solve._cache`; :func:`is_compiled` says whether a run will compile). A
+failure is a status, not an exception: the stats give it with the simulated time reached and
+:func:`failure_reason` says what failed and what to try.
 """
 
 from __future__ import annotations
@@ -163,7 +163,8 @@ def failure_reason(status: int, t_stop: float) -> str:
 _rig_integrate = RIG.integrate
 
 
-@_cache.njit
+# nogil: integrate_batch runs one variant per Python thread, in parallel.
+@_cache.njit(nogil=True)
 def _integrate(
     x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, t_stop
 ):
@@ -229,7 +230,7 @@ def _integrate(
 _exp_segment = etdrk4.bind(RIG, "rig")
 
 
-@_cache.njit
+@_cache.njit(nogil=True)
 def _integrate_exp(
     x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, t_stop,
     exp_step, relinearise, static_blocks, dynamic_blocks,
@@ -284,24 +285,6 @@ def _integrate_exp(
     return status
 
 
-@_cache.njit(parallel=True)
-def _integrate_batch(
-    x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, t_stop, status,
-    method, exp_step, relinearise, static_blocks, dynamic_blocks,
-):  # fmt: skip
-    for i in numba.prange(x0.shape[0]):
-        if method == 0:
-            status[i] = _integrate_exp(
-                x0[i], bounds, params[i], tables, t_out, rtol, atol, h_max, jac_every, x_out[i],
-                stats[i], t_stop[i], exp_step, relinearise, static_blocks, dynamic_blocks[i],
-            )  # fmt: skip
-        else:
-            status[i] = _integrate(
-                x0[i], bounds, params[i], tables, t_out, rtol, atol, h_max, jac_every, x_out[i],
-                stats[i], t_stop[i],
-            )  # fmt: skip
-
-
 _DQ: dict[str, object] = {}
 
 
@@ -311,10 +294,11 @@ def _uses_dq(inputs) -> bool:
 
 
 def _dq_drivers():
-    """``(_integrate, _integrate_batch)`` bound to the dq model (:data:`_compiled_dq.RIG_DQ`).
+    """``(_integrate, _integrate_exp)`` bound to the dq model (:data:`_compiled_dq.RIG_DQ`).
 
-    Copies of the two drivers above whose global ``_rig_integrate`` is the dq model's, built
-    (and compiled, or loaded from the cache) only when the dq drive is first used.
+    Copies of the two drivers above whose globals ``_rig_integrate`` and ``_exp_segment`` are
+    the dq model's, built (and compiled, or loaded from the cache) only when the dq drive is
+    first used.
     """
     if not _DQ:
         from rollerrig.solve._compiled_dq import RIG_DQ
@@ -322,13 +306,10 @@ def _dq_drivers():
         ns = dict(globals())
         ns["_rig_integrate"] = RIG_DQ.integrate
         ns["_exp_segment"] = etdrk4.bind(RIG_DQ, "rig_dq")
-        single = _wd._compiled_copy(_integrate.py_func, ns, "rig_dq", True)
-        ns["_integrate"] = single
-        single_exp = _wd._compiled_copy(_integrate_exp.py_func, ns, "rig_dq", True)
-        ns["_integrate_exp"] = single_exp
-        batch = _wd._compiled_copy(_integrate_batch.py_func, ns, "rig_dq", True, parallel=True)
-        _DQ["single"], _DQ["batch"], _DQ["single_exp"] = single, batch, single_exp
-    return _DQ["single"], _DQ["batch"], _DQ["single_exp"]
+        single = _wd._compiled_copy(_integrate.py_func, ns, "rig_dq", True, nogil=True)
+        single_exp = _wd._compiled_copy(_integrate_exp.py_func, ns, "rig_dq", True, nogil=True)
+        _DQ["single"], _DQ["single_exp"] = single, single_exp
+    return _DQ["single"], _DQ["single_exp"]
 
 
 def _settings(rtol, h_max, jac_every, angle_atol, dq=False):
@@ -393,21 +374,39 @@ def _stats(counts, status, t_stop, method="ros34pw2") -> dict:
     return out
 
 
-def is_compiled(batch: bool = False, dq: bool = False) -> bool:
+def is_compiled(dq: bool = False, method: str | None = None) -> bool:
     """True when the compiled driver is in the on-disk cache, so a run loads it (a fraction
-    of a second) instead of compiling it (about 20 s on 2 cores, once per install).
+    of a second) instead of compiling it (about 70 s of CPU for the default driver, once per
+    install). :func:`integrate_batch` runs the same driver as :func:`integrate_experiment`.
 
     Parameters
     ----------
-    batch : bool
-        Ask about the parallel driver of :func:`integrate_batch` instead.
     dq : bool
         Ask about the drivers of the model with the dq roller drive (``"induction_dq"``).
+    method : {"etdrk4", "ros34pw2"}, optional
+        The method whose driver to ask about (default :data:`FAST_DEFAULTS`).
     """
-    if dq:
-        _, parallel, single = _dq_drivers()
-        return _cache.is_cached(parallel if batch else single)
-    return _cache.is_cached(_integrate_batch if batch else _integrate_exp)
+    return _cache.is_cached(_driver(dq, METHODS.index(method or FAST_DEFAULTS["method"])))
+
+
+def _driver(dq: bool, code: int):
+    """The compiled driver of the method ``METHODS[code]``, of the dq model with ``dq``."""
+    single, single_exp = _dq_drivers() if dq else (_integrate, _integrate_exp)
+    return single_exp if code == 0 else single
+
+
+def _bound_driver(inputs, method, exp_step, relinearise, h_max):
+    """``(driver, method code)``: the driver for ``inputs`` with ETDRK4's settings bound, so
+    that both methods take ROS34PW2's arguments."""
+    code, step, relin, static, dynamic = _exp_settings(inputs, method, exp_step, relinearise, h_max)
+    driver = _driver(_uses_dq(inputs), code)
+    if code != 0:
+        return driver, code
+
+    def integrate(*args):
+        return driver(*args, step, relin, static, dynamic)
+
+    return integrate, code
 
 
 def integrate_experiment(
@@ -463,17 +462,8 @@ def integrate_experiment(
         with ETDRK4 ``fallback_segments`` (segments ROS34PW2 took) and, on a failure,
         ``reason`` (:func:`failure_reason`).
     """
-    dq = _uses_dq(inputs)
-    code, step, relin, static, dynamic = _exp_settings(inputs, method, exp_step, relinearise, h_max)
-    rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
-    drivers = _dq_drivers() if dq else (_integrate, None, _integrate_exp)
-    if code == 0:
-        single = drivers[2]
-
-        def integrate(*args):
-            return single(*args, step, relin, static, dynamic)
-    else:
-        integrate = drivers[0]
+    integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max)
+    rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, _uses_dq(inputs))
     name = METHODS[code]
     n_states = inputs.initial_state.size
     bounds, params = _segment_arrays(inputs.segments)
@@ -535,7 +525,12 @@ def integrate_batch(
     exp_step=None,
     relinearise=None,
 ):
-    """Integrate several variants of one experiment in parallel (numba threads).
+    """Integrate several variants of one experiment in parallel threads.
+
+    Each variant is one call of the compiled driver of :func:`integrate_experiment` (which
+    releases the GIL), taken by the next free thread of ``numba.get_num_threads()`` (variants
+    differ in cost: a stiffer shaft or no lag takes more steps, so fixed shares would leave a
+    thread idle). No second, parallel driver is compiled.
 
     All variants must share the protocol (segments and tables); they differ in parameters and
     initial state, e.g. a sweep of roller-shaft stiffness and motor lag. A variant that fails
@@ -563,31 +558,33 @@ def integrate_batch(
             "integrate_batch: the variants mix the roller drive 'induction_dq' with other "
             "roller drives (different models); run them in separate batches"
         )
-    code, step, relin, static, _ = _exp_settings(first, method, exp_step, relinearise, h_max)
-    # Each variant's contact block (a flexible frame adds its velocity to it).
-    dynamic = np.stack(
-        [_exp_settings(i, method, exp_step, relinearise, h_max)[4] for i in inputs_list]
-    )
-    rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
-    integrate_batch_ = _dq_drivers()[1] if dq else _integrate_batch
+    rt, at, h_max_ros, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
     bounds, _ = _segment_arrays(first.segments)
-    params = np.stack([_segment_arrays(i.segments)[1] for i in inputs_list])
-    x0 = np.stack([i.initial_state for i in inputs_list])
     t_out = np.ascontiguousarray(t_out, dtype=float)
     n = len(inputs_list)
-    x_out = np.empty((n, t_out.size, x0.shape[1]))
+    x_out = np.empty((n, t_out.size, first.initial_state.size))
     counts = np.zeros((n, 4), dtype=np.int64)
     t_stop = np.zeros((n, 1))
     status = np.zeros(n, dtype=np.int64)
-    # One variant at a time per thread (not fixed shares): variants differ in cost (a stiffer
-    # shaft or no lag takes more steps), so equal shares would leave a thread idle.
-    chunk = numba.set_parallel_chunksize(1)
-    try:
-        integrate_batch_(
-            x0, bounds, params, first.tables, t_out, rt, at, h_max, jac_every, x_out, counts,
-            t_stop, status, code, step, relin, static, dynamic,
+    # Each variant's own settings: a flexible frame adds its velocity to the contact block.
+    runs = [_bound_driver(i, method, exp_step, relinearise, h_max) for i in inputs_list]
+
+    def run(k):
+        params = _segment_arrays(inputs_list[k].segments)[1]
+        status[k] = runs[k][0](
+            np.ascontiguousarray(inputs_list[k].initial_state, dtype=float), bounds, params,
+            first.tables, t_out, rt, at, h_max_ros, jac_every, x_out[k], counts[k], t_stop[k],
         )  # fmt: skip
-    finally:
-        numba.set_parallel_chunksize(chunk)
-    name = METHODS[code]
-    return x_out, [_stats(counts[i], status[i], t_stop[i, 0], name) for i in range(n)]
+
+    threads = min(n, numba.get_num_threads())
+    if threads <= 1:
+        for k in range(n):
+            run(k)
+    else:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(threads) as pool:
+            for _ in pool.map(run, range(n)):  # re-raises a thread's exception here
+                pass
+    name = METHODS[runs[0][1]]
+    return x_out, [_stats(counts[k], status[k], t_stop[k, 0], name) for k in range(n)]

@@ -357,13 +357,13 @@ def _batch_limit(protocol: Protocol, output_rate: float) -> int:
 
 
 def _ensure_compiled(load: bool = True) -> float:
-    """Compile the batch driver here, once, before workers start (they then load it from the
+    """Compile the fast driver here, once, before workers start (they then load it from the
     cache instead of each compiling it at the same time); with ``load``, also load it into
     this process. The seconds this took (about 0 when this process holds it already)."""
     from rollerrig.rig.assemble import assemble
     from rollerrig.solve.fast import integrate_batch, is_compiled
 
-    if not load and is_compiled(batch=True):
+    if not load and is_compiled():
         return 0.0
     started = time.perf_counter()
     inp = assemble(default_rig(), load_protocol("release-test"))
