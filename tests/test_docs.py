@@ -6,8 +6,8 @@ from every public docstring, and the gallery with its examples EXECUTED (sphinx-
 2 cores. Then every internal link of the built pages is followed: each relative ``href`` and
 ``src`` must name a file of the site, and each ``#anchor`` an ``id`` on its page (Sphinx's ``-W``
 catches broken cross-references, not links written as raw HTML or by the theme). The user
-guide's ``>>>`` examples run here as doctests. External links are not checked (CI has no
-network).
+guide's ``>>>`` examples run here as doctests, and its notebook page's and tour's python blocks
+as written. External links are not checked (CI has no network).
 """
 
 import doctest
@@ -154,6 +154,9 @@ def test_the_site_builds_without_warnings(tmp_path):
     for page in (
         "index.html",
         "guide/parameter-sets.html",
+        "guide/tour.html",
+        "guide/notebook.html",
+        "guide/nomenclature.html",
         "auto_examples/index.html",
         "api/rollerrig.rig.library.html",
         "api/rollerrig.contact.hertz.html",
@@ -174,3 +177,59 @@ def test_the_site_builds_without_warnings(tmp_path):
 def test_the_user_guide_doctests_pass(page):
     failed, _ = doctest.testfile(str(page), module_relative=False, optionflags=doctest.ELLIPSIS)
     assert failed == 0, page.name
+
+
+def python_blocks(page: Path) -> list[str]:
+    """The ``.. code-block:: python`` blocks of a reStructuredText page, dedented."""
+    import textwrap
+
+    blocks = []
+    for m in re.finditer(
+        r"^\.\. code-block:: python\n((?:[ \t]+:[^\n]*\n)*)\n((?:(?:[ \t]+[^\n]*)?\n)+)",
+        page.read_text("utf-8"),
+        flags=re.M,
+    ):
+        blocks.append(textwrap.dedent(m.group(2)).strip() + "\n")
+    return blocks
+
+
+def test_python_blocks_are_read_whole():
+    page = ROOT / "docs" / "guide" / "notebook.rst"
+    (block,) = python_blocks(page)
+    assert block.startswith("import rollerrig as rr\n")
+    assert block.rstrip().endswith('source="two-releases.tdms")')
+    compile(block, str(page), "exec")
+
+
+@pytest.mark.slow
+def test_the_notebook_block_runs(tmp_path, monkeypatch, capsys):
+    page = ROOT / "docs" / "guide" / "notebook.rst"
+    blocks = python_blocks(page)
+    assert len(blocks) == 1, "the notebook page holds one python block"
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "notebook"}
+    exec(compile(blocks[0], str(page), "exec"), namespace)
+    printed = capsys.readouterr().out
+    assert "ramp" in printed  # the analysis found the ramps of the simulated protocol
+    assert (tmp_path / "two-releases.tdms").is_file()
+    written = sorted(p.name for p in (tmp_path / "notebook-output").iterdir())
+    assert "two-releases-analysis.json" in written
+    assert "two-releases-report.html" in written
+    # The block switches to wet friction before its last ramp: the fits keep the dry points
+    # only, and say so (issue 23, point 2); the repr stays a few lines (point 8).
+    result = namespace["result"]
+    assert any("changes friction (dry from 0 s, wet from" in n for n in result.notes)
+    assert result.recording.time[result.fit_points].max() < 6.04
+    assert "'dry' set" in result.true_parameters_source
+    assert len(repr(result).splitlines()) <= 8
+
+
+def test_the_tours_python_block_runs(capsys):
+    page = ROOT / "docs" / "guide" / "tour.rst"
+    blocks = python_blocks(page)
+    assert len(blocks) == 1, "the tour holds one python block (contact mechanics)"
+    namespace = {"__name__": "tour"}
+    exec(compile(blocks[0], str(page), "exec"), namespace)
+    assert capsys.readouterr().out.count("\n") == 2
+    creep, coa = namespace["curve"].peak
+    assert 0 < creep < 0.1 and 0 < coa < 0.55

@@ -96,7 +96,7 @@ def test_a_change_of_friction_the_recording_does_not_state_is_noted():
 
 
 def test_a_fit_the_data_cannot_determine_stops_early_and_says_so():
-    # creep far below the peak, one speed: the README's notebook case
+    # creep far below the peak, one speed: the user guide's notebook case (docs/guide/notebook.rst)
     rig = default_rig()
     k = creep_stiffness_for_rig(4300.0, rig)
     s = np.linspace(2e-4, 0.002, 300)
