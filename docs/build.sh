@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Build the documentation site into docs/_build/html, warnings as errors.
 #   bash docs/build.sh               the full site: the gallery's examples are executed
-#   bash docs/build.sh --no-gallery  without running the examples (what tests/test_docs.py builds)
+#   bash docs/build.sh --no-gallery  without running the examples (tests/test_docs.py runs them)
 # Needs the docs extra: python -m pip install ".[docs]" (and ".[all]" for the gallery).
 set -euo pipefail
 cd "$(dirname "$0")/.."
