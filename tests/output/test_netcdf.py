@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rollerrig.output import tables, write_dataset, write_table
+from rollerrig.output import netcdf, write_dataset, write_table
 
 PROVENANCE = {"software": "rollerrig", "version": "0", "command": ["rollerrig", "test"]}
 
@@ -41,17 +41,17 @@ def _written_twice(tmp_path, monkeypatch, write):
     (tmp_path / "direct").mkdir()
     (tmp_path / "xarray").mkdir()
     calls = []
-    real = tables._write_netcdf
+    real = netcdf.write_netcdf
 
     def counted(*args, **kwargs):
         calls.append(args[0])
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(tables, "_write_netcdf", counted)
+    monkeypatch.setattr(netcdf, "write_netcdf", counted)
     direct = write(tmp_path / "direct")
     assert calls, "not written directly"
-    monkeypatch.setattr(tables, "_writable_directly", lambda ds, variables: False)
-    monkeypatch.setattr(tables, "_write_netcdf", real)
+    monkeypatch.setattr(netcdf, "writable_directly", lambda ds, variables: False)
+    monkeypatch.setattr(netcdf, "write_netcdf", real)
     return direct, write(tmp_path / "xarray")
 
 

@@ -21,9 +21,11 @@ from rollerrig.output.atomic import atomic_write
 from rollerrig.output.provenance import jsonable, provenance
 
 __all__ = [
+    "META_KEY",
     "NULL_VALUES_KEY",
     "PROVENANCE_KEY",
     "SIGNIFICANT_DIGITS",
+    "VARIABLES_KEY",
     "json_number",
     "json_text",
     "write_json",
@@ -33,7 +35,12 @@ __all__ = [
 NULL_VALUES_KEY = "null_values"
 """Key under which :func:`write_json` lists the non-finite numbers it wrote as null."""
 PROVENANCE_KEY = "provenance"
-"""Key under which :func:`write_json` stores the provenance record of a top-level object."""
+"""Key under which :func:`write_json` stores the provenance record of a top-level object (and
+of the provenance record in a results file's metadata object, :mod:`rollerrig.output.tables`)."""
+META_KEY = "rollerrig_metadata"
+"""Where the metadata object (JSON) of a results file lives in TDMS, MAT and NetCDF files."""
+VARIABLES_KEY = "variables"
+"""Key of ``{column: {"units", "long_name", ...}}`` in a results file's metadata object."""
 SIGNIFICANT_DIGITS = 12
 """Significant digits of the floats in JSON text (and in CSV files,
 :mod:`rollerrig.output.tables`)."""

@@ -66,14 +66,18 @@ import numpy as np
 from rollerrig._display import DIMENSIONLESS, is_dimensionless, labelled
 from rollerrig._optional import require
 from rollerrig._validation import ParameterError
+from rollerrig.output import netcdf as _netcdf
 from rollerrig.output.atomic import OutputError, atomic_write
 from rollerrig.output.csv_numbers import csv_number, csv_text
 from rollerrig.output.jsonfile import (
+    META_KEY,
     PROVENANCE_KEY,
     SIGNIFICANT_DIGITS,
+    VARIABLES_KEY,
     json_text,
     write_text,
 )
+from rollerrig.output.netcdf import CONVENTIONS
 from rollerrig.output.provenance import provenance as _provenance
 from rollerrig.output.varnames import ORIGINAL_NAME, storable_names
 
@@ -105,11 +109,6 @@ TABLE_FORMATS: dict[str, tuple[str, ...]] = {
 """Format name -> file suffixes written by :func:`write_table`."""
 _ALIASES = {"mdf": "mf4", "mdf4": "mf4", "netcdf": "nc", "pq": "parquet"}
 
-META_KEY = "rollerrig_metadata"
-"""Where the metadata object (JSON) lives in TDMS, MAT and NetCDF files."""
-"""Key of the provenance record in the metadata object (and the MAT/NetCDF variable/attribute)."""
-VARIABLES_KEY = "variables"
-"""Key of ``{column: {"units", "long_name", ...}}`` in the metadata object."""
 NAN_MEANING = "nan_meaning"
 """Attribute of a column that may hold NaN: why (the NaN policy); on the variable in every
 format (NetCDF attribute, Parquet field metadata, TDMS channel property, MDF4 signal comment,
@@ -118,9 +117,6 @@ NAN_SAMPLES = "nan_samples"
 """Attribute beside :data:`NAN_MEANING`: how many samples of the column are NaN [-]."""
 UNITS_STRUCT = "units"
 """MAT struct holding one field per variable: its unit."""
-CONVENTIONS = "CF-1.10"
-"""The ``Conventions`` global attribute of NetCDF files."""
-
 _MAT_RESERVED = ("time", UNITS_STRUCT, PROVENANCE_KEY, META_KEY, "rollerrig_units")
 
 
@@ -399,21 +395,6 @@ def _mat73(cols, meta, tmp: Path) -> None:
         fh.write(header.ljust(512, b"\x00"))
 
 
-def _attr_value(value: Any) -> Any:
-    """A NetCDF attribute value: strings (a NUL, which HDF5 strings cannot hold, written as
-    ``\\x00``) and finite numbers as they are, the rest as JSON."""
-    if isinstance(value, str | bool | np.bool_):
-        return value.replace("\x00", "\\x00") if isinstance(value, str) else int(value)
-    if isinstance(value, int | float | np.integer | np.floating) and np.isfinite(value):
-        return value
-    return json_text(value)
-
-
-# Elapsed time, not a calendar time: CF (section 4.4) identifies a time coordinate by units of
-# the form "s since <date>", so standard_name "time" and axis "T" would be wrong with "s".
-_TIME_ATTRS = {"units": "s", "long_name": "time since the start of the record"}
-
-
 def _nc(cols, meta, tmp: Path, title: str) -> None:
     """Columns as a NetCDF file (one dimension, ``time`` when given), written without xarray."""
 
@@ -425,185 +406,15 @@ def _nc(cols, meta, tmp: Path, title: str) -> None:
 
     dim = "time" if "time" in cols else "index"
     variables = {
-        n: _NcVariable((dim,), c.values, var_attrs(c)) for n, c in cols.items() if n != "time"
+        n: _netcdf.NcVariable((dim,), c.values, var_attrs(c))
+        for n, c in cols.items()
+        if n != "time"
     }
     if "time" in cols:  # xarray's order: data variables, then the coordinate
-        variables["time"] = _NcVariable(("time",), cols["time"].values, dict(_TIME_ATTRS))
-    _write_netcdf(tmp, *_cf_attributes(variables, meta, title))
-
-
-class _NcVariable(NamedTuple):
-    """One NetCDF variable: its dimensions, values and attributes."""
-
-    dims: tuple[str, ...]
-    values: np.ndarray
-    attrs: dict[str, Any]
-
-
-def _cf_attributes(
-    variables: Mapping[str, _NcVariable], meta: Mapping[str, Any], title: str
-) -> tuple[dict[str, _NcVariable], dict[str, Any]]:
-    """The variables with their CF-1.10 attributes (``units``, ``long_name``; values a NetCDF
-    attribute can hold) and the file's: ``Conventions``, ``title``, ``history``, ``source``,
-    the provenance and the metadata object."""
-    out = {}
-    for name, var in variables.items():
-        attrs = {k: _attr_value(v) for k, v in var.attrs.items()}
-        if name == "time":
-            attrs = {**_TIME_ATTRS, **attrs}
-        attrs.setdefault("long_name", str(name))
-        out[name] = var._replace(attrs=attrs)
-    prov = meta[PROVENANCE_KEY]
-    attrs = {k: v for k, v in meta.items() if k not in (PROVENANCE_KEY, VARIABLES_KEY)}
-    command = " ".join(prov.get("command") or []) if isinstance(prov, Mapping) else ""
-    version = prov.get("version", "") if isinstance(prov, Mapping) else ""
-    created = prov.get("created_utc", "") if isinstance(prov, Mapping) else ""
-    history = f"{created} rollerrig {version}: {command}".strip()
-    file_attrs = {
-        "Conventions": CONVENTIONS,
-        "title": str(attrs.get("title") or title),
-        "history": str(attrs.get("history") or history),
-        "source": str(attrs.get("source") or f"rollerrig {version}".strip()),
-        **{
-            k: _attr_value(v)
-            for k, v in attrs.items()
-            if k not in ("Conventions", "title", "history", "source")
-            and isinstance(v, str | int | float | bool | np.number)
-        },
-        PROVENANCE_KEY: json_text(prov),
-        META_KEY: json_text(attrs),
-    }
-    return out, file_attrs
-
-
-def _cf_netcdf(data, meta: Mapping[str, Any], tmp: Path, title: str, source=None) -> None:
-    """Write labelled data (:class:`~rollerrig.output.labelled.LabelledData`) with CF-1.10
-    attributes: ``Conventions``, ``title``, ``history``, ``source``, ``units``/``long_name``
-    per variable, and the provenance.
-
-    Numbers, booleans and text along dimensions (each dimension coordinate a variable of its
-    own) are written by :func:`_write_netcdf`, through h5py from the numpy arrays: no
-    xarray, no dask or ``distributed`` imported by xarray's scheduler probe, the file as xarray
-    would write it. Anything else (times, non-dimension coordinates, ...) goes through
-    xarray's own encoders (:meth:`xarray.Dataset.to_netcdf`), from ``source`` (the xarray
-    Dataset ``data`` came from, renamed as ``data`` is) or from ``data`` itself."""
-    variables = {
-        name: _NcVariable(var.dims, var.values, dict(var.attrs))
-        for name, var in data.variables.items()
-    }
-    variables, attrs = _cf_attributes(variables, meta, title)
-    if _writable_directly(data, variables):
-        _write_netcdf(tmp, variables, attrs)
-        return
-    ds = data.to_xarray() if source is None else source
-    for name, var in ds.variables.items():
-        var.attrs = variables[str(name)].attrs
-    ds.attrs = attrs
-    encoding = {n: {"_FillValue": None} for n, v in ds.variables.items() if v.dtype.kind in "biuf"}
-    ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding)
-
-
-def _writable_directly(ds, variables: Mapping[str, _NcVariable]) -> bool:
-    """Whether :func:`_write_netcdf` writes ``ds`` as xarray would: every variable numbers,
-    booleans or text, every coordinate a dimension's own, no variable named as a dimension it
-    does not index (xarray writes that one under another scale), no encoding to honour but
-    none."""
-    if set(ds.coords) - set(ds.dims) or "coordinates" in ds.attrs:
-        return False
-    for name, var in variables.items():
-        if name in ds.dims and tuple(var.dims) != (name,):
-            return False
-        kind = var.values.dtype.kind
-        if (kind not in "biufU" and not _is_text(var.values)) or "coordinates" in var.attrs:
-            return False
-        # Numbers are written with encoding {"_FillValue": None} alone; text as xarray writes
-        # it unless its encoding asks for characters or compression (a file read back).
-        encoding = ds[name].encoding if kind not in "biuf" else {}
-        dtype = encoding.get("dtype")
-        if dtype not in (None, str) and np.dtype(dtype).kind != "U":
-            return False
-        if any(encoding.get(k) for k in ("zlib", "compression", "chunksizes", "shuffle")):
-            return False
-    return True
-
-
-def _is_text(values: np.ndarray) -> bool:
-    """An object array of Python strings (what xarray writes as variable-length text)."""
-    return values.dtype.kind == "O" and all(isinstance(v, str) for v in values.flat)
-
-
-_PHONY_DIMENSION = "This is a netCDF dimension but not a netCDF variable.%10d"
-"""NAME of the dimension scale of a dimension with no variable of its own (netCDF-C's words)."""
-
-
-def _write_netcdf(tmp: Path, variables: Mapping[str, _NcVariable], attrs: Mapping) -> None:
-    """Write a NetCDF-4 file through h5py, laid out as netCDF-C and h5netcdf lay it out.
-
-    Dimensions in the order the variables first name them, each an HDF5 dimension scale (the
-    variable of the same name along it alone, or a scale of its own holding no variable);
-    every variable along dimensions carries ``DIMENSION_LIST`` and ``_Netcdf4Coordinates``
-    (its dimension ids) and ``_Netcdf4Dimid``; numbers as they are, with no ``_FillValue`` (the
-    NaN policy says what a NaN means); booleans as int8 with ``dtype = "bool"`` (read back as
-    booleans); text as variable-length UTF-8 strings; non-text scalar attributes as arrays of
-    one, as netCDF-C writes them. The file reads back in xarray (h5netcdf) and netCDF4 as
-    h5netcdf's own writer's did; written directly it costs about 1 ms a variable instead of 7.
-    """
-    h5py = _require("h5py", "NetCDF files")
-    from rollerrig import __version__
-
-    sizes: dict[str, int] = {}
-    for name, var in variables.items():
-        if var.values.ndim != len(var.dims):
-            raise ParameterError(f"{tmp}: variable {name!r}: {var.dims} for {var.values.shape}")
-        for dim, size in zip(var.dims, var.values.shape, strict=True):
-            if sizes.setdefault(dim, size) != size:
-                raise ParameterError(f"{tmp}: dimension {dim!r} has sizes {sizes[dim]}, {size}")
-    dim_ids = {dim: i for i, dim in enumerate(sizes)}
-    coordinate = {d for d in sizes if d in variables and variables[d].dims == (d,)}
-
-    def put(attributes, key: str, value: Any) -> None:
-        if np.isscalar(value) and not isinstance(value, str | bytes):
-            value = np.atleast_1d(value)
-        attributes[key] = value
-
-    # Creation order tracked (links and attributes), as netCDF-C needs it to append to a file.
-    with h5py.File(tmp, "w", track_order=True) as f:
-        for key, value in attrs.items():
-            put(f.attrs, key, value)
-        scales = {}
-        for dim, size in sizes.items():  # a dimension without a variable: a scale of its own
-            if dim not in coordinate:
-                scale = f.create_dataset(dim, (size,), dtype=">f4", track_order=True)
-                scale.attrs["_Netcdf4Dimid"] = np.int32(dim_ids[dim])
-                scale.make_scale(_PHONY_DIMENSION % size)
-                scales[dim] = scale
-        created = {}
-        for name, var in variables.items():
-            values, var_attrs = var.values, dict(var.attrs)
-            dtype = values.dtype
-            if dtype.kind == "b":
-                values, dtype = values.astype("i1"), np.dtype("i1")
-                var_attrs["dtype"] = "bool"
-            elif dtype.kind in "UO":
-                values, dtype = values.astype(object), h5py.string_dtype()
-            data = f.create_dataset(name, data=values, dtype=dtype, track_order=True)
-            if var.dims:
-                ids = [dim_ids[d] for d in var.dims]
-                data.attrs["_Netcdf4Coordinates"] = np.array(ids, dtype=np.int32)
-                data.attrs["_Netcdf4Dimid"] = np.int32(ids[0])
-            for key, value in var_attrs.items():
-                put(data.attrs, key, value)
-            created[name] = data
-        for dim in coordinate:
-            created[dim].make_scale(dim)
-            scales[dim] = created[dim]
-        for name, var in variables.items():
-            if name in coordinate:
-                continue
-            for axis, dim in enumerate(var.dims):
-                created[name].dims[axis].attach_scale(scales[dim])
-        properties = f"version=2,rollerrig={__version__},hdf5={h5py.version.hdf5_version}"
-        f.attrs["_NCProperties"] = np.bytes_(f"{properties},h5py={h5py.__version__}")
+        variables["time"] = _netcdf.NcVariable(
+            ("time",), cols["time"].values, dict(_netcdf.TIME_ATTRS)
+        )
+    _netcdf.write_netcdf(tmp, *_netcdf.cf_attributes(variables, meta, title))
 
 
 def write_dataset(
@@ -693,7 +504,9 @@ def write_dataset(
         source = source.copy(deep=False).rename(renamed)
     meta = {**attrs, PROVENANCE_KEY: dict(record) if record is not None else _provenance()}
     return atomic_write(
-        path, lambda tmp: _cf_netcdf(data, meta, tmp, path.stem, source), overwrite=overwrite
+        path,
+        lambda tmp: _netcdf.write_cf_netcdf(data, meta, tmp, path.stem, source),
+        overwrite=overwrite,
     )
 
 
