@@ -1,6 +1,9 @@
 """The fast backend's batch driver against its single-run driver."""
 
+import time
+
 import numpy as np
+import pytest
 
 from rollerrig.rig.assemble import assemble
 from rollerrig.rig.model import DriveConfig
@@ -31,3 +34,22 @@ def test_every_driver_releases_the_gil_so_that_the_batch_threads_run_at_once():
     the batch serial (same results, half the speed on 2 cores)."""
     drivers = (fast._integrate, fast._integrate_exp, *fast._dq_drivers())
     assert all(d.targetoptions.get("nogil") for d in drivers)
+
+
+def test_an_interrupted_batch_starts_no_further_variant(monkeypatch):
+    """Ctrl-C (here raised by the first variant) drops the variants not started: only those
+    already running finish, instead of the whole batch running on before the error shows."""
+    calls = []
+
+    def driver(*args):
+        calls.append(None)
+        if len(calls) == 1:
+            raise KeyboardInterrupt
+        time.sleep(0.01)  # a variant's solve
+        return 0
+
+    monkeypatch.setattr(fast, "_bound_driver", lambda *args: (driver, 0))
+    inputs = Simulation(experiment="seed-30kmh-dry").inputs
+    with pytest.raises(KeyboardInterrupt):
+        integrate_batch([inputs] * 50, np.array([0.0, 0.01]))
+    assert len(calls) < 10

@@ -583,8 +583,13 @@ def integrate_batch(
     else:
         from concurrent.futures import ThreadPoolExecutor
 
-        with ThreadPoolExecutor(threads) as pool:
+        pool = ThreadPoolExecutor(threads)
+        try:
             for _ in pool.map(run, range(n)):  # re-raises a thread's exception here
                 pass
+        finally:
+            # On Ctrl-C (or an error) the variants not started are dropped, not run: only those
+            # running finish (the compiled code cannot be interrupted).
+            pool.shutdown(cancel_futures=True)
     name = METHODS[runs[0][1]]
     return x_out, [_stats(counts[k], status[k], t_stop[k, 0], name) for k in range(n)]
