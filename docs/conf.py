@@ -68,11 +68,18 @@ sphinx_gallery_conf = {
     "matplotlib_animations": False,
     "reference_url": {"rollerrig": None},
     "min_reported_time": 1,
+    # a warning an example raises reads "Category: message", without the build machine's path
+    "reset_modules": ("matplotlib", "_gallery.plain_warnings"),
+    # each figure also at twice the resolution: sharp on a high-density screen and when zoomed
+    # into, where the small print of a multi-panel figure scaled to the page's width is read
+    "image_srcset": ["2x"],
 }
 
 html_theme = "pydata_sphinx_theme"
 html_title = f"rollerrig {release}"
-html_static_path: list[str] = []
+html_static_path = ["_static"]
+html_css_files = ["rollerrig.css"]
+html_favicon = "_static/favicon.svg"  # a browser asks for /favicon.ico otherwise: a 404
 _GALLERY_PAGES = [
     "index",
     "sg_execution_times",
@@ -97,6 +104,9 @@ html_theme_options = {
     "footer_end": ["sphinx-version"],
 }
 html_show_sourcelink = True
+# the theme's colour mode on a first visit; without it the theme logs an error to the console
+# ("Got invalid theme mode") and falls back to auto
+html_context = {"default_mode": "auto"}
 html_sidebars = {"index": [], "install": []}
 
 # Doctests of the user guide (python -m sphinx -b doctest docs docs/_build/doctest).
@@ -133,5 +143,18 @@ def _plain_docstring(app, what, name, obj, options, lines):
         )
 
 
+_CDN_SCRIPTS = re.compile(r"^  \.\. raw:: html\n(?:\n|    .*\n)*", re.MULTILINE)
+
+
+def _no_cdn_scripts(app, docname, source):
+    """sphinx-gallery's computation-times pages load jQuery and DataTables from CDNs to make
+    their table sortable: offline (or behind a proxy) that is three failed requests and an
+    uncaught ``$ is not defined``, and online a request to third parties from every visit. The
+    table is written sorted by time already; it stays, plain."""
+    if docname == "sg_execution_times" or docname.endswith("/sg_execution_times"):
+        source[0] = _CDN_SCRIPTS.sub("", source[0])
+
+
 def setup(app):
     app.connect("autodoc-process-docstring", _plain_docstring, priority=400)  # before numpydoc
+    app.connect("source-read", _no_cdn_scripts)

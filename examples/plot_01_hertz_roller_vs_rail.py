@@ -81,4 +81,6 @@ ax.plot(creep * 100, on_rail.adhesion_coefficient, "--", label="tangent rail")
 ax.set(xlabel="creep [%]", ylabel="CoA [-]", title="Polach dry, 10 kN, 30 km/h")
 ax.legend()
 fig.tight_layout()
-print("peak on roller", on_roller.peak, "on rail", on_rail.peak)
+for label, curve in (("roller", on_roller), ("rail", on_rail)):
+    creep_at_peak, peak_coa = curve.peak
+    print(f"peak on the {label}: CoA {peak_coa:.3f} at {creep_at_peak * 100:.2f} % creep")

@@ -23,7 +23,11 @@ rec, truth = rr.synthetic_recording(ds, sample_rate=250.0, seed=2)
 true_t56 = truth["t56"].interp(time=rec.time).values
 table = filter_study(rec.time, rec["torque"], truth=true_t56)
 for row in table[:5]:
-    print(row)
+    score = row.score
+    print(
+        f"{row.rank}. {row.label:15s} cost {score.cost:.3f}: "
+        f"noise left {score.noise_left:.3f}, lag {score.lag * 1e3:+.2f} ms"
+    )
 
 # %%
 fig = study_ranking_figure(table, top=15)

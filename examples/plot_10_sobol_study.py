@@ -42,10 +42,13 @@ metrics = ["release_overshoot", "coa_bias_rms"]
     encoding="utf-8",
 )
 run = rr.run_study("small-sobol.toml", store="small-sobol.zarr", executor="local", restart=True)
-print(run.counts, f"{run.wall_time:.1f} s")
+print(", ".join(f"{n} {status}" for status, n in run.counts.items()), f"in {run.wall_time:.1f} s")
 for metric in ("release_overshoot", "coa_bias_rms"):
     for row in sobol_indices(run.dataset, metric).rows():
-        print(metric, row)
+        print(
+            f"{metric:17s} {row['parameter']:32s} S1 {row['S1']:+.3f} ± {row['S1_conf']:.3f}"
+            f"  ST {row['ST']:.3f} ± {row['ST_conf']:.3f}"
+        )
 
 # %%
 # The figures ``rollerrig study show`` writes: scatter plots and the Sobol' bars
