@@ -17,6 +17,7 @@ in ``$CONTACT_DIR/examples`` or ``$CONTACT_SOURCE/examples``); elsewhere they ar
 
 from __future__ import annotations
 
+import collections
 import dataclasses
 import json
 import math
@@ -331,3 +332,99 @@ def test_without_contact_one_message(monkeypatch, two_files):
     with pytest.raises(ContactNotAvailable, match="CONTACT_SOURCE") as info:
         example_profile(EXAMPLE_WHEEL)
     assert "\n" not in str(info.value)
+
+
+class _AbortingContact:
+    """A stand-in for CONTACT's library: the creepage follows the wheel's angular velocity
+    (ξ = 2 (ω − k)/(ω + k), k = V/r_w as the solver's first guess), F_x = 3e6 ξ; the case at
+    ``abort_at`` ends in ierror -26 in this process, however often it is started afresh."""
+
+    def __init__(self, abort_at, k):
+        self.abort_at, self.k, self.xi, self.starts = abort_at, k, 0.0, 0
+
+    def __getattr__(self, name):  # every setter of the configuration: accepted
+        return lambda *args, **kwargs: None
+
+    def initialize(self, *args):
+        self.starts += 1
+
+    def getprofilevalues(self, *args):
+        return np.zeros(1)
+
+    def setwheelsetvelocity(self, ire, e, values):
+        omega = -values[5]
+        self.xi = 2 * (omega - self.k) / (omega + self.k)
+
+    def calculate(self, ire):
+        return -26 if abs(self.xi - self.abort_at) < 1e-9 else 0
+
+    def getnumcontactpatches(self, ire):
+        return 1
+
+    def getcontactpatchareas(self, ire, icp):
+        return [50.0]
+
+    def getcreepages(self, ire, icp):
+        return [self.xi, 0.0, 0.0]
+
+    def getreferencevelocity(self, ire, icp):
+        return 1e4
+
+    def getcontactforces(self, ire, p):
+        return [1e4, -3e6 * self.xi, 0.0]
+
+    def gettractions(self, ire, icp):
+        return [np.ones((3, 4))]
+
+    def getgriddiscretization(self, ire, icp):
+        return [0.2, 0.2]
+
+    def getcontactlocation(self, ire, icp):
+        return np.zeros(6)
+
+
+def test_a_case_contact_aborts_here_is_solved_in_a_fresh_process(monkeypatch, tmp_path):
+    """The gfortran build sometimes ends a case in NaN (ierror -26) after many cases in one
+    process, also after fresh starts of the result element, and solves it in another process:
+    that case goes to a fresh process, the others stay here, each row where it belongs."""
+    import rollerrig.contact.cntc_profiles as cp
+
+    fake = _AbortingContact(abort_at=6e-3, k=1e4 / 348.0)
+    monkeypatch.setattr(cp, "_library", lambda: (fake, collections.defaultdict(int)))
+    monkeypatch.setitem(cp._state, "outdir", str(tmp_path) + "/")
+    fresh = []
+
+    def solve_fresh(settings, xt, et):
+        fresh.append(xt)
+        return {"long_creep": xt, "fx": 1.0, "normal_force": 1e4, "n_patches": 1, "solves": 1}
+
+    monkeypatch.setattr(cp, "_solve_fresh", solve_fresh)
+    for name in ("wheel.prw", "rail.prr"):
+        (tmp_path / name).write_text("profile")
+    r = cp.profile_creep_force(
+        [1e-3, 6e-3, 3e-3], wheel_profile=tmp_path / "wheel.prw",
+        rail_profile=tmp_path / "rail.prr", normal_load=1e4, wheel_radius=0.348, friction=0.3,
+        shear_modulus=8e10, poisson=0.3,
+    )  # fmt: skip
+    assert fresh == [6e-3]
+    assert fake.starts == 1 + cp._RETRIES  # tried afresh here first
+    np.testing.assert_allclose(r.fx, [3e3, 1.0, 9e3])
+    np.testing.assert_allclose(r.long_creep, [1e-3, 6e-3, 3e-3])
+
+
+def test_live_a_fresh_process_gives_the_same_solution():
+    """The fresh-process path (a new interpreter, CONTACT loaded anew, the case alone) solves a
+    case as this process does."""
+    import rollerrig.contact.cntc_profiles as cp
+
+    wheel, rail = _profiles_or_skip()
+    kw = _kwargs(wheel, rail)
+    here = profile_creep_force([1e-3], **kw)
+    settings = dict(
+        roller_mm=0.0, wheel=str(wheel), rail=str(rail), rw_mm=kw["wheel_radius"] * 1e3,
+        fz=kw["normal_load"], mu=kw["friction"], gg=kw["shear_modulus"] * 1e-6,
+        nu=kw["poisson"], dx_mm=kw["element_size"] * 1e3, y_ws=0.0, v=kw["rolling_speed"] * 1e3,
+    )  # fmt: skip
+    row = cp._solve_fresh(settings, 1e-3, 0.0)
+    assert row["fx"] == pytest.approx(here.fx[0], rel=1e-6)
+    assert row["long_creep"] == pytest.approx(1e-3, rel=1e-3)

@@ -218,7 +218,7 @@ def _creep_array(name, value):
     return arr
 
 
-def _configure(cntc, ctab, *, roller_mm, wheel, rail, rw_mm, fz, mu, gg, nu, dx_mm):
+def _configure(cntc, ctab, *, roller_mm, wheel, rail, rw_mm, fz, mu, gg, nu, dx_mm, **_):
     keys = ("if_units", "ic_config", "ic_tang", "ic_pvtime", "ic_norm", "ic_discns",
             "if_wrtinp", "ic_matfil", "ic_output", "ic_flow", "ic_bound")  # fmt: skip
     values = (ctab["un_cntc"], 4 if roller_mm else 0, 3, 2, 1, 2, 0, 0, 0, 0, 0)
@@ -249,6 +249,146 @@ def _largest_patch(cntc, n):
         if a > area:
             best, area = icp, a
     return best, area
+
+
+_FIELDS = ("long_creep", "lat_creep", "spin", "fx", "fy", "normal_force", "n_patches",
+           "patch_length_x", "patch_width_y", "patch_area", "contact_angle", "rail_y",
+           "solves")  # fmt: skip
+_FRESH_PROCESSES = 2  # fresh processes tried for a case that has no solution in this one
+
+
+class _NoSolution(Exception):
+    """CONTACT aborted a case (ierror -26) in this process, also after fresh starts."""
+
+
+def _place(cntc, settings, xt, et, omega, v_ref_r):
+    """Set the wheelset's position and velocities for creepages ``(xt, et)``; solve."""
+    v, rr = settings["v"], settings["roller_mm"]
+    vy = -et * v_ref_r * 2 / (2 - xt)
+    cntc.setwheelsetposition(_IRE, 2, [0.0, settings["y_ws"], 0.0, 0.0, 0.0, 0.0])
+    first = v / rr if rr else v  # roller: its angular velocity [rad/s]
+    cntc.setwheelsetvelocity(_IRE, 2, [first, vy, 0.0, 0.0, 0.0, -omega])
+    return cntc.calculate(_IRE)
+
+
+def _solve_case(cntc, ctab, settings, xt, et, warm):
+    """One case: the wheel's angular velocity solved until CONTACT's creepages are ``(xt,
+    et)``; the row of :class:`ProfileContact`. ``warm`` ([ω/ξ factor, V_ref]) starts from the
+    previous case and is updated. Raises :class:`_NoSolution` when CONTACT aborts the case
+    also after :data:`_RETRIES` fresh starts of its result element."""
+    body = "roller" if settings["roller_mm"] else "tangent_rail"
+    for attempt in range(1, _MAX_SOLVES + 1):
+        solves = attempt
+        omega = warm[0] * (2 + xt) / (2 - xt)
+        ierror = _place(cntc, settings, xt, et, omega, warm[1])
+        for _ in range(_RETRIES):
+            if ierror != _NO_SOLUTION:
+                break
+            # The gfortran build's normal solver sometimes ends in NaN for a case it solves
+            # in another process (state left by earlier cases): start the result element
+            # afresh and solve the same case again.
+            cntc.finalize(_IRE)
+            cntc.initialize(_IRE, 1, _state["outdir"], 0)
+            _configure(cntc, ctab, **settings)
+            ierror = _place(cntc, settings, xt, et, omega, warm[1])
+        if ierror == _NO_SOLUTION:
+            raise _NoSolution
+        n = int(cntc.getnumcontactpatches(_IRE)) if ierror == 0 else 0
+        if ierror or n < 1:
+            raise RuntimeError(
+                f"CONTACT found no solution for the wheel on the {body} (ierror = {ierror}, "
+                f"{n} contact patches) at y_ws = {settings['y_ws'] * 1e-3:g} m, creepages "
+                f"({xt:g}, {et:g}); see {_state['outdir']}contact_addon.out"
+            )
+        icp, area = _largest_patch(cntc, n)
+        xa, ea, pa = (float(c) for c in cntc.getcreepages(_IRE, icp))
+        vref = float(cntc.getreferencevelocity(_IRE, icp))
+        warm[0] = omega * (2 - xa) / (2 + xa)
+        warm[1] = vref * (2 - xa) / 2
+        if (
+            abs(xa - xt) <= _CREEP_RTOL * abs(xt) + _CREEP_ATOL
+            and abs(ea - et) <= _CREEP_RTOL * abs(et) + _CREEP_ATOL
+        ):
+            break
+    else:
+        raise RuntimeError(
+            f"CONTACT's creepage ({xa:g}, {ea:g}) did not reach ({xt:g}, {et:g}) in "
+            f"{_MAX_SOLVES} solutions on the {body}"
+        )
+    fn = fx = fy = 0.0
+    for p in range(1, n + 1):
+        f = cntc.getcontactforces(_IRE, p)
+        fn, fx, fy = fn + f[0], fx - f[1], fy - f[2]  # on the wheel -> creepage sign
+    pn = np.asarray(cntc.gettractions(_IRE, icp)[0])  # (my, mx)
+    ddx, ddy = (float(d) for d in cntc.getgriddiscretization(_IRE, icp))
+    loaded = pn > 0
+    loc = cntc.getcontactlocation(_IRE, icp)
+    return dict(
+        long_creep=xa, lat_creep=ea, spin=pa * 1e3, fx=fx, fy=fy, normal_force=fn, n_patches=n,
+        patch_length_x=loaded.any(axis=0).sum() * ddx * 1e-3,
+        patch_width_y=loaded.any(axis=1).sum() * ddy * 1e-3, patch_area=area * 1e-6,
+        contact_angle=float(loc[3]), rail_y=float(loc[5]) * 1e-3, solves=solves,
+    )  # fmt: skip
+
+
+def _solve_in_this_process(settings, xt, et):
+    """:func:`_solve_case` on a CONTACT loaded afresh (run in a new process)."""
+    cntc, ctab = _library()
+    cntc.initialize(_IRE, 1, _state["outdir"], 0)
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):
+            _configure(cntc, ctab, **settings)
+            return _solve_case(cntc, ctab, settings, xt, et, [settings["v"] / settings["rw_mm"],
+                                                              settings["v"]])  # fmt: skip
+    finally:
+        cntc.finalize(_IRE)
+
+
+_NO_SOLUTION_EXIT = 3  # exit status of the fresh process when CONTACT aborts there too
+
+
+def _fresh_main() -> None:
+    """Entry of the fresh process of :func:`_solve_fresh`: the case as JSON on stdin, the row
+    as JSON on stdout."""
+    import json
+    import sys
+
+    case = json.loads(sys.stdin.read())
+    try:
+        row = _solve_in_this_process(case["settings"], case["xt"], case["et"])
+    except _NoSolution:
+        sys.exit(_NO_SOLUTION_EXIT)
+    except RuntimeError as exc:
+        print(exc, file=sys.stderr)
+        sys.exit(1)
+    sys.stdout.write(json.dumps({k: float(v) for k, v in row.items()}))
+
+
+def _solve_fresh(settings, xt, et):
+    """A case CONTACT aborted here, solved in a new Python process: the gfortran build's normal
+    solver sometimes ends in NaN (ierror -26) after many cases in one process, also after the
+    result element starts afresh, and solves the same case in a process of its own. A plain
+    interpreter (not multiprocessing, which would import the caller's script again)."""
+    import json
+    import subprocess
+    import sys
+
+    body = "roller" if settings["roller_mm"] else "tangent_rail"
+    case = json.dumps({"settings": settings, "xt": xt, "et": et})
+    code = "from rollerrig.contact.cntc_profiles import _fresh_main; _fresh_main()"
+    for _ in range(_FRESH_PROCESSES):
+        run = subprocess.run([sys.executable, "-c", code], input=case, capture_output=True,
+                             text=True, check=False)  # fmt: skip
+        if run.returncode == 0:
+            return json.loads(run.stdout)
+        if run.returncode != _NO_SOLUTION_EXIT:
+            raise RuntimeError((run.stderr.strip().splitlines() or ["CONTACT failed"])[-1])
+    raise RuntimeError(
+        f"CONTACT found no solution for the wheel on the {body} (ierror = {_NO_SOLUTION}, its "
+        f"solver aborted, also in {_FRESH_PROCESSES} fresh processes) at y_ws = "
+        f"{settings['y_ws'] * 1e-3:g} m, creepages ({xt:g}, {et:g}); see "
+        f"{_state['outdir']}contact_addon.out"
+    )
 
 
 def profile_creep_force(
@@ -353,84 +493,34 @@ def profile_creep_force(
     if not 0.01 <= dx <= 2.0:
         raise ParameterError(f"element_size must lie in [1e-5, 2e-3] m, got {dx * 1e-3!r}")
 
-    cntc, ctab = _library()
     body = "roller" if rr else "tangent_rail"
-    fields = ("long_creep", "lat_creep", "spin", "fx", "fy", "normal_force", "n_patches",
-              "patch_length_x", "patch_width_y", "patch_area", "contact_angle", "rail_y",
-              "solves")  # fmt: skip
-    out = {k: np.zeros(xi_t.size) for k in fields}
-    quiet = io.StringIO()
+    settings = dict(roller_mm=rr, wheel=wheel, rail=rail, rw_mm=rw, fz=fz, mu=mu, gg=gg, nu=nu,
+                    dx_mm=dx, y_ws=y_ws, v=v)  # fmt: skip
+    out = {k: np.zeros(xi_t.size) for k in _FIELDS}
+    pending = []  # cases CONTACT gave up on in this process (see _solve_fresh)
+    cntc, ctab = _library()
     cntc.initialize(_IRE, 1, _state["outdir"], 0)  # module 1: wheel-rail contact
     try:
-        with contextlib.redirect_stdout(quiet):
-            _configure(cntc, ctab, roller_mm=rr, wheel=wheel, rail=rail, rw_mm=rw, fz=fz,
-                       mu=mu, gg=gg, nu=nu, dx_mm=dx)  # fmt: skip
+        with contextlib.redirect_stdout(io.StringIO()):
+            _configure(cntc, ctab, **settings)
             # V_r/r_w [rad/s]: the wheel's free-rolling angular velocity, refined by each solve
-            k_omega, v_ref_r = v / rw, v
+            warm = [v / rw, v]
             for i, (xt, et) in enumerate(zip(xi_t.ravel(), eta_t.ravel(), strict=True)):
-                for attempt in range(1, _MAX_SOLVES + 1):
-                    solves = attempt
-                    omega = k_omega * (2 + xt) / (2 - xt)
-                    vy = -et * v_ref_r * 2 / (2 - xt)
-                    cntc.setwheelsetposition(_IRE, 2, [0.0, y_ws, 0.0, 0.0, 0.0, 0.0])
-                    first = v / rr if rr else v  # roller: its angular velocity [rad/s]
-                    cntc.setwheelsetvelocity(_IRE, 2, [first, vy, 0.0, 0.0, 0.0, -omega])
-                    ierror = cntc.calculate(_IRE)
-                    for _ in range(_RETRIES):
-                        if ierror != _NO_SOLUTION:
-                            break
-                        # The gfortran build's normal solver sometimes ends in NaN for a case it
-                        # solves in another process (state left by earlier cases): start the
-                        # result element afresh and solve the same case again.
-                        cntc.finalize(_IRE)
-                        cntc.initialize(_IRE, 1, _state["outdir"], 0)
-                        _configure(cntc, ctab, roller_mm=rr, wheel=wheel, rail=rail, rw_mm=rw,
-                                   fz=fz, mu=mu, gg=gg, nu=nu, dx_mm=dx)  # fmt: skip
-                        cntc.setwheelsetposition(_IRE, 2, [0.0, y_ws, 0.0, 0.0, 0.0, 0.0])
-                        cntc.setwheelsetvelocity(_IRE, 2, [first, vy, 0.0, 0.0, 0.0, -omega])
-                        ierror = cntc.calculate(_IRE)
-                    n = int(cntc.getnumcontactpatches(_IRE)) if ierror == 0 else 0
-                    if ierror or n < 1:
-                        raise RuntimeError(
-                            f"CONTACT found no solution for the wheel on the {body} (ierror = "
-                            f"{ierror}, {n} contact patches) at y_ws = {y_ws * 1e-3:g} m, "
-                            f"creepages ({xt:g}, {et:g}); see {_state['outdir']}contact_addon.out"
-                        )
-                    icp, area = _largest_patch(cntc, n)
-                    xa, ea, pa = (float(c) for c in cntc.getcreepages(_IRE, icp))
-                    vref = float(cntc.getreferencevelocity(_IRE, icp))
-                    k_omega = omega * (2 - xa) / (2 + xa)
-                    v_ref_r = vref * (2 - xa) / 2
-                    if (
-                        abs(xa - xt) <= _CREEP_RTOL * abs(xt) + _CREEP_ATOL
-                        and abs(ea - et) <= _CREEP_RTOL * abs(et) + _CREEP_ATOL
-                    ):
-                        break
-                else:
-                    raise RuntimeError(
-                        f"CONTACT's creepage ({xa:g}, {ea:g}) did not reach ({xt:g}, {et:g}) "
-                        f"in {_MAX_SOLVES} solutions on the {body}"
-                    )
-                fn = fx = fy = 0.0
-                for p in range(1, n + 1):
-                    f = cntc.getcontactforces(_IRE, p)
-                    fn, fx, fy = fn + f[0], fx - f[1], fy - f[2]  # on the wheel -> creepage sign
-                pn = np.asarray(cntc.gettractions(_IRE, icp)[0])  # (my, mx)
-                ddx, ddy = (float(d) for d in cntc.getgriddiscretization(_IRE, icp))
-                loaded = pn > 0
-                loc = cntc.getcontactlocation(_IRE, icp)
-                row = dict(
-                    long_creep=xa, lat_creep=ea, spin=pa * 1e3, fx=fx, fy=fy, normal_force=fn,
-                    n_patches=n, patch_length_x=loaded.any(axis=0).sum() * ddx * 1e-3,
-                    patch_width_y=loaded.any(axis=1).sum() * ddy * 1e-3, patch_area=area * 1e-6,
-                    contact_angle=float(loc[3]), rail_y=float(loc[5]) * 1e-3, solves=solves,
-                )  # fmt: skip
+                try:
+                    row = _solve_case(cntc, ctab, settings, xt, et, warm)
+                except _NoSolution:
+                    pending.append(i)
+                    continue
                 for k, val in row.items():
                     out[k][i] = val
     finally:
         cntc.finalize(_IRE)
+    for i in pending:
+        row = _solve_fresh(settings, float(xi_t.ravel()[i]), float(eta_t.ravel()[i]))
+        for k, val in row.items():
+            out[k][i] = val
     shape = xi_t.shape
-    arrays = {k: out[k].reshape(shape) for k in fields}
+    arrays = {k: out[k].reshape(shape) for k in _FIELDS}
     for k in ("n_patches", "solves"):
         arrays[k] = arrays[k].astype(int)
     return ProfileContact(body=body, **arrays)
