@@ -140,7 +140,7 @@ def experiment_figure(ds, title: str | None = None):
             0.01,
             textwrap.fill(f"measured creep not drawn at {undefined} samples: {why}", 70),
             transform=b.transAxes,
-            fontsize=6.5,
+            fontsize=8,
             color="0.3",
             va="bottom",
         )
@@ -177,12 +177,13 @@ def experiment_figure(ds, title: str | None = None):
     for ax in axes.flat:
         ax.grid(True, alpha=0.3)
         if ax is b:
-            ax.legend(fontsize=7, loc="best")
+            ax.legend(fontsize=8.5, loc="best")
             continue
-        # Headroom above the traces for the legend, so that it hides none of them.
+        # Headroom above the traces for the legend, so that it hides none of them (its text
+        # legible where the figure is shown at two thirds of its size, as in the docs).
         lo, hi = ax.get_ylim()
-        ax.set_ylim(lo, hi + 0.3 * (hi - lo))
-        ax.legend(fontsize=7, loc="upper left", ncol=2)
+        ax.set_ylim(lo, hi + 0.35 * (hi - lo))
+        ax.legend(fontsize=8.5, loc="upper left", ncol=2)
         ax.set_xlabel("time [s]")
     _fitted_title(fig, title or ds.attrs.get("title", ""))
     return fig
