@@ -31,7 +31,6 @@ from rollerrig.solve.ros34pw import (
 )
 
 TABLES = np.zeros((1, 1))
-NEVER_NAN = np.array([1.0, np.inf])  # decay rate 1/s, never NaN
 
 # Untransformed ROS34PW2 coefficients (α_ij, γ_ij, b, b̂) of Rang & Angermann (2005), as listed
 # to 17 digits in the public "rabbit" solver (solver/rodas5p.py) - an independent listing of
@@ -56,41 +55,55 @@ _BHAT = np.array(
 
 @numba.njit
 def pendulum(t, x, p, tables, dx):
-    """Forced pendulum, non-stiff and non-autonomous."""
+    """Forced pendulum, non-stiff and non-autonomous (the single steps of the W-method)."""
     dx[0] = x[1]
     dx[1] = -np.sin(x[0]) + p[0] * np.cos(2.0 * t)
 
 
-PR, VDP, ROBERTSON = 0.0, 1.0, 2.0
+PR, VDP, ROBERTSON, PENDULUM, DECAY, CUBIC = 0.0, 1.0, 2.0, 3.0, 4.0, 5.0
 
 
 @numba.njit
-def stiff_problem(t, x, p, tables, dx):
-    """Stiff test problems in one function (one compilation of the integrator), p[0] picks:
+def problem(t, x, p, tables, dx):
+    """The test problems of the drivers in one function, p[0] picks (each right-hand side is a
+    compilation of its own of every driver it is passed to, 6-9 s of CPU each):
 
     - PR: Prothero-Robinson x' = λ (x − g) + g', g = sin t + cos 3t (exact solution g), λ = p[1];
     - VDP: Van der Pol x1' = x2, x2' = μ (1 − x1²) x2 − x1, μ = p[1];
-    - ROBERTSON: Robertson's chemical kinetics (Hairer & Wanner 1996, Sec. IV.10).
+    - ROBERTSON: Robertson's chemical kinetics (Hairer & Wanner 1996, Sec. IV.10);
+    - PENDULUM: :func:`pendulum` with the forcing amplitude p[1];
+    - DECAY: x_i' = −p[1 + i] x_i, NaN from t = p[1 + n] on (inf: never), see :func:`decay`;
+    - CUBIC: x' = 3 t², x(t) = t³ from x(0) = 0.
     """
-    if p[0] == PR:
+    kind = p[0]
+    if kind == PR:
         g = np.sin(t) + np.cos(3.0 * t)
         dg = np.cos(t) - 3.0 * np.sin(3.0 * t)
         dx[0] = p[1] * (x[0] - g) + dg
-    elif p[0] == VDP:
+    elif kind == VDP:
         dx[0] = x[1]
         dx[1] = p[1] * (1.0 - x[0] * x[0]) * x[1] - x[0]
-    else:
+    elif kind == ROBERTSON:
         dx[0] = -0.04 * x[0] + 1e4 * x[1] * x[2]
         dx[2] = 3e7 * x[1] * x[1]
         dx[1] = -dx[0] - dx[2]
+    elif kind == PENDULUM:
+        dx[0] = x[1]
+        dx[1] = -np.sin(x[0]) + p[1] * np.cos(2.0 * t)
+    elif kind == DECAY:
+        n = x.shape[0]
+        for i in range(n):
+            dx[i] = -p[1 + i] * x[i] if t < p[1 + n] else np.nan
+    else:
+        dx[0] = 3.0 * t * t
 
 
-@numba.njit
-def decay(t, x, p, tables, dx):
-    """x_i' = −p_i x_i, NaN from t = p[n] on (p[n] = inf: never)."""
-    n = x.shape[0]
-    for i in range(n):
-        dx[i] = -p[i] * x[i] if t < p[n] else np.nan
+def decay(*rates, nan_from=np.inf):
+    """p of :func:`problem`'s decay x_i' = −rates_i x_i, NaN from t = ``nan_from`` on."""
+    return np.array([DECAY, *rates, nan_from])
+
+
+NEVER_NAN = decay(1.0)  # decay rate 1/s, never NaN
 
 
 def _transformed():
@@ -203,12 +216,12 @@ def test_order_three_fixed_step(jac_every):
     """Exact Jacobian every step (Rosenbrock) and the Jacobian of t = 0 throughout (W)."""
     t1 = 2.0
     ref = _pendulum_reference(t1)
-    p = np.array([0.3])
+    p = np.array([PENDULUM, 0.3])
     errors = []
     for n in (10, 20, 40, 80):
         x_out = np.empty((1, 2))
         n_steps, _, status = ros34pw2_fixed(
-            pendulum, np.array([1.0, 0.0]), 0.0, t1, t1 / n, np.array([t1]), p, TABLES, x_out,
+            problem, np.array([1.0, 0.0]), 0.0, t1, t1 / n, np.array([t1]), p, TABLES, x_out,
             jac_every,
         )  # fmt: skip
         assert status == STATUS_OK and n_steps == n
@@ -288,8 +301,8 @@ def test_adaptive_error_is_proportional_to_tolerance():
     for tol in (1e-6, 1e-8, 1e-10):
         x_out = np.empty((1, 2))
         res = ros34pw2_integrate(
-            pendulum, np.array([1.0, 0.0]), 0.0, t1, np.array([t1]), np.array([0.3]), TABLES,
-            tol, tol, 0.0, 0.0, 10, x_out,
+            problem, np.array([1.0, 0.0]), 0.0, t1, np.array([t1]), np.array([PENDULUM, 0.3]),
+            TABLES, tol, tol, 0.0, 0.0, 10, x_out,
         )  # fmt: skip
         assert res[3] == STATUS_OK
         errors.append(np.abs(x_out[0] - ref).max())
@@ -310,7 +323,7 @@ def test_prothero_robinson_stiff(lam, fixed_bound):
     p = np.array([PR, lam])
     x_out = np.empty((1, 1))
     res = ros34pw2_integrate(
-        stiff_problem, np.array([1.0]), 0.0, t1, np.array([t1]), p, TABLES, 1e-6, 1e-8,
+        problem, np.array([1.0]), 0.0, t1, np.array([t1]), p, TABLES, 1e-6, 1e-8,
         0.0, 0.0, 10, x_out,
     )  # fmt: skip
     assert res[3] == STATUS_OK
@@ -319,7 +332,7 @@ def test_prothero_robinson_stiff(lam, fixed_bound):
     # Fixed large steps h = 0.1 s (h λ = 0.1 λ), stale Jacobian: no blow-up, error O(h/λ).
     for mode in (FT_NONE, FT_EVERY_STEP):
         n_steps, _, status = ros34pw2_fixed(
-            stiff_problem, np.array([1.0]), 0.0, t1, 0.1, np.array([t1]), p, TABLES, x_out,
+            problem, np.array([1.0]), 0.0, t1, 0.1, np.array([t1]), p, TABLES, x_out,
             10**9, mode,
         )  # fmt: skip
         assert status == STATUS_OK and n_steps == 20
@@ -342,7 +355,7 @@ def test_van_der_pol_mu_1000_against_radau():
     ref = _radau(lambda t, x: [x[1], mu * (1.0 - x[0] ** 2) * x[1] - x[0]], x0, t1, t_out, 1e-10)
     x_out = np.empty((t_out.size, 2))
     res = ros34pw2_integrate(
-        stiff_problem,
+        problem,
         x0,
         0.0,
         t1,
@@ -377,8 +390,9 @@ def test_robertson_against_radau():
     atol = np.array([1e-12, 1e-16, 1e-12])
     ref = _radau(fun, x0, t_out[-1], t_out, atol)
     x_out = np.empty((t_out.size, 3))
+    # rtol per state too: the specialisation test_per_state_tolerances_and_h_max compiles
     res = ros34pw2_integrate(
-        stiff_problem, x0, 0.0, t_out[-1], t_out, np.array([ROBERTSON, 0.0]), TABLES, 1e-8,
+        problem, x0, 0.0, t_out[-1], t_out, np.array([ROBERTSON, 0.0]), TABLES, np.full(3, 1e-8),
         atol * 100, 0.0, 0.0, 10, x_out,
     )  # fmt: skip
     assert res[3] == STATUS_OK
@@ -388,14 +402,15 @@ def test_robertson_against_radau():
 
 
 def test_lands_exactly_on_output_times():
-    rates = np.array([1.0, 3.0, np.inf])
+    rates = np.array([1.0, 3.0])
     t_out = np.array([0.0, 0.0, 0.013, 0.5, 0.5, 0.77, 1.9, 2.0])
     x_out = np.empty((t_out.size, 2))
     res = ros34pw2_integrate(
-        decay, np.ones(2), 0.0, 2.0, t_out, rates, TABLES, 1e-10, 1e-12, 0.0, 0.0, 100, x_out
-    )
+        problem, np.ones(2), 0.0, 2.0, t_out, decay(*rates), TABLES, 1e-10, 1e-12, 0.0, 0.0, 100,
+        x_out,
+    )  # fmt: skip
     assert res[3] == STATUS_OK
-    exact = np.exp(-np.outer(t_out, rates[:2]))
+    exact = np.exp(-np.outer(t_out, rates))
     np.testing.assert_allclose(x_out, exact, rtol=2e-9)
     np.testing.assert_array_equal(x_out[0], [1.0, 1.0])
     np.testing.assert_array_equal(x_out[3], x_out[4])
@@ -403,44 +418,45 @@ def test_lands_exactly_on_output_times():
     t_out2 = np.array([1.0, 1.0 + 1e-12, 2.0])
     x_out2 = np.empty((3, 2))
     res = ros34pw2_integrate(
-        decay, np.ones(2), 0.0, 2.0, t_out2, rates, TABLES, 1e-10, 1e-12, 0.0, 0.0, 100, x_out2
-    )
+        problem, np.ones(2), 0.0, 2.0, t_out2, decay(*rates), TABLES, 1e-10, 1e-12, 0.0, 0.0,
+        100, x_out2,
+    )  # fmt: skip
     assert res[3] == STATUS_OK
-    np.testing.assert_allclose(x_out2, np.exp(-np.outer(t_out2, rates[:2])), rtol=2e-9)
+    np.testing.assert_allclose(x_out2, np.exp(-np.outer(t_out2, rates)), rtol=2e-9)
 
 
 def test_per_state_tolerances_and_h_max():
-    rates = np.array([1.0, 3.0, np.inf])
+    rates = np.array([1.0, 3.0])
     x_out = np.empty((1, 2))
     n_steps, _, n_jac, status = ros34pw2_integrate(
-        decay, np.ones(2), 0.0, 2.0, np.array([2.0]), rates, TABLES, np.array([1e-6, 1e-9]),
-        np.array([1e-9, 1e-12]), 0.0, 0.01, 7, x_out,
+        problem, np.ones(2), 0.0, 2.0, np.array([2.0]), decay(*rates), TABLES,
+        np.array([1e-6, 1e-9]), np.array([1e-9, 1e-12]), 0.0, 0.01, 7, x_out,
     )  # fmt: skip
     assert status == STATUS_OK
     assert n_steps >= 200  # h_max = 0.01 s over 2 s
     assert n_jac >= n_steps // 7
-    np.testing.assert_allclose(x_out[0], np.exp(-2.0 * rates[:2]), rtol=1e-7)
+    np.testing.assert_allclose(x_out[0], np.exp(-2.0 * rates), rtol=1e-7)
 
 
 def test_nonfinite_right_hand_side_fails_cleanly():
     t_out = np.array([0.25, 0.5, 1.0, 2.0])
     x_out = np.empty((4, 1))
     res = ros34pw2_integrate(
-        decay, np.ones(1), 0.0, 2.0, t_out, np.array([1.0, 0.7]), TABLES, 1e-6, 1e-8, 0.0, 0.0,
-        10, x_out,
+        problem, np.ones(1), 0.0, 2.0, t_out, decay(1.0, nan_from=0.7), TABLES, 1e-6, 1e-8, 0.0,
+        0.0, 10, x_out,
     )  # fmt: skip
     assert res[3] == STATUS_NONFINITE
     np.testing.assert_allclose(x_out[:2, 0], np.exp(-t_out[:2]), rtol=1e-5)
     assert np.isnan(x_out[2:]).all()
     # NaN already at t0
     res = ros34pw2_integrate(
-        decay, np.ones(1), 0.0, 2.0, t_out, np.array([1.0, -1.0]), TABLES, 1e-6, 1e-8, 0.0, 0.0,
-        10, x_out,
+        problem, np.ones(1), 0.0, 2.0, t_out, decay(1.0, nan_from=-1.0), TABLES, 1e-6, 1e-8, 0.0,
+        0.0, 10, x_out,
     )  # fmt: skip
     assert res[3] == STATUS_NONFINITE and np.isnan(x_out).all()
     # NaN initial state
     res = ros34pw2_integrate(
-        decay, np.array([np.nan]), 0.0, 2.0, t_out, NEVER_NAN, TABLES, 1e-6, 1e-8, 0.0, 0.0,
+        problem, np.array([np.nan]), 0.0, 2.0, t_out, NEVER_NAN, TABLES, 1e-6, 1e-8, 0.0, 0.0,
         10, x_out,
     )  # fmt: skip
     assert res[3] == STATUS_NONFINITE
@@ -449,17 +465,17 @@ def test_nonfinite_right_hand_side_fails_cleanly():
 def test_bad_input_and_step_cap():
     x_out = np.empty((1, 1))
     res = ros34pw2_integrate(
-        decay, np.ones(1), 1.0, 0.0, np.array([0.5]), NEVER_NAN, TABLES, 1e-6, 1e-8, 0.0,
+        problem, np.ones(1), 1.0, 0.0, np.array([0.5]), NEVER_NAN, TABLES, 1e-6, 1e-8, 0.0,
         0.0, 10, x_out,
     )  # fmt: skip
     assert res[3] == STATUS_BAD_INPUT and np.isnan(x_out).all()
     res = ros34pw2_integrate(
-        decay, np.ones(1), 0.0, 1.0, np.array([1.5]), NEVER_NAN, TABLES, 1e-6, 1e-8, 0.0,
+        problem, np.ones(1), 0.0, 1.0, np.array([1.5]), NEVER_NAN, TABLES, 1e-6, 1e-8, 0.0,
         0.0, 10, x_out,
     )  # fmt: skip
     assert res[3] == STATUS_BAD_INPUT
     res = ros34pw2_integrate(
-        decay, np.ones(1), 0.0, 1.0, np.array([1.0]), NEVER_NAN, TABLES, 1e-6, 1e-8, 0.0,
+        problem, np.ones(1), 0.0, 1.0, np.array([1.0]), NEVER_NAN, TABLES, 1e-6, 1e-8, 0.0,
         1e-3, 10, x_out, 50,
     )  # fmt: skip
     assert res[3] == STATUS_MAX_STEPS and res[0] + res[1] == 50 and np.isnan(x_out).all()
@@ -481,24 +497,19 @@ def test_invert_w_against_numpy():
 
 def test_batch_equals_serial():
     x0 = np.array([[1.0, 0.0], [0.5, 0.2], [2.0, -1.0]])
-    params = np.array([[0.3], [0.0], [1.0]])
+    params = np.array([[PENDULUM, 0.3], [PENDULUM, 0.0], [PENDULUM, 1.0]])
     t_out = np.linspace(0.0, 3.0, 7)
     batch_out = np.empty((3, t_out.size, 2))
     stats = ros34pw2_integrate_batch(
-        pendulum, x0, 0.0, 3.0, t_out, params, TABLES, 1e-7, 1e-9, 0.0, 0.0, 5, batch_out
+        problem, x0, 0.0, 3.0, t_out, params, TABLES, 1e-7, 1e-9, 0.0, 0.0, 5, batch_out
     )
     for b in range(3):
         x_out = np.empty((t_out.size, 2))
         res = ros34pw2_integrate(
-            pendulum, x0[b], 0.0, 3.0, t_out, params[b], TABLES, 1e-7, 1e-9, 0.0, 0.0, 5, x_out
+            problem, x0[b], 0.0, 3.0, t_out, params[b], TABLES, 1e-7, 1e-9, 0.0, 0.0, 5, x_out
         )
         assert tuple(stats[b]) == res
         np.testing.assert_array_equal(batch_out[b], x_out)
-
-
-@numba.njit
-def cubic(t, x, p, tables, dx):  # x(t) = t^3: the step and the interpolant are both exact
-    dx[0] = 3.0 * t * t
 
 
 def test_dense_output_is_exact_for_a_cubic_and_takes_fewer_steps():
@@ -507,28 +518,29 @@ def test_dense_output_is_exact_for_a_cubic_and_takes_fewer_steps():
     output interval."""
     t_out = np.linspace(0.0, 2.0, 401)
     x_out = np.empty((t_out.size, 1))
-    args = (np.zeros(1), 0.0, 2.0, t_out, np.zeros(1), TABLES, 1.0, 1.0, 0.5, 0.5, 10)
-    res = ros34pw2_integrate(cubic, *args, x_out, dense=True)
+    # x(t) = t³: the step and the interpolant are both exact
+    args = (np.zeros(1), 0.0, 2.0, t_out, np.array([CUBIC]), TABLES, 1.0, 1.0, 0.5, 0.5, 10)
+    res = ros34pw2_integrate(problem, *args, x_out, dense=True)
     assert res[3] == STATUS_OK
     np.testing.assert_allclose(x_out[:, 0], t_out**3, rtol=1e-12, atol=1e-13)
     assert res[0] <= 10  # h_max 0.5 s over 2 s, not 400 steps
     landed = np.empty_like(x_out)
-    res_landed = ros34pw2_integrate(cubic, *args, landed)
+    res_landed = ros34pw2_integrate(problem, *args, landed)
     assert res_landed[0] >= 400
     np.testing.assert_allclose(x_out, landed, rtol=1e-12, atol=1e-13)
 
 
 def test_dense_output_keeps_the_order_on_a_decay():
     """Interpolated outputs of exp(-t) are as accurate as landed ones (third order)."""
-    rates = np.array([1.0, 3.0, np.inf])
+    rates = np.array([1.0, 3.0])
     t_out = np.linspace(0.0, 2.0, 801)
     errors = []
     for h in (0.04, 0.02):
         x_out = np.empty((t_out.size, 2))
         res = ros34pw2_integrate(
-            decay, np.ones(2), 0.0, 2.0, t_out, rates, TABLES, 1.0, 1.0, h, h, 1, x_out,
+            problem, np.ones(2), 0.0, 2.0, t_out, decay(*rates), TABLES, 1.0, 1.0, h, h, 1, x_out,
             dense=True,
         )  # fmt: skip
         assert res[3] == STATUS_OK
-        errors.append(np.max(np.abs(x_out - np.exp(-np.outer(t_out, rates[:2])))))
+        errors.append(np.max(np.abs(x_out - np.exp(-np.outer(t_out, rates)))))
     assert 6.0 < errors[0] / errors[1] < 11.0  # 2^3 = 8
