@@ -56,9 +56,18 @@ def _vf_truth() -> dict:
 
 
 def _recording(roller: str, seed: int = 1):
+    """One adhesion cycle at 30 km/h, 4.3 kN, 5 s: 0.5 s free rolling, a ramp to 720 N.m in 2 s
+    (past the adhesion peak), 0.5 s hold, sudden release, 2 s of ringing.
+
+    Shorter than the calibration tests' 7.5 s (the four fits, two of them of the wrong model
+    for up to 60 iterations, cost a third less); the evidence keeps its margins. Measured
+    (seeds 1 and 2): on the dq recording BIC 4559 and 4519 against 25006 and 24941 for the lag
+    model, which is not adequate; on the lag recording 4696 and 4655 against 27392 and 27328;
+    the adequate model's values within 1.6 stated standard errors of the truth.
+    """
     protocol = Protocol.from_steps(
         "compare-test",
-        [Hold(1.0), RampTorque(720.0, 3.0), Hold(0.5), ReleaseTorque(), Hold(3.0)],
+        [Hold(0.5), RampTorque(720.0, 2.0), Hold(0.5), ReleaseTorque(), Hold(2.0)],
         normal_load=4300.0,
         roller_speed=30 / 3.6,
     )
