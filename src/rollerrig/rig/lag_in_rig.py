@@ -102,8 +102,11 @@ def fit_lag_in_rig(
         )
         return np.array([m.rig_terms(tk, y[:, k], p, inputs.tables)[idx] for k, tk in enumerate(t)])
 
+    responses: dict[float, np.ndarray] = {}  # the optimum's response is one of those tried
+
     def cost(log_tau):
-        return float(np.sqrt(np.mean((lag_response(np.exp(log_tau)) - dq_sig) ** 2)))
+        responses[log_tau] = lag_response(np.exp(log_tau))
+        return float(np.sqrt(np.mean((responses[log_tau] - dq_sig) ** 2)))
 
     best = minimize_scalar(
         cost,
@@ -119,5 +122,5 @@ def fit_lag_in_rig(
         peak_response=float(np.max(np.abs(dq_sig - dq_sig[0]))),
         t=t,
         dq_torque=dq_sig,
-        lag_torque=lag_response(tau),
+        lag_torque=responses[best.x] if best.x in responses else lag_response(tau),
     )
