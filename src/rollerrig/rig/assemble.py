@@ -24,7 +24,7 @@ from rollerrig.contact.creep import (
 )
 from rollerrig.contact.creep import friction_kernel as _friction_kernel
 from rollerrig.contact.creep import polach_force_kernel as _polach_force_kernel
-from rollerrig.contact.hertz import hertz_contact
+from rollerrig.contact.hertz import HERTZ_DOMAIN_LIMIT, hertz_contact
 from rollerrig.contact.kalker import kalker_coefficients
 from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED
 from rollerrig.contact.laws import EUROSPRINTER_MODIFIED_FASTSIM, FastsimParameters
@@ -77,6 +77,15 @@ def _pad_rows(rows: list[np.ndarray]) -> np.ndarray:
     return out
 
 
+_REFERENCE_CONTACTS: dict[tuple[float, ...], tuple[float, float, float]] = {}
+"""(a, b, c11) of the Hertz contact by (load, the four radii, E, ν), as :func:`_base_parameters`
+found them: a calibration or a study assembles hundreds of variants of one geometry, and the exact
+ellipse (a bisection through elliptic integrals) with Kalker's c11 cost 1.1 ms of a 4.5 ms
+assembly. Contacts outside Hertz's half-space domain are not kept: each assembly warns again."""
+
+_REFERENCE_CONTACTS_KEPT = 256
+
+
 def _base_parameters(rig: RigParameters, drives: m.DriveConfig, reference_load: float):
     p = np.zeros(m.N_PARAMS)
     inertia = rig.inertia
@@ -109,17 +118,30 @@ def _base_parameters(rig: RigParameters, drives: m.DriveConfig, reference_load: 
 
     # Contact at the reference load: Hertz (exact) and Kalker's C11 at the contact's a/b.
     mat = rig.material
-    contact = hertz_contact(
-        reference_load,
-        g.wheel_radius_x,
-        g.wheel_radius_y,
-        g.roller_radius_x,
-        g.roller_radius_y,
-        youngs_modulus=mat.youngs_modulus,
-        poisson=mat.poisson,
-    )
-    a, bb = float(contact.semi_axis_x), float(contact.semi_axis_y)
-    c11 = float(kalker_coefficients(a / bb, mat.poisson).c11)
+    radii = (g.wheel_radius_x, g.wheel_radius_y, g.roller_radius_x, g.roller_radius_y)
+    key = (float(reference_load), *map(float, radii), mat.youngs_modulus, mat.poisson)
+    known = _REFERENCE_CONTACTS.get(key)
+    if known is None:
+        contact = hertz_contact(
+            reference_load,
+            g.wheel_radius_x,
+            g.wheel_radius_y,
+            g.roller_radius_x,
+            g.roller_radius_y,
+            youngs_modulus=mat.youngs_modulus,
+            poisson=mat.poisson,
+        )
+        a, bb = float(contact.semi_axis_x), float(contact.semi_axis_y)
+        c11 = float(kalker_coefficients(a / bb, mat.poisson).c11)
+        # a/R'x and b/R'y, as hertz_contact computes them before it warns
+        ratio_x = 2.0 * a * (0.5 * (1.0 / g.wheel_radius_x + 1.0 / g.roller_radius_x))
+        ratio_y = 2.0 * bb * (0.5 * (1.0 / g.wheel_radius_y + 1.0 / g.roller_radius_y))
+        if max(ratio_x, ratio_y) <= HERTZ_DOMAIN_LIMIT:
+            if len(_REFERENCE_CONTACTS) >= _REFERENCE_CONTACTS_KEPT:
+                _REFERENCE_CONTACTS.clear()
+            _REFERENCE_CONTACTS[key] = (a, bb, c11)
+    else:
+        a, bb, c11 = known
     shear_modulus = mat.youngs_modulus / (2.0 * (1.0 + mat.poisson))
     p[m.P_CREEP_STIFF_REF] = shear_modulus * a * bb * c11
     p[m.P_LOAD_REF] = reference_load
