@@ -225,7 +225,7 @@ def run(
             help="auto: dask for --scheduler or --workers, else the first batch runs here and "
             "the study stays here unless its size repays a local dask cluster's start-up "
             "(about 12 [s] on 2 free cores, 30 [s] under load: thousands of points there); "
-            "local: this process, numba threads; dask: a local cluster or --scheduler."
+            "local: this process, one thread per core; dask: a local cluster or --scheduler."
         ),
     ] = Executor.auto,
     restart: Annotated[

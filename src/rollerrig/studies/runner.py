@@ -141,7 +141,7 @@ class StudyRun:
     executor : str
         ``"local"`` or ``"dask"``: where the points ran (``"auto"`` resolved).
     workers : int
-        Processes (dask) or numba threads (local) that ran the points.
+        Processes (dask) or threads (local) that ran the points.
     reason : str
         Why this executor (one line; for ``"auto"``, with the numbers the choice rests on).
     fixed_cost : dict of str to float
@@ -212,7 +212,8 @@ def run_batch(
     h_max : float, optional
         Largest step [s]; default :data:`rollerrig.solve.fast.SWEEP_H_MAX`.
     threads : int, optional
-        numba threads to use here (a dask worker uses 1); default: numba's setting.
+        Threads to use here (a dask worker uses 1); default: numba's setting
+        (``numba.get_num_threads()``), which :func:`rollerrig.solve.fast.integrate_batch` follows.
     timing : dict, optional
         Filled with ``serial_s`` (per point: its setup and measuring, the Python work of one
         core [s]), ``serial_cpu_s`` (the CPU time of this thread in that work [s]: below
