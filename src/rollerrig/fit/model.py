@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from rollerrig._validation import require_positive
-from rollerrig.contact.creep import PolachParameters
+from rollerrig.contact.creep import POLACH_DRY, PolachParameters  # noqa: F401 (the examples)
 from rollerrig.contact.creep import polach_force_kernel as _polach_force_kernel
 
 __all__ = ["PARAMETER_NAMES", "creep_stiffness_for_rig", "polach_coa"]
