@@ -14,6 +14,8 @@ References used below:
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 
@@ -205,6 +207,11 @@ def test_at_the_lowest_allowed_current_limit_the_drive_holds_the_rated_torque():
 # ---------------------------------------------------------------------------------------------
 # Against motulator's V/Hz control
 # ---------------------------------------------------------------------------------------------
+T_EVAL = np.linspace(0.0, 0.6, 2401)
+"""Output instants of the comparisons [s]."""
+
+
+@functools.cache  # the sampling-period test reuses the 250 µs run and ours (read only)
 def _motulator_run(t_s, compensation, t_end=0.6):
     from motulator.drive import model
     from motulator.drive.control import im as control
@@ -241,7 +248,8 @@ def _load(t):
     return 500.0 * (t > 0.35) - 1000.0 * (t > 0.5)
 
 
-def _ours(compensation, t_eval):
+@functools.cache
+def _ours(compensation):
     if compensation:  # motulator's form: RI compensation and full slip compensation
         control = vf.vf_control_for(
             M, boost=0.0, ir_compensation=True, slip_compensation=1.0, current_limit=None
@@ -252,11 +260,11 @@ def _ours(compensation, t_eval):
     tt, vv = vf.ramp_limited_command([0.0, 1e-9, 1.0], [0.0, W_CMD / 5, W_CMD / 5], 2 * np.pi * 12)
     return dd.simulate_drive_on_inertia(
         drive,
-        t_eval[-1],
+        T_EVAL[-1],
         lambda x: float(np.interp(x, tt, vv)),
         inertia=6.6,
         load_torque=_load,
-        t_eval=t_eval,
+        t_eval=T_EVAL,
         rtol=1e-8,
         atol=1e-8,
     )
@@ -282,8 +290,7 @@ def test_against_motulator_vhz(compensation):
     # rated (peak), torque 2.3 % of rated, speed 0.23 % — differences that shrink in
     # proportion to T_s (test below), so they are the discretisation of the controller.
     pytest.importorskip("motulator")
-    t_eval = np.linspace(0.0, 0.6, 2401)
-    err = _errors(_motulator_run(2.5e-4, compensation), _ours(compensation, t_eval), t_eval)
+    err = _errors(_motulator_run(2.5e-4, compensation), _ours(compensation), T_EVAL)
     assert err[0] < 0.035
     assert err[1] < 0.03
     assert err[2] < 0.004
@@ -291,10 +298,9 @@ def test_against_motulator_vhz(compensation):
 
 def test_motulator_difference_shrinks_with_its_sampling_period():
     pytest.importorskip("motulator")
-    t_eval = np.linspace(0.0, 0.6, 2401)
-    ours = _ours(False, t_eval)
-    coarse = _errors(_motulator_run(2.5e-4, False), ours, t_eval)
-    fine = _errors(_motulator_run(1e-4, False), ours, t_eval)
+    ours = _ours(False)
+    coarse = _errors(_motulator_run(2.5e-4, False), ours, T_EVAL)
+    fine = _errors(_motulator_run(1e-4, False), ours, T_EVAL)
     # first order in T_s: 2.5x smaller sampling period -> about 2.5x smaller differences
     for a, b in zip(coarse, fine, strict=True):
         assert b < 0.55 * a
