@@ -412,8 +412,12 @@ def main() -> None:
             f"every {FAST_DEFAULTS['relinearise']} steps, 2 more); 2000x real time needs "
             f"<= {duration / 2000 * 1e3:.1f} ms = {duration / 2000 / f_steps * 1e9:.0f} ns a "
             f"step, 20x LSODA <= {lsoda_time / 20 * 1e3:.1f} ms. The step is set by RK4's "
-            "stability on the current loops (-1 257 1/s) with a 25 % margin; the load average "
-            f"of {load_after[0]:.2f} on {os.cpu_count()} cores slows every timing here"
+            "stability on the current loops (-1 257 1/s) with a 25 % margin, and by the "
+            "accuracy target too (the error grows as about h^3.6: see the 1 ms row; about 0.06 "
+            "N.m at 2 ms); taking the current loops exactly lets the step grow to 2.5-3.2 ms "
+            "but multiplies the error constant by five (solve/etdrk4.py): a cheaper step, not "
+            f"a longer one, is what is left; the load average of {load_after[0]:.2f} on "
+            f"{os.cpu_count()} cores slows every timing here"
         )
     if not (bool(best_sweep) and best_sweep[2] >= 200):
         print(
