@@ -160,7 +160,9 @@ class ReplayModel:
         """Simulate the parameter vectors ``zs``; variants sharing a protocol run in one batch.
 
         ``coarse``: with the largest step of sweeps (:data:`~rollerrig.solve.fast.
-        SWEEP_H_MAX`), twice as fast and accurate enough to compare values far apart.
+        SWEEP_H_MAX`). With ETDRK4, the fast backend's default, that changes nothing (its step
+        is set by stability, below that cap): a coarse run is a full run. With ROS34PW2 it was
+        about twice as fast, accurate enough to compare values far apart.
 
         Returns
         -------
