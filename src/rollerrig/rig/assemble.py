@@ -24,7 +24,7 @@ from rollerrig.contact.creep import (
 )
 from rollerrig.contact.creep import friction_kernel as _friction_kernel
 from rollerrig.contact.creep import polach_force_kernel as _polach_force_kernel
-from rollerrig.contact.hertz import HERTZ_DOMAIN_LIMIT, hertz_contact
+from rollerrig.contact.hertz import hertz_contact
 from rollerrig.contact.kalker import kalker_coefficients
 from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED
 from rollerrig.contact.laws import EUROSPRINTER_MODIFIED_FASTSIM, FastsimParameters
@@ -122,21 +122,21 @@ def _base_parameters(rig: RigParameters, drives: m.DriveConfig, reference_load: 
     key = (float(reference_load), *map(float, radii), mat.youngs_modulus, mat.poisson)
     known = _REFERENCE_CONTACTS.get(key)
     if known is None:
-        contact = hertz_contact(
-            reference_load,
-            g.wheel_radius_x,
-            g.wheel_radius_y,
-            g.roller_radius_x,
-            g.roller_radius_y,
-            youngs_modulus=mat.youngs_modulus,
-            poisson=mat.poisson,
-        )
+        # Kept only when Hertz's half-space assumption holds: hertz_contact's own warning says
+        # when it does not, and such an assembly must warn every time.
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            contact = hertz_contact(
+                reference_load,
+                *radii,
+                youngs_modulus=mat.youngs_modulus,
+                poisson=mat.poisson,
+            )
+        for w in said:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         a, bb = float(contact.semi_axis_x), float(contact.semi_axis_y)
         c11 = float(kalker_coefficients(a / bb, mat.poisson).c11)
-        # a/R'x and b/R'y, as hertz_contact computes them before it warns
-        ratio_x = 2.0 * a * (0.5 * (1.0 / g.wheel_radius_x + 1.0 / g.roller_radius_x))
-        ratio_y = 2.0 * bb * (0.5 * (1.0 / g.wheel_radius_y + 1.0 / g.roller_radius_y))
-        if max(ratio_x, ratio_y) <= HERTZ_DOMAIN_LIMIT:
+        if not said:
             if len(_REFERENCE_CONTACTS) >= _REFERENCE_CONTACTS_KEPT:
                 _REFERENCE_CONTACTS.clear()
             _REFERENCE_CONTACTS[key] = (a, bb, c11)
