@@ -524,8 +524,7 @@ class _DaskExecutor:
         try:
             self.distributed.wait(futures)
         finally:
-            for f in futures:
-                f.cancel()
+            self.client.cancel(futures)
         self.warm_s = time.perf_counter() - started
 
     def run(self, batches, args) -> Iterator[list]:
@@ -541,8 +540,7 @@ class _DaskExecutor:
             for future in self.distributed.as_completed(futures):
                 yield future.result()
         finally:
-            for f in futures:
-                f.cancel()
+            self.client.cancel(futures)  # one message for all, not one round trip each
 
     def close(self, *, interrupted: bool = False) -> None:
         """Close the client and the local cluster; after an interruption, quietly (the
@@ -663,6 +661,7 @@ def run_study(
                 progress(Progress(done, len(table), failed, skipped, elapsed))
 
         interrupted = True  # until the points are all in: any exception ends the run early
+        results: Iterator[list] = iter(())
         try:
             if pending.size:
                 asks_dask = bool(scheduler or workers)
@@ -696,7 +695,6 @@ def run_study(
                     chosen(choice)
                 if not pending.size:
                     workers_used = threads
-                    results: Iterator[list] = iter(())
                 elif choice.executor == "dask":
                     runner = _DaskExecutor(scheduler, workers or choice.workers)
                     fixed_cost["cluster_start_s"] = runner.start_s
@@ -714,6 +712,12 @@ def run_study(
             interrupted = False
         finally:
             st.flush()
+            # An interruption in record() leaves the generator suspended; its own cleanup
+            # (cancelling the dask futures) must run now, while the client is still open, not
+            # when it is collected after the client's event loop has closed.
+            close_results = getattr(results, "close", None)
+            if close_results is not None:
+                close_results()
             if runner is not None:
                 closing = time.perf_counter()
                 runner.close(interrupted=interrupted)
