@@ -109,9 +109,13 @@ def _pulse(load, speed_kmh, torque):
     ids=["flexible-frame", "dq-drive", "servo-ideal-wheel", "20kN-10kmh-1400Nm"],
 )
 def test_drives_frames_and_the_hard_case_against_radau(drives, load, speed, torque, limit):
+    """Against Radau at rtol 1e-9: within 2e-5 N.m of rtol 1e-10 on each of these pulses
+    (measured: flexible frame 1.8e-7, dq 1.2e-6, servo 5.9e-7, hard case 1.5e-5), a reference
+    over 3 000 times closer than the limits, at a third of its cost (the flexible frame 16 ->
+    5.6 s). The default twin's test above keeps rtol 1e-10, the issue's target."""
     inputs = assemble(default_rig(), _pulse(load, speed, torque), drives)
     t = output_times(inputs.protocol.duration, 250.0)
-    ref, _ = integrate_reference(inputs, t, rtol=1e-10)
+    ref, _ = integrate_reference(inputs, t, rtol=1e-9)
     x, stats = integrate_experiment(inputs, t)
     assert stats["status"] == 0 and stats["fallback_segments"] == 0
     assert np.max(np.abs(_t56(inputs, x) - _t56(inputs, ref))) <= limit

@@ -68,20 +68,9 @@ References
 
 Examples
 --------
->>> import numba
->>> import numpy as np
->>> from rollerrig.solve.ros34pw import ros34pw2_integrate
->>> @numba.njit
-... def decay(t, x, p, tables, dx):
-...     dx[0] = -p[0] * x[0]
->>> x_out = np.empty((2, 1))
->>> n_steps, n_rejected, n_jac, status = ros34pw2_integrate(
-...     decay, np.array([1.0]), 0.0, 1.0, np.array([0.5, 1.0]), np.array([2.0]),
-...     np.zeros((1, 1)), 1e-8, 1e-10, 0.0, 1.0, 10, x_out)
->>> status
-0
->>> bool(abs(x_out[1, 0] - np.exp(-2.0)) < 1e-7)
-True
+Each driver's docstring has one: :func:`ros34pw2_integrate` (adaptive, with dense output at
+given times) and :func:`ros34pw2_fixed` (fixed steps). They are not repeated here: each new
+right-hand side compiles the driver again (about 8 s).
 """
 
 import numpy as np
