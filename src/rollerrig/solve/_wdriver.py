@@ -11,7 +11,6 @@ once here:
   factored ``W`` while the step size stays within a ratio of the one it was built for,
   recovery from non-finite values by shorter steps, failure statuses;
 - ``fixed``: equal steps between consecutive output times (deterministic cost);
-- ``integrate_batch``: independent adaptive integrations in parallel threads (``prange``);
 - ``fd_jacobian``, ``fd_time_derivative``: the forward-difference ``J`` and ``f_t``
 
 (the fields of a :class:`Driver`, compiled by :func:`bind`; :func:`fd_jacobian` and
@@ -607,46 +606,6 @@ def _fixed(x0, t0, t1, h, t_out, p, tables, x_out, jac_every, time_derivative=FT
     return n_steps, n_jac, status
 
 
-def _integrate_batch(
-    X0, t0, t1, t_out, P, tables, rtol, atol, h0, h_max, jac_every, X_out,
-    max_steps=DEFAULT_MAX_STEPS, time_derivative=FT_EVERY_STEP,
-):  # fmt: skip
-    """Template of ``integrate_batch``: the rows of ``X0``/``P`` in parallel (``prange``).
-
-    Row ``b`` runs ``integrate(X0[b], t0, t1, t_out, P[b], tables, rtol, atol, h0, h_max,
-    jac_every, X_out[b], max_steps, time_derivative)``; the result is identical to the serial
-    calls. ``tables`` is shared, so ``rhs`` must not write to it. Parameters and returns as in
-    :func:`rollerrig.solve.ros34pw.ros34pw2_integrate_batch`.
-    """
-    n_batch = X0.shape[0]
-    stats = np.zeros((n_batch, 4), dtype=np.int64)
-    if P.shape[0] != n_batch or X_out.shape[0] != n_batch:
-        stats[:, 3] = STATUS_BAD_INPUT
-        return stats
-    for b in numba.prange(n_batch):
-        n_steps, n_rej, n_jac, status = _integrate(
-            X0[b],
-            t0,
-            t1,
-            t_out,
-            P[b],
-            tables,
-            rtol,
-            atol,
-            h0,
-            h_max,
-            jac_every,
-            X_out[b],
-            max_steps,
-            time_derivative,
-        )
-        stats[b, 0] = n_steps
-        stats[b, 1] = n_rej
-        stats[b, 2] = n_jac
-        stats[b, 3] = status
-    return stats
-
-
 # ---------------------------------------------------------------------------------------------
 # Binding
 # ---------------------------------------------------------------------------------------------
@@ -686,8 +645,10 @@ class Driver(NamedTuple):
     """The drivers compiled for one right-hand side and one method (see :func:`bind`).
 
     The functions take the arguments of the templates ``_fd_jacobian``, ``_fd_time_derivative``,
-    ``_jacobians``, the method's step, ``_integrate``, ``_fixed`` and ``_integrate_batch``
-    (those of the public functions without ``rhs``); without a method the last four are None.
+    ``_jacobians``, the method's step, ``_integrate`` and ``_fixed`` (those of the public
+    functions without ``rhs``); without a method the last three are None. ``integrate``
+    releases the GIL: independent runs go on threads
+    (:func:`rollerrig.solve._threads.run_each`).
     """
 
     rhs: Callable
@@ -697,7 +658,6 @@ class Driver(NamedTuple):
     step: Callable | None
     integrate: Callable | None
     fixed: Callable | None
-    integrate_batch: Callable | None
 
 
 _NAMED: dict[str, tuple] = {}
@@ -724,7 +684,7 @@ def bind(rhs, method: Method | None = None, name: str | None = None) -> Driver:
     rhs : numba dispatcher
         Right-hand side ``rhs(t, x, p, tables, dx)``.
     method : Method, optional
-        The W-method of ``step``, ``integrate``, ``fixed`` and ``integrate_batch``; without it
+        The W-method of ``step``, ``integrate`` and ``fixed``; without it
         only the finite differences are bound.
     name : str, optional
         Cache the compiled code on disk under this name (:mod:`rollerrig.solve._cache`), for
@@ -755,7 +715,7 @@ def bind(rhs, method: Method | None = None, name: str | None = None) -> Driver:
     fd_time = copy(_fd_time_derivative, ns)
     jacobians = copy(_jacobians, ns)
     if method is None:
-        return Driver(rhs, fd_jac, fd_time, jacobians, None, None, None, None)
+        return Driver(rhs, fd_jac, fd_time, jacobians, None, None, None)
     step_ns = dict(method.step.__globals__)
     step_ns["rhs"] = rhs
     ns.update(
@@ -766,7 +726,6 @@ def bind(rhs, method: Method | None = None, name: str | None = None) -> Driver:
         EXPONENT=method.exponent,
         PREDICTIVE=method.predictive,
     )
-    integrate = copy(_integrate, ns)
+    integrate = copy(_integrate, ns, nogil=True)
     fixed = copy(_fixed, ns)
-    batch = copy(_integrate_batch, ns, parallel=True)
-    return Driver(rhs, fd_jac, fd_time, jacobians, ns["step"], integrate, fixed, batch)
+    return Driver(rhs, fd_jac, fd_time, jacobians, ns["step"], integrate, fixed)

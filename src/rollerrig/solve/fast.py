@@ -15,13 +15,13 @@ failure is a status, not an exception: the stats give it with the simulated time
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from rollerrig.rig.model import N_STATES, X_FRAME_V, X_OMEGA, X_THETA
 from rollerrig.solve import _cache, etdrk4
 from rollerrig.solve import _wdriver as _wd
 from rollerrig.solve._compiled import RIG
+from rollerrig.solve._threads import run_each
 from rollerrig.solve.ros34pw import (
     DEFAULT_MAX_STEPS,
     FT_NONE,
@@ -576,20 +576,6 @@ def integrate_batch(
             first.tables, t_out, rt, at, h_max_ros, jac_every, x_out[k], counts[k], t_stop[k],
         )  # fmt: skip
 
-    threads = min(n, numba.get_num_threads())
-    if threads <= 1:
-        for k in range(n):
-            run(k)
-    else:
-        from concurrent.futures import ThreadPoolExecutor
-
-        pool = ThreadPoolExecutor(threads)
-        try:
-            for _ in pool.map(run, range(n)):  # re-raises a thread's exception here
-                pass
-        finally:
-            # On Ctrl-C (or an error) the variants not started are dropped, not run: only those
-            # running finish (the compiled code cannot be interrupted).
-            pool.shutdown(cancel_futures=True)
+    run_each(run, n)  # the variants on the numba threads; Ctrl-C drops those not started
     name = METHODS[runs[0][1]]
     return x_out, [_stats(counts[k], status[k], t_stop[k, 0], name) for k in range(n)]
