@@ -3,10 +3,11 @@
 - :class:`~rollerrig.solve.simulation.Simulation` — binds rig, protocol, drives and solver;
   a failed run raises :class:`~rollerrig.solve.simulation.SolverError`.
 - :mod:`~rollerrig.solve.reference` — scipy Radau on the compiled model (the trusted solution).
-- :mod:`~rollerrig.solve.fast` — compiled ROS34PW2 W-method, single runs and parallel batches.
+- :mod:`~rollerrig.solve.fast` — the compiled backend: ETDRK4 (:mod:`~rollerrig.solve.etdrk4`)
+  with ROS34PW2 as its fallback, single runs and batches on threads.
 - :mod:`~rollerrig.solve.ros34pw` — the third-order W-method (Rang & Angermann 2005) on the
   generic W-method drivers (``_wdriver``: step control, output landing, Jacobian reuse,
-  finite-difference Jacobians, batches).
+  finite-difference Jacobians).
 - :mod:`~rollerrig.solve.results` — the xarray dataset and its writers.
 
 Importing this package does not import numba; the compiled backends load on first use, from

@@ -1,0 +1,44 @@
+"""run_each: every run once, on up to numba's thread count, an exception raised to the caller,
+the runs not started dropped after it."""
+
+import threading
+
+import numba
+import pytest
+
+from rollerrig.solve._threads import run_each
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_every_run_once_on_at_most_the_numba_threads(threads, monkeypatch):
+    monkeypatch.setattr(numba, "get_num_threads", lambda: threads)
+    seen, names = [], set()
+
+    def run(k):
+        seen.append(k)
+        names.add(threading.current_thread().name)
+
+    run_each(run, 7)
+    assert sorted(seen) == list(range(7))
+    assert len(names) <= threads
+    if threads == 1:
+        assert seen == list(range(7)) and names == {threading.current_thread().name}
+
+
+def test_an_exception_reaches_the_caller_and_later_runs_are_dropped(monkeypatch):
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 2)
+    started = []
+    gate = threading.Event()
+
+    def run(k):
+        started.append(k)
+        if k == 0:
+            raise ValueError("run 0 failed")
+        gate.wait(1.0)  # the other thread holds until the failure is seen
+
+    with pytest.raises(ValueError, match="run 0 failed"):
+        try:
+            run_each(run, 50)
+        finally:
+            gate.set()
+    assert len(started) < 50
