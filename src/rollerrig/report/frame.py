@@ -19,6 +19,7 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import MaxNLocator
 
 from rollerrig.frame.analysis import FrameResult
+from rollerrig.output.figures import crop_when_saved
 
 __all__ = ["auto_scale", "deformed_shape_figure", "frame_study_figure", "mode_shape_figure"]
 
@@ -147,6 +148,7 @@ def deformed_shape_figure(result: FrameResult, *, scale: float | None = None):
         fontsize=9,
     )
     fig.tight_layout(rect=(0.0, 0.07, 1.0, 1.0))  # room for the legend underneath
+    crop_when_saved(fig)  # 3D axes: the layout does not see their projected labels
     return fig, scale
 
 
@@ -219,6 +221,7 @@ def mode_shape_figure(result: FrameResult, modes=3, *, contact_mode: int | None 
     handles.append(Line2D([], [], color="k", marker="s", ls="none", ms=5, label="support (fixed)"))
     fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=7, frameon=False)
     fig.tight_layout(rect=(0.0, 0.06, 1.0, 0.9))
+    crop_when_saved(fig)  # 3D axes: the layout does not see their projected labels
     return fig, scales
 
 

@@ -182,11 +182,11 @@ class HtmlReport:
         )
 
     def figure(self, fig, caption: str = "", dpi: int = 110) -> None:
-        from rollerrig.output.figures import typeset_figure_units
+        from rollerrig.output.figures import crop_to_drawing, typeset_figure_units
 
         typeset_figure_units(fig)  # as every saved figure (found: the spectra read (N.m)²)
         buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+        fig.savefig(buf, format="png", dpi=dpi, bbox_inches=crop_to_drawing(fig))
         data = base64.b64encode(buf.getvalue()).decode("ascii")
         import matplotlib.pyplot as plt
 

@@ -24,6 +24,8 @@ import numpy as np
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
+from rollerrig.output.figures import crop_when_saved
+
 __all__ = ["LABEL_GID", "LEADER_GID", "PeakLabel", "label_extent", "label_peaks", "spread"]
 
 LABEL_GID = "peak-label"
@@ -281,4 +283,6 @@ def label_peaks(
             scalex=False,
             scaley=False,
         )
+    # the labels are placed after the layout and may reach past the axes: crop to them
+    crop_when_saved(ax.figure)
     return texts

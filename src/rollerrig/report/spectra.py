@@ -31,6 +31,7 @@ matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rollerrig.output.figures import crop_when_saved
 from rollerrig.report.labels import PeakLabel, label_peaks
 from rollerrig.report.order_map import Resonance, order_map_figure, resonance_speeds
 from rollerrig.report.spectrum_axes import (
@@ -242,6 +243,7 @@ def spectrum_figure(
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     label_peaks(ax, labels, data_top=top, marker_size=_MARKER)
+    crop_when_saved(fig)  # the title holds the recording's name, of any length
     return fig
 
 
@@ -320,7 +322,7 @@ def coherence_figure(
     seg = f", {coh.nperseg}-sample segments" if coh.nperseg else ""
     count = "1 segment: γ² not estimated" if withheld else f"{coh.n_segments} segments"
     ax.set_title(
-        f"coherence of {names[0]} and {names[1]} ({count}{seg}, Δf {df:.4g} Hz)",
+        f"coherence of {names[0]} and {names[1]}\n({count}{seg}, Δf {df:.4g} Hz)",
         fontsize=9,
     )
     hidden = _hidden_note([float(m) for m in marks if m > fmax], fmax)
@@ -329,4 +331,5 @@ def coherence_figure(
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
     label_peaks(ax, labels, data_top=1.0, marker_size=_MARKER)  # above γ² = 1, the most it can be
+    crop_when_saved(fig)  # the title holds the recordings' names, of any length
     return fig
