@@ -166,15 +166,16 @@ def _compile_numpydoc_template_once() -> None:
     render = getattr(scrape, "get_doc_object_orig", None)
     if render is None or mangle.get_doc_object is not scrape.get_doc_object:
         return  # another numpydoc: leave it as it is
-    templates: dict[int, object] = {}
 
     def get_doc_object(obj, what=None, doc=None, config=None, builder=None):
         config = {} if config is None else config
-        key = id(builder)
-        if key not in templates:
+        template = getattr(builder, "_numpydoc_template", None)
+        if template is None:
             scrape.get_doc_object(None, "object", "", config, builder)  # compiles it, once
-            templates[key] = config["template"]
-        config["template"] = templates[key]
+            template = config["template"]
+            if builder is not None:
+                builder._numpydoc_template = template  # kept with the builder it belongs to
+        config["template"] = template
         return render(
             obj,
             what=what,

@@ -100,7 +100,7 @@ def _progress_lines(output: str, what: str) -> list[str]:
     return [m.group(0) for m in _LINE.finditer(output) if m.group("what").startswith(what)]
 
 
-def test_analyze_prints_progress_lines_when_piped_and_none_with_quiet(
+def test_analyze_prints_progress_lines_when_piped_and_quiet_silences_a_command(
     tmp_path, runner, adhesion_csv
 ):
     rec = adhesion_csv(tmp_path / "test.csv")

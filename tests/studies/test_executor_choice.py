@@ -186,3 +186,41 @@ def test_a_dask_worker_loads_the_solver_once_when_warmed_and_keeps_it(tmp_path):
     assert after == warmed  # the same process, the same driver after two batches
     assert ex.start_s > 0 and ex.warm_s > 0
     assert sorted(r[0] for r in rows) == list(range(6)) and {r[1] for r in rows} == {"ok"}
+
+
+class _InterruptedDask(_FakeDask):
+    """A dask executor whose results generator says when its cleanup runs; the cleanup can
+    fail, as a client that lost its scheduler does."""
+
+    log: ClassVar[list] = []
+    cleanup_fails: ClassVar[bool] = False
+
+    def run(self, batches, args):
+        try:
+            yield from _local(batches, args)
+        finally:
+            _InterruptedDask.log.append("cancelled")
+            if _InterruptedDask.cleanup_fails:
+                raise RuntimeError("the client is closed")
+
+    def close(self, *, interrupted=False):
+        _InterruptedDask.log.append(("closed", interrupted))
+
+
+@pytest.mark.parametrize("cleanup_fails", [False, True])
+def test_ctrl_c_while_recording_cancels_before_closing_the_cluster(monkeypatch, cleanup_fails):
+    """Ctrl-C while a batch is being recorded leaves the results generator suspended: its
+    cleanup (cancelling the futures) must run before the client closes, not when it is
+    collected after (the CI's traceback), and the cluster closes even if that cleanup fails."""
+    _InterruptedDask.log, _InterruptedDask.cleanup_fails = [], cleanup_fails
+    monkeypatch.setattr(runner_module, "_DaskExecutor", _InterruptedDask)
+    calls = []
+
+    def progress(p):
+        calls.append(p)
+        if p.done >= 2:  # after the first batch is recorded
+            raise KeyboardInterrupt
+
+    with pytest.raises(RuntimeError if cleanup_fails else KeyboardInterrupt):
+        run_study(study_from_toml_string(TINY), workers=2, batch_size=2, progress=progress)
+    assert _InterruptedDask.log == ["cancelled", ("closed", True)]

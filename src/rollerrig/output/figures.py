@@ -149,6 +149,11 @@ def crop_when_saved(fig) -> None:
     For a figure that draws past the canvas its layout made: labels placed after
     ``tight_layout`` (:func:`rollerrig.report.labels.label_peaks`), 3D axes, whose projected
     ticks and labels the layout does not see.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure; marked, nothing else changes.
     """
     setattr(fig, _CROP_ATTRIBUTE, True)
 
@@ -164,6 +169,18 @@ def crop_to_drawing(fig, tight: bool | None = None) -> str | None:
     artists: up to 0.8 s a figure (the demo's 19 figures, all cropped 12.6 s, none 9.2 s; its
     spectra, which ask for cropping, keep it). Checked over the 177 figures the CLI, report,
     output and frame tests save: nothing else is drawn outside the canvas.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure about to be saved.
+    tight : bool, optional
+        True: crop; False: keep the canvas; None: decide as above.
+
+    Returns
+    -------
+    str or None
+        ``"tight"`` or None, for ``bbox_inches``.
 
     Examples
     --------
@@ -210,7 +227,10 @@ def save_figure(
     tight : bool, optional
         Crop to what is drawn (``bbox_inches="tight"``: the figure is drawn once more to find
         it) or keep the figure's own size and layout, drawn once. Default:
-        :func:`crop_to_drawing` (crop only a figure without a layout of its own).
+        :func:`crop_to_drawing` (crop only a figure without a layout of its own, or one marked
+        by :func:`crop_when_saved`). A figure laid out with ``tight_layout()`` that then gets
+        texts or legends outside its axes (``fig.text``, ``fig.legend``, a later suptitle)
+        needs ``tight=True`` or :func:`crop_when_saved`, else they may be cut.
     metadata : dict, optional
         A provenance record (:func:`rollerrig.output.provenance`) to embed as it is, or extra
         parameters for a new one.

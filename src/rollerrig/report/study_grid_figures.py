@@ -18,6 +18,7 @@ import numpy as np
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
 
+from rollerrig.output.figures import crop_when_saved
 from rollerrig.report.study_display import (
     _MISSING_COLOUR,
     MISSING_GID,
@@ -195,6 +196,7 @@ def _grid_figures(ds, metric: _Quantity) -> dict:
         fig, ax = _line_figure(ds, metric, qs[0], shape, scales[0], [grid], None)
         ax.set_title(_title(ds, f"{name} against {qs[0].name}\n{foot}"), fontsize=10)
         fig.tight_layout()
+        crop_when_saved(fig)  # the legend beside the axes narrows them; the title can overhang
         figs[f"{metric.key}-line"] = fig
         return figs
 
@@ -220,6 +222,7 @@ def _grid_figures(ds, metric: _Quantity) -> dict:
         ax.set_title(_title(ds, f"{name} against {qs[0].name}, one line per "
                                 f"{qs[1].name}\n{foot}"), fontsize=10)  # fmt: skip
         fig.tight_layout()
+        crop_when_saved(fig)  # the legend beside the axes narrows them; the title can overhang
         figs[f"{metric.key}-lines"] = fig
     else:
         figs[f"{metric.key}-main-effects"] = _main_effect_figure(ds, metric, qs, shape, scales)

@@ -118,8 +118,12 @@ def transfer_figure(result: TransferResult):
             else " (not the measured CoA's systematic error)."
         )
     )
-    # wrapped to the figure's width: a longer line would widen the saved (tight) figure
-    fig.text(0.01, 0.005, "\n".join(textwrap.wrap(footnote, 190)), fontsize=7, color="0.3")
+    # wrapped to the figure's width and set on the bottom edge: the figure is saved at its own
+    # size (rollerrig.output.figures.crop_to_drawing), so a longer line would be cut
+    fig.text(
+        0.01, 0.005, "\n".join(textwrap.wrap(footnote, 190)), fontsize=7, color="0.3",
+        va="bottom",
+    )  # fmt: skip
     fig.tight_layout(rect=(0, 0.05, 1, 1))
     return fig
 

@@ -1,4 +1,4 @@
-"""Independent compiled runs on the numba threads: :func:`run_each`.
+"""Independent compiled runs on Python threads, as many as numba's: :func:`run_each`.
 
 The fast backend's drivers are compiled with ``nogil=True``, so Python threads run them in
 parallel. This replaced numba's ``parallel=True`` batch drivers, which cost a second compile of
@@ -17,9 +17,17 @@ __all__ = ["run_each"]
 def run_each(run: Callable[[int], object], n: int) -> None:
     """Call ``run(k)`` for ``k`` in ``range(n)``, each on the next free thread.
 
-    ``min(n, numba.get_num_threads())`` threads; one thread runs them in order in the calling
-    thread. An exception of a run is raised here. On Ctrl-C (or an error) the runs not started
-    are dropped: only those running finish (compiled code cannot be interrupted).
+    ``min(n, numba.get_num_threads())`` Python threads; with one, the runs go in order in the
+    calling thread. An exception of a run is raised here. On Ctrl-C (or an error) the runs not
+    started are dropped: only those running finish (compiled code cannot be interrupted).
+
+    Parameters
+    ----------
+    run : callable
+        ``run(k)``; its return value is ignored (runs write their results themselves, each to
+        its own place).
+    n : int
+        Number of runs.
 
     Examples
     --------

@@ -159,7 +159,7 @@ def failure_reason(status: int, t_stop: float) -> str:
 
 
 # rig_rhs and ROS34PW2 are bound into RIG.integrate (module-level global), so that this driver
-# and the batch are cached on disk like every other compiled function (_cache).
+# is cached on disk like every other compiled function (_cache).
 _rig_integrate = RIG.integrate
 
 
@@ -576,6 +576,6 @@ def integrate_batch(
             first.tables, t_out, rt, at, h_max_ros, jac_every, x_out[k], counts[k], t_stop[k],
         )  # fmt: skip
 
-    run_each(run, n)  # the variants on the numba threads; Ctrl-C drops those not started
+    run_each(run, n)  # one Python thread per numba thread; Ctrl-C drops the rest
     name = METHODS[runs[0][1]]
     return x_out, [_stats(counts[k], status[k], t_stop[k, 0], name) for k in range(n)]

@@ -42,9 +42,9 @@ condition of order 3 for any ``f_t``) it changes a step only at ``O(h⁴)``, so 
 (one right-hand-side evaluation less per step) is a legitimate choice. The step size follows
 the error exponent ``1/3`` (embedded order 2 plus one) with Gustafsson's predictive controller
 (Hairer & Wanner 1996, Sec. IV.8), which cuts rejections on oscillatory solutions. The
-adaptive, fixed-step and batch drivers (step-size control, output landing, reuse of ``J`` and
-``W``, failure statuses) are the generic W-method drivers of :mod:`rollerrig.solve._wdriver`,
-given the step and the inversion of ``W`` of this module.
+adaptive and fixed-step drivers (step-size control, output landing, reuse of ``J`` and ``W``,
+failure statuses) are the generic W-method drivers of :mod:`rollerrig.solve._wdriver`, given the
+step and the inversion of ``W`` of this module; the batch runs the adaptive one on threads.
 
 Compilation and caching
 -----------------------

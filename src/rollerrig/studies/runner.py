@@ -524,7 +524,7 @@ class _DaskExecutor:
         try:
             self.distributed.wait(futures)
         finally:
-            self.client.cancel(futures)
+            self._cancel(futures)
         self.warm_s = time.perf_counter() - started
 
     def run(self, batches, args) -> Iterator[list]:
@@ -540,7 +540,14 @@ class _DaskExecutor:
             for future in self.distributed.as_completed(futures):
                 yield future.result()
         finally:
-            self.client.cancel(futures)  # one message for all, not one round trip each
+            self._cancel(futures)
+
+    def _cancel(self, futures) -> None:
+        """Cancel ``futures`` in one message (not a round trip each). A client that lost its
+        scheduler (or a second Ctrl-C) must not replace the error being raised, nor keep the
+        cluster from being closed: the cancellation is then left to the close."""
+        with contextlib.suppress(Exception), _quiet_libraries():
+            self.client.cancel(futures)
 
     def close(self, *, interrupted: bool = False) -> None:
         """Close the client and the local cluster; after an interruption, quietly (the
@@ -711,17 +718,22 @@ def run_study(
                     record(rows)
             interrupted = False
         finally:
-            st.flush()
-            # An interruption in record() leaves the generator suspended; its own cleanup
-            # (cancelling the dask futures) must run now, while the client is still open, not
-            # when it is collected after the client's event loop has closed.
-            close_results = getattr(results, "close", None)
-            if close_results is not None:
-                close_results()
-            if runner is not None:
-                closing = time.perf_counter()
-                runner.close(interrupted=interrupted)
-                fixed_cost["cluster_close_s"] = time.perf_counter() - closing
+            try:
+                st.flush()
+            finally:
+                # An interruption in record() leaves the generator suspended; its own cleanup
+                # (cancelling the dask futures) must run now, while the client is still open,
+                # not when it is collected after the client's event loop has closed. The
+                # cluster is closed whatever that cleanup does.
+                try:
+                    close_results = getattr(results, "close", None)
+                    if close_results is not None:
+                        close_results()
+                finally:
+                    if runner is not None:
+                        closing = time.perf_counter()
+                        runner.close(interrupted=interrupted)
+                        fixed_cost["cluster_close_s"] = time.perf_counter() - closing
         wall = time.perf_counter() - start
         computed = len(table) - skipped
         if computed:
