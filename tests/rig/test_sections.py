@@ -348,4 +348,4 @@ def test_the_stator_resistance_says_its_connection():
     assert am.equivalent_star_stator_resistance == pytest.approx(0.085 / 3.0, rel=1e-15)
     assert am.stator_resistance_per_unit == pytest.approx(0.085 / 4.949, rel=1e-3)
     assert 0.015 <= am.stator_resistance_per_unit <= 0.02
-    assert "per delta phase" in (am.model_fields["stator_resistance"].description or "")
+    assert "per delta phase" in (type(am).model_fields["stator_resistance"].description or "")
