@@ -558,6 +558,13 @@ class _DaskExecutor:
                 self.cluster.close()
 
 
+def _close_timed(runner, interrupted: bool, fixed_cost: dict) -> None:
+    """Close the dask executor; its time goes to ``fixed_cost["cluster_close_s"]``."""
+    closing = time.perf_counter()
+    runner.close(interrupted=interrupted)
+    fixed_cost["cluster_close_s"] = time.perf_counter() - closing
+
+
 def run_study(
     study: str | os.PathLike | StudySpec,
     *,
@@ -718,22 +725,15 @@ def run_study(
                     record(rows)
             interrupted = False
         finally:
-            try:
-                st.flush()
-            finally:
-                # An interruption in record() leaves the generator suspended; its own cleanup
-                # (cancelling the dask futures) must run now, while the client is still open,
-                # not when it is collected after the client's event loop has closed. The
-                # cluster is closed whatever that cleanup does.
-                try:
-                    close_results = getattr(results, "close", None)
-                    if close_results is not None:
-                        close_results()
-                finally:
-                    if runner is not None:
-                        closing = time.perf_counter()
-                        runner.close(interrupted=interrupted)
-                        fixed_cost["cluster_close_s"] = time.perf_counter() - closing
+            # Each step runs even when one before it raised (ExitStack: last pushed, first
+            # run): flush the store; close the results generator, which an interruption in
+            # record() leaves suspended, so that it cancels the dask futures while the client
+            # is open (not when collected after the event loop closed); close the cluster.
+            with contextlib.ExitStack() as cleanup:
+                if runner is not None:
+                    cleanup.callback(_close_timed, runner, interrupted, fixed_cost)
+                cleanup.callback(getattr(results, "close", lambda: None))
+                cleanup.callback(st.flush)
         wall = time.perf_counter() - start
         computed = len(table) - skipped
         if computed:
