@@ -171,8 +171,21 @@ def _polach_force_kernel(
 def _polach_force_at_friction_kernel(creep, q_mu, creep_stiffness, k_a, k_s):
     """Polach's creep force [N] for a given Q·μ [N] (the twin has μ already: one exp less)."""
     eps = _adhesion_gradient_kernel(creep, q_mu, creep_stiffness)
+    return (2.0 / np.pi) * q_mu * _polach_shape_kernel(eps, k_a, k_s)[0]
+
+
+def _polach_shape_kernel(eps, k_a, k_s):
+    """Polach's shape ``h(ε)`` [-] and its derivative ``h'(ε)`` [-]: F = (2/π) Q μ h(ε).
+
+    h(ε) = k_A ε/(1 + (k_A ε)²) + arctan(k_S ε) (Polach 2005, eq. 7 with the reduction factors;
+    Kayaalp eq. 4.20), h'(ε) = k_A (1 − (k_A ε)²)/(1 + (k_A ε)²)² + k_S/(1 + (k_S ε)²).
+    """
     ka_eps = k_a * eps
-    return (2.0 / np.pi) * q_mu * (ka_eps / (1.0 + ka_eps * ka_eps) + np.arctan(k_s * eps))
+    ks_eps = k_s * eps
+    inv = 1.0 / (1.0 + ka_eps * ka_eps)
+    shape = ka_eps * inv + np.arctan(ks_eps)
+    slope = k_a * (1.0 - ka_eps * ka_eps) * inv * inv + k_s / (1.0 + ks_eps * ks_eps)
+    return shape, slope
 
 
 # --------------------------------------------------------------------------------------------
@@ -352,5 +365,6 @@ def kalker_linear_force(creep, semi_axis_x, semi_axis_y, c11, shear_modulus):
 # Public names of the compiled kernels, for the twin's right-hand side and the fits.
 polach_force_kernel = _polach_force_kernel
 polach_force_at_friction_kernel = _polach_force_at_friction_kernel
+polach_shape_kernel = _polach_shape_kernel
 friction_kernel = _friction_kernel
 adhesion_gradient_kernel = _adhesion_gradient_kernel

@@ -192,7 +192,7 @@ def table_ratio(table: CreepTable, eps, k0=1.0, alpha_inf=1.0, beta=0.0):
     """F_x/(μN) of a tabulated law at ε = G a b C11 ξ/(μN), vectorised (for checks and plots).
 
     The same interpolation and slope reduction as the twin's right-hand side
-    (:func:`rollerrig.rig.model._table_force_and_slope`), in numpy.
+    (:func:`rollerrig.rig.model._law_ratio`), in numpy.
 
     Parameters
     ----------

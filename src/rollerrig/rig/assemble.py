@@ -528,7 +528,7 @@ def steady_free_rolling_state(
         if p[m.P_LAW] == 0.0:
             return -_polach_force_kernel(creep, -d, load, creep_stiffness, *polach)
         mu = _friction_kernel(-d, p[m.P_MU0], p[m.P_A], p[m.P_B])
-        force = [m._table_force_and_slope(c, load, f, p)[0] for c, f in np.broadcast(creep, mu)]
+        force = [m._force_and_slope(c, load, f, p)[0] for c, f in np.broadcast(creep, mu)]
         return -np.reshape(force, np.shape(creep))
 
     slip = 0.0

@@ -147,7 +147,7 @@ class DqTwin:
         dx[:N_RIG] = dxr
         dx[m.X_T_ROLLER] = 0.0
         dx[m.X_INT_SPEED] = 0.0
-        v_set = m._interp(t, self.tables[m.TAB_SPEED_T], self.tables[m.TAB_SPEED])
+        v_set = m._interp(t, self.tables, m.TAB_SPEED_T, m.TAB_SPEED)
         omega_cmd = pm[4] * v_set / p[m.P_RR]
         rotor_speed = x[m.X_OMEGA + 5] - x[m.X_OMEGA + 6]
         d_psi, d_ctrl, _, _ = _drive_derivatives(

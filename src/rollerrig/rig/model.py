@@ -35,11 +35,8 @@ from typing import Literal
 
 import numpy as np
 
-from rollerrig.contact.creep import adhesion_gradient_kernel as _adhesion_gradient_kernel
 from rollerrig.contact.creep import friction_kernel as _friction_kernel
-from rollerrig.contact.creep import (
-    polach_force_at_friction_kernel as _polach_force_at_friction_kernel,
-)
+from rollerrig.contact.creep import polach_shape_kernel as _polach_shape_kernel
 from rollerrig.contact.kinematics import creep_kernel as _creep_kernel
 from rollerrig.drives.induction import (
     induction_torque,
@@ -269,7 +266,7 @@ def _creep_stiffness_at(load, p):
 
 _ARM_NEWTON_STEPS = 8
 """Most Newton steps of the normal-load loop (:func:`_contact_load_and_force`); from its first
-guess it converges to round-off in 1-3."""
+guess (N = S + W_d) it converges to round-off in 3-4."""
 
 
 def _table_ratio(e, p):
@@ -300,19 +297,20 @@ def _table_ratio(e, p):
     return value, slope
 
 
-def _table_force_and_slope(creep, load, friction, p):
-    """Force F_x [N] of a tabulated law at the normal load ``load`` [N] and dF_x/dN [-].
+def _law_ratio(eps, p):
+    """F_x/(μN) [-] of the creep law at the adhesion gradient ``eps`` [-], and its derivative
+    d(F_x/(μN))/dε [-].
 
-    F = μN sgn(ε) f(k(|ε|)|ε|), ε = C(N) ξ/(μN) with C(N) = G a b C11 at N (∝ N^(2/3)); k is
-    the modified FASTSIM's slope reduction k0 (α_∞ + (1 − α_∞)/(1 + β ε_s)), ε_s = (π/4) k0 |ε|
+    Polach (``p[P_LAW]`` = 0): (2/π) h(ε) with ε = (π/4) C ξ/(μN)
+    (:func:`rollerrig.contact.creep.polach_shape_kernel`, Kayaalp eq. 4.20). A tabulated law:
+    sgn(ε) f(k(|ε|)|ε|) with ε = C ξ/(μN), where k is the modified FASTSIM's slope reduction
+    k0 (α_∞ + (1 − α_∞)/(1 + β ε_s)), ε_s = (π/4) k0 |ε|
     (:func:`rollerrig.contact.fastsim.slope_reduction`; ``p[P_LAW]`` = 2 only, k = 1 for
-    FASTSIM and FaStrip). As
-    ε ∝ N^(-1/3), dF/dN = F/N − μ ε g'(|ε|)/3 with g(e) = f(k(e) e), g' = f' (k + e dk/de).
+    FASTSIM and FaStrip), and the derivative f' (k + |ε| dk/d|ε|). C = G a b C11 at the load.
     """
-    q_mu = load * friction
-    if q_mu <= 0.0:
-        return 0.0, 0.0
-    eps = _creep_stiffness_at(load, p) * creep / q_mu
+    if p[P_LAW] == 0.0:
+        shape, slope = _polach_shape_kernel(eps, p[P_KA], p[P_KS])
+        return (2.0 / np.pi) * shape, (2.0 / np.pi) * slope
     e = abs(eps)
     if p[P_LAW] == 2.0:  # the modified FASTSIM: f at k ε
         k0 = p[P_K0]
@@ -325,32 +323,28 @@ def _table_force_and_slope(creep, load, friction, p):
         dratio = dratio * (k + e * dk)
     else:
         ratio, dratio = _table_ratio(e, p)
-    force = q_mu * ratio if eps >= 0.0 else -q_mu * ratio
-    return force, force / load - friction * eps * dratio * (1.0 / 3.0)
+    return (ratio if eps >= 0.0 else -ratio), dratio
+
+
+def _gradient_scale(p):
+    """ε/(C ξ/(μN)) of the creep law [-]: π/4 for Polach's (his eq. 4), 1 for a table's."""
+    return 0.25 * np.pi if p[P_LAW] == 0.0 else 1.0
 
 
 def _force_and_slope(creep, load, friction, p):
     """The creep law's force F_x [N] at the normal load ``load`` [N] and dF_x/dN [-].
 
-    Polach (``p[P_LAW]`` = 0): F = (2/π) N μ h(ε), h(ε) = k_A ε/(1 + (k_A ε)²) + arctan(k_S ε),
-    with ε ∝ C(N)/N ∝ N^(-1/3) (the creep stiffness scales with N^(2/3)), so
-    dF/dN = F/N − (2/π) μ ε h'(ε)/3. The force is the package's kernel's
-    (:func:`rollerrig.contact.creep.polach_force_at_friction_kernel`). Any other law: its
-    table (:func:`_table_force_and_slope`).
+    F = μN r(ε) with r the law's ratio (:func:`_law_ratio`): Polach's (``p[P_LAW]`` = 0,
+    Kayaalp eq. 4.16) or a table. ε ∝ C(N)/N ∝ N^(-1/3) (the creep stiffness scales with
+    N^(2/3)), so dF/dN = F/N − μ ε r'(ε)/3.
     """
-    if p[P_LAW] != 0.0:
-        return _table_force_and_slope(creep, load, friction, p)
     q_mu = load * friction
     if q_mu <= 0.0:
         return 0.0, 0.0
-    stiffness = _creep_stiffness_at(load, p)
-    force = _polach_force_at_friction_kernel(creep, q_mu, stiffness, p[P_KA], p[P_KS])
-    eps = _adhesion_gradient_kernel(creep, q_mu, stiffness)
-    ka_eps = p[P_KA] * eps
-    ks_eps = p[P_KS] * eps
-    denom = 1.0 + ka_eps * ka_eps
-    dh = p[P_KA] * (1.0 - ka_eps * ka_eps) / (denom * denom) + p[P_KS] / (1.0 + ks_eps * ks_eps)
-    return force, force / load - (2.0 / np.pi) * friction * eps * dh / 3.0
+    eps = _gradient_scale(p) * _creep_stiffness_at(load, p) * creep / q_mu
+    ratio, dratio = _law_ratio(eps, p)
+    force = q_mu * ratio
+    return force, force / load - friction * eps * dratio * (1.0 / 3.0)
 
 
 def _contact_load_and_force(air_spring, creep, friction, p):
@@ -359,41 +353,48 @@ def _contact_load_and_force(air_spring, creep, friction, p):
     The swinging arm makes the normal load depend on the creep force it produces (moments about
     the arm's pivot; :class:`rollerrig.rig.sections.ArmParameters`):
 
-        N = S + W_d + κ F_x(N),    κ = σ h / l,
+        N = B + κ F_x(N),    B = S + W_d,    κ = σ h / l,
 
-    where F_x(N) is the creep law's force (Polach's, Kayaalp eq. 4.16, by default) with μN and
-    the creep stiffness at N. The
-    algebraic loop is solved, not lagged. F_x/N depends on N only through ε ∝ N^(-1/3), so the
-    first guess holds the CoA m = F_x(N_0)/N_0 at N_0 = S + W_d fixed, N_1 = N_0/(1 − κ m); then
-    Newton's method on g(N) = N − S − W_d − κ F_x(N) with the exact dF_x/dN
-    (:func:`_force_and_slope`), stopped after a step below 1e-6 of N (quadratic convergence
-    leaves an error at round-off; 2 steps from the first guess on the seed's tests), so the
-    right-hand side is a smooth function of the state for the solver's forward-difference
-    Jacobian. A normal load that the arm would make negative (a front pivot lifting the wheel)
-    is held at 0.
+    where F_x(N) = μ N r(ε) is the creep law's force (Polach's, Kayaalp eq. 4.16, by default;
+    :func:`_law_ratio`) with μN and the creep stiffness at N. The algebraic loop is solved, not
+    lagged. Since ε ∝ N^(-1/3), in ``w = (B/N)^(1/3)`` the gradient is ``ε = ε_B w`` and the
+    equation (divided by N) reads
+
+        g(w) = 1 − κ μ r(ε_B w) − w³ = 0,    g'(w) = −κ μ ε_B r'(ε_B w) − 3 w²,
+
+    solved by Newton's method from w = 1 (N = B): no cube root inside the loop (one for ε_B),
+    stopped after a step below 1e-6 of N (3|Δw| <= 1e-6 w; quadratic convergence leaves an
+    error at round-off), so that the right-hand side is a smooth function of the state for the
+    solver's forward-difference Jacobian; the force then follows its step to first order.
+    A load that the arm's transfer would make negative (no finite root: κ μ r >= 1) is held at
+    0, with no force.
     """
     base = air_spring + p[P_ARM_WEIGHT]
     if base < 0.0:
         base = 0.0
-    kappa = p[P_ARM_RATIO]
-    force, slope = _force_and_slope(creep, base, friction, p)
-    if kappa == 0.0 or base == 0.0:
-        return base, force
-    load = base / (1.0 - kappa * force / base)
-    if load < 0.0:
-        load = 0.0
+    q_mu = base * friction
+    if q_mu <= 0.0:
+        return base, 0.0
+    eps_base = _gradient_scale(p) * _creep_stiffness_at(base, p) * creep / q_mu
+    ratio, dratio = _law_ratio(eps_base, p)
+    kappa_mu = p[P_ARM_RATIO] * friction
+    if kappa_mu == 0.0:
+        return base, q_mu * ratio
+    w = 1.0
     for _ in range(_ARM_NEWTON_STEPS):
-        force, slope = _force_and_slope(creep, load, friction, p)
-        step = -(load - base - kappa * force) / (1.0 - kappa * slope)
-        if load + step < 0.0:
-            step = -load
-        load = load + step
-        force = force + slope * step  # F at the new N to O(step²): round-off once converged
-        # Newton converges quadratically: after a step of 1e-6 N relative the error is ~1e-12
-        # of that step's size, below round-off.
-        if abs(step) <= 1e-6 * (load + 1.0):
-            break
-    return load, force
+        w3 = w * w * w
+        step = (1.0 - kappa_mu * ratio - w3) / (kappa_mu * eps_base * dratio + 3.0 * w * w)
+        if w + step <= 0.0:  # no finite N > 0 (κ μ r >= 1): held at 0, as a negative load
+            return 0.0, 0.0
+        if 3.0 * abs(step) <= 1e-6 * w:
+            # F = μ B r(ε_B w)/w³ to first order in the last step (round-off once converged).
+            force = (q_mu / w3) * (ratio + (eps_base * dratio - 3.0 * ratio / w) * step)
+            w = w + step
+            return base / (w * w * w), force
+        w = w + step
+        ratio, dratio = _law_ratio(eps_base * w, p)
+    w3 = w * w * w
+    return base / w3, q_mu * ratio / w3
 
 
 def _open_loop_roller_torque(rotor_speed, omega_ref, p):
@@ -426,9 +427,9 @@ def rig_terms(t, x, p, tables):
     Returns a tuple ordered as :data:`TERM_NAMES` (SI units). Pure scalar arithmetic: compiled by
     numba for the fast backend, evaluated as Python for the baseline.
     """
-    torque_request = _interp(t, tables[TAB_TORQUE_T], tables[TAB_TORQUE])
-    speed_setpoint = _interp(t, tables[TAB_SPEED_T], tables[TAB_SPEED])
-    air_spring = _interp(t, tables[TAB_LOAD_T], tables[TAB_LOAD])
+    torque_request = _interp(t, tables, TAB_TORQUE_T, TAB_TORQUE)
+    speed_setpoint = _interp(t, tables, TAB_SPEED_T, TAB_SPEED)
+    air_spring = _interp(t, tables, TAB_LOAD_T, TAB_LOAD)
 
     th1, th2, th3, th4, th5, th6, th7 = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
     w1, w2, w3, w4, w5, w6, w7 = x[7], x[8], x[9], x[10], x[11], x[12], x[13]
@@ -494,7 +495,7 @@ def rig_terms(t, x, p, tables):
         )
     else:
         # Ideal speed source: exactly the torque that keeps the rotor on the set point.
-        accel_ref = _interp_slope(t, tables[TAB_SPEED_T], tables[TAB_SPEED]) / p[P_RR]
+        accel_ref = _interp_slope(t, tables, TAB_SPEED_T, TAB_SPEED) / p[P_RR]
         target = p[P_J + 5] * accel_ref - t56
     if mode == 0.0 or p[P_LAG_TAU] == 0.0:
         t_roller = target
@@ -599,36 +600,43 @@ def rig_rhs(t, x, p, tables, dx):
         dx[X_FRAME_V] = 0.0
 
 
-def _interp(t, xs, ys):
-    """``np.interp(t, xs, ys)`` for a scalar ``t``: the piecewise-linear input at ``t``.
+def _interp(t, tables, row_t, row_y):
+    """``np.interp(t, tables[row_t], tables[row_y])`` for a scalar ``t``: the piecewise-linear
+    input at ``t``.
 
     The same value as numpy's (right-continuous at a repeated breakpoint, the end values held
     outside), found by bisection. Compiled, it costs about 4 ns a call where numba's
     ``np.interp`` on a scalar costs about 70 ns (it builds arrays): three calls were half of
-    the right-hand side's time.
+    the right-hand side's time. The rows are indexed in place, not sliced: a slice is a new
+    array whose reference count the compiled right-hand side took and gave back, two atomic
+    operations and a call each (issue 20).
     """
-    n = xs.shape[0]
-    if t < xs[0]:
-        return ys[0]
-    if t >= xs[n - 1]:
-        return ys[n - 1]
+    n = tables.shape[1]
+    if t < tables[row_t, 0]:
+        return tables[row_y, 0]
+    if t >= tables[row_t, n - 1]:
+        return tables[row_y, n - 1]
     lo = 0
     hi = n - 1
-    while hi - lo > 1:  # invariant: xs[lo] <= t < xs[hi]
+    while hi - lo > 1:  # invariant: tables[row_t, lo] <= t < tables[row_t, hi]
         mid = (lo + hi) >> 1
-        if xs[mid] <= t:
+        if tables[row_t, mid] <= t:
             lo = mid
         else:
             hi = mid
-    return ys[lo] + (ys[hi] - ys[lo]) * ((t - xs[lo]) / (xs[hi] - xs[lo]))
+    t_lo = tables[row_t, lo]
+    y_lo = tables[row_y, lo]
+    return y_lo + (tables[row_y, hi] - y_lo) * ((t - t_lo) / (tables[row_t, hi] - t_lo))
 
 
-def _interp_slope(t, xs, ys):
-    """Slope of the piecewise-linear function (xs, ys) at t (right-continuous; 0 outside)."""
-    n = xs.shape[0]
+def _interp_slope(t, tables, row_t, row_y):
+    """Slope of the piecewise-linear input ``(tables[row_t], tables[row_y])`` at ``t``
+    (right-continuous; 0 outside)."""
     slope = 0.0
-    for k in range(n - 1):
-        if xs[k] <= t < xs[k + 1]:
-            slope = (ys[k + 1] - ys[k]) / (xs[k + 1] - xs[k])
+    for k in range(tables.shape[1] - 1):
+        if tables[row_t, k] <= t < tables[row_t, k + 1]:
+            slope = (tables[row_y, k + 1] - tables[row_y, k]) / (
+                tables[row_t, k + 1] - tables[row_t, k]
+            )
             break
     return slope

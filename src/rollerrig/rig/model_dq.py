@@ -93,7 +93,7 @@ def rig_dq_rhs(t, x, p, tables, dx):
     dx[m.X_T_ROLLER] = 0.0
     dx[m.X_INT_SPEED] = 0.0
 
-    v_set = _interp(t, tables[m.TAB_SPEED_T], tables[m.TAB_SPEED])
+    v_set = _interp(t, tables, m.TAB_SPEED_T, m.TAB_SPEED)
     omega_cmd = pole_pairs * v_set / p[m.P_RR]
     rotor_speed = x[m.X_OMEGA + 5] - x[m.X_OMEGA + 6]
     i_s_d = (psi_s_d - psi_r_d) / l_sigma
