@@ -5,6 +5,8 @@ References: the sign convention and torque-sensor relation of DESIGN.md §3 (F_x
 drive power minus damper, bearing and contact-slip losses).
 """
 
+import functools
+
 import numpy as np
 import pytest
 from hypothesis import given
@@ -194,6 +196,35 @@ def test_scalar_interp_is_numpy_interp(breaks, values, t):
 
 
 # --- the swinging arm's load loop (issue 25) -------------------------------------------------
+
+
+@functools.cache
+def _arm_params():
+    from rollerrig.experiment import load_protocol
+
+    return assemble(default_rig(), load_protocol("seed-30kmh-dry")).segments[0].params
+
+
+@given(
+    st.floats(-1.0, 1.0),
+    st.floats(0.0, 60e3),
+    st.floats(-1.0, 1.0),
+    st.just(0.0) | st.floats(1e-3, 0.8),  # no friction, or a rail's (not 1e-290)
+)
+def test_the_arm_loop_solves_its_equation_wherever_a_load_exists(kappa, spring, creep, mu):
+    """Any transfer ratio, load, creep and friction: N = S + W_d + κ F_x(N) to 1e-12 of N,
+    F_x the creep law's force at that N, or the load held at 0 with no force."""
+    p = _arm_params().copy()
+    p[m.P_ARM_RATIO] = kappa
+    load, force = m._contact_load_and_force(spring, creep, mu, p)
+    assert np.isfinite(load) and np.isfinite(force) and load >= 0.0
+    if load == 0.0:
+        assert force == 0.0
+        return
+    exact = m._force_and_slope(creep, load, mu, p)[0]
+    base = spring + p[m.P_ARM_WEIGHT]
+    assert abs(load - base - kappa * exact) <= 1e-12 * load
+    assert abs(force - exact) <= 1e-12 * max(abs(exact), 1.0)
 
 
 @pytest.mark.parametrize("creep", [1e-4, 3e-3, 0.01, 0.08, -0.02])

@@ -264,9 +264,10 @@ def _creep_stiffness_at(load, p):
     return p[P_CREEP_STIFF_REF] * np.cbrt(ratio * ratio)  # cbrt: a third of the cost of pow
 
 
-_ARM_NEWTON_STEPS = 8
+_ARM_NEWTON_STEPS = 16
 """Most Newton steps of the normal-load loop (:func:`_contact_load_and_force`); from its first
-guess (N = S + W_d) it converges to round-off in 3-4."""
+guess (N = S + W_d) it converges to round-off in 3-4, in more only where the transfer nears
+self-locking (κ μ F/(μN) near 1)."""
 
 
 def _table_ratio(e, p):
