@@ -213,13 +213,17 @@ def _arm_params():
 )
 def test_the_arm_loop_solves_its_equation_wherever_a_load_exists(kappa, spring, creep, mu):
     """Any transfer ratio, load, creep and friction: N = S + W_d + κ F_x(N) to 1e-12 of N,
-    F_x the creep law's force at that N, or the load held at 0 with no force."""
+    F_x the creep law's force at that N, or, only where no load exists, the load held at 0 with
+    no force."""
     p = _arm_params().copy()
     p[m.P_ARM_RATIO] = kappa
     load, force = m._contact_load_and_force(spring, creep, mu, p)
     assert np.isfinite(load) and np.isfinite(force) and load >= 0.0
     if load == 0.0:
+        # Held at 0 only without a finite root: F/(μN) <= 1.32 for Polach's law (k_A ε/(1 +
+        # (k_A ε)²) <= 1/2, arctan < π/2), so below |κ μ| = 0.75 a load always exists.
         assert force == 0.0
+        assert abs(kappa * mu) > 0.75 or spring + _arm_params()[m.P_ARM_WEIGHT] <= 0.0
         return
     exact = m._force_and_slope(creep, load, mu, p)[0]
     base = spring + p[m.P_ARM_WEIGHT]

@@ -608,9 +608,8 @@ def _interp(t, tables, row_t, row_y):
     The same value as numpy's (right-continuous at a repeated breakpoint, the end values held
     outside), found by bisection. Compiled, it costs about 4 ns a call where numba's
     ``np.interp`` on a scalar costs about 70 ns (it builds arrays): three calls were half of
-    the right-hand side's time. The rows are indexed in place, not sliced: a slice is a new
-    array whose reference count the compiled right-hand side took and gave back, two atomic
-    operations and a call each (issue 20).
+    the right-hand side's time. The rows are indexed in place, not sliced (no array view made
+    per call).
     """
     n = tables.shape[1]
     if t < tables[row_t, 0]:
