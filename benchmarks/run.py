@@ -315,7 +315,7 @@ def main() -> None:
         f"Python {platform.python_version()}, numba {numba.__version__}; load average "
         f"(1 min) {load_before[0]:.2f} at the start, {load_after[0]:.2f} at the end"
     )
-    print(f"tight reference (Radau compiled, rtol 1e-10): {ref_time:.2f} s")
+    print(f"tight reference (Radau compiled, rtol 1e-10): {ref_time:.2f} s CPU")
     print(
         f"fast backend in this process: {'loaded from the cache' if was_cached else 'compiled'}"
         f" in {load_fast:.2f} s (single run, both methods); the batch (the same drivers in "
@@ -427,13 +427,16 @@ def main() -> None:
             "accuracy target too (the error grows as about h^3.6: see the 1 ms row; about 0.06 "
             "N.m at 2 ms); taking the current loops exactly lets the step grow to 2.5-3.2 ms "
             "but multiplies the error constant by five (solve/etdrk4.py): a cheaper step, not "
-            f"a longer one, is what is left; the load average of {load_after[0]:.2f} on "
-            f"{os.cpu_count()} cores slows every timing here"
+            "a longer one, is what is left (CPU time: other load on the machine slows it less "
+            f"than the wall time, but shares its caches; load average {load_after[0]:.2f} on "
+            f"{os.cpu_count()} cores)"
         )
     if not (bool(best_sweep) and best_sweep[2] >= 200):
         print(
-            f"- sweep: {threads} threads; a sweep point costs what a single run costs "
-            f"({f_time * 1e3:.1f} ms here); other load on this machine takes threads away"
+            f"- sweep: {threads} threads; a sweep point costs about what a single run costs "
+            f"({f_time * 1e3:.1f} ms of CPU here; 200 runs/s on {threads} threads needs "
+            f"{threads / 200 * 1e3:.0f} ms of wall time a run and thread); the sweep is timed in "
+            "wall time, and other load on this machine takes threads away"
         )
 
 

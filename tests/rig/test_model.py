@@ -9,7 +9,7 @@ import functools
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rollerrig.experiment import protocol_from_toml_string
@@ -206,29 +206,27 @@ def _arm_params():
 
 
 @given(
-    st.floats(-1.0, 1.0),
+    st.floats(-2.5, 2.5),  # rig files hold |κ| < 1; beyond, the loop must still solve
     st.floats(0.0, 60e3),
     st.floats(-1.0, 1.0),
-    st.just(0.0) | st.floats(1e-3, 0.8),  # no friction, or a rail's (not 1e-290)
+    st.just(0.0) | st.floats(1e-3, 1.0),  # no friction, or a rail's (at 1e-290 ε overflows)
 )
-def test_the_arm_loop_solves_its_equation_wherever_a_load_exists(kappa, spring, creep, mu):
-    """Any transfer ratio, load, creep and friction: N = S + W_d + κ F_x(N) to 1e-12 of N,
-    F_x the creep law's force at that N, or, only where no load exists, the load held at 0 with
-    no force."""
+@settings(deadline=None)  # the first example assembles the rig
+def test_the_arm_loop_solves_its_equation_for_any_transfer(kappa, spring, creep, mu):
+    """Any transfer ratio (self-locking included: κ μ F/(μN) >= 1 has a root, a very large
+    load), load, creep and friction: N = S + W_d + κ F_x(N) to 4e-12 of N with F_x the creep
+    law's force at that N; a load wherever the spring and the arm's weight give one."""
     p = _arm_params().copy()
     p[m.P_ARM_RATIO] = kappa
     load, force = m._contact_load_and_force(spring, creep, mu, p)
-    assert np.isfinite(load) and np.isfinite(force) and load >= 0.0
-    if load == 0.0:
-        # Held at 0 only without a finite root: F/(μN) <= 1.32 for Polach's law (k_A ε/(1 +
-        # (k_A ε)²) <= 1/2, arctan < π/2), so below |κ μ| = 0.75 a load always exists.
-        assert force == 0.0
-        assert abs(kappa * mu) > 0.75 or spring + _arm_params()[m.P_ARM_WEIGHT] <= 0.0
+    base = spring + p[m.P_ARM_WEIGHT]
+    assert np.isfinite(load) and np.isfinite(force)
+    if base <= 0.0:  # neither the spring nor the arm's weight presses the wheel
+        assert (load, force) == (0.0, 0.0)
         return
     exact = m._force_and_slope(creep, load, mu, p)[0]
-    base = spring + p[m.P_ARM_WEIGHT]
-    assert abs(load - base - kappa * exact) <= 1e-12 * load
-    assert abs(force - exact) <= 1e-12 * max(abs(exact), 1.0)
+    assert abs(load - base - kappa * exact) <= 4e-12 * load
+    assert abs(force - exact) <= 4e-12 * max(abs(exact), 1.0)
 
 
 @pytest.mark.parametrize("creep", [1e-4, 3e-3, 0.01, 0.08, -0.02])

@@ -44,6 +44,7 @@ __all__ = [
     "polach_creep_force",
     "polach_force_at_friction_kernel",
     "polach_force_kernel",
+    "polach_shape_kernel",
 ]
 
 
@@ -184,7 +185,8 @@ def _polach_shape_kernel(eps, k_a, k_s):
     ks_eps = k_s * eps
     inv = 1.0 / (1.0 + ka_eps * ka_eps)
     shape = ka_eps * inv + np.arctan(ks_eps)
-    slope = k_a * (1.0 - ka_eps * ka_eps) * inv * inv + k_s / (1.0 + ks_eps * ks_eps)
+    # (1 − a²)/(1 + a²)² written as (2/(1 + a²) − 1)/(1 + a²): no overflow of a² at large ε.
+    slope = k_a * (2.0 * inv - 1.0) * inv + k_s / (1.0 + ks_eps * ks_eps)
     return shape, slope
 
 
