@@ -172,7 +172,23 @@ def test_a_dask_worker_loads_the_solver_once_when_warmed_and_keeps_it(tmp_path):
 
         return os.getpid(), len(_integrate_exp.overloads)
 
-    ex = runner_module._DaskExecutor(None, 1)
+    # A second study's cluster holds distributed's default HTTP port: this one must not warn
+    # (it did, "Port 8787 is already in use", when two studies ran at once).
+    import socket
+    import warnings
+
+    taken = socket.socket()
+    try:
+        taken.bind(("127.0.0.1", 8787))
+        taken.listen()
+    except OSError:  # something already listens there: the condition holds anyway
+        pass
+    try:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("error", message=".*already in use")
+            ex = runner_module._DaskExecutor(None, 1)
+    finally:
+        taken.close()
     try:
         before = ex.client.run(state)
         ex.warm(points[0], args)

@@ -485,7 +485,11 @@ class _DaskExecutor:
                     n_workers=workers or available_cores(),
                     threads_per_worker=1,
                     processes=True,
-                    dashboard_address=None,
+                    # No dashboard, and the scheduler's HTTP server (its health routes, which
+                    # distributed starts even without one) on a free port: at its default
+                    # 8787 a second study running at once warned "Port 8787 is already in use".
+                    dashboard_address=":0",
+                    scheduler_kwargs={"dashboard": False},
                     silence_logs=logging.ERROR,
                     preload=[_WORKER_SETUP],
                 )
