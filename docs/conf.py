@@ -167,14 +167,17 @@ def _compile_numpydoc_template_once() -> None:
     if render is None or mangle.get_doc_object is not scrape.get_doc_object:
         return  # another numpydoc: leave it as it is
 
+    # numpydoc's signature hook passes no builder: its template (from the files, not the
+    # builder's loader) is compiled once too; it was 1 365 compilations, 7 % of the build.
+    without_builder = {}
+
     def get_doc_object(obj, what=None, doc=None, config=None, builder=None):
         config = {} if config is None else config
-        template = getattr(builder, "_numpydoc_template", None)
+        holder = without_builder if builder is None else builder.__dict__
+        template = holder.get("_numpydoc_template")
         if template is None:
             scrape.get_doc_object(None, "object", "", config, builder)  # compiles it, once
-            template = config["template"]
-            if builder is not None:
-                builder._numpydoc_template = template  # kept with the builder it belongs to
+            template = holder["_numpydoc_template"] = config["template"]
         config["template"] = template
         return render(
             obj,
