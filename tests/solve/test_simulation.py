@@ -26,22 +26,24 @@ from rollerrig.solve.results import save_dataset
 from rollerrig.solve.simulation import Simulation, SolverError
 
 
-@pytest.mark.parametrize("name", ["seed-30kmh-dry", "seed-10kmh-wet"])
+# The 30 km/h dry test is checked more strictly by test_etdrk4.py (0.05 N.m against Radau at
+# rtol 1e-10, and the same speeds): here the 10 km/h wet one, with the other friction set.
+@pytest.mark.parametrize("name", ["seed-10kmh-wet"])
 def test_fast_backend_agrees_with_reference(name):
     protocol = load_protocol(name)
     inputs = assemble(default_rig(), protocol)
     t = np.arange(0, protocol.duration * 250 + 1) / 250
     # Radau at rtol 1e-8 differs from Radau at 1e-10 by at most 0.00077 N.m in T56 and
-    # 6e-6 rad/s in the speeds on these two tests (measured), under 0.1 % of the limits below
-    # (1 N.m, 0.02 rad/s); the fast backend's own error is 0.027 and 0.010 N.m. At 1e-9 it
-    # cost 25 s of CPU, at 1e-8 14 s.
+    # 6e-6 rad/s in the speeds on the two seed tests (measured), under 2 % of the limits below
+    # (0.05 N.m, the target; 0.02 rad/s); the fast backend's own error on this test is
+    # 0.010 N.m. At 1e-9 it cost 25 s of CPU, at 1e-8 14 s.
     ref, _ = integrate_reference(inputs, t, rtol=1e-8)
     fast, stats = integrate_experiment(inputs, t)  # default settings
     assert stats["status"] == 0
     k56 = inputs.rig.stiffness.roller_shaft
     b56 = inputs.rig.damping.roller_shaft
     t56 = lambda x: k56 * (x[:, 4] - x[:, 5]) + b56 * (x[:, 11] - x[:, 12])  # noqa: E731
-    assert np.max(np.abs(t56(fast) - t56(ref))) < 1.0  # [N.m], the accuracy target
+    assert np.max(np.abs(t56(fast) - t56(ref))) < 0.05  # [N.m], the accuracy target
     # Speeds within 0.1 % (at 30 km/h: 0.02 rad/s, 7 mm/s at the wheel tread).
     np.testing.assert_allclose(fast[:, 7:14], ref[:, 7:14], rtol=1e-3, atol=2e-2)
 
