@@ -23,6 +23,7 @@ from rollerrig._validation import (
     interval,
     pydantic_problems,
     require_in_range,
+    require_nonnegative,
     require_positive,
     show_value,
 )
@@ -253,6 +254,23 @@ def test_require_helpers_name_parameter_unit_and_range():
     with pytest.raises(ParameterError, match=r"must lie in \(0, 0.5\)"):
         require_in_range("poisson", 0.5, 0.0, 0.5)
     assert require_in_range("x", 1.0, 0.0, 1.0, high_inclusive=True) == 1.0
+
+
+@pytest.mark.parametrize(
+    "value, message",
+    [
+        (float("nan"), "must be finite, got nan"),
+        (-0.0, "must be > 0, got -0"),
+        (10**400, "must be finite, got an integer beyond 1.8e308"),  # was an OverflowError
+        (np.array([1.0, -2.0]), r"must be > 0, got \[ 1. -2.\]"),
+        (np.float32(0.0), "must be > 0, got 0"),
+    ],
+)
+def test_scalars_and_arrays_take_the_same_checks(value, message):
+    with pytest.raises(ParameterError, match=message):
+        require_positive("k", value)
+    assert require_positive("k", 2) == 2.0 and require_positive("k", [1, 2]).shape == (2,)
+    assert require_nonnegative("k", 0.0) == 0.0 and require_nonnegative("k", np.zeros(3)).size == 3
 
 
 def test_did_you_mean_is_the_one_hint_of_the_package():

@@ -123,21 +123,35 @@ def _as_float_array(name: str, value) -> np.ndarray:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise ParameterError(f"{name} must be a number, got {value!r}") from exc
+    except OverflowError:  # an integer beyond the float range (10**400)
+        raise ParameterError(f"{name} must be finite, got an integer beyond 1.8e308") from None
     return arr
 
 
 def require_finite(name: str, value, unit: str = "") -> np.ndarray:
     """Return ``value`` as a float array, raising :class:`ParameterError` on NaN or inf."""
     arr = _as_float_array(name, value)
-    if not np.all(np.isfinite(arr)):
+    if _fails(arr, np.isfinite, math.isfinite):
         raise ParameterError(f"{name} must be finite{_unit(unit)}, got {_show(arr)}")
     return arr
+
+
+def _fails(arr: np.ndarray, test, scalar_test=None) -> bool:
+    """True when ``test`` (elementwise) is false for some element of ``arr``.
+
+    A 0-d array is tested as a Python float (with ``scalar_test`` if given, else ``test``):
+    numpy's ufuncs and reductions cost microseconds on a single number, and the rig's
+    assembly checks hundreds of numbers for every run (a calibration assembles thousands).
+    """
+    if arr.ndim == 0:
+        return not (scalar_test or test)(float(arr))
+    return not bool(np.all(test(arr)))
 
 
 def require_positive(name: str, value, unit: str = "") -> np.ndarray:
     """Return ``value`` as a float array, raising unless every element is finite and > 0."""
     arr = require_finite(name, value, unit)
-    if np.any(arr <= 0.0):
+    if _fails(arr, lambda v: v > 0.0):
         raise ParameterError(f"{name} must be > 0{_unit(unit)}, got {_show(arr)}")
     return arr
 
@@ -145,7 +159,7 @@ def require_positive(name: str, value, unit: str = "") -> np.ndarray:
 def require_nonnegative(name: str, value, unit: str = "") -> np.ndarray:
     """Return ``value`` as a float array, raising unless every element is finite and >= 0."""
     arr = require_finite(name, value, unit)
-    if np.any(arr < 0.0):
+    if _fails(arr, lambda v: v >= 0.0):
         raise ParameterError(f"{name} must be >= 0{_unit(unit)}, got {_show(arr)}")
     return arr
 
@@ -165,9 +179,13 @@ def require_in_range(
     The message states the interval in standard notation, e.g. ``(0, 0.5)`` or ``(0, 1]``.
     """
     arr = require_finite(name, value, unit)
-    above = arr >= low if low_inclusive else arr > low
-    below = arr <= high if high_inclusive else arr < high
-    if not np.all(above & below):
+
+    def inside(v):
+        above = v >= low if low_inclusive else v > low
+        below = v <= high if high_inclusive else v < high
+        return above & below
+
+    if _fails(arr, inside):
         interval = (
             f"{'[' if low_inclusive else '('}{low:g}, {high:g}{']' if high_inclusive else ')'}"
         )
