@@ -168,7 +168,8 @@ def _compile_numpydoc_template_once() -> None:
         return  # another numpydoc: leave it as it is
 
     # numpydoc's signature hook passes no builder: its template (from the files, not the
-    # builder's loader) is compiled once too; it was 1 365 compilations, 7 % of the build.
+    # builder's loader) is compiled once too; it was 1 365 compilations, 12 % of the build
+    # (the site without the gallery, one core: 73 -> 64 s).
     without_builder = {}
 
     def get_doc_object(obj, what=None, doc=None, config=None, builder=None):
