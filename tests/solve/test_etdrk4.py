@@ -1,6 +1,7 @@
 """ETDRK4 (issue 20): the φ-functions, the step's stability, accuracy against Radau at rtol
 1e-10 (max |ΔT56| on the 250 Hz grid) for the default twin, the flexible frame, the dq drive and
-the hard case, the fallback near standstill, and the truth channels at 4 kHz."""
+the hard case, the fallback near standstill, and the truth channels at 4 kHz; where the fixed
+step is not enough (macro-slip at low speed: a known limitation, marked xfail)."""
 
 import numpy as np
 import pytest
@@ -149,6 +150,45 @@ def test_from_standstill_etdrk4_stays_accurate():
     assert stats["status"] == 0 and stats["fallback_segments"] == 0
     ref, _ = integrate_reference(inputs, t, rtol=1e-9)
     assert np.max(np.abs(_t56(inputs, x) - _t56(inputs, ref))) < 0.05
+
+
+@pytest.fixture(scope="module")
+def macro_slip_at_5_kmh():
+    """A torque ramp from -900 to +900 N.m at 4.3 kN and 5 km/h, past the adhesion limit in
+    braking and in traction (slip reversal through macro-slip), then released; Radau 1e-9."""
+    pulse = Protocol.from_steps(
+        "reversal",
+        [Hold(0.3), RampTorque(-900.0, 1.0), RampTorque(900.0, 1.5), ReleaseTorque(), Hold(1.0)],
+        normal_load=4300.0,
+        roller_speed=5 / 3.6,
+    )
+    inputs = assemble(default_rig(), pulse)
+    t = output_times(inputs.protocol.duration, 250.0)
+    ref, stats = integrate_reference(inputs, t, rtol=1e-9)
+    assert stats["status"] == 0
+    return inputs, t, ref
+
+
+def test_ros34pw2_holds_through_macro_slip_at_low_speed(macro_slip_at_5_kmh):
+    """The way FAST_DEFAULTS documents where ETDRK4's fixed step is not enough: ROS34PW2 with
+    its error control (measured 0.098 N.m; ETDRK4 by default 5.5 N.m)."""
+    inputs, t, ref = macro_slip_at_5_kmh
+    x, stats = integrate_experiment(inputs, t, method="ros34pw2")
+    assert stats["status"] == 0
+    assert np.max(np.abs(_t56(inputs, x) - _t56(inputs, ref))) <= 0.2
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="ETDRK4's step is fixed per segment, without error control: through macro-slip at "
+    "low speed it is off by 5.5 N.m at 5 km/h (FAST_DEFAULTS). When this passes, remove the "
+    "mark and the limitation from FAST_DEFAULTS' docstring and the guide.",
+)
+def test_etdrk4_through_macro_slip_at_low_speed(macro_slip_at_5_kmh):
+    inputs, t, ref = macro_slip_at_5_kmh
+    x, stats = integrate_experiment(inputs, t)
+    assert stats["status"] == 0
+    assert np.max(np.abs(_t56(inputs, x) - _t56(inputs, ref))) <= 0.1
 
 
 @pytest.mark.parametrize(("stiffness", "fallback"), [(8.35e7, False), (8.35e8, True)])

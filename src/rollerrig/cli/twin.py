@@ -185,7 +185,12 @@ def simulate(
     out: OutOption = DEFAULT_OUT,
     solver: Annotated[
         Solver,
-        typer.Option(help="fast (numba ETDRK4, ROS34PW2 fallback) or reference (scipy Radau)."),
+        typer.Option(
+            help="fast (numba ETDRK4, ROS34PW2 fallback) or reference (scipy Radau). The fast "
+            "solver's step is not error-controlled: through macro-slip at low speed (a slip "
+            "reversal past the adhesion limit below about 15 km/h) it is off by up to several "
+            "N.m; use reference there."
+        ),
     ] = Solver.fast,
     wheel_drive: Annotated[
         WheelDrive, typer.Option(help="Wheel drive: PMSM model or ideal torque source.")

@@ -35,6 +35,11 @@ segment on which the stable step would be very short (near standstill, where the
 friction's regularisation is stiff), or which ends non-finite, is integrated by the fallback,
 the adaptive ROS34PW2 W-method (:mod:`rollerrig.solve.ros34pw`).
 
+The step is not error-controlled: through macro-slip at low speed (a slip reversal past the
+adhesion limit at 5-10 km/h) it is off by several N.m where ROS34PW2 holds 0.1 N.m
+(:data:`rollerrig.solve.fast.FAST_DEFAULTS` gives the measurements); an error estimate that
+sends such segments to the fallback is not built.
+
 Lawson's integrating factor (``e^{hL}`` applied to an RK4 of the transformed equation) was
 measured on this model and gets the forced stiff mount modes wrong (issue 20): it is not used.
 The PMSM's current loops, ``(i_d, I_d)`` and ``(i_q, I_q)`` (poles at −1 257 1/s, which set

@@ -76,6 +76,17 @@ right-hand sides and the block's φ-functions, about 2.4 µs in the step loop). 
 actually taken is shorter where RK4's stability on the rest needs it (1.6 ms is about that
 limit on the default rig, set by the PMSM current loops); ``python benchmarks/run.py`` prints
 these figures.
+
+**Where the fixed step is not enough.** ETDRK4's step is fixed per segment, with no error
+control: its accuracy is what was measured on the cases above, not a tolerance. Through
+macro-slip at low speed it does not hold: a torque ramp from −900 to +900 N.m at 4.3 kN, past
+the adhesion limit in braking and in traction, then released, gave max |ΔT56| 5.5, 4.7, 2.8,
+0.41 and 0.035 N.m at 5, 7.5, 10, 15 and 30 km/h against Radau at rtol 1e-9 (ROS34PW2 at its
+defaults 0.04-0.16 N.m; at 20 kN ETDRK4 0.08-0.48 N.m), and a roller decelerated to standstill
+after it 15 N.m (2026-11-30). Re-linearising every step does not cure it (4.95 N.m at 5 km/h);
+a shorter step does (``exp_step=0.8e-3, relinearise=1``: 0.018 N.m). For such experiments use
+``method="ros34pw2"`` here, whose error is controlled, or the reference solver
+(``Simulation(..., solver="reference")``, ``rollerrig simulate --solver reference``).
 """
 
 SWEEP_H_MAX = 2e-3
