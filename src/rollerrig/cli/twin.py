@@ -186,10 +186,8 @@ def simulate(
     solver: Annotated[
         Solver,
         typer.Option(
-            help="fast (numba ETDRK4, ROS34PW2 fallback) or reference (scipy Radau). The fast "
-            "solver's step is not error-controlled: through macro-slip at low speed (a slip "
-            "reversal past the adhesion limit below about 15 km/h) it is off by up to several "
-            "N.m; use reference there."
+            help="fast (numba ETDRK4; ROS34PW2 on the segments where ETDRK4's own error "
+            "estimate is too large, such as macro-slip at low speed) or reference (scipy Radau)."
         ),
     ] = Solver.fast,
     wheel_drive: Annotated[

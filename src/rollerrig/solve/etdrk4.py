@@ -35,10 +35,12 @@ segment on which the stable step would be very short (near standstill, where the
 friction's regularisation is stiff), or which ends non-finite, is integrated by the fallback,
 the adaptive ROS34PW2 W-method (:mod:`rollerrig.solve.ros34pw`).
 
-The step is not error-controlled: through macro-slip at low speed (a slip reversal past the
-adhesion limit at 5-10 km/h) it is off by several N.m where ROS34PW2 holds 0.1 N.m
-(:data:`rollerrig.solve.fast.FAST_DEFAULTS` gives the measurements); an error estimate that
-sends such segments to the fallback is not built.
+The step is not adapted to the error; instead each step estimates it (classical RK4's
+embedded third-order estimate, :func:`_step_error`, weighted to the quantity the results are
+judged by) and a segment where a step's estimate exceeds ``err_limit`` goes to the fallback:
+through macro-slip at low speed the fixed step was off by several N.m (a slip reversal past the
+adhesion limit at 5-10 km/h), where ROS34PW2 holds about 0.1 N.m
+(:data:`rollerrig.solve.fast.FAST_DEFAULTS` gives the measurements).
 
 Lawson's integrating factor (``e^{hL}`` applied to an RK4 of the transformed equation) was
 measured on this model and gets the forced stiff mount modes wrong (issue 20): it is not used.
@@ -433,15 +435,31 @@ def _hermite(t, h, x, f, x_new, f_new, t_at, out):
         out[i] = h00 * x[i] + h01 * x_new[i] + h10 * f[i] + h11 * f_new[i]
 
 
+def _step_error(h, f_c, f_new, weights):
+    """The step's error estimate in the quantity ``Σ_j weights_j x_j``.
+
+    ``(h/6) (f(t + h, c) − f(t + h, x_new))`` is classical RK4's embedded third-order error
+    estimate (the weights (1/6, 1/3, 1/3, 0, 1/6) on the four stages and the derivative at the
+    new state, the next step's first: no extra right-hand side). Exact for the rows RK4
+    integrates (``L = 0``); the weights should sit on such rows (the rig's roller-shaft twist
+    θ5 − θ6 times its stiffness: the estimate in N.m of T56).
+    """
+    acc = 0.0
+    for j in range(f_new.shape[0]):
+        acc += weights[j] * (f_c[j] - f_new[j])
+    return abs(acc) * h / 6.0
+
+
 def _segment(
     x0, t0, t1, t_out, p, tables, h_max, relinearise, static_blocks, dynamic_blocks, x_out,
-    counts, memo,
+    counts, memo, err_weights, err_limit,
 ):  # fmt: skip
     """ETDRK4 over one smooth segment ``[t0, t1]``; ``x_out[k]`` at ``t_out[k]`` (in
     ``[t0, t1]``, increasing), the last row ``t_out[-1] == t1`` being the end state.
 
     Returns a status: 0 done; -1 the segment needs the fallback (the stable step is below
-    ``0.2 h_max``, or the state became non-finite). ``counts`` gets the steps (0) and the
+    ``0.2 h_max``, the state became non-finite, or a step's error estimate exceeded
+    ``err_limit``: :func:`_step_error`). ``counts`` gets the steps (0) and the
     linearisations (2) added. ``memo`` (two floats, zeros at the start of a run) holds the last
     stable step and when it was estimated; a segment starting within
     :data:`STABILITY_RECHECK` of it reuses it.
@@ -504,6 +522,8 @@ def _segment(
         rhs(t_new, x_new, p, tables, f_new)
         if not (_wd._all_finite(x_new) and _wd._all_finite(f_new)):
             return -1
+        if err_limit > 0.0 and _step_error(h, work[7], f_new, err_weights) > err_limit:
+            return -1
         while k < n_out and t_out[k] < t_new:
             _hermite(t, h, x, fx, x_new, f_new, t_out[k], x_out[k])
             k += 1
@@ -537,7 +557,8 @@ def bind(driver, name: str):
     -------
     numba dispatcher
         ``segment(x0, t0, t1, t_out, p, tables, h_max, relinearise, static_blocks,
-        dynamic_blocks, x_out, counts, memo) -> status`` (see the template ``_segment``).
+        dynamic_blocks, x_out, counts, memo, err_weights, err_limit) -> status`` (see the
+        template ``_segment``).
     """
     if name in _NAMED:
         return _NAMED[name]
@@ -557,6 +578,7 @@ def bind(driver, name: str):
         (_half_stage, "always"),
         (_step, "always"),
         (_hermite, "always"),
+        (_step_error, "always"),
         (_segment, "never"),
     ):
         ns[template.__name__] = _wd._compiled_copy(

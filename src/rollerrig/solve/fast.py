@@ -55,6 +55,7 @@ FAST_DEFAULTS = {
     "jac_every": 100,
     "exp_step": 1.6e-3,
     "relinearise": 8,
+    "exp_error": 0.01,
 }
 """Default settings of the fast backend: the method (:data:`METHODS`); for ROS34PW2 (also the
 fallback of ETDRK4) the relative tolerance [-], absolute tolerance of the angles [rad], largest
@@ -77,16 +78,23 @@ actually taken is shorter where RK4's stability on the rest needs it (1.6 ms is 
 limit on the default rig, set by the PMSM current loops); ``python benchmarks/run.py`` prints
 these figures.
 
-**Where the fixed step is not enough.** ETDRK4's step is fixed per segment, with no error
-control: its accuracy is what was measured on the cases above, not a tolerance. Through
-macro-slip at low speed it does not hold: a torque ramp from −900 to +900 N.m at 4.3 kN, past
-the adhesion limit in braking and in traction, then released, gave max |ΔT56| 5.5, 4.7, 2.8,
-0.41 and 0.035 N.m at 5, 7.5, 10, 15 and 30 km/h against Radau at rtol 1e-9 (ROS34PW2 at its
-defaults 0.04-0.16 N.m; at 20 kN ETDRK4 0.08-0.48 N.m), and a roller decelerated to standstill
-after it 15 N.m (2026-11-30). Re-linearising every step does not cure it (4.95 N.m at 5 km/h);
-a shorter step does (``exp_step=0.8e-3, relinearise=1``: 0.018 N.m). For such experiments use
-``method="ros34pw2"`` here, whose error is controlled, or the reference solver
-(``Simulation(..., solver="reference")``, ``rollerrig simulate --solver reference``).
+**The step-error guard** (``exp_error``, N.m). ETDRK4's step is fixed per segment: its
+accuracy above is what was measured, not a tolerance, and through macro-slip at low speed it
+does not hold. A torque ramp from −900 to +900 N.m at 4.3 kN, past the adhesion limit in
+braking and in traction, then released, gave max |ΔT56| 5.5, 4.7, 2.8, 0.41 and 0.035 N.m at
+5, 7.5, 10, 15 and 30 km/h against Radau at rtol 1e-9 (at 20 kN 0.08-0.48), and with the roller
+then decelerated to standstill 15 N.m; re-linearising every step did not cure it (4.95 N.m at
+5 km/h). Each step therefore estimates its own error in T56, classical RK4's embedded
+third-order estimate on the roller shaft's twist (``etdrk4._step_error``, no extra
+right-hand side), and a segment where one step's estimate exceeds ``exp_error`` goes
+to ROS34PW2, whose error is controlled. With 0.01 N.m: on the cases above (the default test,
+the 10 km/h wet test, the flexible frame, the dq and servo drives, the hard case, from
+standstill, the dq drive on the 30 s test) no segment leaves ETDRK4 and nothing changes (the
+largest estimates: 0.0023 N.m on the default test, 0.0018 on the hard case); on the macro-slip
+ramps 0.062, 0.16, 0.087, 0.036 and 0.037 N.m at 5-30 km/h and 4.3 kN (one or two of five
+segments by ROS34PW2), 0.08-0.18 at 20 kN, and 0.58 N.m through standstill (the standstill
+segment itself stays with ETDRK4; ROS34PW2 alone 0.14). ``exp_error=0`` turns the guard off
+(2026-11-30).
 """
 
 SWEEP_H_MAX = 2e-3
@@ -247,7 +255,7 @@ _exp_segment = etdrk4.bind(RIG, "rig")
 @_cache.njit(nogil=True)
 def _integrate_exp(
     x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, t_stop,
-    exp_step, relinearise, static_blocks, dynamic_blocks,
+    exp_step, relinearise, static_blocks, dynamic_blocks, err_weights, err_limit,
 ):  # fmt: skip
     """:func:`_integrate` with ETDRK4 on every segment it can take, ROS34PW2 on the others
     (``stats[3]`` counts those)."""
@@ -276,7 +284,7 @@ def _integrate_exp(
         xs = np.empty((m + 1, x.shape[0]))
         done = _exp_segment(
             x, t0, t1, ts, params[s], tables, exp_step, relinearise, static_blocks,
-            dynamic_blocks, xs, stats, memo,
+            dynamic_blocks, xs, stats, memo, err_weights, err_limit,
         )  # fmt: skip
         if done == 0:
             t_stop[0] = t1
@@ -343,11 +351,14 @@ _STATIC_BLOCKS = np.array(
 """ETDRK4's constant linear blocks: the PMSM and AM stator mounts, (θ1, ω1) and (θ7, ω7)."""
 
 
-def _exp_settings(inputs, method, exp_step, relinearise, h_max):
-    """``(method code, step [s], relinearise [steps], static blocks, dynamic blocks)``.
+def _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error=None):
+    """``(method code, step [s], relinearise [steps], static blocks, dynamic blocks, error
+    weights, error limit [N.m])``.
 
     The dynamic block is the contact's (ω4, ω5), with a flexible frame (ω4, ω5, v_f). An
-    explicit ``h_max`` caps ETDRK4's step as well (the sweeps' setting).
+    explicit ``h_max`` caps ETDRK4's step as well (the sweeps' setting). The error weights
+    make a step's error estimate one of T56 (the roller shaft's twist θ5 − θ6 times its
+    stiffness; the same states in the dq model, whose first states are the rig's).
     """
     method = FAST_DEFAULTS["method"] if method is None else method
     if method not in METHODS:
@@ -362,7 +373,12 @@ def _exp_settings(inputs, method, exp_step, relinearise, h_max):
     if inputs.drives.frame != "rigid":
         contact[2] = X_FRAME_V
     dynamic = np.array([contact], dtype=np.int64)
-    return METHODS.index(method), step, max(1, relinearise), _STATIC_BLOCKS, dynamic
+    limit = FAST_DEFAULTS["exp_error"] if exp_error is None else float(exp_error)
+    weights = np.zeros(inputs.initial_state.size)
+    k56 = float(inputs.rig.stiffness.roller_shaft)
+    weights[X_THETA + 4], weights[X_THETA + 5] = k56, -k56
+    code = METHODS.index(method)
+    return code, step, max(1, relinearise), _STATIC_BLOCKS, dynamic, weights, limit
 
 
 def _segment_arrays(segments):
@@ -409,16 +425,17 @@ def _driver(dq: bool, code: int):
     return single_exp if code == 0 else single
 
 
-def _bound_driver(inputs, method, exp_step, relinearise, h_max):
+def _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error=None):
     """``(driver, method code)``: the driver for ``inputs`` with ETDRK4's settings bound, so
     that both methods take ROS34PW2's arguments."""
-    code, step, relin, static, dynamic = _exp_settings(inputs, method, exp_step, relinearise, h_max)
+    settings = _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error)
+    code = settings[0]
     driver = _driver(_uses_dq(inputs), code)
     if code != 0:
         return driver, code
 
     def integrate(*args):
-        return driver(*args, step, relin, static, dynamic)
+        return driver(*args, *settings[1:])
 
     return integrate, code
 
@@ -434,6 +451,7 @@ def integrate_experiment(
     method=None,
     exp_step=None,
     relinearise=None,
+    exp_error=None,
 ):
     """Integrate one experiment with the fast backend.
 
@@ -463,6 +481,9 @@ def integrate_experiment(
         ETDRK4's largest step [s].
     relinearise : int, optional
         ETDRK4 re-linearises the contact block every this many steps [-].
+    exp_error : float, optional
+        ETDRK4's step-error guard [N.m]: a segment where one step's error estimate of T56
+        exceeds it goes to ROS34PW2 (``fallback_segments``); 0 turns the guard off.
 
     Returns
     -------
@@ -476,7 +497,7 @@ def integrate_experiment(
         with ETDRK4 ``fallback_segments`` (segments ROS34PW2 took) and, on a failure,
         ``reason`` (:func:`failure_reason`).
     """
-    integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max)
+    integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error)
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, _uses_dq(inputs))
     name = METHODS[code]
     n_states = inputs.initial_state.size
@@ -538,6 +559,7 @@ def integrate_batch(
     method=None,
     exp_step=None,
     relinearise=None,
+    exp_error=None,
 ):
     """Integrate several variants of one experiment in parallel threads.
 
@@ -554,7 +576,7 @@ def integrate_batch(
     ----------
     inputs_list : sequence of ModelInputs
         The variants (:func:`rollerrig.rig.assemble.assemble`).
-    t_out, rtol, h_max, jac_every, angle_atol, method, exp_step, relinearise
+    t_out, rtol, h_max, jac_every, angle_atol, method, exp_step, relinearise, exp_error
         As in :func:`integrate_experiment`.
 
     Returns
@@ -581,7 +603,7 @@ def integrate_batch(
     t_stop = np.zeros((n, 1))
     status = np.zeros(n, dtype=np.int64)
     # Each variant's own settings: a flexible frame adds its velocity to the contact block.
-    runs = [_bound_driver(i, method, exp_step, relinearise, h_max) for i in inputs_list]
+    runs = [_bound_driver(i, method, exp_step, relinearise, h_max, exp_error) for i in inputs_list]
 
     def run(k):
         params = _segment_arrays(inputs_list[k].segments)[1]

@@ -75,10 +75,9 @@ class Simulation:
         Polach parameters by friction-condition name (default: Polach 2005 dry and wet).
     solver : {"fast", "reference"}
         The compiled fast backend (ETDRK4 with the ROS34PW2 W-method as its fallback,
-        :mod:`rollerrig.solve.fast`), or scipy's Radau on the compiled model. The fast
-        backend's step is not error-controlled: through macro-slip at low speed (a slip
-        reversal past the adhesion limit below about 15 km/h) it is off by up to several N.m
-        (:data:`~rollerrig.solve.fast.FAST_DEFAULTS`); use ``"reference"`` there.
+        :mod:`rollerrig.solve.fast`), or scipy's Radau on the compiled model. ETDRK4's step
+        is fixed; where its own error estimate says it is not enough (macro-slip at low
+        speed) a segment goes to ROS34PW2 (:data:`~rollerrig.solve.fast.FAST_DEFAULTS`).
     output_rate : float, optional
         Sampling rate of the results [Hz]; default the rig's DAQ rate.
     rtol : float, optional
