@@ -54,6 +54,21 @@ def test_errors_are_one_line(tmp_path, runner):
     result = runner.invoke(app, ["transfer", str(src), "--law", "fastsim", "--out",
                                  str(tmp_path / "o")])  # fmt: skip
     assert result.exit_code == 2
+    # A negative seed was numpy's ValueError, reported as an internal error (exit 3).
+    result = runner.invoke(app, ["transfer", str(src), "--seed", "-1", "--out",
+                                 str(tmp_path / "o")])  # fmt: skip
+    assert result.exit_code == 2 and "--seed" in result.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_api_refuses_a_seed_numpy_cannot_take():
+    import pytest
+
+    from rollerrig._validation import ParameterError
+    from rollerrig.analysis.transfer import transfer_curve
+
+    with pytest.raises(ParameterError, match="seed must be an integer >= 0"):
+        transfer_curve(None, None, None, "polach", draws=50, seed=-1)
 
 
 def test_the_figure_in_the_format_asked(tmp_path, runner):

@@ -239,7 +239,7 @@ def transfer_curve(
     draws : int
         Monte Carlo draws (>= 50).
     seed : int
-        Seed of the draws.
+        Seed of the draws (>= 0).
     coa_systematic : float, optional
         Relative standard uncertainty of the measured CoA common to all points [-] (a
         systematic error of the rig: load, torque class, arm). A number enters each draw as a
@@ -300,6 +300,8 @@ def transfer_curve(
     draws = int(draws)
     if draws < 50:
         raise ParameterError(f"draws must be at least 50, got {draws}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ParameterError(f"seed must be an integer >= 0 (numpy's generators), got {seed!r}")
     if int(points) < 10:
         raise ParameterError(f"points must be at least 10, got {points}")
     if coa_systematic is not None and not (

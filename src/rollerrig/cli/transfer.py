@@ -119,7 +119,7 @@ def transfer(
         ),
     ] = None,
     draws: Annotated[int, typer.Option("--draws", help="Monte Carlo draws [-].")] = 400,
-    seed: Annotated[int, typer.Option("--seed", help="Seed of the draws.")] = 0,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the draws (>= 0).")] = 0,
     out: OutOption = DEFAULT_OUT,
     figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,
