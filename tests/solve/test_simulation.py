@@ -152,6 +152,15 @@ def test_simulation_arguments_are_checked():
         Simulation(experiment="seed-30kmh-dry", output_rate=0.0)
     with pytest.raises(ParameterError, match="neither a bundled protocol"):
         Simulation(experiment="no-such-protocol")
+    # A step of 1e9 s (a hostile-input pass tried 1e6): refused before anything is allocated
+    # (it was numpy's MemoryError for 41 GiB of states, reported as an internal error).
+    from rollerrig.experiment import Hold, Protocol, RampTorque
+
+    long = Protocol.from_steps(
+        "long", [Hold(0.5), RampTorque(600.0, 1e9)], normal_load=4300.0, roller_speed=30 / 3.6
+    )
+    with pytest.raises(ParameterError, match=r"lasts 1e\+09 s: at 250 Hz .* GiB of results"):
+        Simulation(experiment=long)
 
 
 def test_times_never_pass_the_end_of_a_summed_duration():

@@ -60,6 +60,30 @@ def output_times(duration: float, rate: float) -> np.ndarray:
     return t
 
 
+_RESULT_CHANNELS = 80
+"""About how many float64 series a run holds per output sample (the states, the truth channels,
+what the rig measures, the solver's copies): for the size check of :func:`_check_result_size`."""
+
+
+def _check_result_size(protocol, rate: float) -> None:
+    """Refuse, before anything is allocated, an experiment whose results would not fit in
+    memory: half the machine's physical memory where the system says it, else 16 GiB. A
+    protocol step of a million seconds otherwise ended in numpy's MemoryError."""
+    samples = np.floor(protocol.duration * rate) + 1.0
+    need = samples * _RESULT_CHANNELS * 8.0
+    try:
+        limit = 0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):  # no sysconf (Windows)
+        limit = 16.0 * 2**30
+    if need > limit:
+        raise ParameterError(
+            f"experiment {protocol.name!r} lasts {protocol.duration:g} s: at {rate:g} Hz that "
+            f"is {samples:.3g} output samples, about {need / 2**30:.3g} GiB of results, more "
+            f"than this machine can hold ({limit / 2**30:.3g} GiB allowed); shorten the "
+            "protocol's steps or lower the output rate"
+        )
+
+
 class Simulation:
     """A simulated adhesion experiment on a rig.
 
@@ -133,6 +157,7 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         rate = rig.sensors.daq_rate if output_rate is None else float(output_rate)
         if not (np.isfinite(rate) and rate > 0):
             raise ParameterError(f"output_rate must be > 0 [Hz], got {output_rate!r}")
+        _check_result_size(protocol, rate)
         self.rig = rig
         self.protocol = protocol
         self.solver = solver
