@@ -38,6 +38,22 @@ def test_nan_and_overflowing_values_name_the_column_and_map_entry():
         check_channel_values(_recording(1e300), ["torque"])
 
 
+def test_a_derived_channel_is_named_as_derived_with_what_to_check():
+    """A recording whose normal load is 0 (a pressure channel scaled to 0): the CoA the
+    analysis computes is NaN; the message said "map entry [channels.coa]" (no such entry)
+    and suggested --lenient, which cannot help."""
+    from rollerrig.measure.quantities import derive_quantities
+
+    rec = _recording(500.0)
+    rec = Recording(rec.time, {**rec.channels, "normal_load": 0.0 * rec.time}, rec.units,
+                    rec.metadata)  # fmt: skip
+    derived = derive_quantities(rec, default_rig())
+    with pytest.raises(RecordingError, match=r"derived channel 'coa' \(from the torque") as err:
+        check_channel_values(derived, ["coa"])
+    assert "map entry" not in str(err.value) and "--lenient" not in str(err.value)
+    assert "normal load is <= 0 N" in str(err.value)
+
+
 def test_missing_inputs_name_the_map_entries_to_add():
     with pytest.raises(RecordingError) as err:
         require_analysis_inputs(_recording(1.0))

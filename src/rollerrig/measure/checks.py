@@ -83,9 +83,15 @@ def check_channel_values(recording: Recording, names, rig=None) -> None:
         bad = ~np.isfinite(x)
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
+            derived = name in ((recording.metadata.get("derived") or {}).get("channels") or ())
+            hint = (
+                "check the unit, scale and offset of the channels it is computed from in the "
+                "channel map"
+                if derived
+                else "a lenient read (--lenient) interpolates short runs"
+            )
             raise RecordingError(
-                f"{what} has {int(bad.sum())} NaN/inf samples, first at sample {k}; a lenient "
-                "read (--lenient) interpolates short runs"
+                f"{what} has {int(bad.sum())} NaN/inf samples, first at sample {k}; {hint}"
             )
         peak = float(np.max(np.abs(x))) if x.size else 0.0
         with np.errstate(over="ignore"):

@@ -324,9 +324,12 @@ def derive_quantities(
     channels = dict(recording.channels)
     units = dict(recording.units)
 
+    added: list[str] = []
+
     def add(name: str, values: np.ndarray) -> None:
         channels[name] = values
         units[name] = (CANONICAL_CHANNELS.get(name) or DERIVED_CHANNELS[name])[0]
+        added.append(name)
 
     if "normal_load" not in channels and "air_spring_pressure" in channels:
         add(
@@ -363,5 +366,6 @@ def derive_quantities(
         "centred": bool(centred),
         "rig_values": rig,
         "definitions": "N = p A_eff; s = (w_w r_w - w_r r_r)/(w_r r_r); F = T/r_r; CoA = T/(r_r N)",
+        "channels": added,  # computed here, not read: messages name them as such
     }
     return Recording(recording.time, channels, units, metadata)
