@@ -295,6 +295,19 @@ def test_sniff_layout_of_picoscope6(tmp_path):
     assert (lay.header_line, lay.units_line, lay.data_line) == (0, 1, 3)
 
 
+def test_a_row_of_missing_values_inside_the_data_is_a_row_not_a_second_recording(tmp_path):
+    """A sample whose every cell is NaN ended the block of numbers, and the rows above it were
+    reported as "rows of numbers above the header ... recordings appended to one file?"."""
+    rows = [f"{k / 250:.3f},{k * 0.5:.2f}" for k in range(40)]
+    rows[20] = "nan,nan"
+    f = tmp_path / "nanrow.csv"
+    f.write_text("time [s],torque [N.m]\n" + "\n".join(rows) + "\n")
+    lay = sniff_layout(f)
+    assert (lay.header_line, lay.data_line) == (0, 1)
+    with pytest.raises(RecordingError, match=r"time stamp 20 \(of 40\) is nan"):
+        read_recording(f)
+
+
 def test_picoscope7_bom_microseconds_and_infinity(tmp_path):
     f, t, a = picoscope7(tmp_path)
     cmap = {

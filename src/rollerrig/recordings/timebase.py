@@ -68,6 +68,14 @@ def _rate(t: np.ndarray) -> float:
     """Sample rate [Hz] from the median step of ``t`` [s]; NaN for fewer than 2 samples."""
     if t.size < 2:
         return float("nan")
+    bad = ~np.isfinite(t)
+    if bad.any():  # else the median step below is NaN, and the message about it misleads
+        k = int(np.flatnonzero(bad)[0])
+        raise RecordingError(
+            f"time stamp {k} (of {t.size}) is {t[k]:g}, and {int(bad.sum())} in all are not "
+            "finite numbers; the time base must be finite and strictly increasing (an empty "
+            "or NaN cell in the time column?)"
+        )
     step = float(np.median(np.diff(t)))
     if not step > 0.0:  # most stamps repeat (e.g. absolute times written to too few digits)
         raise RecordingError(

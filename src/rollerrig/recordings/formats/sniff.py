@@ -110,11 +110,21 @@ def _data_block(
     numeric = [j for j in range(n) if sum(x[2][j] != "text" for x in ref) >= 0.8 * len(ref)]
     allowed = len(numeric) // 2
     block: list[tuple[int, list[str]]] = []
+    missing: list[tuple[int, list[str]]] = []  # rows of only NaN or empty cells, seen last
     for i, f, k in reversed(kinds):
+        if n >= 2 and len(k) == n and all(x in ("nan", "empty") for x in k):
+            # a sample whose every value is missing: inside the data it is a row of the table
+            # (NaN, refused or interpolated by the reader's check), not the end of the block,
+            # which made the rows below it look like a second recording; above the first row of
+            # numbers (a blank units row) it is not data
+            missing.append((i, f))
+            continue
         if not any(x in ("num", "time") for x in k):
             break
         if sum(1 for j in numeric if j < len(k) and k[j] == "text") > allowed:
             break
+        block.extend(missing)
+        missing = []
         block.append((i, f))
     return block[::-1], n
 
