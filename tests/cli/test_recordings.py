@@ -84,10 +84,19 @@ def test_analyze_truth_of_another_length_or_not_netcdf(tmp_path, runner, adhesio
     assert result.exit_code == 2, result.output
     assert "--truth" in result.output and "not a NetCDF file" in result.output
     _no_traceback(result)
-    short = tmp_path / "short.nc"
-    xr.Dataset({"coa": ("time", np.zeros(10))}, coords={"time": np.arange(10) / 100}).to_netcdf(
-        short, engine="h5netcdf"
+    # An analysis' NetCDF has a 'coa' (the measured one): it was taken as the truth.
+    analysis = tmp_path / "x-analysis.nc"
+    zeros = ("time", np.zeros(10))
+    coords = {"time": np.arange(10) / 100}
+    xr.Dataset({"coa": zeros, "coa_corrected": zeros}, coords=coords).to_netcdf(
+        analysis, engine="h5netcdf"
     )
+    result = runner.invoke(app, ["analyze", str(rec), "--truth", str(analysis), *out])
+    assert result.exit_code == 2, result.output
+    assert "an analysis' output" in result.output
+    _no_traceback(result)
+    short = tmp_path / "short.nc"  # a truth needs 'coa' over 'time' only (another model's)
+    xr.Dataset({"coa": zeros}, coords=coords).to_netcdf(short, engine="h5netcdf")
     result = runner.invoke(app, ["analyze", str(rec), "--truth", str(short), *out])
     assert result.exit_code == 2, result.output
     assert "10 samples, the recording 1000" in result.output

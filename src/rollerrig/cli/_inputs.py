@@ -160,6 +160,15 @@ def load_truth(path: Path):
             f"--truth {path}: a NetCDF file without the variable 'coa' (the true contact CoA); "
             "give the *-truth.nc written beside the synthetic recording"
         )
+    # An analysis' own NetCDF has a 'coa' too (the measured one): taken as the truth it gave
+    # "truth errors" of the analysis against itself. A truth needs only 'coa' (and 'time'), so
+    # that one written by another model serves; what marks an analysis is refused.
+    if "coa_corrected" in ds or "analysis_notes" in ds.attrs:
+        raise UserError(
+            f"--truth {path}: an analysis' output (its 'coa' is the measured CoA, not the "
+            "contact's); give the *-truth.nc written beside the synthetic recording, or a "
+            "NetCDF of the true contact CoA 'coa' over 'time'"
+        )
     return ds
 
 
