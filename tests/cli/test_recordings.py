@@ -103,6 +103,13 @@ def test_analyze_truth_of_another_length_or_not_netcdf(tmp_path, runner, adhesio
     _no_traceback(result)
 
 
+def test_filters_refuses_a_table_of_no_rows(tmp_path, runner, adhesion_csv):
+    rec = adhesion_csv(tmp_path / "test.csv")  # --top -5 printed all rows but 5 (a slice)
+    result = runner.invoke(app, ["filters", str(rec), "--top", "-5", "--out", str(tmp_path / "o")])
+    assert result.exit_code == 2 and "--top" in result.output
+    assert not (tmp_path / "o").exists()
+
+
 def test_filters_on_a_csv_with_a_header_and_no_rows(tmp_path, runner):
     empty = tmp_path / "empty.csv"
     empty.write_text(HEADER + "\n")

@@ -59,6 +59,13 @@ def test_an_unknown_name_offers_the_nearest():
         rig_set("pardubise")
 
 
+def test_a_folder_is_not_taken_for_a_rig_set_name(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "rigs").mkdir()
+    with pytest.raises(ParameterError, match="rig rigs is a folder; give a rig TOML file"):
+        resolve_rig("rigs")
+
+
 def test_resolve_rig_takes_a_file_or_a_name(tmp_path):
     path = tmp_path / "mine.toml"
     path.write_text(rig_set("pardubice").path.read_text("utf-8"), "utf-8")

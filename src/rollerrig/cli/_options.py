@@ -137,10 +137,10 @@ def _rig_by_name(value: Path | None) -> Path | None:
     if value is None or value.is_file() or value.suffix or len(value.parts) > 1:
         return value
     from rollerrig._validation import ParameterError
-    from rollerrig.rig.library import rig_set
+    from rollerrig.rig.library import resolve_rig
 
     try:
-        return rig_set(str(value)).path
+        return resolve_rig(value)
     except ParameterError as exc:
         raise typer.BadParameter(str(exc)) from None
 

@@ -436,7 +436,7 @@ def filters(
     channels: ChannelsOption = None,
     channel: Annotated[str, typer.Option(help="Channel to smooth.")] = "torque",
     out: OutOption = DEFAULT_OUT,
-    top: Annotated[int, typer.Option(help="Rows of the ranked table to print.")] = 15,
+    top: Annotated[int, typer.Option(min=1, help="Rows of the ranked table to print.")] = 15,
     lenient: LenientOption = False,
     figure_format: FigureFormatOption = FigureFormat.png,
     quiet: QuietOption = False,

@@ -204,6 +204,11 @@ def resolve_rig(value: str | os.PathLike) -> Path:
     if path.is_file():
         return path
     name = str(value)
+    if path.is_dir():  # it was reported as "no rig set named ..."
+        raise ParameterError(
+            f"rig {name} is a folder; give a rig TOML file or the name of a rig set "
+            "(rollerrig rig list)"
+        )
     looks_like_path = os.sep in name or "/" in name or name.endswith(".toml")
     if looks_like_path:
         sets = [n for n, s in rig_sets().items() if not s.problem]
