@@ -292,3 +292,37 @@ def test_stiffer_shaft_raises_the_mode():
         assert f == pytest.approx(math.sqrt(k56 * (45 + 6.6) / (45 * 6.6)) / (2 * math.pi))
         assert f > previous
         previous = f
+
+
+def test_a_huge_inertia_leaves_the_shaft_mode_of_the_other_body():
+    """A roller of 1e20 kg.m^2 (a wall): the motor rotor rings on the roller shaft alone, ζ =
+    b56 / (2 sqrt(k56 J6)) and f = sqrt(k56/J6)/2π (single-DOF closed form). The QZ algorithm
+    on the pencil with M in it gave infinite poles and NaN damping for every elastic mode."""
+    k56, b56, j6 = 43.5e3, 1.0, 6.6
+    rig = RIG.with_overrides({"inertia.roller": 1e20})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no RuntimeWarning either
+        rows = modal_table(rig)
+    (shaft,) = [r for r in rows if r.dominant_element == "roller_shaft"]
+    assert shaft.frequency == pytest.approx(math.sqrt(k56 / j6) / (2 * math.pi), rel=1e-9)
+    assert shaft.damping_ratio == pytest.approx(b56 / (2 * math.sqrt(k56 * j6)), rel=1e-6)
+    assert all(np.isfinite(r.damping_ratio) for r in rows if not r.rigid)
+
+
+def test_a_tiny_inertia_keeps_the_other_modes_and_says_what_it_cannot_resolve():
+    """A PMSM stator of 1e-12 kg.m^2 on its mount: a pole at −b01/J1 = −1e17 1/s. The other
+    modes keep their damping (each mode's poles are judged zero against its own frequency,
+    not against that pole); the stator's own mode prints n/a with the reason."""
+    rig = RIG.with_overrides({"inertia.pmsm_stator": 1e-12})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        rows = modal_table(rig)
+    reference = {r.dominant_element: r for r in modal_table(RIG)}
+    for r in rows:
+        if r.rigid or r.dominant_element == "pmsm_mount":
+            continue
+        assert r.damping_ratio == pytest.approx(
+            reference[r.dominant_element].damping_ratio, rel=1e-3
+        )
+    text = format_modal_table(rows)
+    assert " nan" not in text and "n/a" in text and "double precision" in text

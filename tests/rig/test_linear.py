@@ -248,3 +248,11 @@ def test_modes_takes_the_roller_drive():
     )
     assert result.exit_code == 0, result.output
     assert "roller drive induction_dq" in result.output and "am_psi" in result.output
+
+
+def test_a_pole_that_hides_the_chain_is_refused_with_what_moves(rig):
+    """A PMSM stator of 1e-12 kg.m^2 puts a pole at about −1e17 1/s: the rigid bound (1e-6 of
+    the fastest pole) would call every mode rigid. The error names the pole and its states."""
+    tiny = rig.with_overrides({"inertia.pmsm_stator": 1e-12})
+    with pytest.raises(ParameterError, match=r"pole at .* 1/s .*theta1|pole at .* 1/s .*omega1"):
+        coupled_modes(tiny, SPEED, LOAD, load_source="test")

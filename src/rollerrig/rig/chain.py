@@ -395,13 +395,22 @@ def _floating_components(K: np.ndarray) -> list[np.ndarray]:
 
 
 def _state_space_poles(M, K, C):
-    """Eigenvalues and displacement parts of eigenvectors of ``[0 I; −K −C] z = λ [I 0; 0 M] z``."""
+    """Eigenvalues and displacement parts of eigenvectors of ``[0 I; −K −C] z = λ [I 0; 0 M] z``.
+
+    Solved as the standard eigenproblem of ``[0 I; −L⁻¹KL⁻ᵀ −L⁻¹CL⁻ᵀ]`` in the coordinates
+    ``q = Lᵀθ`` (``M = LLᵀ``, Cholesky), displacements back as ``θ = L⁻ᵀq``: the same poles,
+    but the pencil with ``M`` in it lost them to the QZ algorithm's scaling when inertias
+    differ by many decades (one body of 1e20 kg.m^2 among bodies of 1-50 gave infinite
+    eigenvalues for all the chain's elastic modes).
+    """
     n = M.shape[0]
-    eye, zero = np.eye(n), np.zeros((n, n))
-    A = np.block([[zero, eye], [-K, -C]])
-    B = np.block([[eye, zero], [zero, M]])
-    lam, vec = scipy.linalg.eig(A, B)
-    return lam, vec[:n, :]
+    lower = np.linalg.cholesky(M)
+    inverse = scipy.linalg.solve_triangular(lower, np.eye(n), lower=True)
+    A = np.block(
+        [[np.zeros((n, n)), np.eye(n)], [-inverse @ K @ inverse.T, -inverse @ C @ inverse.T]]
+    )
+    lam, vec = scipy.linalg.eig(A)
+    return lam, scipy.linalg.solve_triangular(lower.T, vec[:n, :], lower=False)
 
 
 def _assign_poles(lam, x, modes, M, tol):
@@ -543,11 +552,14 @@ def modal_analysis(
     product = np.abs(mode_poles[:, 0] * mode_poles[:, 1])
     wn = np.sqrt(product)
     total = -np.real(mode_poles[:, 0] + mode_poles[:, 1])
-    pole_scale = max(float(np.max(np.abs(lam))), 1.0)
-    has_zero = rigid | (np.min(np.abs(mode_poles), axis=1) <= 1e-9 * pole_scale)
+    # A pole is zero relative to its own mode's undamped frequency, not to the chain's
+    # fastest pole: a stator of 1e-12 kg.m^2 on its mount puts a pole at -1e17 1/s, which
+    # made every other mode's poles "zero" and every damping ratio NaN.
+    has_zero = rigid | (np.min(np.abs(mode_poles), axis=1) <= 1e-9 * np.sqrt(omega2))
     with np.errstate(divide="ignore", invalid="ignore"):
         zeta = np.where(has_zero, np.nan, total / (2.0 * np.where(has_zero, 1.0, wn)))
-    fd = np.where(rigid, 0.0, np.abs(np.imag(mode_poles[:, 0] - mode_poles[:, 1])) / (4.0 * np.pi))
+        fd = np.abs(np.imag(mode_poles[:, 0] - mode_poles[:, 1])) / (4.0 * np.pi)
+    fd = np.where(rigid, 0.0, fd)
     return ModalResult(frequencies, shapes, rigid, lam, mode_poles, fd, zeta)
 
 
@@ -676,10 +688,22 @@ def format_modal_table(rows: Sequence[ModalRow]) -> str:
     """
     header = f"{'mode':>4} {'f [Hz]':>8} {'f_d [Hz]':>9} {'zeta':>9}  {'element':<13}"
     lines = [header + " dominant bodies"]
+    unresolved = False
     for r in rows:
-        zeta = "rigid" if r.rigid else f"{r.damping_ratio:9.4g}"
+        if r.rigid:
+            zeta = "rigid"
+        elif np.isfinite(r.damping_ratio):
+            zeta = f"{r.damping_ratio:9.4g}"
+        else:
+            zeta, unresolved = "n/a", True
         lines.append(
             f"{r.mode:>4} {r.frequency:>8.2f} {r.damped_frequency:>9.2f} {zeta:>9}  "
             f"{r.dominant_element or '-':<13} {', '.join(r.dominant_bodies)}"
+        )
+    if unresolved:  # an elastic mode whose poles double precision did not resolve
+        lines.append(
+            "zeta n/a: the mode's two poles could not both be resolved in double precision (one "
+            "of them many decades faster than the chain's other poles): check the inertia and "
+            "mount of its dominant bodies"
         )
     return "\n".join(lines)

@@ -485,6 +485,32 @@ def _energies(vector: np.ndarray, names: tuple[str, ...], inertias, elements):
     return kinetic, np.asarray(strain)
 
 
+def _require_resolvable(lam, vec, names, scale, rig) -> None:
+    """Refuse a spectrum whose fastest pole hides the chain's modes.
+
+    An eigenvalue ``|λ| <= 1e-6 max|λ|`` counts as rigid (module docstring). When the fastest
+    pole is so fast that this bound exceeds the slowest elastic mode of the free chain, every
+    mode would be reported rigid (a stator of 1e-12 kg.m^2 on its mount: a pole at −1e17 1/s);
+    the finite-difference Jacobian cannot resolve the slow modes beside it either. The error
+    names the pole and what moves in it, so that the parameter can be found.
+    """
+    from rollerrig.rig.chain import modal_table
+
+    elastic = [r.frequency for r in modal_table(rig, damped=False) if not r.rigid]
+    if not elastic or _RIGID * scale < 2.0 * np.pi * min(elastic):
+        return
+    fastest = int(np.argmax(np.abs(lam)))
+    share = np.abs(vec[:, fastest]) / max(float(np.max(np.abs(vec[:, fastest]))), 1e-300)
+    moves = ", ".join(names[i] for i in np.argsort(-share)[:2])
+    raise ParameterError(
+        f"the linearised twin has a pole at {abs(lam[fastest]):.3g} 1/s (time constant "
+        f"{1.0 / abs(lam[fastest]):.3g} s; states {moves}), so fast beside the chain's slowest "
+        f"elastic mode ({min(elastic):.3g} Hz) that double precision cannot resolve the modes: "
+        "check the rig's inertias, stiffnesses and dampings of those bodies (an inertia far "
+        "below the others, or a very stiff or heavily damped mount)"
+    )
+
+
 def modes_of(
     jacobian: np.ndarray,
     state_names,
@@ -518,6 +544,7 @@ def modes_of(
     names = tuple(state_names)
     lam, vec = scipy.linalg.eig(np.asarray(jacobian, dtype=float))
     scale = max(float(np.max(np.abs(lam))), np.finfo(float).tiny)
+    _require_resolvable(lam, vec, names, scale, rig)
     part = _participation(vec)
     groups = list(dict.fromkeys(_GROUPS.get(n, n) for n in names))
     group_of = np.array([groups.index(_GROUPS.get(n, n)) for n in names])
