@@ -30,23 +30,13 @@ __all__ = [
 ]
 
 
-_DERIVED_FROM = {
-    "coa": "the torque over r_r times the normal load; NaN where the normal load is <= 0 N",
-    "normal_load": "the air-spring pressure times its effective area",
-    "creep": "the wheel and roller speeds",
-    "slip_velocity": "the wheel and roller speeds",
-    "wheel_speed": "the wheel encoder's counts",
-    "roller_speed": "the roller encoder's counts",
-    "tangential_force": "the torque over r_r",
-}
-
-
 def describe_channel(recording: Recording, name: str) -> str:
     """How to find a channel in the user's file: its name, file column and map entry; for a
     channel the analysis computed from others, what it was computed from."""
-    derived = (recording.metadata.get("derived") or {}).get("channels") or ()
-    if name in derived:
-        source = _DERIVED_FROM.get(name)
+    derived = recording.metadata.get("derived") or {}
+    if name in (derived.get("channels") or ()):
+        # what it was computed from, as derive_quantities recorded it
+        source = (derived.get("from") or {}).get(name)
         return f"derived channel {name!r}" + (f" (from {source})" if source else "")
     columns = recording.metadata.get("columns") or {}
     column = columns.get(name) if isinstance(columns, dict) else None

@@ -306,7 +306,10 @@ def derive_quantities(
     Returns
     -------
     Recording
-        A copy with the derived channels added.
+        A copy with the derived channels added; its ``metadata["derived"]`` holds the gate, the
+        rig values and definitions used, the names of the channels computed here
+        (``"channels"``) and what each was computed from (``"from"``, which error messages
+        quote).
 
     Examples
     --------
@@ -324,17 +327,18 @@ def derive_quantities(
     channels = dict(recording.channels)
     units = dict(recording.units)
 
-    added: list[str] = []
+    added: dict[str, str] = {}  # name -> what it was computed from (for messages)
 
-    def add(name: str, values: np.ndarray) -> None:
+    def add(name: str, values: np.ndarray, source: str) -> None:
         channels[name] = values
         units[name] = (CANONICAL_CHANNELS.get(name) or DERIVED_CHANNELS[name])[0]
-        added.append(name)
+        added[name] = source
 
     if "normal_load" not in channels and "air_spring_pressure" in channels:
         add(
             "normal_load",
             normal_force_from_pressure(channels["air_spring_pressure"], rig["area"]),
+            "the air-spring pressure times its effective area",
         )
     for which in ("wheel", "roller"):
         counts = f"{which}_encoder_counts"
@@ -342,6 +346,7 @@ def derive_quantities(
             add(
                 f"{which}_speed",
                 encoder_speed(channels[counts], recording.time, rig["cpr"], gate, centred),
+                f"the {which} encoder's counts",
             )
     if "wheel_speed" in channels and "roller_speed" in channels:
         creep, slip = _creep_kernel(
@@ -351,21 +356,27 @@ def derive_quantities(
             rig["roller_radius"],
             DEFAULT_REGULARISATION_SPEED,
         )
-        add("creep", creep)
-        add("slip_velocity", slip)
+        add("creep", creep, "the wheel and roller speeds")
+        add("slip_velocity", slip, "the wheel and roller speeds")
     if "torque" in channels:
-        add("tangential_force", tangential_force(channels["torque"], rig["roller_radius"]))
+        force = tangential_force(channels["torque"], rig["roller_radius"])
+        add("tangential_force", force, "the torque over r_r")
         if "normal_load" in channels:
             load = channels["normal_load"]
             with np.errstate(divide="ignore", invalid="ignore"):
                 coa = np.where(load > 0, channels["torque"] / (rig["roller_radius"] * load), np.nan)
-            add("coa", coa)
+            add(
+                "coa",
+                coa,
+                "the torque over r_r times the normal load; NaN where the normal load is <= 0 N",
+            )
     metadata = dict(recording.metadata)
     metadata["derived"] = {
         "gate_samples": int(gate),
         "centred": bool(centred),
         "rig_values": rig,
         "definitions": "N = p A_eff; s = (w_w r_w - w_r r_r)/(w_r r_r); F = T/r_r; CoA = T/(r_r N)",
-        "channels": added,  # computed here, not read: messages name them as such
+        "channels": list(added),  # computed here, not read: messages name them as such
+        "from": added,
     }
     return Recording(recording.time, channels, units, metadata)
