@@ -96,9 +96,10 @@ segments by ROS34PW2), 0.08-0.18 at 20 kN, and 0.58 N.m through the slip reversa
 by a stop to standstill (tests/solve/test_simulation.py). That 0.58 N.m is no defect of
 ETDRK4: ROS34PW2 alone is off by as much there (0.60 at its defaults, 0.56 at rtol 1e-6, 0.14
 at 1e-7; Radau 1e-9 against 1e-10: 1e-5). It grows through the deceleration (0.26) and the
-second after the stop (0.58), where the speeds of the roller and its motor stay within 0.5 rad/s of zero (the bearings' friction in its
-tanh regularisation) and T56 swings between −80 and +260 N.m in the lightly damped 13.8 Hz
-shaft mode: the error is that mode's phase, about 0.2 % of the swing (2026-11-30).
+second after the stop (0.58), where the speeds of the roller and its motor stay within
+0.5 rad/s of zero (the bearings' friction in its tanh regularisation) and T56 swings between
+−80 and +260 N.m in the lightly damped 13.8 Hz shaft mode: the error is that mode's phase,
+about 0.2 % of the swing (2026-11-30).
 ``exp_error=0`` turns the guard off.
 """
 
