@@ -32,6 +32,17 @@ def test_analyze_reports_missing_channels_clearly(tmp_path, runner):
     assert "Traceback" not in result.output
 
 
+def test_analyze_names_the_file_of_a_nan_time_stamp(tmp_path, runner):
+    rows = [f"{k / 250:.3f},{k * 0.5:.2f},0,1,1" for k in range(40)]
+    rows[20] = "nan,10,0,1,1"
+    rec = tmp_path / "nantime.csv"
+    rec.write_text(HEADER + "\n" + "\n".join(rows) + "\n")
+    result = runner.invoke(app, ["analyze", str(rec), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    _no_traceback(result)
+    assert f"{rec}: time stamp 20 (of 40) is nan" in " ".join(result.output.split())
+
+
 def test_failure_while_writing_leaves_no_partial_output(
     tmp_path, monkeypatch, runner, adhesion_csv
 ):

@@ -41,6 +41,55 @@ def test_csv_end_to_end(tmp_path, runner):
     assert "carried over" in summary["carried_over_as_measured"]["assumption"]
 
 
+def test_load_kn_is_the_transfers_load_and_the_points_keep_a_measured_column(tmp_path, runner):
+    # The help said --load-kn is the transfer's load, but a CSV with a normal_load column
+    # refused it ("do not give the normal load"): the option now sets the transfer's load,
+    # the points keep the file's, and the output says which load came from where.
+    src = _curve_csv(tmp_path / "curve.csv")
+    out = tmp_path / "out"
+    args = ["transfer", str(src), "--draws", "50", "--load-kn", "6", "--out", str(out)]
+    result = runner.invoke(app, args, terminal_width=400)
+    assert result.exit_code == 0, result.output
+    text = " ".join(result.output.split())
+    assert "N = 6 kN" in text
+    assert (
+        "note: --load-kn 6 kN is the load of the transfer only; the points keep their measured "
+        "loads (the 'normal_load' column of curve.csv, median 4.3 kN)"
+    ) in text
+    summary = json.loads((out / "curve-transfer.json").read_text())
+    assert summary["conditions"]["normal_load [N]"] == 6000.0
+    parameters = summary["provenance"]["parameters"]
+    assert parameters["normal_load"].startswith("--load-kn 6 kN (the transfer's load)")
+    assert parameters["rolling_speed"].startswith("30 km/h: the median of the points' speeds")
+    # ... as the help says.
+    result = runner.invoke(app, ["transfer", "--help"], terminal_width=200)
+    assert "they keep them for the fit on the roller" in " ".join(result.output.split())
+
+
+def test_load_kn_is_every_points_load_without_a_column(tmp_path, runner):
+    s = np.linspace(0.0005, 0.08, 40)
+    c = polach_creep_curve(s, 4300.0, 30 / 3.6, 0.348, 0.291, 0.452, 1.89)
+    src = tmp_path / "bare.csv"
+    rows = [f"{a:.9g},{b:.9g}" for a, b in zip(s, c.adhesion_coefficient, strict=True)]
+    src.write_text("\n".join(["creep [-],coa [-]", *rows]) + "\n")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["transfer", str(src), "--speed-kmh", "30", "--out", str(out)])
+    assert result.exit_code == 2
+    # The brackets of the units are printed as written (rich markup is off).
+    expected = (
+        "bare.csv: no 'normal_load [N]' (or [kN]) column: give --load-kn (then every point's)"
+    )
+    assert expected in " ".join(result.output.split())
+    args = ["transfer", str(src), "--load-kn", "4.3", "--speed-kmh", "30", "--draws", "50"]
+    result = runner.invoke(app, [*args, "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    parameters = json.loads((out / "bare-transfer.json").read_text())["provenance"]["parameters"]
+    assert (
+        parameters["normal_load"]
+        == "--load-kn 4.3 kN, also every point's load (the file has no column for it)"
+    )
+
+
 def test_errors_are_one_line(tmp_path, runner):
     bad = tmp_path / "bad.csv"
     bad.write_text("creep,coa [-]\n0.1,0.2\n")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import datetime as dt
 import hashlib
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -306,6 +307,19 @@ def test_a_row_of_missing_values_inside_the_data_is_a_row_not_a_second_recording
     assert (lay.header_line, lay.data_line) == (0, 1)
     with pytest.raises(RecordingError, match=r"time stamp 20 \(of 40\) is nan"):
         read_recording(f)
+
+
+def test_a_nan_time_stamp_names_the_file_as_given(tmp_path, monkeypatch):
+    """The message named the sample but not the file, which matters when many are read."""
+    rows = [f"{k / 250:.3f},{k * 0.5:.2f}" for k in range(40)]
+    rows[20] = ",10.00"  # an empty time cell
+    (tmp_path / "runs").mkdir()
+    (tmp_path / "runs" / "nantime.csv").write_text("time [s],torque [N.m]\n" + "\n".join(rows))
+    monkeypatch.chdir(tmp_path)
+    given_as = str(Path("runs") / "nantime.csv")
+    with pytest.raises(RecordingError) as info:
+        read_recording(given_as)
+    assert str(info.value).startswith(f"{given_as}: time stamp 20 (of 40) is nan")
 
 
 def test_picoscope7_bom_microseconds_and_infinity(tmp_path):

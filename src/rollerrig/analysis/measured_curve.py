@@ -3,7 +3,8 @@ a CSV of points.
 
 :class:`MeasuredCurve` holds the points in SI with the creep referred to the roller speed
 (Kayaalp eq. 4.21); :func:`read_analysis`, :func:`curve_from_analysis` and
-:func:`read_curve_csv` make one, with a clear error for what they cannot read. The transfer to
+:func:`read_curve_csv` make one, with a clear error for what they cannot read
+(:func:`curve_csv_columns` tells which columns a CSV has). The transfer to
 the track is :func:`rollerrig.analysis.transfer.transfer_curve`.
 """
 
@@ -20,7 +21,14 @@ import numpy as np
 from rollerrig._validation import ParameterError
 from rollerrig.contact.kinematics import kalker_creepage, rig_creep
 
-__all__ = ["CSV_COLUMNS", "MeasuredCurve", "curve_from_analysis", "read_analysis", "read_curve_csv"]
+__all__ = [
+    "CSV_COLUMNS",
+    "MeasuredCurve",
+    "curve_csv_columns",
+    "curve_from_analysis",
+    "read_analysis",
+    "read_curve_csv",
+]
 
 CSV_COLUMNS = {
     "creep": ("required", {"-": 1.0, "1": 1.0, "%": 0.01}),
@@ -294,6 +302,57 @@ def _parse_header(cell: str, path) -> tuple[str, str | None]:
     return text.lower(), None
 
 
+def _csv_rows(path: Path) -> list[list[str]]:
+    """The CSV's rows, header first, without blank and ``#`` comment lines."""
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ParameterError(f"{path}: not readable as a text CSV ({exc})") from None
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    if not lines:
+        raise ParameterError(f"{path}: empty (a header row 'creep [-],coa [-]' and points needed)")
+    try:
+        return list(csv.reader(lines))
+    except csv.Error as exc:
+        raise ParameterError(f"{path}: not a CSV ({exc})") from None
+
+
+def curve_csv_columns(path) -> frozenset[str]:
+    """The columns of :data:`CSV_COLUMNS` that a creep-curve CSV's header names.
+
+    Lets a caller tell, before :func:`read_curve_csv`, whether the file gives each point its
+    own load and speed (then ``normal_load`` / ``rolling_speed`` must not be passed to it).
+    Only the header is looked at: its units and the rows are checked by
+    :func:`read_curve_csv`.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV.
+
+    Returns
+    -------
+    frozenset of str
+        Column names, without their units (``"normal_load"``, ...).
+
+    Raises
+    ------
+    ParameterError
+        The file is not readable, empty or not a CSV (naming the file).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "c.csv"
+    >>> _ = p.write_text("# a test\\ncreep [%],coa [-],normal_load [kN],note\\n")
+    >>> sorted(curve_csv_columns(p))
+    ['coa', 'creep', 'normal_load']
+    """
+    path = Path(path)
+    names = (_parse_header(c, path)[0] for c in _csv_rows(path)[0])
+    return frozenset(n for n in names if n in CSV_COLUMNS)
+
+
 def read_curve_csv(
     path,
     *,
@@ -345,17 +404,7 @@ def read_curve_csv(
     path = Path(path)
     if creepage not in ("roller", "mean"):
         raise ParameterError(f"creepage must be 'roller' or 'mean', got {creepage!r}")
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ParameterError(f"{path}: not readable as a text CSV ({exc})") from None
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    if not lines:
-        raise ParameterError(f"{path}: empty (a header row 'creep [-],coa [-]' and points needed)")
-    try:
-        rows = list(csv.reader(lines))
-    except csv.Error as exc:
-        raise ParameterError(f"{path}: not a CSV ({exc})") from None
+    rows = _csv_rows(path)
     header = [_parse_header(c, path) for c in rows[0]]
     names = [h[0] for h in header]
     index: dict[str, tuple[int, float]] = {}

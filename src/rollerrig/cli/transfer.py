@@ -7,6 +7,7 @@ from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
+import numpy as np
 import typer
 from rich.table import Table
 from rich.text import Text
@@ -83,15 +84,19 @@ def transfer(
         float | None,
         typer.Option(
             "--load-kn",
-            help="Normal load [kN]: of the transfer (default the median contact load of the "
-            "points), and of every CSV point without a normal_load column.",
+            help="Normal load [kN] at which the curve is transferred (default the median "
+            "load of the points). A CSV without a 'normal_load' column needs it: it is then "
+            "every point's load too. Where the points have measured loads (the CSV's column, "
+            "an analysis), they keep them for the fit on the roller, and a note says so.",
         ),
     ] = None,
     speed_kmh: Annotated[
         float | None,
         typer.Option(
             "--speed-kmh",
-            help="Rolling speed [km/h]: as --load-kn (default the median roller speed).",
+            help="Rolling speed [km/h], as --load-kn: of the transfer (default the median "
+            "speed of the points), and every point's for a CSV without a 'rolling_speed' "
+            "column; measured speeds are kept for the points.",
         ),
     ] = None,
     creepage: Annotated[
@@ -135,6 +140,7 @@ def transfer(
     <name>-transfer.csv, <name>-transfer.json and <name>-transfer.png.
     """
     from rollerrig._validation import ParameterError
+    from rollerrig.analysis.measured_curve import curve_csv_columns
     from rollerrig.analysis.transfer import (
         ContactGeometry,
         RailGeometry,
@@ -154,15 +160,41 @@ def transfer(
             raise ParameterError(f"{name} must be a number > 0")
     is_csv = source.suffix.lower() == ".csv"
     if is_csv:
+        # The option is the transfer's load; a CSV's column is the points' measured load. The
+        # reader refuses both for the points, so the option fills in only a missing column.
+        columns = curve_csv_columns(source)
+        for name, units, option, value in (
+            ("normal_load", "[N]' (or [kN])", "--load-kn", load),
+            ("rolling_speed", "[m/s]' (or [km/h])", "--speed-kmh", speed),
+        ):
+            if name not in columns and value is None:
+                raise ParameterError(
+                    f"{source}: no '{name} {units} column: give {option} (then every point's)"
+                )
         measured = read_curve_csv(
-            source, creepage=Creepage(creepage).value, normal_load=load, rolling_speed=speed
+            source,
+            creepage=Creepage(creepage).value,
+            normal_load=None if "normal_load" in columns else load,
+            rolling_speed=None if "rolling_speed" in columns else speed,
         )
+        measured_in = {n: f"the '{n}' column of {source.name}" for n in columns}
         stem = source.stem
     else:
         if creepage != Creepage.roller:
             raise ParameterError("--creepage applies to a CSV; an analysis's creep is the rig's")
         measured = read_analysis(source, rig)
+        measured_in = dict.fromkeys(("normal_load", "rolling_speed"), f"the analysis {source.name}")
         stem = source.name.rsplit("-analysis.", 1)[0]
+    # Which load and speed the transfer is at, and where the points' came from: recorded in
+    # the provenance, and a note where an option sets the transfer apart from measured data.
+    load_source, load_note = _condition_source(
+        "--load-kn", load, measured.normal_load, "kN", 1e-3, "load",
+        measured_in.get("normal_load"),
+    )  # fmt: skip
+    speed_source, speed_note = _condition_source(
+        "--speed-kmh", speed, measured.rolling_speed, "km/h", 3.6, "speed",
+        measured_in.get("rolling_speed"),
+    )  # fmt: skip
     rail = RailGeometry(
         crown_radius=None if crown_radius_mm is None else crown_radius_mm * 1e-3,
         curve_radius=math.inf if curve_radius_m is None else curve_radius_m,
@@ -176,6 +208,8 @@ def transfer(
         rig=rig,
         law=TransferLaw(law).value,
         rail=rail.describe(geometry.roller_radius_y),
+        normal_load=load_source,
+        rolling_speed=speed_source,
         draws=draws,
         seed=seed,
     ) as stage:
@@ -195,11 +229,63 @@ def transfer(
                 result, stage.dir, safe_file_name(stem), FigureFormat(figure_format).value
             )
     console.print(_table(result))
+    for line in (load_note, speed_note):
+        if line is not None:
+            note(line)
     for line in result.assumptions:
         note(line)
     for line in result.notes:
         note(line)
     print_written(stage.written)
+
+
+def _condition_source(
+    option: str,
+    given: float | None,
+    points,
+    unit: str,
+    scale: float,
+    noun: str,
+    measured_in: str | None,
+) -> tuple[str, str | None]:
+    """Where the transfer's load (or speed) and the points' come from.
+
+    Parameters
+    ----------
+    option : str
+        The command's option (``--load-kn``).
+    given : float or None
+        Its value in SI, None when not given.
+    points : array_like
+        The points' values in SI, as read.
+    unit : str
+        The option's unit (``kN``).
+    scale : float
+        From SI to ``unit``.
+    noun : str
+        What the value is (``load``).
+    measured_in : str or None
+        Where the points' values were measured (a CSV's column, an analysis); None where
+        they are the option's.
+
+    Returns
+    -------
+    source : str
+        For the provenance.
+    note : str or None
+        A note to print where the option sets the transfer apart from measured data.
+    """
+    median = float(np.median(np.asarray(points, float))) * scale
+    if given is None:
+        return f"{median:.4g} {unit}: the median of the points' {noun}s ({measured_in})", None
+    value = f"{option} {given * scale:.4g} {unit}"
+    if measured_in is None:
+        return f"{value}, also every point's {noun} (the file has no column for it)", None
+    kept = f"the points keep their measured {noun}s ({measured_in}, median {median:.4g} {unit})"
+    return (
+        f"{value} (the transfer's {noun}); {kept}",
+        f"{value} is the {noun} of the transfer only; {kept} for the fit on the roller",
+    )
 
 
 def _table(result) -> Table:

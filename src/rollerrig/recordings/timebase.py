@@ -64,24 +64,29 @@ _UNIFORM = 1e-3
 """A grid whose intervals differ from their median by more than this fraction is jittered."""
 
 
-def _rate(t: np.ndarray) -> float:
-    """Sample rate [Hz] from the median step of ``t`` [s]; NaN for fewer than 2 samples."""
+def _rate(t: np.ndarray, where: str = "") -> float:
+    """Sample rate [Hz] from the median step of ``t`` [s]; NaN for fewer than 2 samples.
+
+    ``where`` prefixes the messages (the file, as in :func:`align_channels`): a bad time
+    stamp is in one file of perhaps many the user read.
+    """
+    prefix = f"{where} " if where else ""
     if t.size < 2:
         return float("nan")
     bad = ~np.isfinite(t)
     if bad.any():  # else the median step below is NaN, and the message about it misleads
         k = int(np.flatnonzero(bad)[0])
         raise RecordingError(
-            f"time stamp {k} (of {t.size}) is {t[k]:g}, and {int(bad.sum())} in all are not "
-            "finite numbers; the time base must be finite and strictly increasing (an empty "
-            "or NaN cell in the time column?)"
+            f"{prefix}time stamp {k} (of {t.size}) is {t[k]:g}, and {int(bad.sum())} in all are "
+            "not finite numbers; the time base must be finite and strictly increasing (an "
+            "empty or NaN cell in the time column?)"
         )
     step = float(np.median(np.diff(t)))
     if not step > 0.0:  # most stamps repeat (e.g. absolute times written to too few digits)
         raise RecordingError(
-            f"time stamps repeat or fall: the median step is {step:g} s over {t.size} samples "
-            "(absolute times rounded to too few digits?); the time base must be strictly "
-            "increasing"
+            f"{prefix}time stamps repeat or fall: the median step is {step:g} s over {t.size} "
+            "samples (absolute times rounded to too few digits?); the time base must be "
+            "strictly increasing"
         )
     return 1.0 / step
 
@@ -286,7 +291,7 @@ def align_channels(
         if not any(_same(b, d) for d in distinct):
             distinct.append(b)
     single = len(distinct) == 1 and (time is None or _same(distinct[0], time))
-    rates = [_rate(b) for b in bases]
+    rates = [_rate(b, where) for b in bases]
 
     # --- the common base
     if resample_Hz is not None:
@@ -338,7 +343,7 @@ def align_channels(
             f"time base ({lo:.6g} s .. {hi:.6g} s)"
         )
     new_time = target[keep]
-    rate_out = _rate(new_time)
+    rate_out = _rate(new_time, where)
 
     channels: dict[str, np.ndarray] = {}
     resampled: dict[str, dict[str, Any]] = {}
