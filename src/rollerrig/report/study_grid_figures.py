@@ -16,7 +16,8 @@ matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.lines import Line2D
-from matplotlib.patches import Patch, Rectangle
+from matplotlib.patches import Patch, PathPatch, Rectangle
+from matplotlib.path import Path
 
 from rollerrig.output.figures import crop_when_saved
 from rollerrig.report.study_display import (
@@ -122,21 +123,25 @@ def _heatmap(fig, ax, qx, qy, levels_x, levels_y, z, missing, total, metric, sta
     """
     nx, ny = z.shape
     finite = np.isfinite(z)
+    empty = missing >= total
+    partial = (missing > 0) & ~empty
     lo, hi = (float(z[finite].min()), float(z[finite].max())) if finite.any() else (0.0, 1.0)
     if hi == lo:
         lo, hi = lo - 0.5 * (abs(lo) or 1.0), hi + 0.5 * (abs(hi) or 1.0)
+    # The cells without a value are holes in the mesh over one hatched background, and the
+    # cells of fewer points one hatched path: a patch per cell made an interrupted 1000 x 1000
+    # study take minutes to draw (a million artists); the background costs the same for any
+    # number of cells.
+    if empty.any():
+        ax.add_patch(Rectangle((-0.5, -0.5), nx, ny, facecolor="0.9", edgecolor=_MISSING_COLOUR,
+                               hatch="xx", lw=0, zorder=0.5, gid=MISSING_GID))  # fmt: skip
     mesh = ax.pcolormesh(np.arange(nx + 1) - 0.5, np.arange(ny + 1) - 0.5,
-                         np.ma.masked_invalid(z.T), cmap="viridis", vmin=lo, vmax=hi,
-                         shading="flat")  # fmt: skip
+                         np.ma.masked_where((~finite | empty).T, z.T), cmap="viridis", vmin=lo,
+                         vmax=hi, shading="flat")  # fmt: skip
     cbar = fig.colorbar(mesh, ax=ax, pad=0.02)
     cbar.set_label(metric.label)
-    empty = missing >= total
-    partial = (missing > 0) & ~empty
-    for i, j in zip(*np.nonzero(empty), strict=True):
-        ax.add_patch(Rectangle((i - 0.5, j - 0.5), 1, 1, facecolor="0.9", edgecolor=_MISSING_COLOUR,
-                               hatch="xx", lw=0, gid=MISSING_GID))  # fmt: skip
-    for i, j in zip(*np.nonzero(partial), strict=True):
-        ax.add_patch(Rectangle((i - 0.5, j - 0.5), 1, 1, facecolor="none", edgecolor="w",
+    if partial.any():
+        ax.add_patch(PathPatch(_cells_path(partial), facecolor="none", edgecolor="w",
                                hatch="//", lw=0, gid=MISSING_GID))  # fmt: skip
     if nx * ny <= _ANNOTATE_CELLS:
         colours = mesh.cmap(mesh.norm(np.where(finite, z, lo)))
@@ -173,6 +178,36 @@ def _heatmap(fig, ax, qx, qy, levels_x, levels_y, z, missing, total, metric, sta
         ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16),
                   ncol=len(handles), frameon=False)  # fmt: skip
     return mesh
+
+
+def _cells_path(mask: np.ndarray) -> Path:
+    """The cells where ``mask`` (shape (nx, ny)) is true, as one compound path of rectangles.
+
+    Cell ``(i, j)`` spans ``i ± 0.5``, ``j ± 0.5``. Runs of cells along a column are one
+    rectangle, and equal runs of neighbouring columns one too: a block of cells (the points
+    an interrupted study has not run yet) is two or three rectangles.
+    """
+    if not mask.any():
+        return Path(np.zeros((0, 2)))
+    padded = np.zeros((mask.shape[0], mask.shape[1] + 2), dtype=np.int8)
+    padded[:, 1:-1] = mask
+    step = np.diff(padded, axis=1)
+    # Starts and ends of the runs, both in C order: the k-th start and end are one run.
+    col, lo = np.nonzero(step == 1)
+    hi = np.nonzero(step == -1)[1]
+    order = np.lexsort((col, hi, lo))  # by run (lo, hi), then column
+    col, lo, hi = col[order], lo[order], hi[order]
+    new = np.ones(col.size, dtype=bool)
+    new[1:] = (lo[1:] != lo[:-1]) | (hi[1:] != hi[:-1]) | (col[1:] != col[:-1] + 1)
+    first = np.flatnonzero(new)
+    last = np.append(first[1:], col.size) - 1
+    x0, x1 = col[first] - 0.5, col[last] + 0.5
+    y0, y1 = lo[first] - 0.5, hi[first] - 0.5
+    vertices = np.stack([np.column_stack(v) for v in
+                         ((x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, y0))], axis=1)  # fmt: skip
+    codes = np.tile([Path.MOVETO, Path.LINETO, Path.LINETO, Path.LINETO, Path.CLOSEPOLY],
+                    first.size)  # fmt: skip
+    return Path(vertices.reshape(-1, 2), codes)
 
 
 def _missing_text_cells(status: np.ndarray) -> str:
