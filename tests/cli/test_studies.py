@@ -102,6 +102,65 @@ def test_a_bad_study_file_is_one_error_line_and_writes_nothing(tmp_path, runner,
     assert not out.exists()
 
 
+def test_a_point_the_twin_cannot_resolve_is_failed_with_its_reason_not_ok(tmp_path, runner):
+    # Stiffness 1e300 N.m/rad: the solver finishes but no metric has a value. It showed "ok"
+    # with blank cells, the reason only in the JSON.
+    study = tmp_path / "huge.toml"
+    study.write_text("name = 'huge'\n[grid]\n'stiffness.roller_shaft' = { values = [43.5e3, "
+                     "1e300], unit = 'N.m/rad' }\n", encoding="utf-8")  # fmt: skip
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["study", "run", str(study), "--executor", "local", "--out",
+                                 str(out)], terminal_width=400)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    row = next(line for line in result.output.splitlines() if "1e+300" in line)
+    assert "solver failed" in row and "│ ok" not in row
+    (said,) = [line for line in result.output.splitlines() if line.startswith("note: stiff")]
+    assert said.startswith("note: stiffness.roller_shaft = 1e+300 N.m/rad: solver failed: "
+                           "the run gave no value of any metric (release_overshoot: the "
+                           "experiment has no torque release")  # fmt: skip
+    doc = json.loads((out / "study-huge.json").read_text())
+    assert doc["status_counts"] == {"ok": 1, "solver failed": 1}
+    assert doc["rows"][1]["release_overshoot [-]"] is None
+    assert doc["rows"][1]["reason"] == said.split(": solver failed: ", 1)[1]
+    csv = (out / "study-huge-points.csv").read_text().splitlines()
+    assert csv[2].startswith("stiffness.roller_shaft = 1e+300 N.m/rad,1e+300,solver failed,")
+    assert csv[2].endswith(",") and "nan" not in csv[2].lower()  # the value's cell empty
+
+
+def test_a_metric_without_a_value_at_points_that_ran_says_why_on_the_console(tmp_path, runner):
+    # At 1e300 N.m/rad the CoA metrics still have numbers (the point is ok) but the overshoot
+    # has none: the table shows '-', and why was only in the JSON.
+    study = tmp_path / "half.toml"
+    study.write_text("name = 'half'\n[grid]\n'stiffness.roller_shaft' = { values = [43.5e3, "
+                     "1e300], unit = 'N.m/rad' }\n[outputs]\n"
+                     "metrics = ['release_overshoot', 'coa_bias_rms']\n",
+                     encoding="utf-8")  # fmt: skip
+    result = runner.invoke(app, ["study", "run", str(study), "--executor", "local", "--out",
+                                 str(tmp_path / "out")], terminal_width=400)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert (
+        "note: release_overshoot: no value at 1 of 2 points that ran ok: the experiment has "
+        "no torque release from a positive force, or the run failed"
+    ) in result.output
+    assert "coa_bias_rms: no value" not in result.output
+
+
+def test_a_number_without_a_unit_is_said_once_with_the_unit_taken(tmp_path, runner):
+    study = tmp_path / "bare.toml"
+    study.write_text("name = 'bare'\n[grid]\n'stiffness.roller_shaft' = [43.5e3, 143.5e3]\n"
+                     "'drive.roller_lag' = { values = [0.0, 0.2], unit = 's' }\n"
+                     "[outputs]\nmetrics = ['release_overshoot', 'coa_bias_rms']\n",
+                     encoding="utf-8")  # fmt: skip
+    result = runner.invoke(app, ["study", "run", str(study), "--executor", "local", "--out",
+                                 str(tmp_path / "out")], terminal_width=400)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    (said,) = [line for line in result.output.splitlines() if "without a unit" in line]
+    assert said.startswith(f"note: {study}: numbers without a unit taken in SI: "
+                           "grid.stiffness.roller_shaft in N.m/rad; if another unit was meant, "
+                           "give it")  # fmt: skip
+    assert "drive.roller_lag" not in said  # given with its unit
+
+
 def test_local_executor_refuses_dask_options(tmp_path, runner):
     result = runner.invoke(app, ["study", "run", "lag", "--executor", "local", "--workers", "2",
                                  "--out", str(tmp_path)])  # fmt: skip

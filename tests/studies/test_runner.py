@@ -134,6 +134,48 @@ def test_a_non_physical_point_is_reported_with_its_reason_and_the_rest_completes
     assert ds.reason.values[0] == "" and ds.reason.values[3] == ""
 
 
+def test_a_run_without_a_value_of_any_metric_is_not_ok():
+    # A stiffness of 1e300 N.m/rad: the solver finishes, but the shaft's torque is a rounding
+    # error and shows no release; the point was "ok" with blank metrics.
+    spec = study_from_toml_string(
+        "[grid]\n'stiffness.roller_shaft' = { values = [43.5e3, 1e300], unit = 'N.m/rad' }\n"
+        "[outputs]\nmetrics = ['release_overshoot', 'settling_time']\n"
+    )
+    ds = run_study(spec, executor="local").dataset
+    assert list(ds.status.values) == ["ok", "solver failed"]
+    reason = str(ds.reason.values[1])
+    assert reason.startswith("the run gave no value of any metric (release_overshoot: the "
+                             "experiment has no torque release")  # fmt: skip
+    assert "; settling_time: " in reason
+    assert "check this point's values" in reason and "\n" not in reason
+    assert np.isfinite(ds.release_overshoot.values[0]) and ds.reason.values[0] == ""
+
+
+def test_release_metrics_on_an_experiment_without_a_release_are_refused_before_running(
+    tmp_path,
+):
+    # Each point ran and measured nothing ("solver failed" on every point, since the run gave
+    # no metric); the experiment can be checked before any point runs.
+    (tmp_path / "hold.toml").write_text(
+        "[experiment]\nname = 'hold-only'\nnormal_load_kN = 4.3\nroller_speed_kmh = 30\n"
+        "[[step]]\naction = 'ramp_torque'\nto_Nm = 300\nduration_s = 0.3\n"
+    )
+    study = tmp_path / "s.toml"
+    study.write_text(
+        "experiment = 'hold.toml'\n[grid]\n"
+        "'stiffness.roller_shaft' = { values = [43.5e3, 83.5e3], unit = 'N.m/rad' }\n"
+        "[outputs]\nmetrics = ['release_overshoot', 't56_line_frequency']\n"
+    )
+    with pytest.raises(ParameterError, match=r"no release_torque step.* peak_coa"):
+        run_study(load_study(study), executor="local", store=tmp_path / "s.zarr")
+    assert not (tmp_path / "s.zarr").exists()
+    # One metric of the whole run among them: the study runs, the release metric undefined.
+    study.write_text(study.read_text().replace("'t56_line_frequency'", "'peak_coa'"))
+    ds = run_study(load_study(study), executor="local").dataset
+    assert list(ds.status.values) == ["ok", "ok"]
+    assert np.isnan(ds.release_overshoot.values).all() and np.isfinite(ds.peak_coa.values).all()
+
+
 def test_an_interrupted_study_resumes_without_recomputing_finished_points(tmp_path):
     spec = load_study("stiffness")
     store = tmp_path / "stiffness.zarr"

@@ -387,3 +387,37 @@ def test_any_study_dict_is_read_or_refused_with_a_study_file_error(name, num, n,
         assert exc.problems
     else:
         assert spec.name == name and 1 <= spec.size <= MAX_STUDY_POINTS
+
+
+# --------------------------------------------------------------------------------------------
+# A dimensional number without a unit is SI, and the study says where it took one so
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("[grid]\n'stiffness.roller_shaft' = [43.5, 143.5]",
+         (("grid.stiffness.roller_shaft", "N.m/rad"),)),
+        ("[grid]\nload = { start = 4300, stop = 2e4, num = 3 }\nfriction = ['dry']",
+         (("grid.load", "N"),)),
+        ("[sample]\nmethod = 'lhs'\nn = 4\n[sample.parameters]\n"
+         "speed = { distribution = 'uniform', low = 1, high = 8 }",
+         (("sample.parameters.speed", "m/s"),)),
+        ("[[cases]]\nlabel = 'a'\nload = 4300.0\n[[cases]]\nlabel = 'b'\n"
+         "'stiffness.roller_shaft' = { value = 4e4 }\n[solver]\noutput_rate = 500",
+         (("cases[0].load", "N"), ("cases[1].stiffness.roller_shaft", "N.m/rad"),
+          ("solver.output_rate", "Hz"))),
+        # With a unit, a zero (0 in every unit), a name: nothing taken for want of a unit.
+        ("[grid]\n'stiffness.roller_shaft' = { values = [43.5], unit = 'kN.m/rad' }\n"
+         "'drive.roller_lag' = [0.0]\n'drive.roller' = ['servo']", ()),
+        ("[[cases]]\nlabel = 'no lag'\n'drive.roller_lag' = 0.0", ()),
+    ],
+)  # fmt: skip
+def test_numbers_without_a_unit_are_si_and_listed_where_they_are(text, expected):
+    assert study_from_toml_string(text).assumed_units == expected
+
+
+def test_the_bundled_studies_give_every_unit():
+    for name in bundled_studies():
+        assert load_study(name).assumed_units == (), name

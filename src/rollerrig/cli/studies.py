@@ -85,6 +85,7 @@ def _results(
     parameters = json.loads(ds.attrs["parameters"])
     status = np.asarray(ds.status.values, dtype=str)
     n = status.size
+    spread = metric_summary(ds, metrics)
     if n <= MAX_TABLE_POINTS:
         table = Table(title=f"Study '{ds.attrs['study']}': {n} points")
         table.add_column("point")
@@ -104,7 +105,7 @@ def _results(
         table = Table(title=f"Study '{ds.attrs['study']}': {n} points")
         for col in ("metric", "unit", "with value", "min", "mean", "max"):
             table.add_column(col, justify="left" if col in ("metric", "unit") else "right")
-        for row in metric_summary(ds, metrics):
+        for row in spread:
             table.add_row(
                 row["metric"],
                 row.get("unit", ""),
@@ -115,6 +116,7 @@ def _results(
                 ),
             )
         console.print(table)
+    _say_undefined(ds, spread)
     failed = failures(ds)
     for row in failed[:10]:
         note(f"{row['label']}: {row['status']}: {row['reason']}")
@@ -149,7 +151,7 @@ def _results(
         "points": n,
         "status_counts": {s: int((status == s).sum()) for s in np.unique(status)},
         **run_info,
-        "summary": metric_summary(ds, metrics),
+        "summary": spread,
         "failures": failed,
         "sensitivity": _sensitivity(ds, metrics),
     }
@@ -168,6 +170,34 @@ def _results(
     write_json(stage.path(f"{stem}.json"), summary)
     for name, fig in study_figures(ds, metrics).items():
         save_figure(fig, stage.path(figure_file(f"{stem}-{name}", figure_format)))
+
+
+def _say_assumed_units(spec) -> None:
+    """One note naming each number of the study file taken in SI for want of a unit.
+
+    The file's rule is that a number without a unit is SI, but a rig file takes no value
+    without its unit: ``43.5`` meant as kN.m/rad would run, unnoticed, as 43.5 N.m/rad.
+    """
+    if not spec.assumed_units:
+        return
+    where = ", ".join(f"{key} in {unit}" for key, unit in spec.assumed_units)
+    note(
+        f"{spec.origin}: numbers without a unit taken in SI: {where}; if another unit was meant, "
+        'give it (values = [...], unit = "...", or { value = ..., unit = "..." })'
+    )
+
+
+def _say_undefined(ds, spread: list[dict]) -> None:
+    """One note per metric without a value at points that ran (status ok), with why (its
+    ``nan_meaning``): the table shows '-' there, and the reason was only in the JSON.
+    ``spread``: the rows of :func:`~rollerrig.studies.summary.metric_summary`."""
+    for row in spread:
+        if row["undefined"]:
+            meaning = ds[row["metric"]].attrs.get("nan_meaning", "undefined at these points")
+            note(
+                f"{row['metric']}: no value at {row['undefined']} of {row['points']} points "
+                f"that ran ok: {meaning}"
+            )
 
 
 def _sensitivity(ds, metrics) -> dict:
@@ -256,6 +286,7 @@ def run(
     if scheduler is not None:
         check_scheduler_address(scheduler, "--scheduler")
     spec = load_study(study)
+    _say_assumed_units(spec)
     rig_path = rig_file or spec.rig
     rig = _load_rig(rig_path) if rig_path else None
     stem = _stem(spec.name)

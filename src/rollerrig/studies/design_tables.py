@@ -1,7 +1,8 @@
 """The design tables of a study file read and checked: the ``[grid]`` axes, the ``[sample]``
 design and its distributions, the ``[[cases]]``; and the largest design a file may ask for.
 
-Every value comes back in SI (a number without a unit is SI) or as one of its key's names, and
+Every value comes back in SI (a number without a unit is SI, and the reader lists where it
+took one so: :attr:`_Reader.assumed`) or as one of its key's names, and
 every problem of the file is collected rather than raised, so that all of them are
 reported at once (:class:`rollerrig.studies.studyfile.StudyFileError`). A design's size is
 checked from the numbers the file gives before any point or axis value is made
@@ -44,6 +45,16 @@ class _Reader:
     def __init__(self, origin: str):
         self.origin = origin
         self.problems: list[Problem] = []
+        self.assumed: dict[str, str] = {}
+        """Where the file gave a dimensional number without a unit -> the SI unit taken."""
+
+    def assume_si(self, where: str, quantity: str | None, values) -> None:
+        """Record that the numbers ``values`` at ``where`` were taken in SI for want of a unit
+        (not for a dimensionless quantity, nor for zeros: 0 is 0 in every unit)."""
+        if quantity is None or QUANTITIES[quantity].si_unit == "1":
+            return
+        if any(isinstance(v, int | float) and v != 0 for v in values):
+            self.assumed[where] = QUANTITIES[quantity].si_unit
 
     def problem(self, key: str, message: str, **kw) -> None:
         self.problems.append(Problem(key, message, **kw))
@@ -97,7 +108,10 @@ class _Reader:
             if extra or "value" not in given:
                 self.problem(key, "give a number (SI) or { value = ..., unit = ... }", got=given)
                 return None
+            if given.get("unit") is None:
+                self.assume_si(key, quantity, [given["value"]])
             return self.number(f"{key}.value", given["value"], quantity, given.get("unit"))
+        self.assume_si(key, quantity, [given])
         return self.number(key, given, quantity)
 
 
@@ -241,6 +255,8 @@ def _axis(reader: _Reader, key: str, spec) -> Axis | None:
     if len(set(values)) != len(values):
         reader.problem(f"{where}.values", "repeats a value", got=raw)
         return None
+    if unit is None and choices is None:
+        reader.assume_si(where, quantity, values)
     return Axis(key, tuple(values), unit or "", factor, scale, label)
 
 
@@ -306,6 +322,8 @@ def _distribution(reader: _Reader, key: str, spec) -> Distribution | None:
             }[kind]
             reader.problem(where, f"{kind} needs {rule}", got=spec)
             return None
+        if unit is None:
+            reader.assume_si(where, quantity, params.values())
     label = spec.get("label", "")
     return Distribution(
         key, kind, params, unit or "", factor, label if isinstance(label, str) else ""

@@ -38,6 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from rollerrig._validation import ParameterError
 from rollerrig.experiment import Protocol
 
 __all__ = [
@@ -350,13 +351,16 @@ def _ringing_line(run, protocol) -> tuple[float, float]:
 
 @dataclass(frozen=True)
 class Metric:
-    """One metric: its unit, what it says, when it is undefined, and its function."""
+    """One metric: its unit, what it says, when it is undefined, and its function;
+    ``needs_release``: it measures what follows a torque release, so an experiment without a
+    ``release_torque`` step cannot give it."""
 
     name: str
     units: str
     long_name: str
     nan_meaning: str
     function: Callable[[RunChannels, Protocol], float]
+    needs_release: bool = False
 
 
 _NO_RELEASE = "the experiment has no torque release from a positive force, or the run failed"
@@ -369,6 +373,7 @@ METRICS: dict[str, Metric] = {
             "overshoot of T56/r_r below zero after a release",
             _NO_RELEASE,
             _release_overshoot,
+            needs_release=True,
         ),
         Metric(
             "true_release_overshoot",
@@ -376,6 +381,7 @@ METRICS: dict[str, Metric] = {
             "overshoot of F_x below zero after a release",
             _NO_RELEASE,
             _true_release_overshoot,
+            needs_release=True,
         ),
         Metric(
             "release_minimum_time",
@@ -383,6 +389,7 @@ METRICS: dict[str, Metric] = {
             "time from the release to the first minimum of T56/r_r",
             _NO_RELEASE + "; or no minimum in the window",
             _release_minimum_time,
+            needs_release=True,
         ),
         Metric(
             "release_ringing_frequency",
@@ -390,6 +397,7 @@ METRICS: dict[str, Metric] = {
             "frequency of the swing after the release, first minimum to next maximum",
             _NO_RELEASE + "; or no maximum after the first minimum in the window",
             _release_ringing_frequency,
+            needs_release=True,
         ),
         Metric(
             "settling_time",
@@ -397,6 +405,7 @@ METRICS: dict[str, Metric] = {
             "time for T56 to settle within 5 % after a release",
             _NO_RELEASE + "; or T56 had not settled by the end of the rest",
             _settling_time,
+            needs_release=True,
         ),
         Metric(
             "coa_bias_rms",
@@ -433,6 +442,7 @@ METRICS: dict[str, Metric] = {
             "frequency of the largest T56 line after a release",
             "no release with a rest long enough for a spectrum, or the run failed",
             lambda run, p: _ringing_line(run, p)[0],
+            needs_release=True,
         ),
         Metric(
             "t56_line_amplitude",
@@ -440,10 +450,35 @@ METRICS: dict[str, Metric] = {
             "amplitude of the largest T56 line after a release",
             "no release with a rest long enough for a spectrum, or the run failed",
             lambda run, p: _ringing_line(run, p)[1],
+            needs_release=True,
         ),
     )
 }
 """The metrics a study can compute, by name (see the module docstring)."""
+
+
+def require_measurable(protocol: Protocol, names) -> None:
+    """Refuse metrics none of which the experiment can give.
+
+    Every release metric (:attr:`Metric.needs_release`) is undefined on an experiment without
+    a ``release_torque`` step: a study asking only for such metrics would run every point and
+    measure nothing. Where some of the metrics apply, the study runs (the others come back
+    undefined, with their ``nan_meaning``).
+
+    Raises
+    ------
+    ParameterError
+        When every metric of ``names`` needs a release and ``protocol`` has none.
+    """
+    names = tuple(names)
+    if not names or _releases(protocol) or not all(METRICS[n].needs_release for n in names):
+        return
+    others = sorted(n for n, m in METRICS.items() if not m.needs_release)
+    raise ParameterError(
+        f"the metrics {', '.join(names)} measure what follows a torque release, and the "
+        f"experiment {protocol.name!r} has no release_torque step: add one to the experiment, "
+        f"or choose metrics of the whole run ({', '.join(others)})"
+    )
 
 
 def compute_metrics(run: RunChannels, protocol: Protocol, names) -> dict[str, float]:

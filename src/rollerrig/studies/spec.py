@@ -139,6 +139,10 @@ class StudySpec:
         The file (``bundled:<name>`` for a bundled study).
     sha256 : str
         Of the file's text: a store remembers it, so a resumed study is the same study.
+    assumed_units : tuple of (str, str)
+        ``(where, SI unit)`` of each place the file gave a dimensional number without a unit,
+        taken in SI (``grid.stiffness.roller_shaft``, ``cases[1].load``); ``study run`` says
+        so once.
     """
 
     name: str
@@ -155,6 +159,7 @@ class StudySpec:
     origin: str = "<string>"
     sha256: str = ""
     text: str = field(default="", repr=False)
+    assumed_units: tuple[tuple[str, str], ...] = ()
 
     @property
     def keys(self) -> tuple[str, ...]:

@@ -35,7 +35,9 @@ stem (made safe). A study has at most
 :data:`~rollerrig.studies.design_tables.MAX_STUDY_POINTS` points, checked from the file's
 numbers before any point is made.
 
-A number without a unit is SI. ``[outputs] metrics`` chooses the metrics of each run by name
+A number without a unit is SI (``study run`` says once where it took a number so, and in which
+unit: :attr:`StudySpec.assumed_units`; 0 and dimensionless numbers need no unit).
+``[outputs] metrics`` chooses the metrics of each run by name
 (:data:`rollerrig.studies.metrics.METRICS`); ``[solver]`` sets the output rate and the largest
 step. The minimal study::
 
@@ -328,6 +330,7 @@ def study_from_dict(
         origin=origin,
         sha256=hashlib.sha256(text.encode("utf-8")).hexdigest(),
         text=text,
+        assumed_units=tuple(reader.assumed.items()),
     )
 
 
