@@ -11,6 +11,9 @@ the ``nc`` format.
 
 from __future__ import annotations
 
+import errno
+import io
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -178,13 +181,91 @@ def write_netcdf(tmp: Path, variables: Mapping[str, NcVariable], attrs: Mapping)
     dim_ids = {dim: i for i, dim in enumerate(sizes)}
     coordinate = {d for d in sizes if d in variables and variables[d].dims == (d,)}
 
+    # HDF5 writes through a Python file that keeps the system's first write error (a full
+    # disk) instead of handing it to HDF5: with its own driver, HDF5 fails to close the file
+    # on a full disk (its metadata cannot be flushed), h5py raises "Can't decrement id ref
+    # count", and the process crashed at exit with a segmentation fault. Here HDF5 closes
+    # cleanly, and the error is raised after it, as the OSError it is.
+    with open(tmp, "w+b", buffering=0) as raw:
+        sink = _FirstWriteError(raw)
+        try:
+            _write_h5(h5py, sink, variables, attrs, sizes, dim_ids, coordinate, __version__)
+        except Exception as exc:
+            if sink.error is not None:
+                raise sink.error from exc
+            raise
+        if sink.error is not None:
+            raise sink.error
+
+
+class _FirstWriteError(io.RawIOBase):
+    """A binary file for h5py's file-object driver that records the first :class:`OSError` of
+    a write, truncate or flush and lets HDF5 go on as if it had succeeded (the file is
+    discarded: :func:`~rollerrig.output.atomic.atomic_write` removes it when the error is
+    raised), so that HDF5 can still close its file. Reads and seeks pass through."""
+
+    def __init__(self, raw) -> None:
+        super().__init__()
+        self.raw = raw
+        self.error: OSError | None = None
+
+    def readable(self) -> bool:
+        return True
+
+    def writable(self) -> bool:
+        return True
+
+    def seekable(self) -> bool:
+        return True
+
+    def readinto(self, buffer) -> int:
+        return self.raw.readinto(buffer)
+
+    def seek(self, offset: int, whence: int = 0) -> int:
+        return self.raw.seek(offset, whence)
+
+    def tell(self) -> int:
+        return self.raw.tell()
+
+    def write(self, data) -> int:
+        size = memoryview(data).nbytes
+        if self.error is None:
+            try:
+                written = self.raw.write(data)
+            except OSError as exc:
+                self.error = exc
+            else:
+                if written is not None and written < size:  # the disk filled up mid-write
+                    self.error = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+                    self.raw.seek(size - written, 1)
+        else:
+            self.raw.seek(size, 1)
+        return size
+
+    def truncate(self, size: int | None = None) -> int:
+        try:
+            return self.raw.truncate(size)
+        except OSError as exc:
+            self.error = self.error or exc
+            return self.raw.tell() if size is None else size
+
+    def flush(self) -> None:
+        try:
+            self.raw.flush()
+        except OSError as exc:
+            self.error = self.error or exc
+
+
+def _write_h5(h5py, sink, variables, attrs, sizes, dim_ids, coordinate, version) -> None:
+    """The HDF5 content of :func:`write_netcdf` into the file object ``sink``."""
+
     def put(attributes, key: str, value: Any) -> None:
         if np.isscalar(value) and not isinstance(value, str | bytes):
             value = np.atleast_1d(value)
         attributes[key] = value
 
     # Creation order tracked (links and attributes), as netCDF-C needs it to append to a file.
-    with h5py.File(tmp, "w", track_order=True) as f:
+    with h5py.File(sink, "w", track_order=True) as f:
         for key, value in attrs.items():
             put(f.attrs, key, value)
         scales = {}
@@ -219,5 +300,5 @@ def write_netcdf(tmp: Path, variables: Mapping[str, NcVariable], attrs: Mapping)
                 continue
             for axis, dim in enumerate(var.dims):
                 created[name].dims[axis].attach_scale(scales[dim])
-        properties = f"version=2,rollerrig={__version__},hdf5={h5py.version.hdf5_version}"
+        properties = f"version=2,rollerrig={version},hdf5={h5py.version.hdf5_version}"
         f.attrs["_NCProperties"] = np.bytes_(f"{properties},h5py={h5py.__version__}")
