@@ -151,6 +151,18 @@ def test_a_run_without_a_value_of_any_metric_is_not_ok():
     assert np.isfinite(ds.release_overshoot.values[0]) and ds.reason.values[0] == ""
 
 
+def test_a_metric_undefined_on_a_run_that_shows_the_experiment_leaves_the_point_ok():
+    # A 2 s roller-drive lag settles after the end of the rest: settling_time is undefined,
+    # a result, not a failure (review: it was "solver failed" with advice to check values).
+    spec = study_from_toml_string(
+        "[grid]\n'drive.roller_lag' = { values = [0.0, 2.0], unit = 's' }\n"
+        "[outputs]\nmetrics = ['settling_time']\n"
+    )
+    ds = run_study(spec, executor="local").dataset
+    assert list(ds.status.values) == ["ok", "ok"]
+    assert np.isfinite(ds.settling_time.values[0]) and np.isnan(ds.settling_time.values[1])
+
+
 def test_release_metrics_on_an_experiment_without_a_release_are_refused_before_running(
     tmp_path,
 ):

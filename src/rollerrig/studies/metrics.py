@@ -457,6 +457,15 @@ METRICS: dict[str, Metric] = {
 """The metrics a study can compute, by name (see the module docstring)."""
 
 
+def misses_its_releases(run: RunChannels, protocol: Protocol) -> bool:
+    """Whether the experiment releases the torque but the run shows no release from a positive
+    force: the run does not show the experiment (its channels are not finite, or a parameter
+    far out of range makes T56 a rounding error: a roller-shaft stiffness of 1e300 N.m/rad)."""
+    if not (np.all(np.isfinite(run.measured_force)) and np.all(np.isfinite(run.contact_force))):
+        return True
+    return bool(_releases(protocol)) and not _release_rows(run, protocol, RELEASE_WINDOW)
+
+
 def require_measurable(protocol: Protocol, names) -> None:
     """Refuse metrics none of which the experiment can give.
 

@@ -26,7 +26,8 @@ Two executors run the same batches (:func:`run_batch`) and give identical result
 
 Every point ends with a status (:data:`rollerrig.studies.store.STATUSES`): a value the rig or
 the experiment refuses is ``invalid parameters``, a run the solver cannot finish (or one that
-finishes without a value of any metric) ``solver failed``, both with the reason, and the rest
+finishes without a value of any metric and without the experiment's releases in its torque)
+``solver failed``, both with the reason, and the rest
 of the study goes on. Finished points go to the
 store as they arrive (:class:`~rollerrig.studies.store.StudyStore`), so an interrupted study
 resumes where it stopped: running it again into the same store computes only the points still
@@ -70,7 +71,13 @@ from rollerrig.studies.executor_choice import (
     choose_executor,
     cpu_share,
 )
-from rollerrig.studies.metrics import METRICS, compute_metrics, require_measurable, run_channels
+from rollerrig.studies.metrics import (
+    METRICS,
+    compute_metrics,
+    misses_its_releases,
+    require_measurable,
+    run_channels,
+)
 from rollerrig.studies.store import StudyStore, remove_store
 from rollerrig.studies.studyfile import StudySpec, load_study
 
@@ -266,7 +273,9 @@ def run_batch(
                 rows[index] = (index, "solver failed", _one_line(reason), {})
                 continue
             try:
-                values = compute_metrics(run_channels(inp, t, xi), point_protocol, metrics)
+                run = run_channels(inp, t, xi)
+                values = compute_metrics(run, point_protocol, metrics)
+                missed = misses_its_releases(run, point_protocol)
             except Exception as exc:  # a study records a broken point and goes on
                 reason = f"measuring the run failed: {type(exc).__name__}: {exc}"
                 rows[index] = (index, "solver failed", _one_line(reason), {})
@@ -274,7 +283,7 @@ def run_batch(
             finally:
                 serial[index] += time.perf_counter() - started
                 cpu[index] += time.thread_time() - cpu_started
-            rows[index] = _measured(index, values)
+            rows[index] = _measured(index, values, missed)
     if timing is not None:
         timing["serial_s"] = [serial[index] for index, _ in points]
         timing["serial_cpu_s"] = [cpu[index] for index, _ in points]
@@ -282,27 +291,31 @@ def run_batch(
     return [rows[index] for index, _ in points]
 
 
-def _measured(index: int, values: dict[str, float]) -> tuple[int, str, str, dict[str, float]]:
-    """The row of a point whose run finished: ``ok``, unless no metric has a value.
+def _measured(
+    index: int, values: dict[str, float], missed: bool
+) -> tuple[int, str, str, dict[str, float]]:
+    """The row of a point whose run finished: ``ok``, unless no metric has a value and the run
+    does not show the experiment (``missed``:
+    :func:`~rollerrig.studies.metrics.misses_its_releases`).
 
-    A run without a value of any metric measured nothing: the solver finished, but what it
-    gave does not show the experiment (a value the twin cannot resolve in floating point: a
-    roller-shaft stiffness of 1e300 N.m/rad makes the shaft's torque a rounding error, and
-    no release shows in it), or the metrics do not apply to the experiment. Marked ``ok`` it
-    was a blank row that looked like a success, its reason only in the JSON; it is ``solver
-    failed`` with each metric's ``nan_meaning``, like a run whose measuring raised.
+    A value the twin cannot resolve in floating point (a roller-shaft stiffness of 1e300
+    N.m/rad makes the shaft's torque a rounding error, and no release shows in it) let the
+    solver finish: marked ``ok`` it was a blank row that looked like a success, its reason
+    only in the JSON; it is ``solver failed`` with each metric's ``nan_meaning``. A metric
+    undefined on a run that does show the experiment (a settling time past the end of the
+    rest) leaves the point ``ok``: that is a result, and ``study run`` notes it.
     """
-    if not values or any(math.isfinite(v) for v in values.values()):
+    if not missed or not values or any(math.isfinite(v) for v in values.values()):
         return (index, "ok", "", values)
     by_meaning: dict[str, list[str]] = {}
     for name in values:
         by_meaning.setdefault(METRICS[name].nan_meaning, []).append(name)
     why = "; ".join(f"{', '.join(names)}: {meaning}" for meaning, names in by_meaning.items())
     reason = (
-        f"the run gave no value of any metric ({why}); the solver finished, but its result "
-        "does not show the experiment: check this point's values (a stiffness, gain or "
-        "inertia far from the rig's, a value near zero) and that the metrics apply to the "
-        "experiment"
+        f"the run gave no value of any metric ({why}) and shows no release from a positive "
+        "force although the experiment has one; the solver finished, but its result does not "
+        "show the experiment: check this point's values (a stiffness, gain or inertia far "
+        "from the rig's, a value near zero)"
     )
     return (index, "solver failed", _one_line(reason), values)
 
