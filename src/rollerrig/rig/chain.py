@@ -552,10 +552,15 @@ def modal_analysis(
     product = np.abs(mode_poles[:, 0] * mode_poles[:, 1])
     wn = np.sqrt(product)
     total = -np.real(mode_poles[:, 0] + mode_poles[:, 1])
-    # A pole is zero relative to its own mode's undamped frequency, not to the chain's
-    # fastest pole: a stator of 1e-12 kg.m^2 on its mount puts a pole at -1e17 1/s, which
-    # made every other mode's poles "zero" and every damping ratio NaN.
-    has_zero = rigid | (np.min(np.abs(mode_poles), axis=1) <= 1e-9 * np.sqrt(omega2))
+    # A pole is zero (its mode's damping undefined) when it is tiny against its own mode's
+    # undamped frequency, or within ten times the eigenvalues' rounding, eps max|λ|: a PMSM
+    # stator of 1e-10, 1e-11, 3e-12, 1e-12, 1e-13 kg.m^2 on its mount (fast pole −b/J) gave
+    # the mount's slow pole, −5 1/s, as −4.875, −6, −4, 0 and −128, errors of 0.6 to 0.5
+    # eps max|λ|: the first is kept (ζ 1 % off), the others are flagged. Not against the
+    # fastest pole alone, as before: then every other mode's damping was NaN beside it.
+    pole_noise = 10.0 * np.finfo(float).eps * float(np.max(np.abs(lam)))
+    smallest = np.min(np.abs(mode_poles), axis=1)
+    has_zero = rigid | (smallest <= np.maximum(1e-9 * np.sqrt(omega2), pole_noise))
     with np.errstate(divide="ignore", invalid="ignore"):
         zeta = np.where(has_zero, np.nan, total / (2.0 * np.where(has_zero, 1.0, wn)))
         fd = np.abs(np.imag(mode_poles[:, 0] - mode_poles[:, 1])) / (4.0 * np.pi)
@@ -694,8 +699,10 @@ def format_modal_table(rows: Sequence[ModalRow]) -> str:
             zeta = "rigid"
         elif np.isfinite(r.damping_ratio):
             zeta = f"{r.damping_ratio:9.4g}"
-        else:
+        elif np.isfinite(r.damped_frequency):  # damped, but this mode's poles unresolved
             zeta, unresolved = "n/a", True
+        else:  # an undamped table (modal_table(damped=False)): no damping to give
+            zeta = "-"
         lines.append(
             f"{r.mode:>4} {r.frequency:>8.2f} {r.damped_frequency:>9.2f} {zeta:>9}  "
             f"{r.dominant_element or '-':<13} {', '.join(r.dominant_bodies)}"

@@ -21,7 +21,9 @@ an input, not a dynamic, and is switched off for the linearisation.
 damped frequency ``f_d = |Im λ| / 2π``, natural frequency ``|λ| / 2π``, damping ratio
 ``ζ = −Re λ / |λ|``. A real eigenvalue is a non-oscillatory (first-order or overdamped) motion
 with time constant ``τ = −1 / λ``; it cannot ring and never explains a spectral line. An
-eigenvalue ``|λ| <= 1e-6 max|λ|`` is a rigid rotation of a subchain no spring ties to ground.
+eigenvalue ``|λ| <= 1e-10 max|λ|`` is a rigid rotation of a subchain no spring ties to ground
+(they come out at 1e-17 to 1e-16 of the fastest pole, the eigensolver's rounding; the slowest
+physical poles of the bundled rigs are above 1e-5 of it).
 Only oscillatory modes with ``ζ`` below a threshold (default 0.3: a resonance peak at least
 about 5 dB above the static response) may label a spectral peak.
 
@@ -82,7 +84,10 @@ DEFAULT_NORMAL_LOAD = 4.3e3
 DEFAULT_DAMPING_THRESHOLD = 0.3
 """Largest damping ratio of a mode that may explain a spectral line [-]."""
 
-_RIGID = 1e-6  # |λ| / max|λ| below which an eigenvalue is a rigid rotation
+# |λ| / max|λ| below which an eigenvalue is a rigid rotation: a million times the rounding of
+# the eigenvalues (1e-6 called a real 2 Hz mode rigid beside a contact pole of 1.35e7 1/s,
+# heavy load at low speed on a soft motor mount)
+_RIGID = 1e-10
 _GROUPS: dict[str, str] = {
     **{f"theta{i + 1}": b for i, b in enumerate(BODY_NAMES)},
     **{f"omega{i + 1}": b for i, b in enumerate(BODY_NAMES)},
@@ -488,11 +493,11 @@ def _energies(vector: np.ndarray, names: tuple[str, ...], inertias, elements):
 def _require_resolvable(lam, vec, names, scale, rig) -> None:
     """Refuse a spectrum whose fastest pole hides the chain's modes.
 
-    An eigenvalue ``|λ| <= 1e-6 max|λ|`` counts as rigid (module docstring). When the fastest
-    pole is so fast that this bound exceeds the slowest elastic mode of the free chain, every
-    mode would be reported rigid (a stator of 1e-12 kg.m^2 on its mount: a pole at −1e17 1/s);
-    the finite-difference Jacobian cannot resolve the slow modes beside it either. The error
-    names the pole and what moves in it, so that the parameter can be found.
+    An eigenvalue ``|λ| <= 1e-10 max|λ|`` counts as rigid (module docstring). When the fastest
+    pole is so fast that this bound exceeds the slowest elastic mode of the free chain, that
+    mode could not be told from a rigid rotation (a stator of 1e-12 kg.m^2 on its mount: a
+    pole at −1e17 1/s, whose rounding alone, about 20 1/s, is as large as the chain's slow
+    poles). The error names the pole and what moves in it, so that the parameter can be found.
     """
     from rollerrig.rig.chain import modal_table
 
@@ -505,9 +510,10 @@ def _require_resolvable(lam, vec, names, scale, rig) -> None:
     raise ParameterError(
         f"the linearised twin has a pole at {abs(lam[fastest]):.3g} 1/s (time constant "
         f"{1.0 / abs(lam[fastest]):.3g} s; states {moves}), so fast beside the chain's slowest "
-        f"elastic mode ({min(elastic):.3g} Hz) that double precision cannot resolve the modes: "
-        "check the rig's inertias, stiffnesses and dampings of those bodies (an inertia far "
-        "below the others, or a very stiff or heavily damped mount)"
+        f"elastic mode ({min(elastic):.3g} Hz) that the eigenvalues' rounding (about "
+        f"{np.finfo(float).eps * abs(lam[fastest]):.2g} 1/s) could not tell the slow modes from "
+        "rigid rotations: check the rig's inertias, stiffnesses and dampings of those states' "
+        "bodies (an inertia far below the others, or a very stiff or heavily damped mount)"
     )
 
 
