@@ -703,8 +703,9 @@ def format_modal_table(rows: Sequence[ModalRow]) -> str:
             zeta, unresolved = "n/a", True
         else:  # an undamped table (modal_table(damped=False)): no damping to give
             zeta = "-"
+        damped = f"{r.damped_frequency:.2f}" if np.isfinite(r.damped_frequency) else "-"
         lines.append(
-            f"{r.mode:>4} {r.frequency:>8.2f} {r.damped_frequency:>9.2f} {zeta:>9}  "
+            f"{r.mode:>4} {r.frequency:>8.2f} {damped:>9} {zeta:>9}  "
             f"{r.dominant_element or '-':<13} {', '.join(r.dominant_bodies)}"
         )
     if unresolved:  # an elastic mode whose poles double precision did not resolve
