@@ -19,6 +19,7 @@ from rollerrig.recordings.formats._table import apply_default_group
 from rollerrig.recordings.formats.mdf import open_mdf
 from rollerrig.recordings.readers import read_recording
 from rollerrig.recordings.recording import RecordingError
+from rollerrig.recordings.source import open_recording
 
 T0 = np.datetime64("2024-08-05T13:46:13.250000", "us")
 
@@ -335,6 +336,69 @@ def test_tdms_truncated_and_garbage_are_clear_errors(tmp_path):
     junk.write_bytes(np.random.default_rng(1).bytes(3000))
     with pytest.raises(RecordingError, match=r"junk\.tdms: not a readable TDMS file"):
         read_recording(junk, cmap)
+
+
+def _plain_tdms(path, channels, *, index_file=False, rate=250.0):
+    """A one-group TDMS file ("g") of waveform channels {name: (values, unit)} (nptdms)."""
+    from nptdms import ChannelObject, GroupObject, RootObject, TdmsWriter
+
+    objects = [RootObject({}), GroupObject("g")]
+    for name, (values, unit) in channels.items():
+        props = {"unit_string": unit}
+        if len(values):
+            props["wf_increment"] = 1.0 / rate
+        objects.append(ChannelObject("g", name, np.asarray(values, dtype=float), properties=props))
+    with TdmsWriter(str(path), index_file=index_file) as w:
+        w.write_segment(objects)
+
+
+def test_tdms_stale_index_file_is_ignored_and_noted(tmp_path):
+    full = tmp_path / "run.tdms"
+    x = np.arange(7501, dtype=float)
+    _plain_tdms(full, {"torque": (x, "N.m"), "speed": (2 * x, "rpm")})
+    old = tmp_path / "old.tdms"  # an older, shorter run: its index left beside the new file
+    _plain_tdms(old, {"torque": (x[:2500], "N.m")}, index_file=True)
+    (tmp_path / "old.tdms_index").rename(tmp_path / "run.tdms_index")
+    cmap = {"channels": {"torque": {"column": "torque"}}}
+    rec = read_recording(full, cmap)
+    assert rec.time.size == 7501
+    np.testing.assert_array_equal(rec["torque"], x)
+    notes = " ".join(rec.metadata["notes"])
+    assert "'run.tdms_index'" in notes and "ignored" in notes and "stale" in notes
+    assert "'g/torque' 2500 in the index, 7501 in the file" in notes
+    # chunked reading goes through the same reader
+    with open_recording(full, cmap, channels=["torque"]) as src:
+        parts = [c["torque"] for c in src.iter_chunks(["torque"], 1000)]
+    np.testing.assert_array_equal(np.concatenate(parts), x)
+
+
+def test_tdms_agreeing_index_file_is_noted(tmp_path):
+    f = tmp_path / "run.tdms"
+    _plain_tdms(f, {"torque": (np.arange(100.0), "N.m")}, index_file=True)
+    assert (tmp_path / "run.tdms_index").is_file()
+    rec = read_recording(f, {"channels": {"torque": {"column": "torque"}}})
+    assert rec.time.size == 100
+    assert any("index agrees with the file" in n for n in rec.metadata["notes"])
+
+
+def test_tdms_empty_channel_nobody_needs_is_skipped(tmp_path):
+    f = tmp_path / "spare.tdms"
+    x = np.arange(500.0)
+    _plain_tdms(f, {"torque": (x, "N.m"), "Spare AI7": ([], "V")})
+    rec = read_recording(f)  # no map: every column of the file is looked at
+    np.testing.assert_array_equal(rec["torque"], x)
+    assert any("'g/Spare AI7'" in n and "without samples" in n for n in rec.metadata["notes"])
+    # a map entry that is needed and names the empty channel stays an error
+    for column in ("Spare AI7", "g/Spare AI7"):
+        with pytest.raises(RecordingError, match=r"'g/Spare AI7' holds no samples"):
+            read_recording(f, {"channels": {"torque": {"column": column, "unit": "N.m"}}})
+
+
+def test_tdms_empty_canonical_channel_is_an_error(tmp_path):
+    f = tmp_path / "empty_torque.tdms"
+    _plain_tdms(f, {"torque": ([], "N.m"), "normal_load": (np.arange(50.0), "N")})
+    with pytest.raises(RecordingError, match=r"'g/torque' holds no samples"):
+        read_recording(f)
 
 
 # --------------------------------------------------------------------------- MDF4

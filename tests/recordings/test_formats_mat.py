@@ -119,3 +119,88 @@ def test_v5_cell_arrays_of_numbers_are_read_and_text_is_named(tmp_path):
     np.testing.assert_allclose(table.load("m.b").values, T)
     assert "m.c" not in table.names
     assert any(s.startswith("m.c (cell array whose element 1 is text") for s in table.skipped)
+
+
+# ----------------------------------------------------------------- one 2-D matrix plus names
+
+
+def _matrix(n=200):
+    t = np.arange(n) / 100.0
+    return t, np.column_stack([t, 2.0 * t, 3.0 * t])
+
+
+def test_a_v5_matrix_with_a_cell_array_of_column_names_is_read(tmp_path):
+    from scipy.io import savemat
+
+    from rollerrig.recordings.readers import read_recording
+
+    t, data = _matrix()
+    names = np.empty((1, 3), dtype=object)
+    names[0, :] = ["time [s]", "torque [N.m]", "normal_load [kN]"]
+    f = tmp_path / "lab.mat"
+    savemat(f, {"data": data, "names": names})
+    rec = read_recording(f)  # no map: the names carry the units, "time" is the time
+    np.testing.assert_allclose(rec.time, t)
+    np.testing.assert_allclose(rec["torque"], 2.0 * t)
+    np.testing.assert_allclose(rec["normal_load"], 3e3 * t)
+    assert any("MAT variable data (200 x 3 matrix)" in n for n in rec.metadata["notes"])
+    # a k x n matrix read by rows, names as a char matrix, units from a cell array "units"
+    units = np.empty((3, 1), dtype=object)
+    units[:, 0] = ["s", "N.m", "N"]
+    g = tmp_path / "rows.mat"
+    savemat(g, {"M": data.T, "labels": np.array(["time", "torque", "normal_load"]), "units": units})
+    rec = read_recording(g)
+    np.testing.assert_allclose(rec["normal_load"], 3.0 * t)
+    assert not any("not read" in n for n in rec.metadata["notes"])
+
+
+def test_a_matrix_without_names_is_an_error_that_lists_the_variables(tmp_path):
+    from scipy.io import savemat
+
+    from rollerrig.recordings.readers import read_recording
+    from rollerrig.recordings.recording import RecordingError
+
+    _, data = _matrix()
+    f = tmp_path / "bare.mat"
+    savemat(f, {"data": data})
+    with pytest.raises(RecordingError, match=r"bare\.mat: no readable signals") as e:
+        read_recording(f)
+    assert "data (float64, a 200 x 3 matrix; no cell array of 3 column names" in str(e.value)
+    assert "save('run.mat', 'data', 'names')" in str(e.value)
+    # two cell arrays that could both name the columns: ambiguous, not guessed
+    a, b = np.empty((1, 3), dtype=object), np.empty((1, 3), dtype=object)
+    a[0, :], b[0, :] = ["time", "torque", "normal_load"], ["x", "y", "z"]
+    g = tmp_path / "two.mat"
+    savemat(g, {"data": data, "a": a, "b": b})
+    with pytest.raises(RecordingError, match=r"several cell arrays could name its columns"):
+        read_recording(g)
+
+
+def test_a_v73_matrix_with_a_cell_array_of_names_is_read_in_slices(tmp_path):
+    import h5py
+
+    from rollerrig.recordings.readers import read_recording
+
+    t, data = _matrix()
+    f = tmp_path / "lab73.mat"
+    with h5py.File(f, "w", userblock_size=512, libver="earliest") as h:
+        ds = h.create_dataset("data", data=data.T)  # MATLAB writes column-major: 3 x 200
+        ds.attrs["MATLAB_class"] = np.bytes_("double")
+        refs = h.create_group("#refs#")
+        out = np.empty((3, 1), dtype=h5py.ref_dtype)
+        for k, text in enumerate(["time [s]", "torque [N.m]", "normal_load [N]"]):
+            codes = np.frombuffer(text.encode("utf-16-le"), dtype=np.uint16).reshape(-1, 1)
+            c = refs.create_dataset(f"n{k}", data=codes)
+            c.attrs["MATLAB_class"] = np.bytes_("char")
+            out[k, 0] = c.ref
+        cell = h.create_dataset("names", data=out, dtype=h5py.ref_dtype)
+        cell.attrs["MATLAB_class"] = np.bytes_("cell")
+    header = b"MATLAB 7.3 MAT-file".ljust(116, b" ") + b" " * 8 + b"\x00\x02" + b"IM"
+    with f.open("r+b") as fh:
+        fh.write(header.ljust(512, b"\x00"))
+    rec = read_recording(f)
+    np.testing.assert_allclose(rec.time, t)
+    np.testing.assert_allclose(rec["normal_load"], 3.0 * t)
+    table = read_mat(f)
+    np.testing.assert_allclose(table.slicer.read("torque [N.m]", 10, 20).values, 2.0 * t[10:20])
+    assert table.slicer.length("torque [N.m]") == 200

@@ -14,6 +14,14 @@ MATLAB's order, a cell of per-sample scalars becomes the vector of those scalars
 is an HDF5 object of its own (slow to open), so a cell of more than :data:`MAX_CELL_ELEMENTS`
 elements, or one that holds text, structs or nested cells, is not read; the note (and the error
 when a channel map names it) names the field and what to save instead (``cell2mat``).
+
+A 2-D numeric matrix (``data``, n x k, as many lab scripts save) is read when the file holds
+exactly one cell array (or char matrix) of k texts beside it that no other matrix matches: its
+columns become channels named by those texts (``"torque [N.m]"`` gives the unit, as a CSV
+header does; a cell array called ``units`` of k texts gives units too), and a column named
+``time`` is the time as elsewhere. A k x n matrix whose k rows match the names is read by rows.
+Any other matrix is not read; when nothing else is readable either, the error lists the
+variables (names and shapes) and what layout to save instead.
 """
 
 from __future__ import annotations
@@ -27,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from rollerrig.recordings.channels import split_unit_header
 from rollerrig.recordings.formats._table import (
     META_KEY,
     PROVENANCE_KEY,
@@ -35,6 +44,7 @@ from rollerrig.recordings.formats._table import (
     Column,
     Slicer,
     Table,
+    add_alias,
     require_module,
 )
 from rollerrig.recordings.recording import RecordingError
@@ -52,15 +62,43 @@ def _cell_advice(name: str, numbers: bool = True) -> str:
     return f"save a numeric vector instead ({fix}), or export the signals as CSV or MDF4"
 
 
-def _flatten_mat(data: Mapping[str, Any], prefix: str, out: dict, skipped: list) -> None:
+def _text_list(value) -> list[str] | None:
+    """The texts of a cell array of strings or of a char matrix (rows); None if not that."""
+    if isinstance(value, list | tuple) or (isinstance(value, np.ndarray) and value.dtype == object):
+        items = (
+            list(value) if isinstance(value, list | tuple) else list(value.reshape(-1, order="F"))
+        )
+        if items and all(isinstance(v, str) for v in items):
+            return [v.strip() for v in items]
+        return None
+    if isinstance(value, np.ndarray) and value.dtype.kind == "U" and value.ndim == 1:
+        return [str(v).strip() for v in value]
+    return None
+
+
+def _flatten_mat(
+    data: Mapping[str, Any],
+    prefix: str,
+    out: dict,
+    skipped: list,
+    matrices: dict | None = None,
+    texts: dict | None = None,
+) -> None:
+    """Numeric vectors and text into ``out``; 2-D numeric matrices into ``matrices`` and lists
+    of texts (cell arrays of strings, char matrices) into ``texts`` as ``(texts, value)``, to
+    be paired (:func:`_pair_matrices`); what is not readable into ``skipped``."""
+    matrices = {} if matrices is None else matrices
+    texts = {} if texts is None else texts
     for key, value in data.items():
         if key.startswith("__") or key.startswith("#"):
             continue
         name = f"{prefix}{key}"
         if isinstance(value, Mapping):
-            _flatten_mat(value, f"{name}.", out, skipped)
+            _flatten_mat(value, f"{name}.", out, skipped, matrices, texts)
         elif isinstance(value, str):
             out[name] = value
+        elif (listed := _text_list(value)) is not None:
+            texts[name] = (listed, value)
         elif isinstance(value, list | tuple) or (
             isinstance(value, np.ndarray) and value.dtype == object
         ):
@@ -72,7 +110,105 @@ def _flatten_mat(data: Mapping[str, Any], prefix: str, out: dict, skipped: list)
                 if squeezed.ndim == 1:
                     out[name] = squeezed
                     continue
+                if squeezed.ndim == 2:
+                    matrices[name] = squeezed
+                    continue
             skipped.append(f"{name} ({arr.dtype}, shape {arr.shape})")
+
+
+_UNIT_LISTS = frozenset({"units", "unit", "einheiten", "einheit"})
+"""Names (last part, lower case) of a cell array of texts that holds a matrix's units."""
+
+_MATRIX_ADVICE = (
+    "save each signal as a numeric vector (e.g. torque = data(:, 2); save('run.mat', "
+    "'time', 'torque', ...)), or the matrix with one cell array of its column names beside it "
+    "(names = {'time', 'torque', ...}; save('run.mat', 'data', 'names')), or export CSV"
+)
+
+
+def _pair_matrices(
+    shapes: dict[str, tuple[int, int]], texts: dict[str, list[str]], taken: set[str]
+) -> tuple[dict[str, tuple], dict[str, str]]:
+    """Which matrix (MATLAB shape rows x columns) the texts of which variable name.
+
+    Returns ``pairs`` (matrix -> (read by rows, column names, units, the variables of the
+    names and of the units (or None)))
+    and ``reasons`` (matrix -> why it is not read). ``taken``: names of the file's columns.
+    """
+    unit_vars = [v for v in texts if v.rsplit(".", 1)[-1].lower() in _UNIT_LISTS]
+    name_vars = [v for v in texts if v not in unit_vars]
+    pairs: dict[str, tuple] = {}
+    reasons: dict[str, str] = {}
+    for mat_name, (rows, cols) in shapes.items():
+        what = f"a {rows} x {cols} matrix"
+        by_rows = False
+        cands = [v for v in name_vars if len(texts[v]) == cols]
+        if not cands and rows != cols:
+            cands = [v for v in name_vars if len(texts[v]) == rows]
+            by_rows = True
+        if not cands:
+            found = {v: len(t) for v, t in texts.items()}
+            reasons[mat_name] = (
+                f"{what}; no cell array of {cols} column names beside it (cell/char arrays "
+                f"of text and their lengths: {found or 'none'})"
+            )
+            continue
+        if len(cands) > 1:
+            reasons[mat_name] = f"{what}; several cell arrays could name its columns: {cands}"
+            continue
+        names = texts[cands[0]]
+        k = len(names)
+        others = [m for m, (r, c) in shapes.items() if m != mat_name and k in (r, c)]
+        if others:
+            reasons[mat_name] = (
+                f"{what}; its names {cands[0]!r} could as well name those of {others}"
+            )
+            continue
+        bad = sorted({n for n in names if not n or names.count(n) > 1 or n in taken})
+        if bad:
+            reasons[mat_name] = (
+                f"{what}; its column names ({cands[0]!r}) are empty, repeated or names of "
+                f"other variables: {bad}"
+            )
+            continue
+        unit_cands = [v for v in unit_vars if len(texts[v]) == k]
+        unit_var = unit_cands[0] if len(unit_cands) == 1 else None
+        units = [u or None for u in texts[unit_var]] if unit_var else [None] * k
+        pairs[mat_name] = (by_rows, names, units, cands[0], unit_var)
+    return pairs, reasons
+
+
+def _matrix_columns(pairs, shapes, units: dict[str, str], notes: list[str]) -> dict[str, str]:
+    """Notes on the matrices read, their columns' units into ``units``; ``{column: base}``."""
+    bases: dict[str, str] = {}
+    for mat_name, (by_rows, names, col_units, names_var, units_var) in pairs.items():
+        rows, cols = shapes[mat_name]
+        for name, unit in zip(names, col_units, strict=True):
+            base, header_unit = split_unit_header(name)
+            bases[name] = base
+            if unit or header_unit:
+                units[name] = unit or header_unit
+        notes.append(
+            f"MAT variable {mat_name} ({rows} x {cols} matrix) read by "
+            + ("rows" if by_rows else "columns")
+            + f" as {len(names)} channels named by {names_var}: {names}"
+            + (f" (units from {units_var})" if units_var else "")
+        )
+    return bases
+
+
+def _no_columns(path: Path, skipped: list[str]) -> RecordingError:
+    """The error for a MAT file none of whose variables is readable as a signal."""
+    return RecordingError(
+        f"{path}: no readable signals in the MAT file (no numeric vector, no matrix with its "
+        f"column names); variables found: {skipped}; {_MATRIX_ADVICE}"
+    )
+
+
+def _set_bases(table: Table, bases: dict[str, str]) -> None:
+    for name, base in bases.items():
+        table.base[name] = base
+        add_alias(table, base, name)
 
 
 def _flatten_cell(name: str, value, out: dict, skipped: list) -> None:
@@ -138,7 +274,11 @@ def _hdf5_table(path: Path, what: str) -> Table:
     complex arrays and matrices are listed as not readable.
     """
     h5py = require_module("h5py", what)
-    datasets: dict[str, tuple[str, int, int]] = {}  # name -> (HDF5 path, long axis, length)
+    # name -> (HDF5 path, long axis, length, (axis, index) fixed for a matrix column or None)
+    datasets: dict[str, tuple[str, int, int, tuple[int, int] | None]] = {}
+    matrices: dict[str, tuple[str, tuple[int, int], bool]] = {}  # (path, shape, MATLAB's)
+    texts: dict[str, list[str]] = {}  # cell arrays of text, char matrices: pairing names
+    text_skips: dict[str, str] = {}  # their skipped entry when no matrix uses them
     cells: dict[str, np.ndarray] = {}  # name -> the values of a cell array of numbers
     strings: dict[str, str] = {}
     skipped: list[str] = []
@@ -146,6 +286,14 @@ def _hdf5_table(path: Path, what: str) -> Table:
     def cell(f, name: str, item) -> None:
         """A cell array of numbers as one column (module docstring), else a skipped entry."""
         refs = np.asarray(item[()], dtype=object).reshape(-1)  # MATLAB's column-major order
+        words = _char_cell(f, refs) if refs.size <= MAX_CELL_ELEMENTS else None
+        if words is not None:  # names of a matrix's columns, or else skipped
+            texts[name] = words
+            text_skips[name] = (
+                f"{name} (cell array whose element 1 is char, not a number or numeric vector; "
+                f"{_cell_advice(name, False)})"
+            )
+            return
         if refs.size > MAX_CELL_ELEMENTS:
             skipped.append(
                 f"{name} (cell array of {refs.size} elements, more than {MAX_CELL_ELEMENTS} "
@@ -187,6 +335,22 @@ def _hdf5_table(path: Path, what: str) -> Table:
 
     notes: list[str] = []
 
+    def _char_cell(f, refs) -> list[str] | None:
+        """The texts of a cell array of char arrays, else None."""
+        words = []
+        for ref in refs:
+            target = f[ref] if ref else None
+            if not isinstance(target, h5py.Dataset) or _attr_text(target, "MATLAB_class") != (
+                "char"
+            ):
+                return None
+            if "MATLAB_empty" in target.attrs:
+                words.append("")
+                continue
+            codes = np.asarray(target[()], dtype=np.uint16)
+            words.append(codes.T.tobytes().decode("utf-16-le", errors="replace").strip())
+        return words or None
+
     def walk(group, prefix: str) -> None:
         for key, item in group.items():
             if key.startswith("#"):
@@ -206,9 +370,23 @@ def _hdf5_table(path: Path, what: str) -> Table:
             if cls == "char":
                 codes = np.asarray(item[()], dtype=np.uint16)
                 strings[name] = codes.T.tobytes().decode("utf-16-le", errors="replace")
+                if codes.ndim == 2 and min(codes.shape) > 1 and "MATLAB_empty" not in item.attrs:
+                    rows = [r.tobytes().decode("utf-16-le", errors="replace") for r in codes.T]
+                    texts[name] = [r.replace("\x00", "").strip() for r in rows]
+                    text_skips[name] = f"{name} (char matrix of {len(rows)} rows of text)"
+                continue
+            if not cls and h5py.check_string_dtype(dtype) is not None and len(shape) == 1:
+                words = [
+                    w.decode(errors="replace") if isinstance(w, bytes) else str(w) for w in item[()]
+                ]
+                texts[name] = [w.strip() for w in words]
+                text_skips[name] = f"{name} (text, shape {shape})"
                 continue
             long = [k for k, d in enumerate(shape) if d != 1]
             numeric = dtype.kind in "biuf" and (not cls or cls in _NUMERIC_CLASSES)
+            if numeric and len(shape) == len(long) == 2 and "MATLAB_empty" not in item.attrs:
+                matrices[name] = (item.name, (int(shape[0]), int(shape[1])), bool(cls))
+                continue
             if (
                 not numeric
                 or "MATLAB_empty" in item.attrs
@@ -218,7 +396,7 @@ def _hdf5_table(path: Path, what: str) -> Table:
                 skipped.append(f"{name} ({cls or dtype}, shape {shape})")
                 continue
             axis = long[0] if long else 0
-            datasets[name] = (item.name, axis, int(np.prod(shape)))
+            datasets[name] = (item.name, axis, int(np.prod(shape)), None)
 
     try:
         with h5py.File(path, "r") as f:
@@ -228,12 +406,30 @@ def _hdf5_table(path: Path, what: str) -> Table:
             f"{path}: not a readable HDF5 file: {exc} (damaged or truncated?)"
         ) from exc
 
+    # a matrix: MATLAB's shape is HDF5's reversed (column-major); plain HDF5 keeps its own
+    shapes = {m: (sh[::-1] if by_matlab else sh) for m, (_, sh, by_matlab) in matrices.items()}
+    pairs, reasons = _pair_matrices(shapes, texts, {*datasets, *cells, *strings})
+    used = {v for p in pairs.values() for v in p[3:]}
+    for mat_name, (by_rows, names, *_) in pairs.items():
+        h5path, sh, by_matlab = matrices[mat_name]
+        rows_axis = 1 if by_matlab else 0  # the HDF5 axis of MATLAB's rows
+        axis = 1 - rows_axis if by_rows else rows_axis
+        for j, name in enumerate(names):
+            datasets[name] = (h5path, axis, sh[axis], (1 - axis, j))
+    for mat_name, why in reasons.items():
+        skipped.append(f"{mat_name} ({why})")
+    skipped.extend(why for name, why in text_skips.items() if name not in used)
+    if not datasets and not cells and skipped:
+        raise _no_columns(path, skipped)
+    bases_units: dict[str, str] = {}
+    bases = _matrix_columns(pairs, shapes, bases_units, notes)
+
     handle: list = []  # the file, opened on the first read, closed with the table
 
     def read(name: str, start: int, stop: int) -> Column:
         if name in cells:
             return Column(cells[name][max(0, start) : max(0, stop)], units.get(name))
-        h5path, axis, n = datasets[name]
+        h5path, axis, n, fixed = datasets[name]
         start, stop = max(0, start), min(n, stop)
         try:
             if not handle:
@@ -242,6 +438,8 @@ def _hdf5_table(path: Path, what: str) -> Table:
             index = [0] * ds.ndim
             if ds.ndim:
                 index[axis] = slice(start, stop)
+            if fixed is not None:
+                index[fixed[0]] = fixed[1]
             values = np.asarray(ds[tuple(index)]).reshape(-1)
         except Exception as exc:  # h5py: OSError, RuntimeError, KeyError, ValueError...
             raise RecordingError(
@@ -253,7 +451,7 @@ def _hdf5_table(path: Path, what: str) -> Table:
     def length(name: str) -> int:
         return cells[name].size if name in cells else datasets[name][2]
 
-    units: dict[str, str] = {}
+    units: dict[str, str] = dict(bases_units)
     table = _finish(
         path,
         [*datasets, *cells],
@@ -263,6 +461,7 @@ def _hdf5_table(path: Path, what: str) -> Table:
         units,
         notes,
     )
+    _set_bases(table, bases)
     table.slicer = Slicer(length=length, read=read)
     weakref.finalize(table.slicer, _close, handle)  # the slicer outlives the table in use
     return table
@@ -344,16 +543,41 @@ def read_mat(path: Path) -> Table:
         raise RecordingError(f"{path}: not a readable MATLAB file: {exc}") from exc
     flat: dict[str, Any] = {}
     skipped: list[str] = []
-    _flatten_mat(data, "", flat, skipped)
+    matrices: dict[str, np.ndarray] = {}
+    texts: dict[str, tuple[list[str], Any]] = {}
+    _flatten_mat(data, "", flat, skipped, matrices, texts)
     strings = {k: v for k, v in flat.items() if isinstance(v, str)}
     columns = {k: v for k, v in flat.items() if not isinstance(v, str)}
+    shapes = {m: (int(a.shape[0]), int(a.shape[1])) for m, a in matrices.items()}
+    pairs, reasons = _pair_matrices(
+        shapes, {k: t for k, (t, _) in texts.items()}, set(columns) | set(strings)
+    )
+    used = {v for p in pairs.values() for v in p[3:]}
+    for mat_name, (by_rows, names, *_) in pairs.items():
+        arr = matrices[mat_name]
+        for j, name in enumerate(names):
+            columns[name] = np.ascontiguousarray(arr[j, :] if by_rows else arr[:, j])
+    for mat_name, why in reasons.items():
+        skipped.append(f"{mat_name} ({matrices[mat_name].dtype}, {why})")
+    for name, (listed, value) in texts.items():
+        if name not in used:
+            if isinstance(value, np.ndarray) and value.dtype.kind == "U":
+                skipped.append(f"{name} (char matrix of {len(listed)} rows of text)")
+            else:
+                _flatten_cell(name, value, {}, skipped)
+    if not columns and skipped:
+        raise _no_columns(path, skipped)
     units: dict[str, str] = {}
-    return _finish(
+    notes: list[str] = []
+    bases = _matrix_columns(pairs, shapes, units, notes)
+    table = _finish(
         path,
         list(columns),
         lambda n: Column(columns[n], units.get(n)),
         strings,
         skipped,
         units,
-        [],
+        notes,
     )
+    _set_bases(table, bases)
+    return table

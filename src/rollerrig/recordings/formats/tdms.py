@@ -10,6 +10,16 @@ the file. A DAQmx file with several tasks has one group per task, each with its 
 The file is opened with ``nptdms.TdmsFile.open`` (streaming): only the channels asked for are
 read, and :attr:`Table.slicer` reads parts of a channel (chunked reading). A file that ends
 inside a segment (cut off during acquisition or copying) is an error, not a shorter recording.
+
+A ``<file>.tdms_index`` beside the file is never used for reading: nptdms is given the open
+file, so it reads the segment headers of the data file itself (an index left from an older or
+shorter file would otherwise make it read too few samples, or garbage). The index is only
+compared with the file, and a note says that it was present and ignored, and whether it agrees.
+
+A channel without samples (a spare input that was never acquired) is skipped with a note when
+its name is not a canonical channel: no analysis reads it, and a channel map entry naming it is
+an error saying that it holds no samples. An empty channel with a canonical name stays in the
+table, so that reading it is that error.
 """
 
 from __future__ import annotations
@@ -21,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rollerrig.recordings.channels import CANONICAL_CHANNELS
 from rollerrig.recordings.formats._sliced import (
     add_channel,
     checked_slice,
@@ -32,6 +43,10 @@ from rollerrig.recordings.recording import RecordingError
 
 _TDMS_EPOCH = np.datetime64("1904-01-01T00:00:00", "us")
 """LabVIEW's zero timestamp: a ``wf_start_time`` equal to it was never set."""
+
+
+_NEEDED_NAMES = frozenset(CANONICAL_CHANNELS) | {"time"}
+"""Channel names an empty channel keeps its place in the table under (reading it is an error)."""
 
 
 class _Collect(logging.Handler):
@@ -84,7 +99,6 @@ def open_tdms(path: Path) -> Iterator[Table]:
     nptdms = require_module("nptdms", "TDMS files")
     log = _Collect()
     logger = logging.getLogger("nptdms")
-    logger.addHandler(log)
     # nptdms prints its warnings itself; they become the error message here instead
     console = getattr(
         getattr(getattr(nptdms, "log", None), "log_manager", None), "console_handler", None
@@ -93,23 +107,67 @@ def open_tdms(path: Path) -> Iterator[Table]:
     if console is not None:
         console.setLevel(logging.CRITICAL + 1)
     try:
+        index_path = Path(f"{path}_index")
+        indexed = _index_lengths(nptdms, index_path) if index_path.is_file() else None
+        logger.addHandler(log)
         try:
-            tdms = nptdms.TdmsFile.open(str(path))
-        except Exception as exc:
-            raise RecordingError(f"{path}: not a readable TDMS file: {exc}") from exc
-        with tdms:
-            seen = _check(log, path, 0)
+            # nptdms given a path reads <path>_index instead of the file's own segment headers
+            fh = path.open("rb")
+        except OSError as exc:
+            raise RecordingError(f"{path}: cannot be opened: {exc}") from exc
+        with fh:
             try:
-                table = _table(tdms, path, log, seen)
-            except RecordingError:
-                raise
-            except Exception as exc:  # damaged metadata nptdms read without complaint
+                tdms = nptdms.TdmsFile.open(fh)
+            except Exception as exc:
                 raise RecordingError(f"{path}: not a readable TDMS file: {exc}") from exc
-            yield table
+            with tdms:
+                seen = _check(log, path, 0)
+                try:
+                    table = _table(tdms, path, log, seen)
+                except RecordingError:
+                    raise
+                except Exception as exc:  # damaged metadata nptdms read without complaint
+                    raise RecordingError(f"{path}: not a readable TDMS file: {exc}") from exc
+                if index_path.is_file():
+                    table.notes.append(_index_note(index_path, indexed, tdms))
+                yield table
     finally:
         logger.removeHandler(log)
         if console is not None:
             console.setLevel(level)
+
+
+def _index_lengths(nptdms, index_path: Path) -> dict[str, int] | str:
+    """Samples per channel (``group/channel``) that ``index_path`` promises; text if unreadable."""
+    try:
+        meta = nptdms.TdmsFile.read_metadata(str(index_path))
+        return {f"{g.name}/{c.name}": len(c) for g in meta.groups() for c in g.channels()}
+    except Exception as exc:  # a damaged index: only its note depends on it
+        return f"unreadable ({type(exc).__name__}: {exc})"
+
+
+def _index_note(index_path: Path, indexed: dict[str, int] | str | None, tdms) -> str:
+    """The note on an index file beside the TDMS file: ignored, and whether it agrees."""
+    head = (
+        f"TDMS index file {index_path.name!r} beside the file ignored: the data file's own "
+        "segment headers were read"
+    )
+    if not isinstance(indexed, dict):
+        return f"{head}; the index is {indexed or 'unreadable'}"
+    actual = {f"{g.name}/{c.name}": len(c) for g in tdms.groups() for c in g.channels()}
+    if indexed == actual:
+        return f"{head}; the index agrees with the file"
+    differ = [
+        f"{n!r} {indexed.get(n, 'absent')} in the index, {actual.get(n, 'absent')} in the file"
+        for n in [*actual, *(n for n in indexed if n not in actual)]
+        if indexed.get(n) != actual.get(n)
+    ]
+    return (
+        f"{head}; the index is stale (it disagrees with the file, samples per channel: "
+        + "; ".join(differ[:5])
+        + (f"; and {len(differ) - 5} more" if len(differ) > 5 else "")
+        + "); delete it or write it again (nptdms, LabVIEW 'TDMS Defragment')"
+    )
 
 
 def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
@@ -117,6 +175,7 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
     table = Table(names=[], load=lambda n: None)  # type: ignore[arg-type,return-value]
     waveform: dict[str, tuple[float, float]] = {}  # name -> (wf_start_offset [s], increment [s])
     starts: dict[str, np.datetime64] = {}
+    empty: dict[str, list[str]] = {}  # channels without samples (not in table.names): aliases
     for group in tdms.groups():
         for ch in group.channels():
             name = f"{group.name}/{ch.name}"
@@ -126,6 +185,9 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
             aliases = [ch.name, ch.path]
             if isinstance(ni_name, str) and ni_name not in (ch.name, name):
                 aliases.append(ni_name)
+            if len(ch) == 0 and not any(a in _NEEDED_NAMES for a in aliases):
+                empty[name] = aliases  # skipped; a map entry naming it: "holds no samples"
+                continue
             add_channel(table, name, ch.name, groups=[group.name], aliases=aliases)
             try:
                 inc = float(props.get("wf_increment", 0.0))
@@ -143,6 +205,18 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
                     f"TDMS channel {name!r} holds {len(ch)} samples, fewer than its wf_samples "
                     f"= {int(n_wf)}"
                 )
+
+    for name, aliases in empty.items():  # its other names, where no channel with samples has them
+        table.aliases[name] = [name]
+        for alias in aliases:
+            if alias not in table.names and alias not in table.aliases:
+                table.aliases[alias] = [name]
+    if empty:
+        table.skipped.extend(f"{n} (TDMS channel without samples)" for n in empty)
+        table.notes.append(
+            f"TDMS channels without samples skipped: {list(empty)} (not canonical channels; a "
+            "channel map entry that names one is an error)"
+        )
 
     # one absolute clock: seconds since the earliest wf_start_time
     shift: dict[str, float] = {}
@@ -171,7 +245,10 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
         ch = chans[name]
         n = len(ch)
         if n == 0:
-            raise RecordingError(f"{path}: TDMS channel {name!r} holds no samples")
+            raise RecordingError(
+                f"{path}: TDMS channel {name!r} holds no samples (it was created but never "
+                "written); map another channel, or use a file in which it was acquired"
+            )
         start, stop = max(0, start), min(n, stop)
 
         def get() -> tuple[np.ndarray]:
