@@ -2,6 +2,8 @@
 
 - cell kinds (:func:`cell_kind`: empty, number, timestamp, NaN/inf word, text) and the words
   that stand for a missing or infinite sample (:data:`NAN_WORDS`);
+- numbers written with a decimal mark and maybe thousands marks (:func:`parse_number`,
+  :func:`decimal_marks`): the one place that decides what ``85,928`` or ``86.021`` means;
 - :func:`split_cells`: one line into its cells;
 - :func:`decode_text`: the bytes of a file as text (the map's ``[file] encoding``, UTF-16 with
   BOM, UTF-8 with or without BOM, else a fallback code page, noted);
@@ -25,7 +27,9 @@ __all__ = [
     "POSITIVE_INFINITY_WORDS",
     "cell_kind",
     "datalike",
+    "decimal_marks",
     "decode_text",
+    "parse_number",
     "split_cells",
     "unique_names",
 ]
@@ -36,6 +40,20 @@ COMMA_NUMBER = re.compile(r"[+-]?\d*,\d+(?:[eE][+-]?\d+)?")
 """A number written with a decimal comma."""
 DOT_NUMBER = re.compile(r"[+-]?\d*\.\d+(?:[eE][+-]?\d+)?")
 """A number written with a decimal point."""
+_DECIMAL = {
+    ".": re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"),
+    ",": re.compile(r"[+-]?(?:\d+(?:,\d*)?|,\d+)(?:[eE][+-]?\d+)?"),
+}
+"""A plain number with the decimal mark (key), no thousands marks."""
+THOUSANDS = {
+    ".": re.compile(r"[+-]?[1-9]\d{0,2}(?:,\d{3})+(?:\.\d+)?"),
+    ",": re.compile(r"[+-]?[1-9]\d{0,2}(?:\.\d{3})+(?:,\d+)?"),
+}
+"""A number with thousands marks under the decimal mark (key): ``85,928`` / ``1,002.13`` with a
+decimal point, ``86.021`` / ``1.002,13`` with a decimal comma. Strict grouping: a first group of
+1-3 digits not starting with 0, then groups of exactly three digits (Excel's ``#,##0``)."""
+MARKED_NUMBER = re.compile(r"[+-]?[\d.,]*\d[\d.,]*(?:[eE][+-]?\d+)?")
+"""A cell made of digits and decimal / thousands marks (a number under some reading)."""
 _TIMESTAMP = re.compile(
     r"(?:\d{1,4}[./-]\d{1,2}[./-]\d{1,4}(?:[ T]+\d{1,2}:\d{2}(?::\d{2}(?:[.,]\d+)?)?)?"
     r"|\d{1,2}:\d{2}:\d{2}(?:[.,]\d+)?)"
@@ -65,6 +83,46 @@ def cell_kind(cell: str) -> str:
     if _TIMESTAMP.fullmatch(c):
         return "time"
     return "text"
+
+
+def parse_number(cell: str, decimal: str) -> float | None:
+    """The number in ``cell`` when the file's decimal mark is ``decimal``; None when ``cell`` is
+    not a number under that mark.
+
+    The other mark is read as a thousands mark only in strict groups of three digits
+    (:data:`THOUSANDS`); anything else with the other mark (``0,45`` under ``"."``, ``86.02``
+    under ``","``) is not a number under ``decimal``, never a silent decimal point.
+
+    Examples
+    --------
+    >>> parse_number("85,928", "."), parse_number("86.021", ","), parse_number("-0,45", ",")
+    (85928.0, 86021.0, -0.45)
+    >>> parse_number("0,45", "."), parse_number("86.02", ","), parse_number("8,5928", ".")
+    (None, None, None)
+    """
+    c = cell.strip()
+    if _DECIMAL[decimal].fullmatch(c):
+        return float(c.replace(",", "."))
+    if THOUSANDS[decimal].fullmatch(c):
+        other = "," if decimal == "." else "."
+        return float(c.replace(other, "").replace(",", "."))
+    return None
+
+
+def decimal_marks(cell: str) -> frozenset[str]:
+    """The decimal marks under which ``cell`` (with a ``.`` or ``,`` in it) is a number.
+
+    Empty for a cell without a mark (an integer, text) or one that no mark makes a number.
+
+    Examples
+    --------
+    >>> [sorted(decimal_marks(c)) for c in ("85,928", "0,45", "1,002.5")]
+    [[',', '.'], [','], ['.']]
+    """
+    c = cell.strip()
+    if ("." not in c and "," not in c) or not MARKED_NUMBER.fullmatch(c):
+        return frozenset()
+    return frozenset(d for d in ".," if parse_number(c, d) is not None)
 
 
 def datalike(fields: list[str]) -> bool:

@@ -6,8 +6,11 @@ the channel map's ``[file]`` section beats the sniffer) with :func:`pandas.read_
 
 Malformed files give one :class:`~rollerrig.recordings.recording.RecordingError` naming the file and
 the line: empty file, header without rows, binary content (NUL bytes), rows with more or fewer
-cells than the header. Blank lines inside the numbers are skipped (noted); a last line cut short
-without a line end (a file copied while written) is dropped (noted). Cells are converted later,
+cells than the header. Blank lines inside the numbers are skipped (noted); a last line without a
+line end (a file copied while written, a writer interrupted) is dropped (noted, with the rows
+kept), whether it is short of cells or may end inside a number (``...,859`` for ``85912.3``),
+unless it visibly ends complete (a closing quote, a trailing separator, a last cell as long as
+the line before's). Cells are converted later,
 in :mod:`rollerrig.recordings.translate` (numbers, and timestamps with one format per column:
 :mod:`rollerrig.recordings.formats.timestamps`). A ``<stem>.metadata.json`` sidecar beside the file
 (written by rollerrig) is read as the file's provenance.
@@ -73,6 +76,8 @@ def _read_frame(layout: TextLayout, notes: list[str]):
         with warnings.catch_warnings():
             warnings.simplefilter("error", pd.errors.ParserWarning)
             frame = pd.read_csv(layout.path, **kwargs)
+    except RecordingError:  # a cell a converter refused (thousands marks): names the cell
+        raise
     except UnicodeDecodeError:
         if layout.encoding != "utf-8-sig":
             raise RecordingError(
@@ -102,6 +107,8 @@ def _read_frame_with(layout: TextLayout, kwargs: dict):
 
     try:
         return pd.read_csv(layout.path, **kwargs), kwargs["encoding"]
+    except RecordingError:
+        raise
     except (pd.errors.ParserError, pd.errors.EmptyDataError, ValueError) as exc:
         raise RecordingError(f"{layout.path}: not a readable CSV file: {exc}") from None
 
@@ -128,10 +135,11 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
     missing = frame.isna().to_numpy()
     gappy = missing.any(axis=1).nonzero()[0]
     drop: list[int] = []
-    if gappy.size:
+    ends_with_newline = _ends_with_newline(path, encoding)
+    if gappy.size or (n and not ends_with_newline):
         check = set(gappy[:200].tolist()) | ({n - 1} if n else set())
+        check |= {n - 2} if n >= 2 and not ends_with_newline else set()
         raw = _lines(path, encoding, {first + k for k in check})
-        ends_with_newline = _ends_with_newline(path)
         for k in sorted(check):
             line = raw.get(first + k)
             if line is None:
@@ -153,6 +161,16 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
                     f"{path}: line {first + k + 1} has {cells} cells, the header "
                     f"{layout.n_fields}; fix or remove that line"
                 )
+    if n and not ends_with_newline and n - 1 not in drop:
+        last = raw.get(first + n - 1, "").rstrip("\r\n")
+        previous = raw.get(first + n - 2, "").rstrip("\r\n") if n >= 2 else ""
+        if not _visibly_complete(last, layout, previous):
+            drop.append(n - 1)
+            notes.append(
+                f"last line {first + n} has no line end: the writer may have been interrupted "
+                f"inside its last number ({last[-40:]!r}), so it was dropped; {n - 1} data "
+                "row(s) kept (end the file with a line break to keep that row)"
+            )
     blank = [k for k in drop if k < n - 1 and not _is_trailing_blank(drop, k, n)]
     if blank:
         notes.append(
@@ -165,7 +183,8 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
         dropped = set(drop)
         keep_lines = [ln for k, ln in enumerate(keep_lines) if k not in dropped]
     if len(frame) == 0:
-        raise RecordingError(f"{path}: has a header but no data rows; the recording is empty")
+        cut = " (its only row had no line end and was dropped as possibly cut)" if n else ""
+        raise RecordingError(f"{path}: has a header but no data rows{cut}; the recording is empty")
     units = {nm: u for nm, u in zip(layout.names, layout.units, strict=True) if u}
     base = header_table(frame, units=units)
     table = TextTable(**{f: getattr(base, f) for f in Table.__dataclass_fields__})
@@ -187,10 +206,34 @@ def _is_trailing_blank(drop: list[int], k: int, n: int) -> bool:
     return all(j in tail for j in range(k, n))
 
 
-def _ends_with_newline(path: Path) -> bool:
+def _visibly_complete(line: str, layout: TextLayout, previous: str = "") -> bool:
+    """Whether a last line without a line end visibly ends where its writer meant it to: at a
+    trailing separator (a layout with one), at the closing quote of a quoted last cell, or
+    with a last cell at least as long as the line before's (a writer of fixed decimals, as most
+    DAQ software: ``85912.300`` after ``85911.700``). A line ending in a bare number shorter
+    than that may have been cut inside it (``...,859`` for ``85912.3``)."""
+    body = line.rstrip()
+    if layout.trailing and layout.separator != " ":
+        return body.endswith(layout.separator)
+    cells = split_cells(body, layout.separator)
+    if body.endswith('"'):
+        return len(cells) == layout.n_fields and body.count('"') % 2 == 0
+    before = split_cells(previous.rstrip(), layout.separator) if previous else []
+    return (
+        len(cells) == layout.n_fields == len(before)
+        and len(cells[-1].strip()) >= len(before[-1].strip()) > 0
+    )
+
+
+def _ends_with_newline(path: Path, encoding: str = "utf-8") -> bool:
+    """Whether the file's last character is a line end (UTF-16: its last two bytes)."""
+    wide = encoding.lower().replace("_", "-").startswith("utf-16")
     with path.open("rb") as fh:
         fh.seek(0, 2)
-        if fh.tell() == 0:
+        if fh.tell() < (2 if wide else 1):
             return False
-        fh.seek(-1, 2)
-        return fh.read(1) in (b"\n", b"\r")
+        fh.seek(-2 if wide else -1, 2)
+        tail = fh.read()
+    if wide:
+        return tail in (b"\n\x00", b"\r\x00", b"\x00\n", b"\x00\r")
+    return tail in (b"\n", b"\r")

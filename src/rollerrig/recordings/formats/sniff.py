@@ -14,7 +14,11 @@ The layout is sniffed from the first lines of the file; every key of the channel
 - **separator**: ``,`` ``;`` tab ``|`` or whitespace, the one under which the trailing block of
   numbers is longest and consistent with the header (ties: that order).
 - **decimal mark**: ``,`` when the number cells of the data rows (never the header or units row)
-  use it; a file mixing both marks is an error asking for ``[file] decimal``.
+  use it; a file mixing both marks is an error asking for ``[file] decimal``. Under the decimal
+  mark (sniffed from cells such as ``-5.563`` or ``0,45``, or given) the other mark is a
+  thousands mark only in strict groups of three digits (``"85,928"``, ``86.021``: noted with
+  the column and an example cell); any other cell with it is an error naming line, column and
+  cell, never a decimal point.
 - **encoding**: UTF-8 (with or without BOM), UTF-16 with BOM, else Latin-1 (noted).
 
 The result, a :class:`TextLayout`, is what :func:`rollerrig.recordings.formats.csv.read_csv` and
@@ -31,11 +35,12 @@ from pathlib import Path
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._header import column_names, column_units, header_rows
 from rollerrig.recordings.formats._text import (
-    COMMA_NUMBER,
-    DOT_NUMBER,
+    MARKED_NUMBER,
     cell_kind,
     datalike,
+    decimal_marks,
     decode_text,
+    parse_number,
     split_cells,
 )
 from rollerrig.recordings.recording import RecordingError
@@ -67,6 +72,7 @@ class TextLayout:
     units: tuple[str | None, ...]
     trailing: bool = False
     notes: tuple[str, ...] = ()
+    thousands: tuple[str, ...] = ()  # columns written with thousands marks (strict groups)
 
     @property
     def n_fields(self) -> int:
@@ -87,6 +93,9 @@ class TextLayout:
             "index_col": False,
             "quotechar": '"',
             "engine": "c",
+            "converters": {
+                name: GroupedNumbers(self.path, name, self.decimal) for name in self.thousands
+            },
         }
 
 
@@ -275,21 +284,15 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
             )
 
     # --- decimal mark, from the number cells of the data rows only
-    decimal = spec.decimal
-    if decimal is None:
-        cells = [c.strip() for _, f in block[:2000] for c in f]
-        comma = next((c for c in cells if COMMA_NUMBER.fullmatch(c)), None)
-        dot = next((c for c in cells if DOT_NUMBER.fullmatch(c)), None)
-        if comma is not None and sep != ",":
-            if dot is not None:
-                raise RecordingError(
-                    f"{p}: the data rows mix decimal marks ({comma!r} and {dot!r}); give "
-                    '[file] decimal = "." or "," in the channel map'
-                )
-            decimal = ","
-            notes.append("CSV uses decimal commas (sniffed from the data rows)")
-        else:
-            decimal = "."
+    marked = [
+        (i, j, c, m)
+        for i, f in block[:2000]
+        for j, c in enumerate(x.strip() for x in f)
+        if cell_kind(c) != "time" and (m := decimal_marks(c))
+    ]
+    decimal, evidence = _decimal_mark(p, spec.decimal, marked)
+    if spec.decimal is None and decimal == ",":
+        notes.append("CSV uses decimal commas (sniffed from the data rows)")
 
     # --- header and units rows
     above = [(i, t) for i, t in lines if i < data_line]
@@ -319,6 +322,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         if spec.units_row is None:
             notes.append(f"units row (line {units_line + 1}) used for the columns' units")
     units = column_units(text_of, units_line, sep, n, len(names))
+    thousands = _thousands_columns(p, block[:2000], names, decimal, evidence, notes)
     return TextLayout(
         path=p,
         encoding=encoding,
@@ -331,4 +335,113 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         units=tuple(units),
         trailing=trailing,
         notes=tuple(notes),
+        thousands=tuple(thousands),
     )
+
+
+def _decimal_mark(
+    path: Path, given: str | None, marked: list[tuple[int, int, str, frozenset[str]]]
+) -> tuple[str, str]:
+    """(decimal mark, how it was decided) from the data cells with a ``.`` or ``,``.
+
+    ``marked``: (line, column, cell, marks under which the cell is a number). A cell that is a
+    number under one mark only (``0,45``, ``-5.563``, ``1,002.5``) decides; ``85,928`` and
+    ``86.021`` (a decimal mark, or thousands marks in groups of three) decide only when nothing
+    else does. The map's ``[file] decimal`` wins.
+    """
+    if given is not None:
+        return given, "given in [file] decimal"
+    only = {d: next((x for x in marked if x[3] == {d}), None) for d in ".,"}
+    if only["."] is not None and only[","] is not None:
+        raise RecordingError(
+            f"{path}: the data rows mix decimal marks ({_at(only[','])} and {_at(only['.'])}); "
+            'give [file] decimal = "." or "," in the channel map'
+        )
+    for d in ".,":
+        if only[d] is not None:
+            return d, f"sniffed from cells such as {only[d]!r}"
+    both = {d: next((c for _, _, c, _ in marked if d in c), None) for d in ".,"}
+    if both["."] is not None and both[","] is not None:
+        raise RecordingError(
+            f"{path}: the data rows mix decimal marks ({both[',']!r} and {both['.']!r}), and "
+            'either may be a thousands mark; give [file] decimal = "." or "," in the channel map'
+        )
+    if both[","] is not None:
+        return ",", f"sniffed from cells such as {both[','][2]!r}"
+    return ".", "the default"
+
+
+def _at(cell: tuple[int, int, str, frozenset[str]]) -> str:
+    line, column, text, _ = cell
+    return f"{text!r} at line {line + 1}, column {column + 1}"
+
+
+def _thousands_columns(
+    path: Path,
+    rows: list[tuple[int, list[str]]],
+    names: list[str],
+    decimal: str,
+    evidence: str,
+    notes: list[str],
+) -> list[str]:
+    """Names of the columns that write thousands marks (noted, with an example cell).
+
+    Under the decimal mark ``decimal`` the other mark is a thousands mark only in strict groups
+    of three digits (:func:`~rollerrig.recordings.formats._text.parse_number`); any other cell
+    with it is an error naming the line, the column and the cell.
+    """
+    other = "," if decimal == "." else "."
+    found: dict[int, tuple[int, str]] = {}
+    for i, f in rows:
+        for j, cell in enumerate(f[: len(names)]):
+            c = cell.strip()
+            if other not in c or cell_kind(c) == "time" or not MARKED_NUMBER.fullmatch(c):
+                continue
+            if parse_number(c, decimal) is None:
+                raise RecordingError(_not_a_number(path, names[j], c, decimal, evidence, i + 1))
+            found.setdefault(j, (i, c))
+    for j, (i, c) in found.items():
+        notes.append(
+            f"column {names[j]!r} writes thousands marks {other!r} (e.g. {c!r} at line {i + 1}, "
+            f"read as {parse_number(c, decimal):g}); the decimal mark is {decimal!r} ({evidence})"
+        )
+    return [names[j] for j in sorted(found)]
+
+
+def _not_a_number(path, column: str, cell: str, decimal: str, evidence: str, line=None) -> str:
+    other = "," if decimal == "." else "."
+    where = f"line {line}, " if line is not None else ""
+    fix = (
+        "correct [file] decimal in the channel map"
+        if evidence.startswith("given")
+        else "give [file] decimal in the channel map"
+    )
+    return (
+        f"{path}: {where}column {column!r}: {cell!r} is not a number with the file's decimal mark "
+        f"{decimal!r} ({evidence}), nor one with thousands marks {other!r} in groups of three "
+        f"digits; fix the cell or {fix}"
+    )
+
+
+@dataclass(frozen=True)
+class GroupedNumbers:
+    """Converter of one column's cells that may hold thousands marks (``converters`` of
+    :func:`pandas.read_csv`): numbers as floats, empty cells NaN, other text unchanged (NaN
+    words, errors named later); a number that fits neither mark is an error naming the cell."""
+
+    path: Path
+    column: str
+    decimal: str
+
+    def __call__(self, cell: str):
+        c = cell.strip()
+        if not c:
+            return float("nan")
+        if not MARKED_NUMBER.fullmatch(c):
+            return c
+        value = parse_number(c, self.decimal)
+        if value is None:
+            raise RecordingError(
+                _not_a_number(self.path, self.column, c, self.decimal, "of the first rows")
+            )
+        return value

@@ -16,7 +16,7 @@ import numpy as np
 from rollerrig.recordings.formats._table import require_module
 from rollerrig.recordings.recording import RecordingError
 
-__all__ = ["looks_like_timestamp", "parse_timestamps"]
+__all__ = ["looks_like_timestamp", "parse_timestamps", "suggest_date_format"]
 
 _TIME_OF_DAY = r"(?P<H>\d{1,2}):(?P<M>\d{2})(?::(?P<S>\d{2})(?:[.,](?P<f>\d+))?)?"
 _TZ = r"(?:\s*(?P<tz>Z|[+-]\d{2}:?\d{2}))?"
@@ -36,10 +36,99 @@ _DATE_PATTERNS = {
 }
 
 
+_DATELIKE = re.compile(r"\d{1,4}[./-]\d{1,2}[./-]\d{1,4}|\d{1,2}:\d{2}")
+"""A date or a time of day somewhere in a cell (also in forms :func:`parse_timestamps` does not
+know without ``[file] date_format``: ``08/05/2024 01:46:13 PM``, ``Mon 05.08.2024``)."""
+_PLAIN_NUMBER = re.compile(r"[+-]?[\d.,]+(?:[eE][+-]?\d+)?")
+
+
 def looks_like_timestamp(cell: str) -> bool:
-    """Whether a cell is a date/time such as ``05.08.24 13:46:13`` (not a plain number)."""
+    """Whether a cell looks like a date/time such as ``05.08.24 13:46:13`` (not a plain number).
+
+    Also true for date/time forms that need ``[file] date_format`` (``08/05/2024 01:46:13 PM``):
+    :func:`parse_timestamps` then names that key with an example for the cell.
+    """
     c = str(cell).strip()
-    return any(p.match(c) for p in _DATE_PATTERNS.values())
+    if any(p.match(c) for p in _DATE_PATTERNS.values()):
+        return True
+    return bool(_DATELIKE.search(c)) and not _PLAIN_NUMBER.fullmatch(c)
+
+
+_SUGGEST = re.compile(
+    r"(?P<date>(?P<a>\d{1,4})(?P<sep>[./-])(?P<b>\d{1,2})(?P=sep)(?P<y>\d{1,4}))"
+    r"|(?P<time>\d{1,2}:\d{2}(?P<sec>:\d{2}(?P<frac>[.,]\d+)?)?)"
+    r"|(?P<ampm>\b(?:AM|PM|am|pm|a\.m\.|p\.m\.)(?![A-Za-z]))"
+    r"|(?P<tz>(?<=\d)\s*[+-]\d{2}:?\d{2}\b)"
+    r"|(?P<mon>\b(?:Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec)[a-z]*\b)"
+    r"|(?P<day>\b(?:Mon|Tue|Wed|Thu|Fri|Sat|Sun)[a-z]*\b)"
+)
+
+
+def suggest_date_format(cell: str) -> str | None:
+    """A :func:`time.strptime` format that reads ``cell`` (an example for ``[file]
+    date_format``), or None when none is found. Slash dates are taken month-first unless the
+    first field exceeds 12, other dates day-first: the user checks the order.
+
+    Examples
+    --------
+    >>> suggest_date_format("08/05/2024 01:46:13.000000 PM")
+    '%m/%d/%Y %I:%M:%S.%f %p'
+    >>> suggest_date_format("Mon 05.08.2024 13:46")
+    '%a %d.%m.%Y %H:%M'
+    """
+    c = str(cell).strip()
+    twelve = bool(re.search(r"\b(?:AM|PM|am|pm)\b", c))
+    out: list[str] = []
+    pos = 0
+    for m in _SUGGEST.finditer(c):
+        out.append(c[pos : m.start()].replace("%", "%%"))
+        pos = m.end()
+        if m.group("date"):
+            a, sep, y = m.group("a"), m.group("sep"), m.group("y")
+            year = "%Y" if len(y) == 4 else "%y"
+            if len(a) == 4:
+                out.append(f"%Y{sep}%m{sep}%d")
+            elif sep == "/" and int(a) <= 12:
+                out.append(f"%m{sep}%d{sep}{year}")
+            else:
+                out.append(f"%d{sep}%m{sep}{year}")
+        elif m.group("time"):
+            fmt = ("%I" if twelve else "%H") + ":%M"
+            if m.group("sec"):
+                fmt += ":%S"
+            if m.group("frac"):
+                fmt += m.group("frac")[0] + "%f"
+            out.append(fmt)
+        elif m.group("ampm"):
+            out.append("%p")
+        elif m.group("tz"):
+            out.append(m.group("tz")[: len(m.group("tz")) - len(m.group("tz").lstrip())] + "%z")
+        elif m.group("mon"):
+            out.append("%B" if len(m.group("mon")) > 3 else "%b")
+        else:
+            out.append("%A" if len(m.group("day")) > 3 else "%a")
+    out.append(c[pos:].replace("%", "%%"))
+    fmt = "".join(out)
+    if "%" not in fmt:
+        return None
+    try:
+        import datetime
+
+        datetime.datetime.strptime(c, fmt)
+    except ValueError:
+        return None
+    return fmt
+
+
+def _date_format_hint(cell: str) -> str:
+    """``e.g. '<format>' for <cell>`` to give with ``[file] date_format`` in a message."""
+    fmt = suggest_date_format(cell)
+    if fmt is None:
+        return "e.g. '%d.%m.%Y %H:%M:%S'; codes as Python's time.strptime"
+    return (
+        f"e.g. date_format = {fmt!r} reads {cell!r} (check the day/month order); codes as "
+        "Python's time.strptime"
+    )
 
 
 def _row_name(k: int, line_of: Callable[[int], int | None] | None) -> str:
@@ -139,7 +228,7 @@ def parse_timestamps(
     if kind is None:
         raise RecordingError(
             f"{what}: {_row_name(0, line_of)} {first!r} is neither a number nor a date/time this "
-            "reader knows; give [file] date_format (e.g. '%d.%m.%Y %H:%M:%S') in the channel map"
+            f"reader knows; give [file] date_format in the channel map, {_date_format_hint(first)}"
         )
     if decided is not None:
         decided.setdefault("kind", kind)
@@ -152,7 +241,8 @@ def parse_timestamps(
         k = int(np.flatnonzero(nomatch)[0])
         raise RecordingError(
             f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} does not have the format of the "
-            f"first row {first!r}; give [file] date_format in the channel map"
+            f"first row {first!r}; give [file] date_format in the channel map, "
+            f"{_date_format_hint(s.iloc[k])}"
         )
     tod = np.zeros(len(s))
     if "H" in parts and parts["H"].notna().any():

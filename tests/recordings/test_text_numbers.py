@@ -1,0 +1,234 @@
+"""Numbers in text files: decimal and thousands marks, a last line without a line end, and
+date/time cells that need ``[file] date_format``.
+
+One place decides what ``85,928`` or ``86.021`` means (:func:`parse_number`): under the file's
+decimal mark the other mark is a thousands mark only in strict groups of three digits (noted
+with the column and an example cell), anything else with it is an error naming line, column and
+cell, never a decimal point (a silent factor of 1000).
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from rollerrig.recordings.formats._text import decimal_marks, parse_number
+from rollerrig.recordings.formats.timestamps import looks_like_timestamp, suggest_date_format
+from rollerrig.recordings.readers import read_recording
+from rollerrig.recordings.recording import RecordingError
+from rollerrig.recordings.source import open_recording
+
+MAP = {
+    "time": {"column": "t"},
+    "channels": {
+        "torque": {"column": "T", "unit": "N.m"},
+        "air_spring_pressure": {"column": "p", "unit": "Pa"},
+    },
+}
+
+
+def _write(path, lines, *, final_eol=True):
+    path.write_bytes(("\r\n".join(lines) + ("\r\n" if final_eol else "")).encode())
+    return path
+
+
+def _notes(rec) -> str:
+    return "\n".join(rec.metadata["notes"])
+
+
+# --- parse_number, the one place
+
+
+@pytest.mark.parametrize(
+    ("cell", "decimal", "value"),
+    [
+        ("85,928", ".", 85928.0),
+        ("-1,002.25", ".", -1002.25),
+        ("1,234,567", ".", 1234567.0),
+        ("86.021", ",", 86021.0),
+        ("1.002,5", ",", 1002.5),
+        ("0,45", ",", 0.45),
+        ("-5.563", ".", -5.563),
+        ("1e3", ".", 1000.0),
+        # the other mark outside strict groups of three: not a number under that mark
+        ("0,45", ".", None),
+        ("8,5928", ".", None),
+        ("85,92", ".", None),
+        ("0,928", ".", None),  # a leading-zero group is no thousands grouping
+        ("86.02", ",", None),
+        ("0.004", ",", None),
+        ("1,002.5", ",", None),
+    ],
+)
+def test_parse_number(cell, decimal, value):
+    assert parse_number(cell, decimal) == value
+
+
+@given(
+    st.floats(-1e9, 1e9, allow_nan=False).map(lambda x: round(x, 3)),
+    st.sampled_from([".", ","]),
+)
+def test_thousands_grouped_numbers_read_back_exactly(x, decimal):
+    other = "," if decimal == "." else "."
+    text = f"{x:,.3f}".replace(",", "_").replace(".", decimal).replace("_", other)
+    assert parse_number(text, decimal) == pytest.approx(x, abs=1e-9)
+    # the same cell read under the other mark is either a plain decimal or nothing: it is
+    # never silently a thousands grouping of the other reading
+    if abs(x) >= 1000:
+        assert parse_number(text, other) is None or other not in text.split(decimal)[0]
+
+
+@given(st.from_regex(r"[+-]?[0-9]{1,7}[.,][0-9]{1,7}", fullmatch=True))
+def test_a_cell_is_never_read_with_the_other_mark_as_a_decimal_point(cell):
+    for decimal in ".,":
+        value = parse_number(cell, decimal)
+        other = "," if decimal == "." else "."
+        if value is not None and other in cell:
+            # the other mark was read as a thousands mark: the digits are kept whole
+            assert value == float(cell.replace(other, ""))
+            assert re.fullmatch(r"[+-]?[1-9]\d{0,2}(?:[.,]\d{3})+", cell)
+    assert decimal_marks(cell) <= {".", ","}
+
+
+# --- 1a: comma-separated, decimal points, one column with US thousands marks (quoted)
+
+
+def test_us_thousands_marks_in_quoted_cells_are_read_whole_with_a_note(tmp_path):
+    f = _write(
+        tmp_path / "us.csv",
+        ['"t","T","p"', '"0.0000","-5.563","85,928"', '"0.0040","-4.530","86,021"'],
+    )
+    rec = read_recording(f, MAP)
+    np.testing.assert_array_equal(rec["air_spring_pressure"], [85928.0, 86021.0])
+    np.testing.assert_allclose(rec["torque"], [-5.563, -4.530])
+    notes = _notes(rec)
+    assert "column 'p' writes thousands marks ','" in notes
+    assert "'85,928' at line 2" in notes and "decimal mark is '.'" in notes
+
+
+def test_us_thousands_marks_also_in_chunked_reading(tmp_path):
+    f = _write(
+        tmp_path / "us.csv",
+        ['"t","T","p"', '"0.0000","-5.563","85,928"', '"0.0040","-4.530","86,021"'],
+    )
+    with open_recording(f, MAP) as src:
+        chunk = src.read()
+        np.testing.assert_array_equal(chunk.channels["air_spring_pressure"], [85928.0, 86021.0])
+
+
+def test_a_comma_that_is_no_thousands_mark_in_a_decimal_point_file_is_an_error(tmp_path):
+    f = _write(
+        tmp_path / "us.csv",
+        ['"t","T","p"', '"0.0000","-5.563","85,928"', '"0.0040","-4.530","8,6021"'],
+    )
+    # '8,6021' can only be a decimal comma, '0.0000' only a decimal point: which is meant?
+    with pytest.raises(RecordingError, match=r"mix decimal marks \('8,6021' at line 3, column 3"):
+        read_recording(f, MAP)
+    with pytest.raises(RecordingError, match=r"line 3, column 'p': '8,6021' is not a number"):
+        read_recording(f, dict(MAP, file={"decimal": "."}))
+
+
+def test_quoted_decimal_commas_in_a_comma_separated_file_stay_decimal_commas(tmp_path):
+    # no cell with a decimal point: "0,004000" proves the comma is the decimal mark
+    f = _write(
+        tmp_path / "eu.csv",
+        ['"t","T","p"', '"0,000000","-0,45","85,928"', '"0,004000","-0,46","85,929"'],
+    )
+    rec = read_recording(f, MAP)
+    np.testing.assert_allclose(rec["air_spring_pressure"], [85.928, 85.929])
+
+
+# --- 1b: semicolons, decimal commas, one column with German thousands marks
+
+
+@pytest.mark.parametrize("given_decimal", [None, ","])
+def test_german_thousands_dots_are_read_whole_with_a_note(tmp_path, given_decimal):
+    f = _write(tmp_path / "de.csv", ["t;T;p", "0,000000;-0,45;85.928", "0,004000;-0,56;86.021"])
+    cmap = dict(MAP, file={"decimal": given_decimal}) if given_decimal else MAP
+    rec = read_recording(f, cmap)
+    np.testing.assert_array_equal(rec["air_spring_pressure"], [85928.0, 86021.0])
+    assert "column 'p' writes thousands marks '.'" in _notes(rec)
+
+
+@pytest.mark.parametrize("cell", ["86.02", "0.021", "86.0215"])
+def test_a_dot_is_never_a_decimal_point_when_the_decimal_mark_is_a_comma(tmp_path, cell):
+    f = _write(tmp_path / "de.csv", ["t;T;p", "0,000000;-0,45;85.928", f"0,004000;-0,56;{cell}"])
+    pattern = rf"line 3, column 'p': '{re.escape(cell)}' is not a number.*decimal mark ','"
+    with pytest.raises(RecordingError, match=pattern):
+        read_recording(f, dict(MAP, file={"decimal": ","}))
+
+
+def test_ambiguous_marks_in_both_directions_ask_for_the_decimal_mark(tmp_path):
+    f = _write(tmp_path / "amb.csv", ["t;T;p", "0;1.234;85,928", "1;1.235;85,929"])
+    with pytest.raises(RecordingError, match=r"mix decimal marks.*\[file\] decimal"):
+        read_recording(f, MAP)
+
+
+# --- 8: a last line without a line end
+
+
+def test_a_last_line_without_line_end_is_dropped_with_a_note(tmp_path):
+    lines = ["t,T,p", "0.0,1.5,85912.3", "0.004,1.6,85912.3", "0.008,1.7,859"]
+    f = _write(tmp_path / "cut.csv", lines, final_eol=False)
+    rec = read_recording(f, MAP)
+    np.testing.assert_array_equal(rec["air_spring_pressure"], [85912.3, 85912.3])
+    notes = _notes(rec)
+    assert "last line 4 has no line end" in notes and "2 data row(s) kept" in notes
+
+
+def test_a_complete_last_line_of_a_fixed_decimals_writer_is_kept(tmp_path):
+    # Most DAQ software writes fixed decimals: a last cell as long as the line before's was
+    # not cut inside its number, even without a line end.
+    lines = ["t,T,p", "0.000,1.50,85912.3", "0.004,1.60,85911.7", "0.008,1.70,85910.9"]
+    rec = read_recording(_write(tmp_path / "whole.csv", lines, final_eol=False), MAP)
+    assert rec["air_spring_pressure"].tolist() == [85912.3, 85911.7, 85910.9]
+    assert "no line end" not in _notes(rec)
+
+
+def test_a_last_line_ending_in_a_closing_quote_is_kept(tmp_path):
+    lines = ['"t","T","p"', '"0.0","1.5","85912.3"', '"0.004","1.6","85912.3"']
+    f = _write(tmp_path / "whole.csv", lines, final_eol=False)
+    rec = read_recording(f, MAP)
+    assert rec["torque"].tolist() == [1.5, 1.6]
+    assert "no line end" not in _notes(rec)
+
+
+def test_a_last_line_with_a_line_end_is_kept(tmp_path):
+    f = _write(tmp_path / "ok.csv", ["t,T,p", "0.0,1.5,85912.3", "0.004,1.6,859"])
+    assert read_recording(f, MAP)["air_spring_pressure"].tolist() == [85912.3, 859.0]
+
+
+# --- 11: date/time cells in a form that needs [file] date_format
+
+
+def test_am_pm_timestamps_name_date_format_with_an_example(tmp_path):
+    cells = ["08/05/2024 01:46:13.000000 PM", "08/05/2024 01:46:13.004000 PM"]
+    f = _write(tmp_path / "us.csv", ["t,T,p", *(f"{c},1.5,2.5" for c in cells)])
+    pattern = re.escape("date_format = '%m/%d/%Y %I:%M:%S.%f %p'")
+    with pytest.raises(RecordingError, match=rf"\[file\] date_format.*{pattern}"):
+        read_recording(f, MAP)
+    rec = read_recording(f, dict(MAP, file={"date_format": "%m/%d/%Y %I:%M:%S.%f %p"}))
+    np.testing.assert_allclose(rec.time, [0.0, 0.004])
+
+
+@pytest.mark.parametrize(
+    ("cell", "fmt"),
+    [
+        ("08/05/2024 01:46:13.000000 PM", "%m/%d/%Y %I:%M:%S.%f %p"),
+        ("13/05/2024 1:46 pm", "%d/%m/%Y %I:%M %p"),
+        ("Mon 05.08.2024 13:46", "%a %d.%m.%Y %H:%M"),
+        ("2024-08-05 13:46:13 +0200", "%Y-%m-%d %H:%M:%S %z"),
+    ],
+)
+def test_suggest_date_format(cell, fmt):
+    assert looks_like_timestamp(cell)
+    assert suggest_date_format(cell) == fmt
+
+
+@pytest.mark.parametrize("cell", ["12.5", "85,928", "-1e3", "ERR"])
+def test_numbers_and_text_do_not_look_like_timestamps(cell):
+    assert not looks_like_timestamp(cell)
