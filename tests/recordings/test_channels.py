@@ -19,6 +19,7 @@ from rollerrig.recordings.channels import (
     load_channel_map,
     split_unit_header,
 )
+from rollerrig.recordings.readers import read_recording
 from rollerrig.recordings.recording import CANONICAL_CHANNELS, RecordingError
 from rollerrig.units import QUANTITIES, UNITS_BY_SI
 
@@ -145,7 +146,11 @@ CANONICAL = ", ".join(repr(name) for name in CANONICAL_CHANNELS)
             "channels.torque.unit: must not be blank; got ' '",
         ),
         (_map(torque="T"), "channels.torque: must be a table; got 'T'"),
-        (_map(), "maps no channels; add [channels.<name>] or [extra.<name>] tables"),
+        (
+            {"channels": {}},
+            "maps no channels and sets nothing; add [channels.<name>] or [extra.<name>] tables, "
+            "or [file] / [time] settings for columns named as the canonical channels",
+        ),
         (
             {"time": {"column": "t", "unit": "min"}, "channels": {}},
             "time.unit: not a time unit; allowed 's', 'ms', 'us', 'ns'; got 'min'",
@@ -289,3 +294,17 @@ def test_example_map_documents_the_new_keys():
         assert key in text
     cmap = load_channel_map(example_channel_map_path())
     assert [c.name for c in cmap.channels if c.optional] == ["normal_load"]
+
+
+def test_a_map_of_settings_only_maps_the_canonical_names_with_them(tmp_path):
+    """The reader's own error for mixed decimal marks asks for ``[file] decimal = ","``; a map
+    of only that (or of only [time]) was refused as "maps no channels"."""
+    only_file = ChannelMap.from_dict({"file": {"decimal": ","}})
+    assert only_file.auto and only_file.file.decimal == ","
+    assert only_file.time == default_channel_map().time
+    only_time = ChannelMap.from_dict({"time": {"unit": "ms"}})
+    assert only_time.auto and only_time.time.column == "time" and only_time.time.unit == "ms"
+    f = tmp_path / "semi.csv"
+    f.write_text("time [s];torque [N.m]\n0,000;1,5\n0,004;1,6\n0,008;1,7\n")
+    rec = read_recording(f, only_file)
+    assert rec["torque"].tolist() == [1.5, 1.6, 1.7]

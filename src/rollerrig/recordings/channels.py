@@ -44,7 +44,7 @@ from __future__ import annotations
 import re
 import tomllib
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -268,7 +268,12 @@ class ChannelMap:
             raise _map_error(where, pydantic_problems(exc, model=MapFile)) from None
         channels = [_spec(name, entry, True) for name, entry in form.channels.items()]
         extra = [_spec(name, entry, False) for name, entry in form.extra.items()]
-        problems = _entry_problems(channels, extra)
+        # A map of only [file] or [time] settings (the decimal mark, the time's unit): the
+        # default mapping by canonical column names with those settings. The reader's own
+        # errors ask for exactly such a map ("give [file] decimal = ..."), which was refused
+        # as "maps no channels".
+        settings_only = not channels and not extra and (form.file or form.time) is not None
+        problems = [] if settings_only else _entry_problems(channels, extra)
         if problems:
             raise _map_error(where, problems)
         time = None
@@ -281,12 +286,19 @@ class ChannelMap:
                 resample_Hz=t.resample_Hz,
                 unit_stated="unit" in t.model_fields_set,
             )
+        if settings_only:
+            default = default_channel_map().time
+            if time is None:
+                time = default
+            elif time.column is None and time.sample_rate_Hz is None:
+                time = replace(time, column=default.column)
         return cls(
             time=time,
             channels=tuple(channels),
             extra=tuple(extra),
             source=source,
             file=form.file or FileSpec(),
+            auto=settings_only,
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -368,7 +380,11 @@ def _entry_problems(channels: list[ChannelSpec], extra: list[ChannelSpec]) -> li
             )
     if not channels and not extra:
         problems.append(
-            Problem("", "maps no channels; add [channels.<name>] or [extra.<name>] tables")
+            Problem(
+                "",
+                "maps no channels and sets nothing; add [channels.<name>] or [extra.<name>] "
+                "tables, or [file] / [time] settings for columns named as the canonical channels",
+            )
         )
     return problems
 
