@@ -93,3 +93,23 @@ def test_recording_problems_name_the_channel_and_what_to_do():
     m = prepare_measurement(Recording(t, full, units, {"source": "x.csv"}), default_rig())
     assert "normal_load" not in m.channels
     assert any("constant" in n for n in m.notes)
+
+
+def test_a_time_in_ms_read_as_s_says_what_was_empty_without_a_nan(recwarn):
+    n = 100
+    t = np.arange(n) * 4.0  # 4 ms steps read as 4 s: no sample in the 2 s before the test
+    request = np.where(np.arange(n) < 40, 0.0, 100.0)
+    full = {
+        "torque": request.copy(),
+        "torque_request": request,
+        "wheel_encoder_counts": np.arange(n) * 150.0,
+        "roller_encoder_counts": np.arange(n) * 117.0,
+        "air_spring_pressure": np.full(n, 86e3),
+    }
+    units = {"torque": "N.m", "torque_request": "N.m", "air_spring_pressure": "Pa"}
+    units |= {"wheel_encoder_counts": "1", "roller_encoder_counts": "1"}
+    rec = Recording(t, full, units, {"source": "ms.csv"})
+    with pytest.raises(RecordingError, match=r"no sample in the 2 s of free rolling") as info:
+        prepare_measurement(rec, default_rig())
+    assert "nan" not in str(info.value) and 'unit = "ms"' in str(info.value)
+    assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]

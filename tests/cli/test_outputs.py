@@ -199,3 +199,20 @@ def test_a_second_run_into_the_same_out_is_one_error_naming_the_pid(tmp_path):
     with staged_outputs(out) as stage:
         stage.path("mine.txt").write_text("mine")
     assert _files(out) == ["mine.txt"]
+
+
+def test_two_outputs_of_one_run_that_become_one_file_are_one_error(tmp_path):
+    out = tmp_path / "out"
+    with pytest.raises(OutputError, match=r"both be written to .*a_b\.json"):
+        with staged_outputs(out) as stage:
+            stage.path("a b.json").write_text("1")
+            stage.path("a_b.json").write_text("2")  # would replace the first silently
+    assert _files(tmp_path) == []
+    with pytest.raises(OutputError, match=r"both be written to .*X\.json"):
+        with staged_outputs(out) as stage:
+            stage.path("X.json").write_text("1")
+            stage.path("x.json")  # one file on Windows and macOS
+    with staged_outputs(out) as stage:  # Unicode names differ: two files
+        stage.path("试验一.json").write_text("1")
+        stage.path("试验二.json").write_text("2")
+    assert sorted(p.name for p in stage.written) == ["试验一.json", "试验二.json"]

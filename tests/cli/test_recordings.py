@@ -388,3 +388,67 @@ def test_a_full_disk_names_the_file_and_what_to_do(tmp_path, monkeypatch, runner
     assert "test-analysis.nc: cannot write the file: No space left on device" in result.output
     assert "the disk is full" in result.output and "--out" in result.output
     assert not out.exists() and _files(tmp_path) == ["test.csv"]
+
+
+def test_unicode_names_keep_their_outputs_apart(tmp_path, runner, adhesion_csv):
+    one = adhesion_csv(tmp_path / "试验一.csv")
+    two = adhesion_csv(tmp_path / "试验二.csv")
+    same = adhesion_csv(tmp_path / "a_b.csv")
+    other = adhesion_csv(tmp_path / "a b.csv")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["spectrum", str(one), str(two), "--out", str(out), "-q"])
+    assert result.exit_code == 0, result.output
+    assert {"试验一-spectrum.png", "试验二-spectrum.png"} <= set(_files(out))
+    result = runner.invoke(app, ["spectrum", str(same), str(other), "--out", str(out), "-q"])
+    assert result.exit_code == 0, result.output  # the same once made safe: numbered
+    assert {"a_b-1-spectrum.png", "a_b-2-spectrum.png"} <= set(_files(out))
+    for rec in (one, two):
+        result = runner.invoke(app, ["filters", str(rec), "--out", str(out), "-q"])
+        assert result.exit_code == 0, result.output
+    names = set(_files(out))
+    for stem in ("试验一", "试验二"):
+        assert {f"{stem}-filters.json", f"filters-{stem}-run.json"} <= names
+    bad = adhesion_csv(tmp_path / "x:y.csv")  # analyze: the run file follows the same rule
+    result = runner.invoke(app, ["analyze", str(bad), "--no-study", "--out", str(out), "-q"])
+    assert result.exit_code == 0, result.output
+    assert {"x_y-analysis.json", "analyze-x_y-run.json"} <= set(_files(out))
+
+
+def _jittered(path, adhesion_csv, sigma=0.0002):
+    """The hand-built test at 100 Hz with N(0, sigma) noise on its time stamps."""
+    src = adhesion_csv(path)
+    lines = src.read_text().splitlines()
+    rng = np.random.default_rng(1)
+    out = [lines[0]]
+    for k, line in enumerate(lines[1:]):
+        _, rest = line.split(",", 1)
+        out.append(f"{k / 100.0 + (rng.normal(0, sigma) if k else 0.0):.6f},{rest}")
+    path.write_text("\n".join(out) + "\n")
+    return path
+
+
+def test_jittered_time_stamps_are_put_on_a_uniform_base_and_said_so(tmp_path, runner, adhesion_csv):
+    rec = _jittered(tmp_path / "jitter.csv", adhesion_csv)
+    for command in (["filters"], ["spectrum"], ["analyze", "--no-study"]):
+        out = tmp_path / command[0]
+        result = runner.invoke(app, [*command, str(rec), "--out", str(out)])
+        assert result.exit_code == 0, (command, result.output)
+        text = " ".join(result.output.split())
+        assert "irregular sample times" in text, command
+        assert "resample_Hz = 100" in text, command
+
+
+def test_constant_torque_is_refused_by_filters_and_a_warning_of_analyze(
+    tmp_path, runner, adhesion_csv
+):
+    rec = adhesion_csv(tmp_path / "const.csv", torque=lambda t: np.full(t.size, 12.5))
+    result = runner.invoke(app, ["filters", str(rec), "--out", str(tmp_path / "f")])
+    assert result.exit_code == 2, result.output
+    text = " ".join(result.output.split())
+    assert f"{rec}: channel 'torque' is constant (12.5 in all 1000 samples)" in text
+    assert "check that the channel is connected" in text
+    result = runner.invoke(app, ["spectrum", str(rec), "--out", str(tmp_path / "s")])
+    assert result.exit_code == 2 and "is constant (12.5" in result.output
+    result = runner.invoke(app, ["analyze", str(rec), "--no-study", "--out", str(tmp_path / "a")])
+    text = " ".join(result.output.split())
+    assert "warning:" in text and "channel 'torque' is constant (12.5" in text, text

@@ -165,3 +165,22 @@ def test_errors_name_the_column():
         _align([("x", t, t), ("y", t[:5], None)], time=t)
     with pytest.raises(RecordingError, match=r"do not overlap.*X 0\.\.0\.9 s"):
         _align([("x", t, t), ("y", t, t + 10.0)])
+
+
+def test_a_non_uniform_time_base_names_the_file_and_the_remedy():
+    from rollerrig.recordings.recording import Recording, RecordingError
+    from rollerrig.recordings.timebase import require_uniform_time
+
+    t = np.arange(5000) / 250.0 + np.random.default_rng(0).normal(0, 2e-4, 5000)
+    with pytest.raises(RecordingError) as info:
+        require_uniform_time(t, "runs/jitter.csv", "the filter study")
+    text = str(info.value)
+    assert text.startswith("runs/jitter.csv: the filter study needs samples on a uniform")
+    assert "resample_Hz = 250 in the channel map's [time] section (--channels)" in text
+
+    from rollerrig.measure.prepare import fill_short_gaps
+
+    rec = Recording(np.sort(t), {"torque": np.ones(5000)}, {"torque": "N.m"}, {"source": "j.csv"})
+    uniform, notes = fill_short_gaps(rec)
+    assert require_uniform_time(uniform.time, "j.csv", "x") == pytest.approx(250.0, rel=0.02)
+    assert uniform.time[-1] <= rec.time[-1] and "irregular sample times" in notes[0]

@@ -122,3 +122,34 @@ def test_resampling_onto_a_grid_beyond_the_limit_is_refused_before_allocating(tm
             "channels": {"torque": {"column": "torque", "unit": "N.m"}}}  # fmt: skip
     with pytest.raises(RecordingError, match=r"1e\+08 Hz time base over 10000 s .*MAX_GRID"):
         read_recording(path, cmap)
+
+
+def test_a_time_without_a_unit_that_looks_like_ms_is_a_warning_naming_the_file(tmp_path):
+    import warnings
+
+    from rollerrig._warnings import DomainWarning
+    from rollerrig.recordings.readers import read_recording
+    from rollerrig.recordings.source import open_recording
+
+    rows = [f"{4 * k},{k % 7}" for k in range(3000)]  # 250 Hz in ms, header without a unit
+    ms = tmp_path / "ms_nounit.csv"
+    ms.write_text("time,torque [N.m]\n" + "\n".join(rows) + "\n")
+    for read in (read_recording, open_recording):
+        with pytest.warns(DomainWarning, match="looks like milliseconds") as caught:
+            got = read(ms)
+            if read is open_recording:
+                got.close()
+        text = str(caught[0].message)
+        assert str(ms) in text and 'unit = "ms"' in text and '"time [ms]"' in text
+    stated = tmp_path / "ms_unit.csv"
+    stated.write_text("time [ms],torque [N.m]\n" + "\n".join(rows) + "\n")
+    seconds = tmp_path / "s_nounit.csv"
+    seconds.write_text(
+        "time,torque [N.m]\n" + "\n".join(f"{k / 250},{k % 7}" for k in range(3000)) + "\n"
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DomainWarning)
+        assert read_recording(stated).time[-1] == pytest.approx(11.996)
+        assert read_recording(seconds).time[-1] == pytest.approx(11.996)
+        assert read_recording(ms, {"time": {"column": "time", "unit": "s"},
+            "channels": {"torque": {"column": "torque"}}}).time[-1] == 11996  # fmt: skip

@@ -18,11 +18,13 @@ model-based estimates). Their public names are also importable from here.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 
 import numpy as np
 
 from rollerrig._validation import ParameterError
+from rollerrig._warnings import DomainWarning
 from rollerrig.analysis.coa_estimates import (
     MODEL_BASED,
     SHAFT_KEYS,
@@ -75,6 +77,8 @@ from rollerrig.measure.segmentation import (
 )
 from rollerrig.output import rig_sha256
 from rollerrig.recordings.recording import Recording, RecordingError
+from rollerrig.recordings.timebase import require_uniform_time
+from rollerrig.signal._numeric import check_varies
 from rollerrig.signal.scoring import prepare_study_signal
 from rollerrig.signal.workflow import ExplainedSpectrum, explain_recording
 
@@ -201,6 +205,12 @@ def analyze_test(
         recording, _ = fill_short_gaps(recording)  # the notes go into the metadata's notes
         truth_on = None if truth is None else truth_coa(truth, recording)
         recording, rate_note = analysis_recording(recording, rate=analysis_rate)
+    source = recording.metadata.get("source") or "the recording"
+    require_uniform_time(recording.time, str(source), "the analysis")  # one check, file named
+    try:  # the spectrum's and the filter study's check; here a warning: phases still come
+        check_varies(recording["torque"], "channel 'torque'", "carries no measured CoA")
+    except ParameterError as exc:
+        warnings.warn(f"{source}: {exc}", DomainWarning, stacklevel=2)
     if rate_note:
         notes.append(rate_note)
     say("deriving the quantities and the phases")

@@ -40,13 +40,12 @@ from typing import Any
 
 import numpy as np
 
-from rollerrig._validation import ParameterError
 from rollerrig.calibrate.errors import CalibrationError
 from rollerrig.measure.checks import check_channel_values
 from rollerrig.measure.facts import describe_channel, source_prefix
 from rollerrig.measure.quantities import encoder_speed, normal_force_from_pressure
 from rollerrig.recordings.recording import Recording, RecordingError
-from rollerrig.recordings.timebase import uniform_sample_rate
+from rollerrig.recordings.timebase import require_uniform_time
 from rollerrig.rig.parameters import RigParameters
 
 __all__ = [
@@ -295,13 +294,7 @@ def _orthonormal(x: np.ndarray) -> np.ndarray:
 
 def _uniform(rec: Recording, source: str) -> None:
     """RecordingError naming the file when the time base is not uniform."""
-    try:
-        uniform_sample_rate(rec.time)
-    except ParameterError as exc:
-        raise RecordingError(
-            f"{source}: the calibration needs samples on a uniform time base: {exc}; cut the "
-            "recording there or resample it"
-        ) from None
+    require_uniform_time(rec.time, source, "the calibration")
 
 
 def prepare_measurement(
@@ -459,6 +452,14 @@ def prepare_measurement(
     else:
         start = max(1, first_load - round(_MAX_QUIET_WINDOW / dt))
         window = slice(start, first_load)
+        if start >= first_load:  # samples farther apart than the window: nothing to average
+            raise RecordingError(
+                f"{prefix}no sample in the {_MAX_QUIET_WINDOW:g} s of free rolling before the "
+                f"torque request rises (t = {time[first_load]:.6g} s; samples {dt:.6g} s apart): "
+                "the calibration takes the starting roller speed from them. A rig records "
+                "many samples a second: if the time is in milliseconds, declare it (unit = "
+                '"ms" in the channel map\'s [time] section, or a header "time [ms]")'
+            )
     omega0 = float(np.mean(values["roller_speed"][window]))
     speed0 = omega0 * rig.geometry.roller_radius_x
     if not speed0 > 0.0:

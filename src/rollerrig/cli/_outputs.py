@@ -28,7 +28,12 @@ from pathlib import Path
 
 from rollerrig.cli._boundary import command_line, signals_deferred, warnings_printed
 from rollerrig.output import OutputError
-from rollerrig.output.names import MAX_OUTPUT_STEM, safe_file_name
+from rollerrig.output.names import (
+    MAX_OUTPUT_STEM,
+    safe_file_name,
+    safe_file_stem,
+    unique_file_stems,
+)
 
 try:
     import fcntl
@@ -41,7 +46,9 @@ __all__ = [
     "STAGE_PREFIX",
     "command_outputs",
     "safe_file_name",
+    "safe_file_stem",
     "staged_outputs",
+    "unique_file_stems",
 ]
 
 LOCK_NAME = ".rollerrig.lock"
@@ -146,6 +153,7 @@ class staged_outputs:  # a context manager that reads as a function
         self.written: list[Path] = []
         self._lock = _RunLock(self.out)
         self._created: list[Path] = []
+        self._issued: dict[str, str] = {}  # casefolded safe name -> the name asked for
 
     # ------------------------------------------------------------------ enter
 
@@ -180,13 +188,23 @@ class staged_outputs:  # a context manager that reads as a function
     def path(self, name: str) -> Path:
         """Staged path of the output file ``name``: a plain file name, made safe, checked.
 
-        Names come from user data (an experiment's name, a recording's stem): every character
-        other than letters, digits, ``.``, ``_``, ``-`` and ``+`` becomes ``_`` (so ``../x``
-        cannot leave ``out``), and the stem is cut to :data:`MAX_OUTPUT_STEM` characters (file
-        systems refuse names over 255 bytes). A name whose final path is a folder or one of the
-        inputs is refused here already.
+        Names come from user data (an experiment's name, a recording's stem) and are made safe
+        by :func:`~rollerrig.output.names.safe_file_name` (letters and digits of any script,
+        ``.``, ``_``, ``-`` and ``+`` kept, every other character ``_``, so ``../x`` cannot
+        leave ``out``; at most 255 bytes). A name whose final path is a folder or one of the
+        inputs is refused here already, and so is a second name of this run that becomes the
+        same file (also where only the case differs, as Windows and macOS compare names): one
+        output never replaces another silently.
         """
-        staged = self.dir / safe_file_name(name)
+        safe = safe_file_name(name)
+        first = self._issued.setdefault(safe.casefold(), str(name))
+        if first != str(name):
+            raise OutputError(
+                f"two outputs of this run would both be written to {self.out / safe} "
+                f"({first!r} and {str(name)!r}); give the inputs names that differ in a letter "
+                "or digit, or write them to different --out folders"
+            )
+        staged = self.dir / safe
         self._check(self.final(staged))
         return staged
 

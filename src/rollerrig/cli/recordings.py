@@ -32,7 +32,7 @@ from rollerrig.cli._options import (
     figure_file,
     load_rig,
 )
-from rollerrig.cli._outputs import command_outputs, safe_file_name
+from rollerrig.cli._outputs import command_outputs, safe_file_stem, unique_file_stems
 
 __all__ = ["analyze", "filters", "print_analysis", "spectrum"]
 
@@ -88,9 +88,10 @@ def analyze(
     rig = load_rig(rig_file)
     calibrated, bound = calibration_for(calibration, rig, rig_file, allow_other_rig)
     inputs = {"recording": recording, "truth": truth, "rig": rig_file, "calibration": calibration}
+    stem = safe_file_stem(recording.stem)  # one rule for every output name, the run's too
     with command_outputs(
         out,
-        run=f"analyze-{recording.stem}",
+        run=f"analyze-{stem}",
         inputs=inputs,
         rig=rig,
         channel_map=channels,
@@ -109,12 +110,12 @@ def analyze(
             sections = [_calibration_section(calibration, calibrated)]
             if on_track:
                 say("the curve on track")
-                sections.append(_on_track_section(result, rig, stage.dir, recording.stem))
+                sections.append(_on_track_section(result, rig, stage.dir, stem))
             say("writing the results and the report (figures)")
             write_analysis(
                 result,
                 stage.dir,
-                recording.stem,
+                stem,
                 source=str(recording),
                 truth=truth_ds,
                 extra_sections=_sections(sections),
@@ -154,7 +155,7 @@ def _on_track_section(result, rig, out: Path, stem: str):
     except ParameterError as exc:
         note(f"on track: not made ({exc})")
         return None
-    write_transfer(transferred, out, safe_file_name(stem))
+    write_transfer(transferred, out, stem)
     return lambda rep: transfer_section(rep, transferred)
 
 
@@ -327,8 +328,9 @@ def spectrum(
     lines that stay put at every speed (speed-independent). Settings are chosen from each
     signal and stated; the coupled twin's damped modes at each recording's speed and load are
     among the sources."""
-    from rollerrig.analysis.adhesion import recording_facts
+    from rollerrig.analysis.adhesion import fill_short_gaps, recording_facts
     from rollerrig.output import save_figure, write_json
+    from rollerrig.recordings.timebase import require_uniform_time
     from rollerrig.report.spectra import (
         coherence_figure,
         order_map_figure,
@@ -339,8 +341,7 @@ def spectrum(
 
     rig = load_rig(rig_file)
     needed = [channel] if coherence_with is None else [channel, coherence_with]
-    stems = [p.stem for p in recordings]
-    stems = [s if stems.count(s) == 1 else f"{s}-{i + 1}" for i, s in enumerate(stems)]
+    stems = unique_file_stems(p.stem for p in recordings)  # "run-1", "run-2": none replaced
     names = [p.name for p in recordings]
     keys = [n if names.count(n) == 1 else str(p) for n, p in zip(names, recordings, strict=True)]
     roles = (
@@ -363,7 +364,11 @@ def spectrum(
             loaded = []
             for p in recordings:
                 say(f"reading {p.name}")
-                loaded.append(derived(open_input(p, channels, lenient, needed, files), rig))
+                rec = open_input(p, channels, lenient, needed, files)
+                if not hasattr(rec, "iter_chunks"):  # a spectrum needs a uniform time base
+                    rec, _ = fill_short_gaps(rec)  # jitter, short gaps: interpolated, noted
+                    require_uniform_time(rec.time, str(p), "the spectrum")
+                loaded.append(derived(rec, rig))
             say("spectra, peaks and their sources" + (" and coherence" if coherence_with else ""))
             result = explain_recordings(loaded, channel, rig, coherence_with=coherence_with)
         log = shared_log_frequency(result.spectra)  # one axis convention for the set
@@ -454,12 +459,15 @@ def filters(
     )
     from rollerrig.output import save_figure, write_json
     from rollerrig.recordings.recording import RecordingError
+    from rollerrig.recordings.timebase import require_uniform_time
     from rollerrig.report.filters import savitzky_golay_grid_figure, study_ranking_figure
+    from rollerrig.signal._numeric import check_varies
     from rollerrig.signal.scoring import prepare_study_signal, study_signal_from_source
 
+    stem = safe_file_stem(recording.stem)
     with command_outputs(
         out,
-        run=f"filters-{recording.stem}",
+        run=f"filters-{stem}",
         inputs={"recording": recording},
         channel_map=channels,
         channel=channel,
@@ -479,8 +487,13 @@ def filters(
                 rec.require(channel)
                 check_channel_values(rec, [channel])
                 rec, _ = fill_short_gaps(rec)  # the scoring needs a uniform time base; notes say so
+                require_uniform_time(rec.time, str(recording), "the filter study")
                 signal = prepare_study_signal(rec.time, rec[channel])
                 fs = float(f"{rec.sample_rate:.10g}")
+            try:  # the spectrum's check: a constant channel has nothing to smooth or score
+                check_varies(signal.raw, f"channel {channel!r}", "has nothing to smooth")
+            except ParameterError as exc:
+                raise RecordingError(f"{recording}: {exc}") from None
             rows = signal.filter_study()
             order, window, grid = signal.tune_savitzky_golay()
             facts = recording_facts(rec)
@@ -516,11 +529,9 @@ def filters(
                 "tuned at [Hz]": tuned_at,
             },
         }
-        save_figure(
-            ranking_fig, stage.path(figure_file(f"{recording.stem}-filter-ranking", figure_format))
-        )
-        save_figure(grid_fig, stage.path(figure_file(f"{recording.stem}-sg-grid", figure_format)))
-        write_json(stage.path(f"{recording.stem}-filters.json"), summary)
+        save_figure(ranking_fig, stage.path(figure_file(f"{stem}-filter-ranking", figure_format)))
+        save_figure(grid_fig, stage.path(figure_file(f"{stem}-sg-grid", figure_format)))
+        write_json(stage.path(f"{stem}-filters.json"), summary)
     console.print(table)
     console.print(
         f"Savitzky-Golay tuned for this recording: order {order}, window {window} samples at "

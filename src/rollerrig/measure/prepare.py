@@ -75,14 +75,17 @@ def fill_short_gaps(recording: Recording) -> tuple[Recording, list[str]]:
                 "separately"
             )
         notes.append(f"{where} filled by linear interpolation onto the uniform time base")
-    n = round(float(t[-1] - t[0]) / step) + 1
+    # Whole steps up to the last sample: a grid point past it cannot be interpolated, and one
+    # moved back onto it would make the last step short (a non-uniform base again).
+    n = int(np.floor(float(t[-1] - t[0]) / step + 1e-6)) + 1
     grid = t[0] + np.arange(n) * step
-    grid[-1] = min(grid[-1], t[-1])
     channels = {name: np.interp(grid, t, x) for name, x in recording.channels.items()}
     if not notes:
         notes.append(
-            "irregular sample times (jitter above 1 % of the step) put onto a uniform time base"
-            " by linear interpolation"
+            f"{source_prefix(recording)}irregular sample times (jitter above 1 % of the step "
+            f"{step:.6g} s) put onto a uniform time base of {1.0 / step:.6g} Hz by linear "
+            "interpolation; for a band-limited resampling give resample_Hz = "
+            f"{float(f'{1.0 / step:.3g}'):g} in the channel map's [time] section"
         )
     meta = dict(recording.metadata)
     meta["notes"] = [*list(meta.get("notes") or []), *notes]

@@ -29,6 +29,8 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any, Literal
 
+import numpy as np
+
 from rollerrig.output.provenance import file_sha256
 from rollerrig.recordings.channels import ChannelMap, default_channel_map, load_channel_map
 from rollerrig.recordings.formats import Table, open_table
@@ -37,6 +39,7 @@ from rollerrig.recordings.translate import apply_map
 from rollerrig.recordings.validate import (
     GAP_FACTOR,
     MAX_INTERPOLATED_NAN_RUN,
+    check_time_unit,
     describe_gap,
     find_gaps,
     validate_samples,
@@ -286,6 +289,13 @@ def read_recording(
         time, chans, units, info = apply_map(table, cmap, p, required)
     require_channels(where, required, chans, cmap)
     chans, report = validate_samples(time, chans, validate, where)
+    if info.pop("time_unit_assumed", None) is not None and time.size > 1:
+        check_time_unit(
+            1.0 / float(np.median(np.diff(time))),
+            float(time[-1] - time[0]),
+            where,
+            info["columns"]["time"],
+        )
     metadata = recording_metadata(
         p, fmt, cmap, table, info, sha256=sha, validate=validate, **report
     )

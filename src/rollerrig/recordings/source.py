@@ -69,7 +69,7 @@ from rollerrig.recordings.translate import (
     resolve_column,
     time_seconds,
 )
-from rollerrig.recordings.validate import GAP_FACTOR, check_sample_rate
+from rollerrig.recordings.validate import GAP_FACTOR, check_sample_rate, check_time_unit
 
 __all__ = ["DEFAULT_CHUNK_SAMPLES", "Chunk", "RecordingSource", "open_recording"]
 
@@ -602,6 +602,8 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
     check_sample_rate(source["sample_rate"], where, "1 / the median sample interval")
     t_last = _time(state, n - 1, n, None)
     source["duration"] = float(t_last[-1] - time_h[0])
+    if info.pop("time_unit_assumed", None) is not None:
+        check_time_unit(source["sample_rate"], source["duration"], where, info["columns"]["time"])
     metadata = recording_metadata(
         p, fmt, cmap, head, info, validate="strict", gaps=[], interpolated=[]
     )

@@ -44,6 +44,7 @@ __all__ = [
     "PASSBAND",
     "UNIFORM_STEP_TOLERANCE",
     "align_channels",
+    "require_uniform_time",
     "resample_onto",
     "uniform_sample_rate",
 ]
@@ -418,3 +419,39 @@ def uniform_sample_rate(time) -> float:
             f"median {step:.6g} s; every step must be within 1 % of the median)"
         )
     return 1.0 / step
+
+
+def require_uniform_time(time, source: str, purpose: str) -> float:
+    """Rate [Hz] of a uniform time base, or one RecordingError naming the file and the remedy.
+
+    The one check of every analysis that needs equally spaced samples (the analysis, the
+    filter study, the spectrum, decimation, the calibration): :func:`uniform_sample_rate`'s
+    error with ``source`` (the file) and what to do: put the samples on one base with the
+    channel map's ``[time] resample_Hz`` (the rate suggested is the median step's).
+
+    Examples
+    --------
+    >>> require_uniform_time(np.arange(5) / 250.0, "run.csv", "the analysis")
+    250.0
+    >>> t = np.arange(6) / 250.0 + np.r_[0, 0, 4e-4, 0, 0, 0]
+    >>> try:
+    ...     require_uniform_time(t, "run.csv", "the analysis")
+    ... except RecordingError as exc:
+    ...     print(str(exc)[:64])
+    run.csv: the analysis needs samples on a uniform time base: a no
+    """
+    time = np.asarray(time, dtype=float)
+    try:
+        return uniform_sample_rate(time)
+    except ParameterError as exc:
+        steps = np.diff(time)
+        good = steps[np.isfinite(steps) & (steps > 0)]
+        rate = (
+            f"{float(f'{1.0 / float(np.median(good)):.3g}'):g}" if good.size else "<the DAQ rate>"
+        )
+        raise RecordingError(
+            f"{source}: {purpose} needs samples on a uniform time base: {exc}. Time stamps "
+            f"that jitter around one rate: put them on one base with resample_Hz = {rate} in "
+            "the channel map's [time] section (--channels); dropped samples: read with "
+            "--lenient (short gaps are filled) or cut the recording there"
+        ) from None

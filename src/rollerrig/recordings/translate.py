@@ -325,6 +325,9 @@ def apply_map(
             )
             info["columns"]["time"] = col_name
             info["source_units"]["time"] = unit
+            if file_unit is None and (cmap.auto or not tspec.unit_stated):
+                if np.asarray(col.values).dtype.kind in "biuf":  # numbers read in seconds
+                    info["time_unit_assumed"] = unit  # popped by the readers: check_time_unit
 
     # --- channels
     specs = auto_entries(table, cmap, path) if cmap.auto else list(cmap.entries)

@@ -11,16 +11,22 @@
   time base is built with more than :data:`MAX_GRID_SAMPLES` samples
   (:func:`check_sample_rate`, :func:`check_grid`): a time in the wrong unit (picoseconds read
   as seconds) or an absurd ``sample_rate_Hz``/``resample_Hz`` is refused before anything is
-  allocated for it. The limits live here, and only here.
+  allocated for it. The limits live here, and only here;
+- a time column without a unit (in the file or the channel map), read as seconds, whose
+  sampling rate is about 1/1000 of a rig's DAQ rate (or whose duration is implausibly long at
+  an implausibly low rate) is a :class:`~rollerrig._warnings.DomainWarning` naming the file
+  and how to declare the unit (:func:`check_time_unit`).
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
+from rollerrig._warnings import DomainWarning
 from rollerrig.recordings.recording import RecordingError
 
 __all__ = [
@@ -28,8 +34,10 @@ __all__ = [
     "MAX_GRID_SAMPLES",
     "MAX_INTERPOLATED_NAN_RUN",
     "MAX_SAMPLE_RATE_HZ",
+    "RIG_DAQ_RATE_HZ",
     "check_grid",
     "check_sample_rate",
+    "check_time_unit",
     "describe_gap",
     "find_gaps",
     "true_runs",
@@ -71,6 +79,61 @@ def check_sample_rate(rate: float, where: str, source: str) -> None:
             f"{MAX_SAMPLE_RATE_HZ:g} Hz (MAX_SAMPLE_RATE_HZ); check the time unit (ms or µs "
             "read as s?) or the stated rate"
         )
+
+
+RIG_DAQ_RATE_HZ = 250.0
+"""The default rig's DAQ rate (``sensors.daq_rate`` of the default parameter set) [Hz]: the
+readers do not know the rig, and a time in ms read as s is 1000 x off any rig's rate."""
+
+MIN_PLAUSIBLE_RATE_HZ = 50.0
+"""Slowest sampling of a rig's torque and speed channels [Hz] (the rigs record at 250 Hz to
+19.2 kHz); a long recording below it with a time of no unit is a time in ms read as s."""
+
+MAX_PLAUSIBLE_DURATION_S = 3600.0
+"""Longest adhesion test [s] taken as plausible at a rate below :data:`MIN_PLAUSIBLE_RATE_HZ`."""
+
+
+def check_time_unit(
+    rate: float,
+    duration: float,
+    where: str,
+    column: str,
+    *,
+    daq_rate: float = RIG_DAQ_RATE_HZ,
+) -> str | None:
+    """A :class:`~rollerrig._warnings.DomainWarning` (and its text) when a time column that had
+    no unit, in the file or the channel map, and was read in seconds looks like milliseconds.
+
+    It does when the sampling rate ``rate`` [Hz] it implies, times 1000, is within a factor 4
+    of the DAQ rate ``daq_rate`` [Hz], or when the recording lasts longer than
+    :data:`MAX_PLAUSIBLE_DURATION_S` at a rate below :data:`MIN_PLAUSIBLE_RATE_HZ`. Call it
+    only for a time whose unit was assumed; None when the time looks right.
+
+    Examples
+    --------
+    >>> check_time_unit(250.0, 30.0, "run.csv:", "time") is None
+    True
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore")
+    ...     print(check_time_unit(0.25, 30000.0, "run.csv:", "time")[:59])
+    run.csv: the time column 'time' has no unit (in the file or
+    """
+    if not (np.isfinite(rate) and rate > 0.0 and np.isfinite(duration)):
+        return None
+    near_ms = daq_rate / 4.0 <= rate * 1e3 <= daq_rate * 4.0
+    too_long = duration > MAX_PLAUSIBLE_DURATION_S and rate < MIN_PLAUSIBLE_RATE_HZ
+    if not (near_ms or too_long):
+        return None
+    text = (
+        f"{where} the time column {column!r} has no unit (in the file or the channel map) and "
+        f"was read in seconds: {rate:.4g} Hz over {duration:.6g} s, where a rig's DAQ records "
+        f"at about {daq_rate:g} Hz for minutes; it looks like milliseconds ({rate * 1e3:.4g} "
+        f'Hz over {duration / 1e3:.6g} s). Declare the unit: unit = "ms" in the channel '
+        f'map\'s [time] section, or the header "{column} [ms]" in the file'
+    )
+    warnings.warn(text, DomainWarning, stacklevel=2)
+    return text
 
 
 def check_grid(duration: float, rate: float, where: str, source: str) -> int:

@@ -55,7 +55,6 @@ from rollerrig.signal._numeric import (
     check_samples,
     power_of_two_scale,
     tidy_rate,
-    uniform_sample_rate,
 )
 
 __all__ = [
@@ -600,15 +599,11 @@ def decimate_recording(
 
 
 def _uniform_rate(time: np.ndarray, source: str) -> float:
-    """Rate [Hz] of a uniform time base; RecordingError naming the worst step otherwise."""
-    from rollerrig.recordings.recording import RecordingError
+    """Rate [Hz] of a uniform time base; RecordingError naming the file, the worst step and
+    the remedy otherwise (:func:`~rollerrig.recordings.timebase.require_uniform_time`)."""
+    from rollerrig.recordings.timebase import require_uniform_time
 
-    try:
-        return tidy_rate(uniform_sample_rate(time))
-    except ParameterError as exc:
-        raise RecordingError(
-            f"{source}: cannot decimate: {exc}; resample it first (channel map [time] resample_Hz)"
-        ) from None
+    return tidy_rate(require_uniform_time(time, str(source), "decimation"))
 
 
 def _decimate_source(source, names, spec, chunk_samples):

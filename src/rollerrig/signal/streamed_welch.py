@@ -35,7 +35,7 @@ from collections.abc import Iterable
 import numpy as np
 
 from rollerrig._validation import ParameterError, require_positive
-from rollerrig.signal._numeric import check_samples
+from rollerrig.signal._numeric import check_samples, constant_channel_message
 from rollerrig.signal.spectrum_results import CoherenceSpectrum, CrossSpectra, Spectrum
 from rollerrig.signal.welch_settings import (
     MAX_MAGNITUDE,
@@ -127,8 +127,7 @@ class _WelchAccumulator:
         for c, name in enumerate(self.names):
             if self.high[c] == self.low[c]:
                 raise ParameterError(
-                    f"{name} is constant ({self.first[c]:g} in all {self.consumed} samples): it "
-                    "has no spectrum; check that the channel is connected and mapped"
+                    constant_channel_message(name, self.first[c], self.consumed, "has no spectrum")
                 )
         w = self.window
         scale = (
