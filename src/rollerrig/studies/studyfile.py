@@ -154,7 +154,8 @@ def study_name_from_stem(stem: str) -> str:
     >>> study_name_from_stem("."), len(study_name_from_stem("x" * 300))
     ('_', 64)
     """
-    name = safe_file_name(stem)[:MAX_NAME_LENGTH]
+    # study names stay ASCII (_NAME), while output names keep letters of any script
+    name = re.sub(r"[^A-Za-z0-9._+-]", "_", safe_file_name(stem))[:MAX_NAME_LENGTH]
     return name if _NAME.fullmatch(name) else "study"
 
 
