@@ -78,7 +78,7 @@ from rollerrig.measure.segmentation import (
 from rollerrig.output import rig_sha256
 from rollerrig.recordings.recording import Recording, RecordingError
 from rollerrig.recordings.timebase import require_uniform_time
-from rollerrig.signal._numeric import check_varies
+from rollerrig.signal.channel_checks import check_varies
 from rollerrig.signal.scoring import prepare_study_signal
 from rollerrig.signal.workflow import ExplainedSpectrum, explain_recording
 

@@ -461,7 +461,7 @@ def filters(
     from rollerrig.recordings.recording import RecordingError
     from rollerrig.recordings.timebase import require_uniform_time
     from rollerrig.report.filters import savitzky_golay_grid_figure, study_ranking_figure
-    from rollerrig.signal._numeric import check_varies
+    from rollerrig.signal.channel_checks import check_varies
     from rollerrig.signal.scoring import prepare_study_signal, study_signal_from_source
 
     stem = safe_file_stem(recording.stem)

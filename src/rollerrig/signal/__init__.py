@@ -6,7 +6,8 @@ Smoothing and long recordings
     Gaussian), :mod:`~rollerrig.signal.local_regression` (LOWESS/LOESS),
     :mod:`~rollerrig.signal.savitzky_golay_filter`, :mod:`~rollerrig.signal.butterworth_filter`;
     :mod:`~rollerrig.signal.chunked` (the filters over a stream of chunks),
-    :mod:`~rollerrig.signal.decimate` (zero-phase anti-alias decimation, streamed).
+    :mod:`~rollerrig.signal.decimate` (zero-phase anti-alias decimation, streamed),
+    :mod:`~rollerrig.signal.channel_checks` (a channel that never changes refused).
 The filter study (entry points in :mod:`~rollerrig.signal.scoring`)
     :mod:`~rollerrig.signal.filter_score` (the scores and their weights),
     :mod:`~rollerrig.signal.steady_transient` (the steady and transient parts scored),

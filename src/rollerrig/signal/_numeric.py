@@ -17,6 +17,7 @@ import numpy as np
 
 from rollerrig._validation import ParameterError
 from rollerrig.recordings.timebase import uniform_sample_rate
+from rollerrig.signal.channel_checks import check_varies, constant_channel_message
 
 __all__ = [
     "check_samples",
@@ -129,27 +130,3 @@ def check_samples(values, start: int, limit: float, why: str, name: str = "the s
         f"{name} reaches {value:.3g} at sample {start + i}, beyond {limit:.0e}: {why}; check the "
         "channel's unit and scale in the channel map"
     )
-
-
-def constant_channel_message(name: str, value: float, n: int, lacks: str) -> str:
-    """The one text for a channel that never changes (spectrum, filter study, analysis).
-
-    >>> constant_channel_message("channel 'torque'", 12.5, 3, "has no spectrum")
-    "channel 'torque' is constant (12.5 in all 3 samples): it has no spectrum; check that the channel is connected and mapped"
-    """  # noqa: E501
-    return (
-        f"{name} is constant ({value:g} in all {n} samples): it {lacks}; check that the channel "
-        "is connected and mapped"
-    )
-
-
-def check_varies(values, name: str, lacks: str) -> None:
-    """ParameterError (:func:`constant_channel_message`) when the finite ``values`` never
-    change (beyond round-off, 1e-12 of their magnitude: a constant stays one after filters)."""
-    x = np.asarray(values, dtype=float)
-    finite = x[np.isfinite(x)]
-    if finite.size < 2:
-        return
-    lo, hi = float(finite.min()), float(finite.max())
-    if hi - lo <= 1e-12 * max(abs(lo), abs(hi)):
-        raise ParameterError(constant_channel_message(name, float(finite[0]), x.size, lacks))

@@ -35,7 +35,8 @@ from collections.abc import Iterable
 import numpy as np
 
 from rollerrig._validation import ParameterError, require_positive
-from rollerrig.signal._numeric import check_samples, constant_channel_message
+from rollerrig.signal._numeric import check_samples
+from rollerrig.signal.channel_checks import constant_channel_message
 from rollerrig.signal.spectrum_results import CoherenceSpectrum, CrossSpectra, Spectrum
 from rollerrig.signal.welch_settings import (
     MAX_MAGNITUDE,
