@@ -21,7 +21,7 @@ from rollerrig.cli._options import (
     RigOption,
     load_rig,
 )
-from rollerrig.cli._outputs import command_outputs, safe_file_name
+from rollerrig.cli._outputs import command_outputs, safe_file_stem
 
 __all__ = ["Creepage", "TransferLaw", "transfer"]
 
@@ -203,7 +203,7 @@ def transfer(
     geometry = ContactGeometry.from_rig(rig, profile_radius_uncertainty=profile_uncertainty)
     with command_outputs(
         out,
-        run=f"transfer-{safe_file_name(stem)}",
+        run=f"transfer-{safe_file_stem(stem)}",
         inputs={"source": source, "rig": rig_file},
         rig=rig,
         law=TransferLaw(law).value,
@@ -226,7 +226,7 @@ def transfer(
                 coa_systematic=coa_systematic,
             )
             write_transfer(
-                result, stage.dir, safe_file_name(stem), FigureFormat(figure_format).value
+                result, stage.dir, safe_file_stem(stem), FigureFormat(figure_format).value
             )
     console.print(_table(result))
     for line in (load_note, speed_note):
