@@ -14,6 +14,7 @@ distinct (``run-1``, ``run-2``) after they were made safe, so that no output rep
 from __future__ import annotations
 
 import unicodedata
+from collections import Counter
 from collections.abc import Iterable
 
 __all__ = [
@@ -124,9 +125,7 @@ def unique_file_stems(names: Iterable[str]) -> list[str]:
     ['run-1', 'run-2', 'a_b-3', 'a_b-4', '试验一']
     """
     safe = [safe_file_stem(n) for n in names]
-    counts: dict[str, int] = {}
-    for s in safe:
-        counts[_key(s)] = counts.get(_key(s), 0) + 1
+    counts = Counter(_key(s) for s in safe)
     taken = {_key(s) for s in safe if counts[_key(s)] == 1}
     result = []
     for i, s in enumerate(safe):

@@ -62,7 +62,13 @@ from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters
 from rollerrig.experiment.protocol import Protocol
 from rollerrig.rig import model as m
 from rollerrig.rig.assemble import assemble
-from rollerrig.rig.chain import BODY_NAMES, CHAIN_ELEMENTS, chain_elements
+from rollerrig.rig.chain import (
+    BODY_NAMES,
+    CHAIN_ELEMENTS,
+    chain_elements,
+    chain_matrices,
+    modal_analysis,
+)
 
 __all__ = [
     "DEFAULT_DAMPING_THRESHOLD",
@@ -499,9 +505,9 @@ def _require_resolvable(lam, vec, names, scale, rig) -> None:
     pole at −1e17 1/s, whose rounding alone, about 20 1/s, is as large as the chain's slow
     poles). The error names the pole and what moves in it, so that the parameter can be found.
     """
-    from rollerrig.rig.chain import modal_table
-
-    elastic = [r.frequency for r in modal_table(rig, damped=False) if not r.rigid]
+    M, K, _ = chain_matrices(rig)
+    free = modal_analysis(M, K)  # undamped: the frequencies alone
+    elastic = free.natural_frequencies[~free.rigid].tolist()
     if not elastic or _RIGID * scale < 2.0 * np.pi * min(elastic):
         return
     fastest = int(np.argmax(np.abs(lam)))

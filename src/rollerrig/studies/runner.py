@@ -275,7 +275,10 @@ def run_batch(
             try:
                 run = run_channels(inp, t, xi)
                 values = compute_metrics(run, point_protocol, metrics)
-                missed = misses_its_releases(run, point_protocol)
+                # only a run without any metric is looked at again (not on every sweep point)
+                missed = not any(math.isfinite(v) for v in values.values()) and (
+                    misses_its_releases(run, point_protocol)
+                )
             except Exception as exc:  # a study records a broken point and goes on
                 reason = f"measuring the run failed: {type(exc).__name__}: {exc}"
                 rows[index] = (index, "solver failed", _one_line(reason), {})
@@ -294,9 +297,9 @@ def run_batch(
 def _measured(
     index: int, values: dict[str, float], missed: bool
 ) -> tuple[int, str, str, dict[str, float]]:
-    """The row of a point whose run finished: ``ok``, unless no metric has a value and the run
-    does not show the experiment (``missed``:
-    :func:`~rollerrig.studies.metrics.misses_its_releases`).
+    """The row of a point whose run finished: ``ok``, unless ``missed``: no metric has a value
+    and the run does not show the experiment
+    (:func:`~rollerrig.studies.metrics.misses_its_releases`).
 
     A value the twin cannot resolve in floating point (a roller-shaft stiffness of 1e300
     N.m/rad makes the shaft's torque a rounding error, and no release shows in it) let the
@@ -305,7 +308,7 @@ def _measured(
     undefined on a run that does show the experiment (a settling time past the end of the
     rest) leaves the point ``ok``: that is a result, and ``study run`` notes it.
     """
-    if not missed or not values or any(math.isfinite(v) for v in values.values()):
+    if not missed or not values:
         return (index, "ok", "", values)
     by_meaning: dict[str, list[str]] = {}
     for name in values:
