@@ -241,7 +241,8 @@ def _jacobians(t, x, p, tables, f0, jac, ft, work, t_end, time_derivative, x_typ
     if time_derivative > 0:
         _fd_time_derivative(t, x, p, tables, f0, ft, work[0], t_end)
     else:
-        ft[:] = 0.0
+        for i in range(ft.shape[0]):
+            ft[i] = 0.0
     for i in range(ft.shape[0]):
         if ft[i] != 0.0:
             return False
@@ -254,6 +255,24 @@ def _all_finite(v):
         if not np.isfinite(v[i]):
             return False
     return True
+
+
+# Rows are copied by loops, not by slice assignment (``x_out[k, :] = x``): numba compiles a
+# slice assignment with its shape check and error message (string formatting included), about
+# 8 s of a cold start's compilation for the drivers (measured with numba's compile events).
+@_cache.njit
+def _store_row(x_out, k, x):
+    """``x_out[k, :] = x``."""
+    for j in range(x.shape[0]):
+        x_out[k, j] = x[j]
+
+
+@_cache.njit
+def _copy_rows(dst, k, src, m):
+    """``dst[k:k + m, :] = src[:m, :]``."""
+    for i in range(m):
+        for j in range(src.shape[1]):
+            dst[k + i, j] = src[i, j]
 
 
 @_cache.njit
@@ -314,7 +333,7 @@ def _workspace(x0, n_work):
 def _land(t, x, t_out, x_out, k_out):
     """Store ``x`` in every output row due at ``t`` from row ``k_out`` on; the next row."""
     while k_out < t_out.shape[0] and t_out[k_out] == t:
-        x_out[k_out, :] = x
+        _store_row(x_out, k_out, x)
         k_out += 1
     return k_out
 

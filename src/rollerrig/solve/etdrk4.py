@@ -469,8 +469,9 @@ def _segment(
     ns = static_blocks.shape[0]
     nd = dynamic_blocks.shape[0]
     blocks = np.empty((ns + nd, MAX_BLOCK), dtype=np.int64)
-    blocks[:ns] = static_blocks
-    blocks[ns:] = dynamic_blocks
+    for b in range(ns + nd):
+        for c in range(MAX_BLOCK):
+            blocks[b, c] = static_blocks[b, c] if b < ns else dynamic_blocks[b - ns, c]
     sizes = _block_sizes(blocks)
     x = x0.copy()
     fx = np.empty(n)
@@ -505,7 +506,7 @@ def _segment(
     work = np.empty((8, n))
     k = 0
     while k < n_out and t_out[k] <= t0:
-        x_out[k, :] = x
+        _wd._store_row(x_out, k, x)
         k += 1
     since = 0
     t = t0
@@ -534,7 +535,7 @@ def _segment(
         since += 1
         counts[0] += 1
         while k < n_out and t_out[k] <= t:
-            x_out[k, :] = x
+            _wd._store_row(x_out, k, x)
             k += 1
     return 0
 

@@ -201,7 +201,7 @@ def _integrate(
     k = 0
     t_stop[0] = bounds[0, 0]
     while k < n_out and t_out[k] <= bounds[0, 0]:
-        x_out[k, :] = x
+        _wd._store_row(x_out, k, x)
         k += 1
     status = STATUS_OK
     for s in range(bounds.shape[0]):
@@ -211,7 +211,7 @@ def _integrate(
         # summed from steps: 5.039999999999999 s against the 250 Hz sample at 5.04 s) is the
         # start state; integrating to it would ask for a step of one ulp (step underflow).
         while k < n_out and t_out[k] <= t0 + _LANDING_TOLERANCE * max(1.0, abs(t0)):
-            x_out[k, :] = x
+            _wd._store_row(x_out, k, x)
             k += 1
         k_end = k
         while k_end < n_out and t_out[k_end] <= t1:
@@ -219,7 +219,8 @@ def _integrate(
         # Always integrate to t1 as well, so the next segment starts from the exact end state.
         m = k_end - k
         ts = np.empty(m + 1)
-        ts[:m] = t_out[k:k_end]
+        for i in range(m):
+            ts[i] = t_out[k + i]
         ts[m] = t1
         xs = np.empty((m + 1, x.shape[0]))
         # f_t is left out: it enters ROS34PW2 at O(h^4) and did not change T56 on the rig.
@@ -246,10 +247,9 @@ def _integrate(
         stats[1] += n_rej
         stats[2] += n_jac
         if status != STATUS_OK:
-            for j in range(k, n_out):
-                x_out[j, :] = np.nan
+            _wd._fill_nan_from(x_out, k)
             return status
-        x_out[k:k_end, :] = xs[:m]
+        _wd._copy_rows(x_out, k, xs, m)
         x = xs[m].copy()
         k = k_end
     return status
@@ -258,59 +258,100 @@ def _integrate(
 _exp_segment = etdrk4.bind(RIG, "rig")
 
 
+# A segment ETDRK4 leaves to its fallback ends the compiled driver with this status and the
+# place to resume from; the Python wrapper (_with_fallback) runs ROS34PW2 on that segment and
+# resumes. So ROS34PW2's driver is compiled only when a run first needs it, not as a callee of
+# every ETDRK4 run: 7-10 s of a cold start's compilation, and the default experiment and most
+# others never need it (issue 20).
+STATUS_FALLBACK = -1
+
+
 @_cache.njit(nogil=True)
 def _integrate_exp(
-    x0, bounds, params, tables, t_out, rtol, atol, h_max, jac_every, x_out, stats, t_stop,
+    x0, bounds, params, tables, t_out, x_out, stats, t_stop, resume,
     exp_step, relinearise, static_blocks, dynamic_blocks, err_weights, err_limit,
 ):  # fmt: skip
-    """:func:`_integrate` with ETDRK4 on every segment it can take, ROS34PW2 on the others
-    (``stats[3]`` counts those)."""
+    """:func:`_integrate` with ETDRK4, from segment ``resume[0]`` and output row ``resume[1]``
+    (``x0`` the state at that segment's start). Returns :data:`STATUS_FALLBACK` where a segment
+    needs ROS34PW2, with ``resume`` set to it (its outputs before the segment's start landed),
+    else :data:`STATUS_OK`."""
     n_out = t_out.shape[0]
     x = x0.copy()
-    k = 0
-    t_stop[0] = bounds[0, 0]
-    while k < n_out and t_out[k] <= bounds[0, 0]:
-        x_out[k, :] = x
-        k += 1
-    status = STATUS_OK
+    k = resume[1]
+    s_first = resume[0]
+    if s_first == 0:
+        t_stop[0] = bounds[0, 0]
+        while k < n_out and t_out[k] <= bounds[0, 0]:
+            _wd._store_row(x_out, k, x)
+            k += 1
     memo = np.zeros(2)  # the last stability estimate and its time (etdrk4._segment)
-    for s in range(bounds.shape[0]):
+    for s in range(s_first, bounds.shape[0]):
         t0 = bounds[s, 0]
         t1 = bounds[s, 1]
         while k < n_out and t_out[k] <= t0 + _LANDING_TOLERANCE * max(1.0, abs(t0)):
-            x_out[k, :] = x
+            _wd._store_row(x_out, k, x)
             k += 1
         k_end = k
         while k_end < n_out and t_out[k_end] <= t1:
             k_end += 1
         m = k_end - k
         ts = np.empty(m + 1)
-        ts[:m] = t_out[k:k_end]
+        for i in range(m):
+            ts[i] = t_out[k + i]
         ts[m] = t1
         xs = np.empty((m + 1, x.shape[0]))
         done = _exp_segment(
             x, t0, t1, ts, params[s], tables, exp_step, relinearise, static_blocks,
             dynamic_blocks, xs, stats, memo, err_weights, err_limit,
         )  # fmt: skip
-        if done == 0:
-            t_stop[0] = t1
-        else:
-            stats[3] += 1
-            n_steps, n_rej, n_jac, status = _rig_integrate(
-                x, t0, t1, ts, params[s], tables, rtol, atol, 0.0, h_max, jac_every, xs,
-                DEFAULT_MAX_STEPS, FT_NONE, None, t_stop, _DENSE,
-            )  # fmt: skip
-            stats[0] += n_steps
-            stats[1] += n_rej
-            stats[2] += n_jac
-            if status != STATUS_OK:
-                for j in range(k, n_out):
-                    x_out[j, :] = np.nan
-                return status
-        x_out[k:k_end, :] = xs[:m]
+        if done != 0:
+            resume[0] = s
+            resume[1] = k
+            for j in range(x.shape[0]):
+                x0[j] = x[j]
+            return STATUS_FALLBACK
+        t_stop[0] = t1
+        _wd._copy_rows(x_out, k, xs, m)
         x = xs[m].copy()
         k = k_end
-    return status
+    return STATUS_OK
+
+
+def _with_fallback(exp_driver, ros_driver, settings):
+    """The ETDRK4 driver with ROS34PW2 on the segments it leaves (``stats[3]`` counts them),
+    taking :func:`_integrate`'s arguments."""
+
+    def integrate(x0, bounds, params, tables, t_out, rt, at, h_max, jac_every, x_out, stats,
+                  t_stop):  # fmt: skip
+        x = np.array(x0, dtype=float)  # the compiled driver leaves a fallback's start state here
+        resume = np.zeros(2, dtype=np.int64)
+        n_out = t_out.shape[0]
+        while True:
+            status = exp_driver(
+                x, bounds, params, tables, t_out, x_out, stats, t_stop, resume, *settings
+            )
+            if status != STATUS_FALLBACK:
+                return status
+            s, k = int(resume[0]), int(resume[1])
+            t1 = float(bounds[s, 1])
+            k_end = k + int(np.searchsorted(t_out[k:], t1, side="right"))
+            chunk = np.empty((k_end - k + 1, x.size))
+            stats[3] += 1
+            status = ros_driver(
+                x, bounds[s : s + 1], params[s : s + 1], tables, np.append(t_out[k:k_end], t1),
+                rt, at, h_max, jac_every, chunk, stats, t_stop,
+            )  # fmt: skip
+            x_out[k:k_end] = chunk[:-1]
+            if status != STATUS_OK:
+                x_out[k_end:n_out] = np.nan
+                return status
+            x = chunk[-1].copy()
+            resume[0] = s + 1
+            resume[1] = k_end
+            if s + 1 == bounds.shape[0]:
+                return STATUS_OK
+
+    return integrate
 
 
 _DQ: dict[str, object] = {}
@@ -334,6 +375,7 @@ def _dq_drivers():
         ns = dict(globals())
         ns["_rig_integrate"] = RIG_DQ.integrate
         ns["_exp_segment"] = etdrk4.bind(RIG_DQ, "rig_dq")
+        ns["_wd"] = _wd
         single = _wd._compiled_copy(_integrate.py_func, ns, "rig_dq", True, nogil=True)
         single_exp = _wd._compiled_copy(_integrate_exp.py_func, ns, "rig_dq", True, nogil=True)
         _DQ["single"], _DQ["single_exp"] = single, single_exp
@@ -436,14 +478,11 @@ def _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error=None):
     that both methods take ROS34PW2's arguments."""
     settings = _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error)
     code = settings[0]
-    driver = _driver(_uses_dq(inputs), code)
+    dq = _uses_dq(inputs)
+    driver = _driver(dq, code)
     if code != 0:
         return driver, code
-
-    def integrate(*args):
-        return driver(*args, *settings[1:])
-
-    return integrate, code
+    return _with_fallback(driver, _driver(dq, 1), settings[1:]), code
 
 
 def integrate_experiment(
