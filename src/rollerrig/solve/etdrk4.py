@@ -383,17 +383,10 @@ def _half_stage(u, nl, h, cols, rows, cf, out):
         out[rows[q]] = acc
 
 
-def _step(t, h, x, fx, p, tables, cols, rows, cf, x_new, work):
-    """One ETDRK4 step from ``(t, x)`` with ``fx = f(t, x)``; ``x_new`` at ``t + h``."""
+def _step(t, h, x, fx, p, tables, cols, rows, cf, x_new, nu, na, nb, nc, a, b_, c_, fs):
+    """One ETDRK4 step from ``(t, x)`` with ``fx = f(t, x)``; ``x_new`` at ``t + h``; the other
+    arrays are scratch (``fs`` ends as ``f(t + h, c)``, the error estimate's)."""
     n = x.shape[0]
-    nu = work[0]
-    na = work[1]
-    nb = work[2]
-    nc = work[3]
-    a = work[4]
-    b_ = work[5]
-    c_ = work[6]
-    fs = work[7]
     _apply_nonlinear(fx, x, cols, rows, cf, nu)
     _half_stage(x, nu, h, cols, rows, cf, a)
     rhs(t + 0.5 * h, a, p, tables, fs)
@@ -433,6 +426,15 @@ def _hermite(t, h, x, f, x_new, f_new, t_at, out):
     h11 = h * s2 * (s - 1.0)
     for i in range(x.shape[0]):
         out[i] = h00 * x[i] + h01 * x_new[i] + h10 * f[i] + h11 * f_new[i]
+
+
+def _finite_pair(u, v):
+    """True when every entry of ``u`` and ``v`` is finite: their sum is (an infinity or NaN
+    propagates through it), one pass without a branch per entry."""
+    acc = 0.0
+    for i in range(u.shape[0]):
+        acc += 0.0 * u[i] + 0.0 * v[i]
+    return acc == 0.0
 
 
 def _step_error(h, f_c, f_new, weights):
@@ -503,7 +505,16 @@ def _segment(
     counts[2] += 1
     x_new = np.empty(n)
     f_new = np.empty(n)
-    work = np.empty((8, n))
+    # The stages' arrays, each its own: rows of one (8, n) array taken inside the inlined step
+    # made eight array views a step, each with its reference count taken and given back.
+    nu = np.empty(n)
+    na = np.empty(n)
+    nb = np.empty(n)
+    nc = np.empty(n)
+    sa = np.empty(n)
+    sb = np.empty(n)
+    sc = np.empty(n)
+    fs = np.empty(n)
     k = 0
     while k < n_out and t_out[k] <= t0:
         _wd._store_row(x_out, k, x)
@@ -519,18 +530,18 @@ def _segment(
                 _store_block(coef, sizes[b], first[b], cf)
             counts[2] += 1
             since = 0
-        _step(t, h, x, fx, p, tables, cols, rows, cf, x_new, work)
+        _step(t, h, x, fx, p, tables, cols, rows, cf, x_new, nu, na, nb, nc, sa, sb, sc, fs)
         rhs(t_new, x_new, p, tables, f_new)
-        if not (_wd._all_finite(x_new) and _wd._all_finite(f_new)):
+        if not _finite_pair(x_new, f_new):
             return -1
-        if err_limit > 0.0 and _step_error(h, work[7], f_new, err_weights) > err_limit:
+        if err_limit > 0.0 and _step_error(h, fs, f_new, err_weights) > err_limit:
             return -1
         while k < n_out and t_out[k] < t_new:
             _hermite(t, h, x, fx, x_new, f_new, t_out[k], x_out[k])
             k += 1
-        for j in range(n):
-            x[j] = x_new[j]
-            fx[j] = f_new[j]
+        # The new state becomes the current one by swapping the arrays, not copying them.
+        x, x_new = x_new, x
+        fx, f_new = f_new, fx
         t = t_new
         since += 1
         counts[0] += 1
@@ -579,6 +590,7 @@ def bind(driver, name: str):
         (_half_stage, "always"),
         (_step, "always"),
         (_hermite, "always"),
+        (_finite_pair, "always"),
         (_step_error, "always"),
         (_segment, "never"),
     ):

@@ -54,7 +54,7 @@ FAST_DEFAULTS = {
     "h_max": 0.9e-3,
     "jac_every": 100,
     "exp_step": 1.6e-3,
-    "relinearise": 8,
+    "relinearise": 16,
     "exp_error": 0.01,
 }
 """Default settings of the fast backend: the method (:data:`METHODS`); for ROS34PW2 (also the
@@ -72,8 +72,9 @@ of fourth order, with the stiff mounts and contact exact: at ``exp_step`` 1.6 ms
 0.084 N.m on a pulse to 1 400 N.m at 20 kN and 10 km/h, where the contact's pole reaches
 −12 000 1/s. Re-linearising the contact every 1, 4, 8 or 16 steps gives the same to 3e-3 N.m
 (0.0854, 0.0843, 0.0837, 0.0818 N.m on that pulse; 0.0274, 0.0270, 0.0272, 0.0275 on the 30 s
-test); every 8 by default, as every 4 cost a fifth of the solve (a re-linearisation, two
-right-hand sides and the block's φ-functions, about 2.4 µs in the step loop). The step
+test; every 32 steps 0.0284, never 0.50); every 16 by default: a re-linearisation (two
+right-hand sides and the block's φ-functions, about 2.4 µs in the step loop) every 8 steps cost
+7-10 % of the default solve, every 16 half that (2026-11-30). The step
 actually taken is shorter where RK4's stability on the rest needs it (1.6 ms is about that
 limit on the default rig, set by the PMSM current loops); ``python benchmarks/run.py`` prints
 these figures.
