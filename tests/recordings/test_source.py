@@ -306,3 +306,54 @@ def test_arguments_and_missing_channels(files, tmp_path):
         open_recording(f, plain)
     with pytest.raises(FileNotFoundError):
         open_recording(tmp_path / "none.tdms")
+
+
+def _csv_text(n: int) -> str:
+    lines = ["time [s],torque [N.m]"] + [f"{k / 1000:.3f},{85900 + 0.1 * k:.1f}" for k in range(n)]
+    return "\n".join(lines)
+
+
+@pytest.mark.parametrize(
+    ("ending", "kept"),
+    [
+        ("cut inside the last number", 4999),  # '...,86399.' cut from '86399.9'
+        ("cut to fewer cells", 4999),
+        ("complete, no line end", 5000),
+        ("line end", 5000),
+    ],
+)
+@pytest.mark.parametrize("encoding", ["utf-8", "utf-16"])
+def test_a_cut_last_line_is_dropped_as_read_recording_drops_it(tmp_path, ending, kept, encoding):
+    """An interrupted writer leaves a last line without a line end, possibly cut inside its
+    last number: the streamed reader drops it with a note, as the whole-file reader does,
+    instead of reading 86399.9 N.m as 86399 or failing on a missing cell; a complete last line
+    of a fixed-decimals writer is kept."""
+    text = _csv_text(5000)
+    body = {
+        "cut inside the last number": text[:-1],
+        "cut to fewer cells": text.rsplit(",", 1)[0],
+        "complete, no line end": text,
+        "line end": text + "\n",
+    }[ending]
+    path = tmp_path / "run.csv"
+    path.write_text(body, encoding=encoding)
+    whole = read_recording(path)
+    with open_recording(path) as src:
+        torque = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 1024)])
+        notes = [n for n in src.metadata["notes"] if "last line" in n]
+    assert len(whole.time) == len(torque) == kept
+    np.testing.assert_array_equal(torque, whole.channels["torque"])
+    assert bool(notes) == (kept < 5000)
+
+
+def test_the_last_line_of_a_long_file_is_judged_against_the_line_before(tmp_path):
+    """A file longer than the tail that is read (1 MiB) to find its last two lines."""
+    text = _csv_text(80_000)
+    assert len(text) > (1 << 20)
+    path = tmp_path / "long.csv"
+    path.write_text(text[:-2], encoding="utf-8")  # '...,93899.' -> '...,93899'
+    with open_recording(path) as src:
+        assert src.n_samples == 79_999
+    path.write_text(text, encoding="utf-8")
+    with open_recording(path) as src:
+        assert src.n_samples == 80_000

@@ -10,8 +10,9 @@ MDF4      ``asammdf.MDF.get(..., record_offset=a, record_count=b - a)``
 Parquet   the row groups that hold rows ``a:b`` (``ParquetFile.read_row_groups``)
 MAT       v7.3 / HDF5: ``h5py`` dataset slices; v4-v7 (no partial reads): read whole, noted
 CSV/text  the layout :func:`read_recording` sniffs, rows read in blocks (``pandas.read_csv``
-          with ``chunksize``); blank lines skipped as there, but a row cut short is an error
-          (there: dropped when it is the last line) and no ``.metadata.json`` sidecar is read
+          with ``chunksize``); blank lines skipped and a last line cut by an interrupted
+          writer dropped (noted) as there, another row cut short is an error, and no
+          ``.metadata.json`` sidecar is read
 LVM       read whole (as :func:`read_recording` does), noted
 ========  ==================================================================================
 
@@ -132,9 +133,13 @@ class _TextRows:
     """
 
     def __init__(self, layout, block: int = 1 << 16):
+        from rollerrig.recordings.formats.csv import cut_last_line
+
         self._layout = layout
         self._block = block
         self._n: int | None = None
+        # A last line cut by an interrupted writer is left out, as read_recording leaves it.
+        self.cut_note = cut_last_line(layout)
         self._reset()
 
     def _reader(self):
@@ -171,7 +176,7 @@ class _TextRows:
             n = 0
             while (frame := self._next()) is not None:
                 n += len(frame)
-            self._n = n
+            self._n = max(0, n - 1) if self.cut_note else n
             self._it = it
         return self._n
 
@@ -208,6 +213,8 @@ def _text_table(path: Path, spec) -> Table:
     table = header_table(pd.DataFrame(columns=list(layout.names)), units=units)
     table.notes = list(layout.notes)
     rows = _TextRows(layout)
+    if rows.cut_note:
+        table.notes.append(rows.cut_note)
     unit_of = {n: table.load(n).unit for n in table.names}  # the empty frame: units only
 
     def read(name: str, a: int, b: int) -> Column:

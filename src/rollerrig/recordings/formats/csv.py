@@ -225,6 +225,65 @@ def _visibly_complete(line: str, layout: TextLayout, previous: str = "") -> bool
     )
 
 
+_TAIL_BYTES = 1 << 20  # the end of a file read to find its last two lines
+
+
+def _last_two_lines(layout: TextLayout) -> tuple[str, str]:
+    """The file's last line and the data line before it ("" where there is none), reading only
+    its end (an ASCII-compatible encoding) or, for UTF-16, the whole file line by line."""
+    path = layout.path
+    wide = layout.encoding.lower().replace("_", "-").startswith("utf-16")
+    if wide:
+        from collections import deque
+
+        with path.open("r", encoding=layout.encoding, errors="replace", newline="") as fh:
+            lines = deque(enumerate(fh), maxlen=2)
+        numbered = list(lines)
+    else:
+        size = path.stat().st_size
+        with path.open("rb") as fh:
+            fh.seek(max(0, size - _TAIL_BYTES))
+            tail = fh.read().decode(layout.encoding, errors="replace")
+        parts = tail.splitlines(keepends=True)
+        if size > _TAIL_BYTES:  # the window starts inside a line: not a whole line
+            parts = parts[1:]
+            numbered = [(layout.data_line + 2, p) for p in parts[-2:]]  # both data lines
+        else:
+            numbered = list(enumerate(parts))[-2:]
+    if not numbered:
+        return "", ""
+    last = numbered[-1][1]
+    previous = numbered[0][1] if len(numbered) == 2 and numbered[0][0] >= layout.data_line else ""
+    return last, previous
+
+
+def cut_last_line(layout: TextLayout) -> str | None:
+    """Why the streamed reader drops the file's last line, or None to keep it.
+
+    The rule of :func:`read_csv_table`: a last line without a line end is dropped when it has
+    fewer cells than the header, or may have been cut inside its last number
+    (:func:`_visibly_complete`); a blank one is skipped as blank lines are.
+    """
+    if _ends_with_newline(layout.path, layout.encoding):
+        return None
+    last, previous = _last_two_lines(layout)
+    body = last.rstrip("\r\n")
+    if not body.strip() or (layout.separator != " " and not body.strip(layout.separator)):
+        return None
+    cells = len(split_cells(body, layout.separator))
+    if cells < layout.n_fields:
+        return (
+            f"the last line is cut short ({cells} of {layout.n_fields} cells, no line end): dropped"
+        )
+    if _visibly_complete(body, layout, previous.rstrip("\r\n")):
+        return None
+    return (
+        "the last line has no line end: the writer may have been interrupted inside its last "
+        f"number ({body[-40:]!r}), so it was dropped (end the file with a line break to keep "
+        "that row)"
+    )
+
+
 def _ends_with_newline(path: Path, encoding: str = "utf-8") -> bool:
     """Whether the file's last character is a line end (UTF-16: its last two bytes)."""
     wide = encoding.lower().replace("_", "-").startswith("utf-16")
