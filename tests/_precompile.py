@@ -19,7 +19,8 @@ GROUPS = ("plain", "dq")
 """The default model's drivers, and the dq roller drive's model's."""
 
 DRIVERS = ("etdrk4", "ros34pw2")
-"""In this order: the ROS34PW2 driver calls what the ETDRK4 driver compiled (its fallback).
+"""Both: ROS34PW2's driver is ETDRK4's fallback too (called from Python when a segment needs it,
+so a run of the default experiment alone would not compile it).
 :func:`rollerrig.solve.fast.integrate_batch` runs these same drivers in threads."""
 
 

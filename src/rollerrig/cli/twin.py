@@ -381,8 +381,8 @@ def _say_compile_stage(*, dq: bool = False) -> None:
 
     if not is_compiled(dq=dq):
         note(
-            "compiling the fast solver for this installation (once: about a minute on 2 cores); "
-            "later runs load it from the cache"
+            "compiling the fast solver for this installation (once: about half a minute on 2 "
+            "cores); later runs load it from the cache"
         )
 
 

@@ -455,8 +455,9 @@ def _stats(counts, status, t_stop, method="ros34pw2") -> dict:
 
 def is_compiled(dq: bool = False, method: str | None = None) -> bool:
     """True when the compiled driver is in the on-disk cache, so a run loads it (a fraction
-    of a second) instead of compiling it (about 70 s of CPU for the default driver, once per
-    install). :func:`integrate_batch` runs the same driver as :func:`integrate_experiment`.
+    of a second) instead of compiling it (about 20 s on 2 cores for the default driver, once
+    per install; ROS34PW2's, ETDRK4's fallback, compiles when a run first needs it: about 10 s
+    more). :func:`integrate_batch` runs the same driver as :func:`integrate_experiment`.
 
     Parameters
     ----------
