@@ -9,7 +9,7 @@ import functools
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from rollerrig.experiment import protocol_from_toml_string
@@ -211,6 +211,8 @@ def _arm_params():
     st.floats(-1.0, 1.0),
     st.just(0.0) | st.floats(1e-3, 1.0),  # no friction, or a rail's (at 1e-290 ε overflows)
 )
+@example(2.0, 4.580451368624709e-125, 1.0, 1.0)  # self-locking at a vanishing load: the root
+# sits at w ~ 1e-40, which halving w from 1 did not reach in the loop's 30 steps
 @settings(deadline=None)  # the first example assembles the rig
 def test_the_arm_loop_solves_its_equation_for_any_transfer(kappa, spring, creep, mu):
     """Any transfer ratio (self-locking included: κ μ F/(μN) >= 1 has a root, a very large

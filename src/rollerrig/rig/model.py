@@ -388,7 +388,7 @@ def _contact_load_and_force(air_spring, creep, friction, p):
         w3 = w * w * w
         step = (1.0 - kappa_mu * ratio - w3) / (kappa_mu * eps_base * dratio + 3.0 * w * w)
         if w + step <= 0.0:  # past w = 0 (N → ∞): the root lies in (0, w), as g(0) = 1 > 0
-            step = -0.5 * w
+            step = _arm_step_down(w, kappa_mu, eps_base, p) - w
         if 3.0 * abs(step) <= 1e-6 * w:
             # F = μ B r(ε_B w)/w³ to first order in the last step (round-off once converged).
             force = (q_mu / w3) * (ratio + (eps_base * dratio - 3.0 * ratio / w) * step)
@@ -398,6 +398,23 @@ def _contact_load_and_force(air_spring, creep, friction, p):
         ratio, dratio = _law_ratio(eps_base * w, p)
     w3 = w * w * w
     return base / w3, q_mu * ratio / w3
+
+
+def _arm_step_down(w, kappa_mu, eps_base, p):
+    """The next iterate [-] of the arm's loop (:func:`_contact_load_and_force`) where Newton's
+    step would cross w = 0: the geometric mean of ``w`` and a w below the root.
+
+    Below ``w_lo = 1/(2 |κ μ ε_B| r'(0))`` g stays positive (|r(ε)| <= r'(0) |ε| for the
+    concave creep laws, so κ μ r <= 1/2 there), so the root lies in (w_lo, w): halving the gap
+    on a log scale reaches it in a few steps even where it sits at w ~ 1e-40 (a load of
+    1e-125 N under a self-locking transfer, κ μ >= 1, where halving w took 130 steps).
+    Halving ``w`` where no such bound is known.
+    """
+    slope0 = _law_ratio(0.0, p)[1]
+    lower = 0.5 / (abs(kappa_mu * eps_base) * slope0)
+    if 0.0 < lower < w:
+        return np.sqrt(lower * w)
+    return 0.5 * w
 
 
 def _open_loop_roller_torque(rotor_speed, omega_ref, p):

@@ -45,20 +45,25 @@ _KERNELS = (
     _model._law_ratio,
     _model._gradient_scale,
     _model._force_and_slope,
+    _model._arm_step_down,
     _model._contact_load_and_force,
     _model._open_loop_roller_torque,
     _model.rig_terms,
 )
+# Compiled without reference counting (_nrt=False): the kernels allocate nothing, and with it
+# each call that passed the parameter array took and gave back a reference (atomic operations):
+# a fifth to a quarter of the right-hand side's time (perf, 2026-11-30), the arm's Newton loop
+# calling the creep law up to four times a call.
 for _fn in _KERNELS:
-    register_jitable(_fn)
+    register_jitable(_nrt=False)(_fn)
 
 # numpy's error model: a division by zero gives inf or NaN (which the drivers report as a
 # non-finite state) instead of a zero check before every division, which cost 22-37 % of the
 # right-hand side (issue 20). No division of the model divides by zero on a valid rig.
-rig_rhs = _cache.njit(_model.rig_rhs, error_model="numpy")
+rig_rhs = _cache.njit(_model.rig_rhs, error_model="numpy", _nrt=False)
 """Compiled :func:`rollerrig.rig.model.rig_rhs`."""
 
-rig_terms = _cache.njit(_model.rig_terms, error_model="numpy")
+rig_terms = _cache.njit(_model.rig_terms, error_model="numpy", _nrt=False)
 """Compiled :func:`rollerrig.rig.model.rig_terms`."""
 
 

@@ -249,7 +249,7 @@ def _jacobians(t, x, p, tables, f0, jac, ft, work, t_end, time_derivative, x_typ
     return True
 
 
-@_cache.njit
+@_cache.njit(_nrt=False)
 def _all_finite(v):
     for i in range(v.shape[0]):
         if not np.isfinite(v[i]):
@@ -260,14 +260,16 @@ def _all_finite(v):
 # Rows are copied by loops, not by slice assignment (``x_out[k, :] = x``): numba compiles a
 # slice assignment with its shape check and error message (string formatting included), about
 # 8 s of a cold start's compilation for the drivers (measured with numba's compile events).
-@_cache.njit
+# These helpers allocate nothing: compiled without reference counting (_nrt=False), a call
+# takes and gives back no reference (two atomic operations per array otherwise).
+@_cache.njit(_nrt=False)
 def _store_row(x_out, k, x):
     """``x_out[k, :] = x``."""
     for j in range(x.shape[0]):
         x_out[k, j] = x[j]
 
 
-@_cache.njit
+@_cache.njit(_nrt=False)
 def _copy_rows(dst, k, src, m):
     """``dst[k:k + m, :] = src[:m, :]``."""
     for i in range(m):
@@ -275,7 +277,7 @@ def _copy_rows(dst, k, src, m):
             dst[k + i, j] = src[i, j]
 
 
-@_cache.njit
+@_cache.njit(_nrt=False)
 def _fill_nan_from(x_out, k):
     for i in range(k, x_out.shape[0]):
         for j in range(x_out.shape[1]):
