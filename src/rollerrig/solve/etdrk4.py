@@ -453,22 +453,10 @@ def _step_error(h, f_c, f_new, weights):
     return abs(acc) * h / 6.0
 
 
-def _segment(
-    x0, t0, t1, t_out, p, tables, h_max, relinearise, static_blocks, dynamic_blocks, x_out,
-    counts, memo, err_weights, err_limit,
-):  # fmt: skip
-    """ETDRK4 over one smooth segment ``[t0, t1]``; ``x_out[k]`` at ``t_out[k]`` (in
-    ``[t0, t1]``, increasing), the last row ``t_out[-1] == t1`` being the end state.
-
-    Returns a status: 0 done; -1 the segment needs the fallback (the stable step is below
-    ``0.2 h_max``, the state became non-finite, or a step's error estimate exceeded
-    ``err_limit``: :func:`_step_error`). ``counts`` gets the steps (0) and the
-    linearisations (2) added. ``memo`` (two floats, zeros at the start of a run) holds the last
-    stable step and when it was estimated; a segment starting within
-    :data:`STABILITY_RECHECK` of it reuses it.
-    """
-    n = x0.shape[0]
-    n_out = t_out.shape[0]
+def workspace(n, static_blocks, dynamic_blocks):
+    """The arrays :func:`_segment` works in, for a state of ``n`` entries and these blocks,
+    allocated once per run (a replayed recording makes thousands of segments):
+    ``(blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec)``, ``vec`` (14, n)."""
     ns = static_blocks.shape[0]
     nd = dynamic_blocks.shape[0]
     blocks = np.empty((ns + nd, MAX_BLOCK), dtype=np.int64)
@@ -476,12 +464,35 @@ def _segment(
         for c in range(MAX_BLOCK):
             blocks[b, c] = static_blocks[b, c] if b < ns else dynamic_blocks[b - ns, c]
     sizes = _block_sizes(blocks)
-    x = x0.copy()
-    fx = np.empty(n)
+    cols, rows, first = _block_rows(blocks, sizes)
+    cf = np.empty((_N_COEF, rows.shape[0], MAX_BLOCK))
+    coef = np.zeros((_N_COEF, MAX_BLOCK, MAX_BLOCK))
+    lin = np.zeros((MAX_BLOCK, MAX_BLOCK))
+    scratch = np.empty((7, MAX_BLOCK, MAX_BLOCK))
+    vec = np.empty((14, n))
+    return blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec
+
+
+def _prepare(x0, t0, t1, p, tables, h_max, ns, ws, memo):
+    """The number of steps of the segment ``[t0, t1]`` from ``x0``, or -1 where it needs the
+    fallback (the stable step is below ``0.2 h_max``, or the state or its derivative is not
+    finite); the state and its derivative left in the workspace ``ws`` (:func:`workspace`)
+    for :func:`_segment`. ``memo`` (two floats, zeros at the start of a run) holds the last
+    stable step and when it was estimated; a segment starting within
+    :data:`STABILITY_RECHECK` of it reuses it.
+
+    Apart from :func:`_segment` because the stability estimate allocates (its eigenvalues),
+    which a function compiled without reference counting cannot.
+    """
+    blocks, sizes = ws[0], ws[1]
+    vec = ws[9]
+    x = vec[0]
+    fx = vec[1]
+    for j in range(x0.shape[0]):
+        x[j] = x0[j]
     rhs(t0, x, p, tables, fx)
-    if not (_wd._all_finite(x) and _wd._all_finite(fx)):
+    if not _finite_pair(x, fx):
         return -1
-    length = t1 - t0
     if memo[0] > 0.0 and t0 - memo[1] < STABILITY_RECHECK:
         h_stable = memo[0]
     else:
@@ -490,56 +501,54 @@ def _segment(
         memo[1] = t0
     if h_stable < _MIN_STEP_RATIO * h_max:
         return -1
-    m = max(1, int(np.ceil(length / h_stable * (1.0 - 1e-12))))
-    h = length / m
-    cols, rows, first = _block_rows(blocks, sizes)
-    cf = np.empty((_N_COEF, rows.shape[0], MAX_BLOCK))
-    coef = np.zeros((_N_COEF, MAX_BLOCK, MAX_BLOCK))
-    lin = np.zeros((MAX_BLOCK, MAX_BLOCK))
-    scratch = np.empty((7, MAX_BLOCK, MAX_BLOCK))
-    xp = np.empty(n)
-    fp = np.empty(n)
+    return max(1, int(np.ceil((t1 - t0) / h_stable * (1.0 - 1e-12))))
+
+
+def _segment(
+    t0, t1, m, t_out, p, tables, relinearise, ns, ws, x_out, counts, err_weights, err_limit,
+):  # fmt: skip
+    """ETDRK4 over one smooth segment ``[t0, t1]`` in ``m`` steps (:func:`_prepare`, which
+    left the start state in ``ws``); ``x_out[k]`` at ``t_out[k]`` (in ``[t0, t1]``,
+    increasing), the last row ``t_out[-1] == t1`` being the end state; ``ns`` static blocks,
+    then the dynamic ones, in the workspace ``ws`` (:func:`workspace`).
+
+    Returns a status: 0 done; -1 the segment needs the fallback (the state became non-finite,
+    or a step's error estimate exceeded ``err_limit``: :func:`_step_error`). ``counts`` gets
+    the steps (0) and the linearisations (2) added.
+
+    Compiled without reference counting (``_nrt=False``; it allocates nothing): with it, the
+    arrays handed to the inlined helpers and the rows of the workspace took and gave back
+    references in every step, atomic operations that were 12 % of the solve's samples (perf,
+    2026-11-30).
+    """
+    blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec = ws
+    n = vec.shape[1]
+    n_out = t_out.shape[0]
+    nd = blocks.shape[0] - ns
+    x = vec[0]
+    fx = vec[1]
+    xp = vec[2]
+    fp = vec[3]
+    x_new = vec[4]
+    f_new = vec[5]
+    nu = vec[6]
+    na = vec[7]
+    nb = vec[8]
+    nc = vec[9]
+    sa = vec[10]
+    sb = vec[11]
+    sc = vec[12]
+    fs = vec[13]
+    h = (t1 - t0) / m
     for b in range(ns + nd):
         _block_jacobian(t0, x, fx, p, tables, blocks[b], sizes[b], lin, xp, fp)
         _block_coefficients(lin, sizes[b], h, coef, scratch)
         _store_block(coef, sizes[b], first[b], cf)
     counts[2] += 1
-    x_new = np.empty(n)
-    f_new = np.empty(n)
-    work = np.empty((8, n))
     k = 0
     while k < n_out and t_out[k] <= t0:
         _wd._store_row(x_out, k, x)
         k += 1
-    return _steps(
-        t0, t1, m, h, x, fx, p, tables, blocks, sizes, first, ns, nd, relinearise, lin, xp, fp,
-        coef, scratch, cf, cols, rows, x_new, f_new, work, t_out, x_out, k, counts,
-        err_weights, err_limit,
-    )  # fmt: skip
-
-
-def _steps(
-    t0, t1, m, h, x, fx, p, tables, blocks, sizes, first, ns, nd, relinearise, lin, xp, fp,
-    coef, scratch, cf, cols, rows, x_new, f_new, work, t_out, x_out, k, counts, err_weights,
-    err_limit,
-):  # fmt: skip
-    """The ``m`` steps of length ``h`` of :func:`_segment` from ``(t0, x)``, ``fx = f(t0, x)``,
-    with outputs from row ``k``; 0 done, -1 for the fallback.
-
-    Compiled without reference counting (``_nrt=False``; it allocates nothing): with it, the
-    arrays handed to the inlined helpers and the rows of ``work`` took and gave back references
-    in every step, atomic operations that were 12 % of the solve's samples (perf, 2026-11-30).
-    """
-    n = x.shape[0]
-    n_out = t_out.shape[0]
-    nu = work[0]
-    na = work[1]
-    nb = work[2]
-    nc = work[3]
-    sa = work[4]
-    sb = work[5]
-    sc = work[6]
-    fs = work[7]
     since = 0
     t = t0
     for i in range(m):
@@ -588,10 +597,12 @@ def bind(driver, name: str):
 
     Returns
     -------
-    numba dispatcher
-        ``segment(x0, t0, t1, t_out, p, tables, h_max, relinearise, static_blocks,
-        dynamic_blocks, x_out, counts, memo, err_weights, err_limit) -> status`` (see the
-        template ``_segment``).
+    (numba dispatcher, numba dispatcher, numba dispatcher)
+        ``workspace(n, static_blocks, dynamic_blocks) -> ws`` (once per run),
+        ``prepare(x0, t0, t1, p, tables, h_max, n_static, ws, memo) -> steps`` and
+        ``segment(t0, t1, steps, t_out, p, tables, relinearise, n_static, ws, x_out, counts,
+        err_weights, err_limit) -> status`` (see the templates :func:`workspace`,
+        :func:`_prepare` and ``_segment``).
     """
     if name in _NAMED:
         return _NAMED[name]
@@ -613,12 +624,13 @@ def bind(driver, name: str):
         (_hermite, "always"),
         (_finite_pair, "always"),
         (_step_error, "always"),
-        (_steps, "never"),
+        (workspace, "never"),
+        (_prepare, "never"),
         (_segment, "never"),
     ):
-        options = {"_nrt": False} if template is _steps else {}
+        options = {"_nrt": False} if template is _segment else {}
         ns[template.__name__] = _wd._compiled_copy(
             template, ns, f"etdrk4_{name}", True, error_model="numpy", inline=inline, **options
         )
-    _NAMED[name] = ns["_segment"]
-    return ns["_segment"]
+    _NAMED[name] = (ns["workspace"], ns["_prepare"], ns["_segment"])
+    return _NAMED[name]

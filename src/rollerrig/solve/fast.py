@@ -256,7 +256,7 @@ def _integrate(
     return status
 
 
-_exp_segment = etdrk4.bind(RIG, "rig")
+_exp_workspace, _exp_prepare, _exp_segment = etdrk4.bind(RIG, "rig")
 
 
 # A segment ETDRK4 leaves to its fallback ends the compiled driver with this status and the
@@ -286,6 +286,8 @@ def _integrate_exp(
             _wd._store_row(x_out, k, x)
             k += 1
     memo = np.zeros(2)  # the last stability estimate and its time (etdrk4._segment)
+    ws = _exp_workspace(x.shape[0], static_blocks, dynamic_blocks)
+    n_static = static_blocks.shape[0]
     for s in range(s_first, bounds.shape[0]):
         t0 = bounds[s, 0]
         t1 = bounds[s, 1]
@@ -301,10 +303,13 @@ def _integrate_exp(
             ts[i] = t_out[k + i]
         ts[m] = t1
         xs = np.empty((m + 1, x.shape[0]))
-        done = _exp_segment(
-            x, t0, t1, ts, params[s], tables, exp_step, relinearise, static_blocks,
-            dynamic_blocks, xs, stats, memo, err_weights, err_limit,
-        )  # fmt: skip
+        steps = _exp_prepare(x, t0, t1, params[s], tables, exp_step, n_static, ws, memo)
+        done = -1
+        if steps > 0:
+            done = _exp_segment(
+                t0, t1, steps, ts, params[s], tables, relinearise, n_static, ws, xs, stats,
+                err_weights, err_limit,
+            )  # fmt: skip
         if done != 0:
             resume[0] = s
             resume[1] = k
@@ -375,7 +380,7 @@ def _dq_drivers():
 
         ns = dict(globals())
         ns["_rig_integrate"] = RIG_DQ.integrate
-        ns["_exp_segment"] = etdrk4.bind(RIG_DQ, "rig_dq")
+        ns["_exp_workspace"], ns["_exp_prepare"], ns["_exp_segment"] = etdrk4.bind(RIG_DQ, "rig_dq")
         ns["_wd"] = _wd
         single = _wd._compiled_copy(_integrate.py_func, ns, "rig_dq", True, nogil=True)
         single_exp = _wd._compiled_copy(_integrate_exp.py_func, ns, "rig_dq", True, nogil=True)
