@@ -53,3 +53,27 @@ def test_an_interrupted_batch_starts_no_further_variant(monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         integrate_batch([inputs] * 50, np.array([0.0, 0.01]))
     assert len(calls) < 10
+
+
+def test_the_etdrk4_driver_leaves_ros34pw2_uncompiled_until_a_segment_needs_it():
+    """The ETDRK4 driver hands a segment that needs the fallback back to Python (which runs
+    ROS34PW2's driver on it and resumes) instead of calling ROS34PW2 from compiled code, so a
+    run that needs no fallback (the default experiment) compiles only ETDRK4's driver: 7-10 s
+    less of a first run's compilation, measured with numba's compile events (issue 20). That the
+    fallback still runs and resumes: test_etdrk4's macro-slip and stiff-shaft cases."""
+    names = fast._integrate_exp.py_func.__code__.co_names
+    assert "_exp_segment" in names
+    assert "_rig_integrate" not in names
+
+
+def test_the_step_loop_and_the_model_are_compiled_without_reference_counting():
+    """Reference counts taken and given back (atomic operations) in every step and every call
+    of the creep law were 12-30 % of the solve's samples (perf, 2026-11-30): the segment's step
+    loop and the model's right-hand side are compiled with ``_nrt=False``."""
+    from rollerrig.solve import etdrk4
+    from rollerrig.solve._compiled import rig_rhs
+
+    _, prepare, segment = etdrk4.bind(fast.RIG, "rig")
+    assert segment.targetoptions.get("_nrt") is False
+    assert rig_rhs.targetoptions.get("_nrt") is False
+    assert prepare.targetoptions.get("_nrt", True) is not False  # it allocates (eigenvalues)
