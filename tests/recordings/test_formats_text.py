@@ -761,3 +761,25 @@ def test_channel_map_provenance_carries_the_file_section(tmp_path):
     md = rec.metadata["channel_map"]
     assert md["file"] == {"separator": ",", "units_row": 1, "encoding": "utf-8"}
     assert md["time"]["resample_Hz"] == 5000.0
+
+
+@pytest.mark.parametrize(
+    ("encoding", "unit"),
+    [("utf-8", 1), ("latin-1", 1), ("UTF16", 2), ("utf_16_le", 2), ("utf-32-be", 4), ("x?", 1)],
+)
+def test_the_code_unit_of_an_encoding_in_any_spelling(encoding, unit):
+    """A channel map may name the encoding in any spelling Python knows: a line end is then
+    looked for in the file's last code unit of that width (an unknown name: one byte)."""
+    from rollerrig.recordings.formats.csv import _code_unit
+
+    assert _code_unit(encoding) == unit
+
+
+@pytest.mark.parametrize("encoding", ["utf-16-le", "utf-16-be", "utf-32-le", "utf-32-be"])
+@pytest.mark.parametrize(("ending", "expected"), [("\n", True), ("\r", True), ("9", False)])
+def test_a_line_end_is_found_in_either_byte_order(tmp_path, encoding, ending, expected):
+    from rollerrig.recordings.formats.csv import _ends_with_newline
+
+    path = tmp_path / "f.csv"
+    path.write_bytes(("t,x\n0,1" + ending).encode(encoding))
+    assert _ends_with_newline(path, encoding) is expected

@@ -316,19 +316,24 @@ def _csv_text(n: int) -> str:
 @pytest.mark.parametrize(
     ("ending", "kept"),
     [
-        ("cut inside the last number", 4999),  # '...,86399.' cut from '86399.9'
+        ("cut inside the last number", 4999),  # '...,86399.' cut from '86399.9' (5000 rows)
         ("cut to fewer cells", 4999),
         ("complete, no line end", 5000),
         ("line end", 5000),
     ],
 )
 @pytest.mark.parametrize("encoding", ["utf-8", "utf-16"])
-def test_a_cut_last_line_is_dropped_as_read_recording_drops_it(tmp_path, ending, kept, encoding):
+@pytest.mark.parametrize("rows", [100, 5000])  # within and beyond the first samples probed
+def test_a_cut_last_line_is_dropped_as_read_recording_drops_it(
+    tmp_path, ending, kept, encoding, rows
+):
     """An interrupted writer leaves a last line without a line end, possibly cut inside its
     last number: the streamed reader drops it with a note, as the whole-file reader does,
     instead of reading 86399.9 N.m as 86399 or failing on a missing cell; a complete last line
-    of a fixed-decimals writer is kept."""
-    text = _csv_text(5000)
+    of a fixed-decimals writer is kept. Short files too (the first 4096 samples are read to
+    resolve the channel map: the cut row must not be among them)."""
+    kept = kept - 5000 + rows
+    text = _csv_text(rows)
     body = {
         "cut inside the last number": text[:-1],
         "cut to fewer cells": text.rsplit(",", 1)[0],
@@ -343,7 +348,7 @@ def test_a_cut_last_line_is_dropped_as_read_recording_drops_it(tmp_path, ending,
         notes = [n for n in src.metadata["notes"] if "last line" in n]
     assert len(whole.time) == len(torque) == kept
     np.testing.assert_array_equal(torque, whole.channels["torque"])
-    assert bool(notes) == (kept < 5000)
+    assert bool(notes) == (kept < rows)
 
 
 def test_the_last_line_of_a_long_file_is_judged_against_the_line_before(tmp_path):

@@ -153,15 +153,28 @@ class _TextRows:
             raise RecordingError(f"{self._layout.path}: not a readable CSV file: {exc}") from None
 
     def _reset(self) -> None:
-        self._it = iter(self._reader())
+        self._it = self._frames()
         self._buf = None  # DataFrame of rows [self._start, self._start + len)
         self._start = 0
 
-    def _next(self):
+    def _frames(self):
+        """The file's blocks from its start, blank lines dropped, and a cut last line
+        (``cut_note``) dropped from the last block: one block is read ahead to know which is
+        the last."""
+        reader = iter(self._reader())
+        frame = self._read_block(reader)
+        while frame is not None:
+            ahead = self._read_block(reader)
+            if ahead is None and self.cut_note:
+                frame = frame.iloc[:-1]
+            yield frame
+            frame = ahead
+
+    def _read_block(self, reader):
         pd = require_module("pandas", "CSV files")
 
         try:
-            frame = next(self._it)
+            frame = next(reader)
         except StopIteration:
             return None
         except (pd.errors.ParserError, ValueError, UnicodeDecodeError) as exc:
@@ -170,14 +183,12 @@ class _TextRows:
             frame = frame.drop(columns="__trailing__")
         return frame[~frame.isna().all(axis=1)]  # blank lines
 
+    def _next(self):
+        return next(self._it, None)
+
     def __len__(self) -> int:
         if self._n is None:
-            it, self._it = self._it, iter(self._reader())
-            n = 0
-            while (frame := self._next()) is not None:
-                n += len(frame)
-            self._n = max(0, n - 1) if self.cut_note else n
-            self._it = it
+            self._n = sum(len(frame) for frame in self._frames())
         return self._n
 
     def rows(self, a: int, b: int):

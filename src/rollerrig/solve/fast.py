@@ -5,7 +5,9 @@ stator mounts and the contact exact, classical RK4 on the rest, a fixed step per
 segment set by the explicit part's stability, the adaptive ROS34PW2 W-method
 (:mod:`rollerrig.solve.ros34pw`) as the fallback of a segment it cannot take (near standstill);
 ``method="ros34pw2"`` runs ROS34PW2 throughout. One compiled call runs a whole experiment
-(every protocol segment, with its own friction parameters); :func:`integrate_batch` runs many
+(every protocol segment, with its own friction parameters), except that a segment ETDRK4
+leaves to its fallback returns to Python, which runs ROS34PW2's driver on it and resumes (so
+ROS34PW2 compiles only when a run first needs it); :func:`integrate_batch` runs many
 variants of it in parallel threads (the same compiled driver, which releases the GIL), for
 sweeps. The drivers are compiled once and then loaded from the on-disk cache
 (:mod:`rollerrig.solve._cache`; :func:`is_compiled` says whether a run will compile). A
@@ -269,7 +271,7 @@ STATUS_FALLBACK = -1
 
 @_cache.njit(nogil=True)
 def _integrate_exp(
-    x0, bounds, params, tables, t_out, x_out, stats, t_stop, resume,
+    x0, bounds, params, tables, t_out, x_out, stats, t_stop, resume, memo,
     exp_step, relinearise, static_blocks, dynamic_blocks, err_weights, err_limit,
 ):  # fmt: skip
     """:func:`_integrate` with ETDRK4, from segment ``resume[0]`` and output row ``resume[1]``
@@ -285,7 +287,6 @@ def _integrate_exp(
         while k < n_out and t_out[k] <= bounds[0, 0]:
             _wd._store_row(x_out, k, x)
             k += 1
-    memo = np.zeros(2)  # the last stability estimate and its time (etdrk4._segment)
     ws = _exp_workspace(x.shape[0], static_blocks, dynamic_blocks)
     n_static = static_blocks.shape[0]
     for s in range(s_first, bounds.shape[0]):
@@ -325,7 +326,15 @@ def _integrate_exp(
 
 def _with_fallback(exp_driver, ros_driver, settings):
     """The ETDRK4 driver with ROS34PW2 on the segments it leaves (``stats[3]`` counts them),
-    taking :func:`_integrate`'s arguments."""
+    taking :func:`_integrate`'s arguments.
+
+    The last stability estimate (``memo``, :func:`rollerrig.solve.etdrk4._prepare`) is kept
+    across the calls of one bound driver: across a fallback's resume, and across the
+    per-segment calls of :func:`integrate_experiment`'s progress path, which so takes the same
+    steps as one call (a segment within ``STABILITY_RECHECK`` of the last estimate reuses it).
+    One bound driver serves one run (:func:`_bound_driver`).
+    """
+    memo = np.zeros(2)
 
     def integrate(x0, bounds, params, tables, t_out, rt, at, h_max, jac_every, x_out, stats,
                   t_stop):  # fmt: skip
@@ -334,7 +343,7 @@ def _with_fallback(exp_driver, ros_driver, settings):
         n_out = t_out.shape[0]
         while True:
             status = exp_driver(
-                x, bounds, params, tables, t_out, x_out, stats, t_stop, resume, *settings
+                x, bounds, params, tables, t_out, x_out, stats, t_stop, resume, memo, *settings
             )
             if status != STATUS_FALLBACK:
                 return status
@@ -371,9 +380,9 @@ def _uses_dq(inputs) -> bool:
 def _dq_drivers():
     """``(_integrate, _integrate_exp)`` bound to the dq model (:data:`_compiled_dq.RIG_DQ`).
 
-    Copies of the two drivers above whose globals ``_rig_integrate`` and ``_exp_segment`` are
-    the dq model's, built (and compiled, or loaded from the cache) only when the dq drive is
-    first used.
+    Copies of the two drivers above whose globals ``_rig_integrate``, ``_exp_workspace``,
+    ``_exp_prepare`` and ``_exp_segment`` are the dq model's, built (and compiled, or loaded
+    from the cache) only when the dq drive is first used.
     """
     if not _DQ:
         from rollerrig.solve._compiled_dq import RIG_DQ
@@ -616,9 +625,10 @@ def integrate_batch(
     """Integrate several variants of one experiment in parallel threads.
 
     Each variant is one call of the compiled driver of :func:`integrate_experiment` (which
-    releases the GIL), taken by the next free thread of ``numba.get_num_threads()`` (variants
-    differ in cost: a stiffer shaft or no lag takes more steps, so fixed shares would leave a
-    thread idle). No second, parallel driver is compiled.
+    releases the GIL; a segment left to ETDRK4's fallback returns to Python for it), taken by
+    the next free thread of ``numba.get_num_threads()`` (variants differ in cost: a stiffer
+    shaft or no lag takes more steps, so fixed shares would leave a thread idle). No second,
+    parallel driver is compiled.
 
     All variants must share the protocol (segments and tables); they differ in parameters and
     initial state, e.g. a sweep of roller-shaft stiffness and motor lag. A variant that fails

@@ -18,6 +18,8 @@ in :mod:`rollerrig.recordings.translate` (numbers, and timestamps with one forma
 
 from __future__ import annotations
 
+import codecs
+import io
 import json
 import re
 import warnings
@@ -232,8 +234,7 @@ def _last_two_lines(layout: TextLayout) -> tuple[str, str]:
     """The file's last line and the data line before it ("" where there is none), reading only
     its end (an ASCII-compatible encoding) or, for UTF-16, the whole file line by line."""
     path = layout.path
-    wide = layout.encoding.lower().replace("_", "-").startswith("utf-16")
-    if wide:
+    if _code_unit(layout.encoding) > 1:
         from collections import deque
 
         with path.open("r", encoding=layout.encoding, errors="replace", newline="") as fh:
@@ -244,7 +245,9 @@ def _last_two_lines(layout: TextLayout) -> tuple[str, str]:
         with path.open("rb") as fh:
             fh.seek(max(0, size - _TAIL_BYTES))
             tail = fh.read().decode(layout.encoding, errors="replace")
-        parts = tail.splitlines(keepends=True)
+        # Lines as the file reader splits them (\n, \r, \r\n only; str.splitlines would also
+        # split at form feeds and U+0085, shifting the count).
+        parts = list(io.StringIO(tail, newline=""))
         if size > _TAIL_BYTES:  # the window starts inside a line: not a whole line
             parts = parts[1:]
             numbered = [(layout.data_line + 2, p) for p in parts[-2:]]  # both data lines
@@ -284,15 +287,25 @@ def cut_last_line(layout: TextLayout) -> str | None:
     )
 
 
+def _code_unit(encoding: str) -> int:
+    """Bytes of one code unit of ``encoding`` (any spelling Python's codecs know): 2 for UTF-16,
+    4 for UTF-32, else 1 (the encodings where a line end is one byte)."""
+    try:
+        name = codecs.lookup(encoding).name
+    except LookupError:
+        return 1
+    return 2 if name.startswith("utf-16") else 4 if name.startswith("utf-32") else 1
+
+
 def _ends_with_newline(path: Path, encoding: str = "utf-8") -> bool:
-    """Whether the file's last character is a line end (UTF-16: its last two bytes)."""
-    wide = encoding.lower().replace("_", "-").startswith("utf-16")
+    """Whether the file's last character is a line end (UTF-16 and UTF-32: its last code unit,
+    either byte order)."""
+    unit = _code_unit(encoding)
     with path.open("rb") as fh:
         fh.seek(0, 2)
-        if fh.tell() < (2 if wide else 1):
+        if fh.tell() < unit:
             return False
-        fh.seek(-2 if wide else -1, 2)
+        fh.seek(-unit, 2)
         tail = fh.read()
-    if wide:
-        return tail in (b"\n\x00", b"\r\x00", b"\x00\n", b"\x00\r")
-    return tail in (b"\n", b"\r")
+    pad = b"\x00" * (unit - 1)
+    return any(tail in (c + pad, pad + c) for c in (b"\n", b"\r"))
