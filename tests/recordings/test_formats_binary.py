@@ -401,6 +401,25 @@ def test_tdms_empty_canonical_channel_is_an_error(tmp_path):
         read_recording(f)
 
 
+def test_tdms_empty_canonical_channel_the_caller_does_not_need_is_a_note(tmp_path):
+    """A command that needs only the torque (``rollerrig filters``, ``spectrum``) reads a file
+    whose canonical torque_request channel was created but never written: the empty channel
+    is noted, not an error (it stopped those commands); a caller needing it still gets the
+    error."""
+    f = tmp_path / "empty_request.tdms"
+    x = np.arange(50.0)
+    _plain_tdms(f, {"torque": (x, "N.m"), "torque_request": ([], "N.m")})
+    rec = read_recording(f, channels=["torque"])
+    np.testing.assert_array_equal(rec["torque"], x)
+    assert "torque_request" not in rec.channels
+    assert any(
+        "'g/torque_request' (not needed here) not read" in n and "holds no samples" in n
+        for n in rec.metadata["notes"]
+    )
+    with pytest.raises(RecordingError, match=r"'g/torque_request' holds no samples"):
+        read_recording(f, channels=["torque", "torque_request"])
+
+
 # --------------------------------------------------------------------------- MDF4
 
 

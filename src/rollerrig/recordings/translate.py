@@ -336,6 +336,8 @@ def apply_map(
         skip = None
         if cmap.auto:
             name = spec.column
+            if needed is not None and spec.name not in needed:
+                skip = "not needed here"
         else:
             skip = (
                 "optional"
@@ -347,16 +349,14 @@ def apply_map(
             name = resolve_column(table, spec.column, spec.entry, cmap, path, skip=skip)
             if name is None:
                 continue
-            if skip is not None:  # present but unreadable (e.g. an MDF group without samples)
-                try:
-                    col = table.load(name)
-                except RecordingError as exc:
-                    notes.append(
-                        f"channel map entry {spec.entry} ({skip}) not read: "
-                        + str(exc).removeprefix(where).strip()
-                    )
-                    continue
-        if skip is None:
+        if skip is not None:  # present but unreadable (an MDF group, a TDMS channel, without
+            try:  # samples): a note, since the caller does not need it
+                col = table.load(name)
+            except RecordingError as exc:
+                entry = f"channel map entry {spec.entry}" if not cmap.auto else f"column {name!r}"
+                notes.append(f"{entry} ({skip}) not read: " + str(exc).removeprefix(where).strip())
+                continue
+        else:
             col = table.load(name)
         what = f"{where} column {name!r} (channel map entry {spec.entry}, map {cmap.source})"
         if cmap.auto and not spec.canonical:
