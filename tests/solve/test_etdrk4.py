@@ -183,13 +183,10 @@ def test_the_error_guard_sends_macro_slip_at_low_speed_to_ros34pw2(macro_slip_at
     assert np.max(np.abs(_t56(inputs, unguarded) - _t56(inputs, ref))) > 1.0
 
 
-def test_a_fallback_resumes_where_it_left_and_matches_ros34pw2_to_the_bit():
-    """A shaft 10 000 times stiffer sends every segment to ROS34PW2 (the stable step is below
-    0.2 of the largest): ETDRK4's driver hands each segment back to Python, which runs
-    ROS34PW2's driver on it and resumes at the next. The states at every output row and the
-    step counts are then exactly those of ``method="ros34pw2"`` (the same driver on the same
-    segments), so no output row is skipped, doubled or shifted at a resume."""
-    rig = default_rig().with_overrides({"stiffness.roller_shaft": 8.35e8})
+def _pulse_on_a_shaft(stiffness):
+    """A 300 N.m pulse at 30 km/h and 4.3 kN on a roller shaft of ``stiffness`` [N.m/rad]:
+    the inputs and the 250 Hz output times."""
+    rig = default_rig().with_overrides({"stiffness.roller_shaft": stiffness})
     pulse = Protocol.from_steps(
         "pulse",
         [Hold(0.2), RampTorque(300.0, 0.3), ReleaseTorque(), Hold(0.5)],
@@ -198,6 +195,16 @@ def test_a_fallback_resumes_where_it_left_and_matches_ros34pw2_to_the_bit():
     )
     inputs = assemble(rig, pulse)
     t = output_times(inputs.protocol.duration, 250.0)
+    return inputs, t
+
+
+def test_a_fallback_resumes_where_it_left_and_matches_ros34pw2_to_the_bit():
+    """A shaft 10 000 times stiffer sends every segment to ROS34PW2 (the stable step is below
+    0.2 of the largest): ETDRK4's driver hands each segment back to Python, which runs
+    ROS34PW2's driver on it and resumes at the next. The states at every output row and the
+    step counts are then exactly those of ``method="ros34pw2"`` (the same driver on the same
+    segments), so no output row is skipped, doubled or shifted at a resume."""
+    inputs, t = _pulse_on_a_shaft(8.35e8)
     x_exp, s_exp = integrate_experiment(inputs, t, exp_error=0.0)
     x_ros, s_ros = integrate_experiment(inputs, t, method="ros34pw2")
     assert s_exp["fallback_segments"] == len(inputs.segments) > 1
@@ -230,15 +237,7 @@ def test_a_stiffer_explicit_part_shortens_the_step_or_goes_to_the_fallback(stiff
     step-error guard is off for this (``exp_error=0``): on the 1 000 times stiffer shaft a
     twist error is 1 000 times more torque, and with the guard the segments past the release
     go to ROS34PW2 too (checked below)."""
-    rig = default_rig().with_overrides({"stiffness.roller_shaft": stiffness})
-    pulse = Protocol.from_steps(
-        "pulse",
-        [Hold(0.2), RampTorque(300.0, 0.3), ReleaseTorque(), Hold(0.5)],
-        normal_load=4300.0,
-        roller_speed=30 / 3.6,
-    )
-    inputs = assemble(rig, pulse)
-    t = output_times(inputs.protocol.duration, 250.0)
+    inputs, t = _pulse_on_a_shaft(stiffness)
     x, stats = integrate_experiment(inputs, t, exp_error=0.0)
     assert stats["status"] == 0
     if fallback:
