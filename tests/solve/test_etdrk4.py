@@ -19,7 +19,7 @@ from rollerrig.rig.assemble import assemble
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import default_rig
 from rollerrig.solve.etdrk4 import phi_functions, rk4_stable_step
-from rollerrig.solve.fast import integrate_experiment
+from rollerrig.solve.fast import integrate_batch, integrate_experiment
 from rollerrig.solve.reference import integrate_reference
 from rollerrig.solve.simulation import Simulation, output_times
 
@@ -181,6 +181,20 @@ def test_the_error_guard_sends_macro_slip_at_low_speed_to_ros34pw2(macro_slip_at
     unguarded, stats = integrate_experiment(inputs, t, exp_error=0.0)
     assert stats["fallback_segments"] == 0
     assert np.max(np.abs(_t56(inputs, unguarded) - _t56(inputs, ref))) > 1.0
+
+
+def test_a_batch_through_fallbacks_equals_the_single_runs(macro_slip_at_5_kmh):
+    """integrate_batch runs each variant's driver in a thread; a segment left to the fallback
+    returns to Python there (ROS34PW2's driver, then ETDRK4's resumes): each variant equals
+    its single run to the bit, counts included."""
+    inputs, t, _ = macro_slip_at_5_kmh
+    variants = [inputs, inputs, inputs]
+    x, stats = integrate_batch(variants, t)
+    single, single_stats = integrate_experiment(inputs, t)
+    assert single_stats["fallback_segments"] >= 1
+    for xb, sb in zip(x, stats, strict=True):
+        np.testing.assert_array_equal(xb, single)
+        assert sb == single_stats
 
 
 def _pulse_on_a_shaft(stiffness):
