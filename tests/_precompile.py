@@ -52,7 +52,7 @@ def compile_group(group: str) -> None:
     for driver in DRIVERS:
         x, _ = integrate_experiment(inputs, t, method=driver)
     if group == "plain":
-        # The truth channels' series (rig_terms_series, rig_rates_series, about 12 s to
+        # The truth channels' series (rig_terms_series, rig_rates_series, a few s to
         # compile), which every Simulation.run calls, for either model: compiled once here,
         # not in each worker.
         from rollerrig.solve.results import evaluate_terms

@@ -63,15 +63,17 @@ for _fn in _KERNELS:
 rig_rhs = _cache.njit(_model.rig_rhs, error_model="numpy", _nrt=False)
 """Compiled :func:`rollerrig.rig.model.rig_rhs`."""
 
-rig_terms = _cache.njit(_model.rig_terms, error_model="numpy", _nrt=False)
-"""Compiled :func:`rollerrig.rig.model.rig_terms`."""
 
-
-@_cache.njit
+@_cache.njit(error_model="numpy")  # as rig_rhs, whose compiled kernels it then shares
 def rig_terms_series(t, x, p, tables, out):
-    """Evaluate :func:`rig_terms` at every sample: ``out[k, :]`` for ``t[k]``, ``x[k, :]``."""
+    """Evaluate :func:`rollerrig.rig.model.rig_terms` at every sample: ``out[k, :]`` for
+    ``t[k]``, ``x[k, :]``.
+
+    The kernel registered above, as :func:`rig_rhs` calls it: a dispatcher of its own would
+    compile the same code a second time on a first run (2-2.7 s, numba's compile events).
+    """
     for k in range(t.shape[0]):
-        terms = rig_terms(t[k], x[k], p, tables)
+        terms = _model.rig_terms(t[k], x[k], p, tables)
         for j in range(len(terms)):
             out[k, j] = terms[j]
 
