@@ -452,3 +452,37 @@ def test_constant_torque_is_refused_by_filters_and_a_warning_of_analyze(
     result = runner.invoke(app, ["analyze", str(rec), "--no-study", "--out", str(tmp_path / "a")])
     text = " ".join(result.output.split())
     assert "warning:" in text and "channel 'torque' is constant (12.5" in text, text
+
+
+def test_analyze_and_filters_note_an_empty_tdms_channel_they_can_do_without(
+    tmp_path, runner, adhesion_csv
+):
+    """A TDMS file whose torque_request channel was created but never written (a spare input
+    of the acquisition task): without a channel map, analyze (which falls back to the torque
+    for the phases) and filters (which needs only the torque) run and note the empty channel;
+    it stopped both with 'holds no samples'."""
+    from nptdms import ChannelObject, GroupObject, RootObject, TdmsFile, TdmsWriter
+
+    from rollerrig.recordings.readers import read_recording
+    from rollerrig.recordings.writers import write_recording
+
+    full = tmp_path / "full.tdms"
+    write_recording(read_recording(adhesion_csv(tmp_path / "test.csv")), full)
+    src = TdmsFile.read(full)
+    rec = tmp_path / "spare.tdms"
+    with TdmsWriter(rec) as writer:
+        objects = [RootObject(src.properties)]
+        for group in src.groups():
+            objects.append(GroupObject(group.name, group.properties))
+            for ch in group.channels():
+                data = np.array([], dtype=float) if ch.name == "torque_request" else ch[:]
+                objects.append(ChannelObject(group.name, ch.name, data, properties=ch.properties))
+        writer.write_segment(objects)
+    for command in (["analyze", "--no-study"], ["filters"]):
+        out = tmp_path / command[0]
+        result = runner.invoke(app, [command[0], str(rec), *command[1:], "--out", str(out)])
+        _no_traceback(result)
+        assert result.exit_code == 0, result.output
+        results = " ".join(p.read_text() for p in out.glob("spare-*.json"))
+        assert "torque_request' (not needed here) not read" in results
+        assert "holds no samples" in results

@@ -102,7 +102,14 @@ def analyze(
         with steps(f"analyze {recording.name}", "opening the recording") as say:
             truth_ds = None if truth is None else load_truth(truth)
             with contextlib.ExitStack() as files:
-                loaded = open_input(recording, channels, lenient, None, files)
+                # Without a channel map the file's own names are the map: no column is needed
+                # by name (the analysis checks its inputs, with their alternatives, and names
+                # what is missing), so a column that cannot be read, such as a TDMS channel
+                # created but never written, is a note instead of stopping the analysis. With
+                # a map, every entry is needed (a mistyped column is an error with close
+                # matches).
+                needed = () if channels is None else None
+                loaded = open_input(recording, channels, lenient, needed, files)
                 result = analyze_test(
                     loaded, rig, truth=truth_ds, run_study=study, calibration=calibrated,
                     progress=say,
