@@ -19,7 +19,9 @@ compared with the file, and a note says that it was present and ignored, and whe
 A channel without samples (a spare input that was never acquired) is skipped with a note when
 its name is not a canonical channel: no analysis reads it, and a channel map entry naming it is
 an error saying that it holds no samples. An empty channel with a canonical name stays in the
-table, so that reading it is that error.
+table, so that a caller that needs it gets that error; for one that does not (``rollerrig
+filters`` needs only the torque; ``analyze`` without a channel map checks its own inputs) the
+reader notes it and goes on.
 """
 
 from __future__ import annotations
