@@ -15,6 +15,13 @@ from rollerrig.cli import app
 from rollerrig.output import figure_provenance
 
 
+def _run_local(runner, study, out, **options):
+    """``rollerrig study run STUDY --executor local --out OUT``."""
+    return runner.invoke(
+        app, ["study", "run", str(study), "--executor", "local", "--out", str(out)], **options
+    )
+
+
 @pytest.mark.slow  # ~10 s: a local dask cluster of 2 workers starts
 def test_a_bundled_study_on_a_local_cluster_of_two_workers(tmp_path, runner):
     out = tmp_path / "out"
@@ -54,8 +61,7 @@ def test_another_study_into_the_same_store_is_refused(tmp_path, runner):
     out = tmp_path / "out"
     assert runner.invoke(app, ["study", "run", "lag", "--executor", "local", "--out",
                                str(out)]).exit_code == 0  # fmt: skip
-    result = runner.invoke(app, ["study", "run", str(study), "--executor", "local", "--out",
-                                 str(out)])  # fmt: skip
+    result = _run_local(runner, study, out)
     assert result.exit_code == 2
     assert "holds another study" in result.output and "--restart" in result.output
 
@@ -95,8 +101,7 @@ def test_a_bad_study_file_is_one_error_line_and_writes_nothing(tmp_path, runner,
     study = tmp_path / "bad.toml"
     study.write_text(body, encoding="utf-8")
     out = tmp_path / "out"
-    result = runner.invoke(app, ["study", "run", str(study), "--executor", "local", "--out",
-                                 str(out)])  # fmt: skip
+    result = _run_local(runner, study, out)
     assert result.exit_code == 2, result.output
     assert expected in result.output and "Traceback" not in result.output
     assert not out.exists()
@@ -109,8 +114,7 @@ def test_a_point_the_twin_cannot_resolve_is_failed_with_its_reason_not_ok(tmp_pa
     study.write_text("name = 'huge'\n[grid]\n'stiffness.roller_shaft' = { values = [43.5e3, "
                      "1e300], unit = 'N.m/rad' }\n", encoding="utf-8")  # fmt: skip
     out = tmp_path / "out"
-    result = runner.invoke(app, ["study", "run", str(study), "--executor", "local", "--out",
-                                 str(out)], terminal_width=400)  # fmt: skip
+    result = _run_local(runner, study, out, terminal_width=400)
     assert result.exit_code == 0, result.output
     row = next(line for line in result.output.splitlines() if "1e+300" in line)
     assert "solver failed" in row and "│ ok" not in row
@@ -135,8 +139,7 @@ def test_a_metric_without_a_value_at_points_that_ran_says_why_on_the_console(tmp
                      "1e300], unit = 'N.m/rad' }\n[outputs]\n"
                      "metrics = ['release_overshoot', 'coa_bias_rms']\n",
                      encoding="utf-8")  # fmt: skip
-    result = runner.invoke(app, ["study", "run", str(study), "--executor", "local", "--out",
-                                 str(tmp_path / "out")], terminal_width=400)  # fmt: skip
+    result = _run_local(runner, study, tmp_path / "out", terminal_width=400)
     assert result.exit_code == 0, result.output
     assert (
         "note: release_overshoot: no value at 1 of 2 points that ran ok: the experiment has "
@@ -151,8 +154,7 @@ def test_a_number_without_a_unit_is_said_once_with_the_unit_taken(tmp_path, runn
                      "'drive.roller_lag' = { values = [0.0, 0.2], unit = 's' }\n"
                      "[outputs]\nmetrics = ['release_overshoot', 'coa_bias_rms']\n",
                      encoding="utf-8")  # fmt: skip
-    result = runner.invoke(app, ["study", "run", str(study), "--executor", "local", "--out",
-                                 str(tmp_path / "out")], terminal_width=400)  # fmt: skip
+    result = _run_local(runner, study, tmp_path / "out", terminal_width=400)
     assert result.exit_code == 0, result.output
     (said,) = [line for line in result.output.splitlines() if "without a unit" in line]
     assert said.startswith(f"note: {study}: numbers without a unit taken in SI: "

@@ -96,11 +96,13 @@ def test_a_cell_is_never_read_with_the_other_mark_as_a_decimal_point(cell):
 
 # --- 1a: comma-separated, decimal points, one column with US thousands marks (quoted)
 
+US_HEAD = ['"t","T","p"', '"0.0000","-5.563","85,928"']  # header, first row
+
 
 def test_us_thousands_marks_in_quoted_cells_are_read_whole_with_a_note(tmp_path):
     f = _write(
         tmp_path / "us.csv",
-        ['"t","T","p"', '"0.0000","-5.563","85,928"', '"0.0040","-4.530","86,021"'],
+        [*US_HEAD, '"0.0040","-4.530","86,021"'],
     )
     rec = read_recording(f, MAP)
     np.testing.assert_array_equal(rec["air_spring_pressure"], [85928.0, 86021.0])
@@ -113,7 +115,7 @@ def test_us_thousands_marks_in_quoted_cells_are_read_whole_with_a_note(tmp_path)
 def test_us_thousands_marks_also_in_chunked_reading(tmp_path):
     f = _write(
         tmp_path / "us.csv",
-        ['"t","T","p"', '"0.0000","-5.563","85,928"', '"0.0040","-4.530","86,021"'],
+        [*US_HEAD, '"0.0040","-4.530","86,021"'],
     )
     with open_recording(f, MAP) as src:
         chunk = src.read()
@@ -123,7 +125,7 @@ def test_us_thousands_marks_also_in_chunked_reading(tmp_path):
 def test_a_comma_that_is_no_thousands_mark_in_a_decimal_point_file_is_an_error(tmp_path):
     f = _write(
         tmp_path / "us.csv",
-        ['"t","T","p"', '"0.0000","-5.563","85,928"', '"0.0040","-4.530","8,6021"'],
+        [*US_HEAD, '"0.0040","-4.530","8,6021"'],
     )
     # '8,6021' can only be a decimal comma, '0.0000' only a decimal point: which is meant?
     with pytest.raises(RecordingError, match=r"mix decimal marks \('8,6021' at line 3, column 3"):

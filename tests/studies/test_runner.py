@@ -59,6 +59,11 @@ def bundled():
     return {name: run_study(name, executor="local").dataset for name in TODAY}
 
 
+def _run_local(toml: str):
+    """The dataset of the study ``toml`` run on the local executor."""
+    return run_study(study_from_toml_string(toml), executor="local").dataset
+
+
 @pytest.mark.parametrize("name", sorted(TODAY))
 def test_bundled_studies_give_the_numbers_they_gave_before(bundled, name):
     ds = bundled[name]
@@ -109,7 +114,7 @@ def test_dask_and_local_executors_give_identical_results(tmp_path):
 
 
 def test_a_non_physical_point_is_reported_with_its_reason_and_the_rest_completes():
-    spec = study_from_toml_string(
+    ds = _run_local(
         """
         [[cases]]
         label = "rig today"
@@ -124,7 +129,6 @@ def test_a_non_physical_point_is_reported_with_its_reason_and_the_rest_completes
         "drive.roller_lag" = 0.0
         """
     )
-    ds = run_study(spec, executor="local").dataset
     status = list(ds.status.values)
     assert status == ["ok", "invalid parameters", "solver failed", "ok"]
     assert "stiffness.roller_shaft" in ds.reason.values[1] and "> 0" in ds.reason.values[1]
@@ -137,11 +141,10 @@ def test_a_non_physical_point_is_reported_with_its_reason_and_the_rest_completes
 def test_a_run_without_a_value_of_any_metric_is_not_ok():
     # A stiffness of 1e300 N.m/rad: the solver finishes, but the shaft's torque is a rounding
     # error and shows no release; the point was "ok" with blank metrics.
-    spec = study_from_toml_string(
+    ds = _run_local(
         "[grid]\n'stiffness.roller_shaft' = { values = [43.5e3, 1e300], unit = 'N.m/rad' }\n"
         "[outputs]\nmetrics = ['release_overshoot', 'settling_time']\n"
     )
-    ds = run_study(spec, executor="local").dataset
     assert list(ds.status.values) == ["ok", "solver failed"]
     reason = str(ds.reason.values[1])
     assert reason.startswith("the run gave no value of any metric (release_overshoot: the "
@@ -154,11 +157,10 @@ def test_a_run_without_a_value_of_any_metric_is_not_ok():
 def test_a_metric_undefined_on_a_run_that_shows_the_experiment_leaves_the_point_ok():
     # A 2 s roller-drive lag settles after the end of the rest: settling_time is undefined,
     # a result, not a failure (review: it was "solver failed" with advice to check values).
-    spec = study_from_toml_string(
+    ds = _run_local(
         "[grid]\n'drive.roller_lag' = { values = [0.0, 2.0], unit = 's' }\n"
         "[outputs]\nmetrics = ['settling_time']\n"
     )
-    ds = run_study(spec, executor="local").dataset
     assert list(ds.status.values) == ["ok", "ok"]
     assert np.isfinite(ds.settling_time.values[0]) and np.isnan(ds.settling_time.values[1])
 

@@ -194,6 +194,32 @@ def failure_reason(status: int, t_stop: float) -> str:
 _rig_integrate = RIG.integrate
 
 
+@_cache.njit
+def _segment_window(t_out, k, t0, t1, x, x_out):
+    """The output rows of the segment ``[t0, t1]`` from row ``k``: ``(k, k_end, ts)``.
+
+    The rows due at the segment's start get its start state ``x`` (also a sample instant a
+    rounding error after ``t0``: a protocol duration summed from steps, 5.039999999999999 s
+    against the 250 Hz sample at 5.04 s, is the start state; integrating to it would ask for a
+    step of one ulp); rows ``k..k_end - 1`` lie inside the segment, and ``ts`` holds their
+    times followed by ``t1``, which is always integrated to so that the next segment starts
+    from the exact end state.
+    """
+    n_out = t_out.shape[0]
+    while k < n_out and t_out[k] <= t0 + _LANDING_TOLERANCE * max(1.0, abs(t0)):
+        _wd._store_row(x_out, k, x)
+        k += 1
+    k_end = k
+    while k_end < n_out and t_out[k_end] <= t1:
+        k_end += 1
+    m = k_end - k
+    ts = np.empty(m + 1)
+    for i in range(m):
+        ts[i] = t_out[k + i]
+    ts[m] = t1
+    return k, k_end, ts
+
+
 # nogil: integrate_batch runs one variant per Python thread, in parallel.
 @_cache.njit(nogil=True)
 def _integrate(
@@ -210,21 +236,8 @@ def _integrate(
     for s in range(bounds.shape[0]):
         t0 = bounds[s, 0]
         t1 = bounds[s, 1]
-        # A sample instant a rounding error after the segment's start (a protocol duration
-        # summed from steps: 5.039999999999999 s against the 250 Hz sample at 5.04 s) is the
-        # start state; integrating to it would ask for a step of one ulp (step underflow).
-        while k < n_out and t_out[k] <= t0 + _LANDING_TOLERANCE * max(1.0, abs(t0)):
-            _wd._store_row(x_out, k, x)
-            k += 1
-        k_end = k
-        while k_end < n_out and t_out[k_end] <= t1:
-            k_end += 1
-        # Always integrate to t1 as well, so the next segment starts from the exact end state.
+        k, k_end, ts = _segment_window(t_out, k, t0, t1, x, x_out)
         m = k_end - k
-        ts = np.empty(m + 1)
-        for i in range(m):
-            ts[i] = t_out[k + i]
-        ts[m] = t1
         xs = np.empty((m + 1, x.shape[0]))
         # f_t is left out: it enters ROS34PW2 at O(h^4) and did not change T56 on the rig.
         n_steps, n_rej, n_jac, status = _rig_integrate(
@@ -292,17 +305,8 @@ def _integrate_exp(
     for s in range(s_first, bounds.shape[0]):
         t0 = bounds[s, 0]
         t1 = bounds[s, 1]
-        while k < n_out and t_out[k] <= t0 + _LANDING_TOLERANCE * max(1.0, abs(t0)):
-            _wd._store_row(x_out, k, x)
-            k += 1
-        k_end = k
-        while k_end < n_out and t_out[k_end] <= t1:
-            k_end += 1
+        k, k_end, ts = _segment_window(t_out, k, t0, t1, x, x_out)
         m = k_end - k
-        ts = np.empty(m + 1)
-        for i in range(m):
-            ts[i] = t_out[k + i]
-        ts[m] = t1
         xs = np.empty((m + 1, x.shape[0]))
         steps = _exp_prepare(x, t0, t1, params[s], tables, exp_step, n_static, ws, memo)
         done = -1
@@ -340,25 +344,24 @@ def _with_fallback(exp_driver, ros_driver, settings):
                   t_stop):  # fmt: skip
         x = np.array(x0, dtype=float)  # the compiled driver leaves a fallback's start state here
         resume = np.zeros(2, dtype=np.int64)
-        n_out = t_out.shape[0]
         while True:
             status = exp_driver(
                 x, bounds, params, tables, t_out, x_out, stats, t_stop, resume, memo, *settings
             )
             if status != STATUS_FALLBACK:
                 return status
-            s, k = int(resume[0]), int(resume[1])
-            t1 = float(bounds[s, 1])
-            k_end = k + int(np.searchsorted(t_out[k:], t1, side="right"))
-            chunk = np.empty((k_end - k + 1, x.size))
+            s = int(resume[0])
+            # The compiled driver landed the segment's start rows: this only finds its rows.
+            k, k_end, ts = _segment_window(t_out, int(resume[1]), *bounds[s], x, x_out)
+            chunk = np.empty((ts.size, x.size))
             stats[3] += 1
             status = ros_driver(
-                x, bounds[s : s + 1], params[s : s + 1], tables, np.append(t_out[k:k_end], t1),
-                rt, at, h_max, jac_every, chunk, stats, t_stop,
+                x, bounds[s : s + 1], params[s : s + 1], tables, ts, rt, at, h_max, jac_every,
+                chunk, stats, t_stop,
             )  # fmt: skip
             x_out[k:k_end] = chunk[:-1]
             if status != STATUS_OK:
-                x_out[k_end:n_out] = np.nan
+                x_out[k_end:] = np.nan
                 return status
             x = chunk[-1].copy()
             resume[0] = s + 1
