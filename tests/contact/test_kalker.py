@@ -112,6 +112,31 @@ def test_close_to_contact_linear_interpolation_between_nodes():
             assert np.all((ours[first] >= low - 1e-12) & (ours[first] <= high + 1e-12))
 
 
+def test_monotone_cubic_is_scipys_pchip():
+    # Reference: scipy.interpolate.PchipInterpolator (Fritsch & Butland slopes, three-point
+    # ends). The module writes the same rule itself (no scipy.interpolate import on the path
+    # of every rig): on the table's nodes and on random data with flat and sign-changing
+    # stretches, the two agree to round-off.
+    from scipy.interpolate import PchipInterpolator
+
+    from rollerrig.contact import kalker
+
+    x = np.linspace(kalker._LOG_NODES[0], kalker._LOG_NODES[-1], 2001)
+    ref = PchipInterpolator(kalker._LOG_NODES, kalker._NODE_VALUES, axis=0)(x)
+    np.testing.assert_allclose(kalker._table_at(x), ref, rtol=1e-14)
+    rng = np.random.default_rng(20)
+    for _ in range(200):
+        nodes = np.sort(rng.uniform(-3.0, 3.0, rng.integers(3, 12)))
+        if np.min(np.diff(nodes)) < 1e-3:
+            continue
+        values = rng.normal(size=(nodes.size, 2, 3))
+        values[rng.uniform(size=nodes.size) < 0.3, 0, 0] = 0.0  # flat stretches, zero slopes
+        at = np.linspace(nodes[0], nodes[-1], 301)
+        ours = kalker._pchip(nodes, values, kalker._pchip_slopes(nodes, values), at)
+        theirs = PchipInterpolator(nodes, values, axis=0)(at)
+        np.testing.assert_allclose(ours, theirs, rtol=0.0, atol=1e-12)
+
+
 def test_monotone_in_poisson_for_c11():
     nu = np.linspace(0.0, 0.5, 11)
     for ratio in (0.1, 0.5, 1.0, 3.0, 10.0):

@@ -21,6 +21,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from rollerrig._validation import ParameterError
 from rollerrig._warnings import DomainWarning
@@ -145,3 +147,27 @@ def test_steady_state_far_down_the_drive_characteristic_is_found(rig, speed_kmh,
         omega - 1e-6, omega_ref, p
     )
     assert slope < 0.0
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    scale=st.floats(1e-9, 1e3),
+    slope=st.floats(1e-3, 1e6),
+    level=st.floats(0.01, 0.99),
+    xtol=st.sampled_from([1e-15, 1e-13, 1e-9]),
+)
+def test_bracketed_root_agrees_with_brentq(scale, slope, level, xtol):
+    # Reference: scipy.optimize.brentq on the same rising curve (a creep-force-like
+    # saturating branch, tanh, over [0, scale]); the rig's assembly no longer imports it.
+    from scipy.optimize import brentq
+
+    from rollerrig.rig.assemble import _bracketed_root
+
+    def fun(d):
+        return np.tanh(slope * np.asarray(d) / scale)
+
+    needed = level * float(fun(scale))
+    ours = _bracketed_root(fun, needed, 0.0, scale, xtol)
+    theirs = brentq(lambda d: float(fun(d)) - needed, 0.0, scale, xtol=xtol)
+    tolerance = 2 * xtol + 8 * np.finfo(float).eps * scale
+    assert abs(ours - theirs) <= tolerance or abs(float(fun(ours)) - needed) <= 4e-16

@@ -336,3 +336,23 @@ def test_a_tiny_inertia_keeps_the_other_modes_and_says_what_it_cannot_resolve():
         text = format_modal_table(rows)
         assert " nan" not in text
         assert ("n/a" in text and "double precision" in text) == (inertia < 1e-10)
+
+
+@settings(max_examples=60, deadline=None)
+@given(n=st.integers(1, 12), seed=st.integers(0, 2**32 - 1), density=st.floats(0.0, 0.6))
+def test_component_labels_match_scipy_csgraph(n, seed, density):
+    # Reference: scipy.sparse.csgraph.connected_components (undirected), which the chain no
+    # longer imports; the same partition (labels may be numbered differently).
+    from scipy.sparse.csgraph import connected_components
+
+    from rollerrig.rig.chain import _component_labels
+
+    rng = np.random.default_rng(seed)
+    upper = np.triu(rng.uniform(size=(n, n)) < density, 1)
+    adjacency = upper | upper.T
+    ours = _component_labels(adjacency)
+    count, theirs = connected_components(adjacency, directed=False)
+    assert len(np.unique(ours)) == count
+    same_ours = ours[:, None] == ours[None, :]
+    same_theirs = theirs[:, None] == theirs[None, :]
+    assert np.array_equal(same_ours, same_theirs)

@@ -14,7 +14,6 @@ from dataclasses import dataclass, field
 from itertools import pairwise
 
 import numpy as np
-from scipy.optimize import brentq
 
 from rollerrig._validation import ParameterError
 from rollerrig._warnings import DomainWarning
@@ -589,8 +588,34 @@ def _rising_branch_root(fun, needed, span, xtol):
     k = int(np.argmax(branch >= needed))
     if k == 0 or branch[k] == needed:
         return float(d[k]), peak
-    root = brentq(lambda x: float(fun(x)) - needed, d[k - 1], d[k], xtol=xtol)
-    return root, peak
+    return _bracketed_root(fun, needed, float(d[k - 1]), float(d[k]), xtol), peak
+
+
+_REFINE = np.linspace(0.0, 1.0, 65)[1:-1]  # interior points of a bracket, 64 sub-brackets
+
+
+def _bracketed_root(fun, needed, lo, hi, xtol):
+    """Root of ``fun(d) = needed`` in ``[lo, hi]`` [same unit as ``d``] to ``xtol`` (absolute,
+    plus 4 ulp of the root), for a vectorised ``fun`` that rises through ``needed`` there
+    (``fun(lo) < needed <= fun(hi)``).
+
+    The bracket is cut into 64 at each pass (one vectorised call) and the first sub-bracket
+    whose right end reaches ``needed`` is kept: a 5 % bracket reaches 1e-15 in about eight
+    passes. Bisection's guarantee with Brent's economy of calls (``scipy.optimize.brentq``,
+    the reference in tests/rig/test_assemble.py), without importing ``scipy.optimize``
+    (0.1-0.2 s of every command that builds a rig, for six roots).
+    """
+    tiny = 4.0 * np.finfo(float).eps
+    while hi - lo > xtol + tiny * max(abs(lo), abs(hi)):
+        x = lo + (hi - lo) * _REFINE
+        reached = np.asarray(fun(x), dtype=float) >= needed
+        k = int(np.argmax(reached)) if reached.any() else x.size
+        new_lo = float(x[k - 1]) if k > 0 else lo
+        new_hi = float(x[k]) if k < x.size else hi
+        if new_lo == lo and new_hi == hi:  # no representable point left between them
+            break
+        lo, hi = new_lo, new_hi
+    return 0.5 * (lo + hi)
 
 
 def _roller_speed(p, omega_ref, needed, load, at):
