@@ -362,3 +362,15 @@ def test_the_last_line_of_a_long_file_is_judged_against_the_line_before(tmp_path
     path.write_text(text, encoding="utf-8")
     with open_recording(path) as src:
         assert src.n_samples == 80_000
+
+
+@pytest.mark.parametrize("rows", [1, 2])
+def test_too_short_after_a_cut_line_says_the_line_was_dropped(tmp_path, rows):
+    """A file whose last (or only) row was dropped as cut is too short: both readers say why
+    it holds fewer samples than it has lines, not only that it does."""
+    path = tmp_path / "short.csv"
+    path.write_text(_csv_text(rows)[:-1], encoding="utf-8")  # the last number cut
+    readers = [read_recording, open_recording] if rows == 2 else [open_recording]
+    for reader in readers:
+        with pytest.raises(RecordingError, match=r"only \d sample\(s\).*no line end.*dropped"):
+            reader(path)

@@ -288,7 +288,7 @@ def read_recording(
     with open_table(p, fmt, cmap.file) as table:
         time, chans, units, info = apply_map(table, cmap, p, required)
     require_channels(where, required, chans, cmap)
-    chans, report = validate_samples(time, chans, validate, where)
+    chans, report = validate_samples(time, chans, validate, where, table.notes)
     if info.pop("time_unit_assumed", None) is not None and time.size > 1:
         check_time_unit(
             1.0 / float(np.median(np.diff(time))),

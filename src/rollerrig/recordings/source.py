@@ -70,7 +70,12 @@ from rollerrig.recordings.translate import (
     resolve_column,
     time_seconds,
 )
-from rollerrig.recordings.validate import GAP_FACTOR, check_sample_rate, check_time_unit
+from rollerrig.recordings.validate import (
+    GAP_FACTOR,
+    check_sample_rate,
+    check_time_unit,
+    require_two_samples,
+)
 
 __all__ = ["DEFAULT_CHUNK_SAMPLES", "Chunk", "RecordingSource", "open_recording"]
 
@@ -587,8 +592,7 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
             f"the needed {sorted(needed or ())} (read_recording resamples them)"
         )
     n = slicer.length(info["columns"][next(iter(chans_h))])
-    if n < 2:
-        raise RecordingError(f"{where} only {n} sample(s); need at least 2")
+    require_two_samples(n, where, table.notes)
     require_channels(where, needed, chans_h, cmap)
     specs = {s.name: s for s in (auto_entries(table, cmap, p) if cmap.auto else cmap.entries)}
     conv = {}

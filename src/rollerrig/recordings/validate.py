@@ -21,7 +21,7 @@
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -40,6 +40,7 @@ __all__ = [
     "check_time_unit",
     "describe_gap",
     "find_gaps",
+    "require_two_samples",
     "true_runs",
     "validate_samples",
 ]
@@ -186,8 +187,28 @@ def describe_gap(gap: Mapping[str, Any]) -> str:
     )
 
 
+def require_two_samples(n: int, where: str, notes: Iterable[str] = ()) -> None:
+    """Refuse a recording of fewer than 2 samples, with the reader's ``notes`` on what it left
+    out (a last line cut by an interrupted writer, dropped rows): they say why a file of two
+    lines holds one sample.
+
+    Raises
+    ------
+    RecordingError
+        ``n < 2``.
+    """
+    if n < 2:
+        why = "; ".join(notes)
+        because = f" (the reader: {why})" if why else ""
+        raise RecordingError(f"{where} only {n} sample(s); need at least 2{because}")
+
+
 def validate_samples(
-    time: np.ndarray, channels: dict[str, np.ndarray], mode: str, where: str
+    time: np.ndarray,
+    channels: dict[str, np.ndarray],
+    mode: str,
+    where: str,
+    notes: Iterable[str] = (),
 ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
     """The channels checked (``mode`` "lenient": short NaN/inf runs interpolated) and a report.
 
@@ -201,6 +222,8 @@ def validate_samples(
         See the module docstring.
     where : str
         Prefix of error messages (the file).
+    notes : iterable of str
+        The reader's notes, quoted when the recording is too short (:func:`require_two_samples`).
 
     Returns
     -------
@@ -217,8 +240,7 @@ def validate_samples(
         sample; lenient: a NaN/inf run longer than :data:`MAX_INTERPOLATED_NAN_RUN`.
     """
     report: dict[str, Any] = {"gaps": [], "interpolated": []}
-    if time.size < 2:
-        raise RecordingError(f"{where} only {time.size} sample(s); need at least 2")
+    require_two_samples(time.size, where, notes)
     bad = ~np.isfinite(time)
     if bad.any():
         k = int(np.flatnonzero(bad)[0])
