@@ -44,12 +44,29 @@ adhesion limit at 5-10 km/h), where ROS34PW2 holds about 0.1 N.m
 
 Lawson's integrating factor (``e^{hL}`` applied to an RK4 of the transformed equation) was
 measured on this model and gets the forced stiff mount modes wrong (issue 20): it is not used.
-The PMSM's current loops, ``(i_d, I_d)`` and ``(i_q, I_q)`` (poles at −1 257 1/s, which set
-the step), were measured as exact blocks too (issue 20; static or re-linearised every step
-alike): the stable step then grows from 1.6 ms to 2.5-3.2 ms on the default experiment, but the
-error at equal step grows about fivefold (max |ΔT56| 0.107 against 0.027 N.m at 1.6 ms, 0.024
-against 0.005 at 1 ms; largest 0.29 s after the torque release), so the longer step gives
-0.5-0.76 N.m against Radau at rtol 1e-10, beyond the 0.05 N.m target: they stay explicit.
+Which states to treat exactly was measured (issue 20; 2026-11-30, a Python prototype of this
+scheme on the compiled right-hand side, which reproduces the shipped 0.0275 N.m; max |ΔT56|
+against Radau at rtol 1e-10 on the bundled 30 s test):
+
+- the step is set by RK4's stability on the PMSM's current loops (−1 257 1/s: 1.77 ms with the
+  margin) and, just above it, by accuracy: the error is the phase of the lightly damped
+  13.8 Hz roller-shaft mode, ringing for seconds after each release (0.040 N.m at 1.77 ms);
+- the currents ``i_d``, ``i_q`` as exact 1 x 1 blocks move the stability limit to 3.0 ms (the
+  wheel shaft's 112 Hz mode is next) at nearly the same error (0.031 N.m at 1.6 ms), but the
+  accuracy limit follows at once: 0.0445 at 1.77 ms, 0.059 at 1.9, 0.074 at 2 ms. With their
+  PI integrals in the blocks, ``(i_q, I_q)``, the error grows fourfold (0.107 at 1.6 ms):
+  that, not the currents, was the fivefold error an earlier note blamed on the current loops;
+- the roller shaft (θ5, θ6, ω6) merged with the contact block (5 x 5, re-linearised) halves
+  the error (0.012 at 1.6 ms, re-linearised every 32 steps); with the currents exact too,
+  2 ms gives 0.032 and 2.2 ms 0.052 N.m: 20 % fewer steps, for a 5 x 5 block's products in
+  every step and its φ-functions at each re-linearisation, about 10 % of the step's cost;
+- every state exact (the full Jacobian, re-linearised every 16 steps) gives 0.0035 N.m at 2 ms,
+  but the φ-functions of a 22 x 22 matrix cost about a hundred steps each;
+- splitting a coupled pair across blocks can be unstable although the explicit part's
+  eigenvalues say it is not: ω4 alone as the contact block with the shaft (θ5, θ6, ω5, ω6) as
+  another gave 4.3 N.m, the wheel side (θ2, θ3, ω2, ω3) as a block without θ4 diverged.
+
+So a cheaper step, rather than a longer one, is what is left of the issue's speed targets.
 
 References
 ----------
