@@ -13,7 +13,7 @@ import re
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rollerrig.recordings.formats._text import decimal_marks, parse_number
@@ -234,3 +234,59 @@ def test_suggest_date_format(cell, fmt):
 @pytest.mark.parametrize("cell", ["12.5", "85,928", "-1e3", "ERR"])
 def test_numbers_and_text_do_not_look_like_timestamps(cell):
     assert not looks_like_timestamp(cell)
+
+
+# --- marks first met beyond the rows the layout is sniffed from
+
+
+def _late_marks_csv(path, values, *, decimal):
+    """A recording whose torque stays below 1000 N.m in the first 2000 rows (no thousands
+    mark where the layout is sniffed) and is written with thousands marks once it is above."""
+    sep = "," if decimal == "." else ";"
+    lines = [f"t [s]{sep}T [N.m]"]
+    for k, v in enumerate(values):
+        cell = f"{v:,.2f}" if decimal == "." else f"{v:,.2f}".translate({44: 46, 46: 44})
+        time = f"{k / 1000:.3f}".replace(".", decimal)
+        lines.append(f'{time}{sep}"{cell}"')
+    return _write(path, lines)
+
+
+@settings(max_examples=15, deadline=None)
+@given(
+    late=st.lists(st.floats(1000.0, 9.9e6), min_size=1, max_size=30),
+    decimal=st.sampled_from([".", ","]),
+)
+def test_thousands_marks_beyond_the_sniffed_rows_are_read_whole(tmp_path_factory, late, decimal):
+    """'1,000.00' under a decimal point (or '1.000,00' under a decimal comma) first met after
+    the rows the layout was sniffed from is 1000, in both readers: it was an error, and an
+    integer '1,000' was read as 1.0, a torque of 1000 N.m as 1 N.m."""
+    values = np.concatenate([np.linspace(0.0, 999.0, 2500), np.round(late, 2)])
+    f = _late_marks_csv(tmp_path_factory.mktemp("late") / "run.csv", values, decimal=decimal)
+    torque_map = {"time": {"column": "t"}, "channels": {"torque": {"column": "T"}}}
+    rec = read_recording(f, torque_map)
+    np.testing.assert_allclose(rec["torque"], np.round(values, 2), rtol=1e-15)
+    with open_recording(f, torque_map) as src:
+        chunked = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 700)])
+    np.testing.assert_array_equal(chunked, rec["torque"])
+
+
+def test_an_integer_with_a_thousands_comma_is_never_read_as_a_decimal_comma(tmp_path):
+    """A column of integers with '1,000' among them writes thousands commas ('999' beside
+    '1,000': a writer of fixed decimals writes '999,000'): read as 1000, with a note. Where
+    the sniffed rows hold no mark at all (decimal mark undecided) and '1,000' comes later,
+    it is 1000 with a thousands comma or 1.0 with a decimal comma: the reader names both
+    and asks, instead of reading 1.0 (as it did)."""
+    torque_map = {"time": {"column": "t"}, "channels": {"torque": {"column": "T"}}}
+    values = list(range(3000))
+    lines = ["t [ms],T [N.m]"] + [f'{k},"{v:,d}"' for k, v in enumerate(values)]
+    rec = read_recording(_write(tmp_path / "ints.csv", lines), torque_map)
+    np.testing.assert_array_equal(rec["torque"], values)
+    assert "holds integers such as" in _notes(rec) and "'1,000'" in _notes(rec)
+
+    values = [k % 1000 for k in range(2500)] + list(range(1000, 1500))
+    lines = ["t [ms],T [N.m]"] + [f'{k},"{v:,d}"' for k, v in enumerate(values)]
+    f = _write(tmp_path / "late.csv", lines)
+    with pytest.raises(RecordingError, match=r"'1,000' is 1000 with a thousands mark or 1 with"):
+        read_recording(f, torque_map)
+    rec = read_recording(f, dict(torque_map, file={"decimal": "."}))
+    np.testing.assert_array_equal(rec["torque"], values)

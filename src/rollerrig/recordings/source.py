@@ -228,6 +228,7 @@ def _text_table(path: Path, spec) -> Table:
     units = {n: u for n, u in zip(layout.names, layout.units, strict=True) if u}
     table = header_table(pd.DataFrame(columns=list(layout.names)), units=units)
     table.notes = list(layout.notes)
+    table.decimal = layout.decimal if layout.decimal_decided else None
     rows = _TextRows(layout)
     if rows.cut_note:
         table.notes.append(rows.cut_note)
@@ -333,7 +334,7 @@ class RecordingSource:
             col = slicer.read(column, a, b)
             first = first or col
             what = f"{where} column {column!r} (channel {name!r})"
-            raw = as_float(col.values, what)
+            raw = as_float(col.values, what, decimal=st["decimal"])
             if raw.size != b - a:
                 raise RecordingError(
                     f"{what} gave {raw.size} samples for {a}..{b}; the file is damaged"
@@ -441,6 +442,7 @@ def _time(st: Mapping[str, Any], a: int, b: int, first: Column | None) -> np.nda
         f"{st['where']} time column {st['time_column']!r}",
         [],
         file=st["cmap"].file,
+        decimal=st["decimal"],
     )
     return np.array(secs[1:] if a > 0 else secs, dtype=float)
 
@@ -605,7 +607,13 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
             f"{where} the channels' time bases do not line up sample by sample; use read_recording"
         )
 
-    state: dict[str, Any] = {"where": where, "slicer": slicer, "cmap": cmap, "conv": conv}
+    state: dict[str, Any] = {
+        "where": where,
+        "slicer": slicer,
+        "cmap": cmap,
+        "conv": conv,
+        "decimal": table.decimal,
+    }
     time_column = info["columns"].get("time")
     if rate_stated is not None:
         state["time_kind"] = "rate"

@@ -7,10 +7,11 @@ units, on one common time base (:mod:`rollerrig.recordings.timebase`):
 - each map entry names a file column (:func:`resolve_column`: a missing or ambiguous column is
   an error with close matches; entries the caller does not need, and ``optional`` ones, are
   noted instead), or, without a map, the file's own names (:func:`auto_entries`);
-- cells are numbers (:func:`as_float`: NaN/inf words, decimal commas) converted with the map's
-  unit, scale and offset; the time is a column (:func:`time_seconds`: numbers in a time unit,
-  or date/time strings), the map's sample rate (checked against the file's own rate), or the
-  channels' own time bases (TDMS waveforms, MDF masters, LVM X columns).
+- cells are numbers (:func:`as_float`: NaN/inf words, the file's decimal and thousands
+  marks) converted with the map's unit, scale and offset; the time is a column
+  (:func:`time_seconds`: numbers in a time unit, or date/time strings), the map's sample
+  rate (checked against the file's own rate), or the channels' own time bases (TDMS
+  waveforms, MDF masters, LVM X columns).
 
 Both :func:`rollerrig.recordings.readers.read_recording` and the chunked reader
 (:mod:`rollerrig.recordings.source`) resolve the map through this module.
@@ -37,10 +38,12 @@ from rollerrig.recordings.channels import (
 from rollerrig.recordings.formats import Table
 from rollerrig.recordings.formats._table import require_module
 from rollerrig.recordings.formats._text import (
-    COMMA_NUMBER,
     NAN_WORDS,
     NEGATIVE_INFINITY_WORDS,
     POSITIVE_INFINITY_WORDS,
+    decimal_marks,
+    marked_cell_value,
+    parse_number,
 )
 from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
 from rollerrig.recordings.recording import CANONICAL_CHANNELS, RecordingError
@@ -98,10 +101,16 @@ def resolve_column(
     )
 
 
-def as_float(values: np.ndarray, what: str, line_of=None) -> np.ndarray:
+def as_float(values: np.ndarray, what: str, line_of=None, decimal: str | None = None) -> np.ndarray:
     """Numbers of a column; NaN/inf words (``NaN``, ``inf``, PicoScope's ``∞``) become NaN/inf.
 
     ``line_of`` maps a row to its 1-based file line (text files) for the error message.
+    ``decimal`` is the file's decimal mark where it is known (:attr:`Table.decimal`): a text
+    cell with the other mark is then read as a number only in strict groups of three
+    (``1,000`` is 1000 under ``"."``), never as a decimal point. Where it is not known, a cell
+    is read under the one mark that makes it a number, and one that both do (``1,000``) is
+    refused as ambiguous: read as 1.0 it had turned a torque of 1000 N.m, written with a
+    thousands comma beyond the rows the layout was sniffed from, into 1 N.m.
     """
     arr = np.asarray(values)
     if arr.dtype.kind in "biuf":
@@ -113,10 +122,14 @@ def as_float(values: np.ndarray, what: str, line_of=None) -> np.ndarray:
         words = text.map(lambda v: v.lower() if isinstance(v, str) else "").to_numpy(dtype=object)
         infinite = np.isin(words, list(POSITIVE_INFINITY_WORDS))
         neg_inf = np.isin(words, list(NEGATIVE_INFINITY_WORDS))
-        comma = text.map(
-            lambda v: v.replace(",", ".") if isinstance(v, str) and COMMA_NUMBER.fullmatch(v) else v
-        )
-        num = pd.to_numeric(comma, errors="coerce").to_numpy(dtype=float, copy=True)
+
+        def read(v):
+            if not isinstance(v, str) or ("," not in v and "." not in v):
+                return v
+            number = marked_cell_value(v, decimal)
+            return v if number is None else number
+
+        num = pd.to_numeric(text.map(read), errors="coerce").to_numpy(dtype=float, copy=True)
         num[infinite] = np.inf
         num[neg_inf] = -np.inf
         known = np.isin(words, list(NAN_WORDS)) | (is_str & (words == ""))
@@ -128,8 +141,27 @@ def as_float(values: np.ndarray, what: str, line_of=None) -> np.ndarray:
         raise RecordingError(
             f"{what} has {int(bad.sum())} non-numeric entries, first at row {k}: {arr[k]!r}"
             + (f" (file line {line})" if line is not None else "")
+            + _why_not_a_number(str(arr[k]).strip(), decimal)
         )
     raise RecordingError(f"{what} is not numeric (dtype {arr.dtype})")
+
+
+def _why_not_a_number(cell: str, decimal: str | None) -> str:
+    """Why a cell with a ``.`` or ``,`` is not a number here, and what to do ("" otherwise)."""
+    marks = decimal_marks(cell)
+    if decimal is None and len(marks) == 2:
+        return (
+            f": {cell!r} is {parse_number(cell, '.'):g} with a thousands mark or "
+            f"{parse_number(cell, ','):g} with a decimal comma; give [file] decimal in the "
+            "channel map"
+        )
+    if decimal is not None and marks:
+        other = "," if decimal == "." else "."
+        return (
+            f": the file's decimal mark is {decimal!r}, and {other!r} is a thousands mark only "
+            "in groups of three digits; fix the cell or give [file] decimal in the channel map"
+        )
+    return ""
 
 
 def time_seconds(
@@ -141,6 +173,7 @@ def time_seconds(
     file: FileSpec | None = None,
     line_of=None,
     decided: dict | None = None,
+    decimal: str | None = None,
 ) -> np.ndarray:
     """A time column in seconds: numbers in ``unit``, or date/time strings (one format for the
     whole column, from ``[file] date_format`` / ``dayfirst``; see
@@ -148,7 +181,8 @@ def time_seconds(
     sample.
 
     ``decided``: for a column read in chunks, one dict passed with every chunk, so that every
-    chunk's timestamps are read in the format decided for the first."""
+    chunk's timestamps are read in the format decided for the first. ``decimal``: the file's
+    decimal mark where known (:func:`as_float`)."""
     file = file or FileSpec()
     arr = np.asarray(values)
     if arr.dtype.kind in "OUT":
@@ -164,12 +198,12 @@ def time_seconds(
             )
             notes.append(note)
             return secs
-        return as_float(arr, what, line_of) * TIME_UNITS[unit]
+        return as_float(arr, what, line_of, decimal) * TIME_UNITS[unit]
     if arr.dtype.kind == "M":
         t0 = arr[0]
         notes.append(f"absolute timestamps converted to seconds since the first sample ({t0})")
         return (arr - t0) / np.timedelta64(1, "s")
-    return as_float(arr, what) * TIME_UNITS[unit]
+    return as_float(arr, what, decimal=decimal) * TIME_UNITS[unit]
 
 
 def auto_entries(table: Table, cmap: ChannelMap, path: Path) -> list[ChannelSpec]:
@@ -257,6 +291,7 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
                 scratch,
                 file=cmap.file,
                 line_of=line_of,
+                decimal=table.decimal,
             )
         except RecordingError:
             table.notes.append(
@@ -322,6 +357,7 @@ def apply_map(
                 notes,
                 file=cmap.file,
                 line_of=line_of,
+                decimal=table.decimal,
             )
             info["columns"]["time"] = col_name
             info["source_units"]["time"] = unit
@@ -388,7 +424,7 @@ def apply_map(
                     f"{spec.name}: file unit {col.unit!r}, map unit {spec.unit!r} used "
                     f"(scale {spec.scale}, offset {spec.offset})"
                 )
-        raw = as_float(col.values, what, line_of)
+        raw = as_float(col.values, what, line_of, table.decimal)
         # A corrupted or absurd raw value may overflow to inf here: validation then names the
         # channel and the samples; numpy's overflow warning would only say "multiply".
         with np.errstate(over="ignore", invalid="ignore"):

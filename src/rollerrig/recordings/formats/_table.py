@@ -63,6 +63,9 @@ class Table:
     # comment / source), for ``[file] group`` (:func:`apply_default_group`)
     groups: dict[str, list[str]] = field(default_factory=dict)
     slicer: Slicer | None = None  # reads parts of columns (chunked reading); None: load whole
+    # the decimal mark of a text file, where given or sniffed (not a default): text cells are
+    # then read under it (:func:`rollerrig.recordings.translate.as_float`)
+    decimal: str | None = None
 
     def __setattr__(self, name: str, value: Any) -> None:
         """Setting ``stored_metadata`` to the object :func:`rollerrig.output.write_table` wrote

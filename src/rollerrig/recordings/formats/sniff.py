@@ -73,6 +73,7 @@ class TextLayout:
     trailing: bool = False
     notes: tuple[str, ...] = ()
     thousands: tuple[str, ...] = ()  # columns written with thousands marks (strict groups)
+    decimal_decided: bool = True  # the decimal mark was given or sniffed, not a default
 
     @property
     def n_fields(self) -> int:
@@ -290,7 +291,13 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         for j, c in enumerate(x.strip() for x in f)
         if cell_kind(c) != "time" and (m := decimal_marks(c))
     ]
-    decimal, evidence = _decimal_mark(p, spec.decimal, marked)
+    integers = {
+        j: c
+        for i, f in reversed(block[:2000])
+        for j, c in enumerate(x.strip() for x in f)
+        if _INTEGER.fullmatch(c)
+    }
+    decimal, evidence = _decimal_mark(p, spec.decimal, marked, integers)
     if spec.decimal is None and decimal == ",":
         notes.append("CSV uses decimal commas (sniffed from the data rows)")
 
@@ -336,18 +343,28 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         trailing=trailing,
         notes=tuple(notes),
         thousands=tuple(thousands),
+        decimal_decided=evidence != "the default",
     )
 
 
+_INTEGER = re.compile(r"[+-]?\d+")
+
+
 def _decimal_mark(
-    path: Path, given: str | None, marked: list[tuple[int, int, str, frozenset[str]]]
+    path: Path,
+    given: str | None,
+    marked: list[tuple[int, int, str, frozenset[str]]],
+    integers: dict[int, str] | None = None,
 ) -> tuple[str, str]:
     """(decimal mark, how it was decided) from the data cells with a ``.`` or ``,``.
 
     ``marked``: (line, column, cell, marks under which the cell is a number). A cell that is a
     number under one mark only (``0,45``, ``-5.563``, ``1,002.5``) decides; ``85,928`` and
     ``86.021`` (a decimal mark, or thousands marks in groups of three) decide only when nothing
-    else does. The map's ``[file] decimal`` wins.
+    else does: then a column that holds such a cell and plain integers (``integers``: column ->
+    an integer cell of it) writes thousands marks (``999`` beside ``1,000``: a writer of fixed
+    decimals writes ``999,000``), else the mark is the decimal mark. The map's
+    ``[file] decimal`` wins.
     """
     if given is not None:
         return given, "given in [file] decimal"
@@ -366,6 +383,15 @@ def _decimal_mark(
             f"{path}: the data rows mix decimal marks ({both[',']!r} and {both['.']!r}), and "
             'either may be a thousands mark; give [file] decimal = "." or "," in the channel map'
         )
+    for d in ".,":
+        grouped = next((x for x in marked if d in x[2] and x[1] in (integers or {})), None)
+        if grouped is not None:
+            line, column, cell, _ = grouped
+            other = "," if d == "." else "."
+            return other, (
+                f"sniffed from column {column + 1}, which holds integers such as "
+                f"{integers[column]!r} beside {cell!r} at line {line + 1}: thousands marks {d!r}"
+            )
     if both[","] is not None:
         return ",", f"sniffed from cells such as {both[','][2]!r}"
     return ".", "the default"
