@@ -286,7 +286,78 @@ def test_an_integer_with_a_thousands_comma_is_never_read_as_a_decimal_comma(tmp_
     values = [k % 1000 for k in range(2500)] + list(range(1000, 1500))
     lines = ["t [ms],T [N.m]"] + [f'{k},"{v:,d}"' for k, v in enumerate(values)]
     f = _write(tmp_path / "late.csv", lines)
-    with pytest.raises(RecordingError, match=r"'1,000' is 1000 with a thousands mark or 1 with"):
+    ambiguous = r"'1,000' is 1000 under a decimal point or 1 under a decimal comma"
+    with pytest.raises(RecordingError, match=ambiguous):
         read_recording(f, torque_map)
     rec = read_recording(f, dict(torque_map, file={"decimal": "."}))
     np.testing.assert_array_equal(rec["torque"], values)
+
+
+@pytest.mark.parametrize(
+    ("rows", "values"),
+    [
+        # a writer of shortest decimals: '1' beside '1,125' is no thousands comma (nor '1.125')
+        (["t;T", "0;1", "1;1,125", "2;2", "3;2,375"], [1.0, 1.125, 2.0, 2.375]),
+        (["t,T", "0,1", "1,1.125", "2,2", "3,2.375"], [1.0, 1.125, 2.0, 2.375]),
+        # three fixed decimals only: decimal commas
+        (["t;T", "0,000;1,000", "0,001;12,345", "0,002;2,500"], [1.0, 12.345, 2.5]),
+        # undecided where sniffed (integers), then '0,5' decides the column: decimal commas
+        (
+            ["t;T"] + [f"{k};{k % 7}" for k in range(2100)] + ["2100;0,5", "2101;1,000"],
+            [k % 7 for k in range(2100)] + [0.5, 1.0],
+        ),
+    ],
+    ids=["shortest-comma", "shortest-point", "fixed-comma", "late-comma"],
+)
+def test_decimal_marks_that_read_right_before_still_do(tmp_path, rows, values):
+    """Files the readers read correctly before marks were judged by the file's decimal mark
+    (a review of that change found the first two read as 1125 and 2375)."""
+    torque_map = {
+        "time": {"column": "t", "unit": "s"},
+        "channels": {"torque": {"column": "T", "unit": "N.m"}},
+    }
+    f = _write(tmp_path / "run.csv", rows)
+    np.testing.assert_array_equal(read_recording(f, torque_map)["torque"], values)
+    with open_recording(f, torque_map) as src:
+        chunked = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 700)])
+    np.testing.assert_array_equal(chunked, values)
+
+
+def test_a_decimal_point_after_the_sniffed_rows_of_a_decimal_comma_file_is_an_error(tmp_path):
+    """'1.5' in a file whose decimal mark is ',' is no number (a thousands dot needs groups of
+    three), beyond the sniffed rows as within them: it was read as 1.5 by pandas."""
+    rows = ["t;T"] + [f"{k};{k % 7},5" for k in range(2100)] + ["2100;1.5", "2101;2,5"]
+    f = _write(tmp_path / "run.csv", rows)
+    torque_map = {
+        "time": {"column": "t", "unit": "s"},
+        "channels": {"torque": {"column": "T", "unit": "N.m"}},
+    }
+    with pytest.raises(RecordingError, match=r"'1.5'.*the file's decimal mark is ','"):
+        read_recording(f, torque_map)
+
+
+def test_text_columns_of_other_formats_take_the_mark_their_cells_or_the_map_give(tmp_path):
+    """A Parquet string column: '0,5' decides decimal commas for '1,000' beside it; a column
+    mixing '0,5' and '1,000.5' is an error; the map's [file] decimal decides where the cells
+    cannot."""
+    pd = pytest.importorskip("pandas")
+    pytest.importorskip("pyarrow")
+    torque_map = {
+        "time": {"column": "t", "unit": "s"},
+        "channels": {"torque": {"column": "T", "unit": "N.m"}},
+    }
+
+    def parquet(name, cells):
+        path = tmp_path / name
+        pd.DataFrame({"t": np.arange(float(len(cells))), "T": cells}).to_parquet(path)
+        return path
+
+    f = parquet("comma.parquet", ["0,5", "1,000", "1,250"])
+    np.testing.assert_array_equal(read_recording(f, torque_map)["torque"], [0.5, 1.0, 1.25])
+    with pytest.raises(RecordingError, match=r"mixes decimal marks \('0,5' and '1,000.5'\)"):
+        read_recording(parquet("mixed.parquet", ["0,5", "1,000.5", "2"]), torque_map)
+    f = parquet("ambiguous.parquet", ["1,000", "2,000"])
+    with pytest.raises(RecordingError, match=r"give \[file\] decimal"):
+        read_recording(f, torque_map)
+    given = dict(torque_map, file={"decimal": "."})
+    np.testing.assert_array_equal(read_recording(f, given)["torque"], [1000.0, 2000.0])

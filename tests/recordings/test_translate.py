@@ -13,8 +13,14 @@ from rollerrig.recordings.translate import apply_map, as_float, resolve_column, 
 
 
 def test_cells_to_numbers_with_words_and_decimal_commas():
-    got = as_float(np.array(["1.5", "2,5", "NaN", "∞", "-inf", "", " 3 "], dtype=object), "c")
-    np.testing.assert_array_equal(got, [1.5, 2.5, np.nan, np.inf, -np.inf, np.nan, 3.0])
+    words = ["NaN", "∞", "-inf", "", " 3 "]
+    expected = [np.nan, np.inf, -np.inf, np.nan, 3.0]
+    for cells in (["1.5", "2.5"], ["1,5", "2,5"]):
+        got = as_float(np.array(cells + words, dtype=object), "c")
+        np.testing.assert_array_equal(got, [1.5, 2.5, *expected])
+    # one column, two decimal marks: which is meant is not the reader's guess
+    with pytest.raises(RecordingError, match=r"c mixes decimal marks \('2,5' and '1.5'\)"):
+        as_float(np.array(["1.5", "2,5"], dtype=object), "c")
     with pytest.raises(RecordingError, match=r"c has 1 non-numeric entries, first at row 1: 'x'"):
         as_float(np.array(["1", "x"], dtype=object), "c", line_of=lambda k: k + 3)
 

@@ -68,6 +68,7 @@ from rollerrig.recordings.translate import (
     as_float,
     auto_entries,
     resolve_column,
+    text_decimal,
     time_seconds,
 )
 from rollerrig.recordings.validate import (
@@ -612,7 +613,7 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
         "slicer": slicer,
         "cmap": cmap,
         "conv": conv,
-        "decimal": table.decimal,
+        "decimal": text_decimal(table, cmap),
     }
     time_column = info["columns"].get("time")
     if rate_stated is not None:

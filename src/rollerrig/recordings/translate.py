@@ -42,14 +42,20 @@ from rollerrig.recordings.formats._text import (
     NEGATIVE_INFINITY_WORDS,
     POSITIVE_INFINITY_WORDS,
     decimal_marks,
-    marked_cell_value,
     parse_number,
 )
 from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
 from rollerrig.recordings.recording import CANONICAL_CHANNELS, RecordingError
 from rollerrig.recordings.timebase import align_channels
 
-__all__ = ["apply_map", "as_float", "auto_entries", "resolve_column", "time_seconds"]
+__all__ = [
+    "apply_map",
+    "as_float",
+    "auto_entries",
+    "resolve_column",
+    "text_decimal",
+    "time_seconds",
+]
 
 
 def resolve_column(
@@ -105,12 +111,14 @@ def as_float(values: np.ndarray, what: str, line_of=None, decimal: str | None = 
     """Numbers of a column; NaN/inf words (``NaN``, ``inf``, PicoScope's ``∞``) become NaN/inf.
 
     ``line_of`` maps a row to its 1-based file line (text files) for the error message.
-    ``decimal`` is the file's decimal mark where it is known (:attr:`Table.decimal`): a text
-    cell with the other mark is then read as a number only in strict groups of three
-    (``1,000`` is 1000 under ``"."``), never as a decimal point. Where it is not known, a cell
-    is read under the one mark that makes it a number, and one that both do (``1,000``) is
-    refused as ambiguous: read as 1.0 it had turned a torque of 1000 N.m, written with a
-    thousands comma beyond the rows the layout was sniffed from, into 1 N.m.
+    ``decimal`` is the decimal mark where it is known (:attr:`Table.decimal`, or the map's
+    ``[file] decimal``): a text cell with the other mark is then read as a number only in
+    strict groups of three (``1,000`` is 1000 under ``"."``), never as a decimal point
+    (``1.5`` under ``","`` is an error). Where it is not known, the column's own cells decide
+    it (``0,5`` can only be a decimal comma, ``1,000.5`` only a decimal point; both kinds in one
+    column are an error), and a column whose cells all read both ways (``1,000``) is refused,
+    naming both readings: read as 1.0, a torque of 1000 N.m written with a thousands comma
+    beyond the rows a layout was sniffed from was 1 N.m.
     """
     arr = np.asarray(values)
     if arr.dtype.kind in "biuf":
@@ -122,12 +130,14 @@ def as_float(values: np.ndarray, what: str, line_of=None, decimal: str | None = 
         words = text.map(lambda v: v.lower() if isinstance(v, str) else "").to_numpy(dtype=object)
         infinite = np.isin(words, list(POSITIVE_INFINITY_WORDS))
         neg_inf = np.isin(words, list(NEGATIVE_INFINITY_WORDS))
+        marked = text.map(lambda v: isinstance(v, str) and ("," in v or "." in v))
+        mark = decimal if decimal is not None else _column_mark(text[marked], what)
 
         def read(v):
             if not isinstance(v, str) or ("," not in v and "." not in v):
                 return v
-            number = marked_cell_value(v, decimal)
-            return v if number is None else number
+            number = parse_number(v, mark) if mark is not None else None
+            return np.nan if number is None else number  # never pandas' own reading of it
 
         num = pd.to_numeric(text.map(read), errors="coerce").to_numpy(dtype=float, copy=True)
         num[infinite] = np.inf
@@ -141,25 +151,57 @@ def as_float(values: np.ndarray, what: str, line_of=None, decimal: str | None = 
         raise RecordingError(
             f"{what} has {int(bad.sum())} non-numeric entries, first at row {k}: {arr[k]!r}"
             + (f" (file line {line})" if line is not None else "")
-            + _why_not_a_number(str(arr[k]).strip(), decimal)
+            + _why_not_a_number(str(arr[k]).strip(), decimal, mark)
         )
     raise RecordingError(f"{what} is not numeric (dtype {arr.dtype})")
 
 
-def _why_not_a_number(cell: str, decimal: str | None) -> str:
+def text_decimal(table: Table, cmap: ChannelMap) -> str | None:
+    """The decimal mark of a file's text cells where it is known: the text reader's (given or
+    sniffed), else the map's ``[file] decimal`` (which the readers of other formats, whose
+    text columns are rare, do not see)."""
+    return table.decimal if table.decimal is not None else cmap.file.decimal
+
+
+def _column_mark(cells, what: str) -> str | None:
+    """The decimal mark of a column's cells with a ``.`` or ``,`` (a pandas Series of str),
+    where the file's is unknown: the one mark its unambiguous cells use; None where every
+    cell reads both ways (``1,000``) or none is a number.
+
+    Raises
+    ------
+    RecordingError
+        Cells that only a decimal point makes numbers beside cells that only a decimal comma
+        does.
+    """
+    only: dict[str, str] = {}
+    for cell in cells:
+        marks = decimal_marks(cell)
+        if len(marks) == 1:
+            only.setdefault(next(iter(marks)), cell)
+            if len(only) == 2:
+                raise RecordingError(
+                    f"{what} mixes decimal marks ({only[',']!r} and {only['.']!r}); give "
+                    '[file] decimal = "." or "," in the channel map'
+                )
+    return next(iter(only), None)
+
+
+def _why_not_a_number(cell: str, decimal: str | None, mark: str | None) -> str:
     """Why a cell with a ``.`` or ``,`` is not a number here, and what to do ("" otherwise)."""
     marks = decimal_marks(cell)
-    if decimal is None and len(marks) == 2:
+    if mark is None and len(marks) == 2:
         return (
-            f": {cell!r} is {parse_number(cell, '.'):g} with a thousands mark or "
-            f"{parse_number(cell, ','):g} with a decimal comma; give [file] decimal in the "
-            "channel map"
+            f": {cell!r} is {parse_number(cell, '.'):g} under a decimal point or "
+            f"{parse_number(cell, ','):g} under a decimal comma (the other mark a thousands "
+            "mark); give [file] decimal in the channel map"
         )
-    if decimal is not None and marks:
-        other = "," if decimal == "." else "."
+    if mark is not None and marks:
+        other = "," if mark == "." else "."
+        how = "the file's" if decimal is not None else "the column's"
         return (
-            f": the file's decimal mark is {decimal!r}, and {other!r} is a thousands mark only "
-            "in groups of three digits; fix the cell or give [file] decimal in the channel map"
+            f": {how} decimal mark is {mark!r}, and {other!r} is a thousands mark only in "
+            "groups of three digits; fix the cell or give [file] decimal in the channel map"
         )
     return ""
 
@@ -291,7 +333,7 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
                 scratch,
                 file=cmap.file,
                 line_of=line_of,
-                decimal=table.decimal,
+                decimal=text_decimal(table, cmap),
             )
         except RecordingError:
             table.notes.append(
@@ -357,7 +399,7 @@ def apply_map(
                 notes,
                 file=cmap.file,
                 line_of=line_of,
-                decimal=table.decimal,
+                decimal=text_decimal(table, cmap),
             )
             info["columns"]["time"] = col_name
             info["source_units"]["time"] = unit
@@ -424,7 +466,7 @@ def apply_map(
                     f"{spec.name}: file unit {col.unit!r}, map unit {spec.unit!r} used "
                     f"(scale {spec.scale}, offset {spec.offset})"
                 )
-        raw = as_float(col.values, what, line_of, table.decimal)
+        raw = as_float(col.values, what, line_of, text_decimal(table, cmap))
         # A corrupted or absurd raw value may overflow to inf here: validation then names the
         # channel and the samples; numpy's overflow warning would only say "multiply".
         with np.errstate(over="ignore", invalid="ignore"):

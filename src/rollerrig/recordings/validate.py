@@ -188,9 +188,9 @@ def describe_gap(gap: Mapping[str, Any]) -> str:
 
 
 def require_two_samples(n: int, where: str, notes: Iterable[str] = ()) -> None:
-    """Refuse a recording of fewer than 2 samples, with the reader's ``notes`` on what it left
-    out (a last line cut by an interrupted writer, dropped rows): they say why a file of two
-    lines holds one sample.
+    """Refuse a recording of fewer than 2 samples, quoting those of the reader's ``notes``
+    that say it left rows out (a last line cut by an interrupted writer, dropped or skipped
+    rows): they say why a file of two lines holds one sample.
 
     Raises
     ------
@@ -198,7 +198,7 @@ def require_two_samples(n: int, where: str, notes: Iterable[str] = ()) -> None:
         ``n < 2``.
     """
     if n < 2:
-        why = "; ".join(notes)
+        why = "; ".join(note for note in notes if "dropped" in note or "skipped" in note)
         because = f" (the reader: {why})" if why else ""
         raise RecordingError(f"{where} only {n} sample(s); need at least 2{because}")
 

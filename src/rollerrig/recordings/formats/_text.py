@@ -28,7 +28,6 @@ __all__ = [
     "datalike",
     "decimal_marks",
     "decode_text",
-    "marked_cell_value",
     "parse_number",
     "split_cells",
     "unique_names",
@@ -119,25 +118,6 @@ def decimal_marks(cell: str) -> frozenset[str]:
     if ("." not in c and "," not in c) or not MARKED_NUMBER.fullmatch(c):
         return frozenset()
     return frozenset(d for d in ".," if parse_number(c, d) is not None)
-
-
-def marked_cell_value(cell: str, decimal: str | None) -> float | None:
-    """The number in a cell that holds a ``.`` or ``,`` under the file's decimal mark
-    ``decimal``, or, where the file's mark is unknown (None), under the one mark that makes it a
-    number; None where it is not a number, or where both marks do (``1,000``: 1000 with a
-    thousands comma, 1.0 with a decimal comma) and nothing says which.
-
-    Examples
-    --------
-    >>> [marked_cell_value(c, d) for c, d in (("1,000", "."), ("1,000", ","), ("0,45", None))]
-    [1000.0, 1.0, 0.45]
-    >>> marked_cell_value("1,000", None) is None, marked_cell_value("0,45", ".") is None
-    (True, True)
-    """
-    if decimal is not None:
-        return parse_number(cell, decimal)
-    marks = decimal_marks(cell)
-    return parse_number(cell, next(iter(marks))) if len(marks) == 1 else None
 
 
 def datalike(fields: list[str]) -> bool:

@@ -361,10 +361,11 @@ def _decimal_mark(
     ``marked``: (line, column, cell, marks under which the cell is a number). A cell that is a
     number under one mark only (``0,45``, ``-5.563``, ``1,002.5``) decides; ``85,928`` and
     ``86.021`` (a decimal mark, or thousands marks in groups of three) decide only when nothing
-    else does: then a column that holds such a cell and plain integers (``integers``: column ->
-    an integer cell of it) writes thousands marks (``999`` beside ``1,000``: a writer of fixed
-    decimals writes ``999,000``), else the mark is the decimal mark. The map's
-    ``[file] decimal`` wins.
+    else does: then a column that holds plain integers (``integers``: column -> an integer
+    cell of it) beside such a cell ending in 0 writes thousands marks (``999`` beside
+    ``1,000``: a writer of fixed decimals writes ``999,000``, a writer of shortest decimals
+    ``1``; ``1`` beside ``1,125`` decides nothing), else the mark is the decimal mark. The
+    map's ``[file] decimal`` wins.
     """
     if given is not None:
         return given, "given in [file] decimal"
@@ -384,7 +385,10 @@ def _decimal_mark(
             'either may be a thousands mark; give [file] decimal = "." or "," in the channel map'
         )
     for d in ".,":
-        grouped = next((x for x in marked if d in x[2] and x[1] in (integers or {})), None)
+        grouped = next(
+            (x for x in marked if d in x[2] and x[2].endswith("0") and x[1] in (integers or {})),
+            None,
+        )
         if grouped is not None:
             line, column, cell, _ = grouped
             other = "," if d == "." else "."
