@@ -272,10 +272,8 @@ def test_thousands_marks_beyond_the_sniffed_rows_are_read_whole(tmp_path_factory
 
 def test_an_integer_with_a_thousands_comma_is_never_read_as_a_decimal_comma(tmp_path):
     """A column of integers with '1,000' among them writes thousands commas ('999' beside
-    '1,000': a writer of fixed decimals writes '999,000'): read as 1000, with a note. Where
-    the sniffed rows hold no mark at all (decimal mark undecided) and '1,000' comes later,
-    it is 1000 with a thousands comma or 1.0 with a decimal comma: the reader names both
-    and asks, instead of reading 1.0 (as it did)."""
+    '1,000': a writer of fixed decimals writes '999,000'): read as 1000, with a note, within
+    the sniffed rows and beyond them (it was read as 1.0, a decimal comma guessed)."""
     torque_map = {"time": {"column": "t"}, "channels": {"torque": {"column": "T"}}}
     values = list(range(3000))
     lines = ["t [ms],T [N.m]"] + [f'{k},"{v:,d}"' for k, v in enumerate(values)]
@@ -286,35 +284,68 @@ def test_an_integer_with_a_thousands_comma_is_never_read_as_a_decimal_comma(tmp_
     values = [k % 1000 for k in range(2500)] + list(range(1000, 1500))
     lines = ["t [ms],T [N.m]"] + [f'{k},"{v:,d}"' for k, v in enumerate(values)]
     f = _write(tmp_path / "late.csv", lines)
-    ambiguous = r"'1,000' is 1000 under a decimal point or 1 under a decimal comma"
-    with pytest.raises(RecordingError, match=ambiguous):
+    np.testing.assert_array_equal(read_recording(f, torque_map)["torque"], values)
+    with open_recording(f, torque_map) as src:
+        chunked = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 700)])
+    np.testing.assert_array_equal(chunked, values)
+
+
+@pytest.mark.parametrize(
+    ("rows", "values", "decimal"),
+    [
+        # '1' beside '1,125': 1.125 from a writer of shortest decimals, 1125 from a grouping
+        # one; nothing in the file says which (a review found the first read as 1125)
+        (["t;T", "0;1", "1;1,125", "2;2", "3;2,375"], [1.0, 1.125, 2.0, 2.375], ","),
+        (["t,T", "0,1", "1,1.125", "2,2", "3,2.375"], [1.0, 1.125, 2.0, 2.375], "."),
+        # integer time, three fixed decimals in every cell: 12.345 or 12345
+        (["t;T", "0;1,000", "1;12,345", "2;2,500"], [1.0, 12.345, 2.5], ","),
+        # integer counts with thousands commas, all above 999: 12000 or 12.0
+        (["t;T"] + [f'{k};"{12000 + k:,d}"' for k in range(5)], 12000.0 + np.arange(5), "."),
+    ],
+    ids=["shortest-comma", "shortest-point", "fixed-comma-integer-time", "counts"],
+)
+def test_cells_that_read_both_ways_with_nothing_to_decide_are_refused(
+    tmp_path, rows, values, decimal
+):
+    """No guess of the decimal mark where every marked cell reads both ways: both readings
+    named and [file] decimal asked for (a decimal comma was guessed: counts of 12 000 read as
+    12.0), then read right in both readers."""
+    torque_map = {
+        "time": {"column": "t", "unit": "s"},
+        "channels": {"torque": {"column": "T", "unit": "N.m"}},
+    }
+    f = _write(tmp_path / "run.csv", rows)
+    with pytest.raises(RecordingError, match=r"under a decimal point or .* under a decimal comma"):
         read_recording(f, torque_map)
-    rec = read_recording(f, dict(torque_map, file={"decimal": "."}))
-    np.testing.assert_array_equal(rec["torque"], values)
+    given = dict(torque_map, file={"decimal": decimal})
+    np.testing.assert_array_equal(read_recording(f, given)["torque"], values)
+    with open_recording(f, given) as src:
+        chunked = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 700)])
+    np.testing.assert_array_equal(chunked, values)
 
 
 @pytest.mark.parametrize(
     ("rows", "values"),
     [
-        # a writer of shortest decimals: '1' beside '1,125' is no thousands comma (nor '1.125')
-        (["t;T", "0;1", "1;1,125", "2;2", "3;2,375"], [1.0, 1.125, 2.0, 2.375]),
-        (["t,T", "0,1", "1,1.125", "2,2", "3,2.375"], [1.0, 1.125, 2.0, 2.375]),
-        # three fixed decimals only: decimal commas
         (["t;T", "0,000;1,000", "0,001;12,345", "0,002;2,500"], [1.0, 12.345, 2.5]),
-        # undecided where sniffed (integers), then '0,5' decides the column: decimal commas
         (
             ["t;T"] + [f"{k};{k % 7}" for k in range(2100)] + ["2100;0,5", "2101;1,000"],
             [k % 7 for k in range(2100)] + [0.5, 1.0],
         ),
+        # a German integer writer crossing 1000 after the sniffed rows: '999' beside '1.000'
+        (
+            ["t;n"] + [f"{k};{k // 3:,d}".replace(",", ".") for k in range(4000)],
+            [k // 3 for k in range(4000)],
+        ),
     ],
-    ids=["shortest-comma", "shortest-point", "fixed-comma", "late-comma"],
+    ids=["fixed-comma", "late-comma", "late-thousands-dots"],
 )
-def test_decimal_marks_that_read_right_before_still_do(tmp_path, rows, values):
-    """Files the readers read correctly before marks were judged by the file's decimal mark
-    (a review of that change found the first two read as 1125 and 2375)."""
+def test_a_mark_that_the_cells_decide_is_read(tmp_path, rows, values):
+    """'0,000' in the time column decides decimal commas; '0,5' in a column decides it for its
+    '1,000'; integers beside '1.000' are thousands dots (read as 1.0 by pandas before)."""
     torque_map = {
         "time": {"column": "t", "unit": "s"},
-        "channels": {"torque": {"column": "T", "unit": "N.m"}},
+        "channels": {"torque": {"column": "T" if rows[0] == "t;T" else "n", "unit": "N.m"}},
     }
     f = _write(tmp_path / "run.csv", rows)
     np.testing.assert_array_equal(read_recording(f, torque_map)["torque"], values)

@@ -38,11 +38,13 @@ from rollerrig.recordings.channels import (
 from rollerrig.recordings.formats import Table
 from rollerrig.recordings.formats._table import require_module
 from rollerrig.recordings.formats._text import (
+    INTEGER,
     NAN_WORDS,
     NEGATIVE_INFINITY_WORDS,
     POSITIVE_INFINITY_WORDS,
     decimal_marks,
     parse_number,
+    thousands_mark_beside_integers,
 )
 from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
 from rollerrig.recordings.recording import CANONICAL_CHANNELS, RecordingError
@@ -107,7 +109,13 @@ def resolve_column(
     )
 
 
-def as_float(values: np.ndarray, what: str, line_of=None, decimal: str | None = None) -> np.ndarray:
+def as_float(
+    values: np.ndarray,
+    what: str,
+    line_of=None,
+    decimal: str | None = None,
+    memo: dict | None = None,
+) -> np.ndarray:
     """Numbers of a column; NaN/inf words (``NaN``, ``inf``, PicoScope's ``∞``) become NaN/inf.
 
     ``line_of`` maps a row to its 1-based file line (text files) for the error message.
@@ -118,7 +126,9 @@ def as_float(values: np.ndarray, what: str, line_of=None, decimal: str | None = 
     it (``0,5`` can only be a decimal comma, ``1,000.5`` only a decimal point; both kinds in one
     column are an error), and a column whose cells all read both ways (``1,000``) is refused,
     naming both readings: read as 1.0, a torque of 1000 N.m written with a thousands comma
-    beyond the rows a layout was sniffed from was 1 N.m.
+    beyond the rows a layout was sniffed from was 1 N.m. ``memo`` (a dict per column, for a
+    column read in chunks) keeps the mark a part decided for the parts after it, as the whole
+    column decides it at once.
     """
     arr = np.asarray(values)
     if arr.dtype.kind in "biuf":
@@ -131,7 +141,11 @@ def as_float(values: np.ndarray, what: str, line_of=None, decimal: str | None = 
         infinite = np.isin(words, list(POSITIVE_INFINITY_WORDS))
         neg_inf = np.isin(words, list(NEGATIVE_INFINITY_WORDS))
         marked = text.map(lambda v: isinstance(v, str) and ("," in v or "." in v))
-        mark = decimal if decimal is not None else _column_mark(text[marked], what)
+        mark = decimal if decimal is not None else (memo or {}).get("mark")
+        if mark is None:
+            mark = _column_mark(text, marked, what)
+            if memo is not None and mark is not None:
+                memo["mark"] = mark
 
         def read(v):
             if not isinstance(v, str) or ("," not in v and "." not in v):
@@ -163,10 +177,12 @@ def text_decimal(table: Table, cmap: ChannelMap) -> str | None:
     return table.decimal if table.decimal is not None else cmap.file.decimal
 
 
-def _column_mark(cells, what: str) -> str | None:
-    """The decimal mark of a column's cells with a ``.`` or ``,`` (a pandas Series of str),
-    where the file's is unknown: the one mark its unambiguous cells use; None where every
-    cell reads both ways (``1,000``) or none is a number.
+def _column_mark(text, marked, what: str) -> str | None:
+    """The decimal mark of a column of text cells (a pandas Series; ``marked``: the cells with
+    a ``.`` or ``,``), where the file's is unknown: the one mark its unambiguous cells use, or,
+    where all read both ways, the mark that plain integers beside ``1,000`` leave
+    (:func:`~rollerrig.recordings.formats._text.thousands_mark_beside_integers`); None where
+    nothing decides (``1,000`` alone: refused, naming both readings).
 
     Raises
     ------
@@ -175,7 +191,7 @@ def _column_mark(cells, what: str) -> str | None:
         does.
     """
     only: dict[str, str] = {}
-    for cell in cells:
+    for cell in text[marked]:
         marks = decimal_marks(cell)
         if len(marks) == 1:
             only.setdefault(next(iter(marks)), cell)
@@ -184,7 +200,15 @@ def _column_mark(cells, what: str) -> str | None:
                     f"{what} mixes decimal marks ({only[',']!r} and {only['.']!r}); give "
                     '[file] decimal = "." or "," in the channel map'
                 )
-    return next(iter(only), None)
+    if only:
+        return next(iter(only))
+    if not text[~marked].map(lambda v: isinstance(v, str) and bool(INTEGER.fullmatch(v))).any():
+        return None
+    for cell in text[marked]:
+        thousands = thousands_mark_beside_integers(cell)
+        if thousands is not None:
+            return "," if thousands == "." else "."
+    return None
 
 
 def _why_not_a_number(cell: str, decimal: str | None, mark: str | None) -> str:

@@ -21,6 +21,7 @@ from pathlib import Path
 from rollerrig.recordings.recording import RecordingError
 
 __all__ = [
+    "INTEGER",
     "NAN_WORDS",
     "NEGATIVE_INFINITY_WORDS",
     "POSITIVE_INFINITY_WORDS",
@@ -30,6 +31,7 @@ __all__ = [
     "decode_text",
     "parse_number",
     "split_cells",
+    "thousands_mark_beside_integers",
     "unique_names",
 ]
 
@@ -118,6 +120,31 @@ def decimal_marks(cell: str) -> frozenset[str]:
     if ("." not in c and "," not in c) or not MARKED_NUMBER.fullmatch(c):
         return frozenset()
     return frozenset(d for d in ".," if parse_number(c, d) is not None)
+
+
+INTEGER = re.compile(r"[+-]?\d+")
+"""A cell of digits only (no mark)."""
+
+
+def thousands_mark_beside_integers(cell: str) -> str | None:
+    """The thousands mark of ``cell`` when it sits in a column of plain integers, else None.
+
+    A cell that both marks read (``1,000``, ``1.000``) and that ends in 0 beside integers
+    (``999``) is an integer with a thousands mark: a writer of fixed decimals writes
+    ``999,000``, one of shortest decimals ``1``, neither writes ``999`` and ``1,000``. ``1``
+    beside ``1,125`` says nothing (1.125 from a shortest writer, 1125 from a grouping one).
+
+    Examples
+    --------
+    >>> thousands_mark_beside_integers("1,000"), thousands_mark_beside_integers("1.250")
+    (',', '.')
+    >>> thousands_mark_beside_integers("1,125") is None, thousands_mark_beside_integers("0,50")
+    (True, None)
+    """
+    c = cell.strip()
+    if not c.endswith("0") or len(decimal_marks(c)) != 2:
+        return None
+    return "," if "," in c else "."
 
 
 def datalike(fields: list[str]) -> bool:

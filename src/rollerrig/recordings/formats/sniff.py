@@ -35,6 +35,7 @@ from pathlib import Path
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._header import column_names, column_units, header_rows
 from rollerrig.recordings.formats._text import (
+    INTEGER,
     MARKED_NUMBER,
     cell_kind,
     datalike,
@@ -42,6 +43,7 @@ from rollerrig.recordings.formats._text import (
     decode_text,
     parse_number,
     split_cells,
+    thousands_mark_beside_integers,
 )
 from rollerrig.recordings.recording import RecordingError
 
@@ -85,7 +87,10 @@ class TextLayout:
         names = list(self.names) + (["__trailing__"] if self.trailing else [])
         return {
             "sep": r"\s+" if self.separator == " " else self.separator,
-            "decimal": self.decimal,
+            # Undecided (no mark in the sniffed rows), pandas must not read a later '1.000' as
+            # 1.0 itself: a decimal mark that never occurs leaves such a column as text, which
+            # translate.as_float reads by the mark its own cells decide (or refuses).
+            "decimal": self.decimal if self.decimal_decided else "\x00",
             "encoding": self.encoding,
             "header": None,
             "names": names,
@@ -295,7 +300,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         j: c
         for i, f in reversed(block[:2000])
         for j, c in enumerate(x.strip() for x in f)
-        if _INTEGER.fullmatch(c)
+        if INTEGER.fullmatch(c)
     }
     decimal, evidence = _decimal_mark(p, spec.decimal, marked, integers)
     if spec.decimal is None and decimal == ",":
@@ -329,7 +334,12 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         if spec.units_row is None:
             notes.append(f"units row (line {units_line + 1}) used for the columns' units")
     units = column_units(text_of, units_line, sep, n, len(names))
-    thousands = _thousands_columns(p, block[:2000], names, decimal, evidence, notes)
+    # Thousands marks only under a decided decimal mark: undecided, '12,345' is 12345 or 12.345
+    # and the column's own cells decide (translate.as_float), or it is refused.
+    decided = evidence != "the default"
+    thousands = (
+        _thousands_columns(p, block[:2000], names, decimal, evidence, notes) if decided else []
+    )
     return TextLayout(
         path=p,
         encoding=encoding,
@@ -343,11 +353,8 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         trailing=trailing,
         notes=tuple(notes),
         thousands=tuple(thousands),
-        decimal_decided=evidence != "the default",
+        decimal_decided=decided,
     )
-
-
-_INTEGER = re.compile(r"[+-]?\d+")
 
 
 def _decimal_mark(
@@ -360,12 +367,12 @@ def _decimal_mark(
 
     ``marked``: (line, column, cell, marks under which the cell is a number). A cell that is a
     number under one mark only (``0,45``, ``-5.563``, ``1,002.5``) decides; ``85,928`` and
-    ``86.021`` (a decimal mark, or thousands marks in groups of three) decide only when nothing
-    else does: then a column that holds plain integers (``integers``: column -> an integer
-    cell of it) beside such a cell ending in 0 writes thousands marks (``999`` beside
-    ``1,000``: a writer of fixed decimals writes ``999,000``, a writer of shortest decimals
-    ``1``; ``1`` beside ``1,125`` decides nothing), else the mark is the decimal mark. The
-    map's ``[file] decimal`` wins.
+    ``86.021`` (a decimal mark, or thousands marks in groups of three) decide only in a column
+    that holds plain integers (``integers``: column -> an integer cell of it) beside such a
+    cell ending in 0, which writes thousands marks
+    (:func:`~rollerrig.recordings.formats._text.thousands_mark_beside_integers`); else the
+    mark stays undecided (``"."``, ``"the default"``: :attr:`TextLayout.decimal_decided` is
+    False), never guessed. The map's ``[file] decimal`` wins.
     """
     if given is not None:
         return given, "given in [file] decimal"
@@ -377,27 +384,26 @@ def _decimal_mark(
         )
     for d in ".,":
         if only[d] is not None:
-            return d, f"sniffed from cells such as {only[d]!r}"
+            return d, f"sniffed from cells such as {_at(only[d])}"
     both = {d: next((c for _, _, c, _ in marked if d in c), None) for d in ".,"}
     if both["."] is not None and both[","] is not None:
         raise RecordingError(
             f"{path}: the data rows mix decimal marks ({both[',']!r} and {both['.']!r}), and "
             'either may be a thousands mark; give [file] decimal = "." or "," in the channel map'
         )
-    for d in ".,":
-        grouped = next(
-            (x for x in marked if d in x[2] and x[2].endswith("0") and x[1] in (integers or {})),
-            None,
-        )
-        if grouped is not None:
-            line, column, cell, _ = grouped
-            other = "," if d == "." else "."
-            return other, (
+    integers = integers or {}
+    for line, column, cell, _ in marked:
+        thousands = thousands_mark_beside_integers(cell) if column in integers else None
+        if thousands is not None:
+            return ("," if thousands == "." else "."), (
                 f"sniffed from column {column + 1}, which holds integers such as "
-                f"{integers[column]!r} beside {cell!r} at line {line + 1}: thousands marks {d!r}"
+                f"{integers[column]!r} beside {cell!r} at line {line + 1}: thousands marks "
+                f"{thousands!r}"
             )
-    if both[","] is not None:
-        return ",", f"sniffed from cells such as {both[','][2]!r}"
+    # Every marked cell reads both ways (``12,000``: 12000 or 12.0) and nothing above decides:
+    # no guess (a decimal comma was guessed, reading counts of 12 000 as 12). The mark stays
+    # undecided, and each column's own cells decide it, or its reading is refused naming both
+    # (:func:`rollerrig.recordings.translate.as_float`).
     return ".", "the default"
 
 
