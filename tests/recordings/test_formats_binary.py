@@ -574,3 +574,27 @@ def test_an_empty_file_says_so(tmp_path, suffix):
     path.write_bytes(b"")
     with pytest.raises(RecordingError, match=r"the file is empty \(0 bytes\)"):
         read_recording(path, {"channels": {"torque": {"column": "T", "unit": "N.m"}}})
+
+
+def test_mdf_samples_flagged_invalid_are_nan_where_they_were_logged(tmp_path):
+    """MDF4 invalidation bits (a logger's 'this sample is not valid'): the samples stay in
+    place as NaN, so strict reading names them and lenient reading interpolates them; asammdf
+    drops them by default, which left the channel shorter than its time base (refused as a
+    damaged file)."""
+    from asammdf import MDF, Signal
+
+    t = np.arange(2000) * 1e-3
+    flagged = np.zeros(2000, dtype=bool)
+    flagged[100:103] = True
+    mdf = MDF(version="4.10")
+    sig = Signal(np.sin(t), t, name="T", unit="N.m", invalidation_bits=flagged)
+    mdf.append([sig], acq_name="fast")
+    path = tmp_path / "flagged.mf4"
+    mdf.save(path, overwrite=True)
+    cmap = {"channels": {"torque": {"column": "T"}}}
+    with pytest.raises(RecordingError, match=r"3 NaN/inf samples .* samples 100\.\.102"):
+        read_recording(path, cmap)
+    rec = read_recording(path, cmap, validate="lenient")
+    assert rec["torque"].size == 2000
+    np.testing.assert_allclose(rec["torque"][99:104], np.sin(t[99:104]), atol=1e-6)
+    np.testing.assert_array_equal(rec["torque"][:100], np.sin(t[:100]))

@@ -392,3 +392,15 @@ def test_text_columns_of_other_formats_take_the_mark_their_cells_or_the_map_give
         read_recording(f, torque_map)
     given = dict(torque_map, file={"decimal": "."})
     np.testing.assert_array_equal(read_recording(f, given)["torque"], [1000.0, 2000.0])
+
+
+def test_a_time_of_two_fields_asks_minutes_or_hours(tmp_path):
+    """'00:01' is a second of an elapsed mm:ss or a minute of a time of day hh:mm: refused
+    with both named (it was read as hh:mm: a 1 Hz logger 60 times too slow), read as given."""
+    lines = ["Elapsed;T"] + [f"{k // 60:02d}:{k % 60:02d};{k}" for k in range(120)]
+    f = _write(tmp_path / "mmss.csv", lines)
+    cmap = {"time": {"column": "Elapsed"}, "channels": {"torque": {"column": "T", "unit": "N.m"}}}
+    with pytest.raises(RecordingError, match=r'minutes:seconds .* "%M:%S" or "%H:%M"'):
+        read_recording(f, cmap)
+    rec = read_recording(f, dict(cmap, file={"date_format": "%M:%S"}))
+    np.testing.assert_array_equal(rec.time, np.arange(120.0))

@@ -56,3 +56,9 @@ def test_columns_resolve_with_close_matches_and_the_map_applies_units():
     np.testing.assert_allclose(time, [0.0, 0.004, 0.008])
     np.testing.assert_allclose(channels["roller_speed"], 2 * np.pi)
     assert units["roller_speed"] == "rad/s" and info["columns"]["roller_speed"] == "n_roller"
+
+
+def test_elapsed_time_as_timedelta_is_seconds():
+    # pandas' Timedelta / Parquet's duration: the elapsed seconds themselves (was "not numeric")
+    elapsed = (np.arange(4) * 250).astype("timedelta64[us]")
+    np.testing.assert_allclose(time_seconds(elapsed, "s", "t", []), [0.0, 2.5e-4, 5e-4, 7.5e-4])

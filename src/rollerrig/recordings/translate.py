@@ -265,6 +265,8 @@ def time_seconds(
             notes.append(note)
             return secs
         return as_float(arr, what, line_of, decimal) * TIME_UNITS[unit]
+    if arr.dtype.kind == "m":  # elapsed time (pandas' Timedelta, Parquet's duration)
+        return arr / np.timedelta64(1, "s")
     if arr.dtype.kind == "M":
         t0 = arr[0]
         notes.append(f"absolute timestamps converted to seconds since the first sample ({t0})")

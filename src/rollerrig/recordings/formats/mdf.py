@@ -216,20 +216,30 @@ def _table(mdf, path: Path) -> Table:
     fragments: dict[tuple[int, int, int], list] = {}
     load_data = getattr(getattr(mdf, "_mdf", None), "_load_data", None)
 
+    # Samples the logger flagged invalid (MDF4 invalidation bits) are kept, as NaN: asammdf
+    # drops them by default, which left a channel shorter than its group's time base.
     def _get(i: int, j: int, start: int, stop: int) -> tuple[np.ndarray, np.ndarray, str | None]:
         if load_data is None or (start == 0 and stop == records[i]):
-            sig = mdf.get(group=i, index=j, record_offset=start, record_count=stop - start)
-            return np.asarray(sig.samples), np.asarray(sig.timestamps, dtype=float), sig.unit
+            sig = mdf.get(
+                group=i,
+                index=j,
+                record_offset=start,
+                record_count=stop - start,
+                ignore_invalidation_bits=True,
+            )
+            return _valid(sig), np.asarray(sig.timestamps, dtype=float), sig.unit
         key = (i, start, stop)
         if key not in fragments:
             fragments.clear()
             fragments[key] = list(
                 load_data(groups[i], record_offset=start, record_count=stop - start)
             )
-        parts = [mdf.get(group=i, index=j, data=f) for f in fragments[key]]
+        parts = [
+            mdf.get(group=i, index=j, data=f, ignore_invalidation_bits=True) for f in fragments[key]
+        ]
         if not parts:
             return np.zeros(0), np.zeros(0), None
-        values = np.concatenate([np.asarray(p.samples) for p in parts])
+        values = np.concatenate([_valid(p) for p in parts])
         stamps = np.concatenate([np.asarray(p.timestamps, dtype=float) for p in parts])
         return values, stamps, parts[0].unit or None
 
@@ -258,3 +268,23 @@ def _table(mdf, path: Path) -> Table:
     if comment:
         store_json(table, _hd_comment_text(comment))
     return read_in_slices(table, length, read)
+
+
+def _valid(signal) -> np.ndarray:
+    """An asammdf signal's samples with those its invalidation bits flag as NaN (numbers
+    become floats for it); the samples as they are when none is flagged."""
+    values = np.asarray(signal.samples)
+    bits = getattr(signal, "invalidation_bits", None)
+    if bits is None:
+        return values
+    flagged = np.asarray(bits, dtype=bool)
+    if not flagged.any():
+        return values
+    if values.dtype.kind not in "biuf":
+        raise RecordingError(
+            f"MDF channel {signal.name!r}: {int(flagged.sum())} sample(s) flagged invalid in a "
+            f"channel of {values.dtype} values, which has no NaN to mark them"
+        )
+    values = values.astype(float)
+    values[flagged] = np.nan
+    return values

@@ -260,6 +260,14 @@ def parse_timestamps(
             + parts["S"].fillna("0").astype(int).to_numpy()
             + pd.to_numeric("0." + frac).to_numpy()
         )
+    if kind == "tod" and parts["S"].isna().all():
+        # 'a:b' alone: minutes and seconds of an elapsed time or hours and minutes of a time of
+        # day, 60 times apart; read as hh:mm, a 1 Hz logger's '00:01' was a minute.
+        raise RecordingError(
+            f"{what}: times such as {first!r} have two fields: minutes:seconds of an elapsed "
+            "time, or hours:minutes of a time of day (a factor 60 apart); give [file] "
+            'date_format in the channel map: "%M:%S" or "%H:%M"'
+        )
     if kind == "tod":
         steps = np.diff(tod)
         wraps = np.concatenate(([0.0], np.cumsum(np.where(steps < -43200.0, 86400.0, 0.0))))
