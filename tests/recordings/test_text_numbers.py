@@ -404,3 +404,20 @@ def test_a_time_of_two_fields_asks_minutes_or_hours(tmp_path):
         read_recording(f, cmap)
     rec = read_recording(f, dict(cmap, file={"date_format": "%M:%S"}))
     np.testing.assert_array_equal(rec.time, np.arange(120.0))
+
+
+def test_a_named_last_column_empty_at_first_is_no_trailing_separator(tmp_path):
+    """A last column the header names, empty for the first 300 rows (its sensor switched on
+    later): a channel, not a trailing separator (the file was refused: 'the header has 3
+    cells but the data rows have 2')."""
+    rows = [
+        f"{k * 0.001:.3f};{k * 0.5:.1f};" + ("" if k < 300 else f"{2 + k * 1e-4:.4f}")
+        for k in range(1000)
+    ]
+    f = _write(tmp_path / "late_sensor.csv", ["t;T;P", *rows])
+    cmap = {
+        "time": {"column": "t", "unit": "s"},
+        "channels": {"torque": {"column": "T", "unit": "N.m"}},
+    }
+    rec = read_recording(f, cmap)
+    np.testing.assert_allclose(rec["torque"], np.arange(1000) * 0.5)

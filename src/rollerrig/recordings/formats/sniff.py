@@ -314,7 +314,11 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         raise RecordingError(
             f"{p}: {where} header_row = {header_line} but the file has {len(all_lines)} lines"
         )
-    trailing = n >= 2 and all(len(f) == n and f[-1] == "" for _, f in block[:200])
+    # A trailing separator leaves every row's last cell empty and has no name in the header; a
+    # last column the header names is a channel, empty until its sensor is switched on.
+    header_cells = split_cells(text_of.get(header_line, ""), sep) if header_line is not None else []
+    named_last = len(header_cells) >= n and header_cells[n - 1].strip() != ""
+    trailing = n >= 2 and not named_last and all(len(f) == n and f[-1] == "" for _, f in block)
     names = column_names(
         p,
         text_of,
