@@ -122,3 +122,16 @@ def test_exact_fit_has_no_residual_test():
     fit = fit_polach(s, mu, LOAD, K, slip_velocity=w)
     assert fit.residual_structure is None  # residuals at round-off level
     assert fit.truth_distance(POLACH_DRY)["static_friction"]["sigma"] is not None
+
+
+def test_residuals_at_the_optimisers_tolerance_are_not_tested():
+    # Below ROUND_OFF_SHARE of the largest |CoA| a structure test would only see the
+    # optimiser's path; above it, a trend in the residuals is structure.
+    from rollerrig.fit.diagnostics import ROUND_OFF_SHARE, fit_residual_structure
+
+    creep = np.linspace(0.001, 0.1, 120)
+    coa = 0.4 * np.ones_like(creep)
+    trend = np.sin(creep * 60.0)
+    assert fit_residual_structure(0.5 * ROUND_OFF_SHARE * 0.4 * trend, creep, coa) is None
+    structure = fit_residual_structure(1e-3 * trend, creep, coa)
+    assert structure is not None and structure.structured

@@ -48,7 +48,7 @@ from scipy import optimize
 from rollerrig._validation import ParameterError, require_finite, require_positive
 from rollerrig.contact.ellipse_grid import FastsimGrid, fastsim_grid
 from rollerrig.contact.laws import FastsimParameters
-from rollerrig.fit.diagnostics import residual_structure
+from rollerrig.fit.diagnostics import fit_residual_structure
 from rollerrig.fit.modified_fastsim_coverage import _coverage
 from rollerrig.fit.modified_fastsim_model import (
     MODIFIED_FASTSIM_PARAMETER_NAMES,
@@ -307,9 +307,7 @@ def fit_modified_fastsim(
     own = [r for r in coverage.reasons if r not in ab_problems]
     if own:
         problems.append("A and B are not constrained by the data (" + "; ".join(own) + ")")
-    structure = None
-    if float(np.sqrt(np.mean(res**2))) > 1e-9 * max(float(np.max(np.abs(y))), 1e-12):
-        structure = residual_structure(res, s, order="creep")
+    structure = fit_residual_structure(res, s, y)
     if structure is not None and structure.structured:
         warnings.warn(
             "modified FASTSIM fit residuals are structured, the model misses a systematic part "

@@ -48,6 +48,7 @@ from rollerrig.contact.curves import CreepCurve
 from rollerrig.fit.diagnostics import (
     ResidualStructure,
     SlipVelocityCoverage,
+    fit_residual_structure,
     residual_structure,
     slip_velocity_coverage,
     truth_distance,
@@ -411,13 +412,7 @@ def fit_polach(
     own = [r for r in coverage.reasons if r not in ab_covariance_problems]
     if own:
         problems.append("A and B are not constrained by the data (" + "; ".join(own) + ")")
-    structure = None
-    # Residuals below 1e-7 of the largest |CoA| are the optimiser's, not the data's: an exact
-    # fit of the model's own curve ends at 1.4e-10 or 5.8e-10 rms as the creep stiffness's last
-    # bit changes (a threshold of 1e-9 then tested them for structure and warned), and no
-    # measured CoA is known to 1e-7.
-    if float(np.sqrt(np.mean(res**2))) > 1e-7 * max(float(np.max(np.abs(y))), 1e-12):
-        structure = residual_structure(res, s, order="creep")
+    structure = fit_residual_structure(res, s, y)
     span = float(np.ptp(np.abs(w)))
     if structure is not None and structure.structured:
         warnings.warn(
