@@ -421,3 +421,16 @@ def test_a_named_last_column_empty_at_first_is_no_trailing_separator(tmp_path):
     }
     rec = read_recording(f, cmap)
     np.testing.assert_allclose(rec["torque"], np.arange(1000) * 0.5)
+
+
+def test_a_text_footer_is_named_in_the_error(tmp_path):
+    """A footer line after the numbers ('Ende der Messung'): the error names it (it said only
+    'no rows of numbers found', as if the file held none)."""
+    rows = [f"{k / 100:.2f};{k},5".replace(".", ",") for k in range(50)]
+    f = _write(tmp_path / "footer.csv", ["Zeit;Moment", *rows, "Ende der Messung"])
+    cmap = {
+        "time": {"column": "Zeit", "unit": "s"},
+        "channels": {"torque": {"column": "Moment", "unit": "N.m"}},
+    }
+    with pytest.raises(RecordingError, match=r"last line 52 \('Ende der Messung'\) is text"):
+        read_recording(f, cmap)

@@ -266,6 +266,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
             raise RecordingError(
                 f"{p}: no rows of numbers found (first lines: {shown}); give the layout in the "
                 "channel map's [file] section (separator, decimal, header_row, data_row)"
+                + _footer_hint(lines, candidates)
             )
         best = (score, 1, block, sep)
     _, n, block, sep = best
@@ -359,6 +360,24 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         thousands=tuple(thousands),
         decimal_decided=decided,
     )
+
+
+def _footer_hint(lines: list[tuple[int, str]], separators) -> str:
+    """Where the file's last line is text below rows of numbers (a footer such as "End of
+    measurement"): say so, since the rows are read up to the end of the file."""
+    body = [(i, t) for i, t in lines if t.strip()]
+    if len(body) < 3:
+        return ""
+    last_line, last = body[-1]
+    for sep in separators:
+        if not datalike(split_cells(last, sep)) and any(
+            datalike(split_cells(t, sep)) for _, t in body[-50:-1]
+        ):
+            return (
+                f"; the last line {last_line + 1} ({last.strip()[:60]!r}) is text below rows of "
+                "numbers, which are read to the end of the file: remove that footer"
+            )
+    return ""
 
 
 def _decimal_mark(
