@@ -374,23 +374,3 @@ def test_too_short_after_a_cut_line_says_the_line_was_dropped(tmp_path, rows):
     for reader in readers:
         with pytest.raises(RecordingError, match=r"only \d sample\(s\).*no line end.*dropped"):
             reader(path)
-
-
-def test_times_of_day_across_midnight_in_chunks_and_parts(tmp_path):
-    """A time-of-day column over 20 h (08:00 to 04:00 the next day): chunks read in order and
-    parts read out of order carry the whole days read_recording unwraps (chunks failed with
-    'time does not increase' once a chunk began on the next day)."""
-    import datetime as dt
-
-    start = dt.datetime(2024, 8, 5, 8)
-    rows = [f"{start + dt.timedelta(seconds=5 * k):%H:%M:%S};{k % 7}" for k in range(14400)]
-    path = tmp_path / "clock.csv"
-    path.write_text("Uhrzeit;T\n" + "\n".join(rows) + "\n", encoding="utf-8")
-    cmap = {"time": {"column": "Uhrzeit"}, "channels": {"torque": {"column": "T", "unit": "N.m"}}}
-    whole = read_recording(path, cmap)
-    assert whole.time[-1] == 5 * 14399
-    with open_recording(path, cmap) as src:
-        chunked = np.concatenate([c.time for c in src.iter_chunks(("torque",), 3000)])
-        np.testing.assert_array_equal(chunked, whole.time)
-        for a, b in ((12000, 12003), (10, 12)):  # out of order
-            np.testing.assert_array_equal(src.read(("torque",), a, b).time, whole.time[a:b])

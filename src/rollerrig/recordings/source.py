@@ -434,18 +434,6 @@ def _time(st: Mapping[str, Any], a: int, b: int, first: Column | None) -> np.nda
         if own is None:
             own = st["slicer"].read(st["time_ref"], a, b).time
         return np.array(own, dtype=float)
-    secs = _column_time(st, a, b)
-    if a > 0 and st["time_decided"].get("kind") == "tod":
-        secs = secs + _whole_days(st, a, secs[0])
-        st["tod_end"] = (b, float(secs[-1]))
-    elif a == 0:
-        st["tod_end"] = (b, float(secs[-1])) if secs.size else None
-    return secs
-
-
-def _column_time(st: Mapping[str, Any], a: int, b: int) -> np.ndarray:
-    """Seconds of the time column's samples ``a:b`` since the file's first sample, read in one
-    format for every part (``time_decided``); times of day unwrapped at midnight within it."""
     col = st["slicer"].read(st["time_column"], a, b)
     values = np.asarray(col.values)
     if a > 0:  # anchor timestamps / offsets on the file's first sample, as read_recording does
@@ -456,22 +444,9 @@ def _column_time(st: Mapping[str, Any], a: int, b: int) -> np.ndarray:
         f"{st['where']} time column {st['time_column']!r}",
         [],
         file=st["cmap"].file,
-        decided=st["time_decided"],
         decimal=st["decimal"],
     )
     return np.array(secs[1:] if a > 0 else secs, dtype=float)
-
-
-def _whole_days(st: dict, a: int, first: float) -> float:
-    """The whole days [s] to add to a part of a time-of-day column that starts at sample ``a``
-    (``first``: its first time, reckoned within a day of the file's first sample): the days
-    that put it within 12 h after the sample before it, as read_recording's unwrapping does.
-    The time at sample ``a - 1`` is the previous part's end when read in order, else the
-    column is read up to ``a`` (once: a 20 h run at 1 Hz crossing midnight failed)."""
-    end = st.get("tod_end")
-    if end is None or end[0] != a:
-        end = (a, float(_column_time(st, 0, a)[-1]))  # unwrapped within itself
-    return 86400.0 * round((end[1] - first) / 86400.0)
 
 
 def _signature(table: Table, slicer: Slicer, name: str, use_own: bool) -> tuple:
@@ -651,7 +626,6 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
         state["time_column"] = time_column
         state["time_unit"] = info["source_units"].get("time", "s")
         state["time_first"] = np.asarray(slicer.read(time_column, 0, 1).values)
-        state["time_decided"] = {}  # the timestamp format, decided once for every part
     else:
         state["time_kind"] = "own"
         state["time_ref"] = info["columns"][next(iter(chans_h))]
