@@ -281,11 +281,16 @@ def test_an_integer_with_a_thousands_comma_is_never_read_as_a_decimal_comma(tmp_
     np.testing.assert_array_equal(rec["torque"], values)
     assert "holds integers such as" in _notes(rec) and "'1,000'" in _notes(rec)
 
+    # Beyond the sniffed rows (nothing decided there) a column alone does not decide by its
+    # integers: another column's '0,5' there may say decimal commas; refused, then as given.
     values = [k % 1000 for k in range(2500)] + list(range(1000, 1500))
     lines = ["t [ms],T [N.m]"] + [f'{k},"{v:,d}"' for k, v in enumerate(values)]
     f = _write(tmp_path / "late.csv", lines)
-    np.testing.assert_array_equal(read_recording(f, torque_map)["torque"], values)
-    with open_recording(f, torque_map) as src:
+    with pytest.raises(RecordingError, match=r"'1,000' is 1000 under a decimal point or 1 under"):
+        read_recording(f, torque_map)
+    given = dict(torque_map, file={"decimal": "."})
+    np.testing.assert_array_equal(read_recording(f, given)["torque"], values)
+    with open_recording(f, given) as src:
         chunked = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 700)])
     np.testing.assert_array_equal(chunked, values)
 
@@ -332,20 +337,15 @@ def test_cells_that_read_both_ways_with_nothing_to_decide_are_refused(
             ["t;T"] + [f"{k};{k % 7}" for k in range(2100)] + ["2100;0,5", "2101;1,000"],
             [k % 7 for k in range(2100)] + [0.5, 1.0],
         ),
-        # a German integer writer crossing 1000 after the sniffed rows: '999' beside '1.000'
-        (
-            ["t;n"] + [f"{k};{k // 3:,d}".replace(",", ".") for k in range(4000)],
-            [k // 3 for k in range(4000)],
-        ),
     ],
-    ids=["fixed-comma", "late-comma", "late-thousands-dots"],
+    ids=["fixed-comma", "late-comma"],
 )
 def test_a_mark_that_the_cells_decide_is_read(tmp_path, rows, values):
     """'0,000' in the time column decides decimal commas; '0,5' in a column decides it for its
-    '1,000'; integers beside '1.000' are thousands dots (read as 1.0 by pandas before)."""
+    '1,000' (and for the file's other columns)."""
     torque_map = {
         "time": {"column": "t", "unit": "s"},
-        "channels": {"torque": {"column": "T" if rows[0] == "t;T" else "n", "unit": "N.m"}},
+        "channels": {"torque": {"column": "T", "unit": "N.m"}},
     }
     f = _write(tmp_path / "run.csv", rows)
     np.testing.assert_array_equal(read_recording(f, torque_map)["torque"], values)
@@ -434,3 +434,43 @@ def test_a_text_footer_is_named_in_the_error(tmp_path):
     }
     with pytest.raises(RecordingError, match=r"last line 52 \('Ende der Messung'\) is text"):
         read_recording(f, cmap)
+
+
+def test_a_time_of_day_format_without_a_date_is_unwrapped_at_midnight(tmp_path):
+    """'%H:%M' (the way out of the two-field refusal) across midnight: '23:59' then '00:00' is
+    a minute later (the date_format path said 'time goes backwards')."""
+    rows = [f"{(1430 + k) // 60 % 24:02d}:{(1430 + k) % 60:02d};{k}" for k in range(30)]
+    f = _write(tmp_path / "hhmm.csv", ["t;T", *rows])
+    cmap = {
+        "file": {"date_format": "%H:%M"},
+        "time": {"column": "t"},
+        "channels": {"torque": {"column": "T", "unit": "N.m"}},
+    }
+    np.testing.assert_array_equal(read_recording(f, cmap).time, 60.0 * np.arange(30))
+
+
+def test_late_marks_follow_the_file_not_the_column(tmp_path):
+    """A German integer writer crossing 1000 beyond the sniffed rows ('999', then '1.000'): never
+    pandas' 1.0; refused naming both readings. One column's '0,5' there decides decimal commas
+    for the file's other columns too (a column alone had read its '1,000' as 1000 beside it)."""
+    cmap = {
+        "time": {"column": "t", "unit": "s"},
+        "channels": {"torque": {"column": "n", "unit": "N.m"}},
+    }
+    rows = ["t;n"] + [f"{k};{k // 3:,d}".replace(",", ".") for k in range(4000)]
+    f = _write(tmp_path / "dots.csv", rows)
+    with pytest.raises(RecordingError, match=r"'1\.000' is 1 under a decimal point or 1000 under"):
+        read_recording(f, cmap)
+    rows = ["t;A;B"] + [
+        f"{k};{'0,5' if k == 2500 else '1'};{'1,000' if k == 2600 else '999'}" for k in range(3000)
+    ]
+    f = _write(tmp_path / "two.csv", rows)
+    both = {
+        "time": {"column": "t", "unit": "s"},
+        "channels": {
+            "torque": {"column": "A", "unit": "N.m"},
+            "normal_load": {"column": "B", "unit": "N"},
+        },
+    }
+    rec = read_recording(f, both)
+    assert rec["torque"][2500] == 0.5 and rec["normal_load"][2600] == 1.0

@@ -335,8 +335,7 @@ class RecordingSource:
             col = slicer.read(column, a, b)
             first = first or col
             what = f"{where} column {column!r} (channel {name!r})"
-            memo = st["marks"].setdefault(column, {})
-            raw = as_float(col.values, what, decimal=st["decimal"], memo=memo)
+            raw = as_float(col.values, what, decimal=st["decimal"], memo=st["marks"])
             if raw.size != b - a:
                 raise RecordingError(
                     f"{what} gave {raw.size} samples for {a}..{b}; the file is damaged"
@@ -615,7 +614,7 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
         "cmap": cmap,
         "conv": conv,
         "decimal": text_decimal(table, cmap),
-        "marks": {},  # column -> the decimal mark its chunks decided (as_float's memo)
+        "marks": {},  # the decimal mark a column's cells decided, for all (as_float's memo)
     }
     time_column = info["columns"].get("time")
     if rate_stated is not None:

@@ -38,13 +38,11 @@ from rollerrig.recordings.channels import (
 from rollerrig.recordings.formats import Table
 from rollerrig.recordings.formats._table import require_module
 from rollerrig.recordings.formats._text import (
-    INTEGER,
     NAN_WORDS,
     NEGATIVE_INFINITY_WORDS,
     POSITIVE_INFINITY_WORDS,
     decimal_marks,
     parse_number,
-    thousands_mark_beside_integers,
 )
 from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
 from rollerrig.recordings.recording import CANONICAL_CHANNELS, RecordingError
@@ -126,9 +124,9 @@ def as_float(
     it (``0,5`` can only be a decimal comma, ``1,000.5`` only a decimal point; both kinds in one
     column are an error), and a column whose cells all read both ways (``1,000``) is refused,
     naming both readings: read as 1.0, a torque of 1000 N.m written with a thousands comma
-    beyond the rows a layout was sniffed from was 1 N.m. ``memo`` (a dict per column, for a
-    column read in chunks) keeps the mark a part decided for the parts after it, as the whole
-    column decides it at once.
+    beyond the rows a layout was sniffed from was 1 N.m. ``memo`` (one dict per file, shared
+    by its columns and the chunks of a file read in chunks) keeps the mark a column decided
+    for the columns and parts after it: one file, one decimal mark.
     """
     arr = np.asarray(values)
     if arr.dtype.kind in "biuf":
@@ -179,10 +177,12 @@ def text_decimal(table: Table, cmap: ChannelMap) -> str | None:
 
 def _column_mark(text, marked, what: str) -> str | None:
     """The decimal mark of a column of text cells (a pandas Series; ``marked``: the cells with
-    a ``.`` or ``,``), where the file's is unknown: the one mark its unambiguous cells use, or,
-    where all read both ways, the mark that plain integers beside ``1,000`` leave
-    (:func:`~rollerrig.recordings.formats._text.thousands_mark_beside_integers`); None where
-    nothing decides (``1,000`` alone: refused, naming both readings).
+    a ``.`` or ``,``), where the file's is unknown: the one mark its unambiguous cells use;
+    None where every cell reads both ways (``1,000``: refused, naming both readings). Plain
+    integers beside ``1,000`` decide only within the rows the layout is sniffed from, where
+    every column is seen (:func:`~rollerrig.recordings.formats._text.
+    thousands_mark_beside_integers`): a column alone read them as thousands marks although
+    another column's ``0,5`` beyond those rows said decimal commas.
 
     Raises
     ------
@@ -200,15 +200,7 @@ def _column_mark(text, marked, what: str) -> str | None:
                     f"{what} mixes decimal marks ({only[',']!r} and {only['.']!r}); give "
                     '[file] decimal = "." or "," in the channel map'
                 )
-    if only:
-        return next(iter(only))
-    if not text[~marked].map(lambda v: isinstance(v, str) and bool(INTEGER.fullmatch(v))).any():
-        return None
-    for cell in text[marked]:
-        thousands = thousands_mark_beside_integers(cell)
-        if thousands is not None:
-            return "," if thousands == "." else "."
-    return None
+    return next(iter(only), None)
 
 
 def _why_not_a_number(cell: str, decimal: str | None, mark: str | None) -> str:
@@ -436,6 +428,7 @@ def apply_map(
     # --- channels
     specs = auto_entries(table, cmap, path) if cmap.auto else list(cmap.entries)
     loaded: list[tuple[ChannelSpec, np.ndarray, str, np.ndarray | None]] = []
+    marks: dict = {}  # the decimal mark one column's cells decided, for the others (as_float)
     for spec in specs:
         skip = None
         if cmap.auto:
@@ -492,7 +485,7 @@ def apply_map(
                     f"{spec.name}: file unit {col.unit!r}, map unit {spec.unit!r} used "
                     f"(scale {spec.scale}, offset {spec.offset})"
                 )
-        raw = as_float(col.values, what, line_of, text_decimal(table, cmap))
+        raw = as_float(col.values, what, line_of, text_decimal(table, cmap), marks)
         # A corrupted or absurd raw value may overflow to inf here: validation then names the
         # channel and the samples; numpy's overflow warning would only say "multiply".
         with np.errstate(over="ignore", invalid="ignore"):

@@ -18,6 +18,9 @@ from rollerrig.recordings.recording import RecordingError
 
 __all__ = ["looks_like_timestamp", "parse_timestamps", "suggest_date_format"]
 
+_DATE_CODES = re.compile(r"%[dmyYjbBaAUWGuVxc]")
+"""strftime codes of a date (a format without any is a time of day)."""
+
 _TIME_OF_DAY = r"(?P<H>\d{1,2}):(?P<M>\d{2})(?::(?P<S>\d{2})(?:[.,](?P<f>\d+))?)?"
 _TZ = r"(?:\s*(?P<tz>Z|[+-]\d{2}:?\d{2}))?"
 _DATE_PATTERNS = {
@@ -217,10 +220,19 @@ def parse_timestamps(
             )
         ns = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64)
         secs = (ns - ns[0]) / 1e9
-        return secs, (
+        note = (
             f"absolute timestamps parsed with [file] date_format {date_format!r}, converted to "
             f"seconds since the first sample ({stamps.iloc[0]})"
         )
+        if not _DATE_CODES.search(date_format):
+            # A time of day without a date ('%H:%M'): unwrapped at midnight, as the times of
+            # day this reader recognises itself ('23:59' then '00:00' is a minute later).
+            steps = np.diff(secs)
+            wraps = np.concatenate(([0.0], np.cumsum(np.where(steps < -43200.0, 86400.0, 0.0))))
+            if wraps[-1]:
+                note += f"; {int(wraps[-1] // 86400)} midnight crossing(s) unwrapped"
+            secs = secs + wraps
+        return secs, note
     first = s.iloc[0]
     kind = next((k for k, p in _DATE_PATTERNS.items() if p.match(first)), None)
     if decided and kind is not None and decided.get("kind", kind) != kind:
