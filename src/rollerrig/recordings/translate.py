@@ -139,19 +139,19 @@ def as_float(
         infinite = np.isin(words, list(POSITIVE_INFINITY_WORDS))
         neg_inf = np.isin(words, list(NEGATIVE_INFINITY_WORDS))
         marked = text.map(lambda v: isinstance(v, str) and ("," in v or "." in v))
-        mark = decimal if decimal is not None else (memo or {}).get("mark")
-        if mark is None:
-            mark = _column_mark(text, marked, what)
-            if memo is not None and mark is not None:
-                memo["mark"] = mark
-
-        def read(v):
-            if not isinstance(v, str) or ("," not in v and "." not in v):
-                return v
-            number = parse_number(v, mark) if mark is not None else None
-            return np.nan if number is None else number  # never pandas' own reading of it
-
-        num = pd.to_numeric(text.map(read), errors="coerce").to_numpy(dtype=float, copy=True)
+        marked = marked.to_numpy(dtype=bool)
+        memo = memo if memo is not None else {}
+        values = np.array(text.to_numpy(dtype=object), dtype=object)  # a copy, any dtype
+        if decimal is None and "mark" not in memo:
+            found = _column_mark(values[marked])
+            if found is not None:
+                memo["mark"], memo["cell"] = found
+        mark = decimal if decimal is not None else memo.get("mark")
+        if marked.any():
+            cells = pd.Series(values[marked], dtype=object)
+            values[marked] = _marked_values(cells, mark, pd)
+        num = pd.to_numeric(pd.Series(values, dtype=object), errors="coerce")
+        num = num.to_numpy(dtype=float, copy=True)
         num[infinite] = np.inf
         num[neg_inf] = -np.inf
         known = np.isin(words, list(NAN_WORDS)) | (is_str & (words == ""))
@@ -159,11 +159,18 @@ def as_float(
         if not bad.any():
             return num
         k = int(np.flatnonzero(bad)[0])
+        cell = str(arr[k]).strip()
+        if decimal is None and mark is not None and decimal_marks(cell) == {_other(mark)}:
+            pair = {mark: memo["cell"], _other(mark): cell}
+            raise RecordingError(
+                f"{what} mixes decimal marks ({pair[',']!r} and {pair['.']!r}); give "
+                '[file] decimal = "." or "," in the channel map'
+            )
         line = line_of(k) if line_of is not None else None
         raise RecordingError(
             f"{what} has {int(bad.sum())} non-numeric entries, first at row {k}: {arr[k]!r}"
             + (f" (file line {line})" if line is not None else "")
-            + _why_not_a_number(str(arr[k]).strip(), decimal, mark)
+            + _why_not_a_number(cell, decimal, mark)
         )
     raise RecordingError(f"{what} is not numeric (dtype {arr.dtype})")
 
@@ -175,32 +182,45 @@ def text_decimal(table: Table, cmap: ChannelMap) -> str | None:
     return table.decimal if table.decimal is not None else cmap.file.decimal
 
 
-def _column_mark(text, marked, what: str) -> str | None:
-    """The decimal mark of a column of text cells (a pandas Series; ``marked``: the cells with
-    a ``.`` or ``,``), where the file's is unknown: the one mark its unambiguous cells use;
-    None where every cell reads both ways (``1,000``: refused, naming both readings). Plain
-    integers beside ``1,000`` decide only within the rows the layout is sniffed from, where
-    every column is seen (:func:`~rollerrig.recordings.formats._text.
-    thousands_mark_beside_integers`): a column alone read them as thousands marks although
-    another column's ``0,5`` beyond those rows said decimal commas.
+def _other(mark: str) -> str:
+    return "," if mark == "." else "."
 
-    Raises
-    ------
-    RecordingError
-        Cells that only a decimal point makes numbers beside cells that only a decimal comma
-        does.
-    """
-    only: dict[str, str] = {}
-    for cell in text[marked]:
+
+def _column_mark(cells) -> tuple[str, str] | None:
+    """``(mark, cell)``: the decimal mark that the first cell one mark alone makes a number
+    decides (``0,5``: a decimal comma), where the file's is unknown; None where every cell reads
+    both ways (``1,000``: refused, naming both readings). A later cell only the other mark
+    reads is then an error naming both (:func:`as_float`). Plain integers beside ``1,000``
+    decide only within the rows the layout is sniffed from, where every column is seen
+    (:func:`~rollerrig.recordings.formats._text.thousands_mark_beside_integers`): a column
+    alone read them as thousands marks although another column's ``0,5`` beyond those rows
+    said decimal commas."""
+    for cell in cells:
         marks = decimal_marks(cell)
         if len(marks) == 1:
-            only.setdefault(next(iter(marks)), cell)
-            if len(only) == 2:
-                raise RecordingError(
-                    f"{what} mixes decimal marks ({only[',']!r} and {only['.']!r}); give "
-                    '[file] decimal = "." or "," in the channel map'
-                )
-    return next(iter(only), None)
+            return next(iter(marks)), cell
+    return None
+
+
+def _marked_values(cells, mark: str | None, pd):
+    """The numbers of text cells with a ``.`` or ``,`` under the decimal mark ``mark`` (NaN
+    where a cell is none, and everywhere without a mark): a cell with the mark alone converted
+    by pandas at once (the decimal comma made a point first), one with the other mark only as
+    strict thousands groups (:func:`~rollerrig.recordings.formats._text.parse_number`), cell
+    by cell; pandas never reads the other mark as a decimal point."""
+    if mark is None:
+        return np.full(len(cells), np.nan)
+    other = _other(mark)
+    with_other = cells.str.contains(other, regex=False).to_numpy(dtype=bool)
+    out = np.full(len(cells), np.nan)
+    plain = cells[~with_other]
+    if mark == ",":
+        plain = plain.str.replace(",", ".", regex=False)
+    out[~with_other] = pd.to_numeric(plain, errors="coerce").to_numpy(dtype=float)
+    if with_other.any():
+        grouped = cells[with_other].map(lambda v: parse_number(v, mark))
+        out[with_other] = grouped.map(lambda v: np.nan if v is None else v).to_numpy(dtype=float)
+    return out
 
 
 def _why_not_a_number(cell: str, decimal: str | None, mark: str | None) -> str:
