@@ -133,15 +133,11 @@ def as_float(
         return arr.astype(float)
     if arr.dtype.kind in "OUT":
         pd = require_module("pandas", "text columns")
-        text = pd.Series(arr, dtype=object).map(lambda v: v.strip() if isinstance(v, str) else v)
-        is_str = text.map(lambda v: isinstance(v, str)).to_numpy(dtype=bool)
-        words = text.map(lambda v: v.lower() if isinstance(v, str) else "").to_numpy(dtype=object)
+        text, is_str, words, marked = _text_cells(arr, pd)
         infinite = np.isin(words, list(POSITIVE_INFINITY_WORDS))
         neg_inf = np.isin(words, list(NEGATIVE_INFINITY_WORDS))
-        marked = text.map(lambda v: isinstance(v, str) and ("," in v or "." in v))
-        marked = marked.to_numpy(dtype=bool)
         memo = memo if memo is not None else {}
-        values = np.array(text.to_numpy(dtype=object), dtype=object)  # a copy, any dtype
+        values = np.array(text, dtype=object)  # a copy, any dtype
         if decimal is None and "mark" not in memo:
             found = _column_mark(values[marked])
             if found is not None:
@@ -155,7 +151,7 @@ def as_float(
         num[infinite] = np.inf
         num[neg_inf] = -np.inf
         known = np.isin(words, list(NAN_WORDS)) | (is_str & (words == ""))
-        bad = np.isnan(num) & ~pd.isna(text).to_numpy() & ~known
+        bad = np.isnan(num) & ~pd.isna(text) & ~known
         if not bad.any():
             return num
         k = int(np.flatnonzero(bad)[0])
@@ -180,6 +176,27 @@ def text_decimal(table: Table, cmap: ChannelMap) -> str | None:
     sniffed), else the map's ``[file] decimal`` (which the readers of other formats, whose
     text columns are rare, do not see)."""
     return table.decimal if table.decimal is not None else cmap.file.decimal
+
+
+def _text_cells(arr: np.ndarray, pd) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(cells stripped, is text, lower-case words, has a . or ,)`` of an object column, as
+    object, bool, object and bool arrays. A column of text only (and missing cells) is done by
+    numpy's string functions at once, any other cell by cell (a cell-by-cell map over a column
+    of text made a 500 000-row file read 6 times slower)."""
+    obj = np.asarray(arr, dtype=object)
+    if pd.api.types.infer_dtype(obj, skipna=True) in ("string", "empty"):
+        missing = pd.isna(obj)
+        cells = np.char.strip(np.where(missing, "", obj).astype(str))
+        text = cells.astype(object)
+        text[missing] = obj[missing]
+        words = np.char.lower(cells).astype(object)
+        marked = (np.char.find(cells, ",") >= 0) | (np.char.find(cells, ".") >= 0)
+        return text, ~missing, words, marked
+    series = pd.Series(obj, dtype=object).map(lambda v: v.strip() if isinstance(v, str) else v)
+    is_str = series.map(lambda v: isinstance(v, str)).to_numpy(dtype=bool)
+    words = series.map(lambda v: v.lower() if isinstance(v, str) else "").to_numpy(dtype=object)
+    marked = series.map(lambda v: isinstance(v, str) and ("," in v or "." in v))
+    return series.to_numpy(dtype=object), is_str, words, marked.to_numpy(dtype=bool)
 
 
 def _other(mark: str) -> str:
