@@ -36,6 +36,14 @@ def _write(path, lines, *, final_eol=True):
     return path
 
 
+def _torque_map(time: str = "t", torque: str = "T") -> dict:
+    """A map of a time column in seconds and a torque column in N.m."""
+    return {
+        "time": {"column": time, "unit": "s"},
+        "channels": {"torque": {"column": torque, "unit": "N.m"}},
+    }
+
+
 def _notes(rec) -> str:
     return "\n".join(rec.metadata["notes"])
 
@@ -315,10 +323,7 @@ def test_cells_that_read_both_ways_with_nothing_to_decide_are_refused(
     """No guess of the decimal mark where every marked cell reads both ways: both readings
     named and [file] decimal asked for (a decimal comma was guessed: counts of 12 000 read as
     12.0), then read right in both readers."""
-    torque_map = {
-        "time": {"column": "t", "unit": "s"},
-        "channels": {"torque": {"column": "T", "unit": "N.m"}},
-    }
+    torque_map = _torque_map()
     f = _write(tmp_path / "run.csv", rows)
     with pytest.raises(RecordingError, match=r"under a decimal point or .* under a decimal comma"):
         read_recording(f, torque_map)
@@ -343,10 +348,7 @@ def test_cells_that_read_both_ways_with_nothing_to_decide_are_refused(
 def test_a_mark_that_the_cells_decide_is_read(tmp_path, rows, values):
     """'0,000' in the time column decides decimal commas; '0,5' in a column decides it for its
     '1,000' (and for the file's other columns)."""
-    torque_map = {
-        "time": {"column": "t", "unit": "s"},
-        "channels": {"torque": {"column": "T", "unit": "N.m"}},
-    }
+    torque_map = _torque_map()
     f = _write(tmp_path / "run.csv", rows)
     np.testing.assert_array_equal(read_recording(f, torque_map)["torque"], values)
     with open_recording(f, torque_map) as src:
@@ -359,10 +361,7 @@ def test_a_decimal_point_after_the_sniffed_rows_of_a_decimal_comma_file_is_an_er
     three), beyond the sniffed rows as within them: it was read as 1.5 by pandas."""
     rows = ["t;T"] + [f"{k};{k % 7},5" for k in range(2100)] + ["2100;1.5", "2101;2,5"]
     f = _write(tmp_path / "run.csv", rows)
-    torque_map = {
-        "time": {"column": "t", "unit": "s"},
-        "channels": {"torque": {"column": "T", "unit": "N.m"}},
-    }
+    torque_map = _torque_map()
     with pytest.raises(RecordingError, match=r"'1.5'.*the file's decimal mark is ','"):
         read_recording(f, torque_map)
 
@@ -373,10 +372,7 @@ def test_text_columns_of_other_formats_take_the_mark_their_cells_or_the_map_give
     cannot."""
     pd = pytest.importorskip("pandas")
     pytest.importorskip("pyarrow")
-    torque_map = {
-        "time": {"column": "t", "unit": "s"},
-        "channels": {"torque": {"column": "T", "unit": "N.m"}},
-    }
+    torque_map = _torque_map()
 
     def parquet(name, cells):
         path = tmp_path / name
@@ -415,10 +411,7 @@ def test_a_named_last_column_empty_at_first_is_no_trailing_separator(tmp_path):
         for k in range(1000)
     ]
     f = _write(tmp_path / "late_sensor.csv", ["t;T;P", *rows])
-    cmap = {
-        "time": {"column": "t", "unit": "s"},
-        "channels": {"torque": {"column": "T", "unit": "N.m"}},
-    }
+    cmap = _torque_map()
     rec = read_recording(f, cmap)
     np.testing.assert_allclose(rec["torque"], np.arange(1000) * 0.5)
 
@@ -428,10 +421,7 @@ def test_a_text_footer_is_named_in_the_error(tmp_path):
     'no rows of numbers found', as if the file held none)."""
     rows = [f"{k / 100:.2f};{k},5".replace(".", ",") for k in range(50)]
     f = _write(tmp_path / "footer.csv", ["Zeit;Moment", *rows, "Ende der Messung"])
-    cmap = {
-        "time": {"column": "Zeit", "unit": "s"},
-        "channels": {"torque": {"column": "Moment", "unit": "N.m"}},
-    }
+    cmap = _torque_map(time="Zeit", torque="Moment")
     with pytest.raises(RecordingError, match=r"last line 52 \('Ende der Messung'\) is text"):
         read_recording(f, cmap)
 
@@ -453,10 +443,7 @@ def test_late_marks_follow_the_file_not_the_column(tmp_path):
     """A German integer writer crossing 1000 beyond the sniffed rows ('999', then '1.000'): never
     pandas' 1.0; refused naming both readings. One column's '0,5' there decides decimal commas
     for the file's other columns too (a column alone had read its '1,000' as 1000 beside it)."""
-    cmap = {
-        "time": {"column": "t", "unit": "s"},
-        "channels": {"torque": {"column": "n", "unit": "N.m"}},
-    }
+    cmap = _torque_map(torque="n")
     rows = ["t;n"] + [f"{k};{k // 3:,d}".replace(",", ".") for k in range(4000)]
     f = _write(tmp_path / "dots.csv", rows)
     with pytest.raises(RecordingError, match=r"'1\.000' is 1 under a decimal point or 1000 under"):
