@@ -35,6 +35,8 @@ from rollerrig.units import (
 NIST_RPM = 1.047198e-1  # NIST SP 811 B.9, 7 significant digits
 NIST_KMH = 2.777778e-1  # NIST SP 811 B.9, 7 significant digits
 NIST_BAR = 1.0e5  # NIST SP 811 B.9, exact
+NIST_PSI = 6.894757e3  # NIST SP 811 B.9, pound-force per square inch, 7 significant digits
+SI_MINUTE, SI_HOUR = 60.0, 3600.0  # SI Brochure (9th ed.), Table 8, exact
 NIST = 5e-7  # relative tolerance of a 7-digit NIST factor
 
 TWO_PI = 2 * 3.14159265358979  # a revolution [rad], to 15 digits
@@ -50,7 +52,15 @@ REFERENCE_TABLE = {
     "torsional_damping": (("N.m.s/rad", 1),),
     "inertia": (("kg.m^2", 1),),
     "force": (("N", 1), ("kN", KILO)),
-    "pressure": (("Pa", 1), ("kPa", KILO), ("bar", NIST_BAR), ("MPa", MEGA), ("GPa", GIGA)),
+    "pressure": (
+        ("Pa", 1),
+        ("kPa", KILO),
+        ("mbar", MILLI * NIST_BAR),
+        ("bar", NIST_BAR),
+        ("MPa", MEGA),
+        ("GPa", GIGA),
+        ("psi", NIST_PSI),
+    ),
     "speed": (("m/s", 1), ("km/h", NIST_KMH)),
     "angular_speed": (("rad/s", 1), ("rpm", NIST_RPM), ("Hz", TWO_PI)),  # 1 rev/s = 2π rad/s
     "angular_frequency": (("rad/s", 1), ("Hz", TWO_PI)),
@@ -63,7 +73,14 @@ REFERENCE_TABLE = {
     "flux_linkage": (("Wb", 1),),
     "power": (("W", 1), ("kW", KILO)),
     "torque": (("N.m", 1), ("kN.m", KILO)),
-    "time": (("s", 1), ("ms", MILLI), ("us", MICRO), ("ns", NANO)),
+    "time": (
+        ("s", 1),
+        ("ms", MILLI),
+        ("us", MICRO),
+        ("ns", NANO),
+        ("min", SI_MINUTE),
+        ("h", SI_HOUR),
+    ),
     "second_moment": (("m^4", 1), ("cm^4", CENTI**4), ("mm^4", MILLI**4)),
     "section_modulus": (("m^3", 1), ("cm^3", CENTI**3), ("mm^3", MILLI**3)),
     # 1 t = 1000 kg (SI Brochure Table 8, the tonne); g = 1e-3 kg
@@ -76,7 +93,7 @@ REFERENCE_TABLE = {
 }
 REFERENCE = [(q, unit, factor) for q, rows in REFERENCE_TABLE.items() for unit, factor in rows]
 #: Relative tolerance of a reference: 7 significant digits (NIST), 15 (2π), else rounding only.
-TOLERANCE = {NIST_RPM: NIST, NIST_KMH: NIST, TWO_PI: 1e-14}
+TOLERANCE = {NIST_RPM: NIST, NIST_KMH: NIST, NIST_PSI: NIST, TWO_PI: 1e-14}
 
 #: The spellings the three former tables accepted (rig/parameters UNITS, measure/channels
 #: UNIT_FACTORS/TIME_UNITS/_ALIASES, experiment/protocol _TIME_UNITS/_TORQUE_UNITS, which read
@@ -179,10 +196,10 @@ def test_unknown_units_stay_as_written():
             "bar",
             "N.m",
             "unit not accepted for torque [N.m]; allowed 'N.m', 'kN.m' (also written 'Nm', "
-            "'kNm'); got 'bar'",
+            "'N-m', 'kNm'); got 'bar'",
         ),
         ("lbf", "N", "unit not accepted for force [N]; allowed 'N', 'kN'"),
-        ("min", "s", "unit not accepted for time [s]; allowed 's', 'ms', 'us', 'ns'"),
+        ("d", "s", "unit not accepted for time [s]; allowed 's', 'ms', 'us', 'ns', 'min', 'h'"),
         ("nm", "m", "unit not accepted for length [m]"),  # "nm" is read as N.m, never nanometre
         (3, "m", "got 3"),
     ],

@@ -117,7 +117,17 @@ _TABLE: dict[str, dict[str, float]] = {
     "torsional_damping": {"N.m.s/rad": 1.0},
     "inertia": {"kg.m^2": 1.0},
     "force": {"N": 1.0, "kN": 1e3},
-    "pressure": {"Pa": 1.0, "kPa": 1e3, "bar": 1e5, "MPa": 1e6, "GPa": 1e9},
+    # Gauge readings (bar(g), psig) are the rig's air-spring pressures; absolute ones (bar(a))
+    # are not accepted, since reading them as gauge would add one atmosphere.
+    "pressure": {
+        "Pa": 1.0,
+        "kPa": 1e3,
+        "mbar": 1e2,
+        "bar": 1e5,
+        "MPa": 1e6,
+        "GPa": 1e9,
+        "psi": 6894.757293168361,  # lbf/in^2 = 0.45359237 kg x 9.80665 m/s^2 / 0.0254^2 m^2
+    },
     # A rotation speed; "Hz" here means revolutions per second (x 2π).
     "speed": {"m/s": 1.0, "km/h": 1.0 / 3.6},
     "angular_speed": {"rad/s": 1.0, "rpm": _RPM, "Hz": _TWO_PI},
@@ -132,7 +142,7 @@ _TABLE: dict[str, dict[str, float]] = {
     "flux_linkage": {"Wb": 1.0},
     "power": {"W": 1.0, "kW": 1e3},
     "torque": {"N.m": 1.0, "kN.m": 1e3},
-    "time": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9},
+    "time": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0},
     "second_moment": {"m^4": 1.0, "cm^4": 1e-8, "mm^4": 1e-12},
     "section_modulus": {"m^3": 1.0, "cm^3": 1e-6, "mm^3": 1e-9},
     "density": {"kg/m^3": 1.0, "t/m^3": 1e3, "g/cm^3": 1e3},
@@ -152,6 +162,7 @@ ALIASES: Mapping[str, str] = MappingProxyType(
     {
         # torque (N·m written every way DAQ software and people write it)
         "Nm": "N.m",
+        "N-m": "N.m",
         "kNm": "kN.m",
         "Nm/rad": "N.m/rad",
         "kNm/rad": "kN.m/rad",
@@ -172,8 +183,20 @@ ALIASES: Mapping[str, str] = MappingProxyType(
         "μm": "um",
         "µs": "us",
         "μs": "us",
-        # others
+        # time (the spellings DAQ exports use)
         "sec": "s",
+        "secs": "s",
+        "msec": "ms",
+        "usec": "us",
+        "µsec": "us",
+        "nsec": "ns",
+        "hr": "h",
+        # gauge pressure
+        "barg": "bar",
+        "bar(g)": "bar",
+        "psig": "psi",
+        "psi(g)": "psi",
+        # others
         "1/sec": "1/s",
         "s^-1": "1/s",
         "Newtons": "N",

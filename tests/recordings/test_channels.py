@@ -113,7 +113,7 @@ CANONICAL = ", ".join(repr(name) for name in CANONICAL_CHANNELS)
         (
             _map(torque={"column": "T", "unit": "bar"}),
             "channels.torque.unit: unit not accepted for torque [N.m]; allowed 'N.m', 'kN.m' "
-            "(also written 'Nm', 'kNm'); got 'bar'",
+            "(also written 'Nm', 'N-m', 'kNm'); got 'bar'",
         ),
         (
             _map(normal_load={"column": "F", "unit": "lbf"}),
@@ -152,8 +152,8 @@ CANONICAL = ", ".join(repr(name) for name in CANONICAL_CHANNELS)
             "or [file] / [time] settings for columns named as the canonical channels",
         ),
         (
-            {"time": {"column": "t", "unit": "min"}, "channels": {}},
-            "time.unit: not a time unit; allowed 's', 'ms', 'us', 'ns'; got 'min'",
+            {"time": {"column": "t", "unit": "d"}, "channels": {}},
+            "time.unit: not a time unit; allowed 's', 'ms', 'us', 'ns', 'min', 'h'; got 'd'",
         ),
         (
             {"time": {"column": "t", "sample_rate_Hz": 250}, "channels": {}},
@@ -220,7 +220,7 @@ def test_errors_from_a_file_name_the_file(tmp_path):
         load_channel_map(f)
     assert str(info.value) == (
         f"channel map {f}: channels.torque.unit: unit not accepted for torque [N.m]; allowed "
-        "'N.m', 'kN.m' (also written 'Nm', 'kNm'); got 'psi'"
+        "'N.m', 'kN.m' (also written 'Nm', 'N-m', 'kNm'); got 'psi'"
     )
 
 

@@ -783,3 +783,133 @@ def test_a_line_end_is_found_in_either_byte_order(tmp_path, encoding, ending, ex
     path = tmp_path / "f.csv"
     path.write_bytes(("t,x\n0,1" + ending).encode(encoding))
     assert _ends_with_newline(path, encoding) is expected
+
+
+# ------------------------------------------------------------ headers real exports write
+# Found by a hunt with files written the way acquisition software writes them (2026-11-30);
+# before, each of these was read without a word: a time in msec 1000 times too slow, the
+# channel-number header and TwinCAT Scope's key-value rows as samples, the first of two
+# columns of one name.
+
+
+def _time_torque(path, time_header, step, n=50):
+    body = "".join(f"{k * step:.9g},{k}\n" for k in range(n))
+    path.write_bytes(f"{time_header},Torque [N.m]\n{body}".encode())
+    return path
+
+
+_TIME_TORQUE = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
+
+
+@pytest.mark.parametrize(
+    ("unit", "step", "seconds"),
+    [("msec", 4, 4e-3), ("mS", 4, 4e-3), ("min", 1 / 15000, 4e-3), ("h", 1 / 900000, 4e-3),
+     ("usec", 4000, 4e-3), ("Sec", 0.004, 4e-3)],
+)  # fmt: skip
+def test_time_units_as_exports_spell_them_are_converted(tmp_path, unit, step, seconds):
+    """``t [msec]``, ``[mS]``, ``[min]``, ``[h]``: 1 min = 60 s, 1 h = 3600 s (SI Brochure
+    Table 8); in a time column the letter case does not change the unit."""
+    path = _time_torque(tmp_path / "t.csv", f"Time [{unit}]", step)
+    rec = _read(path, _TIME_TORQUE)
+    np.testing.assert_allclose(np.diff(rec.time), seconds, rtol=1e-6)
+
+
+def test_a_time_unit_the_reader_does_not_know_is_refused(tmp_path):
+    path = _time_torque(tmp_path / "t.csv", "Time [Sek]", 0.004)
+    _raises(path, _TIME_TORQUE, r"time column 'Time \[Sek\]' has unit 'Sek'.*\[time\] unit")
+    stated = {**_TIME_TORQUE, "time": {"column": "Time", "unit": "s"}}
+    rec = _read(path, stated)  # the map says what it is: read so, and noted
+    np.testing.assert_allclose(np.diff(rec.time), 0.004)
+    assert any("'Sek' is not a time unit" in n for n in rec.metadata["notes"])
+
+
+def test_units_rows_with_spaces_and_gauge_marks_are_units(tmp_path):
+    """``N m`` and ``bar(g)`` (a gauge pressure: the rig's air spring) in a units row."""
+    path = tmp_path / "u.csv"
+    rows = "".join(f"{k * 0.001:.3f};{1 + k / 10:.2f};{2 + k / 10:.2f}\n" for k in range(20))
+    path.write_bytes(f"Time;Torque;Pressure\ns;N m;bar(g)\n{rows}".encode())
+    rec = _read(
+        path,
+        {
+            "time": {"column": "Time"},
+            "channels": {
+                "torque": {"column": "Torque"},
+                "air_spring_pressure": {"column": "Pressure"},
+            },
+        },
+    )
+    np.testing.assert_allclose(rec["torque"][:2], [1.0, 1.1])
+    np.testing.assert_allclose(rec["air_spring_pressure"][:2], [2.0e5, 2.1e5])
+
+
+def test_a_name_two_columns_share_is_ambiguous(tmp_path):
+    path = tmp_path / "dup.csv"
+    rows = "".join(f"{k / 1000:.3f},{1 + k / 10:.2f},{5 + k / 10:.2f}\n" for k in range(20))
+    path.write_bytes(f"Time,Torque,Torque\n{rows}".encode())
+    cmap = {"time": {"column": "Time", "unit": "s"}, "channels": {"torque": {"column": "Torque"}}}
+    cmap["channels"]["torque"]["unit"] = "N.m"
+    _raises(path, cmap, r"2 columns of that name.*\['Torque\.0', 'Torque\.1'\]")
+    for column, first in (("Torque.0", 1.0), ("Torque.1", 5.0)):
+        cmap["channels"]["torque"]["column"] = column
+        assert _read(path, cmap)["torque"][0] == first
+
+
+def test_a_repeated_name_beside_its_renamed_spelling_is_readable(tmp_path):
+    """``Torque,Torque.1,Torque``: the second ``Torque`` becomes ``Torque.2`` (pandas had
+    refused the file: duplicate names)."""
+    path = tmp_path / "dup.csv"
+    path.write_bytes(b"Time,Torque,Torque.1,Torque\n" + b"".join(
+        f"{k / 1000:.3f},1,2,3\n".encode() for k in range(5)
+    ))  # fmt: skip
+    cmap = {"time": {"column": "Time", "unit": "s"}, "channels": {}}
+    for column, value in (("Torque.1", 2.0), ("Torque.2", 3.0)):
+        cmap["channels"] = {"torque": {"column": column, "unit": "N.m"}}
+        assert _read(path, cmap)["torque"][0] == value
+
+
+@pytest.mark.parametrize("sep", [";", ","])
+def test_numbered_channel_names_are_a_header(tmp_path, sep):
+    """``Time;1;2``: channels named by their numbers; the row was read as a first sample."""
+    path = tmp_path / "n.csv"
+    dec = "," if sep == ";" else "."
+    rows = "".join(
+        sep.join(f"{v:.3f}".replace(".", dec) for v in (k / 1000, 1.5 + k / 10)) + "\n"
+        for k in range(4)
+    )
+    path.write_bytes(f"Time{sep}1\n{rows}".encode())
+    rec = _read(path, {"time": {"column": "Time", "unit": "s"}, "channels": {
+        "torque": {"column": "1", "unit": "N.m"}}})  # fmt: skip
+    assert rec.time.size == 4
+    np.testing.assert_allclose(rec["torque"], [1.5, 1.6, 1.7, 1.8])
+
+
+def test_a_stray_text_cell_in_the_first_sample_stays_a_sample(tmp_path):
+    """Under a row of names, text in the first row of numbers is a bad cell, not a header."""
+    path = tmp_path / "s.csv"
+    rows = "".join(f"{k / 1000:.3f},{1 + k / 10:.2f},{2 + k / 10:.2f}\n" for k in range(1, 10))
+    path.write_bytes(f"Time,Torque,Speed\n0.000,ERR,2.00\n{rows}".encode())
+    layout = sniff_layout(path)
+    assert layout.names == ("Time", "Torque", "Speed")
+    assert layout.data_line == 1
+
+
+def test_key_value_rows_above_the_numbers_are_not_samples(tmp_path):
+    """TwinCAT Scope View's export: per channel ``Key<TAB>value`` rows (``SampleTime[ms]
+    <TAB>1``) above the numbers, which fit "a number in every other column"; they were read as
+    the first four samples. Without ``[file] header_row`` the file is now refused, never read
+    with those rows."""
+    meta = (
+        "Name\tMAIN.fTorque\tName\tMAIN.fPressure\nData-Type\tLREAL\tData-Type\tLREAL\n"
+        "SampleTime[ms]\t1\tSampleTime[ms]\t1\nVariableSize\t8\tVariableSize\t8\n"
+        "Offset\t0\tOffset\t0\nScaleFactor\t1\tScaleFactor\t1\n\t\t\t\n"
+    )
+    rows = "".join(f"{k}\t{k / 100:.4f}\t{k}\t{2 + k / 1000:.4f}\n" for k in range(50))
+    path = tmp_path / "scope.csv"
+    path.write_bytes((meta + rows).replace("\n", "\r\n").encode())
+    layout = sniff_layout(path)
+    assert layout.data_line == 7  # the first row of numbers, 0-based
+    rec = _read(path, {"file": {"header_row": 0, "data_row": 7}, "time": {
+        "column": "Name.0", "unit": "ms"}, "channels": {"torque": {
+            "column": "MAIN.fTorque", "unit": "N.m"}}})  # fmt: skip
+    assert rec.time.size == 50
+    np.testing.assert_allclose(rec["torque"][:3], [0.0, 0.01, 0.02])

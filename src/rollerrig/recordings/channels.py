@@ -56,6 +56,7 @@ from rollerrig._validation import Problem, did_you_mean, pydantic_problems
 from rollerrig.recordings.mapfile import DECIMALS, SEPARATORS, EntrySection, FileSpec, MapFile
 from rollerrig.recordings.recording import CANONICAL_CHANNELS, RecordingError, RecordingFileNotFound
 from rollerrig.units import (
+    ALIASES,
     QUANTITIES,
     UNITS_BY_SI,
     UnitError,
@@ -79,10 +80,36 @@ __all__ = [
     "format_unit_header",
     "load_channel_map",
     "split_unit_header",
+    "time_unit",
 ]
 
 TIME_UNITS: Mapping[str, float] = QUANTITIES["time"].units
 """Accepted time units -> factor to seconds (a view of :data:`rollerrig.units.QUANTITIES`)."""
+
+_TIME_CASELESS = {
+    spelling.lower(): unit
+    for spelling, unit in [*((u, u) for u in TIME_UNITS), *ALIASES.items()]
+    if unit in TIME_UNITS
+}
+
+
+def time_unit(unit: str) -> str | None:
+    """The key of :data:`TIME_UNITS` that a time column's unit means, or None.
+
+    Any spelling :func:`~rollerrig.units.normalize_unit` reads, and in a time column in any
+    letter case (``mS``, ``MSEC``, ``Sec`` are milliseconds and seconds there, whatever the
+    same letters mean in a channel of another quantity).
+
+    Examples
+    --------
+    >>> time_unit("mS"), time_unit("msec"), time_unit("[min]".strip("[]")), time_unit("V")
+    ('ms', 'ms', 'min', None)
+    """
+    u = normalize_unit(unit)
+    if u in TIME_UNITS:
+        return u
+    return _TIME_CASELESS.get(u.lower()) or _TIME_CASELESS.get(str(unit).strip().lower())
+
 
 UNIT_FACTORS: Mapping[str, Mapping[str, float]] = UNITS_BY_SI
 """SI unit -> {accepted unit: factor to SI} (:data:`rollerrig.units.UNITS_BY_SI`). For angular

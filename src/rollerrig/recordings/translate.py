@@ -34,6 +34,7 @@ from rollerrig.recordings.channels import (
     ChannelSpec,
     FileSpec,
     normalize_unit,
+    time_unit,
 )
 from rollerrig.recordings.formats import Table
 from rollerrig.recordings.formats._table import require_module
@@ -69,12 +70,21 @@ def resolve_column(
 ) -> str | None:
     """The file column that ``column`` names; missing or ambiguous: an error with close matches.
 
+    A name the file gives to several columns (:attr:`Table.repeated`) is ambiguous alone: its
+    columns are ``name.0`` (the first), ``name.1``, ... in the file's order.
+
     With ``skip`` (why the entry may be absent, e.g. ``"optional"``), a missing or ambiguous
     column is noted in ``table.notes`` instead, and None is returned.
     """
-    if column in table.names:
+    first_of = column.removesuffix(".0")
+    if first_of != column and first_of in table.repeated and column not in table.names:
+        return table.repeated[first_of][0]  # "Torque.0": the first of the columns so named
+    if column in table.repeated:
+        candidates = [f"{column}.0", *table.repeated[column][1:]]
+    elif column in table.names:
         return column
-    candidates = table.aliases.get(column, [])
+    else:
+        candidates = table.aliases.get(column, [])
     if len(candidates) == 1:
         return candidates[0]
     pool = table.names + [a for a in table.aliases if a not in table.names]
@@ -87,9 +97,14 @@ def resolve_column(
         )
         return None
     if len(candidates) > 1:
+        how = (
+            f"but the file has {len(candidates)} columns of that name; the reader calls them "
+            f"{candidates} in the file's order: name one of those"
+            if column in table.repeated
+            else f"which is ambiguous in the file: {candidates}; give the full name"
+        )
         raise RecordingError(
-            f"{path}: channel map entry {entry} (map {cmap.source}) names column {column!r}, "
-            f"which is ambiguous in the file: {candidates}; give the full name"
+            f"{path}: channel map entry {entry} (map {cmap.source}) names column {column!r}, " + how
         )
     unreadable = [s for s in table.skipped if s.startswith(f"{column} (")]
     if unreadable:
@@ -303,6 +318,17 @@ def time_seconds(
     return as_float(arr, what, decimal=decimal) * TIME_UNITS[unit]
 
 
+def _numeric_time(values, file: FileSpec) -> bool:
+    """Whether a time column holds numbers in a unit (not date/time strings or datetimes)."""
+    arr = np.asarray(values)
+    if arr.dtype.kind in "biuf":
+        return True
+    if arr.dtype.kind not in "OUS":
+        return False
+    first = next((str(v).strip() for v in arr.ravel()[:1000] if str(v).strip()), "")
+    return file.date_format is None and not looks_like_timestamp(first)
+
+
 def auto_entries(table: Table, cmap: ChannelMap, path: Path) -> list[ChannelSpec]:
     """The file's own names as channels (no map). In a file rollerrig wrote, a column named in
     its stored ``variables`` keeps that name whole (``[x]`` is not a unit there), and a column
@@ -378,9 +404,9 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
             continue
         try:
             col = table.load(name)
-            file_unit = normalize_unit(col.unit) if col.unit else None
+            file_unit = time_unit(col.unit) if col.unit else None
             scratch: list[str] = []
-            unit = file_unit if file_unit in TIME_UNITS else "s"
+            unit = file_unit or "s"
             secs = time_seconds(
                 col.values,
                 unit,
@@ -431,15 +457,23 @@ def apply_map(
         if col_name is not None:
             col = table.load(col_name)
             unit = tspec.unit
-            file_unit = normalize_unit(col.unit) if col.unit else None
-            if cmap.auto and file_unit is not None:
-                if file_unit not in TIME_UNITS:
+            file_unit = time_unit(col.unit) if col.unit else None
+            if col.unit and file_unit is None and _numeric_time(col.values, cmap.file):
+                # A unit this reader does not know: read as the map's default (seconds), a
+                # time in msec was 1000 times too slow, without a word.
+                if cmap.auto or not tspec.unit_stated:
                     raise RecordingError(
-                        f"{where} time column {col_name!r} has unit {col.unit!r}; "
-                        f"allowed: {sorted(TIME_UNITS)}"
+                        f"{where} time column {col_name!r} has unit {col.unit!r}, which is not "
+                        f"a time unit this reader knows (allowed: {sorted(TIME_UNITS)}); give "
+                        "[time] unit in the channel map"
                     )
+                notes.append(
+                    f"time column {col_name!r}: the file's unit {col.unit!r} is not a time unit "
+                    f"this reader knows; the map's {unit!r} used"
+                )
+            elif cmap.auto and file_unit is not None:
                 unit = file_unit
-            elif file_unit in TIME_UNITS and file_unit != unit:
+            elif file_unit is not None and file_unit != unit:
                 if tspec.unit_stated:
                     raise RecordingError(
                         f"{where} channel map entry [time] (map {cmap.source}) says unit "

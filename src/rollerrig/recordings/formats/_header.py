@@ -30,7 +30,7 @@ _KNOWN_UNITS = frozenset(
     | {"m/s²", "km/h", "m/s", "deg", "°", "rad", "kg", "Ohm", "Ω", "um/m", "µm/m", "mV/V"}
     | {"1/s", "Nm", "N·m", "1/min", "U/min", "min-1", "bar", "sec", "µs", "-", "ms"}
 )
-_UNIT_TOKEN = re.compile(r"[A-Za-zµμΩ°%/·*^.\-²³0-9]{1,14}")
+_UNIT_TOKEN = re.compile(r"[A-Za-zµμΩ°%/·*^.\-²³0-9() ]{1,14}")  # "N m", "bar(g)"
 
 _DATE_FORMAT_UNIT = re.compile(r"(?i)[dmyhs]{1,4}(?:[./: T-]+[dmyhs]{1,4})+(?:[.,]s+|[.,]f+)?")
 """A units-row cell that spells a date/time format (``dd.mm.yyyy hh:mm:ss``): no unit."""
@@ -106,11 +106,13 @@ def column_names(
     data_line: int,
     separator_given: bool,
     notes: list[str],
+    repeated: dict | None = None,
 ) -> list[str]:
     """Unique names of the ``n`` cells of a data row (``trailing``: the last is empty).
 
     From the header line (``text_of``: line -> text); unnamed columns are ``column 1``,
-    ``column 2``, ...; repeated names are renamed ``name.1``, ... (noted).
+    ``column 2``, ...; repeated names are renamed ``name.1``, ... (noted; ``repeated`` gets
+    them, see :func:`~rollerrig.recordings.formats._text.unique_names`).
 
     Raises
     ------
@@ -140,7 +142,7 @@ def column_names(
         names = [text_of.get(header_line, "").strip().strip('"')] if header_line is not None else []
     names = [nm.strip().strip('"') or f"column {k + 1}" for k, nm in enumerate(names)]
     names += [f"column {k + 1}" for k in range(len(names), n_names)]
-    unique = unique_names(names)
+    unique = unique_names(names, repeated)
     if unique != names:
         dup = sorted({nm for nm in names if names.count(nm) > 1})
         notes.append(f"duplicate column names {dup} renamed name.1, name.2, ...")

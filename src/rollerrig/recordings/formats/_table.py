@@ -66,6 +66,9 @@ class Table:
     # the decimal mark of a text file, where given or sniffed (not a default): text cells are
     # then read under it (:func:`rollerrig.recordings.translate.as_float`)
     decimal: str | None = None
+    # a name the file gives to more than one column -> the unique names those columns got
+    # (``name``, ``name.1``, ...): the name alone is ambiguous (translate.resolve_column)
+    repeated: dict[str, list[str]] = field(default_factory=dict)
 
     def __setattr__(self, name: str, value: Any) -> None:
         """Setting ``stored_metadata`` to the object :func:`rollerrig.output.write_table` wrote

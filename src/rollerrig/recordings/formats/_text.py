@@ -209,17 +209,36 @@ def decode_text(
     return fallback, raw.decode(fallback, errors="replace")
 
 
-def unique_names(names: list[str]) -> list[str]:
-    """``names`` with repeats renamed ``name.1``, ``name.2``, ... (pandas' convention).
+def unique_names(names: list[str], repeated: dict | None = None) -> list[str]:
+    """``names`` with repeats renamed ``name.1``, ``name.2``, ... (pandas' convention), a
+    suffix skipped where the file has a column of that name already.
+
+    ``repeated``, where given, gets each repeated name with the names its columns now have
+    (:attr:`rollerrig.recordings.formats.Table.repeated`).
 
     Examples
     --------
     >>> unique_names(["t", "U", "U", "U"])
     ['t', 'U', 'U.1', 'U.2']
+    >>> unique_names(["U", "U.1", "U"])
+    ['U', 'U.1', 'U.2']
     """
     seen: Counter = Counter()
+    taken = set(names)
     unique = []
     for nm in names:
         seen[nm] += 1
-        unique.append(nm if seen[nm] == 1 else f"{nm}.{seen[nm] - 1}")
+        if seen[nm] == 1:
+            unique.append(nm)
+            continue
+        k = seen[nm] - 1
+        while f"{nm}.{k}" in taken:
+            k += 1
+        seen[nm] = k + 1
+        taken.add(f"{nm}.{k}")
+        unique.append(f"{nm}.{k}")
+    if repeated is not None:
+        for nm, new in zip(names, unique, strict=True):
+            if names.count(nm) > 1:
+                repeated.setdefault(nm, []).append(new)
     return unique

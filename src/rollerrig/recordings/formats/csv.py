@@ -191,6 +191,7 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
     base = header_table(frame, units=units)
     table = TextTable(**{f: getattr(base, f) for f in Table.__dataclass_fields__})
     table.decimal = layout.decimal if layout.decimal_decided else None
+    table.repeated = {name: list(columns) for name, columns in layout.repeated}
     table.rows_lines = keep_lines
     table.notes += notes
     sidecar = path.with_suffix(".metadata.json")

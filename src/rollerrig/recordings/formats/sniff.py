@@ -75,6 +75,7 @@ class TextLayout:
     trailing: bool = False
     notes: tuple[str, ...] = ()
     thousands: tuple[str, ...] = ()  # columns written with thousands marks (strict groups)
+    repeated: tuple[tuple[str, tuple[str, ...]], ...] = ()  # a repeated name, its columns' names
     decimal_decided: bool = True  # the decimal mark was given or sniffed, not a default
 
     @property
@@ -141,7 +142,47 @@ def _data_block(
         block.extend(missing)
         missing = []
         block.append((i, f))
-    return block[::-1], n
+    block.reverse()
+    return _without_leading_names(block, kinds, numeric, n), n
+
+
+def _without_leading_names(
+    block: list[tuple[int, list[str]]], kinds, numeric: list[int], n: int
+) -> list[tuple[int, list[str]]]:
+    """``block`` without the rows at its top that hold names, not a stray text cell.
+
+    A row of names with numbers among them (``Time;1;2``, channels numbered) or key-value
+    rows above the numbers (TwinCAT Scope's ``SampleTime[ms]<TAB>1``) fit the rule "at most
+    half of the numeric columns text", and were read as samples. The top row with text in a
+    numeric column leaves the block unless a row of names (n cells, no number) sits right above
+    it (then its text is a stray cell under the header); two or more such rows at the top leave
+    it whatever is above: a stray cell is one, not a run (the rows of only missing values
+    below them go too).
+    """
+    kind_of = {i: k for i, _, k in kinds}
+    # numeric below the top row: in a short file a header is more than a fifth of the rows
+    below = [kind_of[i] for i, f in block[1:] if len(f) == n]
+    numeric = [j for j in range(n) if sum(k[j] != "text" for k in below) >= 0.8 * len(below)]
+
+    def texty(i: int) -> bool:
+        k = kind_of[i]
+        return any(j < len(k) and k[j] == "text" for j in numeric)
+
+    run = 0
+    while run < len(block) and texty(block[run][0]):
+        run += 1
+    if run == 0 or run == len(block):
+        return block
+    if run == 1:
+        above = [x for x in kinds if x[0] < block[0][0] and any(c != "empty" for c in x[2])]
+        if above:
+            k = above[-1][2]
+            if len(k) in (n, n - 1) and not any(c in ("num", "time") for c in k):
+                return block  # names right above: a stray text cell in the first sample
+    rest = block[run:]
+    while rest and all(kind_of[rest[0][0]][j] in ("nan", "empty") for j in range(len(rest[0][1]))):
+        rest = rest[1:]
+    return rest if rest else block
 
 
 def _score(
@@ -320,6 +361,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
     header_cells = split_cells(text_of.get(header_line, ""), sep) if header_line is not None else []
     named_last = len(header_cells) >= n and header_cells[n - 1].strip() != ""
     trailing = n >= 2 and not named_last and all(len(f) == n and f[-1] == "" for _, f in block)
+    repeated: dict[str, list[str]] = {}
     names = column_names(
         p,
         text_of,
@@ -330,6 +372,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         data_line=data_line,
         separator_given=spec.separator is not None,
         notes=notes,
+        repeated=repeated,
     )
     if units_line is not None:
         if units_line >= len(all_lines):
@@ -358,6 +401,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         trailing=trailing,
         notes=tuple(notes),
         thousands=tuple(thousands),
+        repeated=tuple((k, tuple(v)) for k, v in repeated.items()),
         decimal_decided=decided,
     )
 
