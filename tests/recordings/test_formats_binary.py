@@ -598,3 +598,33 @@ def test_mdf_samples_flagged_invalid_are_nan_where_they_were_logged(tmp_path):
     assert rec["torque"].size == 2000
     np.testing.assert_allclose(rec["torque"][99:104], np.sin(t[99:104]), atol=1e-6)
     np.testing.assert_array_equal(rec["torque"][:100], np.sin(t[:100]))
+
+
+def test_tdms_timestamp_time_channel_keeps_labview_resolution(tmp_path):
+    """A time channel of LabVIEW timestamps (seconds since 1904 and 2^-64 s fractions, as
+    DAQmx logging writes them) at 51.2 kS/s: the sample k is at exactly k/51200 s. Read as
+    numpy's datetime64[us] (nptdms' default) the steps were 19 and 20 µs and the rate 50 000
+    Hz; the stored fractions give k/51200 to the float."""
+    from nptdms import ChannelObject, TdmsWriter
+    from nptdms.timestamp import TimestampArray
+
+    rate, n = 51200.0, 5120
+    start = 3_805_703_173  # 2024-08-05 11:46:13 in seconds since 1904-01-01
+    frac = [(k << 64) // 51200 for k in range(n)]  # exact: 2^64 k / 51200, below one second
+    stamps = np.zeros(n, dtype=[("second_fractions", "<u8"), ("seconds", "<i8")])
+    stamps["seconds"] = start
+    stamps["second_fractions"] = np.array(frac, dtype=np.uint64)
+    torque = np.sin(2 * np.pi * 37 * np.arange(n) / rate)
+    path = tmp_path / "daqmx.tdms"
+    with TdmsWriter(path) as writer:
+        writer.write_segment([
+            ChannelObject("Log", "Time", TimestampArray(stamps)),
+            ChannelObject("Log", "Torque", torque, properties={"unit_string": "N.m"}),
+        ])  # fmt: skip
+    before = _fingerprint(path)
+    rec = read_recording(path, {"time": {"column": "Log/Time"}, "channels": {
+        "torque": {"column": "Log/Torque"}}})  # fmt: skip
+    assert _fingerprint(path) == before
+    np.testing.assert_allclose(rec.time, np.arange(n) / rate, rtol=0, atol=1e-15)
+    assert rec.sample_rate == pytest.approx(rate, rel=1e-12)
+    assert any("2024-08-05T11:46:13" in note for note in rec.metadata["notes"])

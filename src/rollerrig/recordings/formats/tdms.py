@@ -44,7 +44,7 @@ from rollerrig.recordings.formats._table import META_KEY, Column, Table, require
 from rollerrig.recordings.recording import RecordingError
 
 _TDMS_EPOCH = np.datetime64("1904-01-01T00:00:00", "us")
-"""LabVIEW's zero timestamp: a ``wf_start_time`` equal to it was never set."""
+"""LabVIEW's zero timestamp (seconds 0, fractions 0: a ``wf_start_time`` never set)."""
 
 
 _NEEDED_NAMES = frozenset(CANONICAL_CHANNELS) | {"time"}
@@ -87,13 +87,43 @@ def _check(log: _Collect, path: Path, seen: int) -> int:
     return len(log.messages)
 
 
-def _start_time(props) -> np.datetime64 | None:
+def _start_time(props) -> tuple[int, int] | None:
+    """``wf_start_time`` as LabVIEW stores it: (seconds since 1904, 2^-64 s fractions); None
+    where unset (LabVIEW's zero) or not a timestamp."""
     st = props.get("wf_start_time")
-    if isinstance(st, np.datetime64):
-        st = st.astype("datetime64[us]")
-        if st != _TDMS_EPOCH and not np.isnat(st):
-            return st
+    seconds = getattr(st, "seconds", None)
+    fractions = getattr(st, "second_fractions", None)
+    if isinstance(seconds, int | np.integer) and isinstance(fractions, int | np.integer):
+        if seconds or fractions:
+            return int(seconds), int(fractions)
     return None
+
+
+def _seconds_between(a: tuple[int, int], b: tuple[int, int]) -> float:
+    """``a − b`` [s] of two LabVIEW timestamps, exact to the float (2^-64 s fractions)."""
+    return float(a[0] - b[0]) + (a[1] - b[1]) / 2.0**64
+
+
+def _as_datetime64(stamp: tuple[int, int]) -> np.datetime64:
+    """A LabVIEW timestamp as numpy's datetime64 [ns] (for notes)."""
+    nanos = stamp[0] * 1_000_000_000 + (stamp[1] * 1_000_000_000 >> 64)
+    return _TDMS_EPOCH.astype("datetime64[ns]") + np.timedelta64(nanos, "ns")
+
+
+def _timestamp_seconds(values, first: tuple[int, int]) -> np.ndarray:
+    """Seconds since ``first`` of a TDMS timestamp channel read raw (nptdms' TimestampArray:
+    seconds since 1904 and 2^-64 s fractions): exact to the float. As datetime64[us] (nptdms'
+    default) a 51.2 kS/s clock came back in steps of 19 and 20 µs, its rate 50 000 Hz."""
+    seconds = np.asarray(values["seconds"], dtype=np.int64) - first[0]
+    fractions = np.asarray(values["second_fractions"], dtype=np.uint64)
+    # the fractions below and above the first's, apart: a uint64 difference would wrap
+    above = fractions >= np.uint64(first[1])
+    delta = np.where(
+        above,
+        (fractions - np.uint64(first[1])).astype(float),
+        -((np.uint64(first[1]) - fractions).astype(float)),
+    )
+    return seconds.astype(float) + delta / 2.0**64
 
 
 @contextlib.contextmanager
@@ -119,7 +149,8 @@ def open_tdms(path: Path) -> Iterator[Table]:
             raise RecordingError(f"{path}: cannot be opened: {exc}") from exc
         with fh:
             try:
-                tdms = nptdms.TdmsFile.open(fh)
+                # raw: LabVIEW's timestamps to 2^-64 s, not numpy's datetime64[us]
+                tdms = nptdms.TdmsFile.open(fh, raw_timestamps=True)
             except Exception as exc:
                 raise RecordingError(f"{path}: not a readable TDMS file: {exc}") from exc
             with tdms:
@@ -176,7 +207,7 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
     chans = {}
     table = Table(names=[], load=lambda n: None)  # type: ignore[arg-type,return-value]
     waveform: dict[str, tuple[float, float]] = {}  # name -> (wf_start_offset [s], increment [s])
-    starts: dict[str, np.datetime64] = {}
+    starts: dict[str, tuple[int, int]] = {}
     empty: dict[str, list[str]] = {}  # channels without samples (not in table.names): aliases
     for group in tdms.groups():
         for ch in group.channels():
@@ -225,8 +256,10 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
     if starts:
         t_ref = min(starts.values())
         for name, st in starts.items():
-            shift[name] = float((st - t_ref) / np.timedelta64(1, "us")) * 1e-6
-        table.notes.append(f"absolute start time (earliest TDMS wf_start_time): {t_ref}")
+            shift[name] = _seconds_between(st, t_ref)
+        table.notes.append(
+            f"absolute start time (earliest TDMS wf_start_time): {_as_datetime64(t_ref)}"
+        )
         if any(s != 0.0 for s in shift.values()):
             table.notes.append(
                 "TDMS channels start at different absolute times (wf_start_time); put on one "
@@ -236,11 +269,24 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
         unset = sorted(set(waveform) - set(starts))
         if unset:
             table.notes.append(
-                f"TDMS channels {unset} have no wf_start_time; assumed to start at {t_ref}"
+                f"TDMS channels {unset} have no wf_start_time; assumed to start at "
+                f"{_as_datetime64(t_ref)}"
             )
 
     def length(name: str) -> int:
         return len(chans[name])
+
+    firsts: dict[str, tuple[int, int]] = {}  # a timestamp channel's first sample
+
+    def timestamps(name: str, values) -> np.ndarray:
+        if name not in firsts:
+            head = chans[name][0:1]
+            firsts[name] = (int(head["seconds"][0]), int(head["second_fractions"][0]))
+            table.notes.append(
+                f"TDMS timestamp channel {name!r} converted to seconds since its first sample "
+                f"({_as_datetime64(firsts[name])})"
+            )
+        return _timestamp_seconds(values, firsts[name])
 
     def read(name: str, start: int, stop: int) -> Column:
         nonlocal seen
@@ -255,8 +301,11 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
 
         def get() -> tuple[np.ndarray]:
             nonlocal seen
-            values = np.asarray(ch[start:stop])
+            values = ch[start:stop]
             seen = _check(log, path, seen)  # nptdms reports damage as log warnings
+            if getattr(values.dtype, "names", None) == ("second_fractions", "seconds"):
+                return (timestamps(name, values),)
+            values = np.asarray(values)
             return (values,)
 
         (values,) = checked_slice(
