@@ -416,14 +416,28 @@ def test_a_named_last_column_empty_at_first_is_no_trailing_separator(tmp_path):
     np.testing.assert_allclose(rec["torque"], np.arange(1000) * 0.5)
 
 
-def test_a_text_footer_is_named_in_the_error(tmp_path):
-    """A footer line after the numbers ('Ende der Messung'): the error names it (it said only
-    'no rows of numbers found', as if the file held none)."""
+@pytest.mark.parametrize(
+    "footer",
+    [["Ende der Messung"], ["Mittelwert;24,5"], ["", "Statistik", "Mittelwert;24,5", "Max;49"]],
+)
+def test_a_text_footer_is_left_out_and_named(tmp_path, footer):
+    """A footer below the numbers ('Ende der Messung', a statistics block) is no sample: left
+    out, in both readers, with a note that names it. It was refused ('no rows of numbers'),
+    and with a sample-rate map 'Mittelwert;24,5' was read as one more sample, 24.5 N.m."""
     rows = [f"{k / 100:.2f};{k},5".replace(".", ",") for k in range(50)]
-    f = _write(tmp_path / "footer.csv", ["Zeit;Moment", *rows, "Ende der Messung"])
-    cmap = _torque_map(time="Zeit", torque="Moment")
-    with pytest.raises(RecordingError, match=r"last line 52 \('Ende der Messung'\) is text"):
-        read_recording(f, cmap)
+    f = _write(tmp_path / "footer.csv", ["Zeit;Moment", *rows, *footer])
+    first = next(t for t in footer if t)
+    for cmap in (
+        _torque_map(time="Zeit", torque="Moment"),
+        {"time": {"sample_rate_Hz": 100.0}, "channels": {
+            "torque": {"column": "Moment", "unit": "N.m"}}},
+    ):  # fmt: skip
+        rec = read_recording(f, cmap)
+        np.testing.assert_array_equal(rec["torque"], np.arange(50) + 0.5)
+        assert any("footer" in n and first in n for n in rec.metadata["notes"])
+        with open_recording(f, cmap) as src:
+            chunked = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 7)])
+        np.testing.assert_array_equal(chunked, rec["torque"])
 
 
 def test_a_time_of_day_format_without_a_date_is_unwrapped_at_midnight(tmp_path):
@@ -461,3 +475,16 @@ def test_late_marks_follow_the_file_not_the_column(tmp_path):
     }
     rec = read_recording(f, both)
     assert rec["torque"][2500] == 0.5 and rec["normal_load"][2600] == 1.0
+
+
+def test_a_footer_beyond_the_sniffed_head_is_left_out(tmp_path):
+    """The same below 30 000 rows (beyond the 256 KiB the layout is sniffed from): found from
+    the file's end, not the head."""
+    rows = [f"{k / 1000:.3f};{k % 997},25".replace(".", ",") for k in range(30_000)]
+    f = _write(tmp_path / "long.csv", ["Zeit;Moment", *rows, "Mittelwert;498,25"])
+    assert f.stat().st_size > 256 * 1024
+    cmap = {"time": {"sample_rate_Hz": 1000.0}, "channels": {
+        "torque": {"column": "Moment", "unit": "N.m"}}}  # fmt: skip
+    rec = read_recording(f, cmap)
+    np.testing.assert_array_equal(rec["torque"], np.arange(30_000) % 997 + 0.25)
+    assert any("line 30002" in n for n in rec.metadata["notes"])

@@ -139,13 +139,15 @@ class _TextRows:
     """
 
     def __init__(self, layout, block: int = 1 << 16):
-        from rollerrig.recordings.formats.csv import cut_last_line
+        from rollerrig.recordings.formats.csv import cut_last_line, footer_of
 
         self._layout = layout
         self._block = block
         self._n: int | None = None
-        # A last line cut by an interrupted writer is left out, as read_recording leaves it.
-        self.cut_note = cut_last_line(layout)
+        # A footer below the numbers and a last line cut by an interrupted writer are left
+        # out, as read_recording leaves them.
+        self._footer, self.footer_note = footer_of(layout)
+        self.cut_note = None if self._footer else cut_last_line(layout)
         self._reset()
 
     def _reader(self):
@@ -164,17 +166,19 @@ class _TextRows:
         self._start = 0
 
     def _frames(self):
-        """The file's blocks from its start, blank lines dropped, and a cut last line
-        (``cut_note``) dropped from the last block: one block is read ahead to know which is
-        the last."""
+        """The file's blocks from its start, blank lines dropped, and the footer's rows and a cut
+        last line (``footer_note``, ``cut_note``) dropped from the end: those rows are held
+        back until the next block shows that they are not the last."""
+        pd = require_module("pandas", "CSV files")
+
+        hold = self._footer + (1 if self.cut_note else 0)
         reader = iter(self._reader())
-        frame = self._read_block(reader)
-        while frame is not None:
-            ahead = self._read_block(reader)
-            if ahead is None and self.cut_note:
-                frame = frame.iloc[:-1]
-            yield frame
-            frame = ahead
+        pending = None
+        while (frame := self._read_block(reader)) is not None:
+            pending = frame if pending is None else pd.concat([pending, frame])
+            if len(pending) > hold:
+                yield pending.iloc[: len(pending) - hold]
+                pending = pending.iloc[len(pending) - hold :]
 
     def _read_block(self, reader):
         pd = require_module("pandas", "CSV files")
@@ -231,8 +235,9 @@ def _text_table(path: Path, spec) -> Table:
     table.notes = list(layout.notes)
     table.decimal = layout.decimal if layout.decimal_decided else None
     rows = _TextRows(layout)
-    if rows.cut_note:
-        table.notes.append(rows.cut_note)
+    for note in (rows.footer_note, rows.cut_note):
+        if note:
+            table.notes.append(note)
     unit_of = {n: table.load(n).unit for n in table.names}  # the empty frame: units only
 
     def read(name: str, a: int, b: int) -> Column:

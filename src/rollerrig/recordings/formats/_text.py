@@ -7,7 +7,8 @@
 - :func:`split_cells`: one line into its cells;
 - :func:`decode_text`: the bytes of a file as text (the map's ``[file] encoding``, UTF-16 with
   BOM, UTF-8 with or without BOM, else a fallback code page, noted);
-- :func:`unique_names`: column names made unique (``name``, ``name.1``, ...).
+- :func:`unique_names`: column names made unique (``name``, ``name.1``, ...);
+- :func:`footer_rows`: the lines of text below the numbers at a file's end.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ __all__ = [
     "datalike",
     "decimal_marks",
     "decode_text",
+    "footer_rows",
     "parse_number",
     "split_cells",
     "thousands_mark_beside_integers",
@@ -242,3 +244,42 @@ def unique_names(names: list[str], repeated: dict | None = None) -> list[str]:
             if names.count(nm) > 1:
                 repeated.setdefault(nm, []).append(new)
     return unique
+
+
+def footer_rows(rows: list[list[str]]) -> int:
+    """How many of ``rows`` (a file's last non-blank lines, as cells) are a footer below the
+    numbers: ``End of measurement``, ``Mean;0,1234``, a statistics block.
+
+    Walking up from the last row, a row with text in a column that the samples above hold
+    numbers in (or with text and another cell count, or with no number at all) is footer; the
+    first row with a number and no such text ends the footer. A row of only numbers with
+    another cell count also ends it (a line cut by the writer: the readers' own rule). 0 where
+    no sample is found among ``rows`` (nothing is known about the file's end).
+
+    Examples
+    --------
+    >>> rows = [["0.000", "1.5"], ["0.001", "1.6"], ["Mean", "1.55"], ["End of data"]]
+    >>> footer_rows(rows), footer_rows(rows[:2]), footer_rows([["ok", "1"], ["ok", "2"]])
+    (2, 0, 0)
+    """
+    # '1,000.00' (thousands marks, which cell_kind calls text) is a number under some reading
+    kinds = [
+        [("num" if (k := cell_kind(c)) == "text" and MARKED_NUMBER.fullmatch(c.strip()) else k)
+         for c in r]
+        for r in rows
+    ]  # fmt: skip
+    samples = [k for k in kinds if any(x in ("num", "time") for x in k) and "text" not in k]
+    if not samples:
+        return 0
+    n = Counter(len(k) for k in samples).most_common(1)[0][0]
+    ref = [k for k in kinds if len(k) == n and any(x in ("num", "time") for x in k)]
+    ref = ref[: max(1, len(ref) // 2)]  # the upper rows: a footer is at the end
+    numeric = [j for j in range(n) if sum(k[j] != "text" for k in ref) >= 0.8 * len(ref)]
+    count = 0
+    for k in reversed(kinds):
+        number = any(x in ("num", "time") for x in k)
+        text = any(k[j] == "text" for j in numeric if j < len(k)) or (len(k) != n and "text" in k)
+        if number and not text:
+            break
+        count += 1
+    return count if count < len(rows) else 0

@@ -26,9 +26,11 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._table import Table, header_table, require_module
-from rollerrig.recordings.formats._text import NAN_WORDS, split_cells
+from rollerrig.recordings.formats._text import NAN_WORDS, footer_rows, split_cells
 from rollerrig.recordings.formats.sniff import HEAD_BYTES, TextLayout, sniff_layout
 from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
 from rollerrig.recordings.recording import RecordingError
@@ -131,13 +133,18 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
     frame, encoding = _read_frame(layout, notes)
     if layout.trailing:
         frame = frame.drop(columns="__trailing__")
+    footer, footer_note = footer_of(layout)
+    if footer:
+        frame = _without_footer(frame, footer, layout)
+        notes.append(footer_note)
     n = len(frame)
     first = layout.data_line  # 0-based file line of frame row 0
     # rows with a missing cell: blank lines, short rows, a cut last line, or a real empty cell
     missing = frame.isna().to_numpy()
     gappy = missing.any(axis=1).nonzero()[0]
     drop: list[int] = []
-    ends_with_newline = _ends_with_newline(path, encoding)
+    # a footer's last line is no sample that a writer may have cut
+    ends_with_newline = bool(footer) or _ends_with_newline(path, encoding)
     if gappy.size or (n and not ends_with_newline):
         check = set(gappy[:200].tolist()) | ({n - 1} if n else set())
         check |= {n - 2} if n >= 2 and not ends_with_newline else set()
@@ -204,6 +211,23 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
     return table
 
 
+def _without_footer(frame, footer: int, layout: TextLayout):
+    """``frame`` without its last ``footer`` non-blank rows (and the blank rows among and after
+    them); columns the footer's text had left as text are numbers again (decimal point)."""
+    pd = require_module("pandas", "CSV files")
+
+    filled = np.flatnonzero(~frame.isna().all(axis=1).to_numpy())
+    frame = frame.iloc[: filled[-footer]] if filled.size >= footer else frame.iloc[:0]
+    if layout.decimal_decided and layout.decimal == ".":
+        for name in frame.columns:
+            if frame[name].dtype.kind == "O" and name not in layout.thousands:
+                try:
+                    frame[name] = pd.to_numeric(frame[name])
+                except (ValueError, TypeError):
+                    pass  # text cells of its own: the reader's as_float says where
+    return frame
+
+
 def _is_trailing_blank(drop: list[int], k: int, n: int) -> bool:
     """Whether row ``k`` belongs to the run of dropped rows that ends the file."""
     tail = set(drop)
@@ -232,34 +256,59 @@ def _visibly_complete(line: str, layout: TextLayout, previous: str = "") -> bool
 _TAIL_BYTES = 1 << 20  # the end of a file read to find its last two lines
 
 
-def _last_two_lines(layout: TextLayout) -> tuple[str, str]:
-    """The file's last line and the data line before it ("" where there is none), reading only
-    its end (an ASCII-compatible encoding) or, for UTF-16, the whole file line by line."""
+def _tail(layout: TextLayout, count: int) -> list[tuple[int | None, str]]:
+    """The file's last ``count`` lines (with their line ends) and their 0-based line numbers,
+    None where the end of a large file was read alone; reading only its end (an
+    ASCII-compatible encoding) or, for UTF-16, the whole file line by line."""
     path = layout.path
     if _code_unit(layout.encoding) > 1:
         from collections import deque
 
         with path.open("r", encoding=layout.encoding, errors="replace", newline="") as fh:
-            lines = deque(enumerate(fh), maxlen=2)
-        numbered = list(lines)
-    else:
-        size = path.stat().st_size
-        with path.open("rb") as fh:
-            fh.seek(max(0, size - _TAIL_BYTES))
-            tail = fh.read().decode(layout.encoding, errors="replace")
-        # Lines as the file reader splits them (\n, \r, \r\n only; str.splitlines would also
-        # split at form feeds and U+0085, shifting the count).
-        parts = list(io.StringIO(tail, newline=""))
-        if size > _TAIL_BYTES:  # the window starts inside a line: not a whole line
-            parts = parts[1:]
-            numbered = [(layout.data_line + 2, p) for p in parts[-2:]]  # both data lines
-        else:
-            numbered = list(enumerate(parts))[-2:]
+            return list(deque(enumerate(fh), maxlen=count))
+    size = path.stat().st_size
+    with path.open("rb") as fh:
+        fh.seek(max(0, size - _TAIL_BYTES))
+        tail = fh.read().decode(layout.encoding, errors="replace")
+    # Lines as the file reader splits them (\n, \r, \r\n only; str.splitlines would also
+    # split at form feeds and U+0085, shifting the count).
+    parts = list(io.StringIO(tail, newline=""))
+    if size > _TAIL_BYTES:  # the window starts inside a line: not a whole line
+        return [(None, p) for p in parts[1:][-count:]]
+    return list(enumerate(parts))[-count:]
+
+
+def _last_two_lines(layout: TextLayout) -> tuple[str, str]:
+    """The file's last line and the data line before it ("" where there is none)."""
+    numbered = _tail(layout, 2)
     if not numbered:
         return "", ""
     last = numbered[-1][1]
-    previous = numbered[0][1] if len(numbered) == 2 and numbered[0][0] >= layout.data_line else ""
+    first = numbered[0][0]
+    data = first is None or first >= layout.data_line
+    previous = numbered[0][1] if len(numbered) == 2 and data else ""
     return last, previous
+
+
+def footer_of(layout: TextLayout) -> tuple[int, str | None]:
+    """``(rows, note)``: how many of the file's last non-blank lines are a footer below the
+    numbers (:func:`~rollerrig.recordings.formats._text.footer_rows`), and the note that says
+    they were left out (None where there is none)."""
+    lines = [
+        (i, t.rstrip("\r\n"))
+        for i, t in _tail(layout, 200)
+        if t.strip() and (i is None or i >= layout.data_line)
+    ]
+    rows = [split_cells(t, layout.separator) for _, t in lines]
+    count = footer_rows(rows)
+    if not count:
+        return 0, None
+    first_line, first_text = lines[-count]
+    where = f"line {first_line + 1}" if first_line is not None else "the file's end"
+    return count, (
+        f"footer below the numbers left out: {count} line(s) from {where} "
+        f"({first_text.strip()[:60]!r})"
+    )
 
 
 def cut_last_line(layout: TextLayout) -> str | None:

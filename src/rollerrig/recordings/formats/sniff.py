@@ -41,6 +41,7 @@ from rollerrig.recordings.formats._text import (
     datalike,
     decimal_marks,
     decode_text,
+    footer_rows,
     parse_number,
     split_cells,
     thousands_mark_beside_integers,
@@ -107,15 +108,21 @@ class TextLayout:
 
 
 def _data_block(
-    rows: list[tuple[int, list[str]]], partial_last: bool
+    rows: list[tuple[int, list[str]]], partial_last: bool, at_eof: bool = False
 ) -> tuple[list[tuple[int, list[str]]], int]:
     """(trailing block of data rows, cells per row).
+
+    ``at_eof``: ``rows`` end with the file's last line; a footer below the numbers
+    (:func:`~rollerrig.recordings.formats._text.footer_rows`) is then not part of the block.
 
     Walking up from the last row, a row belongs to the data when it has a number or timestamp
     and at most half of the numeric columns (columns that are numbers in >= 80 % of the last
     rows) hold text in it: a stray ``ERR`` cell stays in the data (reported later with its line),
     a header or units row, text in every numeric column, ends the block.
     """
+    if at_eof:
+        footer = footer_rows([f for _, f in rows[-200:]])
+        rows = rows[: len(rows) - footer]
     kinds = [(i, f, [cell_kind(c) for c in f]) for i, f in rows]
     tail = [x for x in kinds[-50:] if any(k in ("num", "time") for k in x[2])]
     if not tail:
@@ -165,8 +172,11 @@ def _without_leading_names(
     numeric = [j for j in range(n) if sum(k[j] != "text" for k in below) >= 0.8 * len(below)]
 
     def texty(i: int) -> bool:
-        k = kind_of[i]
-        return any(j < len(k) and k[j] == "text" for j in numeric)
+        k, f = kind_of[i], dict(block)[i]
+        return any(
+            j < len(k) and k[j] == "text" and not MARKED_NUMBER.fullmatch(f[j].strip())
+            for j in numeric
+        )
 
     run = 0
     while run < len(block) and texty(block[run][0]):
@@ -186,13 +196,13 @@ def _without_leading_names(
 
 
 def _score(
-    lines: list[tuple[int, str]], sep: str, partial_last: bool
+    lines: list[tuple[int, str]], sep: str, partial_last: bool, at_eof: bool = False
 ) -> tuple[int, int, list[tuple[int, list[str]]]]:
     """(rows with the usual cell count, cells per row, block) of ``sep``; score 0 when the
     header above the block does not fit the rows. Ties go to the earlier separator of
     :data:`_SNIFF_SEPARATORS` (whitespace last)."""
     rows = [(i, split_cells(t, sep)) for i, t in lines]
-    block, n = _data_block(rows, partial_last)
+    block, n = _data_block(rows, partial_last, at_eof)
     if not block:
         return 0, 0, block
     above = [f for i, f in rows if i < block[0][0]]
@@ -281,7 +291,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
     for sep in candidates:
         if sep == "," and spec.decimal == ",":
             continue
-        score, n, block = _score(lines_for_sniff, sep, partial_last)
+        score, n, block = _score(lines_for_sniff, sep, partial_last, not truncated_head)
         if first_data is not None:
             block = [(i, split_cells(t, sep)) for i, t in lines_for_sniff]
             n = Counter(len(f) for _, f in block).most_common(1)[0][0] if block else 0
@@ -295,7 +305,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
             (c for c in ("\t", ";", "|", ",") if not any(c in t for _, t in lines_for_sniff)),
             "\t",
         )
-        score, n, block = _score(lines_for_sniff, sep, partial_last)
+        score, n, block = _score(lines_for_sniff, sep, partial_last, not truncated_head)
         if first_data is not None:
             block = [(i, split_cells(t, sep)) for i, t in lines_for_sniff]
         if not block:
