@@ -913,3 +913,23 @@ def test_key_value_rows_above_the_numbers_are_not_samples(tmp_path):
             "column": "MAIN.fTorque", "unit": "N.m"}}})  # fmt: skip
     assert rec.time.size == 50
     np.testing.assert_allclose(rec["torque"][:3], [0.0, 0.01, 0.02])
+
+
+def test_integer_epoch_nanoseconds_keep_their_resolution(tmp_path):
+    """A time column of integer epoch nanoseconds (a ``time.time_ns()`` logger) at 51.2 kS/s:
+    the step is 19 531 or 19 532 ns, as written. Made a float first, 1.7e18 ns became 1.7e9 s
+    to 0.24 µs: steps of 19.3-19.8 µs and a rate of 51 150 Hz."""
+    from rollerrig.recordings.source import open_recording
+
+    n = 3000
+    stamps = 1_722_865_573_000_000_000 + np.round(np.arange(n) * 1e9 / 51200).astype(np.int64)
+    path = tmp_path / "ns.csv"
+    path.write_bytes(("Time,T\n" + "".join(f"{t},{k}\n" for k, t in enumerate(stamps))).encode())
+    cmap = {"time": {"column": "Time", "unit": "ns"}, "channels": {
+        "torque": {"column": "T", "unit": "N.m"}}}  # fmt: skip
+    rec = _read(path, cmap)
+    np.testing.assert_array_equal(rec.time, (stamps - stamps[0]) * 1e-9)
+    assert any("made relative to its first value" in note for note in rec.metadata["notes"])
+    with open_recording(path, cmap) as src:
+        chunked = np.concatenate([c.time for c in src.iter_chunks(("torque",), 700)])
+    np.testing.assert_array_equal(chunked, rec.time)
