@@ -239,6 +239,18 @@ def test_suggest_date_format(cell, fmt):
     assert suggest_date_format(cell) == fmt
 
 
+def test_elapsed_minutes_and_seconds_get_a_format_that_reads_them(tmp_path):
+    """Excel's elapsed time ``[mm]:ss,0``: the refusal suggested ``'%H:%M,0'`` (hours and
+    minutes, a constant ',0'), which reads '00:00,1' as midnight; ``'%M:%S,%f'`` reads it."""
+    rows = [f"{k // 600:02d}:{k // 10 % 60:02d},{k % 10};{k}" for k in range(700)]
+    f = _write(tmp_path / "elapsed.csv", ["Zeit;Moment", *rows])
+    cmap = _torque_map(time="Zeit", torque="Moment")
+    with pytest.raises(RecordingError, match=r"date_format = '%M:%S,%f' reads '00:00,0';"):
+        read_recording(f, cmap)
+    rec = read_recording(f, {**cmap, "file": {"date_format": "%M:%S,%f"}})
+    np.testing.assert_allclose(rec.time, 0.1 * np.arange(700), atol=1e-9)
+
+
 @pytest.mark.parametrize("cell", ["12.5", "85,928", "-1e3", "ERR"])
 def test_numbers_and_text_do_not_look_like_timestamps(cell):
     assert not looks_like_timestamp(cell)

@@ -59,6 +59,7 @@ def looks_like_timestamp(cell: str) -> bool:
 
 _SUGGEST = re.compile(
     r"(?P<date>(?P<a>\d{1,4})(?P<sep>[./-])(?P<b>\d{1,2})(?P=sep)(?P<y>\d{1,4}))"
+    r"|(?P<minsec>\d{1,2}:\d{2}(?P<mark>[.,])\d+)"  # elapsed mm:ss,f (Excel's [mm]:ss,0)
     r"|(?P<time>\d{1,2}:\d{2}(?P<sec>:\d{2}(?P<frac>[.,]\d+)?)?)"
     r"|(?P<ampm>\b(?:AM|PM|am|pm|a\.m\.|p\.m\.)(?![A-Za-z]))"
     r"|(?P<tz>(?<=\d)\s*[+-]\d{2}:?\d{2}\b)"
@@ -78,6 +79,8 @@ def suggest_date_format(cell: str) -> str | None:
     '%m/%d/%Y %I:%M:%S.%f %p'
     >>> suggest_date_format("Mon 05.08.2024 13:46")
     '%a %d.%m.%Y %H:%M'
+    >>> suggest_date_format("01:59,5")
+    '%M:%S,%f'
     """
     c = str(cell).strip()
     twelve = bool(re.search(r"\b(?:AM|PM|am|pm)\b", c))
@@ -95,6 +98,8 @@ def suggest_date_format(cell: str) -> str | None:
                 out.append(f"%m{sep}%d{sep}{year}")
             else:
                 out.append(f"%d{sep}%m{sep}{year}")
+        elif m.group("minsec"):
+            out.append("%M:%S" + m.group("mark") + "%f")
         elif m.group("time"):
             fmt = ("%I" if twelve else "%H") + ":%M"
             if m.group("sec"):
@@ -128,10 +133,8 @@ def _date_format_hint(cell: str) -> str:
     fmt = suggest_date_format(cell)
     if fmt is None:
         return "e.g. '%d.%m.%Y %H:%M:%S'; codes as Python's time.strptime"
-    return (
-        f"e.g. date_format = {fmt!r} reads {cell!r} (check the day/month order); codes as "
-        "Python's time.strptime"
-    )
+    order = " (check the day/month order)" if "%d" in fmt else ""
+    return f"e.g. date_format = {fmt!r} reads {cell!r}{order}; codes as Python's time.strptime"
 
 
 def _row_name(k: int, line_of: Callable[[int], int | None] | None) -> str:
