@@ -933,3 +933,17 @@ def test_integer_epoch_nanoseconds_keep_their_resolution(tmp_path):
     with open_recording(path, cmap) as src:
         chunked = np.concatenate([c.time for c in src.iter_chunks(("torque",), 700)])
     np.testing.assert_array_equal(chunked, rec.time)
+
+
+def test_a_description_row_under_the_units_is_not_the_header(tmp_path):
+    """DIAdem's text export: names, units, then descriptions above the numbers. The
+    descriptions were taken as the names ('Time axis'), and the map's 'Time' was refused."""
+    rows = "".join(f"{k / 1000:.3f};{1 + k / 10:.2f};{2 + k / 10:.2f}\n" for k in range(20))
+    path = tmp_path / "diadem.csv"
+    path.write_bytes(
+        f"Time;Torque;p\ns;N·m;bar\nTime axis;Roller torque;Air spring\n{rows}".encode()
+    )
+    rec = _read(path, {"time": {"column": "Time"}, "channels": {
+        "torque": {"column": "Torque"}, "air_spring_pressure": {"column": "p"}}})  # fmt: skip
+    np.testing.assert_allclose(rec["air_spring_pressure"][:2], [2.0e5, 2.1e5])
+    assert any("descriptions" in n for n in rec.metadata["notes"])

@@ -82,8 +82,20 @@ def header_rows(
         elif spec.units_row is None and len(above) >= 2:
             up, low = above[-2], above[-1]
             uf, lf = split_cells(up[1], sep), split_cells(low[1], sep)
+            names3 = split_cells(above[-3][1], sep) if len(above) >= 3 else []
             if unitlike_row(lf) and not unitlike_row(uf) and abs(len(uf) - len(lf)) <= 1:
                 header_line, units_line = up[0], low[0]
+            elif (
+                names3
+                and unitlike_row(uf)
+                and not unitlike_row(names3)
+                and not unitlike_row(lf)
+                and not datalike(lf)
+                and abs(len(names3) - len(uf)) <= 1
+                and abs(len(lf) - len(uf)) <= 1
+            ):
+                # DIAdem's export: names, units, then a row of descriptions above the numbers
+                header_line, units_line = above[-3][0], up[0]
             else:
                 header_line = low[0]
         elif above:

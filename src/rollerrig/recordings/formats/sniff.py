@@ -391,6 +391,12 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
             )
         if spec.units_row is None:
             notes.append(f"units row (line {units_line + 1}) used for the columns' units")
+            skipped = [i for i, _ in above if units_line < i]
+            if skipped:
+                notes.append(
+                    f"line {skipped[0] + 1} between the units row and the numbers skipped "
+                    f"({text_of[skipped[0]].strip()[:60]!r}: descriptions)"
+                )
     units = column_units(text_of, units_line, sep, n, len(names))
     # Thousands marks only under a decided decimal mark: undecided, '12,345' is 12345 or 12.345
     # and the column's own cells decide (translate.as_float), or it is refused.
