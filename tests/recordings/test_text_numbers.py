@@ -500,3 +500,40 @@ def test_a_footer_beyond_the_sniffed_head_is_left_out(tmp_path):
     rec = read_recording(f, cmap)
     np.testing.assert_array_equal(rec["torque"], np.arange(30_000) % 997 + 0.25)
     assert any("line 30002" in n for n in rec.metadata["notes"])
+
+
+_FOOTER_LINE = st.one_of(
+    st.sampled_from(["End of data", "Ende der Messung", "Statistics", "***", "EOF"]),
+    st.builds(
+        lambda word, value: f"{word};{value}",
+        st.sampled_from(["Mean", "Max", "Min", "Mittelwert", "RMS"]),
+        st.integers(-999, 999).map(str),
+    ),
+)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    torque=st.lists(st.integers(-99_999, 99_999), min_size=3, max_size=40),
+    header=st.sampled_from(["Zeit;Moment", "Time;1", "t;T", "#;Torque [N.m]"]),
+    footer=st.lists(_FOOTER_LINE, max_size=4),
+    blank_before_footer=st.booleans(),
+)
+def test_samples_come_back_whole_with_any_header_and_footer(
+    tmp_path_factory, torque, header, footer, blank_before_footer
+):
+    """Property: a table of samples, under a row of names (words, channel numbers, units) and
+    above any footer, is read back sample for sample, every sample and nothing else, by both
+    readers; a footer is named in a note."""
+    rows = [f"{k / 100:.2f};{v / 100:.2f}".replace(".", ",") for k, v in enumerate(torque)]
+    tail = ([""] if blank_before_footer and footer else []) + footer
+    f = _write(tmp_path_factory.mktemp("prop") / "run.csv", [header, *rows, *tail])
+    name = header.split(";")[1]
+    cmap = {"time": {"sample_rate_Hz": 100.0}, "channels": {
+        "torque": {"column": name.removesuffix(" [N.m]"), "unit": "N.m"}}}  # fmt: skip
+    rec = read_recording(f, cmap)
+    np.testing.assert_array_equal(rec["torque"], np.array(torque) / 100)
+    assert any("footer" in n for n in rec.metadata["notes"]) == bool(footer)
+    with open_recording(f, cmap) as src:
+        chunked = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 5)])
+    np.testing.assert_array_equal(chunked, rec["torque"])
