@@ -186,6 +186,7 @@ ALIASES: Mapping[str, str] = MappingProxyType(
         # time (the spellings DAQ exports use)
         "sec": "s",
         "secs": "s",
+        "sec.": "s",
         "msec": "ms",
         "usec": "us",
         "µsec": "us",

@@ -104,9 +104,9 @@ def test_csv_column_choice_comments_and_shift(tmp_path):
         ("", {}, "no header"),
         ("time,torque [N.m]\n0,1\n1,2\n", {}, "no unit in the header"),
         (
-            "time [h],torque [N.m]\n0,1\n1,2\n",
+            "time [d],torque [N.m]\n0,1\n1,2\n",
             {},
-            r"^bad\.csv: column 'time \[h\]': time unit not accepted .*'s', 'ms'.*got 'h'$",
+            r"^bad\.csv: column 'time \[d\]': time unit not accepted .*'s', 'ms'.*got 'd'$",
         ),
         (
             "time [s],torque [lbf.ft]\n0,1\n1,2\n",

@@ -604,7 +604,8 @@ def test_tdms_timestamp_time_channel_keeps_labview_resolution(tmp_path):
     """A time channel of LabVIEW timestamps (seconds since 1904 and 2^-64 s fractions, as
     DAQmx logging writes them) at 51.2 kS/s: the sample k is at exactly k/51200 s. Read as
     numpy's datetime64[us] (nptdms' default) the steps were 19 and 20 µs and the rate 50 000
-    Hz; the stored fractions give k/51200 to the float."""
+    Hz; the stored fractions give k/51200 to the float. Its ``unit_string`` ("UTC") is no time
+    unit of the seconds it becomes."""
     from nptdms import ChannelObject, TdmsWriter
     from nptdms.timestamp import TimestampArray
 
@@ -618,7 +619,7 @@ def test_tdms_timestamp_time_channel_keeps_labview_resolution(tmp_path):
     path = tmp_path / "daqmx.tdms"
     with TdmsWriter(path) as writer:
         writer.write_segment([
-            ChannelObject("Log", "Time", TimestampArray(stamps)),
+            ChannelObject("Log", "Time", TimestampArray(stamps), properties={"unit_string": "UTC"}),
             ChannelObject("Log", "Torque", torque, properties={"unit_string": "N.m"}),
         ])  # fmt: skip
     before = _fingerprint(path)

@@ -537,3 +537,39 @@ def test_samples_come_back_whole_with_any_header_and_footer(
     with open_recording(f, cmap) as src:
         chunked = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 5)])
     np.testing.assert_array_equal(chunked, rec["torque"])
+
+
+@pytest.mark.parametrize(
+    ("tail", "last_cells"),
+    [
+        ([";", ";;"], None),  # Excel's empty rows: blank, not a footer
+        ([], "event"),  # an event column's text in the last samples
+        ([], "OPEN"),  # an unmapped sensor's text
+    ],
+)
+def test_text_beside_the_numbers_at_the_end_is_no_footer(tmp_path, tail, last_cells):
+    """Only text in the lead (time) column makes a footer: a review found the last samples of
+    files with an event column, or followed by separator-only rows, dropped as one."""
+    rows = [f"{k // 100},{k % 100:02d};{k},5;" for k in range(40)]
+    if last_cells:
+        rows[-5:] = [r + last_cells for r in rows[-5:]]
+    f = _write(tmp_path / "end.csv", ["Zeit;Moment;Ereignis", *rows, *tail])
+    rec = read_recording(f, _torque_map(time="Zeit", torque="Moment"))
+    np.testing.assert_array_equal(rec["torque"], np.arange(40) + 0.5)
+    assert not any("footer" in n for n in rec.metadata["notes"])
+
+
+def test_a_stray_error_cell_in_the_last_sample_is_still_an_error(tmp_path):
+    rows = [f"0,{k:02d};{k},5" for k in range(10)] + ["0,10;ERR"]
+    f = _write(tmp_path / "err.csv", ["Zeit;Moment", *rows])
+    with pytest.raises(RecordingError, match=r"'ERR' \(file line 12\)"):
+        read_recording(f, _torque_map(time="Zeit", torque="Moment"))
+
+
+def test_text_in_an_unmapped_column_of_the_first_samples_keeps_them_samples(tmp_path):
+    """A thermocouple reading 'OPEN' for the first samples: the rows stay samples (a review
+    found them taken as the header)."""
+    rows = [f"0,{k:02d};{k},5;" + ("OPEN" if k < 5 else f"2{k % 10},5") for k in range(40)]
+    f = _write(tmp_path / "open.csv", ["Zeit;Moment;Temp", *rows])
+    rec = read_recording(f, _torque_map(time="Zeit", torque="Moment"))
+    np.testing.assert_array_equal(rec["torque"], np.arange(40) + 0.5)

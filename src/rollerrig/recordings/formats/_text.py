@@ -31,6 +31,8 @@ __all__ = [
     "decimal_marks",
     "decode_text",
     "footer_rows",
+    "lead_column",
+    "number_kinds",
     "parse_number",
     "split_cells",
     "thousands_mark_beside_integers",
@@ -250,36 +252,63 @@ def footer_rows(rows: list[list[str]]) -> int:
     """How many of ``rows`` (a file's last non-blank lines, as cells) are a footer below the
     numbers: ``End of measurement``, ``Mean;0,1234``, a statistics block.
 
-    Walking up from the last row, a row with text in a column that the samples above hold
-    numbers in (or with text and another cell count, or with no number at all) is footer; the
-    first row with a number and no such text ends the footer. A row of only numbers with
-    another cell count also ends it (a line cut by the writer: the readers' own rule). 0 where
-    no sample is found among ``rows`` (nothing is known about the file's end).
+    The lead column is the first that the samples hold numbers (or timestamps) in, the time
+    column of most files. Walking up from the last row, a row with text and no number in its
+    lead column is footer; rows of only empty or NaN cells are passed over (not counted: the
+    readers drop them as blank); the first row with a number in its lead column ends the
+    footer. So a sample keeps its place whatever text its other columns hold (an event
+    column, a stray ``ERR``, which the readers then report). 0 where no sample is found among
+    ``rows`` (nothing is known about the file's end).
 
     Examples
     --------
     >>> rows = [["0.000", "1.5"], ["0.001", "1.6"], ["Mean", "1.55"], ["End of data"]]
     >>> footer_rows(rows), footer_rows(rows[:2]), footer_rows([["ok", "1"], ["ok", "2"]])
     (2, 0, 0)
+    >>> footer_rows([["0.000", "1.5"], ["0.001", "ERR"], [""], ["", ""]])
+    0
     """
-    # '1,000.00' (thousands marks, which cell_kind calls text) is a number under some reading
-    kinds = [
-        [("num" if (k := cell_kind(c)) == "text" and MARKED_NUMBER.fullmatch(c.strip()) else k)
-         for c in r]
-        for r in rows
-    ]  # fmt: skip
-    samples = [k for k in kinds if any(x in ("num", "time") for x in k) and "text" not in k]
-    if not samples:
+    kinds = [number_kinds(r) for r in rows]
+    numbered = [k for k in kinds if any(x in ("num", "time") for x in k)]
+    if not numbered:
         return 0
-    n = Counter(len(k) for k in samples).most_common(1)[0][0]
-    ref = [k for k in kinds if len(k) == n and any(x in ("num", "time") for x in k)]
-    ref = ref[: max(1, len(ref) // 2)]  # the upper rows: a footer is at the end
-    numeric = [j for j in range(n) if sum(k[j] != "text" for k in ref) >= 0.8 * len(ref)]
+    n = Counter(len(k) for k in numbered).most_common(1)[0][0]
+    # the rows without text where there are any, else the upper rows (a footer is at the end)
+    ref = [k for k in numbered if len(k) == n and "text" not in k]
+    if not ref:
+        ref = [k for k in numbered if len(k) == n]
+        ref = ref[: max(1, len(ref) // 2)]
+    lead = lead_column(ref, n)
+    if lead is None:
+        return 0
     count = 0
     for k in reversed(kinds):
-        number = any(x in ("num", "time") for x in k)
-        text = any(k[j] == "text" for j in numeric if j < len(k)) or (len(k) != n and "text" in k)
-        if number and not text:
-            break
+        if "text" not in k:
+            if any(x in ("num", "time") for x in k):
+                return count  # a sample
+            continue  # empty or NaN cells only: blank to the readers
+        if lead < len(k) and k[lead] in ("num", "time"):
+            return count  # a sample with text beside its number
         count += 1
-    return count if count < len(rows) else 0
+    return 0  # no sample below the text: not a footer
+
+
+def number_kinds(cells: list[str]) -> list[str]:
+    """:func:`cell_kind` of each cell, a number with thousands marks (``1,000.00``, which
+    :func:`cell_kind` calls text) a number."""
+    return [
+        "num" if (k := cell_kind(c)) == "text" and MARKED_NUMBER.fullmatch(c.strip()) else k
+        for c in cells
+    ]
+
+
+def lead_column(kinds: list[list[str]], n: int) -> int | None:
+    """The first of ``n`` columns that at least 80 % of the rows ``kinds`` (cell kinds, of
+    :func:`number_kinds`) hold numbers or timestamps in; None when none does."""
+    rows = [k for k in kinds if len(k) == n]
+    if not rows:
+        return None
+    return next(
+        (j for j in range(n) if sum(k[j] in ("num", "time") for k in rows) >= 0.8 * len(rows)),
+        None,
+    )

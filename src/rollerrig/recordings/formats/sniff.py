@@ -42,6 +42,8 @@ from rollerrig.recordings.formats._text import (
     decimal_marks,
     decode_text,
     footer_rows,
+    lead_column,
+    number_kinds,
     parse_number,
     split_cells,
     thousands_mark_beside_integers,
@@ -120,6 +122,8 @@ def _data_block(
     rows) hold text in it: a stray ``ERR`` cell stays in the data (reported later with its line),
     a header or units row, text in every numeric column, ends the block.
     """
+    while rows and not any(c.strip() for c in rows[-1][1]):
+        rows = rows[:-1]  # separator-only rows at the end (Excel's empty rows): blank
     if at_eof:
         footer = footer_rows([f for _, f in rows[-200:]])
         rows = rows[: len(rows) - footer]
@@ -150,36 +154,35 @@ def _data_block(
         missing = []
         block.append((i, f))
     block.reverse()
-    return _without_leading_names(block, kinds, numeric, n), n
+    return _without_leading_names(block, kinds, n), n
 
 
 def _without_leading_names(
-    block: list[tuple[int, list[str]]], kinds, numeric: list[int], n: int
+    block: list[tuple[int, list[str]]], kinds, n: int
 ) -> list[tuple[int, list[str]]]:
-    """``block`` without the rows at its top that hold names, not a stray text cell.
+    """``block`` without the rows at its top that hold names, not samples.
 
     A row of names with numbers among them (``Time;1;2``, channels numbered) or key-value
     rows above the numbers (TwinCAT Scope's ``SampleTime[ms]<TAB>1``) fit the rule "at most
-    half of the numeric columns text", and were read as samples. The top row with text in a
-    numeric column leaves the block unless a row of names (n cells, no number) sits right above
-    it (then its text is a stray cell under the header); two or more such rows at the top leave
-    it whatever is above: a stray cell is one, not a run (the rows of only missing values
-    below them go too).
+    half of the numeric columns text", and were read as samples. A row is names when its lead
+    column (:func:`~rollerrig.recordings.formats._text.lead_column`, the time column of most
+    files: numbers in the rows below) holds text. The top row so leaves the block unless a row
+    of names (n cells, no number) sits right above it (then its text is a stray cell under the
+    header); two or more such rows at the top leave it whatever is above (the rows of only
+    missing values below them go too). Text in other columns (an event column, a sensor's
+    ``OPEN``) keeps a row a sample.
     """
-    kind_of = {i: k for i, _, k in kinds}
-    # numeric below the top row: in a short file a header is more than a fifth of the rows
-    below = [kind_of[i] for i, f in block[1:] if len(f) == n]
-    numeric = [j for j in range(n) if sum(k[j] != "text" for k in below) >= 0.8 * len(below)]
+    kind_of = {i: number_kinds(f) for i, f in block}
+    lead = lead_column([kind_of[i] for i, _ in block[1:]], n)
+    if lead is None:
+        return block
 
-    def texty(i: int) -> bool:
-        k, f = kind_of[i], dict(block)[i]
-        return any(
-            j < len(k) and k[j] == "text" and not MARKED_NUMBER.fullmatch(f[j].strip())
-            for j in numeric
-        )
+    def names(i: int) -> bool:
+        k = kind_of[i]
+        return lead < len(k) and k[lead] == "text"
 
     run = 0
-    while run < len(block) and texty(block[run][0]):
+    while run < len(block) and names(block[run][0]):
         run += 1
     if run == 0 or run == len(block):
         return block
@@ -190,7 +193,7 @@ def _without_leading_names(
             if len(k) in (n, n - 1) and not any(c in ("num", "time") for c in k):
                 return block  # names right above: a stray text cell in the first sample
     rest = block[run:]
-    while rest and all(kind_of[rest[0][0]][j] in ("nan", "empty") for j in range(len(rest[0][1]))):
+    while rest and all(c in ("nan", "empty") for c in kind_of[rest[0][0]]):
         rest = rest[1:]
     return rest if rest else block
 

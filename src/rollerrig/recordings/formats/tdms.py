@@ -318,6 +318,8 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
         if name in waveform:
             offset, inc = waveform[name]
             own = shift.get(name, 0.0) + offset + np.arange(start, stop) * inc
+        if name in firsts:  # timestamps, now seconds since the first (whatever unit_string says)
+            return Column(values, "s", own)
         props = ch.properties
         unit = props.get("unit_string") or props.get("NI_UnitDescription") or None
         return Column(values, unit if isinstance(unit, str) else None, own)
