@@ -573,3 +573,19 @@ def test_text_in_an_unmapped_column_of_the_first_samples_keeps_them_samples(tmp_
     f = _write(tmp_path / "open.csv", ["Zeit;Moment;Temp", *rows])
     rec = read_recording(f, _torque_map(time="Zeit", torque="Moment"))
     np.testing.assert_array_equal(rec["torque"], np.arange(40) + 0.5)
+
+
+def test_times_of_day_over_more_than_a_day_read_in_parts_as_whole(tmp_path):
+    """An endurance run logged with times of day only, 30 h from 08:00 (0.1 Hz): read in parts
+    it is the whole read, 107 990 s long. A part more than 12 h after the first sample (past
+    midnight: a step back of less than 12 h from 08:00) was refused as time going backwards."""
+    rows = [f"{(8 * 3600 + 10 * k) // 3600 % 24:02d}:{(10 * k) // 60 % 60:02d}:{10 * k % 60:02d};"
+            f"{k % 100},5" for k in range(10_800)]  # fmt: skip
+    f = _write(tmp_path / "endurance.csv", ["Uhrzeit;Moment", *rows])
+    cmap = {"time": {"column": "Uhrzeit"}, "channels": {"torque": {"column": "Moment",
+            "unit": "N.m"}}}  # fmt: skip
+    whole = read_recording(f, cmap).time
+    np.testing.assert_array_equal(whole, 10.0 * np.arange(10_800))
+    with open_recording(f, cmap) as src:
+        parts = np.concatenate([c.time for c in src.iter_chunks(("torque",), 1000)])
+    np.testing.assert_array_equal(parts, whole)

@@ -56,6 +56,7 @@ from rollerrig.recordings.channels import ChannelMap, ChannelSpec
 from rollerrig.recordings.formats import open_table
 from rollerrig.recordings.formats._table import Column, Slicer, Table, header_table, require_module
 from rollerrig.recordings.formats.sniff import sniff_layout
+from rollerrig.recordings.formats.timestamps import times_of_day
 from rollerrig.recordings.readers import (
     ChannelMapLike,
     recording_metadata,
@@ -357,7 +358,7 @@ class RecordingSource:
                 )
             values.setflags(write=False)
             channels[name] = values
-        time = _time(st, a, b, first)
+        time = _time(st, a, b, first, t_prev)
         self._check_time(time, a, t_prev)
         time.setflags(write=False)
         return Chunk(a, time, MappingProxyType(channels))
@@ -428,8 +429,16 @@ class RecordingSource:
             a = e
 
 
-def _time(st: Mapping[str, Any], a: int, b: int, first: Column | None) -> np.ndarray:
-    """Times [s] of samples ``a:b`` (``first``: a column already read for them, if any)."""
+def _time(
+    st: Mapping[str, Any], a: int, b: int, first: Column | None, t_prev: float | None = None
+) -> np.ndarray:
+    """Times [s] of samples ``a:b`` (``first``: a column already read for them, if any).
+
+    Times of day are unwrapped at midnight against the file's first sample (a step back by more
+    than 12 h is a new day), and against ``t_prev`` (the last time of the part before, where
+    known): a part of a recording longer than 12 h was a day early. So a long recording reads
+    in parts as it reads whole.
+    """
     kind = st["time_kind"]
     if kind == "rate":
         return (a + np.arange(b - a)) / st["rate_stated"]
@@ -450,7 +459,12 @@ def _time(st: Mapping[str, Any], a: int, b: int, first: Column | None) -> np.nda
         file=st["cmap"].file,
         decimal=st["decimal"],
     )
-    return np.array(secs[1:] if a > 0 else secs, dtype=float)
+    out = np.array(secs[1:] if a > 0 else secs, dtype=float)
+    if st.get("time_of_day") and t_prev is not None and out.size:
+        days = np.floor((t_prev - out[0]) / 86400.0 + 0.5)  # whole days behind the part before
+        if days > 0:
+            out += days * 86400.0
+    return out
 
 
 def _signature(table: Table, slicer: Slicer, name: str, use_own: bool) -> tuple:
@@ -630,6 +644,10 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
         state["time_column"] = time_column
         state["time_unit"] = info["source_units"].get("time", "s")
         state["time_first"] = np.asarray(slicer.read(time_column, 0, 1).values)
+        first_cell = state["time_first"][0] if state["time_first"].size else ""
+        state["time_of_day"] = state["time_first"].dtype.kind in "OUS" and times_of_day(
+            first_cell, cmap.file.date_format
+        )
     else:
         state["time_kind"] = "own"
         state["time_ref"] = info["columns"][next(iter(chans_h))]

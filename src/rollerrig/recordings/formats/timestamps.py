@@ -16,7 +16,12 @@ import numpy as np
 from rollerrig.recordings.formats._table import require_module
 from rollerrig.recordings.recording import RecordingError
 
-__all__ = ["looks_like_timestamp", "parse_timestamps", "suggest_date_format"]
+__all__ = [
+    "looks_like_timestamp",
+    "parse_timestamps",
+    "suggest_date_format",
+    "times_of_day",
+]
 
 _DATE_CODES = re.compile(r"%[dmyYjbBaAUWGuVxc]")
 """strftime codes of a date (a format without any is a time of day)."""
@@ -66,6 +71,21 @@ _SUGGEST = re.compile(
     r"|(?P<mon>\b(?:Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec)[a-z]*\b)"
     r"|(?P<day>\b(?:Mon|Tue|Wed|Thu|Fri|Sat|Sun)[a-z]*\b)"
 )
+
+
+def times_of_day(first_cell, date_format: str | None = None) -> bool:
+    """Whether a time column whose first cell is ``first_cell`` holds times of day without a
+    date (``13:46:13``, or a ``date_format`` without date codes): the readers unwrap them at
+    midnight.
+
+    Examples
+    --------
+    >>> times_of_day("23:59:58.5"), times_of_day("05.08.24 23:59"), times_of_day("1", "%H:%M")
+    (True, False, True)
+    """
+    if date_format is not None:
+        return not _DATE_CODES.search(date_format)
+    return bool(_DATE_PATTERNS["tod"].match(str(first_cell).strip()))
 
 
 def suggest_date_format(cell: str) -> str | None:
