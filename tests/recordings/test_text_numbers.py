@@ -430,7 +430,14 @@ def test_a_named_last_column_empty_at_first_is_no_trailing_separator(tmp_path):
 
 @pytest.mark.parametrize(
     "footer",
-    [["Ende der Messung"], ["Mittelwert;24,5"], ["", "Statistik", "Mittelwert;24,5", "Max;49"]],
+    [
+        ["Ende der Messung"],
+        ["Mittelwert;24,5"],
+        ["", "Statistik", "Mittelwert;24,5", "Max;49"],
+        ["Ende", ";", "n/a", "Bediener;Schmidt"],  # empty and NaN rows among its lines
+        ["Mittelwert;24,5;Min;0;Max;49"],  # more cells than the header
+        ["Ende", "-1.#IND;-1.#IND"],  # a row pandas reads as NaN, below the text
+    ],
 )
 def test_a_text_footer_is_left_out_and_named(tmp_path, footer):
     """A footer below the numbers ('Ende der Messung', a statistics block) is no sample: left

@@ -147,8 +147,8 @@ class _TextRows:
         self._n: int | None = None
         # A footer below the numbers and a last line cut by an interrupted writer are left
         # out, as read_recording leaves them.
-        self._footer, self.footer_note = footer_of(layout)
-        self.cut_note = None if self._footer else cut_last_line(layout)
+        self._nrows, self.footer_note = footer_of(layout)
+        self.cut_note = None if self.footer_note else cut_last_line(layout)
         self._reset()
 
     def _reader(self):
@@ -156,7 +156,10 @@ class _TextRows:
 
         try:
             return pd.read_csv(
-                self._layout.path, chunksize=self._block, **self._layout.pandas_kwargs()
+                self._layout.path,
+                chunksize=self._block,
+                nrows=self._nrows,  # the lines above a footer (None: all)
+                **self._layout.pandas_kwargs(),
             )
         except (ValueError, OSError) as exc:
             raise RecordingError(f"{self._layout.path}: not a readable CSV file: {exc}") from None
@@ -167,12 +170,12 @@ class _TextRows:
         self._start = 0
 
     def _frames(self):
-        """The file's blocks from its start, blank lines dropped, and the footer's rows and a cut
-        last line (``footer_note``, ``cut_note``) dropped from the end: those rows are held
-        back until the next block shows that they are not the last."""
+        """The file's blocks from its start (above a footer, ``footer_note``), blank lines
+        dropped, and a cut last line (``cut_note``) dropped from the end: it is held back
+        until the next block shows that it is not the last."""
         pd = require_module("pandas", "CSV files")
 
-        hold = self._footer + (1 if self.cut_note else 0)
+        hold = 1 if self.cut_note else 0
         reader = iter(self._reader())
         pending = None
         while (frame := self._read_block(reader)) is not None:

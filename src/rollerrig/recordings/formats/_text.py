@@ -66,6 +66,9 @@ NEGATIVE_INFINITY_WORDS = frozenset({"-∞", "-inf", "-infinity"})
 """Cells that stand for -inf (lower case)."""
 NAN_WORDS = frozenset(
     {"nan", "-nan", "+nan", "na", "n/a", "#n/a", "null", "none"}
+    # the rest of pandas' default NA strings (Excel's #NA, MSVC's 1.#QNAN): read as NaN there,
+    # so one rule says which rows hold no value (footer_rows, the blank rows of the readers)
+    | {"#na", "#n/a n/a", "<na>", "1.#ind", "-1.#ind", "1.#qnan", "-1.#qnan"}
     | POSITIVE_INFINITY_WORDS
     | NEGATIVE_INFINITY_WORDS
 )
@@ -249,8 +252,9 @@ def unique_names(names: list[str], repeated: dict | None = None) -> list[str]:
 
 
 def footer_rows(rows: list[list[str]]) -> int:
-    """How many of ``rows`` (a file's last non-blank lines, as cells) are a footer below the
-    numbers: ``End of measurement``, ``Mean;0,1234``, a statistics block.
+    """How many of ``rows`` (a file's last lines, as cells) a footer below the numbers takes,
+    from its first line to the end: ``End of measurement``, ``Mean;0,1234``, a statistics
+    block (with the blank lines among and after its lines).
 
     The lead column is the first that the samples hold numbers (or timestamps) in, the time
     column of most files. Walking up from the last row, a row with text and no number in its
@@ -267,6 +271,8 @@ def footer_rows(rows: list[list[str]]) -> int:
     (2, 0, 0)
     >>> footer_rows([["0.000", "1.5"], ["0.001", "ERR"], [""], ["", ""]])
     0
+    >>> footer_rows([["0.000", "1.5"], [""], ["End"], ["n/a"], ["Operator", "Smith"], [""]])
+    4
     """
     kinds = [number_kinds(r) for r in rows]
     numbered = [k for k in kinds if any(x in ("num", "time") for x in k)]
@@ -281,16 +287,17 @@ def footer_rows(rows: list[list[str]]) -> int:
     lead = lead_column(ref, n)
     if lead is None:
         return 0
-    count = 0
-    for k in reversed(kinds):
+    top = len(kinds)  # the footer's first row
+    for i in range(len(kinds) - 1, -1, -1):
+        k = kinds[i]
         if "text" not in k:
             if any(x in ("num", "time") for x in k):
-                return count  # a sample
-            continue  # empty or NaN cells only: blank to the readers
+                return len(kinds) - top  # a sample
+            continue  # empty or NaN cells only: no value, in the footer or below it
         if lead < len(k) and k[lead] in ("num", "time"):
-            return count  # a sample with text beside its number
-        count += 1
-    return 0  # no sample below the text: not a footer
+            return len(kinds) - top  # a sample with text beside its number
+        top = i
+    return 0  # no sample above the text: not a footer
 
 
 def number_kinds(cells: list[str]) -> list[str]:

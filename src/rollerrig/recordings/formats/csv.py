@@ -26,8 +26,6 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
-
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._table import Table, header_table, require_module
 from rollerrig.recordings.formats._text import NAN_WORDS, footer_rows, split_cells
@@ -72,10 +70,12 @@ def _lines(path: Path, encoding: str, wanted: set[int]) -> dict[int, str]:
     return out
 
 
-def _read_frame(layout: TextLayout, notes: list[str]):
+def _read_frame(layout: TextLayout, notes: list[str], nrows: int | None = None):
     pd = require_module("pandas", "CSV files")
 
     kwargs = layout.pandas_kwargs()
+    if nrows is not None:
+        kwargs["nrows"] = nrows  # the lines above a footer
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", pd.errors.ParserWarning)
@@ -130,13 +130,12 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
     path = Path(path)
     layout = sniff_layout(path, spec)
     notes = list(layout.notes)
-    frame, encoding = _read_frame(layout, notes)
+    footer, footer_note = footer_of(layout)
+    if footer_note:
+        notes.append(footer_note)
+    frame, encoding = _read_frame(layout, notes, footer)
     if layout.trailing:
         frame = frame.drop(columns="__trailing__")
-    footer, footer_note = footer_of(layout)
-    if footer:
-        frame = _without_footer(frame, footer, layout)
-        notes.append(footer_note)
     n = len(frame)
     first = layout.data_line  # 0-based file line of frame row 0
     # rows with a missing cell: blank lines, short rows, a cut last line, or a real empty cell
@@ -144,7 +143,7 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
     gappy = missing.any(axis=1).nonzero()[0]
     drop: list[int] = []
     # a footer's last line is no sample that a writer may have cut
-    ends_with_newline = bool(footer) or _ends_with_newline(path, encoding)
+    ends_with_newline = footer is not None or _ends_with_newline(path, encoding)
     if gappy.size or (n and not ends_with_newline):
         check = set(gappy[:200].tolist()) | ({n - 1} if n else set())
         check |= {n - 2} if n >= 2 and not ends_with_newline else set()
@@ -211,23 +210,6 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
     return table
 
 
-def _without_footer(frame, footer: int, layout: TextLayout):
-    """``frame`` without its last ``footer`` non-blank rows (and the blank rows among and after
-    them); columns the footer's text had left as text are numbers again (decimal point)."""
-    pd = require_module("pandas", "CSV files")
-
-    filled = np.flatnonzero(~frame.isna().all(axis=1).to_numpy())
-    frame = frame.iloc[: filled[-footer]] if filled.size >= footer else frame.iloc[:0]
-    if layout.decimal_decided and layout.decimal == ".":
-        for name in frame.columns:
-            if frame[name].dtype.kind == "O" and name not in layout.thousands:
-                try:
-                    frame[name] = pd.to_numeric(frame[name])
-                except (ValueError, TypeError):
-                    pass  # text cells of its own: the reader's as_float says where
-    return frame
-
-
 def _is_trailing_blank(drop: list[int], k: int, n: int) -> bool:
     """Whether row ``k`` belongs to the run of dropped rows that ends the file."""
     tail = set(drop)
@@ -290,25 +272,36 @@ def _last_two_lines(layout: TextLayout) -> tuple[str, str]:
     return last, previous
 
 
-def footer_of(layout: TextLayout) -> tuple[int, str | None]:
-    """``(rows, note)``: how many of the file's last non-blank lines are a footer below the
-    numbers (:func:`~rollerrig.recordings.formats._text.footer_rows`), and the note that says
-    they were left out (None where there is none)."""
-    lines = [
-        (i, t.rstrip("\r\n"))
-        for i, t in _tail(layout, 200)
-        if t.strip() and (i is None or i >= layout.data_line)
-    ]
-    rows = [split_cells(t, layout.separator) for _, t in lines]
-    count = footer_rows(rows)
+def footer_of(layout: TextLayout) -> tuple[int | None, str | None]:
+    """``(rows, note)``: the number of lines from the first data line to a footer below the
+    numbers (:func:`~rollerrig.recordings.formats._text.footer_rows`), the rows
+    :func:`pandas.read_csv` reads (``nrows``), and the note that says the footer was left out;
+    ``(None, None)`` where there is none. pandas never sees the footer's lines: a footer line
+    of more cells than the header, or text in a column of numbers, changes nothing."""
+    lines = [(i, t.rstrip("\r\n")) for i, t in _tail(layout, 200)]
+    lines = [(i, t) for i, t in lines if i is None or i >= layout.data_line]
+    count = footer_rows([split_cells(t, layout.separator) for _, t in lines])
     if not count:
-        return 0, None
+        return None, None
     first_line, first_text = lines[-count]
-    where = f"line {first_line + 1}" if first_line is not None else "the file's end"
-    return count, (
-        f"footer below the numbers left out: {count} line(s) from {where} "
+    if first_line is None:  # the end of a large file, read alone
+        first_line = _count_lines(layout) - count
+    return first_line - layout.data_line, (
+        f"footer below the numbers left out: line {first_line + 1} to the end "
         f"({first_text.strip()[:60]!r})"
     )
+
+
+def _count_lines(layout: TextLayout, block: int = 1 << 20) -> int:
+    """Lines of the file as :func:`_tail` splits them (``\\n``, ``\\r\\n`` or ``\\r`` ends one),
+    counted in blocks of bytes (an ASCII-compatible encoding)."""
+    ends = 0
+    last = b""
+    with layout.path.open("rb") as fh:
+        while chunk := fh.read(block):
+            ends += chunk.count(b"\n") + chunk.count(b"\r") - (last + chunk).count(b"\r\n")
+            last = chunk[-1:]
+    return ends + (1 if last and last not in (b"\n", b"\r") else 0)
 
 
 def cut_last_line(layout: TextLayout) -> str | None:
