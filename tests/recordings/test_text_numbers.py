@@ -596,3 +596,17 @@ def test_times_of_day_over_more_than_a_day_read_in_parts_as_whole(tmp_path):
     with open_recording(f, cmap) as src:
         parts = np.concatenate([c.time for c in src.iter_chunks(("torque",), 1000)])
     np.testing.assert_array_equal(parts, whole)
+
+
+def test_lone_cr_line_ends_with_a_blank_line_above_the_numbers_lose_no_sample(tmp_path):
+    """Mac Excel's "CSV (Macintosh)" (lines ending in a lone CR) under a preamble with a blank
+    line: pandas' C reader counted the blank line's CR CR as one line end when skipping rows,
+    and the first sample was lost in both readers, without a word."""
+    rows = [f"0,{k:03d};{k},5" for k in range(10)]
+    f = tmp_path / "mac.csv"
+    f.write_bytes("\r".join(["Recorder X", "", "t;T", *rows, ""]).encode())
+    rec = read_recording(f, _torque_map())
+    np.testing.assert_array_equal(rec["torque"], np.arange(10) + 0.5)
+    with open_recording(f, _torque_map()) as src:
+        chunked = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 3)])
+    np.testing.assert_array_equal(chunked, rec["torque"])

@@ -151,12 +151,12 @@ class _TextRows:
         self.cut_note = None if self.footer_note else cut_last_line(layout)
         self._reset()
 
-    def _reader(self):
+    def _reader(self, source):
         pd = require_module("pandas", "CSV files")
 
         try:
             return pd.read_csv(
-                self._layout.path,
+                source,
                 chunksize=self._block,
                 nrows=self._nrows,  # the lines above a footer (None: all)
                 **self._layout.pandas_kwargs(),
@@ -176,13 +176,14 @@ class _TextRows:
         pd = require_module("pandas", "CSV files")
 
         hold = 1 if self.cut_note else 0
-        reader = iter(self._reader())
-        pending = None
-        while (frame := self._read_block(reader)) is not None:
-            pending = frame if pending is None else pd.concat([pending, frame])
-            if len(pending) > hold:
-                yield pending.iloc[: len(pending) - hold]
-                pending = pending.iloc[len(pending) - hold :]
+        with self._layout.readable() as source:
+            reader = iter(self._reader(source))
+            pending = None
+            while (frame := self._read_block(reader)) is not None:
+                pending = frame if pending is None else pd.concat([pending, frame])
+                if len(pending) > hold:
+                    yield pending.iloc[: len(pending) - hold]
+                    pending = pending.iloc[len(pending) - hold :]
 
     def _read_block(self, reader):
         pd = require_module("pandas", "CSV files")

@@ -79,7 +79,8 @@ def _read_frame(layout: TextLayout, notes: list[str], nrows: int | None = None):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", pd.errors.ParserWarning)
-            frame = pd.read_csv(layout.path, **kwargs)
+            with layout.readable(kwargs["encoding"]) as source:
+                frame = pd.read_csv(source, **kwargs)
     except RecordingError:  # a cell a converter refused (thousands marks): names the cell
         raise
     except UnicodeDecodeError:
@@ -110,7 +111,8 @@ def _read_frame_with(layout: TextLayout, kwargs: dict):
     pd = require_module("pandas", "CSV files")
 
     try:
-        return pd.read_csv(layout.path, **kwargs), kwargs["encoding"]
+        with layout.readable(kwargs["encoding"]) as source:
+            return pd.read_csv(source, **kwargs), kwargs["encoding"]
     except RecordingError:
         raise
     except (pd.errors.ParserError, pd.errors.EmptyDataError, ValueError) as exc:

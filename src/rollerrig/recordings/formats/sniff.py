@@ -27,6 +27,7 @@ the chunked reader (:mod:`rollerrig.recordings.source`) read the numbers with.
 
 from __future__ import annotations
 
+import contextlib
 import re
 from collections import Counter
 from dataclasses import dataclass
@@ -80,6 +81,19 @@ class TextLayout:
     thousands: tuple[str, ...] = ()  # columns written with thousands marks (strict groups)
     repeated: tuple[tuple[str, tuple[str, ...]], ...] = ()  # a repeated name, its columns' names
     decimal_decided: bool = True  # the decimal mark was given or sniffed, not a default
+    cr_only: bool = False  # lines end in a lone CR (Mac Excel's "CSV (Macintosh)")
+
+    @contextlib.contextmanager
+    def readable(self, encoding: str | None = None):
+        """What :func:`pandas.read_csv` reads: the path, or for lines ending in a lone CR a
+        text handle with universal newlines. pandas' C reader counted ``\\r\\r`` (a blank
+        line) as one line end when skipping rows, so the first sample below a blank line
+        was lost."""
+        if not self.cr_only:
+            yield self.path
+            return
+        with self.path.open("r", encoding=encoding or self.encoding, newline=None) as fh:
+            yield fh
 
     @property
     def n_fields(self) -> int:
@@ -421,6 +435,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         notes=tuple(notes),
         thousands=tuple(thousands),
         repeated=tuple((k, tuple(v)) for k, v in repeated.items()),
+        cr_only="\r" in text and "\n" not in text,
         decimal_decided=decided,
     )
 
