@@ -610,3 +610,20 @@ def test_lone_cr_line_ends_with_a_blank_line_above_the_numbers_lose_no_sample(tm
     with open_recording(f, _torque_map()) as src:
         chunked = np.concatenate([c["torque"] for c in src.iter_chunks(("torque",), 3)])
     np.testing.assert_array_equal(chunked, rec["torque"])
+
+
+def test_a_row_of_nan_words_is_a_sample_in_both_readers(tmp_path):
+    """'NaN;NaN' (every sensor out at one instant) is a sample of missing values: the chunked
+    reader dropped it as a blank line, so with a sample-rate map every later sample came one
+    period early; now it refuses it (chunked reading is strict), as read_recording does."""
+    rows = [f"{k},25;{k},5" for k in range(10)]
+    rows[5] = "NaN;NaN"
+    f = _write(tmp_path / "gap.csv", ["A;T", *rows])
+    cmap = {"time": {"sample_rate_Hz": 100.0}, "channels": {
+        "torque": {"column": "T", "unit": "N.m"}}}  # fmt: skip
+    with pytest.raises(RecordingError, match="NaN/inf samples? .*5"):
+        read_recording(f, cmap)
+    assert read_recording(f, cmap, validate="lenient")["torque"].size == 10
+    with pytest.raises(RecordingError, match="NaN/inf sample at sample 5"):
+        with open_recording(f, cmap) as src:
+            list(src.iter_chunks(("torque",), 3))

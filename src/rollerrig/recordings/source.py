@@ -155,11 +155,16 @@ class _TextRows:
         pd = require_module("pandas", "CSV files")
 
         try:
+            kwargs = self._layout.pandas_kwargs()
+            # NaN words stay words here (as_float reads them): a row of only NaN words is a
+            # sample, not a blank line to drop; dropped, it shifted every later sample of a
+            # sample-rate map by one, and read_recording kept it
+            kwargs.update(keep_default_na=False, na_values=[""])
             return pd.read_csv(
                 source,
                 chunksize=self._block,
                 nrows=self._nrows,  # the lines above a footer (None: all)
-                **self._layout.pandas_kwargs(),
+                **kwargs,
             )
         except (ValueError, OSError) as exc:
             raise RecordingError(f"{self._layout.path}: not a readable CSV file: {exc}") from None
