@@ -186,14 +186,15 @@ def _without_leading_names(
     missing values below them go too). Text in other columns (an event column, a sensor's
     ``OPEN``) keeps a row a sample.
     """
-    kind_of = {i: number_kinds(f) for i, f in block}
-    lead = lead_column([kind_of[i] for i, _ in block[1:]], n)
+    # the rows below the top, a few hundred of them (this runs for every separator tried)
+    lead = lead_column([number_kinds(f) for _, f in block[1:201]], n)
     if lead is None:
         return block
+    cells = dict(block)
 
     def names(i: int) -> bool:
-        k = kind_of[i]
-        return lead < len(k) and k[lead] == "text"
+        f = cells[i]
+        return lead < len(f) and number_kinds([f[lead]])[0] == "text"
 
     run = 0
     while run < len(block) and names(block[run][0]):
@@ -207,7 +208,7 @@ def _without_leading_names(
             if len(k) in (n, n - 1) and not any(c in ("num", "time") for c in k):
                 return block  # names right above: a stray text cell in the first sample
     rest = block[run:]
-    while rest and all(c in ("nan", "empty") for c in kind_of[rest[0][0]]):
+    while rest and all(c in ("nan", "empty") for c in number_kinds(rest[0][1])):
         rest = rest[1:]
     return rest if rest else block
 
