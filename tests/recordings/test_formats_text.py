@@ -947,3 +947,31 @@ def test_a_description_row_under_the_units_is_not_the_header(tmp_path):
         "torque": {"column": "Torque"}, "air_spring_pressure": {"column": "p"}}})  # fmt: skip
     np.testing.assert_allclose(rec["air_spring_pressure"][:2], [2.0e5, 2.1e5])
     assert any("descriptions" in n for n in rec.metadata["notes"])
+
+
+@pytest.mark.parametrize("x_columns", ["No", "One"])
+def test_lvm_absolute_times_keep_the_sample_rate(tmp_path, x_columns):
+    """``Time_Pref Absolute``: X in seconds since 1904 (3.8e9 s, where a float64 steps by 0.48
+    µs). Summed or parsed at that size, 10 kHz read as 9 986 Hz and every step jittered; the
+    whole seconds are taken off first (LabVIEW writes X0 as ``%.16E``, X columns with six
+    decimals)."""
+    rate, n, x0 = 10_000.0, 2000, 3_805_612_345.25
+    head = [
+        "LabVIEW Measurement\t", "Writer_Version\t2", "Reader_Version\t2", "Separator\tTab",
+        "Decimal_Separator\t.", "Multi_Headings\tNo", f"X_Columns\t{x_columns}",
+        "Time_Pref\tAbsolute", "Date\t2024/08/05", "Time\t13:46:13.25", "***End_of_Header***\t",
+        "\t", "Channels\t1\t", f"Samples\t{n}", "Date\t2024/08/05", "Time\t13:46:13.25",
+        "Y_Unit_Label\tN.m", "X_Dimension\tTime", f"X0\t{x0:.16E}", f"Delta_X\t{1 / rate:.16E}",
+        "***End_of_Header***\t\t", "X_Value\tTorque\tComment",
+    ]  # fmt: skip
+    k = np.arange(n)
+    if x_columns == "No":
+        rows = [f"\t{v:.6f}" for v in np.sin(k / 100)]
+    else:  # the X cells as LabVIEW writes them: six decimals of the absolute time
+        rows = [f"{3_805_612_345 + (0.25 + i / rate):.6f}\t{v:.6f}" for i, v in enumerate(
+            np.sin(k / 100))]  # fmt: skip
+    path = tmp_path / "abs.lvm"
+    path.write_bytes(("\r\n".join(head + rows) + "\r\n").encode())
+    rec = _read(path, {"channels": {"torque": {"column": "Torque"}}})
+    np.testing.assert_allclose(rec.time, k / rate, rtol=0, atol=1e-9)
+    assert rec.sample_rate == pytest.approx(rate, rel=1e-9)

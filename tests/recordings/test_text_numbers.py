@@ -621,7 +621,7 @@ def test_a_row_of_nan_words_is_a_sample_in_both_readers(tmp_path):
     f = _write(tmp_path / "gap.csv", ["A;T", *rows])
     cmap = {"time": {"sample_rate_Hz": 100.0}, "channels": {
         "torque": {"column": "T", "unit": "N.m"}}}  # fmt: skip
-    with pytest.raises(RecordingError, match="NaN/inf samples? .*5"):
+    with pytest.raises(RecordingError, match=r"NaN/inf samples? .*5"):
         read_recording(f, cmap)
     assert read_recording(f, cmap, validate="lenient")["torque"].size == 10
     with pytest.raises(RecordingError, match="NaN/inf sample at sample 5"):

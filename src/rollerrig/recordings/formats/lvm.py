@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import re
 from datetime import datetime, timedelta
+from decimal import Decimal, InvalidOperation
 from pathlib import Path
 
 import numpy as np
@@ -262,6 +263,7 @@ def read_lvm(path: Path, spec: FileSpec | None = None) -> Table:
     units: dict[str, str | None] = {}
     order: list[str] = []
     comments = 0
+    origin: list[int] = []  # whole seconds of LabVIEW absolute times (_x_values), once decided
     for seg in segments:
         n_cols = len(seg.names) if seg.comment_col is None else seg.comment_col
         last_line = seg.rows[-1][0]
@@ -309,12 +311,13 @@ def read_lvm(path: Path, spec: FileSpec | None = None) -> Table:
                 xj = shared_x
             own = None
             if xj is not None and np.count_nonzero(cells[:n, xj] != "") == n:
-                own = _column(path, seg, xj, cells[:n, xj], decimal)
+                own = _x_values(path, seg, xj, cells[:n, xj], decimal, origin)
             else:
-                x0 = _header_value(seg.header, "X0", j, decimal)
+                x0 = seg.header.get("X0", [])[j - 1 : j]
                 dx = _header_value(seg.header, "Delta_X", j, decimal)
                 if dx is not None and dx > 0:
-                    own = (0.0 if x0 is None else x0) + np.arange(n) * dx
+                    start = _x_values(path, seg, j, np.array(x0 or ["0"]), decimal, origin)[0]
+                    own = start + np.arange(n) * dx
             per_channel.setdefault(name, []).append((values, own))
             if name not in order:
                 order.append(name)
@@ -335,11 +338,11 @@ def read_lvm(path: Path, spec: FileSpec | None = None) -> Table:
         times = _join_times(path, name, parts, segments, notes)
         columns[name] = Column(values, units[name], times)
     first_time = next((c.time for c in columns.values() if c.time is not None), None)
-    if first_time is not None and first_time.size and first_time[0] > _ABSOLUTE_X:
-        t0 = float(first_time[0])
+    if first_time is not None and first_time.size and origin and origin[0]:
+        t0 = float(first_time[0])  # since the whole seconds origin[0]
         notes.append(
-            f"LVM absolute times (s since 1904-01-01) made relative to {t0:.6f} s "
-            f"({_EPOCH_1904 + timedelta(seconds=t0)})"
+            f"LVM absolute times (s since 1904-01-01) made relative to {origin[0] + t0:.6f} s "
+            f"({_EPOCH_1904 + timedelta(seconds=origin[0] + t0)})"
         )
         for c in columns.values():
             if c.time is not None:
@@ -391,6 +394,31 @@ def _column(path: Path, seg: _Segment, col: int, cells: np.ndarray, decimal: str
                 f"{cell!r} is not a number (decimal mark {decimal!r})"
             ) from None
     raise RecordingError(f"{path}: column {seg.names[col]!r} is not numeric")  # pragma: no cover
+
+
+def _x_values(
+    path: Path, seg: _Segment, col: int, cells: np.ndarray, decimal: str, origin: list[int]
+) -> np.ndarray:
+    """X values (column ``col``'s cells, or an ``X0``) [s], less ``origin[0]`` whole seconds.
+
+    LabVIEW's absolute times are seconds since 1904 (about 3.8e9), where a float64 steps by
+    0.48 µs: summed or parsed at that size, 10 kHz read as 9 986 Hz and every step jittered.
+    The first X value decides ``origin`` (its whole seconds where it is absolute, else 0);
+    absolute values are then parsed exactly (:class:`decimal.Decimal`) less the origin.
+    """
+    text = [str(c).strip().replace(",", ".") if decimal == "," else str(c).strip() for c in cells]
+    if not origin:
+        try:
+            first = Decimal(text[0]) if text else Decimal(0)
+        except InvalidOperation:
+            first = Decimal(0)  # not a number: _column names the cell
+        origin.append(int(first) if first.is_finite() and first > _ABSOLUTE_X else 0)
+    if not origin[0]:
+        return _column(path, seg, col, cells, decimal)
+    try:
+        return np.array([float(Decimal(t) - origin[0]) for t in text])
+    except InvalidOperation:
+        return _column(path, seg, col, cells, decimal)  # names the cell that is no number
 
 
 def _header_value(header: dict[str, list[str]], tag: str, col: int, decimal: str) -> float | None:
