@@ -204,3 +204,67 @@ def test_a_v73_matrix_with_a_cell_array_of_names_is_read_in_slices(tmp_path):
     table = read_mat(f)
     np.testing.assert_allclose(table.slicer.read("torque [N.m]", 10, 20).values, 2.0 * t[10:20])
     assert table.slicer.length("torque [N.m]") == 200
+
+
+def _simulink_v73(path, time, signals):
+    """Simulink's "Structure with time" as MATLAB v7.3 writes it: ``logsout.time`` and the
+    1 x k struct array ``logsout.signals`` whose fields are datasets of k references into
+    ``#refs#`` (``values``, ``label``)."""
+    import h5py
+
+    def char(group, key, text):
+        codes = np.frombuffer(text.encode("utf-16-le"), dtype=np.uint16).reshape(-1, 1)
+        ds = group.create_dataset(key, data=codes)
+        ds.attrs["MATLAB_class"] = np.bytes_("char")
+        return ds
+
+    with h5py.File(path, "w", userblock_size=512, libver="earliest") as h:
+        log = h.create_group("logsout")
+        log.attrs["MATLAB_class"] = np.bytes_("struct")
+        ds = log.create_dataset("time", data=time.reshape(1, -1))
+        ds.attrs["MATLAB_class"] = np.bytes_("double")
+        sig = log.create_group("signals")
+        sig.attrs["MATLAB_class"] = np.bytes_("struct")
+        refs = h.create_group("#refs#")
+        for field in ("values", "label"):
+            out = np.empty((len(signals), 1), dtype=h5py.ref_dtype)
+            for k, (label, values) in enumerate(signals.items()):
+                if field == "label":
+                    target = char(refs, f"{field}{k}", label)
+                else:
+                    target = refs.create_dataset(f"{field}{k}", data=values.reshape(1, -1))
+                    target.attrs["MATLAB_class"] = np.bytes_("double")
+                out[k, 0] = target.ref
+            sig.create_dataset(field, data=out, dtype=h5py.ref_dtype)
+    header = b"MATLAB 7.3 MAT-file".ljust(116, b" ") + b" " * 8 + b"\x00\x02" + b"IM"
+    with path.open("r+b") as fh:
+        fh.write(header.ljust(512, b"\x00"))
+
+
+@pytest.mark.parametrize("version", ["5", "7.3"])
+def test_a_struct_array_of_signals_is_one_column_per_signal(tmp_path, version):
+    """Simulink's ``signals(k).values`` (dSPACE ControlDesk's ``Y(k).Data`` likewise): element
+    k is its own channel, ``logsout.signals(k).values`` or its label. In v7.3 the fields were
+    read as cell arrays, the k signals joined end to end into one column (with a sample-rate
+    map: 2 s of data, the first half torque, the second speed); v5 was refused."""
+    from scipy.io import savemat
+
+    from rollerrig.recordings.readers import read_recording
+
+    t = np.arange(500) / 1000.0
+    signals = {"Trq": 10.0 + np.sin(t), "Spd": 100.0 + t}
+    f = tmp_path / "sim.mat"
+    if version == "5":
+        sig = np.zeros((1, 2), dtype=[("values", object), ("label", object)])
+        for k, (label, values) in enumerate(signals.items()):
+            sig[0, k] = (values.reshape(-1, 1), label)
+        savemat(f, {"logsout": {"time": t.reshape(-1, 1), "signals": sig}})
+    else:
+        _simulink_v73(f, t, signals)
+    for column in ("Trq", "logsout.signals(1).values"):
+        rec = read_recording(f, {"time": {"sample_rate_Hz": 1000.0}, "channels": {
+            "torque": {"column": column, "unit": "N.m"}}})  # fmt: skip
+        np.testing.assert_array_equal(rec["torque"], signals["Trq"])
+    rec = read_recording(f, {"time": {"column": "logsout.time", "unit": "s"}, "channels": {
+        "torque": {"column": "Spd", "unit": "N.m"}}})  # fmt: skip
+    np.testing.assert_array_equal(rec["torque"], signals["Spd"])

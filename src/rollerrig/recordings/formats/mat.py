@@ -15,6 +15,10 @@ is an HDF5 object of its own (slow to open), so a cell of more than :data:`MAX_C
 elements, or one that holds text, structs or nested cells, is not read; the note (and the error
 when a channel map names it) names the field and what to save instead (``cell2mat``).
 
+A struct array (Simulink's "Structure with time", ``logsout.signals(k).values``; dSPACE
+ControlDesk's ``Y(k).Data``) gives element k's fields as ``name(k).field``; where an element
+labels its signal (``label``, ``name``), the label names its ``values`` (``Data``) too.
+
 A 2-D numeric matrix (``data``, n x k, as many lab scripts save) is read when the file holds
 exactly one cell array (or char matrix) of k texts beside it that no other matrix matches: its
 columns become channels named by those texts (``"torque [N.m]"`` gives the unit, as a CSV
@@ -95,6 +99,9 @@ def _flatten_mat(
         name = f"{prefix}{key}"
         if isinstance(value, Mapping):
             _flatten_mat(value, f"{name}.", out, skipped, matrices, texts)
+        elif _is_struct_list(value):  # a struct array: element k's fields as name(k).field
+            for k, element in enumerate(value):
+                _flatten_mat(element, f"{name}({k + 1}).", out, skipped, matrices, texts)
         elif isinstance(value, str):
             out[name] = value
         elif (listed := _text_list(value)) is not None:
@@ -209,6 +216,36 @@ def _set_bases(table: Table, bases: dict[str, str]) -> None:
     for name, base in bases.items():
         table.base[name] = base
         add_alias(table, base, name)
+
+
+def _is_struct_list(value) -> bool:
+    """Whether ``value`` (from :func:`scipy.io.loadmat` with ``simplify_cells``) is a struct
+    array: a list or object array of structs (dicts)."""
+    items = list(value) if isinstance(value, list | tuple) or (
+        isinstance(value, np.ndarray) and value.dtype == object and value.ndim == 1
+    ) else []  # fmt: skip
+    return bool(items) and all(isinstance(v, Mapping) for v in items)
+
+
+_SIGNAL_LABELS = ("label", "name", "Name")
+"""Fields of a struct array's element that name its signal (Simulink's ``signals(k).label``,
+ControlDesk's ``Y(k).Name``)."""
+_SIGNAL_VALUES = ("values", "Data")
+"""Fields of a struct array's element that hold its samples."""
+
+
+def _label_struct_signals(table: Table, strings: Mapping[str, str]) -> None:
+    """Make ``label`` (``Trq``) name ``x.signals(k).values`` where element k of a struct
+    array labels its signal (Simulink's "Structure with time", ControlDesk's ``Y(k).Name``)."""
+    for name, text in strings.items():
+        head, _, field = name.rpartition(".")
+        label = text.replace("\x00", "").strip()
+        if field not in _SIGNAL_LABELS or not head.endswith(")") or not label:
+            continue
+        for values in _SIGNAL_VALUES:
+            column = f"{head}.{values}"
+            if column in table.names and label not in table.names:
+                add_alias(table, label, column)
 
 
 def _flatten_cell(name: str, value, out: dict, skipped: list) -> None:
@@ -353,50 +390,74 @@ def _hdf5_table(path: Path, what: str) -> Table:
 
     def walk(group, prefix: str) -> None:
         for key, item in group.items():
-            if key.startswith("#"):
-                continue
-            name = f"{prefix}{key}"
-            if isinstance(item, h5py.Group):
-                if "MATLAB_sparse" in item.attrs:
-                    skipped.append(f"{name} (sparse)")
-                else:
-                    walk(item, f"{name}.")
-                continue
-            cls = _attr_text(item, "MATLAB_class")
-            shape, dtype = tuple(item.shape), item.dtype
-            if cls == "cell" or h5py.check_ref_dtype(dtype) is not None:
-                cell(group.file, name, item)
-                continue
-            if cls == "char":
-                codes = np.asarray(item[()], dtype=np.uint16)
-                strings[name] = codes.T.tobytes().decode("utf-16-le", errors="replace")
-                if codes.ndim == 2 and min(codes.shape) > 1 and "MATLAB_empty" not in item.attrs:
-                    rows = [r.tobytes().decode("utf-16-le", errors="replace") for r in codes.T]
-                    texts[name] = [r.replace("\x00", "").strip() for r in rows]
-                    text_skips[name] = f"{name} (char matrix of {len(rows)} rows of text)"
-                continue
-            if not cls and h5py.check_string_dtype(dtype) is not None and len(shape) == 1:
-                words = [
-                    w.decode(errors="replace") if isinstance(w, bytes) else str(w) for w in item[()]
-                ]
-                texts[name] = [w.strip() for w in words]
-                text_skips[name] = f"{name} (text, shape {shape})"
-                continue
-            long = [k for k, d in enumerate(shape) if d != 1]
-            numeric = dtype.kind in "biuf" and (not cls or cls in _NUMERIC_CLASSES)
-            if numeric and len(shape) == len(long) == 2 and "MATLAB_empty" not in item.attrs:
-                matrices[name] = (item.name, (int(shape[0]), int(shape[1])), bool(cls))
-                continue
+            if not key.startswith("#"):
+                visit(group.file, f"{prefix}{key}", item)
+
+    def struct_array(f, name: str, group) -> bool:
+        """A MATLAB struct array (Simulink's ``signals(k).values``, dControlDesk's
+        ``Y(k).Data``): each field a dataset of references, one per element. Element k's field
+        is read as ``name(k).field``; True where ``group`` is one (its fields had been read as
+        cell arrays, the k signals joined into one column)."""
+        if _attr_text(group, "MATLAB_class") != "struct":
+            return False
+        fields = {k: v for k, v in group.items() if not k.startswith("#")}
+        sizes = set()
+        for item in fields.values():
             if (
-                not numeric
-                or "MATLAB_empty" in item.attrs
-                or len(long) > 1
-                or int(np.prod(shape)) < 1
+                not isinstance(item, h5py.Dataset)
+                or h5py.check_ref_dtype(item.dtype) is None
+                or _attr_text(item, "MATLAB_class") == "cell"
             ):
-                skipped.append(f"{name} ({cls or dtype}, shape {shape})")
-                continue
-            axis = long[0] if long else 0
-            datasets[name] = (item.name, axis, int(np.prod(shape)), None)
+                return False
+            sizes.add(int(np.prod(item.shape)))
+        if len(sizes) != 1 or not fields:
+            return False
+        for key, item in fields.items():
+            refs = np.asarray(item[()], dtype=object).reshape(-1)  # as cell() reads them
+            for k, ref in enumerate(refs):
+                if ref:
+                    visit(f, f"{name}({k + 1}).{key}", f[ref])
+        notes.append(f"MAT struct array {name}: its {sizes.pop()} elements read as {name}(k).")
+        return True
+
+    def visit(f, name: str, item) -> None:
+        """One MAT variable (a dataset or a group) called ``name``."""
+        if isinstance(item, h5py.Group):
+            if "MATLAB_sparse" in item.attrs:
+                skipped.append(f"{name} (sparse)")
+            elif not struct_array(f, name, item):
+                walk(item, f"{name}.")
+            return
+        cls = _attr_text(item, "MATLAB_class")
+        shape, dtype = tuple(item.shape), item.dtype
+        if cls == "cell" or h5py.check_ref_dtype(dtype) is not None:
+            cell(f, name, item)
+            return
+        if cls == "char":
+            codes = np.asarray(item[()], dtype=np.uint16)
+            strings[name] = codes.T.tobytes().decode("utf-16-le", errors="replace")
+            if codes.ndim == 2 and min(codes.shape) > 1 and "MATLAB_empty" not in item.attrs:
+                rows = [r.tobytes().decode("utf-16-le", errors="replace") for r in codes.T]
+                texts[name] = [r.replace("\x00", "").strip() for r in rows]
+                text_skips[name] = f"{name} (char matrix of {len(rows)} rows of text)"
+            return
+        if not cls and h5py.check_string_dtype(dtype) is not None and len(shape) == 1:
+            words = [
+                w.decode(errors="replace") if isinstance(w, bytes) else str(w) for w in item[()]
+            ]
+            texts[name] = [w.strip() for w in words]
+            text_skips[name] = f"{name} (text, shape {shape})"
+            return
+        long = [k for k, d in enumerate(shape) if d != 1]
+        numeric = dtype.kind in "biuf" and (not cls or cls in _NUMERIC_CLASSES)
+        if numeric and len(shape) == len(long) == 2 and "MATLAB_empty" not in item.attrs:
+            matrices[name] = (item.name, (int(shape[0]), int(shape[1])), bool(cls))
+            return
+        if not numeric or "MATLAB_empty" in item.attrs or len(long) > 1 or int(np.prod(shape)) < 1:
+            skipped.append(f"{name} ({cls or dtype}, shape {shape})")
+            return
+        axis = long[0] if long else 0
+        datasets[name] = (item.name, axis, int(np.prod(shape)), None)
 
     try:
         with h5py.File(path, "r") as f:
@@ -462,6 +523,7 @@ def _hdf5_table(path: Path, what: str) -> Table:
         notes,
     )
     _set_bases(table, bases)
+    _label_struct_signals(table, strings)
     table.slicer = Slicer(length=length, read=read)
     weakref.finalize(table.slicer, _close, handle)  # the slicer outlives the table in use
     return table
@@ -580,4 +642,5 @@ def read_mat(path: Path) -> Table:
         notes,
     )
     _set_bases(table, bases)
+    _label_struct_signals(table, strings)
     return table
