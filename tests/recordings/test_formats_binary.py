@@ -629,3 +629,48 @@ def test_tdms_timestamp_time_channel_keeps_labview_resolution(tmp_path):
     np.testing.assert_allclose(rec.time, np.arange(n) / rate, rtol=0, atol=1e-15)
     assert rec.sample_rate == pytest.approx(rate, rel=1e-12)
     assert any("2024-08-05T11:46:13" in note for note in rec.metadata["notes"])
+
+
+def test_mdf_unit_held_by_the_conversion_rule_is_the_channel_unit(tmp_path):
+    """INCA and CANape often leave a channel's own unit empty and write it in its conversion
+    rule (ASAM MDF 4: the rule's unit applies then): raw int16 counts x 0.001 in kN.m. It was
+    refused ("got ''")."""
+    from asammdf import MDF, Signal
+
+    t = np.arange(300) / 1000.0
+    raw = (np.arange(300) % 100).astype(np.int16)
+    mdf = MDF(version="4.10")
+    conversion = {"a": 0.001, "b": 0.0, "unit": "kNm"}
+    mdf.append([Signal(raw, t, name="Trq", unit="", conversion=conversion)], acq_name="1ms")
+    path = tmp_path / "inca.mf4"
+    mdf.save(path, overwrite=True)
+    rec = read_recording(path, {"channels": {"torque": {"column": "Trq"}}})
+    np.testing.assert_allclose(rec["torque"], raw * 1.0)  # 0.001 kN.m = 1 N.m a count
+
+
+def test_mdf_master_that_is_not_time_is_no_time_base(tmp_path):
+    """An angle master (cn_sync_type 2, an engine bench recording over crank angle, 0.5 deg a
+    record) was taken as seconds: 2 Hz. It is no time base now: the map must give one."""
+    import struct
+
+    from asammdf import MDF, Signal
+
+    angle = np.arange(400) * 0.5
+    mdf = MDF(version="4.10")
+    mdf.append([Signal(np.sin(np.deg2rad(angle)), angle, name="Trq", unit="N.m")])
+    path = tmp_path / "angle.mf4"
+    mdf.save(path, overwrite=True)
+    buf = bytearray(path.read_bytes())
+    at = buf.find(b"##CN")
+    while at >= 0:  # the CN blocks: the master (cn_type 2) gets cn_sync_type 2, an angle
+        links = struct.unpack_from("<Q", buf, at + 16)[0]
+        data = at + 24 + 8 * links
+        if buf[data] == 2:
+            buf[data + 1] = 2
+        at = buf.find(b"##CN", at + 4)
+    path.write_bytes(bytes(buf))
+    with pytest.raises(RecordingError, match=r"no time.*0 \(angle\).*not time"):
+        read_recording(path, {"channels": {"torque": {"column": "Trq"}}})
+    rec = read_recording(path, {"time": {"sample_rate_Hz": 1000.0}, "channels": {
+        "torque": {"column": "Trq"}}})  # fmt: skip
+    assert rec.sample_rate == pytest.approx(1000.0)

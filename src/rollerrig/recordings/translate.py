@@ -428,6 +428,8 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
         try:
             col = table.load(name)
             file_unit = time_unit(col.unit) if col.unit else None
+            if col.unit and file_unit is None:
+                continue  # named so, but in another unit (an MDF angle master): no time
             scratch: list[str] = []
             unit = file_unit or "s"
             secs = time_seconds(
@@ -607,6 +609,7 @@ def apply_map(
                 f"{where} no time: the channel map (map {cmap.source}) gives no [time] column "
                 "nor sample_rate_Hz, and the file's channels carry no time base "
                 "(TDMS wf_increment / MDF master)"
+                + "".join(f"; {n}" for n in table.notes if "master that is not time" in n)
             )
         # time stays None: align_channels chooses the common base from the own time bases
         own_times = [own for _, _, _, own in loaded]

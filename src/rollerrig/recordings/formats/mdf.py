@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rollerrig.recordings.channels import time_unit
 from rollerrig.recordings.formats._sliced import (
     add_channel,
     checked_slice,
@@ -209,6 +210,30 @@ def _table(mdf, path: Path) -> Table:
     def length(name: str) -> int:
         return records[where_of[name][0]]
 
+    # A master that is not a time (an angle, a distance, an index: cn_sync_type 2-4) is no time
+    # base: its values were taken as seconds (a crank angle of 0.5 deg a step read as 2 Hz).
+    not_time = {
+        i: _SYNC_TYPES.get(sync, f"sync type {sync}")
+        for i, j in masters.items()
+        if i < len(groups) and j is not None and j < len(groups[i].channels)
+        if (sync := int(getattr(groups[i].channels[j], "sync_type", 1) or 0)) not in (0, 1)
+    }
+    if not_time:
+        table.notes.append(
+            "MDF data group(s) "
+            + ", ".join(f"{i} ({kind})" for i, kind in sorted(not_time.items()))
+            + " have a master that is not time: their channels have no time base of their own "
+            "(give [time] sample_rate_Hz or a time column in the channel map)"
+        )
+
+    def unit_of(i: int, j: int, unit: str | None) -> str | None:
+        """The channel's unit, else its conversion rule's (ASAM MDF 4: INCA and CANape
+        often write it there only); "" is no unit."""
+        if unit:
+            return unit
+        conversion = getattr(groups[i].channels[j], "conversion", None)
+        return getattr(conversion, "unit", None) or None
+
     # The raw records of the last range read, shared by the channels of a group (one disk read
     # per chunk, not one per channel). asammdf's get(record_offset=, record_count=) reads the
     # whole group when it holds more than 200 MB and slices afterwards; its records are read
@@ -227,7 +252,7 @@ def _table(mdf, path: Path) -> Table:
                 record_count=stop - start,
                 ignore_invalidation_bits=True,
             )
-            return _valid(sig), np.asarray(sig.timestamps, dtype=float), sig.unit
+            return _valid(sig), np.asarray(sig.timestamps, dtype=float), unit_of(i, j, sig.unit)
         key = (i, start, stop)
         if key not in fragments:
             fragments.clear()
@@ -241,7 +266,7 @@ def _table(mdf, path: Path) -> Table:
             return np.zeros(0), np.zeros(0), None
         values = np.concatenate([_valid(p) for p in parts])
         stamps = np.concatenate([np.asarray(p.timestamps, dtype=float) for p in parts])
-        return values, stamps, parts[0].unit or None
+        return values, stamps, unit_of(i, j, parts[0].unit)
 
     def read(name: str, start: int, stop: int) -> Column:
         i, j = where_of[name]
@@ -261,6 +286,10 @@ def _table(mdf, path: Path) -> Table:
             stop - start,
             "the group",
         )
+        if i in not_time:
+            if masters.get(i) == j:  # the master itself: an angle, not seconds
+                unit = unit if unit and time_unit(unit) is None else not_time[i]
+            return Column(values, unit, None)
         return Column(values, unit, stamps)
 
     table.own_time_exact = True
@@ -268,6 +297,10 @@ def _table(mdf, path: Path) -> Table:
     if comment:
         store_json(table, _hd_comment_text(comment))
     return read_in_slices(table, length, read)
+
+
+_SYNC_TYPES = {2: "angle", 3: "distance", 4: "index"}
+"""ASAM MDF 4 cn_sync_type of a master channel that is not time (1)."""
 
 
 def _valid(signal) -> np.ndarray:
