@@ -674,3 +674,20 @@ def test_mdf_master_that_is_not_time_is_no_time_base(tmp_path):
     rec = read_recording(path, {"time": {"sample_rate_Hz": 1000.0}, "channels": {
         "torque": {"column": "Trq"}}})  # fmt: skip
     assert rec.sample_rate == pytest.approx(1000.0)
+
+
+def test_parquet_timestamps_with_a_time_zone_are_utc_instants(tmp_path):
+    """Timestamps stored with a time zone (Europe/Berlin, across the end of summer time):
+    seconds between the UTC instants, 1 ms a sample through the repeated hour. They were
+    read through pandas' Timestamp objects (correct, but 42 s for 2 million rows)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    start = np.datetime64("2024-10-27T00:59:58.5", "ns").astype(np.int64)  # 02:59:58.5 CEST
+    stamps = pa.array(start + np.arange(4000) * 1_000_000, pa.timestamp("ns", tz="Europe/Berlin"))
+    path = tmp_path / "berlin.parquet"
+    pq.write_table(pa.table({"time": stamps, "torque [N.m]": np.arange(4000.0)}), path)
+    rec = read_recording(path, {"time": {"column": "time"}, "channels": {
+        "torque": {"column": "torque"}}})  # fmt: skip
+    np.testing.assert_allclose(rec.time, np.arange(4000) * 1e-3, rtol=0, atol=1e-12)
+    assert rec.time.dtype == float
