@@ -183,6 +183,12 @@ def as_float(
             + (f" (file line {line})" if line is not None else "")
             + _why_not_a_number(cell, decimal, mark)
         )
+    if arr.dtype.kind in "SU" and arr.size:
+        shown = [v.decode(errors="replace") if isinstance(v, bytes) else str(v) for v in arr[:3]]
+        raise RecordingError(
+            f"{what} holds text, not numbers ({shown}, ...): a state or status channel (an MDF "
+            "value-to-text conversion, a gear or mode name); map a numeric channel"
+        )
     raise RecordingError(f"{what} is not numeric (dtype {arr.dtype})")
 
 
