@@ -62,3 +62,10 @@ def test_elapsed_time_as_timedelta_is_seconds():
     # pandas' Timedelta / Parquet's duration: the elapsed seconds themselves (was "not numeric")
     elapsed = (np.arange(4) * 250).astype("timedelta64[us]")
     np.testing.assert_allclose(time_seconds(elapsed, "s", "t", []), [0.0, 2.5e-4, 5e-4, 7.5e-4])
+
+
+def test_a_column_of_text_says_it_holds_text_and_shows_it():
+    """An MDF value-to-text channel (a gear state) arrives as bytes: the error shows its
+    values (it said only 'not numeric (dtype |S1)')."""
+    with pytest.raises(RecordingError, match=r"holds text, not numbers \(\['P', 'R', 'N'\]"):
+        as_float(np.array([b"P", b"R", b"N", b"D"]), "gear")
