@@ -975,3 +975,67 @@ def test_lvm_absolute_times_keep_the_sample_rate(tmp_path, x_columns):
     rec = _read(path, {"channels": {"torque": {"column": "Torque"}}})
     np.testing.assert_allclose(rec.time, k / rate, rtol=0, atol=1e-9)
     assert rec.sample_rate == pytest.approx(rate, rel=1e-9)
+
+
+def test_an_extra_channel_in_another_unit_than_the_map_says_is_refused(tmp_path):
+    """PicoScope's units row says mV, the map V: the values were taken as volts (x1000),
+    without a word, where a canonical channel's clash was refused."""
+    rows = "".join(f"{k * 0.1:.1f},{250 + k}\n" for k in range(20))
+    path = tmp_path / "pico.csv"
+    path.write_bytes(f"Time,Channel A\n(ms),(mV)\n\n{rows}".encode())
+    cmap = {"time": {"column": "Time"}, "extra": {"a": {"column": "Channel A", "unit": "V"}}}
+    _raises(path, cmap, r"the map says unit 'V' but the file says 'mV'")
+    cmap["extra"]["a"]["unit"] = "mV"
+    rec = _read(path, cmap)
+    np.testing.assert_allclose(rec["a"][:2], [0.250, 0.251])  # 1 mV = 1e-3 V
+    assert rec.units["a"] == "V"
+
+
+def test_keysight_units_row_in_words_is_a_units_row(tmp_path):
+    """Keysight InfiniiVision: ``x-axis,1,2`` above ``second,Volt,Volt``."""
+    rows = "".join(f"{(k - 100) * 1e-5:.6E},{k / 100:.4E},{-k / 100:.4E}\n" for k in range(200))
+    path = tmp_path / "scope.csv"
+    path.write_bytes(f"x-axis,1,2\nsecond,Volt,Volt\n{rows}".replace("\n", "\r\n").encode())
+    rec = _read(path, {"time": {"column": "x-axis"}, "extra": {"ch1": {"column": "1",
+                "unit": "V"}}})  # fmt: skip
+    assert rec.sample_rate == pytest.approx(1e5)
+    assert rec.units["ch1"] == "V"
+
+
+def test_key_value_rows_under_a_given_header_are_not_samples(tmp_path):
+    """A Yokogawa DL export: with ``[file] header_row`` at ``TraceName,,CH1,CH2``, the rows
+    ``SampleRate,,10000,10000`` ... below it were the first three samples."""
+    pre = ["Model,DL850E", "TraceName,,CH1,CH2", "SampleRate,,10000,10000",
+           "HResolution,,1.0000E-04,1.0000E-04", "HOffset,,0.0000E+00,0.0000E+00"]  # fmt: skip
+    values = np.round(np.sin(np.arange(200) / 10), 4)
+    path = tmp_path / "dl.csv"
+    path.write_bytes("\r\n".join([*pre, *(f",,{v:.4E},{v:.4E}" for v in values), ""]).encode())
+    cmap = {"file": {"header_row": 1}, "time": {"sample_rate_Hz": 10000.0},
+            "extra": {"ch1": {"column": "CH1", "unit": "V"}}}  # fmt: skip
+    np.testing.assert_array_equal(_read(path, cmap)["ch1"], values)
+
+
+def test_an_unmapped_column_named_t_that_is_no_time_base_is_not_checked(tmp_path):
+    """A temperature column 'T' (not increasing) beside a stated sample rate: the rate check
+    took it for a time column and refused the file ('the file's own rate of nan Hz')."""
+    rows = "".join(f"{20 + (k % 7) / 10:.1f},{k}\n" for k in range(50))
+    path = tmp_path / "temp.csv"
+    path.write_bytes(f"T,Fz\n{rows}".encode())
+    rec = _read(path, {"time": {"sample_rate_Hz": 10.0}, "channels": {
+        "normal_load": {"column": "Fz", "unit": "N"}}})  # fmt: skip
+    assert rec.time.size == 50
+
+
+def test_repeated_names_are_ambiguous_in_the_chunked_reader_too(tmp_path):
+    from rollerrig.recordings.source import open_recording
+
+    rows = "".join(f"{k / 1000:.3f},{k},{-k}\n" for k in range(20))
+    path = tmp_path / "dup.csv"
+    path.write_bytes(f"time,Volt,Volt\n{rows}".encode())
+    cmap = {"time": {"column": "time", "unit": "s"}, "extra": {"v": {"column": "Volt",
+            "unit": "V"}}}  # fmt: skip
+    with pytest.raises(RecordingError, match=r"\['Volt\.0', 'Volt\.1'\]"):
+        open_recording(path, cmap).close()
+    cmap["extra"]["v"]["column"] = "Volt.1"
+    with open_recording(path, cmap) as src:
+        np.testing.assert_array_equal(next(src.iter_chunks(("v",), 5))["v"], -np.arange(5.0))

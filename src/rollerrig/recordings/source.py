@@ -244,6 +244,7 @@ def _text_table(path: Path, spec) -> Table:
     table = header_table(pd.DataFrame(columns=list(layout.names)), units=units)
     table.notes = list(layout.notes)
     table.decimal = layout.decimal if layout.decimal_decided else None
+    table.repeated = {name: list(columns) for name, columns in layout.repeated}  # as read_csv
     rows = _TextRows(layout)
     for note in (rows.footer_note, rows.cut_note):
         if note:

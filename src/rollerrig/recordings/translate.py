@@ -455,6 +455,8 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
             continue
         if secs.size < 2:
             continue
+        if not np.all(np.diff(secs) > 0):
+            continue  # not increasing: no time base (a temperature 'T'), nothing to check
         rate = median_rate(secs)
         numeric = np.asarray(col.values).dtype.kind in "biuf"
         if off(rate) and not (numeric and file_unit is None and not off(rate * 1e3)):
@@ -572,12 +574,14 @@ def apply_map(
             si, factor = spec.conversion(unit)
         except RecordingError as exc:
             raise RecordingError(f"{what}: {exc}") from None
-        if spec.unit is not None and col.unit is not None and spec.canonical:
+        if spec.unit is not None and col.unit is not None:
             if normalize_unit(col.unit) != normalize_unit(spec.unit):
                 try:
-                    _, file_factor = spec.conversion(col.unit)
+                    file_si, file_factor = spec.conversion(col.unit)
                 except RecordingError:
-                    file_factor = None
+                    file_si, file_factor = None, None
+                if not spec.canonical and file_si != si:
+                    file_factor = None  # an extra in a unit of another quantity, or unknown
                 if file_factor is not None and spec.scale == 1.0 and spec.offset == 0.0:
                     raise RecordingError(
                         f"{what}: the map says unit {spec.unit!r} but the file says "

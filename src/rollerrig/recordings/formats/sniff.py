@@ -183,18 +183,29 @@ def _without_leading_names(
     files: numbers in the rows below) holds text. The top row so leaves the block unless a row
     of names (n cells, no number) sits right above it (then its text is a stray cell under the
     header); two or more such rows at the top leave it whatever is above (the rows of only
-    missing values below them go too). Text in other columns (an event column, a sensor's
-    ``OPEN``) keeps a row a sample.
+    missing values below them go too). So does text left of the lead column in a column the
+    samples leave empty (the key of a key-value row). Text in other columns (an event column,
+    a sensor's ``OPEN``) keeps a row a sample.
     """
     # the rows below the top, a few hundred of them (this runs for every separator tried)
-    lead = lead_column([number_kinds(f) for _, f in block[1:201]], n)
+    below = [number_kinds(f) for _, f in block[1:201]]
+    lead = lead_column(below, n)
     if lead is None:
         return block
+    # columns left of the lead that the samples leave empty: a key there beside numbers (a
+    # Yokogawa export's "SampleRate,,10000,10000" between its header and its samples) makes a
+    # row of names (an event column, on the right, does not)
+    rows_n = [k for k in below if len(k) == n]
+    empty = {
+        j for j in range(lead) if sum(k[j] == "empty" for k in rows_n) >= 0.8 * max(1, len(rows_n))
+    }
     cells = dict(block)
 
     def names(i: int) -> bool:
-        f = cells[i]
-        return lead < len(f) and number_kinds([f[lead]])[0] == "text"
+        kinds_i = number_kinds(cells[i])
+        return (lead < len(kinds_i) and kinds_i[lead] == "text") or any(
+            kinds_i[j] == "text" for j in empty if j < len(kinds_i)
+        )
 
     run = 0
     while run < len(block) and names(block[run][0]):
