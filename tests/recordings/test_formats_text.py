@@ -1039,3 +1039,14 @@ def test_repeated_names_are_ambiguous_in_the_chunked_reader_too(tmp_path):
     cmap["extra"]["v"]["column"] = "Volt.1"
     with open_recording(path, cmap) as src:
         np.testing.assert_array_equal(next(src.iter_chunks(("v",), 5))["v"], -np.arange(5.0))
+
+
+def test_a_transposed_export_is_refused_not_read_as_a_few_samples(tmp_path):
+    """LabVIEW's "Write Delimited Spreadsheet" with transpose on: 3 channels of 50 samples, one
+    per row. With a sample-rate map it was read as 3 samples of 50 columns."""
+    rows = ["\t".join(f"{v:.3f}" for v in k + np.arange(50) / 1000) for k in range(3)]
+    path = tmp_path / "t.txt"
+    path.write_bytes(("\r\n".join(rows) + "\r\n").encode())
+    cmap = {"time": {"sample_rate_Hz": 1000.0}, "extra": {"a": {"column": "column 2",
+            "unit": "V"}}}  # fmt: skip
+    _raises(path, cmap, r"3 rows of 50 cells: one channel per row")

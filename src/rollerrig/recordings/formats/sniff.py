@@ -350,6 +350,14 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
             )
         best = (score, 1, block, sep)
     _, n, block, sep = best
+    if not truncated_head and n >= 20 and n >= 5 * len(block):
+        # LabVIEW's "Write Delimited Spreadsheet" with transpose on: one channel per row; read
+        # as a recording of as many samples as channels, without a word
+        raise RecordingError(
+            f"{p}: {len(block)} rows of {n} cells: one channel per row (a transposed export, "
+            "LabVIEW's 'Write Delimited Spreadsheet' with transpose)? rollerrig reads one "
+            "channel per column; write the file untransposed"
+        )
     data_line = block[0][0] if first_data is None else first_data
     if spec.separator is None and sep != ",":
         notes.append(f"separator {sep!r} sniffed")
