@@ -627,3 +627,13 @@ def test_a_row_of_nan_words_is_a_sample_in_both_readers(tmp_path):
     with pytest.raises(RecordingError, match="NaN/inf sample at sample 5"):
         with open_recording(f, cmap) as src:
             list(src.iter_chunks(("torque",), 3))
+
+
+def test_durations_with_their_unit_in_each_cell_are_seconds(tmp_path):
+    """MATLAB's ``writetimetable`` writes a timetable's row times as durations with the unit
+    in the cell ('0.001 sec'); they were refused as non-numeric."""
+    rows = [f"{k / 1000:g} sec,{k}" for k in range(100)]
+    f = _write(tmp_path / "tt.csv", ["Time,T", *rows])
+    rec = read_recording(f, _torque_map(time="Time"))
+    np.testing.assert_allclose(rec.time, np.arange(100) / 1000, rtol=0, atol=1e-15)
+    assert any("durations" in n for n in rec.metadata["notes"])

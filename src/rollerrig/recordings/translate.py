@@ -20,6 +20,7 @@ Both :func:`rollerrig.recordings.readers.read_recording` and the chunked reader
 from __future__ import annotations
 
 import difflib
+import re
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
@@ -314,6 +315,8 @@ def time_seconds(
             )
             notes.append(note)
             return secs
+        if _DURATION.fullmatch(first):
+            return _durations(arr, what, notes, line_of, decimal)
         return as_float(arr, what, line_of, decimal) * TIME_UNITS[unit]
     if arr.dtype.kind == "m":  # elapsed time (pandas' Timedelta, Parquet's duration)
         return arr / np.timedelta64(1, "s")
@@ -340,6 +343,39 @@ def time_seconds(
         )
         return since.astype(float) * TIME_UNITS[unit]
     return as_float(arr, what, decimal=decimal) * TIME_UNITS[unit]
+
+
+_DURATION = re.compile(
+    r"(?P<value>[-+]?(?:\d+[.,]?\d*|[.,]\d+)(?:[eE][-+]?\d+)?)\s*"
+    r"(?P<unit>secs?|s|ms|msec|mins?|hrs?|h|days?)"
+)
+"""A duration with its unit in the cell, as MATLAB's ``writetimetable`` writes a timetable's
+row times (``0.001 sec``, ``1.5 min``)."""
+_DURATION_SECONDS = {
+    "sec": 1.0, "secs": 1.0, "s": 1.0, "ms": 1e-3, "msec": 1e-3, "min": 60.0, "mins": 60.0,
+    "hr": 3600.0, "hrs": 3600.0, "h": 3600.0, "day": 86400.0, "days": 86400.0,
+}  # fmt: skip
+
+
+def _durations(arr, what: str, notes: list, line_of, decimal: str | None) -> np.ndarray:
+    """Seconds of a column of durations with their unit in each cell (:data:`_DURATION`)."""
+    cells = [str(v).strip() for v in np.asarray(arr).ravel()]
+    out = np.empty(len(cells))
+    for k, cell in enumerate(cells):
+        m = _DURATION.fullmatch(cell)
+        if m is None:
+            line = line_of(k) if line_of is not None else None
+            raise RecordingError(
+                f"{what}: row {k}"
+                + (f" (file line {line})" if line is not None else "")
+                + f" {cell!r} is not a duration like the column's first ('0.001 sec')"
+            )
+        value = m["value"].replace(",", ".") if decimal != "." else m["value"]
+        out[k] = float(value) * _DURATION_SECONDS[m["unit"]]
+    notes.append(
+        "durations with their unit in each cell ('0.001 sec', MATLAB's timetables) read in seconds"
+    )
+    return out
 
 
 _EPOCH_COUNT = 1 << 32
