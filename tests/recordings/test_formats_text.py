@@ -1042,11 +1042,15 @@ def test_repeated_names_are_ambiguous_in_the_chunked_reader_too(tmp_path):
 
 
 def test_a_transposed_export_is_refused_not_read_as_a_few_samples(tmp_path):
-    """LabVIEW's "Write Delimited Spreadsheet" with transpose on: 3 channels of 50 samples, one
-    per row. With a sample-rate map it was read as 3 samples of 50 columns."""
-    rows = ["\t".join(f"{v:.3f}" for v in k + np.arange(50) / 1000) for k in range(3)]
+    """LabVIEW's "Write Delimited Spreadsheet" with transpose on: 3 channels of 200 samples, one
+    per row. With a sample-rate map it was read as 3 samples of 200 columns. A short wide file
+    (5 s at 1 Hz of 30 channels) is read."""
+    rows = ["\t".join(f"{v:.3f}" for v in k + np.arange(200) / 1000) for k in range(3)]
     path = tmp_path / "t.txt"
     path.write_bytes(("\r\n".join(rows) + "\r\n").encode())
     cmap = {"time": {"sample_rate_Hz": 1000.0}, "extra": {"a": {"column": "column 2",
             "unit": "V"}}}  # fmt: skip
-    _raises(path, cmap, r"3 rows of 50 cells: one channel per row")
+    _raises(path, cmap, r"3 rows of 200 cells: one channel per row")
+    wide = ["\t".join(f"{k + j / 100:.2f}" for j in range(30)) for k in range(5)]
+    path.write_bytes(("\r\n".join(wide) + "\r\n").encode())
+    assert _read(path, {**cmap, "time": {"sample_rate_Hz": 1.0}})["a"].size == 5

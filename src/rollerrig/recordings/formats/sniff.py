@@ -350,7 +350,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
             )
         best = (score, 1, block, sep)
     _, n, block, sep = best
-    if not truncated_head and n >= 20 and n >= 5 * len(block):
+    if not truncated_head and n >= 100 and n >= 10 * len(block):
         # LabVIEW's "Write Delimited Spreadsheet" with transpose on: one channel per row; read
         # as a recording of as many samples as channels, without a word
         raise RecordingError(
