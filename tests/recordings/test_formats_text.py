@@ -1054,3 +1054,17 @@ def test_a_transposed_export_is_refused_not_read_as_a_few_samples(tmp_path):
     wide = ["\t".join(f"{k + j / 100:.2f}" for j in range(30)) for k in range(5)]
     path.write_bytes(("\r\n".join(wide) + "\r\n").encode())
     assert _read(path, {**cmap, "time": {"sample_rate_Hz": 1.0}})["a"].size == 5
+
+
+def test_a_column_named_on_another_line_than_the_header_taken_gets_a_hint(tmp_path):
+    """A recorder's preamble (a HIOKI-like row of settings under the names): the reader takes
+    the line above the numbers as the header; the error says where the map's name stands and
+    which header_row to give."""
+    rows = "".join(f"{k / 100:.2f};{k / 10:.1f}\n" for k in range(20))
+    path = tmp_path / "rec.csv"
+    path.write_bytes(f"Model;MR\nTime;CH1\nScaling;OFF\n{rows}".encode())
+    cmap = {"time": {"column": "Time", "unit": "s"}, "extra": {"ch1": {"column": "CH1",
+            "unit": "V"}}}  # fmt: skip
+    _raises(path, cmap, r"line 2 of the file names 'Time'.*header_row = 1")
+    cmap["file"] = {"header_row": 1, "data_row": 3}
+    np.testing.assert_allclose(_read(path, cmap)["ch1"][:2], [0.0, 0.1])

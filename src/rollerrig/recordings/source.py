@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import functools
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -55,7 +56,7 @@ from rollerrig.output.provenance import file_sha256
 from rollerrig.recordings.channels import ChannelMap, ChannelSpec
 from rollerrig.recordings.formats import open_table
 from rollerrig.recordings.formats._table import Column, Slicer, Table, header_table, require_module
-from rollerrig.recordings.formats.sniff import sniff_layout
+from rollerrig.recordings.formats.sniff import sniff_layout, where_named
 from rollerrig.recordings.formats.timestamps import times_of_day
 from rollerrig.recordings.readers import (
     ChannelMapLike,
@@ -245,6 +246,7 @@ def _text_table(path: Path, spec) -> Table:
     table.notes = list(layout.notes)
     table.decimal = layout.decimal if layout.decimal_decided else None
     table.repeated = {name: list(columns) for name, columns in layout.repeated}  # as read_csv
+    table.locate = functools.partial(where_named, layout)
     rows = _TextRows(layout)
     for note in (rows.footer_note, rows.cut_note):
         if note:

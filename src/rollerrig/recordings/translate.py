@@ -120,6 +120,7 @@ def resolve_column(
         + (f"; close matches: {close}" if close else "")
         + f"; available columns: {shown}"
         + (f"; not readable: {table.skipped}" if table.skipped else "")
+        + (table.locate(column) if table.locate is not None else "")
     )
 
 

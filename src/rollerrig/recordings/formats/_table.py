@@ -69,6 +69,9 @@ class Table:
     # a name the file gives to more than one column -> the unique names those columns got
     # (``name``, ``name.1``, ...): the name alone is ambiguous (translate.resolve_column)
     repeated: dict[str, list[str]] = field(default_factory=dict)
+    # a text file's hint where a name the map gives stands, when it is no column's name
+    # (sniff.where_named: another line than the header the reader took)
+    locate: Callable[[str], str] | None = None
 
     def __setattr__(self, name: str, value: Any) -> None:
         """Setting ``stored_metadata`` to the object :func:`rollerrig.output.write_table` wrote

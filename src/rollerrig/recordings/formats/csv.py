@@ -19,6 +19,7 @@ in :mod:`rollerrig.recordings.translate` (numbers, and timestamps with one forma
 from __future__ import annotations
 
 import codecs
+import functools
 import io
 import json
 import re
@@ -29,7 +30,7 @@ from pathlib import Path
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._table import Table, header_table, require_module
 from rollerrig.recordings.formats._text import NAN_WORDS, footer_rows, split_cells
-from rollerrig.recordings.formats.sniff import HEAD_BYTES, TextLayout, sniff_layout
+from rollerrig.recordings.formats.sniff import HEAD_BYTES, TextLayout, sniff_layout, where_named
 from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
 from rollerrig.recordings.recording import RecordingError
 
@@ -200,6 +201,7 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
     table = TextTable(**{f: getattr(base, f) for f in Table.__dataclass_fields__})
     table.decimal = layout.decimal if layout.decimal_decided else None
     table.repeated = {name: list(columns) for name, columns in layout.repeated}
+    table.locate = functools.partial(where_named, layout)
     table.rows_lines = keep_lines
     table.notes += notes
     sidecar = path.with_suffix(".metadata.json")

@@ -51,7 +51,7 @@ from rollerrig.recordings.formats._text import (
 )
 from rollerrig.recordings.recording import RecordingError
 
-__all__ = ["HEAD_BYTES", "TextLayout", "sniff_layout"]
+__all__ = ["HEAD_BYTES", "TextLayout", "sniff_layout", "where_named"]
 
 HEAD_BYTES = 1 << 18
 """Bytes read to sniff the layout (256 KiB; the whole file when smaller)."""
@@ -602,3 +602,26 @@ class GroupedNumbers:
                 _not_a_number(self.path, self.column, c, self.decimal, "of the first rows")
             )
         return value
+
+
+def where_named(layout: TextLayout, name: str) -> str:
+    """Where the file's head names a column ``name`` on another line than the header the
+    layout took (a preamble the sniffer mistook, a header of a vendor's own layout), as a
+    hint for an error message: ``[file] header_row`` to give; "" where it does not."""
+    try:
+        with layout.path.open("rb") as fh:
+            head = fh.read(HEAD_BYTES)
+        text = head.decode(layout.encoding, errors="replace")
+    except (OSError, LookupError):
+        return ""
+    for i, line in enumerate(re.split(r"\r\n|\r|\n", text)[: layout.data_line + 1]):
+        if i == layout.header_line:
+            continue
+        cells = [c.strip().strip('"') for c in split_cells(line, layout.separator)]
+        if name in cells:
+            return (
+                f"; line {i + 1} of the file names {name!r}: if that is the header, give "
+                f"[file] header_row = {i} (and data_row, the first line of numbers, 0-based) "
+                "in the channel map"
+            )
+    return ""
