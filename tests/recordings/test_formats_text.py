@@ -1042,18 +1042,24 @@ def test_repeated_names_are_ambiguous_in_the_chunked_reader_too(tmp_path):
 
 
 def test_a_transposed_export_is_refused_not_read_as_a_few_samples(tmp_path):
-    """LabVIEW's "Write Delimited Spreadsheet" with transpose on: 3 channels of 200 samples, one
-    per row. With a sample-rate map it was read as 3 samples of 200 columns. A short wide file
-    (5 s at 1 Hz of 30 channels) is read."""
-    rows = ["\t".join(f"{v:.3f}" for v in k + np.arange(200) / 1000) for k in range(3)]
+    """LabVIEW's "Write Delimited Spreadsheet" with transpose on: 3 channels of 50 samples, one
+    per row, no names. With a sample-rate map it was read as 3 samples of 50 columns. A short
+    wide file (5 s at 1 Hz of 30 channels), or one under a row of names, is read."""
+    rows = ["\t".join(f"{v:.3f}" for v in k + np.arange(50) / 1000) for k in range(3)]
     path = tmp_path / "t.txt"
     path.write_bytes(("\r\n".join(rows) + "\r\n").encode())
     cmap = {"time": {"sample_rate_Hz": 1000.0}, "extra": {"a": {"column": "column 2",
             "unit": "V"}}}  # fmt: skip
-    _raises(path, cmap, r"3 rows of 200 cells: one channel per row")
+    _raises(path, cmap, r"3 rows of 50 cells: one channel per row")
     wide = ["\t".join(f"{k + j / 100:.2f}" for j in range(30)) for k in range(5)]
     path.write_bytes(("\r\n".join(wide) + "\r\n").encode())
     assert _read(path, {**cmap, "time": {"sample_rate_Hz": 1.0}})["a"].size == 5
+    named = ["\t".join(f"ch{j}" for j in range(128))] + [
+        "\t".join(f"{k + j / 100:.2f}" for j in range(128)) for k in range(12)
+    ]
+    path.write_bytes(("\r\n".join(named) + "\r\n").encode())
+    cmap["extra"]["a"]["column"] = "ch1"
+    assert _read(path, {**cmap, "time": {"sample_rate_Hz": 1.0}})["a"].size == 12
 
 
 def test_a_column_named_on_another_line_than_the_header_taken_gets_a_hint(tmp_path):
@@ -1068,3 +1074,37 @@ def test_a_column_named_on_another_line_than_the_header_taken_gets_a_hint(tmp_pa
     _raises(path, cmap, r"line 2 of the file names 'Time'.*header_row = 1")
     cmap["file"] = {"header_row": 1, "data_row": 3}
     np.testing.assert_allclose(_read(path, cmap)["ch1"][:2], [0.0, 0.1])
+
+
+@pytest.mark.parametrize("last", ["Range,V", "Unit,s", "Gain,1"])
+def test_a_key_value_preamble_is_not_a_names_units_descriptions_header(tmp_path, last):
+    """``Device,DL850`` / ``Range,V`` / ``Time,Torque``: the DIAdem rule (names, units,
+    descriptions) took the preamble for names and units and the real header for
+    descriptions (a review of the rule)."""
+    rows = "".join(f"{k / 10:.1f},{1.5 + k / 10:.1f}\n" for k in range(3))
+    path = tmp_path / "kv.csv"
+    path.write_bytes(f"Device,DL850\n{last}\nTime,Torque\n{rows}".encode())
+    rec = _read(path, {"time": {"column": "Time", "unit": "s"}, "channels": {
+        "torque": {"column": "Torque", "unit": "N.m"}}})  # fmt: skip
+    np.testing.assert_allclose(rec["torque"], [1.5, 1.6, 1.7])
+
+
+def test_a_marker_column_on_the_left_keeps_its_first_samples(tmp_path):
+    """``Marker,Time,Torque`` with 'Start', 'Ramp' in the first samples: no key-value rows."""
+    marks = ["Start", "Ramp", "", "", "", "", "", "", "", "", "", ""]
+    rows = "".join(f"{m},{k / 1000:.3f},{1 + k / 10:.1f}\n" for k, m in enumerate(marks))
+    path = tmp_path / "marks.csv"
+    path.write_bytes(f"Marker,Time,Torque\n{rows}".encode())
+    rec = _read(path, {"time": {"column": "Time", "unit": "s"}, "channels": {
+        "torque": {"column": "Torque", "unit": "N.m"}}})  # fmt: skip
+    assert rec.time.size == 12
+
+
+def test_a_unit_spelled_otherwise_is_no_clash(tmp_path):
+    """An extra in MN/m by the map and kN/mm by the file: the same unit, read."""
+    rows = "".join(f"{k / 1000:.3f},{k}\n" for k in range(10))
+    path = tmp_path / "k.csv"
+    path.write_bytes(f"Time [s],k [kN/mm]\n{rows}".encode())
+    rec = _read(path, {"time": {"column": "Time"}, "extra": {"k": {"column": "k",
+            "unit": "MN/m"}}})  # fmt: skip
+    np.testing.assert_allclose(rec["k"], np.arange(10) * 1e6)

@@ -637,3 +637,12 @@ def test_durations_with_their_unit_in_each_cell_are_seconds(tmp_path):
     rec = read_recording(f, _torque_map(time="Time"))
     np.testing.assert_allclose(rec.time, np.arange(100) / 1000, rtol=0, atol=1e-15)
     assert any("durations" in n for n in rec.metadata["notes"])
+
+
+def test_durations_with_thousands_marks_are_read_by_the_files_mark(tmp_path):
+    """'1,000 sec' under a decimal point is 1000 s (a review found a traceback)."""
+    rows = [f'"{k:,} sec",{k}' for k in range(998, 1003)]
+    f = _write(tmp_path / "tt.csv", ["Time,T", "0.5 sec,0", *rows])
+    rec = read_recording(f, _torque_map(time="Time"), validate="lenient")
+    np.testing.assert_allclose(rec.time[1:3], [998.0, 999.0])
+    assert rec.time[-1] == 1002.0

@@ -371,8 +371,13 @@ def _durations(arr, what: str, notes: list, line_of, decimal: str | None) -> np.
                 + (f" (file line {line})" if line is not None else "")
                 + f" {cell!r} is not a duration like the column's first ('0.001 sec')"
             )
-        value = m["value"].replace(",", ".") if decimal != "." else m["value"]
-        out[k] = float(value) * _DURATION_SECONDS[m["unit"]]
+        value = parse_number(m["value"], decimal or ".")
+        if value is None:
+            raise RecordingError(
+                f"{what}: row {k} {cell!r}: {m['value']!r} is no number under the file's "
+                f"decimal mark {decimal or '.'!r}"
+            )
+        out[k] = value * _DURATION_SECONDS[m["unit"]]
     notes.append(
         "durations with their unit in each cell ('0.001 sec', MATLAB's timetables) read in seconds"
     )
@@ -619,6 +624,8 @@ def apply_map(
                     file_si, file_factor = None, None
                 if not spec.canonical and file_si != si:
                     file_factor = None  # an extra in a unit of another quantity, or unknown
+                if file_factor is not None and np.isclose(file_factor, factor, rtol=1e-12):
+                    file_factor = None  # the same unit spelled otherwise (MN/m, kN/mm)
                 if file_factor is not None and spec.scale == 1.0 and spec.offset == 0.0:
                     raise RecordingError(
                         f"{what}: the map says unit {spec.unit!r} but the file says "

@@ -91,8 +91,11 @@ def header_rows(
                 and not unitlike_row(names3)
                 and not unitlike_row(lf)
                 and not datalike(lf)
-                and abs(len(names3) - len(uf)) <= 1
-                and abs(len(lf) - len(uf)) <= 1
+                and len(names3) == len(uf) == len(lf)
+                # the names hold a time column's name, the descriptions none: a key-value
+                # preamble ("Device,DL850" / "Range,V" / "Time,Torque") is no such header
+                and any(c.strip().strip('"').lower() in _HEADER_WORDS for c in names3)
+                and not any(c.strip().strip('"').lower() in _HEADER_WORDS for c in lf)
             ):
                 # DIAdem's export: names, units, then a row of descriptions above the numbers
                 header_line, units_line = above[-3][0], up[0]

@@ -124,7 +124,10 @@ class TextLayout:
 
 
 def _data_block(
-    rows: list[tuple[int, list[str]]], partial_last: bool, at_eof: bool = False
+    rows: list[tuple[int, list[str]]],
+    partial_last: bool,
+    at_eof: bool = False,
+    header_given: bool = False,
 ) -> tuple[list[tuple[int, list[str]]], int]:
     """(trailing block of data rows, cells per row).
 
@@ -168,11 +171,11 @@ def _data_block(
         missing = []
         block.append((i, f))
     block.reverse()
-    return _without_leading_names(block, kinds, n), n
+    return _without_leading_names(block, kinds, n, header_given), n
 
 
 def _without_leading_names(
-    block: list[tuple[int, list[str]]], kinds, n: int
+    block: list[tuple[int, list[str]]], kinds, n: int, header_given: bool = False
 ) -> list[tuple[int, list[str]]]:
     """``block`` without the rows at its top that hold names, not samples.
 
@@ -183,8 +186,10 @@ def _without_leading_names(
     files: numbers in the rows below) holds text. The top row so leaves the block unless a row
     of names (n cells, no number) sits right above it (then its text is a stray cell under the
     header); two or more such rows at the top leave it whatever is above (the rows of only
-    missing values below them go too). So does text left of the lead column in a column the
-    samples leave empty (the key of a key-value row). Text in other columns (an event column,
+    missing values below them go too). Under a header the map gives (``header_given``), so
+    does text left of the lead column in a column the samples leave empty (the key of a
+    key-value row between the header and the numbers; without it, a marker column on the
+    left is that). Text in other columns (an event column,
     a sensor's ``OPEN``) keeps a row a sample.
     """
     # the rows below the top, a few hundred of them (this runs for every separator tried)
@@ -198,7 +203,7 @@ def _without_leading_names(
     rows_n = [k for k in below if len(k) == n]
     empty = {
         j for j in range(lead) if sum(k[j] == "empty" for k in rows_n) >= 0.8 * max(1, len(rows_n))
-    }
+    } if header_given else set()  # fmt: skip
     cells = dict(block)
 
     def names(i: int) -> bool:
@@ -225,13 +230,17 @@ def _without_leading_names(
 
 
 def _score(
-    lines: list[tuple[int, str]], sep: str, partial_last: bool, at_eof: bool = False
+    lines: list[tuple[int, str]],
+    sep: str,
+    partial_last: bool,
+    at_eof: bool = False,
+    header_given: bool = False,
 ) -> tuple[int, int, list[tuple[int, list[str]]]]:
     """(rows with the usual cell count, cells per row, block) of ``sep``; score 0 when the
     header above the block does not fit the rows. Ties go to the earlier separator of
     :data:`_SNIFF_SEPARATORS` (whitespace last)."""
     rows = [(i, split_cells(t, sep)) for i, t in lines]
-    block, n = _data_block(rows, partial_last, at_eof)
+    block, n = _data_block(rows, partial_last, at_eof, header_given)
     if not block:
         return 0, 0, block
     above = [f for i, f in rows if i < block[0][0]]
@@ -320,7 +329,9 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
     for sep in candidates:
         if sep == "," and spec.decimal == ",":
             continue
-        score, n, block = _score(lines_for_sniff, sep, partial_last, not truncated_head)
+        score, n, block = _score(
+            lines_for_sniff, sep, partial_last, not truncated_head, spec.header_row is not None
+        )
         if first_data is not None:
             block = [(i, split_cells(t, sep)) for i, t in lines_for_sniff]
             n = Counter(len(f) for _, f in block).most_common(1)[0][0] if block else 0
@@ -334,7 +345,9 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
             (c for c in ("\t", ";", "|", ",") if not any(c in t for _, t in lines_for_sniff)),
             "\t",
         )
-        score, n, block = _score(lines_for_sniff, sep, partial_last, not truncated_head)
+        score, n, block = _score(
+            lines_for_sniff, sep, partial_last, not truncated_head, spec.header_row is not None
+        )
         if first_data is not None:
             block = [(i, split_cells(t, sep)) for i, t in lines_for_sniff]
         if not block:
@@ -350,7 +363,12 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
             )
         best = (score, 1, block, sep)
     _, n, block, sep = best
-    if not truncated_head and n >= 100 and n >= 10 * len(block):
+    if (
+        not truncated_head
+        and n >= 20
+        and n >= 10 * len(block)
+        and not any(i < block[0][0] for i, _ in lines)  # a row of names rules it out
+    ):
         # LabVIEW's "Write Delimited Spreadsheet" with transpose on: one channel per row; read
         # as a recording of as many samples as channels, without a word
         raise RecordingError(
