@@ -646,3 +646,16 @@ def test_durations_with_thousands_marks_are_read_by_the_files_mark(tmp_path):
     rec = read_recording(f, _torque_map(time="Time"), validate="lenient")
     np.testing.assert_allclose(rec.time[1:3], [998.0, 999.0])
     assert rec.time[-1] == 1002.0
+
+
+def test_one_headerless_column_of_decimal_commas_is_not_two_columns_of_integers(tmp_path):
+    """``0,0000`` / ``29,5520`` without names: read as two integer columns (separator ','),
+    every decimal was lost (29.552 N.m read as 29). Refused as ambiguous; the map's layout
+    reads it."""
+    f = _write(tmp_path / "one.csv", ["0,0000", "29,5520", "56,4640"])
+    cmap = {"time": {"sample_rate_Hz": 10.0}, "channels": {
+        "torque": {"column": "column 1", "unit": "N.m"}}}  # fmt: skip
+    with pytest.raises(RecordingError, match="one number with a decimal comma"):
+        read_recording(f, cmap)
+    rec = read_recording(f, {**cmap, "file": {"separator": ";", "decimal": ","}})
+    np.testing.assert_allclose(rec["torque"], [0.0, 29.552, 56.464])

@@ -416,6 +416,8 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
     # --- header and units rows
     above = [(i, t) for i, t in lines if i < data_line]
     header_line, units_line = header_rows(above, sep, spec)
+    if header_line is None and sep == "," and n == 2 and spec.separator is None:
+        _refuse_one_column_of_decimal_commas(p, block)
     text_of = dict(lines)
     if header_line is not None and header_line >= len(all_lines):
         raise RecordingError(
@@ -476,6 +478,23 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         cr_only="\r" in text and "\n" not in text,
         decimal_decided=decided,
     )
+
+
+def _refuse_one_column_of_decimal_commas(path: Path, block) -> None:
+    """Refuse a file without names whose every line is ``integer,digits`` with fixed-width or
+    zero-led digits (``0,0000`` / ``29,5520``): one column of numbers with a decimal comma as
+    likely as two columns of integers, and read as the latter it lost every decimal."""
+    rows = [f for _, f in block if len(f) == 2]
+    if len(rows) != len(block) or not all(INTEGER.fullmatch(c.strip()) for f in rows for c in f):
+        return
+    right = [f[1].strip() for f in rows]
+    fixed = len({len(c) for c in right}) == 1 and len(right[0]) >= 3
+    if fixed or any(len(c) > 1 and c.startswith("0") for c in right):
+        raise RecordingError(
+            f"{path}: every line reads as one number with a decimal comma ({rows[0][0]},"
+            f"{rows[0][1]}) or as two integers; give [file] separator and decimal in the "
+            'channel map (separator = ";" and decimal = "," for the first)'
+        )
 
 
 def _footer_hint(lines: list[tuple[int, str]], separators) -> str:
