@@ -184,3 +184,16 @@ def test_a_non_uniform_time_base_names_the_file_and_the_remedy():
     uniform, notes = fill_short_gaps(rec)
     assert require_uniform_time(uniform.time, "j.csv", "x") == pytest.approx(250.0, rel=0.02)
     assert uniform.time[-1] <= rec.time[-1] and "irregular sample times" in notes[0]
+
+
+def test_the_rate_of_rounded_time_stamps_is_the_spans():
+    """600 Hz written with 5 decimals (0.00167, 0.00166, ... s): the median step said
+    598.8 Hz, every frequency of a spectrum 0.2 % low; the span says 600 Hz to 1e-6. Written
+    with 3 decimals the stamps are no uniform base, and the advice names 600 Hz, not the
+    median step's 500 Hz."""
+    from rollerrig.recordings.timebase import require_uniform_time, uniform_sample_rate
+
+    t = np.round(np.arange(12_001) / 600.0, 5)
+    assert uniform_sample_rate(t) == pytest.approx(600.0, rel=1e-6)
+    with pytest.raises(RecordingError, match="resample_Hz = 600 "):
+        require_uniform_time(np.round(np.arange(12_001) / 600.0, 3), "run.csv", "the spectrum")

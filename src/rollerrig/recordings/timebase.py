@@ -384,7 +384,11 @@ def align_channels(
 
 
 def uniform_sample_rate(time) -> float:
-    """Rate ``1 / median step`` [Hz] of a uniform time base.
+    """Rate ``(n − 1) / (t[-1] − t[0])`` [Hz] of a uniform time base.
+
+    The span, not the median step: time stamps written with few decimals (600 Hz as 0.00167,
+    0.00166, ... s) have a median step off by the rounding (598.8 Hz, every frequency of a
+    spectrum 0.2 % low); the span is off by one rounding over the whole recording.
 
     Parameters
     ----------
@@ -418,7 +422,7 @@ def uniform_sample_rate(time) -> float:
             f"a non-uniform time base (step {steps[k]:.6g} s at t = {time[k]:.6g} s against the "
             f"median {step:.6g} s; every step must be within 1 % of the median)"
         )
-    return 1.0 / step
+    return (time.size - 1) / float(time[-1] - time[0])
 
 
 def require_uniform_time(time, source: str, purpose: str) -> float:
@@ -446,8 +450,13 @@ def require_uniform_time(time, source: str, purpose: str) -> float:
     except ParameterError as exc:
         steps = np.diff(time)
         good = steps[np.isfinite(steps) & (steps > 0)]
+        span = float(time[-1] - time[0]) if time.size > 1 else 0.0
+        # the span's rate: stamps rounded to whole ms of a 600 Hz clock step by 1 and 2 ms,
+        # whose median says 500 Hz
         rate = (
-            f"{float(f'{1.0 / float(np.median(good)):.3g}'):g}" if good.size else "<the DAQ rate>"
+            f"{float(f'{(time.size - 1) / span:.4g}'):g}"
+            if good.size and np.isfinite(span) and span > 0
+            else "<the DAQ rate>"
         )
         raise RecordingError(
             f"{source}: {purpose} needs samples on a uniform time base: {exc}. Time stamps "
