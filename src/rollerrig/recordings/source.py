@@ -43,7 +43,6 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import functools
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -55,8 +54,8 @@ import numpy as np
 from rollerrig.output.provenance import file_sha256
 from rollerrig.recordings.channels import ChannelMap, ChannelSpec
 from rollerrig.recordings.formats import open_table
-from rollerrig.recordings.formats._table import Column, Slicer, Table, header_table, require_module
-from rollerrig.recordings.formats.sniff import sniff_layout, where_named
+from rollerrig.recordings.formats._table import Column, Slicer, Table, require_module
+from rollerrig.recordings.formats.sniff import sniff_layout
 from rollerrig.recordings.formats.timestamps import times_of_day
 from rollerrig.recordings.readers import (
     ChannelMapLike,
@@ -177,19 +176,17 @@ class _TextRows:
 
     def _frames(self):
         """The file's blocks from its start (above a footer, ``footer_note``), blank lines
-        dropped, and a cut last line (``cut_note``) dropped from the end: it is held back
-        until the next block shows that it is not the last."""
-        pd = require_module("pandas", "CSV files")
-
-        hold = 1 if self.cut_note else 0
+        dropped, and a cut last line (``cut_note``) dropped from the last block: one block is
+        read ahead to know which is the last."""
         with self._layout.readable() as source:
             reader = iter(self._reader(source))
-            pending = None
-            while (frame := self._read_block(reader)) is not None:
-                pending = frame if pending is None else pd.concat([pending, frame])
-                if len(pending) > hold:
-                    yield pending.iloc[: len(pending) - hold]
-                    pending = pending.iloc[len(pending) - hold :]
+            frame = self._read_block(reader)
+            while frame is not None:
+                ahead = self._read_block(reader)
+                if ahead is None and self.cut_note:
+                    frame = frame.iloc[:-1]
+                yield frame
+                frame = ahead
 
     def _read_block(self, reader):
         pd = require_module("pandas", "CSV files")
@@ -238,15 +235,13 @@ class _TextRows:
 
 def _text_table(path: Path, spec) -> Table:
     """A streaming :class:`Table` of a delimited text file (columns read in blocks)."""
+    from rollerrig.recordings.formats.csv import layout_table
+
     pd = require_module("pandas", "CSV files")
 
     layout = sniff_layout(path, spec)
-    units = {n: u for n, u in zip(layout.names, layout.units, strict=True) if u}
-    table = header_table(pd.DataFrame(columns=list(layout.names)), units=units)
+    table = layout_table(pd.DataFrame(columns=list(layout.names)), layout)
     table.notes = list(layout.notes)
-    table.decimal = layout.decimal if layout.decimal_decided else None
-    table.repeated = {name: list(columns) for name, columns in layout.repeated}  # as read_csv
-    table.locate = functools.partial(where_named, layout)
     rows = _TextRows(layout)
     for note in (rows.footer_note, rows.cut_note):
         if note:

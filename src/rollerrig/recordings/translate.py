@@ -304,7 +304,7 @@ def time_seconds(
     file = file or FileSpec()
     arr = np.asarray(values)
     if arr.dtype.kind in "OUT":
-        first = next((str(v).strip() for v in arr.ravel()[:1000] if str(v).strip()), "")
+        first = _first_text(arr)
         if file.date_format is not None or looks_like_timestamp(first):
             secs, note = parse_timestamps(
                 arr,
@@ -328,15 +328,14 @@ def time_seconds(
     if arr.dtype.kind in "iu" and arr.size and abs(int(arr.flat[0])) >= _EPOCH_COUNT:
         # Epoch counts (time.time_ns() loggers): as floats, 1.7e18 ns is 1.7e9 s to 0.24 µs, a
         # 51.2 kS/s clock read with steps of 19.3-19.8 µs; the integers' difference is exact.
-        origin = (
-            int(arr.flat[0]) if decided is None else decided.setdefault("origin", int(arr.flat[0]))
-        )
-        if decided is None or decided.get("origin_noted") is None:
+        memo = {} if decided is None else decided  # one origin for every chunk
+        if "origin" not in memo:
+            memo["origin"] = int(arr.flat[0])
             notes.append(
-                f"integer time column made relative to its first value ({origin} {unit}), exactly"
+                f"integer time column made relative to its first value ({memo['origin']} "
+                f"{unit}), exactly"
             )
-            if decided is not None:
-                decided["origin_noted"] = True
+        origin = memo["origin"]
         since = (
             arr.astype(np.int64) - np.int64(origin)
             if arr.dtype.kind == "i"
@@ -389,6 +388,11 @@ _EPOCH_COUNT = 1 << 32
 is made relative to its first value before it becomes a float (:func:`time_seconds`)."""
 
 
+def _first_text(arr: np.ndarray) -> str:
+    """The first non-blank cell of a text column (among its first 1000), stripped; "" if none."""
+    return next((str(v).strip() for v in arr.ravel()[:1000] if str(v).strip()), "")
+
+
 def _numeric_time(values, file: FileSpec) -> bool:
     """Whether a time column holds numbers in a unit (not date/time strings or datetimes)."""
     arr = np.asarray(values)
@@ -396,7 +400,7 @@ def _numeric_time(values, file: FileSpec) -> bool:
         return True
     if arr.dtype.kind not in "OUS":
         return False
-    first = next((str(v).strip() for v in arr.ravel()[:1000] if str(v).strip()), "")
+    first = _first_text(arr)
     return file.date_format is None and not looks_like_timestamp(first)
 
 

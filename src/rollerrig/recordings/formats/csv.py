@@ -196,12 +196,8 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
     if len(frame) == 0:
         cut = " (its only row had no line end and was dropped as possibly cut)" if n else ""
         raise RecordingError(f"{path}: has a header but no data rows{cut}; the recording is empty")
-    units = {nm: u for nm, u in zip(layout.names, layout.units, strict=True) if u}
-    base = header_table(frame, units=units)
+    base = layout_table(frame, layout)
     table = TextTable(**{f: getattr(base, f) for f in Table.__dataclass_fields__})
-    table.decimal = layout.decimal if layout.decimal_decided else None
-    table.repeated = {name: list(columns) for name, columns in layout.repeated}
-    table.locate = functools.partial(where_named, layout)
     table.rows_lines = keep_lines
     table.notes += notes
     sidecar = path.with_suffix(".metadata.json")
@@ -211,6 +207,19 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
             table.notes.append(f"provenance read from {sidecar.name}")
         except (json.JSONDecodeError, UnicodeDecodeError):
             table.notes.append(f"sidecar {sidecar.name} is not valid JSON; ignored")
+    return table
+
+
+def layout_table(frame, layout: TextLayout) -> Table:
+    """The :class:`Table` over ``frame`` (columns named as ``layout``'s) with what the layout
+    knows: the units of its units row, its decimal mark where decided, its repeated names and
+    where a name the map gives stands (one place for :func:`read_csv` and the chunked
+    reader's table, :func:`rollerrig.recordings.source.open_recording`)."""
+    units = {nm: u for nm, u in zip(layout.names, layout.units, strict=True) if u}
+    table = header_table(frame, units=units)
+    table.decimal = layout.decimal if layout.decimal_decided else None
+    table.repeated = {name: list(columns) for name, columns in layout.repeated}
+    table.locate = functools.partial(where_named, layout)
     return table
 
 

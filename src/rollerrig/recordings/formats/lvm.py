@@ -406,15 +406,20 @@ def _x_values(
     The first X value decides ``origin`` (its whole seconds where it is absolute, else 0);
     absolute values are then parsed exactly (:class:`decimal.Decimal`) less the origin.
     """
-    text = [str(c).strip().replace(",", ".") if decimal == "," else str(c).strip() for c in cells]
+
+    def plain(cell) -> str:
+        text = str(cell).strip()
+        return text.replace(",", ".") if decimal == "," else text
+
     if not origin:
         try:
-            first = Decimal(text[0]) if text else Decimal(0)
+            first = Decimal(plain(cells[0])) if len(cells) else Decimal(0)
         except InvalidOperation:
             first = Decimal(0)  # not a number: _column names the cell
         origin.append(int(first) if first.is_finite() and first > _ABSOLUTE_X else 0)
-    if not origin[0]:
+    if not origin[0]:  # relative times: the floats are exact enough, read at numpy's speed
         return _column(path, seg, col, cells, decimal)
+    text = [plain(c) for c in cells]
     try:
         return np.array([float(Decimal(t) - origin[0]) for t in text])
     except InvalidOperation:
