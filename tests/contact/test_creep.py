@@ -148,3 +148,29 @@ def test_nonphysical_inputs_raise():
         polach_creep_force(0.01, 0.1, -5.0, A_X, B_Y, C11, G)
     with pytest.raises(ParameterError, match="creep"):
         polach_creep_force(np.nan, 0.1, Q, A_X, B_Y, C11, G)
+
+
+@pytest.mark.parametrize("eps", [0.0, 1e-3, 0.3, 1.0, 2.7, -4.0, 40.0, 1e200])
+@pytest.mark.parametrize(("k_a", "k_s"), [(1.0, 1.0), (0.45, 0.15), (0.09, 0.33)])
+def test_polach_shape_derivatives_match_complex_step_differences(eps, k_a, k_s):
+    """h' and h'' (the arm loop's Halley steps use h'') against complex-step derivatives of
+    h (Squire & Trapp 1998: f'(x) = Im f(x + i δ)/δ, exact to round-off with no cancellation),
+    h'' as the complex step of the closed-form h'; and no overflow at huge ε."""
+    from rollerrig.contact.creep import polach_shape_derivatives, polach_shape_kernel
+
+    def shape(e):
+        return k_a * e / (1.0 + (k_a * e) ** 2) + np.arctan(k_s * e)
+
+    def slope(e):
+        a, b = k_a * e, k_s * e
+        return k_a * (1.0 - a * a) / (1.0 + a * a) ** 2 + k_s / (1.0 + b * b)
+
+    h, dh, d2h = polach_shape_derivatives(eps, k_a, k_s)
+    assert (h, dh) == polach_shape_kernel(eps, k_a, k_s)
+    assert np.isfinite(d2h)
+    if abs(eps) > 1e3:  # the complex step of (k_a ε)² overflows; h'' → 0 as ε^-3
+        assert abs(d2h) < 1e-300
+        return
+    step = 1e-30
+    assert dh == pytest.approx(shape(complex(eps, step)).imag / step, rel=1e-13, abs=1e-15)
+    assert d2h == pytest.approx(slope(complex(eps, step)).imag / step, rel=1e-12, abs=1e-15)

@@ -44,6 +44,7 @@ __all__ = [
     "polach_creep_force",
     "polach_force_at_friction_kernel",
     "polach_force_kernel",
+    "polach_shape_derivatives",
     "polach_shape_kernel",
 ]
 
@@ -181,13 +182,29 @@ def _polach_shape_kernel(eps, k_a, k_s):
     h(ε) = k_A ε/(1 + (k_A ε)²) + arctan(k_S ε) (Polach 2005, eq. 7 with the reduction factors;
     Kayaalp eq. 4.20), h'(ε) = k_A (1 − (k_A ε)²)/(1 + (k_A ε)²)² + k_S/(1 + (k_S ε)²).
     """
+    shape, slope, _ = _polach_shape_derivatives(eps, k_a, k_s)
+    return shape, slope
+
+
+def _polach_shape_derivatives(eps, k_a, k_s):
+    """Polach's shape ``h(ε)``, ``h'(ε)`` and ``h''(ε)`` [-] (:func:`_polach_shape_kernel`).
+
+    With a = k_A ε and b = k_S ε, h''(ε) = −2 k_A² a (3 − a²)/(1 + a²)³ − 2 k_S² b/(1 + b²)²,
+    rational: the second derivative costs no transcendental function (the twin's arm loop
+    takes Halley's steps with it). Compiled, the unused h'' of a caller that wants two is
+    removed as dead code.
+    """
     ka_eps = k_a * eps
     ks_eps = k_s * eps
     inv = 1.0 / (1.0 + ka_eps * ka_eps)
+    inv_s = 1.0 / (1.0 + ks_eps * ks_eps)
     shape = ka_eps * inv + np.arctan(ks_eps)
-    # (1 − a²)/(1 + a²)² written as (2/(1 + a²) − 1)/(1 + a²): no overflow of a² at large ε.
-    slope = k_a * (2.0 * inv - 1.0) * inv + k_s / (1.0 + ks_eps * ks_eps)
-    return shape, slope
+    # (1 − a²)/(1 + a²)² written as (2/(1 + a²) − 1)/(1 + a²): no overflow of a² at large ε;
+    # likewise (3 − a²)/(1 + a²) = 4/(1 + a²) − 1.
+    slope = k_a * (2.0 * inv - 1.0) * inv + k_s * inv_s
+    curvature = -2.0 * k_a * k_a * (ka_eps * inv) * inv * (4.0 * inv - 1.0)
+    curvature = curvature - 2.0 * k_s * k_s * (ks_eps * inv_s) * inv_s
+    return shape, slope, curvature
 
 
 # --------------------------------------------------------------------------------------------
@@ -368,5 +385,6 @@ def kalker_linear_force(creep, semi_axis_x, semi_axis_y, c11, shear_modulus):
 polach_force_kernel = _polach_force_kernel
 polach_force_at_friction_kernel = _polach_force_at_friction_kernel
 polach_shape_kernel = _polach_shape_kernel
+polach_shape_derivatives = _polach_shape_derivatives
 friction_kernel = _friction_kernel
 adhesion_gradient_kernel = _adhesion_gradient_kernel

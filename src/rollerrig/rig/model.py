@@ -36,7 +36,7 @@ from typing import Literal
 import numpy as np
 
 from rollerrig.contact.creep import friction_kernel as _friction_kernel
-from rollerrig.contact.creep import polach_shape_kernel as _polach_shape_kernel
+from rollerrig.contact.creep import polach_shape_derivatives as _polach_shape_derivatives
 from rollerrig.contact.kinematics import creep_kernel as _creep_kernel
 from rollerrig.drives.induction import (
     induction_torque,
@@ -265,11 +265,12 @@ def _creep_stiffness_at(load, p):
 
 
 _ARM_NEWTON_STEPS = 30
-"""Most Newton steps of the normal-load loop (:func:`_contact_load_and_force`); from its first
-guess (N = S + W_d) it converges to round-off in 3-5 (|κ μ| <= 1), in up to 12 (measured on
-60 000 random cases to |κ μ| = 2.5) where the transfer nears self-locking (κ μ F/(μN) near 1
-and above: a very large load, a step that would cross w = 0 replaced by :func:`_arm_step_down`;
-20 000 random cases of the property test, vanishing loads included, all within it)."""
+"""Most steps of the normal-load loop (:func:`_contact_load_and_force`); from its first
+guess (N = S + W_d) Newton's method converges to round-off in 3-5 steps (|κ μ| <= 1), in up
+to 12 (measured on 60 000 random cases to |κ μ| = 2.5) where the transfer nears self-locking
+(κ μ F/(μN) near 1 and above: a very large load, a step that would cross w = 0 replaced by
+:func:`_arm_step_down`; 20 000 random cases of the property test, vanishing loads included,
+all within it); Halley's steps (Polach's law) take fewer."""
 
 
 def _table_ratio(e, p):
@@ -311,9 +312,17 @@ def _law_ratio(eps, p):
     (:func:`rollerrig.contact.fastsim.slope_reduction`; ``p[P_LAW]`` = 2 only, k = 1 for
     FASTSIM and FaStrip), and the derivative f' (k + |ε| dk/d|ε|). C = G a b C11 at the load.
     """
+    ratio, dratio, _ = _law_ratio_curvature(eps, p)
+    return ratio, dratio
+
+
+def _law_ratio_curvature(eps, p):
+    """:func:`_law_ratio` and, for Polach's law (``p[P_LAW]`` = 0), the second derivative
+    d²(F_x/(μN))/dε² [-] (:func:`rollerrig.contact.creep.polach_shape_derivatives`); 0 for a
+    tabulated law, whose arm loop takes Newton's steps (:func:`_contact_load_and_force`)."""
     if p[P_LAW] == 0.0:
-        shape, slope = _polach_shape_kernel(eps, p[P_KA], p[P_KS])
-        return (2.0 / np.pi) * shape, (2.0 / np.pi) * slope
+        shape, slope, curvature = _polach_shape_derivatives(eps, p[P_KA], p[P_KS])
+        return (2.0 / np.pi) * shape, (2.0 / np.pi) * slope, (2.0 / np.pi) * curvature
     e = abs(eps)
     if p[P_LAW] == 2.0:  # the modified FASTSIM: f at k ε
         k0 = p[P_K0]
@@ -326,7 +335,7 @@ def _law_ratio(eps, p):
         dratio = dratio * (k + e * dk)
     else:
         ratio, dratio = _table_ratio(e, p)
-    return (ratio if eps >= 0.0 else -ratio), dratio
+    return (ratio if eps >= 0.0 else -ratio), dratio, 0.0
 
 
 def _gradient_scale(p):
@@ -365,14 +374,19 @@ def _contact_load_and_force(air_spring, creep, friction, p):
 
         g(w) = 1 − κ μ r(ε_B w) − w³ = 0,    g'(w) = −κ μ ε_B r'(ε_B w) − 3 w²,
 
-    solved by Newton's method from w = 1 (N = B): no cube root inside the loop (one for ε_B),
-    stopped after a step below 1e-6 of N (3|Δw| <= 1e-6 w; quadratic convergence leaves an
-    error at round-off), so that the right-hand side is a smooth function of the state for the
-    solver's forward-difference Jacobian; the force then follows its step to first order. For
-    B > 0 a root always exists (g(0) = 1, g → −∞): where the transfer nears self-locking
-    (κ μ r near 1 or above) it is a very large load, and a Newton step that would cross w = 0
-    (N → ∞) is replaced by a step toward a bound below the root (:func:`_arm_step_down`). B = 0
-    gives no load and no force.
+    solved from w = 1 (N = B) by Halley's method for Polach's law, whose second derivative is
+    rational (no further arctan; 2.1 law evaluations a call on the default experiment's
+    trajectory against Newton's 3.0), and by Newton's for a tabulated law. Halley's step
+    ``s = −2 g g'/(2 g'² − g g'')`` is taken where its denominator exceeds ``g'²`` (a step at
+    most twice Newton's), Newton's elsewhere. No cube root inside the loop (one for ε_B). The
+    loop stops after a step below ``tol w`` (Halley 3e-5, Newton 1e-6/3: the error left is
+    about s³ or s², round-off either way), so that the right-hand side is a smooth function of
+    the state for the solvers' forward-difference Jacobians; the force then follows the last
+    step to the order of the method (F = μ B r(ε_B w)/w³, r expanded about the last
+    iterate). For B > 0 a root always exists (g(0) = 1, g → −∞): where the transfer nears
+    self-locking (κ μ r near 1 or above) it is a very large load, and a step that would cross
+    w = 0 (N → ∞) is replaced by a step toward a bound below the root
+    (:func:`_arm_step_down`). B = 0 gives no load and no force.
     """
     base = air_spring + p[P_ARM_WEIGHT]
     if base < 0.0:
@@ -381,23 +395,33 @@ def _contact_load_and_force(air_spring, creep, friction, p):
     if q_mu <= 0.0:
         return base, 0.0
     eps_base = _gradient_scale(p) * _creep_stiffness_at(base, p) * creep / q_mu
-    ratio, dratio = _law_ratio(eps_base, p)
+    ratio, dratio, curvature = _law_ratio_curvature(eps_base, p)
     if p[P_ARM_RATIO] == 0.0:
         return base, q_mu * ratio
     kappa_mu = p[P_ARM_RATIO] * friction
+    halley = p[P_LAW] == 0.0
+    tol = 3e-5 if halley else 1e-6 / 3.0
     w = 1.0
     for _ in range(_ARM_NEWTON_STEPS):
         w3 = w * w * w
-        step = (1.0 - kappa_mu * ratio - w3) / (kappa_mu * eps_base * dratio + 3.0 * w * w)
+        g = 1.0 - kappa_mu * ratio - w3
+        dg = kappa_mu * eps_base * dratio + 3.0 * w * w  # −g'(w)
+        step = g / dg
+        if halley:
+            d2g = kappa_mu * eps_base * eps_base * curvature + 6.0 * w  # −g''(w)
+            denom = 2.0 * dg * dg + g * d2g  # 2 g'² − g g''
+            if denom > dg * dg:
+                step = 2.0 * g * dg / denom
         if w + step <= 0.0:  # past w = 0 (N → ∞): the root lies in (0, w), as g(0) = 1 > 0
             step = _arm_step_down(w, kappa_mu, eps_base, p) - w
-        if 3.0 * abs(step) <= 1e-6 * w:
-            # F = μ B r(ε_B w)/w³ to first order in the last step (round-off once converged).
-            force = (q_mu / w3) * (ratio + (eps_base * dratio - 3.0 * ratio / w) * step)
+        if abs(step) <= tol * w:
+            # F = μ B r(ε_B w)/w³ with r about the last iterate (round-off once converged).
+            de = eps_base * step
             w = w + step
-            return base / (w * w * w), force
+            r = ratio + de * (dratio + 0.5 * de * curvature)
+            return base / (w * w * w), q_mu * r / (w * w * w)
         w = w + step
-        ratio, dratio = _law_ratio(eps_base * w, p)
+        ratio, dratio, curvature = _law_ratio_curvature(eps_base * w, p)
     w3 = w * w * w
     return base / w3, q_mu * ratio / w3
 
