@@ -345,12 +345,14 @@ def _stable_step(t, x, f0, p, tables, blocks, sizes, h_max):
 def _block_rows(blocks, sizes):
     """The blocks' rows, each with :data:`MAX_BLOCK` columns.
 
-    Returns ``(cols, rows, first)``: row ``q`` of the blocks is state ``rows[q]``, its entries
-    ``L[rows[q], cols[q, c]]`` for ``c < MAX_BLOCK``; a smaller block's row is padded with its
-    own state and a zero coefficient; the rows of block ``b`` are ``first[b]:first[b + 1]``.
-    The step applies the blocks' matrices row by row with this fixed width, a loop the compiler
-    unrolls (sparse pairs of variable count per row had cost 10-30 % more of the step's own
-    work, measured with a trivial right-hand side).
+    Returns ``(cols, rows, first, local)``: row ``q`` of the blocks is state ``rows[q]``, its
+    entries ``L[rows[q], cols[q, c]]`` for ``c < MAX_BLOCK``, and ``local[q, c]`` is the row
+    of the blocks that holds state ``cols[q, c]`` (the step keeps ``N = f − L x`` on the
+    blocks' rows only); a smaller block's row is padded with its own state and a zero
+    coefficient; the rows of block ``b`` are ``first[b]:first[b + 1]``. The step applies the
+    blocks' matrices row by row with this fixed width, a loop the compiler unrolls (sparse
+    pairs of variable count per row had cost 10-30 % more of the step's own work, measured
+    with a trivial right-hand side).
     """
     nb = blocks.shape[0]
     first = np.zeros(nb + 1, dtype=np.int64)
@@ -358,13 +360,15 @@ def _block_rows(blocks, sizes):
         first[b + 1] = first[b] + sizes[b]
     rows = np.empty(first[nb], dtype=np.int64)
     cols = np.empty((first[nb], MAX_BLOCK), dtype=np.int64)
+    local = np.empty((first[nb], MAX_BLOCK), dtype=np.int64)
     for b in range(nb):
         for r in range(sizes[b]):
             q = first[b] + r
             rows[q] = blocks[b, r]
             for c in range(MAX_BLOCK):
                 cols[q, c] = blocks[b, c] if c < sizes[b] else blocks[b, r]
-    return cols, rows, first
+                local[q, c] = first[b] + c if c < sizes[b] else q
+    return cols, rows, first, local
 
 
 def _store_block(coef, n, first, cf):
@@ -376,56 +380,73 @@ def _store_block(coef, n, first, cf):
                 cf[slot, first + r, c] = coef[slot, r, c] if c < n else 0.0
 
 
-def _apply_nonlinear(fx, x, cols, rows, cf, out):
-    """``out = f(x) − L x``: ``f`` off the blocks, ``f − L x`` on them."""
-    for i in range(x.shape[0]):
-        out[i] = fx[i]
+def _block_nonlinear(f, u, cols, rows, cf, out):
+    """``out[q] = (f − L u)[rows[q]]``: the nonlinear part on the blocks' rows (elsewhere it
+    is ``f`` itself)."""
     for q in range(rows.shape[0]):
         acc = 0.0
         for c in range(MAX_BLOCK):
-            acc += cf[C_L, q, c] * x[cols[q, c]]
-        out[rows[q]] = fx[rows[q]] - acc
+            acc += cf[C_L, q, c] * u[cols[q, c]]
+        out[q] = f[rows[q]] - acc
 
 
-def _half_stage(u, nl, h, cols, rows, cf, out):
-    """``out = e^{hL/2} u + (h/2) φ1(hL/2) nl``."""
-    half = 0.5 * h
-    for i in range(u.shape[0]):
-        out[i] = u[i] + half * nl[i]
-    for q in range(rows.shape[0]):
-        acc = 0.0
-        for c in range(MAX_BLOCK):
-            j = cols[q, c]
-            acc += cf[C_E2, q, c] * u[j] + cf[C_Q, q, c] * nl[j]
-        out[rows[q]] = acc
-
-
-def _step(t, h, x, fx, p, tables, cols, rows, cf, x_new, nu, na, nb, nc, a, b_, c_, fs):
+def _step(t, h, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_, fa, fb, fc, nl):
     """One ETDRK4 step from ``(t, x)`` with ``fx = f(t, x)``; ``x_new`` at ``t + h``; the other
-    arrays are scratch (``fs`` ends as ``f(t + h, c)``, the error estimate's)."""
+    arrays are scratch: ``a``, ``b_``, ``c_`` the stages, ``fa``, ``fb``, ``fc`` their
+    right-hand sides (``fc`` is the error estimate's ``f(t + h, c)``), ``nl`` (4, >= rows)
+    the nonlinear parts ``N_u, N_a, N_b, N_c`` on the blocks' rows.
+
+    Every state is first advanced as by RK4 (``N = f`` where ``L = 0``), in one pass per stage
+    over the whole state; the blocks' rows are then overwritten with the exponential
+    formulas. Where ``L = 0`` the nonlinear part is the right-hand side itself, so it is never
+    copied: the step makes 4 passes over the state besides its right-hand sides (it made 9).
+    """
     n = x.shape[0]
-    _apply_nonlinear(fx, x, cols, rows, cf, nu)
-    _half_stage(x, nu, h, cols, rows, cf, a)
-    rhs(t + 0.5 * h, a, p, tables, fs)
-    _apply_nonlinear(fs, a, cols, rows, cf, na)
-    _half_stage(x, na, h, cols, rows, cf, b_)
-    rhs(t + 0.5 * h, b_, p, tables, fs)
-    _apply_nonlinear(fs, b_, cols, rows, cf, nb)
+    nr = rows.shape[0]
+    half = 0.5 * h
+    nu = nl[0]
+    na = nl[1]
+    nb = nl[2]
+    nc = nl[3]
+    _block_nonlinear(fx, x, cols, rows, cf, nu)
     for i in range(n):
-        fs[i] = 2.0 * nb[i] - nu[i]
-    _half_stage(a, fs, h, cols, rows, cf, c_)
-    rhs(t + h, c_, p, tables, fs)
-    _apply_nonlinear(fs, c_, cols, rows, cf, nc)
+        a[i] = x[i] + half * fx[i]
+    for q in range(nr):
+        acc = 0.0
+        for c in range(MAX_BLOCK):
+            acc += cf[C_E2, q, c] * x[cols[q, c]] + cf[C_Q, q, c] * nu[local[q, c]]
+        a[rows[q]] = acc
+    rhs(t + half, a, p, tables, fa)
+    _block_nonlinear(fa, a, cols, rows, cf, na)
+    for i in range(n):
+        b_[i] = x[i] + half * fa[i]
+    for q in range(nr):
+        acc = 0.0
+        for c in range(MAX_BLOCK):
+            acc += cf[C_E2, q, c] * x[cols[q, c]] + cf[C_Q, q, c] * na[local[q, c]]
+        b_[rows[q]] = acc
+    rhs(t + half, b_, p, tables, fb)
+    _block_nonlinear(fb, b_, cols, rows, cf, nb)
+    for i in range(n):
+        c_[i] = a[i] + half * (2.0 * fb[i] - fx[i])
+    for q in range(nr):
+        acc = 0.0
+        for c in range(MAX_BLOCK):
+            j = local[q, c]
+            acc += cf[C_E2, q, c] * a[cols[q, c]] + cf[C_Q, q, c] * (2.0 * nb[j] - nu[j])
+        c_[rows[q]] = acc
+    rhs(t + h, c_, p, tables, fc)
+    _block_nonlinear(fc, c_, cols, rows, cf, nc)
     h6 = h / 6.0
     h3 = h / 3.0
     for i in range(n):
-        x_new[i] = x[i] + h6 * (nu[i] + nc[i]) + h3 * (na[i] + nb[i])
-    for q in range(rows.shape[0]):
+        x_new[i] = x[i] + h6 * (fx[i] + fc[i]) + h3 * (fa[i] + fb[i])
+    for q in range(nr):
         acc = 0.0
         for c in range(MAX_BLOCK):
-            j = cols[q, c]
+            j = local[q, c]
             acc += (
-                cf[C_E, q, c] * x[j]
+                cf[C_E, q, c] * x[cols[q, c]]
                 + cf[C_F1, q, c] * nu[j]
                 + cf[C_F2, q, c] * (na[j] + nb[j])
                 + cf[C_F3, q, c] * nc[j]
@@ -473,7 +494,8 @@ def _step_error(h, f_c, f_new, weights):
 def workspace(n, static_blocks, dynamic_blocks):
     """The arrays :func:`_segment` works in, for a state of ``n`` entries and these blocks,
     allocated once per run (a replayed recording makes thousands of segments):
-    ``(blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec)``, ``vec`` (14, n)."""
+    ``(blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl)``, ``vec``
+    (12, n), ``nl`` (4, rows)."""
     ns = static_blocks.shape[0]
     nd = dynamic_blocks.shape[0]
     blocks = np.empty((ns + nd, MAX_BLOCK), dtype=np.int64)
@@ -481,13 +503,14 @@ def workspace(n, static_blocks, dynamic_blocks):
         for c in range(MAX_BLOCK):
             blocks[b, c] = static_blocks[b, c] if b < ns else dynamic_blocks[b - ns, c]
     sizes = _block_sizes(blocks)
-    cols, rows, first = _block_rows(blocks, sizes)
+    cols, rows, first, local = _block_rows(blocks, sizes)
     cf = np.empty((_N_COEF, rows.shape[0], MAX_BLOCK))
     coef = np.zeros((_N_COEF, MAX_BLOCK, MAX_BLOCK))
     lin = np.zeros((MAX_BLOCK, MAX_BLOCK))
     scratch = np.empty((7, MAX_BLOCK, MAX_BLOCK))
-    vec = np.empty((14, n))
-    return blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec
+    vec = np.empty((12, n))
+    nl = np.empty((4, rows.shape[0]))
+    return blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl
 
 
 def _prepare(x0, t0, t1, p, tables, h_max, ns, ws, memo):
@@ -538,7 +561,7 @@ def _segment(
     references in every step, atomic operations that were 12 % of the solve's samples (perf,
     2026-11-30).
     """
-    blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec = ws
+    blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl = ws
     n = vec.shape[1]
     n_out = t_out.shape[0]
     nd = blocks.shape[0] - ns
@@ -548,14 +571,12 @@ def _segment(
     fp = vec[3]
     x_new = vec[4]
     f_new = vec[5]
-    nu = vec[6]
-    na = vec[7]
-    nb = vec[8]
-    nc = vec[9]
-    sa = vec[10]
-    sb = vec[11]
-    sc = vec[12]
-    fs = vec[13]
+    sa = vec[6]
+    sb = vec[7]
+    sc = vec[8]
+    fa = vec[9]
+    fb = vec[10]
+    fc = vec[11]
     h = (t1 - t0) / m
     for b in range(ns + nd):
         _block_jacobian(t0, x, fx, p, tables, blocks[b], sizes[b], lin, xp, fp)
@@ -577,11 +598,11 @@ def _segment(
                 _store_block(coef, sizes[b], first[b], cf)
             counts[2] += 1
             since = 0
-        _step(t, h, x, fx, p, tables, cols, rows, cf, x_new, nu, na, nb, nc, sa, sb, sc, fs)
+        _step(t, h, x, fx, p, tables, cols, rows, local, cf, x_new, sa, sb, sc, fa, fb, fc, nl)
         rhs(t_new, x_new, p, tables, f_new)
         if not _finite_pair(x_new, f_new):
             return -1
-        if err_limit > 0.0 and _step_error(h, fs, f_new, err_weights) > err_limit:
+        if err_limit > 0.0 and _step_error(h, fc, f_new, err_weights) > err_limit:
             return -1
         while k < n_out and t_out[k] < t_new:
             _hermite(t, h, x, fx, x_new, f_new, t_out[k], x_out, k)
@@ -635,8 +656,7 @@ def bind(driver, name: str):
         (_block_rows, "never"),
         (_store_block, "always"),
         (_stable_step, "never"),
-        (_apply_nonlinear, "always"),
-        (_half_stage, "always"),
+        (_block_nonlinear, "always"),
         (_step, "always"),
         (_hermite, "always"),
         (_finite_pair, "always"),
