@@ -260,3 +260,48 @@ def test_the_arm_loop_solves_n_equals_s_plus_transfer_of_the_polach_force(creep,
     load0, force0 = m._contact_load_and_force(spring, creep, mu, p0)
     assert load0 == spring
     assert force0 == pytest.approx(polach(spring), rel=4e-16)
+
+
+@st.composite
+def _input_table(draw):
+    """Two inputs with their own breakpoints (steps included: a repeated time), padded as the
+    assembly pads them (the last point repeated), and a segment between breakpoints."""
+    rows = []
+    for _ in range(2):
+        n = draw(st.integers(1, 8))
+        gaps = draw(st.lists(st.sampled_from([0.0, 0.25, 0.5, 1.0, 3.0]), min_size=n, max_size=n))
+        times = np.cumsum(gaps) + draw(st.sampled_from([0.0, 0.5]))
+        values = draw(st.lists(st.floats(-1e3, 1e3), min_size=n, max_size=n))
+        rows.append((times, np.array(values)))
+    width = max(t.size for t, _ in rows)
+    tables = np.empty((4, width))
+    for i, (t, v) in enumerate(rows):
+        tables[2 * i, : t.size], tables[2 * i, t.size :] = t, t[-1]
+        tables[2 * i + 1, : v.size], tables[2 * i + 1, v.size :] = v, v[-1]
+    cuts = np.unique(np.concatenate([[0.0, 12.0], tables[0], tables[2]]))
+    j = draw(st.integers(0, cuts.size - 2))
+    return tables, float(cuts[j]), float(cuts[j + 1])
+
+
+@given(_input_table(), st.floats(0.0, 1.0))
+@settings(max_examples=300)
+def test_segment_tables_give_the_inputs_of_the_whole_table_inside_the_segment(case, share):
+    """Inside a segment between breakpoints the two-node tables give exactly (bit for bit) the
+    values and slopes of the whole table, at t1 the limit from inside; a segment that holds a
+    breakpoint of an input is refused."""
+    tables, t0, t1 = case
+    out = np.empty((4, 2))
+    assert m.segment_tables(tables, t0, t1, out)
+    t = t0 + share * (t1 - t0)
+    for row in (0, 2):
+        if t < t1:
+            assert m._interp(t, out, row, row + 1) == m._interp(t, tables, row, row + 1)
+            assert m._interp_slope(t, out, row, row + 1) == m._interp_slope(t, tables, row, row + 1)
+        else:  # from inside: the last piece's end value, a step at t1 left to the next segment
+            inside = t1 - 1e-9 * (t1 - t0)
+            assert m._interp(t, out, row, row + 1) == pytest.approx(
+                m._interp(inside, tables, row, row + 1), rel=1e-6, abs=1e-6
+            )
+    wider = (t0 - 1.0, t1)
+    if np.any((tables[[0, 2]] > wider[0]) & (tables[[0, 2]] < wider[1])):
+        assert not m.segment_tables(tables, *wider, out)

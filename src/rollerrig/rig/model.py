@@ -675,6 +675,55 @@ def _interp(t, tables, row_t, row_y):
     return y_lo + (tables[row_y, hi] - y_lo) * ((t - t_lo) / (tables[row_t, hi] - t_lo))
 
 
+def segment_tables(tables, t0, t1, out):
+    """Each input's line over the segment ``[t0, t1]``, as a two-node table, into ``out``.
+
+    ``out`` (rows of ``tables``, 2) gets, for each pair of rows (times, values), the two
+    breakpoints of the piece of the piecewise-linear input that holds the segment's middle
+    (or, outside the breakpoints, the held end value), so that :func:`_interp` and
+    :func:`_interp_slope` on ``out`` give the very values they give on ``tables`` anywhere
+    inside the segment, with no bisection (three a right-hand side, 5 % of its cost on the
+    default experiment's 14-node tables). At ``t1`` itself it gives the limit from inside the
+    segment, where a step in an input at ``t1`` belongs to the next segment.
+
+    Returns False, and leaves ``out`` unusable, where an input has a breakpoint strictly
+    inside the segment (the protocol's segments end at every breakpoint; an input ramped
+    after the segments were cut may not): the segment then needs ``tables`` itself.
+    """
+    n = tables.shape[1]
+    middle = 0.5 * (t0 + t1)
+    for r in range(0, tables.shape[0], 2):
+        if middle < tables[r, 0] or middle >= tables[r, n - 1]:
+            if middle < tables[r, 0]:
+                if t1 > tables[r, 0]:
+                    return False
+                value = tables[r + 1, 0]
+            else:
+                if t0 < tables[r, n - 1]:
+                    return False
+                value = tables[r + 1, n - 1]
+            out[r, 0] = t0 - 1.0
+            out[r, 1] = t1 + 1.0
+            out[r + 1, 0] = value
+            out[r + 1, 1] = value
+            continue
+        lo = 0
+        hi = n - 1
+        while hi - lo > 1:  # invariant: tables[r, lo] <= middle < tables[r, hi]
+            mid = (lo + hi) >> 1
+            if tables[r, mid] <= middle:
+                lo = mid
+            else:
+                hi = mid
+        if t0 < tables[r, lo] or t1 > tables[r, hi]:
+            return False
+        out[r, 0] = tables[r, lo]
+        out[r, 1] = tables[r, hi]
+        out[r + 1, 0] = tables[r + 1, lo]
+        out[r + 1, 1] = tables[r + 1, hi]
+    return True
+
+
 def _interp_slope(t, tables, row_t, row_y):
     """Slope of the piecewise-linear input ``(tables[row_t], tables[row_y])`` at ``t``
     (right-continuous; 0 outside)."""

@@ -40,6 +40,7 @@ _KERNELS = (
     _servo.servo_speed_torque,
     _model._interp,
     _model._interp_slope,
+    _model.segment_tables,
     _model._bearing_torques,
     _model._creep_stiffness_at,
     _model._table_ratio,

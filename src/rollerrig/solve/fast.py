@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rollerrig.rig.model import N_STATES, X_FRAME_V, X_OMEGA, X_THETA
+from rollerrig.rig.model import N_STATES, X_FRAME_V, X_OMEGA, X_THETA, segment_tables
 from rollerrig.solve import _cache, etdrk4
 from rollerrig.solve import _wdriver as _wd
 from rollerrig.solve._compiled import RIG
@@ -233,12 +233,14 @@ def _integrate(
         _wd._store_row(x_out, k, x)
         k += 1
     status = STATUS_OK
+    local = np.empty((tables.shape[0], 2))
     for s in range(bounds.shape[0]):
         t0 = bounds[s, 0]
         t1 = bounds[s, 1]
         k, k_end, ts = _segment_window(t_out, k, t0, t1, x, x_out)
         m = k_end - k
         xs = np.empty((m + 1, x.shape[0]))
+        seg_tables = local if segment_tables(tables, t0, t1, local) else tables
         # f_t is left out: it enters ROS34PW2 at O(h^4) and did not change T56 on the rig.
         n_steps, n_rej, n_jac, status = _rig_integrate(
             x,
@@ -246,7 +248,7 @@ def _integrate(
             t1,
             ts,
             params[s],
-            tables,
+            seg_tables,
             rtol,
             atol,
             0.0,
@@ -302,17 +304,21 @@ def _integrate_exp(
             k += 1
     ws = _exp_workspace(x.shape[0], static_blocks, dynamic_blocks)
     n_static = static_blocks.shape[0]
+    # Each input's piece over the segment: the right-hand side's three table look-ups without
+    # a bisection (model.segment_tables).
+    local = np.empty((tables.shape[0], 2))
     for s in range(s_first, bounds.shape[0]):
         t0 = bounds[s, 0]
         t1 = bounds[s, 1]
         k, k_end, ts = _segment_window(t_out, k, t0, t1, x, x_out)
         m = k_end - k
         xs = np.empty((m + 1, x.shape[0]))
-        steps = _exp_prepare(x, t0, t1, params[s], tables, exp_step, n_static, ws, memo)
+        seg_tables = local if segment_tables(tables, t0, t1, local) else tables
+        steps = _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
         done = -1
         if steps > 0:
             done = _exp_segment(
-                t0, t1, steps, ts, params[s], tables, relinearise, n_static, ws, xs, stats,
+                t0, t1, steps, ts, params[s], seg_tables, relinearise, n_static, ws, xs, stats,
                 err_weights, err_limit,
             )  # fmt: skip
         if done != 0:
