@@ -57,8 +57,16 @@ _KERNELS = (
 # each call that passed the parameter array took and gave back a reference (atomic operations):
 # a fifth to a quarter of the right-hand side's time (perf, 2026-11-30), the arm's Newton loop
 # calling the creep law up to four times a call.
+# rig_terms is inlined into rig_rhs by numba (its IR), not called: as a call it passed three
+# arrays and returned its 23 terms through memory, 40 ns of the right-hand side's 224
+# (2026-11-30; the default solve 21.1 -> 19.9 ms). The law's kernel with its several exits is
+# left to LLVM: numba's inliner warns about such functions' variables, for no measurable gain.
+_INLINED = (_model.rig_terms,)
 for _fn in _KERNELS:
-    register_jitable(_nrt=False)(_fn)
+    if _fn in _INLINED:
+        register_jitable(_nrt=False, inline="always")(_fn)
+    else:
+        register_jitable(_nrt=False)(_fn)
 
 # numpy's error model: a division by zero gives inf or NaN (which the drivers report as a
 # non-finite state) instead of a zero check before every division, which cost 22-37 % of the
