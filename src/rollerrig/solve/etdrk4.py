@@ -342,153 +342,119 @@ def _stable_step(t, x, f0, p, tables, blocks, sizes, h_max):
     return rk4_stable_step(lam, h_max)
 
 
-def _block_first(sizes):
-    """Where each block's rows start in the blocks' row vectors: block ``b`` holds rows
-    ``first[b]:first[b + 1]`` (the step keeps ``N = f − L x`` on the blocks' rows only)."""
-    first = np.zeros(sizes.shape[0] + 1, dtype=np.int64)
-    for b in range(sizes.shape[0]):
+def _block_rows(blocks, sizes):
+    """The blocks' rows, each with :data:`MAX_BLOCK` columns.
+
+    Returns ``(cols, rows, first, local)``: row ``q`` of the blocks is state ``rows[q]``, its
+    entries ``L[rows[q], cols[q, c]]`` for ``c < MAX_BLOCK``, and ``local[q, c]`` is the row
+    of the blocks that holds state ``cols[q, c]`` (the step keeps ``N = f − L x`` on the
+    blocks' rows only); a smaller block's row is padded with its own state and a zero
+    coefficient; the rows of block ``b`` are ``first[b]:first[b + 1]``. The step applies the
+    blocks' matrices row by row with this fixed width, a loop the compiler unrolls (sparse
+    pairs of variable count per row had cost 10-30 % more of the step's own work, measured
+    with a trivial right-hand side). Block by block, a 2 x 2 block's states loaded once into
+    locals, the blocks' share of a step fell from about 150 to 120 ns (the default solve 3 %
+    faster), but a cold compile took 5 s more CPU (23.6 -> 28.7 s, numba's compile events;
+    2026-11-30); one padded path for every size was no faster than these rows.
+    """
+    nb = blocks.shape[0]
+    first = np.zeros(nb + 1, dtype=np.int64)
+    for b in range(nb):
         first[b + 1] = first[b] + sizes[b]
-    return first
-
-
-def _store_block(coef, n, b, cb):
-    """Copy one block's matrices (``coef``, (7, 3, 3), its leading ``n × n``) into ``cb[b]``,
-    zeros elsewhere."""
-    for slot in range(_N_COEF):
-        for r in range(MAX_BLOCK):
+    rows = np.empty(first[nb], dtype=np.int64)
+    cols = np.empty((first[nb], MAX_BLOCK), dtype=np.int64)
+    local = np.empty((first[nb], MAX_BLOCK), dtype=np.int64)
+    for b in range(nb):
+        for r in range(sizes[b]):
+            q = first[b] + r
+            rows[q] = blocks[b, r]
             for c in range(MAX_BLOCK):
-                cb[b, slot, r, c] = coef[slot, r, c] if r < n and c < n else 0.0
+                cols[q, c] = blocks[b, c] if c < sizes[b] else blocks[b, r]
+                local[q, c] = first[b] + c if c < sizes[b] else q
+    return cols, rows, first, local
 
 
-# The blocks' matrices are applied block by block: a 2 x 2 block (the mounts, the rigid
-# frame's contact) with its states and row values loaded once into locals, any other size by
-# a loop. Row by row with index arrays (a gather per entry, each row's sum one dependent
-# chain) the blocks had cost 150 of a step's 250 ns besides its right-hand sides, more than
-# the 22 states' own updates (measured with a trivial right-hand side, 2026-11-30).
+def _store_block(coef, n, first, cf):
+    """Copy one block's matrices (``coef``, (7, 3, 3)) into its rows of ``cf`` (7, rows, 3),
+    zeros in the padding."""
+    for r in range(n):
+        for c in range(MAX_BLOCK):
+            for slot in range(_N_COEF):
+                cf[slot, first + r, c] = coef[slot, r, c] if c < n else 0.0
 
 
-def _block_nonlinear(f, u, blocks, sizes, first, cb, out):
-    """``out[first[b] + r] = (f − L u)[blocks[b, r]]``: the nonlinear part on the blocks'
-    rows (elsewhere it is ``f`` itself)."""
-    for b in range(blocks.shape[0]):
-        k = first[b]
-        if sizes[b] == 2:
-            i0 = blocks[b, 0]
-            i1 = blocks[b, 1]
-            u0 = u[i0]
-            u1 = u[i1]
-            out[k] = f[i0] - (cb[b, C_L, 0, 0] * u0 + cb[b, C_L, 0, 1] * u1)
-            out[k + 1] = f[i1] - (cb[b, C_L, 1, 0] * u0 + cb[b, C_L, 1, 1] * u1)
-        else:
-            for r in range(sizes[b]):
-                acc = 0.0
-                for c in range(sizes[b]):
-                    acc += cb[b, C_L, r, c] * u[blocks[b, c]]
-                out[k + r] = f[blocks[b, r]] - acc
+def _block_nonlinear(f, u, cols, rows, cf, out):
+    """``out[q] = (f − L u)[rows[q]]``: the nonlinear part on the blocks' rows (elsewhere it
+    is ``f`` itself)."""
+    for q in range(rows.shape[0]):
+        acc = 0.0
+        for c in range(MAX_BLOCK):
+            acc += cf[C_L, q, c] * u[cols[q, c]]
+        out[q] = f[rows[q]] - acc
 
 
-def _block_stage(blocks, sizes, first, cb, u, v, out):
-    """``out = e^{hL/2} u + (h/2) φ1(hL/2) v`` on the blocks' states, ``v`` on the blocks'
-    rows."""
-    for b in range(blocks.shape[0]):
-        k = first[b]
-        if sizes[b] == 2:
-            i0 = blocks[b, 0]
-            i1 = blocks[b, 1]
-            u0 = u[i0]
-            u1 = u[i1]
-            v0 = v[k]
-            v1 = v[k + 1]
-            out[i0] = (
-                cb[b, C_E2, 0, 0] * u0 + cb[b, C_E2, 0, 1] * u1
-                + cb[b, C_Q, 0, 0] * v0 + cb[b, C_Q, 0, 1] * v1
-            )  # fmt: skip
-            out[i1] = (
-                cb[b, C_E2, 1, 0] * u0 + cb[b, C_E2, 1, 1] * u1
-                + cb[b, C_Q, 1, 0] * v0 + cb[b, C_Q, 1, 1] * v1
-            )  # fmt: skip
-        else:
-            for r in range(sizes[b]):
-                acc = 0.0
-                for c in range(sizes[b]):
-                    acc += cb[b, C_E2, r, c] * u[blocks[b, c]] + cb[b, C_Q, r, c] * v[k + c]
-                out[blocks[b, r]] = acc
-
-
-def _block_final(blocks, sizes, first, cb, x, nu, nab, nc, out):
-    """``out = e^{hL} x + h[(φ1 − 3φ2 + 4φ3) N_u + 2(φ2 − 2φ3)(N_a + N_b) + (4φ3 − φ2) N_c]``
-    on the blocks' states (``nab`` = N_a + N_b)."""
-    for b in range(blocks.shape[0]):
-        k = first[b]
-        if sizes[b] == 2:
-            i0 = blocks[b, 0]
-            i1 = blocks[b, 1]
-            x0 = x[i0]
-            x1 = x[i1]
-            for r in range(2):
-                out[blocks[b, r]] = (
-                    cb[b, C_E, r, 0] * x0 + cb[b, C_E, r, 1] * x1
-                    + cb[b, C_F1, r, 0] * nu[k] + cb[b, C_F1, r, 1] * nu[k + 1]
-                    + cb[b, C_F2, r, 0] * nab[k] + cb[b, C_F2, r, 1] * nab[k + 1]
-                    + cb[b, C_F3, r, 0] * nc[k] + cb[b, C_F3, r, 1] * nc[k + 1]
-                )  # fmt: skip
-        else:
-            for r in range(sizes[b]):
-                acc = 0.0
-                for c in range(sizes[b]):
-                    acc += (
-                        cb[b, C_E, r, c] * x[blocks[b, c]]
-                        + cb[b, C_F1, r, c] * nu[k + c]
-                        + cb[b, C_F2, r, c] * nab[k + c]
-                        + cb[b, C_F3, r, c] * nc[k + c]
-                    )
-                out[blocks[b, r]] = acc
-
-
-def _step(t, h, x, fx, p, tables, blocks, sizes, first, cb, x_new, a, b_, c_, fa, fb, fc, nl):
+def _step(t, h, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_, fa, fb, fc, nl):
     """One ETDRK4 step from ``(t, x)`` with ``fx = f(t, x)``; ``x_new`` at ``t + h``; the other
     arrays are scratch: ``a``, ``b_``, ``c_`` the stages, ``fa``, ``fb``, ``fc`` their
-    right-hand sides (``fc`` is the error estimate's ``f(t + h, c)``), ``nl`` (5, >= rows)
-    the nonlinear parts ``N_u, N_a, N_b, N_c`` on the blocks' rows and a combination of them.
+    right-hand sides (``fc`` is the error estimate's ``f(t + h, c)``), ``nl`` (4, >= rows)
+    the nonlinear parts ``N_u, N_a, N_b, N_c`` on the blocks' rows.
 
     Every state is first advanced as by RK4 (``N = f`` where ``L = 0``), in one pass per stage
-    over the whole state; the blocks' states are then overwritten with the exponential
+    over the whole state; the blocks' rows are then overwritten with the exponential
     formulas. Where ``L = 0`` the nonlinear part is the right-hand side itself, so it is never
     copied: the step makes 4 passes over the state besides its right-hand sides (it made 9).
     """
     n = x.shape[0]
-    nr = nl.shape[1]
+    nr = rows.shape[0]
     half = 0.5 * h
     nu = nl[0]
     na = nl[1]
     nb = nl[2]
     nc = nl[3]
-    mix = nl[4]
-    _block_nonlinear(fx, x, blocks, sizes, first, cb, nu)
+    _block_nonlinear(fx, x, cols, rows, cf, nu)
     for i in range(n):
         a[i] = x[i] + half * fx[i]
-    _block_stage(blocks, sizes, first, cb, x, nu, a)
+    for q in range(nr):
+        acc = 0.0
+        for c in range(MAX_BLOCK):
+            acc += cf[C_E2, q, c] * x[cols[q, c]] + cf[C_Q, q, c] * nu[local[q, c]]
+        a[rows[q]] = acc
     rhs(t + half, a, p, tables, fa)
-    _block_nonlinear(fa, a, blocks, sizes, first, cb, na)
+    _block_nonlinear(fa, a, cols, rows, cf, na)
     for i in range(n):
         b_[i] = x[i] + half * fa[i]
-    _block_stage(blocks, sizes, first, cb, x, na, b_)
+    for q in range(nr):
+        acc = 0.0
+        for c in range(MAX_BLOCK):
+            acc += cf[C_E2, q, c] * x[cols[q, c]] + cf[C_Q, q, c] * na[local[q, c]]
+        b_[rows[q]] = acc
     rhs(t + half, b_, p, tables, fb)
-    _block_nonlinear(fb, b_, blocks, sizes, first, cb, nb)
+    _block_nonlinear(fb, b_, cols, rows, cf, nb)
     for i in range(n):
         c_[i] = a[i] + half * (2.0 * fb[i] - fx[i])
     for q in range(nr):
-        mix[q] = 2.0 * nb[q] - nu[q]
-    _block_stage(blocks, sizes, first, cb, a, mix, c_)
+        acc = 0.0
+        for c in range(MAX_BLOCK):
+            j = local[q, c]
+            acc += cf[C_E2, q, c] * a[cols[q, c]] + cf[C_Q, q, c] * (2.0 * nb[j] - nu[j])
+        c_[rows[q]] = acc
     rhs(t + h, c_, p, tables, fc)
-    _block_nonlinear(fc, c_, blocks, sizes, first, cb, nc)
+    _block_nonlinear(fc, c_, cols, rows, cf, nc)
     h6 = h / 6.0
     h3 = h / 3.0
     for i in range(n):
         x_new[i] = x[i] + h6 * (fx[i] + fc[i]) + h3 * (fa[i] + fb[i])
     for q in range(nr):
-        mix[q] = na[q] + nb[q]
-    _block_final(blocks, sizes, first, cb, x, nu, mix, nc, x_new)
+        acc = 0.0
+        for c in range(MAX_BLOCK):
+            j = local[q, c]
+            acc += (
+                cf[C_E, q, c] * x[cols[q, c]]
+                + cf[C_F1, q, c] * nu[j]
+                + cf[C_F2, q, c] * (na[j] + nb[j])
+                + cf[C_F3, q, c] * nc[j]
+            )
+        x_new[rows[q]] = acc
 
 
 def _hermite(t, h, x, f, x_new, f_new, t_at, out, row):
@@ -531,8 +497,8 @@ def _step_error(h, f_c, f_new, weights):
 def workspace(n, static_blocks, dynamic_blocks):
     """The arrays :func:`_segment` works in, for a state of ``n`` entries and these blocks,
     allocated once per run (a replayed recording makes thousands of segments):
-    ``(blocks, sizes, first, cb, coef, lin, scratch, vec, nl)``, ``cb`` (blocks, 7, 3, 3) the
-    blocks' matrices, ``vec`` (12, n), ``nl`` (5, rows)."""
+    ``(blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl)``, ``vec``
+    (12, n), ``nl`` (4, rows)."""
     ns = static_blocks.shape[0]
     nd = dynamic_blocks.shape[0]
     blocks = np.empty((ns + nd, MAX_BLOCK), dtype=np.int64)
@@ -540,14 +506,14 @@ def workspace(n, static_blocks, dynamic_blocks):
         for c in range(MAX_BLOCK):
             blocks[b, c] = static_blocks[b, c] if b < ns else dynamic_blocks[b - ns, c]
     sizes = _block_sizes(blocks)
-    first = _block_first(sizes)
-    cb = np.zeros((ns + nd, _N_COEF, MAX_BLOCK, MAX_BLOCK))
+    cols, rows, first, local = _block_rows(blocks, sizes)
+    cf = np.empty((_N_COEF, rows.shape[0], MAX_BLOCK))
     coef = np.zeros((_N_COEF, MAX_BLOCK, MAX_BLOCK))
     lin = np.zeros((MAX_BLOCK, MAX_BLOCK))
     scratch = np.empty((7, MAX_BLOCK, MAX_BLOCK))
     vec = np.empty((12, n))
-    nl = np.empty((5, first[ns + nd]))
-    return blocks, sizes, first, cb, coef, lin, scratch, vec, nl
+    nl = np.empty((4, rows.shape[0]))
+    return blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl
 
 
 def _prepare(x0, t0, t1, p, tables, h_max, ns, ws, memo):
@@ -562,7 +528,7 @@ def _prepare(x0, t0, t1, p, tables, h_max, ns, ws, memo):
     which a function compiled without reference counting cannot.
     """
     blocks, sizes = ws[0], ws[1]
-    vec = ws[7]
+    vec = ws[9]
     x = vec[0]
     fx = vec[1]
     for j in range(x0.shape[0]):
@@ -598,7 +564,7 @@ def _segment(
     references in every step, atomic operations that were 12 % of the solve's samples (perf,
     2026-11-30).
     """
-    blocks, sizes, first, cb, coef, lin, scratch, vec, nl = ws
+    blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl = ws
     n = vec.shape[1]
     n_out = t_out.shape[0]
     nd = blocks.shape[0] - ns
@@ -618,7 +584,7 @@ def _segment(
     for b in range(ns + nd):
         _block_jacobian(t0, x, fx, p, tables, blocks[b], sizes[b], lin, xp, fp)
         _block_coefficients(lin, sizes[b], h, coef, scratch)
-        _store_block(coef, sizes[b], b, cb)
+        _store_block(coef, sizes[b], first[b], cf)
     counts[2] += 1
     k = 0
     while k < n_out and t_out[k] <= t0:
@@ -632,10 +598,10 @@ def _segment(
             for b in range(ns, ns + nd):
                 _block_jacobian(t, x, fx, p, tables, blocks[b], sizes[b], lin, xp, fp)
                 _block_coefficients(lin, sizes[b], h, coef, scratch)
-                _store_block(coef, sizes[b], b, cb)
+                _store_block(coef, sizes[b], first[b], cf)
             counts[2] += 1
             since = 0
-        _step(t, h, x, fx, p, tables, blocks, sizes, first, cb, x_new, sa, sb, sc, fa, fb, fc, nl)
+        _step(t, h, x, fx, p, tables, cols, rows, local, cf, x_new, sa, sb, sc, fa, fb, fc, nl)
         rhs(t_new, x_new, p, tables, f_new)
         if not _finite_pair(x_new, f_new):
             return -1
@@ -690,12 +656,10 @@ def bind(driver, name: str):
     for template, inline in (
         (_block_jacobian, "never"),
         (_block_sizes, "never"),
-        (_block_first, "never"),
+        (_block_rows, "never"),
         (_store_block, "always"),
         (_stable_step, "never"),
         (_block_nonlinear, "always"),
-        (_block_stage, "always"),
-        (_block_final, "always"),
         (_step, "always"),
         (_hermite, "always"),
         (_finite_pair, "always"),
