@@ -10,6 +10,8 @@ Importing this module costs nothing until a compiled function is first called.
 
 from __future__ import annotations
 
+import types
+
 from numba.extending import register_jitable
 
 from rollerrig.contact import creep as _creep
@@ -59,14 +61,20 @@ _KERNELS = (
 # calling the creep law up to four times a call.
 # rig_terms is inlined into rig_rhs by numba (its IR), not called: as a call it passed three
 # arrays and returned its 23 terms through memory, 40 ns of the right-hand side's 224
-# (2026-11-30; the default solve 21.1 -> 19.9 ms). The law's kernel with its several exits is
-# left to LLVM: numba's inliner warns about such functions' variables, for no measurable gain.
+# (2026-11-30; the default solve 21.1 -> 19.9 ms, for 2-3 s more CPU of a cold compile). The
+# law's kernel with its several exits is left to LLVM: numba's inliner warns about such
+# functions' variables, for no measurable gain.
 _INLINED = (_model.rig_terms,)
 for _fn in _KERNELS:
     if _fn in _INLINED:
         register_jitable(_nrt=False, inline="always")(_fn)
     else:
         register_jitable(_nrt=False)(_fn)
+# The output series calls rig_terms out of line, through a copy of it: inlined there too, its
+# body compiled a third time on a cold start (3.9 s against 0.9, numba's compile events).
+_rig_terms_call = register_jitable(_nrt=False)(
+    types.FunctionType(_model.rig_terms.__code__, vars(_model), "rig_terms")
+)
 
 # numpy's error model: a division by zero gives inf or NaN (which the drivers report as a
 # non-finite state) instead of a zero check before every division, which cost 22-37 % of the
@@ -84,7 +92,7 @@ def rig_terms_series(t, x, p, tables, out):
     compile the same code a second time on a first run (2-2.7 s, numba's compile events).
     """
     for k in range(t.shape[0]):
-        terms = _model.rig_terms(t[k], x[k], p, tables)
+        terms = _rig_terms_call(t[k], x[k], p, tables)
         for j in range(len(terms)):
             out[k, j] = terms[j]
 
