@@ -384,9 +384,12 @@ def _contact_load_and_force(air_spring, creep, friction, p):
     the state for the solvers' forward-difference Jacobians; the force then follows the last
     step to the order of the method (F = μ B r(ε_B w)/w³, r expanded about the last
     iterate). For B > 0 a root always exists (g(0) = 1, g → −∞): where the transfer nears
-    self-locking (κ μ r near 1 or above) it is a very large load, and a step that would cross
-    w = 0 (N → ∞) is replaced by a step toward a bound below the root
-    (:func:`_arm_step_down`). B = 0 gives no load and no force.
+    self-locking (κ μ r near 1 or above) it is a very large load. The loop keeps a bracket of
+    the root (the largest iterate with g > 0, the smallest with g <= 0): a step that leaves it,
+    where a creep curve falling past its peak makes g non-monotonic and the steps would cycle
+    about a stationary point of g, is replaced by the bracket's midpoint, or, with no iterate
+    below the root yet (a step that would cross w = 0, N → ∞), by a step toward a bound below
+    the root (:func:`_arm_step_down`). B = 0 gives no load and no force.
     """
     base = air_spring + p[P_ARM_WEIGHT]
     if base < 0.0:
@@ -400,27 +403,39 @@ def _contact_load_and_force(air_spring, creep, friction, p):
         return base, q_mu * ratio
     kappa_mu = p[P_ARM_RATIO] * friction
     halley = p[P_LAW] == 0.0
-    tol = 3e-5 if halley else 1e-6 / 3.0
     w = 1.0
+    lo = 0.0  # g(lo) > 0: g(0) = 1
+    hi = np.inf  # g(hi) < 0 once an iterate has shown it
     for _ in range(_ARM_NEWTON_STEPS):
         w3 = w * w * w
         g = 1.0 - kappa_mu * ratio - w3
+        if g > 0.0:
+            lo = max(lo, w)
+        else:
+            hi = min(hi, w)
         dg = kappa_mu * eps_base * dratio + 3.0 * w * w  # −g'(w)
         step = g / dg
+        tol = 1e-6 / 3.0  # Newton's: the error left is about step², round-off
         if halley:
             d2g = kappa_mu * eps_base * eps_base * curvature + 6.0 * w  # −g''(w)
             denom = 2.0 * dg * dg + g * d2g  # 2 g'² − g g''
             if denom > dg * dg:
                 step = 2.0 * g * dg / denom
-        if w + step <= 0.0:  # past w = 0 (N → ∞): the root lies in (0, w), as g(0) = 1 > 0
-            step = _arm_step_down(w, kappa_mu, eps_base, p) - w
-        if abs(step) <= tol * w:
+                tol = 3e-5  # Halley's: the error left is about step³
+        new = w + step
+        if abs(step) <= tol * w and new > 0.0:
             # F = μ B r(ε_B w)/w³ with r about the last iterate (round-off once converged).
             de = eps_base * step
-            w = w + step
             r = ratio + de * (dratio + 0.5 * de * curvature)
-            return base / (w * w * w), q_mu * r / (w * w * w)
-        w = w + step
+            return base / (new * new * new), q_mu * r / (new * new * new)
+        if not (lo < new < hi):  # out of the bracket (or NaN): g is not monotonic between
+            if lo > 0.0 and hi < np.inf:
+                new = 0.5 * (lo + hi)
+            elif lo == 0.0:  # the root lies in (0, min(w, hi)): toward a bound below it
+                new = _arm_step_down(min(w, hi), kappa_mu, eps_base, p)
+            else:  # the root lies above lo
+                new = 2.0 * lo
+        w = new
         ratio, dratio, curvature = _law_ratio_curvature(eps_base * w, p)
     w3 = w * w * w
     return base / w3, q_mu * ratio / w3
