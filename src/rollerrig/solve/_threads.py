@@ -12,7 +12,9 @@ at once, otherwise contend for OpenBLAS's own thread pool. A sweep of 24 default
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
+from contextlib import contextmanager
 
 import numba
 
@@ -59,14 +61,37 @@ def run_each(run: Callable[[int], object], n: int) -> None:
             pool.shutdown(cancel_futures=True)
 
 
+_BLAS_LOCK = threading.Lock()
+_blas_users = 0
+_blas_limits = None
+
+
+@contextmanager
 def _single_threaded_blas():
-    """A context holding every loaded BLAS to one thread (threadpoolctl, installed with the
-    twin's extra); a context that changes nothing where threadpoolctl is not installed (the
-    runs are then as fast as before it was used, not wrong)."""
+    """Every loaded BLAS held to one thread while the context is open (threadpoolctl, installed
+    with the twin's extra); nothing changes where threadpoolctl is not installed (the runs are
+    then as fast as before it was used, not wrong).
+
+    The limit is the process's: calls of :func:`run_each` from several threads at once (a
+    study's worker threads) share one, set by the first to enter and lifted by the last to
+    leave, so that none restores a count another is still running under, and the count of
+    before is what remains.
+    """
+    global _blas_users, _blas_limits
     try:
         from threadpoolctl import threadpool_limits
     except ImportError:
-        from contextlib import nullcontext
-
-        return nullcontext()
-    return threadpool_limits(1, user_api="blas")
+        yield
+        return
+    with _BLAS_LOCK:
+        if _blas_users == 0:
+            _blas_limits = threadpool_limits(1, user_api="blas")
+        _blas_users += 1
+    try:
+        yield
+    finally:
+        with _BLAS_LOCK:
+            _blas_users -= 1
+            if _blas_users == 0:
+                _blas_limits.restore_original_limits()
+                _blas_limits = None
