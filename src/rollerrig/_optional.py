@@ -38,10 +38,21 @@ __all__ = [
 ]
 
 EXTRAS: dict[str, frozenset[str]] = {
-    "twin": frozenset({"numba", "xarray", "pandas", "h5netcdf", "h5py"}),
+    "twin": frozenset({"numba", "xarray", "pandas", "h5netcdf", "h5py", "threadpoolctl"}),
     "io": frozenset({"nptdms", "asammdf", "h5py", "pandas", "pyarrow", "xarray", "h5netcdf"}),
     "studies": frozenset(
-        {"numba", "xarray", "pandas", "h5netcdf", "h5py", "dask", "distributed", "SALib", "zarr"}
+        {
+            "numba",
+            "xarray",
+            "pandas",
+            "h5netcdf",
+            "h5py",
+            "threadpoolctl",
+            "dask",
+            "distributed",
+            "SALib",
+            "zarr",
+        }
     ),
     "frame": frozenset({"Pynite"}),
 }
