@@ -698,8 +698,11 @@ def segment_tables(tables, t0, t1, out):
     (or, outside the breakpoints, the held end value), so that :func:`_interp` and
     :func:`_interp_slope` on ``out`` give the very values they give on ``tables`` anywhere
     inside the segment, with no bisection (three a right-hand side, 5 % of its cost on the
-    default experiment's 14-node tables). At ``t1`` itself it gives the limit from inside the
-    segment, where a step in an input at ``t1`` belongs to the next segment.
+    default experiment's 14-node tables). At ``t1`` itself it gives the value's limit from
+    inside the segment, where a step in an input at ``t1`` belongs to the next segment; the
+    slope there (:func:`_interp_slope`, the ideal speed source's acceleration) is 0, as the
+    whole table gives where a ramp ends in a hold, and not the piece's (the whole table gave
+    the next piece's: neither is the limit from inside where two ramps meet).
 
     Returns False, and leaves ``out`` unusable, where an input has a breakpoint strictly
     inside the segment (the protocol's segments end at every breakpoint; an input ramped
