@@ -662,6 +662,21 @@ def rig_rhs(t, x, p, tables, dx):
         dx[X_FRAME_V] = 0.0
 
 
+def _piece(tables, row_t, t):
+    """``(lo, hi)``, consecutive, with ``tables[row_t, lo] <= t < tables[row_t, hi]``, by
+    bisection, for ``t`` within the breakpoints' span ``[tables[row_t, 0],
+    tables[row_t, -1])``."""
+    lo = 0
+    hi = tables.shape[1] - 1
+    while hi - lo > 1:  # invariant: tables[row_t, lo] <= t < tables[row_t, hi]
+        mid = (lo + hi) >> 1
+        if tables[row_t, mid] <= t:
+            lo = mid
+        else:
+            hi = mid
+    return lo, hi
+
+
 def _interp(t, tables, row_t, row_y):
     """``np.interp(t, tables[row_t], tables[row_y])`` for a scalar ``t``: the piecewise-linear
     input at ``t``.
@@ -677,14 +692,7 @@ def _interp(t, tables, row_t, row_y):
         return tables[row_y, 0]
     if t >= tables[row_t, n - 1]:
         return tables[row_y, n - 1]
-    lo = 0
-    hi = n - 1
-    while hi - lo > 1:  # invariant: tables[row_t, lo] <= t < tables[row_t, hi]
-        mid = (lo + hi) >> 1
-        if tables[row_t, mid] <= t:
-            lo = mid
-        else:
-            hi = mid
+    lo, hi = _piece(tables, row_t, t)
     t_lo = tables[row_t, lo]
     y_lo = tables[row_y, lo]
     return y_lo + (tables[row_y, hi] - y_lo) * ((t - t_lo) / (tables[row_t, hi] - t_lo))
@@ -725,14 +733,7 @@ def segment_tables(tables, t0, t1, out):
             out[r + 1, 0] = value
             out[r + 1, 1] = value
             continue
-        lo = 0
-        hi = n - 1
-        while hi - lo > 1:  # invariant: tables[r, lo] <= middle < tables[r, hi]
-            mid = (lo + hi) >> 1
-            if tables[r, mid] <= middle:
-                lo = mid
-            else:
-                hi = mid
+        lo, hi = _piece(tables, r, middle)
         if t0 < tables[r, lo] or t1 > tables[r, hi]:
             return False
         out[r, 0] = tables[r, lo]

@@ -40,6 +40,7 @@ _KERNELS = (
     _induction.linear_induction_torque,
     _induction.lag_derivative,
     _servo.servo_speed_torque,
+    _model._piece,
     _model._interp,
     _model._interp_slope,
     _model.segment_tables,
