@@ -67,10 +67,7 @@ _KERNELS = (
 # functions' variables, for no measurable gain.
 _INLINED = (_model.rig_terms,)
 for _fn in _KERNELS:
-    if _fn in _INLINED:
-        register_jitable(_nrt=False, inline="always")(_fn)
-    else:
-        register_jitable(_nrt=False)(_fn)
+    register_jitable(_nrt=False, inline="always" if _fn in _INLINED else "never")(_fn)
 # The output series calls rig_terms out of line, through a copy of it: inlined there too, its
 # body compiled a third time on a cold start (3.9 s against 0.9, numba's compile events).
 _rig_terms_call = register_jitable(_nrt=False)(

@@ -393,11 +393,21 @@ def _block_nonlinear(f, u, cols, rows, cf, out):
         out[q] = f[rows[q]] - acc
 
 
+def _block_stage(u, v, cols, rows, local, cf, out):
+    """``out = e^{hL/2} u + (h/2) φ1(hL/2) v`` on the blocks' rows (``v`` given on those
+    rows only)."""
+    for q in range(rows.shape[0]):
+        acc = 0.0
+        for c in range(MAX_BLOCK):
+            acc += cf[C_E2, q, c] * u[cols[q, c]] + cf[C_Q, q, c] * v[local[q, c]]
+        out[rows[q]] = acc
+
+
 def _step(t, h, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_, fa, fb, fc, nl):
     """One ETDRK4 step from ``(t, x)`` with ``fx = f(t, x)``; ``x_new`` at ``t + h``; the other
     arrays are scratch: ``a``, ``b_``, ``c_`` the stages, ``fa``, ``fb``, ``fc`` their
-    right-hand sides (``fc`` is the error estimate's ``f(t + h, c)``), ``nl`` (4, >= rows)
-    the nonlinear parts ``N_u, N_a, N_b, N_c`` on the blocks' rows.
+    right-hand sides (``fc`` is the error estimate's ``f(t + h, c)``), ``nl`` (5, >= rows)
+    the nonlinear parts ``N_u, N_a, N_b, N_c`` on the blocks' rows and ``2 N_b − N_u``.
 
     Every state is first advanced as by RK4 (``N = f`` where ``L = 0``), in one pass per stage
     over the whole state; the blocks' rows are then overwritten with the exponential
@@ -411,33 +421,23 @@ def _step(t, h, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_, fa, f
     na = nl[1]
     nb = nl[2]
     nc = nl[3]
+    mix = nl[4]
     _block_nonlinear(fx, x, cols, rows, cf, nu)
     for i in range(n):
         a[i] = x[i] + half * fx[i]
-    for q in range(nr):
-        acc = 0.0
-        for c in range(MAX_BLOCK):
-            acc += cf[C_E2, q, c] * x[cols[q, c]] + cf[C_Q, q, c] * nu[local[q, c]]
-        a[rows[q]] = acc
+    _block_stage(x, nu, cols, rows, local, cf, a)
     rhs(t + half, a, p, tables, fa)
     _block_nonlinear(fa, a, cols, rows, cf, na)
     for i in range(n):
         b_[i] = x[i] + half * fa[i]
-    for q in range(nr):
-        acc = 0.0
-        for c in range(MAX_BLOCK):
-            acc += cf[C_E2, q, c] * x[cols[q, c]] + cf[C_Q, q, c] * na[local[q, c]]
-        b_[rows[q]] = acc
+    _block_stage(x, na, cols, rows, local, cf, b_)
     rhs(t + half, b_, p, tables, fb)
     _block_nonlinear(fb, b_, cols, rows, cf, nb)
     for i in range(n):
         c_[i] = a[i] + half * (2.0 * fb[i] - fx[i])
     for q in range(nr):
-        acc = 0.0
-        for c in range(MAX_BLOCK):
-            j = local[q, c]
-            acc += cf[C_E2, q, c] * a[cols[q, c]] + cf[C_Q, q, c] * (2.0 * nb[j] - nu[j])
-        c_[rows[q]] = acc
+        mix[q] = 2.0 * nb[q] - nu[q]
+    _block_stage(a, mix, cols, rows, local, cf, c_)
     rhs(t + h, c_, p, tables, fc)
     _block_nonlinear(fc, c_, cols, rows, cf, nc)
     h6 = h / 6.0
@@ -498,7 +498,7 @@ def workspace(n, static_blocks, dynamic_blocks):
     """The arrays :func:`_segment` works in, for a state of ``n`` entries and these blocks,
     allocated once per run (a replayed recording makes thousands of segments):
     ``(blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl)``, ``vec``
-    (12, n), ``nl`` (4, rows)."""
+    (12, n), ``nl`` (5, rows)."""
     ns = static_blocks.shape[0]
     nd = dynamic_blocks.shape[0]
     blocks = np.empty((ns + nd, MAX_BLOCK), dtype=np.int64)
@@ -512,7 +512,7 @@ def workspace(n, static_blocks, dynamic_blocks):
     lin = np.zeros((MAX_BLOCK, MAX_BLOCK))
     scratch = np.empty((7, MAX_BLOCK, MAX_BLOCK))
     vec = np.empty((12, n))
-    nl = np.empty((4, rows.shape[0]))
+    nl = np.empty((5, rows.shape[0]))
     return blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl
 
 
@@ -660,6 +660,7 @@ def bind(driver, name: str):
         (_store_block, "always"),
         (_stable_step, "never"),
         (_block_nonlinear, "always"),
+        (_block_stage, "always"),
         (_step, "always"),
         (_hermite, "always"),
         (_finite_pair, "always"),
