@@ -140,7 +140,8 @@ def _rhs_cost(inputs, t, x) -> float:
     (each with its segment's parameters; best of 5 sweeps through them, 10 passes each).
 
     Along a trajectory, not at one state: the arm's load loop takes as many steps as the
-    operating point needs (at the initial state 174 ns, along the default run 190-240 ns).
+    operating point and its start need (at the initial state 174 ns, along the default run
+    190-240 ns from w = 1 in every call).
     """
     import numba
 
@@ -156,9 +157,14 @@ def _rhs_cost(inputs, t, x) -> float:
                 acc += dx[11]
         return acc
 
+    from rollerrig.solve.fast import _segment_arrays
+
     starts = np.array([s.start for s in inputs.segments])
     seg = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(starts) - 1)
-    params = np.stack([s.params for s in inputs.segments])
+    # The parameters as the solver passes them: its own copy, in which the arm's load loop
+    # starts from the root of the call before (here the output sample before, 4 ms earlier:
+    # farther than a solver's stages, so this is an upper bound of the loop's cost).
+    params = _segment_arrays(inputs.segments)[1]
     # Each segment's inputs as the solver passes them: its two-node tables where they hold.
     tables = np.empty((len(starts), inputs.tables.shape[0], 2))
     for k, s in enumerate(inputs.segments):

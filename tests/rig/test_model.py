@@ -231,6 +231,65 @@ def test_the_arm_loop_solves_its_equation_for_any_transfer(kappa, spring, creep,
     assert abs(force - exact) <= 4e-12 * max(abs(exact), 1.0)
 
 
+@given(
+    st.floats(-2.5, 2.5),
+    st.floats(1.0, 60e3),
+    st.floats(-1.0, 1.0),
+    st.floats(1e-3, 1.0),
+    st.sampled_from([0.0, np.nan, -1.0, 1e7]) | st.floats(1e-3, 30.0),
+)
+@settings(deadline=None)
+def test_the_arm_loop_reaches_the_same_root_from_a_carried_start(kappa, spring, creep, mu, start):
+    """A solver's copy of the parameters carries the loop's root in ``P_ARM_START`` from call
+    to call. From any start (a stale root, a far one, one that is no usable start) the loop
+    reaches the root to 4e-12 of N, and a positive start is replaced by the root's w
+    (N = B/w³); 0, as assembled, and the unusable starts leave the parameters as they were."""
+    p = _arm_params().copy()
+    p[m.P_ARM_RATIO] = kappa
+    p[m.P_ARM_START] = start
+    before = p.copy()
+    load, force = m._contact_load_and_force(spring, creep, mu, p)
+    base = spring + p[m.P_ARM_WEIGHT]
+    exact = m._force_and_slope(creep, load, mu, p)[0]
+    assert abs(load - base - kappa * exact) <= 4e-12 * load
+    assert abs(force - exact) <= 4e-12 * max(abs(exact), 1.0)
+    np.testing.assert_array_equal(np.delete(p, m.P_ARM_START), np.delete(before, m.P_ARM_START))
+    if start > 0.0 and kappa != 0.0:  # the loop ran (a load, friction): its root is left
+        w = p[m.P_ARM_START]
+        assert base / w**3 == pytest.approx(load, rel=1e-12)
+    else:
+        assert p[m.P_ARM_START] == start or (np.isnan(start) and np.isnan(p[m.P_ARM_START]))
+
+
+def test_a_solver_carries_the_arm_loops_root_and_leaves_the_inputs_as_they_were():
+    """The fast backend runs on its own copy of the parameters, in which the arm's loop carries
+    its root (the rig's inputs are not written), and gives what the same solve from w = 1 in
+    every call gives, to round-off."""
+    from rollerrig.solve import fast
+    from rollerrig.solve.simulation import Simulation
+
+    sim = Simulation(experiment="seed-30kmh-dry")
+    inputs, t = sim.inputs, sim.times[:500]
+    before = [s.params.copy() for s in inputs.segments]
+    params = fast._segment_arrays(inputs.segments)[1]
+    assert np.all(params[:, m.P_ARM_START] == 1.0)
+    assert all(s.params[m.P_ARM_START] == 0.0 for s in inputs.segments)
+    x, _ = fast.integrate_experiment(inputs, t)
+    for s, p in zip(inputs.segments, before, strict=True):
+        np.testing.assert_array_equal(s.params, p)
+    # The same right-hand side from w = 1 at every call.
+    seg = inputs.segments[0]
+    warm = seg.params.copy()
+    warm[m.P_ARM_START] = 1.0
+    dx_cold = np.empty(x.shape[1])
+    dx_warm = np.empty(x.shape[1])
+    for k in range(0, t.size, 7):
+        m.rig_rhs(t[k], x[k], seg.params, inputs.tables, dx_cold)
+        m.rig_rhs(t[k], x[k], warm, inputs.tables, dx_warm)
+        np.testing.assert_allclose(dx_warm, dx_cold, rtol=1e-12, atol=1e-9)
+    assert warm[m.P_ARM_START] != 1.0  # the loop moved its start
+
+
 @pytest.mark.parametrize(("k_a", "k_s"), [(1.0, 0.1), (1.0, 0.05), (0.3, 0.1)])
 @pytest.mark.parametrize("kappa", [2.0, 2.5])
 def test_the_arm_loop_solves_a_falling_creep_curve_near_self_locking(k_a, k_s, kappa):

@@ -19,7 +19,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from rollerrig.rig.model import N_STATES, X_FRAME_V, X_OMEGA, X_THETA, segment_tables
+from rollerrig.rig.model import (
+    N_STATES,
+    P_ARM_START,
+    X_FRAME_V,
+    X_OMEGA,
+    X_THETA,
+    segment_tables,
+)
 from rollerrig.solve import _cache, etdrk4
 from rollerrig.solve import _wdriver as _wd
 from rollerrig.solve._compiled import RIG
@@ -363,6 +370,8 @@ def _with_fallback(exp_driver, ros_driver, settings):
             k, k_end, ts = _segment_window(t_out, int(resume[1]), *bounds[s], x, x_out)
             chunk = np.empty((ts.size, x.size))
             stats[3] += 1
+            # The segment from the arm loop's first guess, as ROS34PW2 alone would run it.
+            params[s, P_ARM_START] = 1.0
             status = ros_driver(
                 x, bounds[s : s + 1], params[s : s + 1], tables, ts, rt, at, h_max, jac_every,
                 chunk, stats, t_stop,
@@ -458,6 +467,8 @@ def _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error=None):
 def _segment_arrays(segments):
     bounds = np.array([[s.start, s.end] for s in segments], dtype=float)
     params = np.stack([s.params for s in segments])
+    # The run's own copy: the arm's load loop carries its root from call to call in it.
+    params[:, P_ARM_START] = 1.0
     return bounds, params
 
 
