@@ -145,7 +145,7 @@ def _rhs_cost(inputs, t, x) -> float:
     """
     import numba
 
-    from rollerrig.rig.model import segment_tables
+    from rollerrig.rig.model import SEGMENT_NODES, segment_tables
     from rollerrig.solve._compiled import rig_rhs
 
     @numba.njit
@@ -166,7 +166,7 @@ def _rhs_cost(inputs, t, x) -> float:
     # farther than a solver's stages, so this is an upper bound of the loop's cost).
     params = _segment_arrays(inputs.segments)[1]
     # Each segment's inputs as the solver passes them: its two-node tables where they hold.
-    tables = np.empty((len(starts), inputs.tables.shape[0], 2))
+    tables = np.empty((len(starts), inputs.tables.shape[0], SEGMENT_NODES))
     for k, s in enumerate(inputs.segments):
         if not segment_tables(inputs.tables, s.start, s.end, tables[k]):
             raise RuntimeError("a segment holds a breakpoint: time the whole table instead")

@@ -171,3 +171,20 @@ def test_bracketed_root_agrees_with_brentq(scale, slope, level, xtol):
     theirs = brentq(lambda d: float(fun(d)) - needed, 0.0, scale, xtol=xtol)
     tolerance = 2 * xtol + 8 * np.finfo(float).eps * scale
     assert abs(ours - theirs) <= tolerance or abs(float(fun(ours)) - needed) <= 4e-16
+
+
+@pytest.mark.parametrize("roller", ["induction", "ideal_speed"])
+def test_a_single_piece_protocols_tables_are_not_read_as_a_segments_line(rig, roller):
+    """A protocol that is one speed ramp has every input as one piece (two breakpoints); the
+    model reads a two-node table as a segment's line, closed at its end (model.segment_tables),
+    so the assembled tables are padded to three nodes: at the ramp's end, the protocol's, the
+    whole table's slope is right-continuous, 0, as everywhere else."""
+    from rollerrig.experiment import Protocol, SetRollerSpeed
+
+    protocol = Protocol.from_steps(
+        "ramp", [SetRollerSpeed(20 / 3.6, 1.0)], normal_load=4300.0, roller_speed=10 / 3.6
+    )
+    inputs = assemble(rig, protocol, drives=DriveConfig(roller=roller))
+    assert inputs.tables.shape[1] >= m.MIN_TABLE_NODES > m.SEGMENT_NODES
+    assert m._interp_slope(0.5, inputs.tables, m.TAB_SPEED_T, m.TAB_SPEED) > 0.0
+    assert m._interp_slope(1.0, inputs.tables, m.TAB_SPEED_T, m.TAB_SPEED) == 0.0

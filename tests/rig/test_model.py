@@ -350,7 +350,7 @@ def _input_table(draw):
         times = np.cumsum(gaps) + draw(st.sampled_from([0.0, 0.5]))
         values = draw(st.lists(st.floats(-1e3, 1e3), min_size=n, max_size=n))
         rows.append((times, np.array(values)))
-    width = max(t.size for t, _ in rows)
+    width = max(m.MIN_TABLE_NODES, *(t.size for t, _ in rows))
     tables = np.empty((4, width))
     for i, (t, v) in enumerate(rows):
         tables[2 * i, : t.size], tables[2 * i, t.size :] = t, t[-1]
@@ -364,10 +364,11 @@ def _input_table(draw):
 @settings(max_examples=300)
 def test_segment_tables_give_the_inputs_of_the_whole_table_inside_the_segment(case, share):
     """Inside a segment between breakpoints the two-node tables give exactly (bit for bit) the
-    values and slopes of the whole table, at t1 the limit from inside; a segment that holds a
-    breakpoint of an input is refused."""
+    values and slopes of the whole table, at t1 the limits from inside (the ideal speed
+    source's acceleration included: the segment's last stage is taken there); a segment that
+    holds a breakpoint of an input is refused."""
     tables, t0, t1 = case
-    out = np.empty((4, 2))
+    out = np.empty((4, m.SEGMENT_NODES))
     assert m.segment_tables(tables, t0, t1, out)
     t = t0 + share * (t1 - t0)
     for row in (0, 2):
@@ -379,6 +380,8 @@ def test_segment_tables_give_the_inputs_of_the_whole_table_inside_the_segment(ca
             assert m._interp(t, out, row, row + 1) == pytest.approx(
                 m._interp(inside, tables, row, row + 1), rel=1e-6, abs=1e-6
             )
+            slope = m._interp_slope(inside, tables, row, row + 1)
+            assert m._interp_slope(t, out, row, row + 1) == pytest.approx(slope, abs=1e-12)
     wider = (t0 - 1.0, t1)
     if np.any((tables[[0, 2]] > wider[0]) & (tables[[0, 2]] < wider[1])):
         assert not m.segment_tables(tables, *wider, out)

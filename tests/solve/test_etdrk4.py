@@ -164,6 +164,33 @@ def test_a_fast_input_transition_re_linearises_the_contact_every_step():
     assert np.max(np.abs(_t56(inputs, x) - _t56(inputs, ref))) <= 0.2
 
 
+@pytest.mark.parametrize("step", [0.5e-3, 1.6e-3])
+def test_an_ideal_speed_source_holds_the_rotor_on_its_ramp_through_the_ramps_end(step):
+    """The ideal speed source gives the rotor exactly the set point's acceleration, so the
+    rotor's speed is the set point to round-off at any step. At a segment's last step the
+    last stage must see the segment's own acceleration: taken at ``t + h``, which rounds past
+    the end of the ramp [2.5, 3.5] s at a 0.5 ms step, it saw the hold's 0, and with the
+    acceleration of a two-node table 0 at its end at every step; the rotor lost up to a third
+    of a step's speed change (5e-4 rad/s; 0.9 N.m of T56 in the ringing after it,
+    2026-11-30)."""
+    from rollerrig.experiment import SetRollerSpeed
+    from rollerrig.rig import model as m
+
+    protocol = Protocol.from_steps(
+        "ramp-end",
+        [Hold(2.5), SetRollerSpeed(20 / 3.6, 1.0), Hold(0.05)],
+        normal_load=20e3,
+        roller_speed=10 / 3.6,
+    )
+    inputs = assemble(default_rig(), protocol, drives=DriveConfig(roller="ideal_speed"))
+    t = np.array([0.0, 3.0, 3.4995, 3.5, 3.55])
+    x, stats = integrate_experiment(inputs, t, exp_step=step)
+    assert stats["status"] == 0 and stats["fallback_segments"] == 0
+    set_point = np.interp(t, inputs.tables[m.TAB_SPEED_T], inputs.tables[m.TAB_SPEED])
+    r_r = inputs.segments[0].params[m.P_RR]
+    np.testing.assert_allclose(x[:, m.X_OMEGA + 5], set_point / r_r, rtol=0, atol=1e-9)
+
+
 STANDSTILL = """
 [experiment]
 name = "from-standstill"

@@ -67,8 +67,10 @@ class ModelInputs:
 
 
 def _pad_rows(rows: list[np.ndarray]) -> np.ndarray:
-    """Stack breakpoint rows of unequal length, padding each pair by repeating its last point."""
-    n = max(len(r) for r in rows)
+    """Stack breakpoint rows of unequal length, padding each pair by repeating its last point
+    (to at least ``MIN_TABLE_NODES`` points: a two-node table is a segment's line to the model,
+    ``model.segment_tables``)."""
+    n = max(m.MIN_TABLE_NODES, *(len(r) for r in rows))
     out = np.empty((len(rows), n))
     for i, r in enumerate(rows):
         out[i, : len(r)] = r

@@ -717,19 +717,29 @@ def _interp(t, tables, row_t, row_y):
     return y_lo + (tables[row_y, hi] - y_lo) * ((t - t_lo) / (tables[row_t, hi] - t_lo))
 
 
+SEGMENT_NODES = 2
+"""Nodes of a segment's table (:func:`segment_tables`); an assembled input table has at least
+:data:`MIN_TABLE_NODES` (:func:`_interp_slope` tells the two apart by their width)."""
+
+MIN_TABLE_NODES = 3
+"""Fewest nodes of an assembled input table (the last point repeated where it has fewer)."""
+
+
 def segment_tables(tables, t0, t1, out):
     """Each input's line over the segment ``[t0, t1]``, as a two-node table, into ``out``.
 
-    ``out`` (rows of ``tables``, 2) gets, for each pair of rows (times, values), the two
-    breakpoints of the piece of the piecewise-linear input that holds the segment's middle
-    (or, outside the breakpoints, the held end value), so that :func:`_interp` and
-    :func:`_interp_slope` on ``out`` give the very values they give on ``tables`` anywhere
-    inside the segment, with no bisection (three a right-hand side, 5 % of its cost on the
-    default experiment's 14-node tables). At ``t1`` itself it gives the value's limit from
-    inside the segment, where a step in an input at ``t1`` belongs to the next segment; the
-    slope there (:func:`_interp_slope`, the ideal speed source's acceleration) is 0, as the
-    whole table gives where a ramp ends in a hold, and not the piece's (the whole table gave
-    the next piece's: neither is the limit from inside where two ramps meet).
+    ``out`` (rows of ``tables``, :data:`SEGMENT_NODES`) gets, for each pair of rows (times,
+    values), the two breakpoints of the piece of the piecewise-linear input that holds the
+    segment's middle (or, outside the breakpoints, the held end value), so that
+    :func:`_interp` and :func:`_interp_slope` on ``out`` give the very values they give on
+    ``tables`` anywhere inside the segment, with no bisection (three a right-hand side, 5 % of
+    its cost on the default experiment's 14-node tables). At ``t1`` itself they give the
+    limits from inside the segment, value and slope (:func:`_interp_slope` takes a two-node
+    table as closed at its end), where the whole table gives the next piece's: a step's last
+    stage is taken at ``t1`` and belongs to the segment (the ideal speed source's
+    acceleration had been 0 there, its rotor losing a sixth of a step's speed change at the
+    end of every ramp, 2026-11-30). A third node on the piece's line did the same at 5 %
+    more of the default solve (a bisection step in each look-up).
 
     Returns False, and leaves ``out`` unusable, where an input has a breakpoint strictly
     inside the segment (the protocol's segments end at every breakpoint; an input ramped
@@ -764,7 +774,14 @@ def segment_tables(tables, t0, t1, out):
 
 def _interp_slope(t, tables, row_t, row_y):
     """Slope of the piecewise-linear input ``(tables[row_t], tables[row_y])`` at ``t``
-    (right-continuous; 0 outside)."""
+    (right-continuous; 0 outside); a two-node table (a segment's line, :func:`segment_tables`)
+    is closed at its end, where the segment's last stage is taken."""
+    if tables.shape[1] == SEGMENT_NODES:
+        t_lo = tables[row_t, 0]
+        t_hi = tables[row_t, 1]
+        if t_lo <= t <= t_hi and t_hi > t_lo:
+            return (tables[row_y, 1] - tables[row_y, 0]) / (t_hi - t_lo)
+        return 0.0
     slope = 0.0
     for k in range(tables.shape[1] - 1):
         if tables[row_t, k] <= t < tables[row_t, k + 1]:

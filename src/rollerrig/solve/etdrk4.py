@@ -403,8 +403,12 @@ def _block_stage(u, v, cols, rows, local, cf, out):
         out[rows[q]] = acc
 
 
-def _step(t, h, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_, fa, fb, fc, nl):
-    """One ETDRK4 step from ``(t, x)`` with ``fx = f(t, x)``; ``x_new`` at ``t + h``; the other
+def _step(t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_, fa, fb, fc, nl):
+    """One ETDRK4 step from ``(t, x)`` with ``fx = f(t, x)``; ``x_new`` at ``t_new``, ``t + h``
+    up to rounding, passed on its own because the last stage is taken there: at a segment's
+    last step ``t + h`` may round past the segment's end, where its inputs are the next
+    segment's (an ideal speed source's acceleration lost a third of a step's speed change at
+    the end of a ramp, 0.9 N.m of T56 after it, 2026-11-30; ROS34PW2 does the same). The other
     arrays are scratch: ``a``, ``b_``, ``c_`` the stages, ``fa``, ``fb``, ``fc`` their
     right-hand sides (``fc`` is the error estimate's ``f(t + h, c)``), ``nl`` (5, >= rows)
     the nonlinear parts ``N_u, N_a, N_b, N_c`` on the blocks' rows and ``2 N_b − N_u``.
@@ -438,7 +442,7 @@ def _step(t, h, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_, fa, f
     for q in range(nr):
         mix[q] = 2.0 * nb[q] - nu[q]
     _block_stage(a, mix, cols, rows, local, cf, c_)
-    rhs(t + h, c_, p, tables, fc)
+    rhs(t_new, c_, p, tables, fc)
     _block_nonlinear(fc, c_, cols, rows, cf, nc)
     h6 = h / 6.0
     h3 = h / 3.0
@@ -607,7 +611,9 @@ def _segment(
                 _store_block(coef, sizes[b], first[b], cf)
             counts[2] += 1
             since = 0
-        _step(t, h, x, fx, p, tables, cols, rows, local, cf, x_new, sa, sb, sc, fa, fb, fc, nl)
+        _step(
+            t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, sa, sb, sc, fa, fb, fc, nl
+        )
         rhs(t_new, x_new, p, tables, f_new)
         if not _finite_pair(x_new, f_new):
             return -1

@@ -22,6 +22,7 @@ import numpy as np
 from rollerrig.rig.model import (
     N_STATES,
     P_ARM_START,
+    SEGMENT_NODES,
     X_FRAME_V,
     X_OMEGA,
     X_THETA,
@@ -242,7 +243,7 @@ def _integrate(
         _wd._store_row(x_out, k, x)
         k += 1
     status = STATUS_OK
-    local = np.empty((tables.shape[0], 2))
+    local = np.empty((tables.shape[0], SEGMENT_NODES))
     for s in range(bounds.shape[0]):
         t0 = bounds[s, 0]
         t1 = bounds[s, 1]
@@ -315,7 +316,7 @@ def _integrate_exp(
     n_static = static_blocks.shape[0]
     # Each input's piece over the segment: the right-hand side's three table look-ups without
     # a bisection (model.segment_tables).
-    local = np.empty((tables.shape[0], 2))
+    local = np.empty((tables.shape[0], SEGMENT_NODES))
     for s in range(s_first, bounds.shape[0]):
         t0 = bounds[s, 0]
         t1 = bounds[s, 1]
