@@ -253,12 +253,35 @@ def test_the_arm_loop_reaches_the_same_root_from_a_carried_start(kappa, spring, 
     exact = m._force_and_slope(creep, load, mu, p)[0]
     assert abs(load - base - kappa * exact) <= 4e-12 * load
     assert abs(force - exact) <= 4e-12 * max(abs(exact), 1.0)
-    np.testing.assert_array_equal(np.delete(p, m.P_ARM_START), np.delete(before, m.P_ARM_START))
+    scratch = [m.P_ARM_START, m.P_MEMO_LOAD, m.P_MEMO_STIFFNESS]  # a solver's copy's own
+    np.testing.assert_array_equal(np.delete(p, scratch), np.delete(before, scratch))
+    if not start > 0.0:  # as assembled, or no usable start: nothing written
+        np.testing.assert_array_equal(p[scratch[1:]], before[scratch[1:]])
     if start > 0.0 and kappa != 0.0:  # the loop ran (a load, friction): its root is left
         w = p[m.P_ARM_START]
         assert base / w**3 == pytest.approx(load, rel=1e-12)
     else:
         assert p[m.P_ARM_START] == start or (np.isnan(start) and np.isnan(p[m.P_ARM_START]))
+
+
+@pytest.mark.parametrize("kappa", [0.0, 0.2])
+def test_a_solvers_copy_keeps_the_creep_stiffness_of_the_last_load(kappa):
+    """In a solver's copy (``P_ARM_START`` positive) the creep stiffness of the last load is
+    kept beside it (a cube root a call, constant through a hold): another load's stiffness is
+    never reused, and parameters as assembled are not written."""
+    p = _arm_params().copy()
+    p[m.P_ARM_RATIO] = kappa
+    assembled = p.copy()
+    expected = m._contact_load_and_force(4000.0, 0.003, 0.4, assembled)
+    np.testing.assert_array_equal(assembled, p)
+    base = 4000.0 + p[m.P_ARM_WEIGHT]
+    p[m.P_ARM_START] = 1.0
+    p[m.P_MEMO_LOAD], p[m.P_MEMO_STIFFNESS] = base + 1.0, 1.0  # another load's, and wrong
+    got = m._contact_load_and_force(4000.0, 0.003, 0.4, p)
+    assert got == pytest.approx(expected, rel=1e-13)
+    assert p[m.P_MEMO_LOAD] == base
+    assert p[m.P_MEMO_STIFFNESS] == m._creep_stiffness_at(base, p)
+    assert m._contact_load_and_force(4000.0, 0.003, 0.4, p) == pytest.approx(expected, rel=1e-13)
 
 
 def test_a_solver_carries_the_arm_loops_root_and_leaves_the_inputs_as_they_were():

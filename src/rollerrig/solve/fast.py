@@ -22,6 +22,7 @@ import numpy as np
 from rollerrig.rig.model import (
     N_STATES,
     P_ARM_START,
+    P_MEMO_LOAD,
     SEGMENT_NODES,
     X_FRAME_V,
     X_OMEGA,
@@ -64,7 +65,7 @@ FAST_DEFAULTS = {
     "h_max": 0.9e-3,
     "jac_every": 100,
     "exp_step": 1.6e-3,
-    "relinearise": 16,
+    "relinearise": 32,
     "exp_error": 0.01,
 }
 """Default settings of the fast backend: the method (:data:`METHODS`); for ROS34PW2 (also the
@@ -80,11 +81,15 @@ of the lightly damped 13.8 Hz shaft mode ringing for seconds after a torque rele
 of fourth order, with the stiff mounts and contact exact: at ``exp_step`` 1.6 ms max |ΔT56| is
 0.027 N.m on that experiment (1.33 and 1 ms: 0.014 and 0.005 N.m; the issue's target 0.05),
 0.084 N.m on a pulse to 1 400 N.m at 20 kN and 10 km/h, where the contact's pole reaches
-−12 000 1/s. Re-linearising the contact every 1, 4, 8 or 16 steps gives the same to 3e-3 N.m
-(0.0854, 0.0843, 0.0837, 0.0818 N.m on that pulse; 0.0274, 0.0270, 0.0272, 0.0275 on the 30 s
-test; every 32 steps 0.0284, never 0.50); every 16 by default: a re-linearisation (two
-right-hand sides and the block's φ-functions, about 2.4 µs in the step loop) every 8 steps cost
-7-10 % of the default solve, every 16 half that (2026-11-30). A segment shorter than two
+−12 000 1/s. Re-linearising the contact every 1, 4, 8, 16 or 32 steps gives the same to
+3e-3 N.m (0.0854, 0.0843, 0.0837, 0.0818, 0.0817 N.m on that pulse; 0.0274, 0.0270, 0.0272,
+0.0275, 0.0284 on the 30 s test; never 0.50); every 32 by default. A re-linearisation (two
+right-hand sides and the block's φ-functions) costs about 0.74 µs, four to five steps' right-hand
+sides: every 16 steps it was 5.6 % of the default solve, every 32 half that. Against every 16
+(Radau at rtol 1e-9, max |ΔT56|): the pulse 0.0855 -> 0.0857 N.m, the macro-slip ramps below at
+5, 10 and 30 km/h 0.076 -> 0.069, 0.084 -> 0.052, 0.047 -> 0.046, a load drop from 20 to
+4.3 kN in 10 ms under 1 400 N.m 0.076 -> 0.077, the 10 km/h wet test 0.0102 -> 0.0106
+(2026-11-30). A segment shorter than two
 intervals (an input's fast transition) re-linearises every step: a load step from 20 to 4.3 kN
 in 10 ms under 1 400 N.m at 10 km/h was off by 2.5 N.m linearised once, 0.076 so. The step
 actually taken is shorter where RK4's stability on the rest needs it (1.6 ms is about that
@@ -373,6 +378,7 @@ def _with_fallback(exp_driver, ros_driver, settings):
             stats[3] += 1
             # The segment from the arm loop's first guess, as ROS34PW2 alone would run it.
             params[s, P_ARM_START] = 1.0
+            params[s, P_MEMO_LOAD] = np.nan
             status = ros_driver(
                 x, bounds[s : s + 1], params[s : s + 1], tables, ts, rt, at, h_max, jac_every,
                 chunk, stats, t_stop,
@@ -470,6 +476,7 @@ def _segment_arrays(segments):
     params = np.stack([s.params for s in segments])
     # The run's own copy: the arm's load loop carries its root from call to call in it.
     params[:, P_ARM_START] = 1.0
+    params[:, P_MEMO_LOAD] = np.nan  # no load's stiffness computed yet
     return bounds, params
 
 
