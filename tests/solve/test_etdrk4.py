@@ -6,6 +6,8 @@ the truth channels at 4 kHz."""
 import numpy as np
 import pytest
 import scipy.linalg
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from rollerrig.experiment import (
     Hold,
@@ -18,7 +20,7 @@ from rollerrig.experiment import (
 from rollerrig.rig.assemble import assemble
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import default_rig
-from rollerrig.solve.etdrk4 import phi_functions, rk4_stable_step
+from rollerrig.solve.etdrk4 import eigenvalues_of_coupled_part, phi_functions, rk4_stable_step
 from rollerrig.solve.fast import integrate_batch, integrate_experiment
 from rollerrig.solve.reference import integrate_reference
 from rollerrig.solve.simulation import Simulation, output_times
@@ -51,6 +53,29 @@ def test_phi_functions_are_the_blocks_of_the_augmented_exponential(n, scale):
     expected = first_row(z) + first_row(z / 2)[:2]
     for got, want in zip(out, expected, strict=True):
         np.testing.assert_allclose(got, want, rtol=1e-11, atol=1e-13 * max(1.0, np.abs(want).max()))
+
+
+@given(st.integers(1, 9), st.integers(0, 2**31 - 1), st.floats(0.0, 0.9))
+@settings(max_examples=200, deadline=None)
+def test_the_uncoupled_states_split_off_leave_the_eigenvalues_as_they_were(n, seed, sparsity):
+    """Taking out the states with nothing off the diagonal in their row or column (their
+    diagonal entry is an eigenvalue), again and again as each leaves, gives the spectrum
+    numpy finds for the whole matrix (simple eigenvalues here, so that both are accurate)."""
+    rng = np.random.default_rng(seed)
+    jac = rng.normal(size=(n, n)) * 1e3 * (rng.random((n, n)) >= sparsity)
+    np.fill_diagonal(jac, rng.uniform(-2e3, 2e3, n))
+    for i in rng.choice(n, size=rng.integers(0, n + 1), replace=False):
+        off = np.arange(n) != i
+        if rng.random() < 0.5:
+            jac[i, off] = 0.0
+        else:
+            jac[off, i] = 0.0
+    got = list(eigenvalues_of_coupled_part(jac))
+    want = np.linalg.eigvals(jac).astype(complex)
+    assert len(got) == n
+    for w in want:  # as multisets: each matched to the nearest one left
+        k = int(np.argmin([abs(v - w) for v in got]))
+        assert abs(got.pop(k) - w) <= 1e-6 * 2e3 * n
 
 
 def test_the_stable_step_keeps_rk4_inside_its_region_with_a_margin():
