@@ -340,34 +340,41 @@ def eigenvalues_of_coupled_part(jac):
     [-3.0, -1.0, 0.0]
     """
     n = jac.shape[0]
-    keep = np.ones(n, dtype=np.bool_)
+    keep = np.ones(n, dtype=np.int64)
     lam = np.empty(n, dtype=np.complex128)
     n_split = 0
     changed = True
     while changed:
         changed = False
         for i in range(n):
-            if not keep[i]:
+            if keep[i] == 0:
                 continue
             row = False
             col = False
             for j in range(n):
-                if keep[j] and j != i:
+                if keep[j] == 1 and j != i:
                     row = row or jac[i, j] != 0.0
                     col = col or jac[j, i] != 0.0
             if not (row and col):
-                keep[i] = False
+                keep[i] = 0
                 lam[n - 1 - n_split] = jac[i, i]
                 n_split += 1
                 changed = True
     m = n - n_split
     if m > 0:
-        idx = np.nonzero(keep)[0]
+        idx = np.empty(m, dtype=np.int64)
+        k = 0
+        for i in range(n):
+            if keep[i] == 1:
+                idx[k] = i
+                k += 1
         reduced = np.empty((m, m), dtype=np.complex128)
         for a in range(m):
             for b in range(m):
                 reduced[a, b] = jac[idx[a], idx[b]]
-        lam[:m] = np.linalg.eigvals(reduced)
+        coupled = np.linalg.eigvals(reduced)
+        for a in range(m):
+            lam[a] = coupled[a]
     return lam
 
 
