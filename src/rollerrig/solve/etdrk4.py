@@ -336,7 +336,7 @@ def eigenvalues_of_coupled_part(jac):
     --------
     >>> import numpy as np
     >>> jac = np.array([[-1.0, 2.0, 0.0], [0.0, -3.0, 0.0], [5.0, 0.0, 0.0]])
-    >>> sorted(eigenvalues_of_coupled_part(jac).real)
+    >>> [float(v) for v in sorted(eigenvalues_of_coupled_part(jac).real)]
     [-3.0, -1.0, 0.0]
     """
     n = jac.shape[0]
