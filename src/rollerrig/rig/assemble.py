@@ -66,18 +66,6 @@ class ModelInputs:
         return self.protocol.duration
 
 
-def _pad_rows(rows: list[np.ndarray]) -> np.ndarray:
-    """Stack breakpoint rows of unequal length, padding each pair by repeating its last point
-    (to at least ``MIN_TABLE_NODES`` points: a two-node table is a segment's line to the model,
-    ``model.segment_tables``)."""
-    n = max(m.MIN_TABLE_NODES, *(len(r) for r in rows))
-    out = np.empty((len(rows), n))
-    for i, r in enumerate(rows):
-        out[i, : len(r)] = r
-        out[i, len(r) :] = r[-1]
-    return out
-
-
 _REFERENCE_CONTACTS: dict[tuple[float, ...], tuple[float, float, float]] = {}
 """(a, b, c11) of the Hertz contact by (load, the four radii, E, ν), as :func:`_base_parameters`
 found them: a calibration or a study assembles hundreds of variants of one geometry, and the exact
@@ -313,7 +301,7 @@ def assemble(
         )
     reference_load = float(protocol.normal_load[0])
     base, contact_reference = _base_parameters(rig, drives, reference_load)
-    tables = _pad_rows(
+    tables = m.stack_table_rows(
         [
             protocol.torque_time,
             protocol.torque_request,

@@ -358,12 +358,7 @@ def _ramped_tables(tables: np.ndarray, rate_speed: float) -> np.ndarray:
     t, v = vf.ramp_limited_command(tables[m.TAB_SPEED_T], tables[m.TAB_SPEED], rate_speed)
     rows = [tables[i] for i in range(m.N_TABLE_ROWS)]
     rows[m.TAB_SPEED_T], rows[m.TAB_SPEED] = t, v
-    width = max(m.MIN_TABLE_NODES, *(r.size for r in rows))
-    out = np.empty((m.N_TABLE_ROWS, width))
-    for i, r in enumerate(rows):
-        out[i, : r.size] = r
-        out[i, r.size :] = r[-1]
-    return out
+    return m.stack_table_rows(rows)
 
 
 @dataclass(frozen=True)

@@ -739,6 +739,19 @@ MIN_TABLE_NODES = 3
 """Fewest nodes of an assembled input table (the last point repeated where it has fewer)."""
 
 
+def stack_table_rows(rows):
+    """The input tables from breakpoint rows of unequal length: each row padded by repeating
+    its last point, to the longest row's length and at least :data:`MIN_TABLE_NODES` (a
+    two-node table is a segment's line to :func:`_interp_slope`). Plain numpy, not compiled.
+    """
+    n = max(MIN_TABLE_NODES, *(len(r) for r in rows))
+    out = np.empty((len(rows), n))
+    for i, r in enumerate(rows):
+        out[i, : len(r)] = r
+        out[i, len(r) :] = r[-1]
+    return out
+
+
 def segment_tables(tables, t0, t1, out):
     """Each input's line over the segment ``[t0, t1]``, as a two-node table, into ``out``.
 
