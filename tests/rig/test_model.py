@@ -373,11 +373,7 @@ def _input_table(draw):
         times = np.cumsum(gaps) + draw(st.sampled_from([0.0, 0.5]))
         values = draw(st.lists(st.floats(-1e3, 1e3), min_size=n, max_size=n))
         rows.append((times, np.array(values)))
-    width = max(m.MIN_TABLE_NODES, *(t.size for t, _ in rows))
-    tables = np.empty((4, width))
-    for i, (t, v) in enumerate(rows):
-        tables[2 * i, : t.size], tables[2 * i, t.size :] = t, t[-1]
-        tables[2 * i + 1, : v.size], tables[2 * i + 1, v.size :] = v, v[-1]
+    tables = m.stack_table_rows([row for pair in rows for row in pair])
     cuts = np.unique(np.concatenate([[0.0, 12.0], tables[0], tables[2]]))
     j = draw(st.integers(0, cuts.size - 2))
     return tables, float(cuts[j]), float(cuts[j + 1])

@@ -133,6 +133,15 @@ P_ARM_START = P_TAB_DF + N_TAB
 P_MEMO_LOAD, P_MEMO_STIFFNESS = P_ARM_START + 1, P_ARM_START + 2
 N_PARAMS = P_MEMO_STIFFNESS + 1
 
+
+def start_solver_copy(params):
+    """Turn parameter vectors (``params[..., :N_PARAMS]``, a solver's own copy) into a solver's:
+    the arm's loop starts from w = 1 and carries its root, no load's creep stiffness kept yet.
+    Written in place; a segment handed from one solver to another starts afresh with it."""
+    params[..., P_ARM_START] = 1.0
+    params[..., P_MEMO_LOAD] = np.nan
+
+
 WHEEL_MODES = {"ideal_torque": 0.0, "pmsm": 1.0}
 ROLLER_MODES = {
     "ideal_speed": 0.0,
@@ -809,11 +818,7 @@ def _interp_slope(t, tables, row_t, row_y):
         if t_lo <= t <= t_hi and t_hi > t_lo:
             return (tables[row_y, 1] - tables[row_y, 0]) / (t_hi - t_lo)
         return 0.0
-    slope = 0.0
-    for k in range(tables.shape[1] - 1):
-        if tables[row_t, k] <= t < tables[row_t, k + 1]:
-            slope = (tables[row_y, k + 1] - tables[row_y, k]) / (
-                tables[row_t, k + 1] - tables[row_t, k]
-            )
-            break
-    return slope
+    if not tables[row_t, 0] <= t < tables[row_t, tables.shape[1] - 1]:
+        return 0.0
+    lo, hi = _piece(tables, row_t, t)
+    return (tables[row_y, hi] - tables[row_y, lo]) / (tables[row_t, hi] - tables[row_t, lo])

@@ -470,7 +470,7 @@ def _step(t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_
     segment's (an ideal speed source's acceleration lost a third of a step's speed change at
     the end of a ramp, 0.9 N.m of T56 after it, 2026-11-30; ROS34PW2 does the same). The other
     arrays are scratch: ``a``, ``b_``, ``c_`` the stages, ``fa``, ``fb``, ``fc`` their
-    right-hand sides (``fc`` is the error estimate's ``f(t + h, c)``), ``nl`` (5, >= rows)
+    right-hand sides (``fc`` is the error estimate's ``f(t_new, c)``), ``nl`` (5, >= rows)
     the nonlinear parts ``N_u, N_a, N_b, N_c`` on the blocks' rows and ``2 N_b − N_u``.
 
     Every state is first advanced as by RK4 (``N = f`` where ``L = 0``), in one pass per stage

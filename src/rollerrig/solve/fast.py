@@ -21,13 +21,12 @@ import numpy as np
 
 from rollerrig.rig.model import (
     N_STATES,
-    P_ARM_START,
-    P_MEMO_LOAD,
     SEGMENT_NODES,
     X_FRAME_V,
     X_OMEGA,
     X_THETA,
     segment_tables,
+    start_solver_copy,
 )
 from rollerrig.solve import _cache, etdrk4
 from rollerrig.solve import _wdriver as _wd
@@ -65,7 +64,7 @@ FAST_DEFAULTS = {
     "h_max": 0.9e-3,
     "jac_every": 100,
     "exp_step": 1.6e-3,
-    "relinearise": 32,
+    "relinearise": 16,
     "exp_error": 0.01,
 }
 """Default settings of the fast backend: the method (:data:`METHODS`); for ROS34PW2 (also the
@@ -83,15 +82,17 @@ of fourth order, with the stiff mounts and contact exact: at ``exp_step`` 1.6 ms
 0.084 N.m on a pulse to 1 400 N.m at 20 kN and 10 km/h, where the contact's pole reaches
 −12 000 1/s. Re-linearising the contact every 1, 4, 8, 16 or 32 steps gives the same to
 3e-3 N.m (0.0854, 0.0843, 0.0837, 0.0818, 0.0817 N.m on that pulse; 0.0274, 0.0270, 0.0272,
-0.0275, 0.0284 on the 30 s test; never 0.50); every 32 by default. A re-linearisation (two
+0.0275, 0.0284 on the 30 s test; never 0.50); every 16 by default. A re-linearisation (two
 right-hand sides and the block's φ-functions) costs about 0.74 µs, four to five steps' right-hand
-sides: every 16 steps it was 5.6 % of the default solve, every 32 half that. Against every 16
-(Radau at rtol 1e-9, max |ΔT56|): the pulse 0.0855 -> 0.0857 N.m, the macro-slip ramps below at
-5, 10 and 30 km/h 0.076 -> 0.069, 0.084 -> 0.052, 0.047 -> 0.046, a load drop from 20 to
-4.3 kN in 10 ms under 1 400 N.m 0.076 -> 0.077, the 10 km/h wet test 0.0102 -> 0.0106
-(2026-11-30). A segment shorter than two
-intervals (an input's fast transition) re-linearises every step: a load step from 20 to 4.3 kN
-in 10 ms under 1 400 N.m at 10 km/h was off by 2.5 N.m linearised once, 0.076 so. The step
+sides: every 16 steps 5.6 % of the default solve. Every 32 would be 2.4 % faster, and was as
+accurate (Radau at rtol 1e-9, max |ΔT56|) on the pulse (0.0855 -> 0.0857 N.m), the macro-slip
+ramps below at 5, 10 and 30 km/h (0.076 -> 0.069, 0.084 -> 0.052, 0.047 -> 0.046), a load drop
+from 20 to 4.3 kN in 10 ms under 1 400 N.m with the default, dq + flexible-frame and modified
+FASTSIM drives and the 10 km/h wet test, but not with the ideal speed source on that load drop
+(0.29 -> 0.43 N.m, a segment to the fallback), so it is not the default (2026-11-30). A segment
+shorter than two intervals (an input's fast transition) re-linearises every step: a load step
+from 20 to 4.3 kN in 10 ms under 1 400 N.m at 10 km/h was off by 2.5 N.m linearised once, 0.076
+so. The step
 actually taken is shorter where RK4's stability on the rest needs it (1.6 ms is about that
 limit on the default rig, set by the PMSM current loops); ``python benchmarks/run.py`` prints
 these figures.
@@ -376,9 +377,7 @@ def _with_fallback(exp_driver, ros_driver, settings):
             k, k_end, ts = _segment_window(t_out, int(resume[1]), *bounds[s], x, x_out)
             chunk = np.empty((ts.size, x.size))
             stats[3] += 1
-            # The segment from the arm loop's first guess, as ROS34PW2 alone would run it.
-            params[s, P_ARM_START] = 1.0
-            params[s, P_MEMO_LOAD] = np.nan
+            start_solver_copy(params[s])  # as ROS34PW2 alone would start the segment
             status = ros_driver(
                 x, bounds[s : s + 1], params[s : s + 1], tables, ts, rt, at, h_max, jac_every,
                 chunk, stats, t_stop,
@@ -474,9 +473,7 @@ def _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error=None):
 def _segment_arrays(segments):
     bounds = np.array([[s.start, s.end] for s in segments], dtype=float)
     params = np.stack([s.params for s in segments])
-    # The run's own copy: the arm's load loop carries its root from call to call in it.
-    params[:, P_ARM_START] = 1.0
-    params[:, P_MEMO_LOAD] = np.nan  # no load's stiffness computed yet
+    start_solver_copy(params)  # the run's own copy: the arm's loop carries its root in it
     return bounds, params
 
 
