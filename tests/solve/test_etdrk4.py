@@ -20,6 +20,7 @@ from rollerrig.experiment import (
 from rollerrig.rig.assemble import assemble
 from rollerrig.rig.model import DriveConfig
 from rollerrig.rig.parameters import default_rig
+from rollerrig.solve import etdrk4
 from rollerrig.solve.etdrk4 import eigenvalues_of_coupled_part, phi_functions, rk4_stable_step
 from rollerrig.solve.fast import integrate_batch, integrate_experiment
 from rollerrig.solve.reference import integrate_reference
@@ -53,6 +54,30 @@ def test_phi_functions_are_the_blocks_of_the_augmented_exponential(n, scale):
     expected = first_row(z) + first_row(z / 2)[:2]
     for got, want in zip(out, expected, strict=True):
         np.testing.assert_allclose(got, want, rtol=1e-11, atol=1e-13 * max(1.0, np.abs(want).max()))
+
+
+@given(
+    st.lists(st.floats(-1e3, 1e3, allow_subnormal=False), min_size=4, max_size=4),
+    st.floats(-9.0, 2.5),
+)
+@settings(max_examples=300, deadline=None)
+def test_the_2x2_phi_functions_are_the_general_code_s_numbers(entries, log_scale):
+    """The scalar 2 x 2 path takes the loops' operations in their order: the same numbers
+    (compared as values, so up to the sign of a zero), at every scaling from tiny to large."""
+    z = np.zeros((3, 3))
+    z[:2, :2] = np.reshape(entries, (2, 2)) / 1e3 * 10.0**log_scale
+    fast_out = [np.zeros((3, 3)) for _ in range(6)]
+    loop_out = [np.zeros((3, 3)) for _ in range(6)]
+    etdrk4._phi_2x2(z, *fast_out)
+    etdrk4._phi_general(z, 2, *loop_out, np.empty((2, 3, 3)))
+    for got, want in zip(fast_out, loop_out, strict=True):
+        assert np.all(got == want)
+
+
+def test_eigenvalues_of_a_matrix_with_a_non_finite_entry_raise():
+    jac = np.array([[-1.0, 2.0], [3.0, np.nan]])
+    with pytest.raises(np.linalg.LinAlgError, match="non-finite"):
+        eigenvalues_of_coupled_part(jac)
 
 
 @given(st.integers(1, 9), st.integers(0, 2**31 - 1), st.floats(0.0, 0.9))
