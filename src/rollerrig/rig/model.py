@@ -808,6 +808,19 @@ def segment_tables(tables, t0, t1, out):
     return True
 
 
+def lowest_speed_setpoint(tables, t0, t1):
+    """The lowest magnitude [m/s] of the roller's speed set point over ``[t0, t1]``: at the
+    segment's ends and at the breakpoints inside it (the input is piecewise linear)."""
+    v = min(
+        abs(_interp(t0, tables, TAB_SPEED_T, TAB_SPEED)),
+        abs(_interp(t1, tables, TAB_SPEED_T, TAB_SPEED)),
+    )
+    for j in range(tables.shape[1]):
+        if t0 < tables[TAB_SPEED_T, j] < t1:
+            v = min(v, abs(tables[TAB_SPEED, j]))
+    return v
+
+
 def _interp_slope(t, tables, row_t, row_y):
     """Slope of the piecewise-linear input ``(tables[row_t], tables[row_y])`` at ``t``
     (right-continuous; 0 outside); a two-node table (a segment's line, :func:`segment_tables`)

@@ -37,9 +37,11 @@ the adaptive ROS34PW2 W-method (:mod:`rollerrig.solve.ros34pw`).
 
 The step is not adapted to the error; instead each step estimates it (classical RK4's
 embedded third-order estimate, :func:`_step_error`, weighted to the quantity the results are
-judged by) and a segment where a step's estimate exceeds ``err_limit`` goes to the fallback:
-through macro-slip at low speed the fixed step was off by several N.m (a slip reversal past the
-adhesion limit at 5-10 km/h), where ROS34PW2 holds about 0.1 N.m
+judged by) and a segment where a step's estimate exceeds ``err_limit`` fails: the driver
+integrates it again from its start at half the step (up to twice, and only away from
+standstill: :data:`rollerrig.solve.fast.GUARD_HALVINGS`), then hands it to the fallback.
+Through macro-slip at low speed the fixed step was off by several N.m (a slip reversal past
+the adhesion limit at 5-10 km/h), where ROS34PW2 holds about 0.1 N.m
 (:data:`rollerrig.solve.fast.FAST_DEFAULTS` gives the measurements).
 
 Lawson's integrating factor (``e^{hL}`` applied to an RK4 of the transformed equation) was
