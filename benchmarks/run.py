@@ -490,7 +490,13 @@ def main() -> None:
         print(
             f"- solve: {f_steps} ETDRK4 steps at {per_step:.0f} ns each, of which 4 right-hand "
             f"sides at {rhs_ns:.0f} ns (on the default run's states) = {4 * rhs_ns:.0f} ns; "
-            f"the other {per_step - 4 * rhs_ns:.0f} ns are the step's own arithmetic (its three "
+            + (
+                f"the other {per_step - 4 * rhs_ns:.0f} ns are "
+                if per_step > 4 * rhs_ns
+                else "more than the whole step (the right-hand side was timed on its own, in a "
+                "loop, while other load shared this machine's caches); the rest is "
+            )
+            + "the step's own arithmetic (its three "
             "2 x 2 blocks and four passes over the 22 states), the contact block's "
             f"re-linearisation every {FAST_DEFAULTS['relinearise']} steps (2 right-hand sides "
             "and the block's phi-functions) and a stability estimate (a Jacobian and its "

@@ -139,7 +139,8 @@ SWEEP_H_MAX = 2e-3
 the exponential step (``FAST_DEFAULTS["exp_step"]``) and changes nothing: a sweep point is a
 default run (max |ΔT56| 0.03 N.m on the bundled experiment). With ``method="ros34pw2"`` it is
 that method's largest step: about twice the throughput of its default at max |ΔT56| <= 1.2 N.m
-(0.86-1.1 N.m on the bundled experiment)."""
+(0.86-1.1 N.m on the bundled experiment), but 2.4 N.m with a roller shaft 3.3 times stiffer
+(``python benchmarks/run.py``'s sweep, 2026-11-30)."""
 
 
 def default_tolerances(
