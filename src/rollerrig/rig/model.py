@@ -808,13 +808,15 @@ def segment_tables(tables, t0, t1, out):
     return True
 
 
+def speed_setpoint(t, tables):
+    """The roller's speed set point [m/s] at ``t`` [s] (the input tables' ramp)."""
+    return _interp(t, tables, TAB_SPEED_T, TAB_SPEED)
+
+
 def lowest_speed_setpoint(tables, t0, t1):
     """The lowest magnitude [m/s] of the roller's speed set point over ``[t0, t1]``: at the
     segment's ends and at the breakpoints inside it (the input is piecewise linear)."""
-    v = min(
-        abs(_interp(t0, tables, TAB_SPEED_T, TAB_SPEED)),
-        abs(_interp(t1, tables, TAB_SPEED_T, TAB_SPEED)),
-    )
+    v = min(abs(speed_setpoint(t0, tables)), abs(speed_setpoint(t1, tables)))
     for j in range(tables.shape[1]):
         if t0 < tables[TAB_SPEED_T, j] < t1:
             v = min(v, abs(tables[TAB_SPEED, j]))

@@ -27,6 +27,7 @@ from rollerrig.rig.model import (
     X_THETA,
     lowest_speed_setpoint,
     segment_tables,
+    speed_setpoint,
     start_solver_copy,
 )
 from rollerrig.solve import _cache, etdrk4
@@ -324,6 +325,24 @@ regularisation make the right-hand side stiff in a way the start-of-segment stab
 estimate does not see (2026-11-30)."""
 
 
+STOP_SPEED = 0.01
+"""A segment whose roller speed set point falls to below this [m/s] at its end (a ramp down to
+standstill) goes to the fallback. As the open-loop V/f drive's supply frequency goes to 0 its
+torque's gradient in the rotor's speed grows without bound (the slip is relative to the
+synchronous speed), in the last milliseconds of the ramp, where the stability estimate at the
+segment's start does not look: decelerated from 3 km/h to standstill under 200 N.m and held,
+ETDRK4 was off by 5.4 N.m (at 0.4 ms 6.4, re-linearised every step 5.4) with the step-error
+guard silent, ROS34PW2 by 0.11 (2026-11-30)."""
+
+
+@_cache.njit
+def _stops(tables, t0, t1):
+    """True where the roller's speed set point falls to below :data:`STOP_SPEED` at ``t1``."""
+    v0 = abs(speed_setpoint(t0, tables))
+    v1 = abs(speed_setpoint(t1, tables))
+    return v1 < STOP_SPEED and v1 < v0
+
+
 # A segment ETDRK4 leaves to its fallback ends the compiled driver with this status and the
 # place to resume from; the Python wrapper (_with_fallback) runs ROS34PW2 on that segment and
 # resumes. So ROS34PW2's driver is compiled only when a run first needs it, not as a callee of
@@ -362,7 +381,9 @@ def _integrate_exp(
         m = k_end - k
         xs = np.empty((m + 1, x.shape[0]))
         seg_tables = local if segment_tables(tables, t0, t1, local) else tables
-        steps = _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
+        steps = -1
+        if not _stops(tables, t0, t1):
+            steps = _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
         done = -1
         halvings = 0
         most = GUARD_HALVINGS if lowest_speed_setpoint(tables, t0, t1) >= HALVING_MIN_SPEED else 0
