@@ -3,7 +3,8 @@
 The default method is the exponential integrator ETDRK4 (:mod:`rollerrig.solve.etdrk4`): the
 stator mounts and the contact exact, classical RK4 on the rest, a fixed step per protocol
 segment set by the explicit part's stability, the adaptive ROS34PW2 W-method
-(:mod:`rollerrig.solve.ros34pw`) as the fallback of a segment it cannot take (near standstill);
+(:mod:`rollerrig.solve.ros34pw`) as the fallback of a segment it cannot take (near standstill,
+a ramp down to standstill, or where its step-error guard trips even at a quarter step);
 ``method="ros34pw2"`` runs ROS34PW2 throughout. One compiled call runs a whole experiment
 (every protocol segment, with its own friction parameters), except that a segment ETDRK4
 leaves to its fallback returns to Python, which runs ROS34PW2's driver on it and resumes (so
@@ -318,11 +319,12 @@ HALVING_MIN_SPEED = 1.0
 """Lowest roller speed set point [m/s] (3.6 km/h, 20 times the creep's and the bearings'
 regularisation speeds at the roller's tread) over a segment for the halving above. Through
 a stop (the roller ramped from 5 km/h to standstill after a slip reversal) the guard passed
-ETDRK4 at a quarter step with T56 off by 43 N.m, and it does not converge there as the step
-shrinks (0.8, 0.4, 0.2 ms fixed: 216, 5.6, 16 N.m; 0.1 ms: 0.83), where ROS34PW2 at its
-defaults is off by 0.6 N.m: near standstill the bearings' tanh friction and the creep's
-regularisation make the right-hand side stiff in a way the start-of-segment stability
-estimate does not see (2026-11-30)."""
+ETDRK4 at a halved step with T56 off by 43 N.m, and a shorter fixed step did not converge
+there (0.8, 0.4, 0.2 ms: 216, 5.6, 16 N.m; 0.1 ms: 0.83), where ROS34PW2 at its defaults is
+off by 0.6 N.m. That ramp now goes to the fallback before any attempt (:data:`STOP_SPEED`, its
+cause); the halving stays off near standstill, where the bearings' tanh friction and the
+creep's regularisation can stiffen the right-hand side within a segment as well, unseen by
+the stability estimate at its start (not measured apart from the stop, 2026-11-30)."""
 
 
 STOP_SPEED = 0.01
@@ -397,7 +399,8 @@ def _integrate_exp(
             # The step-error guard tripped (or the state left the finite numbers): the
             # segment again from its start at half the step, before the fallback.
             halvings += 1
-            stats[4] += 1
+            if halvings == 1:
+                stats[4] += 1  # segments halved, once each
             _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
             steps *= 2
         if done != 0:
@@ -635,7 +638,9 @@ def integrate_experiment(
         ETDRK4 re-linearises the contact block every this many steps [-].
     exp_error : float, optional
         ETDRK4's step-error guard [N.m]: a segment where one step's error estimate of T56
-        exceeds it goes to ROS34PW2 (``fallback_segments``); 0 turns the guard off.
+        exceeds it is integrated again at half the step (``halved_segments``; twice at most,
+        away from standstill: :data:`GUARD_HALVINGS`), then by ROS34PW2
+        (``fallback_segments``); 0 turns the guard off.
 
     Returns
     -------
@@ -646,7 +651,8 @@ def integrate_experiment(
     stats : dict
         ``method``, ``accepted_steps``, ``rejected_steps``, ``jacobians`` (linearisations
         with ETDRK4), ``status`` (0: success), ``t_stop`` (the simulated time reached [s]),
-        with ETDRK4 ``fallback_segments`` (segments ROS34PW2 took) and, on a failure,
+        with ETDRK4 ``fallback_segments`` (segments ROS34PW2 took) and ``halved_segments``
+        (segments integrated again at a shorter step) and, on a failure,
         ``reason`` (:func:`failure_reason`).
     """
     integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error)
