@@ -507,7 +507,10 @@ def eigenvalues_of_coupled_part(jac):
             unused.ctypes, 1, unused.ctypes, 1,
         )  # fmt: skip
         if info != 0:
-            raise np.linalg.LinAlgError("LAPACK dgeev: the QR algorithm did not converge")
+            raise np.linalg.LinAlgError(
+                "LAPACK dgeev failed (its QR algorithm did not converge, or scipy's LAPACK "
+                "could not be loaded)"
+            )
         for a in range(m):
             lam[a] = complex(wr[a], wi[a])
     return lam
@@ -754,9 +757,10 @@ def _segment(
     increasing), the last row ``t_out[-1] == t1`` being the end state; ``ns`` static blocks,
     then the dynamic ones, in the workspace ``ws`` (:func:`workspace`).
 
-    Returns a status: 0 done; -1 the segment needs the fallback (the state became non-finite,
-    or a step's error estimate exceeded ``err_limit``: :func:`_step_error`). ``counts`` gets
-    the steps (0) and the linearisations (2) added.
+    Returns a status: 0 done; -1 the segment failed (the state became non-finite, or a step's
+    error estimate exceeded ``err_limit``: :func:`_step_error`), which the driver retries at a
+    shorter step or hands to the fallback. ``counts`` gets the steps (0) and the
+    linearisations (2) added, a failed attempt's too.
 
     Compiled without reference counting (``_nrt=False``; it allocates nothing): with it, the
     arrays handed to the inlined helpers and the rows of the workspace took and gave back

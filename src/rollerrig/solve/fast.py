@@ -4,7 +4,8 @@ The default method is the exponential integrator ETDRK4 (:mod:`rollerrig.solve.e
 stator mounts and the contact exact, classical RK4 on the rest, a fixed step per protocol
 segment set by the explicit part's stability, the adaptive ROS34PW2 W-method
 (:mod:`rollerrig.solve.ros34pw`) as the fallback of a segment it cannot take (near standstill,
-a ramp down to standstill, or where its step-error guard trips even at a quarter step);
+a ramp down to standstill, or where its step-error guard trips: at a quarter step, or near
+standstill at the full step);
 ``method="ros34pw2"`` runs ROS34PW2 throughout. One compiled call runs a whole experiment
 (every protocol segment, with its own friction parameters), except that a segment ETDRK4
 leaves to its fallback returns to Python, which runs ROS34PW2's driver on it and resumes (so
