@@ -158,3 +158,44 @@ def test_the_replay_helper_copies_a_short_trace(tmp_path):
     rows = (tmp_path / "replay-example.csv").read_text().splitlines()
     assert rows[-1].startswith("0.100") and toml.exists()
     shutil.rmtree(tmp_path)
+
+
+STOP_PROTOCOL = """
+[experiment]
+name = "stop"
+normal_load_kN = 4.3
+friction = "dry"
+roller_speed_kmh = 3
+[[step]]
+action = "hold"
+duration_s = 0.2
+[[step]]
+action = "set_roller_speed"
+to_kmh = 0
+duration_s = 0.3
+[[step]]
+action = "hold"
+duration_s = 0.1
+"""
+
+
+def test_simulate_says_when_a_stop_will_compile_the_fallback(tmp_path, runner, monkeypatch):
+    """A ramp down to standstill goes to ETDRK4's fallback (ROS34PW2), whose driver compiles
+    the first time a run needs it: the run says so first, and only then (a protocol without
+    a stop, or ROS34PW2 already compiled, gets no note)."""
+    from rollerrig.solve import fast
+
+    protocol = tmp_path / "stop.toml"
+    protocol.write_text(STOP_PROTOCOL, encoding="utf-8")
+    monkeypatch.setattr(fast, "is_compiled", lambda dq=False, method=None: method != "ros34pw2")
+    args = ["simulate", "--out", str(tmp_path / "out"), "--no-figure", "-e", str(protocol)]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "fallback (ROS34PW2): compiling it" in " ".join(result.output.split())
+    result = runner.invoke(app, ["simulate", "--out", str(tmp_path / "out2"), "--no-figure"])
+    assert result.exit_code == 0, result.output
+    assert "compiling it" not in result.output
+    monkeypatch.setattr(fast, "is_compiled", lambda dq=False, method=None: True)
+    result = runner.invoke(app, [*args[:2], str(tmp_path / "out3"), *args[3:]])
+    assert result.exit_code == 0, result.output
+    assert "compiling it" not in result.output

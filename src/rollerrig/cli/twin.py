@@ -316,7 +316,7 @@ def simulate(
         with _progress() as bar:
             duration = sim.protocol.duration
             if solver is Solver.fast:
-                _say_compile_stage(dq=drives.roller == "induction_dq")
+                _say_compile_stage(dq=drives.roller == "induction_dq", inputs=sim.inputs)
             task = bar.add_task("simulating", total=duration, info="solving")
             ds = sim.solve(  # the results without xarray: written, drawn and summarised
                 progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s")
@@ -374,15 +374,22 @@ def _progress():
     return progress()
 
 
-def _say_compile_stage(*, dq: bool = False) -> None:
+def _say_compile_stage(*, dq: bool = False, inputs=None) -> None:
     """Say when the fast solver will compile (first run after an install or an upgrade) rather
-    than load from its cache, so that a silent half minute is not taken for a hang."""
-    from rollerrig.solve.fast import is_compiled
+    than load from its cache, so that a silent half minute is not taken for a hang; with the
+    experiment's ``inputs``, also when a segment of it needs the fallback, ROS34PW2, whose
+    driver compiles the first time a run needs it."""
+    from rollerrig.solve.fast import is_compiled, needs_fallback
 
     if not is_compiled(dq=dq):
         note(
             "compiling the fast solver for this installation (once: about half a minute on 2 "
             "cores); later runs load it from the cache"
+        )
+    if inputs is not None and not is_compiled(dq=dq, method="ros34pw2") and needs_fallback(inputs):
+        note(
+            "this protocol ramps the roller down to standstill, which the fast solver leaves "
+            "to its fallback (ROS34PW2): compiling it for this installation (once: 10-20 s)"
         )
 
 

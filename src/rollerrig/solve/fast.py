@@ -56,6 +56,7 @@ __all__ = [
     "integrate_batch",
     "integrate_experiment",
     "is_compiled",
+    "needs_fallback",
 ]
 
 METHODS = ("etdrk4", "ros34pw2")
@@ -344,6 +345,14 @@ def _stops(tables, t0, t1):
     v0 = abs(speed_setpoint(t0, tables))
     v1 = abs(speed_setpoint(t1, tables))
     return v1 < STOP_SPEED and v1 < v0
+
+
+def needs_fallback(inputs) -> bool:
+    """True when ETDRK4 will hand a segment of this experiment to its fallback, ROS34PW2,
+    whatever the solution: a ramp of the roller down to standstill (:data:`STOP_SPEED`). The
+    step-error guard's trips are known only by running. The CLI says so before ROS34PW2's
+    first compilation (about 10 s once per install), which would otherwise stall a run."""
+    return any(_stops.py_func(inputs.tables, s.start, s.end) for s in inputs.segments)
 
 
 # A segment ETDRK4 leaves to its fallback ends the compiled driver with this status and the
