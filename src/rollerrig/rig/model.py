@@ -808,7 +808,7 @@ def segment_tables(tables, t0, t1, out):
     return True
 
 
-def speed_setpoint(t, tables):
+def roller_setpoint_at(t, tables):
     """The roller's speed set point [m/s] at ``t`` [s] (the input tables' ramp)."""
     return _interp(t, tables, TAB_SPEED_T, TAB_SPEED)
 
@@ -816,7 +816,7 @@ def speed_setpoint(t, tables):
 def lowest_speed_setpoint(tables, t0, t1):
     """The lowest magnitude [m/s] of the roller's speed set point over ``[t0, t1]``: at the
     segment's ends and at the breakpoints inside it (the input is piecewise linear)."""
-    v = min(abs(speed_setpoint(t0, tables)), abs(speed_setpoint(t1, tables)))
+    v = min(abs(roller_setpoint_at(t0, tables)), abs(roller_setpoint_at(t1, tables)))
     for j in range(tables.shape[1]):
         if t0 < tables[TAB_SPEED_T, j] < t1:
             v = min(v, abs(tables[TAB_SPEED, j]))

@@ -44,7 +44,7 @@ _KERNELS = (
     _model._interp,
     _model._interp_slope,
     _model.segment_tables,
-    _model.speed_setpoint,
+    _model.roller_setpoint_at,
     _model.lowest_speed_setpoint,
     _model._bearing_torques,
     _model._creep_stiffness_at,

@@ -28,8 +28,8 @@ from rollerrig.rig.model import (
     X_OMEGA,
     X_THETA,
     lowest_speed_setpoint,
+    roller_setpoint_at,
     segment_tables,
-    speed_setpoint,
     start_solver_copy,
 )
 from rollerrig.solve import _cache, etdrk4
@@ -342,8 +342,8 @@ guard silent, ROS34PW2 by 0.11 (2026-11-30)."""
 @_cache.njit
 def _stops(tables, t0, t1):
     """True where the roller's speed set point falls to below :data:`STOP_SPEED` at ``t1``."""
-    v0 = abs(speed_setpoint(t0, tables))
-    v1 = abs(speed_setpoint(t1, tables))
+    v0 = abs(roller_setpoint_at(t0, tables))
+    v1 = abs(roller_setpoint_at(t1, tables))
     return v1 < STOP_SPEED and v1 < v0
 
 
@@ -398,13 +398,14 @@ def _integrate_exp(
             steps = _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
         done = -1
         halvings = 0
-        most = GUARD_HALVINGS if lowest_speed_setpoint(tables, t0, t1) >= HALVING_MIN_SPEED else 0
         while steps > 0:
             done = _exp_segment(
                 t0, t1, steps, ts, params[s], seg_tables, relinearise, n_static, ws, xs, stats,
                 err_weights, err_limit,
             )  # fmt: skip
-            if done == 0 or halvings == most:
+            if done == 0 or halvings == GUARD_HALVINGS:
+                break
+            if lowest_speed_setpoint(tables, t0, t1) < HALVING_MIN_SPEED:
                 break
             # The step-error guard tripped (or the state left the finite numbers): the
             # segment again from its start at half the step, before the fallback.
