@@ -180,7 +180,7 @@ duration_s = 0.1
 
 
 def test_simulate_says_when_a_stop_will_compile_the_fallback(tmp_path, runner, monkeypatch):
-    """A ramp down to standstill goes to ETDRK4's fallback (ROS34PW2), whose driver compiles
+    """A ramp to standstill goes to ETDRK4's fallback (ROS34PW2), whose driver compiles
     the first time a run needs it: the run says so first, and only then (a protocol without
     a stop, or ROS34PW2 already compiled, gets no note)."""
     from rollerrig.solve import fast

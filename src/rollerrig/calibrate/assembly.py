@@ -349,10 +349,16 @@ def build_calibration(
 def _solver_settings(model) -> dict[str, Any]:
     from rollerrig.solve.fast import FAST_DEFAULTS, SWEEP_H_MAX
 
+    rtol = FAST_DEFAULTS["rtol"] if model.rtol is None else model.rtol
     return {
-        "backend": "fast (ROS34PW2 W-method, numba), integrate_batch",
+        "backend": (
+            f"fast ({FAST_DEFAULTS['method'].upper()} with the ROS34PW2 W-method as its "
+            "fallback, numba), integrate_batch"
+        ),
+        "exp_step [s]": FAST_DEFAULTS["exp_step"],
         "h_max [s]": FAST_DEFAULTS["h_max"] if model.h_max is None else model.h_max,
-        "rtol": FAST_DEFAULTS["rtol"] if model.rtol is None else model.rtol,
+        "rtol": rtol,
+        "fallback rtol": min(rtol, FAST_DEFAULTS["fallback_rtol"]),
         "search_h_max [s]": SWEEP_H_MAX,
     }
 

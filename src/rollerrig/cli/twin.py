@@ -388,7 +388,7 @@ def _say_compile_stage(*, dq: bool = False, inputs=None) -> None:
         )
     if inputs is not None and not is_compiled(dq=dq, method="ros34pw2") and needs_fallback(inputs):
         note(
-            "this protocol ramps the roller down to standstill, which the fast solver leaves "
+            "this protocol ramps the roller to or from standstill, which the fast solver leaves "
             "to its fallback (ROS34PW2): compiling it for this installation (once: 10-20 s)"
         )
 

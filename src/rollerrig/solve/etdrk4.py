@@ -32,9 +32,10 @@ the segment and keeps the explicit part (the forward-difference Jacobian at the 
 without the blocks) inside RK4's stability region with a margin (:func:`rk4_stable_step`). The
 output between steps is the cubic Hermite interpolant of the step's ends and derivatives. A
 segment on which the stable step would be very short (near standstill, where the bearing
-friction's regularisation is stiff), which ends non-finite, or which ramps the roller down to
-standstill (the V/f drive's stiffness at zero frequency, which the estimate at the segment's
-start does not see: :data:`rollerrig.solve.fast.STOP_SPEED`), is integrated by the fallback,
+friction's regularisation is stiff), which ends non-finite, or which ramps the roller to or
+from standstill (the V/f drive's stiffness at zero frequency, which the estimate at the
+segment's start does not see: :data:`rollerrig.solve.fast.STOP_SPEED`), is integrated by the
+fallback,
 the adaptive ROS34PW2 W-method (:mod:`rollerrig.solve.ros34pw`).
 
 The step is not adapted to the error; instead each step estimates it (classical RK4's
