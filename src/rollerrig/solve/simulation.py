@@ -207,10 +207,11 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         t = self.times
         start = time.perf_counter()
         if self.solver == "fast":
-            from rollerrig.solve.fast import FAST_DEFAULTS, integrate_experiment
+            from rollerrig.solve.fast import FAST_DEFAULTS, default_exp_step, integrate_experiment
 
             x, stats = integrate_experiment(self.inputs, t, rtol=self.rtol, progress=progress)
             settings = dict(FAST_DEFAULTS) | ({"rtol": self.rtol} if self.rtol else {})
+            settings["exp_step"] = default_exp_step(self.inputs)
             if stats.get("method") == "etdrk4":
                 name = "ETDRK4 exponential integrator (numba), ROS34PW2 W-method fallback"
             else:
