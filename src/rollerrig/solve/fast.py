@@ -102,8 +102,9 @@ ROS34PW2's were chosen for max |ΔT56| <= 0.1 N.m: on the bundled 30 s dry exper
 output 0.075 N.m against Radau at rtol 1e-10 (``python benchmarks/run.py``), an error set by
 ``h_max`` (third order: 2, 1, 0.9, 0.8 ms give 0.86, 0.103, 0.075, 0.053 N.m), the phase drift
 of the lightly damped 13.8 Hz shaft mode ringing for seconds after a torque release. ETDRK4 is
-of fourth order, with the stiff mounts and contact exact: at ``exp_step`` 1.6 ms max |ΔT56| is
-0.027 N.m on that experiment (1.33 and 1 ms: 0.014 and 0.005 N.m; the issue's target 0.05),
+of fourth order, with the stiff mounts and contact exact: at ``exp_step`` 1.6 ms (0.4 ms with
+the ideal speed source: :data:`IDEAL_SPEED_EXP_STEP`) max |ΔT56| is 0.027 N.m on that
+experiment (1.33 and 1 ms: 0.014 and 0.005 N.m; the issue's target 0.05),
 0.084 N.m on a pulse to 1 400 N.m at 20 kN and 10 km/h, where the contact's pole reaches
 −12 000 1/s. Re-linearising the contact every 1, 4, 8, 16 or 32 steps gives the same to
 3e-3 N.m (0.0854, 0.0843, 0.0837, 0.0818, 0.0817 N.m on that pulse; 0.0274, 0.0270, 0.0272,
