@@ -84,6 +84,37 @@ def test_requests_within_the_current_limit_do_not_warn(rig):
         assemble(rig, _protocol(torque_nm=720.0), DriveConfig(roller="servo"))
 
 
+# --- a shaft so stiff that its torque is round-off ----------------------------------------------
+
+
+def test_a_roller_shaft_of_1e20_nm_per_rad_warns_that_t56_is_round_off(rig):
+    """The twist of a 1e20 N.m/rad shaft is below the angles' round-off: the warning names the
+    resolution, and a run shows it (T56 hundreds of times the contact's torque, which the
+    default shaft's T56 follows)."""
+    from rollerrig.solve.fast import integrate_experiment
+    from rollerrig.solve.simulation import output_times
+
+    stiff = rig.with_overrides({"stiffness.roller_shaft": 1e20})
+    with pytest.warns(DomainWarning) as record:
+        inputs = assemble(stiff, _protocol())
+    (message,) = [str(r.message) for r in record if "stiffness.roller_shaft" in str(r.message)]
+    resolution = float(re.search(r"torque only to ([\d.e+-]+) N\.m", message).group(1))
+    # 30 km/h for 1 s: the angles reach 24 rad, whose spacing is 3.6e-15 rad
+    assert resolution == pytest.approx(1e20 * np.spacing(30 / 3.6 / 0.348), rel=2e-3)
+    assert "a stiffness below 2.81e+13 N.m/rad keeps them within 0.1 N.m" in message
+    t = output_times(inputs.protocol.duration, 250.0)
+    x, _ = integrate_experiment(inputs, t)
+    t56 = 1e20 * (x[:, m.X_THETA + 4] - x[:, m.X_THETA + 5])
+    assert np.max(np.abs(t56)) > 100 * 500.0  # the request is 500 N.m
+
+
+def test_the_rig_s_shafts_and_a_1e12_nm_per_rad_roller_shaft_do_not_warn(rig):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DomainWarning)
+        assemble(rig, _protocol(torque_nm=720.0))
+        assemble(rig.with_overrides({"stiffness.roller_shaft": 1e12}), _protocol(torque_nm=720.0))
+
+
 # --- no steady free rolling: a clear error with the range of a solution ------------------------
 
 

@@ -288,8 +288,9 @@ def assemble(
     -----
     DomainWarning
         If the protocol requests more wheel torque than the rig's PMSM can deliver (the air-gap
-        torque at its current limit), or the Hertz contact at the initial load is outside its
-        domain (:func:`rollerrig.contact.hertz.hertz_contact`).
+        torque at its current limit), the Hertz contact at the initial load is outside its
+        domain (:func:`rollerrig.contact.hertz.hertz_contact`), or a shaft is so stiff that its
+        torque is round-off (:data:`SHAFT_TORQUE_RESOLUTION`).
     """
     drives = drives or m.DriveConfig()
     friction_sets = dict(friction_sets or POLACH_PARAMETER_SETS)
@@ -337,6 +338,7 @@ def assemble(
             segments[0].params, tables, friction_condition=segments[0].friction_condition
         )
     _warn_torque_beyond_drive(rig, drives, protocol)
+    _warn_unresolved_shaft_torque(rig, protocol)
     return ModelInputs(
         rig=rig,
         drives=drives,
@@ -454,6 +456,45 @@ def _warn_torque_beyond_drive(rig: RigParameters, drives: m.DriveConfig, protoco
         DomainWarning,
         stacklevel=3,
     )
+
+
+SHAFT_TORQUE_RESOLUTION = 0.1
+"""Coarsest resolution [N.m] of a shaft's torque, k (θi − θj), that :func:`assemble` accepts
+without a :class:`DomainWarning`. The angles are absolute states (hundreds of rad after a
+test), so a shaft's twist is known to their round-off only, and its torque to the stiffness
+times that: 5e-9 N.m on the rig's roller shaft after 30 s at 30 km/h, 0.1 N.m at 1e12 N.m/rad,
+and at 1e20 N.m/rad T56 read 7e5 N.m where the contact's torque was 800 (2026-11-30)."""
+
+
+def _warn_unresolved_shaft_torque(rig: RigParameters, protocol: Protocol):
+    """DomainWarning when a shaft between rotating bodies is so stiff that the angles' round-off
+    makes its torque coarser than :data:`SHAFT_TORQUE_RESOLUTION`.
+
+    The largest angle is bounded by the protocol's top roller speed over the smaller of the
+    two radii, for the protocol's duration (the bodies turn at about the same tread speed).
+    """
+    radius = min(rig.geometry.wheel_radius_x, rig.geometry.roller_radius_x)
+    top_speed = float(np.max(np.abs(np.asarray(protocol.roller_speed, dtype=float))))
+    angle = max(top_speed / radius * float(protocol.duration), 1.0)
+    step = float(np.spacing(angle))  # the angles' round-off there [rad]
+    shafts = {
+        "stiffness.wheel_shaft": rig.stiffness.wheel_shaft,
+        "stiffness.wheel_rubber": rig.stiffness.wheel_rubber,
+        "stiffness.roller_shaft": rig.stiffness.roller_shaft,
+    }
+    for key, k in shafts.items():
+        resolution = float(k) * step
+        if resolution > SHAFT_TORQUE_RESOLUTION:
+            warnings.warn(
+                f"{key} = {float(k):.4g} N.m/rad: the twin resolves that shaft's torque only to "
+                f"{resolution:.3g} N.m (its angles reach about {angle:.3g} rad in protocol "
+                f"{protocol.name!r}, known to {step:.3g} rad); torques from its twist (T56 for the "
+                f"roller shaft) are round-off beyond that: a stiffness below "
+                f"{SHAFT_TORQUE_RESOLUTION / step:.3g} N.m/rad keeps them within "
+                f"{SHAFT_TORQUE_RESOLUTION:g} N.m",
+                DomainWarning,
+                stacklevel=3,
+            )
 
 
 def steady_free_rolling_state(
