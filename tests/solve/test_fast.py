@@ -77,3 +77,26 @@ def test_the_step_loop_and_the_model_are_compiled_without_reference_counting():
     assert segment.targetoptions.get("_nrt") is False
     assert rig_rhs.targetoptions.get("_nrt") is False
     assert prepare.targetoptions.get("_nrt", True) is not False  # it allocates (eigenvalues)
+
+
+@pytest.mark.parametrize(
+    ("t0", "t1", "goes"),
+    [
+        (0.0, 1.0, False),  # a hold at 3 m/s
+        (1.0, 2.0, True),  # a ramp down to standstill
+        (2.0, 3.0, True),  # a ramp up from it
+        (0.5, 3.5, True),  # through standstill at a breakpoint inside (a replayed set point)
+        (4.0, 5.0, False),  # a hold at standstill: the V/f supply is off, no such stiffness
+        (5.0, 6.0, True),  # from standstill to 0.005 m/s, below STOP_SPEED all along
+    ],
+)
+def test_ramps_to_from_and_through_standstill_go_to_the_fallback(t0, t1, goes):
+    from rollerrig.rig import model as m
+    from rollerrig.solve.fast import _stops
+
+    tables = np.zeros((m.N_TABLE_ROWS, 7))
+    tables[m.TAB_SPEED_T] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
+    tables[m.TAB_SPEED] = [3.0, 3.0, 0.0, 3.0, 0.0, 0.0, 0.005]
+    tables[m.TAB_TORQUE_T] = tables[m.TAB_LOAD_T] = tables[m.TAB_SPEED_T]
+    assert bool(_stops(tables, t0, t1)) is goes
+    assert bool(_stops.py_func(tables, t0, t1)) is goes  # needs_fallback's

@@ -816,11 +816,23 @@ def roller_setpoint_at(t, tables):
 def lowest_speed_setpoint(tables, t0, t1):
     """The lowest magnitude [m/s] of the roller's speed set point over ``[t0, t1]``: at the
     segment's ends and at the breakpoints inside it (the input is piecewise linear)."""
-    v = min(abs(roller_setpoint_at(t0, tables)), abs(roller_setpoint_at(t1, tables)))
+    return speed_setpoint_bounds(tables, t0, t1)[0]
+
+
+def speed_setpoint_bounds(tables, t0, t1):
+    """The lowest and the highest magnitude [m/s] of the roller's speed set point over
+    ``[t0, t1]``, at the segment's ends and the breakpoints inside it (the input is piecewise
+    linear; the set point is never negative)."""
+    v0 = abs(roller_setpoint_at(t0, tables))
+    v1 = abs(roller_setpoint_at(t1, tables))
+    lo = min(v0, v1)
+    hi = max(v0, v1)
     for j in range(tables.shape[1]):
         if t0 < tables[TAB_SPEED_T, j] < t1:
-            v = min(v, abs(tables[TAB_SPEED, j]))
-    return v
+            v = abs(tables[TAB_SPEED, j])
+            lo = min(lo, v)
+            hi = max(hi, v)
+    return lo, hi
 
 
 def _interp_slope(t, tables, row_t, row_y):

@@ -46,6 +46,7 @@ _KERNELS = (
     _model.segment_tables,
     _model.roller_setpoint_at,
     _model.lowest_speed_setpoint,
+    _model.speed_setpoint_bounds,
     _model._bearing_torques,
     _model._creep_stiffness_at,
     _model._table_ratio,

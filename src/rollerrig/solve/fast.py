@@ -28,8 +28,8 @@ from rollerrig.rig.model import (
     X_OMEGA,
     X_THETA,
     lowest_speed_setpoint,
-    roller_setpoint_at,
     segment_tables,
+    speed_setpoint_bounds,
     start_solver_copy,
 )
 from rollerrig.solve import _cache, etdrk4
@@ -354,8 +354,8 @@ the stability estimate at its start (not measured apart from the stop, 2026-11-3
 
 
 STOP_SPEED = 0.01
-"""A segment that ramps the roller's speed set point to or from below this [m/s] (a ramp down
-to standstill, or up from it) goes to the fallback. As the open-loop V/f drive's supply
+"""A segment that ramps the roller's speed set point to, from or through below this [m/s] (a
+ramp down to standstill, or up from it) goes to the fallback. As the open-loop V/f drive's supply
 frequency goes to 0 its torque's gradient in the rotor's speed grows without bound (the slip
 is relative to the synchronous speed), at the ramp's end or start, where the stability
 estimate at the segment's start does not look (at a set point of 0 the supply is off and
@@ -373,10 +373,10 @@ there is no such gradient). Measured against Radau at rtol 1e-11 (2026-11-30):
 @_cache.njit
 def _stops(tables, t0, t1):
     """True where the roller's speed set point ramps to or from below :data:`STOP_SPEED`
-    between ``t0`` and ``t1``."""
-    v0 = abs(roller_setpoint_at(t0, tables))
-    v1 = abs(roller_setpoint_at(t1, tables))
-    return v0 != v1 and min(v0, v1) < STOP_SPEED
+    between ``t0`` and ``t1`` (also through a breakpoint inside, as a replayed recording's
+    set point may)."""
+    lo, hi = speed_setpoint_bounds(tables, t0, t1)
+    return lo < STOP_SPEED and hi > lo
 
 
 def needs_fallback(inputs) -> bool:
