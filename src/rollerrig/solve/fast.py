@@ -560,15 +560,19 @@ IDEAL_SPEED_EXP_STEP = 0.4e-3
 """ETDRK4's largest step [s] with the ideal speed source as the roller drive (``"ideal_speed"``),
 where ``exp_step`` is not given. With the roller's motor held on its set point, the ringing of
 the roller and the wheel after a release is hardly damped (on the bundled 30 s test T56 swings
-by ±1 100 N.m and takes about 6 s to halve; the open-loop drive's slip damps it within a
-second), and RK4's phase error in it, per step about a millionth of a radian, adds up over the
-thousands of steps until it has died out, unseen by the step-error guard, whose estimates
-(local, summed over the run: 2.1 N.m with this drive, 1.8 with the default) do not tell a
-damped error from one that stays. Max |ΔT56| against Radau at rtol 1e-10 (2026-11-30) at
-1.6 / 0.8 / 0.4 ms: the bundled test 0.41 / 0.038 / 0.0030 N.m; the hard case (20 kN,
-10 km/h, 1 400 N.m) 0.66 / 0.22 / 0.045; the macro-slip ramp at 5 km/h 0.41 / 0.096 / 0.017
-(ROS34PW2 at its defaults: 0.072, 0.008 and 4.4). At 0.4 ms the bundled test costs about four
-times the default drive's solve, less than ROS34PW2's."""
+by ±1 100 N.m, still ±350 N.m 6 s later; the open-loop drive's slip damps it within a second),
+and an error of its phase grows as long as it rings: after 5.5 s the speeds of wheel and roller
+were off by 1e-4 rad/s and the shaft's twist by 8e-6 rad, a frequency error of about 4e-6 of
+the 3.8 Hz ringing, some 200 times what classical RK4 alone would make of that mode at 1.6 ms
+(so, presumably, of the splitting between the contact block, exact, and the shaft's twist,
+explicit; not shown). The step-error guard does not see it: its estimates are local (summed
+over the run 2.1 N.m with this drive, 1.8 with the default drive, whose error is 15 times
+smaller), and a local estimate does not tell a damped error from one that stays. Max |ΔT56|
+against Radau at rtol 1e-10 (2026-11-30) at 1.6 / 0.8 / 0.4 ms: the bundled test 0.41 / 0.038
+/ 0.0030 N.m; the hard case (20 kN, 10 km/h, 1 400 N.m) 0.66 / 0.22 / 0.045; the macro-slip
+ramp at 5 km/h 0.41 / 0.096 / 0.017 (ROS34PW2 at its defaults: 0.072, 0.008 and 4.4). At
+0.4 ms the bundled test costs about four times the default drive's solve, less than
+ROS34PW2's."""
 
 
 def default_exp_step(inputs) -> float:
