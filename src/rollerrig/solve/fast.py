@@ -563,11 +563,12 @@ the roller and the wheel after a release is hardly damped (on the bundled 30 s t
 by ±1 100 N.m, still ±350 N.m 6 s later; the open-loop drive's slip damps it within a second),
 and an error of its phase grows as long as it rings: after 5.5 s the speeds of wheel and roller
 were off by 1e-4 rad/s and the shaft's twist by 8e-6 rad, a frequency error of about 4e-6 of
-the 3.8 Hz ringing, some 200 times what classical RK4 alone would make of that mode at 1.6 ms
-(so, presumably, of the splitting between the contact block, exact, and the shaft's twist,
-explicit; not shown). The step-error guard does not see it: its estimates are local (summed
-over the run 2.1 N.m with this drive, 1.8 with the default drive, whose error is 15 times
-smaller), and a local estimate does not tell a damped error from one that stays. Max |ΔT56|
+the 3.8 Hz ringing, some 200 times what classical RK4 alone would make of that mode at 1.6 ms.
+Its cause is not found (the roller's twist θ5 taken into the contact block, exact, made it
+worse: 0.99 N.m with three segments halved). The step-error guard does not see it: its
+estimates are local (summed over the run 2.1 N.m with this drive, 1.8 with the default drive,
+whose error is 15 times smaller), and a local estimate does not tell a damped error from one
+that stays. Max |ΔT56|
 against Radau at rtol 1e-10 (2026-11-30) at 1.6 / 0.8 / 0.4 ms: the bundled test 0.41 / 0.038
 / 0.0030 N.m; the hard case (20 kN, 10 km/h, 1 400 N.m) 0.66 / 0.22 / 0.045; the macro-slip
 ramp at 5 km/h 0.41 / 0.096 / 0.017 (ROS34PW2 at its defaults: 0.072, 0.008 and 4.4). At
