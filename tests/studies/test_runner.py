@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from rollerrig._validation import ParameterError
+from rollerrig._warnings import DomainWarning
 from rollerrig.studies import StudyFileError, load_study, run_study
 from rollerrig.studies import runner as runner_module
 from rollerrig.studies.runner import check_scheduler_address
@@ -153,7 +154,24 @@ def test_a_run_without_a_value_of_any_metric_is_not_ok():
                              "experiment has no torque release")  # fmt: skip
     assert "; settling_time: " in reason
     assert "check this point's values" in reason and "\n" not in reason
+    assert "; warning: stiffness.roller_shaft = 1e+300 N.m/rad: the twin resolves" in reason
     assert np.isfinite(ds.release_overshoot.values[0]) and ds.reason.values[0] == ""
+
+
+def test_an_ok_point_keeps_its_setup_s_domain_warnings_as_its_reason():
+    # 1e20 N.m/rad: the shaft's torque is round-off (a DomainWarning of assemble), yet the run
+    # gives numbers, so the point is "ok": its row says what it was warned of (the console
+    # alone had said it), and the warning still reaches the caller.
+    with pytest.warns(DomainWarning, match="resolves that shaft's torque only to"):
+        ds = _run_local(
+            "[grid]\n'stiffness.roller_shaft' = { values = [43.5e3, 1e20], unit = 'N.m/rad' }\n"
+            "[outputs]\nmetrics = ['release_overshoot']\n"
+        )
+    assert list(ds.status.values) == ["ok", "ok"]
+    assert ds.reason.values[0] == ""
+    reason = str(ds.reason.values[1])
+    assert reason.startswith("warning: stiffness.roller_shaft = 1e+20 N.m/rad: the twin resolves")
+    assert reason.count("warning: ") == 1 and "\n" not in reason
 
 
 def test_a_metric_undefined_on_a_run_that_shows_the_experiment_leaves_the_point_ok():

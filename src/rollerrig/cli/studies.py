@@ -132,7 +132,11 @@ def _results(
             attrs = {k: v for k, v in ds[key].attrs.items() if k == "nan_meaning"}
             columns[key] = (values, ds[key].attrs.get("units") or "1", key, attrs)
     columns["status"] = (status, None, "point status")
-    columns["reason"] = (ds.reason.values.astype(str), None, "why a point did not succeed")
+    columns["reason"] = (
+        ds.reason.values.astype(str),
+        None,
+        "why a point did not succeed; an ok one's warnings",
+    )
     for m in metrics:
         a = ds[m].attrs
         columns[m] = (

@@ -46,6 +46,7 @@ import shutil
 import statistics
 import tempfile
 import time
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -55,6 +56,7 @@ import numpy as np
 
 from rollerrig._optional import require
 from rollerrig._validation import ParameterError
+from rollerrig._warnings import DomainWarning
 from rollerrig.experiment import Protocol, load_protocol
 from rollerrig.output.names import safe_file_name
 from rollerrig.rig.parameters import RigParameters, default_rig, load_rig
@@ -231,7 +233,9 @@ def run_batch(
     Returns
     -------
     list of (index, status, reason, metrics)
-        One per point, in the order given.
+        One per point, in the order given. A point that ran ``ok`` has as its reason the
+        domain warnings its setup gave (``"warning: ..."``: a shaft too stiff to resolve, a
+        torque beyond the drive), else ``""``; they are issued again here, for a console.
     """
     from rollerrig.rig.assemble import assemble
     from rollerrig.solve.fast import SWEEP_H_MAX, failure_reason, integrate_batch
@@ -242,6 +246,7 @@ def run_batch(
 
         numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
     rows: dict[int, tuple] = {}
+    warned: dict[int, str] = {}
     serial: dict[int, float] = {}
     cpu: dict[int, float] = {}
     ready, inputs = [], []
@@ -249,14 +254,17 @@ def run_batch(
     for index, values in points:
         started, cpu_started = time.perf_counter(), time.thread_time()
         try:
-            r, p, d = point_setup(rig, protocol, values)
-            inp = assemble(r, p, d)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", DomainWarning)
+                r, p, d = point_setup(rig, protocol, values)
+                inp = assemble(r, p, d)
         except ParameterError as exc:
             rows[index] = (index, "invalid parameters", _one_line(exc), {})
             continue
         finally:
             serial[index] = time.perf_counter() - started
             cpu[index] = time.thread_time() - cpu_started
+        warned[index] = _warned(caught)
         point_protocol = p
         ready.append(index)
         inputs.append(inp)
@@ -286,7 +294,7 @@ def run_batch(
             finally:
                 serial[index] += time.perf_counter() - started
                 cpu[index] += time.thread_time() - cpu_started
-            rows[index] = _measured(index, values, missed)
+            rows[index] = _measured(index, values, missed, warned.get(index, ""))
     if timing is not None:
         timing["serial_s"] = [serial[index] for index, _ in points]
         timing["serial_cpu_s"] = [cpu[index] for index, _ in points]
@@ -294,8 +302,20 @@ def run_batch(
     return [rows[index] for index, _ in points]
 
 
+def _warned(caught) -> str:
+    """The domain warnings of a point's setup as its reason (``"warning: ..."``, each once),
+    every caught warning issued again (a console prints it; nothing is swallowed)."""
+    texts: list[str] = []
+    for w in caught:
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        text = _one_line(w.message)
+        if issubclass(w.category, DomainWarning) and text not in texts:
+            texts.append(text)
+    return "; ".join(f"warning: {t}" for t in texts)
+
+
 def _measured(
-    index: int, values: dict[str, float], missed: bool
+    index: int, values: dict[str, float], missed: bool, warned: str = ""
 ) -> tuple[int, str, str, dict[str, float]]:
     """The row of a point whose run finished: ``ok``, unless ``missed``: no metric has a value
     and the run does not show the experiment
@@ -309,7 +329,7 @@ def _measured(
     rest) leaves the point ``ok``: that is a result, and ``study run`` notes it.
     """
     if not missed or not values:
-        return (index, "ok", "", values)
+        return (index, "ok", warned, values)
     by_meaning: dict[str, list[str]] = {}
     for name in values:
         by_meaning.setdefault(METRICS[name].nan_meaning, []).append(name)
@@ -320,6 +340,8 @@ def _measured(
         "show the experiment: check this point's values (a stiffness, gain or inertia far "
         "from the rig's, a value near zero)"
     )
+    if warned:  # what the point's setup already said of its values
+        reason = f"{reason}; {warned}"
     return (index, "solver failed", _one_line(reason), values)
 
 
