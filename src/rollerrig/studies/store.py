@@ -4,7 +4,8 @@ A store is a zarr group (a folder, ``<study>.zarr``) holding, along one dimensio
 
 - one array per varied quantity, named by its key (SI values, or names), attribute ``units``;
 - ``label``: the point's short label; ``status``: ``"ok"``, ``"solver failed"``,
-  ``"invalid parameters"`` or ``"pending"`` (not run yet); ``reason``: why, for the others;
+  ``"invalid parameters"`` or ``"pending"`` (not run yet); ``reason``: why, for the others,
+  and for an ``ok`` point the domain warnings of its setup (``"warning: ..."``), if any;
 - one array per metric (:mod:`rollerrig.studies.metrics`), NaN where the status is not ``ok``
   or the metric is undefined for that point (attribute ``nan_meaning``);
 
