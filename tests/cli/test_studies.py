@@ -133,6 +133,22 @@ def test_a_point_the_twin_cannot_resolve_is_failed_with_its_reason_not_ok(tmp_pa
     assert csv[2].endswith(",") and "nan" not in csv[2].lower()  # the value's cell empty
 
 
+def test_an_ok_point_with_a_domain_warning_is_named_after_the_table(tmp_path, runner):
+    # 1e20 N.m/rad: the run gives numbers (round-off), the point is ok; the warning came before
+    # the table, and a note after it names the point again.
+    study = tmp_path / "stiff.toml"
+    study.write_text("name = 'stiff'\nexperiment = 'release-test'\n[grid]\n"
+                     "'stiffness.roller_shaft' = { values = [43.5e3, 1e20], unit = 'N.m/rad' }\n"
+                     "[outputs]\nmetrics = ['release_overshoot']\n",
+                     encoding="utf-8")  # fmt: skip
+    result = _run_local(runner, study, tmp_path / "out", terminal_width=400)
+    assert result.exit_code == 0, result.output
+    said = ("note: stiffness.roller_shaft = 1e+20 N.m/rad: ok, with warning: "
+            "stiffness.roller_shaft = 1e+20 N.m/rad: the twin resolves")  # fmt: skip
+    assert said in result.output
+    assert "43500 N.m/rad: ok, with" not in result.output
+
+
 def test_a_metric_without_a_value_at_points_that_ran_says_why_on_the_console(tmp_path, runner):
     # At 1e150 N.m/rad the CoA metrics still have numbers (the point is ok) but the overshoot
     # has none: the table shows '-', and why was only in the JSON. (At 1e300, since ETDRK4's

@@ -18,6 +18,7 @@ from rollerrig.studies import runner as runner_module
 from rollerrig.studies.runner import check_scheduler_address
 from rollerrig.studies.store import StoreError, open_study
 from rollerrig.studies.studyfile import study_from_toml_string
+from rollerrig.studies.summary import warned_points
 
 # The bundled studies before they became study files: rollerrig.studies.run_study(name,
 # default_rig()) at commit 7f6d47a (the sweeps of issue 9), overshoot of T56/r_r and of F_x.
@@ -172,6 +173,12 @@ def test_an_ok_point_keeps_its_setup_s_domain_warnings_as_its_reason():
     reason = str(ds.reason.values[1])
     assert reason.startswith("warning: stiffness.roller_shaft = 1e+20 N.m/rad: the twin resolves")
     assert reason.count("warning: ") == 1 and "\n" not in reason
+    assert [(w["point"], w["reason"]) for w in warned_points(ds)] == [(1, reason)]
+    from rollerrig.report.study_display import _footnote  # the study figures' subtitle
+
+    assert _footnote(ds, ds.release_overshoot.values).endswith(
+        "; 1 with a domain warning (the CSV's reason)"
+    )
 
 
 def test_a_metric_undefined_on_a_run_that_shows_the_experiment_leaves_the_point_ok():

@@ -79,7 +79,7 @@ def _results(
     """Print the table and write CSV, JSON and figures of a study's dataset into ``stage``."""
     from rollerrig.output import save_figure, write_json, write_table
     from rollerrig.report.studies import study_figures
-    from rollerrig.studies.summary import failures, metric_summary
+    from rollerrig.studies.summary import failures, metric_summary, warned_points
 
     metrics = json.loads(ds.attrs["metrics"])
     parameters = json.loads(ds.attrs["parameters"])
@@ -122,6 +122,11 @@ def _results(
         note(f"{row['label']}: {row['status']}: {row['reason']}")
     if len(failed) > 10:
         note(f"... and {len(failed) - 10} more points that did not succeed (see the CSV)")
+    warned = warned_points(ds)
+    for row in warned[:10]:
+        note(f"{row['label']}: ok, with {row['reason']}")
+    if len(warned) > 10:
+        note(f"... and {len(warned) - 10} more points with a domain warning (see the CSV)")
 
     columns = {"label": (ds.label.values.astype(str), None, "point label")}
     for key in parameters:

@@ -28,6 +28,7 @@ from rollerrig.studies.summary import (
     missing_counts,
     study_name,
     text_values,
+    warned_points,
 )
 from rollerrig.units import apply_factor, si_factor
 
@@ -206,8 +207,13 @@ def _title(ds, what: str, width: int = 80) -> str:
 def _footnote(ds, y: np.ndarray) -> str:
     bad = ~np.isfinite(y)
     if not bad.any():
-        return f"all {y.size} points have a value"
-    return f"{int(bad.sum())} of {y.size} points without a value ({_counts_text(ds, y)})"
+        text = f"all {y.size} points have a value"
+    else:
+        text = f"{int(bad.sum())} of {y.size} points without a value ({_counts_text(ds, y)})"
+    warned = len(warned_points(ds))
+    if warned:  # their values stand, but the twin was used outside its domain there
+        text += f"; {warned} with a domain warning (the CSV's reason)"
+    return text
 
 
 def _cell_status(ds, y: np.ndarray) -> np.ndarray:

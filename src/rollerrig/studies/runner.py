@@ -82,6 +82,7 @@ from rollerrig.studies.metrics import (
 )
 from rollerrig.studies.store import StudyStore, remove_store
 from rollerrig.studies.studyfile import StudySpec, load_study
+from rollerrig.studies.summary import WARNING_PREFIX
 
 __all__ = [
     "EXECUTORS",
@@ -311,7 +312,7 @@ def _warned(caught) -> str:
         text = _one_line(w.message)
         if issubclass(w.category, DomainWarning) and text not in texts:
             texts.append(text)
-    return "; ".join(f"warning: {t}" for t in texts)
+    return "; ".join(f"{WARNING_PREFIX}{t}" for t in texts)
 
 
 def _measured(

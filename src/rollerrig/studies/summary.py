@@ -55,12 +55,15 @@ __all__ = [
     "study_name",
     "text_values",
     "varied_parameters",
+    "warned_points",
 ]
 
 STATUS_OK = "ok"
 """Status of a point that ran and was measured."""
 STATUS_PENDING = "pending"
 """Status of a point not run yet (an interrupted study)."""
+WARNING_PREFIX = "warning: "
+"""Start of an ``ok`` point's reason that holds the domain warnings of its setup."""
 
 PERCENTILES = (5.0, 50.0, 95.0)
 """Percentiles [%] of a metric that :func:`metric_summary` gives for a sampled design."""
@@ -321,6 +324,19 @@ def metric_summary(ds, metrics: Sequence[str] | None = None) -> list[dict]:
             row.update({f"p{q:g}": _python(p) for q, p in zip(PERCENTILES, pct, strict=True)})
         rows.append(row)
     return rows
+
+
+def warned_points(ds) -> list[dict]:
+    """The points that ran ``ok`` with a domain warning of their setup (a shaft too stiff to
+    resolve, a torque beyond the drive): ``point``, ``label`` and ``reason``, in point order."""
+    status = text_values(ds, "status")
+    reason = text_values(ds, "reason")
+    labels = text_values(ds, "label")
+    return [
+        {"point": int(i), "label": labels[i], "reason": reason[i]}
+        for i in range(status.size)
+        if status[i] == STATUS_OK and reason[i].startswith(WARNING_PREFIX)
+    ]
 
 
 def failures(ds) -> list[dict]:
