@@ -348,10 +348,13 @@ def apply_factor(values, factor: float):
     """
     scalar = np.ndim(values) == 0 and not isinstance(values, np.ndarray)
     inverse = round(1.0 / factor, 6)
-    if factor < 1.0 and abs(1.0 / factor - inverse) <= 1e-12 * inverse:
-        out = np.divide(values, inverse)
-    else:
-        out = np.multiply(values, factor)
+    # A value beyond the float range becomes inf, which the validators refuse by name; numpy's
+    # overflow warning beside that error said nothing more (1e308 kN.m/rad).
+    with np.errstate(over="ignore"):
+        if factor < 1.0 and abs(1.0 / factor - inverse) <= 1e-12 * inverse:
+            out = np.divide(values, inverse)
+        else:
+            out = np.multiply(values, factor)
     return float(out) if scalar else out
 
 
