@@ -827,11 +827,14 @@ def speed_setpoint_bounds(tables, t0, t1):
     v1 = abs(roller_setpoint_at(t1, tables))
     lo = min(v0, v1)
     hi = max(v0, v1)
-    for j in range(tables.shape[1]):
-        if t0 < tables[TAB_SPEED_T, j] < t1:
-            v = abs(tables[TAB_SPEED, j])
-            lo = min(lo, v)
-            hi = max(hi, v)
+    # Only the breakpoints inside, found by bisection: a replayed recording's table has a node
+    # per sample and thousands of segments, and every segment asks (fast._stops).
+    j = np.searchsorted(tables[TAB_SPEED_T], t0, side="right")
+    while j < tables.shape[1] and tables[TAB_SPEED_T, j] < t1:
+        v = abs(tables[TAB_SPEED, j])
+        lo = min(lo, v)
+        hi = max(hi, v)
+        j += 1
     return lo, hi
 
 
