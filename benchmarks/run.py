@@ -365,7 +365,7 @@ def main() -> None:
             "cpu": cpu,
             "steps": float(np.mean([s["accepted_steps"] for s in stats])),
             "fallback": sum(s.get("fallback_segments", 0) > 0 for s in stats),
-            "halved": sum(s.get("halved_segments", 0) > 0 for s in stats),
+            "shortened": sum(s.get("shortened_segments", 0) > 0 for s in stats),
         }
         sweeps.append((label, seconds, len(variants) / seconds, ok, err, detail))
 
@@ -427,8 +427,8 @@ def main() -> None:
             f"{threads} threads: {seconds:.3f} s = {rate:.1f} experiment-runs/s "
             f"({ok} succeeded; max|dT56| {err:.3f} N.m over the default variant and the "
             f"stiffest shaft's {n_lag}; {detail['cpu'] * 1e3:.1f} ms of CPU a run, "
-            f"{detail['steps']:.0f} steps on average, {detail['halved']} with segments at a "
-            f"halved step, {detail['fallback']} with segments by the fallback)"
+            f"{detail['steps']:.0f} steps on average, {detail['shortened']} with segments at a "
+            f"shorter step, {detail['fallback']} with segments by the fallback)"
         )
     print(
         f"sensor relation at 4 kHz output (truth channels): max |F_x r_r - T56 - J5 a5 - R05| "
@@ -520,7 +520,7 @@ def main() -> None:
             f"(the default run {f_time * 1e3:.1f} ms: the variants' stiffer shafts take "
             f"{detail['steps']:.0f} steps on average against {f_steps}: the step-error guard "
             "in N.m of T56 is stricter on a stiffer shaft's twist, and the ringing after each "
-            f"release is integrated again at half the step on {detail['halved']} of "
+            f"release is integrated again at a shorter step on {detail['shortened']} of "
             f"{len(variants)}, by the fallback on {detail['fallback']}); 200 runs/s "
             f"on {threads} threads needs {threads / 200 * 1e3:.0f} ms a run and thread; the "
             "sweep is timed in wall time, and other load on this machine takes threads away"

@@ -337,7 +337,7 @@ def macro_slip_at_5_kmh():
 
 def test_the_error_guard_sends_macro_slip_at_low_speed_to_ros34pw2(macro_slip_at_5_kmh):
     """ETDRK4's fixed step alone is off by 5.5 N.m here (measured); each step's error estimate
-    of T56 sends the segments past the adhesion limit to a halved step and, where that is not
+    of T56 sends the segments past the adhesion limit to a shorter step and, where that is not
     enough, to ROS34PW2 (measured 0.058 N.m, ROS34PW2 alone 0.098), while the validated cases
     above keep every segment (fallback 0)."""
     inputs, t, ref = macro_slip_at_5_kmh
@@ -437,12 +437,14 @@ def test_a_stiffer_explicit_part_shortens_the_step_or_goes_to_the_fallback(stiff
 
 
 @pytest.mark.slow
-def test_the_guard_halves_the_step_of_a_stiffer_shaft_s_ringing_before_the_fallback():
+def test_the_guard_shortens_the_step_of_a_stiffer_shaft_s_ringing_before_the_fallback():
     """A roller shaft 3.3 times stiffer (143.5 kN.m/rad, a 25 Hz mode) with a 0.24 s motor lag,
     a pulse to 1 000 N.m at 30 km/h: the ringing after the release trips the step-error guard
-    at 1.6 ms, and that segment is integrated again at 0.8 ms, not by ROS34PW2 (on the bundled
-    30 s test with this shaft ROS34PW2 was off by 0.31 N.m there). Measured against Radau
-    1e-10: 0.014 N.m, unguarded 0.138."""
+    at 1.6 ms, and that segment is integrated again at a shorter step (1.28 ms, the first of
+    GUARD_STEP_DIVISORS), not by ROS34PW2 (on the bundled 30 s test with this shaft ROS34PW2
+    was off by 0.31 N.m there). Measured against Radau 1e-10: 0.056 N.m (0.014 when the step
+    was halved), unguarded 0.138: the bound tells the two apart, at the accuracy the guard
+    gives unshortened segments elsewhere (0.061 N.m on the sweep's variants)."""
     rig = default_rig().with_overrides({"stiffness.roller_shaft": 143.5e3})
     pulse = Protocol.from_steps(
         "pulse",
@@ -455,10 +457,10 @@ def test_the_guard_halves_the_step_of_a_stiffer_shaft_s_ringing_before_the_fallb
     ref, _ = integrate_reference(inputs, t, rtol=1e-10)
     x, stats = integrate_experiment(inputs, t)
     assert stats["status"] == 0 and stats["fallback_segments"] == 0
-    assert stats["halved_segments"] >= 1
-    assert np.max(np.abs(_t56(inputs, x) - _t56(inputs, ref))) <= 0.03
+    assert stats["shortened_segments"] >= 1
+    assert np.max(np.abs(_t56(inputs, x) - _t56(inputs, ref))) <= 0.08
     unguarded, stats = integrate_experiment(inputs, t, exp_error=0.0)
-    assert stats["halved_segments"] == 0
+    assert stats["shortened_segments"] == 0
     assert np.max(np.abs(_t56(inputs, unguarded) - _t56(inputs, ref))) > 0.1
 
 

@@ -132,11 +132,14 @@ then decelerated to standstill 15 N.m; re-linearising every step did not cure it
 5 km/h). Each step therefore estimates its own error in T56, classical RK4's embedded
 third-order estimate on the roller shaft's twist (``etdrk4._step_error``, no extra
 right-hand side), and a segment where one step's estimate exceeds ``exp_error`` is
-integrated again from its start at half the step, up to twice (:data:`GUARD_HALVINGS`, away
-from standstill), then goes to ROS34PW2, whose error is controlled.
+integrated again from its start at a shorter step, 1.25, 2 and 4 times shorter in turn
+(:data:`GUARD_STEP_DIVISORS`, away from standstill), then goes to ROS34PW2, whose error is
+controlled.
 
 Measured (2026-11-30, max |ΔT56| against Radau at rtol 1e-9/1e-10), with 0.007 N.m and the
-halvings:
+step halved on a trip (the shorter steps of :data:`GUARD_STEP_DIVISORS` since 2026-12-01: the
+same on 16 of 17 hostile protocols; on the macro-slip ramp at 7.5 km/h 0.056 where halving
+gave 0.034):
 
 - the default test, the hard case and the other validated cases keep every segment at the
   full step (the largest estimates: 0.0023 N.m on the default test, 0.0018 on the hard case);
@@ -146,9 +149,10 @@ halvings:
   0.029-0.064 N.m, every segment at the full step;
 - a sweep of the roller shaft's stiffness (43.5-143.5 kN.m/rad) and the motor's lag
   (0-0.36 s) on the bundled test, 24 variants: at most 0.061 N.m, 14 with the ringing after
-  each release at half the step, none by ROS34PW2. With 0.01 N.m and no halving (before),
-  the stiffest shafts' ringing went to ROS34PW2, off by 0.25-0.31 N.m at its defaults, and a
-  variant the guard passed was off by 0.105 N.m;
+  each release at half the step, none by ROS34PW2 (at 1.25 times shorter, 2026-12-01: 17
+  variants, 28 % fewer steps on each, still at most 0.061 N.m). With 0.01 N.m and no halving
+  (before), the stiffest shafts' ringing went to ROS34PW2, off by 0.25-0.31 N.m at its
+  defaults, and a variant the guard passed was off by 0.105 N.m;
 - the slip reversal followed by a stop to standstill (tests/solve/test_simulation.py):
   0.60 N.m, two segments by ROS34PW2 at its default tolerance; 0.13 with three segments by
   ROS34PW2 at ``fallback_rtol`` 1e-7, the default since. That is no defect of ETDRK4:
@@ -333,22 +337,28 @@ def _integrate(
 _exp_workspace, _exp_prepare, _exp_segment = etdrk4.bind(RIG, "rig")
 
 
-GUARD_HALVINGS = 2
+GUARD_STEP_DIVISORS = (1.25, 2.0, 4.0)
 """A segment whose ETDRK4 steps trip the step-error guard is integrated again from its start at
-half the step, up to this many times, before it goes to the fallback (ROS34PW2). On a roller
-shaft 3.3 times stiffer (143.5 kN.m/rad) the ringing after each release tripped the guard at
-1.6 ms; ROS34PW2 at its default tolerance was then off by 0.31 N.m against Radau 1e-10, ETDRK4
-at 0.8 ms by 0.007 N.m, in fewer right-hand sides (2026-11-30). Only where the roller's speed
-set point stays at or above :data:`HALVING_MIN_SPEED` throughout the segment."""
+its step divided by these, in turn, before it goes to the fallback (ROS34PW2). Only where the
+roller's speed set point stays at or above :data:`RETRY_MIN_SPEED` throughout the segment.
 
-HALVING_MIN_SPEED = 1.0
+On a roller shaft 3.3 times stiffer (143.5 kN.m/rad) the ringing after each release tripped the
+guard at 1.6 ms; ROS34PW2 at its default tolerance was then off by 0.31 N.m against Radau
+1e-10, ETDRK4 at 0.8 ms by 0.007 N.m, in fewer right-hand sides (2026-11-30). The first rung,
+1.28 ms, is enough there: on the 24 variants of the sweep in ``benchmarks/run.py`` (43.5-143.5
+kN.m/rad, motor lags 0-0.36 s) the 17 variants whose ringing tripped the guard took 21 500
+steps at 1.25 where halving took 29 700, at most 0.050 N.m off (halving: 0.0073); every
+variant at most 0.061 N.m (2026-12-01). The last rung is the 0.4 ms that two halvings
+reached before."""
+
+RETRY_MIN_SPEED = 1.0
 """Lowest roller speed set point [m/s] (3.6 km/h, 20 times the creep's and the bearings'
-regularisation speeds at the roller's tread) over a segment for the halving above. Through
-a stop (the roller ramped from 5 km/h to standstill after a slip reversal) the guard passed
-ETDRK4 at a halved step with T56 off by 43 N.m, and a shorter fixed step did not converge
+regularisation speeds at the roller's tread) over a segment for the shorter steps above.
+Through a stop (the roller ramped from 5 km/h to standstill after a slip reversal) the guard
+passed ETDRK4 at a halved step with T56 off by 43 N.m, and a shorter fixed step did not converge
 there (0.8, 0.4, 0.2 ms: 216, 5.6, 16 N.m; 0.1 ms: 0.83), where ROS34PW2 at its defaults is
 off by 0.6 N.m. That ramp now goes to the fallback before any attempt (:data:`STOP_SPEED`, its
-cause); the halving stays off near standstill, where the bearings' tanh friction and the
+cause); the shorter steps stay off near standstill, where the bearings' tanh friction and the
 creep's regularisation can stiffen the right-hand side within a segment as well, unseen by
 the stability estimate at its start (not measured apart from the stop, 2026-11-30)."""
 
@@ -429,23 +439,23 @@ def _integrate_exp(
         if not _stops(tables, t0, t1):
             steps = _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
         done = -1
-        halvings = 0
+        retries = 0
         while steps > 0:
             done = _exp_segment(
                 t0, t1, steps, ts, params[s], seg_tables, relinearise, n_static, ws, xs, stats,
                 err_weights, err_limit,
             )  # fmt: skip
-            if done == 0 or halvings == GUARD_HALVINGS:
+            if done == 0 or retries == len(GUARD_STEP_DIVISORS):
                 break
-            if lowest_speed_setpoint(tables, t0, t1) < HALVING_MIN_SPEED:
+            if lowest_speed_setpoint(tables, t0, t1) < RETRY_MIN_SPEED:
                 break
             # The step-error guard tripped (or the state left the finite numbers): the
-            # segment again from its start at half the step, before the fallback.
-            halvings += 1
-            if halvings == 1:
-                stats[4] += 1  # segments halved, once each
-            _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
-            steps *= 2
+            # segment again from its start at a shorter step, before the fallback.
+            if retries == 0:
+                stats[4] += 1  # segments at a shorter step, once each
+            steps = _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
+            steps = int(np.ceil(steps * GUARD_STEP_DIVISORS[retries]))
+            retries += 1
         if done != 0:
             resume[0] = s
             resume[1] = k
@@ -633,7 +643,7 @@ def _stats(counts, status, t_stop, method="ros34pw2") -> dict:
     }
     if method == "etdrk4":
         out["fallback_segments"] = int(counts[3])
-        out["halved_segments"] = int(counts[4])
+        out["shortened_segments"] = int(counts[4])
     if status != STATUS_OK:
         out["reason"] = failure_reason(status, float(t_stop))
     return out
@@ -718,8 +728,9 @@ def integrate_experiment(
         ETDRK4 re-linearises the contact block every this many steps [-].
     exp_error : float, optional
         ETDRK4's step-error guard [N.m]: a segment where one step's error estimate of T56
-        exceeds it is integrated again at half the step (``halved_segments``; twice at most,
-        away from standstill: :data:`GUARD_HALVINGS`), then by ROS34PW2
+        exceeds it is integrated again at a shorter step (``shortened_segments``; 1.25, 2 and
+        4 times shorter in turn, away from standstill: :data:`GUARD_STEP_DIVISORS`), then by
+        ROS34PW2
         (``fallback_segments``); 0 turns the guard off.
 
     Returns
@@ -731,7 +742,7 @@ def integrate_experiment(
     stats : dict
         ``method``, ``accepted_steps``, ``rejected_steps``, ``jacobians`` (linearisations
         with ETDRK4), ``status`` (0: success), ``t_stop`` (the simulated time reached [s]),
-        with ETDRK4 ``fallback_segments`` (segments ROS34PW2 took) and ``halved_segments``
+        with ETDRK4 ``fallback_segments`` (segments ROS34PW2 took) and ``shortened_segments``
         (segments integrated again at a shorter step) and, on a failure,
         ``reason`` (:func:`failure_reason`).
     """
