@@ -44,6 +44,7 @@ __all__ = [
     "labview_waveform_tdms",
     "matlab_struct_mat",
     "picoscope_csv",
+    "twincat_scope_csv",
     "without_file_section",
 ]
 
@@ -1009,6 +1010,155 @@ def catman_ascii(
             "day-first timestamps",
             "Latin-1",
             "N·m",
+        ],
+    }
+    return VendorFile(path, cmap, facts)
+
+
+def twincat_scope_csv(
+    folder: str | Path,
+    rec: Recording | None = None,
+    *,
+    name: str = "twincat-scope.csv",
+    separator: str = "\t",
+    decimal: str = ",",
+    shared_time: bool = False,
+    eof: bool = True,
+    slow_every: int = 10,
+    start: np.datetime64 = START,
+) -> VendorFile:
+    """TwinCAT 3 Scope View "Export > CSV" of a scope recording of the rig's PLC symbols.
+
+    Reproduces: a file header of ``key<sep>value`` rows (``Name``, ``File``, ``Starttime of
+    export`` / ``Endtime of export`` as a Windows FILETIME and the local date in German words),
+    two blank lines; the channels' header, one row per property (``Name``, ``SymbolComment``,
+    ``Data-Type``, ``SampleTime[ms]``, ..., ``Unit`` as ``Nm (Torque)``, ``Unit ScaleFactor``,
+    ``Unit Offset``), a property's key above every time column; a blank line; the samples, the
+    time columns in ms. By default each channel has its own time column; ``shared_time`` (the
+    export's "exclude double timestamps") gives the channels of one sample time one. The air
+    spring's pressure is sampled ``slow_every`` times slower and exported last, so the rows
+    below its last sample are short; ``decimal`` the exporting PC's locale (``0,2``), ``eof``
+    a last line ``EOF``; LF line ends, UTF-8.
+
+    Source: the layout of TwinCAT Scope 3.4 exports (TwinCAT 3.1.4024) in the test data of
+    pytcs (github.com/CagtayFabry/pytcs, tests/data: default, ExcludeDoubleTimestamp,
+    Seperator and ContainEOF variants); the rows and keys here are written anew, no file of it
+    is copied.
+
+    Map: no ``[file]`` or ``[time]`` section (each channel's own time column); torque [N.m],
+    speeds [rpm]. The pressure is not in the map: a channel of another rate the map leaves out.
+    """
+    rec = rec if rec is not None else bench_recording()
+    path = Path(folder) / name
+    names = {
+        "torque": "fTorqueT56",
+        "wheel_speed": "fSpeedWheel",
+        "roller_speed": "fSpeedRoller",
+        "air_spring_pressure": "fPressureAirSpring",
+    }
+    present = _present(rec, names)
+    fast = [x for x in present if x[0] != "air_spring_pressure"]
+    slow = [x for x in present if x[0] == "air_spring_pressure"]
+    t_ms = (rec.time - rec.time[0]) * 1e3
+    dt_ms = float(np.median(np.diff(t_ms)))
+    unit_words = {"Nm": "Nm (Torque)", "1/min": "1/min (Rotational speed)", "bar": "bar (Pressure)"}
+    symbols = {c: f"MAIN.fbRig.{col}" for c, col, _ in present}
+
+    # groups: (sample time [ms], times [ms], [(canonical, column, unit)])
+    groups = []
+    if shared_time:
+        groups.append((dt_ms, t_ms, fast))
+    else:
+        groups += [(dt_ms, t_ms, [x]) for x in fast]
+    if slow:
+        groups.append((dt_ms * slow_every, t_ms[::slow_every], slow))
+
+    def num(v: float) -> str:
+        text = f"{v:.6f}".rstrip("0").rstrip(".")
+        return text.replace(".", decimal) if decimal != "." else text
+
+    def row(key: str, value) -> list[str]:
+        cells = []
+        for sample_time, _, chans in groups:
+            cells.append(key)
+            cells += [value(c, col, u, sample_time) for c, col, u in chans]
+        return cells
+
+    properties = [
+        ("SymbolComment", lambda *a: ""),
+        ("Data-Type", lambda *a: "REAL64"),
+        ("SampleTime[ms]", lambda c, col, u, st: num(st)),
+        ("VariableSize", lambda *a: "8"),
+        ("SymbolBased", lambda *a: "True"),
+        ("IndexGroup", lambda *a: "16448"),
+        ("IndexOffset", lambda *a: "385048"),
+        ("SymbolName", lambda c, *a: symbols[c]),
+        ("NetID", lambda *a: "5.42.118.20.1.1"),
+        ("Port", lambda *a: "851"),
+        ("Offset", lambda *a: "0"),
+        ("ScaleFactor", lambda *a: "1"),
+        ("BitMask", lambda *a: "0xffffffffffffffff"),
+        ("Unit", lambda c, col, u, st: unit_words.get(u[0], u[0])),
+        ("Unit ScaleFactor", lambda *a: "1"),
+        ("Unit Offset", lambda *a: "0"),
+    ]
+    # FILETIME: 100 ns since 1601-01-01 UTC (beyond numpy's datetime64[ns] range: datetime)
+    since = start.astype("datetime64[us]").astype(_dt.datetime) - _dt.datetime(1601, 1, 1)
+    ticks = since // _dt.timedelta(microseconds=1) * 10
+    end_ticks = ticks + round(float(t_ms[-1]) * 1e4)
+    local = _local(start, 0.0)
+    days = ["Montag", "Dienstag", "Mittwoch", "Donnerstag", "Freitag", "Samstag", "Sonntag"]
+    months = ["Januar", "Februar", "März", "April", "Mai", "Juni", "Juli", "August",
+              "September", "Oktober", "November", "Dezember"]  # fmt: skip
+    words = f"{days[local.weekday()]}, {local.day}. {months[local.month - 1]} {local.year}"
+    lines = [
+        ["Name", "Haftversuch_30kmh"],
+        ["File", "C:\\TwinCAT\\Scope\\Haftversuch_30kmh.svdx"],
+        ["Starttime of export", str(ticks), words, local.strftime("%H:%M:%S.%f")[:-3]],
+        ["Endtime of export", str(end_ticks), words, local.strftime("%H:%M:%S.%f")[:-3]],
+        [],
+        [],
+        row("Name", lambda c, col, u, st: col),
+        *[row(key, value) for key, value in properties],
+        [],
+    ]
+    n_rows = len(t_ms)
+    columns = []  # per group: (times, [values]) as text, padded with None past the end
+    for _, times, chans in groups:
+        columns.append((
+            [num(v) for v in times],
+            [[num(v) for v in _vendor(rec, c, u)[:: (slow_every if chans is slow else 1)]]
+             for c, _, u in chans],
+        ))  # fmt: skip
+    for k in range(n_rows):
+        cells: list[str] = []
+        last_running = max(g for g, (times, _) in enumerate(columns) if k < len(times))
+        for times, values in columns[: last_running + 1]:
+            if k < len(times):
+                cells += [times[k], *(v[k] for v in values)]
+            else:  # a channel that ended, left of one still running: blank (a space) cells
+                cells += [" "] * (1 + len(values))
+        lines.append(cells)
+    text = "\n".join(separator.join(c) for c in lines) + "\n"
+    if eof:
+        text += "EOF\n"
+    path.write_bytes(text.encode("utf-8"))
+    cmap = _map_text(
+        "TwinCAT Scope CSV export",
+        {c: (col, _MAP_UNITS.get(u, u)) for c, col, (u, _) in fast},
+    )
+    facts = {
+        "tool": "TwinCAT 3 Scope View CSV export",
+        "sample_rate_Hz": rec.sample_rate,
+        "slow_channel": slow[0][1] if slow else None,
+        "source": rec,
+        "quirks": [
+            "key-value file header",
+            "a property row per key, a key above every time column",
+            "time columns in ms",
+            "ragged rows",
+            "decimal comma" if decimal == "," else "decimal point",
+            "EOF line" if eof else "no EOF line",
         ],
     }
     return VendorFile(path, cmap, facts)

@@ -2,10 +2,10 @@
 
 Each file is built by ``tests/vendor_files.py`` the way the tool writes it (LabVIEW and DAQmx
 TDMS, INCA/CANape and CANedge MDF4, PicoScope, catman, DIAdem-style and CANape text exports,
-LabVIEW .lvm, MATLAB v5 and v7.3) from a known recording in SI units; the reader, given the
-channel map a user would write, must give back that recording (same values within the
-precision the tool stores, same rate, same clock), or one clear error that names the file and
-what to do.
+LabVIEW .lvm, MATLAB v5 and v7.3, TwinCAT Scope CSV) from a known recording in SI units; the
+reader, given the channel map a user would write, must give back that recording (same values
+within the precision the tool stores, same rate, same clock), or one clear error that names the
+file and what to do.
 """
 
 import math
@@ -326,6 +326,7 @@ SINGLE_RATE = {
     "lvm": lambda d, r: vf.labview_lvm(d, r),
     "mat5": lambda d, r: vf.matlab_struct_mat(d, r, version="5"),
     "mat73": lambda d, r: vf.matlab_struct_mat(d, r, version="7.3"),
+    "twincat": lambda d, r: vf.twincat_scope_csv(d, r),
 }
 
 
@@ -362,3 +363,91 @@ def test_chunks_of_a_multi_rate_vendor_file_or_a_pointer_to_read_recording(tmp_p
     else:
         whole = read_recording(v.path, cmap)
         _same(np.concatenate([c["torque"] for c in chunks]), whole["torque"], atol=1e-9)
+
+
+# ------------------------------------------------------------------------------ TwinCAT Scope
+
+
+@pytest.mark.parametrize(
+    "dialect",
+    [
+        {},  # tab, decimal comma, a time column per channel, EOF line
+        {"separator": ";", "decimal": ".", "shared_time": True, "eof": False},
+        {"separator": ",", "decimal": "."},
+    ],
+    ids=["tab-comma-eof", "semicolon-shared-time", "comma-point"],
+)
+def test_twincat_scope_export_reads_each_channel_on_its_time_columns(tmp_path, source, dialect):
+    """Without a [file] or [time] section: the channels' header under the file header, a key
+    above each time column (ms), ragged rows below the slow channel's end, an EOF line."""
+    v = vf.twincat_scope_csv(tmp_path, source, **dialect)
+    rec = _read(v)
+    assert rec.time.size == source.time.size
+    _same(rec.time, source.time - source.time[0], atol=1e-9)
+    _same(rec["torque"], source["torque"], atol=1e-6)
+    _same(rec["wheel_speed"], source["wheel_speed"], atol=1e-6 * RPM)
+    _same(rec["roller_speed"], source["roller_speed"], atol=1e-6 * RPM)
+    notes = " ".join(rec.metadata["notes"])
+    # the export's start: FILETIME of vf.START, in UTC
+    assert "2024-08-05T11:46:13.250Z" in notes
+    assert "different sample times" in notes  # the pressure at 10 ms, not in the map
+
+
+def test_twincat_scope_slow_channel_on_a_common_time_base(tmp_path, source):
+    """The pressure at 10 ms beside the 1 ms channels: each on its own time base, put on one by
+    the map's resample_Hz, never aligned by index (the rows below its last sample are short)."""
+    v = vf.twincat_scope_csv(tmp_path, source)
+    cmap = _toml(v.channel_map)
+    cmap["channels"]["air_spring_pressure"] = {"column": "fPressureAirSpring", "unit": "bar"}
+    cmap["time"] = {"resample_Hz": 1000.0}
+    rec = _read(v, cmap)
+    # the common span ends at the slow channel's last sample (990 ms): 991 samples at 1 kHz
+    assert rec.time.size == 991
+    _same(rec.time, source.time[:991] - source.time[0], atol=1e-9)
+    _same(rec["torque"], source["torque"][:991], atol=1e-6)
+    # interpolated linearly between its own samples: through them at every 10 ms
+    _same(rec["air_spring_pressure"][::10], source["air_spring_pressure"][:991:10], atol=0.1)
+    assert rec.metadata["resampled"]["channels"]["air_spring_pressure"]["from_rate_Hz"] == (
+        pytest.approx(100.0)
+    )
+
+
+def test_twincat_scope_export_separated_by_spaces_is_refused_with_what_to_do(tmp_path, source):
+    v = vf.twincat_scope_csv(tmp_path, source, separator=" ", decimal=".")
+    with pytest.raises(RecordingError, match=r"separated by spaces.*tab"):
+        _read(v)
+
+
+def test_twincat_scope_sample_time_split_by_a_comma_separator_leaves_the_values(tmp_path):
+    """TwinCAT writes the header's sample time in the PC's locale (0,5) even under a ','
+    separator: that row, and the unit row beside it, get more cells than the names. The units
+    are then not read (said in a note), the samples are."""
+    path = tmp_path / "scope.csv"
+    header = [
+        "Name,rig",
+        "",
+        "Name,fTorque,Name,fFast",
+        "SampleTime[ms],1,SampleTime[ms],0,5",
+        "Unit,Nm (Torque),Unit,V (Voltage)",
+        "",
+    ]
+    rows = [f"{k},{10.0 * k},{0.5 * k},{-k}" for k in range(4)]
+    rows += [f" , ,{0.5 * k},{-k}" for k in range(4, 8)]
+    path.write_text("\n".join(header + rows) + "\n", encoding="utf-8")
+    cmap = {"channels": {"torque": {"column": "fTorque", "unit": "N.m"}}}
+    rec = read_recording(path, cmap)
+    _same(rec.time, [0.0, 1e-3, 2e-3, 3e-3], atol=1e-12)
+    _same(rec["torque"], [0.0, 10.0, 20.0, 30.0], atol=0)
+    assert any("'SampleTime[ms]' row not read" in n for n in rec.metadata["notes"])
+
+
+def test_twincat_scope_cell_that_is_no_number_names_its_line_and_channel(tmp_path, source):
+    v = vf.twincat_scope_csv(tmp_path, source, decimal=".", eof=False)
+    lines = v.path.read_text(encoding="utf-8").splitlines()
+    at = next(i for i, t in enumerate(lines) if t.startswith("0\t")) + 5
+    cells = lines[at].split("\t")
+    cells[1] = "#WERT!"
+    lines[at] = "\t".join(cells)
+    v.path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    with pytest.raises(RecordingError, match=rf"line {at + 1}, channel 'fTorqueT56'.*#WERT!"):
+        _read(v)

@@ -1,11 +1,11 @@
 """Format readers: each turns one file format into a :class:`Table` of named columns.
 
-One module per format (:mod:`.csv`, :mod:`.lvm`, :mod:`.parquet`, :mod:`.tdms`, :mod:`.mdf`,
-:mod:`.mat`) and what they share: :mod:`._table` (the table, optional imports), :mod:`.sniff`
-(the layout of a text file), :mod:`._header` (its header and units rows), :mod:`._text`
-(cells, lines, bytes of text files), :mod:`.timestamps` (date/time columns), :mod:`._sliced`
-(channels in groups read in slices). The channel map is applied afterwards, in
-:mod:`rollerrig.recordings.translate`, the same way for every format.
+One module per format (:mod:`.csv`, :mod:`.twincat`, :mod:`.lvm`, :mod:`.parquet`,
+:mod:`.tdms`, :mod:`.mdf`, :mod:`.mat`) and what they share: :mod:`._table` (the table,
+optional imports), :mod:`.sniff` (the layout of a text file), :mod:`._header` (its header and
+units rows), :mod:`._text` (cells, lines, bytes of text files), :mod:`.timestamps` (date/time
+columns), :mod:`._sliced` (channels in groups read in slices). The channel map is applied
+afterwards, in :mod:`rollerrig.recordings.translate`, the same way for every format.
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ from rollerrig.recordings.formats.mat import read_mat
 from rollerrig.recordings.formats.mdf import open_mdf
 from rollerrig.recordings.formats.parquet import read_parquet
 from rollerrig.recordings.formats.tdms import open_tdms
+from rollerrig.recordings.formats.twincat import is_twincat_scope, read_twincat
 from rollerrig.recordings.recording import RecordingError
 
 __all__ = ["Column", "Table", "open_table"]
@@ -33,7 +34,8 @@ def open_table(path: Path, fmt: str, spec: FileSpec | None = None) -> Iterator[T
     if path.stat().st_size == 0:  # every format's own error would be about something else
         raise RecordingError(f"{path}: the file is empty (0 bytes)")
     if fmt == "csv":
-        yield read_csv(path, spec)
+        # a TwinCAT Scope export: channels with time columns of their own, ragged rows
+        yield read_twincat(path, spec) if is_twincat_scope(path) else read_csv(path, spec)
     elif fmt == "lvm":
         yield read_lvm(path, spec)
     elif fmt == "parquet":
