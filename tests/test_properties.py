@@ -63,6 +63,7 @@ def originals(tmp_path_factory):
         "catman": vf.catman_ascii(folder, rec, name="catman.csv"),
         "bench": vf.german_bench_csv(folder, duration_s=20),
         "lvm": vf.labview_lvm(folder, rec),
+        "twincat": vf.twincat_scope_csv(folder, rec),
         "mat5": vf.matlab_struct_mat(folder, rec, version="5"),
         "mat73": vf.matlab_struct_mat(folder, rec, version="7.3"),
         "mat73cell": vf.matlab_struct_mat(
@@ -110,6 +111,7 @@ FORMATS = [
     "catman",
     "bench",
     "lvm",
+    "twincat",
     "mat5",
     "mat73",
     "mat73cell",  # the time a cell array of per-sample scalars (HDF5 object references)

@@ -896,8 +896,9 @@ def test_a_stray_text_cell_in_the_first_sample_stays_a_sample(tmp_path):
 def test_key_value_rows_above_the_numbers_are_not_samples(tmp_path):
     """TwinCAT Scope View's export: per channel ``Key<TAB>value`` rows (``SampleTime[ms]
     <TAB>1``) above the numbers, which fit "a number in every other column"; they were read as
-    the first four samples. Without ``[file] header_row`` the file is now refused, never read
-    with those rows."""
+    the first four samples. A map that places the header and the numbers reads it as plain
+    CSV; without one it is read as the TwinCAT export it is (formats/twincat.py), each channel
+    on its own time column."""
     meta = (
         "Name\tMAIN.fTorque\tName\tMAIN.fPressure\nData-Type\tLREAL\tData-Type\tLREAL\n"
         "SampleTime[ms]\t1\tSampleTime[ms]\t1\nVariableSize\t8\tVariableSize\t8\n"
@@ -913,6 +914,9 @@ def test_key_value_rows_above_the_numbers_are_not_samples(tmp_path):
             "column": "MAIN.fTorque", "unit": "N.m"}}})  # fmt: skip
     assert rec.time.size == 50
     np.testing.assert_allclose(rec["torque"][:3], [0.0, 0.01, 0.02])
+    scope = _read(path, {"channels": {"torque": {"column": "MAIN.fTorque", "unit": "N.m"}}})
+    np.testing.assert_allclose(scope.time, rec.time, atol=1e-12)
+    np.testing.assert_allclose(scope["torque"], rec["torque"], atol=0)
 
 
 def test_integer_epoch_nanoseconds_keep_their_resolution(tmp_path):

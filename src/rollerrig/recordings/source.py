@@ -57,7 +57,7 @@ from rollerrig.recordings.formats import open_table
 from rollerrig.recordings.formats._table import Column, Slicer, Table, require_module
 from rollerrig.recordings.formats.sniff import sniff_layout
 from rollerrig.recordings.formats.timestamps import times_of_day
-from rollerrig.recordings.formats.twincat import is_twincat_scope
+from rollerrig.recordings.formats.twincat import reads_as_twincat
 from rollerrig.recordings.readers import (
     ChannelMapLike,
     recording_metadata,
@@ -582,7 +582,7 @@ def open_recording(
     where = f"{p}:"
     stack = contextlib.ExitStack()
     try:
-        if fmt == "csv" and not is_twincat_scope(p):
+        if fmt == "csv" and not reads_as_twincat(p, cmap.file):
             table = _text_table(p, cmap.file)
         else:
             table = stack.enter_context(open_table(p, fmt, cmap.file))

@@ -22,7 +22,7 @@ from rollerrig.recordings.formats.mat import read_mat
 from rollerrig.recordings.formats.mdf import open_mdf
 from rollerrig.recordings.formats.parquet import read_parquet
 from rollerrig.recordings.formats.tdms import open_tdms
-from rollerrig.recordings.formats.twincat import is_twincat_scope, read_twincat
+from rollerrig.recordings.formats.twincat import read_twincat, reads_as_twincat
 from rollerrig.recordings.recording import RecordingError
 
 __all__ = ["Column", "Table", "open_table"]
@@ -35,7 +35,7 @@ def open_table(path: Path, fmt: str, spec: FileSpec | None = None) -> Iterator[T
         raise RecordingError(f"{path}: the file is empty (0 bytes)")
     if fmt == "csv":
         # a TwinCAT Scope export: channels with time columns of their own, ragged rows
-        yield read_twincat(path, spec) if is_twincat_scope(path) else read_csv(path, spec)
+        yield read_twincat(path, spec) if reads_as_twincat(path, spec) else read_csv(path, spec)
     elif fmt == "lvm":
         yield read_lvm(path, spec)
     elif fmt == "parquet":

@@ -45,7 +45,7 @@ from rollerrig.recordings.formats._table import Column, Table, require_module
 from rollerrig.recordings.formats._text import decode_text, unique_names
 from rollerrig.recordings.recording import RecordingError
 
-__all__ = ["is_twincat_scope", "read_twincat"]
+__all__ = ["is_twincat_scope", "read_twincat", "reads_as_twincat"]
 
 SAMPLE_TIME_KEY = "SampleTime[ms]"
 """The property row that marks a TwinCAT Scope export (with ``Name`` as its first cell)."""
@@ -101,6 +101,16 @@ def is_twincat_scope(path: str | Path) -> bool:
         return False
 
 
+def reads_as_twincat(path: str | Path, spec: FileSpec | None = None) -> bool:
+    """True when a text file is read by :func:`read_twincat`: a TwinCAT Scope export
+    (:func:`is_twincat_scope`) whose channel map does not place the header or the numbers
+    (``[file] header_row`` / ``data_row``: such a map reads it as plain CSV, as before this
+    reader, e.g. with ``[time] column = "Name.0"``)."""
+    if spec is not None and (spec.header_row is not None or spec.data_row is not None):
+        return False
+    return is_twincat_scope(path)
+
+
 def _unit(cell: str) -> str | None:
     """``V (Voltage)`` -> ``V``; ``(None)`` or empty -> None."""
     m = _UNIT.match(cell)
@@ -146,7 +156,8 @@ def read_twincat(path: Path, spec: FileSpec | None = None) -> Table:
         The file (read-only).
     spec : FileSpec, optional
         The channel map's ``[file]`` section: ``separator``, ``decimal`` and ``encoding`` beat
-        what the file says; line keys (``header_row``, ``data_row``) do not apply.
+        what the file says (with ``header_row`` or ``data_row`` the file is read as plain CSV:
+        :func:`reads_as_twincat`).
 
     Raises
     ------
@@ -184,7 +195,12 @@ def read_twincat(path: Path, spec: FileSpec | None = None) -> Table:
         )
 
     # --- the channels' header: the block of rows holding the SampleTime[ms] row
-    at = next(i for i, t in enumerate(lines) if _cells(t, sep)[:1] == [SAMPLE_TIME_KEY])
+    at = next((i for i, t in enumerate(lines) if _cells(t, sep)[:1] == [SAMPLE_TIME_KEY]), None)
+    if at is None:
+        raise RecordingError(
+            f"{path}: no '{SAMPLE_TIME_KEY}' row under the separator {sep!r}: is [file] "
+            "separator in the channel map the export's?"
+        )
     first = at
     while first > 0 and lines[first - 1].strip():
         first -= 1
