@@ -3,7 +3,7 @@
 Run in fresh processes (what is imported cannot be seen in the test process, which has
 imported everything): ``rollerrig rig list`` imports no other command's module;
 ``rollerrig simulate`` imports neither xarray (nor pandas or pyarrow under it) nor dask,
-distributed or pyplot, and writes a NetCDF file with the same variables, values and attributes
+distributed or pyplot (nor the studies' runner), and writes a NetCDF file with the same variables, values and attributes
 as :meth:`Simulation.run`'s Dataset saved through the package's writer (that this writer gives
 the file xarray's own would: tests/output/test_netcdf.py); with
 ``--no-figure`` it imports no matplotlib and writes no figure.
@@ -65,6 +65,10 @@ def test_simulate_imports_no_xarray_pandas_dask_or_pyplot(tmp_path):
     assert "matplotlib.backends.backend_agg" in modules  # (the check sees matplotlib's names)
     # Only the command's module (and the creep-law choice it shares with `contact`).
     assert modules & _COMMAND_MODULES == {"rollerrig.cli.twin", "rollerrig.cli.contact"}
+    # The release overshoots come from the studies' metrics: not the runner, store or summaries
+    # that an eager rollerrig.studies imported with them.
+    assert "rollerrig.studies.metrics" in modules
+    assert not modules & {"rollerrig.studies.runner", "rollerrig.studies.store"}
     assert (out / "release-test.png").stat().st_size > 10_000
 
     # The file is the one the Dataset of `Simulation.run` gives, saved by the same writer.

@@ -114,7 +114,10 @@ def experiment_figure(ds, title: str | None = None):
     a.plot(*envelope(t, ds.torque_request.values), color="k", lw=0.9, ls="--", zorder=3,
            label="torque request")  # fmt: skip
     a.set_ylabel("wheel torque [N·m]")
-    a.set_title("(a) torque request and PMSM torque")
+    # Titles at a fixed height (y=1.0, where matplotlib would put them: no axis has tick labels
+    # on top): placed automatically, each is fitted against its axis's bounding box at every
+    # draw, 15-20 % of drawing this figure (0.36 s against 0.45, 2026-12-01).
+    a.set_title("(a) torque request and PMSM torque", y=1.0)
 
     b.plot(
         100 * ds.measured_creep.values,
@@ -131,7 +134,7 @@ def experiment_figure(ds, title: str | None = None):
     b.set_ylabel("CoA [-]")
     lim = float(np.nanpercentile(np.abs(100 * ds.creep.values), 99.5)) * 1.1 + 0.5
     b.set_xlim(-0.5, lim)
-    b.set_title("(b) CoA-creep")
+    b.set_title("(b) CoA-creep", y=1.0)
     undefined = int(np.count_nonzero(~np.isfinite(ds.measured_creep.values)))
     if undefined:  # NaN policy: an undrawn sample is said so, with why
         why = ds.measured_creep.attrs.get("nan_meaning", "measured creep undefined")
@@ -149,12 +152,12 @@ def experiment_figure(ds, title: str | None = None):
                        ds.wheel_speed.values * rw * 3.6, "tab:green",
                        "wheel tyre (twin)", "wheel encoder (quantised)")  # fmt: skip
     c.set_ylabel("wheel peripheral speed [km/h]")
-    c.set_title("(c) wheel speed")
+    c.set_title("(c) wheel speed", y=1.0)
 
     _measured_and_true(d, t, ds.measured_slip_velocity.values, ds.slip_velocity.values,
                        "tab:purple", "at the contact (twin)", "from the encoders")  # fmt: skip
     d.set_ylabel("slip velocity [m/s]")
-    d.set_title("(d) slip velocity")
+    d.set_title("(d) slip velocity", y=1.0)
 
     if "measured_roller_speed" in ds:
         _measured_and_true(e, t, ds.measured_roller_speed.values * rr * 3.6,
@@ -166,13 +169,13 @@ def experiment_figure(ds, title: str | None = None):
     e.plot(*envelope(t, ds.roller_speed_setpoint.values * 3.6), color="k", lw=0.8, ls="--",
            zorder=4, label="set point")  # fmt: skip
     e.set_ylabel("roller peripheral speed [km/h]")
-    e.set_title("(e) roller speed")
+    e.set_title("(e) roller speed", y=1.0)
 
     _measured_and_true(f, t, ds.measured_force.values, ds.contact_force.values, "tab:red",
                        "contact force F_x (twin)", "from T56: T56/r_r")  # fmt: skip
     f.axhline(0, color="k", lw=0.5, zorder=2)
     f.set_ylabel("force [N]")
-    f.set_title("(f) contact force vs force from the torque sensor")
+    f.set_title("(f) contact force vs force from the torque sensor", y=1.0)
 
     for ax in axes.flat:
         ax.grid(True, alpha=0.3)
