@@ -1,12 +1,12 @@
 """The one-run path: a command imports its own module and what it uses, nothing more.
 
-Run in fresh processes (what is imported cannot be seen in the test process, which has
-imported everything): ``rollerrig rig list`` imports no other command's module;
-``rollerrig simulate`` imports neither xarray (nor pandas or pyarrow under it) nor dask,
-distributed or pyplot (nor the studies' runner), and writes a NetCDF file with the same variables, values and attributes
+Run in fresh processes (what is imported cannot be seen in the test process, which has imported
+everything): ``rollerrig rig list`` imports no other command's module; ``rollerrig simulate``
+imports neither xarray (nor pandas or pyarrow under it) nor dask, distributed or pyplot (nor
+the studies' runner), and writes a NetCDF file with the same variables, values and attributes
 as :meth:`Simulation.run`'s Dataset saved through the package's writer (that this writer gives
-the file xarray's own would: tests/output/test_netcdf.py); with
-``--no-figure`` it imports no matplotlib and writes no figure.
+the file xarray's own would: tests/output/test_netcdf.py); with ``--no-figure`` it imports no
+matplotlib and writes no figure.
 """
 
 from __future__ import annotations

@@ -216,6 +216,34 @@ def decode_text(
     return fallback, raw.decode(fallback, errors="replace")
 
 
+def whole_text(
+    path: Path, encoding: str | None, notes: list[str], *, fallback: str, fallback_name: str,
+    binary_hint: str,
+) -> str:  # fmt: skip
+    """The whole text file ``path`` decoded (:func:`decode_text`; ``encoding`` the map's
+    ``[file] encoding``), for the readers of formats with a structure of their own (LabVIEW
+    .lvm, TwinCAT Scope exports) that read every line.
+
+    Raises
+    ------
+    RecordingError
+        An empty file (only white space), and what :func:`decode_text` refuses.
+    """
+    raw = path.read_bytes()
+    if not raw.strip():
+        raise RecordingError(f"{path}: the file is empty")
+    return decode_text(
+        path,
+        raw,
+        encoding,
+        notes,
+        truncated=False,
+        fallback=fallback,
+        fallback_name=fallback_name,
+        binary_hint=binary_hint,
+    )[1]
+
+
 def unique_names(names: list[str], repeated: dict | None = None) -> list[str]:
     """``names`` with repeats renamed ``name.1``, ``name.2``, ... (pandas' convention), a
     suffix skipped where the file has a column of that name already.

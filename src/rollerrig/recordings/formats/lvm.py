@@ -42,8 +42,8 @@ from rollerrig.recordings.formats._table import Column, Table, add_alias
 from rollerrig.recordings.formats._text import (
     NEGATIVE_INFINITY_WORDS,
     POSITIVE_INFINITY_WORDS,
-    decode_text,
     unique_names,
+    whole_text,
 )
 from rollerrig.recordings.recording import RecordingError
 
@@ -134,15 +134,10 @@ def read_lvm(path: Path, spec: FileSpec | None = None) -> Table:
     path = Path(path)
     spec = spec or FileSpec()
     notes: list[str] = []
-    raw = path.read_bytes()
-    if not raw.strip():
-        raise RecordingError(f"{path}: the file is empty")
-    _, text = decode_text(
+    text = whole_text(
         path,
-        raw,
         spec.encoding,
         notes,
-        truncated=False,
         fallback="cp1252",
         fallback_name="Windows-1252 (LabVIEW's usual code page)",
         binary_hint="not a LabVIEW .lvm file",

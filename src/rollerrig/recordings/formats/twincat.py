@@ -42,7 +42,7 @@ import numpy as np
 
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._table import Column, Table, require_module
-from rollerrig.recordings.formats._text import decode_text, unique_names
+from rollerrig.recordings.formats._text import decode_text, unique_names, whole_text
 from rollerrig.recordings.recording import RecordingError
 
 __all__ = ["is_twincat_scope", "read_twincat", "reads_as_twincat"]
@@ -169,13 +169,10 @@ def read_twincat(path: Path, spec: FileSpec | None = None) -> Table:
     path = Path(path)
     spec = spec or FileSpec()
     notes: list[str] = []
-    raw = path.read_bytes()
-    _, text = decode_text(
+    text = whole_text(
         path,
-        raw,
         spec.encoding,
         notes,
-        truncated=False,
         fallback="cp1252",
         fallback_name="Windows-1252",
         binary_hint="not a TwinCAT Scope export",
