@@ -7,6 +7,7 @@ import tempfile
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 _TESTS = str(Path(__file__).resolve().parent)
 if _TESTS not in sys.path:
@@ -20,6 +21,15 @@ if _TESTS not in sys.path:
 if "NUMBA_CACHE_DIR" not in os.environ:
     _user = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
     os.environ["NUMBA_CACHE_DIR"] = str(Path(tempfile.gettempdir()) / f"rollerrig-tests-{_user}")
+
+
+# Property tests draw new examples on every run, which finds defects (a 1-ulp difference that
+# a bit-exact check had missed for days, 2026-12-01) but makes a clean clone's run a lottery.
+# Under CI (the variable CI set, as .ci/run and most CI services do) they draw the same
+# examples every time; past findings stay as @example()s or in Hypothesis' own database.
+settings.register_profile("ci", derandomize=True)
+if os.environ.get("CI"):
+    settings.load_profile("ci")
 
 
 def pytest_configure(config):

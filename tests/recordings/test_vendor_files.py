@@ -451,3 +451,53 @@ def test_twincat_scope_cell_that_is_no_number_names_its_line_and_channel(tmp_pat
     v.path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     with pytest.raises(RecordingError, match=rf"line {at + 1}, channel 'fTorqueT56'.*#WERT!"):
         _read(v)
+
+
+def _scope_text(names: list[str], rows: list[str], *, start: str = "133673319732500000") -> str:
+    """A small TwinCAT Scope export: a time column per channel, tab-separated."""
+    header = ["Name\tscope", f"Starttime of export\t{start}\tMontag\t13:46:13.250", "", ""]
+    header.append("\t".join(f"Name\t{n}" for n in names))
+    header.append("\t".join("SampleTime[ms]\t1" for _ in names))
+    header.append("\t".join("Unit\tNm (Torque)" for _ in names))
+    return "\n".join([*header, "", *rows]) + "\n"
+
+
+def test_twincat_scope_a_name_given_twice_is_ambiguous_not_the_first(tmp_path):
+    """Two channels of one name (two symbols scoped under one display name): the map's name
+    alone is an error naming the candidates, as for a CSV, never the first column quietly."""
+    path = tmp_path / "dup.csv"
+    path.write_text(_scope_text(["T", "T"], [f"{k}\t{k}\t{k}\t{100 * k}" for k in range(5)]))
+    with pytest.raises(RecordingError, match=r"2 columns of that name.*T\.1"):
+        read_recording(path, {"channels": {"torque": {"column": "T", "unit": "N.m"}}})
+    rec = read_recording(path, {"channels": {"torque": {"column": "T.1", "unit": "N.m"}}})
+    _same(rec["torque"], [0.0, 100.0, 200.0, 300.0, 400.0], atol=0)
+
+
+def test_twincat_scope_decimal_commas_first_seen_deep_in_the_file(tmp_path):
+    """A channel that shows whole numbers for its first 500 samples (a torque of 0 before the
+    run) and then 0,5: the decimal mark is sniffed from every row, not the first few."""
+    path = tmp_path / "late.csv"
+    rows = [f"{k}\t{0 if k < 500 else '0,5'}" for k in range(600)]
+    path.write_text(_scope_text(["v"], rows))
+    rec = read_recording(path, {"channels": {"torque": {"column": "v", "unit": "N.m"}}})
+    assert rec["torque"][499] == 0.0 and rec["torque"][500] == 0.5
+
+
+def test_twincat_scope_start_time_beyond_any_date_is_left_unsaid(tmp_path):
+    path = tmp_path / "ovf.csv"
+    rows = [f"{k}\t{k}" for k in range(3)]
+    path.write_text(_scope_text(["T"], rows, start="9" * 40))
+    rec = read_recording(path, {"channels": {"torque": {"column": "T", "unit": "N.m"}}})
+    assert not any("started" in n for n in rec.metadata["notes"])
+    path.write_text(_scope_text(["T"], rows))
+    rec = read_recording(path, {"channels": {"torque": {"column": "T", "unit": "N.m"}}})
+    assert any("started 2024-08-05T11:46:13.250Z" in n for n in rec.metadata["notes"])
+
+
+def test_twincat_scope_cells_in_quotes(tmp_path, source):
+    v = vf.twincat_scope_csv(tmp_path, source, eof=False)
+    lines = v.path.read_text(encoding="utf-8").splitlines()
+    quoted = ["\t".join(f'"{c}"' if c.strip() else c for c in t.split("\t")) for t in lines]
+    v.path.write_text("\n".join(quoted) + "\n", encoding="utf-8")
+    rec = _read(v)
+    _same(rec["torque"], source["torque"], atol=1e-6)
