@@ -537,3 +537,17 @@ def test_an_input_table_at_the_daq_rate_gives_the_plain_protocols_result():
     plain = Simulation(default_rig(), protocol, output_rate=250.0).run()
     table = Simulation(default_rig(), replay, output_rate=250.0).run()
     assert np.max(np.abs(table.t56.values - plain.t56.values)) < 0.05
+
+
+def test_the_step_loop_is_compiled_without_fast_math():
+    """With LLVM's "contract" flag the default solve was 3-5 % faster, but the fused products
+    depended on the compile's context: three caches of one install gave three different
+    results of the bundled test, bit for bit (2026-12-01). Without any fast-math flag every
+    compile gives the same bits."""
+    from rollerrig.solve import fast
+
+    for dispatcher in (fast._exp_segment, fast._exp_prepare, fast._exp_workspace):
+        assert not dispatcher.targetoptions.get("fastmath"), dispatcher
+    from rollerrig.solve._compiled import rig_rhs
+
+    assert not rig_rhs.targetoptions.get("fastmath")

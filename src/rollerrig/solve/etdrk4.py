@@ -883,11 +883,11 @@ def bind(driver, name: str):
         (_segment, "never"),
     ):
         options = {"_nrt": False} if template is _segment else {}
-        # Fused multiply-adds (LLVM's "contract", the one fast-math flag taken: no reordering,
-        # no assumption of finite values, which the drivers' checks of non-finite states need):
-        # the step's linear combinations of stages, 5 % of the default solve (14.8 -> 14.05
-        # ms, best of 200 runs each, 2026-12-01); the right-hand side gained nothing from it.
-        options["fastmath"] = {"contract"}
+        # No fast-math flag, not even LLVM's "contract" (fused multiply-adds): it made the
+        # default solve 3-5 % faster (2026-12-01), but which products LLVM fused then depended
+        # on what was compiled first (the CLI or the Python API, a test's order), so the same
+        # install gave three different results of the same run, bit for bit, from three
+        # caches; without it every compile gives the same bits.
         ns[template.__name__] = _wd._compiled_copy(
             template, ns, f"etdrk4_{name}", True, error_model="numpy", inline=inline, **options
         )
