@@ -582,10 +582,12 @@ def open_recording(
     where = f"{p}:"
     stack = contextlib.ExitStack()
     try:
-        if fmt == "csv" and not reads_as_twincat(p, cmap.file):
-            table = _text_table(p, cmap.file)
-        else:
+        if fmt != "csv":
             table = stack.enter_context(open_table(p, fmt, cmap.file))
+        elif reads_as_twincat(p, cmap.file):  # asked once: the file's head is read for it
+            table = stack.enter_context(open_table(p, "twincat", cmap.file))
+        else:
+            table = _text_table(p, cmap.file)
         chunked = "partial reads" if table.slicer is not None else "read whole"
         slicer = table.slicer or _Whole(table).slicer()
         state = _prepare(table, slicer, cmap, p, fmt, needed, where)

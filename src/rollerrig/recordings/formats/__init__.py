@@ -30,12 +30,16 @@ __all__ = ["Column", "Table", "open_table"]
 
 @contextlib.contextmanager
 def open_table(path: Path, fmt: str, spec: FileSpec | None = None) -> Iterator[Table]:
-    """The file as a :class:`Table`; ``spec`` is the channel map's ``[file]`` section."""
+    """The file as a :class:`Table`; ``spec`` is the channel map's ``[file]`` section.
+    ``fmt`` ``"twincat"``: a text file already known to be a TwinCAT Scope export
+    (:func:`~rollerrig.recordings.formats.twincat.reads_as_twincat`; ``"csv"`` asks it)."""
     if path.stat().st_size == 0:  # every format's own error would be about something else
         raise RecordingError(f"{path}: the file is empty (0 bytes)")
-    if fmt == "csv":
+    if fmt == "twincat" or (fmt == "csv" and reads_as_twincat(path, spec)):
         # a TwinCAT Scope export: channels with time columns of their own, ragged rows
-        yield read_twincat(path, spec) if reads_as_twincat(path, spec) else read_csv(path, spec)
+        yield read_twincat(path, spec)
+    elif fmt == "csv":
+        yield read_csv(path, spec)
     elif fmt == "lvm":
         yield read_lvm(path, spec)
     elif fmt == "parquet":

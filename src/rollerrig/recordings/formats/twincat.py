@@ -62,6 +62,12 @@ def _cells(line: str, sep: str) -> list[str]:
     return [c.strip().strip('"').strip() for c in line.split(sep)]
 
 
+def _lines(text: str) -> list[str]:
+    """The lines of ``text`` at any line end (``re.split`` took five times as long on a 60 MB
+    export)."""
+    return text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+
+
 def _head_lines(path: Path) -> list[str]:
     with path.open("rb") as fh:
         raw = fh.read(_HEAD_BYTES)
@@ -75,7 +81,7 @@ def _head_lines(path: Path) -> list[str]:
         fallback_name="Windows-1252",
         binary_hint="not a text file",
     )
-    return re.split(r"\r\n|\r|\n", text)
+    return _lines(text)
 
 
 def _separator(lines: list[str]) -> str | None:
@@ -195,7 +201,7 @@ def read_twincat(path: Path, spec: FileSpec | None = None) -> Table:
         fallback_name="Windows-1252",
         binary_hint="not a TwinCAT Scope export",
     )
-    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")  # re.split: 5x slower
+    lines = _lines(text)
     sep = spec.separator or _separator(lines)
     if sep is None:
         raise RecordingError(
@@ -255,9 +261,7 @@ def read_twincat(path: Path, spec: FileSpec | None = None) -> Table:
     unit_row = property_row("Unit")
     sample_row = property_row(SAMPLE_TIME_KEY)
 
-    file_header = {
-        (c := _cells(t, sep))[0]: c for t in lines[:first] if t.strip() and _cells(t, sep)[0]
-    }
+    file_header = {c[0]: c for c in (_cells(t, sep) for t in lines[:first] if t.strip()) if c[0]}
     if "Name" in file_header and len(file_header["Name"]) > 1:
         notes.append(f"TwinCAT Scope export of {file_header['Name'][1]!r}")
     start = _export_start(file_header.get("Starttime of export", []))
