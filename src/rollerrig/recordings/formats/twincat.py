@@ -276,6 +276,13 @@ def read_twincat(path: Path, spec: FileSpec | None = None) -> Table:
     data_last = len(lines) - 1
     while data_last >= data_first and not lines[data_last].strip():
         data_last -= 1
+    if data_last >= data_first and lines[data_last].strip().strip('"') != "EOF":
+        if not text.endswith(("\n", "\r")):  # a copy cut short: its last cell may be cut too
+            notes.append(
+                f"TwinCAT Scope export: the last line ({data_last + 1}) ends without a line "
+                "end (the file cut short?): dropped"
+            )
+            data_last -= 1
     if data_last >= data_first and lines[data_last].strip().strip('"') == "EOF":
         data_last -= 1
         while data_last >= data_first and not lines[data_last].strip():
