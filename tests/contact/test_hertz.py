@@ -355,3 +355,15 @@ def test_two_flat_directions_rejected():
         hertz_contact(1e3, np.inf, 0.3, np.inf, 0.4)
     with pytest.raises(ParameterError, match="wheel_radius_y and roller_radius_y"):
         hertz_contact(1e3, 0.35, np.inf, 1.0, np.inf)
+
+
+def test_many_geometries_at_once_equal_one_by_one():
+    # More distinct curvature ratios than are solved one by one and remembered go through the
+    # vectorised bisection: both paths must give the same ellipse.
+    radius_y = np.linspace(0.2, 3.0, 20)
+    together = hertz_contact(20e3, 0.35, radius_y, np.inf, 0.40)
+    for i, r in enumerate(radius_y):
+        alone = hertz_contact(20e3, 0.35, float(r), np.inf, 0.40)
+        assert together.semi_axis_x[i] == pytest.approx(alone.semi_axis_x, rel=1e-14)
+        assert together.semi_axis_y[i] == pytest.approx(alone.semi_axis_y, rel=1e-14)
+        assert together.approach[i] == pytest.approx(alone.approach, rel=1e-14)

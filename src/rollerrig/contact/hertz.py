@@ -35,15 +35,16 @@ References
 
 from __future__ import annotations
 
+import functools
 import warnings
 from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from scipy.special import ellipe, ellipkm1, elliprd
 
 from rollerrig._validation import ParameterError, require_in_range, require_positive
 from rollerrig._warnings import DomainWarning
+from rollerrig.contact.elliptic import carlson_rd, complete_elliptic_integrals
 
 __all__ = [
     "HERTZ_DOMAIN_LIMIT",
@@ -68,6 +69,9 @@ about 7 MN.
 #: Fixed number of bisection steps in ln(b/a); the bracket is at most (2/3)·ln(ρ) wide, so 64
 #: halvings reach the spacing of doubles for any curvature ratio representable in float64.
 _BISECTION_STEPS = 64
+#: Up to this many distinct curvature ratios in one call are solved one by one and remembered
+#: (:func:`_axis_ratio_of`); more (a sweep over the geometry) are solved together.
+_REMEMBERED_RATIOS = 8
 
 
 # --------------------------------------------------------------------------------------------
@@ -85,8 +89,11 @@ def _curvature_ratio_of_axis_ratio(axis_ratio):
 
         ρ(g) = R_D(0, 1, g²) / R_D(0, g², 1).
     """
-    g2 = axis_ratio * axis_ratio
-    return elliprd(0.0, 1.0, g2) / elliprd(0.0, g2, 1.0)
+    g2 = np.asarray(axis_ratio * axis_ratio, dtype=float)
+    ones = np.ones_like(g2)
+    # Both integrals in one call: the bisection below evaluates this 64 times.
+    both = carlson_rd(0.0, np.stack([ones, g2]), np.stack([g2, ones]))
+    return both[0] / both[1]
 
 
 def _axis_ratio_kernel(curvature_ratio):
@@ -107,6 +114,25 @@ def _axis_ratio_kernel(curvature_ratio):
     return np.exp(0.5 * (lo + hi))
 
 
+@functools.lru_cache(maxsize=256)
+def _axis_ratio_of(curvature_ratio: float) -> float:
+    """:func:`_axis_ratio_kernel` of one curvature ratio, remembered: the ratio depends only on
+    the geometry, which a study or a fit keeps while it varies the load or the rig's other
+    parameters (the bisection's 64 evaluations of Carlson's integrals cost a few ms)."""
+    return float(_axis_ratio_kernel(np.array([curvature_ratio]))[0])
+
+
+def _axis_ratio(curvature_ratio):
+    """:func:`_axis_ratio_kernel` of an array of curvature ratios, each distinct ratio solved
+    once (the loads of a contact broadcast the geometry's one ratio to their shape)."""
+    distinct, where = np.unique(curvature_ratio, return_inverse=True)
+    if distinct.size <= _REMEMBERED_RATIOS:
+        solved = np.array([_axis_ratio_of(float(r)) for r in distinct])
+    else:
+        solved = _axis_ratio_kernel(distinct)
+    return solved[where].reshape(np.shape(curvature_ratio))
+
+
 def _hertz_kernel(normal_load, curvature_x, curvature_y, effective_modulus):
     """Exact Hertz ellipse for relative curvatures A (along x) and B (along y).
 
@@ -121,10 +147,10 @@ def _hertz_kernel(normal_load, curvature_x, curvature_y, effective_modulus):
     """
     curvature_small = np.minimum(curvature_x, curvature_y)
     curvature_large = np.maximum(curvature_x, curvature_y)
-    g = _axis_ratio_kernel(curvature_large / curvature_small)
+    g = _axis_ratio(curvature_large / curvature_small)
     g2 = g * g
-    elliptic_k = ellipkm1(g2)  # K(m) with 1 - m = g², exact for slender ellipses
-    elliptic_e = ellipe(1.0 - g2)
+    # K(m) and E(m) with 1 - m = g² given as such: exact for slender ellipses
+    elliptic_k, elliptic_e = complete_elliptic_integrals(g2)
     curvature_sum = curvature_x + curvature_y
     major = np.cbrt(
         3.0 * normal_load * elliptic_e / (2.0 * np.pi * g2 * curvature_sum * effective_modulus)

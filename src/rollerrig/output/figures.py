@@ -74,6 +74,9 @@ def _labels(fig):
         yield from legend.get_texts()
 
 
+_PNG_COMPRESS_LEVEL = 3  # zlib level of PNG figures (save_figure)
+
+
 def _metadata(fmt: str, record: dict[str, Any]) -> dict[str, str]:
     """matplotlib ``savefig(metadata=...)`` for ``fmt`` carrying ``record`` as JSON text."""
     software = f"rollerrig {record.get('version', '')}".strip()
@@ -263,10 +266,18 @@ def save_figure(
         record = metadata if is_provenance(metadata) else provenance(**(metadata or {}))
         meta = _metadata(fmt, dict(record))  # type: ignore[arg-type]
         typeset_figure_units(fig)
+        # PNG at zlib level 3, not PIL's 6: the experiment figure's encoding takes 38 against
+        # 70 ms for a file 3 % larger (208 against 202 KiB, 2026-12-01; level 9: 300 ms).
+        extra = {"pil_kwargs": {"compress_level": _PNG_COMPRESS_LEVEL}} if fmt == "png" else {}
         return atomic_write(
             path,
             lambda p: fig.savefig(
-                p, format=fmt, dpi=dpi, bbox_inches=crop_to_drawing(fig, tight), metadata=meta
+                p,
+                format=fmt,
+                dpi=dpi,
+                bbox_inches=crop_to_drawing(fig, tight),
+                metadata=meta,
+                **extra,
             ),
             overwrite=overwrite,
         )

@@ -34,7 +34,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg
 
 from rollerrig._validation import (
     ParameterError,
@@ -425,13 +424,44 @@ def _state_space_poles(M, K, C):
     eigenvalues for all the chain's elastic modes).
     """
     n = M.shape[0]
-    lower = np.linalg.cholesky(M)
-    inverse = scipy.linalg.solve_triangular(lower, np.eye(n), lower=True)
+    inverse = _inverse_cholesky_factor(M)
     A = np.block(
         [[np.zeros((n, n)), np.eye(n)], [-inverse @ K @ inverse.T, -inverse @ C @ inverse.T]]
     )
-    lam, vec = scipy.linalg.eig(A)
-    return lam, scipy.linalg.solve_triangular(lower.T, vec[:n, :], lower=False)
+    lam, vec = np.linalg.eig(A)
+    return lam, inverse.T @ vec[:n, :]
+
+
+def _inverse_cholesky_factor(M):
+    """``L⁻¹`` of the Cholesky factor ``M = LLᵀ`` of a symmetric positive definite ``M``.
+
+    numpy's linear algebra, not scipy's: the chain's matrices are a few bodies square, and
+    ``import scipy.linalg`` (0.2 s, most of it scipy's array-API layer importing numpy.f2py)
+    was a tenth of ``rollerrig simulate`` (issue 20).
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        ``M`` is not positive definite.
+    """
+    return np.linalg.inv(np.linalg.cholesky(M))
+
+
+def _generalised_eigh(K, M):
+    """Eigenvalues (ascending) and ``M``-normalised eigenvectors of ``K φ = λ M φ``.
+
+    The Cholesky reduction that LAPACK's ``dsygv`` (``scipy.linalg.eigh(K, M)``) performs:
+    ``L⁻¹ K L⁻ᵀ v = λ v`` with ``M = LLᵀ`` and ``φ = L⁻ᵀ v``, so that ``φᵀ M φ = I``.
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        ``M`` is not positive definite.
+    """
+    inverse = _inverse_cholesky_factor(M)
+    reduced = inverse @ K @ inverse.T
+    eigenvalues, vectors = np.linalg.eigh(0.5 * (reduced + reduced.T))
+    return eigenvalues, inverse.T @ vectors
 
 
 def _assign_poles(lam, x, modes, M, tol):
@@ -487,7 +517,7 @@ def modal_analysis(
 ) -> ModalResult:
     """Undamped and (optionally) damped modes of a linear torsional chain.
 
-    Undamped: the generalised symmetric eigenproblem ``K φ = ω² M φ`` (``scipy.linalg.eigh``),
+    Undamped: the generalised symmetric eigenproblem ``K φ = ω² M φ`` (:func:`_generalised_eigh`),
     mass-normalised. Damped: the eigenvalues of the first-order form
     ``[0 I; −K −C] z = λ [I 0; 0 M] z`` with ``z = (θ, ω)``, so non-proportional damping is
     exact; the two poles of each mode give ``ω_n = √|λa λb|``, ``ζ = −Re(λa + λb)/(2 ω_n)`` and
@@ -538,7 +568,7 @@ def modal_analysis(
     if not np.allclose(K, K.T, rtol=1e-12, atol=1e-12 * max(float(np.max(np.abs(K))), 1.0)):
         raise ParameterError("K [N.m/rad] must be symmetric")
     try:
-        omega2, shapes = scipy.linalg.eigh(K, M)
+        omega2, shapes = _generalised_eigh(K, M)
     except np.linalg.LinAlgError as exc:
         raise ParameterError("M [kg.m^2] must be positive definite") from exc
     top = max(float(np.max(np.abs(omega2))), np.finfo(float).tiny)
