@@ -2,6 +2,7 @@
 variants apart; a replayed input is never overwritten."""
 
 import json
+import re
 import shutil
 from importlib import resources
 from pathlib import Path
@@ -9,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from rollerrig.cli import app
-from rollerrig.cli.twin import protocol_inputs, variant_stem
+from rollerrig.cli.twin import _solved_line, protocol_inputs, variant_stem
 from rollerrig.output import figure_provenance, file_sha256
 
 
@@ -122,6 +123,7 @@ def test_simulate_writes_results_figure_and_modes_and_variants_stay_apart(tmp_pa
     assert result.exit_code == 0, result.output
     assert "13.84" in result.output  # the roller-shaft mode in the modal table
     assert "release at" in result.output
+    assert re.search(r"solved in \d+\.\d\d s \(ETDRK4.*\), [\d,]+ x real time", result.output)
     for name in ("seed-10kmh-wet.csv", "seed-10kmh-wet.png"):
         assert (tmp_path / name).stat().st_size > 1000
     modes_text = (tmp_path / "seed-10kmh-wet-modes.txt").read_text()
@@ -199,3 +201,20 @@ def test_simulate_says_when_a_stop_will_compile_the_fallback(tmp_path, runner, m
     result = runner.invoke(app, [*args[:2], str(tmp_path / "out3"), *args[3:]])
     assert result.exit_code == 0, result.output
     assert "compiling it" not in result.output
+
+
+def test_the_solved_line_keeps_the_solve_apart_from_loading_or_compiling():
+    # The solve's own time and real-time factor, and apart the load (numba's start and the
+    # cached driver) or the first compilation; none where nothing was loaded (a second run).
+    stats = {"name": "ETDRK4", "wall_time_s": 0.45, "load_time_s": 0.42}
+    assert _solved_line(stats, 30.0, cached=True) == (
+        "solved in 0.03 s (ETDRK4), 1,000 x real time; loading the compiled solver took 0.42 s"
+    )
+    compiled = _solved_line({**stats, "wall_time_s": 28.5, "load_time_s": 28.47}, 30.0, False)
+    assert compiled.endswith("compiling the solver (once) took 28.47 s")
+    again = _solved_line({**stats, "wall_time_s": 0.03, "load_time_s": 0.0}, 30.0, True)
+    assert again == "solved in 0.03 s (ETDRK4), 1,000 x real time"
+    # A results file written before the load was kept apart has only the wall time.
+    assert _solved_line({"name": "Radau", "wall_time_s": 7.5}, 30.0, True) == (
+        "solved in 7.50 s (Radau), 4 x real time"
+    )

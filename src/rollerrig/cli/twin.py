@@ -313,17 +313,17 @@ def simulate(
                 f"solver {solver.value}",
             )
         )
+        cached = True
         with _progress() as bar:
             duration = sim.protocol.duration
             if solver is Solver.fast:
-                _say_compile_stage(dq=drives.roller == "induction_dq", inputs=sim.inputs)
+                cached = _say_compile_stage(dq=drives.roller == "induction_dq", inputs=sim.inputs)
             task = bar.add_task("simulating", total=duration, info="solving")
             ds = sim.solve(  # the results without xarray: written, drawn and summarised
                 progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s")
             )
             bar.update(task, completed=duration, info="done")
-        stats = _solver_stats(ds)
-        console.print(f"solved in {stats.get('wall_time_s', float('nan')):.2f} s ({stats['name']})")
+        console.print(_solved_line(_solver_stats(ds), duration, cached))
         text = format_modal_table(modal_table(rig))
         release = _release_summary(ds, sim.protocol)
         save_dataset(ds, stage.path(f"{stem}.{output_format.value}"), overwrite=True)
@@ -374,14 +374,30 @@ def _progress():
     return progress()
 
 
-def _say_compile_stage(*, dq: bool = False, inputs=None) -> None:
+def _solved_line(stats: dict, duration: float, cached: bool) -> str:
+    """``solved in … s (method), N x real time``, and apart the time the compiled solver took
+    to load from its cache (numba's start included) or, with ``cached`` False, to compile."""
+    wall = float(stats.get("wall_time_s", float("nan")))
+    load = float(stats.get("load_time_s", 0.0))
+    solve = max(wall - load, 0.0)
+    line = f"solved in {solve:.2f} s ({stats.get('name', '')})"
+    if solve > 0.0:
+        line += f", {duration / solve:,.0f} x real time"
+    if load >= 0.005:
+        what = "loading the compiled solver" if cached else "compiling the solver (once)"
+        line += f"; {what} took {load:.2f} s"
+    return line
+
+
+def _say_compile_stage(*, dq: bool = False, inputs=None) -> bool:
     """Say when the fast solver will compile (first run after an install or an upgrade) rather
     than load from its cache, so that a silent half minute is not taken for a hang; with the
     experiment's ``inputs``, also when a segment of it needs the fallback, ROS34PW2, whose
-    driver compiles the first time a run needs it."""
+    driver compiles the first time a run needs it. Returns whether the driver is cached."""
     from rollerrig.solve.fast import is_compiled, needs_fallback
 
-    if not is_compiled(dq=dq):
+    cached = is_compiled(dq=dq)
+    if not cached:
         note(
             "compiling the fast solver for this installation (once: about half a minute on 2 "
             "cores); later runs load it from the cache"
@@ -391,6 +407,7 @@ def _say_compile_stage(*, dq: bool = False, inputs=None) -> None:
             "this protocol ramps the roller to or from standstill, which the fast solver leaves "
             "to its fallback (ROS34PW2): compiling it for this installation (once: 10-20 s)"
         )
+    return cached
 
 
 def _solver_stats(ds) -> dict:
