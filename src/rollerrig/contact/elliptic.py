@@ -43,6 +43,29 @@ def _converged(threshold, mean):
     return bool(np.all(~(threshold > np.abs(mean))))
 
 
+def _duplication(x, y, z, mean, threshold, r_d_sum=False):
+    """Carlson's duplication steps until the series applies to every element (Carlson 1995,
+    eqs. 2.2-2.5): ``λ = √x√y + √y√z + √z√x``, ``(x, y, z, A) ← (x + λ, y + λ, z + λ, A + λ)/4``.
+
+    Returns ``(A_m, m, S)``: the last mean, the number of steps and, with ``r_d_sum``, R_D's
+    sum ``S = Σ_k 4^-k / (√z_k (z_k + λ_k))`` (zeros otherwise); ``threshold`` is ``Q``, the
+    initial spread scaled by the method's tolerance factor.
+    """
+    total = np.zeros_like(mean)
+    weight = 1.0
+    steps = 0
+    while steps < _MAX_STEPS and not _converged(threshold, mean):
+        steps += 1
+        threshold = 0.25 * threshold
+        sx, sy, sz = np.sqrt(x), np.sqrt(y), np.sqrt(z)
+        lam = sx * (sy + sz) + sy * sz
+        if r_d_sum:
+            total = total + weight / (sz * (z + lam))
+            weight *= 0.25
+        x, y, z, mean = 0.25 * (x + lam), 0.25 * (y + lam), 0.25 * (z + lam), 0.25 * (mean + lam)
+    return mean, steps, total
+
+
 @np.errstate(all="ignore")  # NaN and inf are results here (documented), not accidents
 def carlson_rf(x, y, z):
     """Carlson's symmetric integral of the first kind, R_F(x, y, z) (DLMF 19.16.1).
@@ -72,13 +95,7 @@ def carlson_rf(x, y, z):
     spread = np.maximum(np.maximum(np.abs(mean - x), np.abs(mean - y)), np.abs(mean - z))
     mean0 = mean.copy()
     threshold = (3.0 * _TOLERANCE) ** (-1.0 / 6.0) * spread
-    steps = 0
-    while steps < _MAX_STEPS and not _converged(threshold, mean):
-        steps += 1
-        threshold = 0.25 * threshold
-        sx, sy, sz = np.sqrt(x), np.sqrt(y), np.sqrt(z)
-        lam = sx * (sy + sz) + sy * sz
-        x, y, z, mean = 0.25 * (x + lam), 0.25 * (y + lam), 0.25 * (z + lam), 0.25 * (mean + lam)
+    mean, steps, _ = _duplication(x, y, z, mean, threshold)
     scale = 4.0**steps * mean
     dx = (mean0 - x0) / scale
     dy = (mean0 - y0) / scale
@@ -123,17 +140,8 @@ def carlson_rd(x, y, z):
     mean0 = mean.copy()
     spread = np.maximum(np.maximum(np.abs(mean - x), np.abs(mean - y)), np.abs(mean - z))
     threshold = (0.25 * _TOLERANCE) ** (-1.0 / 6.0) * spread
-    total = np.zeros_like(mean)
-    weight = 1.0
-    steps = 0
-    while steps < _MAX_STEPS and not _converged(threshold, mean):
-        steps += 1
-        threshold = 0.25 * threshold
-        sx, sy, sz = np.sqrt(x), np.sqrt(y), np.sqrt(z)
-        lam = sx * (sy + sz) + sy * sz
-        total = total + weight / (sz * (z + lam))
-        weight *= 0.25
-        x, y, z, mean = 0.25 * (x + lam), 0.25 * (y + lam), 0.25 * (z + lam), 0.25 * (mean + lam)
+    mean, steps, total = _duplication(x, y, z, mean, threshold, r_d_sum=True)
+    weight = 0.25**steps
     scale = 4.0**steps * mean
     dx = (mean0 - x0) / scale
     dy = (mean0 - y0) / scale
