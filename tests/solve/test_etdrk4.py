@@ -285,6 +285,27 @@ def test_from_standstill_the_ramp_goes_to_the_fallback_and_stays_accurate():
     assert np.max(np.abs(_t56(inputs, x) - _t56(inputs, ref))) < 0.05
 
 
+@pytest.mark.parametrize("compiles", [True, False])
+def test_the_caller_is_told_before_the_fallback_compiles(monkeypatch, compiles):
+    """Which segments go to ROS34PW2 is known only by running them; where its driver is not
+    compiled yet (its first use on an installation, 10-20 s) ``notify`` is told so, naming
+    the segment, before it compiles, so that a progress bar's stall is explained."""
+    from rollerrig.solve import fast
+
+    monkeypatch.setattr(fast, "_will_compile", lambda dispatcher: compiles)
+    inputs = assemble(default_rig(), protocol_from_toml_string(STANDSTILL))
+    t = output_times(inputs.protocol.duration, 250.0)
+    told = []
+    x, stats = integrate_experiment(inputs, t, notify=told.append)
+    assert stats["fallback_segments"] == 1
+    if compiles:
+        assert len(told) == 1
+        assert "t = 0.3 s" in told[0] and "ROS34PW2" in told[0] and "compiles now" in told[0]
+    else:
+        assert told == []
+    np.testing.assert_array_equal(x, integrate_experiment(inputs, t)[0])
+
+
 def _ramp_through_standstill(direction):
     """The roller ramped under 200 N.m from 3 km/h to standstill (``"stop"``), or from
     standstill to 5 km/h (``"start"``: the V/f supply is off at standstill, so the wheel's

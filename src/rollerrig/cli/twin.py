@@ -320,7 +320,8 @@ def simulate(
                 cached = _say_compile_stage(dq=drives.roller == "induction_dq", inputs=sim.inputs)
             task = bar.add_task("simulating", total=duration, info="solving")
             ds = sim.solve(  # the results without xarray: written, drawn and summarised
-                progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s")
+                progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s"),
+                notify=note,
             )
             bar.update(task, completed=duration, info="done")
         console.print(_solved_line(_solver_stats(ds), duration, cached))

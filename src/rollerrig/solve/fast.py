@@ -469,9 +469,16 @@ def _integrate_exp(
     return STATUS_OK
 
 
-def _with_fallback(exp_driver, ros_driver, settings):
+def _will_compile(dispatcher) -> bool:
+    """True when calling ``dispatcher`` would compile it: neither loaded in this process nor
+    in the on-disk cache."""
+    return not dispatcher.signatures and not _cache.is_cached(dispatcher)
+
+
+def _with_fallback(exp_driver, ros_driver, settings, notify=None):
     """The ETDRK4 driver with ROS34PW2 on the segments it leaves (``stats[3]`` counts them),
-    taking :func:`_integrate`'s arguments.
+    taking :func:`_integrate`'s arguments; ``notify(message)`` is told before ROS34PW2
+    compiles (its first use on an installation: 10-20 s in which the run seems to stall).
 
     The last stability estimate (``memo``, :func:`rollerrig.solve.etdrk4._prepare`) is kept
     across the calls of one bound driver: across a fallback's resume, and across the
@@ -496,6 +503,12 @@ def _with_fallback(exp_driver, ros_driver, settings):
             k, k_end, ts = _segment_window(t_out, int(resume[1]), *bounds[s], x, x_out)
             chunk = np.empty((ts.size, x.size))
             stats[3] += 1
+            if notify is not None and _will_compile(ros_driver):
+                notify(
+                    f"the segment from t = {bounds[s, 0]:g} s goes to the fast solver's "
+                    "fallback (ROS34PW2; ETDRK4's own error estimate is too large there), which "
+                    "compiles now for this installation (once: 10-20 s)"
+                )
             start_solver_copy(params[s])  # as ROS34PW2 alone would start the segment
             status = ros_driver(
                 x, bounds[s : s + 1], params[s : s + 1], tables, ts, rt, at, h_max, jac_every,
@@ -671,16 +684,16 @@ def _driver(dq: bool, code: int):
     return single_exp if code == 0 else single
 
 
-def _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error=None):
+def _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error=None, notify=None):
     """``(driver, method code)``: the driver for ``inputs`` with ETDRK4's settings bound, so
-    that both methods take ROS34PW2's arguments."""
+    that both methods take ROS34PW2's arguments (``notify``: :func:`_with_fallback`)."""
     settings = _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error)
     code = settings[0]
     dq = _uses_dq(inputs)
     driver = _driver(dq, code)
     if code != 0:
         return driver, code
-    return _with_fallback(driver, _driver(dq, 1), settings[1:]), code
+    return _with_fallback(driver, _driver(dq, 1), settings[1:], notify), code
 
 
 def integrate_experiment(
@@ -695,6 +708,7 @@ def integrate_experiment(
     exp_step=None,
     relinearise=None,
     exp_error=None,
+    notify=None,
 ):
     """Integrate one experiment with the fast backend.
 
@@ -732,6 +746,10 @@ def integrate_experiment(
         4 times shorter in turn, away from standstill: :data:`GUARD_STEP_DIVISORS`), then by
         ROS34PW2
         (``fallback_segments``); 0 turns the guard off.
+    notify : callable, optional
+        ``notify(message)``: told when a segment goes to ROS34PW2 whose driver is not compiled
+        yet (its first use on this installation: 10-20 s in which nothing seems to happen).
+        Which segments need it is known only by running them (the step-error guard).
 
     Returns
     -------
@@ -746,7 +764,7 @@ def integrate_experiment(
         (segments integrated again at a shorter step) and, on a failure,
         ``reason`` (:func:`failure_reason`).
     """
-    integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error)
+    integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error, notify)
     rtol = _ros34pw2_rtol(rtol, code)
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, _uses_dq(inputs))
     name = METHODS[code]

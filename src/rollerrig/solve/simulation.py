@@ -179,23 +179,36 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         (:func:`output_times`)."""
         return output_times(self.protocol.duration, self.output_rate)
 
-    def run(self, progress: Callable[[float, float], None] | None = None):
+    def run(
+        self,
+        progress: Callable[[float, float], None] | None = None,
+        notify: Callable[[str], None] | None = None,
+    ):
         """Run the experiment and return the labelled dataset
-        (:func:`~rollerrig.solve.results.build_dataset`, an :class:`xarray.Dataset`).
+        (:func:`~rollerrig.solve.results.build_dataset`, an :class:`xarray.Dataset`);
+        ``progress`` and ``notify`` as in :meth:`solve`.
 
         Raises
         ------
         SolverError
             The solver failed: the message names the time it reached and what to try.
         """
-        return self.solve(progress).to_xarray()
+        return self.solve(progress, notify).to_xarray()
 
-    def solve(self, progress: Callable[[float, float], None] | None = None):
+    def solve(
+        self,
+        progress: Callable[[float, float], None] | None = None,
+        notify: Callable[[str], None] | None = None,
+    ):
         """Run the experiment and return the labelled results without importing xarray
         (:func:`~rollerrig.solve.results.build_results`, a
         :class:`~rollerrig.output.labelled.LabelledData`): the content of :meth:`run`'s
         Dataset, for a caller that only writes, draws or summarises it (``rollerrig
         simulate``); its ``to_xarray()`` gives the Dataset.
+
+        ``progress(t_reached, t_end)`` [s] is called as the solve goes on; with the fast
+        solver ``notify(message)`` is told when the run is about to compile the solver's
+        fallback (:func:`rollerrig.solve.fast.integrate_experiment`).
 
         Raises
         ------
@@ -216,7 +229,9 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
             # first compilation: both hold the lock) apart from the solve: in a fresh process
             # numba's own start and the load are about 0.45 s, the default solve 0.02 s.
             with event.install_timer("numba:compiler_lock", loading.append):
-                x, stats = integrate_experiment(self.inputs, t, rtol=self.rtol, progress=progress)
+                x, stats = integrate_experiment(
+                    self.inputs, t, rtol=self.rtol, progress=progress, notify=notify
+                )
             settings = dict(FAST_DEFAULTS) | ({"rtol": self.rtol} if self.rtol else {})
             settings["exp_step"] = default_exp_step(self.inputs)
             if stats.get("method") == "etdrk4":
