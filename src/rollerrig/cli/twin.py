@@ -313,15 +313,17 @@ def simulate(
                 f"solver {solver.value}",
             )
         )
-        cached = True
+        cached, announced = True, False
         with _progress() as bar:
             duration = sim.protocol.duration
             if solver is Solver.fast:
-                cached = _say_compile_stage(dq=drives.roller == "induction_dq", inputs=sim.inputs)
+                cached, announced = _say_compile_stage(
+                    dq=drives.roller == "induction_dq", inputs=sim.inputs
+                )
             task = bar.add_task("simulating", total=duration, info="solving")
             ds = sim.solve(  # the results without xarray: written, drawn and summarised
                 progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s"),
-                notify=note,
+                notify=None if announced else note,  # the fallback's compilation, once
             )
             bar.update(task, completed=duration, info="done")
         console.print(_solved_line(_solver_stats(ds), duration, cached))
@@ -390,11 +392,12 @@ def _solved_line(stats: dict, duration: float, cached: bool) -> str:
     return line
 
 
-def _say_compile_stage(*, dq: bool = False, inputs=None) -> bool:
+def _say_compile_stage(*, dq: bool = False, inputs=None) -> tuple[bool, bool]:
     """Say when the fast solver will compile (first run after an install or an upgrade) rather
     than load from its cache, so that a silent half minute is not taken for a hang; with the
     experiment's ``inputs``, also when a segment of it needs the fallback, ROS34PW2, whose
-    driver compiles the first time a run needs it. Returns whether the driver is cached."""
+    driver compiles the first time a run needs it. Returns whether the driver is cached and
+    whether the fallback's compilation was announced."""
     from rollerrig.solve.fast import is_compiled, needs_fallback
 
     cached = is_compiled(dq=dq)
@@ -403,12 +406,15 @@ def _say_compile_stage(*, dq: bool = False, inputs=None) -> bool:
             "compiling the fast solver for this installation (once: about half a minute on 2 "
             "cores); later runs load it from the cache"
         )
-    if inputs is not None and not is_compiled(dq=dq, method="ros34pw2") and needs_fallback(inputs):
+    announced = (
+        inputs is not None and not is_compiled(dq=dq, method="ros34pw2") and needs_fallback(inputs)
+    )
+    if announced:
         note(
             "this protocol ramps the roller to or from standstill, which the fast solver leaves "
             "to its fallback (ROS34PW2): compiling it for this installation (once: 10-20 s)"
         )
-    return cached
+    return cached, announced
 
 
 def _solver_stats(ds) -> dict:
