@@ -506,8 +506,8 @@ def _with_fallback(exp_driver, ros_driver, settings, notify=None):
             if notify is not None and _will_compile(ros_driver):
                 notify(
                     f"the segment from t = {bounds[s, 0]:g} s goes to the fast solver's "
-                    "fallback (ROS34PW2; ETDRK4's own error estimate is too large there), which "
-                    "compiles now for this installation (once: 10-20 s)"
+                    "fallback (ROS34PW2), which compiles now for this installation "
+                    "(once: 10-20 s)"
                 )
             start_solver_copy(params[s])  # as ROS34PW2 alone would start the segment
             status = ros_driver(

@@ -40,27 +40,7 @@ _EXPORTS: dict[str, str] = {
     "metric_table": "summary",
 }
 
-__all__ = [
-    "METRICS",
-    "MainEffects",
-    "Progress",
-    "RankCorrelations",
-    "SobolIndices",
-    "StudyFileError",
-    "StudyRun",
-    "StudySpec",
-    "bundled_studies",
-    "failures",
-    "load_study",
-    "main_effects",
-    "metric_summary",
-    "metric_table",
-    "open_study",
-    "rank_correlations",
-    "release_overshoots",
-    "run_study",
-    "sobol_indices",
-]
+__all__ = sorted(_EXPORTS)
 
 
 def __getattr__(name: str):
