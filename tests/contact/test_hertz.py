@@ -9,10 +9,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
-from scipy.special import ellipe
+from scipy.special import ellipe, ellipkm1
 
 from rollerrig._validation import ParameterError
 from rollerrig._warnings import DomainWarning
+from rollerrig.contact import hertz as hertz_module
 from rollerrig.contact.hertz import HERTZ_DOMAIN_LIMIT, combined_elastic_constants, hertz_contact
 from rollerrig.rig.parameters import default_rig
 
@@ -359,7 +360,7 @@ def test_two_flat_directions_rejected():
 
 def test_many_geometries_at_once_equal_one_by_one():
     # More distinct curvature ratios than are solved one by one and remembered go through the
-    # vectorised bisection: both paths must give the same ellipse.
+    # vectorised solve: both paths must give the same ellipse.
     radius_y = np.linspace(0.2, 3.0, 20)
     together = hertz_contact(20e3, 0.35, radius_y, np.inf, 0.40)
     for i, r in enumerate(radius_y):
@@ -367,3 +368,36 @@ def test_many_geometries_at_once_equal_one_by_one():
         assert together.semi_axis_x[i] == pytest.approx(alone.semi_axis_x, rel=1e-14)
         assert together.semi_axis_y[i] == pytest.approx(alone.semi_axis_y, rel=1e-14)
         assert together.approach[i] == pytest.approx(alone.approach, rel=1e-14)
+
+
+@pytest.mark.parametrize(
+    ("curvature_ratio", "axis_ratio"),
+    [
+        # g solving Johnson (1985) eq. 4.39 with mpmath's ellipk/ellipe at 40-50 digits
+        # (findroot in ln g; computed 2026-12-01), rounded to 20 digits.
+        (1.000001, 0.9999993333338888884),
+        (1.5, 0.76329878560639249552),
+        (10.0, 0.22224951924622137648),
+        (1e4, 0.0041248573583856217413),
+        (1e8, 0.000030449128970768588465),
+    ],
+)
+def test_axis_ratio_matches_high_precision_roots(curvature_ratio, axis_ratio):
+    # One by one (remembered) and together with others (the vectorised solve) alike.
+    alone = hertz_module._axis_ratio_of(curvature_ratio)
+    together = hertz_module._axis_ratio_kernel(np.array([curvature_ratio, 2.0, 1e6]))[0]
+    assert alone == pytest.approx(axis_ratio, rel=4e-15)
+    assert together == pytest.approx(axis_ratio, rel=4e-15)
+
+
+def test_axis_ratio_is_the_root_by_scipys_integrals():
+    # The solved g against an independent evaluation of the ratio (scipy's ellipkm1/ellipe,
+    # Cephes) in its plain form, well conditioned for ratios of 1.01 to 1000 only (near the
+    # circle K - E cancels, for slender ellipses m = 1 - g² loses g's digits: the pinned roots
+    # above cover both); the circle comes out exact.
+    ratios = np.concatenate([[1.0], np.logspace(0.005, 3.0, 40)])
+    g = hertz_module._axis_ratio_kernel(ratios)
+    assert g[0] == 1.0
+    m = 1.0 - g[1:] ** 2
+    k, e = ellipkm1(g[1:] ** 2), ellipe(m)
+    np.testing.assert_allclose((e / (1.0 - m) - k) / (k - e), ratios[1:], rtol=1e-12)
