@@ -69,7 +69,7 @@ class ModelInputs:
 _REFERENCE_CONTACTS: dict[tuple[float, ...], tuple[float, float, float]] = {}
 """(a, b, c11) of the Hertz contact by (load, the four radii, E, ν), as :func:`_base_parameters`
 found them: a calibration or a study assembles hundreds of variants of one geometry, and the exact
-ellipse (a bisection through elliptic integrals) with Kalker's c11 cost 1.1 ms of a 4.5 ms
+ellipse (a solve through elliptic integrals) with Kalker's c11 cost 1.1 ms of a 4.5 ms
 assembly. Contacts outside Hertz's half-space domain are not kept: each assembly warns again."""
 
 _REFERENCE_CONTACTS_KEPT = 256
