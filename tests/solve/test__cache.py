@@ -516,3 +516,48 @@ def test_a_damaged_driver_cache_is_rebuilt_in_a_fresh_process(fresh_runs, tmp_pa
     assert repaired["misses"] == 1 and repaired["x"] == runs[0]["x"]
     again = _run(damaged)
     assert again["hits"] == 1 and again["misses"] == 0
+
+
+class _OptLevelSeen(numba.core.event.Listener):
+    """numba's optimisation level at the start of each compilation (numba's compile events)."""
+
+    def __init__(self):
+        self.levels = []
+
+    def on_start(self, event):
+        self.levels.append(int(numba.core.config.OPT))
+
+    def on_end(self, event):
+        pass
+
+
+def _plus_one(x):
+    return x + 1.0
+
+
+@pytest.mark.parametrize("user_level", [None, "1"])
+def test_the_package_compiles_at_its_own_opt_level_unless_the_user_sets_one(
+    monkeypatch, user_level
+):
+    # A dispatcher as the package makes its own (the path of _wdriver._compiled_copy without
+    # a cache): compiled at COMPILE_OPT_LEVEL, numba's level as it was afterwards; a NUMBA_OPT
+    # of the user's wins (numba reads it again at each compilation).
+    if user_level is None:
+        monkeypatch.delenv("NUMBA_OPT", raising=False)
+    else:
+        monkeypatch.setenv("NUMBA_OPT", user_level)
+    numba.core.config.reload_config()
+    before = numba.core.config.OPT
+    try:
+        dispatcher = numba.njit(_plus_one)
+        _cache._compile_at_opt_level(dispatcher)
+        seen = _OptLevelSeen()
+        with numba.core.event.install_listener("numba:compile", seen):
+            assert dispatcher(1.0) == 2.0
+        expected = _cache.COMPILE_OPT_LEVEL if user_level is None else int(user_level)
+        assert seen.levels and set(seen.levels) == {expected}
+        assert numba.core.config.OPT == before
+        assert type(numba.core.config.OPT) is type(before)
+    finally:
+        monkeypatch.undo()
+        numba.core.config.reload_config()  # numba's level from the environment as it was

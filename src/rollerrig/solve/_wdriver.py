@@ -693,7 +693,9 @@ def _compiled_copy(template, namespace, suffix, cached, **options):
     fn.__doc__ = template.__doc__
     if cached:
         return _cache.njit(fn, **options)
-    return numba.njit(**options)(fn)
+    dispatcher = numba.njit(**options)(fn)
+    _cache._compile_at_opt_level(dispatcher)
+    return dispatcher
 
 
 @functools.cache
