@@ -486,6 +486,16 @@ def main() -> None:
             f"{cli['warm'] - cli['no_figure']:.2f} s); the rest is loading the compiled solver "
             "(numba's target and the cached code, about 0.4 s), solving (0.03 s) and the files"
         )
+    if cli is not None and cli["cold"] > 30.0:
+        from rollerrig.solve._cache import COMPILE_OPT_LEVEL
+
+        print(
+            f"- simulate on an empty cache: {cli['cold']:.2f} s, of which all but the warm "
+            f"run's {cli['warm']:.2f} s is compiling the fast solver's ETDRK4 driver, once per "
+            "installation: numba's type inference of the driver with the right-hand side "
+            f"inlined into it, and LLVM's optimisation (at level {COMPILE_OPT_LEVEL}, "
+            "solve/_cache.py; numba's default 3 took about 13 % more)"
+        )
     if duration / f_time < 2000 or lsoda_time / f_time < 20:
         print(
             f"- solve: {f_steps} ETDRK4 steps at {per_step:.0f} ns each, of which 4 right-hand "
