@@ -494,7 +494,7 @@ def main() -> None:
             f"run's {cli['warm']:.2f} s is compiling the fast solver's ETDRK4 driver, once per "
             "installation: numba's type inference of the driver with the right-hand side "
             f"inlined into it, and LLVM's optimisation (at level {COMPILE_OPT_LEVEL}, "
-            "solve/_cache.py; numba's default 3 took about 13 % more)"
+            "solve/_cache.py; numba's default 3 took about 15 % more CPU)"
         )
     if duration / f_time < 2000 or lsoda_time / f_time < 20:
         print(

@@ -515,25 +515,41 @@ _compiled_files: set[str] = set()
 
 
 COMPILE_OPT_LEVEL = 2
-"""LLVM's optimisation level for the package's compiled code [-] (numba's default is 3).
+"""Level of LLVM's optimisation passes for the package's compiled code [-] (numba's default is
+3; the target machine's code generation stays at numba's level).
 
 Level 3 adds little to scalar code like this model's but costs compile time. Measured on a
 cold compile of the default ETDRK4 driver (2026-12-01, this project's 2-core machine, three
-pairs): 55, 55 and 49 s of CPU at level 3 against 50, 47 and 41 s at 2 (with ``NUMBA_OPT``
-for the whole process, 48 s at 2 and 47 s at 1); ``benchmarks/run.py``'s cold compile of both
-methods 73 -> 67 s. The solves are as fast (ETDRK4, ROS34PW2 and the dq drive within 2 %, the
-best of 4 s of runs each, three pairs) and their results (those, and the hard case) the same to
-the bit. Only the package's own functions are compiled at this level (:func:`_at_opt_level`); a
-``NUMBA_OPT`` set by the user wins."""
+pairs): 55, 55 and 49 s of CPU at level 3 against 50, 47 and 41 s at 2; ``benchmarks/run.py``'s
+cold compile of both methods 73 -> 67 s. The solves are as fast (ETDRK4, ROS34PW2 and the dq
+drive within 2 %, the best of 4 s of runs each, three pairs) and their results (those, and the
+hard case) the same to the bit.
+
+It applies to what the package's dispatchers compile, callees included (a right-hand side of
+the user's given to :func:`rollerrig.solve.ros34pw.bind` is compiled with its driver), not to
+other numba functions of the process; a level the user gave numba (``NUMBA_OPT``, or ``opt``
+in ``.numba_config.yaml``) wins. numba's cache does not record the level: code compiled at one
+level is loaded whatever the level of the process that loads it."""
+
+
+def _user_opt_level() -> bool:
+    """True when the user gave numba an optimisation level: ``NUMBA_OPT`` in the environment,
+    or ``opt`` in ``.numba_config.yaml`` (numba's reloader holds both as ``NUMBA_OPT``)."""
+    from numba.core import config
+
+    reloader = getattr(config, "_env_reloader", None)
+    return "NUMBA_OPT" in os.environ or "NUMBA_OPT" in getattr(reloader, "old_environ", {})
 
 
 @contextlib.contextmanager
 def _at_opt_level():
     """numba's optimisation level set to :data:`COMPILE_OPT_LEVEL` while the package compiles
     (numba reads it for every module it optimises); under numba's compiler lock, so that no
-    other thread compiles meanwhile at the package's level. Unchanged where ``NUMBA_OPT`` is
-    set."""
-    if "NUMBA_OPT" in os.environ:
+    other thread compiles meanwhile at the package's level. Afterwards the level is put back
+    unless numba changed it meanwhile (a compilation re-reads numba's settings where the
+    environment changed: the level it read is the user's and stays). Unchanged where the user
+    gave a level (:func:`_user_opt_level`)."""
+    if _user_opt_level():
         yield
         return
     from numba.core import config
@@ -541,11 +557,13 @@ def _at_opt_level():
 
     with global_compiler_lock:
         saved = config.OPT
-        config.OPT = type(saved)(COMPILE_OPT_LEVEL)
+        ours = type(saved)(COMPILE_OPT_LEVEL)
+        config.OPT = ours
         try:
             yield
         finally:
-            config.OPT = saved
+            if config.OPT is ours:
+                config.OPT = saved
 
 
 def _compile_at_opt_level(dispatcher) -> None:
