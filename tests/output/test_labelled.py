@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import pickle
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -46,6 +48,36 @@ def test_it_holds_what_the_dataset_holds_in_its_order():
         _ = labelled.nothing
     again = pickle.loads(pickle.dumps(labelled))  # a study's worker sends results back
     assert again.to_xarray().identical(ds)
+
+
+def test_values_xarray_converts_are_converted_as_xarray_does():
+    # Objects, dates and durations take xarray's own path (it converts them); a plain
+    # array of numbers or strings is handed over as it is.
+    data = {
+        "when": ("time", np.array(["2026-12-01T08:00", "2026-12-01T08:01"], dtype="M8[s]")),
+        "took": ("time", np.array([1, 2], dtype="m8[s]")),
+        "note": ("time", np.array(["a", None], dtype=object)),
+        "force": ("time", np.array([1.0, 2.0])),
+    }
+    ds = xr.Dataset(data, coords={"time": ("time", np.array([0.0, 1.0]))})
+    converted = LabelledData(data, coords={"time": ("time", np.array([0.0, 1.0]))}).to_xarray()
+    assert converted.identical(ds)
+    assert converted.when.dtype == ds.when.dtype and converted.took.dtype == ds.took.dtype
+
+
+def test_the_dataset_is_built_without_importing_dask():
+    # xarray's probe of dask's array type imports dask.array (0.25-0.75 s of a fresh process)
+    # for every array it is given, unless it is handed over as it is (issue 20).
+    pytest.importorskip("dask")
+    code = (
+        "import sys, numpy as np, xarray\n"
+        "from rollerrig.output.labelled import LabelledData\n"
+        "d = LabelledData({'f': ('time', np.ones(3), {'units': 'N'})},"
+        " coords={'time': ('time', np.arange(3.0))}).to_xarray()\n"
+        "assert d.f.values.tolist() == [1.0, 1.0, 1.0]\n"
+        "sys.exit(int('dask.array' in sys.modules))\n"
+    )
+    assert subprocess.run([sys.executable, "-c", code]).returncode == 0
 
 
 def test_variables_of_different_lengths_are_refused():

@@ -211,7 +211,13 @@ class Recording(ChannelLookup):
 
         xr = require("xarray", "io", "a recording as an xarray Dataset")
 
-        data = {k: ("time", v, {"units": self.units[k]}) for k, v in self.channels.items()}
-        ds = xr.Dataset(data, coords={"time": ("time", self.time, {"units": "s"})})
+        from rollerrig.output.labelled import xarray_variable
+
+        data = {
+            k: xarray_variable(("time",), v, {"units": self.units[k]})
+            for k, v in self.channels.items()
+        }
+        time = xarray_variable(("time",), self.time, {"units": "s"})
+        ds = xr.Dataset(data, coords={"time": time})
         ds.attrs.update({k: str(v) for k, v in self.metadata.items()})
         return ds
