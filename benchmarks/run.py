@@ -344,15 +344,24 @@ def main() -> None:
     start = time.perf_counter()
     integrate_batch(variants[:2], t[:10])  # the single drivers in threads: nothing to compile
     load_batch = time.perf_counter() - start
+    # The same variants one after the other on one thread (each its best CPU time of two): what
+    # the threads divide, so that the sweep's rate reads as one thread's times the threads'
+    # gain on this machine (two threads of its 2 cores did 1.6-1.9 times one thread's work).
+    serial = sum(_best_of(lambda v=v: integrate_experiment(v, t), 2)[0] for v in variants) / len(
+        variants
+    )
     sweeps = []
     for label, options in (
         ("ETDRK4, default settings", {}),
         (f"ROS34PW2, sweep setting h_max {SWEEP_H_MAX * 1e3:g} ms",
          {"method": "ros34pw2", "h_max": SWEEP_H_MAX}),
     ):  # fmt: skip
+        # Wall time, best of several: the host's other load moved one sweep's wall time by up
+        # to 1.7 times between calls a second apart (2026-12-01).
         seconds, (xs, stats) = _best_of(
-            lambda o=options: integrate_batch(variants, t, **o), 2, clock=time.perf_counter
-        )
+            lambda o=options: integrate_batch(variants, t, **o), repeat,
+            clock=time.perf_counter, budget=2 * budget,
+        )  # fmt: skip
         ok = sum(s["status"] == 0 for s in stats)
         err = max(_dt56(variants[i], xs[i], sweep_refs[i]) for i in checked)
         # What a sweep point costs: the batch's CPU time a run (its variants are not the
@@ -524,16 +533,22 @@ def main() -> None:
             f"{os.cpu_count()} cores)"
         )
     if not (bool(best_sweep) and best_sweep[2] >= 200):
-        detail = (best_sweep or sweeps[0])[5]
+        label, seconds, rate, _, _, detail = best_sweep or sweeps[0]
         print(
-            f"- sweep: {threads} threads; a sweep point costs {detail['cpu'] * 1e3:.1f} ms of CPU "
-            f"(the default run {f_time * 1e3:.1f} ms: the variants' stiffer shafts take "
-            f"{detail['steps']:.0f} steps on average against {f_steps}: the step-error guard "
-            "in N.m of T56 is stricter on a stiffer shaft's twist, and the ringing after each "
-            f"release is integrated again at a shorter step on {detail['shortened']} of "
-            f"{len(variants)}, by the fallback on {detail['fallback']}); 200 runs/s "
-            f"on {threads} threads needs {threads / 200 * 1e3:.0f} ms a run and thread; the "
-            "sweep is timed in wall time, and other load on this machine takes threads away"
+            f"- sweep: 200 runs/s on {threads} threads needs {threads / 200 * 1e3:.0f} ms a run "
+            f"and thread. One thread ran the variants (ETDRK4, default settings) one after the "
+            f"other at {serial * 1e3:.1f} ms CPU a run = {1 / serial:.1f} runs/s (the default "
+            f"run {f_time * 1e3:.1f} ms; the variants' stiffer shafts take {detail['steps']:.0f} "
+            f"steps on average against {f_steps}: the step-error guard in N.m of T56 is "
+            "stricter on a stiffer shaft's twist, and the ringing after each release is "
+            f"integrated again at a shorter step on {detail['shortened']} of {len(variants)}, by "
+            f"the fallback on {detail['fallback']}); {threads} threads did {rate * serial:.2f} "
+            f"times one thread's work ({label}: {rate:.1f} runs/s in wall time, "
+            f"{detail['cpu'] * 1e3:.1f} ms of the process's CPU a run: the threads share this "
+            "machine's cores and caches with each other and with its other load). Even with the "
+            f"threads' full gain the sweep needs runs {200 / threads * serial:.1f} times cheaper "
+            "than these: about half the steps at the accuracy target (see the solve's line) or "
+            "half the cost of a step"
         )
 
 
