@@ -233,8 +233,9 @@ def simulate(
         bool,
         typer.Option(
             "--figure/--no-figure",
-            help="Draw the six-panel experiment figure (default). --no-figure leaves it out, "
-            "and matplotlib unimported: about a third of a fresh run's time.",
+            help="Draw the six-panel experiment figure (default; a helper process imports "
+            "matplotlib and draws it while the run solves and writes). --no-figure leaves it "
+            "out, and the helper.",
         ),
     ] = True,
     list_experiments: Annotated[
@@ -258,97 +259,94 @@ def simulate(
     if list_experiments:
         console.print(_experiment_list(bundled_protocols()), soft_wrap=True)
         return
-    from rollerrig.output import write_text
-    from rollerrig.rig.chain import format_modal_table, modal_table
-    from rollerrig.rig.model import DriveConfig
-    from rollerrig.solve.results import save_dataset
-    from rollerrig.solve.simulation import Simulation
+    from rollerrig.report.figure_process import FigureProcess
 
-    # Packages the run will need, checked before the simulation (the error names the extra).
-    if solver is Solver.fast:
-        require("numba", purpose="rollerrig simulate")
-    for module in _FORMAT_NEEDS.get(output_format.value, ()):
-        require(module, purpose=f"rollerrig simulate --format {output_format.value}")
-    _lag_used_by(roller_drive, roller_lag_s)
-    rig = load_rig(rig_file)
-    drives = DriveConfig(
-        wheel=wheel_drive.value,
-        roller=roller_drive.value,
-        roller_lag=roller_lag_s,
-        frame=frame.value,
-        law=law.value,
-    )
-    sim = Simulation(rig, experiment, drives=drives, solver=solver.value)
-    variant = dict(  # what differs from the defaults: in the file names and the title
-        wheel=drives.wheel,
-        roller=drives.roller,
-        roller_lag=roller_lag_s,
-        solver=solver.value,
-        rig_file=rig_file,
-        frame=frame.value,
-        law=law.value,
-    )
-    stem = variant_stem(sim.protocol.name, **variant)
-    inputs = {**protocol_inputs(experiment), "rig": rig_file}
-    with command_outputs(
-        out,
-        run=f"simulate-{stem}",
-        inputs=inputs,
-        rig=rig,
-        experiment=sim.protocol.name,
-        wheel_drive=drives.wheel,
-        roller_drive=drives.roller,
-        roller_lag_s=roller_lag_s,
-        frame=frame.value,
-        creep_law=law.value,
-        solver=solver.value,
-    ) as stage:
-        console.print(
-            Text.assemble(
-                "simulating ",
-                (sim.protocol.name, "bold"),
-                f" ({sim.protocol.duration:g} s) on ",
-                (rig.meta.name, "bold"),
-                f": wheel {drives.wheel}, roller {drives.roller}, law {drives.law}, "
-                f"solver {solver.value}",
-            )
+    # The figure's helper process imports matplotlib on another core while this one loads
+    # the rest, solves and writes; it is stopped however the run ends.
+    with FigureProcess(enabled=figure) as drawing:
+        from rollerrig.output import provenance, write_text
+        from rollerrig.rig.chain import format_modal_table, modal_table
+        from rollerrig.rig.model import DriveConfig
+        from rollerrig.solve.results import save_dataset
+        from rollerrig.solve.simulation import Simulation
+
+        # Packages the run will need, checked before the simulation (the error names the extra).
+        if solver is Solver.fast:
+            require("numba", purpose="rollerrig simulate")
+        for module in _FORMAT_NEEDS.get(output_format.value, ()):
+            require(module, purpose=f"rollerrig simulate --format {output_format.value}")
+        _lag_used_by(roller_drive, roller_lag_s)
+        rig = load_rig(rig_file)
+        drives = DriveConfig(
+            wheel=wheel_drive.value,
+            roller=roller_drive.value,
+            roller_lag=roller_lag_s,
+            frame=frame.value,
+            law=law.value,
         )
-        cached, announced = True, False
-        with _progress() as bar:
-            duration = sim.protocol.duration
-            if solver is Solver.fast:
-                cached, announced = _say_compile_stage(
-                    dq=drives.roller == "induction_dq", inputs=sim.inputs
+        sim = Simulation(rig, experiment, drives=drives, solver=solver.value)
+        variant = dict(  # what differs from the defaults: in the file names and the title
+            wheel=drives.wheel,
+            roller=drives.roller,
+            roller_lag=roller_lag_s,
+            solver=solver.value,
+            rig_file=rig_file,
+            frame=frame.value,
+            law=law.value,
+        )
+        stem = variant_stem(sim.protocol.name, **variant)
+        inputs = {**protocol_inputs(experiment), "rig": rig_file}
+        with command_outputs(
+            out,
+            run=f"simulate-{stem}",
+            inputs=inputs,
+            rig=rig,
+            experiment=sim.protocol.name,
+            wheel_drive=drives.wheel,
+            roller_drive=drives.roller,
+            roller_lag_s=roller_lag_s,
+            frame=frame.value,
+            creep_law=law.value,
+            solver=solver.value,
+        ) as stage:
+            console.print(
+                Text.assemble(
+                    "simulating ",
+                    (sim.protocol.name, "bold"),
+                    f" ({sim.protocol.duration:g} s) on ",
+                    (rig.meta.name, "bold"),
+                    f": wheel {drives.wheel}, roller {drives.roller}, law {drives.law}, "
+                    f"solver {solver.value}",
                 )
-            task = bar.add_task("simulating", total=duration, info="solving")
-            ds = sim.solve(  # the results without xarray: written, drawn and summarised
-                progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s"),
-                notify=None if announced else note,  # the fallback's compilation, once
             )
-            bar.update(task, completed=duration, info="done")
-        console.print(_solved_line(_solver_stats(ds), duration, cached))
-        text = format_modal_table(modal_table(rig))
-        release = _release_summary(ds, sim.protocol)
-        save_dataset(ds, stage.path(f"{stem}.{output_format.value}"), overwrite=True)
-        if figure:
-            title = variant_title(ds.attrs.get("title", sim.protocol.name), **variant)
-            _write_figure(ds, title, stage.path(figure_file(stem, figure_format)))
-        write_text(stage.path(f"{stem}-modes.txt"), text + "\n", comment="#")
-    console.print(text)
-    if release:
-        console.print(release)
-    print_written(stage.written)
-
-
-def _write_figure(results, title: str, path: Path) -> None:
-    """The experiment figure of ``results``, laid out already: drawn once, at 100 dpi
-    (matplotlib imported here, only when the figure is asked for)."""
-    from rollerrig.output import save_figure
-    from rollerrig.report.twin import EXPERIMENT_FIGURE_DPI, experiment_figure
-
-    save_figure(
-        experiment_figure(results, title=title), path, dpi=EXPERIMENT_FIGURE_DPI, tight=False
-    )
+            cached, announced = True, False
+            with _progress() as bar:
+                duration = sim.protocol.duration
+                if solver is Solver.fast:
+                    cached, announced = _say_compile_stage(
+                        dq=drives.roller == "induction_dq", inputs=sim.inputs
+                    )
+                task = bar.add_task("simulating", total=duration, info="solving")
+                ds = sim.solve(  # the results without xarray: written, drawn and summarised
+                    progress=lambda t, end: bar.update(task, completed=t, info=f"t = {t:.2f} s"),
+                    notify=None if announced else note,  # the fallback's compilation, once
+                )
+                bar.update(task, completed=duration, info="done")
+            console.print(_solved_line(_solver_stats(ds), duration, cached))
+            text = format_modal_table(modal_table(rig))
+            release = _release_summary(ds, sim.protocol)
+            if figure:  # drawn by the helper while the other files are written
+                title = variant_title(ds.attrs.get("title", sim.protocol.name), **variant)
+                figure_path = stage.path(figure_file(stem, figure_format))
+                drawing.submit(ds, title, figure_path, provenance())
+            save_dataset(ds, stage.path(f"{stem}.{output_format.value}"), overwrite=True)
+            write_text(stage.path(f"{stem}-modes.txt"), text + "\n", comment="#")
+            if figure:
+                drawing.finish()
+        console.print(text)
+        if release:
+            console.print(release)
+        print_written(stage.written)
 
 
 LAGLESS_ROLLER_DRIVES = (RollerDrive.induction_dq,)
