@@ -332,13 +332,13 @@ def simulate(
                     notify=None if announced else note,  # the fallback's compilation, once
                 )
                 bar.update(task, completed=duration, info="done")
-            console.print(_solved_line(_solver_stats(ds), duration, cached))
-            text = format_modal_table(modal_table(rig))
-            release = _release_summary(ds, sim.protocol)
-            if figure:  # drawn by the helper while the other files are written
+            if figure:  # drawn by the helper while the rest is summarised and written
                 title = variant_title(ds.attrs.get("title", sim.protocol.name), **variant)
                 figure_path = stage.path(figure_file(stem, figure_format))
                 drawing.submit(ds, title, figure_path, provenance())
+            console.print(_solved_line(_solver_stats(ds), duration, cached))
+            text = format_modal_table(modal_table(rig))
+            release = _release_summary(ds, sim.protocol)
             save_dataset(ds, stage.path(f"{stem}.{output_format.value}"), overwrite=True)
             write_text(stage.path(f"{stem}-modes.txt"), text + "\n", comment="#")
             if figure:
