@@ -91,10 +91,11 @@ def _folder_bytes(folder: Path) -> int:
 
 _IMPORTS = (
     "import rollerrig.cli, rollerrig.cli.twin, rollerrig.solve.simulation, "
-    "rollerrig.solve.results, rollerrig.solve.fast, rollerrig.report.twin, rollerrig.rig.chain, "
-    "h5py"
+    "rollerrig.solve.results, rollerrig.solve.fast, rollerrig.report.figure_process, "
+    "rollerrig.rig.chain, h5py"
 )
-"""What ``rollerrig simulate`` imports before it solves (the floor of a fresh process)."""
+"""What ``rollerrig simulate`` imports before it solves (the floor of a fresh process; its
+figure's helper process imports matplotlib, beside it)."""
 
 
 def cli_timings(experiment: str, warm_runs: int) -> dict:
@@ -113,7 +114,8 @@ def cli_timings(experiment: str, warm_runs: int) -> dict:
                 raise RuntimeError(f"rollerrig simulate failed:\n{done.stdout}\n{done.stderr}")
             sizes.append(_folder_bytes(work / "numba"))
         # The floor under the warm run: a fresh process importing what `simulate` imports;
-        # and the warm run without its figure (the figure's share: matplotlib and drawing).
+        # and the warm run without its figure (the figure's share: what its helper process's
+        # drawing adds after the solve; the helper imports matplotlib meanwhile).
         floor, no_figure = [], []
         for i in range(warm_runs):
             start = time.perf_counter()
@@ -489,11 +491,13 @@ def main() -> None:
     if cli is not None and cli["warm"] > 2.0:
         print(
             f"- simulate: a fresh process only importing what it imports (numpy, scipy, numba, "
-            f"matplotlib, h5py and rollerrig; no xarray, pandas or pyplot) takes "
+            f"h5py and rollerrig; no xarray, pandas or matplotlib) takes "
             f"{cli['imports']:.2f} s of the {cli['warm']:.2f} s; without the figure the run "
-            f"takes {cli['no_figure']:.2f} s (the figure: matplotlib's import and the drawing, "
-            f"{cli['warm'] - cli['no_figure']:.2f} s); the rest is loading the compiled solver "
-            "(numba's target and the cached code, about 0.4 s), solving (0.03 s) and the files"
+            f"takes {cli['no_figure']:.2f} s (the figure: what its helper process's drawing adds "
+            f"after the solve, {cli['warm'] - cli['no_figure']:.2f} s, the helper having "
+            "imported matplotlib meanwhile on the other core); the rest is loading the compiled "
+            "solver (numba's target and the cached code, about 0.4 s), solving (0.03 s) and the "
+            "files"
         )
     if cli is not None and cli["cold"] > 30.0:
         from rollerrig.solve._cache import COMPILE_OPT_LEVEL
