@@ -69,17 +69,14 @@ class FigureProcess:
         import rollerrig
 
         # The helper imports this very package, wherever it was imported from here.
-        root = str(Path(rollerrig.__file__).resolve().parents[1])
-        path = os.environ.get("PYTHONPATH")
-        env = {**os.environ, "PYTHONPATH": root if not path else root + os.pathsep + path}
-        env["MPLBACKEND"] = "Agg"
+        root = str(Path(rollerrig.__file__).parents[1])  # as spelled on its sys.path
         try:
             self._proc = subprocess.Popen(
-                [sys.executable, "-m", __name__],
+                [sys.executable, "-c", _BOOTSTRAP, root],
                 stdin=subprocess.PIPE,
                 stdout=subprocess.DEVNULL,  # what goes wrong there is done again here
                 stderr=subprocess.DEVNULL,
-                env=env,
+                env={**os.environ, "MPLBACKEND": "Agg"},
             )
         except OSError:
             self._proc = None
@@ -190,7 +187,8 @@ def _helper() -> int:
     return 0
 
 
-if __name__ == "__main__":
+def _main() -> None:
+    """The helper process's entry (:data:`_BOOTSTRAP`)."""
     try:
         status = _helper()
     except KeyboardInterrupt:  # Ctrl-C reaches the helper too: the caller reports it
@@ -200,3 +198,13 @@ if __name__ == "__main__":
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(status)
+
+
+_BOOTSTRAP = (
+    "import sys; root = sys.argv.pop(); "
+    "root in sys.path or sys.path.insert(0, root); "
+    "from rollerrig.report.figure_process import _main; _main()"
+)
+"""The helper's command: the folder the caller imported rollerrig from goes first on its path
+where the helper would not find it there anyway (nothing is put before the standard library
+of an installed package's interpreter)."""
