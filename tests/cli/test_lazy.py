@@ -21,7 +21,7 @@ import xarray as xr
 
 from rollerrig.cli import COMMANDS
 from rollerrig.output import figure_provenance
-from rollerrig.report.figure_process import _available_cores
+from rollerrig.studies.executor_choice import available_cores
 
 _RUN = """
 import atexit, json, sys
@@ -65,7 +65,7 @@ def test_simulate_imports_no_xarray_pandas_dask_or_pyplot(tmp_path):
     heavy = sorted(m for m in modules if m.split(".")[0] in _NOT_ON_THE_ONE_RUN_PATH)
     assert heavy == []
     assert "matplotlib.pyplot" not in modules  # the figure on an Agg canvas of its own
-    if _available_cores() >= 2:  # drawn by the helper process, which imported matplotlib
+    if available_cores() >= 2:  # drawn by the helper process, which imported matplotlib
         assert not [m for m in modules if m.split(".")[0] == "matplotlib"]
     else:  # drawn here (the check sees matplotlib's names)
         assert "matplotlib.backends.backend_agg" in modules

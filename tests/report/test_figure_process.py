@@ -17,7 +17,8 @@ import sys
 import pytest
 
 from rollerrig.output import figure_provenance, provenance
-from rollerrig.report.figure_process import FigureProcess, _available_cores
+from rollerrig.report.figure_process import FigureProcess
+from rollerrig.studies.executor_choice import available_cores
 
 RECORD = {"software": "rollerrig", "version": "0", "command": ["rollerrig", "simulate", "-e", "x"]}
 """The caller's provenance record, handed to the helper: the figure must carry this one."""
@@ -77,7 +78,7 @@ def _caller(tmp_path, results_file, mode: str) -> tuple[dict, os.PathLike]:
 
 
 needs_two_cores = pytest.mark.skipif(
-    _available_cores() < 2, reason="the helper runs only beside the caller, on a second core"
+    available_cores() < 2, reason="the helper runs only beside the caller, on a second core"
 )
 
 

@@ -40,13 +40,6 @@ def draw_experiment_figure(results, title: str, path: str | os.PathLike, record=
     return save_figure(fig, path, dpi=EXPERIMENT_FIGURE_DPI, tight=False, metadata=record)
 
 
-def _available_cores() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        return os.cpu_count() or 1
-
-
 class FigureProcess:
     """The experiment figure, drawn by a helper process started now (see the module).
 
@@ -64,7 +57,9 @@ class FigureProcess:
         self._proc: subprocess.Popen | None = None
         self._job: tuple | None = None
         self._handover: Path | None = None
-        if not enabled or "matplotlib" in sys.modules or _available_cores() < 2:
+        from rollerrig.studies.executor_choice import available_cores
+
+        if not enabled or "matplotlib" in sys.modules or available_cores() < 2:
             return
         import rollerrig
 
