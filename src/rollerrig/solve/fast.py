@@ -32,7 +32,7 @@ from rollerrig.rig.model import (
     speed_setpoint_bounds,
     start_solver_copy,
 )
-from rollerrig.solve import _cache, etdrk4
+from rollerrig.solve import _cache, _cold_start, etdrk4
 from rollerrig.solve import _wdriver as _wd
 from rollerrig.solve._compiled import RIG
 from rollerrig.solve._threads import run_each
@@ -696,6 +696,14 @@ def _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error=None, 
     return _with_fallback(driver, _driver(dq, 1), settings[1:], notify), code
 
 
+def _compile_on_two_cores(inputs, method, exp_step, relinearise, h_max, exp_error):
+    """Where ETDRK4's driver for ``inputs`` is neither compiled nor cached, compile it with a
+    helper process on a second core (:mod:`rollerrig.solve._cold_start`)."""
+    settings = _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error)
+    if settings[0] == 0:
+        _cold_start.compile_in_parallel(inputs, settings[1:])
+
+
 def integrate_experiment(
     inputs,
     t_out,
@@ -765,6 +773,7 @@ def integrate_experiment(
         ``reason`` (:func:`failure_reason`).
     """
     integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error, notify)
+    _compile_on_two_cores(inputs, method, exp_step, relinearise, h_max, exp_error)
     rtol = _ros34pw2_rtol(rtol, code)
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, _uses_dq(inputs))
     name = METHODS[code]
@@ -865,6 +874,7 @@ def integrate_batch(
         )
     # Each variant's own settings: a flexible frame adds its velocity to the contact block.
     runs = [_bound_driver(i, method, exp_step, relinearise, h_max, exp_error) for i in inputs_list]
+    _compile_on_two_cores(first, method, exp_step, relinearise, h_max, exp_error)
     rtol = _ros34pw2_rtol(rtol, runs[0][1])
     rt, at, h_max_ros, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
     bounds, _ = _segment_arrays(first.segments)
