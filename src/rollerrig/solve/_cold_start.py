@@ -106,8 +106,10 @@ def _caller_second(a: dict, segment, ws, relinearise: int, weights, limit: float
     """This process's phase 2: the segment's step loop (its calls of the right-hand side are
     inlined)."""
     counts = np.zeros(5, dtype=np.int64)
+    divisors = np.ones(2)
+    divisors.setflags(write=False)  # a global array of the driver's: a constant to numba
     args = (0.0, 1.0, 1, a["t"], a["p"], a["tables"], int(relinearise), 1, ws, a["xs"], counts,
-            weights, float(limit))  # fmt: skip
+            weights, float(limit), divisors, 1)  # fmt: skip
     return [(segment, _types(*args))]
 
 

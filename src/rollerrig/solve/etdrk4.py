@@ -40,10 +40,11 @@ the adaptive ROS34PW2 W-method (:mod:`rollerrig.solve.ros34pw`).
 
 The step is not adapted to the error; instead each step estimates it (classical RK4's
 embedded third-order estimate, :func:`_step_error`, weighted to the quantity the results are
-judged by) and a segment where a step's estimate exceeds ``err_limit`` fails: the driver
-integrates it again from its start at a shorter step (1.25, 2 and 4 times shorter in turn,
-and only away from standstill: :data:`rollerrig.solve.fast.GUARD_STEP_DIVISORS`), then hands
-it to the fallback.
+judged by). A step whose estimate exceeds ``err_limit`` is rejected and the segment goes on
+from the last accepted state at a shorter step (1.25, 2 and 4 times shorter in turn, and only
+away from standstill: :data:`rollerrig.solve.fast.GUARD_STEP_DIVISORS`), back to the longer
+step once :data:`GROW_AFTER` estimates in a row say it would pass there (:func:`_segment`);
+where the shortest step is rejected too, the driver hands the segment to the fallback.
 Through macro-slip at low speed the fixed step was off by several N.m (a slip reversal past
 the adhesion limit at 5-10 km/h), where ROS34PW2 holds about 0.1 N.m
 (:data:`rollerrig.solve.fast.FAST_DEFAULTS` gives the measurements).
@@ -104,6 +105,17 @@ _MIN_STEP_RATIO = 0.2  # below this share of h_max the segment goes to the fallb
 # replayed recording) would otherwise pay a full Jacobian and its eigenvalues (about 0.3 ms)
 # for every millisecond simulated, fifty times the steps' own cost.
 STABILITY_RECHECK = 0.01
+GROW_AFTER = 64
+"""Accepted steps in a row, at a step shortened by the step-error guard, whose error estimates
+would pass at the next longer step before the segment goes back to it [-]: 82 ms at 1.28 ms,
+more than a period of the roller shaft's mode (13.8 Hz on the default rig, 25 Hz at its
+stiffest in the benchmark's sweep), whose ringing after a release is what trips the guard."""
+GROW_SAFETY = 8.0
+"""Factor on the error estimate scaled to the longer step (by the ratio of the steps to the
+fourth power, the estimate's order) before it counts as passing there [-]. On the sweep's
+8 variants of its two stiffest shafts (``benchmarks/run.py``; 2026-12-02, against Radau 1e-10)
+8 kept max |ΔT56| at 0.051 N.m (the whole segment at the shorter step: 0.050) in 10 % fewer
+steps; 2 went back too early, into the ringing: 0.0996 N.m."""
 _SQRT_EPS = np.sqrt(np.finfo(float).eps)
 
 # LAPACK's real dgeev as numba's own np.linalg.eigvals calls it (its C helper, bound by name
@@ -751,32 +763,60 @@ def _prepare(x0, t0, t1, p, tables, h_max, ns, ws, memo):
     return max(1, int(np.ceil((t1 - t0) / h_stable * (1.0 - 1e-12))))
 
 
+def _block_matrices(t, h, ns, nd, ws, p, tables, first_block):
+    """The matrices of blocks ``first_block..ns + nd - 1`` at ``(t, x)`` (``x``, ``f(t, x)``
+    in the workspace's first two rows) for the step ``h``."""
+    blocks, sizes, first, cf, coef, lin, scratch, vec = (
+        ws[0], ws[1], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
+    )  # fmt: skip
+    for b in range(first_block, ns + nd):
+        _block_jacobian(t, vec[0], vec[1], p, tables, blocks[b], sizes[b], lin, vec[2], vec[3])
+        _block_coefficients(lin, sizes[b], h, coef, scratch)
+        _store_block(coef, sizes[b], first[b], cf)
+
+
+def _grid(t, t1, h_rung):
+    """The steps from ``t`` to the segment's end ``t1`` at about ``h_rung`` [s]: ``(count,
+    step)``, the step the largest not above ``h_rung`` that divides what is left."""
+    n = max(1, int(np.ceil((t1 - t) / h_rung * (1.0 - 1e-12))))
+    return n, (t1 - t) / n
+
+
 def _segment(
     t0, t1, m, t_out, p, tables, relinearise, ns, ws, x_out, counts, err_weights, err_limit,
+    divisors, rungs,
 ):  # fmt: skip
     """ETDRK4 over one smooth segment ``[t0, t1]`` in ``m`` steps (:func:`_prepare`, which
     left the start state in ``ws``); ``x_out[k]`` at ``t_out[k]`` (in ``[t0, t1]``,
     increasing), the last row ``t_out[-1] == t1`` being the end state; ``ns`` static blocks,
     then the dynamic ones, in the workspace ``ws`` (:func:`workspace`).
 
-    Returns a status: 0 done; -1 the segment failed (the state became non-finite, or a step's
-    error estimate exceeded ``err_limit``: :func:`_step_error`), which the driver retries at a
-    shorter step or hands to the fallback. ``counts`` gets the steps (0) and the
-    linearisations (2) added, a failed attempt's too.
+    The step-error guard: a step whose error estimate exceeds ``err_limit``
+    (:func:`_step_error`), or whose state is not finite, is rejected, and the segment goes on
+    from the last accepted state at the full step divided by the next of ``divisors``
+    (``divisors[0] == 1``; at most ``rungs`` of them: 0 allows no shorter step), re-divided so
+    as to land on ``t1``. After :data:`GROW_AFTER` steps in a row whose estimates would pass at
+    the next longer step (the estimate scales as the step's fourth power; with a factor
+    :data:`GROW_SAFETY`) it goes back to that step. So a shaft's ringing after a release is
+    integrated at the shorter step while it rings, and the rest of the segment at the full
+    step.
+
+    Returns a status: 0 done; -1 the segment failed (a rejected step with no shorter rung
+    left), which the driver hands to the fallback. ``counts`` gets the accepted steps (0), the
+    rejected ones (1), the linearisations (2) and, once, a segment that took a shorter step
+    (4) added, a failed attempt's too.
 
     Compiled without reference counting (``_nrt=False``; it allocates nothing): with it, the
     arrays handed to the inlined helpers and the rows of the workspace took and gave back
     references in every step, atomic operations that were 12 % of the solve's samples (perf,
     2026-11-30).
     """
-    blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl = ws
+    blocks, cols, rows, cf, vec, local, nl = ws[0], ws[2], ws[3], ws[5], ws[9], ws[10], ws[11]
     n = vec.shape[1]
     n_out = t_out.shape[0]
     nd = blocks.shape[0] - ns
     x = vec[0]
     fx = vec[1]
-    xp = vec[2]
-    fp = vec[3]
     x_new = vec[4]
     f_new = vec[5]
     sa = vec[6]
@@ -785,11 +825,9 @@ def _segment(
     fa = vec[9]
     fb = vec[10]
     fc = vec[11]
-    h = (t1 - t0) / m
-    for b in range(ns + nd):
-        _block_jacobian(t0, x, fx, p, tables, blocks[b], sizes[b], lin, xp, fp)
-        _block_coefficients(lin, sizes[b], h, coef, scratch)
-        _store_block(coef, sizes[b], first[b], cf)
+    h_full = (t1 - t0) / m
+    h = h_full
+    _block_matrices(t0, h, ns, nd, ws, p, tables, 0)
     counts[2] += 1
     k = 0
     while k < n_out and t_out[k] <= t0:
@@ -803,23 +841,39 @@ def _segment(
     every = relinearise if m >= 2 * relinearise else 1
     since = 0
     t = t0
-    for i in range(m):
-        t_new = t1 if i == m - 1 else t0 + (i + 1) * h
+    base = t0  # where the current grid of steps starts
+    n_grid = m  # its steps to t1
+    i = 0  # its steps taken
+    rung = 0
+    calm = 0
+    while i < n_grid:
+        t_new = t1 if i == n_grid - 1 else base + (i + 1) * h
         if since >= every and nd > 0:
-            for b in range(ns, ns + nd):
-                _block_jacobian(t, x, fx, p, tables, blocks[b], sizes[b], lin, xp, fp)
-                _block_coefficients(lin, sizes[b], h, coef, scratch)
-                _store_block(coef, sizes[b], first[b], cf)
+            _block_matrices(t, h, ns, nd, ws, p, tables, ns)
             counts[2] += 1
             since = 0
         _step(
             t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, sa, sb, sc, fa, fb, fc, nl
         )
         rhs(t_new, x_new, p, tables, f_new)
-        if not _finite_pair(x_new, f_new):
-            return -1
-        if err_limit > 0.0 and _step_error(h, fc, f_new, err_weights) > err_limit:
-            return -1
+        err = 0.0
+        if err_limit > 0.0:
+            err = _step_error(h, fc, f_new, err_weights)
+        if not _finite_pair(x_new, f_new) or err > err_limit:
+            counts[1] += 1
+            if rung >= rungs:
+                return -1
+            if rung == 0:
+                counts[4] += 1
+            rung += 1
+            n_grid, h = _grid(t, t1, h_full / divisors[rung])
+            base = t
+            i = 0
+            _block_matrices(t, h, ns, nd, ws, p, tables, 0)
+            counts[2] += 1
+            since = 0
+            calm = 0
+            continue
         while k < n_out and t_out[k] < t_new:
             _hermite(t, h, x, fx, x_new, f_new, t_out[k], x_out, k)
             k += 1
@@ -827,11 +881,24 @@ def _segment(
             x[j] = x_new[j]
             fx[j] = f_new[j]
         t = t_new
+        i += 1
         since += 1
         counts[0] += 1
         while k < n_out and t_out[k] <= t:
             _wd._store_row(x_out, k, x)
             k += 1
+        if rung > 0 and i < n_grid:
+            ratio = divisors[rung] / divisors[rung - 1]
+            calm = calm + 1 if err * GROW_SAFETY * ratio**4 <= err_limit else 0
+            if calm >= GROW_AFTER:
+                rung -= 1
+                n_grid, h = _grid(t, t1, h_full / divisors[rung])
+                base = t
+                i = 0
+                _block_matrices(t, h, ns, nd, ws, p, tables, 0)
+                counts[2] += 1
+                since = 0
+                calm = 0
     return 0
 
 
@@ -880,6 +947,8 @@ def bind(driver, name: str):
         (_step_error, "always"),
         (workspace, "never"),
         (_prepare, "never"),
+        (_block_matrices, "always"),
+        (_grid, "always"),
         (_segment, "never"),
     ):
         options = {"_nrt": False} if template is _segment else {}

@@ -131,10 +131,11 @@ braking and in traction, then released, gave max |ΔT56| 5.5, 4.7, 2.8, 0.41 and
 then decelerated to standstill 15 N.m; re-linearising every step did not cure it (4.95 N.m at
 5 km/h). Each step therefore estimates its own error in T56, classical RK4's embedded
 third-order estimate on the roller shaft's twist (``etdrk4._step_error``, no extra
-right-hand side), and a segment where one step's estimate exceeds ``exp_error`` is
-integrated again from its start at a shorter step, 1.25, 2 and 4 times shorter in turn
-(:data:`GUARD_STEP_DIVISORS`, away from standstill), then goes to ROS34PW2, whose error is
-controlled.
+right-hand side). A step whose estimate exceeds ``exp_error`` is rejected, and the segment
+goes on from the last accepted state at a shorter step, 1.25, 2 and 4 times shorter in turn
+(:data:`GUARD_STEP_DIVISORS`, away from standstill), back to the longer step once 64
+estimates in a row say it would pass there (``etdrk4.GROW_AFTER``); where the shortest step
+is rejected too, the segment goes to ROS34PW2, whose error is controlled.
 
 Measured (2026-11-30, max |ΔT56| against Radau at rtol 1e-9/1e-10), with 0.007 N.m and the
 step halved on a trip (the shorter steps of :data:`GUARD_STEP_DIVISORS` since 2026-12-01: the
@@ -150,7 +151,8 @@ gave 0.034):
 - a sweep of the roller shaft's stiffness (43.5-143.5 kN.m/rad) and the motor's lag
   (0-0.36 s) on the bundled test, 24 variants: at most 0.061 N.m, 14 with the ringing after
   each release at half the step, none by ROS34PW2 (at 1.25 times shorter, 2026-12-01: 17
-  variants, 28 % fewer steps on each, still at most 0.061 N.m). With 0.01 N.m and no halving
+  variants, 28 % fewer steps on each, still at most 0.061 N.m; since 2026-12-02 the shorter
+  step only while the shaft rings, :data:`GUARD_STEP_DIVISORS`). With 0.01 N.m and no halving
   (before), the stiffest shafts' ringing went to ROS34PW2, off by 0.25-0.31 N.m at its
   defaults, and a variant the guard passed was off by 0.105 N.m;
 - the slip reversal followed by a stop to standstill (tests/solve/test_simulation.py):
@@ -338,9 +340,20 @@ _exp_workspace, _exp_prepare, _exp_segment = etdrk4.bind(RIG, "rig")
 
 
 GUARD_STEP_DIVISORS = (1.25, 2.0, 4.0)
-"""A segment whose ETDRK4 steps trip the step-error guard is integrated again from its start at
-its step divided by these, in turn, before it goes to the fallback (ROS34PW2). Only where the
-roller's speed set point stays at or above :data:`RETRY_MIN_SPEED` throughout the segment.
+"""Where a step of ETDRK4 trips the step-error guard, it is rejected and its segment goes on
+from the last accepted state at the segment's step divided by these, in turn, before it goes
+to the fallback (ROS34PW2); after ``etdrk4.GROW_AFTER`` steps in a row whose error estimates
+would pass at the next longer step (scaled by the steps' ratio to the fourth power and by
+``etdrk4.GROW_SAFETY``), back to it. Only where the roller's speed set point stays at or above
+:data:`RETRY_MIN_SPEED` throughout the segment.
+
+Until 2026-12-01 a trip sent the whole segment back to its start at the shorter step: on the
+sweep's stiffest shafts the ringing tripped the guard 9-23 steps after each release, and the
+rest of the 5.5-6.5 s segment, long after the ringing had died away, ran at 1.28 ms. Going
+back to the full step once the estimates allow (2026-12-02, the 8 variants of the two
+stiffest shafts, against Radau 1e-10): 19 330 steps on average where there had been 21 530,
+at most 0.051 N.m off where there had been 0.050; with a factor of 2 instead of 8 on the
+scaled estimate, 18 850 steps but 0.0996 N.m.
 
 On a roller shaft 3.3 times stiffer (143.5 kN.m/rad) the ringing after each release tripped the
 guard at 1.6 ms; ROS34PW2 at its default tolerance was then off by 0.31 N.m against Radau
@@ -350,6 +363,9 @@ kN.m/rad, motor lags 0-0.36 s) the 17 variants whose ringing tripped the guard t
 steps at 1.25 where halving took 29 700, at most 0.050 N.m off (halving: 0.0073); every
 variant at most 0.061 N.m (2026-12-01). The last rung is the 0.4 ms that two halvings
 reached before."""
+
+_GUARD_DIVISORS = np.array((1.0, *GUARD_STEP_DIVISORS))
+_GUARD_RUNGS = len(GUARD_STEP_DIVISORS)
 
 RETRY_MIN_SPEED = 1.0
 """Lowest roller speed set point [m/s] (3.6 km/h, 20 times the creep's and the bearings'
@@ -439,23 +455,13 @@ def _integrate_exp(
         if not _stops(tables, t0, t1):
             steps = _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
         done = -1
-        retries = 0
-        while steps > 0:
+        if steps > 0:
+            # Shorter steps where the step-error guard trips, only away from standstill.
+            rungs = _GUARD_RUNGS if lowest_speed_setpoint(tables, t0, t1) >= RETRY_MIN_SPEED else 0
             done = _exp_segment(
                 t0, t1, steps, ts, params[s], seg_tables, relinearise, n_static, ws, xs, stats,
-                err_weights, err_limit,
+                err_weights, err_limit, _GUARD_DIVISORS, rungs,
             )  # fmt: skip
-            if done == 0 or retries == len(GUARD_STEP_DIVISORS):
-                break
-            if lowest_speed_setpoint(tables, t0, t1) < RETRY_MIN_SPEED:
-                break
-            # The step-error guard tripped (or the state left the finite numbers): the
-            # segment again from its start at a shorter step, before the fallback.
-            if retries == 0:
-                stats[4] += 1  # segments at a shorter step, once each
-            steps = _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
-            steps = int(np.ceil(steps * GUARD_STEP_DIVISORS[retries]))
-            retries += 1
         if done != 0:
             resume[0] = s
             resume[1] = k
@@ -749,11 +755,12 @@ def integrate_experiment(
     relinearise : int, optional
         ETDRK4 re-linearises the contact block every this many steps [-].
     exp_error : float, optional
-        ETDRK4's step-error guard [N.m]: a segment where one step's error estimate of T56
-        exceeds it is integrated again at a shorter step (``shortened_segments``; 1.25, 2 and
-        4 times shorter in turn, away from standstill: :data:`GUARD_STEP_DIVISORS`), then by
-        ROS34PW2
-        (``fallback_segments``); 0 turns the guard off.
+        ETDRK4's step-error guard [N.m]: a step whose error estimate of T56 exceeds it is
+        rejected (``rejected_steps``) and its segment goes on at a shorter step
+        (``shortened_segments``; 1.25, 2 and 4 times shorter in turn, away from standstill,
+        back to the longer step once the estimates allow: :data:`GUARD_STEP_DIVISORS`); where
+        the shortest is rejected too, ROS34PW2 takes the segment (``fallback_segments``); 0
+        turns the guard off.
     notify : callable, optional
         ``notify(message)``: told when a segment goes to ROS34PW2 whose driver is not compiled
         yet (its first use on this installation: 10-20 s in which nothing seems to happen).
@@ -769,7 +776,7 @@ def integrate_experiment(
         ``method``, ``accepted_steps``, ``rejected_steps``, ``jacobians`` (linearisations
         with ETDRK4), ``status`` (0: success), ``t_stop`` (the simulated time reached [s]),
         with ETDRK4 ``fallback_segments`` (segments ROS34PW2 took) and ``shortened_segments``
-        (segments integrated again at a shorter step) and, on a failure,
+        (segments the guard gave a shorter step in) and, on a failure,
         ``reason`` (:func:`failure_reason`).
     """
     integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error, notify)
