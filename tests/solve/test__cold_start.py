@@ -39,7 +39,7 @@ def _plan(inputs):
         inputs, None, None, None, None
     )[1:]
     ws = workspace(inputs.initial_state.size, static, dynamic)
-    first = _cold_start._helper_first(a)
+    first = _cold_start._helper_first(a, fast._segment_window)
     second = _cold_start._helper_second(a, prepare, ws)
     # Called by the ETDRK4 driver only, so cached for the driver's types alone.
     exclusive = first[:3] + _cold_start._caller_second(a, segment, ws, relinearise, weights,
@@ -61,14 +61,22 @@ def test_the_split_compiles_for_the_types_the_driver_passes(inputs):
 def test_no_helper_where_the_driver_is_there_already(inputs, monkeypatch):
     monkeypatch.setattr(_cold_start, "_TRIED", set())
     settings = fast._exp_settings(inputs, None, None, None, None)[1:]
-    assert not _cold_start.compile_in_parallel(inputs, settings)
+    asked = []
+
+    def needed():
+        asked.append(True)
+        return fast._will_compile(fast._driver(False, 0))
+
+    assert not _cold_start.compile_in_parallel(inputs, settings, False, needed)
     # Once a process and model: no second look.
-    assert not _cold_start.compile_in_parallel(inputs, settings)
+    assert not _cold_start.compile_in_parallel(inputs, settings, False, needed)
+    assert len(asked) <= 1
 
 
 def test_the_helper_compiles_nothing_into_another_cache_folder(tmp_path, monkeypatch):
     monkeypatch.setattr(_cache, "cache_dir", lambda: tmp_path / "mine")
     compiled = []
     monkeypatch.setattr(_cold_start, "_compile", compiled.append)
-    assert _cold_start._helper(str(tmp_path / "theirs"), False, 22, 10, (3, 4)) == 3
+    helper = _cold_start._helper
+    assert helper(str(tmp_path / "theirs"), False, 22, 10, (3, 4), None, None) == 3
     assert compiled == []

@@ -57,7 +57,7 @@ class FigureProcess:
         self._proc: subprocess.Popen | None = None
         self._job: tuple | None = None
         self._handover: Path | None = None
-        from rollerrig.studies.executor_choice import available_cores
+        from rollerrig._machine import available_cores
 
         if not enabled or "matplotlib" in sys.modules or available_cores() < 2:
             return

@@ -80,10 +80,10 @@ def _sample(n_states: int, n_params: int, table_shape: tuple[int, int]) -> dict:
     }
 
 
-def _helper_first(a: dict) -> list:
+def _helper_first(a: dict, window) -> list:
     """The helper's phase 1, ``(dispatcher, argument types)``: nothing here calls the
-    right-hand side."""
-    from rollerrig.solve import _compiled, etdrk4, fast
+    right-hand side (``window``: the driver's output window, ``fast._segment_window``)."""
+    from rollerrig.solve import _compiled, etdrk4
 
     m = etdrk4.MAX_BLOCK
     coef = np.zeros((7, m, m))
@@ -92,7 +92,7 @@ def _helper_first(a: dict) -> list:
         (etdrk4._block_coefficients, _types(coef[0], 1, 1.0, coef, coef)),
         (etdrk4.eigenvalues_of_coupled_part, _types(np.zeros((n, n)))),
         (etdrk4.rk4_stable_step, _types(np.zeros(2, dtype=np.complex128), 1.0)),
-        (fast._segment_window, _types(a["t"], 1, 0.0, 1.0, a["x"], a["xs"])),
+        (window, _types(a["t"], 1, 0.0, 1.0, a["x"], a["xs"])),
         (_compiled.rig_terms_series, _types(a["t"], a["xs"], a["p"], a["tables"], a["xs"])),
     ]
 
@@ -129,7 +129,7 @@ def _compile(pairs) -> None:
         dispatcher.compile(types)
 
 
-def compile_in_parallel(inputs, settings) -> bool:
+def compile_in_parallel(inputs, settings, dq: bool, needed) -> bool:
     """Compile ETDRK4's driver for ``inputs`` on two cores where a run would compile it (once
     a process and model).
 
@@ -140,6 +140,11 @@ def compile_in_parallel(inputs, settings) -> bool:
     settings : tuple
         ETDRK4's settings ``(step, relinearise, static blocks, dynamic blocks, error weights,
         error limit)`` (:func:`rollerrig.solve.fast._exp_settings` without the method's code).
+    dq : bool
+        The model with the dq roller drive.
+    needed : callable
+        ``needed()`` is True when a run would compile the driver (neither compiled in this
+        process nor in the cache); asked once a process and model.
 
     Returns
     -------
@@ -147,14 +152,13 @@ def compile_in_parallel(inputs, settings) -> bool:
         True when a helper process took part. Either way the caller's run then compiles (or
         loads) whatever is still missing.
     """
-    from rollerrig.solve import _cache, fast
-    from rollerrig.studies.executor_choice import available_cores
+    from rollerrig._machine import available_cores
+    from rollerrig.solve import _cache
 
-    dq = fast._uses_dq(inputs)
     if dq in _TRIED:
         return False
     _TRIED.add(dq)
-    if not fast._will_compile(fast._driver(dq, 0)) or available_cores() < 2:
+    if available_cores() < 2 or not needed():
         return False
     folder = _cache.cache_dir()
     if folder is None:
@@ -195,34 +199,38 @@ def compile_in_parallel(inputs, settings) -> bool:
     return True
 
 
-def _helper(folder: str, dq: bool, n_states: int, n_params: int, shape: tuple[int, int]) -> int:
-    """The helper's work (see the module); exit status 0, or 3 where its cache folder is not
-    the caller's (then it compiles nothing)."""
+def _helper(folder: str, dq: bool, n_states: int, n_params: int, shape: tuple[int, int],
+            window, static_blocks) -> int:  # fmt: skip
+    """The helper's work (see the module; ``window`` and ``static_blocks`` the driver's, from
+    :mod:`rollerrig.solve.fast`); exit status 0, or 3 where its cache folder is not the
+    caller's (then it compiles nothing)."""
     from rollerrig.solve import _cache
 
     if str(_cache.cache_dir()) != folder:
         return 3
-    from rollerrig.solve import fast
-
     a = _sample(n_states, n_params, shape)
-    _compile(_helper_first(a))
+    _compile(_helper_first(a, window))
     if sys.stdin.readline().encode() != _GO:  # the caller gave up: nothing of phase 2
         return 0
     _, workspace, prepare, _ = _model_dispatchers(dq)
-    ws = workspace(n_states, fast._STATIC_BLOCKS, np.array([[0, 1, -1]], dtype=np.int64))
+    ws = workspace(n_states, static_blocks, np.array([[0, 1, -1]], dtype=np.int64))
     _compile(_helper_second(a, prepare, ws))
     return 0
 
 
-def _main() -> None:
+def helper_main(window, static_blocks) -> None:
+    """The helper process's entry (its arguments on the command line, see
+    :func:`compile_in_parallel`): :func:`rollerrig.solve.fast._cold_start_helper` calls it."""
     folder, dq, n_states, n_params, rows, cols = sys.argv[1:7]
-    sys.exit(_helper(folder, dq == "1", int(n_states), int(n_params), (int(rows), int(cols))))
+    shape = (int(rows), int(cols))
+    sys.exit(_helper(folder, dq == "1", int(n_states), int(n_params), shape, window,
+                     static_blocks))  # fmt: skip
 
 
 _BOOTSTRAP = (
     "import sys; root = sys.argv.pop(); "
     "root in sys.path or sys.path.insert(0, root); "
-    "from rollerrig.solve._cold_start import _main; _main()"
+    "from rollerrig.solve.fast import _cold_start_helper; _cold_start_helper()"
 )
 """The helper's command: as :data:`rollerrig.report.figure_process._BOOTSTRAP`, the folder the
 caller imported rollerrig from first on its path where the helper would not find it anyway."""

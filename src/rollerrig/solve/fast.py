@@ -707,7 +707,14 @@ def _compile_on_two_cores(inputs, method, exp_step, relinearise, h_max, exp_erro
     helper process on a second core (:mod:`rollerrig.solve._cold_start`)."""
     settings = _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error)
     if settings[0] == 0:
-        _cold_start.compile_in_parallel(inputs, settings[1:])
+        dq = _uses_dq(inputs)
+        needed = lambda: _will_compile(_driver(dq, 0))  # noqa: E731
+        _cold_start.compile_in_parallel(inputs, settings[1:], dq, needed)
+
+
+def _cold_start_helper():
+    """The entry of :mod:`rollerrig.solve._cold_start`'s helper process."""
+    _cold_start.helper_main(_segment_window, _STATIC_BLOCKS)
 
 
 def integrate_experiment(

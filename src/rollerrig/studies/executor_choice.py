@@ -58,8 +58,9 @@ Examples
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
+
+from rollerrig._machine import available_cores
 
 __all__ = [
     "DASK_CLOSE_S",
@@ -112,15 +113,6 @@ class ExecutorChoice:
     fixed_s: float | None = None
     saving_s: float | None = None
     share: float | None = None
-
-
-def available_cores() -> int:
-    """The cores this process may run on (``os.sched_getaffinity``; ``os.cpu_count`` where
-    the platform lacks it)."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # macOS, Windows
-        return max(1, os.cpu_count() or 1)
 
 
 def cpu_share(cpu_s, wall_s) -> float:
