@@ -365,7 +365,7 @@ def macro_slip_at_5_kmh():
 def test_the_error_guard_sends_macro_slip_at_low_speed_to_ros34pw2(macro_slip_at_5_kmh):
     """ETDRK4's fixed step alone is off by 5.5 N.m here (measured); each step's error estimate
     of T56 sends the segments past the adhesion limit to a shorter step and, where that is not
-    enough, to ROS34PW2 (measured 0.058 N.m, ROS34PW2 alone 0.098), while the validated cases
+    enough, to ROS34PW2 (measured 0.042 N.m, ROS34PW2 alone 0.098), while the validated cases
     above keep every segment (fallback 0)."""
     inputs, t, ref = macro_slip_at_5_kmh
     x, stats = integrate_experiment(inputs, t)
