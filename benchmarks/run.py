@@ -204,6 +204,7 @@ def main() -> None:
 
     import numba
 
+    from rollerrig._machine import available_cores
     from rollerrig.rig.assemble import assemble
     from rollerrig.rig.model import DriveConfig
     from rollerrig.solve import fast
@@ -507,7 +508,17 @@ def main() -> None:
             f"run's {cli['warm']:.2f} s is compiling the fast solver's ETDRK4 driver, once per "
             "installation: numba's type inference of the driver with the right-hand side "
             f"inlined into it, and LLVM's optimisation (at level {COMPILE_OPT_LEVEL}, "
-            "solve/_cache.py; numba's default 3 took about 15 % more CPU)"
+            "solve/_cache.py; numba's default 3 took about 15 % more CPU), "
+            + (
+                "on two cores: a helper process compiled the functions that do not call the "
+                "right-hand side meanwhile (solve/_cold_start.py; on one core the same compile "
+                "took 1.6 times as long, 2026-12-02). numba compiles one function after "
+                "another; what is left is the right-hand side, then the step loop into which "
+                "it is inlined, then the driver around them"
+                if available_cores() >= 2
+                else "on this machine's one core (on two, a helper process compiles part of it "
+                "meanwhile: solve/_cold_start.py)"
+            )
         )
     if duration / f_time < 2000 or lsoda_time / f_time < 20:
         print(
