@@ -675,8 +675,9 @@ def _stats(counts, status, t_stop, method="ros34pw2") -> dict:
 
 def is_compiled(dq: bool = False, method: str | None = None) -> bool:
     """True when the compiled driver is in the on-disk cache, so a run loads it (a fraction
-    of a second) instead of compiling it (about 20 s on 2 cores for the default driver, once
-    per install; ROS34PW2's, ETDRK4's fallback, compiles when a run first needs it: about 10 s
+    of a second) instead of compiling it (for the default driver 25-40 s on 2 cores, part of it
+    in a helper process on the second core: :mod:`rollerrig.solve._cold_start`; once per
+    install; ROS34PW2's, ETDRK4's fallback, compiles when a run first needs it: about 10 s
     more). :func:`integrate_batch` runs the same driver as :func:`integrate_experiment`.
 
     Parameters
