@@ -859,13 +859,35 @@ def _segment(
         err = 0.0
         if err_limit > 0.0:
             err = _step_error(h, fc, f_new, err_weights)
-        if not _finite_pair(x_new, f_new) or err > err_limit:
+        regrid = not _finite_pair(x_new, f_new) or err > err_limit
+        if regrid:  # rejected: on from the last accepted state at the next shorter step
             counts[1] += 1
             if rung >= rungs:
                 return -1
             if rung == 0:
                 counts[4] += 1
             rung += 1
+        else:
+            while k < n_out and t_out[k] < t_new:
+                _hermite(t, h, x, fx, x_new, f_new, t_out[k], x_out, k)
+                k += 1
+            for j in range(n):
+                x[j] = x_new[j]
+                fx[j] = f_new[j]
+            t = t_new
+            i += 1
+            since += 1
+            counts[0] += 1
+            while k < n_out and t_out[k] <= t:
+                _wd._store_row(x_out, k, x)
+                k += 1
+            if rung > 0 and i < n_grid:
+                ratio = divisors[rung] / divisors[rung - 1]
+                calm = calm + 1 if err * GROW_SAFETY * ratio**4 <= err_limit else 0
+                if calm >= GROW_AFTER:  # back to the next longer step
+                    rung -= 1
+                    regrid = True
+        if regrid:
             n_grid, h = _grid(t, t1, h_full / divisors[rung])
             base = t
             i = 0
@@ -873,32 +895,6 @@ def _segment(
             counts[2] += 1
             since = 0
             calm = 0
-            continue
-        while k < n_out and t_out[k] < t_new:
-            _hermite(t, h, x, fx, x_new, f_new, t_out[k], x_out, k)
-            k += 1
-        for j in range(n):
-            x[j] = x_new[j]
-            fx[j] = f_new[j]
-        t = t_new
-        i += 1
-        since += 1
-        counts[0] += 1
-        while k < n_out and t_out[k] <= t:
-            _wd._store_row(x_out, k, x)
-            k += 1
-        if rung > 0 and i < n_grid:
-            ratio = divisors[rung] / divisors[rung - 1]
-            calm = calm + 1 if err * GROW_SAFETY * ratio**4 <= err_limit else 0
-            if calm >= GROW_AFTER:
-                rung -= 1
-                n_grid, h = _grid(t, t1, h_full / divisors[rung])
-                base = t
-                i = 0
-                _block_matrices(t, h, ns, nd, ws, p, tables, 0)
-                counts[2] += 1
-                since = 0
-                calm = 0
     return 0
 
 
