@@ -15,10 +15,18 @@ that call it (the segment's preparation with its stability estimate, the rates a
 while this process compiles the segment's step loop (phase 2). The driver then loads the
 helper's functions from the cache instead of compiling them.
 
-Measured on this machine (2026-12-02, 2 cores, a slow day: 64-66 s for a cold default run in
-one process, numba's compile events): the helper's phase-1 functions were about 14 s of that,
-the right-hand side and the workspace about 17 s; a prototype of phase 1 alone took the cold
-run from 66.3 to 44.9-47.2 s. ``benchmarks/run.py`` prints the cold ``rollerrig simulate``.
+Measured on this project's 2-core machine (2026-12-02, a slow day; ``Simulation.run`` of the
+default experiment in a fresh process with an empty cache, numba's compile events): 62.5 s on
+one core (``taskset``), 39.0 s with the helper, results the same to the bit; the helper's
+phase-1 functions were about 14 s, this process's right-hand side and workspace about 17 s.
+``rollerrig demo``'s first run in clean clones: 71.2 and 67.6 s, where the commit before took
+93.2 and 84.1 s. ``benchmarks/run.py`` prints the cold ``rollerrig simulate``. What is left is
+sequential: the right-hand side, the step loop into which it is inlined (about 10 s), the
+driver around them (about 5 s).
+
+The test session compiles the drivers once before its workers start (``tests/_precompile.py``),
+in two processes, each of which then starts a helper of its own: four on two cores for the
+first minute of a cold test run.
 
 Nothing depends on the helper. Where it cannot start, fails, times out, or finds another cache
 folder than this process (it checks), this process compiles what is missing itself: the same
