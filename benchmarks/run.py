@@ -57,6 +57,21 @@ def _t56(inputs, x):
     return k56 * (x[:, 4] - x[:, 5]) + b56 * (x[:, 11] - x[:, 12])
 
 
+def _python_loop_seconds() -> float:
+    """CPU time of a plain Python loop of 10 million additions in a function, best of two
+    [s]: the yardstick docs/guide/timings.rst compares days by (0.39 s on this project's
+    machine on 2026-12-01, 0.50-0.58 s on 2026-12-02; at a module's top level the same loop
+    takes about three times as long)."""
+    best = float("inf")
+    for _ in range(2):
+        start = time.process_time()
+        total = 0
+        for i in range(10_000_000):
+            total += i
+        best = min(best, time.process_time() - start)
+    return best
+
+
 def _best_of(fn, repeat, clock=time.process_time, budget=0.0):
     """Best time of ``repeat`` calls of ``fn`` [s] and its last result; calls go on past
     ``repeat`` until ``budget`` seconds of the clock were spent.
@@ -200,6 +215,7 @@ def main() -> None:
     args = parser.parse_args()
 
     load_before = os.getloadavg()
+    loop_s = _python_loop_seconds()
     cli = None if args.no_cli else cli_timings(args.experiment, 2 if args.quick else 3)
 
     import numba
@@ -391,7 +407,9 @@ def main() -> None:
     print(
         f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
         f"Python {platform.python_version()}, numba {numba.__version__}; load average "
-        f"(1 min) {load_before[0]:.2f} at the start, {load_after[0]:.2f} at the end"
+        f"(1 min) {load_before[0]:.2f} at the start, {load_after[0]:.2f} at the end; a "
+        f"Python loop of 10 million additions {loop_s:.2f} s of CPU (this machine's speed "
+        "that day: docs/guide/timings.rst)"
     )
     print(f"tight reference (Radau compiled, rtol 1e-10): {ref_time:.2f} s CPU")
     print(
