@@ -760,7 +760,7 @@ def _prepare(x0, t0, t1, p, tables, h_max, ns, ws, memo):
         memo[1] = t0
     if h_stable < _MIN_STEP_RATIO * h_max:
         return -1
-    return max(1, int(np.ceil((t1 - t0) / h_stable * (1.0 - 1e-12))))
+    return _grid(t0, t1, h_stable)[0]
 
 
 def _block_matrices(t, h, ns, nd, ws, p, tables, first_block):

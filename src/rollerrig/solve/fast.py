@@ -698,24 +698,17 @@ def _driver(dq: bool, code: int):
 
 def _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error=None, notify=None):
     """``(driver, method code)``: the driver for ``inputs`` with ETDRK4's settings bound, so
-    that both methods take ROS34PW2's arguments (``notify``: :func:`_with_fallback`)."""
+    that both methods take ROS34PW2's arguments (``notify``: :func:`_with_fallback`). Where
+    ETDRK4's driver is neither compiled nor cached, it is compiled now with a helper process on
+    a second core (:mod:`rollerrig.solve._cold_start`; once a process and model)."""
     settings = _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error)
     code = settings[0]
     dq = _uses_dq(inputs)
     driver = _driver(dq, code)
     if code != 0:
         return driver, code
+    _cold_start.compile_in_parallel(inputs, settings[1:], dq, lambda: _will_compile(driver))
     return _with_fallback(driver, _driver(dq, 1), settings[1:], notify), code
-
-
-def _compile_on_two_cores(inputs, method, exp_step, relinearise, h_max, exp_error):
-    """Where ETDRK4's driver for ``inputs`` is neither compiled nor cached, compile it with a
-    helper process on a second core (:mod:`rollerrig.solve._cold_start`)."""
-    settings = _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error)
-    if settings[0] == 0:
-        dq = _uses_dq(inputs)
-        needed = lambda: _will_compile(_driver(dq, 0))  # noqa: E731
-        _cold_start.compile_in_parallel(inputs, settings[1:], dq, needed)
 
 
 def _cold_start_helper():
@@ -793,7 +786,6 @@ def integrate_experiment(
         ``reason`` (:func:`failure_reason`).
     """
     integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error, notify)
-    _compile_on_two_cores(inputs, method, exp_step, relinearise, h_max, exp_error)
     rtol = _ros34pw2_rtol(rtol, code)
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, _uses_dq(inputs))
     name = METHODS[code]
@@ -894,7 +886,6 @@ def integrate_batch(
         )
     # Each variant's own settings: a flexible frame adds its velocity to the contact block.
     runs = [_bound_driver(i, method, exp_step, relinearise, h_max, exp_error) for i in inputs_list]
-    _compile_on_two_cores(first, method, exp_step, relinearise, h_max, exp_error)
     rtol = _ros34pw2_rtol(rtol, runs[0][1])
     rt, at, h_max_ros, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
     bounds, _ = _segment_arrays(first.segments)
