@@ -565,6 +565,18 @@ def main() -> None:
             f"than the wall time, but shares its caches; load average {load_after[0]:.2f} on "
             f"{os.cpu_count()} cores)"
         )
+    if base_time / f_time < 300:
+        print(
+            f"- user baseline: {base_time:.2f} s of CPU (scipy's Radau, its steps and Newton "
+            f"iterations in Python, through {st_base['rhs_evaluations']} calls of the Python "
+            f"right-hand side) against the fast solve's {f_time * 1e3:.1f} ms; 300x needs the "
+            f"solve at <= {base_time / 300 * 1e3:.1f} ms, {300 * f_time / base_time:.2f} times "
+            "faster. The ratio is interpreted Python against compiled code, and a day's load "
+            "does not slow the two alike (this run's Python loop in the header: "
+            f"{loop_s:.2f} s): nearly the same code gave 259x on 2026-12-01 with that loop at "
+            "0.39 s, 388x on 2026-12-02 with it at 0.50-0.58 s and 291x later that day at "
+            "0.46 s (docs/guide/timings.rst)"
+        )
     if not (bool(best_sweep) and best_sweep[2] >= 200):
         label, seconds, rate, _, _, detail = best_sweep or sweeps[0]
         print(
