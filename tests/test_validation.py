@@ -11,6 +11,8 @@ from typing import Annotated, Literal
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from rollerrig._validation import (
@@ -23,6 +25,7 @@ from rollerrig._validation import (
     interval,
     pydantic_problems,
     require_in_range,
+    require_instants_within,
     require_nonnegative,
     require_positive,
     show_value,
@@ -283,3 +286,44 @@ def test_did_you_mean_is_the_one_hint_of_the_package():
     assert close_matches("Induction-DQ", ["induction", "induction_dq"])[0] == "induction_dq"
     three = did_you_mean("inertia.roler", ["inertia.roller", "inertia.rotor", "x.y"], n=3)
     assert three == " (did you mean 'inertia.roller' or 'inertia.rotor'?)"
+
+
+@given(
+    st.lists(
+        st.one_of(
+            st.floats(allow_nan=True, allow_infinity=True),
+            st.floats(min_value=-1.0, max_value=3.0),
+        ),
+        max_size=12,
+    )
+)
+@settings(max_examples=300, deadline=None)
+def test_instants_are_returned_as_given_or_refused_with_a_parameter_error(values):
+    """Any list of floats: back unchanged where finite, not decreasing and within [0, 2] s,
+    else a ParameterError (never another exception, never a reordered array)."""
+    arr = np.array(values, dtype=float)
+    valid = (
+        bool(np.all(np.isfinite(arr)))
+        and bool(np.all(arr >= 0.0))
+        and bool(np.all(arr <= 2.0))
+        and bool(np.all(np.diff(arr) >= 0.0))
+    )
+    if valid:
+        np.testing.assert_array_equal(require_instants_within("t_out", values, 0.0, 2.0), arr)
+    else:
+        with pytest.raises(ParameterError, match=r"^t_out must "):
+            require_instants_within("t_out", values, 0.0, 2.0)
+
+
+@pytest.mark.parametrize(
+    ("values", "message"),
+    [
+        ([0.0, 2.5], r"t_out\[1\] = 2.5 s is after its end"),
+        ([-0.1, 1.0], r"t_out\[0\] = -0.1 s is before its start"),
+        ([0.0, 1.0, 0.5], r"t_out\[2\] = 0.5 s comes after t_out\[1\] = 1 s"),
+        ([[0.0, 1.0]], r"1-D array of instants \[s\], got shape \(1, 2\)"),
+    ],
+)
+def test_instants_outside_the_experiment_or_going_back_are_named(values, message):
+    with pytest.raises(ParameterError, match=message):
+        require_instants_within("t_out", values, 0.0, 2.0)

@@ -193,6 +193,44 @@ def require_in_range(
     return arr
 
 
+def require_instants_within(name: str, value, start: float, end: float) -> np.ndarray:
+    """Return ``value`` as a 1-D float array of instants [s], raising :class:`ParameterError`
+    unless every one is finite, none comes before the one before it, and all lie in
+    ``[start, end]`` [s] (an experiment's span: its inputs are not defined outside it).
+
+    Examples
+    --------
+    >>> require_instants_within("t_out", [0.0, 0.5, 0.5, 2.0], 0.0, 2.0).tolist()
+    [0.0, 0.5, 0.5, 2.0]
+    >>> require_instants_within("t_out", [0.0, 3.0], 0.0, 2.0)
+    Traceback (most recent call last):
+    ...
+    rollerrig._validation.ParameterError: t_out must lie within the experiment, [0, 2] s: t_out[1] = 3 s is after its end
+    """  # noqa: E501
+    arr = require_finite(name, value, "s")
+    if arr.ndim != 1:
+        raise ParameterError(f"{name} must be a 1-D array of instants [s], got shape {arr.shape}")
+    if arr.size == 0:
+        return arr
+    span = f"{name} must lie within the experiment, [{start:g}, {end:g}] s"
+    early = np.flatnonzero(arr < start)
+    if early.size:
+        k = int(early[0])
+        raise ParameterError(f"{span}: {name}[{k}] = {arr[k]:.9g} s is before its start")
+    late = np.flatnonzero(arr > end)
+    if late.size:
+        k = int(late[0])
+        raise ParameterError(f"{span}: {name}[{k}] = {arr[k]:.9g} s is after its end")
+    back = np.flatnonzero(np.diff(arr) < 0.0)
+    if back.size:
+        k = int(back[0]) + 1
+        raise ParameterError(
+            f"{name} must not go back in time: {name}[{k}] = {arr[k]:.9g} s comes after "
+            f"{name}[{k - 1}] = {arr[k - 1]:.9g} s"
+        )
+    return arr
+
+
 def _unit(unit: str) -> str:
     # The label rule of rollerrig.units (which imports this module): dimensionless as [-].
     if not unit:

@@ -100,3 +100,49 @@ def test_ramps_to_from_and_through_standstill_go_to_the_fallback(t0, t1, goes):
     tables[m.TAB_TORQUE_T] = tables[m.TAB_LOAD_T] = tables[m.TAB_SPEED_T]
     assert bool(_stops(tables, t0, t1)) is goes
     assert bool(_stops.py_func(tables, t0, t1)) is goes  # needs_fallback's
+
+
+def test_a_run_asked_for_its_first_seconds_integrates_only_that_far_and_gives_the_same_bits():
+    """The driver stops at the end of the segment that holds the last output instant: the rows
+    it returns are those of the whole run, bit for bit (single call, segment by segment with
+    progress, and in a batch), in fewer steps; a warm-up call of 10 ms does not integrate the
+    rest of the experiment."""
+    sim = Simulation(experiment="seed-30kmh-dry")
+    t = sim.times
+    whole, stats_whole = integrate_experiment(sim.inputs, t)
+    first_end = sim.inputs.segments[0].end
+    for k in (1, 3, int(np.searchsorted(t, first_end)) + 1, t.size // 2):
+        part, stats = integrate_experiment(sim.inputs, t[:k])
+        np.testing.assert_array_equal(part, whole[:k])
+        assert stats["accepted_steps"] < stats_whole["accepted_steps"]
+        assert t[k - 1] <= stats["t_stop"] < sim.inputs.segments[-1].end
+        stepped, _ = integrate_experiment(sim.inputs, t[:k], progress=lambda *_: None)
+        np.testing.assert_array_equal(stepped, whole[:k])
+        batch, _ = integrate_batch([sim.inputs, sim.inputs], t[:k])
+        np.testing.assert_array_equal(batch[1], whole[:k])
+    assert integrate_experiment(sim.inputs, t[:3])[1]["t_stop"] == first_end
+
+
+@pytest.mark.parametrize(
+    ("t_out", "message"),
+    [
+        ([0.0, 31.0], r"t_out\[1\] = 31 s is after its end"),
+        ([0.0, 2.0, 1.0], r"must not go back in time"),
+        ([0.0, float("nan")], r"must be finite"),
+    ],
+)
+def test_output_instants_outside_the_experiment_are_refused_by_every_backend(t_out, message):
+    """Past the experiment's end the fast driver had returned uninitialised rows with status
+    0, and instants out of order the state at the largest of them: now a ParameterError from
+    the fast backend, its batch and the reference alike."""
+    from rollerrig._validation import ParameterError
+    from rollerrig.solve.reference import integrate_reference
+
+    inputs = Simulation(experiment="seed-30kmh-dry").inputs
+    for run in (
+        lambda: integrate_experiment(inputs, t_out),
+        lambda: integrate_batch([inputs], t_out),
+        lambda: integrate_reference(inputs, t_out),
+    ):
+        with pytest.raises(ParameterError, match=message):
+            run()

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rollerrig._validation import require_instants_within
 from rollerrig.rig.model import (
     N_STATES,
     SEGMENT_NODES,
@@ -648,6 +649,26 @@ def _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error=None):
     return code, step, max(1, relinearise), _STATIC_BLOCKS, dynamic, weights, limit
 
 
+def _needed_segments(segments, t_out):
+    """The segments up to the one holding the last output instant (all where ``t_out`` is
+    empty), which is as far as a run need integrate: a run asked for its first seconds, or a
+    warm-up call of 10 ms, does not integrate the rest of the experiment. ``t_out`` has been
+    validated (:func:`rollerrig._validation.require_instants_within`); an instant on a
+    boundary between two segments is the first one's end."""
+    if t_out.size == 0:
+        return segments
+    starts = np.array([s.start for s in segments])
+    return segments[: max(1, int(np.searchsorted(starts, t_out[-1], side="left")))]
+
+
+def _output_instants(inputs, t_out):
+    """``t_out`` validated against the experiment's span (a clear error, not uninitialised
+    rows past its end or a silent reorder) and the segments it needs."""
+    segments = inputs.segments
+    t_out = require_instants_within("t_out", t_out, segments[0].start, segments[-1].end)
+    return np.ascontiguousarray(t_out), _needed_segments(segments, t_out)
+
+
 def _segment_arrays(segments):
     bounds = np.array([[s.start, s.end] for s in segments], dtype=float)
     params = np.stack([s.params for s in segments])
@@ -737,7 +758,9 @@ def integrate_experiment(
     inputs : ModelInputs
         From :func:`rollerrig.rig.assemble.assemble`.
     t_out : ndarray
-        Output times [s], increasing, within the experiment.
+        Output times [s], finite, not decreasing, within the experiment's span (a
+        :class:`~rollerrig._validation.ParameterError` otherwise). The run integrates only as
+        far as the protocol segment that holds the last of them.
     rtol : float, optional
         ROS34PW2's relative tolerance (per-state absolute tolerances follow from it); as
         ETDRK4's fallback it is no looser than ``FAST_DEFAULTS["fallback_rtol"]``.
@@ -790,8 +813,8 @@ def integrate_experiment(
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, _uses_dq(inputs))
     name = METHODS[code]
     n_states = inputs.initial_state.size
-    bounds, params = _segment_arrays(inputs.segments)
-    t_out = np.ascontiguousarray(t_out, dtype=float)
+    t_out, segments = _output_instants(inputs, t_out)
+    bounds, params = _segment_arrays(segments)
     x_out = np.empty((t_out.size, n_states))
     counts = np.zeros(5, dtype=np.int64)
     t_stop = np.zeros(1)
@@ -888,8 +911,9 @@ def integrate_batch(
     runs = [_bound_driver(i, method, exp_step, relinearise, h_max, exp_error) for i in inputs_list]
     rtol = _ros34pw2_rtol(rtol, runs[0][1])
     rt, at, h_max_ros, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
-    bounds, _ = _segment_arrays(first.segments)
-    t_out = np.ascontiguousarray(t_out, dtype=float)
+    t_out, segments = _output_instants(first, t_out)
+    bounds, _ = _segment_arrays(segments)
+    n_segments = len(segments)
     n = len(inputs_list)
     x_out = np.empty((n, t_out.size, first.initial_state.size))
     counts = np.zeros((n, 5), dtype=np.int64)
@@ -897,7 +921,7 @@ def integrate_batch(
     status = np.zeros(n, dtype=np.int64)
 
     def run(k):
-        params = _segment_arrays(inputs_list[k].segments)[1]
+        params = _segment_arrays(inputs_list[k].segments[:n_segments])[1]
         status[k] = runs[k][0](
             np.ascontiguousarray(inputs_list[k].initial_state, dtype=float), bounds, params,
             first.tables, t_out, rt, at, h_max_ros, jac_every, x_out[k], counts[k], t_stop[k],

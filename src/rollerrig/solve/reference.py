@@ -13,7 +13,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from rollerrig.rig import model as _model
-from rollerrig.solve.fast import _uses_dq, default_tolerances, dq_tolerances
+from rollerrig.solve.fast import _output_instants, _uses_dq, default_tolerances, dq_tolerances
 
 __all__ = ["integrate_reference"]
 
@@ -51,7 +51,7 @@ def integrate_reference(
         ``rhs_evaluations``, ``jacobians``, ``status`` (0: success, else scipy's),
         ``t_stop`` (the simulated time reached [s]) and, on a failure, ``reason``.
     """
-    t_out = np.asarray(t_out, dtype=float)
+    t_out, segments = _output_instants(inputs, t_out)
     dq = _uses_dq(inputs)  # the roller drive "induction_dq": the model of rig.model_dq
     _, at = (dq_tolerances if dq else default_tolerances)(rtol, 0.1 * rtol)
     n_states = inputs.initial_state.size
@@ -93,7 +93,7 @@ def integrate_reference(
     status = 0
     t_stop = inputs.segments[0].start
     reason = None
-    for seg in inputs.segments:
+    for seg in segments:
         p = seg.params
 
         def fun(t, y, p=p):
@@ -130,7 +130,7 @@ def integrate_reference(
         x = sol.y[:, -1].copy()
         k = k_end
         if progress is not None:
-            progress(seg.end, inputs.segments[-1].end)
+            progress(seg.end, segments[-1].end)
     stats = {"rhs_evaluations": nfev, "jacobians": njev, "status": status, "t_stop": t_stop}
     if reason is not None:
         stats["reason"] = reason
