@@ -318,9 +318,10 @@ def test_instants_are_returned_as_given_or_refused_with_a_parameter_error(values
 @pytest.mark.parametrize(
     ("values", "message"),
     [
-        ([0.0, 2.5], r"t_out\[1\] = 2.5 s is after its end"),
-        ([-0.1, 1.0], r"t_out\[0\] = -0.1 s is before its start"),
-        ([0.0, 1.0, 0.5], r"t_out\[2\] = 0.5 s comes after t_out\[1\] = 1 s"),
+        ([0.0, 2.5], r"in \[0, 2\] \[s\], the experiment's span; got t_out\[1\] = 2.5, after"),
+        ([-0.1, 1.0], r"got t_out\[0\] = -0.1, before its start"),
+        ([0.0, 1.0, 0.5], r"back in time \[s\]; got t_out\[2\] = 0.5 after t_out\[1\] = 1$"),
+        ([0.0, 2.0 + 1e-13], r"in \[0.0, 2.0\] \[s\].*got t_out\[1\] = 2.0000000000001, after"),
         ([[0.0, 1.0]], r"1-D array of instants \[s\], got shape \(1, 2\)"),
     ],
 )

@@ -30,6 +30,7 @@ __all__ = [
     "pydantic_problems",
     "require_finite",
     "require_in_range",
+    "require_instants_within",
     "require_nonnegative",
     "require_positive",
     "toml_string",
@@ -205,30 +206,42 @@ def require_instants_within(name: str, value, start: float, end: float) -> np.nd
     >>> require_instants_within("t_out", [0.0, 3.0], 0.0, 2.0)
     Traceback (most recent call last):
     ...
-    rollerrig._validation.ParameterError: t_out must lie within the experiment, [0, 2] s: t_out[1] = 3 s is after its end
+    rollerrig._validation.ParameterError: t_out must lie in [0, 2] [s], the experiment's span; got t_out[1] = 3, after its end
     """  # noqa: E501
     arr = require_finite(name, value, "s")
     if arr.ndim != 1:
         raise ParameterError(f"{name} must be a 1-D array of instants [s], got shape {arr.shape}")
     if arr.size == 0:
         return arr
-    span = f"{name} must lie within the experiment, [{start:g}, {end:g}] s"
-    early = np.flatnonzero(arr < start)
-    if early.size:
-        k = int(early[0])
-        raise ParameterError(f"{span}: {name}[{k}] = {arr[k]:.9g} s is before its start")
-    late = np.flatnonzero(arr > end)
-    if late.size:
-        k = int(late[0])
-        raise ParameterError(f"{span}: {name}[{k}] = {arr[k]:.9g} s is after its end")
+    for k, side in (
+        (np.flatnonzero(arr < start), "before its start"),
+        (np.flatnonzero(arr > end), "after its end"),
+    ):
+        if k.size:
+            k = int(k[0])
+            lo, hi, got = _distinct(start, end, arr[k])
+            raise ParameterError(
+                f"{name} must lie in [{lo}, {hi}] [s], the experiment's span; got "
+                f"{name}[{k}] = {got}, {side}"
+            )
     back = np.flatnonzero(np.diff(arr) < 0.0)
     if back.size:
         k = int(back[0]) + 1
+        later, earlier = _distinct(arr[k], arr[k - 1])
         raise ParameterError(
-            f"{name} must not go back in time: {name}[{k}] = {arr[k]:.9g} s comes after "
-            f"{name}[{k - 1}] = {arr[k - 1]:.9g} s"
+            f"{name} must not go back in time [s]; got {name}[{k}] = {later} after "
+            f"{name}[{k - 1}] = {earlier}"
         )
     return arr
+
+
+def _distinct(*values):
+    """``values`` as text with ``%.9g``, or all in full (``repr``) where that would show
+    two different numbers alike (an instant 1e-13 s past an end of 30 s)."""
+    short = [f"{float(v):.9g}" for v in values]
+    if len(set(short)) < len({float(v) for v in values}):
+        return [repr(float(v)) for v in values]
+    return short
 
 
 def _unit(unit: str) -> str:

@@ -16,6 +16,7 @@ References and the numbers pinned below:
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import re
 import warnings
 
@@ -219,3 +220,29 @@ def test_a_single_piece_protocols_tables_are_not_read_as_a_segments_line(rig, ro
     assert inputs.tables.shape[1] >= m.MIN_TABLE_NODES > m.SEGMENT_NODES
     assert m._interp_slope(0.5, inputs.tables, m.TAB_SPEED_T, m.TAB_SPEED) > 0.0
     assert m._interp_slope(1.0, inputs.tables, m.TAB_SPEED_T, m.TAB_SPEED) == 0.0
+
+
+@pytest.mark.parametrize("where", ["start", "end"])
+def test_a_breakpoint_a_rounding_error_from_an_end_leaves_the_segments_covering_the_experiment(
+    where,
+):
+    """A breakpoint 1e-13 s after the start or before the end had its span dropped, so the
+    segments began after 0 (the first output instant outside them: refused) or ended before
+    the duration (the last output instant past the last segment). It is merged into its
+    neighbour's segment; the run covers every output instant."""
+
+    from rollerrig.experiment import load_protocol
+    from rollerrig.solve.simulation import Simulation
+
+    protocol = load_protocol("seed-10kmh-wet")
+    tiny = 1e-13 if where == "start" else protocol.duration - 1e-13
+    times = np.sort(np.append(protocol.torque_time, tiny))
+    request = np.interp(times, protocol.torque_time, protocol.torque_request)
+    odd = dataclasses.replace(protocol, torque_time=times, torque_request=request)
+    inputs = assemble(default_rig(), odd)
+    assert inputs.segments[0].start == 0.0
+    assert inputs.segments[-1].end == protocol.duration
+    assert all(a.end == b.start for a, b in itertools.pairwise(inputs.segments))
+    assert all(s.end - s.start > 1e-12 for s in inputs.segments)
+    ds = Simulation(experiment=odd).run()
+    assert np.all(np.isfinite(ds.t56.values))

@@ -110,6 +110,11 @@ def test_a_run_asked_for_its_first_seconds_integrates_only_that_far_and_gives_th
     sim = Simulation(experiment="seed-30kmh-dry")
     t = sim.times
     whole, stats_whole = integrate_experiment(sim.inputs, t)
+    # A batch's variants differ: each must get its own parameters, cut to the same segments.
+    stiffer = assemble(
+        sim.inputs.rig.with_overrides({"stiffness.roller_shaft": 90e3}), sim.protocol
+    )
+    stiffer_whole, _ = integrate_experiment(stiffer, t)
     first_end = sim.inputs.segments[0].end
     for k in (1, 3, int(np.searchsorted(t, first_end)) + 1, t.size // 2):
         part, stats = integrate_experiment(sim.inputs, t[:k])
@@ -118,15 +123,30 @@ def test_a_run_asked_for_its_first_seconds_integrates_only_that_far_and_gives_th
         assert t[k - 1] <= stats["t_stop"] < sim.inputs.segments[-1].end
         stepped, _ = integrate_experiment(sim.inputs, t[:k], progress=lambda *_: None)
         np.testing.assert_array_equal(stepped, whole[:k])
-        batch, _ = integrate_batch([sim.inputs, sim.inputs], t[:k])
+        batch, _ = integrate_batch([stiffer, sim.inputs], t[:k])
+        np.testing.assert_array_equal(batch[0], stiffer_whole[:k])
         np.testing.assert_array_equal(batch[1], whole[:k])
     assert integrate_experiment(sim.inputs, t[:3])[1]["t_stop"] == first_end
+
+
+def test_the_reference_integrates_only_as_far_as_its_last_output_instant():
+    from rollerrig.solve.reference import integrate_reference
+
+    sim = Simulation(experiment="seed-30kmh-dry")
+    t = sim.times
+    ends = [s.end for s in sim.inputs.segments]
+    two = t[: int(np.searchsorted(t, ends[1], side="right"))]  # the first two segments
+    longer, stats_longer = integrate_reference(sim.inputs, two, rtol=1e-6)
+    part, stats = integrate_reference(sim.inputs, two[:3], rtol=1e-6)
+    np.testing.assert_array_equal(part, longer[:3])
+    assert stats["t_stop"] == ends[0] and stats_longer["t_stop"] == ends[1]
+    assert stats["rhs_evaluations"] < stats_longer["rhs_evaluations"]
 
 
 @pytest.mark.parametrize(
     ("t_out", "message"),
     [
-        ([0.0, 31.0], r"t_out\[1\] = 31 s is after its end"),
+        ([0.0, 31.0], r"got t_out\[1\] = 31, after its end"),
         ([0.0, 2.0, 1.0], r"must not go back in time"),
         ([0.0, float("nan")], r"must be finite"),
     ],

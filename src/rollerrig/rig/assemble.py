@@ -251,6 +251,35 @@ def _friction_into(
     return q
 
 
+_SHORTEST_SEGMENT = 1e-12
+"""Shortest protocol segment [s]: a breakpoint closer than this to the one before it (or to
+the experiment's end) is merged into its neighbour's segment, not integrated over a step of
+round-off."""
+
+
+def _segment_cuts(protocol) -> np.ndarray:
+    """The segments' boundaries [s]: 0, the protocol's breakpoints and its duration, a cut
+    closer than :data:`_SHORTEST_SEGMENT` to the one kept before it (or to the end) left out,
+    so that the segments always cover exactly ``[0, duration]`` (a span that was dropped
+    instead had left the first output instant before the first segment, or the last after
+    the last).
+
+    Examples
+    --------
+    >>> from rollerrig.experiment import load_protocol
+    >>> float(_segment_cuts(load_protocol("release-test"))[0])
+    0.0
+    """
+    duration = float(protocol.duration)
+    cuts = np.unique(np.clip(np.asarray(protocol.breakpoints(), dtype=float), 0.0, duration))
+    kept = [0.0]
+    for cut in cuts:
+        if cut - kept[-1] > _SHORTEST_SEGMENT and duration - cut > _SHORTEST_SEGMENT:
+            kept.append(float(cut))
+    kept.append(duration)
+    return np.array(kept)
+
+
 def assemble(
     rig: RigParameters,
     protocol: Protocol,
@@ -313,14 +342,10 @@ def assemble(
         ]
     )
 
-    cuts = np.asarray(protocol.breakpoints(), dtype=float)
-    cuts = np.unique(
-        np.clip(np.concatenate([[0.0, protocol.duration], cuts]), 0.0, protocol.duration)
-    )
     segments = []
     # One parameter vector per friction condition, shared by its segments (an input table at
     # the DAQ's rate makes tens of thousands of segments, and few conditions).
-    spans = [(s, e) for s, e in pairwise(cuts) if e - s > 1e-12]
+    spans = list(pairwise(_segment_cuts(protocol)))
     middles = np.array([0.5 * (s + e) for s, e in spans])
     conditions = protocol.friction_at(middles) if spans else []
     vectors: dict[str, np.ndarray] = {}

@@ -6,8 +6,9 @@ segment set by the explicit part's stability, the adaptive ROS34PW2 W-method
 (:mod:`rollerrig.solve.ros34pw`) as the fallback of a segment it cannot take (near standstill,
 a ramp to or from standstill, or where its step-error guard trips: at a quarter step, or near
 standstill at the full step), at a tolerance no looser than ``FAST_DEFAULTS["fallback_rtol"]``;
-``method="ros34pw2"`` runs ROS34PW2 throughout. One compiled call runs a whole experiment
-(every protocol segment, with its own friction parameters), except that a segment ETDRK4
+``method="ros34pw2"`` runs ROS34PW2 throughout. One compiled call runs an experiment (every
+protocol segment, with its own friction parameters, up to the one that holds the last output
+instant: nothing after it is integrated), except that a segment ETDRK4
 leaves to its fallback returns to Python, which runs ROS34PW2's driver on it and resumes (so
 ROS34PW2 compiles only when a run first needs it); :func:`integrate_batch` runs many
 variants of it in parallel threads (the same compiled driver, which releases the GIL), for
@@ -773,7 +774,8 @@ def integrate_experiment(
     progress : callable, optional
         ``progress(t_reached, t_end)`` [s], called after each smooth segment of the protocol
         (the compiled driver then runs segment by segment; the result is the same to the bit,
-        since every segment starts its integration afresh anyway).
+        since every segment starts its integration afresh anyway); ``t_end`` is the end of the
+        segment that holds the last output instant.
     method : {"etdrk4", "ros34pw2"}, optional
         The integrator (:data:`METHODS`; default :data:`FAST_DEFAULTS`). ``rtol``,
         ``angle_atol``, ``h_max`` and ``jac_every`` are ROS34PW2's (ETDRK4's fallback);
@@ -803,17 +805,18 @@ def integrate_experiment(
         NaN from the first output time the integration did not reach.
     stats : dict
         ``method``, ``accepted_steps``, ``rejected_steps``, ``jacobians`` (linearisations
-        with ETDRK4), ``status`` (0: success), ``t_stop`` (the simulated time reached [s]),
+        with ETDRK4), ``status`` (0: success), ``t_stop`` (the simulated time reached [s]: on
+        a success the end of the segment that holds the last output instant),
         with ETDRK4 ``fallback_segments`` (segments ROS34PW2 took) and ``shortened_segments``
         (segments the guard gave a shorter step in) and, on a failure,
         ``reason`` (:func:`failure_reason`).
     """
+    t_out, segments = _output_instants(inputs, t_out)  # before a first run's compile
     integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error, notify)
     rtol = _ros34pw2_rtol(rtol, code)
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, _uses_dq(inputs))
     name = METHODS[code]
     n_states = inputs.initial_state.size
-    t_out, segments = _output_instants(inputs, t_out)
     bounds, params = _segment_arrays(segments)
     x_out = np.empty((t_out.size, n_states))
     counts = np.zeros(5, dtype=np.int64)
@@ -907,11 +910,11 @@ def integrate_batch(
             "integrate_batch: the variants mix the roller drive 'induction_dq' with other "
             "roller drives (different models); run them in separate batches"
         )
+    t_out, segments = _output_instants(first, t_out)  # before a first run's compile
     # Each variant's own settings: a flexible frame adds its velocity to the contact block.
     runs = [_bound_driver(i, method, exp_step, relinearise, h_max, exp_error) for i in inputs_list]
     rtol = _ros34pw2_rtol(rtol, runs[0][1])
     rt, at, h_max_ros, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
-    t_out, segments = _output_instants(first, t_out)
     bounds, _ = _segment_arrays(segments)
     n_segments = len(segments)
     n = len(inputs_list)

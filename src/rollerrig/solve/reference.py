@@ -41,7 +41,8 @@ def integrate_reference(
         Use the plain Python right-hand side and scipy's own finite-difference Jacobian (the
         baseline a user would write) instead of the compiled one.
     progress : callable, optional
-        Called as ``progress(t_reached, t_end)`` after each segment.
+        Called as ``progress(t_reached, t_end)`` after each segment (``t_end``: the end of
+        the segment that holds the last output instant, as far as the run integrates).
 
     Returns
     -------
