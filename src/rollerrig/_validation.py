@@ -133,7 +133,9 @@ def require_finite(name: str, value, unit: str = "") -> np.ndarray:
     """Return ``value`` as a float array, raising :class:`ParameterError` on NaN or inf."""
     arr = _as_float_array(name, value)
     if _fails(arr, np.isfinite, math.isfinite):
-        raise ParameterError(f"{name} must be finite{_unit(unit)}, got {_show(arr)}")
+        raise ParameterError(
+            f"{name} must be finite{_unit(unit)}, got {_show(arr, ~np.isfinite(arr))}"
+        )
     return arr
 
 
@@ -153,7 +155,7 @@ def require_positive(name: str, value, unit: str = "") -> np.ndarray:
     """Return ``value`` as a float array, raising unless every element is finite and > 0."""
     arr = require_finite(name, value, unit)
     if _fails(arr, lambda v: v > 0.0):
-        raise ParameterError(f"{name} must be > 0{_unit(unit)}, got {_show(arr)}")
+        raise ParameterError(f"{name} must be > 0{_unit(unit)}, got {_show(arr, ~(arr > 0.0))}")
     return arr
 
 
@@ -161,7 +163,7 @@ def require_nonnegative(name: str, value, unit: str = "") -> np.ndarray:
     """Return ``value`` as a float array, raising unless every element is finite and >= 0."""
     arr = require_finite(name, value, unit)
     if _fails(arr, lambda v: v >= 0.0):
-        raise ParameterError(f"{name} must be >= 0{_unit(unit)}, got {_show(arr)}")
+        raise ParameterError(f"{name} must be >= 0{_unit(unit)}, got {_show(arr, ~(arr >= 0.0))}")
     return arr
 
 
@@ -190,7 +192,8 @@ def require_in_range(
         interval = (
             f"{'[' if low_inclusive else '('}{low:g}, {high:g}{']' if high_inclusive else ')'}"
         )
-        raise ParameterError(f"{name} must lie in {interval}{_unit(unit)}, got {_show(arr)}")
+        got = _show(arr, ~inside(arr))
+        raise ParameterError(f"{name} must lie in {interval}{_unit(unit)}, got {got}")
     return arr
 
 
@@ -251,11 +254,19 @@ def _unit(unit: str) -> str:
     return " [-]" if unit in ("1", "-") else f" [{unit}]"
 
 
-def _show(arr: np.ndarray) -> str:
+def _show(arr: np.ndarray, bad: np.ndarray | None = None) -> str:
+    """``arr`` as the message's "got": a short array whole, a long one by its first offending
+    element (``bad``, a mask) with where it is and how many there are (the first six values
+    of 7 500 had said "got [0. 0. 0. 0. 0. 0.] ..." of a NaN in sample 300)."""
     if arr.ndim == 0:
         return f"{float(arr):g}"
-    bad = arr.ravel()
-    return np.array2string(bad[:6], precision=4) + (" ..." if bad.size > 6 else "")
+    flat = arr.ravel()
+    if flat.size <= 6 or bad is None or not np.any(bad):
+        return np.array2string(flat[:6], precision=4) + (" ..." if flat.size > 6 else "")
+    where = np.flatnonzero(np.ravel(bad))
+    k = int(where[0])
+    index = k if arr.ndim == 1 else tuple(int(i) for i in np.unravel_index(k, arr.shape))
+    return f"{flat[k]:g} at index {index} ({where.size} of {flat.size} values)"
 
 
 # --------------------------------------------------------------------------------------------

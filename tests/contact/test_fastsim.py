@@ -303,3 +303,28 @@ def test_strips_grid_converges():
 def test_rejects_nonphysical_input(kwargs, message):
     with pytest.raises(ParameterError, match=message):
         fastsim(1e-3, **{**FS, **kwargs})
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ((1, 1, "contact"), r"nx must lie in \[5, inf\)"),  # 76 kN under muN = 25 kN
+        ((20.5, 20), "nx must be a whole number of elements"),  # was 20, silently
+        ((30, 4), r"ny must lie in \[5, inf\)"),
+        ((30, 30, "contact", 0.1), r"scale must lie in \[1, inf\)"),  # 30 N of 25 kN
+    ],
+)
+def test_a_grid_that_cannot_carry_the_load_is_refused(args, message):
+    """Below 5 elements a side the Hertz pressure summed over the elements is off the load by
+    more than 5 % (one element: 2.3 times it), and the traction bound with it."""
+    with pytest.raises(ParameterError, match=message):
+        fastsim_grid(*args)
+
+
+@pytest.mark.parametrize("kind", ["strips", "contact"])
+def test_the_smallest_grid_carries_the_load_within_five_percent(kind):
+    from rollerrig.contact.ellipse_grid import MIN_ELEMENTS
+
+    g = fastsim_grid(MIN_ELEMENTS, MIN_ELEMENTS, kind)
+    load = np.sum(np.sqrt(g.shape) * g.area) * 1.5 / np.pi  # elliptic (Hertz) pressure / N
+    assert abs(load - 1.0) <= 0.05

@@ -376,3 +376,25 @@ def test_the_calibration_json_of_rollerrig_calibrate_is_read():
     assert names == ["roller_inertia", "bearing_friction"]
     np.testing.assert_allclose(cov, [[0.09, 0.5 * 0.3 * 0.0004], [0.5 * 0.3 * 0.0004, 1.6e-7]])
     assert any("damping.roller_shaft" in n and "not excited" in n for n in notes)
+
+
+def test_a_recording_with_a_gap_is_refused_by_the_estimators_and_the_uncertainty(
+    make_coa_recording,
+):
+    """A 0.5 s gap taken for one sample step had made a CoA of 910 out of a largest 0.35,
+    silently: every estimator differentiates at one rate."""
+    from rollerrig.estimation.estimator import estimate_from_recording, smooth_from_recording
+    from rollerrig.recordings.recording import Recording, RecordingError
+
+    rec, _, _ = make_coa_recording()
+    keep = np.r_[0:900, 1025 : rec.time.size]
+    gapped = Recording(
+        rec.time[keep], {k: v[keep] for k, v in rec.channels.items()}, rec.units, rec.metadata
+    )
+    for run in (
+        lambda: estimate_from_recording(gapped, RIG),
+        lambda: smooth_from_recording(gapped, RIG, chain=None),
+        lambda: _unc(gapped),
+    ):
+        with pytest.raises(RecordingError, match="needs samples on a uniform time base"):
+            run()

@@ -35,3 +35,36 @@ def test_polach_coa_is_polachs_closed_form():
     eps = np.pi / 4 * k * s / (LOAD * mu)
     expected = 2 * mu / np.pi * (ka * eps / (1 + (ka * eps) ** 2) + np.arctan(ks * eps))
     np.testing.assert_allclose(polach_coa(s, w, LOAD, k, POLACH_DRY), expected, rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ((0.01, 0.0833, 0.0, 1.13e6), "normal_load must be > 0"),  # was NaN
+        ((0.01, 0.0833, 4300.0, -1.13e6), "creep_stiffness must be > 0"),  # was CoA -0.42
+        ((np.nan, 0.0833, 4300.0, 1.13e6), "creep must be finite"),  # was NaN
+        ((0.01, np.inf, 4300.0, 1.13e6), "slip_velocity must be finite"),
+    ],
+)
+def test_polach_coa_refuses_what_has_no_coa(args, message):
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=message):
+        polach_coa(*args, POLACH_DRY)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf])
+def test_whiteness_helpers_refuse_a_series_with_a_gap(bad):
+    """A NaN made every lag's correlation 0 and the time 1: a series that looked white."""
+    from rollerrig._validation import ParameterError
+    from rollerrig.fit.whiteness import autocorrelation, integrated_autocorrelation_time
+
+    x = np.r_[np.sin(np.arange(99.0)), bad]
+    with pytest.raises(ParameterError, match="x must be finite"):
+        autocorrelation(x, 3)
+    with pytest.raises(ParameterError, match="x must be finite"):
+        integrated_autocorrelation_time(x)
+    with pytest.raises(ParameterError, match=r"max_lag must be a whole number in \[0, 99\]"):
+        autocorrelation([*x[:-1].tolist(), 0.0], 100)
+    with pytest.raises(ParameterError, match="at least 2 samples"):
+        autocorrelation([], 0)

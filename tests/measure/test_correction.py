@@ -64,3 +64,26 @@ def test_constant_speed_adds_only_the_bearing_loss():
     np.testing.assert_allclose(alpha, 0.0, atol=1e-9)
     # (100 + 0.007·0.065·15000·tanh(400)) / (0.5·1e4)
     np.testing.assert_allclose(coa, (100 + 0.007 * 0.065 * 15000) / 5000, rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "message"),
+    [
+        ("bearing_friction", float("nan"), "bearing_friction must be finite"),  # all CoA NaN
+        ("bearing_friction", -0.5, "bearing_friction must be >= 0"),  # CoA -0.066
+        ("roller_weight", -1e7, "roller_weight must be >= 0"),  # CoA -0.96
+        ("regularisation_speed", 0.0, "regularisation_speed must be > 0"),
+        ("bearing_radius", float("inf"), "bearing_radius must be finite"),
+    ],
+)
+def test_bearing_parameters_that_make_no_bearing_are_refused(key, value, message):
+    from rollerrig._validation import ParameterError
+    from rollerrig.measure.correction import correction_terms
+
+    kwargs = {
+        "roller_radius": 0.5, "roller_inertia": 45.0, "bearing_friction": 0.007,
+        "bearing_radius": 0.065, "roller_weight": 5000.0, key: value,
+    }  # fmt: skip
+    with pytest.raises(ParameterError, match=message):
+        correction_terms(np.full(500, 100.0), np.full(500, 20.0), np.full(500, 1e4), 250.0,
+                         **kwargs)  # fmt: skip

@@ -79,3 +79,22 @@ def test_nominal_rate_rounds_to_ten_digits():
     assert nominal_rate(Recording(t, {}, {})) == 19200.0
     facts = analysis_rate_facts(Recording(np.arange(5) / 250.0, {}, {}))
     assert facts["decimation"] is None and "not faster than" in facts["decimation_null_because"]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"rate": 5.0}, r"rate must lie in \[250, inf\)"),
+        ({"rate": float("nan")}, "rate must be finite"),
+        ({"above": -1.0}, "above must be > 0"),
+    ],
+)
+def test_an_analysis_rate_below_the_rigs_modes_is_refused(kwargs, message):
+    """5 Hz had returned 5 samples a second of a 19.2 kHz test; 1e-3 Hz tried to allocate
+    6 GiB."""
+    from rollerrig._validation import ParameterError
+
+    t = np.arange(19200) / 19200.0
+    rec = Recording(t, {"torque": 100.0 + t}, {"torque": "N.m"})
+    with pytest.raises(ParameterError, match=message):
+        analysis_recording(rec, **kwargs)

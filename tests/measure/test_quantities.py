@@ -129,3 +129,16 @@ def test_derive_quantities_needs_the_rig():
     out = derive_quantities(rec, RIG)
     np.testing.assert_allclose(out["tangential_force"], t / 0.452)
     assert "coa" not in out  # no normal force recorded
+
+
+@pytest.mark.parametrize("time", [[0, 1, 2, 3, 4], [0, 1, 1, 3, 4], [0, 2, 1, 3, 4]])
+def test_encoder_speed_refuses_time_that_does_not_move_on(time):
+    """Out of order it had given a negative speed, a repeated stamp an infinite one."""
+    from rollerrig.recordings.recording import RecordingError
+
+    counts = [0, 100, 200, 300, 400]
+    if np.all(np.diff(time) > 0):
+        assert np.allclose(encoder_speed(counts, time, 1000), 2 * np.pi * 0.1)
+        return
+    with pytest.raises(RecordingError, match="time must be strictly increasing"):
+        encoder_speed(counts, time, 1000)

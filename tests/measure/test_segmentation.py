@@ -164,3 +164,21 @@ def test_quiet_phase_is_the_longest_without_torque_activity():
     ]
     assert quiet_phase(phases) == (5.0, 9.5)
     assert quiet_phase(phases[1:2]) is None
+
+
+def test_a_gap_in_the_channel_or_a_nan_setting_is_refused_not_a_vanished_cycle():
+    """One NaN sample of the request had left only 'free_rolling': the cycle was gone."""
+    from rollerrig._validation import ParameterError
+
+    t = np.arange(0, 10, 0.01)
+    req = np.interp(t, [0, 2, 5, 5.5, 5.52, 10], [0, 0, 600, 600, 0, 0])
+    rec = Recording(t, {"torque_request": req}, {"torque_request": "N.m"})
+    assert [p.name for p in segment_test(rec)][1:3] == ["ramp_up", "hold"]
+    gap = req.copy()
+    gap[300] = np.nan
+    with pytest.raises(ParameterError, match=r"torque_request must be finite.*at index 300"):
+        segment_test(Recording(t, {"torque_request": gap}, {"torque_request": "N.m"}))
+    for key in ("active_fraction", "hold_band"):
+        for bad in (np.nan, -1.0):
+            with pytest.raises(ParameterError, match=key):
+                segment_test(rec, **{key: bad})

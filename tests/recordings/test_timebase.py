@@ -197,3 +197,18 @@ def test_the_rate_of_rounded_time_stamps_is_the_spans():
     assert uniform_sample_rate(t) == pytest.approx(600.0, rel=1e-6)
     with pytest.raises(RecordingError, match="resample_Hz = 600 "):
         require_uniform_time(np.round(np.arange(12_001) / 600.0, 3), "run.csv", "the spectrum")
+
+
+def test_a_nan_time_stamp_or_values_of_another_length_are_refused():
+    """A NaN stamp had given a rate of NaN or of 250 Hz; a series half as long as its time had
+    been resampled as if it spanned it (40 % off on the FIR path, silently)."""
+    from rollerrig._validation import ParameterError
+    from rollerrig.recordings.timebase import resample_onto, uniform_sample_rate
+
+    for time in ([0, 0.004, 0.008, np.nan], [0, 0.004, np.nan, 0.012]):
+        with pytest.raises(ParameterError, match="strictly increasing"):
+            uniform_sample_rate(time)
+    t = np.arange(2000) / 1000.0
+    for target in (np.arange(100, 900) / 250.0 / 4, np.arange(10, 90) / 100.0):
+        with pytest.raises(ParameterError, match=r"values \(1000,\) and time \(2000,\)"):
+            resample_onto(np.linspace(0.0, 1.0, 1000), t, target)

@@ -153,3 +153,14 @@ def test_a_time_without_a_unit_that_looks_like_ms_is_a_warning_naming_the_file(t
         assert read_recording(seconds).time[-1] == pytest.approx(11.996)
         assert read_recording(ms, {"time": {"column": "time", "unit": "s"},
             "channels": {"torque": {"column": "torque"}}}).time[-1] == 11996  # fmt: skip
+
+
+def test_a_recording_leaves_its_callers_arrays_writable():
+    """Recording froze the caller's float arrays (setflags on them, not on a view)."""
+    from rollerrig.recordings.recording import Recording
+
+    x, t = np.zeros(5), np.arange(5) / 250.0
+    rec = Recording(t, {"x": x}, {"x": "N.m"})
+    x[0] = 1.0
+    t[0] = -1.0
+    assert not rec["x"].flags.writeable and not rec.time.flags.writeable

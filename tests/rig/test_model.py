@@ -207,7 +207,11 @@ def _arm_params():
 
 @given(
     st.floats(-2.5, 2.5),  # rig files hold |κ| < 1; beyond, the loop must still solve
-    st.floats(0.0, 60e3),
+    # No load, or one above 1e-100 N: below it, under a self-locking transfer, the root's w³
+    # lies within round-off of 1 - κ μ F/(μN) (w ~ 1e-57 at 6e-158 N, κ = -2, μ = 1, creep
+    # -1), and N = B/w³ is known only to the round-off of the law's saturation (6e-4 of it
+    # there; a random run found it, 2026-12-02). No rig gets near: |κ| < 1 in rig files.
+    st.just(0.0) | st.floats(1e-100, 60e3),
     st.floats(-1.0, 1.0),
     st.just(0.0) | st.floats(1e-3, 1.0),  # no friction, or a rail's (at 1e-290 ε overflows)
 )

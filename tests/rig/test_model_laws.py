@@ -146,3 +146,20 @@ def test_a_misspelt_law_is_refused_with_the_nearest_name():
 def test_polachs_law_with_a_set_that_has_no_ka_ks_is_refused(rig, protocol):
     with pytest.raises(ParameterError, match="needs Polach's k_A, k_S"):
         assemble(rig, protocol, m.DriveConfig(), {"dry": EUROSPRINTER_MODIFIED_FASTSIM})
+
+
+def test_table_ratio_refuses_what_fastsim_refuses():
+    """A NaN gradient and slope parameters outside the modified FASTSIM's ranges had given NaN,
+    0 or a ratio as if unreduced; the ranges are fastsim's own."""
+    from rollerrig._validation import ParameterError
+    from rollerrig.contact.table import creep_table, table_ratio
+
+    t = creep_table("fastsim")
+    for args, message in (
+        ((float("nan"),), "eps must be finite"),
+        ((1e-3, 0.0), r"k0 must lie in \(0, 1\]"),
+        ((1e-3, 1.0, -1.0, -1.0), r"alpha_inf must lie in \[0, 1\]"),
+        ((1e-3, 1.0, 1.0, -1.0), "beta must be >= 0"),
+    ):
+        with pytest.raises(ParameterError, match=message):
+            table_ratio(t, *args)

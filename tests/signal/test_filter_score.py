@@ -68,3 +68,18 @@ def test_masks_as_index_ranges_equal_boolean_masks():
     a = score_smoothing(sig.time, sig.raw, y, sig.truth, ranges)
     b = score_smoothing(sig.time, sig.raw, y, sig.truth, (seg.steady, seg.transient))
     assert a == b
+
+
+def test_a_smoothed_signal_with_a_gap_or_a_lag_of_nothing_is_refused():
+    """A NaN at the smoothed signal's end had made its noise score NaN; max_lag 0 its lag."""
+    import pytest
+
+    from rollerrig._validation import ParameterError
+
+    r = seed_like_torque(duration=8.0)
+    sm = smooth(r.raw, "moving_average", window=25)
+    sm[-1] = np.nan
+    with pytest.raises(ParameterError, match="smoothed must be finite"):
+        score_smoothing(r.time, r.raw, sm, r.truth)
+    with pytest.raises(ParameterError, match="max_lag must be > 0"):
+        score_smoothing(r.time, r.raw, r.raw, r.truth, max_lag=0.0)

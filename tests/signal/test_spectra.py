@@ -515,3 +515,22 @@ def test_explain_spectrum_names_the_channel_of_a_constant_signal():
     )
     with pytest.raises(RecordingError, match=r"run.csv: channel 'torque' is constant"):
         explain_spectrum(rec)
+
+
+@pytest.mark.parametrize(
+    ("setting", "message"),
+    [
+        ({"min_frequency": np.nan}, "min_frequency must be finite"),
+        ({"min_snr": np.nan}, "min_snr must be finite"),
+        ({"min_prominence": np.nan}, "min_prominence must be finite"),
+        ({"floor_bins": 0}, r"floor_bins must lie in \[3, inf\)"),
+        ({"min_frequency": 20.0, "max_frequency": 10.0}, "max_frequency must be above"),
+    ],
+)
+def test_peak_settings_that_would_drop_every_peak_are_refused(setting, message):
+    """Each of these had returned no peak at all from a spectrum with a clear line."""
+    f = np.linspace(0.0, 50.0, 501)
+    p = 1e-4 + np.exp(-0.5 * ((f - 10.0) / 0.2) ** 2)
+    assert [round(pk.frequency) for pk in find_spectral_peaks(f, p)] == [10]
+    with pytest.raises(ParameterError, match=message):
+        find_spectral_peaks(f, p, **setting)

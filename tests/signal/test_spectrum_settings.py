@@ -35,3 +35,20 @@ def test_settings_state_the_band_they_search():
     s = SpectrumSettings(1000, 500, min_frequency=0.625)
     assert s.band() == "0.625–Nyquist" and "in 0.625–Nyquist;" in s.describe(250.0, 10_000)
     assert SpectrumSettings(1000, 500, max_frequency=40.0).band() == "0.1–40 Hz"
+
+
+def test_line_spacing_and_segment_count_refuse_what_has_no_spacing_or_count():
+    """A negative line spacing, a NaN wheel frequency ignored, -16 segments and a division by
+    zero had come back."""
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match="roller_frequency must be > 0"):
+        line_spacing(-1.0)
+    with pytest.raises(ParameterError, match="wheel_frequency must be finite"):
+        line_spacing(1.0, float("nan"))
+    with pytest.raises(ParameterError, match="wheel_frequency must be > 0"):
+        line_spacing(1.0, -2.0)
+    for noverlap in (300, 256, -1):
+        with pytest.raises(ParameterError, match=r"noverlap must lie in \[0, nperseg\)"):
+            segment_count(1000, 256, noverlap)
+    assert segment_count(1000, 256, 128) == 6

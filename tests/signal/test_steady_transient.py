@@ -36,3 +36,24 @@ def test_mask_widening_equals_binary_dilation(bits, reach):
     mask = np.array(bits)
     ref = binary_dilation(mask, np.ones(2 * reach + 1, bool)) if reach else mask
     assert np.array_equal(_dilate(mask, reach), ref)
+
+
+def test_settings_that_would_mark_everything_steady_or_transient_are_refused():
+    """k_sigma NaN had marked every sample steady, -1 every sample transient."""
+    import pytest
+
+    from rollerrig._validation import ParameterError
+
+    r = seed_like_torque(duration=8.0)
+    fs = 1.0 / (r.time[1] - r.time[0])
+    assert 0 < steady_and_transient_masks(r.raw, fs).transient.sum() < r.raw.size
+    for kwargs, message in (
+        ({"k_sigma": np.nan}, "k_sigma must be finite"),
+        ({"k_sigma": -1.0}, "k_sigma must be > 0"),
+        ({"margin": -0.1}, "margin must be >= 0"),
+        ({"smoothing_time": np.nan}, "smoothing_time must be finite"),
+    ):
+        with pytest.raises(ParameterError, match=message):
+            steady_and_transient_masks(r.raw, fs, **kwargs)
+    with pytest.raises(ParameterError, match="at least 3 samples"):
+        steady_and_transient_masks(r.raw[:1], fs)

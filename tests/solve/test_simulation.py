@@ -247,3 +247,29 @@ def test_fast_progress_moves_with_simulated_time_and_changes_nothing():
     reached = [t for t, _ in seen]
     assert len(seen) == len(sim.inputs.segments) and reached == sorted(reached)
     assert reached[-1] == pytest.approx(protocol.duration) and seen[0][1] == reached[-1]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"output_rate": "abc"}, "output_rate must be a number"),
+        ({"output_rate": 0.01}, r"at least two samples over the experiment's 30 s"),
+        ({"rtol": float("nan")}, "rtol must be finite"),
+        ({"rtol": 10.0}, r"rtol must lie in \[1e-14, 0.1\]"),
+        ({"rtol": 0.0}, r"rtol must lie in \[1e-14, 0.1\]"),
+        ({"experiment": 5}, "experiment must be a Protocol, the name of a bundled protocol"),
+    ],
+)
+def test_simulation_settings_without_a_run_are_refused_when_made(kwargs, message):
+    """A 1-sample run had come back at 0.01 Hz; rtol was never checked (scipy's complaint about
+    atol named the wrong setting); a number as the experiment gave a TypeError."""
+    with pytest.raises(ParameterError, match=message):
+        Simulation(**kwargs)
+
+
+def test_output_times_refuse_a_span_or_rate_without_instants():
+    from rollerrig.solve.simulation import output_times
+
+    for args, message in (((1.0, 0.0), "rate must be > 0"), ((-1.0, 250.0), "duration must be")):
+        with pytest.raises(ParameterError, match=message):
+            output_times(*args)

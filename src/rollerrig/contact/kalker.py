@@ -29,10 +29,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rollerrig._validation import require_in_range, require_positive
+from rollerrig._validation import require_in_range
 
 __all__ = [
     "KALKER_TABLE",
+    "MAX_ELLIPSE_RATIO",
     "KalkerCoefficients",
     "KalkerTable",
     "kalker_coefficients",
@@ -282,6 +283,10 @@ def _kalker_kernel(a_over_b, poisson):
 # --------------------------------------------------------------------------------------------
 
 
+MAX_ELLIPSE_RATIO = 1e8
+"""Largest ellipse ratio a/b (and b/a) :func:`kalker_coefficients` takes [-]."""
+
+
 def kalker_coefficients(a_over_b, poisson) -> KalkerCoefficients:
     """Kalker's creepage and spin coefficients C11, C22, C23, C33 for an ellipse a/b and ν.
 
@@ -310,7 +315,8 @@ def kalker_coefficients(a_over_b, poisson) -> KalkerCoefficients:
     Parameters
     ----------
     a_over_b : array_like
-        Ellipse ratio a/b [-], a along the rolling direction, > 0.
+        Ellipse ratio a/b [-], a along the rolling direction, in [1e-8, 1e8]
+        (:data:`MAX_ELLIPSE_RATIO`).
     poisson : array_like
         Combined Poisson ratio ν [-], in [0, 0.5] (see
         :func:`rollerrig.contact.hertz.combined_elastic_constants`).
@@ -323,7 +329,7 @@ def kalker_coefficients(a_over_b, poisson) -> KalkerCoefficients:
     Raises
     ------
     ParameterError
-        If a/b is not > 0 or ν lies outside [0, 0.5].
+        If a/b lies outside [1e-8, 1e8] or ν outside [0, 0.5].
 
     References
     ----------
@@ -338,7 +344,12 @@ def kalker_coefficients(a_over_b, poisson) -> KalkerCoefficients:
     >>> round(float(kalker_coefficients(1.6076, 0.3).c11), 3)
     4.896
     """
-    ratio = require_positive("a_over_b", a_over_b, "-")
+    # Beyond 1e8 either way no contact of solids is that slender, and far beyond it the
+    # asymptotes' arithmetic breaks down (at 1e300 (b/a)² underflows: C11 = 0, C23 NaN).
+    ratio = require_in_range(
+        "a_over_b", a_over_b, 1.0 / MAX_ELLIPSE_RATIO, MAX_ELLIPSE_RATIO, "-",
+        low_inclusive=True, high_inclusive=True,
+    )  # fmt: skip
     nu = require_in_range(
         "poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True
     )

@@ -32,7 +32,9 @@ from functools import lru_cache
 
 import numpy as np
 
+from rollerrig._validation import require_finite
 from rollerrig.contact.laws import check_law
+from rollerrig.contact.slope_reduction import _check_modification
 
 __all__ = ["TABLE_NODES", "TABULATED_LAWS", "CreepTable", "creep_table", "table_ratio"]
 
@@ -213,7 +215,8 @@ def table_ratio(table: CreepTable, eps, k0=1.0, alpha_inf=1.0, beta=0.0):
     >>> round(float(table_ratio(creep_table("fastsim"), 1e-3)), 5)
     0.001
     """
-    e0 = np.asarray(eps, float)
+    e0 = require_finite("eps", eps, "-")
+    k0, alpha_inf, beta = _check_modification(k0, alpha_inf, beta)  # as fastsim's
     e = np.abs(e0)
     es = 0.25 * np.pi * k0 * e
     k = k0 * (alpha_inf + (1.0 - alpha_inf) / (1.0 + beta * es))

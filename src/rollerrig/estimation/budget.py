@@ -31,6 +31,7 @@ from rollerrig.estimation.filterweights import (
 )
 from rollerrig.estimation.montecarlo import MonteCarloResult, jcgm101_validation, monte_carlo
 from rollerrig.estimation.uncertainty import CoaUncertainty, noise_level
+from rollerrig.recordings.timebase import require_uniform_time
 from rollerrig.signal.smoothing import savitzky_golay
 
 __all__ = ["MC_DRAWS", "MC_MAX_POINTS", "CoaBudget", "coa_budget", "creep_uncertainty"]
@@ -157,7 +158,9 @@ def creep_uncertainty(recording, rig, smoothing_window: int, smoothing_order: in
     encoders' quantisation through the encoder speed and the smoothing (random; type A white
     noise of the speeds when the recording gives speeds, not counts).
     """
-    fs = float(recording.sample_rate)
+    fs = require_uniform_time(  # one step for every sample: a gap is refused, not spanned
+        recording.time, str(recording.metadata.get("source", "recording")), "the uncertainty budget"
+    )
     n = recording.time.size
     s, g = rig.sensors, rig.geometry
     w_w = savitzky_golay(recording["wheel_speed"], smoothing_window, smoothing_order)

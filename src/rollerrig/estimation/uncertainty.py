@@ -96,6 +96,7 @@ from rollerrig.estimation.montecarlo import (
 from rollerrig.estimation.release_residual import CorrectionResidual, release_residual_from_truth
 from rollerrig.measure.correction import correction_terms
 from rollerrig.measure.quantities import encoder_speed
+from rollerrig.recordings.timebase import require_uniform_time
 
 __all__ = [
     "COVERAGE_FACTOR",
@@ -159,7 +160,9 @@ def corrected_coa_uncertainty(
     residual = residual or CorrectionResidual()
     t = np.asarray(recording.time, dtype=float)
     n = t.size
-    fs = float(recording.sample_rate)
+    fs = require_uniform_time(  # one step for every sample: a gap is refused, not spanned
+        recording.time, str(recording.metadata.get("source", "recording")), "the CoA uncertainty"
+    )
     s, b, g = rig.sensors, rig.bearing, rig.geometry
     notes: list[str] = []
     terms = correction_terms(

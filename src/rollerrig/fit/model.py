@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rollerrig._validation import require_positive
+from rollerrig._validation import require_finite, require_positive
 from rollerrig.contact.creep import POLACH_DRY, PolachParameters  # noqa: F401 (the examples)
 from rollerrig.contact.creep import polach_force_kernel as _polach_force_kernel
 
@@ -58,13 +58,13 @@ def polach_coa(creep, slip_velocity, normal_load, creep_stiffness, parameters: P
     >>> round(float(polach_coa(0.01, 0.0833, 4300.0, 1.13e6, POLACH_DRY)), 3)
     0.421
     """
-    q = np.asarray(normal_load, dtype=float)
+    q = require_positive("normal_load", normal_load, "N")
     return (
         _polach_force_kernel(
-            np.asarray(creep, dtype=float),
-            np.asarray(slip_velocity, dtype=float),
+            require_finite("creep", creep, "-"),
+            require_finite("slip_velocity", slip_velocity, "m/s"),
             q,
-            np.asarray(creep_stiffness, dtype=float),
+            require_positive("creep_stiffness", creep_stiffness, "N"),
             *parameters.as_tuple(),
         )
         / q

@@ -16,6 +16,7 @@ import math
 import numpy as np
 from scipy import stats as _stats
 
+from rollerrig._validation import ParameterError, require_finite
 from rollerrig.fit.diagnostics import residual_structure
 
 __all__ = [
@@ -31,6 +32,15 @@ _LJUNG_BOX_ALPHA = 0.01  # white below this p-value is rejected
 _SOKAL_C = 5.0  # Sokal's window constant
 
 
+def _series(x) -> np.ndarray:
+    """``x`` as a finite 1-D float series of at least 2 samples (a NaN had made every lag's
+    correlation 0: a series that looked white)."""
+    x = require_finite("x", x, "-")
+    if x.ndim != 1 or x.size < 2:
+        raise ParameterError(f"x must be a 1-D series of at least 2 samples, got shape {x.shape}")
+    return x
+
+
 def autocorrelation(x: np.ndarray, max_lag: int) -> np.ndarray:
     """Sample autocorrelation ρ_0..ρ_max_lag of ``x`` (biased estimator, FFT).
 
@@ -40,7 +50,14 @@ def autocorrelation(x: np.ndarray, max_lag: int) -> np.ndarray:
     >>> float(rho[0]), bool(np.all(np.abs(rho[1:]) < 0.05))
     (1.0, True)
     """
-    x = np.asarray(x, dtype=float) - float(np.mean(x))
+    x = _series(x)
+    if not (float(max_lag) == int(max_lag) and 0 <= int(max_lag) < x.size):
+        raise ParameterError(
+            f"max_lag must be a whole number in [0, {x.size - 1}] (the series' length - 1), "
+            f"got {max_lag!r}"
+        )
+    max_lag = int(max_lag)
+    x = x - float(np.mean(x))
     n = x.size
     size = 1 << math.ceil(math.log2(2 * n))
     f = np.fft.rfft(x, size)
@@ -68,7 +85,7 @@ def integrated_autocorrelation_time(x: np.ndarray) -> float:
     >>> abs(integrated_autocorrelation_time(ar) - 3.0) < 0.2  # (1 + 0.5) / (1 - 0.5)
     True
     """
-    x = np.asarray(x, dtype=float)
+    x = _series(x)
     max_lag = max(1, min(x.size // 2, 2000))
     rho = autocorrelation(x, max_lag)
     tau = 1.0 + 2.0 * np.cumsum(rho[1:])

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig._validation import require_finite, require_positive
+from rollerrig._validation import require_finite, require_nonnegative, require_positive
 from rollerrig.signal.smoothing import savitzky_golay
 
 __all__ = ["CorrectionTerms", "corrected_adhesion", "correction_terms"]
@@ -213,15 +213,20 @@ def correction_terms(
     j5 = float(require_positive("roller_inertia", roller_inertia, "kg.m^2"))
     kappa = float(require_finite("load_transfer", load_transfer, "1"))
     w_d = float(require_finite("dead_weight", dead_weight, "N"))
+    # A NaN here had made every CoA NaN, a negative weight or friction a CoA of the wrong sign.
+    mu_b = float(require_nonnegative("bearing_friction", bearing_friction, "1"))
+    r_b = float(require_nonnegative("bearing_radius", bearing_radius, "m"))
+    w_r = float(require_nonnegative("roller_weight", roller_weight, "N"))
+    w_reg = float(require_positive("regularisation_speed", regularisation_speed, "rad/s"))
     t56_s = savitzky_golay(t56, window, order)
     w_s = savitzky_golay(w, window, order)
     alpha = savitzky_golay(w, window, order, deriv=1, sample_rate=fs)
-    b = bearing_friction * bearing_radius * np.tanh(w_s / regularisation_speed)
+    b = mu_b * r_b * np.tanh(w_s / w_reg)
     n = np.broadcast_to(n, t56_s.shape)
     # F_x (r_r − κ b) = T56 + J5 α5 + b (W_r + S + W_d): the bearing loss at the contact's load.
-    force = (t56_s + j5 * alpha + b * (roller_weight + n + w_d)) / (rr - kappa * b)
+    force = (t56_s + j5 * alpha + b * (w_r + n + w_d)) / (rr - kappa * b)
     contact_load = n + w_d + kappa * force
-    bearing = b * (roller_weight + contact_load)
+    bearing = b * (w_r + contact_load)
     coa = force / contact_load
     return CorrectionTerms(
         t56_s, w_s, alpha, bearing, n, coa, int(window), int(order),

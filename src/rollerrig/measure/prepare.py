@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rollerrig._validation import require_in_range, require_positive
 from rollerrig.measure.facts import source_prefix
 from rollerrig.recordings.recording import Recording, RecordingError
 from rollerrig.recordings.validate import MAX_INTERPOLATED_NAN_RUN, describe_gap, find_gaps
@@ -35,6 +36,19 @@ recording (one hour: 3.6 M samples per channel instead of 69 M).
 
 DECIMATE_ABOVE = 1500.0
 """Recordings faster than this [Hz] are decimated to :data:`ANALYSIS_RATE` before the analysis."""
+
+
+MIN_ANALYSIS_RATE = 250.0
+"""Lowest analysis rate :func:`analysis_recording` decimates to [Hz]: the Pardubice rig's DAQ
+rate, which still resolves the rig's torsional modes up to its 112 Hz wheel-shaft mode (a rate
+of 5 Hz had returned 5 samples a second of a 19.2 kHz test, 1e-3 Hz tried to allocate 6 GiB)."""
+
+
+def _checked_rate(name: str, value, lowest: float) -> float:
+    """``value`` [Hz], finite and at least ``lowest`` (above 0 where that is 0)."""
+    if lowest > 0.0:
+        return float(require_in_range(name, value, lowest, np.inf, "Hz", low_inclusive=True))
+    return float(require_positive(name, value, "Hz"))
 
 
 def nominal_rate(recording) -> float:
@@ -135,8 +149,8 @@ def analysis_recording(recording, *, rate: float | None = None, above: float | N
     """
     from rollerrig.signal.decimate import decimate_recording
 
-    rate = ANALYSIS_RATE if rate is None else float(rate)
-    above = DECIMATE_ABOVE if above is None else float(above)
+    rate = ANALYSIS_RATE if rate is None else _checked_rate("rate", rate, MIN_ANALYSIS_RATE)
+    above = DECIMATE_ABOVE if above is None else _checked_rate("above", above, 0.0)
     streamed = hasattr(recording, "iter_chunks")
     fs = nominal_rate(recording)
     if fs <= above or rate >= fs * (1.0 - 1e-9):

@@ -170,6 +170,12 @@ def encoder_speed(counts, time, counts_per_revolution, gate: int = 1, centred: b
         raise RecordingError(f"gate must be an integer >= 1 [samples], got {gate!r}")
     if c.shape != t.shape or t.ndim != 1 or t.size < 2:
         raise RecordingError(f"counts {c.shape} and time {t.shape} must be 1-D, same length >= 2")
+    if np.any(np.diff(t) <= 0.0):  # a step back had given a negative speed, a repeat inf
+        k = int(np.flatnonzero(np.diff(t) <= 0.0)[0]) + 1
+        raise RecordingError(
+            f"time must be strictly increasing [s]: time[{k}] = {t[k]:.9g} after "
+            f"time[{k - 1}] = {t[k - 1]:.9g}"
+        )
     scale = 2.0 * np.pi / cpr
     n = t.size
     if centred:

@@ -42,7 +42,13 @@ from typing import NamedTuple
 import numpy as np
 from scipy import signal
 
-from rollerrig._validation import ParameterError
+from rollerrig._validation import (
+    ParameterError,
+    require_finite,
+    require_in_range,
+    require_nonnegative,
+    require_positive,
+)
 from rollerrig.recordings.recording import Recording, RecordingError
 from rollerrig.recordings.validate import true_runs
 
@@ -182,10 +188,17 @@ def segment_test(
         active_fraction = 0.05 if is_request else 0.25
     if hold_band is None:
         hold_band = 0.002 if is_request else 0.05
+    # A NaN sample, or setting, compared false everywhere: the test's cycles had vanished.
+    active_fraction = float(require_in_range("active_fraction", active_fraction, 0.0, 1.0, "1"))
+    hold_band = float(require_in_range("hold_band", hold_band, 0.0, 1.0, "1"))
+    rest_fraction = float(require_in_range("rest_fraction", rest_fraction, 0.0, 1.0, "1"))
+    require_positive("release_max_duration", release_max_duration, "s")
+    require_nonnegative("min_cycle_duration", min_cycle_duration, "s")
     t = recording.time
-    u = np.asarray(recording[source], dtype=float)
+    u = require_finite(source, recording[source], "N.m")
     if not is_request and smoothing_cutoff is not None:
         fs = recording.sample_rate
+        require_positive("smoothing_cutoff", smoothing_cutoff, "Hz")
         if smoothing_cutoff >= 0.5 * fs:
             raise ParameterError(
                 f"smoothing_cutoff must be below Nyquist ({0.5 * fs:g} Hz), got {smoothing_cutoff}"

@@ -89,7 +89,9 @@ class Recording(ChannelLookup):
     metadata: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        time = np.asarray(self.time, dtype=float)
+        # Read-only views: a float64 array given is not copied, and its own flags stay as
+        # they were (setting them on it had frozen the caller's arrays).
+        time = np.asarray(self.time, dtype=float).view()
         if time.ndim != 1 or time.size < 2:
             raise RecordingError(
                 f"time must be a 1-D array of at least 2 samples, got {time.shape}"
@@ -104,7 +106,7 @@ class Recording(ChannelLookup):
             )
         channels = {}
         for name, values in self.channels.items():
-            arr = np.asarray(values, dtype=float)
+            arr = np.asarray(values, dtype=float).view()
             if arr.shape != time.shape:
                 raise RecordingError(
                     f"channel {name!r} has shape {arr.shape}, time has {time.shape}"

@@ -160,6 +160,11 @@ def resample_onto(
     values = np.asarray(values, dtype=float)
     time = np.asarray(time, dtype=float)
     target = np.asarray(target, dtype=float)
+    if values.shape != time.shape or time.ndim != 1:
+        # On the FIR path a shorter series had been resampled as if it spanned the time.
+        raise ParameterError(
+            f"values {values.shape} and time {time.shape} must be 1-D and of the same length"
+        )
     r_in = _rate(time)
     r_out = _rate(target) if target.size > 1 else r_in
     how: dict[str, Any] = {"from_rate_Hz": r_in if np.isfinite(r_in) else None}
@@ -413,7 +418,7 @@ def uniform_sample_rate(time) -> float:
     """
     time = np.asarray(time, dtype=float)
     steps = np.diff(time)
-    if steps.size == 0 or np.any(steps <= 0):
+    if steps.size == 0 or not np.all(steps > 0):  # NaN compares false: refused here
         raise ParameterError("time must be strictly increasing with at least 2 samples [s]")
     step = float(np.median(steps))
     k = int(np.argmax(np.abs(steps - step)))

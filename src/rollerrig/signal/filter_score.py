@@ -49,7 +49,7 @@ import numpy as np
 from scipy import signal as sps
 from scipy.ndimage import median_filter
 
-from rollerrig._validation import ParameterError, require_finite
+from rollerrig._validation import ParameterError, require_finite, require_positive
 from rollerrig.signal._numeric import odd, power_of_two_scale, uniform_sample_rate
 from rollerrig.signal.smoothing import moving_average
 from rollerrig.signal.steady_transient import Segmentation, as_segmentation
@@ -164,8 +164,9 @@ class Scorer:
         else:  # the raw signal's noise measured at its full rate, per analysis sample
             self.raw_noise = self._rms(np.asarray(raw_noise_rms, float) * self.scale)
         self.segments = self.seg.transient_segments()
-        self.max_lag = round(max_lag * self.fs)
-        nb = max(round(base_time * self.fs), 1)
+        # At least a sample each way: a lag searched over none was NaN.
+        self.max_lag = max(round(float(require_positive("max_lag", max_lag, "s")) * self.fs), 1)
+        nb = max(round(float(require_positive("base_time", base_time, "s")) * self.fs), 1)
         self.peaks = []
         for a, b in self.segments:
             before = self.ref[max(a - nb, 0) : a] if a > 0 else self.ref[b : b + nb]
@@ -210,7 +211,7 @@ class Scorer:
 
     def score(self, smoothed) -> FilterScore:
         """Scores of ``smoothed`` given in the units of the raw signal."""
-        s = np.asarray(smoothed, float)
+        s = require_finite("smoothed", smoothed)
         if s.shape != self.raw.shape:
             raise ParameterError("smoothed must have the length of raw")
         return self.score_scaled(s * self.scale)

@@ -23,7 +23,13 @@ import numpy as np
 from scipy import ndimage
 from scipy import signal as sps
 
-from rollerrig._validation import ParameterError, require_finite
+from rollerrig._validation import (
+    ParameterError,
+    require_finite,
+    require_in_range,
+    require_nonnegative,
+    require_positive,
+)
 from rollerrig.signal.welch import Spectrum
 
 __all__ = ["SpectralPeak", "find_spectral_peaks", "window_response"]
@@ -237,6 +243,22 @@ def find_spectral_peaks(
         raise ParameterError("power must be >= 0")
     if max_peaks is not None and (int(max_peaks) != max_peaks or max_peaks < 1):
         raise ParameterError(f"max_peaks must be a positive integer, got {max_peaks!r}")
+    # A NaN threshold compared false everywhere and silently dropped every peak.
+    require_nonnegative("min_prominence", min_prominence, "dB")
+    require_finite("min_snr", min_snr, "dB")
+    require_positive("dynamic_range", dynamic_range, "dB")
+    low = float(require_nonnegative("min_frequency", min_frequency, "Hz"))
+    if max_frequency is not None:
+        high = float(require_positive("max_frequency", max_frequency, "Hz"))
+        if high <= low:
+            raise ParameterError(
+                f"max_frequency must be above min_frequency [Hz], got {high:g} <= {low:g}"
+            )
+    if floor_bins is not None and not (
+        float(require_in_range("floor_bins", floor_bins, 3, np.inf, "bins", low_inclusive=True))
+        == int(floor_bins)
+    ):
+        raise ParameterError(f"floor_bins must be a whole number of bins, got {floor_bins!r}")
     tiny = np.finfo(float).tiny
     top = float(p.max())
     if not top > 0.0:

@@ -145,6 +145,10 @@ class SpectrumSettings:
 
 def segment_count(n_samples: int, nperseg: int, noverlap: int) -> int:
     """Welch segments ``(n − noverlap) // (nperseg − noverlap)`` in ``n_samples`` (0 if short)."""
+    if not (0 <= noverlap < nperseg):
+        raise ParameterError(
+            f"noverlap must lie in [0, nperseg) = [0, {nperseg}) [samples], got {noverlap!r}"
+        )
     if n_samples < nperseg:
         return 0
     return (int(n_samples) - noverlap) // (nperseg - noverlap)
@@ -162,9 +166,9 @@ def line_spacing(roller_frequency: float, wheel_frequency: float | None = None) 
     >>> round(line_spacing(2.934, 3.811), 3)   # 30 km/h on the seed's rig
     0.877
     """
-    spacing = [float(roller_frequency)]
+    spacing = [float(require_positive("roller_frequency", roller_frequency, "Hz"))]
     if wheel_frequency is not None:
-        spacing.append(float(wheel_frequency))
+        spacing.append(float(require_positive("wheel_frequency", wheel_frequency, "Hz")))
         gap = abs(float(wheel_frequency) - float(roller_frequency))
         if gap >= 0.05 * float(roller_frequency):
             spacing.append(gap)

@@ -13,7 +13,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig._validation import ParameterError, require_finite, require_positive
+from rollerrig._validation import (
+    ParameterError,
+    require_finite,
+    require_nonnegative,
+    require_positive,
+)
 from rollerrig.signal._numeric import odd
 from rollerrig.signal.smoothing import moving_average
 
@@ -113,7 +118,13 @@ def steady_and_transient_masks(
     [(321, 1179)]
     """
     x = require_finite("signal", signal)
+    if x.ndim != 1 or x.size < 3:
+        raise ParameterError(f"signal must be a 1-D series of at least 3 samples, got {x.shape}")
     fs = float(require_positive("sample_rate", sample_rate, "Hz"))
+    smoothing_time = float(require_nonnegative("smoothing_time", smoothing_time, "s"))
+    margin = float(require_nonnegative("margin", margin, "s"))
+    # A NaN k_sigma compared false everywhere: every sample steady.
+    k_sigma = float(require_positive("k_sigma", k_sigma, "-"))
     window = odd(smoothing_time * fs, 1)
     y = moving_average(moving_average(x, window), window)
     slope = np.gradient(y) * fs

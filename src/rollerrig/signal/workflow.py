@@ -173,8 +173,10 @@ def explain_recording(
         except (ParameterError, ValueError, ArithmeticError) as exc:
             notes.append(f"twin not linearised at this operating point ({exc}); no mode labels")
     if settings is None:
-        f_w = None if op.wheel_speed is None else op.wheel_speed / (2 * np.pi)
-        spacing = None if op.at_rest else line_spacing(op.roller_speed / (2 * np.pi), f_w)
+        # Rotation frequencies, whichever way the shafts turn; a wheel at rest has no lines.
+        f_w = None if not op.wheel_speed else abs(op.wheel_speed) / (2 * np.pi)
+        f_r = None if op.at_rest else abs(op.roller_speed) / (2 * np.pi)
+        spacing = line_spacing(f_r, f_w) if f_r else None
         try:
             settings = choose_settings(access.n_samples, access.sample_rate, spacing)
         except ParameterError as exc:

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rollerrig._validation import ParameterError
+from rollerrig._validation import ParameterError, require_in_range, require_positive
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.experiment.protocol import Protocol, load_protocol
 from rollerrig.rig.assemble import ModelInputs, assemble
@@ -54,6 +54,8 @@ def output_times(duration: float, rate: float) -> np.ndarray:
     >>> float(output_times(6.039999999999999, 250.0)[-1])
     6.039999999999999
     """
+    duration = float(require_positive("duration", duration, "s"))
+    rate = float(require_positive("rate", rate, "Hz"))
     n = int(np.floor(duration * rate + 1e-9))
     t = np.arange(n + 1) / rate
     t[-1] = min(t[-1], duration)
@@ -153,10 +155,28 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
                     f"{type(rig).__name__}; pass the experiment as experiment=..."
                 )
             rig = load_rig(Path(rig))
+        if not isinstance(experiment, Protocol | str | os.PathLike):
+            raise ParameterError(
+                "experiment must be a Protocol, the name of a bundled protocol or a protocol "
+                f"TOML file, got a {type(experiment).__name__}"
+            )
         protocol = experiment if isinstance(experiment, Protocol) else load_protocol(experiment)
-        rate = rig.sensors.daq_rate if output_rate is None else float(output_rate)
-        if not (np.isfinite(rate) and rate > 0):
-            raise ParameterError(f"output_rate must be > 0 [Hz], got {output_rate!r}")
+        if output_rate is None:
+            rate = rig.sensors.daq_rate
+        else:
+            rate = float(require_positive("output_rate", output_rate, "Hz"))
+        if rate * protocol.duration < 1.0:  # a run of one sample had come back
+            raise ParameterError(
+                f"output_rate must give at least two samples over the experiment's "
+                f"{protocol.duration:g} s, so >= {1.0 / protocol.duration:.6g} [Hz], got {rate:g}"
+            )
+        if rtol is not None:
+            # The solvers' relative tolerance: below 1e-14 round-off, above 0.1 no solution.
+            rtol = float(
+                require_in_range(
+                    "rtol", rtol, 1e-14, 0.1, "1", low_inclusive=True, high_inclusive=True
+                )
+            )
         _check_result_size(protocol, rate)
         self.rig = rig
         self.protocol = protocol
