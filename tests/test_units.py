@@ -16,7 +16,7 @@ from decimal import Decimal, localcontext
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 from rollerrig._validation import ParameterError
@@ -236,11 +236,15 @@ def test_to_si_examples():
 
 
 @given(st.floats(allow_nan=False, allow_infinity=False, min_value=-1e300, max_value=1e300))
+@example(1.1073078518241965e-307)  # x/1000 lies exactly halfway between two subnormals
 def test_decimal_units_convert_correctly_rounded(x):
     # A factor with a short decimal inverse (mm, µs, ns) divides: the result is x/1000 etc.
     # rounded once, the float nearest to the exact quotient; km/h gives x / 3.6.
     with localcontext() as ctx:
-        ctx.prec = 80  # enough for the exact quotient of any double by 10^k
+        # Exact: a double has at most 767 significant decimal digits, and dividing by 10^k adds
+        # none. 80 digits (before) broke an exact tie between two subnormals (x = 1.107e-307
+        # over 1000), and the reference rounded the other way than IEEE's division.
+        ctx.prec = 800
         for factor, inverse in ((1e-3, 1000), (1e-6, 1000000), (1e-9, 10**9)):
             exact = float(Decimal(x) / Decimal(inverse))
             assert apply_factor(x, factor) == exact

@@ -27,6 +27,7 @@ __all__ = [
     "field_error",
     "from_pydantic",
     "interval",
+    "numbers_apart",
     "pydantic_problems",
     "require_finite",
     "require_in_range",
@@ -222,7 +223,7 @@ def require_instants_within(name: str, value, start: float, end: float) -> np.nd
     ):
         if k.size:
             k = int(k[0])
-            lo, hi, got = _distinct(start, end, arr[k])
+            lo, hi, got = numbers_apart(start, end, arr[k])
             raise ParameterError(
                 f"{name} must lie in [{lo}, {hi}] [s], the experiment's span; got "
                 f"{name}[{k}] = {got}, {side}"
@@ -230,7 +231,7 @@ def require_instants_within(name: str, value, start: float, end: float) -> np.nd
     back = np.flatnonzero(np.diff(arr) < 0.0)
     if back.size:
         k = int(back[0]) + 1
-        later, earlier = _distinct(arr[k], arr[k - 1])
+        later, earlier = numbers_apart(arr[k], arr[k - 1])
         raise ParameterError(
             f"{name} must not go back in time [s]; got {name}[{k}] = {later} after "
             f"{name}[{k - 1}] = {earlier}"
@@ -238,9 +239,18 @@ def require_instants_within(name: str, value, start: float, end: float) -> np.nd
     return arr
 
 
-def _distinct(*values):
+def numbers_apart(*values) -> list[str]:
     """``values`` as text with ``%.9g``, or all in full (``repr``) where that would show
-    two different numbers alike (an instant 1e-13 s past an end of 30 s)."""
+    two different numbers alike (an instant 1e-13 s past an end of 30 s), for an error
+    message that compares them.
+
+    Examples
+    --------
+    >>> numbers_apart(30.0, 30.0000000000001)
+    ['30.0', '30.0000000000001']
+    >>> numbers_apart(0.5, 2)
+    ['0.5', '2']
+    """
     short = [f"{float(v):.9g}" for v in values]
     if len(set(short)) < len({float(v) for v in values}):
         return [repr(float(v)) for v in values]

@@ -176,7 +176,7 @@ def test_a_gap_in_the_channel_or_a_nan_setting_is_refused_not_a_vanished_cycle()
     assert [p.name for p in segment_test(rec)][1:3] == ["ramp_up", "hold"]
     gap = req.copy()
     gap[300] = np.nan
-    with pytest.raises(ParameterError, match=r"torque_request must be finite.*at index 300"):
+    with pytest.raises(ParameterError, match=r"channel 'torque_request' must be finite.*index 300"):
         segment_test(Recording(t, {"torque_request": gap}, {"torque_request": "N.m"}))
     for key in ("active_fraction", "hold_band"):
         for bad in (np.nan, -1.0):

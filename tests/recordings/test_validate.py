@@ -161,6 +161,11 @@ def test_a_recording_leaves_its_callers_arrays_writable():
 
     x, t = np.zeros(5), np.arange(5) / 250.0
     rec = Recording(t, {"x": x}, {"x": "N.m"})
-    x[0] = 1.0
-    t[0] = -1.0
+    x[0] = np.nan  # and what the caller writes later does not reach the checked recording
+    t[2] = np.nan
     assert not rec["x"].flags.writeable and not rec.time.flags.writeable
+    assert np.all(np.isfinite(rec["x"])) and np.all(np.isfinite(rec.time))
+    frozen = np.arange(5.0)
+    frozen.setflags(write=False)  # a reader's read-only array is shared, not copied
+    assert np.shares_memory(Recording(np.arange(5) / 250.0, {"x": frozen},
+                                      {"x": "N.m"})["x"], frozen)  # fmt: skip

@@ -158,7 +158,8 @@ def analyze_test(
     run_study : bool
         Run the full filter study.
     analysis_rate : float, optional
-        Rate [Hz] recordings faster than :data:`DECIMATE_ABOVE` are analysed at; default
+        Rate [Hz] recordings faster than :data:`DECIMATE_ABOVE` are analysed at, at least
+        :data:`~rollerrig.measure.prepare.MIN_ANALYSIS_RATE` (250 Hz); default
         :data:`ANALYSIS_RATE`.
     max_fit_points : int, optional
         Most points a Polach fit uses; default :data:`MAX_FIT_POINTS`.

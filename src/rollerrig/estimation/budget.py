@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from rollerrig.estimation.choice import uniform_rate
 from rollerrig.estimation.filterweights import (
     BandedFilter,
     after_encoder_speed,
@@ -31,7 +32,6 @@ from rollerrig.estimation.filterweights import (
 )
 from rollerrig.estimation.montecarlo import MonteCarloResult, jcgm101_validation, monte_carlo
 from rollerrig.estimation.uncertainty import CoaUncertainty, noise_level
-from rollerrig.recordings.timebase import require_uniform_time
 from rollerrig.signal.smoothing import savitzky_golay
 
 __all__ = ["MC_DRAWS", "MC_MAX_POINTS", "CoaBudget", "coa_budget", "creep_uncertainty"]
@@ -158,9 +158,7 @@ def creep_uncertainty(recording, rig, smoothing_window: int, smoothing_order: in
     encoders' quantisation through the encoder speed and the smoothing (random; type A white
     noise of the speeds when the recording gives speeds, not counts).
     """
-    fs = require_uniform_time(  # one step for every sample: a gap is refused, not spanned
-        recording.time, str(recording.metadata.get("source", "recording")), "the uncertainty budget"
-    )
+    fs = uniform_rate(recording, "the uncertainty budget")  # a gap refused, not one step
     n = recording.time.size
     s, g = rig.sensors, rig.geometry
     w_w = savitzky_golay(recording["wheel_speed"], smoothing_window, smoothing_order)

@@ -20,14 +20,17 @@ __all__ = [
 ]
 
 
-def _uniform_rate(recording) -> float:
-    """The recording's sampling rate [Hz], refused unless its samples are equally spaced: the
-    estimators differentiate at one rate, and a 0.5 s gap taken for one step had made a CoA
-    of 910 out of a largest 0.35, with no warning."""
+def uniform_rate(recording, purpose: str = "the contact-torque estimator") -> float:
+    """The recording's sampling rate [Hz] (:attr:`Recording.sample_rate`, the rate the rest of
+    the analysis uses), refused unless its samples are equally spaced
+    (:func:`~rollerrig.recordings.timebase.require_uniform_time`, naming the file and
+    ``purpose``): the estimators differentiate at one rate, and a 0.5 s gap taken for one step
+    had made a CoA of 910 out of a largest 0.35, with no warning."""
     from rollerrig.recordings.timebase import require_uniform_time
 
-    source = str(recording.metadata.get("source", "recording"))
-    return require_uniform_time(recording.time, source, "the contact-torque estimator")
+    source = recording.metadata.get("source") or "the recording"
+    require_uniform_time(recording.time, str(source), purpose)
+    return float(recording.sample_rate)
 
 
 def estimate_from_recording(recording, rig=None, **options) -> ContactEstimate:
@@ -57,7 +60,7 @@ def estimate_from_recording(recording, rig=None, **options) -> ContactEstimate:
         recording["torque"],
         recording["roller_encoder_counts"],
         load,
-        _uniform_rate(recording),
+        uniform_rate(recording),
         counts_per_rev=rig.sensors.encoder_counts_per_revolution,
         roller_inertia=rig.inertia.roller,
         bearing_friction=b.friction_coefficient,
@@ -144,7 +147,7 @@ def smooth_from_recording(
         recording["torque"],
         recording["roller_encoder_counts"],
         load,
-        _uniform_rate(recording),
+        uniform_rate(recording),
         counts_per_rev=rig.sensors.encoder_counts_per_revolution,
         roller_inertia=rig.inertia.roller,
         bearing_friction=b.friction_coefficient,

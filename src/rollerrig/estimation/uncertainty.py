@@ -79,6 +79,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from rollerrig.estimation.calibrated_inputs import MODEL_KEYS, calibration_covariance
+from rollerrig.estimation.choice import uniform_rate
 from rollerrig.estimation.coa_uncertainty import COVERAGE_FACTOR, CoaUncertainty
 from rollerrig.estimation.filterweights import (
     BandedFilter,
@@ -96,7 +97,6 @@ from rollerrig.estimation.montecarlo import (
 from rollerrig.estimation.release_residual import CorrectionResidual, release_residual_from_truth
 from rollerrig.measure.correction import correction_terms
 from rollerrig.measure.quantities import encoder_speed
-from rollerrig.recordings.timebase import require_uniform_time
 
 __all__ = [
     "COVERAGE_FACTOR",
@@ -160,9 +160,7 @@ def corrected_coa_uncertainty(
     residual = residual or CorrectionResidual()
     t = np.asarray(recording.time, dtype=float)
     n = t.size
-    fs = require_uniform_time(  # one step for every sample: a gap is refused, not spanned
-        recording.time, str(recording.metadata.get("source", "recording")), "the CoA uncertainty"
-    )
+    fs = uniform_rate(recording, "the CoA uncertainty")  # a gap is refused, not taken for one step
     s, b, g = rig.sensors, rig.bearing, rig.geometry
     notes: list[str] = []
     terms = correction_terms(

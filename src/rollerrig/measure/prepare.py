@@ -19,6 +19,7 @@ from rollerrig.recordings.validate import MAX_INTERPOLATED_NAN_RUN, describe_gap
 __all__ = [
     "ANALYSIS_RATE",
     "DECIMATE_ABOVE",
+    "MIN_ANALYSIS_RATE",
     "analysis_rate_facts",
     "analysis_recording",
     "fill_short_gaps",
@@ -39,9 +40,11 @@ DECIMATE_ABOVE = 1500.0
 
 
 MIN_ANALYSIS_RATE = 250.0
-"""Lowest analysis rate :func:`analysis_recording` decimates to [Hz]: the Pardubice rig's DAQ
-rate, which still resolves the rig's torsional modes up to its 112 Hz wheel-shaft mode (a rate
-of 5 Hz had returned 5 samples a second of a 19.2 kHz test, 1e-3 Hz tried to allocate 6 GiB)."""
+"""Lowest analysis rate :func:`analysis_recording` takes [Hz]: the Pardubice rig's DAQ rate, at
+which the analysis was built (the decimation keeps 0.8 of Nyquist, 0-100 Hz there: the
+roller-shaft mode, the release transients and the drives' first lines, not the wheel shaft's
+112 Hz mode, which :data:`ANALYSIS_RATE` keeps). A rate of 5 Hz had returned 5 samples a second
+of a 19.2 kHz test, 1e-3 Hz tried to allocate 6 GiB."""
 
 
 def _checked_rate(name: str, value, lowest: float) -> float:
@@ -121,8 +124,8 @@ def analysis_recording(recording, *, rate: float | None = None, above: float | N
     recording : Recording or RecordingSource
         Uniformly sampled (a lenient read's gaps filled first: :func:`fill_short_gaps`).
     rate : float, optional
-        Analysis rate [Hz]; default :data:`ANALYSIS_RATE`. At or above the recording's own
-        rate nothing is decimated.
+        Analysis rate [Hz], at least :data:`MIN_ANALYSIS_RATE`; default :data:`ANALYSIS_RATE`.
+        At or above the recording's own rate nothing is decimated.
     above : float, optional
         Recordings faster than this [Hz] are decimated; default :data:`DECIMATE_ABOVE`.
 

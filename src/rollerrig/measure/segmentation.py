@@ -149,14 +149,14 @@ def segment_test(
     source : {"torque_request", "torque"}, optional
         Channel to segment; default the request if recorded, else the measured torque.
     active_fraction : float, optional
-        Level above the baseline, relative to the test's peak, that makes a cycle [-]; default
-        0.05 for the request, 0.25 for the measured torque (above the ~15 % oscillation of T56
-        after a sudden release on the default rig).
+        Level above the baseline, relative to the test's peak, that makes a cycle [-], in
+        (0, 1); default 0.05 for the request, 0.25 for the measured torque (above the ~15 %
+        oscillation of T56 after a sudden release on the default rig).
     hold_band : float, optional
-        Relative band below a cycle's maximum that counts as hold [-]; default 0.002 for the
-        request, 0.05 for the measured torque.
+        Relative band below a cycle's maximum that counts as hold [-], in [0, 1); default
+        0.002 for the request, 0.05 for the measured torque.
     rest_fraction : float
-        The fall ends when the level is back within this fraction of the drop [-].
+        The fall ends when the level is back within this fraction of the drop [-], in [0, 1).
     release_max_duration : float
         Longest fall still called a release [s]; longer falls are "ramp_down".
     min_cycle_duration : float
@@ -190,12 +190,14 @@ def segment_test(
         hold_band = 0.002 if is_request else 0.05
     # A NaN sample, or setting, compared false everywhere: the test's cycles had vanished.
     active_fraction = float(require_in_range("active_fraction", active_fraction, 0.0, 1.0, "1"))
-    hold_band = float(require_in_range("hold_band", hold_band, 0.0, 1.0, "1"))
-    rest_fraction = float(require_in_range("rest_fraction", rest_fraction, 0.0, 1.0, "1"))
+    hold_band = float(require_in_range("hold_band", hold_band, 0.0, 1.0, "1", low_inclusive=True))
+    rest_fraction = float(
+        require_in_range("rest_fraction", rest_fraction, 0.0, 1.0, "1", low_inclusive=True)
+    )
     require_positive("release_max_duration", release_max_duration, "s")
     require_nonnegative("min_cycle_duration", min_cycle_duration, "s")
     t = recording.time
-    u = require_finite(source, recording[source], "N.m")
+    u = require_finite(f"channel {source!r}", recording[source], "N.m")
     if not is_request and smoothing_cutoff is not None:
         fs = recording.sample_rate
         require_positive("smoothing_cutoff", smoothing_cutoff, "Hz")

@@ -59,6 +59,16 @@ class ChannelLookup:
             ) from None
 
 
+def _owned(values) -> np.ndarray:
+    """``values`` as float64 the recording owns: a writable array given is copied (setting
+    its flags had frozen the caller's arrays, and a view would let the caller write NaN into a
+    recording already checked); a read-only one (a reader's, a memory map) is shared."""
+    arr = np.asarray(values, dtype=float)
+    if arr.flags.writeable and np.shares_memory(arr, np.asarray(values)):
+        return arr.copy()
+    return arr.view()
+
+
 @dataclass(frozen=True)
 class Recording(ChannelLookup):
     """Time-stamped channels in SI units.
@@ -89,9 +99,7 @@ class Recording(ChannelLookup):
     metadata: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        # Read-only views: a float64 array given is not copied, and its own flags stay as
-        # they were (setting them on it had frozen the caller's arrays).
-        time = np.asarray(self.time, dtype=float).view()
+        time = _owned(self.time)
         if time.ndim != 1 or time.size < 2:
             raise RecordingError(
                 f"time must be a 1-D array of at least 2 samples, got {time.shape}"
@@ -106,7 +114,7 @@ class Recording(ChannelLookup):
             )
         channels = {}
         for name, values in self.channels.items():
-            arr = np.asarray(values, dtype=float).view()
+            arr = _owned(values)
             if arr.shape != time.shape:
                 raise RecordingError(
                     f"channel {name!r} has shape {arr.shape}, time has {time.shape}"
