@@ -142,3 +142,32 @@ def test_encoder_speed_refuses_time_that_does_not_move_on(time):
         return
     with pytest.raises(RecordingError, match="time must be strictly increasing"):
         encoder_speed(counts, time, 1000)
+
+
+@pytest.mark.parametrize(
+    ("section", "key", "value"),
+    [
+        ("geometry", "wheel_radius_x", -0.348),  # every sample's creep had been -2.03
+        ("geometry", "roller_radius_x", float("nan")),  # and NaN
+        ("sensors", "encoder_pulses_per_revolution", 0.0),
+        ("sensors", "air_spring_effective_area", -0.05),
+    ],
+)
+def test_derive_quantities_refuses_a_rig_mapping_without_a_rig(section, key, value):
+    from rollerrig._validation import ParameterError
+
+    t = np.arange(4) / 250.0
+    rec = Recording(
+        t,
+        {"wheel_speed": np.full(4, 24.0), "roller_speed": np.full(4, 18.0)},
+        {"wheel_speed": "rad/s", "roller_speed": "rad/s"},
+    )
+    rig = {
+        "geometry": {"wheel_radius_x": 0.348, "roller_radius_x": 0.452},
+        "sensors": {"encoder_pulses_per_revolution": 2500, "encoder_quadrature_factor": 4,
+                    "air_spring_effective_area": 0.05},
+    }  # fmt: skip
+    assert np.isfinite(derive_quantities(rec, rig)["creep"]).all()
+    rig[section][key] = value
+    with pytest.raises(ParameterError, match=rf"{section}\.{key} must be"):
+        derive_quantities(rec, rig)

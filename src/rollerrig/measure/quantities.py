@@ -266,12 +266,23 @@ def _rig_values(recording: Recording, rig_or_params) -> dict[str, float]:
         rig = rig.to_dict()
     try:
         geometry, sensors = rig["geometry"], rig["sensors"]
+        # A mapping is not a validated rig: a negative or NaN radius had made every sample's
+        # creep -2.03 or NaN. Each value named as its key.
+        values = {
+            key: float(require_positive(f"{section}.{name}", section_map[name], unit))
+            for key, section, section_map, name, unit in (
+                ("wheel_radius", "geometry", geometry, "wheel_radius_x", "m"),
+                ("roller_radius", "geometry", geometry, "roller_radius_x", "m"),
+                ("ppr", "sensors", sensors, "encoder_pulses_per_revolution", "1"),
+                ("quadrature", "sensors", sensors, "encoder_quadrature_factor", "1"),
+                ("area", "sensors", sensors, "air_spring_effective_area", "m^2"),
+            )
+        }
         return {
-            "wheel_radius": float(geometry["wheel_radius_x"]),
-            "roller_radius": float(geometry["roller_radius_x"]),
-            "cpr": float(sensors["encoder_pulses_per_revolution"])
-            * float(sensors["encoder_quadrature_factor"]),
-            "area": float(sensors["air_spring_effective_area"]),
+            "wheel_radius": values["wheel_radius"],
+            "roller_radius": values["roller_radius"],
+            "cpr": values["ppr"] * values["quadrature"],
+            "area": values["area"],
         }
     except (KeyError, TypeError) as exc:
         raise RecordingError(
