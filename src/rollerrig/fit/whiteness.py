@@ -51,7 +51,8 @@ def autocorrelation(x: np.ndarray, max_lag: int) -> np.ndarray:
     (1.0, True)
     """
     x = _series(x)
-    if not (float(max_lag) == int(max_lag) and 0 <= int(max_lag) < x.size):
+    lag = float(require_finite("max_lag", max_lag, "-"))  # NaN had reached int(): ValueError
+    if not (lag == int(lag) and 0 <= lag < x.size):
         raise ParameterError(
             f"max_lag must be a whole number in [0, {x.size - 1}] (the series' length - 1), "
             f"got {max_lag!r}"

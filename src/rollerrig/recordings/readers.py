@@ -305,4 +305,9 @@ def read_recording(
         )
     if report["gaps"]:
         metadata["notes"].append(f"{len(report['gaps'])} gap(s) kept (lenient)")
+    # The reader's own arrays, nobody else's: read-only, so the Recording shares them instead
+    # of copying every channel of a whole file.
+    for arr in (time, *chans.values()):
+        if isinstance(arr, np.ndarray) and arr.dtype == np.float64:
+            arr.setflags(write=False)
     return Recording(time, chans, units, metadata)

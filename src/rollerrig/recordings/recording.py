@@ -64,7 +64,7 @@ def _owned(values) -> np.ndarray:
     its flags had frozen the caller's arrays, and a view would let the caller write NaN into a
     recording already checked); a read-only one (a reader's, a memory map) is shared."""
     arr = np.asarray(values, dtype=float)
-    if arr.flags.writeable and np.shares_memory(arr, np.asarray(values)):
+    if arr.flags.writeable and isinstance(values, np.ndarray) and np.may_share_memory(arr, values):
         return arr.copy()
     return arr.view()
 
