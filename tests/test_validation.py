@@ -24,7 +24,9 @@ from rollerrig._validation import (
     from_pydantic,
     interval,
     pydantic_problems,
+    require_broadcastable,
     require_in_range,
+    require_increasing,
     require_instants_within,
     require_nonnegative,
     require_positive,
@@ -328,3 +330,46 @@ def test_instants_are_returned_as_given_or_refused_with_a_parameter_error(values
 def test_instants_outside_the_experiment_or_going_back_are_named(values, message):
     with pytest.raises(ParameterError, match=message):
         require_instants_within("t_out", values, 0.0, 2.0)
+
+
+def test_broadcastable_arrays_are_returned_broadcast():
+    a, b, c = require_broadcastable(x=[1.0, 2.0], y=3, z=np.ones((1, 2)))
+    assert a.shape == b.shape == c.shape == (1, 2)
+    assert b.tolist() == [[3.0, 3.0]]
+
+
+@pytest.mark.parametrize(
+    ("arrays", "message"),
+    [
+        ({"creep": [1.0, 2.0, 3.0], "load": [1.0, 2.0]},
+         "creep (shape (3,)) and load (shape (2,)) must have the same shape, or one of them"),
+        ({"a": [1.0, 2.0], "b": 1.0, "c": [1.0, 2.0, 3.0]},
+         "a (shape (2,)) and c (shape (3,)) must have the same shape, or one of them"),
+        ({"a": [1.0, 2.0], "b": [1.0] * 3, "c": [1.0] * 4},
+         "a (shape (2,)), b (shape (3,)) and c (shape (4,)) must have the same shape, or some"),
+        ({"a": "x", "b": 1.0}, "a must be a number"),
+    ],
+)  # fmt: skip
+def test_unbroadcastable_arrays_are_named_with_their_shapes(arrays, message):
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        require_broadcastable(**arrays)
+
+
+@pytest.mark.parametrize(
+    ("values", "strict", "message"),
+    [
+        ([0.0, 1.0, 1.0], True, "time must be strictly increasing [s]; got time[2] = 1 after "
+         "time[1] = 1"),
+        ([0.0, 1.0, 0.5], False, "time must be non-decreasing [s]; got time[2] = 0.5 after"),
+        ([0.0, np.nan], True, "time must be finite [s]"),
+        ([[0.0, 1.0]], True, "time must be a 1-D array [s], got shape (1, 2)"),
+    ],
+)  # fmt: skip
+def test_increasing_names_the_first_sample_that_does_not(values, strict, message):
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        require_increasing("time", values, strict=strict)
+
+
+def test_increasing_accepts_ties_only_when_not_strict():
+    assert require_increasing("t", [0.0, 1.0, 1.0], strict=False).tolist() == [0.0, 1.0, 1.0]
+    assert require_increasing("t", []).size == 0

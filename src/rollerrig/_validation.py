@@ -29,8 +29,10 @@ __all__ = [
     "interval",
     "numbers_apart",
     "pydantic_problems",
+    "require_broadcastable",
     "require_finite",
     "require_in_range",
+    "require_increasing",
     "require_instants_within",
     "require_nonnegative",
     "require_positive",
@@ -234,6 +236,64 @@ def require_instants_within(name: str, value, start: float, end: float) -> np.nd
         later, earlier = numbers_apart(arr[k], arr[k - 1])
         raise ParameterError(
             f"{name} must not go back in time [s]; got {name}[{k}] = {later} after "
+            f"{name}[{k - 1}] = {earlier}"
+        )
+    return arr
+
+
+def require_broadcastable(**arrays) -> tuple[np.ndarray, ...]:
+    """Return the keyword arguments as float arrays broadcast against each other, raising
+    :class:`ParameterError` that names them and their shapes where numpy cannot broadcast them
+    (its own message, "operands could not be broadcast together", names neither).
+
+    A scalar goes with any shape; arrays of equal shape go together.
+
+    Examples
+    --------
+    >>> [a.tolist() for a in require_broadcastable(creep=[0.001, 0.002], load=5e4)]
+    [[0.001, 0.002], [50000.0, 50000.0]]
+    >>> require_broadcastable(creep=[0.001, 0.002, 0.003], load=[5e4, 6e4])
+    Traceback (most recent call last):
+    ...
+    rollerrig._validation.ParameterError: creep (shape (3,)) and load (shape (2,)) must have the same shape, or one of them be a single number
+    """  # noqa: E501
+    values = {name: _as_float_array(name, value) for name, value in arrays.items()}
+    try:
+        return tuple(np.broadcast_arrays(*values.values()))
+    except ValueError:
+        shaped = [f"{name} (shape {arr.shape})" for name, arr in values.items() if arr.ndim]
+        joined = ", ".join(shaped[:-1]) + f" and {shaped[-1]}" if len(shaped) > 1 else shaped[0]
+        one = "one of them" if len(shaped) == 2 else "some of them"
+        raise ParameterError(
+            f"{joined} must have the same shape, or {one} be a single number"
+        ) from None
+
+
+def require_increasing(name: str, value, unit: str = "s", *, strict: bool = True) -> np.ndarray:
+    """Return ``value`` as a finite 1-D float array, raising :class:`ParameterError` at the
+    first element that does not increase (``strict``) or that decreases (not ``strict``),
+    naming it and its neighbour.
+
+    Examples
+    --------
+    >>> require_increasing("time", [0.0, 0.1, 0.2]).tolist()
+    [0.0, 0.1, 0.2]
+    >>> require_increasing("time", [0.0, 0.2, 0.1])
+    Traceback (most recent call last):
+    ...
+    rollerrig._validation.ParameterError: time must be strictly increasing [s]; got time[2] = 0.1 after time[1] = 0.2
+    """  # noqa: E501
+    arr = require_finite(name, value, unit)
+    if arr.ndim != 1:
+        raise ParameterError(f"{name} must be a 1-D array{_unit(unit)}, got shape {arr.shape}")
+    step = np.diff(arr)
+    bad = np.flatnonzero(step <= 0.0 if strict else step < 0.0)
+    if bad.size:
+        k = int(bad[0]) + 1
+        later, earlier = numbers_apart(arr[k], arr[k - 1])
+        how = "strictly increasing" if strict else "non-decreasing"
+        raise ParameterError(
+            f"{name} must be {how}{_unit(unit)}; got {name}[{k}] = {later} after "
             f"{name}[{k - 1}] = {earlier}"
         )
     return arr
