@@ -27,6 +27,7 @@ from rollerrig._validation import (
     require_broadcastable,
     require_in_range,
     require_increasing,
+    require_whole,
     require_instants_within,
     require_nonnegative,
     require_positive,
@@ -373,3 +374,19 @@ def test_increasing_names_the_first_sample_that_does_not(values, strict, message
 def test_increasing_accepts_ties_only_when_not_strict():
     assert require_increasing("t", [0.0, 1.0, 1.0], strict=False).tolist() == [0.0, 1.0, 1.0]
     assert require_increasing("t", []).size == 0
+
+
+@pytest.mark.parametrize("value", [3, 3.0, np.int64(3), np.float64(3.0), np.array(3.0)])
+def test_whole_numbers_come_back_as_int(value):
+    out = require_whole("n", value, minimum=1)
+    assert out == 3 and type(out) is int
+
+
+@pytest.mark.parametrize(
+    "value", [2.5, math.nan, math.inf, True, "3", None, [3], np.array([3]), 0, 101]
+)
+def test_not_a_whole_number_in_range_is_refused_with_what_it_got(value):
+    with pytest.raises(
+        ParameterError, match=re.escape("n must be a whole number in [1, 100] [-], got")
+    ):
+        require_whole("n", value, minimum=1, maximum=100)

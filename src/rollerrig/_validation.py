@@ -36,6 +36,7 @@ __all__ = [
     "require_instants_within",
     "require_nonnegative",
     "require_positive",
+    "require_whole",
     "toml_string",
 ]
 
@@ -297,6 +298,36 @@ def require_increasing(name: str, value, unit: str = "s", *, strict: bool = True
             f"{name}[{k - 1}] = {earlier}"
         )
     return arr
+
+
+def require_whole(
+    name: str, value, minimum: int = 0, maximum: int | None = None, unit: str = "-"
+) -> int:
+    """Return ``value`` as an ``int``, raising :class:`ParameterError` unless it is a whole
+    number (3 or 3.0, not 2.5, NaN, True or "3") in ``[minimum, maximum]``.
+
+    Examples
+    --------
+    >>> require_whole("am_pole_pairs", 5.0, minimum=1)
+    5
+    >>> require_whole("am_pole_pairs", 2.5, minimum=1)
+    Traceback (most recent call last):
+    ...
+    rollerrig._validation.ParameterError: am_pole_pairs must be a whole number >= 1 [-], got 2.5
+    """
+    allowed = f">= {minimum}" if maximum is None else f"in [{minimum}, {maximum}]"
+    got = repr(value) if len(repr(value)) <= 40 else repr(value)[:36] + " ..."
+    problem = ParameterError(f"{name} must be a whole number {allowed}{_unit(unit)}, got {got}")
+    if isinstance(value, bool | np.bool_ | str | bytes) or np.ndim(value) != 0:
+        raise problem
+    try:
+        whole = int(value)
+        exact = whole == value
+    except (TypeError, ValueError, OverflowError):  # NaN, inf, an array, None
+        raise problem from None
+    if not exact or whole < minimum or (maximum is not None and whole > maximum):
+        raise problem
+    return whole
 
 
 def numbers_apart(*values) -> list[str]:

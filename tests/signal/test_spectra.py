@@ -12,6 +12,8 @@ Sources of the pinned numbers:
 
 from __future__ import annotations
 
+import re
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
@@ -534,3 +536,32 @@ def test_peak_settings_that_would_drop_every_peak_are_refused(setting, message):
     assert [round(pk.frequency) for pk in find_spectral_peaks(f, p)] == [10]
     with pytest.raises(ParameterError, match=message):
         find_spectral_peaks(f, p, **setting)
+
+
+@pytest.mark.parametrize(
+    ("entries", "options", "message"),
+    [
+        ([(np.nan, [2.0])], {}, "roller_speed must be finite [rad/s], got nan"),
+        ([(3.0, np.inf, [2.0])], {}, "wheel_speed must be finite [rad/s], got inf"),
+        ([(3.0, [-2.0])], {}, "peaks must be >= 0 [Hz]"),
+        ([(3.0, [2.0])], {"n_grid": 1}, "n_grid must be a whole number in [2, 1000000]"),
+        ([(3.0, [2.0])], {"am_pole_pairs": 0}, "am_pole_pairs must be a whole number >= 1"),
+        ([(3.0, [2.0])], {"pmsm_pole_pairs": 2.5}, "pmsm_pole_pairs must be a whole number"),
+        ([(3.0, [2.0])], {"am_harmonics": (1, 1.5)}, "am_harmonics[1] must be a whole number"),
+        ([(3.0, [2.0])], {"wheel_orders": (0,)}, "wheel_orders[0] must be a whole number >= 1"),
+        ([(3.0, [2.0])], {"wheel_to_roller": np.nan}, "wheel_to_roller must be finite"),
+        ([(3.0, [2.0])], {"wheel_to_roller": -1.3}, "wheel_to_roller must be > 0"),
+    ],
+)  # fmt: skip
+def test_order_map_refuses_what_would_draw_a_wrong_map(entries, options, message):
+    # Each of these had been accepted: a NaN speed put the peak off every line, a harmonic
+    # 1.5 or a pole-pair count 0 drew a line of no source, n_grid 1 a line of one point.
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        order_map(entries, **options)
+
+
+def test_order_map_takes_a_recording_at_rest_without_a_speed_ratio():
+    # Roller and wheel both at rest: no speed ratio (it had divided by zero).
+    m = order_map([(0.0, 0.0, [2.0]), (10.0, 13.0, [5.0])])
+    assert m.wheel_to_roller == pytest.approx(1.3)
+    assert m.speed.tolist() == [0.0, 10.0]

@@ -44,7 +44,13 @@ from typing import Any
 
 import numpy as np
 
-from rollerrig._validation import ParameterError, require_finite, require_positive
+from rollerrig._validation import (
+    ParameterError,
+    require_finite,
+    require_nonnegative,
+    require_positive,
+    require_whole,
+)
 from rollerrig.signal._numeric import finite_or_none
 from rollerrig.signal.peaks import SpectralPeak
 
@@ -283,8 +289,7 @@ def _check_attribution_options(
         ("pmsm_pole_pairs", pmsm_pole_pairs),
         ("max_harmonic", max_harmonic),
     ):
-        if int(value) != value or value < 1:
-            raise ParameterError(f"{name} must be a positive integer [-], got {value!r}")
+        require_whole(name, value, minimum=1)
     if tolerance_hz is not None:
         require_positive("tolerance_hz", tolerance_hz, "Hz")
     if not 0.0 <= relative_tolerance < 0.5:
@@ -439,9 +444,13 @@ def _entry(item) -> tuple[float | None, float | None, list, float | None]:
             "(roller_speed, wheel_speed, peaks)"
         )
     f, _, res = _peak_values(peaks)
+    require_nonnegative("peaks", f, "Hz")  # a frequency; a negative one is a sign slip
     peaks = list(peaks) if res is not None else list(f)
-    roller = None if roller is None else float(roller)
-    return roller, (None if wheel is None else float(wheel)), peaks, res
+    # A speed is finite or None (at rest): a NaN one had put its peaks at speed NaN, off
+    # every line, and an infinite one stretched the map's speed axis to infinity.
+    roller = None if roller is None else float(require_finite("roller_speed", roller, "rad/s"))
+    wheel = None if wheel is None else float(require_finite("wheel_speed", wheel, "rad/s"))
+    return roller, wheel, peaks, res
 
 
 def speed_independent_lines(

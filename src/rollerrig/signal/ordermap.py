@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig._validation import require_finite
+from rollerrig._validation import require_finite, require_positive, require_whole
 from rollerrig.signal.attribution import _TWO_PI, _entry, _label, _peak_values
 
 __all__ = ["OrderLine", "OrderMap", "order_map"]
@@ -121,11 +121,26 @@ def order_map(
     >>> m.frequency.tolist(), [line.label for line in m.lines][:2]
     ([2.45, 14.67, 1.333], ['AM electrical ×1', 'AM electrical ×2'])
     """
+    harmonics = {
+        name: tuple(require_whole(f"{name}[{j}]", k, minimum=1) for j, k in enumerate(orders))
+        for name, orders in (
+            ("am_harmonics", am_harmonics),
+            ("roller_orders", roller_orders),
+            ("wheel_orders", wheel_orders),
+            ("pmsm_harmonics", pmsm_harmonics),
+        )
+    }
+    am_pole_pairs = require_whole("am_pole_pairs", am_pole_pairs, minimum=1)
+    pmsm_pole_pairs = require_whole("pmsm_pole_pairs", pmsm_pole_pairs, minimum=1)
+    # A line needs two points; a million is far more than a plot resolves.
+    n_grid = require_whole("n_grid", n_grid, minimum=2, maximum=1_000_000, unit="points")
+    if wheel_to_roller is not None:
+        wheel_to_roller = float(require_positive("wheel_to_roller", wheel_to_roller))
     speed, freq, power, source, rec = [], [], [], [], []
     ratios = []
     for i, item in enumerate(entries):
         roller, wheel, peaks, _ = _entry(item)
-        if wheel is not None and roller is not None:
+        if wheel is not None and roller:  # a recording at rest tells no speed ratio
             ratios.append(abs(wheel) / abs(roller))
         if hasattr(item, "rows") and hasattr(item, "spectrum"):  # an ExplainedSpectrum
             kinds = [r.source for r in item.rows]
@@ -144,20 +159,26 @@ def order_map(
     if ratio is None and ratios:
         ratio = float(np.median(ratios))
     top = 1.1 * float(speed_arr.max()) if speed_arr.size else 1.0
-    grid = np.linspace(0.0, top, int(n_grid))
+    grid = np.linspace(0.0, top, n_grid)
     fr = grid / _TWO_PI
     lines = [
         OrderLine("am_electrical", k, f"AM electrical ×{k}", k * am_pole_pairs * fr)
-        for k in am_harmonics
+        for k in harmonics["am_harmonics"]
     ]
-    lines += [OrderLine("roller_order", k, f"roller order ×{k}", k * fr) for k in roller_orders]
+    lines += [
+        OrderLine("roller_order", k, f"roller order ×{k}", k * fr)
+        for k in harmonics["roller_orders"]
+    ]
     if ratio is not None:
         fw = ratio * fr
         lines += [
             OrderLine("pmsm_electrical", k, f"PMSM electrical ×{k}", k * pmsm_pole_pairs * fw)
-            for k in pmsm_harmonics
+            for k in harmonics["pmsm_harmonics"]
         ]
-        lines += [OrderLine("wheel_order", k, f"wheel order ×{k}", k * fw) for k in wheel_orders]
+        lines += [
+            OrderLine("wheel_order", k, f"wheel order ×{k}", k * fw)
+            for k in harmonics["wheel_orders"]
+        ]
     for fc in np.atleast_1d(require_finite("speed_independent", speed_independent, "Hz")):
         lines.append(
             OrderLine(
