@@ -27,10 +27,10 @@ from rollerrig._validation import (
     require_broadcastable,
     require_in_range,
     require_increasing,
-    require_whole,
     require_instants_within,
     require_nonnegative,
     require_positive,
+    require_whole,
     show_value,
 )
 
