@@ -40,3 +40,9 @@ def test_labels_name_the_method_and_its_parameters():
         "Butterworth 2 @ 1.2 Hz causal"
     )
     assert [filter_label(m, p) for m, p in default_candidates()[6:8]] == ["MA w11", "MA w33"]
+
+
+def test_a_label_shows_a_parameter_left_out_as_a_question_mark():
+    assert filter_label("savitzky_golay", {"window": 111}) == "SG order ? w111"
+    assert filter_label("butterworth", {}) == "Butterworth 2 @ ? Hz zero-phase"
+    assert filter_label("moving_average", {"windw": 3}) == "MA w?"

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -61,3 +63,26 @@ def test_equal_filters_rank_in_the_order_of_the_candidates():
         rows = filter_study(sig.time, sig.raw, sig.truth, sig.segmentation, cands)
         assert abs(rows[0].score.cost - rows[1].score.cost) <= COST_TIE * rows[0].score.cost
         assert [r.params["order"] for r in rows] == [p["order"] for _, p in cands]
+
+
+@pytest.mark.parametrize(
+    ("candidates", "message"),
+    [
+        ([], "candidates must hold at least one (method, params) pair"),
+        (["moving_average"], "each candidate must be a (method, params) pair"),
+        ([("moving_average", 33)], "each candidate must be a (method, params) pair"),
+        # A misspelt parameter had raised a bare KeyError from the candidate's label.
+        ([("moving_average", {"windw": 33})],
+         "MA w? (method 'moving_average' takes parameters ['window'], got ['windw'])"),
+    ],
+)  # fmt: skip
+def test_a_study_names_what_is_wrong_with_its_candidates(candidates, message):
+    t = np.arange(2500) / FS
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        filter_study(t, np.sin(t), candidates=candidates)
+
+
+def test_masks_of_the_wrong_kind_are_named():
+    t = np.arange(2500) / FS
+    with pytest.raises(ParameterError, match=r"masks must be a Segmentation, a .* got str"):
+        filter_study(t, np.sin(t), masks="steady", candidates=[("moving_average", {"window": 5})])

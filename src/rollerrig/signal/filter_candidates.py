@@ -26,11 +26,15 @@ SEED_SAMPLE_RATE = 250.0
 
 def filter_label(method: str, params: Mapping) -> str:
     """Short label of a candidate for tables and legends, e.g. ``"SG order 4 w111"``."""
+    # A parameter left out shows as "?": the label also names a candidate whose parameters
+    # are refused (rank_filters lists it with the reason).
     if method == "butterworth":
         kind = "zero-phase" if params.get("zero_phase", True) else "causal"
-        return f"Butterworth {params.get('order', 2)} @ {params['cutoff']:g} Hz {kind}"
+        cutoff = params.get("cutoff", "?")
+        cutoff = f"{cutoff:g}" if isinstance(cutoff, int | float) else cutoff
+        return f"Butterworth {params.get('order', 2)} @ {cutoff} Hz {kind}"
     if method == "savitzky_golay":
-        return f"SG order {params['order']} w{params['window']}"
+        return f"SG order {params.get('order', '?')} w{params.get('window', '?')}"
     names = {
         "moving_average": "MA",
         "gaussian": "Gaussian",
@@ -39,7 +43,7 @@ def filter_label(method: str, params: Mapping) -> str:
         "rlowess": "rLOWESS",
         "rloess": "rLOESS",
     }
-    return f"{names.get(method, method)} w{params['window']}"
+    return f"{names.get(method, method)} w{params.get('window', '?')}"
 
 
 def default_candidates(sample_rate: float = SEED_SAMPLE_RATE) -> list[tuple[str, dict]]:

@@ -168,7 +168,13 @@ def as_segmentation(masks, n: int, raw: np.ndarray, fs: float) -> Segmentation:
     elif isinstance(masks, Mapping):
         seg = Segmentation.from_ranges(n, masks.get("steady", ()), masks.get("transient", ()))
     else:
-        steady, transient = masks
+        try:
+            steady, transient = masks
+        except (TypeError, ValueError):  # a string, a number, one array
+            raise ParameterError(
+                "masks must be a Segmentation, a (steady, transient) pair of boolean arrays or "
+                f"a mapping of 'steady' and 'transient' index ranges, got {type(masks).__name__}"
+            ) from None
         seg = Segmentation(np.asarray(steady, bool), np.asarray(transient, bool))
     if seg.steady.shape != (n,) or seg.transient.shape != (n,):
         raise ParameterError(f"masks must be boolean arrays of the signal's length {n}")

@@ -215,7 +215,16 @@ def rank_filters(
     """
     results = []
     not_run: list[str] = []
-    for method, params in candidates:
+    candidates = list(candidates)
+    if not candidates:
+        raise ParameterError("candidates must hold at least one (method, params) pair")
+    for item in candidates:
+        if not (isinstance(item, tuple | list) and len(item) == 2 and isinstance(item[1], Mapping)):
+            raise ParameterError(
+                f"each candidate must be a (method, params) pair with params a mapping, e.g. "
+                f"('moving_average', {{'window': 33}}), got {item!r}"
+            )
+        method, params = item
         if method not in METHODS:
             raise ParameterError(f"unknown method {method!r}; known: {sorted(METHODS)}")
         try:
@@ -231,8 +240,9 @@ def rank_filters(
         raise ParameterError(
             f"no filter of the study can run on this signal ({scorer.raw.size} samples at "
             f"{scorer.fs:.6g} Hz): {'; '.join(not_run[:3])}"
-            f"{' ...' if len(not_run) > 3 else ''}; the study needs a longer recording "
-            "(several seconds) at a rate of at least about 50 Hz"
+            f"{' ...' if len(not_run) > 3 else ''}; a filter the signal is too short or too "
+            "slow for needs a longer recording (several seconds) at a rate of at least about "
+            "50 Hz"
         )
     rate = basis.analysis_rate
     rows = [
