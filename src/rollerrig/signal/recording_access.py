@@ -30,8 +30,16 @@ class RecordingAccess:
         self.source = str(meta.get("source", "") or meta.get("path", "") or "recording")
         self.names = tuple(rec.names if self.streaming else rec.channels)
         self.units = dict(rec.units)
-        self.sample_rate = float(rec.sample_rate)
         self.n_samples = int(rec.n_samples if self.streaming else rec.time.size)
+        if self.streaming:  # a source's reader checked its time base when it opened the file
+            self.sample_rate = float(rec.sample_rate)
+        else:
+            # A spectrum takes the samples as equally spaced: a 0.5 s gap in a Recording built
+            # in Python had been read as one sample step, with no warning.
+            from rollerrig.recordings.timebase import require_uniform_time
+
+            require_uniform_time(rec.time, self.source, "the spectrum")
+            self.sample_rate = float(rec.sample_rate)
 
     def __contains__(self, name: str) -> bool:
         return name in self.names

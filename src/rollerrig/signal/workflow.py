@@ -339,6 +339,8 @@ relative_tolerance, am_slip, rig_modes
     ['AM electrical ×1 (14.67 Hz)']
     """
     recording.require(channel)
+    # The spectrum takes the samples as equally spaced (a gap is refused, not taken for a step).
+    RecordingAccess(recording)
     w_r = _given_mean_speed(recording, "roller_speed", roller_speed, required=True)
     w_w = _given_mean_speed(recording, "wheel_speed", wheel_speed, required=False)
     from rollerrig.recordings.recording import RecordingError
