@@ -174,3 +174,25 @@ def test_polach_shape_derivatives_match_complex_step_differences(eps, k_a, k_s):
     step = 1e-30
     assert dh == pytest.approx(shape(complex(eps, step)).imag / step, rel=1e-13, abs=1e-15)
     assert d2h == pytest.approx(slope(complex(eps, step)).imag / step, rel=1e-12, abs=1e-15)
+
+
+def test_mismatched_array_lengths_name_the_parameters():
+    with pytest.raises(
+        ParameterError,
+        match=r"creep \(shape \(3,\)\) and slip_velocity \(shape \(2,\)\) must have the same "
+        r"shape, or one of them be a single number",
+    ):
+        polach_creep_force([0.01, 0.02, 0.03], [0.1, 0.2], Q, A_X, B_Y, C11, G)
+    with pytest.raises(ParameterError, match=r"creep \(shape \(3,\)\) and semi_axis_x"):
+        polach_creep_force([0.01, 0.02, 0.03], 0.1, Q, [A_X, 2 * A_X], B_Y, C11, G)
+    with pytest.raises(ParameterError, match=r"normal_load \(shape \(2,\)\)"):
+        adhesion_gradient([1e-3, 2e-3, 3e-3], [Q, Q], 0.5, A_X, B_Y, C11, G)
+    with pytest.raises(ParameterError, match=r"creep \(shape \(3,\)\) and c11 \(shape \(2,\)\)"):
+        kalker_linear_force([1e-3, 2e-3, 3e-3], A_X, B_Y, [C11, C11], G)
+
+
+def test_scalars_give_scalars_and_arrays_broadcast():
+    f = polach_creep_force(0.01, 0.0833, Q, A_X, B_Y, C11, G)
+    assert np.ndim(f) == 0
+    f = polach_creep_force(np.array([[0.01], [0.02]]), 0.0833, Q, [A_X, B_Y], B_Y, C11, G)
+    assert f.shape == (2, 2)

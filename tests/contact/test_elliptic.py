@@ -87,3 +87,19 @@ def test_outside_the_domain_nan_and_inf_without_warnings():
         assert np.isnan(carlson_rd(np.nan, 1.0, 1.0))
         assert np.isinf(carlson_rf(0.0, 0.0, 1.0))
         assert np.isinf(carlson_rd(0.0, 0.0, 1.0))
+
+
+def test_complete_integrals_at_the_ends_of_the_parameter_range():
+    # The argument is the complementary parameter p = 1 - m: p = 1 is m = 0 (K = E = π/2),
+    # p = 0 is m = 1 (K = inf, E = 1, DLMF 19.6.1), where E was 0 · inf = NaN.
+    with np.errstate(all="raise"):  # no warning either
+        k, e = complete_elliptic_integrals(0.0)
+    assert np.isinf(k) and k == special.ellipk(1.0)
+    assert e == 1.0 == special.ellipe(1.0)
+    assert np.ndim(k) == np.ndim(e) == 0 and not isinstance(e, np.ndarray)
+    p = np.array([0.0, 1e-300, 1e-12, 0.5, 1.0])
+    k, e = complete_elliptic_integrals(p)
+    assert np.array_equal(np.isinf(k), p == 0.0)
+    assert np.allclose(k[1:], special.ellipkm1(p[1:]), rtol=4e-15, atol=0)
+    assert np.allclose(e, special.ellipe(1.0 - p), rtol=4e-15, atol=0)
+    assert k[-1] == pytest.approx(np.pi / 2, rel=1e-15) and e[-1] == pytest.approx(np.pi / 2)

@@ -331,3 +331,14 @@ def test_the_smallest_grid_carries_the_load_within_five_percent(kind):
         g = fastsim_grid(n, n, kind, scale)
         load = np.sum(np.sqrt(g.shape) * g.area) * 1.5 / np.pi  # elliptic (Hertz) pressure / N
         assert abs(load - 1.0) <= (0.05 if kind == "strips" else 0.075)
+
+
+def test_mismatched_array_lengths_name_the_parameters():
+    with pytest.raises(
+        ParameterError,
+        match=r"long_creep \(shape \(3,\)\) and lat_creep \(shape \(2,\)\) must have the same "
+        r"shape, or one of them be a single number",
+    ):
+        fastsim([1e-3, 2e-3, 3e-3], [0.0, 0.0], **FS)
+    with pytest.raises(ParameterError, match=r"long_creep \(shape \(3,\)\) and friction"):
+        fastsim([1e-3, 2e-3, 3e-3], **{**FS, "friction": [0.3, 0.2]})

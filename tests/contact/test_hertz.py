@@ -402,3 +402,22 @@ def test_axis_ratio_is_the_root_by_scipys_integrals():
     m = 1.0 - g[1:] ** 2
     k, e = ellipkm1(g[1:] ** 2), ellipe(m)
     np.testing.assert_allclose((e / (1.0 - m) - k) / (k - e), ratios[1:], rtol=1e-12)
+
+
+def test_mismatched_array_lengths_name_the_parameters():
+    with pytest.raises(
+        ParameterError,
+        match=r"normal_load \(shape \(3,\)\) and wheel_radius_x \(shape \(2,\)\) must have the "
+        r"same shape, or one of them be a single number",
+    ):
+        hertz_contact([1e4, 2e4, 3e4], [0.35, 0.40], 0.30, np.inf, 0.40)
+    # The second body's constants are named as given (not as a copy of the first's).
+    with pytest.raises(ParameterError, match=r"youngs_modulus_2 \(shape \(2,\)\)"):
+        hertz_contact([1e4, 2e4, 3e4], 0.35, 0.30, np.inf, 0.40, youngs_modulus_2=[2e11, 1e11])
+
+
+def test_broadcasting_keeps_scalars_scalar_and_shapes():
+    c = hertz_contact(20e3, 0.35, 0.30, np.inf, 0.40)
+    assert np.ndim(c.semi_axis_x) == 0 and not isinstance(c.semi_axis_x, np.ndarray)
+    c = hertz_contact(np.array([[1e4], [2e4]]), [0.35, 0.40, 0.45], 0.30, np.inf, 0.40)
+    assert np.shape(c.semi_axis_x) == np.shape(c.peak_pressure) == (2, 3)

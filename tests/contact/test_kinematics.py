@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from rollerrig._validation import ParameterError
 from rollerrig.contact.creep import POLACH_DRY, polach_creep_force
-from rollerrig.contact.kinematics import creep_and_slip_velocity
+from rollerrig.contact.kinematics import MAX_PERIPHERAL_SPEED, creep_and_slip_velocity
 
 RW, RR = 0.348, 0.452
 
@@ -56,3 +56,45 @@ def test_always_finite_and_antisymmetric(ww, wr):
 def test_invalid_radius_is_named():
     with pytest.raises(ParameterError, match="roller_radius"):
         creep_and_slip_velocity(1.0, 1.0, RW, 0.0)
+
+
+def test_mismatched_array_lengths_name_the_parameters():
+    with pytest.raises(
+        ParameterError,
+        match=r"wheel_speed \(shape \(3,\)\) and roller_speed \(shape \(2,\)\) must have the "
+        r"same shape, or one of them be a single number",
+    ):
+        creep_and_slip_velocity([1.0, 2.0, 3.0], [1.0, 2.0], RW, RR)
+    s, w = creep_and_slip_velocity(np.array([[1.0], [2.0]]), [1.0, 2.0, 3.0], RW, RR)
+    assert s.shape == w.shape == (2, 3)
+    s, w = creep_and_slip_velocity(1.0, 2.0, RW, RR)
+    assert np.ndim(s) == np.ndim(w) == 0
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        # 1 % creep at 1e155 m/s: the square of the roller's speed overflowed, creep came out 0.
+        (
+            (1.01e155 / RW, 1e155 / RR, RW, RR),
+            r"wheel_speed \* wheel_radius \(the wheel's peripheral speed\) must lie in "
+            r"\[-3e\+08, 3e\+08\] \[m/s\], got 1\.01e\+155",
+        ),
+        (
+            (0.0, -1e155 / RR, RW, RR),
+            r"roller_speed \* roller_radius \(the roller's peripheral speed\) must lie in "
+            r"\[-3e\+08, 3e\+08\] \[m/s\], got -1e\+155",
+        ),
+        ((1.0, 1e300, RW, 1e10), r"roller_speed \* roller_radius .* must be finite \[m/s\]"),
+        ((1.0, 1.0, RW, RR, 1e155), r"regularisation_speed must lie in \(0, 3e\+08\] \[m/s\]"),
+    ],
+)
+def test_speeds_beyond_the_speed_of_light_are_refused(args, message):
+    with pytest.raises(ParameterError, match=message):
+        creep_and_slip_velocity(*args)
+
+
+def test_creep_is_right_up_to_the_largest_peripheral_speed():
+    v = MAX_PERIPHERAL_SPEED / 1.01
+    s, w = creep_and_slip_velocity(1.01 * v / RW, v / RR, RW, RR)
+    assert s == pytest.approx(0.01, rel=1e-12) and w == pytest.approx(0.01 * v, rel=1e-12)

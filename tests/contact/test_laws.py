@@ -134,3 +134,19 @@ def test_contact_backend_absent_gives_one_message(monkeypatch, tmp_path):
     (tmp_path / "python_intfc" / "__init__.py").write_text("")
     with pytest.raises(ContactNotAvailable, match="no compiled library"):
         load_contact()
+
+
+@pytest.mark.parametrize("law", CREEP_LAWS)
+def test_mismatched_array_lengths_name_the_parameters(law):
+    params = EUROSPRINTER_MODIFIED_FASTSIM if law == "modified-fastsim" else POLACH_DRY
+    with pytest.raises(
+        ParameterError,
+        match=r"long_creep \(shape \(3,\)\) and slip_velocity \(shape \(2,\)\) must have the "
+        r"same shape, or one of them be a single number",
+    ):
+        creep_force(law, [0.01, 0.02, 0.03], [0.1, 0.2], *GEOM, params)
+
+
+def test_law_creep_curve_of_no_creep_is_refused():
+    with pytest.raises(ParameterError, match=r"creep must hold at least one value \[-\]"):
+        law_creep_curve("fastsim", [], 10e3, 30 / 3.6, 0.348, 0.291, 0.452, 1.890)

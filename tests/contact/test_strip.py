@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
+from rollerrig._validation import ParameterError
 from rollerrig.contact.fastsim import fastsim, fastsim_grid
 from rollerrig.contact.kalker import kalker_coefficients
 from rollerrig.contact.strip import fastrip
@@ -221,3 +222,12 @@ def test_pure_longitudinal_creep_strip_by_strip_equals_the_element_integration(m
     np.testing.assert_allclose(fast.mz / scale, general.mz / scale, rtol=0, atol=1e-8)
     np.testing.assert_array_equal(fast.k_eff, general.k_eff)
     assert np.all(np.sign(fast.fx) == np.sign(xi))
+
+
+def test_mismatched_array_lengths_name_the_parameters():
+    with pytest.raises(
+        ParameterError,
+        match=r"long_creep \(shape \(3,\)\) and spin \(shape \(2,\)\) must have the same "
+        r"shape, or one of them be a single number",
+    ):
+        fastrip([1e-3, 2e-3, 3e-3], 0.0, [0.0, 1.0], friction=0.3, **EURO)

@@ -25,6 +25,7 @@ import numpy as np
 
 from rollerrig._validation import (
     ParameterError,
+    require_broadcastable,
     require_finite,
     require_in_range,
     require_nonnegative,
@@ -212,12 +213,17 @@ def _polach_shape_derivatives(eps, k_a, k_s):
 # --------------------------------------------------------------------------------------------
 
 
-def _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus):
-    """Kalker's linear creep stiffness G a b c11 [N] from validated inputs."""
+def _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus, **validated):
+    """Kalker's linear creep stiffness G a b c11 [N] from validated inputs.
+
+    ``validated`` are the caller's other (already validated) arrays by their public names,
+    listed before the contact's: all must broadcast together, else the error names them.
+    """
     a = require_positive("semi_axis_x", semi_axis_x, "m")
     b = require_positive("semi_axis_y", semi_axis_y, "m")
     c = require_positive("c11", c11, "-")
     g = require_positive("shear_modulus", shear_modulus, "Pa")
+    require_broadcastable(**validated, semi_axis_x=a, semi_axis_y=b, c11=c, shear_modulus=g)
     return g * a * b * c
 
 
@@ -287,7 +293,9 @@ def adhesion_gradient(creep, normal_load, friction, semi_axis_x, semi_axis_y, c1
     s = require_finite("creep", creep, "-")
     q = require_positive("normal_load", normal_load, "N")
     mu = require_positive("friction", friction, "-")
-    stiffness = _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus)
+    stiffness = _creep_stiffness(
+        semi_axis_x, semi_axis_y, c11, shear_modulus, creep=s, normal_load=q, friction=mu
+    )
     return _adhesion_gradient_kernel(s, q * mu, stiffness)
 
 
@@ -334,6 +342,12 @@ def polach_creep_force(
         Creep force F [N], with the sign of the creep: on the wheel it opposes its rotation in
         traction, on the roller it drives it.
 
+    Raises
+    ------
+    ParameterError
+        If a value is outside its physical range, or array arguments have shapes that do not
+        broadcast together (naming them).
+
     Examples
     --------
     Dry rail, 4.3 kN, 30 km/h, 1 % creep:
@@ -345,7 +359,9 @@ def polach_creep_force(
     s = require_finite("creep", creep, "-")
     w = require_finite("slip_velocity", slip_velocity, "m/s")
     q = require_positive("normal_load", normal_load, "N")
-    stiffness = _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus)
+    stiffness = _creep_stiffness(
+        semi_axis_x, semi_axis_y, c11, shear_modulus, creep=s, slip_velocity=w, normal_load=q
+    )
     return _polach_force_kernel(s, w, q, stiffness, *parameters.as_tuple())
 
 
@@ -378,7 +394,7 @@ def kalker_linear_force(creep, semi_axis_x, semi_axis_y, c11, shear_modulus):
     6400.0
     """
     s = require_finite("creep", creep, "-")
-    return _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus) * s
+    return _creep_stiffness(semi_axis_x, semi_axis_y, c11, shear_modulus, creep=s) * s
 
 
 # Public names of the compiled kernels, for the twin's right-hand side and the fits.

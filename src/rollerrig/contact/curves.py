@@ -12,12 +12,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig._validation import require_finite, require_positive
+from rollerrig._validation import ParameterError, require_finite, require_positive
 from rollerrig.contact.creep import POLACH_DRY, PolachParameters, _polach_force_kernel
 from rollerrig.contact.hertz import HertzContact, combined_elastic_constants, hertz_contact
 from rollerrig.contact.kalker import kalker_coefficients
 
 __all__ = ["CreepCurve", "polach_creep_curve"]
+
+
+def _require_creep_values(creep) -> np.ndarray:
+    """The creep of a curve [-]: finite, and at least one value (a curve of none has no
+    peak and nothing to plot; an empty array is most likely an empty selection upstream)."""
+    s = require_finite("creep", creep, "-")
+    if s.size == 0:
+        raise ParameterError(
+            f"creep must hold at least one value [-] to make a creep curve, got an empty array "
+            f"(shape {s.shape})"
+        )
+    return s
 
 
 @dataclass(frozen=True)
@@ -57,9 +69,11 @@ class CreepCurve:
 
     @property
     def peak(self) -> tuple[float, float]:
-        """(creep [-], adhesion coefficient [-]) at the maximum of the curve."""
-        k = int(np.argmax(self.adhesion_coefficient))
-        return float(self.creep[k]), float(self.adhesion_coefficient[k])
+        """(creep [-], adhesion coefficient [-]) at the maximum of the curve (the first, if
+        several; over all elements whatever the creep array's shape)."""
+        adhesion = np.ravel(self.adhesion_coefficient)
+        k = int(np.argmax(adhesion))
+        return float(np.ravel(self.creep)[k]), float(adhesion[k])
 
 
 def polach_creep_curve(
@@ -99,6 +113,12 @@ def polach_creep_curve(
     -------
     CreepCurve
 
+    Raises
+    ------
+    ParameterError
+        If ``creep`` is empty or not finite, or another value is outside its physical range
+        (naming it).
+
     Examples
     --------
     The default rig (Kayaalp Table 4.5.1.5) at 10 kN and 30 km/h, dry:
@@ -109,7 +129,7 @@ def polach_creep_curve(
     >>> round(100 * s_peak, 1), round(mu_peak, 3)
     (3.5, 0.455)
     """
-    s = require_finite("creep", creep, "-")
+    s = _require_creep_values(creep)
     q = float(require_positive("normal_load", normal_load, "N"))
     v = float(require_positive("rolling_speed", rolling_speed, "m/s"))
     contact = hertz_contact(

@@ -178,20 +178,27 @@ def complete_elliptic_integrals(complementary_parameter):
     Parameters
     ----------
     complementary_parameter : float or array_like
-        p = 1 − m ∈ (0, 1] [-] (for an ellipse of axis ratio g, p = g²).
+        p = 1 − m ∈ [0, 1] [-] (for an ellipse of axis ratio g, p = g²).
 
     Returns
     -------
     K, E : float or ndarray
-        [-].
+        [-]. At p = 1 (m = 0, the circle) K = E = π/2; at p = 0 (m = 1, the ellipse
+        degenerate to a line) K = inf and E = 1, their limits (DLMF 19.6.1), where the product
+        ``(p/3) R_D(0, 1, p)`` is 0 · inf.
 
     Examples
     --------
     >>> k, e = complete_elliptic_integrals(1.0)  # the circle: K = E = π/2
     >>> round(float(k), 12), round(float(e), 12)
     (1.570796326795, 1.570796326795)
+    >>> k, e = complete_elliptic_integrals(0.0)  # m = 1: K = inf, E = 1
+    >>> float(k), float(e)
+    (inf, 1.0)
     """
     p = np.asarray(complementary_parameter, dtype=float)
     k = carlson_rf(0.0, p, 1.0)
-    e = (p / 3.0) * (carlson_rd(0.0, p, 1.0) + carlson_rd(0.0, 1.0, p))
-    return k, e
+    with np.errstate(invalid="ignore"):  # 0 · inf at p = 0, replaced below
+        e = (p / 3.0) * (carlson_rd(0.0, p, 1.0) + carlson_rd(0.0, 1.0, p))
+    e = np.where(p == 0.0, 1.0, e)  # E(m = 1) = 1 (DLMF 19.6.1)
+    return k, (e[()] if e.ndim == 0 else e)

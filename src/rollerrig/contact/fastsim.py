@@ -65,6 +65,7 @@ import numpy as np
 
 from rollerrig._validation import (
     ParameterError,
+    require_broadcastable,
     require_finite,
     require_in_range,
     require_positive,
@@ -177,7 +178,7 @@ def _cases(long_creep, lat_creep, spin, friction):
     eta = require_finite("lat_creep", lat_creep, "-")
     phi = require_finite("spin", spin, "1/m")
     mu = require_positive("friction", friction, "-")
-    xi, eta, phi, mu = np.broadcast_arrays(xi, eta, phi, mu)
+    xi, eta, phi, mu = require_broadcastable(long_creep=xi, lat_creep=eta, spin=phi, friction=mu)
     shape = xi.shape
     return shape, xi.ravel(), eta.ravel(), phi.ravel(), mu.ravel()
 
@@ -254,7 +255,8 @@ def fastsim(
     Raises
     ------
     ParameterError
-        For a non-physical input, naming it.
+        For a non-physical input, naming it, or for creepages and ``friction`` whose shapes do
+        not broadcast together (naming them and their shapes).
 
     Examples
     --------

@@ -43,7 +43,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rollerrig._validation import ParameterError, require_in_range, require_positive
+from rollerrig._validation import (
+    ParameterError,
+    require_broadcastable,
+    require_in_range,
+    require_positive,
+)
 from rollerrig._warnings import DomainWarning
 from rollerrig.contact.elliptic import carlson_rd, complete_elliptic_integrals
 
@@ -358,8 +363,9 @@ def hertz_contact(
     ------
     ParameterError
         If a load, modulus or radius is not > 0 (radius NaN included), a Poisson ratio lies
-        outside (0, 0.5), or both radii of one direction are infinite (then the contact is a
-        line or a plane, not an ellipse).
+        outside (0, 0.5), both radii of one direction are infinite (then the contact is a
+        line or a plane, not an ellipse), or array arguments have shapes that do not
+        broadcast together (naming them).
 
     Warns
     -----
@@ -403,6 +409,23 @@ def hertz_contact(
     nu2 = nu1
     if poisson_2 is not None:
         nu2 = require_in_range("poisson_2", poisson_2, 0.0, 0.5, "-")
+    # Broadcast under the names the caller gave (an omitted second body is the first's).
+    named = dict(
+        normal_load=load,
+        wheel_radius_x=r_wx,
+        wheel_radius_y=r_wy,
+        roller_radius_x=r_rx,
+        roller_radius_y=r_ry,
+        youngs_modulus=e1,
+        poisson=nu1,
+    )
+    if youngs_modulus_2 is not None:
+        named["youngs_modulus_2"] = e2
+    if poisson_2 is not None:
+        named["poisson_2"] = nu2
+    load, r_wx, r_wy, r_rx, r_ry, e1, nu1, *second = require_broadcastable(**named)
+    e2 = second.pop(0) if youngs_modulus_2 is not None else e1
+    nu2 = second.pop(0) if poisson_2 is not None else nu1
 
     if np.any(np.isinf(r_wx) & np.isinf(r_rx)):
         raise ParameterError(
@@ -415,9 +438,6 @@ def hertz_contact(
             "two flat directions make a line contact, not a Hertz ellipse"
         )
 
-    load, r_wx, r_wy, r_rx, r_ry, e1, nu1, e2, nu2 = np.broadcast_arrays(
-        load, r_wx, r_wy, r_rx, r_ry, e1, nu1, e2, nu2
-    )
     curvature_x = 0.5 * (1.0 / r_wx + 1.0 / r_rx)
     curvature_y = 0.5 * (1.0 / r_wy + 1.0 / r_ry)
     e_star = _effective_modulus_kernel(e1, nu1, e2, nu2)

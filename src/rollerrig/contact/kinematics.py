@@ -10,10 +10,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from rollerrig._validation import ParameterError, require_finite, require_positive
+from rollerrig._validation import (
+    ParameterError,
+    require_broadcastable,
+    require_finite,
+    require_in_range,
+    require_positive,
+)
 
 __all__ = [
     "DEFAULT_REGULARISATION_SPEED",
+    "MAX_PERIPHERAL_SPEED",
     "creep_and_slip_velocity",
     "creep_kernel",
     "kalker_creepage",
@@ -25,6 +32,15 @@ DEFAULT_REGULARISATION_SPEED = 0.05
 
 Far below the rig's test speeds (5-60 km/h = 1.4-16.7 m/s): the relative change of the creep at
 5 km/h is (v_ε/v)²/2 ≈ 6e-4.
+"""
+
+MAX_PERIPHERAL_SPEED = 3e8
+"""Largest peripheral speed |ω·r| (and regularisation speed) :func:`creep_and_slip_velocity`
+takes [m/s]: about the speed of light, so no physical wheel or roller comes near it.
+
+The kernel squares the roller's peripheral speed; beyond about 1.3e154 m/s the square overflows
+and the creep came out as 0 (or -0.0) without an error. Refusing speeds above this bound keeps
+every intermediate (squares below 1e17) far inside the range of doubles.
 """
 
 
@@ -70,6 +86,14 @@ def creep_and_slip_velocity(
     slip_velocity : numpy.ndarray
         w [m/s].
 
+    Raises
+    ------
+    ParameterError
+        If a speed is not finite, a radius or ``regularisation_speed`` is not > 0, a
+        peripheral speed |ω·r| or ``regularisation_speed`` exceeds
+        :data:`MAX_PERIPHERAL_SPEED` (3e8 m/s, about the speed of light), or array arguments
+        have shapes that do not broadcast together (naming them).
+
     Examples
     --------
     Wheel 1 % faster than the roller at 30 km/h:
@@ -89,6 +113,27 @@ def creep_and_slip_velocity(
     rw = require_positive("wheel_radius", wheel_radius, "m")
     rr = require_positive("roller_radius", roller_radius, "m")
     ve = require_positive("regularisation_speed", regularisation_speed, "m/s")
+    if ww.ndim or wr.ndim or rw.ndim or rr.ndim or ve.ndim:  # single numbers always broadcast
+        require_broadcastable(
+            wheel_speed=ww,
+            roller_speed=wr,
+            wheel_radius=rw,
+            roller_radius=rr,
+            regularisation_speed=ve,
+        )
+    limit = MAX_PERIPHERAL_SPEED
+    with np.errstate(over="ignore"):  # an overflow is reported as not finite
+        v_wheel, v_roller = ww * rw, wr * rr
+    for name, v in (
+        ("wheel_speed * wheel_radius (the wheel's peripheral speed)", v_wheel),
+        ("roller_speed * roller_radius (the roller's peripheral speed)", v_roller),
+        ("regularisation_speed", ve),
+    ):
+        # A plain comparison first (this runs in loops); require_in_range words the error.
+        if not (abs(float(v)) <= limit if v.ndim == 0 else bool(np.all(np.abs(v) <= limit))):
+            speed = name != "regularisation_speed"  # signed; v_eps is > 0 (checked above)
+            low = -limit if speed else 0.0
+            require_in_range(name, v, low, limit, "m/s", low_inclusive=speed, high_inclusive=True)
     return _creep_kernel(ww, wr, rw, rr, ve)
 
 

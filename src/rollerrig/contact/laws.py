@@ -34,6 +34,7 @@ import numpy as np
 
 from rollerrig._validation import (
     ParameterError,
+    require_broadcastable,
     require_finite,
     require_in_range,
     require_nonnegative,
@@ -46,7 +47,7 @@ from rollerrig.contact.creep import (
     _friction_kernel,
     _polach_force_kernel,
 )
-from rollerrig.contact.curves import CreepCurve
+from rollerrig.contact.curves import CreepCurve, _require_creep_values
 from rollerrig.contact.fastsim import (
     FastsimGrid,
     Flexibilities,
@@ -299,7 +300,8 @@ def creep_force(
     ------
     ParameterError
         Unknown law (did-you-mean), a set that lacks the law's parameters, Polach with lateral
-        creepage or spin, or a non-physical value.
+        creepage or spin, a non-physical value, or creepages and ``slip_velocity`` whose shapes
+        do not broadcast together (naming them).
 
     Examples
     --------
@@ -313,7 +315,10 @@ def creep_force(
     w = require_finite("slip_velocity", slip_velocity, "m/s")
     eta = require_finite("lat_creep", lat_creep, "-")
     phi = require_finite("spin", spin, "1/m")
-    xi, w, eta, phi = (v.ravel() for v in np.broadcast_arrays(xi, w, eta, phi))
+    xi, w, eta, phi = (
+        v.ravel()
+        for v in require_broadcastable(long_creep=xi, slip_velocity=w, lat_creep=eta, spin=phi)
+    )
     p = parameters
     mu = _friction_kernel(w, p.static_friction, p.limit_ratio, p.friction_decay)
     common = dict(
@@ -402,7 +407,7 @@ def law_creep_curve(
     0.54
     """
     check_law(law)
-    s = require_finite("creep", creep, "-")
+    s = _require_creep_values(creep)
     q = float(require_positive("normal_load", normal_load, "N"))
     v = float(require_positive("rolling_speed", rolling_speed, "m/s"))
     contact = hertz_contact(

@@ -169,6 +169,12 @@ def fastrip(
     TangentialResult
         Forces [N], moment [N m]; ``k_eff`` the slope reduction k per case [-] (1 without).
 
+    Raises
+    ------
+    ParameterError
+        For a non-physical input, naming it, or for creepages and ``friction`` whose shapes do
+        not broadcast together (naming them and their shapes).
+
     Examples
     --------
     Pure longitudinal creepage: the slope at zero is Kalker's G a b C11 (C11 = 5.2037 here):

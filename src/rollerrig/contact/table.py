@@ -32,7 +32,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from rollerrig._validation import require_finite
+from rollerrig._validation import ParameterError, require_finite, require_whole
 from rollerrig.contact.laws import check_law
 from rollerrig.contact.slope_reduction import _check_modification
 
@@ -47,6 +47,10 @@ TABULATED_LAWS = ("fastsim", "modified-fastsim", "fastrip")
 
 _PROBE_MAX = 40.0  # ε up to which saturation is looked for [-]
 _SATURATION_MARGIN = 1.05  # ε_max = this × the first ε where the law is saturated
+_MIN_NODES = 2  # the cubic Hermite interpolant needs one interval, its two end nodes
+# A law evaluation a node: 200 times the 513 the twin uses is far past any gain in accuracy,
+# and a typo of a few digits more would run for hours or run out of memory.
+_MAX_NODES = 100_000
 
 
 @dataclass(frozen=True)
@@ -163,7 +167,8 @@ def creep_table(
     poisson : float
         Combined ν [-] (FaStrip only).
     nodes : int
-        Number of nodes [-].
+        Number of nodes [-], a whole number in [2, 100 000] (the cubic Hermite interpolation
+        between nodes needs at least one interval; the node spacing is ε_max/(nodes - 1)).
 
     Returns
     -------
@@ -172,7 +177,8 @@ def creep_table(
     Raises
     ------
     ParameterError
-        An unknown law (with a did-you-mean), or ``"polach"`` (closed form, not tabulated).
+        An unknown law (with a did-you-mean), ``"polach"`` (closed form, not tabulated), or
+        ``nodes`` not a whole number in [2, 100 000].
 
     Examples
     --------
@@ -180,11 +186,10 @@ def creep_table(
     >>> round(t.eps_max, 2), round(float(t.values[-1]), 4)
     (3.57, 1.0006)
     """
-    from rollerrig._validation import ParameterError
-
     check_law(law)
     if law not in TABULATED_LAWS:
         raise ParameterError(f"law {law!r} is closed form; tabulated laws: {TABULATED_LAWS}")
+    nodes = require_whole("nodes", nodes, minimum=_MIN_NODES, maximum=_MAX_NODES)
     if law == "fastrip":
         return _table("fastrip", float(aspect_ratio), float(poisson), int(nodes))
     return _table("fastsim", 1.0, 0.3, int(nodes))
