@@ -60,7 +60,12 @@ against Radau at rtol 1e-10 on the bundled 30 s test):
   13.8 Hz roller-shaft mode, ringing for seconds after each release (0.040 N.m at 1.77 ms);
 - the currents ``i_d``, ``i_q`` as exact 1 x 1 blocks move the stability limit to 3.0 ms (the
   wheel shaft's 112 Hz mode is next) at nearly the same error (0.031 N.m at 1.6 ms), but the
-  accuracy limit follows at once: 0.0445 at 1.77 ms, 0.059 at 1.9, 0.074 at 2 ms. With their
+  accuracy limit follows at once: 0.0445 at 1.77 ms, 0.059 at 1.9, 0.074 at 2 ms. On the
+  benchmark's sweep (its stiffest shaft, 143.5 kN.m/rad, at four motor lags; 2026-12-02) they
+  save fewer steps than the step's length promises, since the guard shortens the step while
+  the stiffer shaft rings: 15 300-18 000 steps at 2 ms (0.058-0.076 N.m), 12 800-16 000 at
+  2.4 ms (up to 0.109 N.m) against 18 800-19 600 at 1.6 ms (0.014-0.051 N.m), so at most
+  1.2 times cheaper at the sweep's 0.1 N.m, not the twice its target needs. With their
   PI integrals in the blocks, ``(i_q, I_q)``, the error grows fourfold (0.107 at 1.6 ms):
   that, not the currents, was the fivefold error an earlier note blamed on the current loops;
 - the roller shaft (θ5, θ6, ω6) merged with the contact block (5 x 5, re-linearised) halves
