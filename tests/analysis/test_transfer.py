@@ -250,3 +250,30 @@ def test_the_law_error_widens_the_band_where_the_curve_has_left_its_linear_part(
     assert np.all(widened[late] > 0.95 * e) and np.all(widened[late] < 1.1 * e)
     assert any("law's error in the transfer factor" in i["name"] for i in with_error.band["inputs"])
     assert "the law's error in the transfer factor" in without.band["not_included"]
+
+
+def test_a_measured_curve_refuses_a_negative_or_infinite_uncertainty():
+    """A negative standard uncertainty had been taken as it was; NaN stays: a point without
+    a stated uncertainty (the transfer leaves it out, test above)."""
+    import re
+
+    creep = np.linspace(0.001, 0.03, 40)
+    coa = 0.4 * np.tanh(creep / 0.004)
+    kw = {"creep": creep, "coa": coa, "slip_velocity": creep * 8.0,
+          "normal_load": np.full(40, 5000.0), "rolling_speed": np.full(40, 8.0)}  # fmt: skip
+    u = 0.03 * coa
+    u[5] = -0.01
+    with pytest.raises(ParameterError, match=re.escape(
+        "coa_uncertainty must be >= 0 and finite [-] (NaN where a point has none stated), got "
+        "-0.01 at index 5 (1 of 40 values)"
+    )):  # fmt: skip
+        MeasuredCurve(**kw, coa_uncertainty=u)
+    u[5] = np.inf
+    with pytest.raises(ParameterError, match=re.escape("got inf at index 5")):
+        MeasuredCurve(**kw, coa_uncertainty=u)
+    with pytest.raises(ParameterError, match=re.escape(
+        "coa_uncertainty (shape (3,)) must have the shape of coa (shape (40,))"
+    )):  # fmt: skip
+        MeasuredCurve(**kw, coa_uncertainty=np.full(3, 0.01))
+    u[5] = np.nan
+    assert MeasuredCurve(**kw, coa_uncertainty=u).coa_uncertainty is u

@@ -160,3 +160,44 @@ def test_adhesion_figure_with_fit_and_residuals():
     fit = fit_polach(s, mu, LOAD, K, slip_velocity=w)
     fig = adhesion_figure(s, mu, fit=fit, title="dry")
     assert len(fig.axes) == 2
+
+
+def test_inputs_that_cannot_be_fitted_are_refused_naming_the_parameter():
+    """A slip velocity (or load, stiffness, speed) of another length had given numpy's bare
+    broadcast error; all-zero creep a ZeroDivisionError in the diagnostics; f_scale = 0 and an
+    unknown loss scipy's own errors (or, f_scale = 0 with the linear loss, a fit)."""
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    s, w, mu = _points(POLACH_DRY, speeds=SPEEDS[1:], n=10)
+    with pytest.raises(ParameterError, match=re.escape(
+        "creep (shape (20,)) and slip_velocity (shape (7,)) must have the same shape"
+    )):  # fmt: skip
+        fit_polach(s, mu, LOAD, K, slip_velocity=w[:7])
+    for name, kw in (
+        ("normal_load", {"normal_load": np.full(3, LOAD)}),
+        ("creep_stiffness", {"creep_stiffness": np.full(3, K)}),
+        ("rolling_speed", {"slip_velocity": None, "rolling_speed": np.full(3, 8.0)}),
+    ):
+        args = {"normal_load": LOAD, "creep_stiffness": K, "slip_velocity": w, **kw}
+        with pytest.raises(ParameterError, match=re.escape(f"and {name} (shape (3,))")):
+            fit_polach(s, mu, **args)
+    with pytest.raises(ParameterError, match=r"creep must be nonzero \[-\] at 6 points.*got 0 of"):
+        fit_polach(np.zeros(20), mu, LOAD, K, rolling_speed=8.0)
+    for f_scale in (0.0, -1.0, np.nan):
+        with pytest.raises(ParameterError, match=r"f_scale must be (> 0|finite) \[-\]"):
+            fit_polach(s, mu, LOAD, K, slip_velocity=w, loss="huber", f_scale=f_scale)
+    with pytest.raises(ParameterError, match=r"f_scale must be > 0 \[-\], got 0"):
+        fit_polach(s, mu, LOAD, K, slip_velocity=w, f_scale=0)
+    with pytest.raises(ParameterError, match=re.escape(
+        "loss must be one of 'linear', 'soft_l1', 'huber', 'cauchy', 'arctan'"
+    )):  # fmt: skip
+        fit_polach(s, mu, LOAD, K, slip_velocity=w, loss="bogus")
+    with pytest.raises(ParameterError, match=re.escape("got 'Huber' (did you mean 'huber'?)")):
+        fit_polach(s, mu, LOAD, K, slip_velocity=w, loss="Huber")
+    # One value for all points, or one per point, still go.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PolachFitWarning)  # ten points a speed: k_A ~ k_S
+        fit = fit_polach(s, mu, np.full(s.size, LOAD), K, slip_velocity=w, loss="soft_l1")
+    assert fit.parameters.static_friction == pytest.approx(POLACH_DRY.static_friction, rel=1e-3)

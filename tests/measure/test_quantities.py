@@ -171,3 +171,18 @@ def test_derive_quantities_refuses_a_rig_mapping_without_a_rig(section, key, val
     rig[section][key] = value
     with pytest.raises(ParameterError, match=rf"{section}\.{key} must be"):
         derive_quantities(rec, rig)
+
+
+def test_coefficient_of_adhesion_refuses_arrays_of_different_lengths_naming_them():
+    """Torque and normal force of different lengths had given numpy's bare broadcast error."""
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=re.escape(
+        "torque (shape (5,)) and normal_force (shape (3,)) must have the same shape, or one of "
+        "them be a single number"
+    )):  # fmt: skip
+        coefficient_of_adhesion(np.full(5, 904.0), 0.452, np.full(3, 4000.0))
+    coa = coefficient_of_adhesion(np.full(5, 904.0), 0.452, 4000.0)  # a single load still goes
+    np.testing.assert_allclose(coa, np.full(5, 0.5), rtol=1e-15)

@@ -182,3 +182,54 @@ def test_a_gap_in_the_channel_or_a_nan_setting_is_refused_not_a_vanished_cycle()
         for bad in (np.nan, -1.0):
             with pytest.raises(ParameterError, match=key):
                 segment_test(rec, **{key: bad})
+
+
+def test_hysteresis_refuses_branches_of_two_lengths_and_a_grid_of_one_point():
+    """A branch's creep and CoA of different lengths had given numpy's bare broadcast error;
+    grid_points = 1 an IndexError, 2.5 a grid of 2 points, silently."""
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    s = np.linspace(0.0, 0.02, 50)
+    with pytest.raises(ParameterError, match=re.escape(
+        "creep_ascending (shape (50,)) and coa_ascending (shape (40,)) must have the same shape"
+    )):  # fmt: skip
+        hysteresis(s, 10 * s[:40], s, 10 * s)
+    with pytest.raises(ParameterError, match=re.escape(
+        "creep_descending (shape (49,)) and coa_descending (shape (50,)) must have the same shape"
+    )):  # fmt: skip
+        hysteresis(s, 10 * s, s[1:], 10 * s)
+    for points in (1, 0, -3, 2.5, np.nan, None, 10**7):
+        with pytest.raises(ParameterError, match=re.escape(
+            f"grid_points must be a whole number in [2, 1000000] [-], got {points!r}"
+        )):  # fmt: skip
+            hysteresis(s, 10 * s, s, 10 * s + 0.1, grid_points=points)
+    h = hysteresis(s, 10 * s, s, 10 * s + 0.1, grid_points=2)  # the fewest that make a grid
+    assert h.area == pytest.approx(-0.002, rel=1e-9) and h.creep_grid.size == 2
+
+
+def test_branches_refuse_time_that_is_not_strictly_increasing():
+    """Unsorted time had given branches of the wrong samples, silently (binary search)."""
+    import re
+
+    from rollerrig._validation import ParameterError
+    from rollerrig.measure.segmentation import Phase
+
+    t = np.arange(0.0, 10.0, 0.01)
+    creep = np.interp(t, [0, 2, 5, 5.5, 6, 10], [0, 0, 0.05, 0.05, 0, 0])
+    phases = [Phase("free_rolling", 0.0, 2.0, -1), Phase("ramp_up", 2.0, 5.0, 0),
+              Phase("hold", 5.0, 5.5, 0), Phase("release", 5.5, 6.0, 0),
+              Phase("rest", 6.0, 10.0, 0)]  # fmt: skip
+    (b,) = adhesion_branches(t, creep, phases)
+    assert (b.ascending[0], b.ascending[-1], b.descending[0]) == (200, 500, 500)
+    swapped = t.copy()
+    swapped[[300, 301]] = swapped[[301, 300]]
+    with pytest.raises(ParameterError, match=re.escape(
+        "time must be strictly increasing [s]; got time[301] = 3 after time[300] = 3.01"
+    )):  # fmt: skip
+        adhesion_branches(swapped, creep, phases)
+    repeated = t.copy()
+    repeated[301] = repeated[300]
+    with pytest.raises(ParameterError, match=re.escape("got time[301] = 3 after time[300] = 3")):
+        adhesion_branches(repeated, creep, phases)

@@ -169,3 +169,49 @@ def test_a_recording_leaves_its_callers_arrays_writable():
     frozen.setflags(write=False)  # a reader's read-only array is shared, not copied
     assert np.shares_memory(Recording(np.arange(5) / 250.0, {"x": frozen},
                                       {"x": "N.m"})["x"], frozen)  # fmt: skip
+
+
+def test_find_gaps_refuses_time_that_is_not_strictly_increasing():
+    """Unsorted time had given a wrong median and a "gap" over a step back, silently; a
+    repeated instant a median of 0 and a ZeroDivisionError."""
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=re.escape(
+        "time must be strictly increasing [s]; got time[2] = 0.1 after time[1] = 0.5"
+    )):  # fmt: skip
+        find_gaps(np.array([0.0, 0.5, 0.1, 0.2, 0.3]))
+    with pytest.raises(ParameterError, match=re.escape("got time[1] = 0 after time[0] = 0")):
+        find_gaps(np.array([0.0, 0.0, 0.0, 0.1]))
+    with pytest.raises(ParameterError, match=re.escape("time must be finite [s]")):
+        find_gaps(np.array([0.0, np.nan, 0.2]))
+    with pytest.raises(ParameterError, match=re.escape("time must hold at least 2 samples")):
+        find_gaps(np.array([0.0]))  # no interval: a NaN median had come back, with a warning
+
+
+def test_a_recording_refuses_complex_values_naming_the_channel():
+    """A complex channel (or time) had lost its imaginary part in the conversion to float,
+    silently; one whose imaginary parts are all zero is taken as real."""
+    import re
+
+    from rollerrig._validation import ParameterError
+    from rollerrig.recordings.recording import Recording
+
+    t = np.arange(5) / 250.0
+    x = np.array([1.0, 2.0, 3.0 + 0.5j, 4.0, 5.0])
+    with pytest.raises(ParameterError, match=re.escape(
+        "channel 'x' must be real, got complex values: (3+0.5j) at sample 2 (1 of 5 samples "
+        "with an imaginary part)"
+    )):  # fmt: skip
+        Recording(t, {"x": x}, {"x": "N.m"})
+    with pytest.raises(ParameterError, match=re.escape("time must be real, got complex values")):
+        Recording(t + 1e-3j, {"x": x.real}, {"x": "N.m"})
+    real = x.real + 0j
+    rec = Recording(t + 0j, {"x": real}, {"x": "N.m"})
+    assert rec["x"].dtype == float and rec.time.dtype == float
+    assert rec["x"].tolist() == [1.0, 2.0, 3.0, 4.0, 5.0]
+    real[0] = 9.0  # a writable array given is copied, as a float one is
+    assert rec["x"][0] == 1.0 and real.flags.writeable
+    with pytest.raises(ParameterError, match="channel 'x' must hold numbers"):
+        Recording(t, {"x": ["a"] * 5}, {"x": "N.m"})

@@ -62,7 +62,8 @@ class MeasuredCurve:
     rolling_speed : ndarray
         Roller peripheral speed at each point [m/s].
     coa_uncertainty : ndarray or None
-        Standard uncertainty of each CoA [-].
+        Standard uncertainty of each CoA [-], >= 0 and finite, one per point; NaN where a
+        point's is not stated.
     source : str
         Where the points came from.
     notes : tuple of str
@@ -83,6 +84,27 @@ class MeasuredCurve:
     notes: tuple[str, ...] = ()
     analysis_fit: dict | None = None
     rig_sha256: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.coa_uncertainty is None:
+            return
+        # A negative standard uncertainty had been taken as it was (its magnitude into the
+        # transfer's band). NaN stays: a point without a stated uncertainty (the transfer
+        # leaves such points out of the stated systematic error).
+        # (require_nonnegative refuses NaN too, hence the test here.)
+        u = np.asarray(self.coa_uncertainty, dtype=float)
+        bad = np.flatnonzero(~(np.isnan(u) | ((u >= 0.0) & (u < np.inf))))
+        if bad.size:
+            k = int(bad[0])
+            raise ParameterError(
+                f"coa_uncertainty must be >= 0 and finite [-] (NaN where a point has none "
+                f"stated), got {u.flat[k]:g} at index {k} ({bad.size} of {u.size} values)"
+            )
+        if u.shape != np.shape(self.coa):
+            raise ParameterError(
+                f"coa_uncertainty (shape {u.shape}) must have the shape of coa (shape "
+                f"{np.shape(self.coa)}): one standard uncertainty [-] per point"
+            )
 
     @property
     def creepage(self) -> np.ndarray:

@@ -41,7 +41,13 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize, stats
 
-from rollerrig._validation import ParameterError, require_finite, require_positive
+from rollerrig._validation import (
+    ParameterError,
+    did_you_mean,
+    require_broadcastable,
+    require_finite,
+    require_positive,
+)
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.contact.creep import polach_force_kernel as _polach_force_kernel
 from rollerrig.contact.curves import CreepCurve
@@ -72,6 +78,7 @@ _IDENTIFIABILITY_CORRELATION = 0.995
 _IDENTIFIABILITY_RELATIVE_STDERR = 0.5
 _IDENTIFIABILITY_CONDITION = 1e10
 _STOP_CORRELATION = 0.9999  # a pair this correlated: the data see one combination of the two
+_LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")  # scipy's least_squares
 
 
 class PolachFitWarning(UserWarning):
@@ -235,7 +242,8 @@ def fit_polach(
     Parameters
     ----------
     creep : array_like, shape (n,)
-        Creep s [-] at each point.
+        Creep s [-] at each point, nonzero at 6 points at least (a point at zero creep
+        constrains no parameter).
     coa : array_like, shape (n,)
         Measured CoA F/Q [-].
     normal_load : float or array_like
@@ -253,9 +261,9 @@ def fit_polach(
         k_A = 0.7, k_S = 0.35).
     loss : str
         ``"linear"`` (least squares) or a robust loss of :func:`scipy.optimize.least_squares`
-        (``"soft_l1"``, ``"huber"``, ``"cauchy"``, ``"arctan"``).
+        (``"soft_l1"``, ``"huber"``, ``"cauchy"``, ``"arctan"``), or a callable as it takes.
     f_scale : float
-        Residual scale of the robust loss [-] (ignored by ``"linear"``).
+        Residual scale of the robust loss [-], > 0 (ignored by ``"linear"``).
     name : str
         Name of the fitted :class:`PolachParameters`.
 
@@ -284,6 +292,18 @@ def fit_polach(
     >>> round(fit.parameters.static_friction, 6), round(fit.parameters.k_slip, 6)
     (0.55, 0.4)
     """
+    if not (callable(loss) or (isinstance(loss, str) and loss in _LOSSES)):
+        hint = did_you_mean(loss, _LOSSES) if isinstance(loss, str) else ""
+        raise ParameterError(
+            f"loss must be one of {', '.join(map(repr, _LOSSES))} (or a callable, as "
+            f"scipy.optimize.least_squares takes), got {loss!r}{hint}"
+        )
+    f_scale_arr = require_positive("f_scale", f_scale, "-")
+    if f_scale_arr.ndim:
+        raise ParameterError(
+            f"f_scale must be a single number > 0 [-], got shape {f_scale_arr.shape}"
+        )
+    f_scale = float(f_scale_arr)
     s = require_finite("creep", creep, "-").reshape(-1)
     y = require_finite("coa", coa, "-").reshape(-1)
     if s.shape != y.shape:
@@ -291,19 +311,33 @@ def fit_polach(
     n = s.size
     if n < 6:
         raise ParameterError(f"need at least 6 points to fit 5 parameters, got {n}")
-    q = np.broadcast_to(require_positive("normal_load", normal_load, "N"), s.shape).astype(float)
+    moving = int(np.count_nonzero(s))
+    if moving < 6:
+        # At zero creep the model's CoA is 0 whatever the parameters: such a point constrains
+        # none of them (all of them zero had ended in a ZeroDivisionError in the diagnostics).
+        raise ParameterError(
+            f"creep must be nonzero [-] at 6 points at least to fit 5 parameters (at zero creep "
+            f"the model's CoA is 0 whatever the parameters), got {moving} of {n}"
+        )
+
+    def per_point(name: str, value, unit: str, check=require_positive) -> np.ndarray:
+        # One value per point or one for all: creep's length or a single number, named in
+        # the message where it is neither (numpy's own broadcast error names nothing).
+        arr = check(name, value, unit)
+        arr = arr.reshape(-1) if arr.ndim else arr
+        return require_broadcastable(creep=s, **{name: arr})[1].astype(float)
+
+    q = per_point("normal_load", normal_load, "N")
     if isinstance(creep_stiffness, CreepCurve):
         k = creep_stiffness.creep_stiffness * (q / creep_stiffness.normal_load) ** (2.0 / 3.0)
     else:
-        k = np.broadcast_to(require_positive("creep_stiffness", creep_stiffness, "N"), s.shape)
-        k = k.astype(float)
+        k = per_point("creep_stiffness", creep_stiffness, "N")
     if slip_velocity is None:
         if rolling_speed is None:
             raise ParameterError("give slip_velocity [m/s] or rolling_speed [m/s]")
-        w = s * np.broadcast_to(require_positive("rolling_speed", rolling_speed, "m/s"), s.shape)
+        w = s * per_point("rolling_speed", rolling_speed, "m/s")
     else:
-        w = np.broadcast_to(require_finite("slip_velocity", slip_velocity, "m/s"), s.shape)
-        w = w.astype(float)
+        w = per_point("slip_velocity", slip_velocity, "m/s", require_finite)
 
     if initial is None:
         mu0_guess = float(np.clip(np.max(np.abs(y)) * 1.1, 0.05, 2.0))

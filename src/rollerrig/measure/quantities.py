@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from rollerrig._validation import require_finite, require_positive
+from rollerrig._validation import require_broadcastable, require_finite, require_positive
 from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED
 from rollerrig.contact.kinematics import creep_and_slip_velocity as _creep_and_slip
 from rollerrig.contact.kinematics import creep_kernel as _creep_kernel
@@ -245,6 +245,7 @@ def coefficient_of_adhesion(torque, roller_radius, normal_force):
     tq = require_finite("torque", torque, "N.m")
     rr = require_positive("roller_radius", roller_radius, "m")
     n = require_positive("normal_force", normal_force, "N")
+    tq, rr, n = require_broadcastable(torque=tq, roller_radius=rr, normal_force=n)
     return tq / (rr * n)
 
 

@@ -44,10 +44,13 @@ from scipy import signal
 
 from rollerrig._validation import (
     ParameterError,
+    require_broadcastable,
     require_finite,
     require_in_range,
+    require_increasing,
     require_nonnegative,
     require_positive,
+    require_whole,
 )
 from rollerrig.recordings.recording import Recording, RecordingError
 from rollerrig.recordings.validate import true_runs
@@ -273,7 +276,7 @@ def adhesion_branches(
     Parameters
     ----------
     time : array_like, shape (n,)
-        Sample times [s].
+        Sample times [s], finite and strictly increasing.
     creep : array_like, shape (n,)
         Creep [-] (true, or derived from the encoders; smooth it first if it is noisy).
     phases : list of Phase
@@ -288,7 +291,9 @@ def adhesion_branches(
         Index arrays into ``time``: ascending from the ramp start to the maximum creep
         (inclusive), descending from the maximum creep to the return (inclusive).
     """
-    t = np.asarray(time, dtype=float)
+    # Found by binary search: unsorted time had given branches of the wrong samples, silently;
+    # a repeated instant is no sample of a recording (Recording refuses it too).
+    t = require_increasing("time", time, "s")
     s = np.asarray(creep, dtype=float)
     if t.shape != s.shape:
         raise RecordingError(f"time {t.shape} and creep {s.shape} differ in shape")
@@ -362,8 +367,10 @@ def hysteresis(creep_ascending, coa_ascending, creep_descending, coa_descending,
     >>> round(h.area, 6), round(h.max_difference, 6)
     (-0.002, 0.1)
     """
-    sa, ma = np.asarray(creep_ascending, float), np.asarray(coa_ascending, float)
-    sd, md = np.asarray(creep_descending, float), np.asarray(coa_descending, float)
+    # A grid step needs 2 points; a million is far finer than any measured branch.
+    points = require_whole("grid_points", grid_points, minimum=2, maximum=1_000_000)
+    sa, ma = require_broadcastable(creep_ascending=creep_ascending, coa_ascending=coa_ascending)
+    sd, md = require_broadcastable(creep_descending=creep_descending, coa_descending=coa_descending)
     keep_a, keep_d = np.isfinite(sa) & np.isfinite(ma), np.isfinite(sd) & np.isfinite(md)
     sa, ma, sd, md = sa[keep_a], ma[keep_a], sd[keep_d], md[keep_d]
     if sa.size < 2 or sd.size < 2:
@@ -375,7 +382,7 @@ def hysteresis(creep_ascending, coa_ascending, creep_descending, coa_descending,
             f"the branches share no creep range (ascending {sa.min():.4g}..{sa.max():.4g}, "
             f"descending {sd.min():.4g}..{sd.max():.4g})"
         )
-    grid = np.linspace(lo, hi, int(grid_points))
+    grid = np.linspace(lo, hi, points)
     asc = _on_grid(sa, ma, grid)
     desc = _on_grid(sd, md, grid)
     diff = asc - desc

@@ -59,11 +59,29 @@ class ChannelLookup:
             ) from None
 
 
-def _owned(values) -> np.ndarray:
+def _owned(values, what: str) -> np.ndarray:
     """``values`` as float64 the recording owns: a writable array given is copied (setting
     its flags had frozen the caller's arrays, and a view would let the caller write NaN into a
-    recording already checked); a read-only one (a reader's, a memory map) is shared."""
-    arr = np.asarray(values, dtype=float)
+    recording already checked); a read-only one (a reader's, a memory map) is shared.
+
+    ``what`` names the values in a message: complex values are refused (the conversion to
+    float had dropped their imaginary part, silently) unless every imaginary part is zero.
+    """
+    arr = np.asarray(values)
+    if np.iscomplexobj(arr):
+        imaginary = np.flatnonzero(arr.imag)
+        if imaginary.size:
+            k = int(imaginary[0])
+            raise RecordingError(
+                f"{what} must be real, got complex values: {arr.ravel()[k]} at sample {k} "
+                f"({imaginary.size} of {arr.size} samples with an imaginary part); pass its "
+                "real part, magnitude or phase"
+            )
+        arr = arr.real
+    try:
+        arr = np.asarray(arr, dtype=float)
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise RecordingError(f"{what} must hold numbers ({exc})") from None
     if arr.flags.writeable and isinstance(values, np.ndarray) and np.may_share_memory(arr, values):
         return arr.copy()
     return arr.view()
@@ -99,7 +117,7 @@ class Recording(ChannelLookup):
     metadata: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        time = _owned(self.time)
+        time = _owned(self.time, "time")
         if time.ndim != 1 or time.size < 2:
             raise RecordingError(
                 f"time must be a 1-D array of at least 2 samples, got {time.shape}"
@@ -114,7 +132,7 @@ class Recording(ChannelLookup):
             )
         channels = {}
         for name, values in self.channels.items():
-            arr = _owned(values)
+            arr = _owned(values, f"channel {name!r}")
             if arr.shape != time.shape:
                 raise RecordingError(
                     f"channel {name!r} has shape {arr.shape}, time has {time.shape}"

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from rollerrig._validation import ParameterError, require_increasing
 from rollerrig._warnings import DomainWarning
 from rollerrig.recordings.recording import RecordingError
 
@@ -152,7 +153,8 @@ def check_grid(duration: float, rate: float, where: str, source: str) -> int:
 
 
 def find_gaps(time: np.ndarray) -> tuple[float, list[dict[str, Any]]]:
-    """The median sample interval [s] and the gaps (dropped samples) of increasing ``time``.
+    """The median sample interval [s] and the gaps (dropped samples) of ``time`` [s], finite
+    and strictly increasing (else a :class:`~rollerrig._validation.ParameterError`).
 
     A gap is an interval longer than :data:`GAP_FACTOR` x the median; each is a dict with
     ``sample`` (the index before it), ``start_s``, ``end_s``, ``duration_s`` [s] and
@@ -164,6 +166,11 @@ def find_gaps(time: np.ndarray) -> tuple[float, list[dict[str, Any]]]:
     >>> round(step, 3), gaps[0]["sample"], gaps[0]["missing_samples"]
     (0.1, 2, 2)
     """
+    # Unsorted time had given negative intervals and a wrong median, silently; a repeated
+    # instant is no sample interval (a median of 0 had divided by zero).
+    time = require_increasing("time", time, "s")
+    if time.size < 2:  # no interval: the median of none is NaN
+        raise ParameterError(f"time must hold at least 2 samples [s], got {time.size}")
     dt = np.diff(time)
     median = float(np.median(dt))
     return median, [
