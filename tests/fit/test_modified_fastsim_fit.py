@@ -79,3 +79,32 @@ def test_inputs_are_checked():
     with pytest.raises(ParameterError, match="slip_velocity"):
         fit_modified_fastsim(np.linspace(0.001, 0.01, 8), np.linspace(0.1, 0.3, 8), N, A, B, G,
                              NU)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"normal_load": np.full(5, 1e5)},
+         "creep (shape (12,)) and normal_load (shape (5,)) must have the same shape"),
+        ({"rolling_speed": np.full(5, 8.0)},
+         "creep (shape (12,)) and rolling_speed (shape (5,)) must have the same shape"),
+        ({"reference_load": "x"}, "reference_load must be a number"),
+        ({"max_points": np.nan}, "max_points must be a whole number >= 7 [-], got nan"),
+        ({"max_points": 7.5}, "max_points must be a whole number >= 7 [-], got 7.5"),
+        ({"creep": np.zeros(12)}, "creep must be nonzero [-] at 7 points at least"),
+        ({"grid": "coarse"}, "grid must be a FastsimGrid"),
+    ],
+)  # fmt: skip
+def test_fit_inputs_that_had_given_bare_errors_are_named(options, message):
+    # Each had raised numpy's broadcast error, a bare ValueError, a ZeroDivisionError (all
+    # creep zero) or an AttributeError, naming no parameter; 7.5 had been taken as 7.
+    import re
+
+    xi = np.linspace(5e-4, 0.06, 12)
+    args = {"creep": xi, "normal_load": 1e5, "rolling_speed": 8.0, "grid": fastsim_grid(8, 8)}
+    args.update(options)
+    creep, load = args.pop("creep"), args.pop("normal_load")
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        fit_modified_fastsim(
+            creep, 0.3 * np.tanh(50 * xi), load, 6e-3, 5e-3, 8.08e10, 0.3, profile=False, **args
+        )

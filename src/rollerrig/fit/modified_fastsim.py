@@ -45,7 +45,13 @@ import warnings
 import numpy as np
 from scipy import optimize
 
-from rollerrig._validation import ParameterError, require_finite, require_positive
+from rollerrig._validation import (
+    ParameterError,
+    require_broadcastable,
+    require_finite,
+    require_positive,
+    require_whole,
+)
 from rollerrig.contact.ellipse_grid import FastsimGrid, fastsim_grid
 from rollerrig.contact.laws import FastsimParameters
 from rollerrig.fit.diagnostics import fit_residual_structure
@@ -188,24 +194,43 @@ def fit_modified_fastsim(
     n_given = s.size
     if n_given < 7:
         raise ParameterError(f"need at least 7 points to fit 6 parameters, got {n_given}")
-    q = np.broadcast_to(require_positive("normal_load", normal_load, "N"), s.shape).astype(float)
+    moving = int(np.count_nonzero(s))
+    if moving < 7:
+        # At zero creep the law's CoA is 0 whatever the parameters: such a point constrains
+        # none of them (all of them zero had ended in a ZeroDivisionError).
+        raise ParameterError(
+            f"creep must be nonzero [-] at 7 points at least to fit 6 parameters (at zero creep "
+            f"the law's CoA is 0 whatever the parameters), got {moving} of {n_given}"
+        )
+
+    def per_point(name: str, value, unit: str, check=require_positive) -> np.ndarray:
+        # creep's length or a single number, named where it is neither (fit_polach's rule)
+        arr = check(name, value, unit)
+        arr = arr.reshape(-1) if arr.ndim else arr
+        return require_broadcastable(creep=s, **{name: arr})[1].astype(float)
+
+    q = per_point("normal_load", normal_load, "N")
     if slip_velocity is None:
         if rolling_speed is None:
             raise ParameterError("give slip_velocity [m/s] or rolling_speed [m/s]")
-        v = np.broadcast_to(require_positive("rolling_speed", rolling_speed, "m/s"), s.shape)
-        w = s * v
+        w = s * per_point("rolling_speed", rolling_speed, "m/s")
     else:
-        w = np.broadcast_to(require_finite("slip_velocity", slip_velocity, "m/s"), s.shape)
-        w = w.astype(float)
+        w = per_point("slip_velocity", slip_velocity, "m/s", require_finite)
     a = float(require_positive("semi_axis_x", semi_axis_x, "m"))
     b = float(require_positive("semi_axis_y", semi_axis_y, "m"))
     g_mod = float(require_positive("shear_modulus", shear_modulus, "Pa"))
     nu = float(poisson)
-    n_ref = float(np.median(q)) if reference_load is None else float(reference_load)
-    require_positive("reference_load", n_ref, "N")
+    if reference_load is None:
+        n_ref = float(np.median(q))
+    else:
+        n_ref = float(require_positive("reference_load", reference_load, "N"))
     grid = fastsim_grid() if grid is None else grid
-    if int(max_points) < 7:
-        raise ParameterError(f"max_points must be at least 7, got {max_points!r}")
+    if not isinstance(grid, FastsimGrid):
+        raise ParameterError(
+            f"grid must be a FastsimGrid (rollerrig.contact.ellipse_grid.fastsim_grid), got "
+            f"{type(grid).__name__}"
+        )
+    max_points = require_whole("max_points", max_points, minimum=7)
     order = np.argsort(s, kind="stable")
     step = max(1, int(np.ceil(n_given / int(max_points))))
     keep = order[::step]
