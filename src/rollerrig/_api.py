@@ -13,13 +13,60 @@ from typing import Literal
 __all__ = ["analyze", "explain_recording"]
 
 
+_VALIDATE = ("strict", "lenient")
+
+
 def _rig(rig):
     """The rig: RigParameters as given, a rig TOML file loaded, None for the bundled rig."""
+    from rollerrig._validation import ParameterError
     from rollerrig.rig.parameters import RigParameters, default_rig, load_rig
 
     if rig is None:
         return default_rig()
-    return rig if isinstance(rig, RigParameters) else load_rig(Path(rig))
+    if isinstance(rig, RigParameters):
+        return rig
+    if not isinstance(rig, str | os.PathLike):
+        raise ParameterError(
+            f"rig must be RigParameters, the path of a rig TOML file or None (the bundled rig), "
+            f"got {type(rig).__name__}"
+        )
+    return load_rig(Path(rig))
+
+
+def _recording(recording, what: str):
+    """``recording`` if it is a Recording or an open source, else one error naming it."""
+    from rollerrig._validation import ParameterError
+
+    if hasattr(recording, "channels") or hasattr(recording, "iter_chunks"):
+        return recording
+    raise ParameterError(
+        f"recording must be a Recording or the path of a DAQ file ({what}), got "
+        f"{type(recording).__name__}"
+    )
+
+
+def _calibration(calibration, rig, allow_other_rig: bool):
+    """A calibration read or taken as given, checked as ``rollerrig analyze --calibration``
+    checks it: its form and values, and that it was made on ``rig`` (another rig is an error
+    unless ``allow_other_rig``, then a warning)."""
+    import warnings
+
+    from rollerrig.calibrate.binding import check_rig, check_values_on_rig
+    from rollerrig.calibrate.calibfile import check_calibration, read_calibration
+
+    if isinstance(calibration, str | os.PathLike):
+        source = f"calibration {calibration}"
+        data = read_calibration(Path(calibration), source=source, rig=rig)
+    else:
+        source = "calibration"
+        data = check_calibration(calibration, source, rig)
+    _, warning = check_rig(
+        data, rig, source=source, rig_source="the rig given", allow_other_rig=allow_other_rig
+    )
+    check_values_on_rig(data, rig, source)
+    if warning is not None:
+        warnings.warn(warning, UserWarning, stacklevel=3)
+    return data
 
 
 def analyze(
@@ -31,6 +78,7 @@ def analyze(
     calibration=None,
     validate: Literal["strict", "lenient"] = "strict",
     run_study: bool = True,
+    allow_other_rig: bool = False,
 ):
     """Analyse one adhesion test recorded on the rig.
 
@@ -50,12 +98,15 @@ def analyze(
     calibration : dict, path or None
         A calibration (:func:`rollerrig.calibrate.calibrate`'s ``calibration.json``, or its
         content): its values replace the rig's and their covariance enters the corrected CoA's
-        uncertainty.
+        uncertainty. It is checked as ``rollerrig analyze --calibration`` checks it, and must
+        have been made on ``rig``.
     validate : {"strict", "lenient"}
         Strict: any NaN sample or gap is an error; lenient: short NaN runs are interpolated and
         listed in the result's notes.
     run_study : bool
         Run the smoothing-filter study as well (a few seconds more).
+    allow_other_rig : bool
+        Use a ``calibration`` made on another rig than ``rig`` (a warning instead of the error).
 
     Returns
     -------
@@ -70,20 +121,27 @@ def analyze(
     >>> result = rollerrig.analyze("run.tdms", channel_map="map.toml")  # doctest: +SKIP
     >>> result.phases  # doctest: +SKIP
     """
+    from rollerrig._validation import ParameterError, did_you_mean
     from rollerrig.analysis.adhesion import analyze_test
+    from rollerrig.analysis.truth import check_truth, read_truth
     from rollerrig.recordings.readers import read_recording
 
-    if isinstance(recording, str | os.PathLike):
-        recording = read_recording(Path(recording), channel_map, validate=validate)
+    # What the command checks, the function checks: the same loaders, the same errors.
+    if validate not in _VALIDATE:
+        raise ParameterError(
+            f"validate must be one of {_VALIDATE}, got {validate!r}"
+            + did_you_mean(str(validate), _VALIDATE)
+        )
     rig = _rig(rig)
     if isinstance(truth, str | os.PathLike):
-        import xarray as xr
-
-        truth = xr.load_dataset(Path(truth), engine="h5netcdf")
-    if isinstance(calibration, str | os.PathLike):
-        import json
-
-        calibration = json.loads(Path(calibration).read_text(encoding="utf-8"))
+        truth = read_truth(Path(truth), source=f"truth {truth}")
+    elif truth is not None:
+        truth = check_truth(truth)
+    if calibration is not None:
+        calibration = _calibration(calibration, rig, allow_other_rig)
+    if isinstance(recording, str | os.PathLike):
+        recording = read_recording(Path(recording), channel_map, validate=validate)
+    recording = _recording(recording, "CSV, LVM, Parquet, TDMS, MF4, MAT")
     return analyze_test(recording, rig, truth=truth, run_study=run_study, calibration=calibration)
 
 
@@ -121,7 +179,7 @@ def explain_recording(recording, channel: str = "torque", rig=None, *, channel_m
 
     rig = _rig(rig)
     if not isinstance(recording, str | os.PathLike):
-        return explain(recording, channel, rig, **kwargs)
+        return explain(_recording(recording, "streamed from disk"), channel, rig, **kwargs)
     from rollerrig.recordings.source import open_recording
 
     with open_recording(Path(recording), channel_map) as source:

@@ -138,38 +138,11 @@ def derived(loaded, rig):
 
 
 def load_truth(path: Path):
-    """The twin's truth (NetCDF) of a synthetic recording, or one clear error."""
-    import errno
+    """The twin's truth (NetCDF) of a synthetic recording, or one clear error naming
+    ``--truth`` (:func:`rollerrig.analysis.truth.read_truth`)."""
+    from rollerrig.analysis.truth import read_truth
 
-    import h5netcdf  # noqa: F401  (missing: the boundary names the extra, not "not NetCDF")
-    import xarray as xr
-
-    if not path.is_file():
-        raise FileNotFoundError(errno.ENOENT, "truth file not found", str(path))
-    try:
-        ds = xr.load_dataset(path, engine="h5netcdf")
-    except Exception as exc:  # any failure of the NetCDF reader: not a usable truth file
-        raise UserError(
-            f"--truth {path}: not a NetCDF file ({type(exc).__name__}: "
-            f"{' '.join(str(exc).split())[:200]}); give the *-truth.nc written beside the "
-            "synthetic recording"
-        ) from None
-    ds.encoding.setdefault("source", str(path))
-    if "coa" not in ds:
-        raise UserError(
-            f"--truth {path}: a NetCDF file without the variable 'coa' (the true contact CoA); "
-            "give the *-truth.nc written beside the synthetic recording"
-        )
-    # An analysis' own NetCDF has a 'coa' too (the measured one): taken as the truth it gave
-    # "truth errors" of the analysis against itself. A truth needs only 'coa' (and 'time'), so
-    # that one written by another model serves; what marks an analysis is refused.
-    if "coa_corrected" in ds or "analysis_notes" in ds.attrs:
-        raise UserError(
-            f"--truth {path}: an analysis' output (its 'coa' is the measured CoA, not the "
-            "contact's); give the *-truth.nc written beside the synthetic recording, or a "
-            "NetCDF of the true contact CoA 'coa' over 'time'"
-        )
-    return ds
+    return read_truth(path, source=f"--truth {path}")
 
 
 def load_calibration(path: Path, rig=None) -> dict:

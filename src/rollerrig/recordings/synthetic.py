@@ -254,7 +254,20 @@ class DisturbanceModel:
 
 
 def _twin_provenance(ds: xr.Dataset) -> dict[str, Any]:
-    """The twin's provenance record (its ``provenance`` attribute, JSON) with the rig."""
+    """The twin's provenance record (its ``provenance`` attribute, JSON) with the rig; a
+    :class:`RecordingError` naming what is missing where ``ds`` is not a twin simulation."""
+    if not (hasattr(ds, "attrs") and hasattr(ds, "data_vars")):  # a name, a path, a Recording
+        raise ParameterError(
+            "ds must be a twin simulation, the xarray.Dataset of Simulation(...).run() or of "
+            f"its *-truth.nc file, got {type(ds).__name__}"
+        )
+    missing = [
+        name for name in ("time", "t56", "normal_load", "roller_speed") if name not in ds
+    ] + ([] if "wheel_disc_speed" in ds or "wheel_speed" in ds else ["wheel_disc_speed"])
+    if missing:
+        raise RecordingError(
+            f"the twin dataset lacks {missing} (a simulation of Simulation(...).run() has them)"
+        )
     raw = ds.attrs.get("provenance")
     if raw is None:
         raise RecordingError("the twin dataset has no 'provenance' attribute (rig parameters)")
