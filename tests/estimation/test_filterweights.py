@@ -6,9 +6,12 @@ MATLAB sgolayfilt) and rollerrig.measure.quantities.encoder_speed, applied to ra
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
+from rollerrig._validation import ParameterError
 from rollerrig.estimation.filterweights import (
     BandedFilter,
     after_encoder_speed,
@@ -68,3 +71,46 @@ def test_the_mean_of_a_derivative_carries_little_noise():
     )
     per_sample = banded.row_norm2()[500]
     assert banded.mean_norm2(200, 700) < 1e-3 * per_sample
+
+
+@pytest.mark.parametrize("window", [6, 8, 52])
+def test_savitzky_golay_matrix_refuses_an_even_window(window):
+    """A Savitzky-Golay window is centred on its sample: an even one broke deep in numpy
+    ("could not broadcast input array from shape (3,7) into shape (3,6)")."""
+    message = "window must be an odd integer >= 1 [samples] (centred on its sample)"
+    hint = f"; use {window + 1} or {window - 1}"
+    with pytest.raises(ParameterError, match=re.escape(f"{message}, got {window}{hint}")):
+        savitzky_golay_matrix(60, window, 3)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ((30, 0, 0), "window must be an odd integer >= 1 [samples] (centred on its sample), got 0"),
+        ((30, 7.5, 3), "window must be an odd integer >= 1 [samples]"),
+        ((30, 5, 5), "order must be an integer in [0, window) = [0, 5), got 5"),
+        ((30, 7, 2, 3), "deriv must be an integer in [0, order] = [0, 2], got 3"),
+        ((5, 7, 3), "size must be an integer >= window = 7 [samples]"),
+        ((30, 7, 3, 1, 0.0), "delta must be > 0 [s], got 0"),
+    ],
+)
+def test_savitzky_golay_matrix_refuses_what_the_filter_refuses(args, message):
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        savitzky_golay_matrix(*args)
+
+
+@pytest.mark.parametrize("size", [1, 0, -1, 2.5])
+def test_encoder_speed_matrix_needs_two_samples(size):
+    """Row 0 repeats row 1, the difference of samples 0 and 1: one sample raised IndexError
+    (as encoder_speed, which needs two samples)."""
+    message = "size must be an integer >= 2 [samples] (a speed is a difference of two counts)"
+    with pytest.raises(ParameterError, match=re.escape(f"{message}, got {size!r}")):
+        encoder_speed_matrix(size, 250.0, 1e4)
+    assert encoder_speed_matrix(2, 250.0, 1e4).shape == (2, 2)
+
+
+def test_encoder_speed_matrix_refuses_non_physical_rates():
+    with pytest.raises(ParameterError, match=re.escape("cpr must be > 0 [-], got 0")):
+        encoder_speed_matrix(3, 250.0, 0)
+    with pytest.raises(ParameterError, match=re.escape("fs must be finite [Hz], got nan")):
+        encoder_speed_matrix(3, np.nan, 1e4)

@@ -8,10 +8,12 @@ closed forms of the output PDF where one input dominates (rectangular: 95 % half
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
 
+from rollerrig._validation import ParameterError
 from rollerrig.estimation.montecarlo import (
     K95,
     jcgm101_validation,
@@ -117,3 +119,82 @@ def test_monte_carlo_is_reproducible_and_says_how_it_ran(closed_form_test):
     info = a.as_dict()
     assert info["adaptive"] is False and info["converged"] is None
     assert "converged_null_because" in info and "§7.2" in info["method"]
+
+
+@pytest.mark.parametrize(
+    ("u", "message"),
+    [
+        (math.nan, "u must be finite, got nan"),  # had given δ = 0 silently
+        (math.inf, "u must be finite, got inf"),
+        (-math.inf, "u must be finite, got -inf"),
+        (-0.01, "u must be >= 0, got -0.01"),
+        ([0.1, math.nan], "u must be finite, got [0.1 nan]"),
+    ],
+)
+def test_numerical_tolerance_refuses_non_finite_and_negative_u(u, message):
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        numerical_tolerance(u)
+
+
+@pytest.mark.parametrize(
+    ("ndig", "message"),
+    [
+        (0, "ndig must be a whole number >= 1 [significant digits], got 0"),  # δ of u·10
+        (-1, "ndig must be a whole number >= 1 [significant digits], got -1"),
+        (2.5, "ndig must be a whole number >= 1 [significant digits], got 2.5"),
+        (math.nan, "ndig must be a whole number >= 1 [significant digits], got nan"),
+    ],
+)
+def test_numerical_tolerance_needs_a_whole_number_of_digits(ndig, message):
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        numerical_tolerance(0.0123, ndig)
+
+
+@pytest.mark.parametrize(
+    ("index", "message"),
+    [
+        # -1 had silently drawn the last sample (Python's negative indexing)
+        ([-1], "index must be >= 0 [-] (sample numbers, not counted from the end), got "
+               "index[0] = -1"),
+        ([300, -5], "index must be >= 0 [-] (sample numbers, not counted from the end), got "
+                    "index[1] = -5"),
+        ([3000], "index must lie in [0, 3000) [-], got [3000.]"),
+        ([1.5], "index must be whole sample numbers [-], got index[0] = 1.5"),  # had taken 1
+        ([math.nan], "index must be finite [-], got [nan]"),
+        ([], "index must be one sample number or a 1-D array of at least one [-], got shape (0,)"),
+        ([[300, 700]], "index must be one sample number or a 1-D array of at least one [-], got "
+                       "shape (1, 2)"),
+        ([True, False], "index must be sample numbers [-], got a boolean mask; use "
+                        "np.flatnonzero(mask)"),  # had drawn samples 1 and 0
+    ],
+)  # fmt: skip
+def test_monte_carlo_refuses_indices_that_are_not_samples(closed_form_test, index, message):
+    rec, _, _ = closed_form_test
+    unc = _unc(rec)
+    assert unc.value.size == 3000
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        monte_carlo(unc, index, adaptive=False, max_runs=1)
+
+
+@pytest.mark.parametrize(
+    ("kw", "message"),
+    [
+        ({"block": 0}, "block must be a whole number >= 2 [draws], got 0"),
+        ({"block": 1}, "block must be a whole number >= 2"),
+        ({"block": 2.5}, "block must be a whole number >= 2"),
+        ({"max_runs": 0}, "max_runs must be a whole number >= 1 [runs], got 0"),
+        ({"max_runs": -3}, "max_runs must be a whole number >= 1 [runs], got -3"),
+        ({"max_runs": math.nan}, "max_runs must be a whole number >= 1 [runs], got nan"),
+        ({"ndig": 0}, "ndig must be a whole number >= 1 [significant digits], got 0"),
+        ({"ndig": math.nan}, "ndig must be a whole number >= 1 [significant digits], got nan"),
+        ({"seed": -1}, "seed must be a whole number >= 0 [-], got -1"),
+        ({"seed": 1.5}, "seed must be a whole number >= 0"),
+        ({"seed": None}, "seed must be a whole number >= 0 [-], got None"),
+        ({"adaptive": "no"}, "adaptive must be True or False, got 'no'"),
+    ],
+)  # fmt: skip
+def test_monte_carlo_refuses_non_integer_counts(closed_form_test, kw, message):
+    rec, _, _ = closed_form_test
+    unc = _unc(rec)
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        monte_carlo(unc, [500], **{"adaptive": False, "max_runs": 1, **kw})

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
@@ -108,3 +110,44 @@ def test_robust_methods_are_refused():
         list(filter_chunks([np.zeros(100)], "rloess", window=11))
     with pytest.raises(ParameterError, match="sample_rate"):
         list(filter_chunks([np.zeros(100)], "butterworth", cutoff=1.0))
+
+
+@pytest.mark.parametrize(
+    ("sample_rate", "cutoff", "tolerance", "needs"),
+    [
+        (19200.0, 1e-6, 1e-9, "1.19e+11"),  # had tried to allocate 890 GiB
+        (1e12, 1.2, 1e-9, "5.18e+12"),  # 38 TiB
+        (19200.0, 1e-300, 1e-9, "inf"),  # the pole rounds onto the unit circle: OverflowError
+    ],
+)
+def test_zero_phase_padding_refuses_an_impulse_response_beyond_the_memory_limit(
+    sample_rate, cutoff, tolerance, needs
+):
+    message = (
+        f"cutoff {cutoff:g} Hz is too low for zero-phase streaming at sample_rate "
+        f"{sample_rate:g} Hz (order 2, tolerance {tolerance:g}): the impulse response needs about "
+        f"{needs} samples to decay, more than MAX_PADDING = 16777216 samples (memory); decimate "
+        "first, or raise cutoff or tolerance"
+    )
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        zero_phase_padding(sample_rate, cutoff, 2, tolerance)
+    with pytest.raises(ParameterError, match="too low for zero-phase streaming"):
+        list(filter_chunks([np.zeros(10)], "butterworth", sample_rate=sample_rate, cutoff=cutoff))
+
+
+def test_zero_phase_padding_of_a_tiny_tolerance_is_finite():
+    """tol·1e-3 underflowed to 0 for the smallest tolerance: log(0) gave an OverflowError."""
+    assert zero_phase_padding(FS, 1.2, 2, 5e-324) < 100_000
+
+
+@pytest.mark.parametrize("order", [33, 100, 1000, 10**9, 0, 2.5, True])
+def test_zero_phase_padding_refuses_orders_scipy_cannot_design(order):
+    """Order 10**9 had asked 7.5 GiB, 1000 raised a LinAlgError, 56 at 0.01 Hz / 19.2 kHz
+    silently had DC gain 0."""
+    message = (
+        "order must be an integer in [1, 32] (scipy's Butterworth sections lose their gain at "
+        f"higher orders), got {order!r}"
+    )
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        zero_phase_padding(FS, 1.2, order)
+    assert zero_phase_padding(FS, 1.2, 32) > zero_phase_padding(FS, 1.2, 3)

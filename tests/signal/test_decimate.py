@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -203,6 +205,35 @@ def test_rational_ratio_and_output_instants():
 def test_invalid_requests_raise_named_errors(call, match):
     with pytest.raises(ParameterError, match=match):
         call()
+
+
+@pytest.mark.parametrize(
+    ("sample_rate", "target_rate", "kw", "taps"),
+    [
+        (19200.0, 0.1, {}, "8298069"),  # had asked 4 GiB for the response's FFT
+        (1e6, 1.0, {}, "43219101"),  # 32 GiB
+        (19200.0, 1e-9, {}, "about 8.3e+14"),  # 5.9 PiB
+        (1e300, 1e-300, {}, "over 1e308"),  # a factor of 1e600: OverflowError in the ratio
+        (19200.0, 1000.0, {"passband": 1 - 1e-15}, "811006333626836961"),  # 5.6 EiB
+    ],
+)
+def test_design_decimation_refuses_filters_beyond_the_tap_limit(sample_rate, target_rate, kw, taps):
+    band = kw.get("passband", 0.8)
+    message = (
+        f"target_rate {target_rate:g} Hz is too far below sample_rate {sample_rate:g} Hz for one "
+        f"anti-alias filter with attenuation_dB 70 and passband {band!r}: it needs {taps} taps, "
+        f"more than MAX_TAPS = {dec.MAX_TAPS} (memory); decimate in stages (to a rate between the "
+        "two first), or lower attenuation_dB or passband"
+    )
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        design_decimation(sample_rate, target_rate, **kw)
+
+
+def test_a_steep_decimation_is_done_in_stages_within_the_tap_limit():
+    """19.2 kHz to 0.1 Hz in one filter needs 8.3 M taps; 19.2 kHz -> 100 Hz -> 0.1 Hz fits."""
+    first, second = design_decimation(19200.0, 100.0), design_decimation(100.0, 0.1)
+    assert max(first.taps.size, second.taps.size) <= dec.MAX_TAPS
+    assert second.rate == pytest.approx(0.1)
 
 
 # --- recordings ---------------------------------------------------------------------------

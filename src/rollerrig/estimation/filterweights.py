@@ -16,6 +16,7 @@ import math
 import numpy as np
 from scipy.linalg import solve_triangular
 
+from rollerrig._validation import ParameterError, require_finite, require_positive
 from rollerrig.signal.smoothing import savgol_basis as _savgol_basis
 from rollerrig.signal.smoothing import savgol_kernel as _savgol_kernel
 
@@ -87,7 +88,16 @@ def savitzky_golay_matrix(size: int, window: int, order: int, deriv: int = 0, de
     >>> W = savitzky_golay_matrix(30, 7, 3)
     >>> bool(np.allclose(W @ x, savitzky_golay(x, 7, 3)))
     True
-    """
+
+    The window is centred on its sample, so its length is odd:
+
+    >>> savitzky_golay_matrix(30, 6, 3)
+    Traceback (most recent call last):
+    ...
+    rollerrig._validation.ParameterError: window must be an odd integer >= 1 [samples] (centred on its sample), got 6; use 7 or 5
+    """  # noqa: E501
+    window, order, deriv = _check_savgol(size, window, order, deriv)
+    delta = float(require_positive("delta", delta, "s"))
     h = window // 2
     q, r = _savgol_basis(window, order)
     kernel = _savgol_kernel(q, r, h, deriv, delta)[::-1]  # weights of x[i-h .. i+h]
@@ -107,6 +117,39 @@ def savitzky_golay_matrix(size: int, window: int, order: int, deriv: int = 0, de
         vander = coef * u[:, None] ** np.maximum(powers - deriv, 0)
         out[rows, cols] = vander @ fit / scale
     return out
+
+
+def _check_savgol(size, window, order, deriv) -> tuple[int, int, int]:
+    """``window, order, deriv`` of :func:`savitzky_golay_matrix` as ints, or ParameterError in
+    the words of :func:`rollerrig.signal.smoothing.savitzky_golay`."""
+    w, p, d, n = (
+        require_finite(name, value, unit)
+        for name, value, unit in (
+            ("window", window, "samples"),
+            ("order", order, ""),
+            ("deriv", deriv, ""),
+            ("size", size, "samples"),
+        )
+    )
+    if w.ndim or w % 1 or w < 1 or w % 2 == 0:
+        even = not (w.ndim or w % 1) and w >= 2
+        hint = f"; use {int(w) + 1} or {int(w) - 1}" if even else ""
+        raise ParameterError(
+            f"window must be an odd integer >= 1 [samples] (centred on its sample), "
+            f"got {window!r}{hint}"
+        )
+    w = int(w)
+    if p.ndim or p % 1 or not 0 <= p < w:
+        raise ParameterError(f"order must be an integer in [0, window) = [0, {w}), got {order!r}")
+    p = int(p)
+    if d.ndim or d % 1 or not 0 <= d <= p:
+        raise ParameterError(f"deriv must be an integer in [0, order] = [0, {p}], got {deriv!r}")
+    if n.ndim or n % 1 or n < w:
+        raise ParameterError(
+            f"size must be an integer >= window = {w} [samples] (the end rows fit a whole "
+            f"window), got {size!r}"
+        )
+    return w, p, int(d)
 
 
 def _falling(k, d: int):
@@ -134,6 +177,17 @@ def encoder_speed_matrix(size: int, fs: float, cpr: float) -> np.ndarray:
     >>> encoder_speed_matrix(3, 250.0, 10000)[1].round(6).tolist()
     [-0.15708, 0.15708, 0.0]
     """
+    n = require_finite("size", size, "samples")
+    if n.ndim or n % 1 or n < 2:
+        # row 0 repeats row 1 (the first difference needs a sample before it), as
+        # encoder_speed needs at least two samples
+        raise ParameterError(
+            f"size must be an integer >= 2 [samples] (a speed is a difference of two counts), "
+            f"got {size!r}"
+        )
+    fs = float(require_positive("fs", fs, "Hz"))
+    cpr = float(require_positive("cpr", cpr, "1"))
+    size = int(n)
     scale = 2.0 * math.pi / cpr * fs
     out = np.zeros((size, size))
     i = np.arange(1, size)

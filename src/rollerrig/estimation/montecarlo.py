@@ -17,6 +17,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from rollerrig._validation import (
+    ParameterError,
+    require_finite,
+    require_in_range,
+    require_nonnegative,
+    require_whole,
+)
+
 if TYPE_CHECKING:
     from rollerrig.estimation.coa_uncertainty import CoaUncertainty
 
@@ -38,14 +46,33 @@ _MC_MAX_RUNS = 100
 def numerical_tolerance(u, ndig: int = 2):
     """JCGM 101 §7.9.2: δ = ½·10^l for u written as c·10^l with ``ndig`` significant digits.
 
+    Parameters
+    ----------
+    u : array_like
+        Standard uncertainties [unit of the output], finite and >= 0 (δ of u = 0 is 0).
+    ndig : int
+        Significant digits of u, >= 1.
+
     Examples
     --------
     JCGM 101 §7.9.2: u = 0.0123 is 12 × 10⁻³ to two digits, so δ = ½ × 10⁻³.
 
     >>> float(numerical_tolerance(0.0123))
     0.0005
+    >>> numerical_tolerance(float("nan"))
+    Traceback (most recent call last):
+    ...
+    rollerrig._validation.ParameterError: u must be finite, got nan
     """
-    u = np.asarray(u, dtype=float)
+    return _tolerance(require_nonnegative("u", u), _check_ndig(ndig))
+
+
+def _check_ndig(ndig) -> int:
+    return require_whole("ndig", ndig, minimum=1, unit="significant digits")
+
+
+def _tolerance(u: np.ndarray, ndig: int):
+    """:func:`numerical_tolerance` of checked ``u`` (NaN where a draw's u is NaN)."""
     safe = np.where(u > 0, u, 1.0)
     exponent = np.floor(np.log10(safe)) - (ndig - 1)
     return np.where(u > 0, 0.5 * 10.0**exponent, 0.0)
@@ -212,11 +239,37 @@ def monte_carlo(
     (``ndig`` significant digits, §7.9.2) at every point, or ``max_runs``; ``adaptive=False``
     makes exactly ``max_runs`` runs.
 
+    Parameters
+    ----------
+    unc : CoaUncertainty
+        The law of propagation's result whose model is drawn.
+    index : int or array_like of int, shape (k,)
+        The samples [-]: at least one, each in ``[0, n)`` for the ``n`` samples of ``unc``
+        (a negative index is refused, not counted from the end).
+    seed : int
+        Seed of the random generator, >= 0 (recorded for reproducibility).
+    adaptive : bool
+        Adaptive (§7.9) or exactly ``max_runs`` runs (§7.2).
+    block : int
+        Draws per run M, >= 2 (u is a standard deviation of the draws).
+    max_runs : int
+        Most runs, >= 1.
+    ndig : int
+        Significant digits of u for the numerical tolerance, >= 1.
+
     Returns
     -------
     MonteCarloResult
     """
-    idx = np.atleast_1d(np.asarray(index, dtype=int))
+    idx = _check_index(index, np.size(unc.value))
+    # A float had failed deep in numpy, 0 runs in np.concatenate, a seed of -1 in SeedSequence;
+    # block >= 2: u is the standard deviation of a run's draws.
+    seed = require_whole("seed", seed, minimum=0)
+    block = require_whole("block", block, minimum=2, unit="draws")
+    max_runs = require_whole("max_runs", max_runs, minimum=1, unit="runs")
+    ndig = _check_ndig(ndig)
+    if not isinstance(adaptive, bool | np.bool_):
+        raise ParameterError(f"adaptive must be True or False, got {adaptive!r}")
     rng = np.random.default_rng(seed)
     runs: list[np.ndarray] = []
     pooled: list[np.ndarray] = []
@@ -231,7 +284,7 @@ def monte_carlo(
         if h >= 2:
             r = np.stack(runs)  # (h, 4, points)
             spread = 2.0 * r.std(axis=0, ddof=1) / math.sqrt(h)
-            delta = numerical_tolerance(r[:, 1].mean(axis=0), ndig)
+            delta = _tolerance(r[:, 1].mean(axis=0), ndig)
             if np.all(spread <= delta[None, :]):
                 converged = True
                 break
@@ -252,6 +305,39 @@ def monte_carlo(
     )
 
 
+def _check_index(index, n: int) -> np.ndarray:
+    """The samples ``index`` as a 1-D int array in ``[0, n)``, or ParameterError: a negative
+    index had silently picked a sample counted from the end, 1.5 sample 1, a mask the
+    samples 0 and 1."""
+    arr = np.asarray(index)
+    if arr.dtype == bool:
+        raise ParameterError(
+            "index must be sample numbers [-], got a boolean mask; use np.flatnonzero(mask)"
+        )
+    values = require_finite("index", arr, "-")
+    values = np.atleast_1d(values)
+    if values.ndim != 1 or values.size == 0:
+        raise ParameterError(
+            f"index must be one sample number or a 1-D array of at least one [-], got shape "
+            f"{np.shape(index)}"
+        )
+    negative = np.flatnonzero(values < 0)
+    if negative.size:
+        k = int(negative[0])
+        raise ParameterError(
+            f"index must be >= 0 [-] (sample numbers, not counted from the end), got "
+            f"index[{k}] = {values[k]:g}"
+        )
+    require_in_range("index", values, 0, n, "-", low_inclusive=True)
+    idx = values.astype(int)
+    if np.any(idx != values):
+        k = int(np.flatnonzero(idx != values)[0])
+        raise ParameterError(
+            f"index must be whole sample numbers [-], got index[{k}] = {values[k]:g}"
+        )
+    return idx
+
+
 def jcgm101_validation(unc: CoaUncertainty, mc: MonteCarloResult, ndig: int = 2) -> dict:
     """JCGM 101 §8: is the LPU interval y ± U validated by the Monte Carlo at each point?
 
@@ -268,7 +354,7 @@ def jcgm101_validation(unc: CoaUncertainty, mc: MonteCarloResult, ndig: int = 2)
     i = mc.index
     y, u = unc.value[i], unc.u[i]
     big_u = K95 * u  # the GUM interval for p = 0.95 (normal output)
-    delta = numerical_tolerance(u, ndig)
+    delta = _tolerance(u, _check_ndig(ndig))
     d_low = np.abs(y - big_u - mc.low)
     d_high = np.abs(y + big_u - mc.high)
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -35,6 +35,20 @@ from rollerrig.signal.smoothing import METHODS, butterworth_sos, method_reach, s
 
 __all__ = ["filter_array_chunked", "filter_chunks", "iter_chunks", "zero_phase_padding"]
 
+MAX_ORDER = 32
+"""Highest Butterworth order streamed zero-phase [-]. scipy's design loses the filter beyond
+it: measured with scipy 1.17, the sections of order 56 at cutoff/sample_rate = 5e-7 (0.01 Hz at
+19.2 kHz) have DC gain 0 instead of 1 (the gain, a product over 2·order poles, underflows), and
+an order 1000 ends in a LinAlgError; 32 keeps a margin and is 192 dB per octave (the rig's
+study compares orders 1-3)."""
+
+MAX_PADDING = 1 << 24
+"""Longest impulse response searched for the padding [samples]: 2^24 samples, 128 MiB per
+array (the search holds a few), and :func:`filter_chunks` then holds 2·P samples per channel
+besides each chunk. At 19.2 kHz it is 14.6 min, longer than any phase of a rig test; a
+filter that rings longer (a cut-off of 1 mHz at 19.2 kHz asked 90 M samples, 10^-4 Hz 9 GiB)
+belongs after decimation (:mod:`rollerrig.signal.decimate`)."""
+
 
 def zero_phase_padding(sample_rate: float, cutoff: float, order: int, tolerance: float = 1e-9):
     """Padding [samples] for overlap-save zero-phase Butterworth filtering.
@@ -65,14 +79,37 @@ def zero_phase_padding(sample_rate: float, cutoff: float, order: int, tolerance:
     >>> 3.0 < p / 19200.0 < 4.0
     True
     """
+    if (
+        isinstance(order, bool | np.bool_)
+        or not isinstance(order, int | np.integer | float | np.floating)
+        or not 1 <= order <= MAX_ORDER
+        or int(order) != order
+    ):  # before butter(), which allocates by the order (10**9: 7 GiB)
+        raise ParameterError(
+            f"order must be an integer in [1, {MAX_ORDER}] (scipy's Butterworth sections lose "
+            f"their gain at higher orders), got {order!r}"
+        )
     sos = butterworth_sos(sample_rate, cutoff, order)
     tol = float(require_positive("tolerance", tolerance))
     if tol >= 1.0:
         raise ParameterError(f"tolerance must lie in (0, 1), got {tol:g}")
     _, poles, _ = sps.sos2zpk(sos)
     radius = float(np.max(np.abs(poles)))
-    # length over which the slowest pole decays well below the tolerance
-    length = int(np.ceil(np.log(tol * 1e-3) / np.log(radius))) + 16 * int(order) + 64
+    # length over which the slowest pole decays well below the tolerance (log(tol) + log(1e-3):
+    # tol·1e-3 underflows to 0 for tol < 5e-321); a pole at or within rounding of the unit
+    # circle (cutoff/sample_rate ~ 1e-16) never decays: refused with the too-long ones
+    decay = np.log(radius) if radius < 1.0 else 0.0
+    estimate = (np.log(tol) + np.log(1e-3)) / decay if decay < 0.0 else np.inf
+    estimate += 16 * int(order) + 64
+    if not estimate <= MAX_PADDING:
+        fs, fc = float(sample_rate), float(cutoff)
+        raise ParameterError(
+            f"cutoff {fc:g} Hz is too low for zero-phase streaming at sample_rate {fs:g} Hz "
+            f"(order {int(order)}, tolerance {tol:g}): the impulse response needs about "
+            f"{estimate:.3g} samples to decay, more than MAX_PADDING = {MAX_PADDING} samples "
+            f"(memory); decimate first, or raise cutoff or tolerance"
+        )
+    length = int(np.ceil(estimate))
     impulse = np.zeros(length)
     impulse[0] = 1.0
     h = np.abs(sps.sosfilt(sos, impulse))

@@ -69,6 +69,14 @@ __all__ = [
 MAX_UP = 64
 """Largest up-sampling factor of a rational decimation [-] (filter length grows with it)."""
 
+MAX_TAPS = 1 << 20
+"""Most taps of one decimation filter [-]. The taps grow as ``A · sample_rate / (target_rate ·
+(1 − passband))`` (Kaiser: 19.2 kHz → 1 Hz at 70 dB takes 829 809); the design measures the
+response on an FFT grid of 64× the taps (2^26 points, 1.5 GiB at this limit), and a streamed
+pass holds 2·K of input per channel. Beyond it (19.2 kHz → 0.1 Hz asked 4 GiB, 1 MHz → 1 Hz
+32 GiB, a passband of 1 − 1e-15 5 EiB) the filter is decimated in stages instead: each stage's
+taps grow with its own factor only."""
+
 RATE_TOLERANCE = 1e-3
 """Largest relative difference between a requested and the achieved output rate [-]."""
 
@@ -183,6 +191,15 @@ def _response(taps: np.ndarray, up: int, f_pass: float, f_stop: float, fs_up: fl
     return ripple, float(-20.0 * np.log10(max(stop, 1e-300)))
 
 
+def _too_long(fs: float, target: float, att: float, band: float, taps: str) -> ParameterError:
+    return ParameterError(
+        f"target_rate {target:g} Hz is too far below sample_rate {fs:g} Hz for one anti-alias "
+        f"filter with attenuation_dB {att:g} and passband {band!r}: it needs {taps or 'over 1e308'}"
+        f" taps, more than MAX_TAPS = {MAX_TAPS} (memory); decimate in stages (to a rate between "
+        f"the two first), or lower attenuation_dB or passband"
+    )
+
+
 def design_decimation(
     sample_rate: float,
     target_rate: float,
@@ -229,6 +246,12 @@ def design_decimation(
     band = float(passband)
     if not 0.0 < band < 1.0:
         raise ParameterError(f"passband must lie in (0, 1) of the new Nyquist, got {passband!r}")
+    # A factor beyond MAX_TAPS needs more taps than that whatever the design (Kaiser: about
+    # 4.5 taps per unit of the factor at the least); checked before the ratio, which a factor
+    # of 1e600 (1e300 Hz to 1e-300 Hz) overflows.
+    if not fs / target <= MAX_TAPS:
+        kaiser = (att - 7.95) / (2.285 * np.pi * (1.0 - band)) * (fs / target)
+        raise _too_long(fs, target, att, band, f"about {kaiser:.2g}" if kaiser < 1e308 else "")
     up, down = _ratio(fs, target)
     if abs(fs * up / (down * target) - 1.0) <= 1e-9:
         fs = target * down / up  # a rate from float time stamps: take the exact ratio
@@ -238,6 +261,8 @@ def design_decimation(
     f_pass = band * f_stop
     numtaps, beta = sps.kaiserord(att, (f_stop - f_pass) / (fs_up / 2.0))
     half = max(int(np.ceil((numtaps - 1) / (2 * up))), 1)
+    if 2 * half * up + 1 > MAX_TAPS:  # before firwin() allocates them
+        raise _too_long(fs, target, att, band, f"{2 * half * up + 1}")
     taps = sps.firwin(2 * half * up + 1, 0.5 * (f_pass + f_stop), window=("kaiser", beta), fs=fs_up)
     for phase in range(up):  # every polyphase branch passes a constant exactly
         taps[phase::up] /= taps[phase::up].sum()

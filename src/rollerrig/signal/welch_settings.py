@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 from scipy import signal as sps
 
-from rollerrig._validation import ParameterError
+from rollerrig._validation import ParameterError, require_finite, require_positive
 
 __all__ = ["MAX_MAGNITUDE", "enbw"]
 
@@ -59,6 +59,37 @@ def _window(window: str, nperseg: int) -> np.ndarray:
         raise ParameterError(f"window {window!r} is not a window scipy knows: {exc}") from exc
 
 
-def enbw(window: np.ndarray, sample_rate: float) -> float:
-    """Equivalent noise bandwidth ``f_s Σw² / (Σw)²`` of a window [Hz]."""
-    return float(sample_rate) * float(np.sum(window**2)) / float(np.sum(window)) ** 2
+def enbw(window, sample_rate: float) -> float:
+    """Equivalent noise bandwidth ``f_s Σw² / (Σw)²`` of a window [Hz].
+
+    Parameters
+    ----------
+    window : array_like, shape (n,)
+        Window weights [-], finite, with a sum that is not zero.
+    sample_rate : float
+        Sampling rate [Hz], > 0.
+
+    Examples
+    --------
+    >>> enbw(np.ones(8), 100.0)  # rectangular: one bin, f_s / n
+    12.5
+    >>> enbw(np.zeros(8), 100.0)
+    Traceback (most recent call last):
+    ...
+    rollerrig._validation.ParameterError: window must not sum to zero [-] (the equivalent noise bandwidth f_s Σw²/(Σw)² divides by it), got Σw = 0 over 8 samples
+    """  # noqa: E501
+    w = require_finite("window", window, "1")
+    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
+    if w.ndim != 1 or w.size == 0:
+        raise ParameterError(
+            f"window must be a 1-D array of at least one weight [-], got shape {w.shape}"
+        )
+    total = float(np.sum(w))
+    # A sum within the rounding of summing n terms ((n-1)·eps·Σ|w|) is zero: the quotient of a
+    # window like [1, -1] (or one antisymmetric to rounding) is rounding noise, not a bandwidth.
+    if abs(total) <= w.size * np.finfo(float).eps * float(np.sum(np.abs(w))):
+        raise ParameterError(
+            "window must not sum to zero [-] (the equivalent noise bandwidth f_s Σw²/(Σw)² "
+            f"divides by it), got Σw = {total:g} over {w.size} samples"
+        )
+    return fs * float(np.sum(w**2)) / total**2
