@@ -197,3 +197,19 @@ def test_injected_line_is_disclosed_with_frequency_and_amplitude():
     assert (
         rec0.metadata["injected_lines"] == [] and json.loads(truth0.attrs["injected_lines"]) == []
     )
+
+
+def test_what_is_not_a_twin_simulation_is_named():
+    # A protocol's name had raised AttributeError: 'str' object has no attribute 'attrs'.
+    import re
+
+    from rollerrig._validation import ParameterError
+    from rollerrig.recordings.recording import RecordingError
+
+    with pytest.raises(ParameterError, match=r"ds must be a twin simulation, .* got str"):
+        synthetic_recording("seed-30kmh-dry")
+    partial = xr.Dataset({"t56": ("time", [0.0, 1.0])}, coords={"time": [0.0, 0.004]})
+    with pytest.raises(RecordingError, match=re.escape(
+        "the twin dataset lacks ['normal_load', 'roller_speed', 'wheel_disc_speed']"
+    )):  # fmt: skip
+        synthetic_recording(partial)
