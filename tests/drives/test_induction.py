@@ -13,6 +13,7 @@ References used below:
 from __future__ import annotations
 
 import inspect
+import re
 import warnings
 
 import numba
@@ -356,3 +357,74 @@ def test_delta_resistance_is_three_times_the_equivalent_star():
     m_star = inverse_gamma_from_nameplate(stator_resistance=0.085 / 3.0, connection="star")
     assert m_delta.stator_resistance == pytest.approx(m_star.stator_resistance, rel=1e-15)
     assert m_delta.rotor_resistance == pytest.approx(m_star.rotor_resistance, rel=1e-9)
+
+
+# --------------------------------------------------------------------------------------------
+# Bad input at the boundary (probe of the public functions)
+# --------------------------------------------------------------------------------------------
+_CIRCUIT = dict(
+    voltage=380.0,
+    resistance=0.1,
+    reactance_th=0.72,
+    rotor_resistance=0.13,
+    rotor_reactance=0.72,
+    rated_frequency=50.0,
+)
+
+
+@pytest.mark.parametrize("pole_pairs", [2.5, True, "5", 0, -2])
+def test_circuit_refuses_pole_pairs_that_are_not_a_count(pole_pairs):
+    """2.5 pole pairs gave a wrong synchronous speed silently; "5" failed later in torque()."""
+    got = repr(pole_pairs)
+    with pytest.raises(
+        ParameterError, match=re.escape(f"pole_pairs must be a whole number >= 1 [-], got {got}")
+    ):
+        TheveninCircuit(**_CIRCUIT, pole_pairs=pole_pairs)
+
+
+def test_circuit_stores_numbers_and_refuses_text_or_arrays():
+    c = TheveninCircuit(**_CIRCUIT, pole_pairs=5.0)
+    assert type(c.pole_pairs) is int and type(c.voltage) is float
+    with pytest.raises(ParameterError, match=re.escape("voltage must be a number [V], got '380'")):
+        TheveninCircuit(**{**_CIRCUIT, "voltage": "380"}, pole_pairs=5)
+    with pytest.raises(
+        ParameterError, match=re.escape("voltage must be a single number [V], got shape (2,)")
+    ):
+        TheveninCircuit(**{**_CIRCUIT, "voltage": [380.0, 400.0]}, pole_pairs=5)
+
+
+@pytest.mark.parametrize("func", [thevenin_from_nameplate, linear_slope_from_nameplate])
+def test_nameplate_refuses_fractional_pole_pairs(func):
+    """pole_pairs=2.5 (or True) gave a circuit, and a slope, for a machine that cannot exist."""
+    with pytest.raises(
+        ParameterError, match=re.escape("pole_pairs must be a whole number >= 1 [-], got 2.5")
+    ):
+        func(pole_pairs=2.5)
+    with pytest.raises(ParameterError, match=re.escape("got True")):
+        func(pole_pairs=True)
+
+
+def test_nameplate_voltage_beyond_float_range_is_a_parameter_error():
+    """1e200 V overflowed in v_th**2: a bare OverflowError."""
+    with pytest.raises(
+        ParameterError,
+        match=re.escape("rated_line_voltage = 1e+200 V with rated_torque = 891 N.m gives"),
+    ):
+        thevenin_from_nameplate(rated_line_voltage=1e200)
+
+
+def test_circuit_torque_names_mismatched_speed_and_frequency():
+    with pytest.raises(
+        ParameterError,
+        match=re.escape("omega_rotor (shape (3,)) and supply_frequency (shape (2,)) must have"),
+    ):
+        AM.torque([60.0, 61.0, 62.0], [50.0, 50.0])
+
+
+def test_discrete_lag_filter_refuses_a_2d_series():
+    """A (2, 2) array was raveled into one series of four samples, rows run on."""
+    with pytest.raises(
+        ParameterError,
+        match=re.escape("torque_target must be a 1-D series of samples [N.m], got shape (2, 2)"),
+    ):
+        discrete_lag_filter([[1.0, 2.0], [3.0, 4.0]], 1e3)

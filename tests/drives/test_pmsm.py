@@ -11,6 +11,8 @@ References used below:
 
 from __future__ import annotations
 
+import re
+
 import numba
 import numpy as np
 import pytest
@@ -331,3 +333,12 @@ def test_foc_kernel_elementwise_on_arrays():
         args[6] = w
         scalar = pmsm_foc_voltages(*args)
         np.testing.assert_allclose([v[k] for v in vec], scalar, rtol=1e-15)
+
+
+def test_pi_gains_beyond_float_range_are_refused():
+    """L = 1e300 H at 1e300 rad/s returned kp = inf silently."""
+    with pytest.raises(
+        ParameterError,
+        match=re.escape("inductance = 1e+300 H and resistance = 0.04 ohm at bandwidth = 1e+300"),
+    ):
+        pi_gains_for_bandwidth(1e300, 0.04, 1e300)

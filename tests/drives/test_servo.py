@@ -12,6 +12,8 @@ References used below:
 
 from __future__ import annotations
 
+import re
+
 import numba
 import numpy as np
 import pytest
@@ -146,3 +148,12 @@ def test_kernel_elementwise_and_back_calculation():
     np.testing.assert_allclose(cmd, [KP * 0.5, KP * 0.5, -T_LIM])
     assert dint[0] == 0.5  # unsaturated: plain integral of the error
     assert dint[2] == pytest.approx(-19.5 + (-T_LIM - KP * -19.5) / KP)
+
+
+def test_servo_gains_beyond_float_range_are_a_parameter_error():
+    """bandwidth**2 overflowed: a bare OverflowError."""
+    with pytest.raises(
+        ParameterError,
+        match=re.escape("inertia = 1e+300 kg.m^2 at bandwidth = 1e+300 rad/s gives gains beyond"),
+    ):
+        servo_gains_for_bandwidth(1e300, 1e300)

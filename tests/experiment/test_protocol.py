@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import re
 
 import numpy as np
 import pytest
@@ -155,3 +156,66 @@ def test_old_import_paths_still_work():
         assert getattr(module, name) is getattr(experiment, name)
     with pytest.raises(AttributeError, match="no attribute 'nothing'"):
         module.nothing  # noqa: B018
+
+
+# --------------------------------------------------------------------------------------------
+# Bad input at the boundary
+# --------------------------------------------------------------------------------------------
+def _pulse():
+    return Protocol.from_steps(
+        "pulse",
+        [Hold(1.0), RampTorque(600.0, 2.0), experiment.SetFriction("wet"), Hold(1.0)],
+        normal_load=4300.0,
+        roller_speed=5.0,
+    )
+
+
+@pytest.mark.parametrize(
+    "method", ["torque_at", "roller_speed_at", "normal_load_at", "friction_at"]
+)
+@pytest.mark.parametrize("t", [np.nan, None, [0.0, np.nan]])
+def test_evaluation_at_nan_time_is_refused(method, t):
+    """NaN (or None) time gave NaN inputs, and friction_at gave the last condition, 'wet'."""
+    with pytest.raises(ParameterError, match=re.escape("t must be finite [s], got")):
+        getattr(_pulse(), method)(t)
+
+
+def test_evaluation_at_text_time_is_a_parameter_error():
+    with pytest.raises(ParameterError, match=re.escape("t must be a number, got 'a'")):
+        _pulse().torque_at("a")
+
+
+def _arrays(**changes):
+    base = dict(
+        name="a",
+        description="",
+        source="",
+        duration=2.0,
+        torque_time=[0.0, 1.0],
+        torque_request=[0.0, 1.0],
+        speed_time=[0.0, 2.0],
+        roller_speed=[1.0, 1.0],
+        load_time=[0.0, 2.0],
+        normal_load=[1.0, 1.0],
+        friction_time=[0.0],
+        friction_condition=("dry",),
+    )
+    return Protocol(**{**base, **changes})
+
+
+@pytest.mark.parametrize("duration", [None, "2", [2.0]])
+def test_protocol_duration_must_be_a_number(duration):
+    """None and [2.0] were bare TypeErrors; "2" was taken as 2 s."""
+    with pytest.raises(
+        ProtocolError, match=re.escape(f"duration must be a number [s], got {duration!r}")
+    ):
+        _arrays(duration=duration)
+
+
+def test_protocol_friction_condition_must_be_a_sequence_of_names():
+    """ "dry" was split into three conditions 'd', 'r', 'y' (an error only by luck of length)."""
+    with pytest.raises(
+        ProtocolError,
+        match=re.escape("friction_condition must be a sequence of names, one per friction_time"),
+    ):
+        _arrays(friction_condition="dry", friction_time=[0.0, 0.5, 1.0])

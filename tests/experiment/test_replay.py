@@ -7,6 +7,7 @@ Units in the headers are read by the one unit registry (rollerrig.units): 1 ms =
 from __future__ import annotations
 
 import hashlib
+import re
 from pathlib import Path
 
 import numpy as np
@@ -142,3 +143,34 @@ def test_csv_argument_errors(tmp_path):
         protocol_from_csv(tmp_path / "missing.csv", 4300.0, 8.0)
     with pytest.raises(ProtocolError, match=r"Protocol\.replay\(path, normal_load="):
         load_protocol(f)
+
+
+def _two_samples(tmp_path):
+    path = tmp_path / "trace.csv"
+    path.write_text("time [s],torque [N.m]\n0,1\n1,2\n")
+    return path
+
+
+def test_unknown_option_of_protocol_from_csv_is_refused(tmp_path):
+    """A misspelt option (descripton=...) was dropped silently."""
+    with pytest.raises(
+        ProtocolError,
+        match=re.escape(
+            "protocol_from_csv: unknown option 'descripton' (did you mean 'description'?)"
+        ),
+    ):
+        protocol_from_csv(_two_samples(tmp_path), 4300.0, 5.0, descripton="x")
+
+
+def test_replay_refuses_a_path_or_column_that_is_not_text(tmp_path):
+    """None as the file was a bare TypeError, time_column=3 a bare AttributeError."""
+    with pytest.raises(
+        ProtocolError,
+        match=re.escape("Protocol.replay: the CSV file must be a path (str or Path), got None"),
+    ):
+        Protocol.replay(None, normal_load=4300.0, roller_speed=5.0)
+    with pytest.raises(
+        ProtocolError,
+        match=re.escape("Protocol.replay: time_column must be a column header (str), got 3"),
+    ):
+        Protocol.replay(_two_samples(tmp_path), normal_load=4300.0, roller_speed=5.0, time_column=3)

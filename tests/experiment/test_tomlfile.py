@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -568,3 +569,36 @@ def test_to_toml_escapes_text_and_keeps_units():
     assert back.to_steps() == p.to_steps()
     for name in ("torque_time", "torque_request", "roller_speed", "normal_load", "friction_time"):
         np.testing.assert_array_equal(getattr(back, name), getattr(p, name))
+
+
+@pytest.mark.parametrize("value", [None, 123, ["seed-30kmh-dry"]])
+def test_load_protocol_refuses_what_is_not_a_name_or_path(value):
+    """A bare TypeError from pathlib before."""
+    with pytest.raises(
+        ProtocolError,
+        match=re.escape(
+            "path_or_name must be a bundled protocol's name or a file path (str or Path), got "
+            f"{value!r}"
+        ),
+    ):
+        load_protocol(value)
+
+
+def test_protocol_from_toml_string_refuses_what_is_not_text():
+    with pytest.raises(
+        ProtocolError,
+        match=re.escape("<string>: text must be the TOML text (a str), got NoneType"),
+    ):
+        protocol_from_toml_string(None)
+
+
+@pytest.mark.parametrize("value", [None, "seed-30kmh-dry"])
+def test_protocol_to_toml_refuses_what_is_not_a_protocol(value):
+    """A bare AttributeError ('NoneType' object has no attribute 'to_steps') before."""
+    from rollerrig.experiment import protocol_to_toml
+
+    with pytest.raises(
+        ProtocolError,
+        match=re.escape(f"protocol must be a Protocol, got {type(value).__name__}"),
+    ):
+        protocol_to_toml(value)

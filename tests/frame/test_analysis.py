@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
@@ -342,3 +343,42 @@ def test_no_traction_pattern_is_one_clear_error(make_frame):
     r = analyze_frame(frame, 1e3, 0.0, n_modes=2)
     with pytest.raises(FrameFileError, match="every load point's traction is"):
         contact_dof(r)
+
+
+@pytest.mark.parametrize(
+    ("kw", "message"),
+    [
+        ({"n_modes": 0}, "n_modes must be a whole number >= 1 [-], got 0"),
+        ({"n_modes": -3}, "n_modes must be a whole number >= 1 [-], got -3"),
+        ({"n_modes": 2.5}, "n_modes must be a whole number >= 1 [-], got 2.5"),
+        ({"n_modes": "3"}, "n_modes must be a whole number >= 1 [-], got '3'"),
+        ({"n_modes": math.nan}, "n_modes must be a whole number >= 1 [-], got nan"),
+        ({"elements_per_member": 2.5}, "elements_per_member must be a whole number in [1, 64]"),
+        ({"elements_per_member": True}, "elements_per_member must be in [1, 64], got True"),
+        ({"elements_per_member": None}, "elements_per_member must be in [1, 64], got None"),
+        ({"normal_load": "a"}, "normal_load must be a single number [N], got 'a'"),
+        ({"normal_load": None}, "normal_load must be finite [N], got nan"),
+        ({"traction_force": [1.0, 2.0]}, "traction_force must be a single number [N], got [1.0"),
+    ],
+)
+def test_counts_and_loads_of_wrong_kind_are_refused(kw, message):
+    """n_modes 0, -3, 2.5 and "3" and elements_per_member 2.5 and True ran an analysis
+    silently (0 modes became 1); NaN, None, text and lists were bare exceptions."""
+    from rollerrig.frame import default_frame
+
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        analyze_frame(default_frame(), **kw)
+
+
+def test_displacement_of_an_unknown_node_names_the_nodes():
+    """A bare ValueError "'top_rear_lft' is not in list" before."""
+    from rollerrig.frame import default_frame
+
+    r = analyze_frame(default_frame(), n_modes=1)
+    with pytest.raises(
+        ParameterError,
+        match=re.escape(
+            "node 'top_rear_lft' is not a node of the frame (did you mean 'top_rear_left'?)"
+        ),
+    ):
+        r.displacement("top_rear_lft")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import re
 import tempfile
 import tomllib
 from importlib import resources
@@ -540,3 +541,14 @@ def test_any_text_is_a_frame_or_a_frame_file_error(start, length, text):
             load_frame(path)
         except FrameFileError as exc:
             assert exc.problems and all(p.startswith(f"{path}: ") for p in exc.problems)
+
+
+@pytest.mark.parametrize("value", [None, 3])
+def test_load_frame_refuses_what_is_not_a_path(value):
+    """A bare TypeError from pathlib before."""
+    from rollerrig.frame import FrameFileError, load_frame
+
+    with pytest.raises(
+        FrameFileError, match=re.escape(f"{value!r}: not a file path (str or Path)")
+    ):
+        load_frame(value)

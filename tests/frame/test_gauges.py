@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -50,3 +52,34 @@ def test_a_missing_channel_is_named(result):
         gauge_signals({"normal_load": np.zeros(3)}, gauge_influence(result))
     with pytest.raises(ParameterError, match="traction_force must be finite"):
         gauge_influence(result).stresses(np.zeros(2), np.array([0.0, np.nan]))
+
+
+def test_mismatched_force_lengths_name_both():
+    """Three normal loads and two traction forces: numpy's bare broadcast ValueError before."""
+    influence = gauge_influence(analyze_frame(default_frame(), n_modes=1))
+    with pytest.raises(
+        ParameterError,
+        match=re.escape("normal_load (shape (3,)) and traction_force (shape (2,)) must have"),
+    ):
+        influence.stresses([1.0, 2.0, 3.0], [1.0, 2.0])
+    source = {"normal_load": [1.0, 2.0], "contact_force": [1.0, 2.0, 3.0]}
+    with pytest.raises(
+        ParameterError,
+        match=re.escape(
+            "channel 'normal_load' (shape (2,)) and channel 'contact_force' (shape (3,)) must"
+        ),
+    ):
+        gauge_signals(source, influence)
+
+
+def test_gauge_signals_refuses_text_channels_and_a_source_that_is_no_mapping():
+    influence = gauge_influence(analyze_frame(default_frame(), n_modes=1))
+    with pytest.raises(
+        ParameterError, match=re.escape("channel 'normal_load' must be a number, got")
+    ):
+        gauge_signals({"normal_load": ["a"], "contact_force": [1.0]}, influence)
+    with pytest.raises(
+        ParameterError,
+        match=re.escape("source must be a mapping of channel name -> array (the twin's results"),
+    ):
+        gauge_signals(None, influence)

@@ -38,16 +38,19 @@ IEEE Std 112-2017, *Test Procedure for Polyphase Induction Motors and Generators
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from rollerrig._validation import (
     ParameterError,
+    require_broadcastable,
     require_finite,
     require_in_range,
     require_nonnegative,
     require_positive,
+    require_whole,
 )
 
 __all__ = [
@@ -325,13 +328,25 @@ class TheveninCircuit:
     pole_pairs: int
 
     def __post_init__(self):
-        require_positive("voltage", self.voltage, "V")
-        require_nonnegative("resistance", self.resistance, "ohm")
-        require_nonnegative("reactance_th", self.reactance_th, "ohm")
-        require_positive("rotor_resistance", self.rotor_resistance, "ohm")
-        require_nonnegative("rotor_reactance", self.rotor_reactance, "ohm")
-        require_positive("rated_frequency", self.rated_frequency, "Hz")
-        require_positive("pole_pairs", self.pole_pairs, "-")
+        for name, check, unit in (
+            ("voltage", require_positive, "V"),
+            ("resistance", require_nonnegative, "ohm"),
+            ("reactance_th", require_nonnegative, "ohm"),
+            ("rotor_resistance", require_positive, "ohm"),
+            ("rotor_reactance", require_nonnegative, "ohm"),
+            ("rated_frequency", require_positive, "Hz"),
+        ):
+            value = getattr(self, name)
+            if isinstance(value, str | bytes | bool):  # "380" would stay text, True one volt
+                raise ParameterError(f"{name} must be a number [{unit}], got {value!r}")
+            arr = check(name, value, unit)
+            if arr.ndim != 0:
+                raise ParameterError(
+                    f"{name} must be a single number [{unit}], got shape {arr.shape}"
+                )
+            object.__setattr__(self, name, float(arr))
+        # A count: 2.5 pole pairs, True or "5" would give a wrong synchronous speed.
+        object.__setattr__(self, "pole_pairs", require_whole("pole_pairs", self.pole_pairs, 1))
 
     @property
     def reactance(self) -> float:
@@ -358,6 +373,8 @@ class TheveninCircuit:
         f = self.rated_frequency if supply_frequency is None else supply_frequency
         f = require_finite("supply_frequency", f, "Hz")
         omega_rotor = require_finite("omega_rotor", omega_rotor, "rad/s")
+        if f.ndim and omega_rotor.ndim and f.shape != omega_rotor.shape:
+            omega_rotor, f = require_broadcastable(omega_rotor=omega_rotor, supply_frequency=f)
         boost = float(require_nonnegative("boost_voltage", boost_voltage, "V"))
         v = vf_voltage(f, self.voltage, self.rated_frequency, boost)
         return induction_torque(
@@ -494,7 +511,7 @@ def thevenin_from_nameplate(
     rated_frequency = float(require_positive("rated_frequency", rated_frequency, "Hz"))
     rated_torque = float(require_positive("rated_torque", rated_torque, "N.m"))
     line_voltage = float(require_positive("rated_line_voltage", rated_line_voltage, "V"))
-    pole_pairs_f = float(require_positive("pole_pairs", pole_pairs, "-"))
+    pole_pairs = require_whole("pole_pairs", pole_pairs, 1)
     ratio = float(
         require_in_range("breakdown_torque_ratio", breakdown_torque_ratio, 1.0, np.inf, "-")
     )
@@ -517,10 +534,15 @@ def thevenin_from_nameplate(
     else:
         raise ParameterError(f"connection must be 'delta' or 'star', got {connection!r}")
 
-    omega_sync, omega_rated = _rated_point(rated_power, rated_torque, rated_frequency, pole_pairs_f)
+    omega_sync, omega_rated = _rated_point(rated_power, rated_torque, rated_frequency, pole_pairs)
     slip = (omega_sync - omega_rated) / omega_sync
     t_max = ratio * rated_torque
-    z = 3.0 * v_th**2 / (2.0 * omega_sync * t_max) - r_th
+    z = 3.0 * (v_th * v_th) / (2.0 * omega_sync * t_max) - r_th  # v_th**2 raises on overflow
+    if not math.isfinite(z):
+        raise ParameterError(
+            f"rated_line_voltage = {line_voltage:g} V with rated_torque = {rated_torque:g} N.m "
+            "gives a leakage impedance beyond the float range; check the units of the nameplate"
+        )
     if not z > r_th:
         raise ParameterError(
             f"stator_resistance = {r_th:g} ohm is too large for a breakdown torque of {t_max:g} "
@@ -540,7 +562,7 @@ def thevenin_from_nameplate(
         rotor_resistance=float(r2),
         rotor_reactance=float((1.0 - fraction) * x_total),
         rated_frequency=rated_frequency,
-        pole_pairs=int(pole_pairs) if float(pole_pairs).is_integer() else pole_pairs,
+        pole_pairs=pole_pairs,
     )
 
 
@@ -580,7 +602,7 @@ def linear_slope_from_nameplate(
     rated_power = float(require_positive("rated_power", rated_power, "W"))
     rated_frequency = float(require_positive("rated_frequency", rated_frequency, "Hz"))
     rated_torque = float(require_positive("rated_torque", rated_torque, "N.m"))
-    pole_pairs = float(require_positive("pole_pairs", pole_pairs, "-"))
+    pole_pairs = require_whole("pole_pairs", pole_pairs, 1)
     omega_sync, omega_rated = _rated_point(rated_power, rated_torque, rated_frequency, pole_pairs)
     return rated_torque / (omega_sync - omega_rated)
 
@@ -685,7 +707,12 @@ def discrete_lag_filter(torque_target, c_lp, step=SEED_LAG_STEP, initial=0.0):
     >>> discrete_lag_filter([1.0, 1.0], 5000.0).tolist()
     [0.5, 0.75]
     """
-    u = require_finite("torque_target", torque_target, "N.m").ravel()
+    u = require_finite("torque_target", torque_target, "N.m")
+    if u.ndim > 1:  # raveling would run the rows on as one series
+        raise ParameterError(
+            f"torque_target must be a 1-D series of samples [N.m], got shape {u.shape}"
+        )
+    u = u.ravel()
     step = float(require_positive("step", step, "s"))
     c = float(require_positive("c_lp", c_lp, "1/s"))
     w = float(require_in_range("c_lp * step", c * step, 0.0, 1.0, "-", high_inclusive=True))

@@ -40,9 +40,11 @@ back-calculation).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from rollerrig._validation import require_nonnegative, require_positive
+from rollerrig._validation import ParameterError, require_nonnegative, require_positive
 
 __all__ = [
     "max_phase_voltage",
@@ -414,4 +416,10 @@ def pi_gains_for_bandwidth(inductance, resistance, bandwidth):
     inductance = float(require_positive("inductance", inductance, "H"))
     resistance = float(require_nonnegative("resistance", resistance, "ohm"))
     bandwidth = float(require_positive("bandwidth", bandwidth, "rad/s"))
-    return inductance * bandwidth, resistance * bandwidth
+    kp, ki = inductance * bandwidth, resistance * bandwidth
+    if not (math.isfinite(kp) and math.isfinite(ki)):
+        raise ParameterError(
+            f"inductance = {inductance:g} H and resistance = {resistance:g} ohm at bandwidth = "
+            f"{bandwidth:g} rad/s give gains beyond the float range; check their units"
+        )
+    return kp, ki

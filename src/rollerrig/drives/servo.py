@@ -23,9 +23,11 @@ velocity loop on a rigid inertia).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from rollerrig._validation import require_positive
+from rollerrig._validation import ParameterError, require_positive
 
 __all__ = [
     "servo_gains_for_bandwidth",
@@ -119,4 +121,11 @@ def servo_gains_for_bandwidth(inertia, bandwidth, damping_ratio=1.0):
     inertia = float(require_positive("inertia", inertia, "kg.m^2"))
     bandwidth = float(require_positive("bandwidth", bandwidth, "rad/s"))
     damping_ratio = float(require_positive("damping_ratio", damping_ratio, "-"))
-    return 2.0 * damping_ratio * bandwidth * inertia, bandwidth**2 * inertia
+    # bandwidth * bandwidth, not bandwidth**2: a float power raises OverflowError past 1e308.
+    kp, ki = 2.0 * damping_ratio * bandwidth * inertia, bandwidth * bandwidth * inertia
+    if not (math.isfinite(kp) and math.isfinite(ki)):
+        raise ParameterError(
+            f"inertia = {inertia:g} kg.m^2 at bandwidth = {bandwidth:g} rad/s gives gains "
+            "beyond the float range; check their units"
+        )
+    return kp, ki

@@ -35,7 +35,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from rollerrig._validation import ParameterError
+from rollerrig._validation import ParameterError, require_finite
 
 # The convenience constructors' builders, by name, registered by the modules that define them
 # (experiment.steps, .replay, .tomlfile). Those import Protocol, so Protocol cannot import them
@@ -176,7 +176,12 @@ class Protocol:
     steps: tuple[Any, ...] = ()  # the Step objects of experiment.steps
 
     def __post_init__(self) -> None:
-        duration = float(self.duration)
+        try:  # text ("2") and True are no duration; None and a list are not numbers
+            if isinstance(self.duration, str | bytes | bool | np.bool_):
+                raise TypeError
+            duration = float(self.duration)
+        except (TypeError, ValueError):
+            raise ProtocolError(f"duration must be a number [s], got {self.duration!r}") from None
         if not (math.isfinite(duration) and duration > 0.0):
             raise ProtocolError(f"duration must be > 0 [s], got {self.duration!r}")
         object.__setattr__(self, "duration", duration)
@@ -201,6 +206,13 @@ class Protocol:
             raise ProtocolError("normal_load must be > 0 [N]")
         ft = _frozen_array("friction_time", self.friction_time)
         _check_time("friction_time", ft, duration)
+        if isinstance(self.friction_condition, str) or not isinstance(
+            self.friction_condition, Sequence
+        ):  # tuple("dry") would be three conditions 'd', 'r', 'y'
+            raise ProtocolError(
+                "friction_condition must be a sequence of names, one per friction_time, got "
+                f"{self.friction_condition!r}"
+            )
         names = tuple(self.friction_condition)
         if len(names) != ft.size:
             raise ProtocolError(
@@ -392,7 +404,7 @@ class Protocol:
         A switch at ``t_s`` applies from ``t_s`` on (inclusive). Returns a str for a scalar
         ``t`` and an object array of names for an array.
         """
-        tt = np.asarray(t, dtype=float)
+        tt = require_finite("t", t, "s")  # NaN would sort after every switch: the last name
         idx = np.searchsorted(self.friction_time, tt, side="right") - 1
         idx = np.clip(idx, 0, len(self.friction_condition) - 1)
         names = np.array(self.friction_condition, dtype=object)[idx]
@@ -437,7 +449,7 @@ class Protocol:
 
 
 def _interp(t, xp: np.ndarray, fp: np.ndarray):
-    out = np.interp(np.asarray(t, dtype=float), xp, fp)
+    out = np.interp(require_finite("t", t, "s"), xp, fp)  # np.interp gives NaN for NaN
     return float(out) if np.ndim(out) == 0 else out
 
 

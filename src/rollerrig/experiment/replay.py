@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from rollerrig._validation import did_you_mean
 from rollerrig.experiment.protocol import _BUILDERS, Protocol, ProtocolError, ProtocolEvent
 from rollerrig.experiment.steps import DEFAULT_SETTINGS, SETTINGS, protocol_error
 from rollerrig.units import UnitError, apply_factor, si_factor
@@ -163,8 +164,13 @@ def replay_protocol(
         non-numeric or non-finite cell, time that is duplicated or not increasing, or fewer than
         two samples; the message names the file and the line.
     """
+    if not isinstance(path, str | os.PathLike):
+        raise ProtocolError(f"{where}: the CSV file must be a path (str or Path), got {path!r}")
     path = Path(path)
     columns = dict(columns or {})
+    for key, header in columns.items():
+        if header is not None and not isinstance(header, str):
+            raise ProtocolError(f"{where}: {key} must be a column header (str), got {header!r}")
     v = {"name": path.stem, **DEFAULT_SETTINGS, **settings}
     v = {key: rule.check(where, key, v[key]) for key, rule in SETTINGS.items()}
     rows, sha = _read_rows(path)
@@ -229,6 +235,13 @@ def protocol_from_csv(path, normal_load, roller_speed, friction="dry", **options
     >>> p.duration, float(p.torque_request.max()), p.events[0].action
     (10.0, 600.0, 'replay')
     """
+    known = ("time_column", "torque_column", "name", "description", "source")
+    unknown = [k for k in options if k not in known]
+    if unknown:  # replay_protocol reads only the keys it knows: a typo would be dropped
+        raise ProtocolError(
+            f"protocol_from_csv: unknown option {unknown[0]!r}{did_you_mean(unknown[0], known)}; "
+            f"allowed {', '.join(known)}"
+        )
     columns = {k: options.pop(k) for k in ("time_column", "torque_column") if k in options}
     settings = {"normal_load": normal_load, "roller_speed": roller_speed, "friction": friction}
     return replay_protocol(path, settings | options, columns)

@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import os
 import tomllib
 from importlib import resources
 from pathlib import Path
@@ -235,6 +236,11 @@ def protocol_from_toml_string(
     >>> p.to_steps()
     (RampTorque(to=100.0, duration=1.0),)
     """
+    if not isinstance(text, str):
+        raise ProtocolError(
+            f"{origin}: text must be the TOML text (a str), got {type(text).__name__}; "
+            "load_protocol(path) reads a file"
+        )
     try:
         doc = parse_toml(text)
     except tomllib.TOMLDecodeError as exc:
@@ -321,6 +327,11 @@ def load_protocol(path_or_name: str | Path) -> Protocol:
     >>> load_protocol("seed-10kmh-wet").friction_at(0.0)
     'wet'
     """
+    if not isinstance(path_or_name, str | os.PathLike):
+        raise ProtocolError(
+            "path_or_name must be a bundled protocol's name or a file path (str or Path), got "
+            f"{path_or_name!r}"
+        )
     if isinstance(path_or_name, str) and path_or_name in bundled_protocols():
         res = _data_dir().joinpath(f"{path_or_name}.toml")
         with resources.as_file(res) as real:
@@ -415,6 +426,8 @@ def protocol_to_toml(protocol: Protocol) -> str:
     duration_s = 1.0
     <BLANKLINE>
     """
+    if not isinstance(protocol, Protocol):
+        raise ProtocolError(f"protocol must be a Protocol, got {type(protocol).__name__}")
     steps = protocol.to_steps()
     lines = ["[experiment]", f"name = {toml_string(protocol.name)}"]
     for key in ("description", "source"):

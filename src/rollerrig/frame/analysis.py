@@ -15,11 +15,11 @@ The names of those modules that this module exported before them are re-exported
 
 from __future__ import annotations
 
-import math
+import numbers
 
 import numpy as np
 
-from rollerrig._validation import ParameterError
+from rollerrig._validation import ParameterError, require_finite, require_whole
 from rollerrig.frame.femodel import (
     CASES,
     DEFAULT_ELEMENTS_PER_MEMBER,
@@ -106,14 +106,25 @@ def analyze_frame(
     >>> 0.0 < r.top_horizontal_deflection < 1e-3, len(r.frequencies)
     (True, 3)
     """
+    if not isinstance(frame, Frame):
+        raise ParameterError(
+            f"frame must be a Frame (load_frame, default_frame), got {type(frame).__name__}"
+        )
     for name, value in (("normal_load", normal_load), ("traction_force", traction_force)):
-        if not math.isfinite(value) or abs(value) > MAX_TEST_LOAD:
+        if isinstance(value, str | bytes | bool) or np.ndim(value) != 0:
+            raise ParameterError(f"{name} must be a single number [N], got {value!r}")
+        value = float(require_finite(name, value, "N"))
+        if abs(value) > MAX_TEST_LOAD:
             raise ParameterError(
                 f"{name} must be finite and at most {MAX_TEST_LOAD:g} N in magnitude [N], "
                 f"got {value!r}"
             )
-    if not 1 <= elements_per_member <= 64:
-        raise ParameterError(f"elements_per_member must be in [1, 64], got {elements_per_member}")
+    # Counts: 2.5 elements or modes, True or "3" were taken (n_modes 0 or -3 silently as 1).
+    epm = elements_per_member
+    if isinstance(epm, bool | np.bool_) or not isinstance(epm, numbers.Real) or not 1 <= epm <= 64:
+        raise ParameterError(f"elements_per_member must be in [1, 64], got {epm!r}")
+    elements_per_member = require_whole("elements_per_member", epm, 1, 64)
+    n_modes = require_whole("n_modes", n_modes, 1)
     if elements_per_member * len(frame.members) > MAX_ELEMENTS:
         raise ParameterError(
             f"{len(frame.members)} members x {elements_per_member} elements each is more than "

@@ -80,6 +80,7 @@ exported before them.
 
 from __future__ import annotations
 
+import os
 import tomllib
 from collections.abc import Mapping
 from importlib import resources
@@ -233,6 +234,8 @@ def load_frame(path: str | Path) -> Frame:
     FrameFileError
         A missing file, invalid TOML, or any problem of :func:`frame_from_dict`.
     """
+    if not isinstance(path, str | os.PathLike):
+        raise FrameFileError(repr(path), ["not a file path (str or Path)"])
     path = Path(path)
     if not path.is_file():
         raise FrameFileError(str(path), ["frame file not found"])

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig._validation import ParameterError, require_finite
+from rollerrig._validation import ParameterError, require_broadcastable, require_finite
 from rollerrig.frame.analysis import FrameResult
 
 __all__ = ["GaugeInfluence", "gauge_influence", "gauge_signals"]
@@ -74,7 +74,7 @@ class GaugeInfluence:
         """
         n = require_finite("normal_load", normal_load, "N")
         f = require_finite("traction_force", traction_force, "N")
-        n, f = np.broadcast_arrays(n, f)
+        n, f = require_broadcastable(normal_load=n, traction_force=f)
         return {
             name: a * n + b * f
             for name, a, b in zip(self.names, self.normal, self.traction, strict=True)
@@ -130,15 +130,27 @@ def gauge_signals(
     ParameterError
         A channel is missing (named), or not finite.
     """
+    if not isinstance(influence, GaugeInfluence):
+        raise ParameterError(
+            f"influence must be a GaugeInfluence (gauge_influence), got {type(influence).__name__}"
+        )
+    if isinstance(source, str | bytes) or not hasattr(source, "__getitem__"):
+        raise ParameterError(
+            "source must be a mapping of channel name -> array (the twin's results, a dict), "
+            f"got {type(source).__name__}"
+        )
     arrays = []
     for channel in (normal, traction):
         try:
             values = source[channel]
-        except KeyError:
+        except (KeyError, IndexError, TypeError):  # a list or an array indexed by a name
             raise ParameterError(
                 f"the results have no channel {channel!r} (needed for the virtual strain "
                 "gauges: normal load N [N] and contact force F_x [N]); name the channels with "
                 "normal=..., traction=..."
             ) from None
-        arrays.append(np.asarray(getattr(values, "values", values), dtype=float))
-    return influence.stresses(*arrays)
+        arrays.append(require_finite(f"channel {channel!r}", getattr(values, "values", values)))
+    n, f = require_broadcastable(
+        **{f"channel {normal!r}": arrays[0], f"channel {traction!r}": arrays[1]}
+    )
+    return influence.stresses(n, f)

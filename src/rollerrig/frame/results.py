@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from rollerrig._validation import ParameterError, did_you_mean
 from rollerrig.frame.femodel import DEFAULT_ELEMENTS_PER_MEMBER
 from rollerrig.frame.stresses import GaugeStress, MemberEnds, StressPeak
 from rollerrig.frame.structure import Frame
@@ -83,4 +84,12 @@ class FrameResult:
 
     def displacement(self, node: str) -> np.ndarray:
         """The six displacements of a node under the test loads [m, rad]."""
-        return self.displacements[self.nodes.index(node)]
+        try:
+            return self.displacements[self.nodes.index(node)]
+        except ValueError:  # list.index: "'nope' is not in list"
+            frame_nodes = list(self.frame.nodes)  # not the mesh's inner nodes (name~k)
+            raise ParameterError(
+                f"node {node!r} is not a node of the frame{did_you_mean(str(node), frame_nodes)}; "
+                f"its nodes: {', '.join(map(str, frame_nodes[:20]))}"
+                + (" ..." if len(frame_nodes) > 20 else "")
+            ) from None
