@@ -178,3 +178,25 @@ def test_a_starting_value_at_its_bound_is_refused(altered_recording):
     rig = default_rig().with_overrides({"damping.roller_shaft": 0.0})
     with pytest.raises(CalibrationError, match=r"damping\.roller_shaft.*lower bound"):
         calibrate(rec, "damping.roller_shaft", rig=rig)
+
+
+def test_calibrate_checks_its_settings_before_reading_the_recording():
+    import re
+
+    from rollerrig.calibrate import free_parameter_catalogue
+
+    for kwargs, text in [
+        ({"max_iterations": 2.5}, "max_iterations must be a whole number >= 1"),
+        ({"max_iterations": "a"}, "max_iterations must be a whole number >= 1"),
+        ({"search_width": float("nan")}, "search_width must be finite [-]"),
+        ({"search_width": -1.0}, "search_width must be >= 0 [-]"),
+        ({"torque_noise": "a"}, "torque_noise must be a number"),
+        ({"h_max": 0.0}, "h_max must be > 0 [s]"),
+        ({"h_max": float("nan")}, "h_max must be finite [s]"),
+    ]:
+        with pytest.raises(CalibrationError, match=re.escape(text)):
+            calibrate(None, "inertia.roller", **kwargs)
+    with pytest.raises(CalibrationError, match=re.escape("(did you mean 'induction'?)")):
+        free_parameter_catalogue("inducton")
+    with pytest.raises(CalibrationError, match=re.escape("drives must be a DriveConfig or None")):
+        calibrate("missing.csv", "inertia.roller", drives="induction")

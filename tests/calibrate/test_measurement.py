@@ -113,3 +113,20 @@ def test_a_time_in_ms_read_as_s_says_what_was_empty_without_a_nan(recwarn):
         prepare_measurement(rec, default_rig())
     assert "nan" not in str(info.value) and 'unit = "ms"' in str(info.value)
     assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
+
+
+def test_quantisation_noise_refuses_a_zero_negative_or_nan_count_or_gate():
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    for cpr, gate, name in [
+        (0, 0.004, "counts_per_revolution must be > 0"),
+        (-10000, 0.004, "counts_per_revolution must be > 0"),
+        (math.nan, 0.004, "counts_per_revolution must be finite"),
+        (10000, 0, "interval must be > 0 [s]"),
+        (10000, -1, "interval must be > 0 [s]"),
+        (10000, math.inf, "interval must be finite [s]"),
+    ]:
+        with pytest.raises(ParameterError, match=re.escape(name)):
+            quantisation_noise(cpr, gate)

@@ -246,3 +246,14 @@ def test_a_breakpoint_a_rounding_error_from_an_end_leaves_the_segments_covering_
     assert all(s.end - s.start > 1e-12 for s in inputs.segments)
     ds = Simulation(experiment=odd).run()
     assert np.all(np.isfinite(ds.t56.values))
+
+
+def test_assemble_names_a_rig_or_drives_of_another_type():
+    from rollerrig.experiment import load_protocol
+    from rollerrig.rig.parameters import default_rig
+
+    protocol = load_protocol("release-test")
+    with pytest.raises(ParameterError, match=re.escape("drives must be a DriveConfig or None")):
+        assemble(default_rig(), protocol, "pmsm")
+    with pytest.raises(ParameterError, match=re.escape("rig must be a RigParameters, got")):
+        assemble(None, protocol)

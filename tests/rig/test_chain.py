@@ -356,3 +356,34 @@ def test_component_labels_match_scipy_csgraph(n, seed, density):
     same_ours = ours[:, None] == ours[None, :]
     same_theirs = theirs[:, None] == theirs[None, :]
     assert np.array_equal(same_ours, same_theirs)
+
+
+def test_contact_and_damper_matrices_refuse_counts_that_are_not_whole():
+    import re
+
+    from rollerrig.rig.chain import contact_damping_matrix, damper_matrix
+
+    with pytest.raises(ParameterError, match=re.escape("n_bodies must be a whole number")):
+        contact_damping_matrix(1.0, 0.3, 0.3, n_bodies=7.5)
+    with pytest.raises(ParameterError, match=re.escape("n_bodies must be a whole number")):
+        contact_damping_matrix(1.0, 0.3, 0.3, n_bodies=10**6)
+    with pytest.raises(ParameterError, match=re.escape("wheel_body must be a whole number")):
+        contact_damping_matrix(1.0, 0.3, 0.3, wheel_body=4.5)
+    with pytest.raises(ParameterError, match=re.escape("roller_body must be a whole number")):
+        contact_damping_matrix(1.0, 0.3, 0.3, roller_body="a")
+    with pytest.raises(ParameterError, match=re.escape("n_bodies must be a whole number")):
+        damper_matrix(2.5, 0, 1, 1.0)
+
+
+def test_modal_table_and_analysis_refuse_a_nan_threshold():
+    import re
+
+    from rollerrig.rig.chain import modal_analysis, modal_table
+
+    with pytest.raises(ParameterError, match=re.escape("threshold must be finite [-]")):
+        modal_table(default_rig(), threshold=float("nan"))
+    for bad in (2.0, -1.0):
+        with pytest.raises(ParameterError, match=re.escape("threshold must lie in [0, 1] [-]")):
+            modal_table(default_rig(), threshold=bad)
+    with pytest.raises(ParameterError, match=re.escape("rigid_tolerance must be finite")):
+        modal_analysis(np.eye(2), np.eye(2), rigid_tolerance=float("nan"))

@@ -158,3 +158,33 @@ def test_the_electromechanical_mode_against_the_reduced_slip_filter_model():
     ratio_red = _reduced_mode(RIG, 30.0, 1.5, 0.1, j_scale=1.1)[0] / red[(1.5, 0.1)][0]
     assert ratio_twin < 1.0
     assert ratio_twin == pytest.approx(ratio_red, rel=0.02)
+
+
+def test_mode_class_refuses_a_nan_damping_ratio_and_a_bad_threshold():
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=re.escape("damping_ratio must be finite [-]")):
+        dv.mode_class(float("nan"))
+    with pytest.raises(ParameterError, match=re.escape("damping_threshold must lie in (0, 1)")):
+        dv.mode_class(0.1, -1.0)
+
+
+def test_band_verdict_refuses_a_reversed_band_and_no_rows():
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    row = {
+        "speed [km/h]": 10.0,
+        "unstable": [],
+        "modes below 20 Hz": [{"frequency [Hz]": 1.55, "damping_ratio [-]": 0.01}],
+    }
+    for band in ((1.7, 1.0), (float("nan"), 1.7)):
+        with pytest.raises(ParameterError, match=re.escape("band must")):
+            dv.band_verdict([row], band)
+    with pytest.raises(ParameterError, match=re.escape("band must be (low, high) [Hz]")):
+        dv.band_verdict([row], (1.0, 1.5, 2.0))
+    with pytest.raises(ParameterError, match=re.escape("rows must hold at least one row")):
+        dv.band_verdict([])

@@ -256,3 +256,51 @@ def test_a_pole_that_hides_the_chain_is_refused_with_what_moves(rig):
     tiny = rig.with_overrides({"inertia.pmsm_stator": 1e-12})
     with pytest.raises(ParameterError, match=r"pole at .* 1/s .*theta1|pole at .* 1/s .*omega1"):
         coupled_modes(tiny, SPEED, LOAD, load_source="test")
+
+
+def test_linearise_twin_refuses_a_step_that_gives_a_nan_jacobian():
+    import re
+
+    from rollerrig.rig.linear import linearise_twin
+    from rollerrig.rig.parameters import default_rig
+
+    for step in (0.0, -1e-7):
+        with pytest.raises(ParameterError, match=re.escape("step must lie in (0, 1) [-]")):
+            linearise_twin(default_rig(), 30 / 3.6, 4.3e3, step=step)
+    for step in (float("nan"), float("inf")):
+        with pytest.raises(ParameterError, match=re.escape("step must be finite [-]")):
+            linearise_twin(default_rig(), 30 / 3.6, 4.3e3, step=step)
+
+
+def test_a_misspelt_friction_and_a_threshold_of_text_are_named():
+    import re
+
+    from rollerrig.rig.linear import coupled_modes, linearise_twin
+    from rollerrig.rig.parameters import default_rig
+
+    with pytest.raises(ParameterError, match=re.escape("(did you mean 'dry'?)")):
+        linearise_twin(default_rig(), 30 / 3.6, 4.3e3, friction="dyr")
+    with pytest.raises(ParameterError, match=re.escape("damping_threshold must be a number")):
+        coupled_modes(default_rig(), 30 / 3.6, 4.3e3, damping_threshold="a")
+    with pytest.raises(ParameterError, match=re.escape("damping_threshold must be finite [-]")):
+        coupled_modes(default_rig(), 30 / 3.6, 4.3e3, damping_threshold=None)
+
+
+def test_modes_of_names_a_jacobian_it_cannot_use():
+    import re
+
+    from rollerrig.rig.linear import modes_of
+    from rollerrig.rig.parameters import default_rig
+
+    rig = default_rig()
+    names = ["omega1", "omega2"]
+    with pytest.raises(ParameterError, match=re.escape("jacobian must be a square matrix")):
+        modes_of(np.zeros((2, 3)), names, rig)
+    with pytest.raises(ParameterError, match=re.escape("state_names must name each of the")):
+        modes_of(-np.eye(2), ["omega1"], rig)
+    with pytest.raises(ParameterError, match=re.escape("jacobian must be finite")):
+        modes_of(np.full((2, 2), np.nan), names, rig)
+    with pytest.raises(ParameterError, match=re.escape("damping_threshold must be finite [-]")):
+        modes_of(-np.eye(2), names, rig, float("nan"))
+    with pytest.raises(ParameterError, match=re.escape("damping_threshold must lie in (0, 1)")):
+        modes_of(-np.eye(2), names, rig, 1.5)

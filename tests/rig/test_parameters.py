@@ -102,3 +102,10 @@ def test_with_overrides_errors(overrides, line):
     with pytest.raises(RigFileError) as info:
         default_rig().with_overrides(overrides)
     assert str(info.value).startswith(f"overrides: {line}")
+
+
+def test_with_overrides_refuses_what_is_not_a_mapping():
+    import re
+
+    with pytest.raises(RigFileError, match=re.escape("overrides: must be a mapping")):
+        default_rig().with_overrides([("stiffness.roller_shaft", 1.0)])

@@ -130,3 +130,21 @@ def test_no_swing_back_gives_no_ringing_frequency(protocol):
     # (the centred moving average moves the flat, asymmetric minimum by a few ms)
     assert m["release_minimum_time"] == pytest.approx(0.2, abs=0.005)
     assert np.isnan(m["release_ringing_frequency"])
+
+
+def test_compute_metrics_names_an_unknown_metric_and_refuses_a_string():
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    protocol = load_protocol("release-test")
+    t = np.arange(0, protocol.duration, 1e-3)
+    torque = protocol.torque_at(t) * 0.99
+    run = RunChannels(t, torque, torque / 0.2, np.full(t.size, 4300.0), 0.2)
+    with pytest.raises(ParameterError, match=re.escape("(did you mean 'release_overshoot'?)")):
+        compute_metrics(run, protocol, ["release_overshot"])
+    with pytest.raises(ParameterError, match=re.escape("must be a list of names")):
+        compute_metrics(run, protocol, "release_overshoot")
+    for window in (0.0, -1.0, float("nan")):
+        with pytest.raises(ParameterError, match=re.escape("window must")):
+            release_overshoots(run, protocol, window)

@@ -315,3 +315,17 @@ def test_bad_arguments_are_clear_errors():
         run_study("lag", workers=0)
     with pytest.raises(StudyFileError, match="neither a bundled study"):
         run_study("no-such-study")
+
+
+def test_run_study_names_a_misspelt_executor_a_bool_worker_count_and_a_bad_study():
+    import re
+
+    spec = study_from_toml_string('[grid]\nload = { values = [4.3], unit = "kN" }\n')
+    with pytest.raises(ParameterError, match=re.escape("(did you mean 'local'?)")):
+        run_study(spec, executor="locl")
+    with pytest.raises(ParameterError, match=re.escape("workers must be an integer >= 1, got T")):
+        run_study(spec, workers=True)
+    with pytest.raises(ParameterError, match=re.escape("batch_size must be an integer >= 1")):
+        run_study(spec, batch_size=True)
+    with pytest.raises(ParameterError, match=re.escape("study must be a bundled study's name")):
+        run_study(3)

@@ -44,6 +44,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rollerrig._validation import (
+    ParameterError,
+    require_nonnegative,
+    require_positive,
+    require_whole,
+)
 from rollerrig.calibrate.measurement import Measurement, prepare_measurement
 from rollerrig.calibrate.model import (
     Prediction,
@@ -380,14 +386,15 @@ def calibrate(
     from rollerrig.calibrate.assembly import build_calibration
 
     started = _time.perf_counter()
-    if int(max_iterations) < 1:
-        raise CalibrationError(f"max_iterations must be >= 1, got {max_iterations!r}")
+    max_iterations, search_width, torque_noise, h_max = _check_settings(
+        max_iterations, search_width, torque_noise, h_max
+    )
+    drives = _drives(drives, roller_drive, law)  # before the recording is read
     if not isinstance(recording, Recording):
         from rollerrig.recordings.readers import read_recording
 
         recording = read_recording(recording, channel_map)
     rig = default_rig() if rig is None else rig
-    drives = _drives(drives, roller_drive, law)
     law_parameters = friction_parameters(friction, drives.law)
     fitted = free_parameters(free, rig, law_parameters, drives.roller, drives.law)
     measurement = prepare_measurement(recording, rig, torque_noise=torque_noise, lines=lines)
@@ -502,23 +509,37 @@ def calibrate(
     )
 
 
+def _check_settings(max_iterations, search_width, torque_noise, h_max):
+    """The calibration's numeric settings checked, before the recording is read: 2.5
+    iterations had been taken as 2, a NaN or negative ``search_width`` had skipped the search,
+    an ``h_max`` of 0 or NaN went to the solver, and text raised a bare ValueError."""
+    try:
+        max_iterations = require_whole("max_iterations", max_iterations, minimum=1)
+        search_width = float(require_nonnegative("search_width", search_width, "-"))
+        if torque_noise is not None:
+            torque_noise = float(require_positive("torque_noise", torque_noise, "N.m"))
+        if h_max is not None:
+            h_max = float(require_positive("h_max", h_max, "s"))
+    except ParameterError as exc:
+        raise CalibrationError(str(exc)) from None
+    return max_iterations, search_width, torque_noise, h_max
+
+
 def _drives(drives, roller_drive: str | None, law: str | None = None):
     """The twin's DriveConfig with the roller drive ``roller_drive`` and the creep law ``law``
     (checked)."""
     import dataclasses
 
-    from rollerrig.calibrate.problem import ROLLER_DRIVES, _check_law
+    from rollerrig.calibrate.problem import _check_law, _check_roller
     from rollerrig.rig.model import DriveConfig
 
     drives = DriveConfig() if drives is None else drives
+    if not isinstance(drives, DriveConfig):  # had raised an AttributeError (drives.law)
+        raise CalibrationError(f"drives must be a DriveConfig or None, got {type(drives).__name__}")
     if law is not None and str(law) != drives.law:
         drives = dataclasses.replace(drives, law=_check_law(str(law)))
     _check_law(drives.law)
-    roller = drives.roller if roller_drive is None else str(roller_drive)
-    if roller not in ROLLER_DRIVES:
-        raise CalibrationError(
-            f"roller drive {roller!r} cannot be calibrated; choose one of {list(ROLLER_DRIVES)}"
-        )
+    roller = _check_roller(drives.roller if roller_drive is None else str(roller_drive))
     if roller != drives.roller:
         lag = None if roller == "induction_dq" else drives.roller_lag
         drives = dataclasses.replace(drives, roller=roller, roller_lag=lag)

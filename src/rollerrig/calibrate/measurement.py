@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from rollerrig._validation import require_positive
 from rollerrig.calibrate.errors import CalibrationError
 from rollerrig.measure.checks import check_channel_values
 from rollerrig.measure.facts import describe_channel, source_prefix
@@ -100,7 +101,10 @@ def quantisation_noise(counts_per_revolution: float, interval: float) -> float:
     >>> round(quantisation_noise(10000, 1 / 250), 4)  # the default rig at 250 Hz
     0.0641
     """
-    return float(2.0 * math.pi / (counts_per_revolution * interval) * math.sqrt(2.0 / 12.0))
+    # 0 had raised a ZeroDivisionError; a negative count or gate gave a negative σ, silently.
+    cpr = float(require_positive("counts_per_revolution", counts_per_revolution, "-"))
+    gate = float(require_positive("interval", interval, "s"))
+    return float(2.0 * math.pi / (cpr * gate) * math.sqrt(2.0 / 12.0))
 
 
 @dataclass(frozen=True)

@@ -233,8 +233,11 @@ def _rig_float_fields() -> dict[str, Any]:
 
 def _check_roller(roller: str) -> str:
     if roller not in ROLLER_DRIVES:
+        from rollerrig._validation import did_you_mean
+
         raise CalibrationError(
-            f"roller drive {roller!r} cannot be calibrated; choose one of {list(ROLLER_DRIVES)}"
+            f"roller drive {roller!r} cannot be calibrated"
+            f"{did_you_mean(str(roller), ROLLER_DRIVES)}; choose one of {list(ROLLER_DRIVES)}"
         )
     return roller
 

@@ -321,6 +321,15 @@ def assemble(
         domain (:func:`rollerrig.contact.hertz.hertz_contact`), or a shaft is so stiff that its
         torque is round-off (:data:`SHAFT_TORQUE_RESOLUTION`).
     """
+    # Another object had raised an AttributeError deep inside (rig.inertia, drives.wheel).
+    for name, value, kind in (
+        ("rig", rig, RigParameters),
+        ("protocol", protocol, Protocol),
+        ("drives", drives, (m.DriveConfig, type(None))),
+    ):
+        if not isinstance(value, kind):
+            want = "a DriveConfig or None" if name == "drives" else f"a {kind.__name__}"
+            raise ParameterError(f"{name} must be {want}, got {type(value).__name__}")
     drives = drives or m.DriveConfig()
     friction_sets = dict(friction_sets or POLACH_PARAMETER_SETS)
     missing = sorted(set(protocol.friction_condition) - set(friction_sets))

@@ -38,8 +38,10 @@ import numpy as np
 from rollerrig._validation import (
     ParameterError,
     require_finite,
+    require_in_range,
     require_nonnegative,
     require_positive,
+    require_whole,
 )
 
 __all__ = [
@@ -239,6 +241,11 @@ def chain_matrices(rig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return assemble_chain(inertias, chain_elements(rig))
 
 
+MAX_BODIES = 1000
+"""Most bodies of a chain :func:`damper_matrix` and :func:`contact_damping_matrix` build [-]: a
+dense n×n matrix of a million bodies would take 7 TiB (the rig has 7)."""
+
+
 def damper_matrix(n_bodies: int, i: int, j: int, damping: float) -> np.ndarray:
     """Damping matrix (n×n) of one extra linear damper between body i and body j (0 = ground).
 
@@ -266,6 +273,7 @@ def damper_matrix(n_bodies: int, i: int, j: int, damping: float) -> np.ndarray:
     array([[3., 0.],
            [0., 0.]])
     """
+    n_bodies = require_whole("n_bodies", n_bodies, minimum=1, maximum=MAX_BODIES)
     _, _, C = assemble_chain(np.ones(n_bodies), [(i, j, 0.0, damping)])
     return C
 
@@ -312,9 +320,11 @@ def contact_damping_matrix(
     slope = float(require_finite("creep_force_slope", creep_force_slope, "N.s/m"))
     r_w = float(require_positive("wheel_radius", wheel_radius, "m"))
     r_r = float(require_positive("roller_radius", roller_radius, "m"))
-    for name, body in (("wheel_body", wheel_body), ("roller_body", roller_body)):
-        if not 1 <= body <= n_bodies:
-            raise ParameterError(f"{name} must be in [1, {n_bodies}], got {body}")
+    # 7.5 bodies, a body 4.5 or "a" had raised numpy's TypeError or IndexError; a million
+    # bodies a MemoryError (7 TiB).
+    n_bodies = require_whole("n_bodies", n_bodies, minimum=1, maximum=MAX_BODIES)
+    wheel_body = require_whole("wheel_body", wheel_body, minimum=1, maximum=n_bodies)
+    roller_body = require_whole("roller_body", roller_body, minimum=1, maximum=n_bodies)
     if wheel_body == roller_body:
         raise ParameterError("wheel_body and roller_body must differ")
     w, r = wheel_body - 1, roller_body - 1
@@ -563,6 +573,10 @@ def modal_analysis(
     M = _square("M", M)
     n = M.shape[0]
     K = _square("K", K, n)
+    # NaN had called no mode rigid, a negative tolerance none, silently.
+    rigid_tolerance = float(
+        require_in_range("rigid_tolerance", rigid_tolerance, 0.0, 1.0, "-", low_inclusive=True)
+    )
     if not np.allclose(M, M.T, rtol=1e-12, atol=0.0):
         raise ParameterError("M [kg.m^2] must be symmetric")
     if not np.allclose(K, K.T, rtol=1e-12, atol=1e-12 * max(float(np.max(np.abs(K))), 1.0)):
@@ -698,6 +712,12 @@ def modal_table(
     >>> round(row.frequency, 2), row.dominant_bodies, row.dominant_element
     (13.84, ('am_rotor', 'roller'), 'roller_shaft')
     """
+    # NaN or a share above 1 had named no dominant body, a negative one every body, silently.
+    threshold = float(
+        require_in_range(
+            "threshold", threshold, 0.0, 1.0, "-", low_inclusive=True, high_inclusive=True
+        )
+    )
     M, K, C = chain_matrices(rig)
     result = modal_analysis(M, K, C if damped else None, extra_damping)
     elements = chain_elements(rig)

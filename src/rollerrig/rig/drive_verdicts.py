@@ -26,7 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig.rig.linear import DEFAULT_DAMPING_THRESHOLD
+from rollerrig._validation import ParameterError, require_finite
+from rollerrig.rig.linear import DEFAULT_DAMPING_THRESHOLD, check_damping_threshold
 
 __all__ = [
     "ASSUMPTIONS",
@@ -51,6 +52,9 @@ def mode_class(damping_ratio: float, threshold: float = DEFAULT_DAMPING_THRESHOL
     >>> mode_class(-0.016), mode_class(0.0), mode_class(0.17), mode_class(0.3)
     ('unstable', 'lightly damped', 'lightly damped', 'damped')
     """
+    # A NaN damping ratio had been classed "damped", and any threshold taken as it came.
+    damping_ratio = float(require_finite("damping_ratio", damping_ratio, "-"))
+    threshold = check_damping_threshold(threshold)
     if damping_ratio < 0.0:
         return "unstable"
     return "lightly damped" if damping_ratio < threshold else "damped"
@@ -105,7 +109,11 @@ def band_verdict(rows: Sequence[Mapping], band: tuple[float, float] = (1.0, 1.7)
     >>> band_verdict([row])["kind"]
     'unstable'
     """
-    lo, hi = band
+    lo, hi = band = _check_band(band)
+    if not rows:
+        raise ParameterError(
+            "rows must hold at least one row of a mode table (eigen_table): no rows, no verdict"
+        )
     speeds = sorted({r["speed [km/h]"] for r in rows})
     classes = [(r["speed [km/h]"], band_class(r, band)) for r in rows]
     unstable = sorted({v for v, c in classes if c == "unstable"})
@@ -137,6 +145,18 @@ def band_verdict(rows: Sequence[Mapping], band: tuple[float, float] = (1.0, 1.7)
         "damping_ratio [-]": z_range,
         "text": text,
     }
+
+
+def _check_band(band) -> tuple[float, float]:
+    """``band`` [Hz] as ``(low, high)`` with 0 <= low < high, or a ParameterError (a reversed or
+    NaN band had given the verdict "none": no mode lies in it)."""
+    arr = require_finite("band", band, "Hz")
+    if arr.shape != (2,):
+        raise ParameterError(f"band must be (low, high) [Hz], got {band!r}")
+    lo, hi = float(arr[0]), float(arr[1])
+    if not 0.0 <= lo < hi:
+        raise ParameterError(f"band must be (low, high) with 0 <= low < high [Hz], got {band!r}")
+    return lo, hi
 
 
 def _kmh(speeds) -> str:

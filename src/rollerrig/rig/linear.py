@@ -57,7 +57,13 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from rollerrig._validation import ParameterError, require_positive
+from rollerrig._validation import (
+    ParameterError,
+    did_you_mean,
+    require_finite,
+    require_in_range,
+    require_positive,
+)
 from rollerrig.contact.creep import POLACH_PARAMETER_SETS, PolachParameters
 from rollerrig.experiment.protocol import Protocol
 from rollerrig.rig import model as m
@@ -273,9 +279,14 @@ def linearise_twin(
     """
     v = float(require_positive("speed", speed, "m/s"))
     load = float(require_positive("normal_load", normal_load, "N"))
+    # A step of 0, NaN or inf had given a Jacobian of NaN (0/0) with no error.
+    step = float(require_in_range("step", step, 0.0, 1.0, "-"))
     sets = dict(friction_sets or POLACH_PARAMETER_SETS)
     if friction not in sets:
-        raise ParameterError(f"friction must be one of {sorted(sets)}, got {friction!r}")
+        raise ParameterError(
+            f"friction must be one of {sorted(sets)}, got {friction!r}"
+            + did_you_mean(str(friction), sets)
+        )
     drives = drives or m.DriveConfig()
     if drives.roller == "induction_dq":
         raise ParameterError(
@@ -553,8 +564,17 @@ def modes_of(
     tuple of CoupledMode
         Oscillatory modes by frequency, then real ones by time constant, then rigid ones.
     """
+    jacobian = require_finite("jacobian", jacobian)
     names = tuple(state_names)
-    lam, vec = scipy.linalg.eig(np.asarray(jacobian, dtype=float))
+    if jacobian.ndim != 2 or jacobian.shape[0] != jacobian.shape[1]:
+        raise ParameterError(f"jacobian must be a square matrix, got shape {jacobian.shape}")
+    if len(names) != jacobian.shape[0]:
+        raise ParameterError(
+            f"state_names must name each of the jacobian's {jacobian.shape[0]} states, got "
+            f"{len(names)} names"
+        )
+    damping_threshold = check_damping_threshold(damping_threshold)
+    lam, vec = scipy.linalg.eig(jacobian)
     scale = max(float(np.max(np.abs(lam))), np.finfo(float).tiny)
     _require_resolvable(lam, vec, names, scale, rig)
     part = _participation(vec)
@@ -607,9 +627,7 @@ def modes_of(
 
 def check_damping_threshold(damping_threshold: float) -> float:
     """``damping_threshold`` [-] as a float, or a ParameterError when it is not in (0, 1)."""
-    if not 0.0 < float(damping_threshold) < 1.0:
-        raise ParameterError(f"damping_threshold must lie in (0, 1) [-], got {damping_threshold}")
-    return float(damping_threshold)
+    return float(require_in_range("damping_threshold", damping_threshold, 0.0, 1.0, "-"))
 
 
 def coupled_modes(

@@ -38,7 +38,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from rollerrig._display import fmt, html_table, pretty_unit, text_block
 from rollerrig._toml import parse_toml, read_toml
-from rollerrig._validation import FieldProblem, Problem, show_value
+from rollerrig._validation import FieldProblem, Problem, Verbatim, show_value
 from rollerrig.output import write_text
 from rollerrig.rig.library import rig_set, rig_sets
 from rollerrig.rig.rigfile import (
@@ -188,6 +188,17 @@ class RigParameters(BaseModel):
         >>> rig.stiffness.roller_shaft
         63500.0
         """
+        if not isinstance(overrides, Mapping):  # a list of pairs had raised an AttributeError
+            raise RigFileError(
+                "overrides",
+                [
+                    Problem(
+                        "",
+                        'must be a mapping {"section.key": value}',
+                        got=Verbatim(type(overrides).__name__),
+                    )
+                ],
+            )
         data = self.model_dump(exclude={"provenance"})
         provenance = {k: dict(v) for k, v in self.provenance.items()}
         problems: list[Problem] = []

@@ -38,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rollerrig._validation import ParameterError
+from rollerrig._validation import ParameterError, did_you_mean, require_positive
 from rollerrig.experiment import Protocol
 
 __all__ = [
@@ -206,6 +206,8 @@ def release_overshoots(ds, protocol: Protocol, window: float = RELEASE_WINDOW) -
         (``time_to_minimum [s]``) and the swing's frequency (``ringing_frequency [Hz]``, from
         the first minimum to the next maximum: 1/(2 Δt)); see :func:`_swing`.
     """
+    # A window of 0, NaN or below 0 had found no release: an empty list, with no error.
+    window = float(require_positive("window", window, "s"))
     if not isinstance(ds, RunChannels):
         ds = RunChannels.from_dataset(ds)
     return _release_rows(ds, protocol, window)
@@ -479,7 +481,7 @@ def require_measurable(protocol: Protocol, names) -> None:
     ParameterError
         When every metric of ``names`` needs a release and ``protocol`` has none.
     """
-    names = tuple(names)
+    names = _metric_names(names)
     if not names or _releases(protocol) or not all(METRICS[n].needs_release for n in names):
         return
     others = sorted(n for n, m in METRICS.items() if not m.needs_release)
@@ -505,4 +507,21 @@ def compute_metrics(run: RunChannels, protocol: Protocol, names) -> dict[str, fl
     >>> round(m["release_overshoot"], 6), round(m["max_shaft_torque"], 1)
     (-0.0, 594.0)
     """
-    return {name: float(METRICS[name].function(run, protocol)) for name in names}
+    return {name: float(METRICS[name].function(run, protocol)) for name in _metric_names(names)}
+
+
+def _metric_names(names) -> tuple[str, ...]:
+    """``names`` as a tuple of known metric names, or a ParameterError naming the unknown one
+    (it had raised a KeyError; a single string had been taken letter by letter)."""
+    if isinstance(names, str):
+        raise ParameterError(
+            f"metric names must be a list of names, got the string {names!r} (write [{names!r}])"
+        )
+    names = tuple(names)
+    for name in names:
+        if name not in METRICS:
+            raise ParameterError(
+                f"unknown metric {name!r}{did_you_mean(str(name), METRICS)}; known: "
+                f"{', '.join(METRICS)}"
+            )
+    return names

@@ -55,7 +55,7 @@ from typing import Any
 import numpy as np
 
 from rollerrig._optional import require
-from rollerrig._validation import ParameterError
+from rollerrig._validation import ParameterError, did_you_mean
 from rollerrig._warnings import DomainWarning
 from rollerrig.experiment import Protocol, load_protocol
 from rollerrig.output.names import safe_file_name
@@ -692,14 +692,27 @@ def run_study(
     >>> run.executor, run.reason  # doctest: +SKIP
     ('local', 'every point ran in the first batch')
     """
+    if not isinstance(study, StudySpec | str | os.PathLike):  # had raised a TypeError
+        raise ParameterError(
+            f"study must be a bundled study's name, a study file or a StudySpec, got "
+            f"{type(study).__name__}"
+        )
     spec = study if isinstance(study, StudySpec) else load_study(study)
     if executor not in EXECUTORS:
-        raise ParameterError(f"executor must be one of {list(EXECUTORS)}, got {executor!r}")
+        raise ParameterError(
+            f"executor must be one of {list(EXECUTORS)}, got {executor!r}"
+            + did_you_mean(str(executor), EXECUTORS)
+        )
     if scheduler is not None:
         check_scheduler_address(scheduler)
-    if workers is not None and not (isinstance(workers, int) and workers >= 1):
+    # bool is an int: workers=True had been taken as one worker
+    if workers is not None and not (
+        isinstance(workers, int) and not isinstance(workers, bool) and workers >= 1
+    ):
         raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
-    if batch_size is not None and not (isinstance(batch_size, int) and batch_size >= 1):
+    if batch_size is not None and not (
+        isinstance(batch_size, int) and not isinstance(batch_size, bool) and batch_size >= 1
+    ):
         raise ParameterError(f"batch_size must be an integer >= 1, got {batch_size!r}")
     if rig is None:
         rig = load_rig(spec.rig) if spec.rig else default_rig()
