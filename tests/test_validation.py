@@ -25,6 +25,7 @@ from rollerrig._validation import (
     interval,
     pydantic_problems,
     require_broadcastable,
+    require_finite,
     require_in_range,
     require_increasing,
     require_instants_within,
@@ -390,3 +391,25 @@ def test_not_a_whole_number_in_range_is_refused_with_what_it_got(value):
         ParameterError, match=re.escape("n must be a whole number in [1, 100] [-], got")
     ):
         require_whole("n", value, minimum=1, maximum=100)
+
+
+@pytest.mark.parametrize(
+    "check",
+    [
+        lambda v: require_finite("x", v, "m", single=True),
+        lambda v: require_positive("x", v, "m", single=True),
+        lambda v: require_nonnegative("x", v, "m", single=True),
+        lambda v: require_in_range("x", v, 0.0, 10.0, "m", single=True),
+    ],
+)
+def test_a_single_number_comes_back_as_float_and_an_array_is_named(check):
+    for value in (2.0, np.float64(2.0), np.array(2.0), np.array([2.0]), 2):
+        out = check(value)
+        assert out == 2.0 and type(out) is float
+    # float() of it had raised "only 0-dimensional arrays can be converted to Python scalars"
+    with pytest.raises(
+        ParameterError, match=re.escape("x must be a single number [m], got an array of shape (2,)")
+    ):
+        check([2.0, 3.0])
+    with pytest.raises(ParameterError, match=re.escape("got an array of shape (0,)")):
+        check([])

@@ -133,14 +133,28 @@ def _as_float_array(name: str, value) -> np.ndarray:
     return arr
 
 
-def require_finite(name: str, value, unit: str = "") -> np.ndarray:
-    """Return ``value`` as a float array, raising :class:`ParameterError` on NaN or inf."""
+def require_finite(name: str, value, unit: str = "", *, single: bool = False):
+    """Return ``value`` as a float array, raising :class:`ParameterError` on NaN or inf.
+
+    ``single``: a parameter that is one number (every ``require_*`` helper takes it): return
+    a ``float``, and refuse an array of several values naming its shape (``float()`` of it
+    had raised a bare TypeError).
+    """
     arr = _as_float_array(name, value)
     if _fails(arr, np.isfinite, math.isfinite):
         raise ParameterError(
             f"{name} must be finite{_unit(unit)}, got {_show(arr, ~np.isfinite(arr))}"
         )
-    return arr
+    return _single(name, arr, unit) if single else arr
+
+
+def _single(name: str, arr: np.ndarray, unit: str) -> float:
+    """``arr`` as one float, or the error of a parameter that is one number given several."""
+    if arr.size != 1:
+        raise ParameterError(
+            f"{name} must be a single number{_unit(unit)}, got an array of shape {arr.shape}"
+        )
+    return float(arr.reshape(()))
 
 
 def _fails(arr: np.ndarray, test, scalar_test=None) -> bool:
@@ -155,20 +169,22 @@ def _fails(arr: np.ndarray, test, scalar_test=None) -> bool:
     return not bool(np.all(test(arr)))
 
 
-def require_positive(name: str, value, unit: str = "") -> np.ndarray:
-    """Return ``value`` as a float array, raising unless every element is finite and > 0."""
+def require_positive(name: str, value, unit: str = "", *, single: bool = False):
+    """Return ``value`` as a float array, raising unless every element is finite and > 0
+    (``single``: :func:`require_finite`)."""
     arr = require_finite(name, value, unit)
     if _fails(arr, lambda v: v > 0.0):
         raise ParameterError(f"{name} must be > 0{_unit(unit)}, got {_show(arr, ~(arr > 0.0))}")
-    return arr
+    return _single(name, arr, unit) if single else arr
 
 
-def require_nonnegative(name: str, value, unit: str = "") -> np.ndarray:
-    """Return ``value`` as a float array, raising unless every element is finite and >= 0."""
+def require_nonnegative(name: str, value, unit: str = "", *, single: bool = False):
+    """Return ``value`` as a float array, raising unless every element is finite and >= 0
+    (``single``: :func:`require_finite`)."""
     arr = require_finite(name, value, unit)
     if _fails(arr, lambda v: v >= 0.0):
         raise ParameterError(f"{name} must be >= 0{_unit(unit)}, got {_show(arr, ~(arr >= 0.0))}")
-    return arr
+    return _single(name, arr, unit) if single else arr
 
 
 def require_in_range(
@@ -180,8 +196,10 @@ def require_in_range(
     *,
     low_inclusive: bool = False,
     high_inclusive: bool = False,
-) -> np.ndarray:
-    """Return ``value`` as a float array, raising unless every element lies in the interval.
+    single: bool = False,
+):
+    """Return ``value`` as a float array, raising unless every element lies in the interval
+    (``single``: :func:`require_finite`).
 
     The message states the interval in standard notation, e.g. ``(0, 0.5)`` or ``(0, 1]``.
     """
@@ -198,7 +216,7 @@ def require_in_range(
         )
         got = _show(arr, ~inside(arr))
         raise ParameterError(f"{name} must lie in {interval}{_unit(unit)}, got {got}")
-    return arr
+    return _single(name, arr, unit) if single else arr
 
 
 def require_instants_within(name: str, value, start: float, end: float) -> np.ndarray:

@@ -428,3 +428,16 @@ def test_discrete_lag_filter_refuses_a_2d_series():
         match=re.escape("torque_target must be a 1-D series of samples [N.m], got shape (2, 2)"),
     ):
         discrete_lag_filter([[1.0, 2.0], [3.0, 4.0]], 1e3)
+
+
+def test_a_scalar_parameter_given_an_array_is_named():
+    # float() of the array had raised a bare TypeError ("only 0-dimensional arrays ...").
+    import re
+
+    from rollerrig._validation import ParameterError
+    from rollerrig.drives.induction import discrete_lag_filter
+
+    with pytest.raises(ParameterError, match=re.escape(
+        "c_lp must be a single number [1/s], got an array of shape (2,)"
+    )):  # fmt: skip
+        discrete_lag_filter([1.0, 1.0], [5000.0, 1.0])

@@ -515,11 +515,11 @@ def _check_settings(max_iterations, search_width, torque_noise, h_max):
     an ``h_max`` of 0 or NaN went to the solver, and text raised a bare ValueError."""
     try:
         max_iterations = require_whole("max_iterations", max_iterations, minimum=1)
-        search_width = float(require_nonnegative("search_width", search_width, "-"))
+        search_width = require_nonnegative("search_width", search_width, "-", single=True)
         if torque_noise is not None:
-            torque_noise = float(require_positive("torque_noise", torque_noise, "N.m"))
+            torque_noise = require_positive("torque_noise", torque_noise, "N.m", single=True)
         if h_max is not None:
-            h_max = float(require_positive("h_max", h_max, "s"))
+            h_max = require_positive("h_max", h_max, "s", single=True)
     except ParameterError as exc:
         raise CalibrationError(str(exc)) from None
     return max_iterations, search_width, torque_noise, h_max

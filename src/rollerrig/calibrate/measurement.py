@@ -102,8 +102,8 @@ def quantisation_noise(counts_per_revolution: float, interval: float) -> float:
     0.0641
     """
     # 0 had raised a ZeroDivisionError; a negative count or gate gave a negative σ, silently.
-    cpr = float(require_positive("counts_per_revolution", counts_per_revolution, "-"))
-    gate = float(require_positive("interval", interval, "s"))
+    cpr = require_positive("counts_per_revolution", counts_per_revolution, "-", single=True)
+    gate = require_positive("interval", interval, "s", single=True)
     return float(2.0 * math.pi / (cpr * gate) * math.sqrt(2.0 / 12.0))
 
 

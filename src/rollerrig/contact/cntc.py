@@ -235,15 +235,15 @@ def exact_creep_force(
         require_finite("lat_creep", lat_creep, "-"),
         require_finite("spin", spin, "1/m"),
     )
-    a = float(require_positive("semi_axis_x", semi_axis_x, "m")) * 1e3  # mm
-    b = float(require_positive("semi_axis_y", semi_axis_y, "m")) * 1e3
-    fn = float(require_positive("normal_load", normal_load, "N"))
-    gg = float(require_positive("shear_modulus", shear_modulus, "Pa")) * 1e-6  # N/mm²
-    nu = float(require_positive("poisson", poisson, "-"))
-    mu = float(require_positive("friction", friction, "-"))
-    veloc = float(require_positive("rolling_speed", rolling_speed, "m/s")) * 1e3  # mm/s
+    a = require_positive("semi_axis_x", semi_axis_x, "m", single=True) * 1e3  # mm
+    b = require_positive("semi_axis_y", semi_axis_y, "m", single=True) * 1e3
+    fn = require_positive("normal_load", normal_load, "N", single=True)
+    gg = require_positive("shear_modulus", shear_modulus, "Pa", single=True) * 1e-6  # N/mm²
+    nu = require_positive("poisson", poisson, "-", single=True)
+    mu = require_positive("friction", friction, "-", single=True)
+    veloc = require_positive("rolling_speed", rolling_speed, "m/s", single=True) * 1e3  # mm/s
     mx, my = (int(require_positive("grid", n, "-")) for n in grid)
-    s = float(require_positive("scale", scale, "-"))
+    s = require_positive("scale", scale, "-", single=True)
     cntc, ctab = _library()
     ire, icp = 1, 1
     cntc.initialize(ire, 3, _state["outdir"], 0)  # module 3: basic contact

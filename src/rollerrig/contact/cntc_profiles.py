@@ -476,20 +476,21 @@ def profile_creep_force(
     )
     wheel = _profile_file("wheel_profile", wheel_profile)
     rail = _profile_file("rail_profile", rail_profile)
-    fz = float(require_positive("normal_load", normal_load, "N"))
-    rw = float(require_positive("wheel_radius", wheel_radius, "m")) * 1e3  # mm
-    rr = 0.0 if roller_radius is None else float(
-        require_positive("roller_radius", roller_radius, "m")) * 1e3  # fmt: skip
-    y_ws = float(require_finite("lateral_position", lateral_position, "m")) * 1e3
+    fz = require_positive("normal_load", normal_load, "N", single=True)
+    rw = require_positive("wheel_radius", wheel_radius, "m", single=True) * 1e3  # mm
+    rr = 0.0
+    if roller_radius is not None:
+        rr = require_positive("roller_radius", roller_radius, "m", single=True) * 1e3
+    y_ws = require_finite("lateral_position", lateral_position, "m", single=True) * 1e3
     if abs(y_ws) > 50.0:
         raise ParameterError(f"lateral_position must lie within ±0.05 m, got {y_ws * 1e-3!r}")
-    mu = float(require_positive("friction", friction, "-"))
-    gg = float(require_positive("shear_modulus", shear_modulus, "Pa")) * 1e-6  # N/mm²
-    nu = float(require_positive("poisson", poisson, "-"))
+    mu = require_positive("friction", friction, "-", single=True)
+    gg = require_positive("shear_modulus", shear_modulus, "Pa", single=True) * 1e-6  # N/mm²
+    nu = require_positive("poisson", poisson, "-", single=True)
     if nu >= 0.5:
         raise ParameterError(f"poisson must lie in (0, 0.5) [-], got {nu!r}")
-    v = float(require_positive("rolling_speed", rolling_speed, "m/s")) * 1e3  # mm/s
-    dx = float(require_positive("element_size", element_size, "m")) * 1e3
+    v = require_positive("rolling_speed", rolling_speed, "m/s", single=True) * 1e3  # mm/s
+    dx = require_positive("element_size", element_size, "m", single=True) * 1e3
     if not 0.01 <= dx <= 2.0:
         raise ParameterError(f"element_size must lie in [1e-5, 2e-3] m, got {dx * 1e-3!r}")
 

@@ -130,8 +130,8 @@ def polach_creep_curve(
     (3.5, 0.455)
     """
     s = _require_creep_values(creep)
-    q = float(require_positive("normal_load", normal_load, "N"))
-    v = float(require_positive("rolling_speed", rolling_speed, "m/s"))
+    q = require_positive("normal_load", normal_load, "N", single=True)
+    v = require_positive("rolling_speed", rolling_speed, "m/s", single=True)
     contact = hertz_contact(
         q,
         wheel_radius_x,

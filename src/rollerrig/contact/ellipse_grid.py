@@ -77,7 +77,9 @@ of force under μN = 25 kN; measured 2026-12-02)."""
 
 def _element_count(name: str, value) -> int:
     """``value`` as a whole number of elements, at least :data:`MIN_ELEMENTS`."""
-    count = float(require_in_range(name, value, MIN_ELEMENTS, np.inf, "-", low_inclusive=True))
+    count = require_in_range(
+        name, value, MIN_ELEMENTS, np.inf, "-", low_inclusive=True, single=True
+    )
     if count != int(count):
         raise ParameterError(f"{name} must be a whole number of elements [-], got {value!r}")
     return int(count)
@@ -127,7 +129,7 @@ def fastsim_grid(
         extent = (1.0, 1.0)
     elif kind == "contact":
         # A potential contact smaller than the ellipse cuts it off (30 N of a 25 kN force).
-        s = float(require_in_range("scale", scale, 1.0, np.inf, "-", low_inclusive=True))
+        s = require_in_range("scale", scale, 1.0, np.inf, "-", low_inclusive=True, single=True)
         if min(nx, ny) < MIN_ELEMENTS * s:  # elements across the ellipse, not the grid
             raise ParameterError(
                 f"nx and ny must be at least {MIN_ELEMENTS} x scale = {MIN_ELEMENTS * s:g} on "

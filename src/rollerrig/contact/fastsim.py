@@ -267,12 +267,12 @@ def fastsim(
     >>> round(float(r.fx[0]) / (82e9 * 8e-3 * 4e-3 * 1e-6), 1)
     5.2
     """
-    a = float(require_positive("semi_axis_x", semi_axis_x, "m"))
-    b = float(require_positive("semi_axis_y", semi_axis_y, "m"))
-    n = float(require_positive("normal_load", normal_load, "N"))
-    g = float(require_positive("shear_modulus", shear_modulus, "Pa"))
-    nu = float(
-        require_in_range("poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True)
+    a = require_positive("semi_axis_x", semi_axis_x, "m", single=True)
+    b = require_positive("semi_axis_y", semi_axis_y, "m", single=True)
+    n = require_positive("normal_load", normal_load, "N", single=True)
+    g = require_positive("shear_modulus", shear_modulus, "Pa", single=True)
+    nu = require_in_range(
+        "poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True, single=True
     )
     k0, alpha_inf, beta = _check_modification(k0, alpha_inf, beta)
     if bound not in _BOUNDS:

@@ -170,13 +170,13 @@ def _checked_contact(
     """The contact's inputs checked and in SI: a, b [m], G [Pa], ν [-], N [N] as floats; μ [-],
     ξ, η [-], φ [1/m] as arrays (one per case). Shared by the flexibilities and the modified
     FASTSIM's slope reduction."""
-    a = float(require_positive("semi_axis_x", semi_axis_x, "m"))
-    b = float(require_positive("semi_axis_y", semi_axis_y, "m"))
-    g = float(require_positive("shear_modulus", shear_modulus, "Pa"))
-    nu = float(
-        require_in_range("poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True)
+    a = require_positive("semi_axis_x", semi_axis_x, "m", single=True)
+    b = require_positive("semi_axis_y", semi_axis_y, "m", single=True)
+    g = require_positive("shear_modulus", shear_modulus, "Pa", single=True)
+    nu = require_in_range(
+        "poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True, single=True
     )
-    n = float(require_positive("normal_load", normal_load, "N"))
+    n = require_positive("normal_load", normal_load, "N", single=True)
     mu = require_positive("friction", friction, "-")
     xi = require_finite("long_creep", long_creep, "-")
     eta = require_finite("lat_creep", lat_creep, "-")

@@ -337,10 +337,10 @@ def creep_force(
                 "law 'polach' is longitudinal only here: lat_creep and spin must be 0 "
                 "(use a FASTSIM-family law)"
             )
-        a = float(require_positive("semi_axis_x", semi_axis_x, "m"))
-        b = float(require_positive("semi_axis_y", semi_axis_y, "m"))
-        g = float(require_positive("shear_modulus", shear_modulus, "Pa"))
-        q = float(require_positive("normal_load", normal_load, "N"))
+        a = require_positive("semi_axis_x", semi_axis_x, "m", single=True)
+        b = require_positive("semi_axis_y", semi_axis_y, "m", single=True)
+        g = require_positive("shear_modulus", shear_modulus, "Pa", single=True)
+        q = require_positive("normal_load", normal_load, "N", single=True)
         c11 = float(kalker_coefficients(a / b, poisson).c11)
         fx = _polach_force_kernel(xi, w, q, g * a * b * c11, *parameters.as_tuple())
         zero = np.zeros_like(fx)
@@ -408,8 +408,8 @@ def law_creep_curve(
     """
     check_law(law)
     s = _require_creep_values(creep)
-    q = float(require_positive("normal_load", normal_load, "N"))
-    v = float(require_positive("rolling_speed", rolling_speed, "m/s"))
+    q = require_positive("normal_load", normal_load, "N", single=True)
+    v = require_positive("rolling_speed", rolling_speed, "m/s", single=True)
     contact = hertz_contact(
         q,
         wheel_radius_x,

@@ -111,11 +111,9 @@ def slope_reduction(
 
 
 def _check_modification(k0, alpha_inf, beta):
-    k0 = float(require_in_range("k0", k0, 0.0, 1.0, "-", high_inclusive=True))
-    alpha_inf = float(
-        require_in_range(
-            "alpha_inf", alpha_inf, 0.0, 1.0, "-", low_inclusive=True, high_inclusive=True
-        )
+    k0 = require_in_range("k0", k0, 0.0, 1.0, "-", high_inclusive=True, single=True)
+    alpha_inf = require_in_range(
+        "alpha_inf", alpha_inf, 0.0, 1.0, "-", low_inclusive=True, high_inclusive=True, single=True
     )
-    beta = float(require_nonnegative("beta", beta, "-"))
+    beta = require_nonnegative("beta", beta, "-", single=True)
     return k0, alpha_inf, beta

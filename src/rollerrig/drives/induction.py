@@ -375,7 +375,7 @@ class TheveninCircuit:
         omega_rotor = require_finite("omega_rotor", omega_rotor, "rad/s")
         if f.ndim and omega_rotor.ndim and f.shape != omega_rotor.shape:
             omega_rotor, f = require_broadcastable(omega_rotor=omega_rotor, supply_frequency=f)
-        boost = float(require_nonnegative("boost_voltage", boost_voltage, "V"))
+        boost = require_nonnegative("boost_voltage", boost_voltage, "V", single=True)
         v = vf_voltage(f, self.voltage, self.rated_frequency, boost)
         return induction_torque(
             omega_rotor,
@@ -507,25 +507,24 @@ def thevenin_from_nameplate(
     >>> round(am.rotor_resistance, 4), round(am.reactance, 4)
     (0.1273, 1.4441)
     """
-    rated_power = float(require_positive("rated_power", rated_power, "W"))
-    rated_frequency = float(require_positive("rated_frequency", rated_frequency, "Hz"))
-    rated_torque = float(require_positive("rated_torque", rated_torque, "N.m"))
-    line_voltage = float(require_positive("rated_line_voltage", rated_line_voltage, "V"))
+    rated_power = require_positive("rated_power", rated_power, "W", single=True)
+    rated_frequency = require_positive("rated_frequency", rated_frequency, "Hz", single=True)
+    rated_torque = require_positive("rated_torque", rated_torque, "N.m", single=True)
+    line_voltage = require_positive("rated_line_voltage", rated_line_voltage, "V", single=True)
     pole_pairs = require_whole("pole_pairs", pole_pairs, 1)
-    ratio = float(
-        require_in_range("breakdown_torque_ratio", breakdown_torque_ratio, 1.0, np.inf, "-")
+    ratio = require_in_range(
+        "breakdown_torque_ratio", breakdown_torque_ratio, 1.0, np.inf, "-", single=True
     )
-    r_th = float(require_nonnegative("stator_resistance", stator_resistance, "ohm"))
-    fraction = float(
-        require_in_range(
-            "stator_reactance_fraction",
-            stator_reactance_fraction,
-            0.0,
-            1.0,
-            "-",
-            low_inclusive=True,
-            high_inclusive=True,
-        )
+    r_th = require_nonnegative("stator_resistance", stator_resistance, "ohm", single=True)
+    fraction = require_in_range(
+        "stator_reactance_fraction",
+        stator_reactance_fraction,
+        0.0,
+        1.0,
+        "-",
+        low_inclusive=True,
+        high_inclusive=True,
+        single=True,
     )
     if connection == "delta":
         v_th = line_voltage
@@ -599,9 +598,9 @@ def linear_slope_from_nameplate(
     >>> round(linear_slope_from_nameplate(), 1)
     807.5
     """
-    rated_power = float(require_positive("rated_power", rated_power, "W"))
-    rated_frequency = float(require_positive("rated_frequency", rated_frequency, "Hz"))
-    rated_torque = float(require_positive("rated_torque", rated_torque, "N.m"))
+    rated_power = require_positive("rated_power", rated_power, "W", single=True)
+    rated_frequency = require_positive("rated_frequency", rated_frequency, "Hz", single=True)
+    rated_torque = require_positive("rated_torque", rated_torque, "N.m", single=True)
     pole_pairs = require_whole("pole_pairs", pole_pairs, 1)
     omega_sync, omega_rated = _rated_point(rated_power, rated_torque, rated_frequency, pole_pairs)
     return rated_torque / (omega_sync - omega_rated)
@@ -643,7 +642,7 @@ def lag_time_constant_from_clp(c_lp, step=SEED_LAG_STEP):
     >>> round(lag_time_constant_from_clp(2.75), 6), lag_time_constant_from_clp(1e4)
     (0.363536, 0.0)
     """
-    step = float(require_positive("step", step, "s"))
+    step = require_positive("step", step, "s", single=True)
     c = require_positive("c_lp", c_lp, "1/s")
     require_in_range(
         "c_lp * step", c * step, 0.0, 1.0, "-", low_inclusive=False, high_inclusive=True
@@ -672,7 +671,7 @@ def clp_from_lag_time_constant(time_constant, step=SEED_LAG_STEP):
     >>> round(clp_from_lag_time_constant(1.0 / 2.75 - 1e-4), 9), clp_from_lag_time_constant(0.0)
     (2.75, 10000.0)
     """
-    step = float(require_positive("step", step, "s"))
+    step = require_positive("step", step, "s", single=True)
     tau = require_nonnegative("time_constant", time_constant, "s")
     c = 1.0 / (tau + step)
     return float(c) if c.ndim == 0 else c
@@ -713,10 +712,10 @@ def discrete_lag_filter(torque_target, c_lp, step=SEED_LAG_STEP, initial=0.0):
             f"torque_target must be a 1-D series of samples [N.m], got shape {u.shape}"
         )
     u = u.ravel()
-    step = float(require_positive("step", step, "s"))
-    c = float(require_positive("c_lp", c_lp, "1/s"))
-    w = float(require_in_range("c_lp * step", c * step, 0.0, 1.0, "-", high_inclusive=True))
-    y = float(require_finite("initial", initial, "N.m"))
+    step = require_positive("step", step, "s", single=True)
+    c = require_positive("c_lp", c_lp, "1/s", single=True)
+    w = require_in_range("c_lp * step", c * step, 0.0, 1.0, "-", high_inclusive=True, single=True)
+    y = require_finite("initial", initial, "N.m", single=True)
     out = np.empty_like(u)
     for n, un in enumerate(u):
         y = w * un + (1.0 - w) * y

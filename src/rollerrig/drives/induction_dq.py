@@ -407,9 +407,9 @@ def steady_state(
     >>> round(op.torque, 6), round(abs(op.stator_current) / m.rated_current, 9)
     (891.0, 1.0)
     """
-    f = float(require_finite("supply_frequency", supply_frequency, "Hz"))
-    u_mag = float(require_nonnegative("voltage", voltage, "V"))
-    speed = float(require_finite("rotor_speed", rotor_speed, "rad/s"))
+    f = require_finite("supply_frequency", supply_frequency, "Hz", single=True)
+    u_mag = require_nonnegative("voltage", voltage, "V", single=True)
+    speed = require_finite("rotor_speed", rotor_speed, "rad/s", single=True)
     omega_s = 2.0 * np.pi * f
     omega_m = machine.pole_pairs * speed
     u = u_mag * np.exp(1j * float(voltage_angle))
@@ -666,8 +666,8 @@ def machine_eigenvalues(
     if inertia is None:
         full = a
     else:
-        j = float(require_positive("inertia", inertia, "kg.m^2"))
-        bl = float(require_finite("load_damping", load_damping, "N.m.s/rad"))
+        j = require_positive("inertia", inertia, "kg.m^2", single=True)
+        bl = require_finite("load_damping", load_damping, "N.m.s/rad", single=True)
         full = np.zeros((5, 5))
         full[:4, :4] = a
         full[:4, 4] = b[:, 3]

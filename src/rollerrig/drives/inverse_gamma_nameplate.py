@@ -189,16 +189,16 @@ def inverse_gamma_from_nameplate(
         On non-physical values or when the targets cannot be met together (the message says
         which).
     """
-    p_r = float(require_positive("rated_power", rated_power, "W"))
-    f_r = float(require_positive("rated_frequency", rated_frequency, "Hz"))
-    t_r = float(require_positive("rated_torque", rated_torque, "N.m"))
-    i_r = float(require_positive("rated_current", rated_current, "A"))
-    v_line = float(require_positive("rated_line_voltage", rated_line_voltage, "V"))
-    n_p = float(require_positive("pole_pairs", pole_pairs, "-"))
-    ratio = float(
-        require_in_range("breakdown_torque_ratio", breakdown_torque_ratio, 1.0, np.inf, "-")
+    p_r = require_positive("rated_power", rated_power, "W", single=True)
+    f_r = require_positive("rated_frequency", rated_frequency, "Hz", single=True)
+    t_r = require_positive("rated_torque", rated_torque, "N.m", single=True)
+    i_r = require_positive("rated_current", rated_current, "A", single=True)
+    v_line = require_positive("rated_line_voltage", rated_line_voltage, "V", single=True)
+    n_p = require_positive("pole_pairs", pole_pairs, "-", single=True)
+    ratio = require_in_range(
+        "breakdown_torque_ratio", breakdown_torque_ratio, 1.0, np.inf, "-", single=True
     )
-    r_conn = float(require_nonnegative("stator_resistance", stator_resistance, "ohm"))
+    r_conn = require_nonnegative("stator_resistance", stator_resistance, "ohm", single=True)
     if magnetising_inductance is not None and no_load_current_ratio is not None:
         raise ParameterError(
             "give at most one of magnetising_inductance [H] and no_load_current_ratio [-]"
@@ -230,12 +230,15 @@ def inverse_gamma_from_nameplate(
         "inverse-Γ circuit).",
     ]
     if magnetising_inductance is not None:
-        xm = float(require_positive("magnetising_inductance", magnetising_inductance, "H")) * w1
+        xm = (
+            require_positive("magnetising_inductance", magnetising_inductance, "H", single=True)
+            * w1
+        )
         how = "magnetising_inductance given"
         assumptions.append(f"L_M = {xm / w1:.4g} H given by the caller.")
     elif no_load_current_ratio is not None:
-        i0 = i_r * float(
-            require_in_range("no_load_current_ratio", no_load_current_ratio, 0.0, 1.0, "-")
+        i0 = i_r * require_in_range(
+            "no_load_current_ratio", no_load_current_ratio, 0.0, 1.0, "-", single=True
         )
 
         def no_load_error(xm):

@@ -413,9 +413,9 @@ def pi_gains_for_bandwidth(inductance, resistance, bandwidth):
     >>> pi_gains_for_bandwidth(5e-4, 0.04, 1000.0)
     (0.5, 40.0)
     """
-    inductance = float(require_positive("inductance", inductance, "H"))
-    resistance = float(require_nonnegative("resistance", resistance, "ohm"))
-    bandwidth = float(require_positive("bandwidth", bandwidth, "rad/s"))
+    inductance = require_positive("inductance", inductance, "H", single=True)
+    resistance = require_nonnegative("resistance", resistance, "ohm", single=True)
+    bandwidth = require_positive("bandwidth", bandwidth, "rad/s", single=True)
     kp, ki = inductance * bandwidth, resistance * bandwidth
     if not (math.isfinite(kp) and math.isfinite(ki)):
         raise ParameterError(

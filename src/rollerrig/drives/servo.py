@@ -118,9 +118,9 @@ def servo_gains_for_bandwidth(inertia, bandwidth, damping_ratio=1.0):
     >>> servo_gains_for_bandwidth(50.0, 10.0)
     (1000.0, 5000.0)
     """
-    inertia = float(require_positive("inertia", inertia, "kg.m^2"))
-    bandwidth = float(require_positive("bandwidth", bandwidth, "rad/s"))
-    damping_ratio = float(require_positive("damping_ratio", damping_ratio, "-"))
+    inertia = require_positive("inertia", inertia, "kg.m^2", single=True)
+    bandwidth = require_positive("bandwidth", bandwidth, "rad/s", single=True)
+    damping_ratio = require_positive("damping_ratio", damping_ratio, "-", single=True)
     # bandwidth * bandwidth, not bandwidth**2: a float power raises OverflowError past 1e308.
     kp, ki = 2.0 * damping_ratio * bandwidth * inertia, bandwidth * bandwidth * inertia
     if not (math.isfinite(kp) and math.isfinite(ki)):

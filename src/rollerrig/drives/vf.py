@@ -496,7 +496,7 @@ def vf_control_for(
         k_lim = (
             machine.rated_angular_frequency / machine.rated_current
             if limit_gain is None
-            else float(require_nonnegative("limit_gain", limit_gain, "rad/(s.A)"))
+            else require_nonnegative("limit_gain", limit_gain, "rad/(s.A)", single=True)
         )
     rate = (
         np.inf
@@ -556,8 +556,8 @@ def _in_range(name: str, value, unit: str, setting: str | None = None) -> float:
     """``value`` as a float, raising :class:`ParameterError` outside its plausible range
     (:data:`VF_SETTING_RANGES` of ``setting``, default ``name``)."""
     low, high = VF_SETTING_RANGES[setting or name]
-    return float(
-        require_in_range(name, value, low, high, unit, low_inclusive=True, high_inclusive=True)
+    return require_in_range(
+        name, value, low, high, unit, low_inclusive=True, high_inclusive=True, single=True
     )
 
 

@@ -97,7 +97,7 @@ def savitzky_golay_matrix(size: int, window: int, order: int, deriv: int = 0, de
     rollerrig._validation.ParameterError: window must be an odd integer >= 1 [samples] (centred on its sample), got 6; use 7 or 5
     """  # noqa: E501
     window, order, deriv = _check_savgol(size, window, order, deriv)
-    delta = float(require_positive("delta", delta, "s"))
+    delta = require_positive("delta", delta, "s", single=True)
     h = window // 2
     q, r = _savgol_basis(window, order)
     kernel = _savgol_kernel(q, r, h, deriv, delta)[::-1]  # weights of x[i-h .. i+h]
@@ -185,8 +185,8 @@ def encoder_speed_matrix(size: int, fs: float, cpr: float) -> np.ndarray:
             f"size must be an integer >= 2 [samples] (a speed is a difference of two counts), "
             f"got {size!r}"
         )
-    fs = float(require_positive("fs", fs, "Hz"))
-    cpr = float(require_positive("cpr", cpr, "1"))
+    fs = require_positive("fs", fs, "Hz", single=True)
+    cpr = require_positive("cpr", cpr, "1", single=True)
     size = int(n)
     scale = 2.0 * math.pi / cpr * fs
     out = np.zeros((size, size))

@@ -216,14 +216,14 @@ def fit_modified_fastsim(
         w = s * per_point("rolling_speed", rolling_speed, "m/s")
     else:
         w = per_point("slip_velocity", slip_velocity, "m/s", require_finite)
-    a = float(require_positive("semi_axis_x", semi_axis_x, "m"))
-    b = float(require_positive("semi_axis_y", semi_axis_y, "m"))
-    g_mod = float(require_positive("shear_modulus", shear_modulus, "Pa"))
+    a = require_positive("semi_axis_x", semi_axis_x, "m", single=True)
+    b = require_positive("semi_axis_y", semi_axis_y, "m", single=True)
+    g_mod = require_positive("shear_modulus", shear_modulus, "Pa", single=True)
     nu = float(poisson)
     if reference_load is None:
         n_ref = float(np.median(q))
     else:
-        n_ref = float(require_positive("reference_load", reference_load, "N"))
+        n_ref = require_positive("reference_load", reference_load, "N", single=True)
     grid = fastsim_grid() if grid is None else grid
     if not isinstance(grid, FastsimGrid):
         raise ParameterError(

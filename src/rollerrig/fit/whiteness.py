@@ -51,7 +51,7 @@ def autocorrelation(x: np.ndarray, max_lag: int) -> np.ndarray:
     (1.0, True)
     """
     x = _series(x)
-    lag = float(require_finite("max_lag", max_lag, "-"))  # NaN had reached int(): ValueError
+    lag = require_finite("max_lag", max_lag, "-", single=True)  # NaN had reached int(): ValueError
     if not (lag == int(lag) and 0 <= lag < x.size):
         raise ParameterError(
             f"max_lag must be a whole number in [0, {x.size - 1}] (the series' length - 1), "

@@ -113,7 +113,7 @@ def analyze_frame(
     for name, value in (("normal_load", normal_load), ("traction_force", traction_force)):
         if isinstance(value, str | bytes | bool) or np.ndim(value) != 0:
             raise ParameterError(f"{name} must be a single number [N], got {value!r}")
-        value = float(require_finite(name, value, "N"))
+        value = require_finite(name, value, "N", single=True)
         if abs(value) > MAX_TEST_LOAD:
             raise ParameterError(
                 f"{name} must be finite and at most {MAX_TEST_LOAD:g} N in magnitude [N], "

@@ -50,8 +50,8 @@ of a 19.2 kHz test, 1e-3 Hz tried to allocate 6 GiB."""
 def _checked_rate(name: str, value, lowest: float) -> float:
     """``value`` [Hz], finite and at least ``lowest`` (above 0 where that is 0)."""
     if lowest > 0.0:
-        return float(require_in_range(name, value, lowest, np.inf, "Hz", low_inclusive=True))
-    return float(require_positive(name, value, "Hz"))
+        return require_in_range(name, value, lowest, np.inf, "Hz", low_inclusive=True, single=True)
+    return require_positive(name, value, "Hz", single=True)
 
 
 def nominal_rate(recording) -> float:

@@ -164,7 +164,7 @@ def encoder_speed(counts, time, counts_per_revolution, gate: int = 1, centred: b
     """
     c = require_finite("counts", counts, "1")
     t = require_finite("time", time, "s")
-    cpr = float(require_positive("counts_per_revolution", counts_per_revolution, "1"))
+    cpr = require_positive("counts_per_revolution", counts_per_revolution, "1", single=True)
     k = int(gate)
     if k < 1 or k != gate:
         raise RecordingError(f"gate must be an integer >= 1 [samples], got {gate!r}")
@@ -270,7 +270,7 @@ def _rig_values(recording: Recording, rig_or_params) -> dict[str, float]:
         # A mapping is not a validated rig: a negative or NaN radius had made every sample's
         # creep -2.03 or NaN. Each value named as its key.
         values = {
-            key: float(require_positive(f"{section}.{name}", section_map[name], unit))
+            key: require_positive(f"{section}.{name}", section_map[name], unit, single=True)
             for key, section, section_map, name, unit in (
                 ("wheel_radius", "geometry", geometry, "wheel_radius_x", "m"),
                 ("roller_radius", "geometry", geometry, "roller_radius_x", "m"),

@@ -192,10 +192,14 @@ def segment_test(
     if hold_band is None:
         hold_band = 0.002 if is_request else 0.05
     # A NaN sample, or setting, compared false everywhere: the test's cycles had vanished.
-    active_fraction = float(require_in_range("active_fraction", active_fraction, 0.0, 1.0, "1"))
-    hold_band = float(require_in_range("hold_band", hold_band, 0.0, 1.0, "1", low_inclusive=True))
-    rest_fraction = float(
-        require_in_range("rest_fraction", rest_fraction, 0.0, 1.0, "1", low_inclusive=True)
+    active_fraction = require_in_range(
+        "active_fraction", active_fraction, 0.0, 1.0, "1", single=True
+    )
+    hold_band = require_in_range(
+        "hold_band", hold_band, 0.0, 1.0, "1", low_inclusive=True, single=True
+    )
+    rest_fraction = require_in_range(
+        "rest_fraction", rest_fraction, 0.0, 1.0, "1", low_inclusive=True, single=True
     )
     require_positive("release_max_duration", release_max_duration, "s")
     require_nonnegative("min_cycle_duration", min_cycle_duration, "s")

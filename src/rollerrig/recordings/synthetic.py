@@ -237,7 +237,7 @@ class DisturbanceModel:
 
     def scaled(self, factor: float) -> DisturbanceModel:
         """All amplitudes and noise levels multiplied by ``factor`` [-]."""
-        f = float(require_nonnegative("factor", factor, "-"))
+        f = require_nonnegative("factor", factor, "-", single=True)
         return replace(
             self,
             am_line_amplitudes=tuple(f * a for a in self.am_line_amplitudes),

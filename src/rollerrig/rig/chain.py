@@ -317,9 +317,9 @@ def contact_damping_matrix(
     >>> C.tolist()
     [[250.0, -125.0], [-125.0, 62.5]]
     """
-    slope = float(require_finite("creep_force_slope", creep_force_slope, "N.s/m"))
-    r_w = float(require_positive("wheel_radius", wheel_radius, "m"))
-    r_r = float(require_positive("roller_radius", roller_radius, "m"))
+    slope = require_finite("creep_force_slope", creep_force_slope, "N.s/m", single=True)
+    r_w = require_positive("wheel_radius", wheel_radius, "m", single=True)
+    r_r = require_positive("roller_radius", roller_radius, "m", single=True)
     # 7.5 bodies, a body 4.5 or "a" had raised numpy's TypeError or IndexError; a million
     # bodies a MemoryError (7 TiB).
     n_bodies = require_whole("n_bodies", n_bodies, minimum=1, maximum=MAX_BODIES)
@@ -574,8 +574,8 @@ def modal_analysis(
     n = M.shape[0]
     K = _square("K", K, n)
     # NaN had called no mode rigid, a negative tolerance none, silently.
-    rigid_tolerance = float(
-        require_in_range("rigid_tolerance", rigid_tolerance, 0.0, 1.0, "-", low_inclusive=True)
+    rigid_tolerance = require_in_range(
+        "rigid_tolerance", rigid_tolerance, 0.0, 1.0, "-", low_inclusive=True, single=True
     )
     if not np.allclose(M, M.T, rtol=1e-12, atol=0.0):
         raise ParameterError("M [kg.m^2] must be symmetric")
@@ -713,10 +713,8 @@ def modal_table(
     (13.84, ('am_rotor', 'roller'), 'roller_shaft')
     """
     # NaN or a share above 1 had named no dominant body, a negative one every body, silently.
-    threshold = float(
-        require_in_range(
-            "threshold", threshold, 0.0, 1.0, "-", low_inclusive=True, high_inclusive=True
-        )
+    threshold = require_in_range(
+        "threshold", threshold, 0.0, 1.0, "-", low_inclusive=True, high_inclusive=True, single=True
     )
     M, K, C = chain_matrices(rig)
     result = modal_analysis(M, K, C if damped else None, extra_damping)

@@ -182,7 +182,7 @@ def drive_steady_state(
     """
     if (rotor_speed is None) == (torque is None):
         raise ParameterError("give exactly one of rotor_speed [rad/s] and torque [N.m]")
-    w_cmd = float(require_positive("omega_cmd", omega_cmd, "rad/s"))
+    w_cmd = require_positive("omega_cmd", omega_cmd, "rad/s", single=True)
     machine, control = drive.machine, drive.control
     pm, pc = machine.as_array(), control.as_array()
     n_p = machine.pole_pairs
@@ -309,7 +309,7 @@ def simulate_drive_on_inertia(
     if inertia is None and rotor_speed is None:
         raise ParameterError("give inertia [kg.m^2] or an imposed rotor_speed(t) [rad/s]")
     mech = inertia is not None
-    j = float(require_positive("inertia", inertia, "kg.m^2")) if mech else 1.0
+    j = require_positive("inertia", inertia, "kg.m^2", single=True) if mech else 1.0
     n = 9 if mech else 8
 
     def rhs(t, x):

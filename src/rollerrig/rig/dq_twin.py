@@ -114,8 +114,8 @@ class DqTwin:
         ``torque_time``/``torque_request`` give a wheel torque request [s], [N.m] (default
         none: free rolling). The friction set must be one of Polach's (``dry``, ``wet``).
         """
-        v = float(require_positive("speed", speed, "m/s"))
-        load = float(require_positive("normal_load", normal_load, "N"))
+        v = require_positive("speed", speed, "m/s", single=True)
+        load = require_positive("normal_load", normal_load, "N", single=True)
         if friction not in POLACH_PARAMETER_SETS:
             raise ParameterError(
                 f"friction must be one of {sorted(POLACH_PARAMETER_SETS)}, got {friction!r}"

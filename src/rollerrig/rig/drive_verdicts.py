@@ -53,7 +53,7 @@ def mode_class(damping_ratio: float, threshold: float = DEFAULT_DAMPING_THRESHOL
     ('unstable', 'lightly damped', 'lightly damped', 'damped')
     """
     # A NaN damping ratio had been classed "damped", and any threshold taken as it came.
-    damping_ratio = float(require_finite("damping_ratio", damping_ratio, "-"))
+    damping_ratio = require_finite("damping_ratio", damping_ratio, "-", single=True)
     threshold = check_damping_threshold(threshold)
     if damping_ratio < 0.0:
         return "unstable"

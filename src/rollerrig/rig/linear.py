@@ -277,10 +277,10 @@ def linearise_twin(
     >>> len(lin.state_names), lin.step_difference < 1e-5
     (19, True)
     """
-    v = float(require_positive("speed", speed, "m/s"))
-    load = float(require_positive("normal_load", normal_load, "N"))
+    v = require_positive("speed", speed, "m/s", single=True)
+    load = require_positive("normal_load", normal_load, "N", single=True)
     # A step of 0, NaN or inf had given a Jacobian of NaN (0/0) with no error.
-    step = float(require_in_range("step", step, 0.0, 1.0, "-"))
+    step = require_in_range("step", step, 0.0, 1.0, "-", single=True)
     sets = dict(friction_sets or POLACH_PARAMETER_SETS)
     if friction not in sets:
         raise ParameterError(
@@ -627,7 +627,7 @@ def modes_of(
 
 def check_damping_threshold(damping_threshold: float) -> float:
     """``damping_threshold`` [-] as a float, or a ParameterError when it is not in (0, 1)."""
-    return float(require_in_range("damping_threshold", damping_threshold, 0.0, 1.0, "-"))
+    return require_in_range("damping_threshold", damping_threshold, 0.0, 1.0, "-", single=True)
 
 
 def coupled_modes(

@@ -213,7 +213,7 @@ def _mode_candidates(rig_modes) -> list[tuple[float, float, str]]:
                 zeta = float(md.damping_ratio or 0.0)
                 out.append((float(md.frequency), _MODEL_TOLERANCE + zeta, md.label))
         else:
-            fc = float(require_finite("rig_modes", md, "Hz"))
+            fc = require_finite("rig_modes", md, "Hz", single=True)
             out.append((fc, _MODEL_TOLERANCE, _label("rig_mode", 0, fc)))
     return out
 
@@ -377,12 +377,12 @@ def attribute_peaks(
         am_pole_pairs, pmsm_pole_pairs, max_harmonic, tolerance_hz, relative_tolerance, am_slip
     )
     if roller_speed is not None:
-        roller_speed = float(require_positive("roller_speed", abs(roller_speed), "rad/s"))
+        roller_speed = require_positive("roller_speed", abs(roller_speed), "rad/s", single=True)
     if wheel_speed is not None:
-        wheel_speed = float(require_positive("wheel_speed", abs(wheel_speed), "rad/s"))
+        wheel_speed = require_positive("wheel_speed", abs(wheel_speed), "rad/s", single=True)
     f, pw, res = _peak_values(peaks)
     if resolution is not None:
-        res = float(require_positive("resolution", resolution, "Hz"))
+        res = require_positive("resolution", resolution, "Hz", single=True)
     if f.size == 0:
         return []  # nothing to attribute (no peak above the thresholds)
     if tolerance_hz is None and res is None:
@@ -448,8 +448,10 @@ def _entry(item) -> tuple[float | None, float | None, list, float | None]:
     peaks = list(peaks) if res is not None else list(f)
     # A speed is finite or None (at rest): a NaN one had put its peaks at speed NaN, off
     # every line, and an infinite one stretched the map's speed axis to infinity.
-    roller = None if roller is None else float(require_finite("roller_speed", roller, "rad/s"))
-    wheel = None if wheel is None else float(require_finite("wheel_speed", wheel, "rad/s"))
+    roller = (
+        None if roller is None else require_finite("roller_speed", roller, "rad/s", single=True)
+    )
+    wheel = None if wheel is None else require_finite("wheel_speed", wheel, "rad/s", single=True)
     return roller, wheel, peaks, res
 
 

@@ -34,8 +34,8 @@ def butterworth_sos(sample_rate: float, cutoff: float, order: int) -> np.ndarray
     >>> butterworth_sos(250.0, 1.2, 3).shape
     (2, 6)
     """
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
-    fc = float(require_positive("cutoff", cutoff, "Hz"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
+    fc = require_positive("cutoff", cutoff, "Hz", single=True)
     if fc >= fs / 2:
         raise ParameterError(
             f"cutoff must be below the Nyquist frequency {fs / 2:g} Hz, got {fc:g}"

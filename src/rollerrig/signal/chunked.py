@@ -90,7 +90,7 @@ def zero_phase_padding(sample_rate: float, cutoff: float, order: int, tolerance:
             f"their gain at higher orders), got {order!r}"
         )
     sos = butterworth_sos(sample_rate, cutoff, order)
-    tol = float(require_positive("tolerance", tolerance))
+    tol = require_positive("tolerance", tolerance, single=True)
     if tol >= 1.0:
         raise ParameterError(f"tolerance must lie in (0, 1), got {tol:g}")
     _, poles, _ = sps.sos2zpk(sos)

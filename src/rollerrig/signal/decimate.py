@@ -234,8 +234,8 @@ def design_decimation(
     >>> d.passband_ripple < 1e-3, d.stopband_attenuation_dB > 60.0
     (True, True)
     """
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
-    target = float(require_positive("target_rate", target_rate, "Hz"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
+    target = require_positive("target_rate", target_rate, "Hz", single=True)
     if target >= fs:
         raise ParameterError(
             f"target_rate {target:g} Hz must be below the sample rate {fs:g} Hz (decimation only)"

@@ -69,7 +69,7 @@ def default_candidates(sample_rate: float = SEED_SAMPLE_RATE) -> list[tuple[str,
     >>> len(default_candidates())
     51
     """
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
 
     def w(k: int) -> int:
         return odd(k * fs / SEED_SAMPLE_RATE, 5)
@@ -115,7 +115,7 @@ def savitzky_golay_candidates(
     >>> len(savitzky_golay_candidates(250.0)), savitzky_golay_candidates(250.0, [4], [5, 3])
     (120, [('savitzky_golay', {'window': 5, 'order': 4})])
     """
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
     if windows is None:
         windows = sorted({odd(k * fs / SEED_SAMPLE_RATE, 5) for k in range(11, 202, 10)})
     candidates = [

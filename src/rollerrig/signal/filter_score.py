@@ -165,8 +165,10 @@ class Scorer:
             self.raw_noise = self._rms(np.asarray(raw_noise_rms, float) * self.scale)
         self.segments = self.seg.transient_segments()
         # At least a sample each way: a lag searched over none was NaN.
-        self.max_lag = max(round(float(require_positive("max_lag", max_lag, "s")) * self.fs), 1)
-        nb = max(round(float(require_positive("base_time", base_time, "s")) * self.fs), 1)
+        self.max_lag = max(
+            round(require_positive("max_lag", max_lag, "s", single=True) * self.fs), 1
+        )
+        nb = max(round(require_positive("base_time", base_time, "s", single=True) * self.fs), 1)
         self.peaks = []
         for a, b in self.segments:
             before = self.ref[max(a - nb, 0) : a] if a > 0 else self.ref[b : b + nb]

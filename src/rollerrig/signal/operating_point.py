@@ -81,7 +81,7 @@ def _mean_speed(access: RecordingAccess, stats, which: str, rig, given: float | 
     """Mean |angular speed| [rad/s] of the roller or wheel and its source (None: unknown)."""
     name, counts = f"{which}_speed", f"{which}_encoder_counts"
     if given is not None:
-        return float(require_positive(f"{which}_speed", abs(given), "rad/s")), "given"
+        return require_positive(f"{which}_speed", abs(given), "rad/s", single=True), "given"
     if name in stats:
         if not np.isfinite(stats[name][0]):
             raise access.fail(f"channel {name!r} has non-finite values; fill or cut them first")

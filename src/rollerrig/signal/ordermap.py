@@ -135,7 +135,7 @@ def order_map(
     # A line needs two points; a million is far more than a plot resolves.
     n_grid = require_whole("n_grid", n_grid, minimum=2, maximum=1_000_000, unit="points")
     if wheel_to_roller is not None:
-        wheel_to_roller = float(require_positive("wheel_to_roller", wheel_to_roller))
+        wheel_to_roller = require_positive("wheel_to_roller", wheel_to_roller, single=True)
     speed, freq, power, source, rec = [], [], [], [], []
     ratios = []
     for i, item in enumerate(entries):

@@ -247,15 +247,17 @@ def find_spectral_peaks(
     require_nonnegative("min_prominence", min_prominence, "dB")
     require_finite("min_snr", min_snr, "dB")
     require_positive("dynamic_range", dynamic_range, "dB")
-    low = float(require_nonnegative("min_frequency", min_frequency, "Hz"))
+    low = require_nonnegative("min_frequency", min_frequency, "Hz", single=True)
     if max_frequency is not None:
-        high = float(require_positive("max_frequency", max_frequency, "Hz"))
+        high = require_positive("max_frequency", max_frequency, "Hz", single=True)
         if high <= low:
             raise ParameterError(
                 f"max_frequency must be above min_frequency [Hz], got {high:g} <= {low:g}"
             )
     if floor_bins is not None and not (
-        float(require_in_range("floor_bins", floor_bins, 3, np.inf, "bins", low_inclusive=True))
+        require_in_range(
+            "floor_bins", floor_bins, 3, np.inf, "bins", low_inclusive=True, single=True
+        )
         == int(floor_bins)
     ):
         raise ParameterError(f"floor_bins must be a whole number of bins, got {floor_bins!r}")

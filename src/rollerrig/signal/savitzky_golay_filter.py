@@ -67,7 +67,7 @@ def savitzky_golay(x, window: int, order: int, deriv: int = 0, sample_rate: floa
         raise ParameterError(f"x has {x.size} samples, fewer than window = {w} [samples]")
     delta = 1.0
     if sample_rate is not None:
-        delta = 1.0 / float(require_positive("sample_rate", sample_rate, "Hz"))
+        delta = 1.0 / require_positive("sample_rate", sample_rate, "Hz", single=True)
     n = x.size
     h = w // 2
     q, r = savgol_basis(w, p)

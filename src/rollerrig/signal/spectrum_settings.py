@@ -166,9 +166,9 @@ def line_spacing(roller_frequency: float, wheel_frequency: float | None = None) 
     >>> round(line_spacing(2.934, 3.811), 3)   # 30 km/h on the seed's rig
     0.877
     """
-    spacing = [float(require_positive("roller_frequency", roller_frequency, "Hz"))]
+    spacing = [require_positive("roller_frequency", roller_frequency, "Hz", single=True)]
     if wheel_frequency is not None:
-        spacing.append(float(require_positive("wheel_frequency", wheel_frequency, "Hz")))
+        spacing.append(require_positive("wheel_frequency", wheel_frequency, "Hz", single=True))
         gap = abs(float(wheel_frequency) - float(roller_frequency))
         if gap >= 0.05 * float(roller_frequency):
             spacing.append(gap)
@@ -246,7 +246,7 @@ def choose_settings(
     (2666, 8)
     """
     n = int(n_samples)
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
     if n < 16:
         raise ParameterError(f"a spectrum needs at least 16 samples, got {n}")
     if spacing is None:
@@ -259,7 +259,7 @@ def choose_settings(
             "finest resolution the record allows",
             overrides,
         )
-    gap = float(require_positive("spacing", spacing, "Hz"))
+    gap = require_positive("spacing", spacing, "Hz", single=True)
     want = int(np.ceil(fs * BINS_PER_SPACING / gap))
     need = int(np.ceil(fs * BINS_NEEDED / gap))
     by_averages = _largest_nperseg(n, min_averages)

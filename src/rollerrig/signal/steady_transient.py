@@ -120,11 +120,11 @@ def steady_and_transient_masks(
     x = require_finite("signal", signal)
     if x.ndim != 1 or x.size < 3:
         raise ParameterError(f"signal must be a 1-D series of at least 3 samples, got {x.shape}")
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
-    smoothing_time = float(require_nonnegative("smoothing_time", smoothing_time, "s"))
-    margin = float(require_nonnegative("margin", margin, "s"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
+    smoothing_time = require_nonnegative("smoothing_time", smoothing_time, "s", single=True)
+    margin = require_nonnegative("margin", margin, "s", single=True)
     # A NaN k_sigma compared false everywhere: every sample steady.
-    k_sigma = float(require_positive("k_sigma", k_sigma, "-"))
+    k_sigma = require_positive("k_sigma", k_sigma, "-", single=True)
     window = odd(smoothing_time * fs, 1)
     y = moving_average(moving_average(x, window), window)
     slope = np.gradient(y) * fs
@@ -133,7 +133,7 @@ def steady_and_transient_masks(
         rounding = 1e-9 * float(np.max(np.abs(y))) * fs  # a constant's moving-average slope
         thr = max(k_sigma * sigma, 1e-3 * float(np.ptp(y)), rounding, 1e-300)
     else:
-        thr = float(require_positive("threshold", threshold))
+        thr = require_positive("threshold", threshold, single=True)
     core = np.abs(slope) > thr
     m = round(margin * fs)
     return Segmentation(~_dilate(core, 2 * m), _dilate(core, m))

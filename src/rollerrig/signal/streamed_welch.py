@@ -184,7 +184,7 @@ def _as_chunk(chunk, k: int, what: str) -> np.ndarray:
 
 
 def _stream(chunks, k, sample_rate, nperseg, noverlap, window, detrend, scaling, names):
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
     seg, overlap = _check_segments(nperseg, noverlap)
     _choice("scaling", scaling, ("spectrum", "density"))
     _check_detrend(detrend)

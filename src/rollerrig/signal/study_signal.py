@@ -54,7 +54,7 @@ def _analysis_rate(source_rate: float, analysis_rate) -> float:
                 f"analysis_rate must be 'auto', None or a rate [Hz], got {analysis_rate!r}"
             )
         return SEED_SAMPLE_RATE if source_rate > ANALYSIS_RATE_LIMIT else source_rate
-    rate = float(require_positive("analysis_rate", analysis_rate, "Hz"))
+    rate = require_positive("analysis_rate", analysis_rate, "Hz", single=True)
     return min(rate, source_rate)
 
 
@@ -356,7 +356,7 @@ def study_signal_from_chunks(
     >>> s.basis.start, s.basis.end, s.raw.size
     (2.0, 18.0, 4001)
     """
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
     t0 = float(start_time)
     if not np.isfinite(t0):
         raise ParameterError(f"start_time must be finite [s], got {start_time!r}")

@@ -90,8 +90,8 @@ def seed_like_torque(
     >>> sig.raw.shape, round(float(sig.truth.max()))
     ((5000,), 400)
     """
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
-    dur = float(require_positive("duration", duration, "s"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
+    dur = require_positive("duration", duration, "s", single=True)
     n = round(dur * fs)
     t = np.arange(n) / fs
     c = dur / 20.0

@@ -145,7 +145,7 @@ def power_spectrum(
     (10.0, 2.0)
     """
     x = _as_signal(name, x)
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
     method = _choice("method", method, ("welch", "periodogram"))
     scaling = _choice("scaling", scaling, ("spectrum", "density"))
     _check_detrend(detrend)

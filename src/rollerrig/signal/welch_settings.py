@@ -79,7 +79,7 @@ def enbw(window, sample_rate: float) -> float:
     rollerrig._validation.ParameterError: window must not sum to zero [-] (the equivalent noise bandwidth f_s Σw²/(Σw)² divides by it), got Σw = 0 over 8 samples
     """  # noqa: E501
     w = require_finite("window", window, "1")
-    fs = float(require_positive("sample_rate", sample_rate, "Hz"))
+    fs = require_positive("sample_rate", sample_rate, "Hz", single=True)
     if w.ndim != 1 or w.size == 0:
         raise ParameterError(
             f"window must be a 1-D array of at least one weight [-], got shape {w.shape}"

@@ -268,13 +268,13 @@ def explain_recordings(recordings: Sequence, channel: str = "torque", rig=None, 
 
 def _given_mean_speed(recording, name: str, given: float | None, required: bool) -> float | None:
     if given is not None:
-        return float(require_positive(name, abs(given), "rad/s"))
+        return require_positive(name, abs(given), "rad/s", single=True)
     if name not in recording:
         if required:
             recording.require(name)
         return None
-    return float(
-        require_positive(f"mean {name} of the recording", abs(np.mean(recording[name])), "rad/s")
+    return require_positive(
+        f"mean {name} of the recording", abs(np.mean(recording[name])), "rad/s", single=True
     )
 
 

@@ -207,7 +207,7 @@ def release_overshoots(ds, protocol: Protocol, window: float = RELEASE_WINDOW) -
         the first minimum to the next maximum: 1/(2 Δt)); see :func:`_swing`.
     """
     # A window of 0, NaN or below 0 had found no release: an empty list, with no error.
-    window = float(require_positive("window", window, "s"))
+    window = require_positive("window", window, "s", single=True)
     if not isinstance(ds, RunChannels):
         ds = RunChannels.from_dataset(ds)
     return _release_rows(ds, protocol, window)
