@@ -65,3 +65,27 @@ def test_a_failed_save_leaves_nothing(tmp_path):
     with pytest.raises(OutputError, match="folder has this name"):
         save_figure(_figure(), tmp_path / "f.png")
     assert [p.name for p in tmp_path.iterdir()] == ["f.png"]
+
+
+@pytest.mark.parametrize("dpi", [0, -5, float("nan"), 1e7])
+def test_a_dpi_out_of_range_is_a_parameter_error(tmp_path, dpi):
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    fig, _ = plt.subplots()
+    with pytest.raises(ParameterError, match=re.escape("dpi must")):
+        save_figure(fig, tmp_path / "f.png", dpi=dpi)
+    assert not list(tmp_path.iterdir())
+
+
+def test_no_figure_or_metadata_of_the_wrong_type_is_a_parameter_error(tmp_path):
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=re.escape("fig must be a matplotlib Figure")):
+        save_figure(None, tmp_path / "f.png")
+    fig, _ = plt.subplots()
+    with pytest.raises(ParameterError, match=re.escape("metadata must be a dict")):
+        save_figure(fig, tmp_path / "f.png", metadata=[1])

@@ -96,3 +96,43 @@ def test_json_and_text_get_the_mode_of_a_new_file(tmp_path, umask, mode):
 
 def test_write_text_is_utf8(tmp_path):
     assert write_text(tmp_path / "a.txt", "N·m µ").read_bytes() == "N·m µ".encode()
+
+
+def test_keys_that_become_one_json_key_are_refused_not_written_twice(tmp_path):
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=re.escape("are the same JSON key")):
+        write_json(tmp_path / "x.json", {1: "a", "1": "b"})
+    with pytest.raises(ParameterError, match=re.escape("cannot be a JSON key")):
+        write_json(tmp_path / "x.json", {(1, 2): "a"})
+    assert not (tmp_path / "x.json").exists()
+
+
+def test_an_own_null_values_key_is_not_overwritten(tmp_path):
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(
+        ParameterError, match=re.escape(f"has a key {NULL_VALUES_KEY!r} of its own")
+    ):
+        write_json(tmp_path / "x.json", {"a": float("nan"), NULL_VALUES_KEY: 5})
+    assert not (tmp_path / "x.json").exists()
+
+
+def test_what_json_cannot_hold_is_a_parameter_error(tmp_path):
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    loop: list = []
+    loop.append(loop)
+    with pytest.raises(ParameterError, match=re.escape("a circular reference")):
+        write_json(tmp_path / "x.json", {"a": loop})
+    with pytest.raises(ParameterError, match=re.escape("not JSON serialisable: complex")):
+        write_json(tmp_path / "x.json", {"a": 1 + 2j})
+    with pytest.raises(ParameterError, match=re.escape("text must be a str, got a bytes")):
+        write_text(tmp_path / "x.txt", b"abc")
+    assert not list(tmp_path.iterdir())

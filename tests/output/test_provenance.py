@@ -185,3 +185,16 @@ def test_git_missing_is_tolerated(monkeypatch):
 
     monkeypatch.setattr(prov.subprocess, "run", slow)
     assert prov._git(["rev-parse", "HEAD"], prov.Path(".")) is None
+
+
+def test_a_command_given_as_one_str_is_refused_not_recorded_letter_by_letter():
+    import re
+
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=re.escape("command must be a list of str")):
+        with run_context(command="rollerrig simulate"):
+            pass
+    with pytest.raises(ParameterError, match=re.escape("inputs must be a mapping of role")):
+        with run_context(inputs=["a.csv"]):
+            pass

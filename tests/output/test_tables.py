@@ -404,3 +404,101 @@ def test_a_documented_nan_is_stated_on_the_variable_in_every_format(tmp_path):
     with xr.open_dataset(write_dataset(tmp_path / "d.nc", ds), engine="h5netcdf") as back:
         assert int(back["measured_creep"].attrs["nan_samples"]) == 1
     assert "nan_samples" not in ds["measured_creep"].attrs  # the caller's dataset untouched
+
+
+# ----------------------------------------------------------------- bad input (probe findings)
+
+
+@pytest.mark.parametrize("fmt", ["csv", "nc"])
+def test_a_nan_sample_time_is_refused_not_written_as_an_empty_cell(tmp_path, fmt):
+    import re
+
+    path = tmp_path / f"run.{fmt}"
+    with pytest.raises(ParameterError, match=re.escape("time must be finite [s]")):
+        write_table(path, {"a": ([1.0, 2.0], "N")}, time=[0.0, np.nan])
+    assert not path.exists()
+
+
+def test_a_time_going_back_is_refused(tmp_path):
+    import re
+
+    with pytest.raises(ParameterError, match=re.escape("time must be non-decreasing [s]")):
+        write_table(tmp_path / "run.csv", {"a": ([1.0, 2.0], "N")}, time=[1.0, 0.0])
+
+
+def test_a_complex_column_is_refused_not_written_as_its_real_part(tmp_path):
+    import re
+
+    with pytest.raises(ParameterError, match=re.escape("column 'a' holds complex numbers")):
+        write_table(tmp_path / "run.csv", {"a": (np.array([1 + 1j, 2 + 2j]), "N")})
+
+
+def test_a_date_column_is_refused_not_written_as_days_under_seconds(tmp_path):
+    import re
+
+    dates = np.array(["2020-01-01", "2020-01-02"], dtype="datetime64[D]")
+    with pytest.raises(ParameterError, match=re.escape("column 'a' holds dates or durations")):
+        write_table(tmp_path / "run.csv", {"a": (dates, "s")})
+
+
+def test_numbers_with_a_none_are_not_written_as_text_without_their_unit(tmp_path):
+    import re
+
+    with pytest.raises(ParameterError, match=re.escape("column 'a' has 1 NaN/inf samples")):
+        write_table(tmp_path / "run.csv", {"a": ([1.0, None], "N")})
+    with pytest.raises(ParameterError, match=re.escape("column 'a' holds text but has unit 'N'")):
+        write_table(tmp_path / "run.csv", {"a": (["x", "y"], "N")})
+
+
+@pytest.mark.parametrize(
+    ("columns", "message"),
+    [
+        ({"a": ([1.0, 2.0],)}, "column 'a' must be given as (values, unit"),
+        ({"a": [[1.0, 2.0], "N"]}, "column 'a' must be given as (values, unit"),
+        ({"a": {"value": [1.0], "unit": "N"}}, "unknown key 'value' (did you mean 'values'?)"),
+        ({"a": ([1.0, 2.0], 5)}, "column 'a' has unit 5; a unit is a str"),
+        ({"a": ([1.0, 2.0], "N", "", 5)}, "column 'a' has attrs 5; attrs are a mapping"),
+        ({5: ([1.0, 2.0], "N")}, "column names must be str, got 5 (int)"),
+        ([("a", [1.0], "N")], "columns must be a mapping of name -> (values, unit"),
+    ],
+)
+def test_a_malformed_column_is_one_clear_error(tmp_path, columns, message):
+    import re
+
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        write_table(tmp_path / "run.nc", columns)
+
+
+def test_a_format_that_is_no_str_or_misspelt_is_one_clear_error(tmp_path):
+    import re
+
+    cols = {"a": ([1.0, 2.0], "N")}
+    with pytest.raises(OutputError, match=re.escape("format must be a str")):
+        write_table(tmp_path / "run.csv", cols, format=5)
+    with pytest.raises(OutputError, match=re.escape("(did you mean 'parquet'?)")):
+        write_table(tmp_path / "run.csv", cols, format="parqet")
+    with pytest.raises(ParameterError, match=re.escape("attrs must be a mapping (dict) or None")):
+        write_table(tmp_path / "run.csv", cols, attrs=[1, 2])
+
+
+def test_write_dataset_refuses_what_is_no_dataset_and_a_nan_time_coordinate(tmp_path):
+    import re
+
+    from rollerrig.output.labelled import LabelledData
+
+    with pytest.raises(ParameterError, match=re.escape("ds must be an xarray Dataset")):
+        write_dataset(tmp_path / "x.nc", {"a": 1})
+    data = LabelledData(
+        {"a": ("time", [1.0, 2.0], {"units": "N"})},
+        coords={"time": ("time", [0.0, np.nan], {"units": "s"})},
+    )
+    with pytest.raises(ParameterError, match=re.escape("time must be finite [s]")):
+        write_dataset(tmp_path / "x.nc", data)
+    data = LabelledData(
+        {"a": ("time", [1.0, 2.0], {"units": "N"})},
+        coords={"time": ("time", [0.0, 1.0], {"units": "s"})},
+        attrs={"provenance": "{not json"},
+    )
+    with pytest.raises(ParameterError, match=re.escape("provenance attribute is not JSON")):
+        write_dataset(tmp_path / "y.nc", data)
+    assert not list(tmp_path.iterdir())

@@ -37,3 +37,14 @@ def test_adhesion_figure_without_branches_draws_all_points():
     assert line.get_label() == "measured" and line.get_xdata()[-1] == 5.0  # [%]
     assert ax.get_xlabel() == "creep [%]"
     plt.close(fig)
+
+
+def test_creep_and_coa_of_different_lengths_are_a_parameter_error():
+    import re
+
+    import pytest
+
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=re.escape("must be 1-D arrays of the same length")):
+        adhesion_figure([0.1, 0.2, 0.3], [0.1, 0.2])

@@ -139,3 +139,22 @@ def test_save_dataset_refuses_to_overwrite_and_unknown_formats(ds, tmp_path):
     save_dataset(ds, path, overwrite=True)
     with pytest.raises(ValueError, match="format"):
         save_dataset(ds, tmp_path / "run.xlsx")
+
+
+def test_build_results_refuses_states_that_do_not_match_the_times():
+    import re
+
+    from rollerrig._validation import ParameterError
+    from rollerrig.solve.results import build_results
+
+    sim = Simulation(output_rate=50.0)
+    t = sim.times
+    x = np.zeros((t.size, sim.inputs.initial_state.size))
+    with pytest.raises(ParameterError, match=re.escape("x must have shape (len(t), n_states)")):
+        build_results(sim.inputs, t[:-3], x, {})
+    with pytest.raises(ParameterError, match=re.escape("x must have shape (len(t), n_states)")):
+        build_results(sim.inputs, t, x[:, 0], {})
+    with pytest.raises(ParameterError, match=re.escape("solver must be a mapping")):
+        build_results(sim.inputs, t, x, None)
+    with pytest.raises(ParameterError, match=re.escape("ds must be an xarray Dataset")):
+        save_dataset(None, "never-written.nc")

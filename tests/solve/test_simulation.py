@@ -273,3 +273,60 @@ def test_output_times_refuse_a_span_or_rate_without_instants():
     for args, message in (((1.0, 0.0), "rate must be > 0"), ((-1.0, 250.0), "duration must be")):
         with pytest.raises(ParameterError, match=message):
             output_times(*args)
+
+
+# ----------------------------------------------------------------- bad input (probe findings)
+
+
+def test_output_times_past_memory_or_float_range_is_a_parameter_error():
+    import re
+
+    from rollerrig.solve.simulation import output_times
+
+    for duration, rate in ((1e300, 1e300), (1e9, 1e6)):
+        with pytest.raises(ParameterError, match=re.escape("duration × rate must give at most")):
+            output_times(duration, rate)
+
+
+def test_a_misspelt_solver_gets_a_did_you_mean():
+    import re
+
+    with pytest.raises(ParameterError, match=re.escape("(did you mean 'fast'?)")):
+        Simulation(solver="fsat")
+
+
+def test_friction_sets_of_the_wrong_kind_or_empty_are_refused():
+    import re
+
+    with pytest.raises(ParameterError, match=re.escape("friction_sets must be a mapping")):
+        Simulation(friction_sets=[1])
+    with pytest.raises(ParameterError, match=re.escape("friction_sets['dry'] must be")):
+        Simulation(friction_sets={"dry": 5})
+    with pytest.raises(ParameterError, match=re.escape("got an empty mapping")):
+        Simulation(friction_sets={})
+
+
+def test_a_progress_that_is_not_callable_is_refused_before_the_solve():
+    import re
+
+    sim = Simulation(output_rate=50.0, solver="reference")
+    with pytest.raises(ParameterError, match=re.escape("progress must be a callable or None")):
+        sim.solve(progress=5)
+
+
+@pytest.mark.parametrize(
+    ("kw", "message"),
+    [
+        ({"rtol": float("nan")}, "rtol must be finite [-]"),
+        ({"rtol": -1.0}, "rtol must lie in [1e-13, 0.1] [-]"),
+        ({"method": "Radua"}, "(did you mean 'Radau'?)"),
+        ({"method": "RK45"}, "method must be one of ('Radau', 'BDF', 'LSODA')"),
+        ({"progress": 5}, "progress must be a callable or None"),
+    ],
+)
+def test_integrate_reference_refuses_bad_settings(kw, message):
+    import re
+
+    sim = Simulation(output_rate=50.0)
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        integrate_reference(sim.inputs, sim.times[:3], **kw)

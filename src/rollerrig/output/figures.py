@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from rollerrig._validation import ParameterError, require_in_range
 from rollerrig.output.atomic import OutputError, atomic_write
 from rollerrig.output.jsonfile import json_text
 from rollerrig.output.provenance import is_provenance, provenance
@@ -262,6 +264,26 @@ def save_figure(
             raise OutputError(
                 f"{path}: figures are written as {', '.join('.' + f for f in FIGURE_FORMATS)} "
                 "(formats that carry the provenance); change the suffix"
+            )
+        if not hasattr(fig, "savefig"):
+            raise ParameterError(
+                f"{path}: fig must be a matplotlib Figure, got a {type(fig).__name__}"
+            )
+        # A dpi of 0 or NaN reached matplotlib's own error; 1e7 its image-size error.
+        dpi = require_in_range(
+            "dpi",
+            dpi,
+            1.0,
+            10_000.0,
+            "dots per inch",
+            low_inclusive=True,
+            high_inclusive=True,
+            single=True,
+        )
+        if metadata is not None and not isinstance(metadata, Mapping):
+            raise ParameterError(
+                f"{path}: metadata must be a dict (a provenance record or extra parameters), "
+                f"got a {type(metadata).__name__}"
             )
         record = metadata if is_provenance(metadata) else provenance(**(metadata or {}))
         meta = _metadata(fmt, dict(record))  # type: ignore[arg-type]

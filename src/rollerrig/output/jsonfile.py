@@ -12,11 +12,13 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from rollerrig._validation import ParameterError
 from rollerrig.output.atomic import atomic_write
 from rollerrig.output.provenance import jsonable, provenance
 
@@ -63,7 +65,16 @@ def _finite_json(obj, where: str, replaced: list):
     finite float rounded (:func:`json_number`); objects ``json`` cannot write as they are go
     through :func:`~rollerrig.output.provenance.jsonable` first, so their numbers are too."""
     if isinstance(obj, dict):
-        return {k: _finite_json(v, f"{where}/{k}", replaced) for k, v in obj.items()}
+        out = {}
+        for k, v in obj.items():
+            key = _json_key(k, where)
+            if key in out:  # {1: "a", "1": "b"}: JSON had held the key twice, a reader one
+                raise ParameterError(
+                    f"keys {key!r} and {k!r} of the object at {where or '/'} are the same "
+                    "JSON key; give them different names"
+                )
+            out[key] = _finite_json(v, f"{where}/{k}", replaced)
+        return out
     if isinstance(obj, list | tuple):
         return [_finite_json(v, f"{where}/{i}", replaced) for i, v in enumerate(obj)]
     if isinstance(obj, np.ndarray):
@@ -84,6 +95,36 @@ def _finite_json(obj, where: str, replaced: list):
     return _finite_json(plain, where, replaced)
 
 
+def _json_key(key: Any, where: str) -> str:
+    """A dict key as the text JSON writes (``json`` writes int, float, bool and None keys as
+    text), refusing a key it cannot write (a tuple)."""
+    if isinstance(key, np.generic):
+        key = key.item()
+    if isinstance(key, str):
+        return key
+    if isinstance(key, bool) or key is None:
+        return json.dumps(key)
+    if isinstance(key, int):
+        return str(key)
+    if isinstance(key, float):
+        return json.dumps(key) if np.isfinite(key) else repr(key)
+    raise ParameterError(
+        f"key {key!r} ({type(key).__name__}) of the object at {where or '/'} cannot be a JSON "
+        "key; keys are str (or int, float, bool, None)"
+    )
+
+
+def _dumps(obj: Any, indent: int | None) -> str:
+    """``json.dumps`` of a cleaned object; what JSON cannot hold refused naming what it is."""
+    try:
+        return json.dumps(obj, indent=indent, default=jsonable, allow_nan=False)
+    except (TypeError, RecursionError) as exc:
+        what = "a circular reference" if isinstance(exc, RecursionError) else str(exc)
+        raise ParameterError(f"cannot write as JSON: {what}") from None
+    except ValueError as exc:  # an integer of more than 4300 digits, a circular reference
+        raise ParameterError(f"cannot write as JSON: {exc}") from None
+
+
 def json_text(obj: Any, *, indent: int | None = None) -> str:
     """``obj`` as JSON text with non-finite numbers as null (for attributes and metadata).
 
@@ -92,7 +133,18 @@ def json_text(obj: Any, *, indent: int | None = None) -> str:
     >>> json_text({"a": float("nan"), "b": np.int64(2), "c": 0.1 * 26.39})
     '{"a": null, "b": 2, "c": 2.639}'
     """
-    return json.dumps(_finite_json(obj, "", []), indent=indent, default=jsonable, allow_nan=False)
+    return _dumps(_clean(obj, []), indent)
+
+
+def _clean(obj: Any, replaced: list) -> Any:
+    """:func:`_finite_json` of ``obj``; a circular reference refused."""
+    try:
+        return _finite_json(obj, "", replaced)
+    except RecursionError:
+        raise ParameterError(
+            "cannot write as JSON: a circular reference (or nesting deeper than "
+            f"{sys.getrecursionlimit()} levels)"
+        ) from None
 
 
 def write_json(path: str | os.PathLike, obj: Any, *, overwrite: bool = True) -> Path:
@@ -120,19 +172,31 @@ def write_json(path: str | os.PathLike, obj: Any, *, overwrite: bool = True) -> 
     ('/a', 'rollerrig')
     """
     replaced: list = []
-    clean = _finite_json(obj, "", replaced)
+    try:
+        clean = _clean(obj, replaced)
+    except ParameterError as exc:
+        raise ParameterError(f"{path}: {exc}") from None
     if replaced:
         if not isinstance(clean, dict):
-            raise ValueError(
+            raise ParameterError(
                 f"{path}: non-finite numbers at {[r['at'] for r in replaced]} and no top-level "
                 "object to state why they are null"
+            )
+        if NULL_VALUES_KEY in clean:  # it had been replaced by the list, silently
+            raise ParameterError(
+                f"{path}: the object has a key {NULL_VALUES_KEY!r} of its own and non-finite "
+                f"numbers at {[r['at'] for r in replaced]}, which write_json lists under that "
+                "key; rename the key or give the numbers as None with a reason"
             )
         clean[NULL_VALUES_KEY] = [
             {**r, "why": "not a finite number; written as null"} for r in replaced
         ]
     if isinstance(clean, dict) and PROVENANCE_KEY not in clean:
         clean[PROVENANCE_KEY] = _finite_json(provenance(), "", [])
-    text = json.dumps(clean, indent=2, default=jsonable, allow_nan=False)
+    try:
+        text = _dumps(clean, 2)
+    except ParameterError as exc:
+        raise ParameterError(f"{path}: {exc}") from None
     return write_text(path, text + "\n", overwrite=overwrite)
 
 
@@ -160,6 +224,8 @@ def write_text(
     >>> first.startswith("# provenance: {"), rest
     (True, 'table\n')
     """
+    if not isinstance(text, str):
+        raise ParameterError(f"{path}: text must be a str, got a {type(text).__name__}")
     if comment is not None:
         record = json_text(provenance())
         text = f"{comment} provenance: {record}\n{text}"

@@ -26,6 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from rollerrig._validation import ParameterError
+
 __all__ = [
     "RunContext",
     "current_run",
@@ -265,6 +267,16 @@ def run_context(
     >>> record["command"], record["parameters"]
     (['rollerrig', 'contact'], {'load_kn': 50.0, 'out': 'x'})
     """
+    if isinstance(command, str | bytes) or not (
+        command is None or isinstance(command, list | tuple)
+    ):  # a str had been recorded as its characters: ['r', 'o', 'l', ...]
+        raise ParameterError(
+            f"command must be a list of str (the command line's words), got {command!r}"
+        )
+    if inputs is not None and not isinstance(inputs, Mapping):
+        raise ParameterError(
+            f"inputs must be a mapping of role -> path, got a {type(inputs).__name__}"
+        )
     run = RunContext(
         command=[str(c) for c in (sys.argv if command is None else command)],
         inputs={str(role): file_record(p) for role, p in (inputs or {}).items()},

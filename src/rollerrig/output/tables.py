@@ -65,7 +65,7 @@ import numpy as np
 
 from rollerrig._display import DIMENSIONLESS, is_dimensionless, labelled
 from rollerrig._optional import require
-from rollerrig._validation import ParameterError
+from rollerrig._validation import ParameterError, did_you_mean, require_increasing
 from rollerrig.output import netcdf as _netcdf
 from rollerrig.output.atomic import OutputError, atomic_write
 from rollerrig.output.csv_numbers import csv_number, csv_text
@@ -138,10 +138,18 @@ def table_format(path: str | os.PathLike, format: str | None = None) -> str:
     ('mf4', 'nc')
     """
     if format is not None:
+        if not isinstance(format, str):
+            raise OutputError(
+                f"{path}: format must be a str, one of {list(TABLE_FORMATS)}, got a "
+                f"{type(format).__name__} ({format!r})"
+            )
         name = format.lower().lstrip(".")
         name = _ALIASES.get(name, name)
         if name not in TABLE_FORMATS:
-            raise OutputError(f"{path}: unknown table format {format!r}; use {list(TABLE_FORMATS)}")
+            hint = did_you_mean(name, [*TABLE_FORMATS, *_ALIASES])
+            raise OutputError(
+                f"{path}: unknown table format {format!r}{hint}; use {list(TABLE_FORMATS)}"
+            )
         return name
     suffix = Path(path).suffix.lower()
     for name, suffixes in TABLE_FORMATS.items():
@@ -163,18 +171,28 @@ def _columns(
 ) -> tuple[dict[str, TableColumn], int]:
     """Columns as :class:`TableColumn` (time first), checked: one length, units, NaN policy."""
     cols: dict[str, TableColumn] = {}
+    if not isinstance(columns, Mapping):
+        raise ParameterError(
+            f"{path}: columns must be a mapping of name -> (values, unit[, long_name[, attrs]]), "
+            f"got a {type(columns).__name__}"
+        )
     if time is not None:
-        cols["time"] = TableColumn(np.asarray(time, dtype=float), "s", "time")
+        cols["time"] = TableColumn(_time_values(path, time), "s", "time")
     for name, spec in columns.items():
+        if not isinstance(name, str):
+            raise ParameterError(
+                f"{path}: column names must be str, got {name!r} ({type(name).__name__})"
+            )
         if name in cols:
             raise ParameterError(f"{path}: column {name!r} given twice (time is written as 'time')")
-        col = TableColumn(*spec) if isinstance(spec, tuple) else TableColumn(**spec)
+        col = _column_spec(path, name, spec)
         values = np.asarray(col.values)
         if values.ndim != 1:
             raise ParameterError(
                 f"{path}: column {name!r} has shape {values.shape}; columns are 1-D"
             )
-        text = values.dtype.kind in "USO"
+        values = _column_values(path, name, values, col.unit)
+        text = values.dtype.kind in "US"
         attrs = dict(col.attrs)
         if not text:
             values = values.astype(float, copy=False)
@@ -190,6 +208,100 @@ def _columns(
         shown = {n: c.values.size for n, c in cols.items()}
         raise ParameterError(f"{path}: columns of different lengths {shown}")
     return cols, (sizes.pop() if sizes else 0)
+
+
+def _time_values(path: Path, time: Any) -> np.ndarray:
+    """The sample times [s] as a finite, non-decreasing 1-D float array (a NaN instant had been
+    written as an empty CSV cell, a 2-D array had reached pandas' own error)."""
+    values = np.asarray(time)
+    if values.dtype.kind in "mMcUS":
+        raise ParameterError(
+            f"{path}: time must be numbers [s] (elapsed seconds), got an array of dtype "
+            f"{values.dtype}"
+        )
+    try:
+        return require_increasing("time", values, "s", strict=False)
+    except ParameterError as exc:
+        raise ParameterError(f"{path}: {exc}") from None
+
+
+def _column_spec(path: Path, name: str, spec: Any) -> TableColumn:
+    """``spec`` as a :class:`TableColumn`: a tuple (values, unit[, long_name[, attrs]]) or a
+    mapping with those keys; anything else refused naming the column."""
+    form = "(values, unit[, long_name[, attrs]]) or a mapping with those keys"
+    try:
+        if isinstance(spec, tuple):
+            col = TableColumn(*spec)
+        elif isinstance(spec, Mapping):
+            unknown = [k for k in spec if k not in TableColumn._fields]
+            if unknown:
+                hint = did_you_mean(str(unknown[0]), TableColumn._fields)
+                raise ParameterError(
+                    f"{path}: column {name!r} has unknown key {unknown[0]!r}{hint}; "
+                    f"the keys are {list(TableColumn._fields)}"
+                )
+            col = TableColumn(**spec)
+        else:
+            raise TypeError
+    except TypeError:
+        raise ParameterError(
+            f"{path}: column {name!r} must be given as {form}, got {_short(spec)}"
+        ) from None
+    if col.unit is not None and not isinstance(col.unit, str):
+        raise ParameterError(
+            f'{path}: column {name!r} has unit {col.unit!r}; a unit is a str ("1" when '
+            "dimensionless), None only for a label column of text"
+        )
+    if not isinstance(col.attrs, Mapping):
+        raise ParameterError(
+            f"{path}: column {name!r} has attrs {_short(col.attrs)}; attrs are a mapping"
+        )
+    return col
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:56] + " ..."
+
+
+def _column_values(path: Path, name: str, values: np.ndarray, unit: str | None) -> np.ndarray:
+    """Values of a column that the formats store as they are: numbers (a numeric column, one
+    with a unit), or text (a label column, unit None). Complex numbers, dates and numbers held
+    as Python objects with a unit are never written as something else (the imaginary part had
+    been dropped, dates written as days under "s", ``[1.0, None]`` as the text "None")."""
+    kind = values.dtype.kind
+    if kind == "c":
+        raise ParameterError(
+            f"{path}: column {name!r} holds complex numbers; write the real and imaginary parts "
+            "(or magnitude and phase) as two columns"
+        )
+    if kind in "mM":
+        raise ParameterError(
+            f"{path}: column {name!r} holds dates or durations ({values.dtype}); write them as "
+            "numbers in a unit (seconds since a stated instant)"
+        )
+    if unit is None or kind not in "USO":
+        return values
+    if kind in "US":
+        raise ParameterError(
+            f"{path}: column {name!r} holds text but has unit {unit!r}; a column of text is a "
+            "label column (unit None), a numeric column holds numbers"
+        )
+    try:
+        return values.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        bad = next((v for v in values if not _is_number(v)), values[0])
+        raise ParameterError(
+            f"{path}: column {name!r} has unit {unit!r} but holds {bad!r}, not a number"
+        ) from None
+
+
+def _is_number(value: Any) -> bool:
+    try:
+        float(value)
+    except (TypeError, ValueError, OverflowError):
+        return False
+    return True
 
 
 def _check_numeric(path: Path, name: str, values: np.ndarray, attrs: Mapping) -> None:
@@ -455,11 +567,25 @@ def write_dataset(
 
     path = Path(path)
     fmt = table_format(path, format)
+    if not isinstance(ds, LabelledData) and not all(
+        hasattr(ds, a) for a in ("data_vars", "coords", "attrs", "variables")
+    ):
+        raise ParameterError(
+            f"{path}: ds must be an xarray Dataset or a LabelledData, got a {type(ds).__name__}"
+        )
+    _require_mapping(path, "provenance", provenance)
     source = None if isinstance(ds, LabelledData) else ds
     data = ds if source is None else LabelledData.from_xarray(ds)
     record = provenance if provenance is not None else data.attrs.get(PROVENANCE_KEY)
     if isinstance(record, str):
-        record = json.loads(record)
+        try:
+            record = json.loads(record)
+        except json.JSONDecodeError as exc:
+            raise ParameterError(
+                f"{path}: the dataset's provenance attribute is not JSON ({exc}); pass "
+                "provenance= or remove the attribute"
+            ) from None
+    _require_mapping(path, "the dataset's provenance attribute", record)
     attrs = {k: v for k, v in data.attrs.items() if k != PROVENANCE_KEY}
     if fmt != "nc":
         columns = {}
@@ -485,6 +611,8 @@ def write_dataset(
     for var in variables.values():
         if is_dimensionless(var.attrs.get("units")):
             var.attrs["units"] = DIMENSIONLESS
+    if "time" in data.coords and data["time"].dims == ("time",):
+        _time_values(path, data["time"].values)
     for name, var in data.data_vars.items():
         if var.dtype.kind in "biuf":
             values = np.asarray(var.values, dtype=float)
@@ -511,6 +639,13 @@ def write_dataset(
 
 
 # --------------------------------------------------------------------------- the writer
+
+
+def _require_mapping(path: Path, name: str, value: Any) -> None:
+    if value is not None and not isinstance(value, Mapping):
+        raise ParameterError(
+            f"{path}: {name} must be a mapping (dict) or None, got a {type(value).__name__}"
+        )
 
 
 def write_table(
@@ -579,6 +714,8 @@ def write_table(
     fmt = table_format(path, format)
     if mat_version not in ("5", "7.3"):
         raise ParameterError(f"{path}: mat_version must be '5' or '7.3', got {mat_version!r}")
+    _require_mapping(path, "attrs", attrs)
+    _require_mapping(path, "provenance", provenance)
     cols, _ = _columns(path, columns, time)
     cols = _stored_names(cols, fmt)
     meta: dict[str, Any] = dict(attrs or {})

@@ -8,6 +8,8 @@ matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rollerrig._validation import ParameterError
+
 __all__ = ["adhesion_figure"]
 
 
@@ -33,6 +35,11 @@ def adhesion_figure(creep, coa, branches=None, fit=None, title: str = ""):
     """
     s = np.asarray(creep, dtype=float)
     mu = np.asarray(coa, dtype=float)
+    if s.ndim != 1 or s.shape != mu.shape:  # matplotlib's "x and y must have same first dimension"
+        raise ParameterError(
+            f"creep (shape {s.shape}) and coa (shape {mu.shape}) must be 1-D arrays of the same "
+            "length"
+        )
     if fit is None:
         fig, ax = plt.subplots(figsize=(7.5, 4.8))
         axes = [ax]

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from rollerrig._validation import ParameterError, require_whole
+
 __all__ = ["PLOT_POINTS", "envelope"]
 
 PLOT_POINTS = 20_000
@@ -39,6 +41,11 @@ def envelope(x, y, max_points: int = PLOT_POINTS):
     """
     x = np.asarray(x)
     y = np.asarray(y)
+    if x.ndim != 1 or x.shape != y.shape:  # x[keep] had paired y with the wrong instants
+        raise ParameterError(
+            f"x (shape {x.shape}) and y (shape {y.shape}) must be 1-D arrays of the same length"
+        )
+    max_points = require_whole("max_points", max_points, minimum=1)
     n = y.size
     if n <= max(int(max_points), 4):
         return x, y

@@ -12,10 +12,14 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from rollerrig._validation import ParameterError, did_you_mean, require_in_range
 from rollerrig.rig import model as _model
 from rollerrig.solve.fast import _output_instants, _uses_dq, default_tolerances, dq_tolerances
 
-__all__ = ["integrate_reference"]
+__all__ = ["METHODS", "integrate_reference"]
+
+METHODS = ("Radau", "BDF", "LSODA")
+"""The stiff methods of ``solve_ivp`` the reference backend takes."""
 
 
 def integrate_reference(
@@ -52,6 +56,18 @@ def integrate_reference(
         ``rhs_evaluations``, ``jacobians``, ``status`` (0: success, else scipy's),
         ``t_stop`` (the simulated time reached [s]) and, on a failure, ``reason``.
     """
+    # scipy's own errors named neither the parameter nor its range (rtol NaN: "array must
+    # not contain infs or NaNs"); an explicit method would have taken a non-stiff one.
+    rtol = require_in_range(
+        "rtol", rtol, 1e-13, 0.1, "1", low_inclusive=True, high_inclusive=True, single=True
+    )
+    if not isinstance(method, str) or method not in METHODS:
+        hint = did_you_mean(method, METHODS) if isinstance(method, str) else ""
+        raise ParameterError(
+            f"method must be one of {METHODS} (stiff solve_ivp methods), got {method!r}{hint}"
+        )
+    if progress is not None and not callable(progress):
+        raise ParameterError(f"progress must be a callable or None, got {progress!r}")
     t_out, segments = _output_instants(inputs, t_out)
     dq = _uses_dq(inputs)  # the roller drive "induction_dq": the model of rig.model_dq
     _, at = (dq_tolerances if dq else default_tolerances)(rtol, 0.1 * rtol)

@@ -19,11 +19,13 @@ the sample interval), the CoA channels where the normal load is 0.
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from rollerrig._validation import ParameterError, require_finite
 from rollerrig.output import OutputError, write_dataset
 from rollerrig.output.jsonfile import json_text
 from rollerrig.output.labelled import LabelledData
@@ -220,6 +222,20 @@ def _rig_part_of_dq(inputs, x: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(xr)
 
 
+def _solution(inputs, t, x) -> tuple[np.ndarray, np.ndarray]:
+    """``t`` and ``x`` as float arrays of shapes (n,) and (n, n_states) (numpy's broadcast
+    and index errors had named neither)."""
+    t = require_finite("t", t, "s")
+    x = np.asarray(x, dtype=float)
+    n_states = inputs.initial_state.size
+    if t.ndim != 1 or x.shape != (t.size, n_states):
+        raise ParameterError(
+            f"x must have shape (len(t), n_states) = ({t.size if t.ndim == 1 else '?'}, "
+            f"{n_states}) for t of shape {t.shape}, got x of shape {x.shape}"
+        )
+    return t, x
+
+
 def build_dataset(inputs, t, x, solver: dict) -> xr.Dataset:
     """Assemble the labelled dataset from a solution: :func:`build_results` (same parameters)
     as an :class:`xarray.Dataset`."""
@@ -250,6 +266,12 @@ def build_results(inputs, t, x, solver: dict) -> LabelledData:
     """
     from rollerrig import __version__
 
+    t, x = _solution(inputs, t, x)
+    if not isinstance(solver, Mapping):
+        raise ParameterError(
+            f"solver must be a mapping (its name, settings and statistics), got a "
+            f"{type(solver).__name__}"
+        )
     term = evaluate_terms(inputs, t, x)
     seg_of = _segment_of(inputs, t)
 

@@ -9,8 +9,15 @@ from pathlib import Path
 
 import numpy as np
 
-from rollerrig._validation import ParameterError, numbers_apart, require_in_range, require_positive
+from rollerrig._validation import (
+    ParameterError,
+    did_you_mean,
+    numbers_apart,
+    require_in_range,
+    require_positive,
+)
 from rollerrig.contact.creep import PolachParameters
+from rollerrig.contact.laws import FastsimParameters
 from rollerrig.experiment.protocol import Protocol, load_protocol
 from rollerrig.rig.assemble import ModelInputs, assemble
 from rollerrig.rig.model import DriveConfig
@@ -54,9 +61,17 @@ def output_times(duration: float, rate: float) -> np.ndarray:
     >>> float(output_times(6.039999999999999, 250.0)[-1])
     6.039999999999999
     """
-    duration = float(require_positive("duration", duration, "s"))
-    rate = float(require_positive("rate", rate, "Hz"))
-    n = int(np.floor(duration * rate + 1e-9))
+    duration = require_positive("duration", duration, "s", single=True)
+    rate = require_positive("rate", rate, "Hz", single=True)
+    samples = np.floor(duration * rate + 1e-9) + 1.0  # inf past 1.8e308: int() had overflowed
+    limit = _memory_limit()
+    if not samples * 8.0 <= limit:  # numpy's MemoryError (or OverflowError) otherwise
+        raise ParameterError(
+            f"duration × rate must give at most {limit / 8.0:.3g} samples (this machine's "
+            f"memory), got {duration:g} s × {rate:g} Hz = {samples:.3g} samples; shorten the "
+            "duration or lower the rate"
+        )
+    n = int(samples) - 1
     t = np.arange(n + 1) / rate
     t[-1] = min(t[-1], duration)
     return t
@@ -67,16 +82,29 @@ _RESULT_CHANNELS = 80
 what the rig measures, the solver's copies): for the size check of :func:`_check_result_size`."""
 
 
+def _memory_limit() -> float:
+    """Bytes of results a run may hold: half the machine's physical memory where the system
+    says it, else 16 GiB."""
+    try:
+        return 0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):  # no sysconf (Windows)
+        return 16.0 * 2**30
+
+
+def _require_callable(name: str, value) -> None:
+    if value is not None and not callable(value):
+        raise ParameterError(
+            f"{name} must be a callable or None, got a {type(value).__name__} ({value!r})"
+        )
+
+
 def _check_result_size(protocol, rate: float) -> None:
     """Refuse, before anything is allocated, an experiment whose results would not fit in
     memory: half the machine's physical memory where the system says it, else 16 GiB. A
     protocol step of a million seconds otherwise ended in numpy's MemoryError."""
     samples = np.floor(protocol.duration * rate) + 1.0
     need = samples * _RESULT_CHANNELS * 8.0
-    try:
-        limit = 0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (AttributeError, ValueError, OSError):  # no sysconf (Windows)
-        limit = 16.0 * 2**30
+    limit = _memory_limit()
     if need > limit:
         raise ParameterError(
             f"experiment {protocol.name!r} lasts {protocol.duration:g} s: at {rate:g} Hz that "
@@ -146,8 +174,26 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         output_rate: float | None = None,
         rtol: float | None = None,
     ) -> None:
-        if solver not in SOLVERS:
-            raise ParameterError(f"solver must be one of {SOLVERS}, got {solver!r}")
+        if not isinstance(solver, str) or solver not in SOLVERS:
+            hint = did_you_mean(solver, SOLVERS) if isinstance(solver, str) else ""
+            raise ParameterError(f"solver must be one of {SOLVERS}, got {solver!r}{hint}")
+        if friction_sets is not None:
+            if not isinstance(friction_sets, Mapping):
+                raise ParameterError(
+                    "friction_sets must be a mapping of friction-condition name -> "
+                    f"PolachParameters, got a {type(friction_sets).__name__}"
+                )
+            if not friction_sets:  # assemble() had taken the defaults in its place
+                raise ParameterError(
+                    "friction_sets must name at least one friction condition, got an empty "
+                    "mapping; pass None for the defaults (Polach 2005 dry and wet)"
+                )
+            for key, value in friction_sets.items():
+                if not isinstance(value, PolachParameters | FastsimParameters):
+                    raise ParameterError(
+                        f"friction_sets[{key!r}] must be PolachParameters or "
+                        f"FastsimParameters, got a {type(value).__name__} ({value!r})"
+                    )
         if rig is None:
             rig = default_rig()
         elif not isinstance(rig, RigParameters):
@@ -166,7 +212,7 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         if output_rate is None:
             rate = rig.sensors.daq_rate
         else:
-            rate = float(require_positive("output_rate", output_rate, "Hz"))
+            rate = require_positive("output_rate", output_rate, "Hz", single=True)
         if rate * protocol.duration < 1.0:  # a run of one sample had come back
             lowest, got = numbers_apart(1.0 / protocol.duration, rate)
             raise ParameterError(
@@ -175,10 +221,8 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
             )
         if rtol is not None:
             # The solvers' relative tolerance: below 1e-13 round-off, above 0.1 no solution.
-            rtol = float(
-                require_in_range(
-                    "rtol", rtol, 1e-13, 0.1, "1", low_inclusive=True, high_inclusive=True
-                )
+            rtol = require_in_range(
+                "rtol", rtol, 1e-13, 0.1, "1", low_inclusive=True, high_inclusive=True, single=True
             )
         _check_result_size(protocol, rate)
         self.rig = rig
@@ -240,6 +284,8 @@ drives=pmsm/induction, solver='fast', output_rate=250 Hz)
         """
         from rollerrig.solve.results import build_results
 
+        _require_callable("progress", progress)
+        _require_callable("notify", notify)
         t = self.times
         start = time.perf_counter()
         loading: list[float] = []
