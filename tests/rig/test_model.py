@@ -408,3 +408,32 @@ def test_segment_tables_give_the_inputs_of_the_whole_table_inside_the_segment(ca
     wider = (t0 - 1.0, t1)
     if np.any((tables[[0, 2]] > wider[0]) & (tables[[0, 2]] < wider[1])):
         assert not m.segment_tables(tables, *wider, out)
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"roller_lag": "0.1"}, "roller_lag must be a number [s] or None, got '0.1'"),
+        ({"roller_lag": True}, "roller_lag must be a number [s] or None, got True"),
+        ({"roller_lag": [0.1, 0.2]}, "roller_lag must be a single number [s]"),
+        ({"roller_lag": float("nan")}, "roller_lag must be finite [s]"),
+        ({"roller_lag": -0.1}, "roller_lag must be >= 0 [s]"),
+        ({"wheel": ["pmsm"]}, "wheel drive must be one of ['ideal_torque', 'pmsm'], got ['pmsm']"),
+        ({"roller": "inducton"}, "(did you mean 'induction'?)"),
+        ({"frame": 1}, "frame must be one of ['rigid', 'flexible'], got 1"),
+        ({"law": "polack"}, "(did you mean 'polach'?)"),
+    ],
+)
+def test_drive_config_names_what_is_wrong(options, message):
+    # A list as a drive name had raised a bare "unhashable type" TypeError, and a lag of
+    # True had been taken as 1 s, "abc" as a bare TypeError.
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError) as caught:
+        DriveConfig(**options)
+    assert message in str(caught.value)
+
+
+def test_drive_config_stores_a_lag_as_one_number():
+    assert DriveConfig(roller_lag=np.array([0.25])).roller_lag == 0.25
+    assert type(DriveConfig(roller_lag=0).roller_lag) is float

@@ -240,29 +240,29 @@ class DriveConfig:
     law: Literal["polach", "fastsim", "modified-fastsim", "fastrip"] = "polach"
 
     def __post_init__(self) -> None:
-        from rollerrig._validation import ParameterError
+        from rollerrig._validation import ParameterError, did_you_mean, require_nonnegative
 
-        if self.wheel not in WHEEL_MODES:
-            raise ParameterError(
-                f"wheel drive must be one of {sorted(WHEEL_MODES)}, got {self.wheel!r}"
-            )
-        if self.roller not in ROLLER_MODES:
-            raise ParameterError(
-                f"roller drive must be one of {sorted(ROLLER_MODES)}, got {self.roller!r}"
-            )
-        if self.frame not in FRAME_MODES:
-            raise ParameterError(f"frame must be one of {sorted(FRAME_MODES)}, got {self.frame!r}")
-        if self.law not in LAW_CODES:
-            from rollerrig._validation import did_you_mean
-
-            raise ParameterError(
-                f"creep law must be one of {list(LAW_CODES)}, got {self.law!r}"
-                + did_you_mean(str(self.law), LAW_CODES)
-            )
-        if self.roller_lag is not None and not (
-            np.isfinite(self.roller_lag) and self.roller_lag >= 0
+        for what, value, known in (
+            ("wheel drive", self.wheel, WHEEL_MODES),
+            ("roller drive", self.roller, ROLLER_MODES),
+            ("frame", self.frame, FRAME_MODES),
+            ("creep law", self.law, LAW_CODES),
         ):
-            raise ParameterError(f"roller_lag must be >= 0 [s], got {self.roller_lag!r}")
+            # A name that is not text (a list, a number) is named as such: ``in`` on a dict
+            # had raised a bare "unhashable type" TypeError for a list.
+            if not isinstance(value, str) or value not in known:
+                raise ParameterError(
+                    f"{what} must be one of {list(known)}, got {value!r}"
+                    + (did_you_mean(value, known) if isinstance(value, str) else "")
+                )
+        if self.roller_lag is not None:
+            # True is not a lag of 1 s, nor "0.1" one of 0.1 s.
+            if isinstance(self.roller_lag, bool | np.bool_ | str | bytes):
+                raise ParameterError(
+                    f"roller_lag must be a number [s] or None, got {self.roller_lag!r}"
+                )
+            lag = require_nonnegative("roller_lag", self.roller_lag, "s", single=True)
+            object.__setattr__(self, "roller_lag", lag)
 
 
 def _bearing_torques(load, omega_wheel, omega_roller, p):
