@@ -40,15 +40,18 @@ from rollerrig.recordings.channels import (
 from rollerrig.recordings.formats import Table
 from rollerrig.recordings.formats._table import require_module
 from rollerrig.recordings.formats._text import (
+    EXACT_ABOVE,
     NAN_WORDS,
     NEGATIVE_INFINITY_WORDS,
     POSITIVE_INFINITY_WORDS,
     decimal_marks,
+    exact_offsets,
     parse_number,
 )
 from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
 from rollerrig.recordings.recording import CANONICAL_CHANNELS, RecordingError
 from rollerrig.recordings.timebase import align_channels
+from rollerrig.recordings.validate import check_serial_days
 
 __all__ = [
     "apply_map",
@@ -318,7 +321,12 @@ def time_seconds(
             return secs
         if _DURATION.fullmatch(first):
             return _durations(arr, what, notes, line_of, decimal)
-        return as_float(arr, what, line_of, decimal) * TIME_UNITS[unit]
+        exact = _exact_time(arr, first, unit, notes, decimal)
+        if exact is not None:
+            return exact
+        raw = as_float(arr, what, line_of, decimal)
+        check_serial_days(raw, what)
+        return raw * TIME_UNITS[unit]
     if arr.dtype.kind == "m":  # elapsed time (pandas' Timedelta, Parquet's duration)
         return arr / np.timedelta64(1, "s")
     if arr.dtype.kind == "M":
@@ -342,7 +350,38 @@ def time_seconds(
             else ((arr - np.uint64(origin)).astype(np.int64))
         )
         return since.astype(float) * TIME_UNITS[unit]
-    return as_float(arr, what, decimal=decimal) * TIME_UNITS[unit]
+    raw = as_float(arr, what, decimal=decimal)
+    check_serial_days(raw, what)
+    return raw * TIME_UNITS[unit]
+
+
+def _exact_time(arr, first: str, unit: str, notes: list, decimal: str | None) -> np.ndarray | None:
+    """Seconds since the first value of a text column of large numbers (absolute times since
+    an epoch, :data:`~rollerrig.recordings.formats._text.EXACT_ABOVE` and more), each
+    difference exact (:func:`~rollerrig.recordings.formats._text.exact_offsets`); None for
+    other columns, and for cells that are not plain numbers (:func:`as_float` names them).
+
+    Read as floats first, a LabVIEW time of 3.8e9 s keeps its fraction only to 0.48 µs: a
+    100 kHz clock read as 99 864 Hz. The text readers keep such columns as text
+    (:class:`~rollerrig.recordings.formats.sniff.TextLayout` ``exact``) for this. A chunk of
+    a column read in parts comes with the column's first value before it (the chunked
+    reader), so every part has the same origin."""
+    mark = decimal or "."
+    head = parse_number(first, mark)
+    if head is None or not abs(head) >= EXACT_ABOVE:
+        return None
+    found = exact_offsets(np.asarray(arr, dtype=object).ravel(), mark)
+    if found is None:
+        return None
+    since, _ = found
+    note = (
+        f"time column made relative to its first value ({first} {unit}), read exactly (not "
+        "rounded to a float first)"
+    )
+    if note not in notes:
+        notes.append(note)
+    start = since[0] if since.size and np.isfinite(since[0]) else 0.0  # below 1: exact enough
+    return (since - start) * TIME_UNITS[unit]
 
 
 _DURATION = re.compile(

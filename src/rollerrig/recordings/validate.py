@@ -12,6 +12,9 @@
   (:func:`check_sample_rate`, :func:`check_grid`): a time in the wrong unit (picoseconds read
   as seconds) or an absurd ``sample_rate_Hz``/``resample_Hz`` is refused before anything is
   allocated for it. The limits live here, and only here;
+- a time column of serial day numbers (an Excel serial date, a MATLAB ``datenum``) is an error
+  naming the dates it stands for and how to convert it (:func:`check_serial_days`): read as
+  seconds, a 1 kHz recording was one of 86.4 MHz lasting a few milliseconds;
 - a time column without a unit (in the file or the channel map), read as seconds, whose
   sampling rate is about 1/1000 of a rig's DAQ rate (or whose duration is implausibly long at
   an implausibly low rate) is a :class:`~rollerrig._warnings.DomainWarning` naming the file
@@ -22,6 +25,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Iterable, Mapping
+from datetime import datetime, timedelta
 from typing import Any
 
 import numpy as np
@@ -38,6 +42,7 @@ __all__ = [
     "RIG_DAQ_RATE_HZ",
     "check_grid",
     "check_sample_rate",
+    "check_serial_days",
     "check_time_unit",
     "describe_gap",
     "find_gaps",
@@ -81,6 +86,57 @@ def check_sample_rate(rate: float, where: str, source: str) -> None:
             f"{MAX_SAMPLE_RATE_HZ:g} Hz (MAX_SAMPLE_RATE_HZ); check the time unit (ms or µs "
             "read as s?) or the stated rate"
         )
+
+
+SERIAL_DAYS: dict[str, tuple[float, float, datetime]] = {
+    "Excel serial dates (days since 1899-12-30)": (25569.0, 73051.0, datetime(1899, 12, 30)),
+    "MATLAB datenum values (days since year 0)": (719529.0, 767011.0, datetime(1, 1, 1)),
+}
+"""Serial day numbers of 1970-2100 -> (first, last, their day 0 as :mod:`datetime` counts it;
+a datenum's day 1 is 0000-01-01, :meth:`datetime.fromordinal`'s 0001-01-01 is day 367)."""
+
+SERIAL_DAY_STEP = 1e-6
+"""Largest median step of a time column in serial days [d] taken as a sampled signal: above
+11.6 Hz. Read as seconds it is a rate above 1 MHz at 7 to 213 hours since its zero, which no
+recording in seconds has; a slower clock in serial days is not refused."""
+
+
+def check_serial_days(values: np.ndarray, what: str) -> None:
+    """RecordingError when a time column's numbers (``values``, as in the file, before the
+    unit) are serial day numbers: an Excel serial date or a MATLAB ``datenum`` of 1970-2100
+    (:data:`SERIAL_DAYS`) whose median step is at most :data:`SERIAL_DAY_STEP` (a sampled
+    signal). Read in seconds they gave a recording of tens of MHz lasting milliseconds,
+    without a word; no time unit of the channel map means days, so the file must be
+    converted (the message says how). ``what`` names the file and the column.
+
+    Examples
+    --------
+    >>> check_serial_days(np.arange(5) / 1000.0, "run.csv: time column 't'")
+    >>> try:
+    ...     check_serial_days(45509.5 + np.arange(5) / 86.4e6, "run.csv: time column 't'")
+    ... except RecordingError as exc:
+    ...     print(str(exc)[:88])
+    run.csv: time column 't' holds serial day numbers, not seconds: Excel serial dates (days
+    """
+    v = np.asarray(values, dtype=float).ravel()[:1001]
+    v = v[np.isfinite(v)]
+    if v.size < 2:
+        return
+    step = float(np.median(np.diff(v)))
+    if not 0.0 < step <= SERIAL_DAY_STEP:
+        return
+    for kind, (low, high, zero) in SERIAL_DAYS.items():
+        if low <= v[0] <= high:
+            day0 = zero + timedelta(days=float(v[0]) - (367.0 if zero.year == 1 else 0.0))
+            raise RecordingError(
+                f"{what} holds serial day numbers, not seconds: {kind}, the first {float(v[0])!r} "
+                f"is {day0:%Y-%m-%d %H:%M:%S.%f}, a step of {step * 86400.0:.6g} s "
+                f"({1.0 / (step * 86400.0):.6g} Hz); read as seconds it is {1.0 / step:.4g} "
+                "Hz. No time unit means days (and a float64 of days resolves 6-10 µs only): "
+                "convert the time to seconds where the file is written (Excel: =(A2-$A$2)*86400;"
+                " MATLAB: t = (t - t(1)) * 86400), or write it as date/time text "
+                "(yyyy-mm-dd HH:MM:SS.FFF), and read that file"
+            )
 
 
 RIG_DAQ_RATE_HZ = 250.0

@@ -7,6 +7,8 @@
 - :func:`split_cells`: one line into its cells;
 - :func:`decode_text`: the bytes of a file as text (the map's ``[file] encoding``, UTF-16 with
   BOM, UTF-8 with or without BOM, else a fallback code page, noted);
+- :func:`exact_offsets`: large numbers (absolute times in seconds since an epoch) read
+  exactly relative to a whole origin, not first rounded to a float;
 - :func:`unique_names`: column names made unique (``name``, ``name.1``, ...);
 - :func:`footer_rows`: the lines of text below the numbers at a file's end.
 """
@@ -17,11 +19,15 @@ import codecs
 import csv
 import re
 from collections import Counter
+from decimal import Decimal, InvalidOperation
 from pathlib import Path
+
+import numpy as np
 
 from rollerrig.recordings.recording import RecordingError
 
 __all__ = [
+    "EXACT_ABOVE",
     "INTEGER",
     "NAN_WORDS",
     "NEGATIVE_INFINITY_WORDS",
@@ -30,6 +36,7 @@ __all__ = [
     "datalike",
     "decimal_marks",
     "decode_text",
+    "exact_offsets",
     "footer_rows",
     "lead_column",
     "number_kinds",
@@ -154,6 +161,46 @@ def thousands_mark_beside_integers(cell: str) -> str | None:
     return "," if "," in c else "."
 
 
+EXACT_ABOVE = 1e8
+"""Magnitude from which a number with a fraction is read exactly relative to a whole origin
+(:func:`exact_offsets`): absolute times in seconds since an epoch (LabVIEW's 1904, about
+3.8e9 s; Unix's 1970, about 1.7e9 s). A float64 steps by 0.24-0.48 µs there, so parsed as
+floats a 100 kHz clock read as 99 864 Hz with steps of 9.5 and 10.0 µs."""
+
+
+def exact_offsets(cells, decimal: str, origin: int | None = None) -> tuple[np.ndarray, int] | None:
+    """``(values - origin, origin)`` of a column of number cells, each difference exact to
+    the float (:class:`decimal.Decimal`); ``origin`` None: the whole part of the first cell.
+
+    For numbers of :data:`EXACT_ABOVE` and more, whose fraction a float64 rounds. NaN/inf
+    words give NaN/inf. None when a cell is not a plain number under the decimal mark
+    ``decimal`` (the caller's own parser then names it).
+
+    Examples
+    --------
+    >>> v, origin = exact_offsets(["3805984573.00001", "3805984573.00002"], ".")
+    >>> origin, v.tolist()
+    (3805984573, [1e-05, 2e-05])
+    """
+    out = np.empty(len(cells))
+    try:
+        for k, cell in enumerate(cells):
+            text = str(cell).strip()
+            if decimal == ",":
+                if "." in text:
+                    return None  # under a decimal comma a point is no decimal mark
+                text = text.replace(",", ".")
+            elif "," in text:
+                return None
+            number = Decimal(text)
+            if origin is None:
+                origin = int(number) if number.is_finite() else 0
+            out[k] = float(number - origin) if number.is_finite() else float(number)
+    except (InvalidOperation, ValueError):
+        return None
+    return out, 0 if origin is None else origin
+
+
 def datalike(fields: list[str]) -> bool:
     """Whether a row is one of numbers: no text cell, at least one number or timestamp."""
     kinds = [cell_kind(f) for f in fields]
@@ -181,7 +228,8 @@ def decode_text(
     """(encoding, text) of the bytes of a text file.
 
     ``encoding`` (the map's ``[file] encoding``) when given; else UTF-16 when the bytes start
-    with its BOM, UTF-8 (with or without BOM), else ``fallback`` (noted as ``fallback_name``).
+    with its BOM, or look like it without one (ASCII text with NUL bytes between, noted), UTF-8
+    (with or without BOM), else ``fallback`` (noted as ``fallback_name``).
     With ``truncated`` (``raw`` is the head of a longer file) a character cut at the end of
     ``raw`` is dropped.
 
@@ -205,6 +253,10 @@ def decode_text(
     if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
         return "utf-16", raw.decode("utf-16", errors="ignore")
     nul = raw.find(b"\x00")
+    bare = _bom_less_utf16(raw) if nul >= 0 else None
+    if bare is not None:
+        notes.append(f"the file is UTF-16 without a byte-order mark; read as {bare.upper()}")
+        return bare, raw[: len(raw) - len(raw) % 2].decode(bare, errors="ignore")
     if nul >= 0:
         raise RecordingError(f"{path}: not a text file (a NUL byte at byte {nul}); {binary_hint}")
     try:
@@ -214,6 +266,25 @@ def decode_text(
             return "utf-8-sig", raw[: exc.start].decode("utf-8-sig")
     notes.append(f"the file is not UTF-8; read as {fallback_name}")
     return fallback, raw.decode(fallback, errors="replace")
+
+
+def _bom_less_utf16(raw: bytes) -> str | None:
+    """``"utf-16-le"`` / ``"utf-16-be"`` when ``raw`` is UTF-16 text without a byte-order mark
+    (as some loggers and scripts write it: ASCII text with a NUL byte after, or before, every
+    character), else None. Checked on the first 4 KiB: the bytes at the odd (LE) or even (BE)
+    offsets NUL (all but 2 %), none at the others, and a line end among them; binary data
+    has NUL bytes in both lanes."""
+    head = raw[:4096]
+    head = head[: len(head) - len(head) % 2]
+    if len(head) < 8:
+        return None
+    even, odd = head[0::2], head[1::2]
+    for name, zeros, chars in (("utf-16-le", odd, even), ("utf-16-be", even, odd)):
+        # a few characters beyond Latin-1 ('Ω', '€') put a byte in the NUL lane
+        other = len(zeros) - zeros.count(b"\x00")
+        if other <= len(zeros) // 50 and b"\x00" not in chars and b"\n" in chars:
+            return name
+    return None
 
 
 def whole_text(

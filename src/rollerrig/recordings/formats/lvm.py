@@ -40,8 +40,10 @@ import numpy as np
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._table import Column, Table, add_alias
 from rollerrig.recordings.formats._text import (
+    EXACT_ABOVE,
     NEGATIVE_INFINITY_WORDS,
     POSITIVE_INFINITY_WORDS,
+    exact_offsets,
     unique_names,
     whole_text,
 )
@@ -69,7 +71,7 @@ _SEGMENT_TAGS = {
     "UUT_S/N",
 }
 _EPOCH_1904 = datetime(1904, 1, 1)
-_ABSOLUTE_X = 1e8
+_ABSOLUTE_X = EXACT_ABOVE
 """X values above this [s] are LabVIEW absolute times (seconds since 1904-01-01)."""
 
 
@@ -399,7 +401,7 @@ def _x_values(
     LabVIEW's absolute times are seconds since 1904 (about 3.8e9), where a float64 steps by
     0.48 µs: summed or parsed at that size, 10 kHz read as 9 986 Hz and every step jittered.
     The first X value decides ``origin`` (its whole seconds where it is absolute, else 0);
-    absolute values are then parsed exactly (:class:`decimal.Decimal`) less the origin.
+    absolute values are then parsed exactly less the origin (:func:`exact_offsets`).
     """
 
     def plain(cell) -> str:
@@ -414,11 +416,10 @@ def _x_values(
         origin.append(int(first) if first.is_finite() and first > _ABSOLUTE_X else 0)
     if not origin[0]:  # relative times: the floats are exact enough, read at numpy's speed
         return _column(path, seg, col, cells, decimal)
-    text = [plain(c) for c in cells]
-    try:
-        return np.array([float(Decimal(t) - origin[0]) for t in text])
-    except InvalidOperation:
+    found = exact_offsets(cells, decimal, origin[0])
+    if found is None:
         return _column(path, seg, col, cells, decimal)  # names the cell that is no number
+    return found[0]
 
 
 def _header_value(header: dict[str, list[str]], tag: str, col: int, decimal: str) -> float | None:

@@ -19,7 +19,10 @@ The layout is sniffed from the first lines of the file; every key of the channel
   thousands mark only in strict groups of three digits (``"85,928"``, ``86.021``: noted with
   the column and an example cell); any other cell with it is an error naming line, column and
   cell, never a decimal point.
-- **encoding**: UTF-8 (with or without BOM), UTF-16 with BOM, else Latin-1 (noted).
+- **encoding**: UTF-8 (with or without BOM), UTF-16 with BOM (or without one, noted), else
+  Latin-1 (noted).
+- **exact columns**: numbers written with a fraction from 1e8 on (a time in seconds since
+  LabVIEW's or Unix's epoch) are read as text, and the time reader reads them exactly.
 
 The result, a :class:`TextLayout`, is what :func:`rollerrig.recordings.formats.csv.read_csv` and
 the chunked reader (:mod:`rollerrig.recordings.source`) read the numbers with.
@@ -36,6 +39,7 @@ from pathlib import Path
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._header import column_names, column_units, header_rows
 from rollerrig.recordings.formats._text import (
+    EXACT_ABOVE,
     INTEGER,
     MARKED_NUMBER,
     cell_kind,
@@ -79,6 +83,9 @@ class TextLayout:
     trailing: bool = False
     notes: tuple[str, ...] = ()
     thousands: tuple[str, ...] = ()  # columns written with thousands marks (strict groups)
+    # columns of numbers with a fraction of EXACT_ABOVE and more (absolute times since an
+    # epoch): read as text, so that translate.time_seconds reads them exactly
+    exact: tuple[str, ...] = ()
     repeated: tuple[tuple[str, tuple[str, ...]], ...] = ()  # a repeated name, its columns' names
     decimal_decided: bool = True  # the decimal mark was given or sniffed, not a default
     cr_only: bool = False  # lines end in a lone CR (Mac Excel's "CSV (Macintosh)")
@@ -120,6 +127,7 @@ class TextLayout:
             "converters": {
                 name: GroupedNumbers(self.path, name, self.decimal) for name in self.thousands
             },
+            "dtype": {name: str for name in self.exact},
         }
 
 
@@ -461,6 +469,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
     thousands = (
         _thousands_columns(p, block[:2000], names, decimal, evidence, notes) if decided else []
     )
+    exact = _exact_columns(block[:2000], names, decimal, thousands) if decided else []
     return TextLayout(
         path=p,
         encoding=encoding,
@@ -474,6 +483,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         trailing=trailing,
         notes=tuple(notes),
         thousands=tuple(thousands),
+        exact=tuple(exact),
         repeated=tuple((k, tuple(v)) for k, v in repeated.items()),
         cr_only="\r" in text and "\n" not in text,
         decimal_decided=decided,
@@ -600,6 +610,26 @@ def _thousands_columns(
             f"read as {parse_number(c, decimal):g}); the decimal mark is {decimal!r} ({evidence})"
         )
     return [names[j] for j in sorted(found)]
+
+
+def _exact_columns(
+    rows: list[tuple[int, list[str]]], names: list[str], decimal: str, thousands: list[str]
+) -> list[str]:
+    """Names of the columns whose first number is written with a fraction and has a magnitude of
+    :data:`~rollerrig.recordings.formats._text.EXACT_ABOVE` or more (a LabVIEW or Unix time in
+    seconds since its epoch): pandas would round each to a float64 of 0.24-0.48 µs steps, so
+    they are read as text and converted by the time reader exactly, or as any text column."""
+    out = []
+    for j, name in enumerate(names):
+        if name in thousands:
+            continue
+        first = next((f[j].strip() for _, f in rows if j < len(f) and f[j].strip()), "")
+        value = parse_number(first, decimal) if cell_kind(first) == "num" else None
+        # with a decimal mark or an exponent (an integer is read exactly by pandas anyway)
+        written = decimal in first or "e" in first.lower()
+        if value is not None and abs(value) >= EXACT_ABOVE and written:
+            out.append(name)
+    return out
 
 
 def _not_a_number(path, column: str, cell: str, decimal: str, evidence: str, line=None) -> str:

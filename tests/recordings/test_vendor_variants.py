@@ -1,0 +1,265 @@
+"""Variants of vendor files that the fixtures of ``tests/vendor_files.py`` do not cover.
+
+Each case writes the file as the tool (or a user's export) writes it and checks the contract of
+the readers: a correct read, or one :class:`RecordingError` naming the file, the column and
+what is wrong; never a silent wrong value; the input file never modified.
+"""
+
+import io
+from decimal import Decimal
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from rollerrig.recordings.formats._text import EXACT_ABOVE, exact_offsets
+from rollerrig.recordings.readers import file_sha256, read_recording
+from rollerrig.recordings.recording import RecordingError
+from rollerrig.recordings.source import open_recording
+
+MAP = {
+    "time": {"column": "Time", "unit": "s"},
+    "channels": {"torque": {"column": "Torque", "unit": "N.m"}},
+}
+
+
+def _write(tmp_path, name, data):
+    p = tmp_path / name
+    p.write_bytes(data if isinstance(data, bytes) else data.encode())
+    return p, file_sha256(p)
+
+
+# ------------------------------------------- absolute times in seconds since an epoch (text)
+
+
+@pytest.mark.parametrize(
+    ("origin", "sep", "decimal"),
+    [(3805984573, ",", "."), (1722865573, ";", ","), (3805984573, "\t", ",")],
+    ids=["labview-1904", "unix-decimal-comma", "labview-tab-decimal-comma"],
+)
+def test_epoch_seconds_in_a_text_file_keep_their_clock_exactly(tmp_path, origin, sep, decimal):
+    # LabVIEW's "Write Delimited Spreadsheet" of a waveform's absolute time: seconds since
+    # 1904 with 7 decimals. Parsed as floats (0.48 µs steps at 3.8e9 s) the 100 kHz clock read
+    # as 99 864 Hz with steps of 9.5 and 10.0 µs, without a word.
+    n = 2000
+    rows = "".join(
+        f"{origin}.{k * 100:07d}{sep}{1.5 + k * 1e-3:.3f}\n".replace(".", decimal) for k in range(n)
+    )
+    p, sha = _write(tmp_path, "epoch.csv", f"Time{sep}Torque\n{rows}")
+    rec = read_recording(p, MAP)
+    assert rec.sample_rate == pytest.approx(100_000.0, rel=1e-9)
+    np.testing.assert_allclose(np.diff(rec.time), 1e-5, rtol=1e-9)
+    assert rec.time[0] == 0.0
+    np.testing.assert_allclose(rec["torque"], 1.5 + np.arange(n) * 1e-3, atol=1e-12)
+    assert any("read exactly" in note for note in rec.metadata["notes"])
+    # the chunked reader reads the same clock
+    with open_recording(p, MAP) as src:
+        chunks = list(src.iter_chunks(["torque"], chunk_samples=700))
+    np.testing.assert_array_equal(np.concatenate([c.time for c in chunks]), rec.time)
+    assert file_sha256(p) == sha
+
+
+def test_a_large_non_time_column_still_reads_as_numbers(tmp_path):
+    # a column kept as text for its size (an odometer in m) is a channel as any other
+    rows = "".join(f"{k / 1000:.3f},{123456789.25 + k:.2f}\n" for k in range(5))
+    p, _ = _write(tmp_path, "big.csv", "Time,Odometer\n" + rows)
+    rec = read_recording(
+        p,
+        {
+            "time": {"column": "Time", "unit": "s"},
+            "extra": {"odometer": {"column": "Odometer", "unit": "m"}},
+        },
+    )
+    np.testing.assert_array_equal(rec["odometer"], 123456789.25 + np.arange(5))
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    origin=st.integers(int(EXACT_ABOVE), 4_000_000_000),
+    steps=st.lists(st.integers(0, 10**9), min_size=1, max_size=20),
+    decimal=st.sampled_from([".", ","]),
+)
+def test_exact_offsets_are_the_decimal_differences(origin, steps, decimal):
+    ns = np.cumsum(steps)
+    cells = [f"{origin + int(k) // 10**9}.{int(k) % 10**9:09d}" for k in ns]
+    cells = [c.replace(".", decimal) for c in cells]
+    got, o = exact_offsets(cells, decimal)
+    assert o == origin + int(ns[0]) // 10**9
+    want = [float(Decimal(c.replace(",", ".")) - o) for c in cells]
+    assert got.tolist() == want
+
+
+def test_exact_offsets_refuse_the_other_mark():
+    assert exact_offsets(["3805984573,5"], ".") is None
+    assert exact_offsets(["3805984573.5"], ",") is None
+
+
+# ------------------------------------------------ serial day numbers (Excel, MATLAB datenum)
+
+
+def _serial(first, n=50, rate=1000.0):
+    return first + np.arange(n) / rate / 86400.0
+
+
+def test_excel_serial_days_as_time_are_an_error_naming_the_date(tmp_path):
+    # Excel's serial date (45509.5 = 2024-08-05 12:00) formatted as a number: read as seconds,
+    # a 1 kHz recording was one of 86.4 MHz lasting 0.6 ms.
+    rows = "".join(f"{float(t)!r},1.5\n" for t in _serial(45509.5))
+    p, sha = _write(tmp_path, "excel.csv", "Time,Torque\n" + rows)
+    with pytest.raises(RecordingError) as err:
+        read_recording(p, MAP)
+    msg = str(err.value)
+    assert str(p) in msg and "'Time'" in msg and "serial day" in msg
+    assert "Excel" in msg and "2024-08-05 12:00:00" in msg and "*86400" in msg
+    assert file_sha256(p) == sha
+
+
+@pytest.mark.parametrize("version", ["5", "7.3"])
+def test_a_matlab_datenum_time_vector_is_an_error(tmp_path, version):
+    t = _serial(739469.5)
+    torque = np.full(t.size, 1.5)
+    p = tmp_path / "datenum.mat"
+    if version == "5":
+        from scipy.io import savemat
+
+        savemat(p, {"t": t[:, None], "torque": torque[:, None]})
+    else:
+        h5py = pytest.importorskip("h5py")
+        with h5py.File(p, "w") as f:
+            for key, v in (("t", t), ("torque", torque)):
+                f[key] = v[None, :]
+                f[key].attrs["MATLAB_class"] = np.bytes_("double")
+    cmap = {"time": {"column": "t"}, "channels": {"torque": {"column": "torque", "unit": "N.m"}}}
+    with pytest.raises(RecordingError, match=r"MATLAB datenum.*2024-08-05 12:00:00"):
+        read_recording(p, cmap)
+
+
+def test_seconds_since_midnight_are_no_serial_days(tmp_path):
+    # 45509.5 s (12.6 h) at 1 kHz is a plausible time in seconds: read as it is
+    rows = "".join(f"{45509.5 + k / 1000:.3f},1.5\n" for k in range(50))
+    p, _ = _write(tmp_path, "midday.csv", "Time,Torque\n" + rows)
+    rec = read_recording(p, MAP)
+    assert rec.sample_rate == pytest.approx(1000.0, rel=1e-6)
+    assert rec.time[0] == pytest.approx(45509.5)
+
+
+# ------------------------------------------------------------ UTF-16 without a byte-order mark
+
+_TEXT = "Time;Torque [N·m]\n0,000;1,5\n0,001;1,6\n0,002;1,7\n"
+
+
+@pytest.mark.parametrize("codec", ["utf-16-le", "utf-16-be"])
+def test_utf16_without_bom_is_read_as_utf16(tmp_path, codec):
+    # a script's or logger's UTF-16 text without a BOM was refused as a binary file
+    p, sha = _write(tmp_path, "nobom.csv", _TEXT.encode(codec))
+    rec = read_recording(
+        p, {"time": {"column": "Time", "unit": "s"}, "channels": {"torque": {"column": "Torque"}}}
+    )
+    np.testing.assert_allclose(rec["torque"], [1.5, 1.6, 1.7])
+    np.testing.assert_allclose(rec.time, [0.0, 0.001, 0.002])
+    assert any("without a byte-order mark" in n for n in rec.metadata["notes"])
+    assert file_sha256(p) == sha
+
+
+def test_utf16_lvm_without_bom_is_read(tmp_path):
+    import vendor_files as vf
+
+    v = vf.labview_lvm(tmp_path)
+    text = v.path.read_bytes().decode("ascii")
+    bare = tmp_path / "bare.lvm"
+    bare.write_bytes(text.encode("utf-16-le"))
+    want = read_recording(v.path, v.write_map())
+    got = read_recording(bare, v.write_map())
+    np.testing.assert_array_equal(got.time, want.time)
+    np.testing.assert_array_equal(got["torque"], want["torque"])
+
+
+def test_a_binary_file_with_a_text_suffix_is_still_refused(tmp_path):
+    p, _ = _write(tmp_path, "binary.csv", bytes(range(256)) * 8)
+    with pytest.raises(RecordingError, match="not a text file"):
+        read_recording(p, MAP)
+
+
+# -------------------------------------------------------- variants that read (regression guard)
+
+_E = [1.5, 1.6, 1.7]
+
+
+@pytest.mark.parametrize(
+    ("data", "cmap", "want"),
+    [
+        (b"\xef\xbb\xbfTime,Torque\n0.000,1.5\n0.001,1.6\n0.002,1.7\n", MAP, _E),
+        ("Time,Torque\r0.000,1.5\r0.001,1.6\r0.002,1.7\r", MAP, _E),
+        ("Time;Torque;\r\n0,000;1,5;\r\n0,001;1,6;\r\n0,002;1,7;\r\n", MAP, _E),
+        (
+            "Time;Torque\n0,000;1.500,5\n0,001;1.600,5\n0,002;1.700,5\n",
+            MAP,
+            [1500.5, 1600.5, 1700.5],
+        ),
+        (
+            '"Time [ms]","Torque [kN·m]"\n0,1.5\n1,1.6\n2,1.7\n',
+            {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}},
+            [1500.0, 1600.0, 1700.0],
+        ),
+        (
+            "# rig 3\nTime;Torque\ns;kN.m\n0,000;1,5\n0,001;1,6\n0,002;1,7\n0,003;1,",
+            {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}},
+            [1500.0, 1600.0, 1700.0],
+        ),
+        (
+            "Time,Torque\n2024-08-05T13:46:13.000+02:00,1.5\n2024-08-05T13:46:13.001+02:00,1.6\n"
+            "2024-08-05T13:46:13.002+02:00,1.7\n",
+            {
+                "time": {"column": "Time"},
+                "channels": {"torque": {"column": "Torque", "unit": "N.m"}},
+            },
+            _E,
+        ),
+    ],
+    ids=["bom", "bare-cr", "trailing-sep", "thousands", "bracket-units", "units-row-cut", "iso"],
+)
+def test_text_variants_read(tmp_path, data, cmap, want):
+    p, sha = _write(tmp_path, "v.csv", data)
+    rec = read_recording(p, cmap)
+    np.testing.assert_allclose(rec["torque"], want)
+    np.testing.assert_allclose(rec.time, [0.0, 0.001, 0.002], atol=1e-12)
+    assert file_sha256(p) == sha
+
+
+def _tdms_bytes(segments):
+    from nptdms import TdmsWriter
+
+    buf = io.BytesIO()
+    with TdmsWriter(buf) as w:
+        for objs in segments:
+            w.write_segment(objs)
+    return buf.getvalue()
+
+
+def test_tdms_groups_of_different_rates_and_a_string_channel(tmp_path):
+    nptdms = pytest.importorskip("nptdms")
+    ch = nptdms.ChannelObject
+    tq = np.array([1.5, 1.6, 1.7, 1.8, 1.9])
+    data = _tdms_bytes(
+        [
+            [
+                ch("Fast", "Torque", tq, properties={"wf_increment": 0.001, "unit_string": "N·m"}),
+                ch("Fast", "Event", np.array(["a", "b", "c", "d", "e"])),
+                ch(
+                    "Slow",
+                    "Load",
+                    np.array([10.0, 11.0, 12.0]),
+                    properties={"wf_increment": 0.002, "unit_string": "kN"},
+                ),
+            ]
+        ]
+    )
+    p, sha = _write(tmp_path, "groups.tdms", data)
+    rec = read_recording(
+        p, {"channels": {"torque": {"column": "Torque"}, "normal_load": {"column": "Load"}}}
+    )
+    np.testing.assert_allclose(rec.time, np.arange(5) / 1000.0, atol=1e-12)
+    np.testing.assert_allclose(rec["torque"], tq)
+    np.testing.assert_allclose(rec["normal_load"], [10000, 10500, 11000, 11500, 12000])
+    assert file_sha256(p) == sha
