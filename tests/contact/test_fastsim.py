@@ -342,3 +342,80 @@ def test_mismatched_array_lengths_name_the_parameters():
         fastsim([1e-3, 2e-3, 3e-3], [0.0, 0.0], **FS)
     with pytest.raises(ParameterError, match=r"long_creep \(shape \(3,\)\) and friction"):
         fastsim([1e-3, 2e-3, 3e-3], **{**FS, "friction": [0.3, 0.2]})
+
+
+# --------------------------------------------------------------------------------------------
+# Given flexibilities, grid and flags: clear errors, never numpy's broadcast error
+# --------------------------------------------------------------------------------------------
+
+_CONTACT = dict(
+    semi_axis_x=8e-3, semi_axis_y=4e-3, normal_load=82e3, shear_modulus=82e9, poisson=0.28,
+    friction=0.3,
+)  # fmt: skip
+
+
+def test_given_flexibilities_of_mismatched_lengths_name_the_fields_and_shapes():
+    """l1 of 2 values and l2 of 3 for 3 cases had been numpy's "operands could not be broadcast
+    together with remapped shapes", naming neither the fields nor the cases."""
+    from rollerrig.contact.fastsim import Flexibilities
+
+    flex = Flexibilities(np.full(2, 5e-14), np.full(3, 5e-14), 5e-14)
+    with pytest.raises(ParameterError) as info:
+        fastsim([1e-4, 2e-4, 3e-4], flexibilities=flex, **_CONTACT)
+    text = str(info.value)
+    assert "l1 (shape (2,), does not fit)" in text
+    assert "l2 (shape (3,))" in text and "l3 (shape ())" in text
+    assert "shape of the cases, (3,)" in text
+
+
+def test_given_flexibilities_of_the_cases_shape_or_single_numbers_are_used():
+    from rollerrig.contact.fastsim import Flexibilities
+
+    creep = [1e-4, 2e-4, 3e-4]
+    kalker = fastsim(creep, **_CONTACT).flexibilities
+    same = fastsim(creep, flexibilities=kalker, **_CONTACT)
+    np.testing.assert_allclose(same.fx, fastsim(creep, **_CONTACT).fx, rtol=1e-12)
+    one = Flexibilities(float(kalker.l1[0]), float(kalker.l2[0]), float(kalker.l3[0]))
+    np.testing.assert_allclose(fastsim(creep, flexibilities=one, **_CONTACT).fx, same.fx)
+    grid = fastsim(np.full((2, 3), 1e-4), flexibilities=Flexibilities(
+        np.full(3, 5e-14), np.full((2, 3), 5e-14), 5e-14), **_CONTACT)  # fmt: skip
+    assert grid.fx.shape == (6,)
+
+
+@pytest.mark.parametrize(
+    ("flex", "message"),
+    [
+        ("abc", "flexibilities must be a Flexibilities"),
+        ((1e-14, 1e-14, 1e-14), "flexibilities must be a Flexibilities"),
+        (dict(l1=-1.0), r"flexibilities.l1 must be > 0 \[m³/N\]"),
+        (dict(l2=float("nan")), r"flexibilities.l2 must be finite"),
+        (dict(l3="x"), "flexibilities.l3 must be a number"),
+    ],
+)
+def test_wrong_flexibilities_are_refused_naming_them(flex, message):
+    """A negative flexibility had given forces of the wrong sign, NaN had given NaN forces,
+    a tuple a bare AttributeError."""
+    from rollerrig.contact.fastsim import Flexibilities
+
+    if isinstance(flex, dict):
+        flex = Flexibilities(**{"l1": 5e-14, "l2": 5e-14, "l3": 5e-14, **flex})
+    with pytest.raises(ParameterError, match=message):
+        fastsim(1e-4, flexibilities=flex, **_CONTACT)
+
+
+def test_a_grid_that_is_not_one_and_a_flag_that_is_text_are_refused():
+    """grid=5 had been a bare AttributeError deep in the kernel; tractions="no" had meant yes."""
+    from rollerrig.contact.strip import fastrip
+
+    for solve in (fastsim, fastrip):
+        with pytest.raises(ParameterError, match="grid must be a FastsimGrid"):
+            solve(1e-4, grid=5, **_CONTACT)
+        with pytest.raises(ParameterError, match="tractions must be True or False, got 'no'"):
+            solve(1e-4, tractions="no", **_CONTACT)
+
+
+def test_flexibility_functions_name_inputs_that_do_not_broadcast():
+    with pytest.raises(ParameterError, match=r"semi_axis_x \(shape \(2,\)\) and semi_axis_y"):
+        kalker_flexibilities([8e-3, 9e-3], [4e-3, 4e-3, 4e-3], 82e9, 0.28)
+    with pytest.raises(ParameterError, match=r"friction \(shape \(2,\)\) and long_creep"):
+        blended_flexibilities(8e-3, 4e-3, 82e9, 0.28, 82e3, [0.3, 0.3], [1e-3, 1e-3, 1e-3])

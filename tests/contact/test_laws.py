@@ -150,3 +150,15 @@ def test_mismatched_array_lengths_name_the_parameters(law):
 def test_law_creep_curve_of_no_creep_is_refused():
     with pytest.raises(ParameterError, match=r"creep must hold at least one value \[-\]"):
         law_creep_curve("fastsim", [], 10e3, 30 / 3.6, 0.348, 0.291, 0.452, 1.890)
+
+
+@pytest.mark.parametrize("name", [None, ["polach-dry"], 3])
+def test_a_parameter_set_name_that_is_not_text_is_refused_with_the_names(name):
+    """None had been a bare TypeError ("not iterable"), a list an unhashable-type one."""
+    from rollerrig._validation import ParameterError
+    from rollerrig.contact.laws import check_law, parameter_set
+
+    with pytest.raises(ParameterError, match=r"a str.*known: polach-dry"):
+        parameter_set(name)
+    with pytest.raises(ParameterError, match=r"creep law.*known:"):
+        check_law(name)

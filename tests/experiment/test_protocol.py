@@ -219,3 +219,60 @@ def test_protocol_friction_condition_must_be_a_sequence_of_names():
         match=re.escape("friction_condition must be a sequence of names, one per friction_time"),
     ):
         _arrays(friction_condition="dry", friction_time=[0.0, 0.5, 1.0])
+
+
+# --------------------------------------------------------------------------------------------
+# Protocol(events=...): checked at construction
+# --------------------------------------------------------------------------------------------
+
+_EV = experiment.ProtocolEvent
+
+
+@pytest.mark.parametrize(
+    ("events", "message"),
+    [
+        (5, "events: must be a sequence of ProtocolEvent (start, end, action, target); got int"),
+        ("hold", "events: must be a sequence of ProtocolEvent"),
+        ({"a": 1}, "events: must be a sequence of ProtocolEvent"),
+        ([5], "events[0]: must be a ProtocolEvent (start, end, action, target); got 5"),
+        ([(0.0, 1.0, "hold")], "events[0]: must be a ProtocolEvent"),
+        ([(np.nan, 1.0, "hold", None)], "events[0].start: must be a finite number [s]; got nan"),
+        ([(0.0, "1", "hold", None)], "events[0].end: must be a finite number [s]; got '1'"),
+        ([(True, 1.0, "hold", None)], "events[0].start: must be a finite number [s]; got true"),
+        ([(1.0, 0.5, "hold", None)], "events[0].end: must not come before its start [s]"),
+        ([(-1.0, 0.5, "hold", None)], "events[0].start: must lie in the protocol's duration"),
+        ([(0.0, 5.0, "hold", None)], "events[0].end: must not come after the protocol's"),
+        (
+            [(0.0, 1.0, "hold", None), (0.5, 0.7, "hold", None), (0.2, 0.3, "hold", None)],
+            "events[2].start: must not come before the start of events[1] (events are in time "
+            "order) [s]; allowed >= 0.5; got 0.2",
+        ),
+        ([(0.0, 1.0, "hodl", None)], "events[0].action: unknown action (did you mean 'hold'?)"),
+        ([(0.0, 1.0, 5, None)], "events[0].action: unknown action; allowed 'hold'"),
+        ([(0.0, 1.0, ["hold"], None)], "events[0].action: unknown action"),
+        ([(0.0, 1.0, "ramp_torque", np.nan)], "events[0].target: must be None, a finite"),
+        ([(0.0, 1.0, "ramp_torque", True)], "events[0].target: must be None, a finite"),
+    ],
+)
+def test_malformed_events_are_refused_at_construction(events, message):
+    """Each had been a bare TypeError (not a sequence, three fields) or had been kept silently
+    (NaN or reversed times, events out of order, a misspelt action no report would find)."""
+    with pytest.raises(ProtocolError, match=re.escape(message)):
+        _arrays(events=events)
+
+
+def test_well_formed_events_are_kept_as_protocol_events_of_floats():
+    p = _arrays(events=[(0, 1, "ramp_torque", np.int64(600)), _EV(1.0, 2.0, "set_friction", "wet")])
+    assert p.events == (_EV(0.0, 1.0, "ramp_torque", 600.0), _EV(1.0, 2.0, "set_friction", "wet"))
+    assert all(type(e.start) is float and type(e.end) is float for e in p.events)
+    json.dumps(p.to_dict())  # np.int64 had not been JSON-able
+    assert _arrays(events=[(0.0, 2.0, "replay", "trace.csv")]).events[0].action == "replay"
+
+
+def test_every_leaf_step_action_is_a_known_event_action():
+    from rollerrig.experiment.protocol import _EVENT_ACTIONS
+    from rollerrig.experiment.steps import STEP_TYPES
+
+    leaves = {cls.action for cls in STEP_TYPES if cls is not Repeat}
+    assert set(_EVENT_ACTIONS) == leaves | {"replay"}
+    assert _pulse().events[-1].action == "hold"

@@ -224,3 +224,84 @@ def test_a_library_error_raised_from_a_full_disk_names_the_path(tmp_path):
     with pytest.raises(RuntimeError, match="unrelated"):  # other errors pass unchanged
         atomic_write(tmp_path / "y.nc", _fails_after_writing(RuntimeError("unrelated")))
     assert list(tmp_path.iterdir()) == []
+
+
+# --------------------------------------------------------------------------------------------
+# Paths and arguments of the wrong kind: one clear error, nothing written
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("path", [5, None, b"out.txt", 3.5, ""])
+def test_a_path_that_is_not_one_is_an_output_error_naming_it(tmp_path, monkeypatch, path):
+    """None, an int or bytes had reached pathlib's bare TypeError."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(OutputError, match="path must be a file path"):
+        atomic_write(path, _write("x"))
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_nul_character_and_a_name_too_long_are_output_errors_naming_the_path(tmp_path):
+    """A NUL had been a bare ValueError, a 300-character name a bare OSError (is_dir)."""
+    with pytest.raises(OutputError, match="NUL character"):
+        atomic_write(str(tmp_path / "a\0b.txt"), _write("x"))
+    long = tmp_path / ("a" * 300 + ".txt")
+    with pytest.raises(OutputError, match=r"aaaa\.txt: cannot write the file: File name too"):
+        atomic_write(long, _write("x"))
+    with pytest.raises(OutputError, match="cannot create the folder: File name too long"):
+        atomic_write(tmp_path / ("d" * 300) / "x.txt", _write("x"))
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_missing_folder_is_created_and_one_that_cannot_be_is_named(tmp_path):
+    """Missing folders are created (as documented); a file in the way is named, nothing left."""
+    assert atomic_write(tmp_path / "a" / "b" / "c.txt", _write("x")).read_text() == "x"
+    (tmp_path / "file").write_text("keep")
+    with pytest.raises(OutputError, match=r"file: cannot create the folder"):
+        atomic_write(tmp_path / "file" / "c.txt", _write("x"))
+    assert (tmp_path / "file").read_text() == "keep"
+
+
+def test_a_write_that_is_not_callable_and_an_overwrite_that_is_text_are_refused(tmp_path):
+    """write="text" had been a bare TypeError; overwrite="no" had replaced the file."""
+    (tmp_path / "a.txt").write_text("old")
+    with pytest.raises(ParameterError, match="write must be a function"):
+        atomic_write(tmp_path / "a.txt", "new")
+    with pytest.raises(ParameterError, match="overwrite must be True or False, got 'no'"):
+        atomic_write(tmp_path / "a.txt", _write("new"), overwrite="no")
+    assert (tmp_path / "a.txt").read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["a.txt"]
+
+
+def test_write_all_puts_the_first_file_back_when_the_second_cannot_be_moved(tmp_path, monkeypatch):
+    from rollerrig.output.atomic import atomic_write_all
+
+    a, b = tmp_path / "a.csv", tmp_path / "a.json"
+    atomic_write_all([(a, _write("old a")), (b, _write("old b"))])
+    real = os.replace
+
+    def refuse_b(src, dst, *args, **kwargs):
+        if os.fspath(dst) == os.fspath(b):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real(src, dst, *args, **kwargs)
+
+    monkeypatch.setattr(os, "replace", refuse_b)
+    with pytest.raises(OutputError, match=r"a\.json: cannot write the file: No space left"):
+        atomic_write_all([(a, _write("new a")), (b, _write("new b"))])
+    monkeypatch.undo()
+    assert (a.read_text(), b.read_text()) == ("old a", "old b")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv", "a.json"]
+
+
+def test_write_all_writes_nothing_when_a_later_file_fails_while_written(tmp_path):
+    from rollerrig.output.atomic import atomic_write_all
+
+    def fail(p):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    with pytest.raises(OutputError, match="nothing was written"):
+        atomic_write_all([(tmp_path / "a.csv", _write("a")), (tmp_path / "a.json", fail)])
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(ParameterError, match="given twice"):
+        atomic_write_all([(tmp_path / "a", _write("a")), (tmp_path / "a", _write("b"))])
+    with pytest.raises(ParameterError, match="sequence of"):
+        atomic_write_all("a.csv")

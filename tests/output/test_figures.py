@@ -89,3 +89,22 @@ def test_no_figure_or_metadata_of_the_wrong_type_is_a_parameter_error(tmp_path):
     fig, _ = plt.subplots()
     with pytest.raises(ParameterError, match=re.escape("metadata must be a dict")):
         save_figure(fig, tmp_path / "f.png", metadata=[1])
+
+
+def test_save_figure_refuses_a_path_that_is_not_one_and_closes_the_figure():
+    """path=None had been a bare TypeError, raised before the figure was closed."""
+    fig, _ = plt.subplots()
+    with pytest.raises(OutputError, match="path must be a file path"):
+        save_figure(fig, None)
+    assert not plt.fignum_exists(fig.number)
+
+
+@pytest.mark.parametrize("path", [None, 5, b"f.png"])
+def test_reading_provenance_or_a_hash_refuses_a_path_that_is_not_one(path):
+    from rollerrig._validation import ParameterError
+    from rollerrig.output import file_sha256
+
+    with pytest.raises(ParameterError, match="path must be a file path"):
+        figure_provenance(path)
+    with pytest.raises(ParameterError, match="path must be a file path"):
+        file_sha256(path)

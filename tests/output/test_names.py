@@ -61,3 +61,14 @@ def test_inputs_of_one_command_get_distinct_stems():
     assert unique_file_stems(["x", "x", "x-1"]) == ["x-1-1", "x-2", "x-1"]
     long = unique_file_stems(["y" * 300, "y" * 300])
     assert long[0] != long[1] and all(len(s) <= MAX_INPUT_STEM for s in long)
+
+
+def test_unique_file_stems_refuses_a_single_name_as_storable_names_does():
+    """unique_file_stems("run") had given ['r', 'u', 'n']."""
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=r"got the single name 'run'; pass \['run'\]"):
+        unique_file_stems("run")
+    with pytest.raises(ParameterError, match="names must be a list of names"):
+        unique_file_stems(5)
+    assert unique_file_stems(n for n in ["run", "run"]) == ["run-1", "run-2"]

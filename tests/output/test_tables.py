@@ -2,6 +2,7 @@
 independent reader (pandas, pyarrow, nptdms, asammdf, scipy.io.loadmat, h5py, xarray), with a
 unit on every column, the metadata object and the provenance record."""
 
+import errno
 import json
 import os
 import stat
@@ -502,3 +503,93 @@ def test_write_dataset_refuses_what_is_no_dataset_and_a_nan_time_coordinate(tmp_
     with pytest.raises(ParameterError, match=re.escape("provenance attribute is not JSON")):
         write_dataset(tmp_path / "y.nc", data)
     assert not list(tmp_path.iterdir())
+
+
+# --------------------------------------------------------------------------------------------
+# The CSV table and its sidecar: a pair, both new or both old
+# --------------------------------------------------------------------------------------------
+
+
+def _pair(tmp_path):
+    path = tmp_path / "r.csv"
+    write_table(path, {"torque": ([1.0, 2.0], "N.m")}, time=[0.0, 0.1], attrs={"run": "old"})
+    return path, path.with_suffix(".metadata.json")
+
+
+def _new(path):
+    return write_table(
+        path, {"torque": ([3.0, 4.0], "N.m")}, time=[0.0, 0.1], attrs={"run": "new"},
+        overwrite=True,
+    )  # fmt: skip
+
+
+def test_a_sidecar_that_fails_while_written_leaves_the_old_pair(tmp_path, monkeypatch):
+    """The sidecar was written after the new CSV had replaced the old one: a failure then left
+    the new table beside the old metadata."""
+    import pathlib
+
+    path, sidecar = _pair(tmp_path)
+    before = (path.read_bytes(), sidecar.read_bytes())
+
+    def full(self, *args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(pathlib.Path, "write_text", full)  # the sidecar's writer, not pandas'
+    with pytest.raises(OutputError, match=r"r\.metadata\.json: .*disk is full"):
+        _new(path)
+    monkeypatch.undo()
+    assert (path.read_bytes(), sidecar.read_bytes()) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "r.metadata.json"]
+
+
+def test_a_sidecar_that_cannot_replace_the_old_one_puts_the_old_table_back(tmp_path, monkeypatch):
+    """The second move fails after the first succeeded: the old CSV is put back."""
+    path, sidecar = _pair(tmp_path)
+    before = (path.read_bytes(), sidecar.read_bytes())
+    real = os.replace
+
+    def refuse_sidecar(src, dst, *args, **kwargs):
+        if os.fspath(dst) == os.fspath(sidecar):
+            raise OSError(errno.EIO, os.strerror(errno.EIO))
+        return real(src, dst, *args, **kwargs)
+
+    monkeypatch.setattr(os, "replace", refuse_sidecar)
+    with pytest.raises(OutputError, match=r"r\.metadata\.json: cannot write the file"):
+        _new(path)
+    monkeypatch.undo()
+    assert (path.read_bytes(), sidecar.read_bytes()) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "r.metadata.json"]
+    _new(path)  # and then it works: both new
+    assert json.loads(sidecar.read_text())["run"] == "new" and "3" in path.read_text()
+
+
+def test_a_new_pair_that_fails_leaves_neither_file(tmp_path, monkeypatch):
+    def refusing(real):
+        def move(src, dst, *args, **kwargs):
+            if os.fspath(dst).endswith(".metadata.json"):
+                raise OSError(errno.EIO, os.strerror(errno.EIO))
+            return real(src, dst, *args, **kwargs)
+
+        return move
+
+    # overwrite=False moves by hard link, or by os.replace where links are not supported
+    monkeypatch.setattr(os, "link", refusing(os.link))
+    monkeypatch.setattr(os, "replace", refusing(os.replace))
+    with pytest.raises(OutputError, match=r"metadata\.json"):
+        write_table(tmp_path / "r.csv", {"torque": ([1.0], "N.m")}, time=[0.0])
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("path", [None, 5, b"r.csv"])
+def test_write_table_refuses_a_path_that_is_not_one(tmp_path, path):
+    with pytest.raises(OutputError, match="path must be a file path"):
+        write_table(path, {"torque": ([1.0], "N.m")}, time=[0.0])
+
+
+def test_write_table_refuses_an_overwrite_that_is_text(tmp_path):
+    """overwrite="no" is true: it had replaced the file."""
+    path, _ = _pair(tmp_path)
+    before = path.read_bytes()
+    with pytest.raises(ParameterError, match="overwrite must be True or False"):
+        write_table(path, {"torque": ([9.0], "N.m")}, time=[0.0], overwrite="no")
+    assert path.read_bytes() == before

@@ -62,3 +62,44 @@ def test_matlab_names_are_cut_to_63_characters_and_stay_distinct():
 def test_the_mapping_does_not_depend_on_later_names():
     # An identifier claims its name even when a mapped name before it would become the same.
     assert storable_names(["a b", "a_b"], "mat") == {"a b": "a_b_2", "a_b": "a_b"}
+
+
+def test_a_single_name_is_refused_not_taken_letter_by_letter():
+    """storable_names("torque", "nc") had returned six names, 't', 'o', 'r', ..."""
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=r"names must be a list of names, got the single "
+                       r"name 'torque'; pass \['torque'\]"):  # fmt: skip
+        storable_names("torque", "nc")
+    with pytest.raises(ParameterError, match="reserved must be a list of names"):
+        storable_names(["a"], "mat", reserved="units")
+    assert storable_names(["torque"], "nc") == {"torque": "torque"}
+    assert storable_names(iter(["a b"]), "nc") == {"a b": "a_b"}  # any iterable of str
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (([5], "nc"), r"names\[0\] must be a str, got 5"),
+        ((None, "nc"), "names must be a list of names"),
+        ((["a b"], "NC"), "format must be one of .*did you mean 'nc'"),
+        ((["a b"], "netcdf"), "format must be one of"),
+        ((["a b"], None), "format must be one of"),
+    ],
+)
+def test_names_and_formats_of_the_wrong_kind_are_refused(args, message):
+    """An unknown format had kept every name ("NC": names NetCDF cannot store); a name 5
+    came back as the key "5"."""
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=message):
+        storable_names(*args)
+
+
+def test_the_formats_are_those_of_the_writer():
+    from rollerrig.output.tables import TABLE_FORMATS
+    from rollerrig.output.varnames import FORMATS
+
+    assert tuple(TABLE_FORMATS) == FORMATS
+    with pytest.raises(ValueError, match="name must be a str"):
+        storable_name(None, "nc")

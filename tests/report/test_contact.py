@@ -51,3 +51,20 @@ def test_contact_size_figure_has_units_and_marks_the_rig_roller():
     a = next(ln for ln in ax1.get_lines() if ln.get_label() == "a (rolling)")
     np.testing.assert_allclose(a.get_ydata(), comparison.semi_axis_x * 1e3)
     plt.close(fig)
+
+
+def test_report_figures_refuse_inputs_of_the_wrong_kind():
+    """None had been a bare AttributeError, a str of rows a bare TypeError (string indices)."""
+    import pytest
+
+    from rollerrig._validation import ParameterError
+    from rollerrig.report.traction import law_curve_figure, traction_figure
+
+    before = plt.get_fignums()
+    with pytest.raises(ParameterError, match="comparison must be a RollerRailComparison"):
+        contact_size_figure(None)
+    with pytest.raises(ParameterError, match="curve must be a CreepCurve"):
+        traction_figure(None, "fastsim", 0.28)
+    with pytest.raises(ParameterError, match="rows must be a dict"):
+        law_curve_figure("rows", "fastsim", 0.46)
+    assert plt.get_fignums() == before  # refused before a figure was made

@@ -361,3 +361,77 @@ def test_the_page_never_scrolls_sideways_wide_tables_scroll_in_their_box(written
             assert m["page"] <= m["window"] and m["beyond"] == [], (page.name, width, m)
     # the 40-column table is wider than the column, and scrolls inside its own box
     assert all(m["scrolling"] == 1 for m in page_widths(pages[0], (1100, 1400)).values())
+
+
+# --------------------------------------------------------------------------------------------
+# Arguments of the wrong kind: one clear error, the figure left to the caller
+# --------------------------------------------------------------------------------------------
+
+
+def test_a_figure_of_none_is_refused():
+    """None had been a bare AttributeError ('NoneType' object has no attribute 'texts')."""
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match="fig must be a matplotlib Figure, got None"):
+        HtmlReport("t").figure(None)
+
+
+@pytest.mark.parametrize(
+    ("dpi", "message"),
+    [
+        (0, r"dpi must lie in \[1, 10000\] \[dots per inch\], got 0"),
+        (-5, r"dpi must lie in \[1, 10000\]"),
+        (float("nan"), "dpi must be finite"),
+        ("text", "dpi must be a number"),
+        (True, "dpi must be a number"),
+        ([100, 200], "dpi must be a single number"),
+        (1e9, r"dpi must lie in \[1, 10000\]"),
+    ],
+)
+def test_a_wrong_dpi_is_refused_before_drawing_and_the_figure_kept(dpi, message):
+    """0 and -5 had been matplotlib's ValueError, NaN "cannot convert float NaN to integer",
+    text a bare TypeError, True a FreeType error; nothing was added to the report."""
+    from rollerrig._validation import ParameterError
+
+    report = HtmlReport("t")
+    fig, _ = plt.subplots()
+    try:
+        with pytest.raises(ParameterError, match=message):
+            report.figure(fig, "caption", dpi=dpi)
+        assert plt.fignum_exists(fig.number) and report.parts == []
+        report.figure(fig, "caption", dpi=50)  # the caller may draw it again
+        assert len(report.parts) == 1 and not plt.fignum_exists(fig.number)
+    finally:
+        plt.close(fig)
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda r: r.figure(plt.figure(), caption=5), "caption must be a str"),
+        (lambda r: r.heading(None), "heading: text must be a str, got None"),
+        (lambda r: r.paragraph(3.5), "paragraph: text must be a str"),
+        (lambda r: r.table("ab", [[1, 2]]), "header must be a list of column titles"),
+        (lambda r: r.table(["a"], "xy"), "rows must be a list of rows"),
+        (lambda r: r.table(["a", "b"], [1, 2]), r"rows\[0\] must be a list of cells"),
+        (lambda r: r.table(["a", "b"], [[1, 2, 3]]), r"rows\[0\] has 3 cells for 2 columns"),
+        (lambda r: r.table(["a"], [[1.5]], digits=0), r"digits must be a whole number in \[1"),
+        (lambda r: r.table(["a"], [["x"]], math_columns=5), "math_columns must be a list"),
+        (lambda r: r.provenance(None), "record must be a dict"),
+        (lambda r: r.provenance({}, relative_to=5), "relative_to must be a folder"),
+    ],
+)
+def test_report_arguments_of_the_wrong_kind_are_refused(call, message):
+    """Each had been a bare AttributeError or TypeError, or a silent wrong page (a str of rows
+    as one-letter rows, a row longer than the header, None written as "None")."""
+    from rollerrig._validation import ParameterError
+
+    report = HtmlReport("t")
+    try:
+        with pytest.raises(ParameterError, match=message):
+            call(report)
+    finally:
+        plt.close("all")
+    assert report.parts == []
+    with pytest.raises(ParameterError, match="title must be a str"):
+        HtmlReport(None)

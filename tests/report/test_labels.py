@@ -111,3 +111,23 @@ def test_no_labels_is_fine():
     fig, ax = plt.subplots()
     assert label_peaks(ax, [], data_top=1.0) == []
     plt.close(fig)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (([1.0, 2.0, 3.0], [1.0, 2.0], 0.0, 10.0), r"centres \(shape \(3,\)\) and widths"),
+        ((["ab"], [1.0], 0.0, 10.0), "centres must be a number"),
+        (([np.nan], [1.0], 0.0, 10.0), "centres must be finite"),
+        (([1.0], [-1.0], 0.0, 10.0), "widths must be >= 0"),
+        (([1.0], [1.0], np.nan, 10.0), "lo must be finite"),
+        (([1.0], [1.0], 0.0, 10.0, -1.0), "pad must be >= 0"),
+    ],
+)
+def test_spread_refuses_bad_input_naming_it(args, message):
+    """Mismatched lengths had been a bare IndexError, text numpy's ValueError; NaN gave NaN
+    centres and a negative width overlapping labels."""
+    from rollerrig._validation import ParameterError
+
+    with pytest.raises(ParameterError, match=message):
+        spread(*args)

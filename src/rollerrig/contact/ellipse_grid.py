@@ -168,3 +168,23 @@ def _equivalent_ellipse(grid: FastsimGrid, inside: np.ndarray, a: float, b: floa
     width = (2.0 * grid.extent[1] / grid.size[0]) * b * (rows.max() - rows.min() + 1)
     r = np.sqrt(area / np.pi)
     return r * np.sqrt(length / width), r * np.sqrt(width / length)
+
+
+def _checked_grid(grid) -> FastsimGrid:
+    """``grid``, or the default grid for None; anything else refused (an int had reached a
+    bare AttributeError deep inside the kernel)."""
+    if grid is None:
+        return fastsim_grid()
+    if not isinstance(grid, FastsimGrid):
+        raise ParameterError(
+            "grid must be a FastsimGrid (see fastsim_grid) or None, got a value of type "
+            f"{type(grid).__name__}"
+        )
+    return grid
+
+
+def _checked_flag(name: str, value) -> bool:
+    """``value`` if it is True or False (the text "no" had been taken as true)."""
+    if not isinstance(value, bool | np.bool_):
+        raise ParameterError(f"{name} must be True or False, got {value!r}")
+    return bool(value)

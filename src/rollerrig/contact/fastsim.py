@@ -73,6 +73,8 @@ from rollerrig._validation import (
 from rollerrig.contact.ellipse_grid import (
     _BOUNDS,
     FastsimGrid,
+    _checked_flag,
+    _checked_grid,
     _equivalent_ellipse,
     _pressure_shape,
     fastsim_grid,
@@ -183,6 +185,40 @@ def _cases(long_creep, lat_creep, spin, friction):
     return shape, xi.ravel(), eta.ravel(), phi.ravel(), mu.ravel()
 
 
+def _given_flexibilities(flexibilities, shape: tuple[int, ...]) -> tuple[np.ndarray, ...]:
+    """Given L1, L2, L3 [m³/N] checked (finite, > 0) and flattened over the cases of ``shape``
+    (the creepages and ``friction`` broadcast together): each a single number, an array of that
+    shape, or one that broadcasts to it. A mismatch had reached numpy's broadcast error, which
+    names neither the fields nor the cases; a negative or NaN flexibility had given forces of
+    the wrong sign, or NaN."""
+    if not isinstance(flexibilities, Flexibilities):
+        raise ParameterError(
+            "flexibilities must be a Flexibilities (l1, l2, l3 [m³/N]; see "
+            f"kalker_flexibilities), got a {type(flexibilities).__name__}"
+        )
+    values = {
+        name: require_positive(f"flexibilities.{name}", getattr(flexibilities, name), "m³/N")
+        for name in ("l1", "l2", "l3")
+    }
+
+    def fits(v: np.ndarray) -> bool:
+        try:
+            return np.broadcast_shapes(v.shape, shape) == shape
+        except ValueError:
+            return False
+
+    if not all(fits(v) for v in values.values()):
+        shown = ", ".join(
+            f"{name} (shape {v.shape}{'' if fits(v) else ', does not fit'})"
+            for name, v in values.items()
+        )
+        raise ParameterError(
+            f"flexibilities {shown}: each must be a single number or have the shape of the "
+            f"cases, {shape} (long_creep, lat_creep, spin and friction broadcast together)"
+        )
+    return tuple(np.broadcast_to(v, shape).reshape(-1) for v in values.values())
+
+
 def fastsim(
     long_creep,
     lat_creep=0.0,
@@ -240,7 +276,8 @@ def fastsim(
     grid : FastsimGrid, optional
         Default ``fastsim_grid(30, 30)``.
     flexibilities : Flexibilities, optional
-        Given L1, L2, L3 [m³/N], overriding ``flexibility``.
+        Given L1, L2, L3 [m³/N], overriding ``flexibility``: each finite and > 0, a single
+        number or an array of the cases' shape (or one that broadcasts to it).
     equivalent_ellipse : bool
         Evaluate k's C11 and ε on CONTACT's equivalent ellipse of the gridded contact (as
         CONTACT does) instead of the Hertzian a, b.
@@ -279,14 +316,13 @@ def fastsim(
         raise ParameterError(f"bound must be one of {_BOUNDS}, got {bound!r}")
     if flexibility not in ("kalker", "blended"):
         raise ParameterError(f"flexibility must be 'kalker' or 'blended', got {flexibility!r}")
-    _, xi, eta, phi, mu = _cases(long_creep, lat_creep, spin, friction)
-    grid = fastsim_grid() if grid is None else grid
+    shape, xi, eta, phi, mu = _cases(long_creep, lat_creep, spin, friction)
+    grid = _checked_grid(grid)
+    tractions = _checked_flag("tractions", tractions)
+    equivalent_ellipse = _checked_flag("equivalent_ellipse", equivalent_ellipse)
 
     if flexibilities is not None:
-        l1, l2, l3 = (
-            np.broadcast_to(np.asarray(v, float), xi.shape)
-            for v in (flexibilities.l1, flexibilities.l2, flexibilities.l3)
-        )
+        l1, l2, l3 = _given_flexibilities(flexibilities, shape)
     elif flexibility == "blended":
         l1, l2, l3 = _blend(a, b, g, nu, n, mu, xi, eta, phi)
     else:

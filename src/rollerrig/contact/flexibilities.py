@@ -20,7 +20,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig._validation import require_finite, require_in_range, require_positive
+from rollerrig._validation import (
+    require_broadcastable,
+    require_finite,
+    require_in_range,
+    require_positive,
+)
 from rollerrig.contact.kalker import kalker_coefficients
 
 __all__ = ["Flexibilities", "blended_flexibilities", "kalker_flexibilities"]
@@ -80,6 +85,8 @@ def kalker_flexibilities(semi_axis_x, semi_axis_y, shear_modulus, poisson) -> Fl
     nu = require_in_range(
         "poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True
     )
+    # numpy's own "operands could not be broadcast together" named none of them
+    a, b, g, nu = require_broadcastable(semi_axis_x=a, semi_axis_y=b, shear_modulus=g, poisson=nu)
     k = kalker_coefficients(a / b, nu)
     return Flexibilities(*(np.asarray(v) for v in _kalker_flex(a, b, g, k.c11, k.c22, k.c23)))
 
@@ -181,4 +188,6 @@ def _checked_contact(
     xi = require_finite("long_creep", long_creep, "-")
     eta = require_finite("lat_creep", lat_creep, "-")
     phi = require_finite("spin", spin, "1/m")
+    # one case per element: shapes that do not broadcast named (numpy's error names none)
+    mu, xi, eta, phi = require_broadcastable(friction=mu, long_creep=xi, lat_creep=eta, spin=phi)
     return a, b, g, nu, n, mu, xi, eta, phi

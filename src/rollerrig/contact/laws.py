@@ -194,6 +194,11 @@ def parameter_set(name: str) -> PolachParameters | FastsimParameters:
     >>> parameter_set("eurosprinter-modified-fastsim").beta
     0.62
     """
+    if not isinstance(name, str):  # None had been a bare TypeError, a list an unhashable one
+        raise ParameterError(
+            f"name must be the name of a friction parameter set (a str), got {name!r} (known: "
+            f"{', '.join(FRICTION_PARAMETER_SETS)})"
+        )
     try:
         return FRICTION_PARAMETER_SETS[name]
     except KeyError:
@@ -208,6 +213,11 @@ def check_law(law: str) -> str:
     >>> check_law("fastsim")
     'fastsim'
     """
+    if not isinstance(law, str):
+        raise ParameterError(
+            f"law must be the name of a creep law (a str), got {law!r} (known: "
+            f"{', '.join(CREEP_LAWS)})"
+        )
     if law not in CREEP_LAWS:
         raise _did_you_mean("creep law", law, CREEP_LAWS)
     return law

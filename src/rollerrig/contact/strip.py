@@ -58,6 +58,7 @@ from __future__ import annotations
 import numpy as np
 
 from rollerrig._validation import require_in_range, require_positive
+from rollerrig.contact.ellipse_grid import _checked_flag, _checked_grid
 from rollerrig.contact.fastsim import (
     FastsimGrid,
     Flexibilities,
@@ -67,7 +68,6 @@ from rollerrig.contact.fastsim import (
     _fastsim_kernel,
     _kalker_flex,
     _pressure_shape,
-    fastsim_grid,
 )
 from rollerrig.contact.kalker import kalker_coefficients
 from rollerrig.contact.slope_reduction import (
@@ -199,7 +199,8 @@ def fastrip(
     nu = require_in_range("poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, single=True)
     k0, alpha_inf, beta = _check_modification(k0, alpha_inf, beta)
     _, xi, eta, phi, mu = _cases(long_creep, lat_creep, spin, friction)
-    grid = fastsim_grid() if grid is None else grid
+    grid = _checked_grid(grid)
+    tractions = _checked_flag("tractions", tractions)
     col = (slice(None), None)
 
     kc = kalker_coefficients(a / b, nu)

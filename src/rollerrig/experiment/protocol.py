@@ -35,13 +35,25 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from rollerrig._validation import ParameterError, require_finite
+from rollerrig._validation import (
+    ParameterError,
+    Verbatim,
+    did_you_mean,
+    field_error,
+    interval,
+    require_finite,
+    show_value,
+)
 
 # The convenience constructors' builders, by name, registered by the modules that define them
 # (experiment.steps, .replay, .tomlfile). Those import Protocol, so Protocol cannot import them
 # without an import circle; the experiment package imports all three whenever this module is
 # imported, so the registry is full before anyone can call a constructor.
 _BUILDERS: dict[str, Callable[..., Any]] = {}
+
+# The actions of ProtocolEvent: a leaf step's (registered by experiment.steps) and a replayed
+# trace's.
+_EVENT_ACTIONS: dict[str, None] = {}
 
 __all__ = ["Protocol", "ProtocolError", "ProtocolEvent"]
 
@@ -95,6 +107,99 @@ def _check_time(name: str, t: np.ndarray, duration: float) -> None:
         )
     if t[-1] > duration * (1.0 + 1e-12):
         raise ProtocolError(f"{name} ends at {t[-1]:g} s, after the duration {duration:g} s")
+
+
+def _event_error(key: str, message: str, **kwargs) -> ProtocolError:
+    return field_error(None, key, message, error=ProtocolError, **kwargs)
+
+
+_REAL = (float, int, np.floating, np.integer)
+
+
+def _finite_number(value) -> bool:
+    """A real number (not True/False, not text), finite."""
+    return isinstance(value, _REAL) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _event_problem(k: int, event, last_start: float, duration: float):
+    """Raise the error of event ``k`` whose times or action are wrong (the checks of
+    :func:`_checked_events`, one by one, for the message)."""
+    start, end, action, _ = event
+    for key, t in (("start", start), ("end", end)):
+        if not _finite_number(t):
+            raise _event_error(f"events[{k}].{key}", "must be a finite number", unit="s", got=t)
+    limit = duration * (1.0 + 1e-12)
+    if start < 0.0 or start > limit:
+        raise _event_error(
+            f"events[{k}].start", "must lie in the protocol's duration", unit="s",
+            allowed=interval(0, duration, low_inclusive=True, high_inclusive=True), got=start,
+        )  # fmt: skip
+    span = interval(start, duration, low_inclusive=True, high_inclusive=True)
+    if end < start:
+        raise _event_error(
+            f"events[{k}].end", "must not come before its start", unit="s", allowed=span,
+            got=end,
+        )  # fmt: skip
+    if end > limit:
+        raise _event_error(
+            f"events[{k}].end", "must not come after the protocol's duration", unit="s",
+            allowed=span, got=end,
+        )  # fmt: skip
+    if start < last_start:
+        raise _event_error(
+            f"events[{k}].start",
+            f"must not come before the start of events[{k - 1}] (events are in time order)",
+            unit="s",
+            allowed=f">= {show_value(last_start)}",
+            got=start,
+        )
+    hint = did_you_mean(action, _EVENT_ACTIONS) if isinstance(action, str) else ""
+    raise _event_error(
+        f"events[{k}].action", f"unknown action{hint}", allowed=list(_EVENT_ACTIONS), got=action
+    )
+
+
+def _checked_events(events, duration: float) -> tuple[ProtocolEvent, ...]:
+    """``events`` as :class:`ProtocolEvent` (times and a numeric target as float), checked: a
+    sequence of (start, end, action, target); times finite [s] in [0, duration], none ending
+    before it starts, starts in time order; a known action (did you mean); a target that is
+    None, a finite number or a name.
+
+    A malformed event had given a bare TypeError (not a sequence, three fields) or had been
+    kept silently (NaN or reversed times, a misspelt action that no report would find).
+    """
+    form = "(start, end, action, target)"
+    if isinstance(events, str | bytes) or not isinstance(events, Sequence):
+        got = events if isinstance(events, str | bytes) else Verbatim(type(events).__name__)
+        raise _event_error("events", f"must be a sequence of ProtocolEvent {form}", got=got)
+    out = []
+    last_start = 0.0
+    limit = duration * (1.0 + 1e-12)
+    for k, e in enumerate(events):
+        if type(e) is not ProtocolEvent and (
+            not isinstance(e, Sequence) or isinstance(e, str | bytes) or len(e) != 4
+        ):
+            raise _event_error(f"events[{k}]", f"must be a ProtocolEvent {form}", got=e)
+        start, end, action, target = e
+        if not (
+            _finite_number(start)
+            and _finite_number(end)
+            and last_start <= start <= end <= limit
+            and isinstance(action, str)
+            and action in _EVENT_ACTIONS
+        ):
+            _event_problem(k, e, last_start, duration)
+        if target is not None and not isinstance(target, str):
+            if not _finite_number(target):
+                raise _event_error(
+                    f"events[{k}].target",
+                    "must be None, a finite number (SI) or a name",
+                    got=target,
+                )
+            target = float(target)
+        last_start = start
+        out.append(ProtocolEvent(float(start), float(end), action, target))
+    return tuple(out)
 
 
 @dataclass(frozen=True, eq=False)
@@ -224,7 +329,7 @@ class Protocol:
                 raise ProtocolError(f"friction_condition names must be non-empty text, got {n!r}")
         object.__setattr__(self, "friction_time", ft)
         object.__setattr__(self, "friction_condition", names)
-        object.__setattr__(self, "events", tuple(ProtocolEvent(*e) for e in self.events))
+        object.__setattr__(self, "events", _checked_events(self.events, duration))
         object.__setattr__(self, "steps", tuple(self.steps))
 
     def __repr__(self) -> str:

@@ -21,7 +21,13 @@ from typing import Any
 import numpy as np
 
 from rollerrig._validation import did_you_mean
-from rollerrig.experiment.protocol import _BUILDERS, Protocol, ProtocolError, ProtocolEvent
+from rollerrig.experiment.protocol import (
+    _BUILDERS,
+    _EVENT_ACTIONS,
+    Protocol,
+    ProtocolError,
+    ProtocolEvent,
+)
 from rollerrig.experiment.steps import DEFAULT_SETTINGS, SETTINGS, protocol_error
 from rollerrig.units import UnitError, apply_factor, si_factor
 
@@ -248,3 +254,4 @@ def protocol_from_csv(path, normal_load, roller_speed, friction="dry", **options
 
 
 _BUILDERS["replay"] = replay_protocol  # Protocol's constructor uses it (experiment.protocol)
+_EVENT_ACTIONS["replay"] = None  # the one event of a replayed trace (Protocol checks actions)

@@ -51,7 +51,13 @@ from typing import Any, ClassVar
 import numpy as np
 
 from rollerrig._validation import field_error, interval, show_value
-from rollerrig.experiment.protocol import _BUILDERS, Protocol, ProtocolError, ProtocolEvent
+from rollerrig.experiment.protocol import (
+    _BUILDERS,
+    _EVENT_ACTIONS,
+    Protocol,
+    ProtocolError,
+    ProtocolEvent,
+)
 
 __all__ = [
     "DEFAULT_FAST_RAMP_DURATION",
@@ -396,6 +402,9 @@ STEP_TYPES: tuple[type[Step], ...] = (
     Repeat,
 )
 """Every step class, in the order the documentation lists them."""
+
+# The actions a compiled protocol's events may have (Protocol checks them): the leaf steps'.
+_EVENT_ACTIONS.update(dict.fromkeys(cls.action for cls in STEP_TYPES if cls is not Repeat))
 
 
 def step_fields(cls: type[Step]) -> tuple[tuple[str, bool], ...]:

@@ -13,13 +13,22 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import secrets
+import shutil
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
 from rollerrig._validation import ParameterError
 
-__all__ = ["OutputError", "atomic_write", "current_umask", "new_file_mode"]
+__all__ = [
+    "OutputError",
+    "atomic_write",
+    "atomic_write_all",
+    "current_umask",
+    "new_file_mode",
+    "output_path",
+]
 
 
 class OutputError(ParameterError, OSError):
@@ -116,8 +125,38 @@ def _fault(path: Path, exc: OSError, doing: str) -> OutputError:
     return OutputError(f"{path}: cannot {doing}: {reason}{hint}")
 
 
+_REFUSAL = "pass overwrite=True to replace it"
+
+
 def _refuse(path: Path) -> FileExistsError:
-    return FileExistsError(f"{path} exists; pass overwrite=True to replace it")
+    return FileExistsError(f"{path} exists; {_REFUSAL}")
+
+
+def output_path(path, name: str = "path") -> Path:
+    """``path`` as a :class:`~pathlib.Path`, or an :class:`OutputError` that names it.
+
+    A str or path-like (of text) is a path; anything else (None, a number, bytes) had reached
+    :class:`pathlib.Path`'s bare TypeError. An empty path and one holding a NUL character
+    (which no system accepts: a bare ValueError) are refused too.
+
+    Examples
+    --------
+    >>> output_path("out/run.csv")
+    PosixPath('out/run.csv')
+    >>> output_path(None)
+    Traceback (most recent call last):
+    ...
+    rollerrig.output.atomic.OutputError: path must be a file path (str or Path), got None
+    """
+    text = os.fspath(path) if isinstance(path, str | os.PathLike) else None
+    if not isinstance(text, str):
+        got = repr(path) if len(repr(path)) <= 60 else f"a {type(path).__name__}"
+        raise OutputError(f"{name} must be a file path (str or Path), got {got}")
+    if not text:
+        raise OutputError(f"{name} must be a file path (str or Path), got an empty path")
+    if "\0" in text:
+        raise OutputError(f"{text!r}: {name} holds a NUL character, which no file name may hold")
+    return Path(text)
 
 
 def _commit(tmp: Path, dst: Path, overwrite: bool) -> None:
@@ -135,6 +174,83 @@ def _commit(tmp: Path, dst: Path, overwrite: bool) -> None:
         os.replace(tmp, dst)
         return
     tmp.unlink()
+
+
+def _prepare(path: Path, overwrite: bool) -> None:
+    """Refuse an existing ``path`` (unless ``overwrite``) or a folder there; create its folder."""
+    if not overwrite and os.path.lexists(path):
+        raise _refuse(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:  # a file where a folder should be, no permission, ...
+        raise _fault(path.parent, exc, "create the folder") from exc
+    try:
+        is_dir = path.is_dir()
+    except OSError as exc:  # a name too long for the file system
+        raise _fault(path, exc, "write the file") from exc
+    if is_dir:
+        raise _fault(path, IsADirectoryError(21, "Is a directory"), "write the file")
+
+
+def _temporary(path: Path) -> Path:
+    """A new hidden empty file beside ``path``, for its content."""
+    try:
+        fd, name = tempfile.mkstemp(
+            dir=path.parent, prefix=_temp_prefix(path), suffix=f".tmp{path.suffix}"
+        )
+    except OSError as exc:
+        raise _fault(path, exc, "create a file in its folder") from exc
+    os.close(fd)
+    return Path(name)
+
+
+@contextlib.contextmanager
+def _faults(path: Path) -> Iterator[None]:
+    """Any fault of writing ``path`` as an :class:`OutputError` naming it (a refusal of an
+    existing file, and any error that is not the system's, as they are)."""
+    try:
+        yield
+    except FileExistsError as exc:
+        if str(exc).endswith(_REFUSAL):
+            raise
+        raise _fault(path, exc, "write the file") from exc
+    except OutputError:
+        raise
+    except OSError as exc:
+        raise _fault(path, exc, "write the file") from exc
+    except Exception as exc:  # a library's own error around a full disk, say
+        cause = _os_cause(exc)
+        if cause is None:
+            raise
+        raise _fault(path, cause, "write the file") from exc
+
+
+def _staged(path: Path, tmp: Path, write: Callable[[Path], Path | None]) -> Path:
+    """Call ``write(tmp)``; the file it wrote (``tmp``, or the one it names) with the mode
+    ``path`` has (or a new file gets)."""
+    result = write(tmp)
+    written = Path(result) if isinstance(result, str | os.PathLike) else tmp  # asammdf
+    try:
+        mode = path.stat().st_mode & 0o777 if path.is_file() else new_file_mode()
+    except OSError:
+        mode = new_file_mode()
+    os.chmod(written, mode)
+    return written
+
+
+def _flag(name: str, value, path: Path | None) -> None:
+    """Refuse a ``value`` that is not True or False (the text "no" had meant yes: replace)."""
+    if not isinstance(value, bool):
+        where = f"{path}: " if path is not None else ""
+        raise ParameterError(f"{where}{name} must be True or False, got {value!r}")
+
+
+def _callable(write, path: Path) -> None:
+    if not callable(write):
+        raise ParameterError(
+            f"{path}: write must be a function that writes the file it is given, got a "
+            f"{type(write).__name__}"
+        )
 
 
 def atomic_write(
@@ -169,8 +285,9 @@ def atomic_write(
     FileExistsError
         ``path`` exists and ``overwrite`` is False.
     OutputError
-        The folder cannot be created or written, ``path`` is a folder, the disk is full, ...
-        (any :class:`OSError` while writing); the message names the path.
+        ``path`` is not a file path (None, a number, bytes: :func:`output_path`), the folder
+        cannot be created or written, ``path`` is a folder, the disk is full, ... (any
+        :class:`OSError` while writing); the message names the path.
 
     Notes
     -----
@@ -186,51 +303,131 @@ def atomic_write(
     >>> p.read_text(), [f.name for f in d.iterdir()]
     ('hello', ['a.txt'])
     """
-    path = Path(path)
-    if not overwrite and os.path.lexists(path):
-        raise _refuse(path)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-    except FileExistsError as exc:  # a file where a folder should be
-        raise _fault(path.parent, exc, "create the folder") from exc
-    except OSError as exc:
-        raise _fault(path.parent, exc, "create the folder") from exc
-    if path.is_dir():
-        raise _fault(path, IsADirectoryError(21, "Is a directory"), "write the file")
-    try:
-        fd, name = tempfile.mkstemp(
-            dir=path.parent, prefix=_temp_prefix(path), suffix=f".tmp{path.suffix}"
-        )
-    except OSError as exc:
-        raise _fault(path, exc, "create a file in its folder") from exc
-    os.close(fd)
-    tmp = Path(name)
+    path = output_path(path)
+    _callable(write, path)
+    _flag("overwrite", overwrite, path)
+    _prepare(path, overwrite)
+    tmp = _temporary(path)
     written = tmp
     try:
-        result = write(tmp)
-        if isinstance(result, str | os.PathLike):  # the library chose the name (asammdf)
-            written = Path(result)
-        try:
-            mode = path.stat().st_mode & 0o777 if path.is_file() else new_file_mode()
-        except OSError:
-            mode = new_file_mode()
-        os.chmod(written, mode)
-        _commit(written, path, overwrite)
-    except FileExistsError as exc:
-        if str(exc).endswith("pass overwrite=True to replace it"):
-            raise
-        raise _fault(path, exc, "write the file") from exc
-    except OutputError:
-        raise
-    except OSError as exc:
-        raise _fault(path, exc, "write the file") from exc
-    except Exception as exc:  # a library's own error around a full disk, say
-        cause = _os_cause(exc)
-        if cause is None:
-            raise
-        raise _fault(path, cause, "write the file") from exc
+        with _faults(path):
+            written = _staged(path, tmp, write)
+            _commit(written, path, overwrite)
     finally:
         for leftover in {tmp, written}:
             with contextlib.suppress(OSError):
                 leftover.unlink()
     return path
+
+
+def _backup(path: Path) -> Path:
+    """A second name (hidden, beside it) for the file at ``path``, to put it back from."""
+    while True:
+        backup = path.with_name(f"{_temp_prefix(path)}{secrets.token_hex(4)}.bak")
+        try:
+            os.link(path, backup, follow_symlinks=False)
+        except FileExistsError:
+            continue
+        except OSError:  # a file system without hard links: a copy
+            if os.path.lexists(backup):
+                continue
+            shutil.copy2(path, backup, follow_symlinks=False)
+        return backup
+
+
+def atomic_write_all(
+    writes: Sequence[tuple[str | os.PathLike, Callable[[Path], Path | None]]],
+    *,
+    overwrite: bool = True,
+) -> list[Path]:
+    """Write several files (a table and its sidecar) so that a failure leaves all old or none.
+
+    Each ``write`` is called as for :func:`atomic_write`; only when every file is written in
+    full are they moved onto their targets, one after the other. When a move fails, the files
+    already moved are put back (the old file from a second name made beforehand, a new one
+    removed), so the caller finds the files it had: all new, or all as they were.
+
+    Parameters
+    ----------
+    writes : sequence of (path, write)
+        The targets, distinct, and the function that writes each (see :func:`atomic_write`).
+    overwrite : bool
+        Replace existing files (default); with False any existing target is refused.
+
+    Returns
+    -------
+    list of Path
+        The targets.
+
+    Raises
+    ------
+    FileExistsError, OutputError
+        As :func:`atomic_write`; nothing is changed.
+
+    Notes
+    -----
+    No file system moves two files in one step: for the instant between the moves a reader may
+    see the new first file beside the old second one. The guarantee is that of the outcome:
+    when this function returns every file is new; when it raises every file is as it was
+    (unless putting one back fails too, e.g. the disk vanished: the error then says which).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = atomic_write_all([(d / "a.csv", lambda t: t.write_text("x")),
+    ...                       (d / "a.json", lambda t: t.write_text("{}"))])
+    >>> sorted(f.name for f in d.iterdir())
+    ['a.csv', 'a.json']
+    """
+    if isinstance(writes, str | bytes) or not isinstance(writes, Sequence):
+        raise ParameterError(
+            f"writes must be a sequence of (path, write) pairs, got a {type(writes).__name__}"
+        )
+    targets: list[tuple[Path, Callable]] = []
+    for k, pair in enumerate(writes):
+        if not (isinstance(pair, Sequence) and not isinstance(pair, str) and len(pair) == 2):
+            raise ParameterError(f"writes[{k}] must be a (path, write) pair, got {pair!r}")
+        path = output_path(pair[0], f"writes[{k}] path")
+        _callable(pair[1], path)
+        targets.append((path, pair[1]))
+    _flag("overwrite", overwrite, targets[0][0] if targets else None)
+    paths = [os.path.abspath(p) for p, _ in targets]
+    if len(set(paths)) < len(paths):
+        twice = next(p for p in paths if paths.count(p) > 1)
+        raise ParameterError(f"{twice}: given twice; each file is written once")
+    for path, _ in targets:
+        _prepare(path, overwrite)
+    leftovers: list[Path] = []
+    backups: dict[Path, Path] = {}
+    moved: list[Path] = []
+    try:
+        staged = []
+        for path, write in targets:
+            tmp = _temporary(path)
+            leftovers.append(tmp)
+            with _faults(path):
+                written = _staged(path, tmp, write)
+            leftovers.append(written)
+            staged.append((path, written))
+        for path, written in staged:
+            with _faults(path):
+                if overwrite and os.path.lexists(path):
+                    backups[path] = _backup(path)
+                _commit(written, path, overwrite)
+            moved.append(path)
+    except BaseException as exc:
+        for path in reversed(moved):  # put back what was there
+            try:
+                if path in backups:
+                    os.replace(backups.pop(path), path)
+                else:
+                    path.unlink()
+            except OSError as undo:
+                exc.add_note(f"{path}: could not be put back as it was: {undo}")
+        raise
+    finally:
+        for leftover in {*leftovers, *backups.values()}:
+            with contextlib.suppress(OSError):
+                leftover.unlink()
+    return [path for path, _ in targets]

@@ -70,6 +70,14 @@ def jsonable(obj: Any) -> Any:
     raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
+def _input_path(path, name: str = "path") -> Path:
+    """``path`` (a file to read) as a :class:`~pathlib.Path`; None, a number or bytes refused
+    with an error naming it (they had reached :class:`pathlib.Path`'s bare TypeError)."""
+    if not isinstance(path, str | os.PathLike) or not isinstance(os.fspath(path), str):
+        raise ParameterError(f"{name} must be a file path (str or Path), got {path!r}")
+    return Path(path)
+
+
 def file_sha256(path: str | os.PathLike) -> str:
     """SHA-256 hex digest of a file, read in chunks (the file is only read).
 
@@ -81,8 +89,8 @@ def file_sha256(path: str | os.PathLike) -> str:
     >>> file_sha256(f)[:16]
     'ba7816bf8f01cfea'
     """
-    p = Path(path).resolve()
-    st = p.stat()
+    p = _input_path(path).resolve()
+    st = p.stat()  # a missing file: FileNotFoundError, naming it
     # A run hashes its inputs once for the provenance and the reader hashes the recording
     # again: the same file, unchanged (size and modification time), is read only once.
     return _sha256_of(str(p), st.st_size, st.st_mtime_ns)

@@ -67,7 +67,13 @@ from rollerrig._display import DIMENSIONLESS, is_dimensionless, labelled
 from rollerrig._optional import require
 from rollerrig._validation import ParameterError, did_you_mean, require_increasing
 from rollerrig.output import netcdf as _netcdf
-from rollerrig.output.atomic import OutputError, atomic_write
+from rollerrig.output.atomic import (
+    OutputError,
+    _flag,
+    atomic_write,
+    atomic_write_all,
+    output_path,
+)
 from rollerrig.output.csv_numbers import csv_number, csv_text
 from rollerrig.output.jsonfile import (
     META_KEY,
@@ -75,7 +81,6 @@ from rollerrig.output.jsonfile import (
     SIGNIFICANT_DIGITS,
     VARIABLES_KEY,
     json_text,
-    write_text,
 )
 from rollerrig.output.netcdf import CONVENTIONS
 from rollerrig.output.provenance import provenance as _provenance
@@ -151,7 +156,7 @@ def table_format(path: str | os.PathLike, format: str | None = None) -> str:
                 f"{path}: unknown table format {format!r}{hint}; use {list(TABLE_FORMATS)}"
             )
         return name
-    suffix = Path(path).suffix.lower()
+    suffix = output_path(path).suffix.lower()
     for name, suffixes in TABLE_FORMATS.items():
         if suffix in suffixes:
             return name
@@ -565,7 +570,7 @@ def write_dataset(
     """
     from rollerrig.output.labelled import LabelledData
 
-    path = Path(path)
+    path = output_path(path)
     fmt = table_format(path, format)
     if not isinstance(ds, LabelledData) and not all(
         hasattr(ds, a) for a in ("data_vars", "coords", "attrs", "variables")
@@ -620,7 +625,7 @@ def write_dataset(
             _check_numeric(path, str(name), values, attrs_of)
             if attrs_of.get(NAN_MEANING):
                 attrs_of[NAN_SAMPLES] = int(np.count_nonzero(~np.isfinite(values)))
-    taken = [*data.coords, *data.sizes]
+    taken = [str(n) for n in (*data.coords, *data.sizes)]
     stored = storable_names(list(data.data_vars), "nc", reserved=taken)
     renamed = {n: s for n, s in stored.items() if s != n}
     for name in renamed:
@@ -688,6 +693,14 @@ def write_table(
     Path
         The written file.
 
+    Notes
+    -----
+    A CSV file and its sidecar are written as a pair (:func:`~rollerrig.output.atomic.
+    atomic_write_all`): both in full before either replaces a file, and the table put back when
+    the sidecar cannot replace its own. When this function raises, the pair is as it was (both
+    old, or neither there); when it returns, both are new. Only for the instant between the two
+    moves could a reader see the new table beside the old sidecar.
+
     Raises
     ------
     FileExistsError
@@ -710,8 +723,9 @@ def write_table(
     >>> out.read_text().splitlines()[0], sorted(p.name for p in d.iterdir())
     ('time [s],torque [N.m]', ['run.csv', 'run.metadata.json'])
     """
-    path = Path(path)
+    path = output_path(path)
     fmt = table_format(path, format)
+    _flag("overwrite", overwrite, path)  # before the work: "no" had meant replace
     if mat_version not in ("5", "7.3"):
         raise ParameterError(f"{path}: mat_version must be '5' or '7.3', got {mat_version!r}")
     _require_mapping(path, "attrs", attrs)
@@ -729,14 +743,17 @@ def write_table(
         sidecar = path.with_suffix(".metadata.json")
         if not overwrite and os.path.lexists(sidecar):
             raise FileExistsError(f"{sidecar} exists; pass overwrite=True to replace it")
-        existed = os.path.lexists(path)
-        atomic_write(path, lambda tmp: _csv(cols, meta, tmp), overwrite=overwrite)
-        try:
-            write_text(sidecar, json_text(meta, indent=2) + "\n")
-        except BaseException:
-            if not existed:  # no table without its metadata
-                path.unlink(missing_ok=True)
-            raise
+        # The table and its sidecar as a pair: both written in full before either is moved,
+        # and the table put back when the sidecar's move fails (atomic_write_all), so that a
+        # failure never leaves a new table beside an old sidecar (or none).
+        text = json_text(meta, indent=2) + "\n"
+        atomic_write_all(
+            [
+                (path, lambda tmp: _csv(cols, meta, tmp)),
+                (sidecar, lambda tmp: tmp.write_text(text, encoding="utf-8")),
+            ],
+            overwrite=overwrite,
+        )
         return path
     if fmt == "parquet":
         return atomic_write(path, lambda tmp: _parquet(cols, meta, tmp), overwrite=overwrite)

@@ -25,7 +25,9 @@ import re
 import unicodedata
 from collections.abc import Iterable
 
-__all__ = ["MAX_NAME_LENGTH", "ORIGINAL_NAME", "storable_name", "storable_names"]
+from rollerrig._validation import ParameterError, did_you_mean
+
+__all__ = ["FORMATS", "MAX_NAME_LENGTH", "ORIGINAL_NAME", "storable_name", "storable_names"]
 
 ORIGINAL_NAME = "original_name"
 """Attribute (and metadata key) that keeps a renamed column's name as it was given."""
@@ -34,6 +36,41 @@ MAX_NAME_LENGTH = {"nc": 255, "mat": 63}
 """Formats whose names must be identifiers -> their longest name (characters)."""
 
 _IDENTIFIER = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+
+FORMATS = ("csv", "parquet", "tdms", "mf4", "mat", "nc")
+"""The results formats (the keys of :data:`rollerrig.output.tables.TABLE_FORMATS`)."""
+
+
+def _check_format(format) -> str:
+    """``format`` if it is one of :data:`FORMATS` (an unknown one had kept every name as it
+    is: ``"netcdf"`` gave names NetCDF cannot store)."""
+    if not isinstance(format, str) or format not in FORMATS:
+        hint = did_you_mean(format, FORMATS) if isinstance(format, str) else ""
+        raise ParameterError(f"format must be one of {list(FORMATS)}, got {format!r}{hint}")
+    return format
+
+
+def _check_name(what: str, name) -> str:
+    if not isinstance(name, str):
+        raise ParameterError(f"{what} must be a str, got {name!r} ({type(name).__name__})")
+    return name
+
+
+def _check_names(what: str, names) -> list[str]:
+    """``names`` as a list of str: a single str is refused (it had been taken letter by
+    letter, ``"torque"`` as six names), as is anything that is not a collection of str."""
+    if isinstance(names, str | bytes):
+        raise ParameterError(
+            f"{what} must be a list of names, got the single name {names!r}; pass "
+            f"[{names!r}] for one name"
+        )
+    try:
+        items = list(names)
+    except TypeError:
+        raise ParameterError(
+            f"{what} must be a list of names, got a value of type {type(names).__name__}"
+        ) from None
+    return [_check_name(f"{what}[{k}]", n) for k, n in enumerate(items)]
 
 
 def storable_name(name: str, format: str) -> str:
@@ -46,7 +83,8 @@ def storable_name(name: str, format: str) -> str:
     >>> storable_name("1st harmonic", "nc"), storable_name("Group/Channel", "csv")
     ('v_1st_harmonic', 'Group/Channel')
     """
-    limit = MAX_NAME_LENGTH.get(format)
+    _check_name("name", name)
+    limit = MAX_NAME_LENGTH.get(_check_format(format))
     if limit is None:
         return name
     if _IDENTIFIER.match(name) and len(name) <= limit:
@@ -82,13 +120,20 @@ def storable_names(
     dict
         ``{given: stored}`` in the order given; distinct values, none of them reserved.
 
+    Raises
+    ------
+    ParameterError
+        ``names`` or ``reserved`` is a single str (not a list of names: ``["torque"]`` for
+        one), or holds something that is not a str; ``format`` is not one of :data:`FORMATS`.
+
     Examples
     --------
     >>> storable_names(["a/b", "a_b", "a b", "units"], "mat", reserved=["units"])
     {'a/b': 'a_b_2', 'a_b': 'a_b', 'a b': 'a_b_3', 'units': 'units_2'}
     """
-    names = [str(n) for n in names]
-    limit = MAX_NAME_LENGTH.get(format)
+    names = _check_names("names", names)
+    reserved = _check_names("reserved", reserved)
+    limit = MAX_NAME_LENGTH.get(_check_format(format))
     if limit is None:
         return {n: n for n in names}
     taken = set(reserved)

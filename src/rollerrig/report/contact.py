@@ -8,6 +8,7 @@ matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rollerrig._validation import ParameterError
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.contact.curves import CreepCurve, polach_creep_curve
 from rollerrig.contact.roller import RollerRailComparison
@@ -87,6 +88,11 @@ def creep_curve_figure(
 
 def contact_size_figure(comparison: RollerRailComparison, rig_roller_radius: float | None = None):
     """Contact semi-axes and area versus roller radius (Kayaalp Figs. 12-13), log radius axis."""
+    if not isinstance(comparison, RollerRailComparison):  # None: a bare AttributeError
+        raise ParameterError(
+            "comparison must be a RollerRailComparison (contact_versus_roller_radius), got a "
+            f"value of type {type(comparison).__name__}"
+        )
     r_mm = comparison.roller_radius_x * 1e3
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.3))
     ax1.semilogx(r_mm, comparison.semi_axis_x * 1e3, color="tab:green", label="a (rolling)")

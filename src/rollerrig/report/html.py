@@ -8,13 +8,14 @@ import io
 import json
 import os
 import re
-from collections.abc import Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from rollerrig._display import number, typeset_units
+from rollerrig._validation import ParameterError, require_in_range, require_whole
 from rollerrig.output import write_text
 
 __all__ = ["HtmlReport", "math_html", "prose", "relative_paths"]
@@ -97,6 +98,27 @@ def _header(text: str) -> str:
     return prose(text)
 
 
+def _text(where: str, name: str, value) -> str:
+    """``value`` if it is a str, else the error naming it (None had been written as "None",
+    a number had reached html.escape's bare AttributeError)."""
+    if not isinstance(value, str):
+        raise ParameterError(f"{where}: {name} must be a str, got {_short(value)}")
+    return value
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else f"a {type(value).__name__}"
+
+
+def _listed(where: str, name: str, value, what: str) -> list:
+    """``value`` (any iterable but a str) as a list, else the error naming it (a str had been
+    taken letter by letter: a table of one-letter rows)."""
+    if isinstance(value, str | bytes | Mapping) or not isinstance(value, Iterable):
+        raise ParameterError(f"{where}: {name} must be a list of {what}, got {_short(value)}")
+    return list(value)
+
+
 @dataclass
 class HtmlReport:
     """Collects sections and writes one HTML file with everything embedded.
@@ -113,12 +135,16 @@ class HtmlReport:
     title: str
     parts: list[str] = field(default_factory=list)
 
+    def __post_init__(self) -> None:
+        _text("HtmlReport", "title", self.title)
+
     def heading(self, text: str) -> None:
-        self.parts.append(f"<h2>{html.escape(text)}</h2>")
+        self.parts.append(f"<h2>{html.escape(_text('HtmlReport.heading', 'text', text))}</h2>")
 
     def paragraph(self, text: str, note: bool = False, math: bool = False) -> None:
         """A paragraph of text, typeset (:func:`prose`); ``math``: ``_`` marks subscripts
         (:func:`math_html`)."""
+        _text("HtmlReport.paragraph", "text", text)
         cls = ' class="note"' if note else ""
         body = math_html(text) if math else html.escape(prose(text), quote=False)
         self.parts.append(f"<p{cls}>{body}</p>")
@@ -135,8 +161,26 @@ class HtmlReport:
         Numbers are rounded to ``digits`` significant digits (:func:`rollerrig._display.number`,
         powers of ten as × 10ⁿ) and right-aligned, NaN/inf shown as "n/a", None as "–"; texts
         are typeset (units, μ: :func:`prose`), those of ``math_columns`` as formulas
-        (:func:`math_html`); titles lose a dimensionless unit (``[-]``).
+        (:func:`math_html`); titles lose a dimensionless unit (``[-]``). A row may be shorter
+        than ``header``, never longer.
         """
+        where = "HtmlReport.table"
+        header = _listed(where, "header", header, "column titles")
+        rows = [
+            _listed(where, f"rows[{i}]", row, "cells")
+            for i, row in enumerate(_listed(where, "rows", rows, "rows (lists of cells)"))
+        ]
+        long = next((i for i, row in enumerate(rows) if len(row) > len(header)), None)
+        if long is not None:
+            raise ParameterError(
+                f"{where}: rows[{long}] has {len(rows[long])} cells for {len(header)} columns "
+                f"(header {header})"
+            )
+        digits = require_whole("digits", digits, minimum=1, maximum=17)
+        math_columns = [
+            require_whole(f"math_columns[{k}]", j, minimum=0)
+            for k, j in enumerate(_listed(where, "math_columns", math_columns, "column numbers"))
+        ]
 
         def cell(v, column: int) -> tuple[str, bool]:
             if isinstance(v, bool):
@@ -182,8 +226,24 @@ class HtmlReport:
         )
 
     def figure(self, fig, caption: str = "", dpi: int = 110) -> None:
+        """The figure embedded as PNG at ``dpi`` [dots per inch], in [1, 10 000], with its
+        ``caption``; the figure is closed. A wrong argument is refused before anything is
+        drawn, and the figure is left open (the caller may draw it again)."""
         from rollerrig.output.figures import crop_to_drawing, typeset_figure_units
 
+        if not hasattr(fig, "savefig"):
+            raise ParameterError(
+                f"HtmlReport.figure: fig must be a matplotlib Figure, got {_short(fig)}"
+            )
+        _text("HtmlReport.figure", "caption", caption)
+        # As save_figure: 0, a negative dpi or NaN reached matplotlib's own errors, 1e9 its
+        # image-size error, text a bare TypeError, True a font error.
+        if isinstance(dpi, bool | np.bool_ | str | bytes):
+            raise ParameterError(f"dpi must be a number [dots per inch], got {dpi!r}")
+        dpi = require_in_range(
+            "dpi", dpi, 1.0, 10_000.0, "dots per inch",
+            low_inclusive=True, high_inclusive=True, single=True,
+        )  # fmt: skip
         typeset_figure_units(fig)  # as every saved figure (found: the spectra read (N.m)²)
         buf = io.BytesIO()
         fig.savefig(buf, format="png", dpi=dpi, bbox_inches=crop_to_drawing(fig))
@@ -200,6 +260,16 @@ class HtmlReport:
         """The provenance record; with ``relative_to`` (the report's folder), every absolute
         path in it is written relative to that folder (no home directories in a report that
         is shared)."""
+        if not isinstance(record, Mapping):
+            raise ParameterError(
+                f"HtmlReport.provenance: record must be a dict (a provenance record), got "
+                f"{_short(record)}"
+            )
+        if relative_to is not None and not isinstance(relative_to, str | os.PathLike):
+            raise ParameterError(
+                f"HtmlReport.provenance: relative_to must be a folder (str or Path), got "
+                f"{_short(relative_to)}"
+            )
         self.heading("Provenance")
         if relative_to is not None:
             record = relative_paths(record, relative_to)
@@ -229,6 +299,8 @@ def relative_paths(value, base: str | os.PathLike):
     ...                 "n": 3, "url": "https://example.org/a"}, "/home/ann/run")
     {'path': 'x.tdms', 'cmd': ['rr', '--out', '.'], 'n': 3, 'url': 'https://example.org/a'}
     """
+    if not isinstance(base, str | os.PathLike):
+        raise ParameterError(f"relative_paths: base must be a folder (str or Path), got {base!r}")
     base = os.path.abspath(base)
     if isinstance(value, dict):
         return {k: relative_paths(v, base) for k, v in value.items()}

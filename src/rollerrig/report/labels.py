@@ -24,6 +24,7 @@ import numpy as np
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
+from rollerrig._validation import ParameterError, require_finite, require_nonnegative
 from rollerrig.output.figures import crop_when_saved
 
 __all__ = ["LABEL_GID", "LEADER_GID", "PeakLabel", "label_extent", "label_peaks", "spread"]
@@ -104,8 +105,18 @@ def spread(centres, widths, lo: float, hi: float, pad: float = 0.0) -> np.ndarra
     >>> spread([0.5, 9.0], [2.0, 2.0], 0.0, 10.0).tolist()  # inside the room, not moved apart
     [1.0, 9.0]
     """
-    c = np.asarray(centres, dtype=float)
-    w = np.asarray(widths, dtype=float)
+    # Mismatched lengths had reached a bare IndexError, text numpy's ValueError; NaN had
+    # given NaN centres and a negative width overlapping labels.
+    c = require_finite("centres", centres)
+    w = require_nonnegative("widths", widths)
+    if c.ndim != 1 or w.shape != c.shape:
+        raise ParameterError(
+            f"centres (shape {c.shape}) and widths (shape {w.shape}) must be 1-D arrays of the "
+            "same length"
+        )
+    lo = require_finite("lo", lo, single=True)
+    hi = require_finite("hi", hi, single=True)
+    pad = require_nonnegative("pad", pad, single=True)
     if c.size == 0:
         return c.copy()
     order = np.argsort(c, kind="stable")

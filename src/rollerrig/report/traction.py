@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import matplotlib
 
 matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rollerrig._validation import ParameterError
 from rollerrig.contact.curves import CreepCurve
 from rollerrig.contact.fastsim import fastsim_grid
 
@@ -39,6 +42,13 @@ def law_curve_figure(rows: dict, law: str, roller_radius_x: float, max_creep: fl
     -------
     matplotlib.figure.Figure
     """
+    if not isinstance(rows, Mapping) or not all(
+        isinstance(rows.get(w), Mapping) for w in ("roller", "tangent rail")
+    ):  # a str had been a bare TypeError (string indices)
+        raise ParameterError(
+            'rows must be a dict {"roller": {set name: CreepCurve}, "tangent rail": {...}}, got '
+            f"{rows!r:.60}"
+        )
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for k, name in enumerate(rows["roller"]):
@@ -85,6 +95,10 @@ def traction_figure(curve: CreepCurve, law: str, poisson: float, creep: float | 
     """
     from rollerrig.contact.laws import creep_force
 
+    if not isinstance(curve, CreepCurve):  # None: a bare AttributeError
+        raise ParameterError(
+            f"curve must be a CreepCurve, got a value of type {type(curve).__name__}"
+        )
     s_peak = curve.peak[0]
     s = 0.5 * s_peak if creep is None else float(creep)
     a = float(curve.contact.semi_axis_x)
