@@ -29,6 +29,7 @@ from rollerrig._validation import (
     require_in_range,
     require_increasing,
     require_instants_within,
+    require_names,
     require_nonnegative,
     require_positive,
     require_whole,
@@ -413,3 +414,25 @@ def test_a_single_number_comes_back_as_float_and_an_array_is_named(check):
         check([2.0, 3.0])
     with pytest.raises(ParameterError, match=re.escape("got an array of shape (0,)")):
         check([])
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        ("torque", "names must be a list of names, got the single name 'torque'"),
+        (b"torque", "got the single name b'torque'"),
+        (5, "names must be a list of names, got a value of type int"),
+        (["torque", 3], "names[1] must be a str, got 3 (int)"),
+    ],
+)
+def test_require_names_refuses_one_name_and_what_is_not_names(value, message):
+    # One str had been taken letter by letter ("torque" as six names) in three places.
+    with pytest.raises(ParameterError) as caught:
+        require_names("names", value)
+    assert message in str(caught.value)
+
+
+def test_require_names_gives_a_list_of_any_collection_of_str():
+    assert require_names("names", ("a", "b")) == ["a", "b"]
+    assert require_names("names", iter(["a"])) == ["a"]
+    assert require_names("names", []) == []

@@ -34,6 +34,7 @@ __all__ = [
     "require_in_range",
     "require_increasing",
     "require_instants_within",
+    "require_names",
     "require_nonnegative",
     "require_positive",
     "require_whole",
@@ -346,6 +347,39 @@ def require_whole(
     if not exact or whole < minimum or (maximum is not None and whole > maximum):
         raise problem
     return whole
+
+
+def require_names(name: str, value) -> list[str]:
+    """Return ``value``, a collection of names, as a list of str, raising
+    :class:`ParameterError` for a single str (it had been taken letter by letter:
+    ``"torque"`` as six names), for what is not a collection, and for an entry that is not
+    a str.
+
+    Examples
+    --------
+    >>> require_names("names", ("torque", "speed"))
+    ['torque', 'speed']
+    >>> try:
+    ...     require_names("names", "torque")
+    ... except ParameterError as exc:
+    ...     print(exc)
+    names must be a list of names, got the single name 'torque'; pass ['torque'] for one name
+    """
+    if isinstance(value, str | bytes):
+        raise ParameterError(
+            f"{name} must be a list of names, got the single name {value!r}; pass "
+            f"[{value!r}] for one name"
+        )
+    try:
+        items = list(value)
+    except TypeError:
+        raise ParameterError(
+            f"{name} must be a list of names, got a value of type {type(value).__name__}"
+        ) from None
+    for k, item in enumerate(items):
+        if not isinstance(item, str):
+            raise ParameterError(f"{name}[{k}] must be a str, got {item!r} ({type(item).__name__})")
+    return items
 
 
 def numbers_apart(*values) -> list[str]:

@@ -17,7 +17,7 @@ import unicodedata
 from collections import Counter
 from collections.abc import Iterable
 
-from rollerrig._validation import ParameterError
+from rollerrig._validation import require_names
 
 __all__ = [
     "MAX_INPUT_STEM",
@@ -129,17 +129,7 @@ def unique_file_stems(names: Iterable[str]) -> list[str]:
     A single name is refused (it had been taken letter by letter, ``"run"`` as three names),
     as :func:`rollerrig.output.varnames.storable_names` refuses it.
     """
-    if isinstance(names, str | bytes):
-        raise ParameterError(
-            f"names must be a list of names, got the single name {names!r}; pass "
-            f"[{names!r}] for one name"
-        )
-    try:
-        names = list(names)
-    except TypeError:
-        raise ParameterError(
-            f"names must be a list of names, got a value of type {type(names).__name__}"
-        ) from None
+    names = require_names("names", names)
     safe = [safe_file_stem(n) for n in names]
     counts = Counter(_key(s) for s in safe)
     taken = {_key(s) for s in safe if counts[_key(s)] == 1}

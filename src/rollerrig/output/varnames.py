@@ -25,7 +25,7 @@ import re
 import unicodedata
 from collections.abc import Iterable
 
-from rollerrig._validation import ParameterError, did_you_mean
+from rollerrig._validation import ParameterError, did_you_mean, require_names
 
 __all__ = ["FORMATS", "MAX_NAME_LENGTH", "ORIGINAL_NAME", "storable_name", "storable_names"]
 
@@ -54,23 +54,6 @@ def _check_name(what: str, name) -> str:
     if not isinstance(name, str):
         raise ParameterError(f"{what} must be a str, got {name!r} ({type(name).__name__})")
     return name
-
-
-def _check_names(what: str, names) -> list[str]:
-    """``names`` as a list of str: a single str is refused (it had been taken letter by
-    letter, ``"torque"`` as six names), as is anything that is not a collection of str."""
-    if isinstance(names, str | bytes):
-        raise ParameterError(
-            f"{what} must be a list of names, got the single name {names!r}; pass "
-            f"[{names!r}] for one name"
-        )
-    try:
-        items = list(names)
-    except TypeError:
-        raise ParameterError(
-            f"{what} must be a list of names, got a value of type {type(names).__name__}"
-        ) from None
-    return [_check_name(f"{what}[{k}]", n) for k, n in enumerate(items)]
 
 
 def storable_name(name: str, format: str) -> str:
@@ -131,8 +114,8 @@ def storable_names(
     >>> storable_names(["a/b", "a_b", "a b", "units"], "mat", reserved=["units"])
     {'a/b': 'a_b_2', 'a_b': 'a_b', 'a b': 'a_b_3', 'units': 'units_2'}
     """
-    names = _check_names("names", names)
-    reserved = _check_names("reserved", reserved)
+    names = require_names("names", names)
+    reserved = require_names("reserved", reserved)
     limit = MAX_NAME_LENGTH.get(_check_format(format))
     if limit is None:
         return {n: n for n in names}

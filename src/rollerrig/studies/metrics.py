@@ -38,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rollerrig._validation import ParameterError, did_you_mean, require_positive
+from rollerrig._validation import ParameterError, did_you_mean, require_names, require_positive
 from rollerrig.experiment import Protocol
 
 __all__ = [
@@ -513,11 +513,7 @@ def compute_metrics(run: RunChannels, protocol: Protocol, names) -> dict[str, fl
 def _metric_names(names) -> tuple[str, ...]:
     """``names`` as a tuple of known metric names, or a ParameterError naming the unknown one
     (it had raised a KeyError; a single string had been taken letter by letter)."""
-    if isinstance(names, str):
-        raise ParameterError(
-            f"metric names must be a list of names, got the string {names!r} (write [{names!r}])"
-        )
-    names = tuple(names)
+    names = tuple(require_names("metric names", names))
     for name in names:
         if name not in METRICS:
             raise ParameterError(
