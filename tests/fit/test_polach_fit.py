@@ -201,3 +201,24 @@ def test_inputs_that_cannot_be_fitted_are_refused_naming_the_parameter():
         warnings.simplefilter("ignore", PolachFitWarning)  # ten points a speed: k_A ~ k_S
         fit = fit_polach(s, mu, np.full(s.size, LOAD), K, slip_velocity=w, loss="soft_l1")
     assert fit.parameters.static_friction == pytest.approx(POLACH_DRY.static_friction, rel=1e-3)
+
+
+def test_a_parameter_the_data_do_not_see_has_no_finite_standard_error():
+    """A wet-like curve without a friction fall at one speed: the fit ends with A at 1, where
+    B no longer changes the curve (a zero Jacobian column). The pseudo-inverse used to leave
+    B a standard error of 1e-16, and the analysis then reported B "± 6e-18 ... (3e16 σ)" from
+    the truth; B is undetermined: infinite standard error, no correlation, no σ distance."""
+    truth = PolachParameters(0.36, 1.0, 0.0, 0.27, 0.08)
+    s = np.linspace(5e-4, 0.02, 200)
+    w = s * 10 / 3.6
+    y = polach_coa(s, w, LOAD, K, truth) + 0.002 * np.random.default_rng(1).standard_normal(s.size)
+    with pytest.warns(PolachFitWarning, match="friction_decay is not determined at all"):
+        fit = fit_polach(s, y, LOAD, K, slip_velocity=w)
+    assert fit.parameters.limit_ratio > 1 - 1e-6  # at its bound: B unseen
+    assert fit.stderr["friction_decay"] == np.inf
+    b = list(PARAMETER_NAMES).index("friction_decay")
+    assert np.all(np.isnan(fit.correlation[b]))
+    row = fit.truth_distance(PolachParameters(0.36, 0.4, 0.2, 0.27, 0.08))["friction_decay"]
+    assert row["sigma"] is None and not row["beyond_warn_sigma"]
+    # What the data do see keeps its finite standard error.
+    assert np.isfinite(fit.stderr["static_friction"]) and np.isfinite(fit.stderr["k_adhesion"])

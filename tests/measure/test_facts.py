@@ -84,6 +84,23 @@ def test_true_polach_set_from_metadata_or_from_the_twins_provenance():
     )
 
 
+def test_a_twin_with_another_creep_law_has_no_true_polach_set():
+    """A recording the twin made with a FASTSIM-family law carries its friction set (μ0, A, B
+    and Polach's k_A, k_S, which that law does not use): the analysis used to measure its
+    Polach fit against them ("kA 0.55 against 1 (73 σ)"). No true Polach set: None, and why."""
+    prov = {
+        "friction_sets": {"dry": DRY},
+        "protocol": {"friction_condition": ["dry"]},
+        "drives": {"roller": "induction", "law": "modified-fastsim"},
+    }
+    rec = _recording({"true_polach_parameters": {"dry": DRY}, "twin_provenance": json.dumps(prov)})
+    params, why = true_polach_parameters(rec)
+    assert params is None and "creep law was 'modified-fastsim', not Polach's" in why
+    prov["drives"]["law"] = "polach"
+    rec = _recording({"true_polach_parameters": {"dry": DRY}, "twin_provenance": json.dumps(prov)})
+    assert true_polach_parameters(rec)[0] == DRY
+
+
 def test_truth_coa_is_checked_against_the_recording():
     rec = _recording({})
     truth = xr.Dataset({"coa": ("time", np.linspace(0, 0.3, 10))}, coords={"time": rec.time})

@@ -15,7 +15,9 @@ the points within 3 robust standard deviations of the median residual only); it 
 (μ0, A, B, k_A, k_S) by the delta method (k_S = r·k_A). Standard errors are the square roots of
 the diagonal, the correlation matrix is cov_ij/(σ_i σ_j). The intervals are asymptotic
 (t-distribution, n − 5 degrees of freedom) and assume independent residuals of equal variance;
-at a bound they are one-sided in truth and the symmetric interval is only indicative.
+at a bound they are one-sided in truth and the symmetric interval is only indicative. A
+parameter along a direction the data do not see (an eigenvalue of the scaled JᵀJ below
+1e-12 of the largest: B once A reaches 1, say) has an infinite standard error.
 A :class:`PolachFitWarning` is issued when parameters are not identifiable: JᵀJ
 (column-scaled) nearly singular (condition number above 1e10), a pair correlated beyond 0.995,
 or a standard error above half the value — typically A and B when the slip velocities span too
@@ -199,6 +201,20 @@ def _jacobian(fun, theta, lower, upper):
         tp[j], tm[j] = up, dn
         jac[:, j] = (fun(tp) - fun(tm)) / (up - dn)
     return jac
+
+
+_UNSEEN_EIGENVALUE = 1e-12
+"""Directions of the column-scaled J^T J whose eigenvalue is below this fraction of the largest
+are taken as unseen by the data: there the pseudo-inverse's variance is rounding, not data
+(it drops them below about 1e-15), so a parameter along them has no finite standard error."""
+
+
+def _unseen_parameters(jtj: np.ndarray) -> np.ndarray:
+    """Which parameters of the column-scaled ``jtj`` take part (a component above 1e-3) in a
+    direction the data do not see (:data:`_UNSEEN_EIGENVALUE`)."""
+    values, vectors = np.linalg.eigh(jtj)
+    null = values <= max(float(values[-1]), 0.0) * _UNSEEN_EIGENVALUE
+    return np.any(np.abs(vectors[:, null]) > 1e-3, axis=1)
 
 
 def _undetermined(fun, theta, lower, upper) -> str:
@@ -398,12 +414,20 @@ def fit_polach(
     cov_theta = s2 * cov_scaled / np.outer(scale, scale)
     cov = transform @ cov_theta @ transform.T
     sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    singular = not np.isfinite(cond) or cond > _IDENTIFIABILITY_CONDITION
+    # The pseudo-inverse drops the directions the data do not see: a parameter that moves
+    # along one of them (a zero Jacobian column, e.g. B once A reaches 1) would keep the
+    # rounding remainder as its standard error and correlations beyond +-1. It is
+    # undetermined: standard error infinite, correlations undefined.
+    unseen = _unseen_parameters(jtj) if singular else np.zeros(5, dtype=bool)
+    unseen[4] |= unseen[3]  # k_S = r k_A
     with np.errstate(divide="ignore", invalid="ignore"):
         corr = cov / np.outer(sd, sd)
+    corr[unseen, :] = corr[:, unseen] = np.nan
     problems = []
-    if not np.isfinite(cond) or cond > _IDENTIFIABILITY_CONDITION:
+    if singular:
         problems.append(f"J^T J is nearly singular (condition number {cond:.3g})")
-        sd = np.where(sd == 0, np.inf, sd)
+        sd = np.where((sd == 0) | unseen, np.inf, sd)
     for i in range(5):
         for j in range(i + 1, 5):
             if np.isfinite(corr[i, j]) and abs(corr[i, j]) > _IDENTIFIABILITY_CORRELATION:
@@ -417,6 +441,8 @@ def fit_polach(
     for i in np.flatnonzero(~(relative <= _IDENTIFIABILITY_RELATIVE_STDERR)):
         problems.append(
             f"{PARAMETER_NAMES[i]} has a standard error of {relative[i]:.3g} x its value"
+            if np.isfinite(relative[i])
+            else f"{PARAMETER_NAMES[i]} is not determined at all (no finite standard error)"
         )
     ab_covariance_problems = [p for p in problems if "limit_ratio" in p or "friction_decay" in p]
 

@@ -208,8 +208,20 @@ def true_polach_parameters(
     -------
     (dict or None, str)
         The parameters by :data:`rollerrig.fit.model.PARAMETER_NAMES` and where they came
-        from; ``(None, reason)`` when no single true set is known.
+        from; ``(None, reason)`` when no single true set is known, or when the twin's contact
+        force came from another creep law (a FASTSIM-family law shares μ0, A and B with its
+        friction set, not k_A and k_S: a Polach fit is not to be measured against them).
     """
+    for where, prov in _twin_provenances(recording, truth):
+        law = (prov.get("drives") or {}).get("law")
+        if law is None:
+            continue
+        if str(law) != "polach":
+            return None, (
+                f"{where}: the twin's creep law was {law!r}, not Polach's: its friction set "
+                "is not the true Polach set of the recording"
+            )
+        break
     md, stored = recording.metadata, _stored(recording)
     for where, holder in (("recording metadata", md), ("metadata stored in the file", stored)):
         sets = holder.get("true_polach_parameters")
