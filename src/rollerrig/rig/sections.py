@@ -470,6 +470,12 @@ class ArmParameters(_Section):
     (its figures are lost): each default is a stated assumption with its own uncertainty, which
     the uncertainty of the corrected CoA carries as type-B terms. ``pivot_height = 0`` means no
     transfer. Rig files without an ``[arm]`` table get these defaults.
+
+    The air spring is taken to push the arm above the wheel (the Pardubice rig's top beam). A
+    spring seated on another lever l_s about the pivot gives N = (l_s/l) S + W_d + σ (h/l) F_x:
+    state it by scaling the air-spring channel by l_s/l in the channel map (its ``scale``);
+    unstated, the corrected CoA's band covered 30 % of a recording with l_s/l = 0.7 and 97.7 %
+    with the scale given (docs/guide/tour.rst, "What holds, and on which recordings").
     """
 
     pivot_height: Annotated[float, _si("length", ge=-5.0, le=5.0)] = 0.348
