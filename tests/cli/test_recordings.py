@@ -143,7 +143,7 @@ def test_filters_does_not_need_unrelated_sensors_of_the_map(tmp_path, runner, ad
     assert result.exit_code == 0, result.output
     summary = json.loads((out / "test-filters.json").read_text())
     assert any("air_spring_pressure" in n for n in summary["recording"]["notes"])
-    assert "lag [s]" in result.output  # table headers keep their units
+    assert "lag [ms]" in result.output  # table headers keep their units
 
 
 def test_lenient_reports_interpolated_runs_in_every_output(tmp_path, runner, adhesion_csv):
@@ -486,3 +486,13 @@ def test_analyze_and_filters_note_an_empty_tdms_channel_they_can_do_without(
         results = " ".join(p.read_text() for p in out.glob("spare-*.json"))
         assert "torque_request' (not needed here) not read" in results
         assert "holds no samples" in results
+
+
+def test_a_table_cell_shows_no_negative_zero():
+    # The filters table had shown a lag of -0.2 ms as "-0.000" [s]; it is in ms now.
+    from rollerrig.cli.recordings import _cell
+
+    assert _cell(-0.0002) == "0.000"
+    assert _cell(-0.04, 1) == "0.0"
+    assert _cell(-0.26, 1) == "-0.3"
+    assert _cell(float("nan")) == "–"

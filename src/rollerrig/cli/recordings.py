@@ -507,7 +507,7 @@ def filters(
         table = Table(
             title=f"Smoothing filters on {recording.name}:{channel} (lower cost is better)"
         )
-        for col in ("rank", "filter", "noise left", "peak kept", "lag [s]", "cost"):
+        for col in ("rank", "filter", "noise left", "peak kept", "lag [ms]", "cost"):
             table.add_column(col, justify="right" if col != "filter" else "left")
         for r in rows[:top]:
             s = r.score
@@ -516,8 +516,8 @@ def filters(
                 r.label,
                 _cell(s.noise_left),
                 _cell(s.peak_kept),
-                _cell(s.lag),
-                f"{s.cost:.3f}",
+                _cell(s.lag * 1e3, 1),  # a fraction of a sample at 250 Hz: ms, not s
+                _cell(s.cost),
             )
         ranking_fig = study_ranking_figure(rows)
         grid_fig = savitzky_golay_grid_figure(grid)
@@ -552,6 +552,7 @@ def filters(
     print_written(stage.written)
 
 
-def _cell(value: float) -> str:
-    """A table cell: the number, or a dash where the recording does not allow the score."""
-    return f"{value:.3f}" if np.isfinite(value) else "–"
+def _cell(value: float, digits: int = 3) -> str:
+    """A table cell: the number, or a dash where the recording does not allow the score
+    (rounded first, and -0 shown as 0: a lag of -0.2 ms had read "-0.000")."""
+    return f"{round(float(value), digits) + 0.0:.{digits}f}" if np.isfinite(value) else "–"
