@@ -85,6 +85,26 @@ def test_requests_within_the_current_limit_do_not_warn(rig):
         assemble(rig, _protocol(torque_nm=720.0), DriveConfig(roller="servo"))
 
 
+def test_a_wheel_beyond_its_pmsms_voltage_warns_where_the_torque_would_collapse():
+    """The quarter-scale rig's wheel (r 0.1143 m) at 30 km/h turns at 72.9 rad/s, its back-EMF
+    98 % of the inverter's 346 V: on the twin its torque collapsed at 45 N.m of a 912 N.m
+    request (drives/pmsm_envelope.py). The Pardubice wheel at the same speed needs 30-34 %."""
+    from rollerrig.experiment import load_protocol
+    from rollerrig.rig.parameters import load_rig
+
+    protocol = load_protocol("seed-30kmh-dry")
+    with pytest.warns(DomainWarning, match="voltage its inverter has") as record:
+        assemble(load_rig("vt-fra-quarter-scale"), protocol)
+    message = next(str(r.message) for r in record if "inverter" in str(r.message))
+    assert "(V_dc/√3 = 346.4 V)" in message and "the wheel at 72.91 rad/s" in message
+    assert "95 % or more from t = 0 s" in message and "no field weakening" in message
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DomainWarning)
+        assemble(default_rig(), protocol)
+        # An ideal torque source has no voltage limit.
+        assemble(load_rig("vt-fra-quarter-scale"), protocol, DriveConfig(wheel="ideal_torque"))
+
+
 # --- a shaft so stiff that its torque is round-off ----------------------------------------------
 
 

@@ -31,6 +31,7 @@ from rollerrig.analysis.coa_estimates import (
     SHAFT_RELATIVE_ERROR,
     _coa_uncertainty,
     _note_arm,
+    _note_wheel_drive_voltage,
     shaft_calibrated,
 )
 from rollerrig.analysis.findings import TestAnalysis
@@ -249,6 +250,7 @@ def analyze_test(
         rec, rig, phases, branches, (order, window), true_coa, calibration, notes
     )
     _note_arm(budget, rig, notes)
+    _note_wheel_drive_voltage(rec, rig, notes)
     true_params, true_source = true_polach_parameters(recording, truth, condition)
     if true_params is not None:
         _note_truth_distance({"corrected CoA": fit, "rig CoA": fit_rig}, true_params, notes)

@@ -4,8 +4,9 @@ Steps of :func:`rollerrig.analysis.adhesion.analyze_test`: the corrected CoA's u
 sample, phase and creep–CoA point with its budget (JCGM 100 and 101;
 :mod:`rollerrig.estimation.uncertainty`, :mod:`rollerrig.estimation.budget`), the causal
 estimator's CoA, the two-sided model-based estimates (:data:`MODEL_BASED`) and the one to trust
-(the chain smoother only with the roller shaft calibrated, :func:`shaft_calibrated`), and a
-note on the swinging arm's share of the test.
+(the chain smoother only with the roller shaft calibrated, :func:`shaft_calibrated`), a
+note on the swinging arm's share of the test, and one where the wheel's PMSM ran at its voltage
+limit (:func:`_note_wheel_drive_voltage`), where the band does not hold.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import numpy as np
 
 from rollerrig._validation import ParameterError
 from rollerrig.analysis.smoothed_channels import CORRECTION_WINDOW, _odd
+from rollerrig.drives.pmsm_envelope import VOLTAGE_LIMIT_SHARE, pmsm_voltage_share
 from rollerrig.estimation.budget import CoaBudget, coa_budget, creep_uncertainty
 from rollerrig.estimation.estimator import (
     choose_smoother,
@@ -165,4 +167,49 @@ def _note_arm(budget, rig, notes: list[str]) -> None:
         f"N = {load:.0f} N against the air spring's S = {spring:.0f} N "
         f"({100.0 * (load / spring - 1.0):+.1f} %); the CoA on S would be "
         f"{float(terms.contact_force[i]) / spring:.3f}"
+    )
+
+
+def _note_wheel_drive_voltage(rec: Recording, rig, notes: list[str]) -> None:
+    """A note where the wheel's PMSM ran at its voltage limit during the test.
+
+    The steady voltage its i_d = 0 control needs at the measured wheel speed and the recorded
+    torque request (0 where the recording has none: the back-EMF alone), against the
+    inverter's (:func:`rollerrig.drives.pmsm_envelope.pmsm_voltage_share`, the rig's
+    ``[pmsm]``), from :data:`~rollerrig.drives.pmsm_envelope.VOLTAGE_LIMIT_SHARE` on. There
+    the wheel torque can collapse within tens of ms, faster than the correction's smoothing
+    follows; the data cannot show it (the dip sits within the encoders' noise), and on the
+    twin's recordings of such a test the corrected CoA missed by up to 4 U there.
+    """
+    t = np.asarray(rec.time, dtype=float)
+    omega = np.asarray(rec["wheel_speed"], dtype=float)
+    has_request = "torque_request" in rec
+    torque = np.asarray(rec["torque_request"], dtype=float) if has_request else np.zeros(t.size)
+    ok = np.isfinite(omega) & np.isfinite(torque)
+    if not np.any(ok):
+        return
+    share = np.full(t.size, np.nan)
+    share[ok] = pmsm_voltage_share(torque[ok], omega[ok], rig.pmsm)
+    at_limit = share >= VOLTAGE_LIMIT_SHARE
+    if not np.any(at_limit):
+        return
+    k = int(np.nanargmax(share))
+    dt = float(np.median(np.diff(t))) if t.size > 1 else 0.0
+    pm = rig.pmsm
+    basis = (
+        "torque request and measured wheel speed"
+        if has_request
+        else "measured wheel speed, no torque request recorded: the back-EMF alone"
+    )
+    notes.append(
+        f"wheel drive at its voltage limit: the PMSM (rig [pmsm], i_d = 0 control, no field "
+        f"weakening) needs {100 * VOLTAGE_LIMIT_SHARE:g} % or more of its inverter's voltage "
+        f"for {int(np.count_nonzero(at_limit)) * dt:.3g} s of the test from t = "
+        f"{float(t[at_limit][0]):.2f} s, up to {100 * float(share[k]):.3g} % at t = "
+        f"{float(t[k]):.2f} s (wheel at {float(omega[k]):.4g} rad/s, rated "
+        f"{pm.rated_speed:.4g} rad/s; from the {basis}). There its torque can collapse within "
+        "tens of ms, faster than the correction's "
+        f"{CORRECTION_WINDOW:g} s smoothing follows, and the corrected CoA's band is not "
+        "valid: on the twin's recordings of such a test it missed by up to 4 U at each "
+        "torque ramp"
     )

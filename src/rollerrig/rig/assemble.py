@@ -29,6 +29,7 @@ from rollerrig.contact.kinematics import DEFAULT_REGULARISATION_SPEED
 from rollerrig.contact.laws import EUROSPRINTER_MODIFIED_FASTSIM, FastsimParameters
 from rollerrig.drives.induction import lag_time_constant_from_clp
 from rollerrig.drives.pmsm import max_phase_voltage, pi_gains_for_bandwidth, pmsm_torque
+from rollerrig.drives.pmsm_envelope import VOLTAGE_LIMIT_SHARE, pmsm_voltage_share
 from rollerrig.drives.servo import servo_gains_for_bandwidth
 from rollerrig.experiment.protocol import Protocol
 from rollerrig.rig import model as m
@@ -372,6 +373,7 @@ def assemble(
             segments[0].params, tables, friction_condition=segments[0].friction_condition
         )
     _warn_torque_beyond_drive(rig, drives, protocol)
+    _warn_voltage_beyond_drive(rig, drives, protocol)
     _warn_unresolved_shaft_torque(rig, protocol)
     return ModelInputs(
         rig=rig,
@@ -487,6 +489,48 @@ def _warn_torque_beyond_drive(rig: RigParameters, drives: m.DriveConfig, protoco
         f"t = {protocol.torque_time[k]:.4g} s) exceeds what the wheel drive can deliver: the "
         f"PMSM reaches at most {peak:.4g} N.m at its current limit max_current = "
         f"{pm.max_current:g} A (rated torque {pm.rated_torque:g} N.m); {consequence}",
+        DomainWarning,
+        stacklevel=3,
+    )
+
+
+def _warn_voltage_beyond_drive(rig: RigParameters, drives: m.DriveConfig, protocol: Protocol):
+    """DomainWarning when the protocol takes the wheel's PMSM to its voltage limit.
+
+    The wheel turns at the roller's tread speed over its radius (free rolling); at the
+    protocol's breakpoints and on a grid of 3001 instants, the steady voltage its i_d = 0
+    control needs (:func:`rollerrig.drives.pmsm_envelope.pmsm_voltage_share`) is compared
+    with the inverter's V_dc/√3, from
+    :data:`~rollerrig.drives.pmsm_envelope.VOLTAGE_LIMIT_SHARE` of it on. There the twin's
+    PMSM (no field weakening) cannot hold its current: the torque falls short of the request
+    and collapses within tens of ms, faster than the correction's smoothing follows (the
+    corrected CoA missed by up to 4 U there: :mod:`rollerrig.drives.pmsm_envelope`).
+    """
+    if drives.wheel != "pmsm":
+        return
+    # The breakpoints and a grid between them: a ramp crosses the limit between two of them.
+    times = np.union1d(
+        np.union1d(np.asarray(protocol.torque_time), np.asarray(protocol.speed_time)),
+        np.linspace(0.0, float(protocol.duration), 3001),
+    )
+    torque = np.interp(times, protocol.torque_time, protocol.torque_request)
+    speed = np.interp(times, protocol.speed_time, protocol.roller_speed)
+    omega = speed / rig.geometry.wheel_radius_x
+    share = pmsm_voltage_share(torque, omega, rig.pmsm)
+    k = int(np.argmax(share))
+    if not share[k] >= VOLTAGE_LIMIT_SHARE:
+        return
+    first = int(np.flatnonzero(share >= VOLTAGE_LIMIT_SHARE)[0])
+    pm = rig.pmsm
+    warnings.warn(
+        f"the wheel's PMSM needs {100 * share[k]:.3g} % of the voltage its inverter has "
+        f"(V_dc/√3 = {float(max_phase_voltage(pm.dc_link_voltage)):.4g} V) at t = "
+        f"{times[k]:.4g} s of protocol {protocol.name!r} ({torque[k]:.4g} N.m at "
+        f"{speed[k] * 3.6:.4g} km/h: the wheel at {omega[k]:.4g} rad/s free rolling, rated "
+        f"{pm.rated_speed:.4g} rad/s), {100 * VOLTAGE_LIMIT_SHARE:g} % or more from "
+        f"t = {times[first]:.4g} s: with i_d = 0 control and no field weakening its torque falls "
+        "short of the request near that limit and collapses within tens of ms, faster than the "
+        "corrected CoA's smoothing follows (its band is not tested there)",
         DomainWarning,
         stacklevel=3,
     )
