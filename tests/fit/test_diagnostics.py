@@ -104,6 +104,9 @@ def test_truth_distance_in_standard_errors():
     d = fit.truth_distance(POLACH_DRY)
     assert set(d) == set(PARAMETER_NAMES)
     for name, row in d.items():
+        if name in fit.at_bound:  # a one-sided interval: no distance (test below)
+            assert row["sigma"] is None
+            continue
         expected = abs(row["fitted"] - row["true"]) / fit.stderr[name]
         assert row["sigma"] == pytest.approx(expected)
         assert row["beyond_warn_sigma"] == (expected > 3)
@@ -135,3 +138,24 @@ def test_residuals_at_the_optimisers_tolerance_are_not_tested():
     assert fit_residual_structure(0.5 * ROUND_OFF_SHARE * 0.4 * trend, creep, coa) is None
     structure = fit_residual_structure(1e-3 * trend, creep, coa)
     assert structure is not None and structure.structured
+
+
+def test_a_parameter_at_a_bound_has_no_distance_in_standard_errors():
+    """A fit whose A ends at its bound 1 (a curve with no friction fall) has a one-sided
+    interval there: no σ distance from the truth (a symmetric standard error had made
+    "A ± 1.3e-6 ... 316 826 σ" on the quarter-scale rig's test), and no note of it."""
+    from rollerrig.contact.creep import PolachParameters
+    from rollerrig.fit.diagnostics import AT_BOUND_WHY
+
+    flat = PolachParameters(0.36, 1.0, 0.0, 0.27, 0.08)
+    s = np.linspace(5e-4, 0.02, 200)
+    w = s * 10 / 3.6
+    y = polach_coa(s, w, LOAD, K, flat) + 0.002 * np.random.default_rng(1).standard_normal(s.size)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PolachFitWarning)
+        fit = fit_polach(s, y, LOAD, K, slip_velocity=w)
+    assert "limit_ratio" in fit.at_bound
+    row = fit.truth_distance(PolachParameters(0.36, 0.4, 0.2, 0.27, 0.08))["limit_ratio"]
+    assert row["sigma"] is None and row["why"] == AT_BOUND_WHY and not row["beyond_warn_sigma"]
+    # Off its bound a parameter keeps its distance.
+    assert fit.truth_distance(flat)["static_friction"]["sigma"] is not None

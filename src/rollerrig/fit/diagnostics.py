@@ -438,6 +438,11 @@ def slip_velocity_coverage(
     )
 
 
+AT_BOUND_WHY = "at a bound of the search: its interval is one-sided, no distance in standard errors"
+"""Why a parameter at a bound of the fit's search has no distance from the truth in standard
+errors (:func:`truth_distance`)."""
+
+
 def truth_distance(fit, truth, warn_sigma: float = 3.0) -> dict:
     """Distance of each fitted parameter from a known truth, in standard errors.
 
@@ -456,7 +461,8 @@ def truth_distance(fit, truth, warn_sigma: float = 3.0) -> dict:
     -------
     dict
         By parameter name: ``true``, ``fitted``, ``stderr``, ``sigma`` (|fitted − true| /
-        stderr, None when the stderr is 0 or not finite, with ``why``), ``sigma_ar1``
+        stderr, None when the stderr is 0 or not finite, or the parameter at a bound of the
+        search (``fit.at_bound``), with ``why``), ``sigma_ar1``
         (the same with the stderr inflated for residual autocorrelation) and
         ``beyond_warn_sigma``.
     """
@@ -467,12 +473,19 @@ def truth_distance(fit, truth, warn_sigma: float = 3.0) -> dict:
     fitted = dict(zip(PARAMETER_NAMES, fit.parameters.as_tuple(), strict=True))
     structure = fit.residual_structure
     inflation = structure.stderr_inflation if structure is not None else 1.0
+    at_bound = set(getattr(fit, "at_bound", ()))
     out = {}
     for k in PARAMETER_NAMES:
         sd = float(fit.stderr[k])
         diff = abs(fitted[k] - true[k])
         row = {"true": true[k], "fitted": fitted[k], "stderr": sd if np.isfinite(sd) else None}
-        if np.isfinite(sd) and sd > 0:
+        if k in at_bound:
+            # The interval of a parameter at a bound of the search is one-sided: its
+            # symmetric standard error (A at 1.5e-8 +- 1.3e-6) had made "316 826 sigma".
+            row["sigma"] = row["sigma_ar1"] = None
+            row["why"] = AT_BOUND_WHY
+            row["beyond_warn_sigma"] = False
+        elif np.isfinite(sd) and sd > 0:
             row["sigma"] = diff / sd
             row["sigma_ar1"] = diff / (sd * inflation) if np.isfinite(inflation) else None
             row["beyond_warn_sigma"] = bool(diff / sd > warn_sigma)

@@ -16,7 +16,7 @@ from scipy import stats
 from rollerrig._validation import require_finite
 from rollerrig.contact.ellipse_grid import FastsimGrid
 from rollerrig.contact.laws import FastsimParameters
-from rollerrig.fit.diagnostics import ResidualStructure, SlipVelocityCoverage
+from rollerrig.fit.diagnostics import AT_BOUND_WHY, ResidualStructure, SlipVelocityCoverage
 from rollerrig.fit.modified_fastsim_model import (
     MODIFIED_FASTSIM_PARAMETER_NAMES,
     _theta,
@@ -129,7 +129,11 @@ class ModifiedFastsimFit:
         for k, v in self.values.items():
             sd = float(self.stderr[k])
             row = {"true": true[k], "fitted": v, "stderr": sd if np.isfinite(sd) else None}
-            if np.isfinite(sd) and sd > 0:
+            if k in self.at_bound:
+                row["sigma"] = None
+                row["why"] = AT_BOUND_WHY
+                row["beyond_warn_sigma"] = False
+            elif np.isfinite(sd) and sd > 0:
                 row["sigma"] = abs(v - true[k]) / sd
                 row["beyond_warn_sigma"] = bool(row["sigma"] > warn_sigma)
             else:
