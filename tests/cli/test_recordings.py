@@ -496,3 +496,28 @@ def test_a_table_cell_shows_no_negative_zero():
     assert _cell(-0.04, 1) == "0.0"
     assert _cell(-0.26, 1) == "-0.3"
     assert _cell(float("nan")) == "–"
+
+
+def test_the_fit_table_shows_no_sigma_for_a_parameter_at_a_bound():
+    # A fit whose A ends at its bound 1 has a one-sided interval: "(at a bound)", where the
+    # table had printed hundreds of thousands of σ from the truth.
+    import warnings
+
+    from rollerrig.cli.recordings import _fit_cell
+    from rollerrig.contact.creep import PolachParameters
+    from rollerrig.fit.model import PARAMETER_NAMES, polach_coa
+    from rollerrig.fit.polach import fit_polach
+
+    flat = PolachParameters(0.36, 1.0, 0.0, 0.27, 0.08)
+    load, stiffness = 4300.0, 3.2e6
+    s = np.linspace(5e-4, 0.02, 200)
+    w = s * 10 / 3.6
+    y = polach_coa(s, w, load, stiffness, flat)
+    y = y + 0.002 * np.random.default_rng(1).standard_normal(s.size)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = fit_polach(s, y, load, stiffness, slip_velocity=w)
+    truth = dict(zip(PARAMETER_NAMES, (0.36, 0.4, 0.2, 0.27, 0.08), strict=True))
+    assert "limit_ratio" in fit.at_bound
+    assert _fit_cell(fit, 1, "limit_ratio", truth).endswith("(at a bound)")
+    assert _fit_cell(fit, 0, "static_friction", truth).endswith(" σ)")

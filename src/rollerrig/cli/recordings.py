@@ -199,8 +199,14 @@ def _fit_cell(fit, i: int, key: str, truth: dict | None) -> str:
         return "–"
     value, sd = fit.parameters.as_tuple()[i], fit.stderr[key]
     cell = f"{value:.4g} ± {sd:.2g}"
-    if truth is not None and np.isfinite(sd) and sd > 0:
-        cell += f" ({abs(value - truth[key]) / sd:.1f} σ)"
+    if truth is not None:
+        # The fit's own distance: none at a bound of its search (a one-sided interval; A at
+        # 1.6e-8 +- 1.7e-6 had read "228827.1 σ") or without a finite standard error.
+        sigma = fit.truth_distance(truth)[key]["sigma"]
+        if sigma is not None:
+            cell += f" ({sigma:.1f} σ)"
+        elif key in fit.at_bound:
+            cell += " (at a bound)"
     return cell
 
 
