@@ -15,12 +15,9 @@ from rollerrig.calibrate.calibration import _UNITS, Calibration, ChannelFit, Fit
 from rollerrig.calibrate.diagnostics import (
     _LAG1_MARGIN,
     _QUANTISATION_LAG1,
-    CONDITIONAL_NOTE,
-    STRUCTURE_ALPHA,
-    STRUCTURE_LAG1,
-    STRUCTURE_TAU,
     _invalid_reasons,
     channel_structured,
+    conditional_note,
     identified_combinations,
     model_suggestion,
 )
@@ -32,7 +29,7 @@ from rollerrig.calibrate.problem import (
     with_polach,
 )
 from rollerrig.calibrate.settings import FD_STEP, HAC_WINDOW, MAX_CORRELATION
-from rollerrig.calibrate.stats import whiteness
+from rollerrig.calibrate.stats import block_mean_test, whiteness
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.contact.laws import FastsimParameters
 from rollerrig.rig.parameters import RigParameters
@@ -168,7 +165,7 @@ def build_calibration(
 
     notes = list(measurement.notes)
     residual_after = fit.channel_residuals(point.prediction)
-    white = {c: whiteness(e) for c, e in residual_after.items()}
+    white = {c: whiteness(e) | block_mean_test(e) for c, e in residual_after.items()}
     channels = {}
     for c in measurement.channels:
         channels[c] = ChannelFit(
@@ -204,15 +201,23 @@ def build_calibration(
             f"residuals of {c} are not white (Ljung-Box p = {w['ljung_box_p']:.2g}, lag-1 "
             f"autocorrelation {w['lag1_autocorrelation']:+.2f})"
         )
-        if quantised and w["lag1_autocorrelation"] <= _QUANTISATION_LAG1 + _LAG1_MARGIN:
+        if channel_structured(w, bool(quantised)):
+            warnings.append(
+                f"{what}: structure the twin does not explain; the standard errors use the "
+                "Newey-West covariance, which accounts for its correlation, not for a bias"
+            )
+        elif quantised and w["lag1_autocorrelation"] <= _QUANTISATION_LAG1 + _LAG1_MARGIN:
             notes.append(
                 f"{what}, as the encoder's quantisation makes them (the difference of two count "
                 f"errors: lag-1 autocorrelation {_QUANTISATION_LAG1:+g})"
             )
         else:
-            warnings.append(
-                f"{what}: structure the twin does not explain; the standard errors use the "
-                "Newey-West covariance, which accounts for its correlation, not for a bias"
+            tau = w.get("integrated_autocorrelation_time [samples]", float("nan"))
+            notes.append(
+                f"{what}, short-range only (integrated autocorrelation time {tau:.2g} samples, "
+                "no bias in the block means): the correlation a DAQ's anti-alias filter and "
+                "the sensor's lines leave, which the Newey-West standard errors account for; "
+                "no structure the twin misses"
             )
 
     structured = tuple(
@@ -233,9 +238,7 @@ def build_calibration(
             for k, p in nuisance.items()
         }
         suggestion = model_suggestion(roller, model.drives.law)
-        note_text = CONDITIONAL_NOTE.format(
-            alpha=STRUCTURE_ALPHA, lag1=STRUCTURE_LAG1, tau=STRUCTURE_TAU
-        )
+        note_text = conditional_note()
         warnings.append(
             f"every standard error is {note_text} (structured: {', '.join(structured)})"
             + (f"; {suggestion}" if suggestion else "")

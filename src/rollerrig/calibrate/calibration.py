@@ -21,14 +21,15 @@ from rollerrig._display import fmt, html_table, pretty_unit, text_block
 from rollerrig.calibrate.diagnostics import (
     _LAG1_MARGIN,
     _QUANTISATION_LAG1,
-    CONDITIONAL_NOTE,
     STRUCTURE_ALPHA,
+    STRUCTURE_BLOCK_ALPHA,
     STRUCTURE_LAG1,
     STRUCTURE_TAU,
+    conditional_note,
 )
 from rollerrig.calibrate.problem import LAW_KEY_PREFIXES
 from rollerrig.calibrate.settings import MAX_CORRELATION
-from rollerrig.calibrate.stats import LJUNG_BOX_LAGS
+from rollerrig.calibrate.stats import BLOCK_MEAN_SAMPLES, LJUNG_BOX_LAGS
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.contact.laws import FastsimParameters
 from rollerrig.rig.parameters import RigParameters
@@ -374,12 +375,12 @@ class Calibration:
                     f"a channel's residuals show structure when Ljung-Box rejects whiteness at "
                     f"p < {STRUCTURE_ALPHA:g} with an integrated autocorrelation time above "
                     f"{STRUCTURE_TAU:g} samples, or the lag-1 autocorrelation exceeds "
-                    f"{STRUCTURE_LAG1:g}; an encoder speed's lag-1 autocorrelation up to "
+                    f"{STRUCTURE_LAG1:g}, or the means of blocks of {BLOCK_MEAN_SAMPLES} "
+                    f"samples are off zero (chi-square p < {STRUCTURE_BLOCK_ALPHA:g}); an "
+                    f"encoder speed's lag-1 autocorrelation up to "
                     f"{_QUANTISATION_LAG1 + _LAG1_MARGIN:g} is its quantisation's"
                 ),
-                "meaning": CONDITIONAL_NOTE.format(
-                    alpha=STRUCTURE_ALPHA, lag1=STRUCTURE_LAG1, tau=STRUCTURE_TAU
-                )
+                "meaning": conditional_note()
                 if self.conditional
                 else "the residuals are white: the standard errors hold for the model fitted",
                 "budget": "rollerrig analyze --calibration uses, for a key of a calibration "

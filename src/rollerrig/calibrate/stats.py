@@ -41,9 +41,11 @@ from rollerrig.fit.whiteness import (
 )
 
 __all__ = [
+    "BLOCK_MEAN_SAMPLES",
     "LJUNG_BOX_LAGS",
     "andrews_lag_window",
     "autocorrelation",
+    "block_mean_test",
     "hac_covariance",
     "integrated_autocorrelation_time",
     "whiteness",
@@ -139,3 +141,69 @@ def hac_covariance(
         omega += (1.0 - lag / (window + 1.0)) * (gamma + gamma.T)
     hac = n / dof * h_inv @ omega @ h_inv
     return hac, white, window
+
+
+BLOCK_MEAN_SAMPLES = 100
+"""Length of a block of :func:`block_mean_test` [samples] (0.4 s at 250 Hz)."""
+
+_SHORT_LAGS = 5  # lags of the long-run variance of block_mean_test: the DAQ filter's memory
+
+
+def block_mean_test(residuals, block: int = BLOCK_MEAN_SAMPLES) -> dict:
+    r"""Whether a channel's residuals have a slow, local bias: the chi-square test of the
+    means of consecutive blocks.
+
+    A twin that misses part of the physics (a swinging arm it does not have, a load it gets
+    wrong) leaves a residual that is biased where the misfit acts (the holds at the level, the
+    release), small against the sensor noise at each sample and confined to a few hundred
+    samples of thousands: its lag-1 autocorrelation and integrated autocorrelation time over
+    the whole recording stay near those of filtered white noise. The means of blocks of
+    ``block`` samples see it: under the noise model each mean is zero with variance
+    σ²_LR / block, σ²_LR the long-run variance from the first few autocovariances (the DAQ's
+    anti-alias filter; Bartlett weights), so
+
+    .. math:: Q = \frac{\text{block}}{\sigma^2_{LR}} \sum_b \bar e_b^2 \sim \chi^2_B .
+
+    Parameters
+    ----------
+    residuals : array_like
+        A channel's residuals (non-finite samples dropped).
+    block : int
+        Samples per block.
+
+    Returns
+    -------
+    dict
+        ``block_mean_p`` (the chi-square p-value, 1.0 where fewer than 2 blocks or no
+        variance), ``block_mean_ratio`` (Q / B: about 1 for noise) and ``blocks`` (B).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(1)
+    >>> e = rng.standard_normal(2000)
+    >>> block_mean_test(e)["block_mean_p"] > 0.01
+    True
+    >>> e[500:700] += 0.5  # a local bias of half the noise over 0.8 s
+    >>> block_mean_test(e)["block_mean_p"] < 1e-3
+    True
+    """
+    from scipy.stats import chi2
+
+    e = np.asarray(residuals, dtype=float)
+    e = e[np.isfinite(e)]
+    n = e.size
+    b = n // int(block) if block >= 1 else 0
+    none = {"block_mean_p": 1.0, "block_mean_ratio": 1.0, "blocks": int(b)}
+    if b < 2:
+        return none
+    d = e - e.mean()
+    lrv = float(d @ d) / n
+    for lag in range(1, min(_SHORT_LAGS, n - 1) + 1):
+        lrv += 2.0 * (1.0 - lag / (_SHORT_LAGS + 1.0)) * float(d[lag:] @ d[:-lag]) / n
+    if not (np.isfinite(lrv) and lrv > 0.0):
+        return none
+    means = e[: b * block].reshape(b, block).mean(axis=1)
+    q = float(np.sum(means**2) * block / lrv)
+    if not np.isfinite(q):
+        return none
+    return {"block_mean_p": float(chi2.sf(q, b)), "block_mean_ratio": q / b, "blocks": int(b)}
