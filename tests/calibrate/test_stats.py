@@ -74,3 +74,22 @@ def test_ljung_box_against_statsmodels():
         assert ours["ljung_box_Q"] == pytest.approx(float(ref["lb_stat"].iloc[0]), rel=1e-6)
         assert ours["ljung_box_p"] == pytest.approx(float(ref["lb_pvalue"].iloc[0]), rel=1e-5)
     assert not whiteness(_ar1(0.3, 3000, rng))["white"]
+
+
+def test_the_block_test_does_not_flag_long_filtered_noise():
+    """Five minutes at 250 Hz of noise with the short-range correlation a DAQ's filter leaves
+    (AR(1), lag-1 0.45): no structure, so p < 1e-3 in about 0.1 % of channels. A 5-lag
+    Bartlett estimate of the long-run variance, 8-15 % low, had flagged 40-73 % of them."""
+    from scipy.signal import lfilter
+
+    from rollerrig.calibrate.stats import block_mean_test
+
+    rng = np.random.default_rng(7)
+    ps = [
+        block_mean_test(lfilter([1.0], [1.0, -0.45], rng.standard_normal(75_000)))["block_mean_p"]
+        for _ in range(20)
+    ]
+    assert min(ps) > 1e-3, ps
+    # An anti-correlated series (an encoder's quantisation: lag-1 -0.5) is no bias either.
+    c = rng.standard_normal(5001)
+    assert block_mean_test(np.diff(c))["block_mean_p"] > 0.5

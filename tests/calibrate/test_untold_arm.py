@@ -6,8 +6,8 @@ at the level and the release: over the 6.5 s release test the torque residual's 
 autocorrelation was 0.33 and its integrated autocorrelation time 1.6 samples, so neither the
 lag-1 nor the Ljung-Box-and-autocorrelation-time test saw structure, and the calibration said
 its residuals were white while bearing friction sat 7.1 and mu0 10.7 standard errors from the
-truth (k56 1.8, J5 2.4, c_lp 2.7). The means of 0.4 s blocks see the local bias (chi-square
-p = 2e-4; the twin's own recordings 0.08-0.92): the result is now conditional on the model.
+truth (k56 1.8, J5 2.4, c_lp 2.7). The means of 0.8 s blocks see the local bias (chi-square
+p = 1e-5; the twin's own recordings 0.15-0.97): the result is now conditional on the model.
 """
 
 import json
