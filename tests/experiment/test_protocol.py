@@ -269,6 +269,14 @@ def test_well_formed_events_are_kept_as_protocol_events_of_floats():
     assert _arrays(events=[(0.0, 2.0, "replay", "trace.csv")]).events[0].action == "replay"
 
 
+def test_events_given_by_a_generator_are_kept_as_before():
+    """tuple(ProtocolEvent(*e) for e in events) had taken a generator; the check must too."""
+    p = _arrays(events=((0.0, float(k), "hold", None) for k in (1, 2)))
+    assert p.events == (_EV(0.0, 1.0, "hold", None), _EV(0.0, 2.0, "hold", None))
+    with pytest.raises(ProtocolError, match=re.escape("events[1].action: unknown action")):
+        _arrays(events=iter([(0.0, 1.0, "hold", None), (0.0, 1.0, "hodl", None)]))
+
+
 def test_every_leaf_step_action_is_a_known_event_action():
     from rollerrig.experiment.protocol import _EVENT_ACTIONS
     from rollerrig.experiment.steps import STEP_TYPES

@@ -272,6 +272,21 @@ def test_a_write_that_is_not_callable_and_an_overwrite_that_is_text_are_refused(
     assert [p.name for p in tmp_path.iterdir()] == ["a.txt"]
 
 
+def test_numpys_bools_are_an_overwrite_flag(tmp_path):
+    """np.True_ and np.False_ (a comparison's result) had been accepted before the flag was
+    checked, and are True and False; the check refuses text and numbers only."""
+    import numpy as np
+
+    (tmp_path / "a.txt").write_text("old")
+    with pytest.raises(FileExistsError):
+        atomic_write(tmp_path / "a.txt", _write("new"), overwrite=np.False_)
+    assert (tmp_path / "a.txt").read_text() == "old"
+    atomic_write(tmp_path / "a.txt", _write("new"), overwrite=np.True_)
+    assert (tmp_path / "a.txt").read_text() == "new"
+    with pytest.raises(ParameterError, match="overwrite must be True or False, got 1"):
+        atomic_write(tmp_path / "a.txt", _write("x"), overwrite=1)
+
+
 def test_write_all_puts_the_first_file_back_when_the_second_cannot_be_moved(tmp_path, monkeypatch):
     from rollerrig.output.atomic import atomic_write_all
 

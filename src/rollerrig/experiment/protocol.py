@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from importlib import import_module
 from typing import Any, NamedTuple
@@ -169,6 +169,8 @@ def _checked_events(events, duration: float) -> tuple[ProtocolEvent, ...]:
     kept silently (NaN or reversed times, a misspelt action that no report would find).
     """
     form = "(start, end, action, target)"
+    if isinstance(events, Iterator):  # a generator of events, as tuple() had taken it
+        events = tuple(events)
     if isinstance(events, str | bytes) or not isinstance(events, Sequence):
         got = events if isinstance(events, str | bytes) else Verbatim(type(events).__name__)
         raise _event_error("events", f"must be a sequence of ProtocolEvent {form}", got=got)
