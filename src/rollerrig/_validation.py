@@ -31,6 +31,7 @@ __all__ = [
     "pydantic_problems",
     "require_broadcastable",
     "require_finite",
+    "require_flag",
     "require_in_range",
     "require_increasing",
     "require_instants_within",
@@ -347,6 +348,26 @@ def require_whole(
     if not exact or whole < minimum or (maximum is not None and whole > maximum):
         raise problem
     return whole
+
+
+def require_flag(name: str, value) -> bool:
+    """Return ``value`` as a ``bool``, raising :class:`ParameterError` unless it is True or
+    False (numpy's bools included): the text "no" is true to Python, and had been taken so
+    (an ``overwrite="no"`` that replaced the file).
+
+    Examples
+    --------
+    >>> require_flag("overwrite", np.False_)
+    False
+    >>> try:
+    ...     require_flag("overwrite", "no")
+    ... except ParameterError as exc:
+    ...     print(exc)
+    overwrite must be True or False, got 'no'
+    """
+    if not isinstance(value, bool | np.bool_):
+        raise ParameterError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
 
 
 def require_names(name: str, value) -> list[str]:

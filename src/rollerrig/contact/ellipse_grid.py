@@ -181,10 +181,3 @@ def _checked_grid(grid) -> FastsimGrid:
             f"{type(grid).__name__}"
         )
     return grid
-
-
-def _checked_flag(name: str, value) -> bool:
-    """``value`` if it is True or False (the text "no" had been taken as true)."""
-    if not isinstance(value, bool | np.bool_):
-        raise ParameterError(f"{name} must be True or False, got {value!r}")
-    return bool(value)

@@ -67,13 +67,13 @@ from rollerrig._validation import (
     ParameterError,
     require_broadcastable,
     require_finite,
+    require_flag,
     require_in_range,
     require_positive,
 )
 from rollerrig.contact.ellipse_grid import (
     _BOUNDS,
     FastsimGrid,
-    _checked_flag,
     _checked_grid,
     _equivalent_ellipse,
     _pressure_shape,
@@ -318,8 +318,8 @@ def fastsim(
         raise ParameterError(f"flexibility must be 'kalker' or 'blended', got {flexibility!r}")
     shape, xi, eta, phi, mu = _cases(long_creep, lat_creep, spin, friction)
     grid = _checked_grid(grid)
-    tractions = _checked_flag("tractions", tractions)
-    equivalent_ellipse = _checked_flag("equivalent_ellipse", equivalent_ellipse)
+    tractions = require_flag("tractions", tractions)
+    equivalent_ellipse = require_flag("equivalent_ellipse", equivalent_ellipse)
 
     if flexibilities is not None:
         l1, l2, l3 = _given_flexibilities(flexibilities, shape)

@@ -57,8 +57,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from rollerrig._validation import require_in_range, require_positive
-from rollerrig.contact.ellipse_grid import _checked_flag, _checked_grid
+from rollerrig._validation import require_flag, require_in_range, require_positive
+from rollerrig.contact.ellipse_grid import _checked_grid
 from rollerrig.contact.fastsim import (
     FastsimGrid,
     Flexibilities,
@@ -200,7 +200,7 @@ def fastrip(
     k0, alpha_inf, beta = _check_modification(k0, alpha_inf, beta)
     _, xi, eta, phi, mu = _cases(long_creep, lat_creep, spin, friction)
     grid = _checked_grid(grid)
-    tractions = _checked_flag("tractions", tractions)
+    tractions = require_flag("tractions", tractions)
     col = (slice(None), None)
 
     kc = kalker_coefficients(a / b, nu)

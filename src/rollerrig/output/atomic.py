@@ -19,9 +19,7 @@ import tempfile
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
-import numpy as np
-
-from rollerrig._validation import ParameterError
+from rollerrig._validation import ParameterError, require_flag
 
 __all__ = [
     "OutputError",
@@ -241,11 +239,9 @@ def _staged(path: Path, tmp: Path, write: Callable[[Path], Path | None]) -> Path
 
 
 def _flag(name: str, value, path: Path | None) -> None:
-    """Refuse a ``value`` that is not True or False (the text "no" had meant yes: replace);
-    numpy's bools (``np.True_``, a comparison's result) are True and False."""
-    if not isinstance(value, bool | np.bool_):
-        where = f"{path}: " if path is not None else ""
-        raise ParameterError(f"{where}{name} must be True or False, got {value!r}")
+    """:func:`~rollerrig._validation.require_flag`, the message naming ``path`` (the text
+    "no" had meant yes: replace)."""
+    require_flag(name if path is None else f"{path}: {name}", value)
 
 
 def _callable(write, path: Path) -> None:
