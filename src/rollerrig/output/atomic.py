@@ -26,8 +26,8 @@ __all__ = [
     "atomic_write",
     "atomic_write_all",
     "current_umask",
+    "file_path",
     "new_file_mode",
-    "output_path",
 ]
 
 
@@ -132,8 +132,9 @@ def _refuse(path: Path) -> FileExistsError:
     return FileExistsError(f"{path} exists; {_REFUSAL}")
 
 
-def output_path(path, name: str = "path") -> Path:
-    """``path`` as a :class:`~pathlib.Path`, or an :class:`OutputError` that names it.
+def file_path(path, name: str = "path") -> Path:
+    """``path`` (a file to write or to read) as a :class:`~pathlib.Path`, or an
+    :class:`OutputError` that names it.
 
     A str or path-like (of text) is a path; anything else (None, a number, bytes) had reached
     :class:`pathlib.Path`'s bare TypeError. An empty path and one holding a NUL character
@@ -141,9 +142,9 @@ def output_path(path, name: str = "path") -> Path:
 
     Examples
     --------
-    >>> output_path("out/run.csv")
+    >>> file_path("out/run.csv")
     PosixPath('out/run.csv')
-    >>> output_path(None)
+    >>> file_path(None)
     Traceback (most recent call last):
     ...
     rollerrig.output.atomic.OutputError: path must be a file path (str or Path), got None
@@ -284,7 +285,7 @@ def atomic_write(
     FileExistsError
         ``path`` exists and ``overwrite`` is False.
     OutputError
-        ``path`` is not a file path (None, a number, bytes: :func:`output_path`), the folder
+        ``path`` is not a file path (None, a number, bytes: :func:`file_path`), the folder
         cannot be created or written, ``path`` is a folder, the disk is full, ... (any
         :class:`OSError` while writing); the message names the path.
 
@@ -302,7 +303,7 @@ def atomic_write(
     >>> p.read_text(), [f.name for f in d.iterdir()]
     ('hello', ['a.txt'])
     """
-    path = output_path(path)
+    path = file_path(path)
     _callable(write, path)
     _flag("overwrite", overwrite, path)
     _prepare(path, overwrite)
@@ -387,7 +388,7 @@ def atomic_write_all(
     for k, pair in enumerate(writes):
         if not (isinstance(pair, Sequence) and not isinstance(pair, str) and len(pair) == 2):
             raise ParameterError(f"writes[{k}] must be a (path, write) pair, got {pair!r}")
-        path = output_path(pair[0], f"writes[{k}] path")
+        path = file_path(pair[0], f"writes[{k}] path")
         _callable(pair[1], path)
         targets.append((path, pair[1]))
     _flag("overwrite", overwrite, targets[0][0] if targets else None)

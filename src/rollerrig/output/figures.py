@@ -9,9 +9,9 @@ from pathlib import Path
 from typing import Any
 
 from rollerrig._validation import ParameterError, require_in_range
-from rollerrig.output.atomic import OutputError, atomic_write, output_path
+from rollerrig.output.atomic import OutputError, atomic_write, file_path
 from rollerrig.output.jsonfile import json_text
-from rollerrig.output.provenance import _input_path, is_provenance, provenance
+from rollerrig.output.provenance import is_provenance, provenance
 
 __all__ = [
     "FIGURE_FORMATS",
@@ -96,7 +96,7 @@ def figure_provenance(path: str | os.PathLike) -> dict[str, Any] | None:
     import json
     import re
 
-    p = _input_path(path)
+    p = file_path(path)
     fmt = p.suffix.lower().lstrip(".")
     if fmt == "png":
         from PIL import Image
@@ -258,7 +258,7 @@ def save_figure(
     {'run': 1}
     """
     try:
-        path = output_path(path)  # None had been a bare TypeError, the figure left open
+        path = file_path(path)  # None had been a bare TypeError, the figure left open
         fmt = path.suffix.lower().lstrip(".")
         if fmt not in FIGURE_FORMATS:
             raise OutputError(

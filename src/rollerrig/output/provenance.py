@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from rollerrig._validation import ParameterError
+from rollerrig.output.atomic import file_path
 
 __all__ = [
     "RunContext",
@@ -70,14 +71,6 @@ def jsonable(obj: Any) -> Any:
     raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
-def _input_path(path, name: str = "path") -> Path:
-    """``path`` (a file to read) as a :class:`~pathlib.Path`; None, a number or bytes refused
-    with an error naming it (they had reached :class:`pathlib.Path`'s bare TypeError)."""
-    if not isinstance(path, str | os.PathLike) or not isinstance(os.fspath(path), str):
-        raise ParameterError(f"{name} must be a file path (str or Path), got {path!r}")
-    return Path(path)
-
-
 def file_sha256(path: str | os.PathLike) -> str:
     """SHA-256 hex digest of a file, read in chunks (the file is only read).
 
@@ -89,7 +82,7 @@ def file_sha256(path: str | os.PathLike) -> str:
     >>> file_sha256(f)[:16]
     'ba7816bf8f01cfea'
     """
-    p = _input_path(path).resolve()
+    p = file_path(path).resolve()
     st = p.stat()  # a missing file: FileNotFoundError, naming it
     # A run hashes its inputs once for the provenance and the reader hashes the recording
     # again: the same file, unchanged (size and modification time), is read only once.

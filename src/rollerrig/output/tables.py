@@ -72,7 +72,7 @@ from rollerrig.output.atomic import (
     _flag,
     atomic_write,
     atomic_write_all,
-    output_path,
+    file_path,
 )
 from rollerrig.output.csv_numbers import csv_number, csv_text
 from rollerrig.output.jsonfile import (
@@ -156,7 +156,7 @@ def table_format(path: str | os.PathLike, format: str | None = None) -> str:
                 f"{path}: unknown table format {format!r}{hint}; use {list(TABLE_FORMATS)}"
             )
         return name
-    suffix = output_path(path).suffix.lower()
+    suffix = file_path(path).suffix.lower()
     for name, suffixes in TABLE_FORMATS.items():
         if suffix in suffixes:
             return name
@@ -570,7 +570,7 @@ def write_dataset(
     """
     from rollerrig.output.labelled import LabelledData
 
-    path = output_path(path)
+    path = file_path(path)
     fmt = table_format(path, format)
     if not isinstance(ds, LabelledData) and not all(
         hasattr(ds, a) for a in ("data_vars", "coords", "attrs", "variables")
@@ -723,7 +723,7 @@ def write_table(
     >>> out.read_text().splitlines()[0], sorted(p.name for p in d.iterdir())
     ('time [s],torque [N.m]', ['run.csv', 'run.metadata.json'])
     """
-    path = output_path(path)
+    path = file_path(path)
     fmt = table_format(path, format)
     _flag("overwrite", overwrite, path)  # before the work: "no" had meant replace
     if mat_version not in ("5", "7.3"):
