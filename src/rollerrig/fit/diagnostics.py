@@ -47,6 +47,7 @@ from rollerrig.fit.model import PARAMETER_NAMES, polach_coa
 __all__ = [
     "ResidualStructure",
     "SlipVelocityCoverage",
+    "distance_row",
     "fit_residual_structure",
     "residual_structure",
     "slip_velocity_coverage",
@@ -474,24 +475,35 @@ def truth_distance(fit, truth, warn_sigma: float = 3.0) -> dict:
     structure = fit.residual_structure
     inflation = structure.stderr_inflation if structure is not None else 1.0
     at_bound = set(getattr(fit, "at_bound", ()))
-    out = {}
-    for k in PARAMETER_NAMES:
-        sd = float(fit.stderr[k])
-        diff = abs(fitted[k] - true[k])
-        row = {"true": true[k], "fitted": fitted[k], "stderr": sd if np.isfinite(sd) else None}
-        if k in at_bound:
-            # The interval of a parameter at a bound of the search is one-sided: its
-            # symmetric standard error (A at 1.5e-8 +- 1.3e-6) had made "316 826 sigma".
-            row["sigma"] = row["sigma_ar1"] = None
-            row["why"] = AT_BOUND_WHY
-            row["beyond_warn_sigma"] = False
-        elif np.isfinite(sd) and sd > 0:
-            row["sigma"] = diff / sd
-            row["sigma_ar1"] = diff / (sd * inflation) if np.isfinite(inflation) else None
-            row["beyond_warn_sigma"] = bool(diff / sd > warn_sigma)
-        else:
-            row["sigma"] = row["sigma_ar1"] = None
-            row["why"] = f"standard error is {sd!r}: no distance in standard errors"
-            row["beyond_warn_sigma"] = False
-        out[k] = row
-    return out
+    return {
+        k: distance_row(
+            true[k], fitted[k], float(fit.stderr[k]), k in at_bound, warn_sigma, inflation
+        )
+        for k in PARAMETER_NAMES
+    }
+
+
+def distance_row(
+    true: float, fitted: float, stderr: float, at_bound: bool, warn_sigma: float,
+    inflation: float | None = None,
+) -> dict:  # fmt: skip
+    """One parameter's row of :func:`truth_distance` (and of the modified FASTSIM fit's):
+    ``true``, ``fitted``, ``stderr``, ``sigma``, ``beyond_warn_sigma``, ``why`` where there is
+    no distance, and ``sigma_ar1`` where an ``inflation`` of the standard error is given."""
+    finite = bool(np.isfinite(stderr) and stderr > 0)
+    row = {"true": true, "fitted": fitted, "stderr": stderr if np.isfinite(stderr) else None}
+    if at_bound:
+        # The interval of a parameter at a bound of the search is one-sided: its symmetric
+        # standard error (A at 1.5e-8 +- 1.3e-6) had made "316 826 sigma".
+        row["sigma"] = None
+        row["why"] = AT_BOUND_WHY
+    elif finite:
+        row["sigma"] = abs(fitted - true) / stderr
+    else:
+        row["sigma"] = None
+        row["why"] = f"standard error is {stderr!r}: no distance in standard errors"
+    if inflation is not None:
+        usable = row["sigma"] is not None and np.isfinite(inflation)
+        row["sigma_ar1"] = row["sigma"] / inflation if usable else None
+    row["beyond_warn_sigma"] = bool(row["sigma"] is not None and row["sigma"] > warn_sigma)
+    return row

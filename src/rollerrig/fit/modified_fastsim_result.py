@@ -16,7 +16,7 @@ from scipy import stats
 from rollerrig._validation import require_finite
 from rollerrig.contact.ellipse_grid import FastsimGrid
 from rollerrig.contact.laws import FastsimParameters
-from rollerrig.fit.diagnostics import AT_BOUND_WHY, ResidualStructure, SlipVelocityCoverage
+from rollerrig.fit.diagnostics import ResidualStructure, SlipVelocityCoverage, distance_row
 from rollerrig.fit.modified_fastsim_model import (
     MODIFIED_FASTSIM_PARAMETER_NAMES,
     _theta,
@@ -125,23 +125,10 @@ class ModifiedFastsimFit:
     def truth_distance(self, truth: FastsimParameters, warn_sigma: float = 3.0) -> dict:
         """Distance of each fitted parameter from a known set, in standard errors [-]."""
         true = dict(zip(MODIFIED_FASTSIM_PARAMETER_NAMES, _theta(truth).tolist(), strict=True))
-        out = {}
-        for k, v in self.values.items():
-            sd = float(self.stderr[k])
-            row = {"true": true[k], "fitted": v, "stderr": sd if np.isfinite(sd) else None}
-            if k in self.at_bound:
-                row["sigma"] = None
-                row["why"] = AT_BOUND_WHY
-                row["beyond_warn_sigma"] = False
-            elif np.isfinite(sd) and sd > 0:
-                row["sigma"] = abs(v - true[k]) / sd
-                row["beyond_warn_sigma"] = bool(row["sigma"] > warn_sigma)
-            else:
-                row["sigma"] = None
-                row["why"] = f"standard error is {sd!r}: no distance in standard errors"
-                row["beyond_warn_sigma"] = False
-            out[k] = row
-        return out
+        return {
+            k: distance_row(true[k], v, float(self.stderr[k]), k in self.at_bound, warn_sigma)
+            for k, v in self.values.items()
+        }
 
     def summary(self) -> dict:
         """JSON-ready: values, standard errors (None with the reason when not finite), the
