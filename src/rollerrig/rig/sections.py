@@ -473,9 +473,12 @@ class ArmParameters(_Section):
 
     The air spring is taken to push the arm above the wheel (the Pardubice rig's top beam). A
     spring seated on another lever l_s about the pivot gives N = (l_s/l) S + W_d + σ (h/l) F_x:
-    state it by scaling the air-spring channel by l_s/l in the channel map (its ``scale``);
-    unstated, the corrected CoA's band covered 30 % of a recording with l_s/l = 0.7 and 97.7 %
-    with the scale given (docs/guide/tour.rst, "What holds, and on which recordings").
+    state it by scaling the air-spring channel by l_s/l in the channel map (its ``scale``),
+    and the ratio's relative uncertainty within ``sensors.air_spring_area_uncertainty``
+    (combined in quadrature with the area's own: N depends on l_s/l and the spring's effective
+    area only through their product, so the band carries the one as the other); unstated, the
+    corrected CoA's band covered 30 % of a recording with l_s/l = 0.7 and 97.7 % with the scale
+    given (docs/guide/tour.rst, "What holds, and on which recordings").
     """
 
     pivot_height: Annotated[float, _si("length", ge=-5.0, le=5.0)] = 0.348
