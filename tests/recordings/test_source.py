@@ -374,3 +374,23 @@ def test_too_short_after_a_cut_line_says_the_line_was_dropped(tmp_path, rows):
     for reader in readers:
         with pytest.raises(RecordingError, match=r"only \d sample\(s\).*no line end.*dropped"):
             reader(path)
+
+
+def test_a_streamed_text_file_with_rounded_stamps_has_the_in_memory_rate(tmp_path):
+    """19.2 kHz written to whole µs: read_recording's uniform base says 19 200 Hz, and the
+    chunked reader (the CLI's above a few million samples) said 19 231 Hz, its head's median
+    step (a review, 2026-12-03)."""
+    t = np.round(np.arange(20_000) / 19_200.0, 6)
+    f = tmp_path / "fast.csv"
+    f.write_text(
+        "t,torque\n" + "".join(f"{a:.6f},{b:.3f}\n" for a, b in zip(t, np.sin(t), strict=True))
+    )
+    cmap = {
+        "time": {"column": "t", "unit": "s"},
+        "channels": {"torque": {"column": "torque", "unit": "N.m"}},
+    }
+    whole = read_recording(f, cmap).sample_rate
+    with open_recording(f, cmap) as src:
+        streamed = src.sample_rate
+    assert whole == pytest.approx(19_200.0, rel=1e-6)
+    assert streamed == pytest.approx(whole, rel=1e-12)

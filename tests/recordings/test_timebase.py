@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from rollerrig.recordings.channels import ChannelSpec
-from rollerrig.recordings.recording import RecordingError
+from rollerrig.recordings.recording import Recording, RecordingError
 from rollerrig.recordings.timebase import ATTENUATION_DB, align_channels, resample_onto
 
 
@@ -212,3 +212,43 @@ def test_a_nan_time_stamp_or_values_of_another_length_are_refused():
     for target in (np.arange(100, 900) / 250.0 / 4, np.arange(10, 90) / 100.0):
         with pytest.raises(ParameterError, match=r"values \(1000,\) and time \(2000,\)"):
             resample_onto(np.linspace(0.0, 1.0, 1000), t, target)
+
+
+def test_stamps_rounded_to_whole_microseconds_are_a_uniform_base():
+    """19.2 kHz written to whole µs steps by 52 and 53 µs, 1.9 % apart: the in-memory check
+    refused it as jitter while the streamed reader took it at the median step's 19 231 Hz
+    (0.16 % off, silently; a review, 2026-12-03). Every stamp lies within 0.5 µs of the
+    19 200 Hz grid: a uniform base at the span's rate. The same resolution on stamps that
+    jitter by 20 µs stays non-uniform."""
+    from rollerrig.recordings.timebase import (
+        print_resolution,
+        require_uniform_time,
+        rounded_grid,
+    )
+
+    t = np.round(np.arange(50_000) / 19_200.0, 6)
+    assert np.ptp(np.diff(t)) > 0.018 * np.median(np.diff(t))  # not uniform by its steps
+    assert print_resolution(t) == 1e-6 and rounded_grid(t)
+    assert require_uniform_time(t, "run.csv", "the spectrum") == pytest.approx(19_200.0, rel=1e-6)
+    assert Recording(t, {"torque": np.zeros(t.size)}, {"torque": "N.m"}).sample_rate == (
+        pytest.approx(19_200.0, rel=1e-6)
+    )
+    jitter = np.round(np.arange(5000) / 250.0 + np.random.default_rng(1).normal(0, 2e-5, 5000), 6)
+    assert not rounded_grid(jitter)
+    with pytest.raises(RecordingError, match="non-uniform"):
+        require_uniform_time(jitter, "run.csv", "the spectrum")
+    # A resolution coarser than ROUNDED_GRID_LIMIT of a step is not taken for rounding.
+    assert not rounded_grid(np.round(np.arange(12_001) / 600.0, 3))
+
+
+def test_a_recordings_rate_is_its_uniform_bases_not_its_median_step():
+    """600 Hz written with 5 decimals: Recording.sample_rate, which the spectrum and the
+    streamed analysis use, was 1 over the median step, 598.8 Hz (a 100 Hz tone at 99.8 Hz,
+    a review, 2026-12-03); a base with jitter keeps the median step's rate."""
+    t = np.round(np.arange(12_001) / 600.0, 5)
+    rec = Recording(t, {"torque": np.zeros(t.size)}, {"torque": "N.m"})
+    assert 1.0 / np.median(np.diff(t)) == pytest.approx(598.8, abs=0.05)
+    assert rec.sample_rate == pytest.approx(600.0, rel=1e-6)
+    jittered = np.arange(5000) / 250.0 + np.random.default_rng(0).normal(0, 2e-4, 5000)
+    rec = Recording(np.sort(jittered), {"torque": np.zeros(5000)}, {"torque": "N.m"})
+    assert rec.sample_rate == pytest.approx(1.0 / np.median(np.diff(np.sort(jittered))))

@@ -6,6 +6,7 @@ a channel map (:mod:`rollerrig.recordings.channels`) translates a file's columns
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -150,10 +151,18 @@ class Recording(ChannelLookup):
     def __contains__(self, name: str) -> bool:
         return name in self.channels
 
-    @property
+    @functools.cached_property
     def sample_rate(self) -> float:
-        """Nominal sampling rate [Hz] (from the median sample interval)."""
-        return float(1.0 / np.median(np.diff(self.time)))
+        """Nominal sampling rate [Hz]: ``(n − 1)`` over the time span where the time base is
+        uniform (:func:`~rollerrig.recordings.timebase.uniform_sample_rate`: stamps written with
+        few decimals do not bias it, where their median step read 600 Hz as 598.8), else 1 over
+        the median sample interval."""
+        from rollerrig.recordings.timebase import uniform_sample_rate  # imports this module
+
+        try:
+            return uniform_sample_rate(self.time)
+        except ParameterError:  # jitter or gaps: the median step is the rate most steps have
+            return float(1.0 / np.median(np.diff(self.time)))
 
     @property
     def duration(self) -> float:

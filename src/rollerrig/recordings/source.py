@@ -65,6 +65,7 @@ from rollerrig.recordings.readers import (
     resolve_inputs,
 )
 from rollerrig.recordings.recording import ChannelLookup, RecordingError
+from rollerrig.recordings.timebase import UNIFORM_STEP_TOLERANCE
 from rollerrig.recordings.translate import (
     apply_map,
     as_float,
@@ -667,6 +668,13 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
     check_sample_rate(source["sample_rate"], where, "1 / the median sample interval")
     t_last = _time(state, n - 1, n, None)
     source["duration"] = float(t_last[-1] - time_h[0])
+    # The span's rate where it agrees with the median step's, as read_recording's uniform base
+    # has it: stamps written with few decimals (19.2 kHz to whole µs steps by 52 and 53 µs) have
+    # a median step off by the rounding (19 231 Hz); a gap moves the span's rate more, and the
+    # chunks' check reports the gap.
+    span_rate = (n - 1) / source["duration"] if source["duration"] > 0 else 0.0
+    if abs(span_rate - source["sample_rate"]) <= UNIFORM_STEP_TOLERANCE * source["sample_rate"]:
+        source["sample_rate"] = float(span_rate)
     if info.pop("time_unit_assumed", None) is not None:
         check_time_unit(source["sample_rate"], source["duration"], where, info["columns"]["time"])
     metadata = recording_metadata(
