@@ -463,7 +463,7 @@ def print_resolution(time) -> float:
         q = 10.0**-k
         r = t / q
         # float round-off of a parsed decimal: a few ulp of the largest stamp, in quanta
-        slack = 1e-3 + 64.0 * np.finfo(float).eps * float(np.max(np.abs(r)))
+        slack = 64.0 * np.finfo(float).eps * max(1.0, float(np.max(np.abs(r))))
         if float(np.max(np.abs(r - np.rint(r)))) <= slack:
             return q
     return 0.0
@@ -501,7 +501,7 @@ def rounded_grid(time) -> bool:
     deviation = float(np.max(np.abs(t - mean - slope * k)))
     round_off = 64.0 * np.finfo(float).eps * float(np.max(np.abs(t)))
     # 1 % slack: a stamp exactly halfway rounds by q/2, and the fitted line is off by a little
-    return deviation <= 0.505 * q + round_off
+    return bool(deviation <= 0.505 * q + round_off)
 
 
 def require_uniform_time(time, source: str, purpose: str) -> float:
