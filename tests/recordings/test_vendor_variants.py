@@ -263,3 +263,49 @@ def test_tdms_groups_of_different_rates_and_a_string_channel(tmp_path):
     np.testing.assert_allclose(rec["torque"], tq)
     np.testing.assert_allclose(rec["normal_load"], [10000, 10500, 11000, 11500, 12000])
     assert file_sha256(p) == sha
+
+
+# ------------------------------------------- the format from the file's first bytes
+
+
+@pytest.mark.parametrize(
+    ("fmt", "mat_version", "name"),
+    [
+        ("mf4", "5", "inca_run.dat"),
+        ("tdms", "5", "daq.dat"),
+        ("mat", "5", "run"),
+        ("mat", "7.3", "run.bin7"),
+        ("parquet", "5", "export.data"),
+    ],
+    ids=["mdf-as-dat", "tdms-as-dat", "mat5-no-suffix", "mat73-odd-suffix", "parquet-odd-suffix"],
+)
+def test_a_binary_file_whose_suffix_does_not_say_is_read_by_its_content(
+    tmp_path, fmt, mat_version, name
+):
+    """INCA and CANape write MDF as ``.dat``; the CLI has no --format, and such a file was
+    refused for its suffix (a review, 2026-12-03). A readable format's first bytes decide
+    where the suffix is none the readers know."""
+    from rollerrig.recordings.recording import Recording
+    from rollerrig.recordings.writers import write_recording
+
+    t = np.arange(200) / 250.0
+    rec = Recording(t, {"torque": np.sin(t)}, {"torque": "N.m"})
+    written = write_recording(rec, tmp_path / f"w.{fmt}", mat_version=mat_version)
+    p = written.rename(tmp_path / name)
+    before = file_sha256(p)
+    back = read_recording(p)
+    assert back.metadata["format"] == fmt
+    np.testing.assert_allclose(back["torque"], np.sin(t), rtol=1e-12)
+    with open_recording(p) as src:
+        assert src.n_samples == 200
+    assert file_sha256(p) == before
+
+
+def test_feather_is_refused_with_the_parquet_advice(tmp_path):
+    pa = pytest.importorskip("pyarrow")
+    feather = pytest.importorskip("pyarrow.feather")
+    table = pa.table({"Time": np.arange(5) / 250.0, "Torque": np.ones(5)})
+    for name in ("run.feather", "run.dat"):
+        feather.write_feather(table, tmp_path / name)
+        with pytest.raises(RecordingError, match=r"Feather.*to_parquet"):
+            read_recording(tmp_path / name, MAP)

@@ -81,7 +81,17 @@ _DEWESOFT = (
     "(.mf4), MATLAB (.mat) or CSV (text, with channel names and units) and read that file"
 )
 
-VENDOR_SIGNATURES: dict[bytes, str] = {b"|CF,": _FAMOS, b"DEWESOFT": _DEWESOFT}
+_FEATHER = (
+    "Feather / Arrow IPC files (.feather, .arrow) are not read; write the table as Parquet "
+    "instead (pandas: df.to_parquet('run.parquet'); pyarrow: pyarrow.parquet.write_table), "
+    "which is read in parts and keeps each column's type"
+)
+
+VENDOR_SIGNATURES: dict[bytes, str] = {
+    b"|CF,": _FAMOS,
+    b"DEWESOFT": _DEWESOFT,
+    b"ARROW1": _FEATHER,
+}
 """First bytes of vendor files no reader here reads -> what to do (names the vendor)."""
 
 _NOT_READ = {
@@ -97,7 +107,20 @@ _NOT_READ = {
         "it to .csv) or as ASAM MDF4 (.mf4), and read that file"
     ),
     ".tdm": ("NI DIAdem TDM headers (.tdm + .tdx) are not read; export as TDMS or CSV from DIAdem"),
+    ".feather": _FEATHER,
+    ".arrow": _FEATHER,
 }
+
+CONTENT_SIGNATURES: dict[bytes, str] = {
+    b"MDF     ": "mf4",  # MDF3 and MDF4 (INCA and CANape write them as .dat too)
+    b"UnFinMF ": "mf4",  # an MDF4 file its logger did not finalise
+    b"TDSm": "tdms",
+    b"MATLAB 5.0 MAT-file": "mat",
+    b"MATLAB 7.3 MAT-file": "mat",
+    b"PAR1": "parquet",
+}
+"""First bytes of files the readers here read -> their format, for a file whose suffix does
+not say (INCA's MDF as ``.dat``, a download without its suffix)."""
 
 
 def detect_format(path: str | Path, format: str | None = None) -> str:
@@ -163,6 +186,23 @@ def _refuse_vendor_file(p: Path) -> None:
             raise RecordingError(f"{p}: {why}{named}")
 
 
+def _format_by_content(p: Path) -> str | None:
+    """The format of a file whose suffix is none of :data:`FORMATS`' but whose first bytes are
+    one of :data:`CONTENT_SIGNATURES`; None otherwise (the suffix decides)."""
+    suffix = p.suffix.lower()
+    if any(suffix in suffixes for suffixes in FORMATS.values()):
+        return None
+    try:
+        with p.open("rb") as fh:
+            head = fh.read(32)
+    except OSError:
+        return None  # missing or unreadable: the reader says so
+    for magic, fmt in CONTENT_SIGNATURES.items():
+        if head.startswith(magic):
+            return fmt
+    return None
+
+
 def resolve_inputs(
     path, channel_map: ChannelMapLike, format: str | None, channels: Iterable[str] | None
 ) -> tuple[Path, str, ChannelMap, list[str] | None]:
@@ -177,7 +217,8 @@ def resolve_inputs(
     """
     p = Path(path)
     _refuse_vendor_file(p)
-    fmt = detect_format(p, format)
+    fmt = _format_by_content(p) if format is None else None
+    fmt = fmt or detect_format(p, format)
     cmap = _as_channel_map(channel_map)
     if not p.is_file():
         raise RecordingFileNotFound(f"recording file not found: {p}")
