@@ -268,3 +268,49 @@ def test_a_struct_array_of_signals_is_one_column_per_signal(tmp_path, version):
     rec = read_recording(f, {"time": {"column": "logsout.time", "unit": "s"}, "channels": {
         "torque": {"column": "Spd", "unit": "N.m"}}})  # fmt: skip
     np.testing.assert_array_equal(rec["torque"], signals["Spd"])
+
+
+def _simulink_one_signal_v73(path, time, label, values):
+    """A "Structure with time" of one signal as MATLAB v7.3 writes it: a 1 x 1 struct array
+    is one struct, ``logsout.signals`` a group whose fields are plain datasets."""
+    import h5py
+
+    with h5py.File(path, "w", userblock_size=512, libver="earliest") as h:
+        log = h.create_group("logsout")
+        log.attrs["MATLAB_class"] = np.bytes_("struct")
+        ds = log.create_dataset("time", data=time.reshape(1, -1))
+        ds.attrs["MATLAB_class"] = np.bytes_("double")
+        sig = log.create_group("signals")
+        sig.attrs["MATLAB_class"] = np.bytes_("struct")
+        ds = sig.create_dataset("values", data=values.reshape(1, -1))
+        ds.attrs["MATLAB_class"] = np.bytes_("double")
+        codes = np.frombuffer(label.encode("utf-16-le"), dtype=np.uint16).reshape(-1, 1)
+        ds = sig.create_dataset("label", data=codes)
+        ds.attrs["MATLAB_class"] = np.bytes_("char")
+    header = b"MATLAB 7.3 MAT-file".ljust(116, b" ") + b" " * 8 + b"\x00\x02" + b"IM"
+    with path.open("r+b") as fh:
+        fh.write(header.ljust(512, b"\x00"))
+
+
+@pytest.mark.parametrize("version", ["5", "7.3"])
+def test_a_structure_with_time_of_one_signal_is_named_as_with_several(tmp_path, version):
+    """One To Workspace block writes ``logsout.signals`` as a 1 x 1 struct, which MATLAB and
+    scipy store as a plain struct: its label and ``logsout.signals(1).values``, as the guide
+    says and as with two signals, had been "not in the file"; only
+    ``logsout.signals.values`` read (a review, 2026-12-03)."""
+    from scipy.io import savemat
+
+    from rollerrig.recordings.readers import read_recording
+
+    t = np.arange(500) / 1000.0
+    torque = 10.0 + np.sin(t)
+    f = tmp_path / "sim.mat"
+    if version == "5":
+        signals = {"values": torque.reshape(-1, 1), "label": "Trq", "dimensions": 1}
+        savemat(f, {"logsout": {"time": t.reshape(-1, 1), "signals": signals}})
+    else:
+        _simulink_one_signal_v73(f, t, "Trq", torque)
+    for column in ("Trq", "logsout.signals(1).values", "logsout.signals.values"):
+        rec = read_recording(f, {"time": {"column": "logsout.time", "unit": "s"}, "channels": {
+            "torque": {"column": column, "unit": "N.m"}}})  # fmt: skip
+        np.testing.assert_array_equal(rec["torque"], torque)

@@ -236,16 +236,26 @@ _SIGNAL_VALUES = ("values", "Data")
 
 def _label_struct_signals(table: Table, strings: Mapping[str, str]) -> None:
     """Make ``label`` (``Trq``) name ``x.signals(k).values`` where element k of a struct
-    array labels its signal (Simulink's "Structure with time", ControlDesk's ``Y(k).Name``)."""
+    array labels its signal (Simulink's "Structure with time", ControlDesk's ``Y(k).Name``).
+
+    A struct array of one element is stored as a plain struct (MATLAB saves a 1x1 struct
+    array as one struct; a "Structure with time" of one signal is one): its ``x.signals.values``
+    is named by its label and as ``x.signals(1).values`` too, as with several signals.
+    """
     for name, text in strings.items():
         head, _, field = name.rpartition(".")
         label = text.replace("\x00", "").strip()
-        if field not in _SIGNAL_LABELS or not head.endswith(")") or not label:
+        if field not in _SIGNAL_LABELS or not head or not label:
             continue
         for values in _SIGNAL_VALUES:
             column = f"{head}.{values}"
-            if column in table.names and label not in table.names:
+            if column not in table.names:
+                continue
+            if label not in table.names:
                 add_alias(table, label, column)
+            indexed = f"{head}(1).{values}"
+            if not head.endswith(")") and indexed not in table.names:
+                add_alias(table, indexed, column)
 
 
 def _flatten_cell(name: str, value, out: dict, skipped: list) -> None:
