@@ -309,3 +309,31 @@ def test_feather_is_refused_with_the_parquet_advice(tmp_path):
         feather.write_feather(table, tmp_path / name)
         with pytest.raises(RecordingError, match=r"Feather.*to_parquet"):
             read_recording(tmp_path / name, MAP)
+
+
+# ------------------------------------------- an oscilloscope's CSV (Rigol DS1000Z, Keysight)
+
+
+def test_a_rigol_scope_csv_is_read_and_its_increment_gives_the_rate(tmp_path):
+    """``X,CH1,CH2,Start,Increment,`` over ``Sequence,Volt,Volt,-1e-3,1e-3``: the header has
+    two cells more than the samples, which no [file] key could get past (a review,
+    2026-12-03). Its first cells name the columns, the units row gives Volt, and the note (and
+    the error without a rate) gives the rate from Increment."""
+    rows = "".join(f"{k},{1 + k / 1000:.6e},{2 + k / 500:.6e},\n" for k in range(400))
+    p, sha = _write(
+        tmp_path,
+        "DS1Z_QuickPrint1.csv",
+        "X,CH1,CH2,Start,Increment,\nSequence,Volt,Volt,-1.000000e-03,1.000000e-03\n" + rows,
+    )
+    channels = {"torque": {"column": "CH1", "unit": "N.m", "scale": 100.0}}
+    with pytest.raises(RecordingError, match=r"Increment.*sample_rate_Hz = 1000\)"):
+        read_recording(p, {"channels": channels})
+    rec = read_recording(p, {"time": {"sample_rate_Hz": 1000.0}, "channels": channels})
+    assert rec.time.size == 400 and rec.sample_rate == pytest.approx(1000.0)
+    np.testing.assert_allclose(rec["torque"][:3], [100.0, 100.1, 100.2])
+    assert any("Rigol" in n and "1000 Hz apart" in n for n in rec.metadata["notes"])
+    assert file_sha256(p) == sha
+    # A wider header that is not a scope's stays an error naming the mismatch.
+    q, _ = _write(tmp_path, "wide.csv", "Time,Torque,Speed,Extra\n" + "0,1,2\n1,2,3\n" * 5)
+    with pytest.raises(RecordingError, match=r"wide\.csv: no rows of numbers found"):
+        read_recording(q, MAP)

@@ -706,7 +706,11 @@ def apply_map(
                 f"{where} no time: the channel map (map {cmap.source}) gives no [time] column "
                 "nor sample_rate_Hz, and the file's channels carry no time base "
                 "(TDMS wf_increment / MDF master)"
-                + "".join(f"; {n}" for n in table.notes if "master that is not time" in n)
+                + "".join(
+                    f"; {n}"
+                    for n in table.notes
+                    if "master that is not time" in n or "oscilloscope's CSV" in n
+                )
             )
         # time stays None: align_channels chooses the common base from the own time bases
         own_times = [own for _, _, _, own in loaded]

@@ -85,6 +85,8 @@ def header_rows(
             names3 = split_cells(above[-3][1], sep) if len(above) >= 3 else []
             if unitlike_row(lf) and not unitlike_row(uf) and abs(len(uf) - len(lf)) <= 1:
                 header_line, units_line = up[0], low[0]
+            elif ends_with_scope_extras(uf):  # Rigol: X,CH1,..,Start,Increment / Sequence,Volt,..
+                header_line, units_line = up[0], low[0]
             elif (
                 names3
                 and unitlike_row(uf)
@@ -108,6 +110,48 @@ def header_rows(
         if len(between) == 1 and unitlike_row(split_cells(between[0][1], sep)):
             units_line = between[0][0]
     return header_line, units_line
+
+
+SCOPE_EXTRAS = ("start", "increment")
+"""Header cells of a Rigol (and Agilent/Keysight InfiniiVision) oscilloscope's CSV beyond its
+data columns: ``X,CH1,CH2,Start,Increment,`` over ``Sequence,Volt,Volt,-1e-3,1e-3``, the
+time of sample X being Start + X Increment."""
+
+
+def ends_with_scope_extras(cells: list[str]) -> bool:
+    """Whether a row's last cells (past empty ones) are an oscilloscope's ``Start,
+    Increment`` (:data:`SCOPE_EXTRAS`) after at least one name."""
+    names = [c.strip().strip('"').lower() for c in cells]
+    while names and names[-1] == "":
+        names.pop()
+    return len(names) > len(SCOPE_EXTRAS) and tuple(names[-2:]) == SCOPE_EXTRAS
+
+
+def _scope_header(names: list[str], n_names: int, below: str, sep: str, notes: list) -> list:
+    """The header's first ``n_names`` cells where the cells beyond the data's columns are an
+    oscilloscope's Start and Increment (:data:`SCOPE_EXTRAS`), noted with the rate they give;
+    ``names`` unchanged otherwise (the count check then names the mismatch)."""
+    cells = [c.strip().strip('"').lower() for c in names]
+    while cells and cells[-1] == "":
+        cells.pop()
+    first = len(cells) - len(SCOPE_EXTRAS)  # where Start stands
+    if first < 1 or first > n_names or tuple(cells[first:]) != SCOPE_EXTRAS:
+        return names
+    values = split_cells(below, sep)[first : first + 2]
+    try:
+        start, increment = (float(v) for v in values)
+    except ValueError:
+        start = increment = float("nan")
+    if increment > 0:
+        how = (
+            f"Start {start:g} s, Increment {increment:g} s on the line below: the samples are "
+            f"{1.0 / increment:g} Hz apart (the time of sample X is Start + X Increment; map "
+            f"the rate with [time] sample_rate_Hz = {1.0 / increment:g})"
+        )
+    else:
+        how = "the time of sample X is Start + X Increment ([time] sample_rate_Hz = 1/Increment)"
+    notes.append(f"an oscilloscope's CSV (Rigol, Keysight): header cells Start, Increment; {how}")
+    return names[:first] + [""] * (n_names - first)  # a trailing separator's empty column
 
 
 def column_names(
@@ -144,6 +188,8 @@ def column_names(
         names = []
         notes.append("no header row; columns named 'column 1', 'column 2', ...")
     n_names = n - 1 if trailing else n
+    if header_line is not None and len(names) > n_names:
+        names = _scope_header(names, n_names, text_of.get(header_line + 1, ""), sep, notes)
     if header_line is not None and len(names) != n_names:
         if n == 1 and not separator_given:
             pass  # one column: the separator is unknown and irrelevant

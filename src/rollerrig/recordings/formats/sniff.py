@@ -37,7 +37,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from rollerrig.recordings.channels import FileSpec
-from rollerrig.recordings.formats._header import column_names, column_units, header_rows
+from rollerrig.recordings.formats._header import (
+    column_names,
+    column_units,
+    ends_with_scope_extras,
+    header_rows,
+)
 from rollerrig.recordings.formats._text import (
     EXACT_ABOVE,
     INTEGER,
@@ -256,7 +261,10 @@ def _score(
         h = len(above[-1])
         trailing = all(f[-1] == "" for _, f in block if len(f) == n)
         header_ok = (
-            h == n or (h == n - 1 and trailing) or (h == n + 1 and above[-1][-1].strip() == "")
+            h == n
+            or (h == n - 1 and trailing)
+            or (h == n + 1 and above[-1][-1].strip() == "")
+            or any(ends_with_scope_extras(f) for f in above[-2:])  # Rigol: wider header
         )
         if not header_ok:
             return 0, n, block
