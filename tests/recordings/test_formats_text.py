@@ -1112,3 +1112,47 @@ def test_a_unit_spelled_otherwise_is_no_clash(tmp_path):
     rec = _read(path, {"time": {"column": "Time"}, "extra": {"k": {"column": "k",
             "unit": "MN/m"}}})  # fmt: skip
     np.testing.assert_allclose(rec["k"], np.arange(10) * 1e6)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    start=st.floats(0, 86_399),
+    rate=st.sampled_from([1.0, 50.0, 1000.0, 19_200.0]),
+    decimals=st.integers(0, 6),
+    comma=st.booleans(),
+    odd=st.booleans(),
+)
+def test_times_of_day_read_at_once_equal_the_per_cell_reading(start, rate, decimals, comma, odd):
+    """Equal-width ``hh:mm:ss.f`` cells are read from their bytes at once (a million took 5 s
+    through the regular expression, a review, 2026-12-03); the seconds are the regular
+    expression's to the last bit, midnight crossings included, and a cell of another layout
+    (a shorter hour, a stray letter) leaves the column to the regular expression, which
+    names it."""
+    from unittest import mock
+
+    from rollerrig.recordings.formats import timestamps
+
+    t = start + np.arange(300) / rate
+    cells = []
+    for v in t % 86_400.0:
+        h, rest = divmod(v, 3600.0)
+        mi, sec = divmod(rest, 60.0)
+        whole = f"{int(h):02d}:{int(mi):02d}:{int(sec):02d}"
+        frac = f"{sec - int(sec):.{decimals}f}"[2:] if decimals else ""
+        cells.append(whole + ((("," if comma else ".") + frac) if frac else ""))
+    if odd:
+        cells[150] = cells[150].replace(":", "h", 1)
+    try:
+        fast = parse_timestamps(cells, what="t")
+    except RecordingError as exc:
+        fast = str(exc)
+    with mock.patch.object(timestamps, "_fixed_width_times_of_day", lambda s, first: None):
+        try:
+            slow = parse_timestamps(cells, what="t")
+        except RecordingError as exc:
+            slow = str(exc)
+    if isinstance(slow, str):
+        assert fast == slow
+    else:
+        np.testing.assert_array_equal(fast[0], slow[0])
+        assert fast[1] == slow[1]

@@ -457,13 +457,17 @@ def print_resolution(time) -> float:
     """
     t = np.asarray(time, dtype=float)[:10_000]
     t = t[np.isfinite(t)]
-    if t.size == 0:
+    if t.size < 2:
         return 0.0
+    largest_step = float(np.max(np.abs(np.diff(t))))
     for k in range(_LARGEST_DECIMALS + 1):
         q = 10.0**-k
+        if q > largest_step:  # no coarser than the steps: stamps near 0 are "multiples" of 1 s
+            continue
         r = t / q
-        # float round-off of a parsed decimal: a few ulp of the largest stamp, in quanta
-        slack = 64.0 * np.finfo(float).eps * max(1.0, float(np.max(np.abs(r))))
+        # float round-off: a few ulp of the largest stamp, and 1e-3 of a quantum for stamps
+        # made relative to a large origin (times of day: 7e-12 s at 13:00, 7e-6 of 1 µs)
+        slack = 1e-3 + 64.0 * np.finfo(float).eps * float(np.max(np.abs(r)))
         if float(np.max(np.abs(r - np.rint(r)))) <= slack:
             return q
     return 0.0

