@@ -337,3 +337,20 @@ def test_a_rigol_scope_csv_is_read_and_its_increment_gives_the_rate(tmp_path):
     q, _ = _write(tmp_path, "wide.csv", "Time,Torque,Speed,Extra\n" + "0,1,2\n1,2,3\n" * 5)
     with pytest.raises(RecordingError, match=r"wide\.csv: no rows of numbers found"):
         read_recording(q, MAP)
+
+
+def test_no_time_names_the_columns_that_may_hold_it(tmp_path):
+    """A pandas DatetimeIndex stored in Parquet is ``__index_level_0__``; a map without [time]
+    got "no time" with no pointer to it (a review, 2026-12-03)."""
+    pd = pytest.importorskip("pandas")
+    pytest.importorskip("pyarrow")
+    index = pd.date_range("2024-08-05 13:46", periods=50, freq="4ms")
+    frame = pd.DataFrame({"Torque [Nm]": np.ones(50)}, index=index)
+    frame.to_parquet(tmp_path / "run.parquet")
+    cmap = {"channels": {"torque": {"column": "Torque", "unit": "N.m"}}}
+    with pytest.raises(RecordingError, match=r"\[time\] column = '__index_level_0__'"):
+        read_recording(tmp_path / "run.parquet", cmap)
+    rec = read_recording(
+        tmp_path / "run.parquet", {**cmap, "time": {"column": "__index_level_0__"}}
+    )
+    assert rec.sample_rate == pytest.approx(250.0)

@@ -548,6 +548,23 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
             fail(rate, f"column {name!r}" + ("" if file_unit or not numeric else " read in s"))
 
 
+_TIME_WORDS = ("time", "zeit", "temps", "tiempo", "timestamp", "__index_level_0__", "t", "x")
+
+
+def _time_column_hint(names) -> str:
+    """``; columns that may hold the time: [...] ([time] column = "...")``, from the file's
+    column names (a pandas index stored in Parquet is ``__index_level_0__``), or ""."""
+    found = [
+        n
+        for n in names
+        if str(n).strip().lower() in _TIME_WORDS
+        or str(n).strip().lower().split(" ")[0].split("[")[0].split("(")[0] in _TIME_WORDS
+    ]
+    if not found:
+        return ""
+    return f"; columns that may hold it: {found[:5]} (set [time] column = {str(found[0])!r})"
+
+
 def apply_map(
     table: Table, cmap: ChannelMap, path: Path, needed: Iterable[str] | None = None
 ) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, str], dict[str, Any]]:
@@ -706,6 +723,7 @@ def apply_map(
                 f"{where} no time: the channel map (map {cmap.source}) gives no [time] column "
                 "nor sample_rate_Hz, and the file's channels carry no time base "
                 "(TDMS wf_increment / MDF master)"
+                + _time_column_hint(table.names)
                 + "".join(
                     f"; {n}"
                     for n in table.notes
