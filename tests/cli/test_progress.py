@@ -177,3 +177,16 @@ def test_every_command_that_works_for_long_takes_quiet(runner, command):
     result = runner.invoke(app, [*command.split(), "--help"], env={"COLUMNS": "200"})
     assert result.exit_code == 0, result.output
     assert "--quiet" in result.output
+
+
+def test_a_terminals_bar_prints_brackets_in_names_literally():
+    """On a terminal the bar's description and step went through Rich markup: a file
+    ``load[kN].csv`` showed as ``load.csv`` and a frame named ``[/bold]`` stopped the command
+    with a MarkupError (a review, 2026-12-03). Piped lines were already literal."""
+    terminal = Console(file=io.StringIO(), force_terminal=True, width=100)
+    with progress(terminal) as bar:
+        task = bar.add_task("analyze load[kN].csv", total=None, info="frame [/bold] v2")
+        bar.update(task, info="reading [N.m]")
+        bar.refresh()
+    text = terminal.file.getvalue()
+    assert "load[kN].csv" in text and "[/bold]" in text and "[N.m]" in text

@@ -227,11 +227,13 @@ def progress(out: Console | None = None):
         return ProgressLines(out)
     from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
+    # markup=False: a description or step holds a user's names (a file "load[kN].csv", a
+    # frame named "[/bold]"), which Rich would read as markup (dropped, or a MarkupError)
     return Progress(
         SpinnerColumn(),
-        TextColumn("{task.description}"),
+        TextColumn("{task.description}", markup=False),
         BarColumn(),
-        TextColumn("{task.fields[info]}"),
+        TextColumn("{task.fields[info]}", markup=False),
         TimeElapsedColumn(),
         console=out,
     )
