@@ -216,3 +216,32 @@ def test_two_outputs_of_one_run_that_become_one_file_are_one_error(tmp_path):
         stage.path("试验一.json").write_text("1")
         stage.path("试验二.json").write_text("2")
     assert sorted(p.name for p in stage.written) == ["试验一.json", "试验二.json"]
+
+
+@pytest.mark.parametrize("failing", ["b.png", "run-run.json"])
+def test_a_file_that_cannot_be_replaced_leaves_the_old_outputs_whole(
+    tmp_path, monkeypatch, failing
+):
+    """One output that could not be replaced (a same-named file another user owns in a shared
+    folder) had stopped the commit half-way: the new results beside the old figure and
+    manifest, the old results lost (a review, 2026-12-03). Now nothing in --out changes."""
+    from rollerrig.cli import _outputs
+
+    out = tmp_path / "out"
+    with command_outputs(out, run="run") as stage:
+        for name in ("a.nc", "b.png", "c.txt"):
+            stage.path(name).write_text("old " + name)
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    real = os.replace
+
+    def refuse(src, dst):  # the new file onto the old one, not the old one moved aside
+        if os.fspath(dst) == os.fspath(out / failing) and ".replaced" not in os.fspath(src):
+            raise PermissionError(1, "Operation not permitted")
+        return real(src, dst)
+
+    monkeypatch.setattr(_outputs.os, "replace", refuse)  # the os module: everyone's
+    with pytest.raises(OutputError, match=rf"{failing}: cannot write the file.*nothing in"):
+        with command_outputs(out, run="run") as stage:
+            for name in ("a.nc", "b.png", "c.txt", "d.csv"):
+                stage.path(name).write_text("new " + name)
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before

@@ -244,15 +244,43 @@ class staged_outputs:  # a context manager that reads as a function
             self._check(self.final(src))
         if self.run is not None:
             files.append(self._manifest(files))  # moved last: present means complete
+        # All or none: a file of the same name is moved aside into the stage first, and where
+        # any move fails the new files are taken out and the old ones put back (one file
+        # that could not be replaced had left the new results beside the old figure and
+        # manifest, and the old results lost).
+        replaced = self.dir / ".replaced"
+        placed: list[tuple] = []  # (the new file or None, its old file moved aside, dest)
         with signals_deferred():
             for src in files:
                 dest = self.final(src)
+                old = None
                 try:
                     dest.parent.mkdir(parents=True, exist_ok=True)
+                    if dest.exists():
+                        replaced.mkdir(exist_ok=True)
+                        old = replaced / str(len(placed))
+                        os.replace(dest, old)
                     os.replace(src, dest)
                 except OSError as exc:
-                    raise OutputError(f"{dest}: cannot write the file: {_reason(exc)}") from None
-                self.written.append(dest)
+                    if old is not None and not dest.exists():
+                        placed.append((None, old, dest))  # only its old file to put back
+                    self._roll_back(placed)
+                    raise OutputError(
+                        f"{dest}: cannot write the file: {_reason(exc)}; nothing in {self.out} "
+                        "was changed"
+                    ) from None
+                placed.append((dest, old, dest))
+            self.written.extend(dest for dest, _, _ in placed)
+
+    @staticmethod
+    def _roll_back(placed) -> None:
+        """Undo a commit's moves, last first: the new file removed, the old one put back."""
+        for new, old, dest in reversed(placed):
+            with contextlib.suppress(OSError):
+                if new is not None:
+                    os.unlink(new)
+                if old is not None:
+                    os.replace(old, dest)
 
     def _manifest(self, files: list[Path]) -> Path:
         """``<run>-run.json`` in the stage: the run's files with SHA-256 and size, provenance."""
