@@ -134,17 +134,17 @@ def test_a_point_the_twin_cannot_resolve_is_failed_with_its_reason_not_ok(tmp_pa
 
 
 def test_an_ok_point_with_a_domain_warning_is_named_after_the_table(tmp_path, runner):
-    # 1e20 N.m/rad: the run gives numbers (round-off), the point is ok; the warning came before
-    # the table, and a note after it names the point again.
+    # 1e14 N.m/rad: the run gives numbers (T56 resolved to 2.8 N.m), the point is ok; the
+    # warning came before the table, and a note after it names the point again.
     study = tmp_path / "stiff.toml"
     study.write_text("name = 'stiff'\nexperiment = 'release-test'\n[grid]\n"
-                     "'stiffness.roller_shaft' = { values = [43.5e3, 1e20], unit = 'N.m/rad' }\n"
+                     "'stiffness.roller_shaft' = { values = [43.5e3, 1e14], unit = 'N.m/rad' }\n"
                      "[outputs]\nmetrics = ['release_overshoot']\n",
                      encoding="utf-8")  # fmt: skip
     result = _run_local(runner, study, tmp_path / "out", terminal_width=400)
     assert result.exit_code == 0, result.output
-    said = ("note: stiffness.roller_shaft = 1e+20 N.m/rad: ok, with warning: "
-            "stiffness.roller_shaft = 1e+20 N.m/rad: the twin resolves")  # fmt: skip
+    said = ("note: stiffness.roller_shaft = 1e+14 N.m/rad: ok, with warning: "
+            "stiffness.roller_shaft = 1e+14 N.m/rad: the twin resolves")  # fmt: skip
     assert said in result.output
     assert "43500 N.m/rad: ok, with" not in result.output
 

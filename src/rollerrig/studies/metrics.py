@@ -56,6 +56,10 @@ RELEASE_WINDOW = 3.0
 SWING_SMOOTHING = 1.0 / 13.8
 """Width of the moving average before the swing after a release is timed [s]: one period of
 the 13.8 Hz roller-shaft mode, which it removes (a moving average has a zero at 1/width)."""
+RELEASE_MIN_COA = 0.005
+"""Least CoA (force from T56 over the measured load) before a release for its overshoot to be
+stated [-]: below it there is no traction to release (a test at standstill released 1 N and
+"overshot" by 314 %)."""
 SETTLING_BAND = 0.05
 """Settling band: this share of |T56| before the release [-]."""
 LINE_BAND = (2.0, 50.0)
@@ -90,7 +94,8 @@ class RunChannels(NamedTuple):
         """The channels of a simulation's dataset (:func:`rollerrig.solve.results.
         build_dataset`); the roller radius [m] defaults to the dataset's T56 / (T56 / r_r)."""
         if roller_radius is None:
-            rr = ds.measured_t56.values / ds.measured_force.values
+            with np.errstate(divide="ignore", invalid="ignore"):  # 0/0 at rest: left out
+                rr = ds.measured_t56.values / ds.measured_force.values
             finite = np.isfinite(rr)
             roller_radius = float(np.median(rr[finite])) if finite.any() else np.nan
         return cls(
@@ -131,10 +136,12 @@ def _release_rows(run: RunChannels, protocol: Protocol, window: float) -> list[d
     t = run.time
     measured_force = run.measured_force
     rows = []
+    load = run.measured_load
     for event in _releases(protocol):
-        before = float(measured_force[np.argmin(np.abs(t - event.start))])
-        if not before > 0:
-            continue
+        k = int(np.argmin(np.abs(t - event.start)))
+        before = float(measured_force[k])
+        if not before > RELEASE_MIN_COA * abs(float(load[k])):
+            continue  # no traction to release: an overshoot of a near-zero force is noise
         span = (t > event.start) & (t <= event.start + window)
         if not span.any():
             continue
@@ -200,11 +207,12 @@ def release_overshoots(ds, protocol: Protocol, window: float = RELEASE_WINDOW) -
     Returns
     -------
     list of dict
-        Per release from a positive force: time [s], force from T56 before it [N], its minimum
-        after [N], the relative overshoot [-], the true contact force's minimum and relative
-        overshoot, the time from the release to the swing's first minimum
-        (``time_to_minimum [s]``) and the swing's frequency (``ringing_frequency [Hz]``, from
-        the first minimum to the next maximum: 1/(2 Δt)); see :func:`_swing`.
+        Per release from traction (a CoA above :data:`RELEASE_MIN_COA`): time [s], force
+        from T56 before it [N], its minimum after [N], the relative overshoot [-], the true
+        contact force's minimum and relative overshoot, the time from the release to the
+        swing's first minimum (``time_to_minimum [s]``) and the swing's frequency
+        (``ringing_frequency [Hz]``, from the first minimum to the next maximum: 1/(2 Δt));
+        see :func:`_swing`.
     """
     # A window of 0, NaN or below 0 had found no release: an empty list, with no error.
     window = require_positive("window", window, "s", single=True)
