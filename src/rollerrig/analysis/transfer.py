@@ -134,6 +134,7 @@ __all__ = [
     "CSV_COLUMNS",
     "LAW_FACTOR_ERROR",
     "LAW_FACTOR_ERROR_ONSET",
+    "MIN_DRAWS",
     "TRANSFER_LAWS",
     "ContactGeometry",
     "MeasuredCurve",
@@ -146,6 +147,10 @@ __all__ = [
     "rig_creep",
     "transfer_curve",
 ]
+
+MIN_DRAWS = 50
+"""Fewest Monte Carlo draws of a band [-]: its 2.5 % and 97.5 % quantiles need a few draws
+beyond each (with 50, one on each side)."""
 
 LAW_FACTOR_ERROR = {"polach": 0.0315, "modified-fastsim": 0.0080}
 """The largest relative error of each law's transfer factor F_rail/F_roller at equal creepage
@@ -298,8 +303,8 @@ def transfer_curve(
         )
     rail = RailGeometry() if rail is None else rail
     draws = int(draws)
-    if draws < 50:
-        raise ParameterError(f"draws must be at least 50, got {draws}")
+    if draws < MIN_DRAWS:
+        raise ParameterError(f"draws must be at least {MIN_DRAWS}, got {draws}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ParameterError(f"seed must be an integer >= 0 (numpy's generators), got {seed!r}")
     if int(points) < 10:

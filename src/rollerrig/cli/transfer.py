@@ -12,6 +12,7 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
+from rollerrig.analysis.transfer import MIN_DRAWS
 from rollerrig.cli._console import QuietOption, console, note, print_written, steps
 from rollerrig.cli._options import (
     DEFAULT_OUT,
@@ -123,7 +124,9 @@ def transfer(
             "put in the band (default: not in the band, stated).",
         ),
     ] = None,
-    draws: Annotated[int, typer.Option("--draws", help="Monte Carlo draws [-].")] = 400,
+    draws: Annotated[
+        int, typer.Option("--draws", min=MIN_DRAWS, help=f"Monte Carlo draws (>= {MIN_DRAWS}) [-].")
+    ] = 400,
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the draws (>= 0).")] = 0,
     out: OutOption = DEFAULT_OUT,
     figure_format: FigureFormatOption = FigureFormat.png,
