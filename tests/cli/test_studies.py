@@ -81,6 +81,13 @@ def test_show_writes_tables_and_figures_from_a_store(tmp_path, runner):
     assert not list(shown.glob("*.png"))
     doc = json.loads((shown / "study-drives.json").read_text())
     assert doc["rows"][0]["label"] == "AM V/f with lag (rig today)"
+    # --out inside the store wrote the tables and figures into it (a review, 2026-12-03)
+    store = out / "study-drives.zarr"
+    before = sorted(p.name for p in store.iterdir())
+    for inside in (store, store / "sub"):
+        result = runner.invoke(app, ["study", "show", str(store), "--out", str(inside)])
+        assert result.exit_code == 2 and "is inside the input" in result.output, result.output
+    assert sorted(p.name for p in store.iterdir()) == before
 
 
 def test_list_shows_the_bundled_studies(runner):

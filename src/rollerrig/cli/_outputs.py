@@ -161,6 +161,12 @@ class staged_outputs:  # a context manager that reads as a function
         out = self.out
         if out.exists() and not out.is_dir():
             raise OutputError(f"--out {out} is a file, not a folder; give a folder")
+        for source in self.inputs:
+            if source.is_dir() and _within(out, source):
+                raise OutputError(
+                    f"--out {out} is inside the input {source}: outputs would be written into "
+                    "it; choose another --out"
+                )
         missing = out
         while not missing.exists() and missing != missing.parent:
             self._created.insert(0, missing)
@@ -315,6 +321,15 @@ class staged_outputs:  # a context manager that reads as a function
         self._created = []
 
 
+def _within(path: Path, folder: Path) -> bool:
+    """Whether ``path`` is ``folder`` or lies inside it (links resolved)."""
+    try:
+        path.resolve().relative_to(folder.resolve())
+    except ValueError:
+        return False
+    return True
+
+
 @contextlib.contextmanager
 def command_outputs(
     out: str | os.PathLike,
@@ -338,7 +353,8 @@ def command_outputs(
     given = {role: Path(p) for role, p in (inputs or {}).items() if p is not None}
     if channel_map is not None:
         given.setdefault("channel_map", Path(channel_map))
-    files = {role: p for role, p in given.items() if role != "channel_map"}
+    # a folder given as an input (a study's store) is protected from --out, not hashed
+    files = {role: p for role, p in given.items() if role != "channel_map" and not p.is_dir()}
     with (
         run_context(
             command=command_line(),

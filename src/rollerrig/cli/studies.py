@@ -407,7 +407,7 @@ def show(
             "the same --out computes them again"
         )
     stem = _stem(ds.attrs["study"])
-    with command_outputs(out, run=f"{stem}-show", inputs={"store": None}) as stage:
+    with command_outputs(out, run=f"{stem}-show", inputs={"store": store}) as stage:
         _results(ds, stem, stage, run_info={"store": str(store)}, figure_format=figure_format)
     print_written(stage.written)
 
