@@ -332,16 +332,45 @@ def test_bad_radius_names_parameter(name, bad):
         "roller_radius_y": 0.4,
     }
     kwargs[name] = bad
-    with pytest.raises(ParameterError, match=rf"{name} must be > 0 \[m\]"):
+    # -0.1 m is concave, and curves more than the convex radius it meets: the bodies conform
+    match = rf"{name} must be a nonzero radius \[m\]" if bad != -0.1 else (
+        rf"{name.replace('roller', 'wheel')} and {name.replace('wheel', 'roller')} curve the "
+        r"bodies apart.*combined curvature -?[\d.]+ 1/m, must be > 0"
+    )  # fmt: skip
+    with pytest.raises(ParameterError, match=match):
         hertz_contact(**kwargs)
 
 
-@pytest.mark.parametrize("nu", [0.0, 0.5, -0.1, 0.7])
-def test_poisson_outside_open_interval(nu):
-    with pytest.raises(ParameterError, match=r"poisson must lie in \(0, 0.5\)"):
+def test_a_concave_radius_adds_its_negative_curvature():
+    """A hollow-worn tread or a ball in a cup: Hertz's relative curvature is the sum of the
+    signed curvatures (Johnson 1985, §4.2), so a sphere of 10 mm in a cup of 20 mm is the
+    contact of a sphere of 20 mm on a plane (1/0.01 − 1/0.02 = 1/0.02). Concave radii had
+    been refused (a review, 2026-12-03; CONTACT takes combined curvatures)."""
+    cup = hertz_contact(500.0, 0.01, 0.01, -0.02, -0.02)
+    plane = hertz_contact(500.0, 0.02, 0.02, np.inf, np.inf)
+    for field in ("semi_axis_x", "semi_axis_y", "peak_pressure", "approach"):
+        assert getattr(cup, field) == pytest.approx(getattr(plane, field), rel=1e-12)
+    worn = hertz_contact(10e3, 0.35, -0.5, np.inf, 0.3)  # hollow tread on a crowned head
+    assert worn.semi_axis_y == pytest.approx(
+        hertz_contact(10e3, 0.35, 1 / (1 / 0.3 - 1 / 0.5), np.inf, np.inf).semi_axis_y, rel=1e-12
+    )
+
+
+@pytest.mark.parametrize("nu", [-0.1, 0.7])
+def test_poisson_outside_its_interval(nu):
+    with pytest.raises(ParameterError, match=r"poisson must lie in \[0, 0.5\]"):
         hertz_contact(1e3, 0.35, 0.3, 1.0, 0.4, poisson=nu)
-    with pytest.raises(ParameterError, match=r"poisson_2 must lie in \(0, 0.5\)"):
+    with pytest.raises(ParameterError, match=r"poisson_2 must lie in \[0, 0.5\]"):
         hertz_contact(1e3, 0.35, 0.3, 1.0, 0.4, poisson_2=nu)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.5])
+def test_poisson_at_its_bounds_is_a_material(nu):
+    """ν = 0.5 (incompressible, rubber) and 0 are materials: E* = E/(2 (1 − ν²)) for two
+    equal bodies (Johnson 1985, eq. 4.22); the creep laws took them while Hertz refused."""
+    c = hertz_contact(1e3, 0.35, 0.3, 1.0, 0.4, poisson=nu)
+    ref = hertz_contact(1e3, 0.35, 0.3, 1.0, 0.4, youngs_modulus=210e9 / (1 - nu**2) * 0.91)
+    assert c.semi_axis_x == pytest.approx(ref.semi_axis_x, rel=1e-12)
 
 
 def test_bad_modulus_names_parameter():

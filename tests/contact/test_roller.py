@@ -58,7 +58,7 @@ def test_vectorised_and_scalar():
 
 
 def test_bad_roller_radius_names_parameter():
-    with pytest.raises(ParameterError, match=r"roller_radius_x must be > 0 \[m\]"):
+    with pytest.raises(ParameterError, match=r"roller_radius_x must be a nonzero radius \[m\]"):
         contact_versus_roller_radius([1.0, 0.0])
     with pytest.raises(ParameterError, match=r"normal_load must be > 0 \[N\]"):
         area_ratio_to_tangent_rail(1.0, normal_load=-5.0)

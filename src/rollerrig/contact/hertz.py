@@ -242,7 +242,7 @@ def combined_elastic_constants(
     youngs_modulus_1, youngs_modulus_2 : array_like
         Young's moduli E1, E2 of the two bodies [Pa], > 0.
     poisson_1, poisson_2 : array_like
-        Poisson ratios ν1, ν2 of the two bodies [-], in (0, 0.5).
+        Poisson ratios ν1, ν2 of the two bodies [-], in [0, 0.5].
 
     Returns
     -------
@@ -255,7 +255,7 @@ def combined_elastic_constants(
     Raises
     ------
     ParameterError
-        If a modulus is not > 0 or a Poisson ratio is outside (0, 0.5).
+        If a modulus is not > 0 or a Poisson ratio is outside [0, 0.5].
 
     Examples
     --------
@@ -267,8 +267,12 @@ def combined_elastic_constants(
     """
     e1 = require_positive("youngs_modulus_1", youngs_modulus_1, "Pa")
     e2 = require_positive("youngs_modulus_2", youngs_modulus_2, "Pa")
-    nu1 = require_in_range("poisson_1", poisson_1, 0.0, 0.5, "-")
-    nu2 = require_in_range("poisson_2", poisson_2, 0.0, 0.5, "-")
+    nu1 = require_in_range(
+        "poisson_1", poisson_1, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True
+    )
+    nu2 = require_in_range(
+        "poisson_2", poisson_2, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True
+    )
     e_star = _effective_modulus_kernel(e1, nu1, e2, nu2)
     g1 = e1 / (2.0 * (1.0 + nu1))
     g2 = e2 / (2.0 * (1.0 + nu2))
@@ -340,15 +344,17 @@ def hertz_contact(
     wheel_radius_x : array_like
         Wheel rolling radius R_wx, in the rolling plane [m], > 0 (``np.inf`` allowed: flat).
     wheel_radius_y : array_like
-        Wheel transverse profile radius R_wy [m], > 0 (``np.inf`` allowed: cylindrical tread).
+        Wheel transverse profile radius R_wy [m], > 0 convex, < 0 concave (a hollow-worn
+        tread; the combined curvature must stay > 0), ``np.inf`` a cylindrical tread.
     roller_radius_x : array_like
         Roller radius R_rx in the rolling plane [m], > 0; ``np.inf`` for a tangent rail.
     roller_radius_y : array_like
-        Roller (or rail head) transverse profile radius R_ry [m], > 0 (``np.inf`` allowed).
+        Roller (or rail head) transverse profile radius R_ry [m], > 0 convex, < 0 concave,
+        ``np.inf`` flat.
     youngs_modulus : array_like, optional
         Young's modulus E of the wheel [Pa], > 0. Default 210e9.
     poisson : array_like, optional
-        Poisson ratio ν of the wheel [-], in (0, 0.5). Default 0.3.
+        Poisson ratio ν of the wheel [-], in [0, 0.5]. Default 0.3.
     youngs_modulus_2 : array_like, optional
         Young's modulus of the roller [Pa]; defaults to ``youngs_modulus``.
     poisson_2 : array_like, optional
@@ -362,10 +368,11 @@ def hertz_contact(
     Raises
     ------
     ParameterError
-        If a load, modulus or radius is not > 0 (radius NaN included), a Poisson ratio lies
-        outside (0, 0.5), both radii of one direction are infinite (then the contact is a
-        line or a plane, not an ellipse), or array arguments have shapes that do not
-        broadcast together (naming them).
+        If a load or modulus is not > 0, a radius is 0 or NaN, a Poisson ratio lies outside
+        [0, 0.5], both radii of one direction are infinite (then the contact is a line or a
+        plane, not an ellipse), a direction's combined curvature is not > 0 (a concave radius
+        that the convex one does not exceed in curvature), or array arguments have shapes that
+        do not broadcast together (naming them).
 
     Warns
     -----
@@ -402,13 +409,17 @@ def hertz_contact(
     r_rx = _require_radius("roller_radius_x", roller_radius_x)
     r_ry = _require_radius("roller_radius_y", roller_radius_y)
     e1 = require_positive("youngs_modulus", youngs_modulus, "Pa")
-    nu1 = require_in_range("poisson", poisson, 0.0, 0.5, "-")
+    nu1 = require_in_range(
+        "poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True
+    )
     e2 = e1
     if youngs_modulus_2 is not None:
         e2 = require_positive("youngs_modulus_2", youngs_modulus_2, "Pa")
     nu2 = nu1
     if poisson_2 is not None:
-        nu2 = require_in_range("poisson_2", poisson_2, 0.0, 0.5, "-")
+        nu2 = require_in_range(
+            "poisson_2", poisson_2, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True
+        )
     # Broadcast under the names the caller gave (an omitted second body is the first's).
     named = dict(
         normal_load=load,
@@ -440,6 +451,18 @@ def hertz_contact(
 
     curvature_x = 0.5 * (1.0 / r_wx + 1.0 / r_rx)
     curvature_y = 0.5 * (1.0 / r_wy + 1.0 / r_ry)
+    for direction, curvature, names in (
+        ("x", curvature_x, ("wheel_radius_x", "roller_radius_x")),
+        ("y", curvature_y, ("wheel_radius_y", "roller_radius_y")),
+    ):
+        if np.any(curvature <= 0.0):
+            k = np.unravel_index(int(np.argmin(curvature)), np.shape(curvature))
+            raise ParameterError(
+                f"{names[0]} and {names[1]} curve the bodies apart by no more than they curve "
+                f"them together in {direction} (combined curvature {float(curvature[k]):.4g} "
+                "1/m, must be > 0): a concave (negative) radius must exceed in size the convex "
+                "one it meets; conforming bodies make no Hertz ellipse"
+            )
     e_star = _effective_modulus_kernel(e1, nu1, e2, nu2)
     a, b, p0, delta = _hertz_kernel(load, curvature_x, curvature_y, e_star)
     _warn_outside_half_space(load, a, b, curvature_x, curvature_y)
@@ -479,16 +502,20 @@ def _warn_outside_half_space(load, a, b, curvature_x, curvature_y) -> None:
 
 
 def _require_radius(name: str, value) -> np.ndarray:
-    """A radius of curvature [m]: > 0, ``np.inf`` allowed (flat), NaN rejected."""
+    """A radius of curvature [m]: > 0 convex, < 0 concave, ``np.inf`` allowed (flat); 0 and NaN
+    rejected (the combined curvature is checked by the caller)."""
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise ParameterError(f"{name} must be a number [m], got {value!r}") from exc
-    bad = np.isnan(arr) | (arr <= 0.0)
+    bad = np.isnan(arr) | (arr == 0.0)
     if np.any(bad):
         shown = arr[bad].ravel()[:6]
         got = f"{float(shown[0]):g}" if arr.ndim == 0 else np.array2string(shown, precision=4)
-        raise ParameterError(f"{name} must be > 0 [m] (np.inf for a flat direction), got {got}")
+        raise ParameterError(
+            f"{name} must be a nonzero radius [m] (> 0 convex, < 0 concave, np.inf for a flat "
+            f"direction), got {got}"
+        )
     return arr
 
 

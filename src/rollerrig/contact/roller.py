@@ -96,7 +96,7 @@ def contact_versus_roller_radius(
     youngs_modulus : float, optional
         Young's modulus of both bodies [Pa]. Default 210e9.
     poisson : float, optional
-        Poisson ratio of both bodies [-], in (0, 0.5). Default 0.3.
+        Poisson ratio of both bodies [-], in [0, 0.5]. Default 0.3.
 
     Returns
     -------
