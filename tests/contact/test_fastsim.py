@@ -419,3 +419,19 @@ def test_flexibility_functions_name_inputs_that_do_not_broadcast():
         kalker_flexibilities([8e-3, 9e-3], [4e-3, 4e-3, 4e-3], 82e9, 0.28)
     with pytest.raises(ParameterError, match=r"friction \(shape \(2,\)\) and long_creep"):
         blended_flexibilities(8e-3, 4e-3, 82e9, 0.28, 82e3, [0.3, 0.3], [1e-3, 1e-3, 1e-3])
+
+
+@pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
+@pytest.mark.parametrize("n", [10, 30])
+def test_full_sliding_carries_mu_n_exactly_on_any_grid(bound, n):
+    """The grid's pressures sum to the load, so full sliding gives μN: the closed-form
+    pressure constants summed on the 30 x 30 strips to 1 + 6.5e-4 (elliptic + 2.4e-3, 10 x 10
+    + 1.5e-2), and fastsim(1.0) gave 3 302.1 N at μN = 3 300 N where CONTACT stays at or
+    below μN (a review, 2026-12-03)."""
+    from rollerrig.contact.fastsim import fastsim, fastsim_grid
+
+    r = fastsim(
+        10.0, semi_axis_x=3e-3, semi_axis_y=4e-3, normal_load=10e3, shear_modulus=8.1e10,
+        poisson=0.3, friction=0.33, grid=fastsim_grid(n, n), bound=bound,
+    )  # fmt: skip
+    assert np.ravel(r.fx)[0] == pytest.approx(0.33 * 10e3, rel=1e-12)

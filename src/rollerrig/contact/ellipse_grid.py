@@ -153,10 +153,17 @@ def fastsim_grid(
 
 
 def _pressure_shape(grid: FastsimGrid, bound: str, a: float, b: float) -> np.ndarray:
-    """Normal pressure per newton of load, p_n/N [1/m²], at the element centres."""
-    if bound == "parabolic":
-        return 2.0 / (np.pi * a * b) * grid.shape
-    return 1.5 / (np.pi * a * b) * np.sqrt(grid.shape)
+    """Normal pressure per newton of load, p_n/N [1/m²], at the element centres: the
+    parabolic (FASTSIM's) or elliptic (Hertz's) shape, scaled so that the elements carry
+    the load exactly (Σ p_n ΔA = N).
+
+    The closed-form constants, 2/(π a b) and 3/(2 π a b), integrate to 1 over the ellipse, but
+    the grid's sum of them did not: on the default 30 x 30 strips it was 1 + 6.5e-4 (+2.4e-3
+    for the elliptic shape, +1.5e-2 on 10 x 10), so a fully sliding contact carried more than
+    μN (3 302.1 N at μN = 3 300 N; a review, 2026-12-03).
+    """
+    shape = grid.shape if bound == "parabolic" else np.sqrt(grid.shape)
+    return shape / (float(np.sum(shape * grid.area)) * a * b)
 
 
 def _equivalent_ellipse(grid: FastsimGrid, inside: np.ndarray, a: float, b: float):
