@@ -90,7 +90,9 @@ def _coverage(s, w, q, y, theta, model, best_cost, cost_with, ab_problems, n_ref
         if flat:
             reasons.append(
                 "the data hardly feel A and B: fixing "
-                + " or ".join(f"{lbl} raises the cost by {100 * rise[lbl]:.1f} %" for lbl in flat)
+                + " or ".join(
+                    f"{lbl} raises the cost by {_diag._percent(rise[lbl])} %" for lbl in flat
+                )
                 + f" (more than {100 * _diag._PROFILE_COST_RISE:.0f} % needed)"
             )
     elif cost_with is None:
