@@ -93,7 +93,12 @@ def polach_creep_curve(
     Parameters
     ----------
     creep : array_like
-        Creep values s [-].
+        Longitudinal creep s = w/v [-], w the slip velocity and v ``rolling_speed``, taken
+        as the law's creepage as Polach refers it (to the vehicle speed, for which the
+        roller's surface speed stands on the rig; Kayaalp eq. 4.21). Kalker's and CONTACT's
+        creepage is referred to the mean rolling speed, ξ = 2s/(2 + s)
+        (:func:`~rollerrig.contact.kinematics.kalker_creepage`): at 1 % the two differ by
+        0.5 % of their value; compare a curve with CONTACT's at equal ξ.
     normal_load : float
         Q [N].
     rolling_speed : float

@@ -388,7 +388,12 @@ def law_creep_curve(
     law : str
         One of :data:`CREEP_LAWS`.
     creep : array_like
-        Longitudinal creep s [-].
+        Longitudinal creep s = w/v [-], w the slip velocity and v ``rolling_speed``, taken
+        as the law's creepage as Polach refers it (to the vehicle speed, for which the
+        roller's surface speed stands on the rig; Kayaalp eq. 4.21). Kalker's and CONTACT's
+        creepage is referred to the mean rolling speed, ξ = 2s/(2 + s)
+        (:func:`~rollerrig.contact.kinematics.kalker_creepage`): at 1 % the two differ by
+        0.5 % of their value; compare a curve with CONTACT's at equal ξ.
     normal_load : float
         Q [N].
     rolling_speed : float
