@@ -191,7 +191,8 @@ def test_the_rate_of_rounded_time_stamps_is_the_spans():
     598.8 Hz, every frequency of a spectrum 0.2 % low; the span says 600 Hz to 1e-6. Written
     with 3 decimals the stamps are no uniform base, and the advice names 600 Hz, not the
     median step's 500 Hz."""
-    from rollerrig.recordings.timebase import require_uniform_time, uniform_sample_rate
+    from rollerrig.recordings.timebase import require_uniform_time
+    from rollerrig.recordings.uniform import uniform_sample_rate
 
     t = np.round(np.arange(12_001) / 600.0, 5)
     assert uniform_sample_rate(t) == pytest.approx(600.0, rel=1e-6)
@@ -203,7 +204,8 @@ def test_a_nan_time_stamp_or_values_of_another_length_are_refused():
     """A NaN stamp had given a rate of NaN or of 250 Hz; a series half as long as its time had
     been resampled as if it spanned it (40 % off on the FIR path, silently)."""
     from rollerrig._validation import ParameterError
-    from rollerrig.recordings.timebase import resample_onto, uniform_sample_rate
+    from rollerrig.recordings.timebase import resample_onto
+    from rollerrig.recordings.uniform import uniform_sample_rate
 
     for time in ([0, 0.004, 0.008, np.nan], [0, 0.004, np.nan, 0.012]):
         with pytest.raises(ParameterError, match="strictly increasing"):
@@ -220,11 +222,8 @@ def test_stamps_rounded_to_whole_microseconds_are_a_uniform_base():
     (0.16 % off, silently; a review, 2026-12-03). Every stamp lies within 0.5 µs of the
     19 200 Hz grid: a uniform base at the span's rate. The same resolution on stamps that
     jitter by 20 µs stays non-uniform."""
-    from rollerrig.recordings.timebase import (
-        print_resolution,
-        require_uniform_time,
-        rounded_grid,
-    )
+    from rollerrig.recordings.timebase import require_uniform_time
+    from rollerrig.recordings.uniform import print_resolution, rounded_grid
 
     t = np.round(np.arange(50_000) / 19_200.0, 6)
     assert np.ptp(np.diff(t)) > 0.018 * np.median(np.diff(t))  # not uniform by its steps

@@ -17,6 +17,7 @@ import numpy as np
 
 from rollerrig._display import fmt, html_table, short_list, text_block
 from rollerrig._validation import ParameterError
+from rollerrig.recordings.uniform import uniform_sample_rate
 
 __all__ = ["CANONICAL_CHANNELS", "ChannelLookup", "Recording", "RecordingError"]
 
@@ -154,11 +155,9 @@ class Recording(ChannelLookup):
     @functools.cached_property
     def sample_rate(self) -> float:
         """Nominal sampling rate [Hz]: ``(n − 1)`` over the time span where the time base is
-        uniform (:func:`~rollerrig.recordings.timebase.uniform_sample_rate`: stamps written with
+        uniform (:func:`~rollerrig.recordings.uniform.uniform_sample_rate`: stamps written with
         few decimals do not bias it, where their median step read 600 Hz as 598.8), else 1 over
         the median sample interval."""
-        from rollerrig.recordings.timebase import uniform_sample_rate  # imports this module
-
         try:
             return uniform_sample_rate(self.time)
         except ParameterError:  # jitter or gaps: the median step is the rate most steps have

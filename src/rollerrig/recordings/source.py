@@ -65,7 +65,6 @@ from rollerrig.recordings.readers import (
     resolve_inputs,
 )
 from rollerrig.recordings.recording import ChannelLookup, RecordingError
-from rollerrig.recordings.timebase import UNIFORM_STEP_TOLERANCE
 from rollerrig.recordings.translate import (
     apply_map,
     as_float,
@@ -74,6 +73,7 @@ from rollerrig.recordings.translate import (
     text_decimal,
     time_seconds,
 )
+from rollerrig.recordings.uniform import UNIFORM_STEP_TOLERANCE
 from rollerrig.recordings.validate import (
     GAP_FACTOR,
     check_sample_rate,

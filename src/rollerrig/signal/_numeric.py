@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from rollerrig._validation import ParameterError
-from rollerrig.recordings.timebase import uniform_sample_rate
+from rollerrig.recordings.uniform import uniform_sample_rate
 from rollerrig.signal.channel_checks import check_varies, constant_channel_message
 
 __all__ = [
