@@ -145,7 +145,7 @@ def modified_fastsim_coa(
     >>> c = modified_fastsim_coa([0.002, 0.02], [0.017, 0.17], 4300.0, 3.4e-3, 2.7e-3,
     ...                          8.08e10, 0.3, P)
     >>> [round(float(x), 3) for x in c]
-    [0.267, 0.33]
+    [0.267, 0.329]
     """
     s = require_finite("creep", creep, "-")
     w = np.broadcast_to(require_finite("slip_velocity", slip_velocity, "m/s"), s.shape)
