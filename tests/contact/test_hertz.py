@@ -277,10 +277,8 @@ def test_contact_of_1e6_kN_on_the_rig_warns_that_hertz_no_longer_applies():
         c = _rig_contact(1e9)
     assert len(record) == 1
     message = str(record[0].message)
-    assert "semi-axis a = 104 mm is 0.529 of the relative radius of curvature R'x = 196.6 mm" in (
-        message
-    )
-    assert "a/R' <= 0.1" in message and "Johnson 1985, §4.1" in message
+    assert "semi-axis a = 104 mm is 0.529 of the radius of curvature Rx = 196.6 mm" in message
+    assert "a/R <= 0.1" in message and "Johnson 1985, §4.1" in message
     assert "Q = 1e+09 N" in message
     assert c.semi_axis_x == pytest.approx(0.104025, rel=1e-5)  # still returned as computed
 
@@ -308,7 +306,7 @@ def test_domain_warning_names_the_lateral_axis_and_the_worst_of_an_array():
         hertz_contact(loads, 0.35, 0.02, np.inf, 1e3)
     message = str(record[0].message)
     assert "Q = 1e+08 N the semi-axis b = 13.64 mm is 0.682 of" in message
-    assert "R'y = 20 mm (worst of 2 such cases)" in message
+    assert "Ry = 20 mm (worst of 2 such cases)" in message
 
 
 # --- Validation -----------------------------------------------------------------------------
@@ -450,3 +448,11 @@ def test_broadcasting_keeps_scalars_scalar_and_shapes():
     assert np.ndim(c.semi_axis_x) == 0 and not isinstance(c.semi_axis_x, np.ndarray)
     c = hertz_contact(np.array([[1e4], [2e4]]), [0.35, 0.40, 0.45], 0.30, np.inf, 0.40)
     assert np.shape(c.semi_axis_x) == np.shape(c.peak_pressure) == (2, 3)
+
+
+def test_a_conforming_contact_is_held_against_the_bodies_own_radii():
+    """A concave radius makes the relative radius larger than either body's: b = 52 mm on
+    bodies of 0.3 m (b/R = 0.175) passed without a warning against R' (a review,
+    2026-12-03). The semi-axis must stay small against both bodies (Johnson 1985, §4.1)."""
+    with pytest.warns(DomainWarning, match=r"semi-axis b = 5\d(\.\d+)? mm .* Ry = 300 mm"):
+        hertz_contact(3e5, 0.46, -0.305, 0.45, 0.3)

@@ -251,3 +251,15 @@ def test_a_recordings_rate_is_its_uniform_bases_not_its_median_step():
     jittered = np.arange(5000) / 250.0 + np.random.default_rng(0).normal(0, 2e-4, 5000)
     rec = Recording(np.sort(jittered), {"torque": np.zeros(5000)}, {"torque": "N.m"})
     assert rec.sample_rate == pytest.approx(1.0 / np.median(np.diff(np.sort(jittered))))
+
+
+def test_jittered_epoch_stamps_are_not_taken_for_a_rounded_grid():
+    """Unrounded ``time.time()`` floats near 1.7e9 s: their round-off (0.24 µs) made every
+    finer resolution "fit", and a jitter of 7 µs at 1 kHz passed as a rounded uniform grid
+    (a review, 2026-12-03). The floats cannot show a resolution their round-off exceeds."""
+    from rollerrig.recordings.uniform import print_resolution, rounded_grid
+
+    rng = np.random.default_rng(0)
+    for rate in (1000.0, 5000.0):
+        t = 1.7e9 + np.arange(5000) / rate + rng.normal(0.0, 7e-6, 5000)
+        assert print_resolution(t) == 0.0 and not rounded_grid(t)

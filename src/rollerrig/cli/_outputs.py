@@ -250,43 +250,57 @@ class staged_outputs:  # a context manager that reads as a function
             self._check(self.final(src))
         if self.run is not None:
             files.append(self._manifest(files))  # moved last: present means complete
-        # All or none: a file of the same name is moved aside into the stage first, and where
-        # any move fails the new files are taken out and the old ones put back (one file
-        # that could not be replaced had left the new results beside the old figure and
-        # manifest, and the old results lost).
+        # All or none: an old file of the same name gets a second name in the stage first (a
+        # hard link: it stays in place until the new one atomically replaces it), and where
+        # any move fails the new files are taken out and the old ones put back. One file that
+        # could not be replaced had left the new results beside the old figure and manifest,
+        # and the old results lost.
         replaced = self.dir / ".replaced"
-        placed: list[tuple] = []  # (the new file or None, its old file moved aside, dest)
+        placed: list[tuple[Path, Path | None]] = []  # (dest, its old file's second name)
         with signals_deferred():
             for src in files:
                 dest = self.final(src)
-                old = None
                 try:
                     dest.parent.mkdir(parents=True, exist_ok=True)
-                    if dest.exists():
+                    old = None
+                    if os.path.lexists(dest):  # a dangling link too
                         replaced.mkdir(exist_ok=True)
                         old = replaced / str(len(placed))
-                        os.replace(dest, old)
-                    os.replace(src, dest)
+                        _second_name(dest, old)
+                    os.replace(src, dest)  # dest is the old file or the new one, never absent
                 except OSError as exc:
-                    if old is not None and not dest.exists():
-                        placed.append((None, old, dest))  # only its old file to put back
-                    self._roll_back(placed)
+                    where = self._roll_back(placed)
                     raise OutputError(
-                        f"{dest}: cannot write the file: {_reason(exc)}; nothing in {self.out} "
-                        "was changed"
+                        f"{dest}: cannot write the file: {_reason(exc)}; "
+                        + (
+                            f"nothing in {self.out} was changed"
+                            if where is None
+                            else f"some old files could not be put back: they are in {where}"
+                        )
                     ) from None
-                placed.append((dest, old, dest))
-            self.written.extend(dest for dest, _, _ in placed)
+                placed.append((dest, old))
+            self.written.extend(dest for dest, _ in placed)
 
-    @staticmethod
-    def _roll_back(placed) -> None:
-        """Undo a commit's moves, last first: the new file removed, the old one put back."""
-        for new, old, dest in reversed(placed):
-            with contextlib.suppress(OSError):
-                if new is not None:
-                    os.unlink(new)
-                if old is not None:
+    def _roll_back(self, placed) -> Path | None:
+        """Undo a commit's moves, last first: a new file removed, an old one put back. Where
+        an old file cannot be put back, the stage is kept under a name no later run removes,
+        and returned (None: all undone)."""
+        failed = False
+        for dest, old in reversed(placed):
+            try:
+                if old is None:
+                    os.unlink(dest)
+                else:
                     os.replace(old, dest)
+            except OSError:
+                failed = failed or old is not None
+        if not failed:
+            return None
+        kept = self.out / f".rollerrig-replaced-{os.getpid()}"
+        with contextlib.suppress(OSError):
+            os.replace(self.dir / ".replaced", kept)
+            return kept
+        return self.dir / ".replaced"
 
     def _manifest(self, files: list[Path]) -> Path:
         """``<run>-run.json`` in the stage: the run's files with SHA-256 and size, provenance."""
@@ -319,6 +333,18 @@ class staged_outputs:  # a context manager that reads as a function
             with contextlib.suppress(OSError):
                 folder.rmdir()
         self._created = []
+
+
+def _second_name(path: Path, alias: Path) -> None:
+    """Give the file ``path`` the second name ``alias`` (a hard link; a copy where the file
+    system has none), the file itself left in place."""
+    try:
+        os.link(path, alias, follow_symlinks=False)
+    except OSError:
+        if os.path.islink(path):
+            os.symlink(os.readlink(path), alias)
+        else:
+            shutil.copy2(path, alias)
 
 
 def _within(path: Path, folder: Path) -> bool:

@@ -68,11 +68,13 @@ class FastsimGrid:
 
 MIN_ELEMENTS = 5
 """Fewest elements of a FASTSIM grid across the ellipse along each axis [-] (on CONTACT's grid,
-``MIN_ELEMENTS × scale`` over the potential contact). The elliptic Hertz pressure summed over
-the elements is then within 5 % of the load on Kalker's strips (2 % from 8) and within 7.5 % on
-CONTACT's grid at scales 1-3 (about 3 % from 8 across), where one element put 2.3 times the
-load into the contact and a traction bound of μ times that (a 1 x 1 CONTACT-type grid: 76 kN
-of force under μN = 25 kN; measured 2026-12-02)."""
+``MIN_ELEMENTS × scale`` over the potential contact): fewer do not resolve the tractions'
+build-up along a strip nor the ellipse's outline. Measured 2026-12-02, before the pressures
+were scaled to carry the load exactly (:func:`_pressure_shape`): the elliptic Hertz pressure
+summed over the elements was then within 5 % of the load on Kalker's strips (2 % from 8) and
+within 7.5 % on CONTACT's grid at scales 1-3, where one element had put 2.3 times the load
+into the contact (a 1 x 1 CONTACT-type grid: 76 kN of force under μN = 25 kN); that error is
+gone, the discretisation's of the tractions is not."""
 
 
 def _element_count(name: str, value) -> int:

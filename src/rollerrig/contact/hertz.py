@@ -19,8 +19,8 @@ Domain of validity: Hertz treats each body as an elastic half-space and the gap 
 which needs the contact to be small against the radii of curvature, ``a ≪ R`` (Johnson 1985,
 §4.1). :func:`hertz_contact` issues a :class:`~rollerrig._warnings.DomainWarning` when a
 semi-axis exceeds :data:`HERTZ_DOMAIN_LIMIT` of the relative radius of curvature in its
-direction, ``R'_x = 1/(2A)``, ``R'_y = 1/(2B)`` (smaller than either body's radius, so the
-bound holds for both bodies).
+direction, ``R'_x = 1/(2A)``, ``R'_y = 1/(2B)``, or of a body's own radius there where that is
+smaller (with convex bodies R' is smaller than either radius; a concave body makes it larger).
 
 References
 ----------
@@ -342,12 +342,14 @@ def hertz_contact(
     normal_load : array_like
         Normal load Q [N], > 0.
     wheel_radius_x : array_like
-        Wheel rolling radius R_wx, in the rolling plane [m], > 0 (``np.inf`` allowed: flat).
+        Wheel rolling radius R_wx, in the rolling plane [m], > 0 (``np.inf`` allowed: flat;
+        < 0 for a concave surface, the inside of a ring).
     wheel_radius_y : array_like
         Wheel transverse profile radius R_wy [m], > 0 convex, < 0 concave (a hollow-worn
         tread; the combined curvature must stay > 0), ``np.inf`` a cylindrical tread.
     roller_radius_x : array_like
-        Roller radius R_rx in the rolling plane [m], > 0; ``np.inf`` for a tangent rail.
+        Roller radius R_rx in the rolling plane [m], > 0; ``np.inf`` for a tangent rail; < 0
+        for the inside of a ring (a wheel running inside a drum).
     roller_radius_y : array_like
         Roller (or rail head) transverse profile radius R_ry [m], > 0 convex, < 0 concave,
         ``np.inf`` flat.
@@ -460,12 +462,19 @@ def hertz_contact(
             raise ParameterError(
                 f"{names[0]} and {names[1]} curve the bodies apart by no more than they curve "
                 f"them together in {direction} (combined curvature {float(curvature[k]):.4g} "
-                "1/m, must be > 0): a concave (negative) radius must exceed in size the convex "
-                "one it meets; conforming bodies make no Hertz ellipse"
+                "1/m, must be > 0): a concave (negative) radius must exceed in size a convex "
+                "one it meets (a flat one cannot hold it); conforming bodies make no Hertz "
+                "ellipse"
             )
     e_star = _effective_modulus_kernel(e1, nu1, e2, nu2)
     a, b, p0, delta = _hertz_kernel(load, curvature_x, curvature_y, e_star)
-    _warn_outside_half_space(load, a, b, curvature_x, curvature_y)
+    _warn_outside_half_space(
+        load,
+        a,
+        b,
+        _smallest_radius(curvature_x, r_wx, r_rx),
+        _smallest_radius(curvature_y, r_wy, r_ry),
+    )
     return HertzContact(
         semi_axis_x=_out(a),
         semi_axis_y=_out(b),
@@ -476,25 +485,35 @@ def hertz_contact(
     )
 
 
-def _warn_outside_half_space(load, a, b, curvature_x, curvature_y) -> None:
-    """:class:`DomainWarning` naming the worst case where a/R'_x or b/R'_y > the limit."""
-    ratio_x = 2.0 * a * curvature_x  # a / R'x
-    ratio_y = 2.0 * b * curvature_y
+def _smallest_radius(curvature, r1, r2):
+    """The radius [m] a semi-axis is held against in one direction: the relative radius
+    R' = 1/(2 (1/R1 + 1/R2)/2), or a body's own radius where that is smaller (a concave body
+    makes R' larger than either: the contact's size must stay small against both bodies,
+    Johnson 1985, §4.1)."""
+    return np.minimum(0.5 / curvature, np.minimum(np.abs(r1), np.abs(r2)))
+
+
+def _warn_outside_half_space(load, a, b, radius_x, radius_y) -> None:
+    """:class:`DomainWarning` naming the worst case where a/R_x or b/R_y > the limit, R the
+    radius of :func:`_smallest_radius` in that direction."""
+    ratio_x = a / radius_x
+    ratio_y = b / radius_y
     ratio = np.maximum(ratio_x, ratio_y)
     outside = ratio > HERTZ_DOMAIN_LIMIT
     if not np.any(outside):
         return
     k = np.unravel_index(np.argmax(ratio), ratio.shape)
     if ratio_x[k] >= ratio_y[k]:
-        axis, semi, rel, direction = "a", a[k], 0.5 / curvature_x[k], "x"
+        axis, semi, rel, direction = "a", a[k], radius_x[k], "x"
     else:
-        axis, semi, rel, direction = "b", b[k], 0.5 / curvature_y[k], "y"
+        axis, semi, rel, direction = "b", b[k], radius_y[k], "y"
     where = "" if ratio.ndim == 0 else f" (worst of {int(np.sum(outside))} such cases)"
     warnings.warn(
         f"Hertz contact outside its domain: at normal load Q = {float(load[k]):.4g} N the "
-        f"semi-axis {axis} = {1e3 * float(semi):.4g} mm is {float(ratio[k]):.3g} of the relative "
-        f"radius of curvature R'{direction} = {1e3 * float(rel):.4g} mm{where}; the "
-        f"half-space assumption of Hertz theory needs a/R' <= {HERTZ_DOMAIN_LIMIT:g} "
+        f"semi-axis {axis} = {1e3 * float(semi):.4g} mm is {float(ratio[k]):.3g} of the radius "
+        f"of curvature R{direction} = {1e3 * float(rel):.4g} mm{where} (the relative one, or a "
+        f"body's own where smaller); the half-space assumption of Hertz theory needs "
+        f"a/R <= {HERTZ_DOMAIN_LIMIT:g} "
         "(Johnson 1985, §4.1), so the contact size, pressure and approach are extrapolated",
         DomainWarning,
         stacklevel=3,

@@ -548,7 +548,7 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
             fail(rate, f"column {name!r}" + ("" if file_unit or not numeric else " read in s"))
 
 
-_TIME_WORDS = ("time", "zeit", "temps", "tiempo", "timestamp", "__index_level_0__", "t", "x")
+_TIME_WORDS = ("time", "zeit", "temps", "tiempo", "timestamp", "__index_level_0__", "t")
 
 
 def _time_column_hint(names) -> str:

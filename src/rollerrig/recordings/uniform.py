@@ -100,8 +100,10 @@ def print_resolution(time) -> float:
         r = t / q
         # float round-off: a few ulp of the largest stamp, and 1e-3 of a quantum for stamps
         # made relative to a large origin (times of day: 7e-12 s at 13:00, 7e-6 of 1 µs)
-        slack = 1e-3 + 64.0 * np.finfo(float).eps * float(np.max(np.abs(r)))
-        if float(np.max(np.abs(r - np.rint(r)))) <= slack:
+        ulps = 64.0 * np.finfo(float).eps * float(np.max(np.abs(r)))
+        if ulps > 0.1:  # the floats cannot show this resolution (epoch s at 10 µs), nor a finer
+            return 0.0
+        if float(np.max(np.abs(r - np.rint(r)))) <= 1e-3 + ulps:
             return q
     return 0.0
 
@@ -135,7 +137,9 @@ def rounded_grid(time) -> bool:
     slope = float(np.dot(k, t - mean) / np.dot(k, k))
     if not slope > 0.0 or q > ROUNDED_GRID_LIMIT * slope:
         return False
+    round_off = 2.0 * float(np.spacing(np.max(np.abs(t))))
+    if round_off > 0.1 * q:  # the stamps' floats do not resolve their printed resolution
+        return False
     deviation = float(np.max(np.abs(t - mean - slope * k)))
-    round_off = 64.0 * np.finfo(float).eps * float(np.max(np.abs(t)))
     # 1 % slack: a stamp exactly halfway rounds by q/2, and the fitted line is off by a little
     return bool(deviation <= 0.505 * q + round_off)

@@ -184,6 +184,8 @@ def _fixed_width_times_of_day(s, first: str) -> np.ndarray | None:
     m = _DATE_PATTERNS["tod"].match(first)
     if m is None or m.group("S") is None or not first.isascii():
         return None
+    if m.group("f") is not None and len(m.group("f")) > 15:  # beyond int64's digits
+        return None
     width = len(first)
     try:
         cells = np.asarray(s.to_numpy(), dtype=f"S{width}")  # longer cells are cut: checked
