@@ -93,12 +93,9 @@ def polach_creep_curve(
     Parameters
     ----------
     creep : array_like
-        Longitudinal creep s = w/v [-], w the slip velocity and v ``rolling_speed``, taken
-        as the law's creepage as Polach refers it (to the vehicle speed, for which the
-        roller's surface speed stands on the rig; Kayaalp eq. 4.21). Kalker's and CONTACT's
-        creepage is referred to the mean rolling speed, ξ = 2s/(2 + s)
-        (:func:`~rollerrig.contact.kinematics.kalker_creepage`): at 1 % the two differ by
-        0.5 % of their value; compare a curve with CONTACT's at equal ξ.
+        Longitudinal creep s = w/v [-], w the slip velocity and v ``rolling_speed``: Polach's
+        convention, not Kalker's ξ = 2s/(2 + s) (see
+        :func:`~rollerrig.contact.laws.law_creep_curve`).
     normal_load : float
         Q [N].
     rolling_speed : float
