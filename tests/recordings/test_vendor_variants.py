@@ -317,8 +317,8 @@ def test_feather_is_refused_with_the_parquet_advice(tmp_path):
 def test_a_rigol_scope_csv_is_read_and_its_increment_gives_the_rate(tmp_path):
     """``X,CH1,CH2,Start,Increment,`` over ``Sequence,Volt,Volt,-1e-3,1e-3``: the header has
     two cells more than the samples, which no [file] key could get past (a review,
-    2026-12-03). Its first cells name the columns, the units row gives Volt, and the note (and
-    the error without a rate) gives the rate from Increment."""
+    2026-12-03). Its first cells name the columns, the units row gives Volt, and Increment
+    gives the time base (whole or in chunks); a map's rate that contradicts it is an error."""
     rows = "".join(f"{k},{1 + k / 1000:.6e},{2 + k / 500:.6e},\n" for k in range(400))
     p, sha = _write(
         tmp_path,
@@ -326,13 +326,17 @@ def test_a_rigol_scope_csv_is_read_and_its_increment_gives_the_rate(tmp_path):
         "X,CH1,CH2,Start,Increment,\nSequence,Volt,Volt,-1.000000e-03,1.000000e-03\n" + rows,
     )
     channels = {"torque": {"column": "CH1", "unit": "N.m", "scale": 100.0}}
-    with pytest.raises(RecordingError, match=r"Increment.*sample_rate_Hz = 1000\)") as info:
-        read_recording(p, {"channels": channels})
-    assert "column = 'X'" not in str(info.value)  # a sample index, not a time
-    rec = read_recording(p, {"time": {"sample_rate_Hz": 1000.0}, "channels": channels})
+    rec = read_recording(p, {"channels": channels})
     assert rec.time.size == 400 and rec.sample_rate == pytest.approx(1000.0)
     np.testing.assert_allclose(rec["torque"][:3], [100.0, 100.1, 100.2])
     assert any("Rigol" in n and "1000 Hz apart" in n for n in rec.metadata["notes"])
+    with open_recording(p, {"channels": channels}) as src:
+        streamed = np.concatenate([c.time for c in src.iter_chunks(chunk_samples=150)])
+    np.testing.assert_array_equal(streamed, rec.time)
+    stated = read_recording(p, {"time": {"sample_rate_Hz": 1000.0}, "channels": channels})
+    np.testing.assert_array_equal(stated.time, rec.time)
+    with pytest.raises(RecordingError, match=r"sample_rate_Hz = 500 Hz .* 1000 Hz"):
+        read_recording(p, {"time": {"sample_rate_Hz": 500.0}, "channels": channels})
     assert file_sha256(p) == sha
     # A wider header that is not a scope's stays an error naming the mismatch.
     q, _ = _write(tmp_path, "wide.csv", "Time,Torque,Speed,Extra\n" + "0,1,2\n1,2,3\n" * 5)

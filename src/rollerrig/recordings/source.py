@@ -610,6 +610,8 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
     tspec = cmap.time
     rate_stated = getattr(tspec, "sample_rate_Hz", None)
     has_time_column = tspec is not None and tspec.column is not None
+    if rate_stated is None and not has_time_column and table.stated_rate:
+        rate_stated = table.stated_rate  # the file's own (an oscilloscope's 1/Increment)
 
     # --- one time base for the channels read (channels= narrows the map to the needed base)
     use_own = rate_stated is None and (table.own_time_exact or not has_time_column)

@@ -506,6 +506,8 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
         med = float(np.median(d)) if d.size else 0.0
         return 1.0 / med if med > 0 else float("nan")
 
+    if table.stated_rate and off(table.stated_rate):
+        fail(table.stated_rate, "stated in its header: an oscilloscope's 1/Increment")
     for spec, _values, _si, own in loaded:
         if own is not None and own.size > 1:
             rate = median_rate(np.asarray(own, dtype=float))
@@ -717,6 +719,11 @@ def apply_map(
         time = np.arange(first_values.size) / tspec.sample_rate_Hz
         info["source_units"]["time"] = f"sample_rate_Hz = {tspec.sample_rate_Hz}"
         own_times: list = [None] * len(loaded)
+    elif time is None and first_own is None and table.stated_rate:
+        # the file states its rate and no time column (an oscilloscope's 1/Increment)
+        time = np.arange(first_values.size) / table.stated_rate
+        info["source_units"]["time"] = f"the file's stated rate, {table.stated_rate:g} Hz"
+        own_times = [None] * len(loaded)
     elif time is None:
         if first_own is None:
             raise RecordingError(

@@ -127,10 +127,13 @@ def ends_with_scope_extras(cells: list[str]) -> bool:
     return len(names) > len(SCOPE_EXTRAS) and tuple(names[-2:]) == SCOPE_EXTRAS
 
 
-def _scope_header(names: list[str], n_names: int, below: str, sep: str, notes: list) -> list:
+def _scope_header(
+    names: list[str], n_names: int, below: str, sep: str, notes: list, stated: dict
+) -> list:
     """The header's first ``n_names`` cells where the cells beyond the data's columns are an
-    oscilloscope's Start and Increment (:data:`SCOPE_EXTRAS`), noted with the rate they give;
-    ``names`` unchanged otherwise (the count check then names the mismatch)."""
+    oscilloscope's Start and Increment (:data:`SCOPE_EXTRAS`), noted, with the rate they give
+    in ``stated["rate_Hz"]``; ``names`` unchanged otherwise (the count check then names the
+    mismatch)."""
     cells = [c.strip().strip('"').lower() for c in names]
     while cells and cells[-1] == "":
         cells.pop()
@@ -142,11 +145,12 @@ def _scope_header(names: list[str], n_names: int, below: str, sep: str, notes: l
         start, increment = (float(v) for v in values)
     except ValueError:
         start = increment = float("nan")
-    if increment > 0:
+    if 0.0 < increment < float("inf"):
+        stated["rate_Hz"] = 1.0 / increment
         how = (
             f"Start {start:g} s, Increment {increment:g} s on the line below: the samples are "
-            f"{1.0 / increment:g} Hz apart (the time of sample X is Start + X Increment; map "
-            f"the rate with [time] sample_rate_Hz = {1.0 / increment:g})"
+            f"{1.0 / increment:g} Hz apart (the time of sample X is Start + X Increment), the "
+            "time base where the map gives none"
         )
     else:
         how = "the time of sample X is Start + X Increment ([time] sample_rate_Hz = 1/Increment)"
@@ -166,6 +170,7 @@ def column_names(
     separator_given: bool,
     notes: list[str],
     repeated: dict | None = None,
+    stated: dict | None = None,
 ) -> list[str]:
     """Unique names of the ``n`` cells of a data row (``trailing``: the last is empty).
 
@@ -189,7 +194,14 @@ def column_names(
         notes.append("no header row; columns named 'column 1', 'column 2', ...")
     n_names = n - 1 if trailing else n
     if header_line is not None and len(names) > n_names:
-        names = _scope_header(names, n_names, text_of.get(header_line + 1, ""), sep, notes)
+        names = _scope_header(
+            names,
+            n_names,
+            text_of.get(header_line + 1, ""),
+            sep,
+            notes,
+            {} if stated is None else stated,
+        )
     if header_line is not None and len(names) != n_names:
         if n == 1 and not separator_given:
             pass  # one column: the separator is unknown and irrelevant

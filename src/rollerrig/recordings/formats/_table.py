@@ -72,6 +72,9 @@ class Table:
     # a text file's hint where a name the map gives stands, when it is no column's name
     # (sniff.where_named: another line than the header the reader took)
     locate: Callable[[str], str] | None = None
+    # a sample rate the file states without a time column [Hz] (an oscilloscope CSV's
+    # 1/Increment): the time base where the map gives none
+    stated_rate: float | None = None
 
     def __setattr__(self, name: str, value: Any) -> None:
         """Setting ``stored_metadata`` to the object :func:`rollerrig.output.write_table` wrote

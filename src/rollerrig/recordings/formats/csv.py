@@ -220,6 +220,7 @@ def layout_table(frame, layout: TextLayout) -> Table:
     table.decimal = layout.decimal if layout.decimal_decided else None
     table.repeated = {name: list(columns) for name, columns in layout.repeated}
     table.locate = functools.partial(where_named, layout)
+    table.stated_rate = layout.rate_Hz
     return table
 
 

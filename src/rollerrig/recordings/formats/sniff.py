@@ -94,6 +94,7 @@ class TextLayout:
     repeated: tuple[tuple[str, tuple[str, ...]], ...] = ()  # a repeated name, its columns' names
     decimal_decided: bool = True  # the decimal mark was given or sniffed, not a default
     cr_only: bool = False  # lines end in a lone CR (Mac Excel's "CSV (Macintosh)")
+    rate_Hz: float | None = None  # a rate the header states (an oscilloscope's 1/Increment)
 
     @contextlib.contextmanager
     def readable(self, encoding: str | None = None):
@@ -445,6 +446,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
     named_last = len(header_cells) >= n and header_cells[n - 1].strip() != ""
     trailing = n >= 2 and not named_last and all(len(f) == n and f[-1] == "" for _, f in block)
     repeated: dict[str, list[str]] = {}
+    stated: dict[str, float] = {}
     names = column_names(
         p,
         text_of,
@@ -456,6 +458,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         separator_given=spec.separator is not None,
         notes=notes,
         repeated=repeated,
+        stated=stated,
     )
     if units_line is not None:
         if units_line >= len(all_lines):
@@ -495,6 +498,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         repeated=tuple((k, tuple(v)) for k, v in repeated.items()),
         cr_only="\r" in text and "\n" not in text,
         decimal_decided=decided,
+        rate_Hz=stated.get("rate_Hz"),
     )
 
 
