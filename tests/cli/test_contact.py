@@ -46,7 +46,7 @@ def test_contact_with_a_rig_file_records_its_hash(tmp_path, runner):
     [
         (["--load-kn", "-5"], "--load-kn must be > 0 kN, got -5 kN"),
         (["--roller-radius-mm", "0"], "radius"),
-        (["--poisson", "0.6"], "poisson"),
+        (["--poisson", "0.6"], "--poisson must be in (0, 0.5), got 0.6"),
         (["--ka", "0.2", "--ks", "0.5"], "kS <= kA"),
     ],
 )

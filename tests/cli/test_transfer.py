@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+import pytest
 
 from rollerrig.cli import app
 from rollerrig.contact import polach_creep_curve
@@ -128,3 +129,23 @@ def test_the_figure_in_the_format_asked(tmp_path, runner):
     assert result.exit_code == 0, result.output
     assert (out / "curve-transfer.pdf").read_bytes()[:5] == b"%PDF-"
     assert not (out / "curve-transfer.png").exists()
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "said"),
+    [
+        ("--contact-angle-deg", "95", "--contact-angle-deg must be in (-90, 90) deg, got 95 deg"),
+        ("--rail-crown-radius-mm", "0", "--rail-crown-radius-mm must be > 0 mm, got 0 mm"),
+        ("--curve-radius-m", "-5", "--curve-radius-m must be > 0 m, got -5 m"),
+    ],
+)
+def test_rail_options_are_checked_as_typed(tmp_path, runner, option, value, said):
+    """``--contact-angle-deg 95`` was answered "contact_angle must lie in (-pi/2, pi/2) [rad],
+    got 1.658": the SI parameter, not the option the user typed (a review, 2026-12-03)."""
+    src = _curve_csv(tmp_path / "curve.csv")
+    result = runner.invoke(
+        app, ["transfer", str(src), option, value, "--out", str(tmp_path / "out")],
+        terminal_width=200,
+    )  # fmt: skip
+    assert result.exit_code == 2 and said in result.output, result.output
+    assert not (tmp_path / "out").exists()

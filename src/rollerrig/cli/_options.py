@@ -183,6 +183,7 @@ def check_option(
     *,
     above: float | None = None,
     at_most: float | None = None,
+    below: float | None = None,
     why: str = "",
 ) -> None:
     """Check an option's value in the unit the user typed it in, before any conversion to SI.
@@ -202,6 +203,8 @@ def check_option(
         Exclusive lower bound.
     at_most : float, optional
         Inclusive upper bound.
+    below : float, optional
+        Exclusive upper bound.
     why : str, optional
         What the bound means, appended in parentheses.
 
@@ -224,7 +227,12 @@ def check_option(
     if above is not None and at_most is not None and not above < value <= at_most:
         span = f"({above:g}, {at_most:g}]"
         raise UserError(f"{option} must be in {span}{u}{reason}, got {value:g}{u}")
+    if above is not None and below is not None and not above < value < below:
+        span = f"({above:g}, {below:g})"
+        raise UserError(f"{option} must be in {span}{u}{reason}, got {value:g}{u}")
     if above is not None and not value > above:
         raise UserError(f"{option} must be > {above:g}{u}{reason}, got {value:g}{u}")
     if at_most is not None and not value <= at_most:
         raise UserError(f"{option} must be <= {at_most:g}{u}{reason}, got {value:g}{u}")
+    if below is not None and not value < below:
+        raise UserError(f"{option} must be < {below:g}{u}{reason}, got {value:g}{u}")

@@ -120,6 +120,7 @@ def contact(
     check_option("--speed-kmh", speed_kmh, "km/h", above=0)
     check_option("--wheel-radius-mm", wheel_radius_mm, "mm", above=0)
     check_option("--roller-radius-mm", roller_radius_mm, "mm", above=0)
+    check_option("--poisson", poisson, "", above=0, below=0.5)
     rig = load_rig(rig_file)
     g, mat = rig.geometry, rig.material
     load = load_kn * 1e3

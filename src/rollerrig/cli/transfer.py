@@ -20,6 +20,7 @@ from rollerrig.cli._options import (
     FigureFormatOption,
     OutOption,
     RigOption,
+    check_option,
     load_rig,
 )
 from rollerrig.cli._outputs import command_outputs, safe_file_stem
@@ -198,6 +199,10 @@ def transfer(
         "--speed-kmh", speed, measured.rolling_speed, "km/h", 3.6, "speed",
         measured_in.get("rolling_speed"),
     )  # fmt: skip
+    # checked as typed (mm, m, deg), not as the SI parameters they become
+    check_option("--rail-crown-radius-mm", crown_radius_mm, "mm", above=0)
+    check_option("--curve-radius-m", curve_radius_m, "m", above=0)
+    check_option("--contact-angle-deg", contact_angle_deg, "deg", above=-90, below=90)
     rail = RailGeometry(
         crown_radius=None if crown_radius_mm is None else crown_radius_mm * 1e-3,
         curve_radius=math.inf if curve_radius_m is None else curve_radius_m,
