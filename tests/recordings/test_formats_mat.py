@@ -176,6 +176,13 @@ def test_a_matrix_without_names_is_an_error_that_lists_the_variables(tmp_path):
         read_recording(g)
 
 
+def _write_mat73_header(path):
+    """MATLAB's 512-byte user block of a v7.3 (HDF5) file: its text, version 0x0200, "IM"."""
+    header = b"MATLAB 7.3 MAT-file".ljust(116, b" ") + b" " * 8 + b"\x00\x02" + b"IM"
+    with path.open("r+b") as fh:
+        fh.write(header.ljust(512, b"\x00"))
+
+
 def test_a_v73_matrix_with_a_cell_array_of_names_is_read_in_slices(tmp_path):
     import h5py
 
@@ -195,9 +202,7 @@ def test_a_v73_matrix_with_a_cell_array_of_names_is_read_in_slices(tmp_path):
             out[k, 0] = c.ref
         cell = h.create_dataset("names", data=out, dtype=h5py.ref_dtype)
         cell.attrs["MATLAB_class"] = np.bytes_("cell")
-    header = b"MATLAB 7.3 MAT-file".ljust(116, b" ") + b" " * 8 + b"\x00\x02" + b"IM"
-    with f.open("r+b") as fh:
-        fh.write(header.ljust(512, b"\x00"))
+    _write_mat73_header(f)
     rec = read_recording(f)
     np.testing.assert_allclose(rec.time, t)
     np.testing.assert_allclose(rec["normal_load"], 3.0 * t)
@@ -236,9 +241,7 @@ def _simulink_v73(path, time, signals):
                     target.attrs["MATLAB_class"] = np.bytes_("double")
                 out[k, 0] = target.ref
             sig.create_dataset(field, data=out, dtype=h5py.ref_dtype)
-    header = b"MATLAB 7.3 MAT-file".ljust(116, b" ") + b" " * 8 + b"\x00\x02" + b"IM"
-    with path.open("r+b") as fh:
-        fh.write(header.ljust(512, b"\x00"))
+    _write_mat73_header(path)
 
 
 @pytest.mark.parametrize("version", ["5", "7.3"])
@@ -287,9 +290,7 @@ def _simulink_one_signal_v73(path, time, label, values):
         codes = np.frombuffer(label.encode("utf-16-le"), dtype=np.uint16).reshape(-1, 1)
         ds = sig.create_dataset("label", data=codes)
         ds.attrs["MATLAB_class"] = np.bytes_("char")
-    header = b"MATLAB 7.3 MAT-file".ljust(116, b" ") + b" " * 8 + b"\x00\x02" + b"IM"
-    with path.open("r+b") as fh:
-        fh.write(header.ljust(512, b"\x00"))
+    _write_mat73_header(path)
 
 
 @pytest.mark.parametrize("version", ["5", "7.3"])

@@ -171,14 +171,18 @@ def _as_channel_map(channel_map: ChannelMapLike) -> ChannelMap:
     )
 
 
-def _refuse_vendor_file(p: Path) -> None:
-    """RecordingError naming the vendor when the file starts like one no reader here reads
-    (:data:`VENDOR_SIGNATURES`), whatever its suffix."""
+def _file_head(p: Path) -> bytes:
+    """The file's first 32 bytes (b"" where it is missing or unreadable: the reader says so)."""
     try:
         with p.open("rb") as fh:
-            head = fh.read(16)
+            return fh.read(32)
     except OSError:
-        return  # missing or unreadable: the reader says so
+        return b""
+
+
+def _refuse_vendor_file(p: Path, head: bytes) -> None:
+    """RecordingError naming the vendor when the file starts (``head``) like one no reader
+    here reads (:data:`VENDOR_SIGNATURES`), whatever its suffix."""
     for magic, why in VENDOR_SIGNATURES.items():
         if head.startswith(magic):
             suffix = p.suffix.lower()
@@ -186,17 +190,12 @@ def _refuse_vendor_file(p: Path) -> None:
             raise RecordingError(f"{p}: {why}{named}")
 
 
-def _format_by_content(p: Path) -> str | None:
-    """The format of a file whose suffix is none of :data:`FORMATS`' but whose first bytes are
-    one of :data:`CONTENT_SIGNATURES`; None otherwise (the suffix decides)."""
+def _format_by_content(p: Path, head: bytes) -> str | None:
+    """The format of a file whose suffix is none of :data:`FORMATS`' but whose first bytes
+    (``head``) are one of :data:`CONTENT_SIGNATURES`; None otherwise (the suffix decides)."""
     suffix = p.suffix.lower()
     if any(suffix in suffixes for suffixes in FORMATS.values()):
         return None
-    try:
-        with p.open("rb") as fh:
-            head = fh.read(32)
-    except OSError:
-        return None  # missing or unreadable: the reader says so
     for magic, fmt in CONTENT_SIGNATURES.items():
         if head.startswith(magic):
             return fmt
@@ -216,8 +215,9 @@ def resolve_inputs(
         An unsupported format; a channel map that cannot be loaded.
     """
     p = Path(path)
-    _refuse_vendor_file(p)
-    fmt = _format_by_content(p) if format is None else None
+    head = _file_head(p)
+    _refuse_vendor_file(p, head)
+    fmt = _format_by_content(p, head) if format is None else None
     fmt = fmt or detect_format(p, format)
     cmap = _as_channel_map(channel_map)
     if not p.is_file():

@@ -550,17 +550,14 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
             fail(rate, f"column {name!r}" + ("" if file_unit or not numeric else " read in s"))
 
 
-_TIME_WORDS = ("time", "zeit", "temps", "tiempo", "timestamp", "__index_level_0__", "t")
-
-
-def _time_column_hint(names) -> str:
-    """``; columns that may hold the time: [...] ([time] column = "...")``, from the file's
-    column names (a pandas index stored in Parquet is ``__index_level_0__``), or ""."""
+def _time_column_hint(table: Table) -> str:
+    """``; columns that may hold it: [...] ([time] column = "...")``: the file's columns named
+    as :data:`_TIME_NAMES` (unit stripped), or a pandas index stored in Parquet
+    (``__index_level_0__``); "" where none."""
     found = [
         n
-        for n in names
-        if str(n).strip().lower() in _TIME_WORDS
-        or str(n).strip().lower().split(" ")[0].split("[")[0].split("(")[0] in _TIME_WORDS
+        for n in table.names
+        if str(table.base.get(n, n)).strip().lower() in _TIME_NAMES | {"__index_level_0__"}
     ]
     if not found:
         return ""
@@ -730,7 +727,7 @@ def apply_map(
                 f"{where} no time: the channel map (map {cmap.source}) gives no [time] column "
                 "nor sample_rate_Hz, and the file's channels carry no time base "
                 "(TDMS wf_increment / MDF master)"
-                + _time_column_hint(table.names)
+                + _time_column_hint(table)
                 + "".join(
                     f"; {n}"
                     for n in table.notes

@@ -118,13 +118,20 @@ data columns: ``X,CH1,CH2,Start,Increment,`` over ``Sequence,Volt,Volt,-1e-3,1e-
 time of sample X being Start + X Increment."""
 
 
-def ends_with_scope_extras(cells: list[str]) -> bool:
-    """Whether a row's last cells (past empty ones) are an oscilloscope's ``Start,
-    Increment`` (:data:`SCOPE_EXTRAS`) after at least one name."""
+def _scope_start(cells: list[str]) -> int | None:
+    """Where an oscilloscope's ``Start, Increment`` (:data:`SCOPE_EXTRAS`) begin among a row's
+    cells, they being its last (past empty ones) after at least one name; None otherwise."""
     names = [c.strip().strip('"').lower() for c in cells]
     while names and names[-1] == "":
         names.pop()
-    return len(names) > len(SCOPE_EXTRAS) and tuple(names[-2:]) == SCOPE_EXTRAS
+    first = len(names) - len(SCOPE_EXTRAS)
+    return first if first >= 1 and tuple(names[first:]) == SCOPE_EXTRAS else None
+
+
+def ends_with_scope_extras(cells: list[str]) -> bool:
+    """Whether a row's last cells (past empty ones) are an oscilloscope's ``Start,
+    Increment`` (:data:`SCOPE_EXTRAS`) after at least one name."""
+    return _scope_start(cells) is not None
 
 
 def _scope_header(
@@ -134,11 +141,8 @@ def _scope_header(
     oscilloscope's Start and Increment (:data:`SCOPE_EXTRAS`), noted, with the rate they give
     in ``stated["rate_Hz"]``; ``names`` unchanged otherwise (the count check then names the
     mismatch)."""
-    cells = [c.strip().strip('"').lower() for c in names]
-    while cells and cells[-1] == "":
-        cells.pop()
-    first = len(cells) - len(SCOPE_EXTRAS)  # where Start stands
-    if first < 1 or first > n_names or tuple(cells[first:]) != SCOPE_EXTRAS:
+    first = _scope_start(names)  # where Start stands
+    if first is None or first > n_names:
         return names
     values = split_cells(below, sep)[first : first + 2]
     try:

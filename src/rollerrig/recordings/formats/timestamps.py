@@ -193,24 +193,22 @@ def _fixed_width_times_of_day(s, first: str) -> np.ndarray | None:
         return None
     if not bool((s.str.len() == width).all()):
         return None
-    b = cells.view(np.uint8).reshape(-1, width)
-    digit_spans = [m.span(g) for g in ("H", "M", "S", "f") if m.group(g) is not None]
+    b = cells.view(np.uint8).reshape(-1, width).astype(np.int64) - ord("0")
     is_digit = np.zeros(width, dtype=bool)
-    for lo, hi in digit_spans:
-        is_digit[lo:hi] = True
-    template = np.frombuffer(first.encode("ascii"), dtype=np.uint8)
-    if not np.array_equal(
-        b[:, ~is_digit], np.broadcast_to(template[~is_digit], (b.shape[0], int((~is_digit).sum())))
+    for g in ("H", "M", "S", "f"):
+        if m.group(g) is not None:
+            is_digit[slice(*m.span(g))] = True
+    template = np.frombuffer(first.encode("ascii"), dtype=np.uint8).astype(np.int64) - ord("0")
+    digits = b[:, is_digit]
+    if (
+        not (b[:, ~is_digit] == template[~is_digit]).all()
+        or not ((digits >= 0) & (digits <= 9)).all()
     ):
-        return None
-    digits = b[:, is_digit].astype(np.int64) - ord("0")
-    if digits.size and (digits.min() < 0 or digits.max() > 9):
         return None
 
     def field(name: str) -> np.ndarray:
         lo, hi = m.span(name)
-        weights = 10 ** np.arange(hi - lo - 1, -1, -1, dtype=np.int64)
-        return (b[:, lo:hi].astype(np.int64) - ord("0")) @ weights
+        return b[:, lo:hi] @ 10 ** np.arange(hi - lo - 1, -1, -1, dtype=np.int64)
 
     seconds = field("H") * 3600.0 + field("M") * 60.0 + field("S")
     if m.group("f") is not None:
