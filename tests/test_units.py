@@ -103,7 +103,7 @@ FORMER = {
     "N.m": ("Nm", "N*m", "N·m", "N m", "n.m", "nm", "NM", "N.M", "N⋅m"),
     "kN.m": ("kNm", "kN*m", "kN·m", "kn.m", "knm", "KNM", "kN⋅m", "kN m", "KN*M"),
     "rad/s": ("rad/sec",),
-    "rpm": ("1/min", "min^-1", "min-1", "U/min", "rev/min"),
+    "rpm": ("1/min", "min^-1", "min-1", "U/min", "rev/min", "tr/min"),
     "Hz": ("rev/s",),
     "um": ("µm", "μm"),  # micro sign U+00B5, Greek mu U+03BC
     "us": ("µs", "μs"),

@@ -178,6 +178,8 @@ ALIASES: Mapping[str, str] = MappingProxyType(
         "U/min": "rpm",
         "rev/min": "rpm",
         "rev/s": "Hz",
+        "tr/min": "rpm",  # French: tours par minute
+        "tr/s": "Hz",
         # micro: the micro sign (U+00B5) and the Greek mu (U+03BC)
         "µm": "um",
         "μm": "um",

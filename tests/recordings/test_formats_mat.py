@@ -315,3 +315,133 @@ def test_a_structure_with_time_of_one_signal_is_named_as_with_several(tmp_path, 
         rec = read_recording(f, {"time": {"column": "logsout.time", "unit": "s"}, "channels": {
             "torque": {"column": column, "unit": "N.m"}}})  # fmt: skip
         np.testing.assert_array_equal(rec["torque"], torque)
+
+
+# ----------------------------------------------------------------- MATLAB class objects
+
+
+def _tag(kind, data):
+    """One MAT v5 data element: its tag and its data, padded to 8 bytes."""
+    import struct
+
+    return struct.pack("<II", kind, len(data)) + data + b"\0" * (-len(data) % 8)
+
+
+def _v5_object(name, cls, compressed=False):
+    """A MATLAB class object (``timeseries``, ``table``) as MATLAB saves it in a v5/v7 file:
+    an mxOPAQUE_CLASS element holding its name, "MCOS", its class and a uint32 reference into
+    the file's private MCOS stream (scipy reads it as ``MatlabOpaque``). MATLAB's default
+    ``save`` (v7) compresses each variable."""
+    import struct
+    import zlib
+
+    def text(s):
+        return _tag(1, s.encode())
+
+    ref = struct.pack("<6I", 0xDD000000, 2, 1, 1, 1, 1)
+    arr = _tag(14, _tag(6, struct.pack("<II", 13, 0)) + _tag(5, struct.pack("<ii", 6, 1))
+               + text("") + _tag(6, ref))  # fmt: skip
+    element = _tag(14, _tag(6, struct.pack("<II", 17, 0)) + text(name) + text("MCOS")
+                   + text(cls) + arr)  # fmt: skip
+    if compressed:
+        packed = zlib.compress(element)
+        return struct.pack("<II", 15, len(packed)) + packed
+    return element
+
+
+def _v5_double(name, values):
+    import struct
+
+    values = np.asarray(values, float).reshape(-1)
+    return _tag(14, _tag(6, struct.pack("<II", 6, 0)) + _tag(5, struct.pack("<ii", values.size, 1))
+                + _tag(1, name.encode()) + _tag(9, values.tobytes()))  # fmt: skip
+
+
+def _v5_file(path, *elements):
+    header = b"MATLAB 5.0 MAT-file, Platform: PCWIN64".ljust(116, b" ") + b"\0" * 8
+    path.write_bytes(header + b"\x00\x01IM" + b"".join(elements))
+    return path
+
+
+def test_v5_matlab_objects_are_each_named_with_their_class_and_the_fix(tmp_path):
+    """Two timeseries (one compressed, as MATLAB's default save writes it): scipy names every
+    object "None", so the error had listed one of them as "None ([('s0', 'O'), ...])" and
+    scipy's duplicate-name warning reached stderr (a review, 2024-05-01)."""
+    import warnings
+
+    from rollerrig.recordings.readers import read_recording
+    from rollerrig.recordings.recording import RecordingError
+
+    f = _v5_file(
+        tmp_path / "ts.mat",
+        _v5_object("ts_torque", "timeseries"),
+        _v5_object("ts_speed", "timeseries", compressed=True),
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no scipy warning reaches the user
+        with pytest.raises(RecordingError, match=r"ts\.mat: no readable signals") as e:
+            read_recording(f)
+    msg = str(e.value)
+    assert "MATLAB objects: ts_torque (timeseries), ts_speed (timeseries)" in msg
+    assert "cannot be read outside MATLAB" in msg
+    assert "t = ts_torque.Time; torque = ts_torque.Data; save('out.mat', 't', 'torque')" in msg
+    assert "None" not in msg and "s0" not in msg and "shape" not in msg
+
+
+def test_a_v5_object_beside_signals_is_listed_with_its_fix(tmp_path):
+    """A table, and a timeseries in a struct, beside readable vectors: the signals are read,
+    the objects listed by name and class with what to save instead."""
+    import struct
+    import warnings
+
+    from rollerrig.recordings.readers import read_recording
+    from rollerrig.recordings.recording import RecordingError
+
+    meas = _tag(14, _tag(6, struct.pack("<II", 2, 0)) + _tag(5, struct.pack("<ii", 1, 1))
+                + _tag(1, b"meas") + struct.pack("<HHI", 5, 4, 8) + _tag(1, b"ts".ljust(8, b"\0"))
+                + _v5_object("", "timeseries"))  # fmt: skip
+    f = _v5_file(
+        tmp_path / "tab.mat",
+        _v5_object("T", "table", compressed=True),
+        _v5_double("time", T),
+        meas,
+        _v5_object("t0", "datetime"),
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        table = read_mat(f)
+    assert table.names == ["time"]
+    skipped = " | ".join(table.skipped)
+    assert "T (MATLAB table object, which cannot be read outside MATLAB" in skipped
+    assert "writetable(T, 'out.csv')" in skipped
+    assert "meas.ts (MATLAB timeseries object" in skipped and "t = meas.ts.Time" in skipped
+    assert "t0 (MATLAB datetime object" in skipped and "posixtime(t0)" in skipped
+    with pytest.raises(RecordingError, match=r"'T', which the file holds but cannot be read") as e:
+        read_recording(f, {"time": {"column": "time", "unit": "s"},
+                           "channels": {"torque": {"column": "T", "unit": "N.m"}}})  # fmt: skip
+    assert "writetable(T, 'out.csv')" in str(e.value)
+
+
+def test_v73_matlab_objects_are_named_without_the_shape_of_their_reference(tmp_path):
+    """In v7.3 an object is a uint32 dataset (a reference into MATLAB's MCOS stream) with its
+    class in MATLAB_class: the error had shown the reference's shape as the data's."""
+    import h5py
+
+    from rollerrig.recordings.readers import read_recording
+    from rollerrig.recordings.recording import RecordingError
+
+    f = tmp_path / "ts73.mat"
+    ref = np.array([[0xDD000000, 2, 1, 1, 1, 1]], dtype=np.uint32).T
+    with h5py.File(f, "w", userblock_size=512) as h:
+        for name, cls in (("ts_torque", "timeseries"), ("TT", "timetable")):
+            ds = h.create_dataset(name, data=ref)
+            ds.attrs["MATLAB_class"] = np.bytes_(cls)
+            ds.attrs["MATLAB_object_decode"] = np.int32(3)
+        h.create_group("#subsystem#").create_dataset("MCOS", data=np.zeros((1, 1), np.uint32))
+    _write_mat73_header(f)
+    with pytest.raises(RecordingError, match=r"ts73\.mat: no readable signals") as e:
+        read_recording(f)
+    msg = str(e.value)
+    assert "MATLAB objects: TT (timetable), ts_torque (timeseries)" in msg
+    assert "writetimetable(TT, 'out.csv')" in msg and "torque = ts_torque.Data" in msg
+    assert "shape" not in msg and "(6, 1)" not in msg

@@ -359,3 +359,138 @@ def test_no_time_names_the_columns_that_may_hold_it(tmp_path):
         tmp_path / "run.parquet", {**cmap, "time": {"column": "__index_level_0__"}}
     )
     assert rec.sample_rate == pytest.approx(250.0)
+
+
+# ------------------------------------------- exports found by a review of 2026-12-03
+
+_CATMAN_MAP = {
+    "time": {"sample_rate_Hz": 1000.0},
+    "channels": {
+        "torque": {"column": "Drehmoment"},
+        "roller_speed": {"column": "Drehzahl Rolle"},
+    },
+}
+
+
+def _catman_rows(n=200):
+    t = np.arange(n) / 1000.0
+    return [f"\t{100 + 10 * np.sin(2 * np.pi * 5 * k):.4f}\t{600 + k:.3f}" for k in t]
+
+
+def test_catman_key_value_rows_under_the_units_are_no_samples(tmp_path):
+    # catman's channel header: names, units, then "Anzahl Werte" and "dt" rows, each giving
+    # one value for every channel, above samples whose key column is empty. They had been read
+    # as two samples (a torque of 2000 and of 0.001 N.m), without a word.
+    lines = ["Kanalname\tDrehmoment\tDrehzahl Rolle", "Einheit\tN·m\t1/min",
+             "Anzahl Werte\t200\t200", "dt\t0,001\t0,001"]  # fmt: skip
+    lines += [r.replace(".", ",") for r in _catman_rows()]
+    p, sha = _write(tmp_path, "catman.txt", "\r\n".join(lines).encode("cp1252"))
+    rec = read_recording(p, _CATMAN_MAP)
+    assert rec.time.size == 200
+    assert rec["torque"][0] == pytest.approx(100.0)
+    assert rec["roller_speed"][0] == pytest.approx(600 * 2 * np.pi / 60)
+    assert file_sha256(p) == sha
+
+
+def test_a_marker_column_with_samples_beside_it_keeps_them(tmp_path):
+    # the contrary case: a marker column on the left whose first samples carry markers
+    rows = "".join(f"{m},{k / 1000:.3f},{1 + k / 10:.1f}\n" for k, m in
+                   enumerate(["Start", "Ramp"] + [""] * 10))  # fmt: skip
+    p, _ = _write(tmp_path, "marks.csv", f"Marker,Time,Torque\n{rows}")
+    assert read_recording(p, MAP).time.size == 12
+
+
+def test_a_full_catman_header_is_found_above_its_key_value_rows(tmp_path):
+    lines = ["catman AP V5.4.2 - ASCII Export", "Datei\tC:\\Messdaten\\Lauf_017.BIN",
+             "Anzahl Kanäle\t3",
+             "Kanalname\tZeit  1 - Standardmessrate\tDrehmoment\tDrehzahl Rolle",
+             "Einheit\ts\tN·m\t1/min", "T0\t01.05.2024 13:59:59\t01.05.2024 13:59:59\t"
+             "01.05.2024 13:59:59", "dt\t0,001\t0,001\t0,001", "Anzahl Werte\t200\t200\t200",
+             ""]  # fmt: skip
+    lines += [f"\t{k / 1000:.3f}{r}".replace(".", ",") for k, r in enumerate(_catman_rows())]
+    p, _ = _write(tmp_path, "catman_hdr.txt", "\r\n".join(lines).encode("cp1252"))
+    cmap = {**_CATMAN_MAP, "time": {"column": "Zeit  1 - Standardmessrate"}}
+    rec = read_recording(p, cmap)
+    assert rec.time.size == 200 and rec.sample_rate == pytest.approx(1000.0)
+    assert rec.units["torque"] == "N.m"
+    # the map's rate is checked against that time column, named otherwise than "Time"
+    with pytest.raises(RecordingError, match=r"contradicts the file's own rate of 1000 Hz"):
+        read_recording(p, {**_CATMAN_MAP, "time": {"sample_rate_Hz": 500.0}})
+
+
+@pytest.mark.parametrize(
+    ("cell", "unit", "want"),
+    [("1\u00a0500,00", "tr/min", 1500.0), ("1 500,00", "rpm", 1500.0),
+     ("1'800.00", "rpm", 1800.0), ("1\u202f800,5", "rpm", 1800.5)],
+    ids=["french-excel-nbsp", "space", "swiss-apostrophe", "narrow-nbsp"],
+)  # fmt: skip
+def test_thousands_marks_that_are_never_decimal_marks_are_read(tmp_path, cell, unit, want):
+    sep = ";"
+    rows = "".join(f"{k / 1000:.3f}{sep}{cell}\n" for k in range(10))
+    if "," in cell:
+        rows = rows.replace(".", ",")
+    p, _ = _write(tmp_path, "fr.csv", f"Temps (s){sep}Vitesse ({unit})\n{rows}")
+    rec = read_recording(p, {"time": {"column": "Temps"},
+                             "channels": {"roller_speed": {"column": "Vitesse"}}})  # fmt: skip
+    np.testing.assert_allclose(rec["roller_speed"], want * 2 * np.pi / 60)
+
+
+def test_groups_that_are_not_strict_threes_stay_text(tmp_path):
+    rows = "".join(f"{k / 1000:.3f};12 34\n" for k in range(10))
+    p, _ = _write(tmp_path, "bad.csv", f"Time;Torque\n{rows}")
+    with pytest.raises(RecordingError, match="non-numeric"):
+        read_recording(p, MAP)
+
+
+def test_msvc_infinity_is_an_infinite_sample(tmp_path):
+    rows = "".join(f"{k / 1000:.3f},{'1.#INF' if k == 5 else '1.0'}\n" for k in range(10))
+    p, _ = _write(tmp_path, "inf.csv", f"Time,Torque\n{rows}")
+    with pytest.raises(RecordingError, match=r"1 NaN/inf samples"):
+        read_recording(p, MAP)
+
+
+def test_ambiguous_slash_dates_crossing_midnight_read_day_first(tmp_path):
+    # 01/05/2024 23:59:59 then 02/05/2024 00:00:00: one second day-first, a month month-first
+    clock = ["23:59:58", "23:59:59", "00:00:00", "00:00:01", "00:00:02"]
+    stamps = [f"0{1 + (k >= 2)}/05/2024 {c}" for k, c in enumerate(clock)]
+    rows = "".join(f"{s},{k}\n" for k, s in enumerate(stamps))
+    p, _ = _write(tmp_path, "uk.csv", f"Time,Torque\n{rows}")
+    rec = read_recording(p, {"time": {"column": "Time"}, "channels": {"torque": {
+        "column": "Torque", "unit": "N.m"}}})  # fmt: skip
+    np.testing.assert_allclose(rec.time, [0, 1, 2, 3, 4])
+    assert any("read day-first" in n for n in rec.metadata["notes"])
+
+
+def test_an_hour_back_names_daylight_saving_time(tmp_path):
+    t = [0.0, 1.0, 2.0, 2.0 - 3600.0 + 1.0, 2.0 - 3600.0 + 2.0]
+    rows = "".join(f"{v:.3f},1.0\n" for v in t)
+    p, _ = _write(tmp_path, "dst.csv", f"Time,Torque\n{rows}")
+    with pytest.raises(RecordingError, match="daylight saving"):
+        read_recording(p, MAP)
+
+
+def test_time_printed_to_too_few_digits_suggests_the_sample_rate(tmp_path):
+    rows = "".join(f"{k / 2000:.3f},1.0\n" for k in range(40))  # 2 kHz printed to ms
+    p, _ = _write(tmp_path, "ms.csv", f"Time,Torque\n{rows}")
+    with pytest.raises(RecordingError, match="sample_rate_Hz"):
+        read_recording(p, MAP)
+
+
+def test_a_channel_that_ends_early_is_named_as_such(tmp_path):
+    # two rates side by side (catman's "Zeit 2 - Langsam" beside its channel): the slow
+    # channel's cells are empty after its last sample
+    rows = "".join(f"{k / 1000:.3f},1.0,{k / 100:.2f},{2.0 if k < 20 else ''}\n"
+                   for k in range(100))  # fmt: skip
+    p, _ = _write(tmp_path, "rates.csv", f"Time,Torque,Time 2,Speed\n{rows}")
+    cmap = {**MAP, "channels": {**MAP["channels"], "roller_speed": {"column": "Speed",
+            "unit": "rpm"}}}  # fmt: skip
+    with pytest.raises(RecordingError, match=r"ends at sample 20 .*its own time column"):
+        read_recording(p, cmap)
+
+
+def test_a_unit_in_brackets_may_hold_parentheses(tmp_path):
+    rows = "".join(f"{k / 1000:.3f};{k}\n" for k in range(10))
+    p, _ = _write(tmp_path, "p.csv", f"Time [s];Druck [bar(g)]\n{rows}")
+    cmap = {"time": {"column": "Time"}, "extra": {"p": {"column": "Druck", "unit": "bar"}}}
+    rec = read_recording(p, cmap)  # the file says bar(g): the same unit as the map's bar
+    np.testing.assert_allclose(rec["p"], np.arange(10) * 1e5)

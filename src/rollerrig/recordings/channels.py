@@ -115,7 +115,10 @@ UNIT_FACTORS: Mapping[str, Mapping[str, float]] = UNITS_BY_SI
 """SI unit -> {accepted unit: factor to SI} (:data:`rollerrig.units.UNITS_BY_SI`). For angular
 speed ``Hz`` means rev/s."""
 
-_HEADER = re.compile(r"^\s*(?P<name>.*?)\s*[\[(](?P<unit>[^\[\]()]*)[\])]\s*$")
+# A unit in brackets may hold parentheses (``Druck [bar(g)]``); one in parentheses may not.
+_HEADER = re.compile(
+    r"^\s*(?P<name>.*?)\s*(?:\[(?P<unit>[^\[\]]*)\]|\((?P<paren>[^\[\]()]*)\))\s*$"
+)
 
 
 def _extra_si(unit: str) -> tuple[str, float]:
@@ -136,10 +139,13 @@ def split_unit_header(header: str) -> tuple[str, str | None]:
     --------
     >>> split_unit_header("torque [N.m]"), split_unit_header("Time")
     (('torque', 'N.m'), ('Time', None))
+    >>> split_unit_header("Druck [bar(g)]"), split_unit_header("Drehzahl (1/min)")
+    (('Druck', 'bar(g)'), ('Drehzahl', '1/min'))
     """
     m = _HEADER.match(str(header))
     if m and m.group("name"):
-        return m.group("name"), m.group("unit").strip() or None
+        unit = m.group("unit") if m.group("unit") is not None else m.group("paren")
+        return m.group("name"), unit.strip() or None
     return str(header).strip(), None
 
 

@@ -83,7 +83,8 @@ def _rate(t: np.ndarray, where: str = "") -> float:
         raise RecordingError(
             f"{prefix}time stamps repeat or fall: the median step is {step:g} s over {t.size} "
             "samples (absolute times rounded to too few digits?); the time base must be "
-            "strictly increasing"
+            "strictly increasing. Where the samples are evenly spaced, give [time] "
+            "sample_rate_Hz in the channel map instead of the time column"
         )
     return 1.0 / step
 

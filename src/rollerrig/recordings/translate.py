@@ -41,12 +41,14 @@ from rollerrig.recordings.formats import Table
 from rollerrig.recordings.formats._table import require_module
 from rollerrig.recordings.formats._text import (
     EXACT_ABOVE,
+    GROUP_MARKS,
     NAN_WORDS,
     NEGATIVE_INFINITY_WORDS,
     POSITIVE_INFINITY_WORDS,
     decimal_marks,
     exact_offsets,
     parse_number,
+    without_group_marks,
 )
 from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
 from rollerrig.recordings.recording import CANONICAL_CHANNELS, RecordingError
@@ -213,12 +215,21 @@ def _text_cells(arr: np.ndarray, pd) -> tuple[np.ndarray, np.ndarray, np.ndarray
     if pd.api.types.infer_dtype(obj, skipna=True) in ("string", "empty"):
         missing = pd.isna(obj)
         cells = np.char.strip(np.where(missing, "", obj).astype(str))
+        grouped = np.zeros(cells.shape, dtype=bool)
+        for mark in GROUP_MARKS:
+            grouped |= np.char.find(cells, mark) >= 0
+        if grouped.any():  # 1 500,00 / 1'800.00: the thousands marks go, in strict groups only
+            cells = cells.astype(object)
+            cells[grouped] = [without_group_marks(c) for c in cells[grouped]]
+            cells = cells.astype(str)
         text = cells.astype(object)
         text[missing] = obj[missing]
         words = np.char.lower(cells).astype(object)
         marked = (np.char.find(cells, ",") >= 0) | (np.char.find(cells, ".") >= 0)
         return text, ~missing, words, marked
-    series = pd.Series(obj, dtype=object).map(lambda v: v.strip() if isinstance(v, str) else v)
+    series = pd.Series(obj, dtype=object).map(
+        lambda v: without_group_marks(v.strip()) if isinstance(v, str) else v
+    )
     is_str = series.map(lambda v: isinstance(v, str)).to_numpy(dtype=bool)
     words = series.map(lambda v: v.lower() if isinstance(v, str) else "").to_numpy(dtype=object)
     marked = series.map(lambda v: isinstance(v, str) and ("," in v or "." in v))
@@ -479,12 +490,25 @@ _TIME_NAMES = frozenset(
 )
 """Column names (lower case, unit stripped) taken as a time column when checking a stated rate."""
 
+_TIME_WORDS = frozenset(
+    {"time", "zeit", "temps", "tiempo", "tempo", "timestamp", "zeitstempel", "horodatage"}
+)
+"""Words that make a longer column name a time's: catman's ``Zeit  1 - Standardmessrate``,
+``Relative Time``, ``Temps relatif``."""
+
+
+def _time_named(base: str) -> bool:
+    """Whether a column's name (lower case, unit stripped) is a time column's:
+    :data:`_TIME_NAMES`, or a name holding one of :data:`_TIME_WORDS` as a word."""
+    return base in _TIME_NAMES or not _TIME_WORDS.isdisjoint(re.split(r"[\W_\d]+", base))
+
 
 def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict, path, line_of):
     """Raise when the map's ``[time] sample_rate_Hz`` contradicts the file's own rate.
 
     The file's rate is that of each channel's own time base (TDMS ``wf_increment``, MDF master,
-    LVM X column) and of a column named like a time (``Time``, ``Zeit``, ``t``, ``X_Value``;
+    LVM X column) and of a column named like a time (``Time``, ``Zeit``, ``t``, ``X_Value``,
+    ``Zeit  1 - Standardmessrate``: :func:`_time_named`;
     numbers in its stated unit, else seconds or milliseconds, or timestamps). A difference of
     more than :data:`~rollerrig.recordings.channels.RATE_TOLERANCE` is an error naming both rates.
     """
@@ -516,7 +540,7 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
     used = set(info["columns"].values())
     for name in table.names:
         base = str(table.base.get(name, name)).strip().lower()
-        if name in used or base not in _TIME_NAMES:
+        if name in used or not _time_named(base):
             continue
         try:
             col = table.load(name)
@@ -552,12 +576,13 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
 
 def _time_column_hint(table: Table) -> str:
     """``; columns that may hold it: [...] ([time] column = "...")``: the file's columns named
-    as :data:`_TIME_NAMES` (unit stripped), or a pandas index stored in Parquet
+    as a time (:func:`_time_named`), or a pandas index stored in Parquet
     (``__index_level_0__``); "" where none."""
     found = [
         n
         for n in table.names
-        if str(table.base.get(n, n)).strip().lower() in _TIME_NAMES | {"__index_level_0__"}
+        if _time_named(base := str(table.base.get(n, n)).strip().lower())
+        or base == "__index_level_0__"
     ]
     if not found:
         return ""

@@ -319,6 +319,18 @@ def validate_samples(
             f"{where} time {kind} at sample {k + 1}: t[{k}] = {time[k]:.9g} s, "
             f"t[{k + 1}] = {time[k + 1]:.9g} s ({idx.size} non-increasing step(s) in total); "
             "time must be strictly increasing"
+            + (
+                "; the time column is printed to too few digits for the rate? Where the samples "
+                "are evenly spaced, give [time] sample_rate_Hz in the channel map instead"
+                if dt[k] == 0 and idx.size >= 0.1 * dt.size
+                else ""
+            )
+            + (
+                "; a step back by about an hour: local clock times across the end of daylight "
+                "saving time? Export times in UTC or with their offset (+01:00)"
+                if abs(dt[k] + 3600.0) <= 60.0
+                else ""
+            )
         )
     median, gaps = find_gaps(time)
     check_sample_rate(1.0 / median, where, "1 / the median sample interval of the time")
@@ -347,11 +359,21 @@ def validate_samples(
             a, b = run
             return f"samples {a}..{b} (t = {time[a]:.9g} s .. {time[b]:.9g} s, {b - a + 1} samples)"
 
+        last = runs[-1]
+        tail = (
+            f"; the channel ends at sample {last[0]} (t = {time[last[0]]:.9g} s) while others "
+            "go on: a channel recorded at a lower rate or for a shorter time (an export of "
+            "several rates side by side, each with its own time column)? One file is read on "
+            "one time base: export each rate to a file of its own"
+            if last[1] == v.size - 1 and last[0] > 0 and last[1] - last[0] + 1 > 0.1 * v.size
+            else ""
+        )
         if mode == "strict" or bad.all():
             raise RecordingError(
                 f"{where} channel {name!r} has {int(bad.sum())} NaN/inf samples in {len(runs)} "
                 f"run(s); first run: {describe(first)}"
                 + ("" if mode == "strict" else "; every sample is bad")
+                + tail
                 + (
                     "; validate='lenient' (--lenient on the command line) interpolates runs of "
                     f"at most {MAX_INTERPOLATED_NAN_RUN} samples"
@@ -362,7 +384,7 @@ def validate_samples(
         if longest[1] - longest[0] + 1 > MAX_INTERPOLATED_NAN_RUN:
             raise RecordingError(
                 f"{where} channel {name!r} has a run of NaN/inf samples too long to interpolate "
-                f"(more than {MAX_INTERPOLATED_NAN_RUN}): {describe(longest)}"
+                f"(more than {MAX_INTERPOLATED_NAN_RUN}): {describe(longest)}" + tail
             )
         good = ~bad
         v = v.copy()

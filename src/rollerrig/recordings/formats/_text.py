@@ -60,6 +60,33 @@ THOUSANDS = {
 """A number with thousands marks under the decimal mark (key): ``85,928`` / ``1,002.13`` with a
 decimal point, ``86.021`` / ``1.002,13`` with a decimal comma. Strict grouping: a first group of
 1-3 digits not starting with 0, then groups of exactly three digits (Excel's ``#,##0``)."""
+GROUP_MARKS = " \u00a0\u202f'\u2019"
+"""Thousands marks that are never a decimal mark: a space, a no-break space and a narrow one
+(French and ISO 31-0 ``1 500,00``, French Excel writes U+00A0) and apostrophes (Swiss
+``1'800.00``)."""
+GROUPED = re.compile(r"[+-]?[1-9]\d{0,2}(?:[ \u00a0\u202f'\u2019]\d{3})+(?:[.,]\d+)?")
+"""A number in strict groups of three digits split by one of :data:`GROUP_MARKS`."""
+
+
+def without_group_marks(cell: str) -> str:
+    """``cell`` without :data:`GROUP_MARKS` where it is a number in strict groups of three
+    (:data:`GROUPED`), else unchanged.
+
+    Examples
+    --------
+    >>> without_group_marks("1\u00a0500,00"), without_group_marks("1'800.00")
+    ('1500,00', '1800.00')
+    >>> without_group_marks("12 34"), without_group_marks("Rolle 1")
+    ('12 34', 'Rolle 1')
+    """
+    c = cell.strip()
+    if GROUPED.fullmatch(c):
+        return c.translate(_NO_GROUP_MARKS)
+    return cell
+
+
+_NO_GROUP_MARKS = str.maketrans("", "", GROUP_MARKS)
+
 MARKED_NUMBER = re.compile(r"[+-]?[\d.,]*\d[\d.,]*(?:[eE][+-]?\d+)?")
 """A cell made of digits and decimal / thousands marks (a number under some reading)."""
 _TIMESTAMP = re.compile(
@@ -67,9 +94,11 @@ _TIMESTAMP = re.compile(
     r"|\d{1,2}:\d{2}:\d{2}(?:[.,]\d+)?)"
     r"(?:\s*(?:Z|[+-]\d{2}:?\d{2}))?"
 )
-POSITIVE_INFINITY_WORDS = frozenset({"∞", "+∞", "inf", "+inf", "infinity", "+infinity"})
+POSITIVE_INFINITY_WORDS = frozenset(
+    {"∞", "+∞", "inf", "+inf", "infinity", "+infinity", "1.#inf"}  # 1.#INF: old MS C runtimes
+)
 """Cells that stand for +inf (lower case)."""
-NEGATIVE_INFINITY_WORDS = frozenset({"-∞", "-inf", "-infinity"})
+NEGATIVE_INFINITY_WORDS = frozenset({"-∞", "-inf", "-infinity", "-1.#inf"})
 """Cells that stand for -inf (lower case)."""
 NAN_WORDS = frozenset(
     {"nan", "-nan", "+nan", "na", "n/a", "#n/a", "null", "none"}
@@ -87,7 +116,7 @@ def cell_kind(cell: str) -> str:
     c = cell.strip()
     if not c:
         return "empty"
-    if NUMBER.fullmatch(c):
+    if NUMBER.fullmatch(c) or GROUPED.fullmatch(c):
         return "num"
     if c.lower() in NAN_WORDS:
         return "nan"

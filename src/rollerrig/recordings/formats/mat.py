@@ -26,12 +26,20 @@ header does; a cell array called ``units`` of k texts gives units too), and a co
 ``time`` is the time as elsewhere. A k x n matrix whose k rows match the names is read by rows.
 Any other matrix is not read; when nothing else is readable either, the error lists the
 variables (names and shapes) and what layout to save instead.
+
+MATLAB class objects (``timeseries``, ``table``, ``timetable``, ``datetime``, ``string``,
+Simulink datasets...) hold their data in MATLAB's private "MCOS" stream, which only MATLAB can
+decode. They are not read; they are listed by name and class (v5: scipy's ``MatlabOpaque``
+carries both; scipy names every top-level object ``None``, so the file is split into its
+variables to list each one), with the MATLAB code that saves their data as plain arrays.
 """
 
 from __future__ import annotations
 
 import contextlib
 import json
+import re
+import warnings
 import weakref
 from collections.abc import Mapping
 from pathlib import Path
@@ -66,6 +74,75 @@ def _cell_advice(name: str, numbers: bool = True) -> str:
     return f"save a numeric vector instead ({fix}), or export the signals as CSV or MDF4"
 
 
+def _object_class(value) -> tuple[str, str] | None:
+    """``(name stored in it, MATLAB class)`` of a v5 MATLAB class object (scipy's
+    ``MatlabOpaque``); None for anything else. The stored name is empty inside structs/cells."""
+    try:
+        from scipy.io.matlab import MatlabOpaque
+    except ImportError:  # pragma: no cover - read_mat needs scipy anyway
+        return None
+    if not isinstance(value, MatlabOpaque) or value.size < 1:
+        return None
+
+    def text(field: str) -> str:
+        raw = value.reshape(-1)[0][field]
+        return raw.decode("latin-1") if isinstance(raw, bytes) else str(raw)
+
+    try:
+        return text("s0"), text("s2") or "unknown class"
+    except (KeyError, ValueError, IndexError):
+        return "", "unknown class"
+
+
+def _object_fix(name: str, cls: str) -> str:
+    """MATLAB code that saves the data of object ``name`` of class ``cls`` as plain arrays."""
+    last = re.sub(r"\(\d+\)", "", name).rsplit(".", 1)[-1]
+    short = re.sub(r"^ts_|_ts$", "", last, flags=re.IGNORECASE)
+    data = short if short.isidentifier() else last
+    if cls == "timeseries":
+        return f"t = {name}.Time; {data} = {name}.Data; save('out.mat', 't', '{data}')"
+    if cls == "table":
+        return f"writetable({name}, 'out.csv')"
+    if cls == "timetable":
+        return f"writetimetable({name}, 'out.csv')"
+    if cls == "datetime":
+        return f"{name} = posixtime({name}) (seconds since 1970) before saving"
+    if cls == "duration":
+        return f"{name} = seconds({name}) before saving"
+    if cls == "string":
+        return f"{name} = char({name}) before saving"
+    if cls.startswith("Simulink."):
+        return (
+            f"s = {name}.getElement(1).Values; t = s.Time; x = s.Data; save('out.mat', 't', "
+            "'x'), or log in the format 'Structure with time'"
+        )
+    return f"take the numbers out of {name} and save them as numeric vectors"
+
+
+def _object_entry(name: str, cls: str) -> str:
+    """The ``skipped`` entry of the MATLAB object ``name``: its class and what to save."""
+    return (
+        f"{name} (MATLAB {cls} object, which cannot be read outside MATLAB: save its data as "
+        f"plain arrays, e.g. {_object_fix(name, cls)})"
+    )
+
+
+def _objects_text(objects: Mapping[str, str]) -> str:
+    """The objects (name -> class) and, once per class, the MATLAB code that saves their data."""
+    listed = ", ".join(f"{n} ({c})" for n, c in objects.items())
+    first = {c: n for n, c in reversed(list(objects.items()))}  # class -> its first variable
+    ordered = list(reversed(list(first.items())))
+    fixes = (
+        _object_fix(ordered[0][1], ordered[0][0])
+        if len(ordered) == 1
+        else "; ".join(f"for a {c}: {_object_fix(n, c)}" for c, n in ordered)
+    )
+    return (
+        f"it holds MATLAB objects: {listed}; MATLAB objects (timeseries, table, timetable, ...) "
+        f"cannot be read outside MATLAB: save their data as plain arrays, e.g. {fixes}"
+    )
+
+
 def _text_list(value) -> list[str] | None:
     """The texts of a cell array of strings or of a char matrix (rows); None if not that."""
     if isinstance(value, list | tuple) or (isinstance(value, np.ndarray) and value.dtype == object):
@@ -87,21 +164,26 @@ def _flatten_mat(
     skipped: list,
     matrices: dict | None = None,
     texts: dict | None = None,
+    objects: dict | None = None,
 ) -> None:
     """Numeric vectors and text into ``out``; 2-D numeric matrices into ``matrices`` and lists
     of texts (cell arrays of strings, char matrices) into ``texts`` as ``(texts, value)``, to
-    be paired (:func:`_pair_matrices`); what is not readable into ``skipped``."""
+    be paired (:func:`_pair_matrices`); MATLAB class objects into ``objects`` (name -> class);
+    what else is not readable into ``skipped``."""
     matrices = {} if matrices is None else matrices
     texts = {} if texts is None else texts
+    objects = {} if objects is None else objects
     for key, value in data.items():
         if key.startswith("__") or key.startswith("#"):
             continue
         name = f"{prefix}{key}"
-        if isinstance(value, Mapping):
-            _flatten_mat(value, f"{name}.", out, skipped, matrices, texts)
+        if (found := _object_class(value)) is not None:
+            objects[name] = found[1]
+        elif isinstance(value, Mapping):
+            _flatten_mat(value, f"{name}.", out, skipped, matrices, texts, objects)
         elif _is_struct_list(value):  # a struct array: element k's fields as name(k).field
             for k, element in enumerate(value):
-                _flatten_mat(element, f"{name}({k + 1}).", out, skipped, matrices, texts)
+                _flatten_mat(element, f"{name}({k + 1}).", out, skipped, matrices, texts, objects)
         elif isinstance(value, str):
             out[name] = value
         elif (listed := _text_list(value)) is not None:
@@ -204,8 +286,20 @@ def _matrix_columns(pairs, shapes, units: dict[str, str], notes: list[str]) -> d
     return bases
 
 
-def _no_columns(path: Path, skipped: list[str]) -> RecordingError:
-    """The error for a MAT file none of whose variables is readable as a signal."""
+def _no_columns(
+    path: Path, skipped: list[str], objects: Mapping[str, str] | None = None
+) -> RecordingError:
+    """The error for a MAT file none of whose variables is readable as a signal; ``objects``
+    (name -> MATLAB class) are listed with what to save instead."""
+    if objects:
+        others = (
+            f"; other variables not read: {skipped}; for a matrix: {_MATRIX_ADVICE}"
+            if skipped
+            else ""
+        )
+        return RecordingError(
+            f"{path}: no readable signals in the MAT file: {_objects_text(objects)}{others}"
+        )
     return RecordingError(
         f"{path}: no readable signals in the MAT file (no numeric vector, no matrix with its "
         f"column names); variables found: {skipped}; {_MATRIX_ADVICE}"
@@ -270,6 +364,8 @@ def _flatten_cell(name: str, value, out: dict, skipped: list) -> None:
         if arr.dtype.kind not in "biuf" or arr.size < 1 or sum(d != 1 for d in arr.shape) > 1:
             kind = "text" if arr.dtype.kind in "SU" else f"{arr.dtype}, shape {arr.shape}"
             kind = "a struct" if isinstance(item, Mapping) else kind
+            if (found := _object_class(item)) is not None:
+                kind = f"a MATLAB {found[1]} object"
             skipped.append(
                 f"{name} (cell array whose element {k + 1} is {kind}, not a number or numeric "
                 f"vector; {_cell_advice(name, arr.dtype.kind in 'biuf')})"
@@ -307,6 +403,19 @@ _NUMERIC_CLASSES = {
 }
 
 
+_PLAIN_CLASSES = _NUMERIC_CLASSES | {"char", "cell", "struct"}
+"""MATLAB classes of plain data; any other ``MATLAB_class`` in a v7.3 file is a class object."""
+
+
+def _h5_object_class(item) -> str | None:
+    """The MATLAB class of a v7.3 class object (a dataset of references into MATLAB's
+    private MCOS stream, or an old-style object group); None for plain data."""
+    cls = _attr_text(item, "MATLAB_class")
+    if "MATLAB_object_decode" in item.attrs or (cls and cls not in _PLAIN_CLASSES):
+        return cls or "unknown class"
+    return None
+
+
 def _attr_text(item, key: str) -> str:
     value = item.attrs.get(key, b"")
     return value.decode() if isinstance(value, bytes) else str(value)
@@ -329,6 +438,7 @@ def _hdf5_table(path: Path, what: str) -> Table:
     cells: dict[str, np.ndarray] = {}  # name -> the values of a cell array of numbers
     strings: dict[str, str] = {}
     skipped: list[str] = []
+    objects: dict[str, str] = {}  # MATLAB class objects: name -> class
 
     def cell(f, name: str, item) -> None:
         """A cell array of numbers as one column (module docstring), else a skipped entry."""
@@ -432,6 +542,9 @@ def _hdf5_table(path: Path, what: str) -> Table:
 
     def visit(f, name: str, item) -> None:
         """One MAT variable (a dataset or a group) called ``name``."""
+        if "MATLAB_sparse" not in item.attrs and (found := _h5_object_class(item)) is not None:
+            objects[name] = found  # its shape is that of its reference, not of its data
+            return
         if isinstance(item, h5py.Group):
             if "MATLAB_sparse" in item.attrs:
                 skipped.append(f"{name} (sparse)")
@@ -490,8 +603,9 @@ def _hdf5_table(path: Path, what: str) -> Table:
     for mat_name, why in reasons.items():
         skipped.append(f"{mat_name} ({why})")
     skipped.extend(why for name, why in text_skips.items() if name not in used)
-    if not datasets and not cells and skipped:
-        raise _no_columns(path, skipped)
+    if not datasets and not cells and (skipped or objects):
+        raise _no_columns(path, skipped, objects)
+    skipped.extend(_object_entry(n, c) for n, c in objects.items())
     bases_units: dict[str, str] = {}
     bases = _matrix_columns(pairs, shapes, bases_units, notes)
 
@@ -589,6 +703,28 @@ def _json_text(strings: dict[str, str], key: str) -> Any:
     return None
 
 
+def _v5_objects(path: Path) -> dict[str, Any]:
+    """Every top-level MATLAB class object of a v5 file, by the name it stores.
+
+    :func:`scipy.io.loadmat` names each one ``None`` (the name is inside the object), so all but
+    the last are lost; the file is split into its variables and each object is loaded alone.
+    (:func:`scipy.io.whosmat` cannot list them: it fails on an object's header.)
+    """
+    from scipy.io import loadmat
+    from scipy.io.matlab import varmats_from_mat
+
+    objects: dict[str, Any] = {}
+    with path.open("rb") as fh:
+        for k, (name, stream) in enumerate(varmats_from_mat(fh)):
+            if name != "None":
+                continue
+            value = loadmat(stream, squeeze_me=True, variable_names=["None"]).get("None")
+            found = _object_class(value)
+            if found is not None:
+                objects[found[0] or f"(unnamed object {k + 1})"] = value
+    return objects
+
+
 def read_mat(path: Path) -> Table:
     from scipy.io import loadmat
     from scipy.io.matlab import matfile_version
@@ -610,14 +746,19 @@ def read_mat(path: Path) -> Table:
         table.notes.insert(0, "MATLAB v7.3 (HDF5) read with h5py")
         return table
     try:
-        data = loadmat(str(path), squeeze_me=True, simplify_cells=True)
+        with warnings.catch_warnings():  # scipy names every object "None": duplicates
+            warnings.filterwarnings("ignore", message='Duplicate variable name "None"')
+            data = loadmat(str(path), squeeze_me=True, simplify_cells=True)
+            if _object_class(data.get("None")) is not None:
+                data = {k: v for k, v in data.items() if k != "None"} | _v5_objects(path)
     except Exception as exc:
         raise RecordingError(f"{path}: not a readable MATLAB file: {exc}") from exc
     flat: dict[str, Any] = {}
     skipped: list[str] = []
     matrices: dict[str, np.ndarray] = {}
     texts: dict[str, tuple[list[str], Any]] = {}
-    _flatten_mat(data, "", flat, skipped, matrices, texts)
+    objects: dict[str, str] = {}
+    _flatten_mat(data, "", flat, skipped, matrices, texts, objects)
     strings = {k: v for k, v in flat.items() if isinstance(v, str)}
     columns = {k: v for k, v in flat.items() if not isinstance(v, str)}
     shapes = {m: (int(a.shape[0]), int(a.shape[1])) for m, a in matrices.items()}
@@ -637,8 +778,9 @@ def read_mat(path: Path) -> Table:
                 skipped.append(f"{name} (char matrix of {len(listed)} rows of text)")
             else:
                 _flatten_cell(name, value, {}, skipped)
-    if not columns and skipped:
-        raise _no_columns(path, skipped)
+    if not columns and (skipped or objects):
+        raise _no_columns(path, skipped, objects)
+    skipped.extend(_object_entry(n, c) for n, c in objects.items())
     units: dict[str, str] = {}
     notes: list[str] = []
     bases = _matrix_columns(pairs, shapes, units, notes)

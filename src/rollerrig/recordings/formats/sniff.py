@@ -217,7 +217,13 @@ def _without_leading_names(
     rows_n = [k for k in below if len(k) == n]
     empty = {
         j for j in range(lead) if sum(k[j] == "empty" for k in rows_n) >= 0.8 * max(1, len(rows_n))
-    } if header_given else set()  # fmt: skip
+    }
+    if not header_given:
+        # Without a header from the map, such a column is a key column only where its text
+        # fills the block's top rows and nothing below them: catman's "Anzahl Werte" and
+        # "dt" rows under its units row had been read as two samples (2000, 0.001). A marker
+        # column's text appears among the samples too.
+        empty = {j for j in empty if _text_only_at_top(block[:201], j)}
     cells = dict(block)
 
     def names(i: int) -> bool:
@@ -241,6 +247,54 @@ def _without_leading_names(
     while rest and all(c in ("nan", "empty") for c in number_kinds(rest[0][1])):
         rest = rest[1:]
     return rest if rest else block
+
+
+def _text_only_at_top(block: list[tuple[int, list[str]]], column: int) -> bool:
+    """True where the cells of ``column`` that hold text are the first rows of ``block``, at
+    least two and no later row's, and each of those rows holds one value in every other cell
+    (catman's ``Anzahl Werte<TAB>2000<TAB>2000``, ``dt<TAB>0,001<TAB>0,001``: a property of
+    each channel), unlike samples beside a marker (``Start,0.000,1.0``)."""
+    text = [
+        i for i, (_, f) in enumerate(block)
+        if column < len(f) and number_kinds(f)[column] == "text"
+    ]  # fmt: skip
+    if len(text) < 2 or text != list(range(len(text))):
+        return False
+    for i in text:
+        cells = block[i][1]
+        values = {c.strip() for j, c in enumerate(cells) if j != column and c.strip()}
+        if len(values) != 1 or sum(1 for c in cells if c.strip()) < 3:
+            return False
+    return True
+
+
+def _without_key_rows(above: list[tuple[int, str]], sep: str, n: int) -> list[tuple[int, str]]:
+    """``above`` (the lines above the numbers) without the key-value rows at its end, a key
+    and then only numbers or timestamps (catman's ``T0``, ``dt<TAB>0,001`` and ``Anzahl
+    Werte<TAB>2000`` under its names and units), where a row of names with no number in it
+    stands above them: that row, not the last key-value row, is then the header. A row of
+    names with numbers among them (``Time;1;2``, channels numbered) with no such row above
+    stays the header."""
+
+    def key_value(text: str) -> bool:
+        kinds = number_kinds(split_cells(text, sep))
+        rest = kinds[1:]
+        return (
+            bool(kinds)
+            and kinds[0] == "text"
+            and ("num" in rest or "time" in rest)
+            and all(k in ("num", "time", "empty", "nan") for k in rest)
+        )
+
+    k = len(above)
+    while k > 0 and key_value(above[k - 1][1]):
+        k -= 1
+    if k == len(above) or k == 0:
+        return above
+    names = number_kinds(split_cells(above[k - 1][1], sep))
+    if len(names) in (n, n + 1) and not any(c in ("num", "time") for c in names):
+        return above[:k]
+    return above
 
 
 def _score(
@@ -432,6 +486,8 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
 
     # --- header and units rows
     above = [(i, t) for i, t in lines if i < data_line]
+    if spec.header_row is None and spec.units_row is None:
+        above = _without_key_rows(above, sep, n)
     header_line, units_line = header_rows(above, sep, spec)
     if header_line is None and sep == "," and n == 2 and spec.separator is None:
         _refuse_one_column_of_decimal_commas(p, block)

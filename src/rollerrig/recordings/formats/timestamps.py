@@ -217,6 +217,33 @@ def _fixed_width_times_of_day(s, first: str) -> np.ndarray | None:
     return seconds
 
 
+def _order_by_date_steps(a, b, y, tod, pd) -> bool | None:
+    """Whether slash or dash dates whose fields ``a/b`` are all <= 12 are day-first (True) or
+    month-first (False), from the rows where the date changes as the time of day ``tod`` [s]
+    wraps past midnight: a recording crossing midnight steps its date by one day read the
+    right way and by about a month read the other (``01/05/2024 23:59:59`` then
+    ``02/05/2024 00:00:00``); None where the date never changes, changes without the clock
+    wrapping (a daily logger's dates read both ways), or both readings (or neither) step by
+    one day."""
+    change = np.flatnonzero((np.diff(a) != 0) | (np.diff(b) != 0) | (np.diff(y) != 0))
+    if change.size == 0 or not np.all(tod[change + 1] < tod[change]):
+        return None
+    rows = np.concatenate((change, change + 1))
+
+    def one_day_steps(day, month) -> bool:
+        dates = pd.to_datetime(
+            pd.DataFrame({"year": y[rows], "month": month[rows], "day": day[rows]}),
+            errors="coerce",
+        ).to_numpy()
+        if np.isnat(dates).any():
+            return False
+        days = dates.astype("datetime64[D]").astype(np.int64)
+        return bool(np.all(days[change.size :] - days[: change.size] == 1))
+
+    day_first, month_first = one_day_steps(a, b), one_day_steps(b, a)
+    return day_first if day_first != month_first else None
+
+
 def parse_timestamps(
     values,
     *,
@@ -391,6 +418,12 @@ def parse_timestamps(
                 first_is_day, order = True, "day-first (a first field > 12)"
             elif day_b.any():
                 first_is_day, order = False, "month-first (a second field > 12)"
+            elif (by_steps := _order_by_date_steps(a, b, y, tod, pd)) is not None:
+                first_is_day = by_steps
+                order = (
+                    f"{'day' if by_steps else 'month'}-first (every day and month field <= "
+                    "12, but the date steps by one day read so, by a month read the other way)"
+                )
             else:
                 first_is_day = False
                 order = (
