@@ -123,19 +123,20 @@ import atexit, gc, sys
 record = sys.argv[1]
 atexit.register(lambda: open(record, "w").write(str(gc.get_freeze_count())))
 sys.argv = ["rollerrig", "--version"]
-from rollerrig.cli import main
+from rollerrig._command import main
 main()
 """
 
 
 def test_the_console_command_leaves_its_objects_out_of_the_exit_collection(tmp_path):
-    """``rollerrig`` is :func:`rollerrig.cli.main`, which freezes the collector's objects when
+    """``rollerrig`` is :func:`rollerrig.cli.main` (through :mod:`rollerrig._command`, which
+    guards Ctrl-C while it imports), which freezes the collector's objects when
     the command ends: the interpreter's exit then skips them (about 0.5 s of a fresh
     ``simulate``: the collector's passes over every object numpy, scipy and numba made)."""
     from importlib.metadata import entry_points
 
     (script,) = entry_points(group="console_scripts", name="rollerrig")
-    assert script.value == "rollerrig.cli:main"
+    assert script.value == "rollerrig._command:main"
     record = tmp_path / "frozen.txt"
     done = subprocess.run(
         [sys.executable, "-c", _FROZEN_AT_EXIT, str(record)],
