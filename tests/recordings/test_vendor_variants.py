@@ -494,3 +494,16 @@ def test_a_unit_in_brackets_may_hold_parentheses(tmp_path):
     cmap = {"time": {"column": "Time"}, "extra": {"p": {"column": "Druck", "unit": "bar"}}}
     rec = read_recording(p, cmap)  # the file says bar(g): the same unit as the map's bar
     np.testing.assert_allclose(rec["p"], np.arange(10) * 1e5)
+
+
+def test_the_chunked_reader_names_the_row_in_the_file_not_in_the_chunk(tmp_path):
+    # zeros beyond the rows the layout is sniffed from, then cells that read both ways
+    rows = "".join(f"{k};{'0' if k < 20000 else '100,000'}\n" for k in range(20500))
+    p, _ = _write(tmp_path, "late.csv", f"Time [ms];Torque [Nm]\n{rows}")
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
+    with pytest.raises(RecordingError, match=r"first at row 20000\b"):
+        read_recording(p, cmap)
+    with pytest.raises(RecordingError, match=r"first at row 20000\b"):
+        with open_recording(p, cmap) as src:
+            for _ in src.iter_chunks(["torque"], chunk_samples=7000):
+                pass

@@ -350,7 +350,7 @@ class RecordingSource:
             col = slicer.read(column, a, b)
             first = first or col
             what = f"{where} column {column!r} (channel {name!r})"
-            raw = as_float(col.values, what, decimal=st["decimal"], memo=st["marks"])
+            raw = as_float(col.values, what, decimal=st["decimal"], memo=st["marks"], row_offset=a)
             if raw.size != b - a:
                 raise RecordingError(
                     f"{what} gave {raw.size} samples for {a}..{b}; the file is damaged"

@@ -135,6 +135,7 @@ def as_float(
     line_of=None,
     decimal: str | None = None,
     memo: dict | None = None,
+    row_offset: int = 0,
 ) -> np.ndarray:
     """Numbers of a column; NaN/inf words (``NaN``, ``inf``, PicoScope's ``∞``) become NaN/inf.
 
@@ -148,7 +149,8 @@ def as_float(
     naming both readings: read as 1.0, a torque of 1000 N.m written with a thousands comma
     beyond the rows a layout was sniffed from was 1 N.m. ``memo`` (one dict per file, shared
     by its columns and the chunks of a file read in chunks) keeps the mark a column decided
-    for the columns and parts after it: one file, one decimal mark.
+    for the columns and parts after it: one file, one decimal mark. ``row_offset`` is the
+    column's first row in the file's samples (a part read in chunks), for the message.
     """
     arr = np.asarray(values)
     if arr.dtype.kind in "biuf":
@@ -186,7 +188,8 @@ def as_float(
             )
         line = line_of(k) if line_of is not None else None
         raise RecordingError(
-            f"{what} has {int(bad.sum())} non-numeric entries, first at row {k}: {arr[k]!r}"
+            f"{what} has {int(bad.sum())} non-numeric entries, first at row {row_offset + k}: "
+            f"{arr[k]!r}"
             + (f" (file line {line})" if line is not None else "")
             + _why_not_a_number(cell, decimal, mark)
         )
