@@ -313,3 +313,20 @@ def test_unknown_theory_is_refused_before_contact_is_needed(monkeypatch):
     _no_contact_env(monkeypatch)
     with pytest.raises(ParameterError, match="theory"):
         exact_creep_force(1e-3, **_ellipse(EXACT_REF, "roller"), theory="kalker")
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.5])
+def test_poisson_is_taken_in_0_to_0_5_as_hertz_contact_takes_it(monkeypatch, nu):
+    # nu = 0 (Kalker's table has a column for it) had been refused as not > 0: now it passes the
+    # validation and reaches the missing CONTACT.
+    _no_contact_env(monkeypatch)
+    with pytest.raises(ContactNotAvailable):
+        exact_creep_force(1e-3, **{**_ellipse(EXACT_REF, "roller"), "poisson": nu})
+
+
+@pytest.mark.parametrize("nu", [-0.1, 0.51])
+def test_poisson_outside_0_to_0_5_is_refused_before_contact_is_needed(monkeypatch, nu):
+    # nu > 0.5 (a negative bulk modulus) had passed on to CONTACT.
+    _no_contact_env(monkeypatch)
+    with pytest.raises(ParameterError, match=r"poisson must lie in \[0, 0.5\] \[-\]"):
+        exact_creep_force(1e-3, **{**_ellipse(EXACT_REF, "roller"), "poisson": nu})

@@ -176,6 +176,21 @@ def test_polach_shape_derivatives_match_complex_step_differences(eps, k_a, k_s):
     assert d2h == pytest.approx(slope(complex(eps, step)).imag / step, rel=1e-12, abs=1e-15)
 
 
+def test_huge_creep_saturates_without_overflow_warnings():
+    # Beyond |k_A eps| = 1.3e154, (k_A eps)^2 overflowed with a RuntimeWarning although the
+    # force was right: the saturation (2/pi) Q mu (pi/2) = Q mu(w) (Polach 2005, eq. 12 with
+    # k_A eps/(1 + (k_A eps)^2) -> 0 and arctan -> pi/2).
+    import warnings
+
+    s = np.array([1e160, -1e200, 1e300])
+    w = 0.0833
+    mu = float(friction_coefficient(w))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        f = _force(s, w, POLACH_DRY)
+    np.testing.assert_allclose(f, np.sign(s) * Q * mu, rtol=1e-14)
+
+
 def test_mismatched_array_lengths_name_the_parameters():
     with pytest.raises(
         ParameterError,

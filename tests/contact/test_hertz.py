@@ -318,6 +318,39 @@ def test_negative_load_names_parameter():
 
 
 @pytest.mark.parametrize(
+    "name",
+    [
+        "normal_load",
+        "wheel_radius_x",
+        "wheel_radius_y",
+        "roller_radius_x",
+        "roller_radius_y",
+        "youngs_modulus",
+        "poisson",
+        "youngs_modulus_2",
+        "poisson_2",
+    ],
+)
+@pytest.mark.parametrize(
+    "bad", [True, np.False_, "1e4", b"0.3", [1e4, "2e4"], [True, False]], ids=repr
+)
+def test_flags_and_text_are_refused_naming_the_parameter(name, bad):
+    # numpy reads True as 1 and "1e4" as 1e4: a load of True had been a load of 1 N.
+    kwargs = {
+        "normal_load": 1e3,
+        "wheel_radius_x": 0.35,
+        "wheel_radius_y": 0.3,
+        "roller_radius_x": 1.0,
+        "roller_radius_y": 0.4,
+    }
+    kwargs[name] = bad
+    with pytest.raises(
+        ParameterError, match=rf"^{name} must be a number \[[-a-zA-Z]+\], not True/False or text"
+    ):
+        hertz_contact(**kwargs)
+
+
+@pytest.mark.parametrize(
     "name", ["wheel_radius_x", "wheel_radius_y", "roller_radius_x", "roller_radius_y"]
 )
 @pytest.mark.parametrize("bad", [0.0, -0.1, np.nan])

@@ -218,3 +218,13 @@ def test_bad_ratio_names_parameter(bad):
 def test_bad_poisson_names_parameter(bad):
     with pytest.raises(ParameterError, match=r"poisson must lie in \[0, 0.5\]"):
         kalker_coefficients(1.0, bad)
+
+
+def test_mismatched_shapes_name_both_parameters():
+    # numpy's own error ("operands could not be broadcast together") had named neither.
+    with pytest.raises(
+        ParameterError,
+        match=r"a_over_b \(shape \(3,\)\) and poisson \(shape \(2,\)\) must have the same "
+        r"shape, or one of them be a single number",
+    ):
+        kalker_coefficients([1.0, 2.0, 3.0], [0.1, 0.2])

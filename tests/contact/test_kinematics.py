@@ -53,6 +53,18 @@ def test_always_finite_and_antisymmetric(ww, wr):
     assert s2 == pytest.approx(-s, abs=1e-12) and w2 == pytest.approx(-w, abs=1e-12)
 
 
+def test_away_from_standstill_the_creep_is_relative_to_the_roller_speed_magnitude():
+    # s = w/sqrt(v_r^2 + v_eps^2) -> w/|v_r|: Kayaalp's w/v_r (eqs. 4.21-4.22) rolling forwards,
+    # its negative rolling backwards (a wheel 1 % faster than the roller, both backwards).
+    v = 30 / 3.6
+    for sign in (1.0, -1.0):
+        ww, wr = sign * 1.01 * v / RW, sign * v / RR
+        s, w = creep_and_slip_velocity(ww, wr, RW, RR)
+        assert s == pytest.approx(w / abs(wr * RR), rel=2e-5)  # (v_eps/v)^2/2
+        assert s == pytest.approx(sign * w / (wr * RR), rel=2e-5)
+        assert np.sign(s) == np.sign(w) == sign
+
+
 def test_invalid_radius_is_named():
     with pytest.raises(ParameterError, match="roller_radius"):
         creep_and_slip_velocity(1.0, 1.0, RW, 0.0)

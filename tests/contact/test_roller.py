@@ -57,8 +57,48 @@ def test_vectorised_and_scalar():
     assert float(area_ratio_to_tangent_rail(1.0)) == pytest.approx(ratios[1], rel=1e-15)
 
 
-def test_bad_roller_radius_names_parameter():
-    with pytest.raises(ParameterError, match=r"roller_radius_x must be a nonzero radius \[m\]"):
-        contact_versus_roller_radius([1.0, 0.0])
+def test_array_geometry_gives_results_shaped_like_the_cases():
+    # The tangent rail had been appended to the roller radii (R_rx = inf as a third entry), so
+    # two radii with two loads failed on "roller_radius_x (shape (3,))". Each case is
+    # hertz_contact's on its own (the reference values here, not from the code under test).
+    from rollerrig.contact.hertz import hertz_contact
+
+    c = contact_versus_roller_radius([0.35, 10.0], normal_load=[1e4, 2e4])
+    for arr in (c.roller_radius_x, c.semi_axis_x, c.semi_axis_y, c.area, c.tangent_area):
+        assert np.shape(arr) == (2,)
+    for k, (radius, load) in enumerate([(0.35, 1e4), (10.0, 2e4)]):
+        assert c.area[k] == pytest.approx(hertz_contact(load, 0.35, 0.3, radius, 0.4).area)
+        tangent = hertz_contact(load, 0.35, 0.3, np.inf, 0.4)
+        assert c.tangent_area[k] == pytest.approx(tangent.area)
+        assert c.tangent_semi_axis_x[k] == pytest.approx(tangent.semi_axis_x)
+    ratio = area_ratio_to_tangent_rail(10.0, normal_load=[1e4, 2e4])
+    assert ratio.shape == (2,) and np.all((0 < ratio) & (ratio < 1))
+    # One geometry keeps one tangent-rail reference, a float.
+    assert isinstance(contact_versus_roller_radius([0.35, 10.0]).tangent_area, float)
+
+
+def test_mismatched_shapes_name_the_callers_parameters():
+    with pytest.raises(
+        ParameterError,
+        match=r"roller_radii_x \(shape \(3,\)\) and normal_load \(shape \(2,\)\) must have",
+    ):
+        contact_versus_roller_radius([0.35, 1.0, 10.0], normal_load=[1e4, 2e4])
+
+
+@pytest.mark.parametrize("bad", [-1.0, 0.0, np.nan, [1.0, -0.5]])
+def test_roller_radius_must_be_positive(bad):
+    # hertz_contact takes -1 m as a concave drum: the area ratio had come out as 1.130, outside
+    # the (0, 1] these functions promise.
+    with pytest.raises(ParameterError, match=r"roller_radii_x must be > 0 \[m\]"):
+        area_ratio_to_tangent_rail(bad)
+
+
+@pytest.mark.parametrize("bad", [True, "10"])
+def test_roller_radius_must_be_a_number(bad):
+    with pytest.raises(ParameterError, match=r"roller_radii_x must be a number \[m\]"):
+        contact_versus_roller_radius(bad)
+
+
+def test_bad_geometry_names_parameter():
     with pytest.raises(ParameterError, match=r"normal_load must be > 0 \[N\]"):
         area_ratio_to_tangent_rail(1.0, normal_load=-5.0)

@@ -31,7 +31,12 @@ from pathlib import Path
 
 import numpy as np
 
-from rollerrig._validation import ParameterError, require_finite, require_positive
+from rollerrig._validation import (
+    ParameterError,
+    require_finite,
+    require_in_range,
+    require_positive,
+)
 
 __all__ = [
     "ContactNotAvailable",
@@ -202,7 +207,7 @@ def exact_creep_force(
     shear_modulus : float
         G [Pa].
     poisson : float
-        ν [-].
+        ν [-], in [0, 0.5].
     friction : float
         Coulomb μ [-].
     rolling_speed : float
@@ -239,7 +244,11 @@ def exact_creep_force(
     b = require_positive("semi_axis_y", semi_axis_y, "m", single=True) * 1e3
     fn = require_positive("normal_load", normal_load, "N", single=True)
     gg = require_positive("shear_modulus", shear_modulus, "Pa", single=True) * 1e-6  # N/mm²
-    nu = require_positive("poisson", poisson, "-", single=True)
+    # [0, 0.5] as hertz_contact and kalker_coefficients (ν = 0 had been refused as not > 0,
+    # and ν > 0.5, a negative bulk modulus, passed on to CONTACT).
+    nu = require_in_range(
+        "poisson", poisson, 0.0, 0.5, "-", low_inclusive=True, high_inclusive=True, single=True
+    )
     mu = require_positive("friction", friction, "-", single=True)
     veloc = require_positive("rolling_speed", rolling_speed, "m/s", single=True) * 1e3  # mm/s
     mx, my = (int(require_positive("grid", n, "-")) for n in grid)

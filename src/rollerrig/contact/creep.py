@@ -362,7 +362,12 @@ def polach_creep_force(
     stiffness = _creep_stiffness(
         semi_axis_x, semi_axis_y, c11, shear_modulus, creep=s, slip_velocity=w, normal_load=q
     )
-    return _polach_force_kernel(s, w, q, stiffness, *parameters.as_tuple())
+    # Beyond |k_A ε| ≈ 1.3e154 (a creep of 1e151 in the example above) (k_A ε)² overflows to
+    # inf and k_A ε/(1 + (k_A ε)²) is 0, as it should be (the force is μQ): harmless. Where ε
+    # itself overflows (creep * G a b c11 beyond 1.8e308) the result is NaN, and numpy still
+    # says so ("invalid value").
+    with np.errstate(over="ignore"):
+        return _polach_force_kernel(s, w, q, stiffness, *parameters.as_tuple())
 
 
 def kalker_linear_force(creep, semi_axis_x, semi_axis_y, c11, shear_modulus):

@@ -370,7 +370,8 @@ def hertz_contact(
     Raises
     ------
     ParameterError
-        If a load or modulus is not > 0, a radius is 0 or NaN, a Poisson ratio lies outside
+        If an argument is True/False or text (numpy would read True as 1, "1e4" as 1e4), a
+        load or modulus is not > 0, a radius is 0 or NaN, a Poisson ratio lies outside
         [0, 0.5], both radii of one direction are infinite (then the contact is a line or a
         plane, not an ellipse), a direction's combined curvature is not > 0 (a concave radius
         that the convex one does not exceed in curvature), or array arguments have shapes that
@@ -405,6 +406,15 @@ def hertz_contact(
     >>> bool(np.isclose(s.semi_axis_x, (3 * 100.0 * 0.005 / (4 * 210e9 / 1.82)) ** (1 / 3)))
     True
     """
+    for name, value, unit in (
+        ("normal_load", normal_load, "N"),
+        ("youngs_modulus", youngs_modulus, "Pa"),
+        ("poisson", poisson, "-"),
+        ("youngs_modulus_2", youngs_modulus_2, "Pa"),
+        ("poisson_2", poisson_2, "-"),
+    ):
+        if value is not None:
+            _refuse_flags_and_text(name, value, unit)
     load = require_positive("normal_load", normal_load, "N")
     r_wx = _require_radius("wheel_radius_x", wheel_radius_x)
     r_wy = _require_radius("wheel_radius_y", wheel_radius_y)
@@ -520,9 +530,27 @@ def _warn_outside_half_space(load, a, b, radius_x, radius_y) -> None:
     )
 
 
+def _refuse_flags_and_text(name: str, value, unit: str) -> None:
+    """Raise :class:`ParameterError` for True/False or text where a number belongs.
+
+    numpy reads True as 1 and the text "1e4" as 1e4, so a flag passed in the wrong place, or a
+    number left as text by a reader, had been taken as a load of 1 N or 10 kN without a word.
+    (The shared ``require_*`` helpers convert the same way; this check is the contact
+    module's, not theirs, so that no other caller changes.)
+    """
+    if isinstance(value, float | int) and not isinstance(value, bool):
+        return  # the common case, without numpy's conversion
+    if isinstance(value, bool | np.bool_ | str | bytes) or np.asarray(value).dtype.kind in "bSU":
+        shown = repr(value) if len(repr(value)) <= 40 else repr(value)[:36] + " ..."
+        raise ParameterError(
+            f"{name} must be a number [{unit}], not True/False or text; got {shown}"
+        )
+
+
 def _require_radius(name: str, value) -> np.ndarray:
     """A radius of curvature [m]: > 0 convex, < 0 concave, ``np.inf`` allowed (flat); 0 and NaN
     rejected (the combined curvature is checked by the caller)."""
+    _refuse_flags_and_text(name, value, "m")
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:

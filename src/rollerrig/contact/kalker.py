@@ -29,7 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rollerrig._validation import require_in_range
+from rollerrig._validation import require_broadcastable, require_in_range
 
 __all__ = [
     "KALKER_TABLE",
@@ -312,6 +312,12 @@ def kalker_coefficients(a_over_b, poisson) -> KalkerCoefficients:
       (the expression π/4·(1 - (νΛ-2)/((1-ν)Λ-2+4ν)) found in public codes misses the table at
       b/a = 0.1 by 35-90 %), so C33 is held at its value at a/b = 10 (clamped).
 
+    CONTACT's ``linrol`` instead switches to the bare asymptotes for g = min(a/b, b/a) < 0.101,
+    the table's edge rows g = 0.1 included. There the two differ: at a/b = 10, ν = 0.28,
+    C11 = 11.83 here (Kalker's table) and 11.40 in CONTACT (the asymptote), +3.8 % (C22
+    +2.3 %); at a/b = 0.1, C22 +2.2 % and C23 +5.5 %. Here Kalker's table holds at all its
+    nodes, and the blend towards the asymptotes begins beyond them.
+
     Parameters
     ----------
     a_over_b : array_like
@@ -329,7 +335,8 @@ def kalker_coefficients(a_over_b, poisson) -> KalkerCoefficients:
     Raises
     ------
     ParameterError
-        If a/b lies outside [1e-8, 1e8] or ν outside [0, 0.5].
+        If a/b lies outside [1e-8, 1e8] or ν outside [0, 0.5], or their shapes do not
+        broadcast together (naming both and their shapes).
 
     References
     ----------
@@ -355,6 +362,8 @@ def kalker_coefficients(a_over_b, poisson) -> KalkerCoefficients:
     )
     if ratio.ndim == 0 and nu.ndim == 0:
         return _scalar_coefficients(float(ratio), float(nu))
+    # numpy's own error ("operands could not be broadcast together") named neither.
+    ratio, nu = require_broadcastable(a_over_b=ratio, poisson=nu)
     c11, c22, c23, c33 = _kalker_kernel(ratio, nu)
     return KalkerCoefficients(_out(c11), _out(c22), _out(c23), _out(c33))
 

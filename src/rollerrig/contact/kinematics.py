@@ -3,7 +3,9 @@
 The seed's definitions (Kayaalp eqs. 4.21-4.22) divide by the roller's peripheral speed, which is
 singular at standstill. Here the denominator is regularised as sqrt(v_r² + v_ε²): the creep is
 smooth in both speeds, zero at standstill, finite when the wheel spins on a stopped roller, and
-changes sign smoothly at slip reversal. For |v_r| ≫ v_ε it equals the seed's creep.
+changes sign smoothly at slip reversal. For |v_r| ≫ v_ε it is w/|v_r|, the slip velocity
+relative to the roller's speed magnitude: the seed's creep w/v_r when the roller runs forwards
+(v_r > 0), and its negative when the roller runs backwards.
 """
 
 from __future__ import annotations
@@ -68,7 +70,11 @@ def creep_and_slip_velocity(
         w = \\omega_w r_w - \\omega_r r_r, \\qquad
         s = \\frac{w}{\\sqrt{(\\omega_r r_r)^2 + v_\\varepsilon^2}}
 
-    Kayaalp eqs. 4.21-4.22 (s = w / (ω_r r_r)) for |ω_r r_r| ≫ v_ε.
+    For |ω_r r_r| ≫ v_ε this is s = w/|ω_r r_r|: the slip velocity relative to the magnitude
+    of the roller's peripheral speed, with the sign of w. With the roller running forwards
+    (ω_r r_r > 0) it is Kayaalp's s = w/(ω_r r_r) (eqs. 4.21-4.22); with both running
+    backwards (ω_r r_r < 0) the two differ in sign: a wheel 1 % faster backwards gives
+    w < 0 and s = -0.01 here, +0.01 by Kayaalp's definition.
 
     Parameters
     ----------
@@ -82,7 +88,8 @@ def creep_and_slip_velocity(
     Returns
     -------
     creep : numpy.ndarray
-        s [-], positive in traction (wheel faster than roller).
+        s [-], with the sign of w: positive when ω_w r_w > ω_r r_r (in traction when rolling
+        forwards, in braking when rolling backwards).
     slip_velocity : numpy.ndarray
         w [m/s].
 

@@ -20,7 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig.contact.hertz import hertz_contact
+from rollerrig._validation import ParameterError, require_broadcastable
+from rollerrig.contact.hertz import _refuse_flags_and_text, hertz_contact
 
 __all__ = [
     "RollerRailComparison",
@@ -36,15 +37,18 @@ class RollerRailComparison:
     Attributes
     ----------
     roller_radius_x : ndarray
-        Roller radii R_rx in the rolling plane [m] (``np.inf`` is the tangent rail).
+        Roller radii R_rx in the rolling plane [m] (``np.inf`` is the tangent rail), one per
+        case: the roller radii broadcast against the geometry's arrays.
     semi_axis_x, semi_axis_y : ndarray
-        Semi-axes a (rolling direction) and b (lateral) on each roller [m].
+        Semi-axes a (rolling direction) and b (lateral) on each roller [m], shaped like
+        ``roller_radius_x``.
     area : ndarray
-        Contact area π a b on each roller [m²].
-    tangent_semi_axis_x, tangent_semi_axis_y : float
-        Semi-axes on the tangent rail [m].
-    tangent_area : float
-        Contact area on the tangent rail [m²].
+        Contact area π a b on each roller [m²], shaped like ``roller_radius_x``.
+    tangent_semi_axis_x, tangent_semi_axis_y : float or ndarray
+        Semi-axes on the tangent rail [m]: a float where the geometry (load, wheel, roller
+        profile, material) is one, else one per case, shaped like ``roller_radius_x``.
+    tangent_area : float or ndarray
+        Contact area on the tangent rail [m²], as the tangent semi-axes.
     """
 
     roller_radius_x: np.ndarray
@@ -85,28 +89,33 @@ def contact_versus_roller_radius(
     ----------
     roller_radii_x : array_like
         Roller radii in the rolling plane R_rx [m], > 0 (``np.inf`` allowed).
-    normal_load : float, optional
+    normal_load : array_like, optional
         Normal load Q [N], > 0. Default 20e3 (Kayaalp, §2.5).
-    wheel_radius_x : float, optional
+    wheel_radius_x : array_like, optional
         Wheel rolling radius R_wx [m]. Default 0.35.
-    wheel_radius_y : float, optional
+    wheel_radius_y : array_like, optional
         Wheel transverse profile radius R_wy [m]. Default 0.30.
-    roller_radius_y : float, optional
+    roller_radius_y : array_like, optional
         Roller (rail head) transverse profile radius R_ry [m]. Default 0.40.
-    youngs_modulus : float, optional
+    youngs_modulus : array_like, optional
         Young's modulus of both bodies [Pa]. Default 210e9.
-    poisson : float, optional
+    poisson : array_like, optional
         Poisson ratio of both bodies [-], in [0, 0.5]. Default 0.3.
+
+    All arguments broadcast together; the cases are their broadcast shape.
 
     Returns
     -------
     RollerRailComparison
-        Semi-axes and area per roller radius, with the tangent-rail reference.
+        Semi-axes and area per case, with the tangent-rail reference (one per case where the
+        geometry is given as arrays).
 
     Raises
     ------
     ParameterError
-        As :func:`~rollerrig.contact.hertz.hertz_contact`, naming the offending parameter.
+        If a roller radius is not > 0 (NaN, 0, negative: a concave roller is no roller rig),
+        if arguments have shapes that do not broadcast together (naming them and their shapes),
+        and as :func:`~rollerrig.contact.hertz.hertz_contact`, naming the offending parameter.
 
     Examples
     --------
@@ -115,28 +124,71 @@ def contact_versus_roller_radius(
     >>> c = contact_versus_roller_radius([0.35, 10.0])
     >>> round(float(c.tangent_area) * 1e6, 2), round(float(c.area[1]) * 1e6, 2)
     (31.12, 30.81)
+
+    Two loads, one roller each: a tangent-rail reference per load.
+
+    >>> c = contact_versus_roller_radius([0.35, 10.0], normal_load=[1e4, 2e4])
+    >>> c.area.shape, c.tangent_area.shape
+    ((2,), (2,))
     """
-    radii = np.asarray(roller_radii_x, dtype=float)
-    # One call for the rollers and the tangent rail (the last entry, R_rx = ∞).
-    both = hertz_contact(
-        normal_load,
-        wheel_radius_x,
-        wheel_radius_y,
-        np.append(radii, np.inf),
-        roller_radius_y,
+    radii = _require_roller_radii(roller_radii_x)
+    geometry = dict(
+        normal_load=normal_load,
+        wheel_radius_x=wheel_radius_x,
+        wheel_radius_y=wheel_radius_y,
+        roller_radius_y=roller_radius_y,
         youngs_modulus=youngs_modulus,
         poisson=poisson,
     )
-    a, b, area = (np.asarray(v) for v in (both.semi_axis_x, both.semi_axis_y, both.area))
-    return RollerRailComparison(
-        roller_radius_x=radii,
-        semi_axis_x=a[:-1].reshape(radii.shape),
-        semi_axis_y=b[:-1].reshape(radii.shape),
-        area=area[:-1].reshape(radii.shape),
-        tangent_semi_axis_x=float(a[-1]),
-        tangent_semi_axis_y=float(b[-1]),
-        tangent_area=float(area[-1]),
+    # The shapes first, under the caller's names (the tangent rail's R_rx = ∞ had been appended
+    # to the radii, and an error named an array one longer than the caller's); the values are
+    # hertz_contact's to check.
+    cases = np.broadcast_shapes(
+        *(a.shape for a in require_broadcastable(roller_radii_x=radii, **geometry))
     )
+    g = geometry
+    kw = dict(youngs_modulus=g["youngs_modulus"], poisson=g["poisson"])
+    fixed = (g["normal_load"], g["wheel_radius_x"], g["wheel_radius_y"])
+    roller = hertz_contact(*fixed, radii, g["roller_radius_y"], **kw)
+    tangent = hertz_contact(*fixed, np.inf, g["roller_radius_y"], **kw)
+
+    def per_case(v):
+        return np.broadcast_to(np.asarray(v, dtype=float), cases).copy()
+
+    def reference(v):
+        v = np.asarray(v, dtype=float)
+        return float(v) if v.ndim == 0 else per_case(v)
+
+    return RollerRailComparison(
+        roller_radius_x=per_case(radii),
+        semi_axis_x=per_case(roller.semi_axis_x),
+        semi_axis_y=per_case(roller.semi_axis_y),
+        area=per_case(roller.area),
+        tangent_semi_axis_x=reference(tangent.semi_axis_x),
+        tangent_semi_axis_y=reference(tangent.semi_axis_y),
+        tangent_area=reference(tangent.area),
+    )
+
+
+def _require_roller_radii(value) -> np.ndarray:
+    """Roller radii [m] as a float array: each > 0, ``np.inf`` allowed (the tangent rail).
+
+    :func:`~rollerrig.contact.hertz.hertz_contact` takes a negative radius as a concave body
+    (a wheel inside a drum), so a radius of -1 m had given an area ratio of 1.130, outside the
+    (0, 1] these functions promise.
+    """
+    _refuse_flags_and_text("roller_radii_x", value, "m")
+    try:
+        radii = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"roller_radii_x must be a number [m], got {value!r}") from None
+    bad = ~(radii > 0.0)  # NaN too
+    if np.any(bad):
+        got = f"{float(radii):g}" if radii.ndim == 0 else np.array2string(radii[bad][:6])
+        raise ParameterError(
+            f"roller_radii_x must be > 0 [m] (np.inf for the tangent rail), got {got}"
+        )
+    return radii
 
 
 def area_ratio_to_tangent_rail(roller_radii_x, **geometry):
@@ -156,7 +208,13 @@ def area_ratio_to_tangent_rail(roller_radii_x, **geometry):
     Returns
     -------
     float or ndarray
-        A_roller / A_tangent [-], shaped like ``roller_radii_x``.
+        A_roller / A_tangent [-], shaped like the cases (``roller_radii_x`` broadcast against
+        the geometry's arrays).
+
+    Raises
+    ------
+    ParameterError
+        As :func:`contact_versus_roller_radius` (a roller radius not > 0 among them).
 
     Examples
     --------
