@@ -31,6 +31,7 @@ from rollerrig._validation import (
     require_instants_within,
     require_names,
     require_nonnegative,
+    require_number,
     require_positive,
     require_whole,
     show_value,
@@ -436,3 +437,17 @@ def test_require_names_gives_a_list_of_any_collection_of_str():
     assert require_names("names", ("a", "b")) == ["a", "b"]
     assert require_names("names", iter(["a"])) == ["a"]
     assert require_names("names", []) == []
+
+
+@pytest.mark.parametrize("bad", [True, np.False_, "1e4", b"2", ["1", "2"], [True, False]], ids=repr)
+def test_flags_and_text_are_no_numbers(bad):
+    # numpy reads True as 1 and "1e4" as 1e4: a load of True had been a load of 1 N
+    with pytest.raises(ParameterError, match=r"^normal_load must be (a number|numbers) \[N\]"):
+        require_positive("normal_load", bad, "N")
+    with pytest.raises(ParameterError, match=r"^radius must be"):
+        require_number("radius", bad, "m")
+
+
+def test_require_number_passes_infinities_and_nan():
+    got = require_number("radius", [0.35, np.inf, np.nan], "m")
+    assert got[0] == 0.35 and np.isinf(got[1]) and np.isnan(got[2])

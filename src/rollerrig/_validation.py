@@ -37,6 +37,7 @@ __all__ = [
     "require_instants_within",
     "require_names",
     "require_nonnegative",
+    "require_number",
     "require_positive",
     "require_whole",
     "toml_string",
@@ -125,14 +126,40 @@ def did_you_mean(name: str, known, *, n: int = 1, cutoff: float = 0.6, style: st
     return f"; did you mean {text}?" if style == ";" else f" (did you mean {text}?)"
 
 
-def _as_float_array(name: str, value) -> np.ndarray:
+def _as_float_array(name: str, value, unit: str = "") -> np.ndarray:
+    # True is not 1 N, nor "1e4" 10 kN: numpy would take both as numbers without a word.
+    if isinstance(value, bool | np.bool_ | str | bytes):
+        raise ParameterError(f"{name} must be a number{_unit(unit)}, got {value!r}")
+    if isinstance(value, list | tuple | np.ndarray):
+        kind = np.asarray(value).dtype.kind
+        if kind in "bUS":
+            what = "booleans" if kind == "b" else "text"
+            raise ParameterError(f"{name} must be numbers{_unit(unit)}, got {what}: {value!r}")
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise ParameterError(f"{name} must be a number, got {value!r}") from exc
+        raise ParameterError(f"{name} must be a number{_unit(unit)}, got {value!r}") from exc
     except OverflowError:  # an integer beyond the float range (10**400)
         raise ParameterError(f"{name} must be finite, got an integer beyond 1.8e308") from None
     return arr
+
+
+def require_number(name: str, value, unit: str = "") -> np.ndarray:
+    """Return ``value`` as a float array, raising :class:`ParameterError` where it is not a
+    number: text (``"1e4"``), True/False (which numpy reads as 1 and 0) or anything numpy
+    cannot convert. NaN and ±inf pass (the caller decides): the conversion every ``require_*``
+    helper starts from.
+
+    Examples
+    --------
+    >>> require_number("radius", [0.35, np.inf]).tolist()
+    [0.35, inf]
+    >>> require_number("load", True)
+    Traceback (most recent call last):
+    ...
+    rollerrig._validation.ParameterError: load must be a number [N], got True
+    """
+    return _as_float_array(name, value, unit)
 
 
 def require_finite(name: str, value, unit: str = "", *, single: bool = False):
@@ -142,7 +169,7 @@ def require_finite(name: str, value, unit: str = "", *, single: bool = False):
     a ``float``, and refuse an array of several values naming its shape (``float()`` of it
     had raised a bare TypeError).
     """
-    arr = _as_float_array(name, value)
+    arr = _as_float_array(name, value, unit)
     if _fails(arr, np.isfinite, math.isfinite):
         raise ParameterError(
             f"{name} must be finite{_unit(unit)}, got {_show(arr, ~np.isfinite(arr))}"

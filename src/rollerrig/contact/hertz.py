@@ -47,6 +47,7 @@ from rollerrig._validation import (
     ParameterError,
     require_broadcastable,
     require_in_range,
+    require_number,
     require_positive,
 )
 from rollerrig._warnings import DomainWarning
@@ -406,15 +407,6 @@ def hertz_contact(
     >>> bool(np.isclose(s.semi_axis_x, (3 * 100.0 * 0.005 / (4 * 210e9 / 1.82)) ** (1 / 3)))
     True
     """
-    for name, value, unit in (
-        ("normal_load", normal_load, "N"),
-        ("youngs_modulus", youngs_modulus, "Pa"),
-        ("poisson", poisson, "-"),
-        ("youngs_modulus_2", youngs_modulus_2, "Pa"),
-        ("poisson_2", poisson_2, "-"),
-    ):
-        if value is not None:
-            _refuse_flags_and_text(name, value, unit)
     load = require_positive("normal_load", normal_load, "N")
     r_wx = _require_radius("wheel_radius_x", wheel_radius_x)
     r_wy = _require_radius("wheel_radius_y", wheel_radius_y)
@@ -530,31 +522,10 @@ def _warn_outside_half_space(load, a, b, radius_x, radius_y) -> None:
     )
 
 
-def _refuse_flags_and_text(name: str, value, unit: str) -> None:
-    """Raise :class:`ParameterError` for True/False or text where a number belongs.
-
-    numpy reads True as 1 and the text "1e4" as 1e4, so a flag passed in the wrong place, or a
-    number left as text by a reader, had been taken as a load of 1 N or 10 kN without a word.
-    (The shared ``require_*`` helpers convert the same way; this check is the contact
-    module's, not theirs, so that no other caller changes.)
-    """
-    if isinstance(value, float | int) and not isinstance(value, bool):
-        return  # the common case, without numpy's conversion
-    if isinstance(value, bool | np.bool_ | str | bytes) or np.asarray(value).dtype.kind in "bSU":
-        shown = repr(value) if len(repr(value)) <= 40 else repr(value)[:36] + " ..."
-        raise ParameterError(
-            f"{name} must be a number [{unit}], not True/False or text; got {shown}"
-        )
-
-
 def _require_radius(name: str, value) -> np.ndarray:
     """A radius of curvature [m]: > 0 convex, < 0 concave, ``np.inf`` allowed (flat); 0 and NaN
     rejected (the combined curvature is checked by the caller)."""
-    _refuse_flags_and_text(name, value, "m")
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ParameterError(f"{name} must be a number [m], got {value!r}") from exc
+    arr = require_number(name, value, "m")
     bad = np.isnan(arr) | (arr == 0.0)
     if np.any(bad):
         shown = arr[bad].ravel()[:6]

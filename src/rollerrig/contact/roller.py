@@ -20,8 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollerrig._validation import ParameterError, require_broadcastable
-from rollerrig.contact.hertz import _refuse_flags_and_text, hertz_contact
+from rollerrig._validation import ParameterError, require_broadcastable, require_number
+from rollerrig.contact.hertz import hertz_contact
 
 __all__ = [
     "RollerRailComparison",
@@ -177,11 +177,7 @@ def _require_roller_radii(value) -> np.ndarray:
     (a wheel inside a drum), so a radius of -1 m had given an area ratio of 1.130, outside the
     (0, 1] these functions promise.
     """
-    _refuse_flags_and_text("roller_radii_x", value, "m")
-    try:
-        radii = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"roller_radii_x must be a number [m], got {value!r}") from None
+    radii = require_number("roller_radii_x", value, "m")
     bad = ~(radii > 0.0)  # NaN too
     if np.any(bad):
         got = f"{float(radii):g}" if radii.ndim == 0 else np.array2string(radii[bad][:6])
