@@ -75,7 +75,7 @@ def test_mismatched_force_lengths_name_both():
 def test_gauge_signals_refuses_text_channels_and_a_source_that_is_no_mapping():
     influence = gauge_influence(analyze_frame(default_frame(), n_modes=1))
     with pytest.raises(
-        ParameterError, match=re.escape("channel 'normal_load' must be a number, got")
+        ParameterError, match=re.escape("channel 'normal_load' must be numbers, got text")
     ):
         gauge_signals({"normal_load": ["a"], "contact_force": [1.0]}, influence)
     with pytest.raises(

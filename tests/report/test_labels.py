@@ -117,7 +117,7 @@ def test_no_labels_is_fine():
     ("args", "message"),
     [
         (([1.0, 2.0, 3.0], [1.0, 2.0], 0.0, 10.0), r"centres \(shape \(3,\)\) and widths"),
-        ((["ab"], [1.0], 0.0, 10.0), "centres must be a number"),
+        ((["ab"], [1.0], 0.0, 10.0), "centres must be numbers, got text"),
         (([np.nan], [1.0], 0.0, 10.0), "centres must be finite"),
         (([1.0], [-1.0], 0.0, 10.0), "widths must be >= 0"),
         (([1.0], [1.0], np.nan, 10.0), "lo must be finite"),

@@ -42,6 +42,7 @@ from rollerrig.analysis.polach_fits import (
     _note_truth_distance,
     _one_friction_condition,
     _polach_fits,
+    _with_systematic_errors,
 )
 from rollerrig.analysis.smoothed_channels import CORRECTION_WINDOW, _smoothed_and_corrected
 from rollerrig.estimation.uncertainty import calibration_covariance
@@ -249,6 +250,7 @@ def analyze_test(
     budget = _coa_uncertainty(
         rec, rig, phases, branches, (order, window), true_coa, calibration, notes
     )
+    fit = _with_systematic_errors(fit, budget, points, notes)
     _note_arm(budget, rig, notes)
     _note_wheel_drive_voltage(rec, rig, notes)
     true_params, true_source = true_polach_parameters(recording, truth, condition)

@@ -203,6 +203,10 @@ def _fit_dict(fit: PolachFit | None, points: dict, truth: dict | None = None) ->
         "kA": p.k_adhesion,
         "kS": p.k_slip,
         "stderr": stderr,
+        "stderr_statistical": None
+        if fit.stderr_statistical is None
+        else {k: _finite_or_none(v) for k, v in fit.stderr_statistical.items()},
+        "systematic_shifts": fit.systematic,
         "rmse [-]": float(fit.rmse),
         "points": points["used"],
         "points_available": points["available"],
@@ -218,6 +222,10 @@ def _fit_dict(fit: PolachFit | None, points: dict, truth: dict | None = None) ->
         "truth_distance": None if truth is None else fit.truth_distance(truth, TRUTH_SIGMA),
         "truth_distance_warn_sigma": TRUTH_SIGMA,
     }
+    if fit.stderr_statistical is None:
+        why = "stderr is the points' scatter alone: no systematic errors added to it"
+        out["stderr_statistical_null_because"] = why
+        out["systematic_shifts_null_because"] = why
     missing = [k for k, v in stderr.items() if v is None]
     if missing:
         out["stderr_null_because"] = (

@@ -62,6 +62,31 @@ class CoaUncertainty:
         rms = {k: float(np.sqrt(np.mean(v[sel] ** 2))) for k, v in self.contributions.items()}
         return max(rms, key=rms.get)
 
+    def systematic_errors(self, index) -> dict[str, np.ndarray]:
+        """The change of μ_corr at the samples ``index`` for a one-standard-uncertainty error
+        of each systematic input [-], signed: what every sample shares (a fit through these
+        samples moves with it; :meth:`rollerrig.fit.polach.PolachFit.with_systematic`).
+
+        Independent inputs by name; the calibrated parameters, correlated through the
+        calibration's covariance C, as independent combinations ``calibrated (k)``: C's
+        eigenvectors v_k scaled by √λ_k, so that their outer products sum to the block's
+        covariance (JCGM 100 §5.2).
+        """
+        m = self._model
+        sens = m["sensitivity"]
+        calibrated = list(m["calibrated"])
+        out = {
+            inp.name: sens[inp.name][index] * m["u_sys"][inp.name]
+            for inp in self.inputs
+            if inp.kind == "systematic" and inp.name not in calibrated
+        }
+        if calibrated:
+            lam, vec = np.linalg.eigh(m["covariance"])
+            c = np.stack([sens[k][index] for k in calibrated])  # (inputs, samples)
+            for k in np.flatnonzero(lam > 0.0):
+                out[f"calibrated ({k + 1})"] = (vec[:, k] * math.sqrt(lam[k])) @ c
+        return out
+
     def phase_mean(self, start: int, stop: int) -> tuple[float, float, dict]:
         """The mean of μ_corr over samples [start, stop), its u [-] and budget {input: u_i}.
 

@@ -475,12 +475,23 @@ def truth_distance(fit, truth, warn_sigma: float = 3.0) -> dict:
     structure = fit.residual_structure
     inflation = structure.stderr_inflation if structure is not None else 1.0
     at_bound = set(getattr(fit, "at_bound", ()))
-    return {
+    unidentified = set(fit.unidentified()) if hasattr(fit, "unidentified") else set()
+    rows = {
         k: distance_row(
             true[k], fitted[k], float(fit.stderr[k]), k in at_bound, warn_sigma, inflation
         )
         for k in PARAMETER_NAMES
     }
+    for k in unidentified - at_bound:
+        # No distance in standard errors that are not an uncertainty (PolachFit.unidentified).
+        rows[k].update(sigma=None, sigma_ar1=None, beyond_warn_sigma=False, why=UNIDENTIFIED_WHY)
+    return rows
+
+
+UNIDENTIFIED_WHY = (
+    "A and B are not identifiable from these data (see the fit's coverage): their standard "
+    "errors are no uncertainty, so no distance in standard errors"
+)
 
 
 def distance_row(

@@ -38,7 +38,7 @@ References
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy import optimize, stats
@@ -126,6 +126,16 @@ class PolachFit:
         Serial structure of the residuals ordered by creep (None for an exact fit).
     coverage : SlipVelocityCoverage or None
         Over which slip velocities the data constrain A and B, and whether they do.
+    data_gain : ndarray, shape (5, n) or None
+        Linearised change of (μ0, A, B, k_A, k_S) per unit change of each point's CoA
+        (Gauss-Newton at the solution; 0 for a robust fit's outliers): how an error the points
+        share moves the fit (:meth:`with_systematic`).
+    stderr_statistical : dict or None
+        The standard errors from the residuals' scatter alone, where :meth:`with_systematic`
+        added the data's systematic errors to :attr:`stderr` (None: :attr:`stderr` is that).
+    systematic : dict or None
+        Input name -> the parameters' shifts (by :data:`PARAMETER_NAMES`) for a one-standard-
+        uncertainty error of that input, as added by :meth:`with_systematic`.
     """
 
     parameters: PolachParameters
@@ -146,6 +156,55 @@ class PolachFit:
     coa: np.ndarray = field(repr=False)
     residual_structure: ResidualStructure | None = None
     coverage: SlipVelocityCoverage | None = None
+    data_gain: np.ndarray | None = field(default=None, repr=False)
+    stderr_statistical: dict | None = None
+    systematic: dict | None = None
+
+    def with_systematic(self, errors: dict) -> PolachFit:
+        """This fit with the data's systematic errors in its covariance and standard errors.
+
+        The standard errors of :func:`fit_polach` come from the residuals' scatter: they cover
+        the noise, not an error every point shares (a sensor's class, the air spring's area,
+        the roller's radius), which moves the whole curve and so the parameters (μ0 by the
+        CoA's scale error: 3-50 times the scatter's standard errors on the bundled test). Each
+        input's shift of the parameters, G e with G the fit's linearised :attr:`data_gain`,
+        adds G e eᵀ Gᵀ to the covariance (JCGM 100 §5.1.2, independent inputs).
+
+        Parameters
+        ----------
+        errors : dict of str to ndarray
+            Input name -> the change of each fitted point's CoA for a one-standard-uncertainty
+            error of that input [-] (independent inputs; correlated ones as independent
+            combinations).
+
+        Returns
+        -------
+        PolachFit
+            With :attr:`stderr` and :attr:`covariance` the total, :attr:`stderr_statistical`
+            the scatter's alone and :attr:`systematic` each input's shifts. Parameters the data
+            do not determine keep an infinite standard error.
+        """
+        if self.data_gain is None or not errors:
+            return self
+        shifts = {name: self.data_gain @ np.asarray(e, dtype=float) for name, e in errors.items()}
+        added = sum(np.outer(d, d) for d in shifts.values())
+        cov = self.covariance + added
+        old = np.array([self.stderr[k] for k in PARAMETER_NAMES])
+        sd = np.where(np.isfinite(old), np.sqrt(np.clip(np.diag(cov), 0.0, None)), old)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            corr = cov / np.outer(sd, sd)
+        corr[~np.isfinite(old), :] = corr[:, ~np.isfinite(old)] = np.nan
+        return replace(
+            self,
+            stderr=dict(zip(PARAMETER_NAMES, sd.tolist(), strict=True)),
+            covariance=cov,
+            correlation=corr,
+            stderr_statistical=dict(self.stderr),
+            systematic={
+                name: dict(zip(PARAMETER_NAMES, d.tolist(), strict=True))
+                for name, d in shifts.items()
+            },
+        )
 
     def truth_distance(self, truth, warn_sigma: float = 3.0) -> dict:
         """Distance of each fitted parameter from a known truth, in standard errors.
@@ -154,6 +213,23 @@ class PolachFit:
         mapping by :data:`PARAMETER_NAMES`; ``warn_sigma`` [-]).
         """
         return truth_distance(self, truth, warn_sigma)
+
+    def unidentified(self) -> tuple[str, ...]:
+        """Parameters the data do not pin down: A and B (``"limit_ratio"``,
+        ``"friction_decay"``) where :attr:`coverage` says they are not identifiable; their
+        standard errors are then the curvature of an undetermined fit, not an uncertainty."""
+        if self.coverage is not None and not self.coverage.a_and_b_identifiable:
+            return ("limit_ratio", "friction_decay")
+        return ()
+
+    def shown(self, name: str) -> str:
+        """``"value ± stderr"`` of parameter ``name`` for a table, or ``"value (not
+        identifiable)"`` where the data do not pin it down (:meth:`unidentified`): A at
+        0.7553 +- 0.0066 had read as a tight 53.5 σ from a truth of 0.4."""
+        value = dict(zip(PARAMETER_NAMES, self.parameters.as_tuple(), strict=True))[name]
+        if name in self.unidentified():
+            return f"{value:.4g} (not identifiable)"
+        return f"{value:.4g} ± {self.stderr[name]:.2g}"
 
     def confidence_interval(self, level: float = 0.95) -> dict[str, tuple[float, float]]:
         """Symmetric asymptotic interval of each parameter (t-distribution, ``dof``)."""
@@ -411,6 +487,9 @@ def fit_polach(
     jtj = js.T @ js
     cond = float(np.linalg.cond(jtj))
     cov_scaled = np.linalg.pinv(jtj)
+    # Gauss-Newton: data y + dy move theta by (J^T J)^+ J^T dy (the residuals are model - y).
+    gain = np.zeros((5, n))
+    gain[:, inlier] = transform @ ((cov_scaled @ js.T) / scale[:, None])
     cov_theta = s2 * cov_scaled / np.outer(scale, scale)
     cov = transform @ cov_theta @ transform.T
     sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
@@ -519,4 +598,5 @@ def fit_polach(
         coa=y,
         residual_structure=structure,
         coverage=coverage,
+        data_gain=gain,
     )

@@ -195,14 +195,13 @@ def _fit_rows(result: TestAnalysis, truth_parameters=None):
     names = ("μ0", "A", "B [s/m]", "kA", "kS")
     keys = ("static_friction", "limit_ratio", "friction_decay", "k_adhesion", "k_slip")
     rows = []
-    for i, (name, key) in enumerate(zip(names, keys, strict=True)):
+    for name, key in zip(names, keys, strict=True):
         row = [name]
         for fit in (result.fit, result.fit_rig_coa):
             if fit is None:
                 row.append("–")
             else:
-                value = fit.parameters.as_tuple()[i]
-                row.append(f"{value:.4g} ± {fit.stderr[key]:.2g}")
+                row.append(fit.shown(key))
         if truth_parameters is not None:
             row.append(f"{truth_parameters[key]:.4g}")
         rows.append(row)
