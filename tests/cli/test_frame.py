@@ -161,3 +161,37 @@ def test_frame_without_traction_is_refused_before_the_analysis(tmp_path, runner)
     assert result.exit_code == 2, result.output
     assert "load_points: every load point's traction is [0, 0, 0]" in result.output
     assert "internal error" not in result.output
+
+
+def test_few_modes_still_find_the_contacts_dominant_mode(tmp_path, runner):
+    """Review: ``--modes 2`` wrote 'mode 2, 37.79 Hz, modal mass 8.55e+06 kg, share 0.000' to
+    frame.json (the default run: mode 4, 1551 kg, share 0.710). The two modes asked for are
+    reported and drawn, the contact's mode 4 with them."""
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["frame", "--modes", "2", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    doc = json.loads((out / "frame.json").read_text())
+    assert len(doc["natural_frequencies"]) == 2 and doc["modes_computed"] >= 4
+    contact = doc["contact_dof"]
+    assert contact["mode"] == 4
+    assert contact["modal_mass"] == pytest.approx(1551.0, rel=1e-3)
+    assert contact["participation"] == pytest.approx(0.710, abs=1e-3)
+    assert "mode 4 (computed beyond --modes 2)" in result.output
+    assert "natural frequency 3" not in result.output
+
+
+def test_an_unestablished_dominant_mode_is_said_not_guessed(tmp_path, runner, monkeypatch):
+    """When even the most modes computed leave the dominant one open, the table and
+    frame.json say 'not established' with why, and the run still writes its outputs."""
+    from rollerrig.frame import analysis
+
+    monkeypatch.setattr(analysis, "MAX_CONTACT_MODES", 2)
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["frame", "--modes", "2", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "not established" in result.output
+    doc = json.loads((out / "frame.json").read_text())
+    assert doc["contact_dof"]["dominant_mode"] == "not established"
+    assert "compute more modes" in doc["contact_dof"]["why"]
+    assert "mode" not in doc["contact_dof"]
+    assert (out / "frame-modes.png").exists()

@@ -382,3 +382,57 @@ def test_displacement_of_an_unknown_node_names_the_nodes():
         ),
     ):
         r.displacement("top_rear_lft")
+
+
+@pytest.mark.parametrize("n_modes", [1, 2, 3, 6])
+def test_the_contacts_dominant_mode_is_the_same_whatever_modes_are_asked_for(n_modes):
+    """Review: with 2 modes asked for, contact_dof named mode 2 (37.8 Hz, 8.5e6 kg, share
+    0.0002) where 6 gave mode 4 (48.1 Hz, 1551 kg, share 0.71). analyze_frame now computes
+    modes until they establish the dominant one, and returns them all."""
+    from rollerrig.frame import default_frame
+
+    r = analyze_frame(default_frame(), 20e3, 2e3, n_modes=n_modes)
+    assert len(r.frequencies) >= max(n_modes, 4)
+    dof = contact_dof(r)
+    assert dof.mode == 3
+    assert dof.frequency == pytest.approx(48.12, abs=0.01)
+    assert dof.modal_mass == pytest.approx(1551.0, rel=1e-3)
+    assert dof.participation == pytest.approx(0.7098, abs=1e-3)
+
+
+def test_too_few_modes_to_establish_the_dominant_one_is_an_error_not_a_wrong_mode():
+    """A result cut to its first two modes (a FrameResult built by hand, or too few modes
+    computed): they carry 0.02 % of the contact's flexibility, so any mode above them may carry
+    more; contact_dof says so rather than naming mode 2."""
+    from rollerrig.frame import default_frame
+    from rollerrig.frame.reduction import contact_shares, dominant_is_established
+
+    r = analyze_frame(default_frame(), 20e3, 2e3, n_modes=6)
+    cut = dataclasses.replace(
+        r,
+        frequencies=r.frequencies[:2],
+        mode_shapes=r.mode_shapes[:2],
+        contact_participation=r.contact_participation[:2],
+    )
+    with pytest.raises(ParameterError, match=r"dominant mode is not established: the 2 modes"):
+        contact_dof(cut)
+    shares = contact_shares(r.frequencies, r.contact_participation, r.contact_flexibility)
+    assert dominant_is_established(shares) and not dominant_is_established(shares[:3])
+    assert dominant_is_established(shares[:4])  # mode 4: 71 %, the rest at most 29 %
+
+
+def test_the_shares_of_every_mode_sum_to_one(make_frame):
+    """The modal expansion K⁻¹ = Σ φ φᵀ / ω² over all the modes: the shares sum to 1, which is
+    what lets the modes left out be bounded."""
+    from rollerrig.frame.reduction import contact_shares
+
+    frame = make_frame(
+        {"root": (0, 0, 0), "n1": (1, 0, 0), "n2": (2, 0, 0)},
+        {"m0": ("root", "n1"), "m1": ("n1", "n2")},
+        {"root": "fixed"},
+        {"tip": ("n2", (0, 0, 0), (1.0, 0.3, -0.5))},
+    )
+    r = analyze_frame(frame, 0.0, 1.0, n_modes=1000, elements_per_member=2)
+    assert len(r.frequencies) == 6 * 4  # every free DOF of 4 nodes
+    shares = contact_shares(r.frequencies, r.contact_participation, r.contact_flexibility)
+    assert np.sum(shares) == pytest.approx(1.0, rel=1e-9)

@@ -60,3 +60,23 @@ def test_the_figure_rings_unstable_modes_and_prints_the_verdicts():
 
 def test_verdict_text_without_verdicts_is_just_the_heading():
     assert verdict_text({}).startswith("verdicts about 1-1.7 Hz")
+
+
+def test_drives_that_act_alike_share_one_colour_and_one_legend_entry():
+    """Review: two equivalent drives were drawn in two colours at the same points, the second
+    hiding the first; now the first is drawn, its legend entry naming both."""
+    study = _study()
+    twin = {**study["dq"][0], "drive": "dq twin"}
+    study["dq"] = [study["dq"][0], twin]
+    study["verdicts"][0]["same_as"] = ["dq twin"]
+    study["verdicts"].append(
+        {"drive": "dq twin", "text": "x", "same_as": ["dq slip comp 1.5, 0.05 s"]}
+    )
+    fig = drive_dynamics_figure(study)
+    ax = fig.axes[0]
+    at = [line for line in ax.get_lines() if list(line.get_xdata()) == [3.96]]
+    assert len(at) == 1  # drawn once, not once per drive
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "dq slip comp 1.5, 0.05 s = dq twin" in labels
+    assert not any(label.startswith("dq twin") for label in labels)
+    plt.close(fig)

@@ -109,3 +109,38 @@ def test_the_legend_says_what_the_arrows_are_and_their_scale(result):
     renderer = fig.canvas.get_renderer()
     assert legend.get_window_extent(renderer).y1 <= fig.axes[0].get_window_extent(renderer).y0
     plt.close(fig)
+
+
+def test_six_modes_in_two_readable_rows_titles_clear_of_the_row_above(result):
+    """The review's frame-modes.png was 2753 px wide, four panels in a row, 7-point text: six
+    modes are now two rows of three, under 12 inches (1800 px at 150 dpi), and no panel's title
+    runs into the tick labels of the row above (tight_layout does not see 3-D labels)."""
+    fig, scales = mode_shape_figure(result, modes=6, contact_mode=3)
+    assert len(fig.axes) == len(scales) == 6
+    assert fig.get_figwidth() <= 12.0
+    rows = {round(ax.get_position().y0, 3) for ax in fig.axes}
+    assert len(rows) == 2
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    titles = [ax.title.get_window_extent(renderer) for ax in fig.axes]
+    for text, box in _tick_label_boxes(fig):
+        for title in titles:
+            assert not box.overlaps(title), text
+    assert "the contact's longitudinal mode" in fig.axes[3].get_title()
+    plt.close(fig)
+
+
+def test_more_modes_than_panels_draw_the_first_and_the_contacts_and_say_so():
+    """Of more modes than fit, the first ones and the contact's are drawn; the title names
+    them, so that a reader knows which of the modes reported are missing."""
+    nine = analyze_frame(default_frame(), 20e3, 2e3, n_modes=9)
+    assert len(nine.frequencies) == 9
+    fig, scales = mode_shape_figure(nine, modes=[*range(9), 99], contact_mode=7)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert len(titles) == len(scales) == 6
+    assert [t.split(":")[0] for t in titles] == [*(f"mode {i}" for i in range(1, 6)), "mode 8"]
+    assert "natural modes 1-5, 8 of 1-9" in fig._suptitle.get_text()
+    plt.close(fig)
+    fig, _ = mode_shape_figure(nine, modes=[0, 1, 3])
+    assert "natural modes\n" in fig._suptitle.get_text()  # all drawn: no list
+    plt.close(fig)

@@ -211,3 +211,41 @@ def test_the_variants_are_built_by_the_one_function():
         {"roller_drive_vf.slip_compensation": 1.5, "roller_drive_vf.slip_filter_time": 0.1}
     )
     assert dd.default_dq_drive(rig).control == variant.control
+
+
+def test_two_variants_that_act_alike_are_named_as_such_and_computed_once(monkeypatch):
+    """Review: "slip comp 1.0, R_R est. 1.5" and "slip comp 1.5" gave identical rows to every
+    digit, one marker hiding the other, unexplained. They are one drive by construction (only
+    k_sc R̂_R enters the controller): computed independently here they agree, the study
+    computes them once and each verdict says so."""
+    labels = ("dq slip comp 1.0, 0.1 s, R_R est. 1.5", "dq slip comp 1.5, 0.1 s")
+    variants = dd.drive_variants(RIG)
+    same = dd.equivalent_drives(variants)
+    assert sorted(same) == sorted(labels)
+    assert same[labels[1]]["same_as"] == [labels[0]] and same[labels[1]]["first"] == labels[0]
+    assert same[labels[0]]["slip_gain_effective"] == pytest.approx(1.5, rel=1e-12)
+    pair = [d for d in variants if d.label in labels]
+    a, b = dd.eigen_table(RIG, pair, [10 / 3.6], [4.3e3])
+    # to the rounding of the numerical linearisation (~3e-8); other settings differ by ~1e-2
+    for ma, mb in zip(a["modes below 20 Hz"], b["modes below 20 Hz"], strict=True):
+        assert ma["frequency [Hz]"] == pytest.approx(mb["frequency [Hz]"], rel=1e-6)
+        assert ma["damping_ratio [-]"] == pytest.approx(mb["damping_ratio [-]"], abs=1e-6)
+    # another filter, or no slip compensation, is another drive
+    assert not dd.equivalent_drives([pair[0], dd.default_dq_drive(RIG, slip_compensation=1.5)])
+    calls = []
+    table = dd.eigen_table
+    monkeypatch.setattr(dd, "eigen_table", lambda r, ds, *a, **k: calls.append(ds) or table(
+        r, ds, *a, **k))  # fmt: skip
+    study = dd.drive_dynamics_study(
+        RIG, speeds=[10 / 3.6], loads=[4.3e3], drives=pair, rig_fit_points=(), check_loads=()
+    )
+    assert [d.label for ds in calls for d in ds] == [labels[0]]
+    rows = {r["drive"]: r for r in study["dq"]}
+    assert rows[labels[1]]["modes below 20 Hz"] == rows[labels[0]]["modes below 20 Hz"]
+    by = {v["drive"]: v for v in study["verdicts"]}
+    assert by[labels[1]]["same_as"] == [labels[0]]
+    assert (
+        f"it acts exactly as {labels[0]}: only the product k_sc x R̂_R/R_R (= 1.5"
+        in (by[labels[1]]["text"])
+    )
+    assert f"it acts exactly as {labels[1]}" in by[labels[0]]["text"]

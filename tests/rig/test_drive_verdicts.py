@@ -46,7 +46,9 @@ def test_an_unstable_mode_is_its_own_class():
     rows = [row, _row(5.0, [(1.45, 0.002)])]
     v = dv.band_verdict(rows)
     assert v["kind"] == "unstable" and v["speeds [km/h]"] == [10.0]
-    assert v["damping_ratio [-]"] == [-0.016, 0.002]
+    # only the unstable row is quoted: the 5 km/h mode (ζ 0.002) is not what it names
+    assert v["damping_ratio [-]"] == [-0.016, -0.016]
+    assert v["text"] == "unstable at 10 km/h (1.55-1.55 Hz, ζ -0.016 to -0.016)"
 
 
 def test_the_twins_rows_never_count_an_unstable_mode_as_lightly_damped():
@@ -58,6 +60,34 @@ def test_the_twins_rows_never_count_an_unstable_mode_as_lightly_damped():
     assert row["unstable"]
     assert row["class in 1-1.7 Hz"] == "unstable"
     assert not row["lightly damped in 1-1.7 Hz"]  # only modes with 0 <= ζ < 0.3 count
+
+
+def test_a_verdict_quotes_only_the_modes_of_the_rows_it_names():
+    """Review: "dq slip comp 1.0, 0.1 s: lightly damped mode in 1-1.7 Hz at 5 km/h only (1.39-1.50
+    Hz, ζ 0.200 to 0.339)": the least damped mode of every row was quoted, the damped ones at
+    10-30 km/h (ζ 0.307-0.339) too, above the 0.3 the class stops at."""
+    rows = [
+        _row(5.0, [(1.50, 0.200), (1.63, 0.541)]),
+        _row(10.0, [(1.48, 0.963), (1.48, 0.307)]),
+        _row(30.0, [(1.39, 0.339)]),
+    ]
+    v = dv.band_verdict(rows)
+    assert v["kind"] == "some speeds" and v["speeds [km/h]"] == [5.0]
+    assert v["damping_ratio [-]"] == [0.200, 0.200] and v["frequency [Hz]"] == [1.50, 1.50]
+    assert v["text"].endswith("at 5 km/h only (1.50-1.50 Hz, ζ 0.200 to 0.200)")
+    # none lightly damped: every row's least damped mode in the band, all damped
+    v = dv.band_verdict(rows[1:])
+    assert v["kind"] == "none" and v["damping_ratio [-]"] == [0.307, 0.339]
+    # an instability above 20 Hz (not in the modes listed) is quoted from its eigenvalue
+    sigma, f = 2.0, 35.0
+    growing = _row(20.0, [(1.4, 0.15)], unstable=[(sigma, f)])
+    v = dv.band_verdict([growing, rows[0]])
+    zeta = -sigma / np.hypot(sigma, 2 * np.pi * f)
+    assert v["kind"] == "unstable" and v["speeds [km/h]"] == [20.0]
+    assert v["frequency [Hz]"] == [f, f] and v["damping_ratio [-]"] == [zeta, zeta]
+    # the study's R_s check quoted "ζ 0.201 to 0.300" for a lightly damped 0.29996
+    v = dv.band_verdict([_row(5.0, [(1.5, 0.201)]), _row(10.0, [(1.49, 0.29996)])])
+    assert v["kind"] == "every speed" and v["text"].endswith("ζ 0.201 to 0.29996)")
 
 
 @pytest.mark.parametrize(

@@ -11,7 +11,14 @@ from rich.table import Table
 
 from rollerrig._optional import require
 from rollerrig.cli._boundary import UserError
-from rollerrig.cli._console import QuietOption, console, note, print_written, steps
+from rollerrig.cli._console import (
+    QuietOption,
+    console,
+    note,
+    print_warning,
+    print_written,
+    steps,
+)
 from rollerrig.cli._options import (
     DEFAULT_OUT,
     FigureFormat,
@@ -53,7 +60,12 @@ def frame(
         ),
     ] = 2.0,
     modes: Annotated[
-        int, typer.Option("--modes", help="Natural modes to compute [-], 1 to 50.")
+        int,
+        typer.Option(
+            "--modes",
+            help="Natural modes to report and draw [-], 1 to 50 (more are computed when the "
+            "contact's dominant mode lies above them).",
+        ),
     ] = 6,
     out: OutOption = DEFAULT_OUT,
     figure_format: FigureFormatOption = FigureFormat.png,
@@ -64,8 +76,10 @@ def frame(
     Prints the largest von Mises stress, the top horizontal deflection (beside the
     dissertation's 0.04 mm), the stress at each strain gauge, the natural frequencies and the
     frame's longitudinal stiffness and modal mass at the contact; writes frame.json (SI
-    units), frame-deformed and frame-modes figures (magnification in each title).
+    units), frame-deformed and frame-modes figures (magnification in each title). The mode
+    that dominates the contact is found among as many modes as it takes, whatever --modes.
     """
+    from rollerrig._validation import ParameterError
     from rollerrig.frame.analysis import MAX_TEST_LOAD
 
     limit_kn = MAX_TEST_LOAD / 1e3
@@ -103,16 +117,23 @@ def frame(
     ) as stage:
         with steps(f"frame {structure.name}", f"static load case and {modes} modes (FE)") as say:
             result = analyze_frame(structure, normal, traction, n_modes=modes)
-            dof = contact_dof(result)
-            summary = frame_summary(result, dof, frame_file)
+            unknown = None
+            try:
+                dof = contact_dof(result)
+            except ParameterError as exc:  # its dominant mode beyond every mode computed
+                dof, unknown = None, str(exc)
+            summary = frame_summary(result, dof, frame_file, modes=modes, unknown=unknown)
             say("figures: deformed shape, mode shapes")
             fig, _ = deformed_shape_figure(result)
             save_figure(fig, stage.path(figure_file("frame-deformed", figure_format)))
-            shown = sorted({*range(min(3, modes)), dof.mode})  # the first three, the contact's
-            fig, _ = mode_shape_figure(result, modes=shown, contact_mode=dof.mode)
+            contact = None if dof is None else dof.mode
+            shown = sorted({*range(min(modes, len(result.frequencies))), contact} - {None})
+            fig, _ = mode_shape_figure(result, modes=shown, contact_mode=contact)
             save_figure(fig, stage.path(figure_file("frame-modes", figure_format)))
             write_json(stage.path("frame.json"), summary)
-    console.print(_table(result, dof))
+    console.print(_table(result, dof, modes))
+    if unknown is not None:
+        print_warning(unknown)
     if frame_file is None:
         note(
             "the bundled frame's dimensions and sections are assumptions (the dissertation's "
@@ -121,9 +142,32 @@ def frame(
     print_written(stage.written)
 
 
-def frame_summary(result, dof, frame_file: Path | None) -> dict:
-    """The contents of ``frame.json``: SI values, their units under ``units``."""
+def frame_summary(
+    result, dof, frame_file: Path | None, *, modes: int | None = None, unknown: str | None = None
+) -> dict:
+    """The contents of ``frame.json``: SI values, their units under ``units``.
+
+    ``natural_frequencies`` holds the first ``modes`` (all computed when None); ``dof`` is None
+    when the contact's dominant mode is not established, ``unknown`` saying why.
+    """
     peak = result.max_von_mises
+    reported = result.frequencies[: len(result.frequencies) if modes is None else modes]
+    if dof is None:
+        contact = {
+            "stiffness": result.longitudinal_stiffness_at_contact,
+            "dominant_mode": "not established",
+            "why": unknown,
+        }
+    else:
+        contact = {
+            "stiffness": dof.stiffness,
+            "mode": dof.mode + 1,
+            "frequency": dof.frequency,
+            "modal_mass": dof.modal_mass,
+            "modal_stiffness": dof.modal_stiffness,
+            "participation": dof.participation,
+            "equivalent_mass": dof.equivalent_mass,
+        }
     return {
         "frame": result.frame.name,
         "frame_file": str(frame_file) if frame_file is not None else "bundled default",
@@ -138,17 +182,10 @@ def frame_summary(result, dof, frame_file: Path | None) -> dict:
         "strain_gauge_influence": {
             name: {"normal": g.normal, "traction": g.traction} for name, g in result.gauges.items()
         },
-        "natural_frequencies": [float(f) for f in result.frequencies],
+        "natural_frequencies": [float(f) for f in reported],
+        "modes_computed": len(result.frequencies),
         "longitudinal_stiffness_at_contact": result.longitudinal_stiffness_at_contact,
-        "contact_dof": {
-            "stiffness": dof.stiffness,
-            "mode": dof.mode + 1,
-            "frequency": dof.frequency,
-            "modal_mass": dof.modal_mass,
-            "modal_stiffness": dof.modal_stiffness,
-            "participation": dof.participation,
-            "equivalent_mass": dof.equivalent_mass,
-        },
+        "contact_dof": contact,
         "frame_mass": result.frame_mass,
         "member_end_forces": {
             name: {"start": f.start, "end": f.end} for name, f in result.member_forces.items()
@@ -167,7 +204,8 @@ def frame_summary(result, dof, frame_file: Path | None) -> dict:
             "top_longitudinal_deflection": "m",
             "strain_gauge_stresses": "Pa (axial, > 0 tension)",
             "strain_gauge_influence": "Pa/N",
-            "natural_frequencies": "Hz",
+            "natural_frequencies": "Hz (the first --modes; modes_computed were computed to "
+            "find the contact's dominant mode)",
             "longitudinal_stiffness_at_contact": "N/m",
             "contact_dof": "stiffness, modal_stiffness N/m; frequency Hz; masses kg; "
             "participation 1 (the mode's share of the contact's static flexibility)",
@@ -177,7 +215,7 @@ def frame_summary(result, dof, frame_file: Path | None) -> dict:
     }
 
 
-def _table(result, dof) -> Table:
+def _table(result, dof, modes: int) -> Table:
     table = Table(
         title=f"Frame {result.frame.name}: N = {result.normal_load / 1e3:g} kN, "
         f"F_x = {result.traction_force / 1e3:g} kN"
@@ -201,17 +239,23 @@ def _table(result, dof) -> Table:
     )
     for name, value in result.gauge_stresses.items():
         table.add_row(f"gauge {name}", "MPa", f"{value / 1e6:.3f}")
-    for i, f in enumerate(result.frequencies):
+    for i, f in enumerate(result.frequencies[:modes]):
         table.add_row(f"natural frequency {i + 1}", "Hz", f"{f:.2f}")
     table.add_row(
         "longitudinal stiffness at the contact",
         "N/m",
         f"{result.longitudinal_stiffness_at_contact:.4g}",
     )
-    table.add_row(
-        f"  dominant mode at the contact: mode {dof.mode + 1}", "Hz", f"{dof.frequency:.2f}"
-    )
-    table.add_row("  its modal mass at the contact", "kg", f"{dof.modal_mass:.4g}")
-    table.add_row("  its share of the contact flexibility", "-", f"{dof.participation:.3f}")
+    if dof is None:
+        table.add_row("  dominant mode at the contact", "-", "not established")
+    else:
+        beyond = f" (computed beyond --modes {modes})" if dof.mode >= modes else ""
+        table.add_row(
+            f"  dominant mode at the contact: mode {dof.mode + 1}{beyond}",
+            "Hz",
+            f"{dof.frequency:.2f}",
+        )
+        table.add_row("  its modal mass at the contact", "kg", f"{dof.modal_mass:.4g}")
+        table.add_row("  its share of the contact flexibility", "-", f"{dof.participation:.3f}")
     table.add_row("frame mass (members and lumped masses)", "kg", f"{result.frame_mass:.0f}")
     return table

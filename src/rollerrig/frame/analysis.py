@@ -29,7 +29,13 @@ from rollerrig.frame.femodel import (
 )
 from rollerrig.frame.limits import MAX_MEMBERS
 from rollerrig.frame.modes import _modes, check_stability
-from rollerrig.frame.reduction import ContactDof, check_contact, contact_dof
+from rollerrig.frame.reduction import (
+    ContactDof,
+    check_contact,
+    contact_dof,
+    contact_shares,
+    dominant_is_established,
+)
 from rollerrig.frame.results import FrameResult
 from rollerrig.frame.stresses import (
     GaugeStress,
@@ -59,6 +65,12 @@ MAX_ELEMENTS = MAX_MEMBERS * DEFAULT_ELEMENTS_PER_MEMBER
 """Most beam elements of a model (members x elements per member) [-]: the size
 :data:`rollerrig.frame.limits.MAX_MEMBERS` is chosen for (about a minute on two cores)."""
 
+MAX_CONTACT_MODES = 200
+"""Most natural modes computed in search of the mode that dominates the contact [-] (the
+bundled frame needs 4; each search doubles the count, so at worst twice what it needs). Beyond,
+:func:`~rollerrig.frame.reduction.contact_dof` says that the dominant mode is not established
+rather than name one."""
+
 MAX_TEST_LOAD = 1e7
 """Largest test load, normal or traction, in magnitude [N] (10 MN; the rig's air spring gives
 20 kN): far beyond any rig, a linear model means nothing there."""
@@ -83,7 +95,10 @@ def analyze_frame(
     traction_force : float
         Traction force F_x at the contact [N] (Kayaalp 4.4.1: 2 kN), > 0 in traction.
     n_modes : int
-        Natural modes to compute (fewer if the frame has fewer free DOFs).
+        Natural modes to compute at least (fewer if the frame has fewer free DOFs). More are
+        computed, and returned, while those computed do not establish which mode dominates
+        the contact's flexibility (:func:`~rollerrig.frame.reduction.contact_dof`): the count
+        doubles until they do, up to :data:`MAX_CONTACT_MODES`.
     elements_per_member : int
         Beam elements per member.
 
@@ -103,8 +118,13 @@ def analyze_frame(
     --------
     >>> from rollerrig.frame import default_frame
     >>> r = analyze_frame(default_frame(), 20e3, 2e3, n_modes=3)
-    >>> 0.0 < r.top_horizontal_deflection < 1e-3, len(r.frequencies)
-    (True, 3)
+    >>> 0.0 < r.top_horizontal_deflection < 1e-3
+    True
+
+    The contact's dominant mode is the 4th, so 3 modes were not enough to establish it:
+
+    >>> len(r.frequencies), contact_dof(r).mode + 1
+    (6, 4)
     """
     if not isinstance(frame, Frame):
         raise ParameterError(
@@ -149,11 +169,22 @@ def analyze_frame(
         float(np.dot(f, unit["traction"][mesh.nodes.index(node), :3]))
         for node, f in patterns["traction"].items()
     )
-    frequencies, shapes, mass = _modes(frame, elements_per_member, n_modes)
     traction_nodes = [(mesh.nodes.index(n), f) for n, f in patterns["traction"].items()]
-    participation = np.array(
-        [sum(float(np.dot(f, shape[i, :3])) for i, f in traction_nodes) for shape in shapes]
-    )
+    count = n_modes
+    while True:
+        frequencies, shapes, mass = _modes(frame, elements_per_member, count)
+        participation = np.array(
+            [sum(float(np.dot(f, shape[i, :3])) for i, f in traction_nodes) for shape in shapes]
+        )
+        # The contact's dominant mode may lie above the modes asked for (the bundled frame's is
+        # the 4th): with too few, contact_dof would name a mode that carries none of it.
+        if not flexibility > 0.0:  # no traction pattern: no contact to find a mode for
+            break
+        shares = contact_shares(frequencies, participation, flexibility)
+        every = len(frequencies) < count  # the frame has no more modes
+        if every or count >= MAX_CONTACT_MODES or dominant_is_established(shares):
+            break
+        count = min(2 * count, MAX_CONTACT_MODES)
     return FrameResult(
         frame=frame,
         normal_load=float(normal_load),

@@ -18,7 +18,13 @@ from rollerrig.frame.errors import FrameFileError
 from rollerrig.frame.results import FrameResult
 from rollerrig.frame.structure import Frame
 
-__all__ = ["ContactDof", "check_contact", "contact_dof"]
+__all__ = [
+    "ContactDof",
+    "check_contact",
+    "contact_dof",
+    "contact_shares",
+    "dominant_is_established",
+]
 
 
 @dataclass(frozen=True)
@@ -86,18 +92,59 @@ def check_contact(frame: Frame) -> None:
         )
 
 
+def contact_shares(
+    frequencies: np.ndarray, participation: np.ndarray, flexibility: float
+) -> np.ndarray:
+    """Each mode's share of the contact's static flexibility, ``(q_r² / ω_r²) / (fᵀ K⁻¹ f)``.
+
+    Over every mode of the FE model the shares sum to 1 (the modal expansion of ``K⁻¹``), so
+    ``1 - sum(shares)`` bounds the share of any mode not computed.
+
+    Parameters
+    ----------
+    frequencies : ndarray
+        Natural frequencies [Hz].
+    participation : ndarray
+        Contact coordinates of the mass-normalised modes, q_r = fᵀ φ_r [m/sqrt(kg)].
+    flexibility : float
+        The contact's static flexibility fᵀ K⁻¹ f [m/N].
+
+    Returns
+    -------
+    ndarray
+        The shares [-].
+    """
+    omega = 2.0 * np.pi * np.asarray(frequencies, dtype=float)
+    return np.asarray(participation, dtype=float) ** 2 / omega**2 / flexibility
+
+
+def dominant_is_established(shares: np.ndarray) -> bool:
+    """Whether the largest of the computed modes' ``shares`` (:func:`contact_shares`) is the
+    largest of all: no mode left out can carry more than the flexibility they leave
+    unaccounted for."""
+    if not len(shares):
+        return False
+    unaccounted = 1.0 - float(np.sum(shares))
+    # 1e-9: the shares of a complete set sum to 1 only to rounding.
+    return float(np.max(shares)) >= unaccounted - 1e-9
+
+
 def contact_dof(result: FrameResult) -> ContactDof:
     """The frame's longitudinal stiffness and the dominant mode's mass at the contact.
 
     The mode chosen is the one with the largest share ``q_r² / ω_r²`` of the contact's static
-    flexibility (the first longitudinal mode seen from the contact).
+    flexibility (the first longitudinal mode seen from the contact). It is chosen only when the
+    modes of ``result`` establish it: its share at least the flexibility they leave unaccounted
+    for, which a mode not computed might carry (:func:`~rollerrig.frame.analyze_frame` computes
+    modes until they do).
 
     Raises
     ------
     FrameFileError
         The frame's load points put no force on it under traction (no contact coordinate).
     ParameterError
-        No mode computed moves the contact.
+        No mode computed moves the contact, or the modes computed do not establish which
+        dominates it (a mode above them may carry more of the flexibility).
 
     Examples
     --------
@@ -108,12 +155,22 @@ def contact_dof(result: FrameResult) -> ContactDof:
     """
     check_contact(result.frame)
     omega = 2.0 * np.pi * result.frequencies
-    share = result.contact_participation**2 / omega**2
+    share = contact_shares(
+        result.frequencies, result.contact_participation, result.contact_flexibility
+    )
     r = int(np.argmax(share))
     q = float(result.contact_participation[r])
     if not share[r] > 0.0:
         raise ParameterError(
-            f"none of the {len(omega)} modes computed moves the contact; compute more modes"
+            f"none of the {len(omega)} modes computed moves the contact; compute more modes "
+            "(n_modes)"
+        )
+    if not dominant_is_established(share):
+        raise ParameterError(
+            f"the contact's dominant mode is not established: the {len(omega)} modes computed "
+            f"carry {np.sum(share):.1%} of the contact's flexibility, the largest of them "
+            f"(mode {r + 1}, {result.frequencies[r]:.2f} Hz) {share[r]:.1%}, and a mode above "
+            "them may carry more; compute more modes (n_modes)"
         )
     modal_mass = 1.0 / (q * q)  # shapes are mass-normalised: m_r = 1
     k = result.longitudinal_stiffness_at_contact
@@ -123,6 +180,6 @@ def contact_dof(result: FrameResult) -> ContactDof:
         frequency=float(result.frequencies[r]),
         modal_mass=modal_mass,
         modal_stiffness=float(omega[r] ** 2 * modal_mass),
-        participation=float(share[r] / result.contact_flexibility),
+        participation=float(share[r]),
         equivalent_mass=float(k / omega[r] ** 2),
     )

@@ -47,7 +47,9 @@ class FrameResult:
         Relative longitudinal displacement of wheel and roller at the contact per newton of
         traction [m/N].
     frequencies : ndarray
-        Natural frequencies [Hz], ascending.
+        Natural frequencies [Hz], ascending: the ``n_modes`` asked of
+        :func:`~rollerrig.frame.analysis.analyze_frame`, and more when it took more to establish
+        the contact's dominant mode.
     mode_shapes : ndarray
         (n_modes, n_nodes, 6), mass-normalised (φᵀ M φ = 1 kg).
     contact_participation : ndarray

@@ -37,7 +37,14 @@ def drive_dynamics_figure(study: dict, *, normal_load_kn: float = 4.3):
     ax, lag = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])
     text = fig.add_subplot(grid[1, :])
     rows = [*study["thevenin"], *study["dq"]]
-    drives = list(dict.fromkeys(r["drive"] for r in rows))
+    # A drive that acts exactly as one drawn before has its markers: drawn again, in its own
+    # colour, they hid that drive's; one colour, both named in the legend.
+    same = {v["drive"]: v.get("same_as", []) for v in study.get("verdicts", [])}
+    names: dict[str, str] = {}
+    for d in dict.fromkeys(r["drive"] for r in rows):
+        if not any(o in names for o in same.get(d, [])):
+            names[d] = " = ".join([d, *same.get(d, [])])
+    drives = list(names)
     speeds = sorted({r["speed [km/h]"] for r in rows})
     markers = dict(zip(speeds, "osD^v<>", strict=False))
     colours = plt.get_cmap("tab10")
@@ -67,8 +74,8 @@ def drive_dynamics_figure(study: dict, *, normal_load_kn: float = 4.3):
     ax.set_ylabel("damping ratio [-]")
     ax.set_title(f"modes below 20 Hz at {normal_load_kn:g} kN, free rolling", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
-    handles = [plt.Line2D([], [], color=colours(i % 10), marker="s", ls="none", label=d)
-               for i, d in enumerate(drives)]  # fmt: skip
+    handles = [plt.Line2D([], [], color=colours(i % 10), marker="s", ls="none",
+                          label=names[d]) for i, d in enumerate(drives)]  # fmt: skip
     handles += [plt.Line2D([], [], color="0.3", marker=markers[v], ls="none",
                            label=f"{v:g} km/h") for v in speeds]  # fmt: skip
     ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))

@@ -75,7 +75,15 @@ def _coordinates(result: FrameResult) -> np.ndarray:
     return out
 
 
-def _draw(ax, result: FrameResult, translations: np.ndarray, scale: float, colour: str) -> None:
+def _draw(
+    ax,
+    result: FrameResult,
+    translations: np.ndarray,
+    scale: float,
+    colour: str,
+    *,
+    fontsize: float = 8.0,
+) -> None:
     xyz = _coordinates(result)
     moved = xyz + scale * translations
     for chain in _polylines(result).values():
@@ -83,12 +91,12 @@ def _draw(ax, result: FrameResult, translations: np.ndarray, scale: float, colou
         ax.plot(*moved[chain].T, color=colour, lw=1.8)
     supports = [result.nodes.index(n) for n in result.frame.supports]
     ax.scatter(*xyz[supports].T, marker="s", s=30, color="k", label="support")
-    ax.set_xlabel("x [m]", fontsize=8)
-    ax.set_ylabel("y [m]", fontsize=8)
-    ax.set_zlabel("z [m]", fontsize=8)
+    ax.set_xlabel("x [m]", fontsize=fontsize)
+    ax.set_ylabel("y [m]", fontsize=fontsize)
+    ax.set_zlabel("z [m]", fontsize=fontsize)
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # few, short tick labels: none overprint
         axis.set_major_locator(MaxNLocator(nbins=3, steps=(1, 2, 5, 10)))
-    ax.tick_params(labelsize=7, pad=0)
+    ax.tick_params(labelsize=fontsize - 1, pad=0)
     lo, hi = xyz.min(axis=0), xyz.max(axis=0)
     ax.set_box_aspect(np.maximum(hi - lo, 0.1 * _span(result)))
     ax.view_init(elev=20, azim=-60)
@@ -170,10 +178,29 @@ def _force_scale(largest: float, span: float) -> float:
     return float(step * 10**exponent / 0.1)
 
 
+_MOST_PANELS = 6
+"""Most mode panels in one figure [-] (two rows of three): more would shrink each below
+reading; beyond, the first modes and the contact's are drawn and the title says which."""
+
+
+def _mode_numbers(indices) -> str:
+    """Mode numbers (from 1) of 0-based ``indices``, runs joined: ``"1-5, 12"``."""
+    numbers = sorted(int(i) + 1 for i in indices)
+    runs: list[list[int]] = []
+    for n in numbers:
+        if runs and n == runs[-1][-1] + 1:
+            runs[-1].append(n)
+        else:
+            runs.append([n])
+    return ", ".join(f"{r[0]}-{r[-1]}" if len(r) > 2 else ", ".join(map(str, r)) for r in runs)
+
+
 def mode_shape_figure(result: FrameResult, modes=3, *, contact_mode: int | None = None):
     """Mode shapes, one panel each, with frequency and magnification.
 
     Mode shapes are mass-normalised (φᵀ M φ = 1 kg); each is drawn with its own magnification.
+    The panels are laid out in rows of at most three; of more than six modes asked for, the
+    first ones and the contact's are drawn, and the title says which of them.
 
     Parameters
     ----------
@@ -187,40 +214,66 @@ def mode_shape_figure(result: FrameResult, modes=3, *, contact_mode: int | None 
     Returns
     -------
     (matplotlib.figure.Figure, list of float)
-        The figure and the magnification of each panel.
+        The figure and the magnification of each panel drawn, in the order drawn (ascending
+        mode).
     """
     count = len(result.frequencies)
     if np.ndim(modes) == 0:
         chosen = list(range(max(1, min(int(modes), count))))
     else:
-        chosen = [int(i) for i in modes if 0 <= int(i) < count] or [0]
-    n = len(chosen)
-    fig = plt.figure(figsize=(4.8 * n, 5.4))
+        chosen = sorted({int(i) for i in modes if 0 <= int(i) < count}) or [0]
+    drawn = chosen
+    if len(chosen) > _MOST_PANELS:
+        keep = [contact_mode] if contact_mode in chosen else []
+        others = [i for i in chosen if i != contact_mode][: _MOST_PANELS - len(keep)]
+        drawn = sorted([*others, *keep])
+    n = len(drawn)
+    columns = 2 if n == 4 else min(n, 3)
+    rows = -(-n // columns)
+    # About 3.8 in a panel: six make a figure 1700 px wide at 150 dpi, its text legible when
+    # shown whole on a screen.
+    fig = plt.figure(figsize=(3.8 * columns + 0.4, 4.6 * rows + 1.5))
     scales = []
-    for panel, i in enumerate(chosen):
-        ax = fig.add_subplot(1, n, panel + 1, projection="3d")
+    for panel, i in enumerate(drawn):
+        ax = fig.add_subplot(rows, columns, panel + 1, projection="3d")
         translations = result.mode_shapes[i][:, :3]
         scale = auto_scale(result, translations)
         scales.append(scale)
-        _draw(ax, result, translations, scale, "tab:red" if i == contact_mode else "tab:purple")
+        colour = "tab:red" if i == contact_mode else "tab:purple"
+        _draw(ax, result, translations, scale, colour, fontsize=9.0)
         role = "\nthe contact's longitudinal mode" if i == contact_mode else ""
         ax.set_title(
-            f"mode {i + 1}: {result.frequencies[i]:.2f} Hz{role}\n"
-            f"shape x {scale:g} (mass-normalised, m/sqrt(kg))",
-            fontsize=9,
+            f"mode {i + 1}: {result.frequencies[i]:.2f} Hz{role}\nshape x {scale:g}",
+            fontsize=10,
         )
-    fig.suptitle(f"{result.frame.name}: natural modes", fontsize=10)
+    which = "" if drawn == chosen else f" {_mode_numbers(drawn)} of {_mode_numbers(chosen)}"
+    fig.suptitle(
+        f"{result.frame.name}: natural modes{which}\n"
+        "(shapes mass-normalised, m/sqrt(kg), each magnified as titled)",
+        fontsize=11,
+    )
     handles = [
         Line2D([], [], color="0.75", lw=1.0, label="undeformed"),
         Line2D([], [], color="tab:purple", lw=1.8, label="mode shape (magnified as titled)"),
     ]
-    if contact_mode in chosen:
+    if contact_mode in drawn:
         handles.append(
             Line2D([], [], color="tab:red", lw=1.8, label="the contact's longitudinal mode")
         )
     handles.append(Line2D([], [], color="k", marker="s", ls="none", ms=5, label="support (fixed)"))
-    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=7, frameon=False)
-    fig.tight_layout(rect=(0.0, 0.06, 1.0, 0.9))
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=9, frameon=False)
+    # By hand, not tight_layout: it does not see the projected tick labels of 3-D axes, and
+    # put one row's panel titles on the tick labels of the row above. In inches: 1.0 for the
+    # title, 0.5 for the legend, 0.7 between rows.
+    height = fig.get_figheight()
+    fig.subplots_adjust(
+        left=0.02,
+        right=0.95,
+        bottom=0.5 / height,
+        top=1.0 - 1.0 / height,
+        wspace=0.15,
+        hspace=0.7 / ((height - 1.5) / rows - 0.7),
+    )
     crop_when_saved(fig)  # 3D axes: the layout does not see their projected labels
     return fig, scales
 

@@ -27,6 +27,10 @@ Its parts, each in its module, their public names also importable from here:
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import fields
+from numbers import Real
+
+import numpy as np
 
 from rollerrig.rig.dq_drive import (
     SEED_LAG,
@@ -64,6 +68,7 @@ __all__ = [
     "drive_steady_state",
     "drive_variants",
     "eigen_table",
+    "equivalent_drives",
     "fit_lag_at_held_speed",
     "fit_lag_in_rig",
     "format_eigen_table",
@@ -100,6 +105,84 @@ def drive_variants(rig) -> list[DqDrive]:
     return [default_dq_drive(rig, label=label, **settings) for label, settings in VARIANTS]
 
 
+def _acting(drive: DqDrive) -> np.ndarray:
+    """What a drive's behaviour depends on [SI]: the machine's values, and the controller's
+    with its slip estimate's R̂_R folded into the gain k_sc."""
+    c, m = drive.control, drive.machine
+
+    def numbers(owner, skip=()):  # the parameters: not the assumptions' text, not a fit's record
+        return [
+            float(getattr(owner, f.name))
+            for f in fields(owner)
+            if f.compare and f.name not in skip and isinstance(getattr(owner, f.name), Real)
+        ]
+
+    values = numbers(m) + numbers(c, skip=("slip_gain", "rotor_resistance"))
+    # ω_s = ω* + k_sc ω̂_r,f with ω̂_r,f proportional to R̂_R (vf_control_kernel): only the
+    # product acts; the filtered estimate is a state scaled by R̂_R, its dynamics unchanged.
+    values.append(c.slip_gain * c.rotor_resistance / m.rotor_resistance)
+    return np.asarray(values)
+
+
+def equivalent_drives(drives: Sequence[DqDrive]) -> dict[str, dict]:
+    """Drives that act exactly alike, by construction: the same machine and controller but for
+    the slip gain k_sc and the rotor resistance R̂_R of the slip estimate, whose product alone
+    enters the controller (:func:`rollerrig.drives.vf.vf_control_kernel`; e.g. k_sc = 1 with
+    R̂_R = 1.5 R_R is k_sc = 1.5 with R̂_R = R_R). Their modes are the same (to the rounding of
+    the numerical linearisation, ~1e-8).
+
+    Parameters
+    ----------
+    drives : sequence of DqDrive
+        The drives (labels unique).
+
+    Returns
+    -------
+    dict
+        For each drive that acts as another: label -> ``{"same_as": [the others' labels],
+        "first": the label of the first of them in ``drives``, "slip_gain_effective":
+        k_sc R̂_R / R_R [-], "why": a sentence}``.
+
+    Examples
+    --------
+    >>> from rollerrig.rig.parameters import default_rig
+    >>> same = equivalent_drives(drive_variants(default_rig()))
+    >>> same["dq slip comp 1.5, 0.1 s"]["same_as"]
+    ['dq slip comp 1.0, 0.1 s, R_R est. 1.5']
+    """
+    groups: list[tuple[np.ndarray, list[DqDrive]]] = []
+    for d in drives:
+        values = _acting(d)
+        # rtol 1e-12: 1.0 x (1.5 R_R) and 1.5 x (1.0 R_R) may differ in the last bit
+        group = next((g for v, g in groups if np.allclose(values, v, rtol=1e-12, atol=0.0)), None)
+        if group is None:
+            groups.append((values, [d]))
+        else:
+            group.append(d)
+    out: dict[str, dict] = {}
+    for values, group in groups:
+        if len(group) < 2:
+            continue
+        gain = float(values[-1])
+        for d in group:
+            others = [o.label for o in group if o is not d]
+            names = ", ".join(others)
+            if all(o.control.slip_gain == d.control.slip_gain for o in group):
+                why = f"has the same settings as {names}"
+            else:
+                why = (
+                    f"acts exactly as {names}: only the product k_sc x R̂_R/R_R (= {gain:.4g} "
+                    "in each) enters the slip compensation, so the modes are the same"
+                )
+            out[d.label] = {
+                "same_as": others,
+                "first": group[0].label,
+                "slip_gain_effective": gain,
+                "why": why,
+            }
+    return out
+
+
 def drive_dynamics_study(
     rig,
     speeds: Sequence[float] = (5 / 3.6, 10 / 3.6, 20 / 3.6, 30 / 3.6),
@@ -123,10 +206,13 @@ def drive_dynamics_study(
     Returns
     -------
     dict
-        ``thevenin`` and ``dq`` (rows of :func:`thevenin_eigen_table` / :func:`eigen_table`),
-        ``verdicts`` (per drive: :func:`~rollerrig.rig.drive_verdicts.band_verdict` and
-        :func:`~rollerrig.rig.drive_verdicts.robustness`), ``robustness_grid`` (speeds and
-        loads of the checks),
+        ``thevenin`` and ``dq`` (rows of :func:`thevenin_eigen_table` / :func:`eigen_table`;
+        a drive that acts exactly as an earlier one, :func:`equivalent_drives`, gets that
+        one's rows, relabelled), ``verdicts`` (per drive:
+        :func:`~rollerrig.rig.drive_verdicts.band_verdict` and
+        :func:`~rollerrig.rig.drive_verdicts.robustness`; ``same_as``, the drives it acts
+        exactly as, and ``slip_gain_effective [-]``, with the text saying so),
+        ``robustness_grid`` (speeds and loads of the checks),
         ``lag_held_speed`` (per speed: τ [s] and c_lp [1/s] of :func:`fit_lag_at_held_speed`
         for the first drive), ``lag_in_rig`` (per point of ``rig_fit_points``:
         :func:`fit_lag_in_rig`), ``seed_lag [s]`` (τ of c_lp = 2.75) and the machine's
@@ -164,7 +250,17 @@ def drive_dynamics_study(
             }
         )
     say(f"modes of the twin with {len(drives)} dq drives at {len(speeds) * len(loads)} points")
-    dq_rows = eigen_table(rig, drives, speeds, loads, band=band)
+    same = equivalent_drives(drives)
+    by_drive = {
+        d.label: eigen_table(rig, [d], speeds, loads, band=band)
+        for d in drives
+        if d.label not in same or same[d.label]["first"] == d.label
+    }
+    for d in drives:  # identical by construction: the rows of the first drive it acts as
+        if d.label not in by_drive:
+            lead = same[d.label]["first"]
+            by_drive[d.label] = [{**r, "drive": d.label} for r in by_drive[lead]]
+    dq_rows = [r for d in drives for r in by_drive[d.label]]
     if check_loads is None:
         check_loads = tuple(loads)
     cache: dict = {}
@@ -183,6 +279,10 @@ def drive_dynamics_study(
             say(f"verdicts over the assumptions: {d.label} ({i + 1} of {len(drives)})")
         nominal = band_verdict([r for r in dq_rows if r["drive"] == d.label], band)
         entry = {"drive": d.label, "settings": d.settings, **nominal}
+        if d.label in same:  # its rows and figure markers are another drive's: say so
+            entry["same_as"] = same[d.label]["same_as"]
+            entry["text"] += f"; it {same[d.label]['why']}"
+            entry["slip_gain_effective [-]"] = same[d.label]["slip_gain_effective"]
         if check_loads and d.settings is not None:
             entry["robustness"] = robustness(rig, d.settings, rows_for, nominal, band=band)
         verdicts.append(entry)

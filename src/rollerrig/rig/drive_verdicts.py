@@ -91,16 +91,41 @@ def _least_damped_in_band(rows, band):
     return out
 
 
+def _growing(rows):
+    """(f, ζ) of the fastest-growing mode at each unstable row: of its modes below 20 Hz with
+    ζ < 0, else of its unstable eigenvalues ``(real part [1/s], frequency [Hz])`` (one above
+    20 Hz, or a real one: ζ = -1)."""
+    out = []
+    for r in rows:
+        listed = [
+            (md["frequency [Hz]"], md["damping_ratio [-]"])
+            for md in r["modes below 20 Hz"]
+            if md["damping_ratio [-]"] < 0.0
+        ]
+        if not listed:
+            listed = [
+                (f, -sigma / float(np.hypot(sigma, 2.0 * np.pi * f))) for sigma, f in r["unstable"]
+            ]
+        if listed:
+            out.append(min(listed, key=lambda fz: fz[1]))
+    return out
+
+
 def band_verdict(rows: Sequence[Mapping], band: tuple[float, float] = (1.0, 1.7)) -> dict:
     """The verdict of one drive's rows (all its speeds and loads) about ``band`` [Hz].
+
+    The frequencies and damping ratios it quotes are those of the rows it names, so that they
+    bear it out: the growing modes of the unstable rows (ζ < 0), the lightly damped modes in
+    the band of the lightly damped rows (0 <= ζ below the threshold), or, with neither, the
+    least damped mode in the band of every row (all damped).
 
     Returns
     -------
     dict
         ``kind`` (``unstable``, ``every speed``, ``some speeds``, ``none``), ``speeds [km/h]``
         (where it is unstable, or lightly damped in the band), ``frequency [Hz]`` and
-        ``damping_ratio [-]`` (the ranges ``[min, max]`` of the least damped mode in the band
-        over the rows that have one; None without), and ``text``.
+        ``damping_ratio [-]`` (the ranges ``[min, max]`` of the modes quoted: per row named, its
+        fastest-growing mode, or its least damped mode in the band; None without), and ``text``.
 
     Examples
     --------
@@ -115,14 +140,21 @@ def band_verdict(rows: Sequence[Mapping], band: tuple[float, float] = (1.0, 1.7)
             "rows must hold at least one row of a mode table (eigen_table): no rows, no verdict"
         )
     speeds = sorted({r["speed [km/h]"] for r in rows})
-    classes = [(r["speed [km/h]"], band_class(r, band)) for r in rows]
-    unstable = sorted({v for v, c in classes if c == "unstable"})
-    light = sorted({v for v, c in classes if c == "lightly damped"})
-    fz = _least_damped_in_band(rows, band)
+    classes = [(r, band_class(r, band)) for r in rows]
+    unstable = sorted({r["speed [km/h]"] for r, c in classes if c == "unstable"})
+    light = sorted({r["speed [km/h]"] for r, c in classes if c == "lightly damped"})
+    # Quoting every row's least damped mode had put ζ 0.339 (10-30 km/h, damped) into "lightly
+    # damped at 5 km/h only", above the class's own 0.3.
+    if unstable:
+        fz = _growing([r for r, c in classes if c == "unstable"])
+    elif light:
+        fz = _least_damped_in_band([r for r, c in classes if c == "lightly damped"], band)
+    else:
+        fz = _least_damped_in_band(rows, band)
     f_range = [min(f for f, _ in fz), max(f for f, _ in fz)] if fz else None
     z_range = [min(z for _, z in fz), max(z for _, z in fz)] if fz else None
     span = (
-        f" ({f_range[0]:.2f}-{f_range[1]:.2f} Hz, ζ {z_range[0]:.3f} to {z_range[1]:.3f})"
+        f" ({f_range[0]:.2f}-{f_range[1]:.2f} Hz, ζ {_zeta(z_range[0])} to {_zeta(z_range[1])})"
         if fz
         else ""
     )
@@ -157,6 +189,22 @@ def _check_band(band) -> tuple[float, float]:
     if not 0.0 <= lo < hi:
         raise ParameterError(f"band must be (low, high) with 0 <= low < high [Hz], got {band!r}")
     return lo, hi
+
+
+def _zeta(z: float, threshold: float = DEFAULT_DAMPING_THRESHOLD) -> str:
+    """ζ to 3 decimals, or more where 3 would put it in another class (0.29996 as "0.300",
+    above the 0.3 that "lightly damped" stops at: "0.29996").
+
+    Examples
+    --------
+    >>> _zeta(0.2034), _zeta(0.29996), _zeta(-0.0002)
+    ('0.203', '0.29996', '-0.0002')
+    """
+    for digits in range(3, 9):
+        shown = f"{z:.{digits}f}"
+        if mode_class(float(shown), threshold) == mode_class(z, threshold):
+            break
+    return shown
 
 
 def _kmh(speeds) -> str:
