@@ -154,7 +154,7 @@ def require_number(name: str, value, unit: str = "") -> np.ndarray:
     --------
     >>> require_number("radius", [0.35, np.inf]).tolist()
     [0.35, inf]
-    >>> require_number("load", True)
+    >>> require_number("load", True, "N")
     Traceback (most recent call last):
     ...
     rollerrig._validation.ParameterError: load must be a number [N], got True

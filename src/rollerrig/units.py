@@ -328,7 +328,7 @@ def quantity_factor(unit: str, quantity: str, *, what: str = "") -> float:
     Traceback (most recent call last):
     ...
     rollerrig.units.UnitError: unit not accepted for angular_frequency [rad/s]; allowed 'rad/s', \
-'Hz' (also written 'rad/sec', 'rev/s'); got 'rpm'
+'Hz' (also written 'rad/sec', 'rev/s', 'tr/s'); got 'rpm'
     """
     table = QUANTITIES[quantity].units
     u = normalize_unit(unit) if isinstance(unit, str) else None

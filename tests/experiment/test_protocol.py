@@ -181,7 +181,7 @@ def test_evaluation_at_nan_time_is_refused(method, t):
 
 
 def test_evaluation_at_text_time_is_a_parameter_error():
-    with pytest.raises(ParameterError, match=re.escape("t must be a number, got 'a'")):
+    with pytest.raises(ParameterError, match=re.escape("t must be a number [s], got 'a'")):
         _pulse().torque_at("a")
 
 
