@@ -97,6 +97,32 @@ def test_list_shows_the_bundled_studies(runner):
         assert name in result.output
 
 
+def test_run_help_names_every_bundled_study(runner):
+    # The list had been written by hand and left out arm, which the tour runs.
+    from rollerrig.studies.studyfile import bundled_studies
+
+    result = runner.invoke(app, ["study", "run", "--help"])
+    assert result.exit_code == 0
+    text = " ".join(result.output.split())
+    assert "arm" in bundled_studies()
+    assert f"a bundled study: {', '.join(bundled_studies())} (rollerrig study list)" in text
+
+
+def test_show_of_the_out_folder_names_the_store_in_it(tmp_path, runner, tiny):
+    # "GroupNotFoundError: No group found in store PosixPath(...)" had been the answer.
+    out = tmp_path / "out"
+    assert runner.invoke(app, _local(tiny, out)).exit_code == 0
+    result = runner.invoke(app, ["study", "show", str(out), "--out", str(tmp_path / "shown")])
+    assert result.exit_code == 2, result.output
+    assert " ".join(result.output.split()) == (
+        f"error: {out}: not a rollerrig study store but a folder holding study-tiny.zarr: give "
+        f"{out / 'study-tiny.zarr'}"
+    )
+    result = runner.invoke(app, ["study", "show", str(tmp_path / "nothing.zarr")])
+    assert result.exit_code == 2 and "Error" not in result.output, result.output
+    assert "nothing.zarr: not a rollerrig study store: nothing there; give the" in result.output
+
+
 @pytest.mark.parametrize(
     ("body", "expected"),
     [
@@ -378,12 +404,29 @@ def test_a_scheduler_nobody_listens_at_is_an_error_naming_the_address(
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
     address = f"127.0.0.1:{port}"
+    out = tmp_path / "out"
     result = runner.invoke(
-        app, ["study", "run", str(tiny), "--scheduler", address, "--out", str(tmp_path)]
+        app, ["study", "run", str(tiny), "--scheduler", address, "--out", str(out)]
     )
     assert result.exit_code == 2, result.output
     text = " ".join(result.output.split())
     assert f"error: --scheduler {address!r}: cannot reach the dask scheduler" in text
+    # No point ran: the store it created is gone (an empty study-tiny.zarr had stayed).
+    assert not (out / "study-tiny.zarr").exists()
+    # A store that held points before is kept: here two points lost their results (a chunk
+    # file), so the run has points to compute and fails at the scheduler before any.
+    assert runner.invoke(app, _local(tiny, out)).exit_code == 0
+    store = out / "study-tiny.zarr"
+    (store / "release_overshoot" / "c" / "0").unlink()
+    kept = sorted(p.relative_to(store) for p in store.rglob("*"))
+    command = ["study", "run", str(tiny), "--scheduler", address, "--out", str(out)]
+    result = runner.invoke(app, command)
+    assert result.exit_code == 2, result.output
+    assert sorted(p.relative_to(store) for p in store.rglob("*")) == kept
+    # --restart removed the old store on purpose; the new one, without a point, goes too.
+    result = runner.invoke(app, [*command, "--restart"])
+    assert result.exit_code == 2, result.output
+    assert not store.exists()
 
 
 def _ignores_sigint(pid: int) -> bool:

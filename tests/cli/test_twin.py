@@ -59,7 +59,11 @@ def test_protocol_inputs_name_the_toml_and_the_replayed_trace(tmp_path):
     ("args", "message"),
     [
         (["--experiment", "no-such-experiment"], "no-such-experiment"),
-        (["--roller-lag-s", "-1"], "roller_lag"),
+        # named as typed (had been "roller_lag must be >= 0"), and bounded above: 1e6 had run
+        # and stated one release of three, without why (a review, 2026-12-03)
+        (["--roller-lag-s", "-1"], "--roller-lag-s must be in [0, 2] s"),
+        (["--roller-lag-s", "1e6"], "--roller-lag-s must be in [0, 2] s"),
+        (["--roller-lag-s", "nan"], "--roller-lag-s must be a finite number"),
     ],
 )
 def test_simulate_rejects_bad_options(tmp_path, runner, args, message):
@@ -218,3 +222,28 @@ def test_the_solved_line_keeps_the_solve_apart_from_loading_or_compiling():
     assert _solved_line({"name": "Radau", "wall_time_s": 7.5}, 30.0, True) == (
         "solved in 7.50 s (Radau), 4 x real time"
     )
+
+
+def test_the_release_summary_says_why_a_release_has_no_line(monkeypatch):
+    # --roller-lag-s 1e6 had printed one release of the protocol's three, and nothing about
+    # the other two (a review, 2026-12-03).
+    from types import SimpleNamespace
+
+    from rollerrig.cli.twin import _release_summary
+    from rollerrig.studies import metrics
+
+    row = {
+        "time [s]": 5.5, "force_before [N]": 197.0, "measured_min [N]": -220.0,
+        "measured_overshoot [-]": 1.115, "true_min [N]": -146.0,
+    }  # fmt: skip
+    monkeypatch.setattr(metrics, "release_overshoots", lambda ds, protocol: [row])
+    events = [SimpleNamespace(action=a, start=t) for a, t in
+              (("ramp", 2.0), ("release_torque", 5.5), ("release_torque", 14.5),
+               ("release_torque", 23.5))]  # fmt: skip
+    lines = _release_summary(None, SimpleNamespace(events=events)).splitlines()
+    assert lines[0].startswith("release at  5.50 s: force from T56     197 N")
+    assert lines[1] == (
+        "release at 14.50, 23.50 s: no overshoot stated, no traction to release (force from T56 "
+        "below 0.005 x the load before it)"
+    )
+    assert len(lines) == 2

@@ -81,6 +81,25 @@ def test_a_folder_that_is_not_a_store_is_refused(tmp_path):
         StudyStore.open(tmp_path / "x.zarr")
 
 
+def test_what_is_not_a_store_is_said_in_words_not_zarrs_exception(tmp_path):
+    # "GroupNotFoundError: No group found in store PosixPath(...)" for the folder given to
+    # study run as --out (a review, 2026-12-03).
+    (tmp_path / "out").mkdir()
+    _store(tmp_path / "out" / "study-d.zarr")
+    (tmp_path / "a-file.zarr").write_text("x")
+    expected = {
+        tmp_path / "out": " but a folder holding study-d.zarr: give "
+        + str(tmp_path / "out" / "study-d.zarr"),
+        tmp_path / "none.zarr": ": nothing there; give the study-NAME.zarr folder",
+        tmp_path / "a-file.zarr": ": a file, and a store is a folder; give",
+    }
+    for path, words in expected.items():
+        with pytest.raises(StoreError) as err:
+            open_study(path)
+        assert str(err.value).startswith(f"{path}: not a rollerrig study store{words}")
+        assert "Error" not in str(err.value)
+
+
 def test_a_bad_status_is_a_programming_error(tmp_path):
     s = _store(tmp_path / "d.zarr")
     with pytest.raises(ValueError, match="status"):

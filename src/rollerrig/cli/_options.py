@@ -133,8 +133,13 @@ class Friction(StrEnum):
 
 def _rig_by_name(value: Path | None) -> Path | None:
     """``--rig NAME``: a value that is no file and has no suffix names a registered rig set
-    (``rollerrig rig list``), whose file it becomes; a path is left to the rig-file reader."""
-    if value is None or value.is_file() or value.suffix or len(value.parts) > 1:
+    (``rollerrig rig list``), whose file it becomes; a path is left to the rig-file reader,
+    unless nothing is there (said now, before the command imports its modules for seconds)."""
+    if value is None or value.is_file():
+        return value
+    if value.suffix or len(value.parts) > 1:
+        if not value.exists():
+            raise typer.BadParameter(f"{value}: rig file not found")
         return value
     from rollerrig._validation import ParameterError
     from rollerrig.rig.library import resolve_rig
@@ -182,6 +187,7 @@ def check_option(
     unit: str,
     *,
     above: float | None = None,
+    at_least: float | None = None,
     at_most: float | None = None,
     below: float | None = None,
     why: str = "",
@@ -201,6 +207,8 @@ def check_option(
         pure number).
     above : float, optional
         Exclusive lower bound.
+    at_least : float, optional
+        Inclusive lower bound.
     at_most : float, optional
         Inclusive upper bound.
     below : float, optional
@@ -224,12 +232,17 @@ def check_option(
     if not math.isfinite(value):
         given_in = f" (in {unit})" if unit else ""
         raise UserError(f"{option} must be a finite number{given_in}, got {value!r}")
+    if at_least is not None and at_most is not None and not at_least <= value <= at_most:
+        span = f"[{at_least:g}, {at_most:g}]"
+        raise UserError(f"{option} must be in {span}{u}{reason}, got {value:g}{u}")
     if above is not None and at_most is not None and not above < value <= at_most:
         span = f"({above:g}, {at_most:g}]"
         raise UserError(f"{option} must be in {span}{u}{reason}, got {value:g}{u}")
     if above is not None and below is not None and not above < value < below:
         span = f"({above:g}, {below:g})"
         raise UserError(f"{option} must be in {span}{u}{reason}, got {value:g}{u}")
+    if at_least is not None and not value >= at_least:
+        raise UserError(f"{option} must be >= {at_least:g}{u}{reason}, got {value:g}{u}")
     if above is not None and not value > above:
         raise UserError(f"{option} must be > {above:g}{u}{reason}, got {value:g}{u}")
     if at_most is not None and not value <= at_most:

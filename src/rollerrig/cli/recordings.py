@@ -20,7 +20,16 @@ from rollerrig.cli._console import (
     print_written,
     steps,
 )
-from rollerrig.cli._inputs import calibration_for, derived, load_truth, open_input
+from rollerrig.cli._inputs import (
+    TWIN_RESULTS_CHANNEL,
+    calibration_for,
+    channel_names,
+    derived,
+    load_truth,
+    open_input,
+    require_inputs,
+    twin_results_error,
+)
 from rollerrig.cli._options import (
     DEFAULT_OUT,
     ChannelsOption,
@@ -82,6 +91,10 @@ def analyze(
     <name>-analysis.json (every result with units), <name>-analysis.nc (the processed channels)
     and a self-contained <name>-report.html with the figures; all three or none.
     """
+    require_inputs(
+        ("", recording), ("--channels", channels), ("--truth", truth),
+        ("--calibration", calibration),
+    )  # fmt: skip
     from rollerrig.analysis.adhesion import analyze_test
     from rollerrig.report.analysis import write_analysis
 
@@ -110,6 +123,9 @@ def analyze(
                 # matches).
                 needed = () if channels is None else None
                 loaded = open_input(recording, channels, lenient, needed, files)
+                names = channel_names(loaded)
+                if channels is None and "torque" not in names and TWIN_RESULTS_CHANNEL in names:
+                    raise twin_results_error(recording, netcdf=False)
                 result = analyze_test(
                     loaded, rig, truth=truth_ds, run_study=study, calibration=calibrated,
                     progress=say,
@@ -194,11 +210,12 @@ _FIT_ROWS = (
 )
 
 
-def _fit_cell(fit, i: int, key: str, truth: dict | None) -> str:
+def _fit_cell(fit, key: str, truth: dict | None) -> str:
     if fit is None:
         return "–"
-    value, sd = fit.parameters.as_tuple()[i], fit.stderr[key]
-    cell = f"{value:.4g} ± {sd:.2g}"
+    cell = fit.shown(key)  # "(not identifiable)" where the data do not pin it down
+    if key in fit.unidentified():
+        return cell[:-1] + ", at a bound)" if key in fit.at_bound else cell
     if truth is not None:
         # The fit's own distance: none at a bound of its search (a one-sided interval; A at
         # 1.6e-8 +- 1.7e-6 had read "228827.1 σ") or without a finite standard error.
@@ -266,8 +283,8 @@ def print_analysis(result) -> None:
     table.add_column("rig CoA T56/(r_r S)", justify="right")
     if truth is not None:
         table.add_column("true (twin)", justify="right")
-    for i, (key, name) in enumerate(_FIT_ROWS):
-        cells = [_fit_cell(fit, i, key, truth) for fit in (result.fit, result.fit_rig_coa)]
+    for key, name in _FIT_ROWS:
+        cells = [_fit_cell(fit, key, truth) for fit in (result.fit, result.fit_rig_coa)]
         if truth is not None:
             cells.append(f"{truth[key]:.4g}")
         table.add_row(name, *cells)
@@ -341,6 +358,7 @@ def spectrum(
     lines that stay put at every speed (speed-independent). Settings are chosen from each
     signal and stated; the coupled twin's damped modes at each recording's speed and load are
     among the sources."""
+    require_inputs(*(("", p) for p in recordings), ("--channels", channels))
     from rollerrig.analysis.adhesion import fill_short_gaps, recording_facts
     from rollerrig.output import save_figure, write_json
     from rollerrig.recordings.timebase import require_uniform_time
@@ -354,6 +372,9 @@ def spectrum(
 
     rig = load_rig(rig_file)
     needed = [channel] if coherence_with is None else [channel, coherence_with]
+    named_by = {channel: "--channel"}  # a needed channel the file lacks: named by its option
+    if coherence_with is not None:
+        named_by[coherence_with] = "--coherence"
     stems = unique_file_stems(p.stem for p in recordings)  # "run-1", "run-2": none replaced
     names = [p.name for p in recordings]
     keys = [n if names.count(n) == 1 else str(p) for n, p in zip(names, recordings, strict=True)]
@@ -377,13 +398,14 @@ def spectrum(
             loaded = []
             for p in recordings:
                 say(f"reading {p.name}")
-                rec = open_input(p, channels, lenient, needed, files)
+                rec = open_input(p, channels, lenient, needed, files, named_by)
                 if not hasattr(rec, "iter_chunks"):  # a spectrum needs a uniform time base
                     rec, _ = fill_short_gaps(rec)  # jitter, short gaps: interpolated, noted
                     require_uniform_time(rec.time, str(p), "the spectrum")
                 loaded.append(derived(rec, rig))
             say("spectra, peaks and their sources" + (" and coherence" if coherence_with else ""))
-            result = explain_recordings(loaded, channel, rig, coherence_with=coherence_with)
+            with _speed_from_the_map():
+                result = explain_recordings(loaded, channel, rig, coherence_with=coherence_with)
         log = shared_log_frequency(result.spectra)  # one axis convention for the set
         for path, stem, key, rec, e in zip(
             recordings, stems, keys, loaded, result.spectra, strict=True
@@ -449,6 +471,27 @@ def spectrum(
     print_written(stage.written)
 
 
+@contextlib.contextmanager
+def _speed_from_the_map():
+    """A recording without a roller speed: the error in command-line words. The API's ending
+    (pass roller_speed=) has no option here: a speed given for a set of recordings would be
+    wrong for all but one, and each recording's own speed places its rotation orders."""
+    from rollerrig.recordings.recording import RecordingError
+    from rollerrig.signal.operating_point import SPEED_ARGUMENT
+
+    try:
+        yield
+    except RecordingError as exc:
+        text = str(exc)
+        if not text.endswith(SPEED_ARGUMENT):
+            raise
+        raise RecordingError(
+            text.removesuffix(f", {SPEED_ARGUMENT}")
+            + " in a channel map (--channels; spectrum takes no speed option: each recording's "
+            "own speed places its rotation orders)"
+        ) from None
+
+
 def filters(
     recording: Annotated[Path, typer.Argument(help="Recording with a torque channel.")],
     channels: ChannelsOption = None,
@@ -465,6 +508,7 @@ def filters(
     Recordings faster than 500 Hz are studied at 250 Hz (the seed's rate; anti-alias
     decimation, stated); long files are decimated while they are read, never held whole.
     """
+    require_inputs(("", recording), ("--channels", channels))
     from rollerrig.analysis.adhesion import (
         check_channel_values,
         fill_short_gaps,
@@ -487,7 +531,7 @@ def filters(
         lenient=lenient,
     ) as stage:
         with contextlib.ExitStack() as files:
-            rec = open_input(recording, channels, lenient, [channel], files)
+            rec = open_input(recording, channels, lenient, [channel], files, {channel: "--channel"})
             if hasattr(rec, "iter_chunks"):  # a long file: streamed, decimated while read
                 try:
                     signal = study_signal_from_source(rec, channel)
@@ -551,11 +595,43 @@ def filters(
         f"{fs:.6g} Hz ({window / fs:.3f} s; tuned at {tuned_at:g} Hz)",
         soft_wrap=True,
     )
+    edge = _grid_edge_note(grid)
+    if edge is not None:
+        note(edge)
     note(rows.basis.note())
     for text in rows.unscored_notes():
         note(text)
     print_recording_notes(rec)
     print_written(stage.written)
+
+
+def _grid_edge_note(grid) -> str | None:
+    """What the user can do where the Savitzky-Golay grid figure says "optimum on the grid
+    edge: widen the grid" (None where the lowest cost lies inside the grid): the command's grid
+    is fixed, the API's tuning takes any."""
+    orders = sorted({r.params["order"] for r in grid})
+    windows = sorted({r.params["window"] for r in grid})
+    best = grid[0].params  # ranked: the lowest cost first, as the figure's star
+    edges = []
+    for key, values in (("window", windows), ("order", orders)):
+        if best[key] == values[-1]:
+            edges.append(f"{key} {best[key]} is the largest tried")
+        elif best[key] == values[0]:
+            edges.append(f"{key} {best[key]} is the smallest tried")
+    if not edges:
+        return None
+    text = (
+        f"Savitzky-Golay grid: the lowest cost lies on its edge ({'; '.join(edges)}), which the "
+        f"figure asks to widen; this command tries orders {orders[0]}-{orders[-1]} and windows "
+        f"{windows[0]}-{windows[-1]} samples at {grid.basis.analysis_rate:g} Hz, a fixed grid: "
+        "a wider one in Python, rollerrig.signal.scoring.tune_savitzky_golay(time, torque, "
+        "orders=..., windows=...)"
+    )
+    if best["order"] == orders[0] and orders[0] <= 2:
+        # orders 0 and 1 smooth as the moving average does (a line fitted to a symmetric window
+        # has the window's mean at its centre)
+        text += "; below order 2 it is the moving average, which the ranking above scores"
+    return text
 
 
 def _cell(value: float, digits: int = 3) -> str:

@@ -34,6 +34,7 @@ from rollerrig.cli._options import (
     figure_file,
 )
 from rollerrig.output.names import safe_file_name
+from rollerrig.studies.bundled import bundled_studies
 
 __all__ = ["study_app"]
 
@@ -238,8 +239,9 @@ def run(
     study: Annotated[
         str,
         typer.Argument(
-            help="A study file (TOML) or a bundled study: stiffness, lag, drives, joint, "
-            "sensitivity (rollerrig study list).",
+            # from the registry: a list by hand had left out arm, which the tour runs
+            help=f"A study file (TOML) or a bundled study: {', '.join(bundled_studies())} "
+            "(rollerrig study list).",
         ),
     ],
     rig_file: RigOption = None,
@@ -340,10 +342,13 @@ def run(
                     chosen=said,
                 )
             except Interrupted:
-                note(
-                    f"interrupted: the finished points are in {store}; run the same command "
-                    "again to resume"
-                )
+                if store.exists():
+                    note(
+                        f"interrupted: the finished points are in {store}; run the same "
+                        "command again to resume"
+                    )
+                else:  # ended before its first point: run_study left no store
+                    note("interrupted before any point finished: no store was kept")
                 raise
         if result.damaged:
             note(

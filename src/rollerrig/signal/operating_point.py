@@ -21,7 +21,12 @@ import numpy as np
 from rollerrig._validation import require_positive
 from rollerrig.signal.recording_access import RecordingAccess
 
-__all__ = ["AT_REST", "OperatingPoint", "operating_point"]
+__all__ = ["AT_REST", "SPEED_ARGUMENT", "OperatingPoint", "operating_point"]
+
+SPEED_ARGUMENT = "or pass roller_speed= (its mean angular speed [rad/s])"
+"""How the error for a recording without a roller speed ends: the API's way to give it. The
+command line, which takes no speed (each recording's own speed places its rotation orders),
+replaces it with its own words."""
 
 AT_REST = 1e-3
 """Mean angular speed [rad/s] at or below which a roller or wheel counts as at rest."""
@@ -136,7 +141,7 @@ def operating_point(
     if w_r is None:
         raise access.fail(
             "the spectrum's sources need the roller speed: map a roller_speed or "
-            "roller_encoder_counts channel (or give the speed)"
+            f"roller_encoder_counts channel, {SPEED_ARGUMENT}"
         )
     if not w_r > AT_REST:
         w_r, r_source = None, f"roller at rest (mean speed {w_r:.3g} rad/s, {r_source})"

@@ -33,7 +33,7 @@ _EXPORTS: dict[str, str] = {
     "StudySpec": "spec",
     "open_study": "store",
     "StudyFileError": "studyfile",
-    "bundled_studies": "studyfile",
+    "bundled_studies": "bundled",
     "load_study": "studyfile",
     "failures": "summary",
     "metric_summary": "summary",

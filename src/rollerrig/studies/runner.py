@@ -658,7 +658,8 @@ def run_study(
         The base rig; default: the study's ``rig`` entry, else the bundled default rig.
     store : path, optional
         The store's folder (``<study>.zarr``); an existing store of the same study is resumed.
-        Default: a temporary store, removed after it is read.
+        A store this call created is removed when the run ends, by an error or an interruption,
+        before any point is in it. Default: a temporary store, removed after it is read.
     executor : {"auto", "local", "dask"}
         Where the points run (see the module docstring); ``"auto"``: dask when ``scheduler``
         or ``workers`` is given or the study repays a local cluster's start-up, else local.
@@ -729,8 +730,12 @@ def run_study(
         else Path(store)
     )
     start = time.perf_counter()
+    existed = os.path.lexists(path)
+    created = False  # whether the store at path is this run's (set once it is)
+    recorded = 0  # points this run wrote into the store
     try:
         st = _open_store(path, spec, table, restart)
+        created = not temporary and (restart or not existed)
         damaged_files = st.missing
         damaged = st.reset_damaged()  # marked pending in the store: computed again below
         pending = st.pending()
@@ -749,8 +754,9 @@ def run_study(
         serial_s = None
 
         def record(rows) -> None:
-            nonlocal done, failed
+            nonlocal done, failed, recorded
             st.record(rows)
+            recorded += len(rows)
             done += len(rows)
             failed += sum(r[1] != "ok" for r in rows)
             if progress is not None:
@@ -853,6 +859,12 @@ def run_study(
             fixed_cost,
             serial_s,
         )
+    except BaseException:
+        # A run that ends before its first point (a scheduler nobody listens at, Ctrl-C while
+        # the solver loads) leaves no store it created: an empty one had stayed in --out.
+        if created and not recorded:
+            shutil.rmtree(path, ignore_errors=True)
+        raise
     finally:
         if temporary:  # the dataset is in memory already (numpy arrays read from the store)
             shutil.rmtree(path.parent, ignore_errors=True)

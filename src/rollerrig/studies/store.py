@@ -402,8 +402,30 @@ def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
 
+def _not_a_store(path: Path, hint: str) -> StoreError | None:
+    """The error for a path that cannot be a study store, said in words before zarr is asked
+    (whose errors name its own exception types: "GroupNotFoundError: No group found in store
+    PosixPath(...)"), or None where zarr is to decide."""
+    where = f"{path}: not a rollerrig study store"
+    if not path.exists():
+        return StoreError(f"{where}: nothing there; {hint}")
+    if not path.is_dir():
+        return StoreError(f"{where}: a file, and a store is a folder; {hint}")
+    if (path / "zarr.json").is_file() or (path / ".zgroup").is_file():
+        return None
+    # The folder given for --out: the stores study run wrote into it are what was meant
+    inside = sorted(p.name for p in path.glob("*.zarr") if (p / "zarr.json").is_file())
+    if inside:
+        shown = ", ".join(inside[:5]) + (f" and {len(inside) - 5} more" if len(inside) > 5 else "")
+        return StoreError(f"{where} but a folder holding {shown}: give {path / inside[0]}")
+    return StoreError(f"{where}: a folder without the store's zarr.json; {hint}")
+
+
 def _open_group(path: Path, mode: str, hint: str = "remove it or choose another --out"):
     """The zarr group of a study store of this version, or :class:`StoreError`."""
+    problem = _not_a_store(path, hint)
+    if problem is not None:
+        raise problem
     zarr = _zarr()
     try:
         group = zarr.open_group(path, mode=mode)

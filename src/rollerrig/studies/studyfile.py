@@ -63,13 +63,13 @@ import os
 import re
 import tomllib
 from collections.abc import Mapping
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from rollerrig._toml import parse_toml
 from rollerrig._validation import ParameterError, Problem, did_you_mean
 from rollerrig.output.names import safe_file_name
+from rollerrig.studies.bundled import bundled_studies, data_dir
 from rollerrig.studies.design_tables import (
     MAX_STUDY_POINTS,
     _axis,
@@ -335,23 +335,6 @@ def study_from_dict(
     )
 
 
-def _data_dir():
-    return resources.files("rollerrig.studies").joinpath("data")
-
-
-def bundled_studies() -> tuple[str, ...]:
-    """Names of the studies bundled with rollerrig (``studies/data/*.toml``).
-
-    Examples
-    --------
-    >>> {"stiffness", "lag", "drives"} <= set(bundled_studies())
-    True
-    """
-    return tuple(
-        sorted(f.name[: -len(".toml")] for f in _data_dir().iterdir() if f.name.endswith(".toml"))
-    )
-
-
 def load_study(path_or_name: str | os.PathLike) -> StudySpec:
     """Load a study by bundled name (e.g. ``"stiffness"``) or from a TOML file.
 
@@ -366,7 +349,7 @@ def load_study(path_or_name: str | os.PathLike) -> StudySpec:
     'stiffness.roller_shaft'
     """
     if isinstance(path_or_name, str) and path_or_name in bundled_studies():
-        text = _data_dir().joinpath(f"{path_or_name}.toml").read_text(encoding="utf-8")
+        text = data_dir().joinpath(f"{path_or_name}.toml").read_text(encoding="utf-8")
         return study_from_toml_string(text, origin=f"bundled:{path_or_name}", name=path_or_name)
     path = Path(path_or_name)
     if not path.is_file():
