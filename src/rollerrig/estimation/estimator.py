@@ -17,7 +17,7 @@ up to its own instant, so that it can run online at the DAQ rate: a Kalman filte
 smoother on the roller or on the roller-shaft-rotor-drive chain (:func:`smooth_contact_torque`,
 section "The smoother" below).
 
-Model (the roller's equation of motion, DESIGN.md §3; Kayaalp eq. 4.5 with consistent signs)
+Model (the roller's equation of motion, Kayaalp eq. 4.5 with consistent signs)
 
 .. math::
     \\dot\\theta_5 = \\omega_5, \\qquad

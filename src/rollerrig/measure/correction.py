@@ -2,7 +2,7 @@
 
 The torque sensor sits between the roller and its motor, so the rig's CoA = T56/(r_r N) misses
 the torque that accelerates the roller and the roller's bearing loss. The roller's equation of
-motion gives the contact force exactly (DESIGN.md §3; Kayaalp eq. 4.5 with consistent signs):
+motion gives the contact force exactly (Kayaalp eq. 4.5 with consistent signs):
 
 .. math:: F_x r_r = T_{56} + J_5 \\alpha_5 + R_{05}
 

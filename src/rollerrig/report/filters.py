@@ -192,7 +192,7 @@ def savitzky_golay_grid_figure(
     scored), white ones are above the colour scale's clip; the legend says so. An optimum on
     the edge of the grid (the smallest or
     largest window or order tried) is not known to be an optimum: it is circled and the figure
-    says "optimum on the grid edge: widen the grid", naming the edge.
+    says "optimum on the grid edge (...)", naming the edge and how to try a wider grid.
 
     Parameters
     ----------
@@ -259,7 +259,8 @@ def savitzky_golay_grid_figure(
         ax.plot(col, row, "o", ms=20, mfc="none", mec="red", mew=1.5, label="on the grid edge")
         ax.text(0.5, 1.02, lowest, transform=ax.transAxes, ha="center", va="bottom", fontsize=8)
         ax.set_title(
-            "optimum on the grid edge: widen the grid (" + "; ".join(edges) + ")",
+            "optimum on the grid edge (" + "; ".join(edges) + "): the true optimum may lie "
+            "beyond; a wider grid: tune_savitzky_golay(orders=, windows=)",
             fontsize=9,
             color="tab:red",
             pad=16,

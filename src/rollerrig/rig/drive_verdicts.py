@@ -12,11 +12,11 @@ load, the twin's oscillatory modes below 20 Hz. This module
   or ``none``;
 * checks each verdict over the ranges of the assumptions it rests on (:func:`robustness`),
   one assumption at a time, the others at the drive's values: the stator resistance
-  (1.5-2 % per unit, DESIGN.md §3), the roller inertia J5 (±10 %), and the V/f settings the
-  inverter's parameter list would decide (slip compensation 0-1.5, slip filter 0.05-0.4 s,
-  current filter 0.05-0.2 s, the rotor-resistance estimate 0.8-1.5: cold to hot ±20 % and 50 %
-  high). The modes are computed on the study's speeds at the lightest and heaviest load (the
-  modes move by < 1 % between 4.3 and 20 kN).
+  (1.5-2 % per unit, docs/guide/datasheet.rst), the roller inertia J5 (±10 %), and the V/f
+  settings the inverter's parameter list would decide (slip compensation 0-1.5, slip filter
+  0.05-0.4 s, current filter 0.05-0.2 s, the rotor-resistance estimate 0.8-1.5: cold to hot
+  ±20 % and 50 % high). The modes are computed on the study's speeds at the lightest and
+  heaviest load (the modes move by < 1 % between 4.3 and 20 kN).
 """
 
 from __future__ import annotations
@@ -252,7 +252,8 @@ ASSUMPTIONS: tuple[Assumption, ...] = (
         "induction_motor.stator_resistance",
         "R_s",
         lambda rig, nominal: tuple(round(_rs_per_unit(rig, pu), 4) for pu in (0.015, 0.02)),
-        "1.5-2 % per unit (DESIGN.md §3; 0.074-0.099 ohm per delta phase on the bundled rig)",
+        "1.5-2 % per unit (the datasheet guide's nameplate step; 0.074-0.099 ohm per delta "
+        "phase on the bundled rig)",
     ),
     Assumption(
         "inertia.roller",

@@ -455,7 +455,7 @@ class SensorParameters(_Section):
 
 class ArmParameters(_Section):
     """The swinging arm that carries the wheel: how the normal load at the contact differs from
-    the air-spring force the rig measures (Kayaalp 4.1.1; DESIGN.md §3).
+    the air-spring force the rig measures (Kayaalp 4.1.1).
 
     The wheel hangs on an arm pivoted on the rear columns; the air spring pushes the arm down
     with the force S the DAQ computes from its pressure. Moments about the pivot give
