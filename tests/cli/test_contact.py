@@ -44,7 +44,11 @@ def test_contact_with_a_rig_file_records_its_hash(tmp_path, runner):
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--load-kn", "-5"], "--load-kn must be > 0 kN, got -5 kN"),
+        (["--load-kn", "-5"], "--load-kn must be in (0, 200] kN"),
+        # a load typed in N, a speed far beyond any rig, a radius typed in m: refused, named
+        (["--load-kn", "4300"], "(a wheel load; a value typed in N?), got 4300 kN"),
+        (["--speed-kmh", "1000"], "--speed-kmh must be in (0, 300] km/h"),
+        (["--roller-radius-mm", "0.452"], "(a radius; a value typed in m?), got 0.452 mm"),
         (["--roller-radius-mm", "0"], "radius"),
         (["--poisson", "0.6"], "--poisson must be in (0, 0.5), got 0.6"),
         (["--ka", "0.2", "--ks", "0.5"], "kS <= kA"),

@@ -181,6 +181,38 @@ def load_rig(rig_file: Path | None):
     return default_rig() if rig_file is None else load(rig_file)
 
 
+MAX_WHEEL_LOAD_KN = 200.0
+"""Largest wheel load an option takes [kN]: a rail vehicle's static wheel load is below about
+125 kN (25 t axle load), and the twin's drives and contact are parametrised for a tram wheel.
+A load typed in newtons (4300 for 4.3 kN) lands far beyond it, and is named so."""
+
+MAX_SPEED_KMH = 300.0
+"""Largest rolling speed an option takes [km/h] (a rig's, or a high-speed train's)."""
+
+MIN_RADIUS_MM = 5.0
+"""Smallest wheel or roller radius an option takes [mm] (a twin-disc machine's discs are about
+25 mm): a radius typed in metres (0.452 for 452 mm) lands below it, and is named so."""
+
+
+def check_wheel_load_kn(option: str, value: float | None) -> None:
+    """``value`` [kN] in (0, :data:`MAX_WHEEL_LOAD_KN`], the error asking whether it is in N."""
+    check_option(
+        option, value, "kN", above=0, at_most=MAX_WHEEL_LOAD_KN,
+        why="a wheel load; a value typed in N?",
+    )  # fmt: skip
+
+
+def check_speed_kmh(option: str, value: float | None) -> None:
+    """``value`` [km/h] in (0, :data:`MAX_SPEED_KMH`], the error asking whether it is in m/s
+    or m/h."""
+    check_option(option, value, "km/h", above=0, at_most=MAX_SPEED_KMH, why="a rolling speed")
+
+
+def check_radius_mm(option: str, value: float | None) -> None:
+    """``value`` [mm] at least :data:`MIN_RADIUS_MM`, the error asking whether it is in m."""
+    check_option(option, value, "mm", at_least=MIN_RADIUS_MM, why="a radius; a value typed in m?")
+
+
 def check_option(
     option: str,
     value: float | None,

@@ -17,6 +17,9 @@ from rollerrig.cli._options import (
     FigureFormatOption,
     RigOption,
     check_option,
+    check_radius_mm,
+    check_speed_kmh,
+    check_wheel_load_kn,
     figure_file,
     load_rig,
 )
@@ -116,10 +119,10 @@ def contact(
     from rollerrig.report.contact import contact_size_figure, creep_curve_figure
 
     profiles = profile_files(wheel_profile, rail_profile)  # before any work: errors first
-    check_option("--load-kn", load_kn, "kN", above=0)
-    check_option("--speed-kmh", speed_kmh, "km/h", above=0)
-    check_option("--wheel-radius-mm", wheel_radius_mm, "mm", above=0)
-    check_option("--roller-radius-mm", roller_radius_mm, "mm", above=0)
+    check_wheel_load_kn("--load-kn", load_kn)
+    check_speed_kmh("--speed-kmh", speed_kmh)
+    check_radius_mm("--wheel-radius-mm", wheel_radius_mm)
+    check_radius_mm("--roller-radius-mm", roller_radius_mm)
     check_option("--poisson", poisson, "", above=0, below=0.5)
     rig = load_rig(rig_file)
     g, mat = rig.geometry, rig.material

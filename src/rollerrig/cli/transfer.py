@@ -21,6 +21,9 @@ from rollerrig.cli._options import (
     OutOption,
     RigOption,
     check_option,
+    check_radius_mm,
+    check_speed_kmh,
+    check_wheel_load_kn,
     load_rig,
 )
 from rollerrig.cli._outputs import command_outputs, safe_file_stem
@@ -156,6 +159,8 @@ def transfer(
 
     if not source.is_file():
         raise ParameterError(f"{source}: no such file")
+    check_wheel_load_kn("--load-kn", load_kn)
+    check_speed_kmh("--speed-kmh", speed_kmh)
     rig = load_rig(rig_file)
     load = None if load_kn is None else float(load_kn) * 1e3
     speed = None if speed_kmh is None else float(speed_kmh) / 3.6
@@ -200,7 +205,7 @@ def transfer(
         measured_in.get("rolling_speed"),
     )  # fmt: skip
     # checked as typed (mm, m, deg), not as the SI parameters they become
-    check_option("--rail-crown-radius-mm", crown_radius_mm, "mm", above=0)
+    check_radius_mm("--rail-crown-radius-mm", crown_radius_mm)
     check_option("--curve-radius-m", curve_radius_m, "m", above=0)
     check_option("--contact-angle-deg", contact_angle_deg, "deg", above=-90, below=90)
     rail = RailGeometry(

@@ -11,7 +11,6 @@ import tomllib
 from pathlib import Path
 from typing import Annotated
 
-import numpy as np
 import typer
 from rich.text import Text
 
@@ -32,6 +31,8 @@ from rollerrig.cli._options import (
     Solver,
     WheelDrive,
     check_option,
+    check_speed_kmh,
+    check_wheel_load_kn,
     figure_file,
     load_rig,
 )
@@ -511,10 +512,8 @@ def modes(
     if speed_kmh is not None:
         # Upper bounds: the twin's drives and contact are parametrised for a tram wheel; far
         # beyond them the steady state is not found and the linearisation means nothing.
-        if not (np.isfinite(speed_kmh) and 0 < speed_kmh <= 300):
-            raise UserError(f"--speed-kmh must be in (0, 300] [km/h], got {speed_kmh:g}")
-        if load_kn is not None and not (np.isfinite(load_kn) and 0 < load_kn <= 200):
-            raise UserError(f"--load-kn must be in (0, 200] [kN], got {load_kn:g}")
+        check_speed_kmh("--speed-kmh", speed_kmh)
+        check_wheel_load_kn("--load-kn", load_kn)
         load = DEFAULT_NORMAL_LOAD if load_kn is None else load_kn * 1e3
         source = "--load-kn" if load_kn is not None else "default: the seed's test load"
         coupled = twin_modes(
