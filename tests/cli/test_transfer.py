@@ -135,7 +135,11 @@ def test_the_figure_in_the_format_asked(tmp_path, runner):
     ("option", "value", "said"),
     [
         ("--contact-angle-deg", "95", "--contact-angle-deg must be in (-90, 90) deg, got 95 deg"),
-        ("--rail-crown-radius-mm", "0", "--rail-crown-radius-mm must be >= 5 mm (a radius; a value typed in m?), got 0 mm"),
+        (
+            "--rail-crown-radius-mm",
+            "0",
+            "--rail-crown-radius-mm must be >= 5 mm (a radius; a value typed in m?), got 0 mm",
+        ),
         ("--curve-radius-m", "-5", "--curve-radius-m must be > 0 m, got -5 m"),
     ],
 )
