@@ -17,6 +17,7 @@ identify, and the calibrated rig (:attr:`Calibration.rig`), written by
 - :mod:`~rollerrig.calibrate.model` — the twin as a function of the parameters, in batches;
 - :mod:`~rollerrig.calibrate.fit` — Levenberg–Marquardt, identifiability, :func:`calibrate`;
 - :mod:`~rollerrig.calibrate.stats` — Newey–West covariance, whiteness checks;
+- :mod:`~rollerrig.calibrate.systematic` — the sensors' stated classes in the standard errors;
 - :mod:`~rollerrig.calibrate.result` — the result's names, gathered from
   :mod:`~rollerrig.calibrate.calibration` (:class:`Calibration` and its parts),
   :mod:`~rollerrig.calibrate.assembly` (the result of a finished fit),

@@ -61,7 +61,8 @@ def _identified_rig(
             "unit": p.unit,
             "source": (
                 f"calibrated by rollerrig calibrate on {where}: {p.value:.6g} +- "
-                f"{p.standard_error:.3g}{_unit_text(p.unit)} (one standard error, Newey-West); "
+                f"{p.standard_error:.3g}{_unit_text(p.unit)} (one standard error: Newey-West and "
+                "the sensors' stated classes); "
                 f"started from {old_value} ({old_text})"
             ),
         }
@@ -89,25 +90,33 @@ def build_calibration(
     covariance_z: np.ndarray,
     white_z: np.ndarray,
     dropped: dict[int, str],
+    systematic_z: dict[str, np.ndarray] | None = None,
+    sensor_inputs: tuple = (),
     before: dict[str, np.ndarray],
     start_prediction: dict[str, np.ndarray],
     converged: bool,
     recording,
     wall_time: float,
 ) -> Calibration:
-    """Assemble the :class:`Calibration` from the state of a finished fit."""
+    """Assemble the :class:`Calibration` from the state of a finished fit.
+
+    ``covariance_z`` and ``white_z``: the statistical covariances of the active z;
+    ``systematic_z``: each stated sensor input's shift of the active z for an error of one
+    standard uncertainty (:mod:`rollerrig.calibrate.systematic`), whose outer products add to
+    the statistical covariance; ``sensor_inputs``: those inputs.
+    """
     from rollerrig.measure.facts import recording_facts
 
     act = np.flatnonzero(active)
     scale = np.array([params[i].value(point.z[i]) - params[i].lower for i in act])
-    cov = covariance_z * np.outer(scale, scale)
+    cov_stat = covariance_z * np.outer(scale, scale)
+    shifts = {name: dz * scale for name, dz in (systematic_z or {}).items()}
+    cov = cov_stat + sum((np.outer(d, d) for d in shifts.values()), np.zeros_like(cov_stat))
     cov_white = white_z * np.outer(scale, scale)
     se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    se_stat = np.sqrt(np.clip(np.diag(cov_stat), 0.0, None))
     se_white = np.sqrt(np.clip(np.diag(cov_white), 0.0, None))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        corr = cov / np.outer(se, se)
-    corr = np.where(np.isfinite(corr), corr, 0.0)
-    np.fill_diagonal(corr, 1.0)
+    corr = _correlation(cov)
     position = {int(i): k for k, i in enumerate(act)}
 
     fitted: dict[str, FittedParameter] = {}
@@ -124,6 +133,8 @@ def build_calibration(
                 float(se_white[k]),
                 True,
                 at_bound=bool(p.upper is not None and value >= p.upper * (1 - 1e-9)),
+                standard_error_statistical=float(se_stat[k]),
+                systematic={name: float(d[k]) for name, d in shifts.items()},
             )
         else:
             fitted[p.key] = FittedParameter(
@@ -134,16 +145,26 @@ def build_calibration(
     keys = tuple(params[i].key for i in act)
 
     warnings = [f"{k}: {p.reason}" for k, p in free.items() if not p.identified]
-    combinations = identified_combinations(
-        keys, [fitted[k].value for k in keys], [fitted[k].unit for k in keys], cov, MAX_CORRELATION
+    # What the recording determines is a matter of its statistics: one sensor error moving two
+    # keys together (the load's offset moves k56 and the load) is no combination the recording
+    # fixes. The groups come from the statistical covariance, their errors from the total.
+    values = [fitted[k].value for k in keys]
+    combinations = _with_total_errors(
+        identified_combinations(
+            keys, values, [fitted[k].unit for k in keys], cov_stat, MAX_CORRELATION
+        ),
+        keys,
+        values,
+        cov,
     )
+    corr_stat = _correlation(cov_stat)
     combined = {k for c in combinations for k in c["keys"]}
     for a in range(len(keys)):
         for b in range(a + 1, len(keys)):
-            if abs(corr[a, b]) > MAX_CORRELATION and not {keys[a], keys[b]} <= combined:
+            if abs(corr_stat[a, b]) > MAX_CORRELATION and not {keys[a], keys[b]} <= combined:
                 warnings.append(
-                    f"{keys[a]} and {keys[b]} are correlated ({corr[a, b]:+.3f}): the recording "
-                    "determines mainly a combination of the two"
+                    f"{keys[a]} and {keys[b]} are correlated ({corr_stat[a, b]:+.3f}): the "
+                    "recording determines mainly a combination of the two"
                 )
     for c in combinations:
         warnings.append(
@@ -163,7 +184,7 @@ def build_calibration(
             "best found (raise max_iterations)"
         )
 
-    notes = list(measurement.notes)
+    notes = _systematic_notes(free, sensor_inputs, shifts) + list(measurement.notes)
     residual_after = fit.channel_residuals(point.prediction)
     white = {c: whiteness(e) | block_mean_test(e) for c, e in residual_after.items()}
     channels = {}
@@ -184,14 +205,23 @@ def build_calibration(
                 else []
             ),
         )
-        if channels[c].rms_after > _MISFIT_FACTOR * channels[c].sigma_sensor:
-            warnings.append(
-                f"the twin does not reproduce {c}: residual RMS {channels[c].rms_after:.3g} "
-                f"{_UNITS[c]} after the fit against a sensor noise of "
-                f"{channels[c].sigma_sensor:.3g} {_UNITS[c]}; check the rig file, the channel "
-                "map (units, signs) and which parameters are free"
-            )
         w = white[c]
+        if channels[c].rms_after > _MISFIT_FACTOR * channels[c].sigma_sensor:
+            gap = (
+                f"residual RMS {channels[c].rms_after:.3g} {_UNITS[c]} after the fit against a "
+                f"sensor noise of {channels[c].sigma_sensor:.3g} {_UNITS[c]} "
+                f"({measurement.noise_basis[c]})"
+            )
+            if w["white"]:  # white: noise larger than the stated one, not a twin that misses
+                notes.append(
+                    f"{c}: {gap}; the residuals are white: the channel is noisier than that "
+                    "level, which the fit's re-weighting takes from the residuals"
+                )
+            else:
+                warnings.append(
+                    f"the twin does not reproduce {c}: {gap}; check the rig file, the channel "
+                    "map (units, signs) and which parameters are free"
+                )
         quantised = c in ("wheel_speed", "roller_speed") and measurement.encoder_counts
         if quantised:
             w["expected_lag1_autocorrelation"] = _QUANTISATION_LAG1
@@ -243,6 +273,9 @@ def build_calibration(
             f"every standard error is {note_text} (structured: {', '.join(structured)})"
             + (f"; {suggestion}" if suggestion else "")
         )
+    voltage = _wheel_drive_voltage(measurement, model.rig, model.drives)
+    if voltage:
+        warnings.append(voltage)
     invalid = _invalid_reasons(channels, converged, fit.iterations)
     if invalid:
         warnings.insert(
@@ -296,6 +329,10 @@ def build_calibration(
         keys=keys,
         covariance=cov,
         correlation=corr,
+        covariance_statistical=cov_stat,
+        sensor_inputs=tuple(
+            item.as_dict() | {"carried": item.quantity.name in shifts} for item in sensor_inputs
+        ),
         channels=channels,
         rig=rig,
         friction=friction,
@@ -347,6 +384,130 @@ def build_calibration(
         law=model.drives.law,
         suggestion=suggestion,
     )
+
+
+def _correlation(cov: np.ndarray) -> np.ndarray:
+    """Correlation matrix of ``cov`` [-] (0 where a variance is 0, 1 on the diagonal)."""
+    se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(se, se)
+    corr = np.where(np.isfinite(corr), corr, 0.0)
+    np.fill_diagonal(corr, 1.0)
+    return corr
+
+
+def _with_total_errors(combinations: list[dict], keys, values, cov: np.ndarray) -> list[dict]:
+    """``combinations`` (found on the statistical covariance) with their standard errors from
+    the total ``cov``, the statistical ones kept as ``*_statistical`` (delta method in ln v,
+    as :func:`~rollerrig.calibrate.diagnostics.identified_combinations`)."""
+    v = np.asarray(values, dtype=float)
+    out = []
+    for c in combinations:
+        idx = [keys.index(k) for k in c["keys"]]
+        rel = cov[np.ix_(idx, idx)] / np.outer(v[idx], v[idx])
+
+        def u_rel(exponents: dict, idx=idx, rel=rel) -> float:
+            g = np.array([exponents[keys[i]] for i in idx])
+            return float(np.sqrt(max(float(g @ rel @ g), 0.0)))
+
+        fixed, loose = u_rel(c["exponents"]), u_rel(c["undetermined"]["exponents"])
+        out.append(
+            c
+            | {
+                "standard_error": c["value"] * fixed,
+                "relative_standard_error": fixed,
+                "relative_standard_error_statistical": c["relative_standard_error"],
+                "undetermined": c["undetermined"]
+                | {
+                    "relative_standard_error": loose,
+                    "relative_standard_error_statistical": c["undetermined"][
+                        "relative_standard_error"
+                    ],
+                },
+            }
+        )
+    return out
+
+
+def _wheel_drive_voltage(measurement, rig: RigParameters, drives) -> str:
+    """A warning where the wheel's PMSM ran at its voltage limit in the recording ('' if not).
+
+    As ``rollerrig analyze`` notes it (:func:`rollerrig.drives.pmsm_envelope.
+    pmsm_voltage_share` of the recorded torque request at the measured wheel speed, from
+    :data:`~rollerrig.drives.pmsm_envelope.VOLTAGE_LIMIT_SHARE` on): there the twin's wheel
+    torque collapses within tens of ms, and the replay's result hangs on the PMSM's voltage
+    parameters and the wheel's creep. On the quarter-scale rig at its limit (52 % creep) the
+    fit had been marked invalid without a word of the cause (2026-12-03).
+    """
+    from rollerrig.drives.pmsm_envelope import VOLTAGE_LIMIT_SHARE, pmsm_voltage_share
+
+    if drives.wheel != "pmsm":
+        return ""
+    ok = measurement.valid["wheel_speed"] & np.isfinite(measurement.values["wheel_speed"])
+    if not np.any(ok):
+        return ""
+    omega = measurement.values["wheel_speed"][ok]
+    share = pmsm_voltage_share(measurement.torque_request[ok], omega, rig.pmsm)
+    at_limit = share >= VOLTAGE_LIMIT_SHARE
+    if not np.any(at_limit):
+        return ""
+    t = measurement.time[ok] + measurement.start_time
+    k = int(np.argmax(share))
+    return (
+        f"wheel drive at its voltage limit: the PMSM (rig [pmsm], i_d = 0 control, no field "
+        f"weakening) needs {100 * VOLTAGE_LIMIT_SHARE:g} % or more of its inverter's voltage "
+        f"for {int(np.count_nonzero(at_limit)) * measurement.sample_interval:.3g} s of the "
+        f"recording from t = {float(t[at_limit][0]):.2f} s, up to {100 * float(share[k]):.3g} % "
+        f"at t = {float(t[k]):.2f} s (wheel at {float(omega[k]):.4g} rad/s, rated "
+        f"{rig.pmsm.rated_speed:.4g} rad/s; from the torque request and the measured wheel "
+        "speed). There its torque falls short of the request and collapses within tens of ms: "
+        "the replay hangs on the PMSM's voltage and current parameters (rig [pmsm]) and the "
+        "wheel's creep, which the free keys may not cover; calibrate on a test below the limit"
+    )
+
+
+_INPUT_TEXT = {
+    "torque_class": (
+        "the torque sensor's stated class (a zero offset)",
+        "at one load and speed a constant torque (the bearing loss) is what a zero offset "
+        "looks like: a zero reading of the sensor at standstill, or recordings at another load "
+        "or speed, separate them",
+    ),
+    "pressure_class": ("the pressure sensor's stated class (an offset of the load)", ""),
+    "air_spring_area": ("the air spring's stated area (a gain error of the load)", ""),
+}
+
+
+def _systematic_notes(free: dict, inputs, shifts: dict[str, np.ndarray]) -> list[str]:
+    """What the standard errors include, and the keys whose error is mostly systematic."""
+    if not inputs:
+        return []
+    names = [i.quantity.name for i in inputs]
+    left = [n for n in names if n not in shifts]
+    out = [
+        "standard errors (the ±) include the systematic errors of the channels that the rig "
+        f"file states ({', '.join(n for n in names if n in shifts)}: sensors section, "
+        "converted as rollerrig analyze converts them), linearised at the optimum and added in "
+        "quadrature to the statistical (Newey-West) part; calibration.json gives both "
+        "(standard_error_statistical, standard_error_systematic, systematic per input). They "
+        "hold conditional on those classes"
+        + (f"; left out, the load variants not simulated: {', '.join(left)}" if left else "")
+    ]
+    for key, p in free.items():
+        if not p.identified or not p.systematic:
+            continue
+        name, shift = max(p.systematic.items(), key=lambda kv: abs(kv[1]))
+        stat = p.standard_error_statistical or 0.0
+        if abs(shift) <= stat:
+            continue
+        what, hint = _INPUT_TEXT.get(name, (name, ""))
+        hint = hint if key.startswith("bearing.") else ""  # the offset's twin is the bearing
+        out.append(
+            f"{key}: its standard error {p.standard_error:.3g}{_unit_text(p.unit)} is mostly "
+            f"systematic: {what} moves it by {shift:+.3g} for one standard uncertainty, "
+            f"against {stat:.3g} from the residuals" + (f"; {hint}" if hint else "")
+        )
+    return out
 
 
 def _solver_settings(model) -> dict[str, Any]:

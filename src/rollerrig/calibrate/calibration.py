@@ -30,6 +30,7 @@ from rollerrig.calibrate.diagnostics import (
 from rollerrig.calibrate.problem import LAW_KEY_PREFIXES
 from rollerrig.calibrate.settings import MAX_CORRELATION
 from rollerrig.calibrate.stats import BLOCK_MEAN_SAMPLES, LJUNG_BOX_LAGS
+from rollerrig.calibrate.systematic import SYSTEMATIC_MEANING
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.contact.laws import FastsimParameters
 from rollerrig.rig.parameters import RigParameters
@@ -70,13 +71,16 @@ _LAW_PARAMETERS = {
 
 
 STANDARD_ERROR_CONVENTION = (
-    "standard_error: one standard deviation [SI unit of the value] from the Newey-West "
+    "standard_error: one standard deviation [SI unit of the value], the root sum of squares of "
+    "standard_error_statistical and standard_error_systematic (systematic_inputs.meaning). "
+    "standard_error_statistical: from the Newey-West "
     "(Bartlett kernel) sandwich covariance N/(N-p) H^-1 Omega H^-1 of the weighted least-squares "
     "fit in z = ln(value - lower bound), H = A^T A of the central-difference weighted Jacobian A "
     "at the optimum, Omega from the autocovariance of the per-instant scores over a lag window "
     "(lag_window [s]); mapped to the value by the delta method, value - lower bound times the "
     "standard error of z. standard_error_white: s^2 (A^T A)^-1 with s^2 = r^T r/(N - p), which "
-    "assumes independent residuals; inflation = standard_error / standard_error_white. Weights: "
+    "assumes independent residuals; inflation = standard_error_statistical / "
+    "standard_error_white. Weights: "
     "each channel divided by its sigma (sigma_sensor for the first fit, then the RMS of its own "
     "residuals: sigma_used)."
 )
@@ -97,9 +101,10 @@ class FittedParameter:
     value : float or None
         Fitted value [unit]; None when the recording does not identify it.
     standard_error : float or None
-        One standard error [unit] (Newey–West); None when not identified.
+        One standard error [unit]: the statistical part (Newey–West) and the systematic part
+        of the sensors' stated classes in quadrature; None when not identified.
     standard_error_white : float or None
-        The standard error that independent residuals would give [unit].
+        The statistical standard error that independent residuals would give [unit].
     identified : bool
         Whether the recording determines it (relative standard error at most
         :data:`rollerrig.calibrate.fit.MAX_RELATIVE_SE`).
@@ -107,6 +112,14 @@ class FittedParameter:
         Why it is not identified (empty when it is).
     at_bound : bool
         Whether the value sits at its upper bound.
+    conditional_on_model : bool
+        Whether the residuals show structure the model does not explain.
+    standard_error_statistical : float or None
+        The statistical part [unit]: Newey–West, from the residuals; None when not identified
+        (or, in an older result, equal to ``standard_error``).
+    systematic : dict of str to float or None
+        Each stated sensor input (:mod:`rollerrig.calibrate.systematic`) -> the value's shift
+        for an error of one standard uncertainty of that input [unit], linearised.
     """
 
     key: str
@@ -119,6 +132,15 @@ class FittedParameter:
     reason: str = ""
     at_bound: bool = False
     conditional_on_model: bool = False
+    standard_error_statistical: float | None = None
+    systematic: dict[str, float] | None = None
+
+    @property
+    def standard_error_systematic(self) -> float | None:
+        """Root sum of squares of :attr:`systematic` [unit] (None when not identified)."""
+        if self.standard_error is None:
+            return None
+        return float(np.sqrt(sum(d * d for d in (self.systematic or {}).values())))
 
     @property
     def relative_standard_error(self) -> float | None:
@@ -137,13 +159,19 @@ class FittedParameter:
             "identified": self.identified,
         }
         if self.identified:
+            statistical = (
+                self.standard_error
+                if self.standard_error_statistical is None
+                else self.standard_error_statistical
+            )
             inflation = (
-                self.standard_error / self.standard_error_white
-                if self.standard_error_white
-                else None
+                statistical / self.standard_error_white if self.standard_error_white else None
             )
             out |= {
                 "relative_standard_error": self.relative_standard_error,
+                "standard_error_statistical": statistical,
+                "standard_error_systematic": self.standard_error_systematic,
+                "systematic": dict(self.systematic or {}),
                 "standard_error_white": self.standard_error_white,
                 "inflation": inflation,
                 "at_upper_bound": self.at_bound,
@@ -220,9 +248,10 @@ class Calibration:
     keys : tuple of str
         The identified keys (nuisance last), the order of ``covariance`` and ``correlation``.
     covariance : ndarray
-        Covariance of the identified values [products of their SI units] (Newey–West).
+        Covariance of the identified values [products of their SI units]: Newey–West plus the
+        sensors' stated classes (:attr:`covariance_statistical` plus each input's Δθ Δθᵀ).
     correlation : ndarray
-        Their correlation matrix [-].
+        Their correlation matrix [-] (of :attr:`covariance`).
     channels : dict of str to ChannelFit
         Residuals per channel before and after, weights, whiteness.
     rig : RigParameters
@@ -272,6 +301,11 @@ class Calibration:
     model_discrepancy : dict or None
         The type-B term from the spread of the values between adequate drive models
         (:func:`rollerrig.calibrate.compare.compare_drives`), per key.
+    covariance_statistical : ndarray or None
+        The statistical part of :attr:`covariance` (Newey–West) [products of SI units].
+    sensor_inputs : tuple of dict
+        The systematic inputs of the fitted channels the rig file states, carried into the
+        standard errors (:func:`rollerrig.calibrate.systematic.sensor_inputs`), JSON-ready.
     """
 
     parameters: dict[str, FittedParameter]
@@ -298,6 +332,8 @@ class Calibration:
     suggestion: str = ""
     model_discrepancy: dict[str, Any] | None = None
     combinations: tuple[dict[str, Any], ...] = ()
+    covariance_statistical: np.ndarray | None = field(default=None, repr=False)
+    sensor_inputs: tuple[dict[str, Any], ...] = ()
 
     def combination_of(self, key: str) -> dict[str, Any] | None:
         """The identified combination ``key`` belongs to (None when it is fixed on its own)."""
@@ -333,7 +369,13 @@ class Calibration:
                 )
             elif p.identified and p.value is not None:
                 se = fmt(p.standard_error, 2)
-                text = f"{fmt(p.value)} ± {se} {unit} (start {fmt(p.initial)})"
+                split = (
+                    ""
+                    if p.standard_error_statistical is None
+                    else f"; statistical {fmt(p.standard_error_statistical, 2)}, sensor classes "
+                    f"{fmt(p.standard_error_systematic, 2)}"
+                )
+                text = f"{fmt(p.value)} ± {se} {unit} (start {fmt(p.initial)}{split})"
             else:
                 text = f"not identified ({p.reason or 'the recording does not determine it'})"
             rows.append((key, text))
@@ -382,7 +424,9 @@ class Calibration:
                 ),
                 "meaning": conditional_note()
                 if self.conditional
-                else "the residuals are white: the standard errors hold for the model fitted",
+                else "the residuals are white: the standard errors hold for the model fitted, "
+                "conditional on the sensors' stated classes (systematic_inputs), whose "
+                "systematic errors they include",
                 "budget": "rollerrig analyze --calibration uses, for a key of a calibration "
                 "conditional on the model, the larger of its standard error and the rig's "
                 "stated type-B uncertainty of that input",
@@ -412,7 +456,24 @@ class Calibration:
                 "keys": keys,
                 "units": [self._unit(k) for k in keys],
                 "matrix": self.covariance.tolist(),
-                "what": "covariance of the identified values, SI (Newey-West); nuisance last",
+                "what": "covariance of the identified values, SI (Newey-West plus the sensors' "
+                "stated classes: covariance_statistical plus each systematic input's outer "
+                "product); nuisance last",
+            },
+            **(
+                {}
+                if self.covariance_statistical is None
+                else {
+                    "covariance_statistical": {
+                        "keys": keys,
+                        "matrix": self.covariance_statistical.tolist(),
+                        "what": "the statistical part of covariance (Newey-West)",
+                    }
+                }
+            ),
+            "systematic_inputs": {
+                "meaning": SYSTEMATIC_MEANING,
+                "inputs": list(self.sensor_inputs),
             },
             "correlation": {"keys": keys, "matrix": self.correlation.tolist()},
             "standard_error_convention": STANDARD_ERROR_CONVENTION,

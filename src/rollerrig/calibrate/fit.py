@@ -4,8 +4,9 @@ The algorithm (:func:`calibrate`):
 
 1. Residuals r = (y − f(z))/σ of the channels (:data:`~rollerrig.calibrate.measurement.CHANNELS`:
    T56 with its lines projected out, both encoder speeds, the normal load), stacked; σ from the
-   sensor noise (:func:`~rollerrig.calibrate.measurement.prepare_measurement`: the torque sensor's
-   assumed white noise, the encoders' quantisation, the load channel's scatter).
+   sensor noise (:func:`~rollerrig.calibrate.measurement.prepare_measurement`: the torque's
+   white noise as the recording shows it, the encoders' quantisation, the load channel's
+   scatter).
 2. A coarse search (:meth:`_Fit.search`): each free parameter in turn over 1/1.5 to 1.5 times
    its start (:data:`SEARCH_POINTS` values in one batch, the fast backend's own step), kept at
    the best. The roller shaft rings for seconds after a release, and the cost has a local
@@ -27,12 +28,17 @@ The algorithm (:func:`calibrate`):
 5. At the optimum, the covariance of :mod:`rollerrig.calibrate.stats` (Newey–West, Bartlett
    kernel, lag window from the scores, :data:`HAC_WINDOW`) and the white-residual one, from the
    central-difference Jacobian; standard errors in SI by the delta method (σ_p = (p − p_low) σ_z).
-6. Identifiability: a parameter whose column of the Jacobian alone would give a standard error
+6. The sensors' stated classes (:mod:`rollerrig.calibrate.systematic`: the torque sensor's zero,
+   the pressure sensor's offset and the air spring's area, as the rig file states them): each
+   one's shift of the parameters, linearised at the optimum, adds to the covariance (JCGM 100
+   type B). A zero offset of the torque sensor inside its class had moved the bearing friction
+   by 49-77 statistical standard errors with white residuals (2026-12-03).
+7. Identifiability: a parameter whose column of the Jacobian alone would give a standard error
    of z above :data:`DROP_AT_START` has no measurable effect on the channels and is fixed at its
    starting value before the fit; after each fit, the parameter with the largest relative
-   standard error above :data:`MAX_RELATIVE_SE` is fixed at its starting value and the others
-   are refitted. Each gets a warning and no value; pairs of parameters whose correlation
-   exceeds :data:`MAX_CORRELATION` get a warning.
+   standard error (statistical and systematic) above :data:`MAX_RELATIVE_SE` is fixed at its
+   starting value and the others are refitted. Each gets a warning and no value; pairs of
+   parameters whose correlation exceeds :data:`MAX_CORRELATION` get a warning.
 """
 
 from __future__ import annotations
@@ -74,6 +80,7 @@ from rollerrig.calibrate.settings import (
     SEARCH_WIDTH,
 )
 from rollerrig.calibrate.stats import hac_covariance, whiteness
+from rollerrig.calibrate.systematic import SensorInput, parameter_shifts, sensor_inputs
 from rollerrig.contact.creep import PolachParameters
 from rollerrig.contact.laws import FastsimParameters
 from rollerrig.recordings.recording import Recording
@@ -458,11 +465,16 @@ def calibrate(
             )
     point = _Point(z_start, base.channels, jac, True)
     converged = True
+    inputs = sensor_inputs(measurement, rig)
     while True:
         point, converged = _fit_stages(fit, point, active, upper, max_iterations)
         final, cov, white = _covariance(fit, point, active, upper)
         point = final
-        rel = _relative_errors(params, point.z, active, cov)
+        # The stated sensor classes belong to the standard error a key is identified by: a
+        # bearing loss the torque sensor's zero could make up is not known from the recording.
+        shifts = _systematic_shifts(fit, point, inputs)
+        total = cov + sum((np.outer(d, d) for d in shifts.values()), np.zeros_like(cov))
+        rel = _relative_errors(params, point.z, active, total)
         worst = max(
             (i for i in range(n_free) if active[i] and rel[i] > MAX_RELATIVE_SE),
             key=lambda i: rel[i],
@@ -470,10 +482,17 @@ def calibrate(
         )
         if worst is None:
             break
+        statistical = _relative_errors(params, point.z, active, cov)[worst]
         dropped[worst] = (
             f"not identifiable from this recording: relative standard error "
-            f"{_show_factor(rel[worst])} (above {MAX_RELATIVE_SE:g}); fixed at its starting "
-            "value and the others refitted"
+            f"{_show_factor(rel[worst])} (above {MAX_RELATIVE_SE:g})"
+            + (
+                f", of which {_show_factor(statistical)} statistical and the rest the stated "
+                "sensor classes (a constant error of the channels the fit cannot tell from it)"
+                if statistical <= MAX_RELATIVE_SE
+                else ""
+            )
+            + "; fixed at its starting value and the others refitted"
         )
         keep = active.copy()
         keep[worst] = False
@@ -500,6 +519,8 @@ def calibrate(
         active=active,
         covariance_z=cov,
         white_z=white,
+        systematic_z=shifts,
+        sensor_inputs=inputs,
         dropped=dropped,
         before=before,
         start_prediction=start_prediction.channels,
@@ -598,6 +619,59 @@ def _covariance(fit: _Fit, point: _Point, active, upper):
     cov, white, used = hac_covariance(jac, r, fit.instants, window)
     fit.lag_window = used * fit.measurement.sample_interval
     return point, cov, white
+
+
+def _systematic_shifts(fit: _Fit, point: _Point, inputs: Iterable[SensorInput]) -> dict:
+    """Δz of the active parameters for an error of one standard uncertainty of each stated
+    sensor input (:func:`rollerrig.calibrate.systematic.parameter_shifts`).
+
+    An input of a fitted channel changes that channel's residuals by its ``change`` (the
+    torque's lines projected out, over the channel's σ, as :meth:`_Fit.stack` weighs them). A
+    load channel that is not fitted (exactly constant) is the replay's load itself: its error
+    changes the prediction by ∂f/∂N δN, with ∂f/∂N by central differences of the load.
+    """
+    m = fit.measurement
+    zero = {c: np.zeros(m.time.size) for c in m.channels}
+    changes: dict[str, np.ndarray] = {}
+    column: np.ndarray | bool | None = None
+    for item in inputs:
+        name = item.quantity.name
+        if item.channel in m.channels:
+            changes[name] = fit.stack(zero | {item.channel: item.change})
+        elif item.channel == "normal_load":
+            if column is None:
+                found = _load_column(fit, point)
+                column = False if found is None else found
+            if column is not False:
+                changes[name] = -column * float(np.mean(item.change))
+    return parameter_shifts(point.jacobian, changes)
+
+
+def _load_column(fit: _Fit, point: _Point) -> np.ndarray | None:
+    """∂(stacked weighted prediction)/∂N at ``point`` [1/N], for a replay whose load is the
+    recording's constant one (no nuisance parameter): central differences of ±0.1 %; None
+    when a variant cannot be simulated."""
+    import dataclasses
+
+    m, model = fit.measurement, fit.model
+    h = FD_STEP * m.normal_load
+    stacked = []
+    for load in (m.normal_load + h, m.normal_load - h):
+        twin = ReplayModel(
+            dataclasses.replace(m, normal_load=load),
+            model.rig,
+            model.friction,
+            model.params,
+            model.drives,
+            rtol=model.rtol,
+            h_max=model.h_max,
+        )
+        pred = twin.simulate([point.z])[0]
+        model.simulations += twin.simulations
+        if not pred.ok:  # the inputs of the load are then left out, and the result says so
+            return None
+        stacked.append(fit.stack(pred.channels))
+    return (stacked[0] - stacked[1]) / (2.0 * h)
 
 
 def _relative_errors(params, z, active, cov) -> np.ndarray:

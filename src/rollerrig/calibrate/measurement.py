@@ -42,6 +42,7 @@ import numpy as np
 
 from rollerrig._validation import require_positive
 from rollerrig.calibrate.errors import CalibrationError
+from rollerrig.estimation.gum_inputs import noise_level
 from rollerrig.measure.checks import check_channel_values
 from rollerrig.measure.facts import describe_channel, source_prefix
 from rollerrig.measure.quantities import encoder_speed, normal_force_from_pressure
@@ -65,7 +66,8 @@ normal load [N] (from the air-spring pressure: it fits the constant load of the 
 nuisance parameter; left out when the recording's load channel is exactly constant)."""
 
 DEFAULT_TORQUE_NOISE_FRACTION = 1.0 / 3000.0
-"""White noise of the torque channel as a fraction of ``sensors.torque_sensor_range`` [-]:
+"""White noise of the torque channel as a fraction of ``sensors.torque_sensor_range`` [-],
+assumed where the recording shows none (:func:`prepare_measurement` takes the recording's own):
 1 N.m on the default rig's 3000 N.m range (an assumption: a strain-gauge torque flange's noise
 floor of about 0.03 % of its range; the same value as
 :attr:`rollerrig.recordings.synthetic.DisturbanceModel.torque_noise`). Only the first weights use
@@ -154,6 +156,9 @@ class Measurement:
         The recording's file (or "the recording").
     notes : list of str
         What was assumed or found while preparing.
+    load_source : str
+        The channel the normal load comes from: ``"air_spring_pressure"`` (times the air
+        spring's area) or ``"normal_load"`` (given by the recording).
     """
 
     time: np.ndarray
@@ -175,6 +180,7 @@ class Measurement:
     quiet_until: float
     source: str
     notes: list[str] = dataclasses.field(default_factory=list)
+    load_source: str = "air_spring_pressure"
 
     def project_lines(self, torque: np.ndarray) -> np.ndarray:
         """``torque`` with its components along the line regressors removed [N.m]."""
@@ -321,8 +327,10 @@ def prepare_measurement(
         Encoder resolution, air-spring area and torque sensor range (the rig the calibration
         starts from).
     torque_noise : float, optional
-        Standard deviation of the torque channel's noise [N.m]; default
-        :data:`DEFAULT_TORQUE_NOISE_FRACTION` × ``sensors.torque_sensor_range``.
+        Standard deviation of the torque channel's noise [N.m]; default the recording's own,
+        type A (:func:`rollerrig.estimation.gum_inputs.noise_level`, as ``rollerrig analyze``
+        takes it), or :data:`DEFAULT_TORQUE_NOISE_FRACTION` × ``sensors.torque_sensor_range``
+        where the recording shows none.
     lines : bool
         Model the torque's lines at orders of the measured shaft angles
         (:func:`line_regressors`: their amplitudes and phases are fitted with the other
@@ -404,11 +412,22 @@ def prepare_measurement(
             "DAQ records them"
         )
     if torque_noise is None:
-        sigma_t = DEFAULT_TORQUE_NOISE_FRACTION * float(rig.sensors.torque_sensor_range)
+        # The recording's own noise, as rollerrig analyze takes it: a rig file cannot know the
+        # DAQ's filter and rate (a 1000 Hz recording with 10 N.m of noise had been fitted right
+        # and then told "check the rig file" against the assumed 1 N.m).
+        sigma_t = noise_level(values["torque"])
         torque_basis = (
-            f"assumed white noise of the torque sensor, {DEFAULT_TORQUE_NOISE_FRACTION:.3g} of "
-            f"sensors.torque_sensor_range = {rig.sensors.torque_sensor_range:g} N.m"
+            "type A: white noise of the recorded torque (MAD of its second differences, "
+            "rollerrig.estimation.gum_inputs.noise_level, as rollerrig analyze takes it; lines "
+            "near the Nyquist frequency raise it)"
         )
+        if not (math.isfinite(sigma_t) and sigma_t > 0.0):  # a noise-free (twin's) recording
+            sigma_t = DEFAULT_TORQUE_NOISE_FRACTION * float(rig.sensors.torque_sensor_range)
+            torque_basis = (
+                f"the recording shows no noise: assumed white noise of the torque sensor, "
+                f"{DEFAULT_TORQUE_NOISE_FRACTION:.3g} of sensors.torque_sensor_range = "
+                f"{rig.sensors.torque_sensor_range:g} N.m"
+            )
     else:
         sigma_t = float(torque_noise)
         if not (math.isfinite(sigma_t) and sigma_t > 0.0):
@@ -422,6 +441,7 @@ def prepare_measurement(
     valid = {name: np.ones(time.size, dtype=bool) for name in CHANNELS}
     valid["wheel_speed"][0] = valid["roller_speed"][0] = False  # no gate before the first sample
 
+    load_source = "normal_load" if "normal_load" in rec else "air_spring_pressure"
     if "normal_load" in rec:
         load = np.asarray(rec["normal_load"], dtype=float)
     else:
@@ -502,4 +522,5 @@ def prepare_measurement(
         quiet_until=quiet_until,
         source=source,
         notes=notes,
+        load_source=load_source,
     )

@@ -371,11 +371,14 @@ def print_calibration(result) -> None:
         )
     title = (
         f"Calibrated parameters, {result.roller_drive} roller drive, {result.law} creep law "
-        "(one standard error, Newey-West"
+        "(one standard error: the residuals' (Newey-West) and the sensors' stated classes"
         + (", CONDITIONAL ON THE MODEL)" if result.conditional else ")")
     )
     table = Table(title=title)
-    for col in ("parameter", "value", "± standard error", "unit", "start", "rel. error"):
+    for col in (
+        "parameter", "value", "± standard error", "residuals / sensors", "unit", "start",
+        "rel. error",
+    ):  # fmt: skip
         table.add_column(col, justify="left" if col in ("parameter", "unit") else "right")
     rows = [*result.parameters.values(), *result.nuisance.values()]
     numbered = {c["expression"]: n for n, c in enumerate(result.combinations, start=1)}
@@ -385,10 +388,17 @@ def print_calibration(result) -> None:
         combination = result.combination_of(p.key)
         if combination is not None:  # its own error is the shadow of the combination's
             se, rel = f"– (combination {numbered[combination['expression']]})", None
+        parts = "–"  # the error's two parts: the residuals' and the sensors' stated classes
+        if combination is None and p.standard_error_statistical is not None:
+            parts = (
+                f"{_number(p.standard_error_statistical, 2)} / "
+                f"{_number(p.standard_error_systematic, 2)}"
+            )
         table.add_row(
             p.key,
             _number(p.value) if p.identified else "not identified",
             f"{se} (conditional on the model)" if p.conditional_on_model else se,
+            parts,
             p.unit,
             _number(p.initial),
             "–" if rel is None else f"{100 * rel:.3g} %",
