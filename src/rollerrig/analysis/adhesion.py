@@ -45,6 +45,7 @@ from rollerrig.analysis.polach_fits import (
     _with_systematic_errors,
 )
 from rollerrig.analysis.smoothed_channels import CORRECTION_WINDOW, _smoothed_and_corrected
+from rollerrig.analysis.truth import truth_mismatch
 from rollerrig.estimation.uncertainty import calibration_covariance
 from rollerrig.measure.checks import (
     ANALYSED_CHANNELS,
@@ -208,6 +209,8 @@ def analyze_test(
         recording, _ = fill_short_gaps(recording)  # the notes go into the metadata's notes
         truth_on = None if truth is None else truth_coa(truth, recording)
         recording, rate_note = analysis_recording(recording, rate=analysis_rate)
+    if truth is not None and (other := truth_mismatch(recording.metadata, truth)) is not None:
+        notes.append(other)
     source = recording.metadata.get("source") or "the recording"
     require_uniform_time(recording.time, str(source), "the analysis")  # one check, file named
     try:  # the spectrum's and the filter study's check; here a warning: phases still come

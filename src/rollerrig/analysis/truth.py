@@ -10,6 +10,7 @@ refused.
 
 from __future__ import annotations
 
+import json
 import os
 from pathlib import Path
 
@@ -49,6 +50,43 @@ def check_truth(ds, source: str = "truth"):
             f"contact's); {_REMEDY}, or a NetCDF of the true contact CoA 'coa' over 'time'"
         )
     return ds
+
+
+def truth_mismatch(recording_metadata: dict, truth) -> str | None:
+    """Why ``truth`` is not the twin's truth of the recording whose metadata is
+    ``recording_metadata`` (a synthetic recording stores the twin's rig, its hash and the
+    noise seed it was made with), or None where nothing says so.
+
+    ``analyze --truth`` with the truth of another run (the demo's perturbed rig beside its
+    unperturbed recording) had compared the analysis with that run's CoA without a word.
+    """
+    stored = recording_metadata.get("stored_metadata") or {}
+    attrs = getattr(truth, "attrs", {}) or {}
+    found = []
+    try:
+        own = json.loads(stored["twin_provenance"])["rig"]["sha256"]
+        given = json.loads(attrs["provenance"])["rig"]["sha256"]
+        if own != given:
+            found.append(f"the rig (sha256 {given[:12]}… against the recording's {own[:12]}…)")
+    except (KeyError, TypeError, ValueError):
+        pass
+    seed, given_seed = stored.get("seed"), attrs.get("synthetic_seed")
+    if seed is not None and given_seed is not None and str(seed) != str(given_seed):
+        found.append(f"the noise seed ({given_seed} against the recording's {seed})")
+    experiment, given_exp = stored.get("experiment"), attrs.get("experiment")
+    if isinstance(experiment, dict):
+        experiment = experiment.get("name")
+    if experiment and given_exp and str(given_exp).split("\n")[0] != str(experiment):
+        if str(experiment) not in str(given_exp):
+            found.append(f"the experiment ({given_exp!r} against {experiment!r})")
+    if not found:
+        return None
+    return (
+        "the truth given is not this recording's: it differs in "
+        + " and ".join(found)
+        + "; its comparisons (the *_vs_true figures, the truth's coverage) are against another "
+        "run; give the *-truth.nc written beside this recording"
+    )
 
 
 def read_truth(path: str | os.PathLike, source: str | None = None):
