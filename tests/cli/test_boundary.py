@@ -149,8 +149,13 @@ def test_error_messages_keep_brackets(tmp_path, runner, adhesion_csv):
 
 
 def test_each_domain_warning_is_printed_once_and_listed_in_the_manifest(tmp_path, runner):
-    # 1e6 kN: the Hertz semi-axis is 104 mm on a 348 mm wheel (issue 8): Hertz is extrapolated.
-    result = runner.invoke(app, ["contact", "--load-kn", "1e6", "--out", str(tmp_path)])
+    # 200 kN on 5 mm radii: the Hertz semi-axis is a fifth of the relative radius (issue 8):
+    # Hertz is extrapolated (a load beyond 200 kN is refused as typed in N).
+    result = runner.invoke(
+        app,
+        ["contact", "--load-kn", "200", "--roller-radius-mm", "5", "--wheel-radius-mm", "5",
+         "--out", str(tmp_path)],
+    )  # fmt: skip
     assert result.exit_code == 0, result.output
     lines = [ln for ln in result.output.splitlines() if ln.startswith("warning:")]
     assert lines and all("Hertz contact outside its domain" in ln for ln in lines)

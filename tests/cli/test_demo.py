@@ -23,7 +23,10 @@ def test_demo_runs_end_to_end_and_its_outputs_analyse_again(tmp_path, runner):
     summary = json.loads((tmp_path / "seed-30kmh-dry-analysis.json").read_text())
     fit = summary["polach_fit_corrected_coa"]
     assert fit["identifiable"] is False and fit["A_B_identifiable"] is False
-    assert fit["truth_distance"]["limit_ratio"]["beyond_warn_sigma"] is True
+    # A, not identifiable, has no distance in standard errors that are no uncertainty
+    assert fit["truth_distance"]["limit_ratio"]["sigma"] is None
+    assert "not identifiable" in fit["truth_distance"]["limit_ratio"]["why"]
+    assert fit["stderr"]["static_friction"] > fit["stderr_statistical"]["static_friction"]
     assert (tmp_path / "seed-30kmh-dry-report.html").stat().st_size > 100_000
     # Coherence of shaft displacement and torque: high at the roller order (the run-out's own
     # line), low at the induction motor's line (not mechanical; Kayaalp §4.5.2.4).

@@ -104,10 +104,19 @@ def test_a_free_key_typo_prints_the_near_keys_not_the_catalogue(tmp_path, runner
 @pytest.mark.parametrize(
     ("args", "expected"),
     [
-        (["--load-kn", "-3"], "--load-kn must be > 0 kN, got -3 kN"),
+        (
+            ["--load-kn", "-3"],
+            "--load-kn must be in (0, 200] kN (a wheel load; a value typed in N?), got -3 kN",
+        ),
         (["--load-kn", "nan"], "--load-kn must be a finite number (in kN), got nan"),
-        (["--speed-kmh", "0"], "--speed-kmh must be > 0 km/h, got 0 km/h"),
-        (["--wheel-radius-mm", "-1"], "--wheel-radius-mm must be > 0 mm, got -1 mm"),
+        (
+            ["--speed-kmh", "0"],
+            "--speed-kmh must be in (0, 300] km/h (a rolling speed), got 0 km/h",
+        ),
+        (
+            ["--wheel-radius-mm", "-1"],
+            "--wheel-radius-mm must be >= 5 mm (a radius; a value typed in m?), got -1 mm",
+        ),
     ],
 )
 def test_a_value_is_answered_in_the_unit_typed(tmp_path, runner, args, expected):

@@ -168,13 +168,13 @@ def open_input(path: Path, channels, lenient: bool, needed, files, options=None)
 
     try:
         return _open_input(path, channels, lenient, needed, files)
-    except RecordingError:
+    except RecordingError as exc:
         if needed:  # asked only now: a second reading of the file's head, on the error's path
-            _say_why_missing(path, channels, needed, options or {})
+            _say_why_missing(path, channels, needed, options or {}, str(exc))
         raise
 
 
-def _say_why_missing(path: Path, channels, needed, options: dict) -> None:
+def _say_why_missing(path: Path, channels, needed, options: dict, error: str = "") -> None:
     """Raise the error that says why a needed channel is missing, where more can be said than
     the reader's "add [channels.<name>] entries": the file is the twin's results, or the
     channel was named by an option (a typo: the nearest names). Returns otherwise (the
@@ -188,6 +188,8 @@ def _say_why_missing(path: Path, channels, needed, options: dict) -> None:
     if channels is None and missing and TWIN_RESULTS_CHANNEL in names:
         raise twin_results_error(path, netcdf=False) from None
     for c in missing:
+        if f"[channels.{c}]" in error:
+            return  # the map's own entry for it is what is wrong: the reader's error names it
         if c in options:
             raise UserError(
                 f"{path}: {options[c]} {c!r}: no such channel{did_you_mean(c, names)}; the "
