@@ -50,3 +50,31 @@ def test_without_a_torque_request_the_back_emf_alone_decides_and_nan_is_skipped(
         _recording(np.full(1000, 60.0)), load_rig("vt-fra-quarter-scale"), notes
     )
     assert notes == []  # 81 %: below the limit's 95 %
+
+
+def test_a_release_from_deep_slip_is_named():
+    # Runaways to 75-96 % creep had broken the corrected CoA's band by up to 3 U with nothing
+    # said (a review, 2026-12-03); the release residual is stated up to 30 % creep.
+    from types import SimpleNamespace
+
+    from rollerrig.analysis.coa_estimates import _note_release_creep
+    from rollerrig.measure.segmentation import Phase
+
+    t = np.arange(0.0, 10.0, 0.01)
+    creep = np.where((t > 4.0) & (t < 5.0), 0.9, 0.02)
+
+    class Rec(SimpleNamespace):
+        def __contains__(self, name):
+            return name == "creep_smoothed"
+
+        def __getitem__(self, name):
+            return creep
+
+    phases = [Phase("traction", 1.0, 5.0, 0), Phase("release", 5.0, 6.0, 0)]
+    notes = []
+    _note_release_creep(Rec(time=t), phases, notes)
+    assert len(notes) == 1 and "90 % at t = 5.00 s" in notes[0] and "not validated" in notes[0]
+    creep = np.full_like(t, 0.05)  # an ordinary release: nothing to say
+    notes = []
+    _note_release_creep(Rec(time=t), phases, notes)
+    assert notes == []

@@ -31,6 +31,7 @@ from rollerrig.analysis.coa_estimates import (
     SHAFT_RELATIVE_ERROR,
     _coa_uncertainty,
     _note_arm,
+    _note_release_creep,
     _note_wheel_drive_voltage,
     shaft_calibrated,
 )
@@ -256,6 +257,7 @@ def analyze_test(
     fit = _with_systematic_errors(fit, budget, points, notes)
     _note_arm(budget, rig, notes)
     _note_wheel_drive_voltage(rec, rig, notes)
+    _note_release_creep(rec, phases, notes)
     true_params, true_source = true_polach_parameters(recording, truth, condition)
     if true_params is not None:
         _note_truth_distance({"corrected CoA": fit, "rig CoA": fit_rig}, true_params, notes)

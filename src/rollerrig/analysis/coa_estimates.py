@@ -170,6 +170,38 @@ def _note_arm(budget, rig, notes: list[str]) -> None:
     )
 
 
+def _note_release_creep(rec: Recording, phases, notes: list[str]) -> None:
+    """A note where the wheel was released from more creep than the release residual is stated
+    for (:data:`~rollerrig.estimation.release_residual.STATED_UP_TO_CREEP`): after such a
+    release (a runaway) the corrected CoA's band is not validated. On the twin's recordings of
+    runaways to 75-96 % creep it missed by up to 2.9-3.0 U at the re-adhesion, with nothing
+    said (a review, 2026-12-03); the creep is measured, so it is said now."""
+    from rollerrig.estimation.release_residual import STATED_UP_TO_CREEP
+
+    if "creep_smoothed" not in rec:
+        return
+    t = np.asarray(rec.time, dtype=float)
+    creep = np.abs(np.asarray(rec["creep_smoothed"], dtype=float))
+    deep = []
+    for ph in phases:
+        if ph.name != "release":
+            continue
+        window = (t >= ph.start - 0.5) & (t <= ph.start + 0.05)
+        if np.any(window) and np.any(np.isfinite(creep[window])):
+            peak = float(np.nanmax(creep[window]))
+            if peak > STATED_UP_TO_CREEP:
+                deep.append((peak, ph.start))
+    if deep:
+        shown = ", ".join(f"{100 * c:.0f} % at t = {s:.2f} s" for c, s in deep[:4])
+        notes.append(
+            f"the wheel was released from deep slip ({shown}{', ...' if len(deep) > 4 else ''}),"
+            f" beyond the {100 * STATED_UP_TO_CREEP:.0f} % creep up to which the release's "
+            "residual is stated (derived on the twin): after such a release the corrected "
+            "CoA's band is not validated (on the twin's runaways it missed by up to 3 U at "
+            "the re-adhesion)"
+        )
+
+
 def _note_wheel_drive_voltage(rec: Recording, rig, notes: list[str]) -> None:
     """A note where the wheel's PMSM ran at its voltage limit during the test.
 

@@ -10,7 +10,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CorrectionResidual", "release_residual_from_truth"]
+__all__ = ["STATED_UP_TO_CREEP", "CorrectionResidual", "release_residual_from_truth"]
+
+STATED_UP_TO_CREEP = 0.30
+"""Creep at a release [-] up to which :class:`CorrectionResidual`'s stated values cover the
+release's ring on the twin (derived at 0.048-0.30; a 0.61 runaway rang more than twice as hard
+as stated): beyond it the corrected CoA's band is not validated."""
 
 
 @dataclass(frozen=True)
