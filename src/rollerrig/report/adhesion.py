@@ -61,7 +61,8 @@ def adhesion_figure(creep, coa, branches=None, fit=None, title: str = ""):
         p = fit.parameters
         ax.plot(100 * grid, fit.curve(grid), "k-", lw=1.5,
                 label=f"Polach fit: μ0={p.static_friction:.3f}, A={p.limit_ratio:.2f}, "
-                f"B={p.friction_decay:.2f}, kA={p.k_adhesion:.2f}, kS={p.k_slip:.2f}")  # fmt: skip
+                f"B={p.friction_decay:.2f} s/m, kA={p.k_adhesion:.2f}, kS={p.k_slip:.2f}"
+                + (" (A, B not identifiable)" if fit.unidentified() else ""))  # fmt: skip
         axes[1].plot(100 * fit.creep, fit.residuals, ".", ms=2, color="tab:red")
         axes[1].axhline(0.0, color="k", lw=0.8)
         axes[1].set_ylabel("residual [-]")
