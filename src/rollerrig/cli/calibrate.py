@@ -97,6 +97,7 @@ def calibrate(
             "result names the law and its fitted parameters. With --compare-laws, repeat it "
             "to name the laws compared.",
             show_default=False,
+            metavar="<polach|fastsim|modified-fastsim|fastrip>",
         ),
     ] = None,
     torque_noise: Annotated[
