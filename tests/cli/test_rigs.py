@@ -1,4 +1,4 @@
-"""``rollerrig rig list`` and ``--rig NAME`` on the commands that take ``--rig``."""
+"""``rollerrig rig list``, ``rig show`` and ``--rig NAME`` on the commands that take ``--rig``."""
 
 from rollerrig.cli import app
 
@@ -41,3 +41,19 @@ def test_a_missing_rig_file_is_still_a_file_error(runner, tmp_path):
     )
     assert result.exit_code == 2
     assert "rig file not found" in result.output
+
+
+def test_rig_show_gives_each_value_with_its_unit_and_basis(runner):
+    # A set's values had been visible only by opening its file (a user's review, 2026-12-03).
+    result = runner.invoke(app, ["rig", "show", "default", "--section", "stiffness"])
+    assert result.exit_code == 0, result.output
+    text = " ".join(result.output.split())
+    assert "stiffness.roller_shaft" in text and "43500" in text and "N.m/rad" in text
+    assert "source: Kayaalp" in text and "inertia." not in text
+
+
+def test_rig_show_names_a_misspelt_set_or_section(runner):
+    result = runner.invoke(app, ["rig", "show", "default", "--section", "stifness"])
+    assert result.exit_code == 2 and "did you mean 'stiffness'" in result.output
+    result = runner.invoke(app, ["rig", "show", "defualt"])
+    assert result.exit_code == 2 and "did you mean 'default'" in " ".join(result.output.split())

@@ -17,7 +17,7 @@ One module per concern:
   :mod:`~rollerrig.cli.twin` (``simulate``,
   ``modes``), :mod:`~rollerrig.cli.studies` (``study run|show|list``),
   :mod:`~rollerrig.cli.frame`, :mod:`~rollerrig.cli.recordings` (``analyze``, ``spectrum``,
-  ``filters``), :mod:`~rollerrig.cli.rigs` (``rig list``), :mod:`~rollerrig.cli.demo`;
+  ``filters``), :mod:`~rollerrig.cli.rigs` (``rig list``, ``rig show``), :mod:`~rollerrig.cli.demo`;
   registered by name in :data:`COMMANDS`, each module imported only when its command runs or a
   help lists it (a new command: its function in a module, one line in :data:`COMMANDS`).
 
