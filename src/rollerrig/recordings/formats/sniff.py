@@ -292,7 +292,9 @@ def _without_key_rows(above: list[tuple[int, str]], sep: str, n: int) -> list[tu
     if k == len(above) or k == 0:
         return above
     names = number_kinds(split_cells(above[k - 1][1], sep))
-    if len(names) in (n, n + 1) and not any(c in ("num", "time") for c in names):
+    # every cell a name: a preamble row that Excel padded to the columns' count ("Device;DL850;"
+    # above a header "Time;1;2" of numbered channels) has empty cells, and is no header
+    if len(names) in (n, n + 1) and all(c == "text" for c in names[:n]):
         return above[:k]
     return above
 
