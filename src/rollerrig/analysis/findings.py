@@ -91,10 +91,7 @@ class TestAnalysis:
             if fit is None:
                 rows.append((f"Polach fit, {label}", "none"))
                 continue
-            values = dict(zip(PARAMETER_NAMES, fit.parameters.as_tuple(), strict=True))
-            text = ", ".join(
-                f"{SYMBOLS[k]} {fmt(v, 3)} ± {fmt(fit.stderr.get(k), 2)}" for k, v in values.items()
-            )
+            text = ", ".join(f"{SYMBOLS[k]} {fit.shown(k)}" for k in PARAMETER_NAMES)
             verdict = "identifiable" if fit.identifiable else "not identifiable (see .notes)"
             rows.append((f"Polach fit, {label}", f"{text}; RMS {fmt(fit.rmse, 3)}; {verdict}"))
         rows.append(("notes", f"{len(self.notes)} (.notes); every result: .summary()"))
