@@ -187,7 +187,7 @@ def test_spectrum_with_no_peaks_is_an_empty_table_not_an_error(tmp_path):
         ["spectrum", str(v.path), "--channels", str(cmap), "--out", str(out)], [v.path, cmap]
     )
     assert result.exit_code == 0, result.output
-    doc = _json(out / "spectra.json")
+    doc = _json(out / f"{v.path.stem}-spectra.json")  # one recording's: named by it
     peaks = [v for k, v in _walk(doc) if k == "peaks"]
     assert peaks and all(p == [] for p in peaks)
 
@@ -210,7 +210,7 @@ def test_spectrum_with_coherence_on_the_adhesion_tdms(adhesion_files, tmp_path):
         [v.path, cmap],
     )
     assert result.exit_code == 0, result.output
-    _json(out / "spectra.json")
+    _json(out / f"{v.path.stem}-spectra.json")
 
 
 def test_filters_ignore_an_unrelated_missing_sensor_and_say_so(tmp_path):
@@ -262,6 +262,6 @@ def test_spectrum_on_other_vendor_files_ends_with_a_result_or_one_clear_error(bu
         ["spectrum", str(v.path), "--channels", str(cmap), "--out", str(out)], [v.path, cmap]
     )
     if result.exit_code == 0:
-        _json(out / "spectra.json")
+        _json(out / f"{v.path.stem}-spectra.json")
     else:
         _assert_clean_error(result, out, v.path.name)

@@ -241,7 +241,7 @@ def test_cli_and_demo_give_the_same_coherence_on_the_same_file(tmp_path):
     r = runner.invoke(app, [*args, "--out", str(out)])
     assert r.exit_code == 0, r.output
     assert "[Hz]" in r.output and "Δf" in r.output  # units and settings printed literally
-    cli = json.loads((out / "spectra.json").read_text())["run30.mf4"]
+    cli = json.loads((out / "run30-spectra.json").read_text())["run30.mf4"]
     _, demo = explain_free_rolling([path], RIG)
     # The demo's numbers as the JSON writer writes them (12 significant digits).
     written = json.loads(json_text(demo.spectra[0].summary()))
@@ -262,8 +262,8 @@ def test_cli_spectrum_streams_a_long_file_and_reads_it_whole_alike(tmp_path, mon
     monkeypatch.setattr(cli, "_SPECTRUM_IN_MEMORY", 1000)  # everything counts as long
     streamed = runner.invoke(app, ["spectrum", str(path), "--out", str(tmp_path / "b")])
     assert streamed.exit_code == 0, streamed.output
-    a = json.loads((tmp_path / "a" / "spectra.json").read_text())["run.parquet"]
-    b = json.loads((tmp_path / "b" / "spectra.json").read_text())["run.parquet"]
+    a = json.loads((tmp_path / "a" / "run-spectra.json").read_text())["run.parquet"]
+    b = json.loads((tmp_path / "b" / "run-spectra.json").read_text())["run.parquet"]
     assert a["settings"] == b["settings"]
     assert [p["label"] for p in a["peaks"]] == [p["label"] for p in b["peaks"]]
     with open_recording(path) as src:
@@ -286,3 +286,16 @@ def test_cli_spectrum_without_peaks_and_with_a_constant_channel(tmp_path):
     r = runner.invoke(app, ["spectrum", str(flat), "--out", str(tmp_path / "f")])
     assert r.exit_code == 2 and "'torque' is constant" in r.output and "flat.csv" in r.output
     assert "Traceback" not in r.output and not (tmp_path / "f").exists()
+
+
+def test_two_recordings_spectra_into_one_folder_keep_both_summaries(tmp_path):
+    # One recording's summary is named by it, as its figure is: the second run into the same
+    # --out had replaced the first's spectra.json beside the first's figure (a user's review).
+    out = tmp_path / "out"
+    for kmh in (10.0, 30.0):
+        path = write_recording(free_rolling(kmh, duration=8.0), tmp_path / f"run{kmh:.0f}.parquet")
+        r = runner.invoke(app, ["spectrum", str(path), "--out", str(out)])
+        assert r.exit_code == 0, r.output
+    names = {p.name for p in out.iterdir()}
+    assert {"run10-spectra.json", "run30-spectra.json"} <= names
+    assert "spectra.json" not in names

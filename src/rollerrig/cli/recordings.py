@@ -467,7 +467,10 @@ def spectrum(
                 stage.path(figure_file("order-map", figure_format)),
             )
         summary["speed_independent_lines [Hz]"] = [float(f) for f in fixed]
-        write_json(stage.path("spectra.json"), summary)
+        # One recording's summary is named by it, as its figures are: a second recording's run
+        # into the same --out had replaced the first's spectra.json beside the first's figure.
+        write_json(stage.path(f"{stems[0]}-spectra.json" if len(stems) == 1 else "spectra.json"),
+                   summary)  # fmt: skip
     print_written(stage.written)
 
 
