@@ -17,7 +17,7 @@ from rich.table import Table
 from rollerrig.cli import app
 from rollerrig.cli._console import WIDTH, _Console
 
-LISTINGS = {("study", "show"), ("study", "list"), ("rig", "list")}
+LISTINGS = {("study", "show"), ("study", "list"), ("rig", "list"), ("rig", "show")}
 """Commands that only list or show what is stored: nothing to be quiet about."""
 
 
