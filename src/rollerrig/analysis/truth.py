@@ -76,9 +76,8 @@ def truth_mismatch(recording_metadata: dict, truth) -> str | None:
     experiment, given_exp = stored.get("experiment"), attrs.get("experiment")
     if isinstance(experiment, dict):
         experiment = experiment.get("name")
-    if experiment and given_exp and str(given_exp).split("\n")[0] != str(experiment):
-        if str(experiment) not in str(given_exp):
-            found.append(f"the experiment ({given_exp!r} against {experiment!r})")
+    if experiment and given_exp and str(experiment) not in str(given_exp):
+        found.append(f"the experiment ({given_exp!r} against {experiment!r})")
     if not found:
         return None
     return (
