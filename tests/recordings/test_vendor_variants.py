@@ -418,6 +418,21 @@ def test_a_full_catman_header_is_found_above_its_key_value_rows(tmp_path):
         read_recording(p, {**_CATMAN_MAP, "time": {"sample_rate_Hz": 500.0}})
 
 
+@pytest.mark.parametrize("cut_after", [6, 7, 8], ids=["after-T0", "after-dt", "after-count"])
+def test_a_catman_header_cut_before_its_samples_says_so(tmp_path, cut_after):
+    # Cut before the first sample, the header's T0/dt rows had been taken for samples: the
+    # error asked for a date_format, or said no channels were found.
+    lines = ["catman AP V5.4.2 - ASCII Export", "Anzahl Kanäle\t3",
+             "Kanalname\tZeit  1 - Standardmessrate\tDrehmoment\tDrehzahl Rolle",
+             "Einheit\ts\tN·m\t1/min", "T0\t01.05.2024 13:59:59\t01.05.2024 13:59:59\t"
+             "01.05.2024 13:59:59", "dt\t0,001\t0,001\t0,001", "Anzahl Werte\t0\t0\t0",
+             ]  # fmt: skip
+    p, sha = _write(tmp_path, "cut.txt", "\r\n".join(lines[:cut_after - 1]).encode("cp1252"))
+    with pytest.raises(RecordingError, match=r"has a header but no data rows.*cut before"):
+        read_recording(p, {**_CATMAN_MAP, "time": {"column": "Zeit"}})
+    assert file_sha256(p) == sha
+
+
 @pytest.mark.parametrize(
     ("cell", "unit", "want"),
     [("1\u00a0500,00", "tr/min", 1500.0), ("1 500,00", "rpm", 1500.0),

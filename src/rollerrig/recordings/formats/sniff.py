@@ -268,6 +268,53 @@ def _text_only_at_top(block: list[tuple[int, list[str]]], column: int) -> bool:
     return True
 
 
+_MOST_KEY_ROWS = 6  # catman writes T0, dt and Anzahl Werte (and a few more keys) as rows
+
+
+def _key_value_row(text: str, sep: str) -> bool:
+    """True for a row of a key and then only numbers or timestamps (catman's ``T0``,
+    ``dt<TAB>0,001``)."""
+    kinds = number_kinds(split_cells(text, sep))
+    rest = kinds[1:]
+    return (
+        bool(kinds)
+        and kinds[0] == "text"
+        and ("num" in rest or "time" in rest)
+        and all(k in ("num", "time", "empty", "nan") for k in rest)
+    )
+
+
+def _looks_like_a_key(cell: str) -> bool:
+    """True for a word such as catman's ``T0``, ``dt`` or ``Anzahl Werte``: a time or a number
+    in a format the sniffer does not know has more digits."""
+    return sum(c.isdigit() for c in cell) < 3
+
+
+def _refuse_a_header_without_samples(p, lines: list[tuple[int, str]], sep: str) -> None:
+    """Raise where the file ends in at most :data:`_MOST_KEY_ROWS` key-value rows (catman's
+    ``T0`` and ``dt``) under a row of names: the header is whole but the samples are missing,
+    a file cut before its data or an export of no samples. Their numbers had been taken for
+    samples, and the error then asked for a date_format or found no channels."""
+    k = len(lines)
+    while k > 0 and len(lines) - k < _MOST_KEY_ROWS + 1:
+        text = lines[k - 1][1]
+        if not (_key_value_row(text, sep) and _looks_like_a_key(split_cells(text, sep)[0])):
+            break
+        k -= 1
+    if k == len(lines) or k == 0 or len(lines) - k > _MOST_KEY_ROWS:
+        return
+    names = number_kinds(split_cells(lines[k - 1][1], sep))
+    n = max(len(split_cells(t, sep)) for _, t in lines[k:])
+    if len(names) < 2 or len(names) not in (n, n + 1) or not all(c == "text" for c in names):
+        return
+    keys = [split_cells(t, sep)[0].strip() for _, t in lines[k:]]
+    raise RecordingError(
+        f"{p}: has a header but no data rows: the rows under its names ({', '.join(keys)}) are "
+        "the header's key-value rows, not samples; the file may have been cut before its "
+        "data, or exported with no samples"
+    )
+
+
 def _without_key_rows(above: list[tuple[int, str]], sep: str, n: int) -> list[tuple[int, str]]:
     """``above`` (the lines above the numbers) without the key-value rows at its end, a key
     and then only numbers or timestamps (catman's ``T0``, ``dt<TAB>0,001`` and ``Anzahl
@@ -276,18 +323,8 @@ def _without_key_rows(above: list[tuple[int, str]], sep: str, n: int) -> list[tu
     names with numbers among them (``Time;1;2``, channels numbered) with no such row above
     stays the header."""
 
-    def key_value(text: str) -> bool:
-        kinds = number_kinds(split_cells(text, sep))
-        rest = kinds[1:]
-        return (
-            bool(kinds)
-            and kinds[0] == "text"
-            and ("num" in rest or "time" in rest)
-            and all(k in ("num", "time", "empty", "nan") for k in rest)
-        )
-
     k = len(above)
-    while k > 0 and key_value(above[k - 1][1]):
+    while k > 0 and _key_value_row(above[k - 1][1], sep):
         k -= 1
     if k == len(above) or k == 0:
         return above
@@ -424,6 +461,9 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         if first_data is not None:
             block = [(i, split_cells(t, sep)) for i, t in lines_for_sniff]
         if not block:
+            if first_data is None and spec.header_row is None:
+                for c in candidates:
+                    _refuse_a_header_without_samples(p, lines, c)
             shown = [t[:80] for _, t in lines[:5]]
             if len(lines) <= 3:
                 raise RecordingError(
@@ -450,6 +490,8 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
             "channel per column; write the file untransposed"
         )
     data_line = block[0][0] if first_data is None else first_data
+    if first_data is None and spec.header_row is None:
+        _refuse_a_header_without_samples(p, lines, sep)
     if spec.separator is None and sep != ",":
         notes.append(f"separator {sep!r} sniffed")
 
