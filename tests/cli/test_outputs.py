@@ -39,6 +39,22 @@ def test_staged_outputs_commit_together_or_not_at_all(tmp_path):
     assert _files(tmp_path) == ["a", "b", "sub", "x.json", "y.txt"]
 
 
+def test_the_wrote_line_says_where_an_earlier_runs_file_was_replaced(tmp_path, capsys):
+    # contact, frame and others name their outputs by the command alone: a second run into
+    # the same --out had replaced the first's files without a word.
+    from rollerrig.cli._console import print_written
+
+    for text in ("first", "second"):
+        with staged_outputs(tmp_path, run="contact") as stage:
+            stage.path("contact-report.json").write_text(text)
+        print_written(stage.written)
+    lines = capsys.readouterr().out.splitlines()
+    first, second = lines[: len(lines) // 2], lines[len(lines) // 2 :]
+    assert not any("replaced" in line for line in first)
+    assert all(line.endswith("(replaced an earlier run's)") for line in second)
+    assert (tmp_path / "contact-report.json").read_text() == "second"
+
+
 def test_a_failed_run_removes_the_folders_it_created(tmp_path):
     out = tmp_path / "new" / "deeper"
     with pytest.raises(RuntimeError), staged_outputs(out) as stage:

@@ -427,7 +427,7 @@ def test_a_catman_header_cut_before_its_samples_says_so(tmp_path, cut_after):
              "Einheit\ts\tN·m\t1/min", "T0\t01.05.2024 13:59:59\t01.05.2024 13:59:59\t"
              "01.05.2024 13:59:59", "dt\t0,001\t0,001\t0,001", "Anzahl Werte\t0\t0\t0",
              ]  # fmt: skip
-    p, sha = _write(tmp_path, "cut.txt", "\r\n".join(lines[:cut_after - 1]).encode("cp1252"))
+    p, sha = _write(tmp_path, "cut.txt", "\r\n".join(lines[: cut_after - 1]).encode("cp1252"))
     with pytest.raises(RecordingError, match=r"has a header but no data rows.*cut before"):
         read_recording(p, {**_CATMAN_MAP, "time": {"column": "Zeit"}})
     assert file_sha256(p) == sha

@@ -93,9 +93,13 @@ def print_error(message: str) -> None:
 
 
 def print_written(paths) -> None:
-    """One ``wrote <path>`` line per output file."""
+    """One ``wrote <path>`` line per output file, saying where it replaced an earlier run's
+    file of that name."""
+    from rollerrig.cli._outputs import replaced_earlier
+
     for path in paths:
-        console.print(f"wrote {path}", soft_wrap=True)
+        again = " (replaced an earlier run's)" if replaced_earlier(path) else ""
+        console.print(f"wrote {path}{again}", soft_wrap=True)
 
 
 def print_recording_notes(rec) -> None:
