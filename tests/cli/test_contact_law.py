@@ -14,6 +14,7 @@ def test_help_names_the_laws_and_keeps_units(runner):
     for law in ("polach", "fastsim", "modified-fastsim", "fastrip"):
         assert law in text
     assert "[kN]" in text and "[mu0, A, B in s/m]" in text  # Rich markup off
+    assert "--friction-set <name>" in text and "<list[" not in text  # not typer's list[str]
 
 
 @pytest.mark.parametrize("law", ["fastsim", "modified-fastsim", "fastrip"])

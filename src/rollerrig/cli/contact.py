@@ -70,6 +70,7 @@ def contact(
         list[str] | None,
         typer.Option(
             "--friction-set",
+            metavar="<name>",
             help="Named friction parameter set(s), repeatable: polach-dry, polach-wet, "
             "eurosprinter-coulomb, eurosprinter-modified-fastsim. Default: Polach's dry and "
             "wet [mu0, A, B in s/m], or the Eurosprinter set for modified-fastsim.",
