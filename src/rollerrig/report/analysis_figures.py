@@ -258,17 +258,28 @@ def coa_uncertainty_figure(result: TestAnalysis):
          for n in names]
         for k in kinds
     ])  # fmt: skip
+    # An input that contributes nothing in any phase (the in-band residual of a recording with
+    # no line in the correction's pass band) is named under the panel, not drawn as an empty
+    # row among the others.
+    words = _labels(unc)
+    drawn = [j for j in range(len(names)) if np.any(values[:, j] > 0.0)] if kinds else []
+    zero = [words.get(names[j], names[j]) for j in range(len(names)) if j not in drawn]
+    if drawn:
+        names = [names[j] for j in drawn]
+        values = values[:, drawn]
     y = np.arange(len(names))
     height = 0.8 / max(len(kinds), 1)
     for j, kind in enumerate(kinds):
         c.barh(y + (j - (len(kinds) - 1) / 2) * height, 1e3 * values[j], height=height,
                color=_PHASE_COLOURS.get(kind, "#cccccc"), edgecolor="0.3", lw=0.4,
                label=kind.replace("_", " "))  # fmt: skip
-    words = _labels(unc)
     c.set_yticks(y, [words.get(n, n) for n in names], fontsize=7)
     c.invert_yaxis()
     c.set_xscale("symlog", linthresh=0.1)
-    c.set_xlabel("contribution |c_i| u(x_i) [10⁻³ CoA], median sample of the phase")
+    c.set_xlabel(
+        "contribution |c_i| u(x_i) [10⁻³ CoA], median sample of the phase"
+        + (f"\nzero in every phase, not drawn: {', '.join(zero)}" if drawn and zero else "")
+    )
     c.set_title("Uncertainty budget by phase")
     c.legend(fontsize=7, loc="upper right")
     for ax in (a, z, b, c):
