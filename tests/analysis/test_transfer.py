@@ -46,6 +46,14 @@ def _run(m, rail=None, law="polach", **kw):
         return transfer_curve(m, GEO, rail, law, draws=60, grid=GRID, fit_options=options, **kw)
 
 
+def test_progress_is_told_each_stage():
+    said = []
+    _run(_measured(), progress=said.append)
+    assert said[0].startswith("fitting polach to 60 points")
+    assert "60 draws of the geometry and the parameters" in said
+    assert said[-1] == "the peaks and their intervals"
+
+
 def test_creepage_conversion_round_trip():
     s = np.array([0.0, 0.001, 0.05, 0.3])
     assert np.allclose(rig_creep(kalker_creepage(s)), s)

@@ -93,6 +93,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 
 import numpy as np
 
@@ -217,6 +218,7 @@ def transfer_curve(
     grid: FastsimGrid | None = None,
     fit_options: dict | None = None,
     law_error: bool = True,
+    progress: Callable[[str], None] | None = None,
 ) -> TransferResult:
     """Predict the creep–CoA curve on the rail from one measured on the rig's roller.
 
@@ -266,6 +268,9 @@ def transfer_curve(
         1 ∓ e(ξ), e(ξ) the law's error scaled by the roller curve's rise (zero at ξ → 0, full
         from :data:`LAW_FACTOR_ERROR_ONSET` of its peak on). A largest error measured at one
         geometry is not a distribution, so it is not drawn.
+    progress : callable, optional
+        Told what is being done, as text: the fit, the plausible set, the draws and the
+        peaks (the command line's progress; a few seconds to tens of seconds in all).
 
     Returns
     -------
@@ -347,7 +352,10 @@ def transfer_curve(
         geo.wheel_radius_x, geo.wheel_radius_y, geo.roller_radius_x, geo.roller_radius_y, crown
     )
 
+    say = progress if progress is not None else (lambda text: None)
+
     # ---- the fit on the roller's ellipse (each point at its own load) ---------------------
+    say(f"fitting {law} to {len(xi_pts)} points on the roller")
     options = dict(fit_options or {})
     caught_messages = []
     with warnings.catch_warnings(record=True) as caught:
@@ -417,6 +425,7 @@ def transfer_curve(
         thetas = draws_within_bounds(theta, cov, lower, upper, feasible, draws, rng)
         level, level_u = roller, np.zeros_like(xi)
     else:
+        say("the parameter sets the data cannot tell apart")
         thetas, plausible = plausible_draws(
             theta, np.array(fit.covariance, float), sse, lower, upper, draws, rng, feasible
         )
@@ -448,6 +457,7 @@ def transfer_curve(
     law_track_d = np.empty((n_draws, xi.size))
     factor_d = np.empty((n_draws, xi.size))
     ratio_k = np.empty(n_draws)
+    say(f"{n_draws} draws of the geometry and the parameters")
     for i in range(n_draws):
         r_e, t_e = ellipses(wx[i], wy[i], rx[i], ry[i], cr[i])
         th = thetas[pick[i]]
@@ -480,6 +490,7 @@ def transfer_curve(
     factor_lo, factor_hi = band(factor_d, factor, law_half_width)
 
     # ---- peaks -------------------------------------------------------------------------------
+    say("the peaks and their intervals")
     # Where the curve is the law's (model), its peak and the draws' give the interval. Where
     # it is the measured level, a noisy flat top cannot place the peak: the creepage is the
     # law's (fitted shape; interval from the plausible set's), the CoA the level's there.

@@ -226,7 +226,7 @@ def transfer(
         draws=draws,
         seed=seed,
     ) as stage:
-        with steps(f"transfer {stem}", f"{draws} draws of the uncertain inputs"):
+        with steps(f"transfer {stem}", f"a band from {draws} draws") as say:
             result = transfer_curve(
                 measured,
                 geometry,
@@ -237,7 +237,9 @@ def transfer(
                 draws=draws,
                 seed=seed,
                 coa_systematic=coa_systematic,
+                progress=say,
             )
+            say("writing")
             write_transfer(
                 result, stage.dir, safe_file_stem(stem), FigureFormat(figure_format).value
             )
