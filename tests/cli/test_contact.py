@@ -23,6 +23,10 @@ def test_contact_report_writes_figures_and_summary(tmp_path, runner):
     roller, rail = summary["contact"]["roller"], summary["contact"]["tangent_rail"]
     # The roller's longitudinal curvature shrinks the contact (Kayaalp §2.5, Figs. 12-13).
     assert roller["area_m2"] < rail["area_m2"]
+    # the ratio column is rail / roller, as transfer's factor F_rail/F_roller
+    row = next(line for line in result.output.splitlines() if "contact area" in line)
+    assert f"{rail['area_m2'] / roller['area_m2']:.3f}" in row
+    assert "rail / roller" in result.output
     assert not list(tmp_path.glob(".*"))  # no temporary files, no lock left behind
     assert (tmp_path / "contact-run.json").exists()
 

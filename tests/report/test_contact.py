@@ -17,8 +17,8 @@ def test_creep_curve_figure_draws_roller_tangent_and_linear_theory():
     sets = {"dry": POLACH_DRY, "wet": POLACH_WET}
     fig, curves = creep_curve_figure(sets, 10e3, 30 / 3.6, *GEOMETRY)
     ax = fig.axes[0]
-    assert ax.get_xlabel() == "creep s [%]" and ax.get_ylabel() == "adhesion coefficient F/Q [-]"
-    assert ax.get_title() == "Polach creep curves, Q = 10 kN, v = 30 km/h"
+    assert ax.get_xlabel() == "creep s [%]" and ax.get_ylabel() == "adhesion coefficient F/N [-]"
+    assert ax.get_title() == "Polach creep curves, N = 10 kN, v = 30 km/h"
     entries = [t.get_text() for t in ax.get_legend().get_texts()]
     assert entries == [
         "dry, roller r = 452 mm",

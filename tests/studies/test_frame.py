@@ -24,6 +24,8 @@ def test_the_default_frame_does_not_matter_and_the_verdict_says_so(study):
     change = abs(fe.metrics["release_overshoot"] / rigid.metrics["release_overshoot"] - 1)
     assert change < MATTERS_THRESHOLD / 10  # measured 0.05 %
     assert not study.matters and "does not explain" in study.verdict
+    # the overshoot in %, as simulate prints it, its change relative
+    assert f"against {rigid.metrics['release_overshoot']:.2%} rigid (relative " in study.verdict
     # ... and says what it rests on: the 10x softer frame's ringing line changes by -10.7 %
     # and its own line is 13 % of it (above the threshold), so the stiffness matters.
     assert "ten times softer would change it" in study.verdict

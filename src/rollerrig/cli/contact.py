@@ -293,12 +293,14 @@ def _contact_table(title: str, rows: dict, roller_rx: float, speed_kmh: float) -
     table.add_column("unit")
     table.add_column(f"roller (R = {roller_rx * 1e3:.0f} mm)", justify="right")
     table.add_column("tangent rail", justify="right")
-    table.add_column("roller / rail", justify="right")
+    # rail / roller, as transfer states its factor F_rail/F_roller: the creep stiffnesses'
+    # ratio here is that factor at small creepage there
+    table.add_column("rail / roller", justify="right")
     c_roll, c_rail = rows["roller"][sets[0]], rows["tangent rail"][sets[0]]
 
     def add(label, unit, f, fmt):
         vr, vt = f(c_roll), f(c_rail)
-        table.add_row(label, unit, format(vr, fmt), format(vt, fmt), f"{vr / vt:.3f}")
+        table.add_row(label, unit, format(vr, fmt), format(vt, fmt), f"{vt / vr:.3f}")
 
     add("semi-axis a (rolling)", "mm", lambda c: float(c.contact.semi_axis_x) * 1e3, ".3f")
     add("semi-axis b (lateral)", "mm", lambda c: float(c.contact.semi_axis_y) * 1e3, ".3f")
@@ -319,6 +321,6 @@ def _contact_table(title: str, rows: dict, roller_rx: float, speed_kmh: float) -
                 unit,
                 f"{scale * vr:.3f}",
                 f"{scale * vt:.3f}",
-                f"{vr / vt:.3f}",
+                f"{vt / vr:.3f}",
             )
     return table

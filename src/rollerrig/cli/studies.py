@@ -470,6 +470,7 @@ def frame(
             result = frame_study(rig, structure, progress=say)
         table = Table(title=f"Frame study on {result.experiment}")
         for col in ("frame", "f [Hz]", "overshoot T56/r_r", "ringing line", "T56 at f_frame"):
+            # the overshoot in %, as simulate prints it
             table.add_column(col, justify="left" if col == "frame" else "right")
         for case in result.cases:
             m = case.metrics
@@ -477,7 +478,7 @@ def frame(
             table.add_row(
                 case.label,
                 "-" if rigid else f"{case.frequency:.1f}",
-                f"{m['release_overshoot']:.4f}",
+                f"{m['release_overshoot']:.2%}",
                 f"{m['t56_line_frequency']:.2f} Hz, {m['t56_line_amplitude']:.2f} N.m",
                 "-" if rigid else f"{case.line_at_frame_frequency:.3g} N.m",
             )

@@ -511,7 +511,7 @@ def _warn_outside_half_space(load, a, b, radius_x, radius_y) -> None:
         axis, semi, rel, direction = "b", b[k], radius_y[k], "y"
     where = "" if ratio.ndim == 0 else f" (worst of {int(np.sum(outside))} such cases)"
     warnings.warn(
-        f"Hertz contact outside its domain: at normal load Q = {float(load[k]):.4g} N the "
+        f"Hertz contact outside its domain: at normal load N = {float(load[k]):.4g} N the "
         f"semi-axis {axis} = {1e3 * float(semi):.4g} mm is {float(ratio[k]):.3g} of the radius "
         f"of curvature R{direction} = {1e3 * float(rel):.4g} mm{where} (the relative one, or a "
         f"body's own where smaller); the half-space assumption of Hertz theory needs "

@@ -74,9 +74,9 @@ def creep_curve_figure(
             label=f"{name}, Kalker linear theory" if name == next(iter(parameter_sets)) else None,
         )
     ax.set_xlabel("creep s [%]")
-    ax.set_ylabel("adhesion coefficient F/Q [-]")
+    ax.set_ylabel("adhesion coefficient F/N [-]")
     ax.set_title(
-        f"Polach creep curves, Q = {normal_load / 1e3:g} kN, v = {rolling_speed * 3.6:g} km/h"
+        f"Polach creep curves, N = {normal_load / 1e3:g} kN, v = {rolling_speed * 3.6:g} km/h"
     )
     ax.set_xlim(0, 100 * max_creep)
     ax.set_ylim(0, None)

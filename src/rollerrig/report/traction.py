@@ -66,7 +66,7 @@ def law_curve_figure(rows: dict, law: str, roller_radius_x: float, max_creep: fl
                 label=label,
             )
     ax.set_xlabel("creep s [%]")
-    ax.set_ylabel("adhesion coefficient F/Q [-]")
+    ax.set_ylabel("adhesion coefficient F/N [-]")
     ax.set_title(f"Creep curves by {_LAW_NAMES.get(law, law)}")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
@@ -140,8 +140,8 @@ def traction_figure(curve: CreepCurve, law: str, poisson: float, creep: float | 
     ax2.grid(True, alpha=0.3)
     ax2.legend(fontsize=8)
     fig.suptitle(
-        f"{_LAW_NAMES.get(law, law)}: s = {100 * s:.3g} %, Q = {curve.normal_load / 1e3:g} kN, "
-        f"F/Q = {float(r.fx[0]) / curve.normal_load:.3f}"
+        f"{_LAW_NAMES.get(law, law)}: s = {100 * s:.3g} %, N = {curve.normal_load / 1e3:g} kN, "
+        f"F/N = {float(r.fx[0]) / curve.normal_load:.3f}"
     )
     fig.tight_layout()
     return fig

@@ -193,9 +193,10 @@ def _verdict(cases: list[FrameCase]) -> tuple[bool, str]:
             soft_big = big
         parts.append(
             f"{case.label} ({case.frequency:.1f} Hz): release overshoot "
-            f"{case.metrics['release_overshoot']:.4f} against "
-            f"{rigid.metrics['release_overshoot']:.4f} "
-            f"rigid ({rel_over:+.2%}); ringing line {case.metrics['t56_line_frequency']:.2f} Hz, "
+            f"{case.metrics['release_overshoot']:.2%} against "
+            f"{rigid.metrics['release_overshoot']:.2%} "
+            f"rigid (relative {rel_over:+.2%}); ringing line "
+            f"{case.metrics['t56_line_frequency']:.2f} Hz, "
             f"{case.metrics['t56_line_amplitude']:.2f} N.m ({rel_amp:+.2%}); T56 at the frame's "
             f"frequency {case.line_at_frame_frequency:.3g} N.m ({share:.2%} of the ringing line)"
         )
