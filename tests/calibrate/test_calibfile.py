@@ -159,6 +159,35 @@ def test_each_hand_edit_is_one_error_naming_the_key_and_field(
     assert info.value.problems == (f"{path}: {line}",)
 
 
+def test_the_identification_bound_holds_for_the_statistical_part_where_the_file_splits_it(
+    calibration_doc,
+):
+    # calibrate identifies a key by its statistical error; its total adds the sensor classes'
+    # systematic part: the tour's bearing friction 0.0091 with 5.7e-6 statistical and 0.0071
+    # in all had been refused by analyze --calibration as "not identified".
+    doc = calibration_doc()
+    doc.pop("values")
+    entry = doc["parameters"]["bearing.friction_coefficient"] = {
+        "value": 0.0091,
+        "standard_error": 0.0071,
+        "standard_error_statistical": 5.7e-6,
+    }
+    assert check_calibration(doc)["parameters"]["bearing.friction_coefficient"] == entry
+    entry["standard_error_statistical"] = 0.006
+    assert _problems(doc) == (
+        "calibration.json: bearing.friction_coefficient.standard_error_statistical: more than "
+        "0.5 times the value: rollerrig calibrate reports such a key as not identified (value "
+        "null); allowed 0, or [9.1e-15, 0.00455]; got 0.006",
+    )
+    entry["standard_error_statistical"] = 1e-4
+    entry["standard_error"] = 5e-5
+    assert _problems(doc) == (
+        "calibration.json: bearing.friction_coefficient.standard_error: must be a finite number, "
+        "at least its statistical part; allowed >= standard_error_statistical (0.0001), finite; "
+        "got 5e-05",
+    )
+
+
 def test_a_value_outside_the_rig_keys_range_is_the_rig_files_own_error(calibration_doc):
     # Exactly as in a rig file: bearing.friction_coefficient in [0, 1), poisson in (0, 0.5),
     # and the [roller_drive_vf] ranges.
