@@ -45,14 +45,14 @@ def test_an_untold_arm_makes_the_standard_errors_conditional():
     rec, _, _ = arm_recording(geometry, experiment="release-test", seed=1)
     result = calibrate(rec, FREE)
     assert result.valid
-    # The statistical errors do not hold: some key lies far outside them. (The total, with
-    # the load sensor's stated classes, happened to cover this arm: at most 1.02 standard
-    # errors, 2026-12-03; an arm's load error is not one of those classes.)
+    # The statistical errors do not hold: some key lies far outside them (3.1 statistical
+    # standard errors since the fit takes the load from the torque and speeds too, 4.5
+    # before; 2026-12-03). An arm's load error is not one of the sensors' classes.
     z = {
         k: abs(result.parameters[k].value - v) / result.parameters[k].standard_error_statistical
         for k, v in DEFAULTS.items()
     }
-    assert max(z.values()) > 4.0, z
+    assert max(z.values()) > 3.0, z
     assert result.conditional and "torque" in result.structured_channels
     assert all(result.parameters[k].conditional_on_model for k in FREE)
     doc = json.loads(json.dumps(result.to_json(), allow_nan=False))

@@ -7,6 +7,7 @@ law (of the creep law fitted) with their provenance, the fit's settings.
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Any
 
 import numpy as np
@@ -21,6 +22,7 @@ from rollerrig.calibrate.diagnostics import (
     identified_combinations,
     model_suggestion,
 )
+from rollerrig.calibrate.fit import load_sigma
 from rollerrig.calibrate.problem import (
     LAW_KEY_PREFIXES,
     FreeParameter,
@@ -186,15 +188,36 @@ def build_calibration(
 
     notes = _systematic_notes(free, sensor_inputs, shifts) + list(measurement.notes)
     residual_after = fit.channel_residuals(point.prediction)
-    white = {c: whiteness(e) | block_mean_test(e) for c, e in residual_after.items()}
+    # The load channel's offset from the twin's load is the sensors' classes' (the fit
+    # weighs its mean by them: rollerrig.calibrate.fit.load_sigma), said below; its whiteness
+    # is that of its scatter about the offset.
+    tested = dict(residual_after)
+    if "normal_load" in tested:
+        tested["normal_load"] = tested["normal_load"] - np.mean(tested["normal_load"])
+        found = _load_offset(measurement, residual_after["normal_load"], point.prediction)
+        if found is not None:
+            (warnings if found[0] else notes).append(found[1])
+    white = {c: whiteness(e) | block_mean_test(e) for c, e in tested.items()}
+    sigma_sensor = {c: float(measurement.sensor_noise[c]) for c in measurement.channels}
+    sigma_basis = dict(measurement.noise_basis)
+    if "normal_load" in sigma_sensor and measurement.normal_load_class > 0.0:
+        scatter = sigma_sensor["normal_load"]
+        sigma_sensor["normal_load"] = load_sigma(measurement, scatter)
+        sigma_basis["normal_load"] = (
+            f"the channel's scatter about its mean ({scatter:.3g} N) and, over its samples, the "
+            f"standard uncertainty of its mean from the sensors' stated classes "
+            f"({measurement.normal_load_class:.3g} N: the pressure sensor's offset and the air "
+            "spring's area), so that the mean weighs as one measurement of the load with that "
+            "error (rollerrig.calibrate.fit.load_sigma)"
+        )
     channels = {}
     for c in measurement.channels:
         channels[c] = ChannelFit(
             name=c,
             unit=_UNITS[c],
             samples=int(measurement.valid[c].sum()),
-            sigma_sensor=float(measurement.sensor_noise[c]),
-            sigma_basis=measurement.noise_basis[c],
+            sigma_sensor=sigma_sensor[c],
+            sigma_basis=sigma_basis[c],
             sigma_used=float(fit.sigma[c]),
             rms_before=float(np.sqrt(np.mean(before[c] ** 2))),
             rms_after=float(np.sqrt(np.mean(residual_after[c] ** 2))),
@@ -555,3 +578,26 @@ def _renamed(
 
 def _unit_text(unit: str) -> str:
     return "" if unit == "1" else f" {unit}"
+
+
+def _load_offset(measurement, residual, prediction) -> tuple[bool, str] | None:
+    """``(beyond the classes, text)`` on the load channel's offset from the twin's fitted
+    load, or None where the channel is not fitted against a class."""
+    u = float(measurement.normal_load_class)
+    if not u > 0.0 or residual.size == 0:
+        return None
+    offset = float(np.mean(residual))
+    load = float(np.mean(prediction["normal_load"]))
+    bound = math.sqrt(3.0) * u  # the pressure class's bound, the larger part on the rig
+    text = (
+        f"the normal-load channel reads {offset:+.4g} N from the twin's load {load:.6g} N, "
+        f"which the torque and speeds determine with it: {offset / u:+.2f} standard "
+        f"uncertainties of the sensors' stated classes (the pressure sensor's offset and the "
+        f"air spring's area, u = {u:.3g} N)"
+    )
+    if abs(offset) > 2.0 * bound:
+        return True, (
+            f"{text}, beyond twice their bound (±{bound:.3g} N): check the pressure sensor's "
+            "zero, the air spring's area and the channel map's load or pressure unit"
+        )
+    return False, text

@@ -6,7 +6,7 @@ The algorithm (:func:`calibrate`):
    T56 with its lines projected out, both encoder speeds, the normal load), stacked; σ from the
    sensor noise (:func:`~rollerrig.calibrate.measurement.prepare_measurement`: the torque's
    white noise as the recording shows it, the encoders' quantisation, the load channel's
-   scatter).
+   scatter and, for its mean, the sensors' classes: :func:`load_sigma`).
 2. A coarse search (:meth:`_Fit.search`): each free parameter in turn over 1/1.5 to 1.5 times
    its start (:data:`SEARCH_POINTS` values in one batch, the fast backend's own step), kept at
    the best. The roller shaft rings for seconds after a release, and the cost has a local
@@ -121,6 +121,8 @@ class _Fit:
         self.max_total = max_total
         self.measurement = measurement
         self.sigma = dict(measurement.sensor_noise)
+        if "normal_load" in self.sigma:
+            self.sigma["normal_load"] = load_sigma(measurement, self.sigma["normal_load"])
         self.progress = progress
         self.iterations = 0
         self.lag_window = 0.0
@@ -432,8 +434,18 @@ def calibrate(
     before = fit.channel_residuals(start_prediction.channels)
     z_start = z0.copy()
     if search_width > 0.0:
+        load_at = [i for i, p in enumerate(params) if p.key == "experiment.normal_load"]
+        if load_at and measurement.normal_load_class > 0.0:
+            # The load first, over its channel's mean ± twice the classes' bound (√3 u): the
+            # channel may be off by that much, and a twin started 150 N low (inside the
+            # class) had run away under the replayed torque, the search then moving every
+            # key to its edge (2026-12-03).
+            half = 2.0 * math.sqrt(3.0) * measurement.normal_load_class / measurement.normal_load
+            only = np.zeros(len(params), dtype=bool)
+            only[load_at] = True
+            z_start = fit.search(z_start, only, upper, math.log1p(min(half, 0.5)))
         searched = np.arange(len(params)) < n_free
-        z_start = fit.search(z0, searched, upper, float(search_width))
+        z_start = fit.search(z_start, searched, upper, float(search_width))
     base, jac, failed = fit.simulate_with_jacobian(z_start, active, upper, central=True)
     if jac is None:
         raise CalibrationError(
@@ -575,6 +587,9 @@ def _fit_stages(fit: _Fit, point: _Point, active, upper, max_iterations) -> tupl
     residuals = fit.channel_residuals(point.prediction)
     old = dict(fit.sigma)
     for c in fit.measurement.channels:
+        if c == "normal_load":  # its scatter about the offset, and the classes for the mean
+            fit.sigma[c] = load_sigma(fit.measurement, float(np.std(residuals[c])))
+            continue
         rms = float(np.sqrt(np.mean(residuals[c] ** 2)))
         if rms > 0.0:
             fit.sigma[c] = rms
@@ -605,6 +620,25 @@ def _fit_stages(fit: _Fit, point: _Point, active, upper, max_iterations) -> tupl
     )
     del ok1  # the first stage only brings the fit near the optimum of the second
     return point, ok2
+
+
+def load_sigma(measurement, scatter: float) -> float:
+    """The σ [N] the fit weighs each sample of the normal-load channel by.
+
+    The channel's scatter ``scatter`` and, spread over its n samples, the standard
+    uncertainty of its mean from the sensors' stated classes (``normal_load_class``: the
+    pressure sensor's offset, the air spring's area): σ² = scatter² + n u², so that the
+    channel's mean weighs as one measurement of the load with the classes' error and the
+    torque and the speeds can tell the load too. Weighted by the scatter alone (2 N on the
+    bundled rig) the mean had pinned the replay's load to 0.03 N: a load offset inside the
+    class (150 N of 4300) left the twin unable to reproduce the torque (30 N.m after the fit,
+    against 0.44 N.m) and the free keys 4-13 standard errors off, or the fit diverged from a
+    load 150 N low (2026-12-03).
+    """
+    n = int(measurement.valid["normal_load"].sum())
+    u = float(measurement.normal_load_class)
+    sigma = math.hypot(scatter, math.sqrt(n) * u)
+    return sigma if sigma > 0.0 else 1.0
 
 
 def _covariance(fit: _Fit, point: _Point, active, upper):

@@ -159,6 +159,10 @@ class Measurement:
     load_source : str
         The channel the normal load comes from: ``"air_spring_pressure"`` (times the air
         spring's area) or ``"normal_load"`` (given by the recording).
+    normal_load_class : float
+        Standard uncertainty of the load channel's mean from the sensors' stated classes [N]:
+        the pressure sensor's offset times the area and the area's own, in quadrature (0 for a
+        constant channel, which the replay takes as exact).
     """
 
     time: np.ndarray
@@ -181,6 +185,7 @@ class Measurement:
     source: str
     notes: list[str] = dataclasses.field(default_factory=list)
     load_source: str = "air_spring_pressure"
+    normal_load_class: float = 0.0
 
     def project_lines(self, torque: np.ndarray) -> np.ndarray:
         """``torque`` with its components along the line regressors removed [N.m]."""
@@ -455,6 +460,16 @@ def prepare_measurement(
             "loaded contact (check the normal_load or air_spring_pressure map entry)"
         )
     spread = float(np.std(load))
+    # The load channel's mean is known only to the sensors' stated classes: the fit weighs it
+    # as one measurement of the load with that error (rollerrig.calibrate.fit.load_sigma).
+    sensors = rig.sensors
+    u_class = math.hypot(
+        sensors.pressure_sensor_accuracy
+        * sensors.pressure_sensor_range
+        / math.sqrt(3.0)
+        * sensors.air_spring_effective_area,
+        sensors.air_spring_area_uncertainty * mean_load,
+    )
     values["normal_load"] = np.asarray(load, dtype=float)
     channels = CHANNELS if spread > 0.0 else CHANNELS[:3]
     if spread == 0.0:
@@ -523,4 +538,5 @@ def prepare_measurement(
         source=source,
         notes=notes,
         load_source=load_source,
+        normal_load_class=u_class if spread > 0.0 else 0.0,
     )
