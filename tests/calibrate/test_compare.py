@@ -128,6 +128,23 @@ def test_ringing_finds_the_release_the_first_minimum_and_the_frequency():
     assert entry["model"]["first_minimum_error [s]"] == pytest.approx(1 / 6 - 0.125, abs=0.01)
 
 
+def test_a_slow_recovery_is_no_ringing_frequency():
+    # A review found 0.6561 Hz on every release, measured and every model alike: the Hann
+    # window's main lobe on a slow recovery after the release, at the lowest frequency a 1.95 s
+    # window resolved. A recovery alone has no ringing; with a 0.8 Hz swing on it, that swing.
+    t = np.arange(0.0, 12.0, 4e-3)
+    request = np.where(t < 2.0, 600.0, 0.0)
+    after = np.clip(t - 2.0, 0.0, None)
+    recovery = np.where(t < 2.0, 600.0, -300.0 * np.exp(-after / 1.5))
+    (entry,) = ringing(t, request, recovery, {})
+    assert entry["measured"]["ringing_frequency [Hz]"] is None
+    swing = recovery + np.where(
+        t < 2.0, 0.0, 40.0 * np.exp(-after / 3.0) * np.sin(2 * np.pi * 0.8 * after)
+    )
+    (entry,) = ringing(t, request, swing, {})
+    assert entry["measured"]["ringing_frequency [Hz]"] == pytest.approx(0.8, abs=0.05)
+
+
 def test_model_discrepancy_is_half_the_spread_rectangular_and_enters_the_covariance():
     def cal(value):
         p = SimpleNamespace(identified=True, value=value, unit="kg.m^2")

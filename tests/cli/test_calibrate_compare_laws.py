@@ -59,3 +59,41 @@ def test_list_keys_with_compare_laws_lists_every_compared_law_s_keys(runner):
     keys = result.output.split()
     assert {"polach.k_slip", "fastsim.k0", "stiffness.roller_shaft"} <= set(keys)
     assert len(keys) == len(set(keys))  # the rig keys once
+
+
+def test_an_invalid_fit_of_a_comparison_says_why_and_the_advice_does_not_name_it(capsys):
+    # A review: "polach (winner) | valid no", then "calibrate with --law polach", the reason
+    # (no convergence within the iterations) in the JSON alone.
+    from types import SimpleNamespace
+
+    from rollerrig.cli.calibrate import print_comparison
+
+    def evidence(bic):
+        return {"adequate": False, "valid": False, "information_criteria": {"BIC": bic},
+                "channels": {}, "structured_channels": []}  # fmt: skip
+
+    invalid = (
+        "NOT A VALID CALIBRATION: the fit did not converge within 25 iterations: no calibrated "
+        "rig is written and rollerrig analyze --calibration refuses this calibration.json"
+    )
+    comparison = SimpleNamespace(
+        MODEL="creep law",
+        winner="polach",
+        adequate=False,
+        evidence={"polach": evidence(1.0), "modified-fastsim": evidence(2.0)},
+        ringing=[],
+        discrepancy={},
+        verdict=lambda: "no candidate creep law is adequate",
+        calibrations={
+            "polach": SimpleNamespace(warnings=[invalid], suggestion=None),
+            "modified-fastsim": SimpleNamespace(
+                warnings=[], suggestion="calibrate with --law polach"
+            ),
+        },
+        losers=["modified-fastsim"],
+    )
+    print_comparison(comparison)
+    out = capsys.readouterr()
+    text = " ".join((out.out + out.err).split())
+    assert "polach: not a valid fit: the fit did not converge within 25 iterations" in text
+    assert "--max-iterations" in text and "--law polach" not in text

@@ -23,8 +23,9 @@ the dq drive), and weighs the evidence:
 3. **The ringing after each release** (a fall of the torque request by more than half its peak
    within 0.1 s): the time of the first minimum of the torque after the release, measured and
    each model's (both through the same zero-phase 20 Hz low-pass), and the dominant frequency of
-   the ringing (peak of the Hann-windowed spectrum of the detrended torque from 0.05 s to 2 s
-   after the release, 0.5 to 50 Hz).
+   the ringing (peak of the Hann-windowed spectrum of the torque, a quadratic trend taken out,
+   from 0.05 s to 5 s after the release or to the next one, 0.5 to 50 Hz and at least two
+   cycles in that window; none where the spectrum only falls from the band's lower edge).
 
 The spread of the values between adequate models is a type-B model-discrepancy term: per key,
 half the range of the adequate models' values as the half-width of a rectangular distribution
@@ -67,7 +68,8 @@ COMPARE_JSON_NAME = "calibration-compare.json"
 _RELEASE_FRACTION = 0.5  # a release: the request falls by this fraction of its peak ...
 _RELEASE_WITHIN = 0.1  # ... within this time [s]
 _LOWPASS_HZ = 20.0  # zero-phase low-pass of the torque before the first minimum is sought [Hz]
-_RING_WINDOW = (0.05, 2.0)  # window of the ringing spectrum after a release [s]
+_RING_WINDOW = (0.05, 5.0)  # window of the ringing spectrum after a release [s]
+_RING_CYCLES = 2.0  # least cycles of a ringing frequency inside the window [-]
 _RING_BAND = (0.5, 50.0)  # band of the dominant ringing frequency [Hz]
 
 
@@ -164,18 +166,38 @@ def _first_minimum(t: np.ndarray, x: np.ndarray, t0: float, t_end: float) -> flo
 
 
 def _dominant_frequency(t: np.ndarray, x: np.ndarray, t0: float, t_end: float) -> float | None:
+    """The highest peak of the ringing's spectrum [Hz], or None where the spectrum has no peak
+    inside the band that the window holds :data:`_RING_CYCLES` cycles of.
+
+    A slow recovery after the release that is no oscillation leaves its energy at the lowest
+    frequencies the window resolves, where the Hann window's main lobe made a "peak": 0.6561
+    Hz on every release, measured and of every model alike, of a 1.95 s window (a review,
+    2026-12-03). So the band starts at two cycles in the window, after a quadratic trend is
+    taken out, and the maximum must be the largest within one resolution (1/span) on either
+    side, the frequencies below the band included: a slope falling from the band's lower edge
+    is no peak.
+    """
     k = np.flatnonzero((t >= t0 + _RING_WINDOW[0]) & (t <= min(t_end, t0 + _RING_WINDOW[1])))
     if k.size < 32:
         return None
     dt = float(np.median(np.diff(t)))
-    seg = x[k] - np.polyval(np.polyfit(t[k], x[k], 1), t[k])
+    span = float(t[k[-1]] - t[k[0]])
+    seg = x[k] - np.polyval(np.polyfit(t[k] - t[k[0]], x[k], 2), t[k] - t[k[0]])
     size = 1 << max(14, math.ceil(math.log2(8 * seg.size)))
     spec = np.abs(np.fft.rfft(seg * np.hanning(seg.size), size))
     freq = np.fft.rfftfreq(size, dt)
-    band = (freq >= _RING_BAND[0]) & (freq <= _RING_BAND[1])
-    if not band.any():
+    band = np.flatnonzero(
+        (freq >= max(_RING_BAND[0], _RING_CYCLES / span)) & (freq <= _RING_BAND[1])
+    )
+    if band.size < 3:
         return None
-    return float(freq[band][int(np.argmax(spec[band]))])
+    j = band[int(np.argmax(spec[band]))]
+    # A peak: the largest within one resolution (1/span) on either side, the frequencies below
+    # the band included (a slope falling from the band's lower edge is no peak).
+    w = max(1, round(1.0 / span / (freq[1] - freq[0])))
+    if spec[j] < np.max(spec[max(0, j - w) : j + w + 1]):
+        return None
+    return float(freq[j])
 
 
 def ringing(time, request, measured, models: dict[str, np.ndarray]) -> list[dict[str, Any]]:

@@ -259,6 +259,17 @@ def calibrate(
             def progress(done: int, total: int, text: str) -> None:
                 bar.update(task, completed=done, total=total, info=text)
 
+            models: list[str] = []  # compared models in the order their fits report
+
+            def each(model: str, count: int, done: int, total: int, text: str) -> None:
+                """One model's progress as its share of all: each fit counts from 0, and the
+                bar had run backwards from one model to the next (40 % to 0 %)."""
+                if model not in models:
+                    models.append(model)
+                k = models.index(model)
+                share = done / total if total else 0.0
+                progress(round(1000 * (k + share) / count), 1000, f"{model}: {text}")
+
             if compare_laws:
                 from rollerrig.calibrate.lawcompare import compare_laws as run_law_comparison
 
@@ -269,12 +280,13 @@ def calibrate(
                     rig=rig,
                     friction=friction.value,
                     max_iterations=max_iterations,
-                    progress=lambda lw, i, n, text: progress(i, n, f"{lw}: {text}"),
+                    progress=lambda lw, i, n, text: each(lw, len(laws), i, n, text),
                     torque_noise=torque_noise,
                     roller_drive=roller,
                 )
                 result = comparison.winning_calibration
             elif compare:
+                from rollerrig.calibrate.compare import ROLLER_DRIVES
                 from rollerrig.calibrate.compare import compare_drives as run_comparison
 
                 comparison = run_comparison(
@@ -283,7 +295,7 @@ def calibrate(
                     rig=rig,
                     friction=friction.value,
                     max_iterations=max_iterations,
-                    progress=lambda d, i, n, text: progress(i, n, f"{d}: {text}"),
+                    progress=lambda d, i, n, text: each(d, len(ROLLER_DRIVES), i, n, text),
                     torque_noise=torque_noise,
                     law=laws[0],
                 )
@@ -514,6 +526,23 @@ def print_comparison(comparison) -> None:
             f"(rectangular, u = {item['standard_uncertainty']:.3g}) between the adequate models"
         )
     (note if comparison.adequate else print_warning)(comparison.verdict())
+    # Why a model's fit is not valid: the table says only "no" (a fit that did not converge
+    # within the iterations had been judged invalid with its reason in the JSON alone).
+    slow = False
+    for model, ev in comparison.evidence.items():
+        if ev["valid"]:
+            continue
+        reasons = [
+            (w.partition(": ")[2] or w).split(": no calibrated rig")[0]
+            for w in comparison.calibrations[model].warnings
+            if w.startswith("NOT A VALID CALIBRATION")
+        ]
+        slow = slow or any("did not converge" in r for r in reasons)
+        print_warning(f"{model}: not a valid fit: {'; '.join(reasons) or 'see the JSON'}")
+    if slow:
+        note("a fit that did not converge may converge with more iterations (--max-iterations)")
+    if not comparison.adequate:
+        return  # the losers' advice would name the winner, itself not adequate
     for model in getattr(comparison, "losers", ()):
         advice = comparison.calibrations[model].suggestion
         if advice:
