@@ -392,7 +392,16 @@ def print_calibration(result) -> None:
         "parameter", "value", "± standard error", "residuals / sensors", "unit", "start",
         "rel. error",
     ):  # fmt: skip
-        table.add_column(col, justify="left" if col in ("parameter", "unit") else "right")
+        # the dotted keys whole (they are what --free takes): the column had been cut to
+        # "stiffness.roller_s…" at any terminal width; the numbers wrap instead
+        table.add_column(
+            col,
+            justify="left" if col in ("parameter", "unit") else "right",
+            no_wrap=col == "parameter",
+            min_width=max(len(k) for k in (*result.parameters, *result.nuisance))
+            if col == "parameter"
+            else None,
+        )
     rows = [*result.parameters.values(), *result.nuisance.values()]
     numbered = {c["expression"]: n for n, c in enumerate(result.combinations, start=1)}
     for p in rows:
