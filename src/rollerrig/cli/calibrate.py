@@ -392,15 +392,21 @@ def print_calibration(result) -> None:
         "parameter", "value", "± standard error", "residuals / sensors", "unit", "start",
         "rel. error",
     ):  # fmt: skip
-        # the dotted keys whole (they are what --free takes): the column had been cut to
-        # "stiffness.roller_s…" at any terminal width; the numbers wrap instead
+        # folded, not cut: the dotted keys (what --free takes) had been shown as
+        # "stiffness.roller_s…" at any terminal width
+        whole = col == "parameter"
         table.add_column(
             col,
             justify="left" if col in ("parameter", "unit") else "right",
-            no_wrap=col == "parameter",
-            min_width=max(len(k) for k in (*result.parameters, *result.nuisance))
-            if col == "parameter"
-            else None,
+            overflow="fold",
+            no_wrap=whole,
+            min_width=(
+                max(map(len, (*result.parameters, *result.nuisance)))
+                if whole
+                else len("not identified")
+                if col == "value"
+                else None
+            ),
         )
     rows = [*result.parameters.values(), *result.nuisance.values()]
     numbered = {c["expression"]: n for n, c in enumerate(result.combinations, start=1)}
