@@ -196,7 +196,12 @@ def test_the_frequency_axis_shows_every_listed_peak_by_default():
     fig = spectrum_figure(e)
     ax = fig.axes[0]
     lo, hi = ax.get_xlim()
-    assert hi == pytest.approx(frequency_limit([r.frequency for r in e.rows], FS / 2))
+    # every listed peak and every twin mode inside the spectrum's band
+    modes = [m.frequency for m in e.modes.ringing if m.frequency <= FS / 2]
+    assert modes and hi == pytest.approx(
+        frequency_limit([r.frequency for r in e.rows] + modes, FS / 2)
+    )
+    assert hi >= 1.1 * max(modes) - 1e-9 or hi == FS / 2
     assert lo <= min(r.frequency for r in e.rows) and highest <= hi <= FS / 2
     markers = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
     assert sum(ln.get_xdata().size for ln in markers) == len(e.rows)  # every peak marked

@@ -168,9 +168,18 @@ def spectrum_figure(
     ax.semilogy(f[1:], p[1:], color="0.3", lw=0.8, zorder=2)
     rows = list(explained.rows)
     listed = [r.frequency for r in rows]
+    # The twin's ringing modes inside the spectrum's band are drawn too: the axis spans them
+    # (a 0.81 Hz and a 110.8 Hz mode had been left off a figure that ended at 90 Hz).
+    modes = getattr(explained, "modes", None)
+    nyquist = spec.sample_rate / 2.0
+    drawn = listed + [
+        md.frequency
+        for md in (() if modes is None else modes.ringing)
+        if float(f[1]) <= md.frequency <= nyquist
+    ]
     if max_frequency is None:
-        max_frequency = frequency_limit(listed, spec.sample_rate / 2.0)
-    low = _frequency_axis(ax, listed, float(f[1]), max_frequency, log_frequency)
+        max_frequency = frequency_limit(drawn, nyquist)
+    low = _frequency_axis(ax, drawn, float(f[1]), max_frequency, log_frequency)
     shown = [r for r in rows if low <= r.frequency <= max_frequency]
     for kind in dict.fromkeys(r.source for r in shown):  # one legend entry per kind shown
         mine = [r for r in shown if r.source == kind]
@@ -199,7 +208,6 @@ def spectrum_figure(
         )
         for r in labelled
     ]
-    modes = getattr(explained, "modes", None)
     for md in () if modes is None else modes.ringing:
         if low <= md.frequency <= max_frequency:  # a dotted line from the label to the axis
             labels.append(
