@@ -255,7 +255,16 @@ def _table(result, dof, modes: int) -> Table:
             "Hz",
             f"{dof.frequency:.2f}",
         )
-        table.add_row("  its modal mass at the contact", "kg", f"{dof.modal_mass:.4g}")
+        table.add_row(
+            "  its own modal mass at the contact (m_r/q_r²)", "kg", f"{dof.modal_mass:.4g}"
+        )
+        # what a rig file's [frame] modal_mass is (the twin's one-mass frame at this
+        # frequency on the static stiffness), the modal mass above being the mode's alone
+        table.add_row(
+            "  the twin's [frame] modal_mass: stiffness/(2π f)²",
+            "kg",
+            f"{dof.equivalent_mass:.4g}",
+        )
         table.add_row("  its share of the contact flexibility", "-", f"{dof.participation:.3f}")
     table.add_row("frame mass (members and lumped masses)", "kg", f"{result.frame_mass:.0f}")
     return table
