@@ -22,7 +22,7 @@ from rollerrig.calibrate.diagnostics import (
     identified_combinations,
     model_suggestion,
 )
-from rollerrig.calibrate.fit import load_sigma
+from rollerrig.calibrate.measurement import load_sigma
 from rollerrig.calibrate.problem import (
     LAW_KEY_PREFIXES,
     FreeParameter,
@@ -188,9 +188,9 @@ def build_calibration(
 
     notes = _systematic_notes(free, sensor_inputs, shifts) + list(measurement.notes)
     residual_after = fit.channel_residuals(point.prediction)
-    # The load channel's offset from the twin's load is the sensors' classes' (the fit
-    # weighs its mean by them: rollerrig.calibrate.fit.load_sigma), said below; its whiteness
-    # is that of its scatter about the offset.
+    # The load channel's offset from the twin's load is the sensors' classes' (the fit weighs
+    # its mean by them: rollerrig.calibrate.measurement.load_sigma), said below; its
+    # whiteness is that of its scatter about the offset.
     tested = dict(residual_after)
     if "normal_load" in tested:
         tested["normal_load"] = tested["normal_load"] - np.mean(tested["normal_load"])
@@ -208,7 +208,7 @@ def build_calibration(
             f"standard uncertainty of its mean from the sensors' stated classes "
             f"({measurement.normal_load_class:.3g} N: the pressure sensor's offset and the air "
             "spring's area), so that the mean weighs as one measurement of the load with that "
-            "error (rollerrig.calibrate.fit.load_sigma)"
+            "error (rollerrig.calibrate.measurement.load_sigma)"
         )
     channels = {}
     for c in measurement.channels:

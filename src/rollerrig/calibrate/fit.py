@@ -6,7 +6,8 @@ The algorithm (:func:`calibrate`):
    T56 with its lines projected out, both encoder speeds, the normal load), stacked; σ from the
    sensor noise (:func:`~rollerrig.calibrate.measurement.prepare_measurement`: the torque's
    white noise as the recording shows it, the encoders' quantisation, the load channel's
-   scatter and, for its mean, the sensors' classes: :func:`load_sigma`).
+   scatter and, for its mean, the sensors' classes:
+   :func:`~rollerrig.calibrate.measurement.load_sigma`).
 2. A coarse search (:meth:`_Fit.search`): each free parameter in turn over 1/1.5 to 1.5 times
    its start (:data:`SEARCH_POINTS` values in one batch, the fast backend's own step), kept at
    the best. The roller shaft rings for seconds after a release, and the cost has a local
@@ -57,7 +58,7 @@ from rollerrig._validation import (
     require_positive,
     require_whole,
 )
-from rollerrig.calibrate.measurement import Measurement, prepare_measurement
+from rollerrig.calibrate.measurement import Measurement, load_sigma, prepare_measurement
 from rollerrig.calibrate.model import (
     Prediction,
     ReplayModel,
@@ -620,25 +621,6 @@ def _fit_stages(fit: _Fit, point: _Point, active, upper, max_iterations) -> tupl
     )
     del ok1  # the first stage only brings the fit near the optimum of the second
     return point, ok2
-
-
-def load_sigma(measurement, scatter: float) -> float:
-    """The σ [N] the fit weighs each sample of the normal-load channel by.
-
-    The channel's scatter ``scatter`` and, spread over its n samples, the standard
-    uncertainty of its mean from the sensors' stated classes (``normal_load_class``: the
-    pressure sensor's offset, the air spring's area): σ² = scatter² + n u², so that the
-    channel's mean weighs as one measurement of the load with the classes' error and the
-    torque and the speeds can tell the load too. Weighted by the scatter alone (2 N on the
-    bundled rig) the mean had pinned the replay's load to 0.03 N: a load offset inside the
-    class (150 N of 4300) left the twin unable to reproduce the torque (30 N.m after the fit,
-    against 0.44 N.m) and the free keys 4-13 standard errors off, or the fit diverged from a
-    load 150 N low (2026-12-03).
-    """
-    n = int(measurement.valid["normal_load"].sum())
-    u = float(measurement.normal_load_class)
-    sigma = math.hypot(scatter, math.sqrt(n) * u)
-    return sigma if sigma > 0.0 else 1.0
 
 
 def _covariance(fit: _Fit, point: _Point, active, upper):

@@ -461,7 +461,7 @@ def prepare_measurement(
         )
     spread = float(np.std(load))
     # The load channel's mean is known only to the sensors' stated classes: the fit weighs it
-    # as one measurement of the load with that error (rollerrig.calibrate.fit.load_sigma).
+    # as one measurement of the load with that error (:func:`load_sigma`).
     sensors = rig.sensors
     u_class = math.hypot(
         sensors.pressure_sensor_accuracy
@@ -540,3 +540,22 @@ def prepare_measurement(
         load_source=load_source,
         normal_load_class=u_class if spread > 0.0 else 0.0,
     )
+
+
+def load_sigma(measurement, scatter: float) -> float:
+    """The σ [N] the fit weighs each sample of the normal-load channel by.
+
+    The channel's scatter ``scatter`` and, spread over its n samples, the standard
+    uncertainty of its mean from the sensors' stated classes (``normal_load_class``: the
+    pressure sensor's offset, the air spring's area): σ² = scatter² + n u², so that the
+    channel's mean weighs as one measurement of the load with the classes' error and the
+    torque and the speeds can tell the load too. Weighted by the scatter alone (2 N on the
+    bundled rig) the mean had pinned the replay's load to 0.03 N: a load offset inside the
+    class (150 N of 4300) left the twin unable to reproduce the torque (30 N.m after the fit,
+    against 0.44 N.m) and the free keys 4-13 standard errors off, or the fit diverged from a
+    load 150 N low (2026-12-03).
+    """
+    n = int(measurement.valid["normal_load"].sum())
+    u = float(measurement.normal_load_class)
+    sigma = math.hypot(scatter, math.sqrt(n) * u)
+    return sigma if sigma > 0.0 else 1.0

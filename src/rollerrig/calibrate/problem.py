@@ -6,7 +6,7 @@ exactly), at a constant normal load and a constant roller speed set point, both 
 nuisance parameters (:data:`NUISANCE_KEYS`): the load is started from the mean of
 ``normal_load`` (or ``air_spring_pressure`` × ``sensors.air_spring_effective_area``) and
 fitted with the load channel among the residuals, whose mean weighs as one measurement with the
-sensors' classes' error (:func:`rollerrig.calibrate.fit.load_sigma`), so that the torque and
+sensors' classes' error (:func:`rollerrig.calibrate.measurement.load_sigma`), so that the torque and
 speeds tell the load too; the set point is started from the mean roller encoder speed before
 the first torque request (the open-loop roller drive runs below its set speed by a slip that
 depends on the bearing losses, so the set point cannot be read from the recording to the

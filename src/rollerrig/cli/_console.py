@@ -92,13 +92,21 @@ def print_error(message: str) -> None:
     err_console.print(Text.assemble(("error: ", "bold red"), str(message)))
 
 
+_REPLACED: set[str] = set()
+
+
+def mark_replaced(paths) -> None:
+    """Record that a run of this process replaced these files, already in ``--out`` (an
+    earlier run's of the same name: several commands name their outputs by the command
+    alone, ``contact-report.json``), for :func:`print_written` to say so."""
+    _REPLACED.update(str(p) for p in paths)
+
+
 def print_written(paths) -> None:
     """One ``wrote <path>`` line per output file, saying where it replaced an earlier run's
     file of that name."""
-    from rollerrig.cli._outputs import replaced_earlier
-
     for path in paths:
-        again = " (replaced an earlier run's)" if replaced_earlier(path) else ""
+        again = " (replaced an earlier run's)" if str(path) in _REPLACED else ""
         console.print(f"wrote {path}{again}", soft_wrap=True)
 
 

@@ -27,6 +27,7 @@ from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 
 from rollerrig.cli._boundary import command_line, signals_deferred, warnings_printed
+from rollerrig.cli._console import mark_replaced
 from rollerrig.output import OutputError
 from rollerrig.output.names import (
     MAX_OUTPUT_STEM,
@@ -45,7 +46,6 @@ __all__ = [
     "MAX_OUTPUT_STEM",
     "STAGE_PREFIX",
     "command_outputs",
-    "replaced_earlier",
     "safe_file_name",
     "safe_file_stem",
     "staged_outputs",
@@ -56,16 +56,6 @@ LOCK_NAME = ".rollerrig.lock"
 """Lock file in ``--out`` while a run writes there (holds the run's pid)."""
 STAGE_PREFIX = ".rollerrig-stage-"
 """Name prefix of the hidden staging folders inside ``--out``."""
-
-
-_REPLACED: set[str] = set()
-
-
-def replaced_earlier(path) -> bool:
-    """True when a run of this process replaced ``path``, a file already in ``--out`` (an
-    earlier run's of the same name: several commands name their outputs by the command alone,
-    ``contact-report.json``), so that the ``wrote`` line can say so."""
-    return str(path) in _REPLACED
 
 
 def _reason(exc: OSError) -> str:
@@ -291,7 +281,7 @@ class staged_outputs:  # a context manager that reads as a function
                     ) from None
                 placed.append((dest, old))
             self.written.extend(dest for dest, _ in placed)
-            _REPLACED.update(str(dest) for dest, old in placed if old is not None)
+            mark_replaced(dest for dest, old in placed if old is not None)
 
     def _roll_back(self, placed) -> Path | None:
         """Undo a commit's moves, last first: a new file removed, an old one put back. Where
