@@ -146,7 +146,7 @@ def transfer(
     speed, Kayaalp eq. 4.21); the laws use Kalker's xi = 2s/(2+s). Writes
     <name>-transfer.csv, <name>-transfer.json and <name>-transfer.png.
     """
-    from rollerrig._validation import ParameterError
+    from rollerrig._validation import ParameterError, folder_not_file
     from rollerrig.analysis.measured_curve import curve_csv_columns
     from rollerrig.analysis.transfer import (
         ContactGeometry,
@@ -157,6 +157,11 @@ def transfer(
     )
     from rollerrig.report.transfer import write_transfer
 
+    folder = folder_not_file(
+        source, "a curve file", "an analysis' <name>-analysis.json or a creep-CoA CSV"
+    )
+    if folder is not None:  # had been "no such file"
+        raise ParameterError(folder)
     if not source.is_file():
         raise ParameterError(f"{source}: no such file")
     check_wheel_load_kn("--load-kn", load_kn)
