@@ -90,6 +90,26 @@ def close_matches(name: str, known, *, n: int = 3, cutoff: float = 0.6) -> list[
     return list(dict.fromkeys([*same, *rest]))[:n]
 
 
+def folder_not_file(path, what: str, give: str) -> str | None:
+    """The one-line error for a folder given where a file is expected, or None where ``path``
+    is not a folder: ``"<path> is a folder, not <what>; give <give>"``.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     folder_not_file(d, "a recording file", "one of the files in it")[len(d):]
+    ' is a folder, not a recording file; give one of the files in it'
+    >>> folder_not_file("no-such-path", "a rig file", "a rig TOML file") is None
+    True
+    """
+    import os
+
+    if not os.path.isdir(path):
+        return None
+    return f"{path} is a folder, not {what}; give {give}"
+
+
 def did_you_mean(name: str, known, *, n: int = 1, cutoff: float = 0.6, style: str = "()") -> str:
     """A did-you-mean hint for a misspelt ``name``: ``" (did you mean 'x'?)"`` or ``""``.
 

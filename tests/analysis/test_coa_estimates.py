@@ -78,3 +78,27 @@ def test_a_release_from_deep_slip_is_named():
     notes = []
     _note_release_creep(Rec(time=t), phases, notes)
     assert notes == []
+
+
+def test_a_phase_mean_coa_above_one_is_called_implausible_with_its_likely_causes():
+    # A recording analysed with the wrong rig had printed a hold's CoA of 2.37 without a word.
+    from types import SimpleNamespace
+
+    from rollerrig.analysis.coa_estimates import _implausible_coa
+
+    def row(name, cycle, rig_coa, corrected):
+        return {"name": name, "cycle": cycle, "start [s]": 5.0, "end [s]": 5.5,
+                "rig_coa_mean [-]": rig_coa, "corrected_coa_mean [-]": corrected}  # fmt: skip
+
+    rig = default_rig()
+    plausible = SimpleNamespace(phases=[row("hold", 0, 0.45, 0.46), row("rest", 0, -0.02, 0.0)])
+    assert _implausible_coa(plausible, rig) is None
+    assert _implausible_coa(None, rig) is None
+    phases = [row("hold", 0, 2.3724, 2.2888), row("hold", 1, 2.3721, 0.9)]
+    budget = SimpleNamespace(phases=[*phases, row("rest", 0, -1.2, None)])
+    text = _implausible_coa(budget, rig)
+    assert text.startswith("implausible CoA: the rig CoA's mean is 2.372 in phase hold 1")
+    assert "above 1.0 in 2 other phase(s)" in text  # a negative mean counts too
+    assert "wrong rig file" in text and "pardubice" in text
+    assert "wrong units or channel map" in text and "air-spring area" in text
+    assert "sensors.air_spring_effective_area = 0.05 m²" in text

@@ -285,3 +285,61 @@ def test_a_measured_curve_refuses_a_negative_or_infinite_uncertainty():
         MeasuredCurve(**kw, coa_uncertainty=np.full(3, 0.01))
     u[5] = np.nan
     assert MeasuredCurve(**kw, coa_uncertainty=u).coa_uncertainty is u
+
+
+def test_the_peak_the_factor_line_and_the_curve_written_agree():
+    # transfer of the demo's analysis printed "peak creepage ≥ 4.71 (still rising)", "peak CoA
+    # ≥ 0.455" and "factor at the roller's peak 1.000", while the CSV's coa_roller peaked at
+    # 0.4602 at 3.38 %: the law's fitted shape placed the peak, the curve written is the
+    # measured level.
+    import copy
+    import io
+
+    from rich.console import Console
+
+    from rollerrig.cli.transfer import _table
+
+    r = _run(_measured(smax=0.01))  # the law still rises at the largest creepage
+    for name, curve in (("roller", r.roller), ("track", r.track)):
+        p = r.peaks[name]
+        k = int(np.argmax(curve))  # the curve written (the CSV's column) and its largest
+        assert p["curve_maximum"]["creepage [-]"] == r.creepage[k]
+        assert p["curve_maximum"]["coa [-]"] == pytest.approx(curve[k])
+        if not p["inside_measured_range"]:
+            assert p["coa [-]"] >= curve[k]  # a bound: at least the curve's largest
+
+    # The demo's case: the law's shape places no peak, the measured level has its largest
+    # inside the range.
+    peaks = copy.deepcopy(r.peaks)
+    k = r.creepage.size // 2
+    largest = {"creepage [-]": float(r.creepage[k]), "coa [-]": 0.4602}
+    for name in ("roller", "track"):
+        peaks[name].update(
+            {"creepage [-]": float(r.creepage[-1]), "coa [-]": 0.4602,
+             "inside_measured_range": False, "located_by": "the law's fitted shape",
+             "curve_maximum": {**largest, "inside_measured_range": True}}
+        )  # fmt: skip
+    demo = dataclasses.replace(r, peaks=peaks)
+    at = f"{100 * r.creepage[k]:.2f} %"
+    assert demo.peak_creepage_text("roller").endswith("(law's shape still rising)")
+    assert demo.peak_coa_text("roller").startswith("≥ 0.460")
+    assert demo.curve_maximum_text("roller") == f"0.460 at {at}"
+    line = demo.factor_text()
+    assert "at the roller's peak" not in line and "no roller peak in the range" in line
+    assert f"at the roller curve's largest CoA (ξ {at}) {demo.factor_at(r.creepage[k]):.3f}" in line
+    factor = demo.summary()["transfer_factor"]
+    assert factor["at_roller_peak [-]"] is None
+    assert factor["at_roller_curve_maximum [-]"] == pytest.approx(demo.factor_at(r.creepage[k]))
+    out = io.StringIO()
+    Console(file=out, width=200).print(_table(demo))
+    text = " ".join(out.getvalue().split())
+    assert "curve's largest CoA at ξ" in text and f"0.460 at {at}" in text
+    assert "law's shape still rising" in text and line in text
+    # A peak the law's shape places inside the range is said to be the law's
+    for name in ("roller", "track"):
+        peaks[name].update({"creepage [-]": float(r.creepage[k + 5])})
+        peaks[name]["inside_measured_range"] = True
+    inside = dataclasses.replace(r, peaks=peaks)
+    assert inside.peak_creepage_text("roller").endswith(", law's shape")
+    assert "at the roller's peak (law's shape)" in inside.factor_text()
+    assert inside.curve_maximum_text("roller") == f"0.460 at {at}"  # the curve's own, elsewhere

@@ -550,3 +550,48 @@ def test_the_fit_table_gives_no_error_bar_where_a_and_b_are_not_identifiable():
         assert "not identifiable" in cell and "±" not in cell and "σ" not in cell
         assert fit.truth_distance(truth)[key]["sigma"] is None
     assert "±" in _fit_cell(fit, "static_friction", truth)
+
+
+def test_analyze_warns_of_another_rig_than_the_recordings_and_an_implausible_coa(
+    tmp_path, runner, adhesion_csv
+):
+    # `analyze seed-30kmh-dry.tdms --rig vt-fra-quarter-scale` had printed a hold's CoA of 2.37
+    # (rig) without a word. Now a warning names both rigs, and one names a CoA above 1.0.
+    from rollerrig.recordings.readers import read_recording
+    from rollerrig.recordings.recording import Recording
+    from rollerrig.recordings.writers import write_recording
+    from rollerrig.rig.parameters import default_rig
+
+    def with_rig(name, **kwargs):
+        csv = read_recording(adhesion_csv(tmp_path / f"{name}-plain.csv", **kwargs))
+        channels = {key: csv[key] for key in csv.channels}
+        own = Recording(csv.time, channels, csv.units, {"rig": default_rig().to_dict()})
+        return write_recording(own, tmp_path / f"{name}.csv")
+
+    rec = with_rig("own")
+    result = runner.invoke(app, ["analyze", str(rec), "--no-study", "--out", str(tmp_path / "o")])
+    assert result.exit_code == 0, result.output
+    assert "warning:" not in result.output, result.output  # its own rig: nothing to say
+
+    def five_times(t):  # the hold at 3000 N.m: a CoA of 1.5 on either rig
+        return 5 * np.interp(t, [0, 2, 5, 5.5, 5.52, 10], [0, 0, 600, 600, 0, 0])
+
+    rec = with_rig("test", torque=five_times)
+    out = tmp_path / "out"
+    args = ["analyze", str(rec), "--no-study", "--out", str(out)]
+    result = runner.invoke(app, [*args, "--rig", "vt-fra-quarter-scale"])
+    assert result.exit_code == 0, result.output
+    _no_traceback(result)
+    text = " ".join(result.output.split())
+    assert (
+        "warning: " + str(rec) + ": the recording states it was made on rig "
+        "'pardubice-tram-roller-rig'" in text
+    ), text
+    assert "the analysis uses rig 'vt-fra-quarter-scale-roller-rig'" in text
+    assert "geometry.roller_radius_x (0.452 there, 0.5715 here)" in text
+    assert "warning: " + str(rec) + ": implausible CoA: the" in text
+    assert "wrong rig file" in text and "air-spring area" in text
+    assert text.count("the recording states it was made on rig") == 1  # no note repeating it
+    notes = json.loads((out / "test-analysis.json").read_text())["notes"]
+    assert any(n.startswith("the recording states it was made on rig") for n in notes)
+    assert any(n.startswith("implausible CoA") for n in notes)

@@ -179,3 +179,18 @@ def test_an_optimum_on_the_grid_edge_says_what_the_user_can_do():
     assert "moving average" in text  # below order 2: what the ranking already scores
     text = _grid_edge_note(_grid(5, 201))
     assert "window 201 is the largest tried" in text and "moving average" not in text
+
+
+@pytest.mark.parametrize("command", ["analyze", "spectrum", "filters", "calibrate", "transfer"])
+def test_a_folder_given_for_a_recording_is_named_a_folder(tmp_path, runner, command):
+    # "somedir: unsupported file suffix ''; ... rename it" (analyze, spectrum, filters,
+    # calibrate) and "somedir: no such file" (transfer) of a folder that exists.
+    folder = tmp_path / "somedir"
+    folder.mkdir()
+    extra = ["--free", "inertia.roller"] if command == "calibrate" else []
+    result = runner.invoke(app, [command, str(folder), *extra, "--out", str(tmp_path / "o")])
+    assert result.exit_code == 2, result.output
+    what = "a curve file" if command == "transfer" else "a recording file"
+    assert f"{folder} is a folder, not {what}; give" in _text(result)
+    assert "suffix" not in result.output and "no such file" not in result.output
+    assert "Traceback" not in result.output

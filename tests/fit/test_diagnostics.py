@@ -159,3 +159,17 @@ def test_a_parameter_at_a_bound_has_no_distance_in_standard_errors():
     assert row["sigma"] is None and row["why"] == AT_BOUND_WHY and not row["beyond_warn_sigma"]
     # Off its bound a parameter keeps its distance.
     assert fit.truth_distance(flat)["static_friction"]["sigma"] is not None
+
+
+def test_how_far_past_the_peak_names_the_law_and_a_bound():
+    # analyze (Polach) said "creep only to 1.54 x the peak creep" and transfer (modified
+    # FASTSIM) "0.50 x the peak creep" of the same data: each is of its own fitted law's
+    # curve, and 0.50 was the end of the search grid (no peak up to twice the largest creep).
+    from rollerrig.fit.diagnostics import past_peak_words
+
+    assert past_peak_words(1.54, "Polach", False) == (
+        "creep only to 1.54 x the fitted Polach curve's peak creep"
+    )
+    text = past_peak_words(0.5, "modified-FASTSIM", True)
+    assert "0.50 x the fitted modified-FASTSIM curve's peak creep at most" in text
+    assert "still rises at twice the largest creep" in text

@@ -563,6 +563,10 @@ def test_missing_files_and_suffixes(tmp_path, raw):
         read_recording(tmp_path / "nope.csv", MAP)
     with pytest.raises(RecordingError, match=r"unsupported file suffix '.xlsx'"):
         read_recording(tmp_path / "run.xlsx")
+    # a folder had been "unsupported file suffix ''; ... rename it"
+    (tmp_path / "runs").mkdir()
+    with pytest.raises(RecordingError, match=r"runs is a folder, not a recording file; give"):
+        read_recording(tmp_path / "runs")
     with pytest.raises(RecordingError, match=r"unsupported format 'hdf'"):
         read_recording(f, format="hdf")
     with pytest.raises(RecordingError, match="validate must be"):

@@ -62,7 +62,9 @@ def test_an_unknown_name_offers_the_nearest():
 def test_a_folder_is_not_taken_for_a_rig_set_name(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "rigs").mkdir()
-    with pytest.raises(ParameterError, match="rig rigs is a folder; give a rig TOML file"):
+    with pytest.raises(
+        ParameterError, match="rig rigs is a folder, not a rig file; give a rig TOML file"
+    ):
         resolve_rig("rigs")
 
 

@@ -30,6 +30,7 @@ from rollerrig.analysis.coa_estimates import (
     SHAFT_KEYS,
     SHAFT_RELATIVE_ERROR,
     _coa_uncertainty,
+    _implausible_coa,
     _note_arm,
     _note_release_creep,
     _note_wheel_drive_voltage,
@@ -46,7 +47,7 @@ from rollerrig.analysis.polach_fits import (
     _with_systematic_errors,
 )
 from rollerrig.analysis.smoothed_channels import CORRECTION_WINDOW, _smoothed_and_corrected
-from rollerrig.analysis.truth import truth_mismatch
+from rollerrig.analysis.truth import rig_mismatch, truth_mismatch
 from rollerrig.estimation.uncertainty import calibration_covariance
 from rollerrig.measure.checks import (
     ANALYSED_CHANNELS,
@@ -194,6 +195,9 @@ def analyze_test(
     if rig is None:
         rig = default_rig()
         notes.append("no rig given: the bundled default rig's parameters were used")
+    # The rig the recording states it was made on (the keys a calibration replaces aside).
+    calibrated_keys = () if calibration is None else calibration_covariance(calibration)[0]
+    other_rig = rig_mismatch(recording.metadata, rig, ignore=calibrated_keys)
     if calibration is not None:
         rig = _calibrated_rig(rig, calibration, notes)
     cap = MAX_FIT_POINTS if max_fit_points is None else int(max_fit_points)
@@ -213,6 +217,9 @@ def analyze_test(
     if truth is not None and (other := truth_mismatch(recording.metadata, truth)) is not None:
         notes.append(other)
     source = recording.metadata.get("source") or "the recording"
+    if other_rig is not None:
+        notes.append(other_rig)
+        warnings.warn(f"{source}: {other_rig}", DomainWarning, stacklevel=2)
     require_uniform_time(recording.time, str(source), "the analysis")  # one check, file named
     try:  # the spectrum's and the filter study's check; here a warning: phases still come
         check_varies(recording["torque"], "channel 'torque'", "carries no measured CoA")
@@ -255,6 +262,9 @@ def analyze_test(
         rec, rig, phases, branches, (order, window), true_coa, calibration, notes
     )
     fit = _with_systematic_errors(fit, budget, points, notes)
+    if (implausible := _implausible_coa(budget, rig)) is not None:
+        notes.append(implausible)
+        warnings.warn(f"{source}: {implausible}", DomainWarning, stacklevel=2)
     _note_arm(budget, rig, notes)
     _note_wheel_drive_voltage(rec, rig, notes)
     _note_release_creep(rec, phases, notes)

@@ -150,6 +150,49 @@ def _online_coa(rec: Recording, rig, notes: list[str]) -> np.ndarray | None:
     return np.asarray(estimate_from_recording(rec, rig).coa, dtype=float)
 
 
+PLAUSIBLE_COA = 1.0
+"""Largest phase mean of the CoA [-] a steel wheel on a steel roller can have (dry rail gives
+about 0.5): above it in magnitude the inputs are suspect, not the contact."""
+
+
+def _implausible_coa(budget, rig) -> str | None:
+    """What to warn where a phase mean of the rig's or the corrected CoA exceeds
+    :data:`PLAUSIBLE_COA` in magnitude (the largest named), else None."""
+    worst = None
+    for row in [] if budget is None else budget.phases:
+        for key, label in (
+            ("corrected_coa_mean [-]", "corrected"),
+            ("rig_coa_mean [-]", "rig"),
+        ):
+            value = row.get(key)
+            if value is None or not math.isfinite(value) or abs(value) <= PLAUSIBLE_COA:
+                continue
+            if worst is None or abs(value) > abs(worst[0]):
+                worst = (float(value), label, row)
+    if worst is None:
+        return None
+    value, label, row = worst
+    cycle = row.get("cycle", -1)
+    phase = row["name"] if cycle is None or cycle < 0 else f"{row['name']} {cycle + 1}"
+    count = sum(
+        1
+        for r in budget.phases
+        if any(
+            r.get(k) is not None and math.isfinite(r[k]) and abs(r[k]) > PLAUSIBLE_COA
+            for k in ("corrected_coa_mean [-]", "rig_coa_mean [-]")
+        )
+    )
+    others = "" if count == 1 else f", and above {PLAUSIBLE_COA:.1f} in {count - 1} other phase(s)"
+    return (
+        f"implausible CoA: the {label} CoA's mean is {value:.4g} in phase {phase} "
+        f"({row['start [s]']:.2f}-{row['end [s]']:.2f} s){others}; steel on steel does not "
+        f"reach {PLAUSIBLE_COA:.1f} (dry rail about 0.5). Likely causes: the wrong rig file "
+        f"(in use: {rig.meta.name!r}), wrong units or channel map (torque in N.m, pressure in "
+        "Pa; --channels), or a wrong air-spring area (sensors.air_spring_effective_area = "
+        f"{rig.sensors.air_spring_effective_area:g} m²)"
+    )
+
+
 def _note_arm(budget, rig, notes: list[str]) -> None:
     """A note on the swinging arm's share of this test: the contact's load against the air
     spring's at the largest corrected CoA, and what dividing by S instead of N does there."""

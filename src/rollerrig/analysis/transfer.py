@@ -509,6 +509,16 @@ def transfer_curve(
             cd = np.take_along_axis(d, np.argmax(law_d, axis=1)[:, None], axis=1)[:, 0]
         x0, c0 = float(xi[k0]), float(curve[k0])
         interior = bool(k0 < xi.size - 1)
+        # The curve written (the CSV's, the figure's): where the law's shape places the peak,
+        # the measured level can still have its own largest value elsewhere.
+        km = int(np.argmax(curve))
+        maximum = {
+            "creepage [-]": float(xi[km]),
+            "coa [-]": float(curve[km]),
+            "inside_measured_range": bool(km < xi.size - 1),
+        }
+        if not interior:  # a bound: the peak CoA is at least the curve's largest
+            c0 = max(c0, maximum["coa [-]"])
         x95 = [float(np.percentile(xd, lo)), float(np.percentile(xd, hi))]
         c95 = [float(np.percentile(cd, lo)), float(np.percentile(cd, hi))]
         peaks[name] = {
@@ -518,6 +528,7 @@ def transfer_curve(
             "creepage_95 [-]": [min(x95[0], x0), max(x95[1], x0)],
             "coa_95 [-]": [min(c95[0], c0), max(c95[1], c0)],
             "inside_measured_range": interior,
+            "curve_maximum": maximum,
         }
         if construction != MODEL:
             peaks[name]["located_by"] = (
@@ -525,9 +536,18 @@ def transfer_curve(
                 "CoA is the measured level's there"
             )
         if not interior:
+            shape = "the law's fitted shape" if construction != MODEL else "the curve"
             peaks[name]["note"] = (
-                "the curve still rises at the largest measured creepage: the peak is not "
-                "inside the measured range"
+                f"{shape} still rises at the largest measured creepage: the peak is not "
+                "inside the measured range; creepage [-] is the largest creepage and coa [-] "
+                "the curve's largest CoA, both lower bounds"
+                + (
+                    f" (the curve written, the measured level, has its largest CoA, "
+                    f"{maximum['coa [-]']:.4g}, inside the range at xi = "
+                    f"{maximum['creepage [-]']:.4g}: curve_maximum)"
+                    if maximum["inside_measured_range"]
+                    else ""
+                )
             )
     peaks["creepage_ratio roller/track [-]"] = (
         peaks["roller"]["creepage [-]"] / peaks["track"]["creepage [-]"]

@@ -87,6 +87,60 @@ class TransferResult:
         """F_track/F_roller at Kalker creepage ``creepage`` [-] (linear interpolation)."""
         return float(np.interp(creepage, self.creepage, self.factor))
 
+    def _by_law(self, name: str) -> bool:
+        return "located_by" in self.peaks[name]
+
+    def peak_creepage_text(self, name: str) -> str:
+        """The peak creepage of side ``name`` ("roller", "track") for a table, in %: with its
+        95 % interval, "≥" the largest creepage where there is no peak in the range, and
+        "law's shape" where the law's fitted shape places it (not the curve written)."""
+        p = self.peaks[name]
+        x = 100 * p["creepage [-]"]
+        if not p.get("inside_measured_range", True):
+            return f"≥ {x:.2f} (" + ("law's shape " if self._by_law(name) else "") + "still rising)"
+        lo, hi = p["creepage_95 [-]"]
+        text = f"{x:.2f} ({100 * lo:.2f}-{100 * hi:.2f})"
+        return text + (", law's shape" if self._by_law(name) else "")
+
+    def peak_coa_text(self, name: str) -> str:
+        """The peak CoA of side ``name`` for a table, with its 95 % interval ("≥" where there is
+        no peak in the range: the curve's largest CoA)."""
+        p = self.peaks[name]
+        text = f"{p['coa [-]']:.3f} ({p['coa_95 [-]'][0]:.3f}-{p['coa_95 [-]'][1]:.3f})"
+        return text if p.get("inside_measured_range", True) else f"≥ {text}"
+
+    def curve_maximum_text(self, name: str) -> str | None:
+        """Where the curve written (the CSV's column) has its largest CoA inside the range, when
+        that is not the peak stated (the law's shape placed the peak elsewhere or found none):
+        "0.460 at 3.38 %"; None otherwise."""
+        p = self.peaks[name]
+        m = p.get("curve_maximum")
+        if m is None or not m["inside_measured_range"]:
+            return None
+        same = p.get("inside_measured_range", True) and m["creepage [-]"] == p["creepage [-]"]
+        return None if same else f"{m['coa [-]']:.3f} at {100 * m['creepage [-]']:.2f} %"
+
+    def factor_text(self) -> str:
+        """The transfer factor at small creepage, at the roller's peak (or, where there is none
+        in the range, at the roller curve's largest CoA) and at the largest creepage."""
+        lo, hi = self.elastic["ratio_track_over_roller"]["creep_stiffness_95"]
+        p = self.peaks["roller"]
+        text = f"factor F_rail/F_roller at small creepage {self.stiffness_ratio:.3f} "
+        text += f"(95 %: {lo:.3f}-{hi:.3f}), "
+        if p.get("inside_measured_range", True):
+            shape = " (law's shape)" if self._by_law("roller") else ""
+            text += f"at the roller's peak{shape} {self.factor_at(p['creepage [-]']):.3f}, "
+        else:
+            text += "no roller peak in the range"
+            m = p.get("curve_maximum")
+            if m is not None and m["inside_measured_range"]:
+                text += (
+                    f", at the roller curve's largest CoA (ξ {100 * m['creepage [-]']:.2f} %) "
+                    f"{self.factor_at(m['creepage [-]']):.3f}"
+                )
+            text += ", "
+        return text + f"at the largest creepage {self.factor[-1]:.3f}"
+
     def columns(self) -> dict:
         """The curves as columns for :func:`rollerrig.output.write_table` (name -> values,
         unit, long name)."""
@@ -141,7 +195,12 @@ class TransferResult:
             "transfer_factor": {
                 "small_creepage (= creep stiffness ratio) [-]": self.stiffness_ratio,
                 "at_creepage [-]": {f"{x:g}": self.factor_at(x) for x in probes},
-                "at_roller_peak [-]": self.factor_at(self.peaks["roller"]["creepage [-]"]),
+                "at_roller_peak [-]": self.factor_at(self.peaks["roller"]["creepage [-]"])
+                if self.peaks["roller"].get("inside_measured_range", True)
+                else None,
+                "at_roller_curve_maximum [-]": self.factor_at(
+                    self.peaks["roller"].get("curve_maximum", self.peaks["roller"])["creepage [-]"]
+                ),
                 "largest_creepage [-]": float(xi[-1]),
                 "factor_at_largest_creepage [-]": float(self.factor[-1]),
             },

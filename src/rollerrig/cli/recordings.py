@@ -12,6 +12,7 @@ from rich.table import Table
 from rich.text import Text
 
 from rollerrig._validation import ParameterError
+from rollerrig.cli._boundary import warnings_printed
 from rollerrig.cli._console import (
     QuietOption,
     console,
@@ -332,8 +333,10 @@ def print_analysis(result) -> None:
             for text in result.study.unscored_notes():
                 note(f"filter study: {text}")
     print_recording_notes(result.recording)
+    warned = warnings_printed()  # a note the analysis also warned of is printed once
     for text in result.notes:
-        if not text.startswith(tuple(shown)):
+        flat = " ".join(text.split())
+        if not text.startswith(tuple(shown)) and not any(flat in w for w in warned):
             note(text)
 
 

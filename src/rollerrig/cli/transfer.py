@@ -146,7 +146,7 @@ def transfer(
     speed, Kayaalp eq. 4.21); the laws use Kalker's xi = 2s/(2+s). Writes
     <name>-transfer.csv, <name>-transfer.json and <name>-transfer.png.
     """
-    from rollerrig._validation import ParameterError
+    from rollerrig._validation import ParameterError, folder_not_file
     from rollerrig.analysis.measured_curve import curve_csv_columns
     from rollerrig.analysis.transfer import (
         ContactGeometry,
@@ -157,6 +157,11 @@ def transfer(
     )
     from rollerrig.report.transfer import write_transfer
 
+    folder = folder_not_file(
+        source, "a curve file", "an analysis' <name>-analysis.json or a creep-CoA CSV"
+    )
+    if folder is not None:  # had been "no such file"
+        raise ParameterError(folder)
     if not source.is_file():
         raise ParameterError(f"{source}: no such file")
     check_wheel_load_kn("--load-kn", load_kn)
@@ -305,7 +310,7 @@ def _condition_source(
 
 def _table(result) -> Table:
     e = result.elastic
-    r, t, ratio = e["roller"], e["track"], e["ratio_track_over_roller"]
+    r, t = e["roller"], e["track"]
     table = Table(
         title=Text(
             f"Roller to rail ({result.law}): N = {result.normal_load / 1e3:.3g} kN, "
@@ -324,37 +329,25 @@ def _table(result) -> Table:
     row("Kalker C11", "-", "C11 [-]", 1, ".3f")
     row("creep stiffness G·a·b·C11", "MN", "creep_stiffness G a b C11 [N]", 1e-6, ".3f")
     pr, pt = result.peaks["roller"], result.peaks["track"]
-    lo, hi = ratio["creep_stiffness_95"]
-
-    def creepage(p):  # a peak at the end of the measured range is a bound, not a peak
-        if not p.get("inside_measured_range", True):
-            return f"≥ {100 * p['creepage [-]']:.2f} (still rising)"
-        lo95, hi95 = p["creepage_95 [-]"]
-        return f"{100 * p['creepage [-]']:.2f} ({100 * lo95:.2f}-{100 * hi95:.2f})"
-
-    def coa(p):
-        text = f"{p['coa [-]']:.3f} ({p['coa_95 [-]'][0]:.3f}-{p['coa_95 [-]'][1]:.3f})"
-        return text if p.get("inside_measured_range", True) else f"≥ {text}"
-
     inside = pr.get("inside_measured_range", True) and pt.get("inside_measured_range", True)
     table.add_row(
         Text("peak creepage ξ (95 %)"),
         Text("%"),
-        creepage(pr),
-        creepage(pt),
+        result.peak_creepage_text("roller"),
+        result.peak_creepage_text("track"),
         f"{pt['creepage [-]'] / pr['creepage [-]']:.3f}" if inside else "-",
     )
     table.add_row(
         Text("peak CoA (95 %)"),
         Text("-"),
-        coa(pr),
-        coa(pt),
+        result.peak_coa_text("roller"),
+        result.peak_coa_text("track"),
         f"{pt['coa [-]'] / pr['coa [-]']:.3f}" if inside else "-",
     )
-    table.caption = (
-        f"factor F_rail/F_roller at small creepage {result.stiffness_ratio:.3f} "
-        f"(95 %: {lo:.3f}-{hi:.3f}), at the roller's peak "
-        f"{result.factor_at(pr['creepage [-]']):.3f}, at the largest creepage "
-        f"{result.factor[-1]:.3f}"
-    )
+    maxima = [result.curve_maximum_text(name) for name in ("roller", "track")]
+    if any(m is not None for m in maxima):
+        table.add_row(
+            Text("curve's largest CoA at ξ"), Text("-, %"), *(m or "-" for m in maxima), "-"
+        )
+    table.caption = result.factor_text()
     return table

@@ -49,6 +49,7 @@ __all__ = [
     "SlipVelocityCoverage",
     "distance_row",
     "fit_residual_structure",
+    "past_peak_words",
     "residual_structure",
     "slip_velocity_coverage",
     "truth_distance",
@@ -324,6 +325,24 @@ class SlipVelocityCoverage:
         )
 
 
+def past_peak_words(past_peak: float, law: str, no_peak: bool) -> str:
+    """How far creep goes past the peak of the fitted ``law``'s own curve, in words: the ratio
+    of the largest creep to that curve's peak creep, or its bound where the curve has no peak
+    up to twice the largest creep.
+
+    Examples
+    --------
+    >>> past_peak_words(1.54, "Polach", False)
+    "creep only to 1.54 x the fitted Polach curve's peak creep"
+    >>> past_peak_words(0.5, "modified-FASTSIM", True)
+    "creep only to 0.50 x the fitted modified-FASTSIM curve's peak creep at most (that curve still rises at twice the largest creep)"
+    """  # noqa: E501
+    text = f"creep only to {past_peak:.2f} x the fitted {law} curve's peak creep"
+    if no_peak:
+        text += " at most (that curve still rises at twice the largest creep)"
+    return text
+
+
 def _percent(fraction: float) -> str:
     value = 100.0 * fraction
     return f"{0.0 if abs(value) < 0.05 else value:.1f}"
@@ -381,8 +400,13 @@ def slip_velocity_coverage(
     s_max = float(np.max(np.abs(s)))
     grid = np.linspace(s_max / 2000, 2 * s_max, 4000)
     curve = polach_coa(grid, grid * v_med, float(np.median(q)), float(np.median(k)), p)
-    peak_creep = float(grid[int(np.argmax(curve))])
+    at = int(np.argmax(curve))
+    peak_creep = float(grid[at])
     past_peak = s_max / peak_creep
+    # "x the peak creep" is of the fitted law's own curve: another law fitted to the same points
+    # (a transfer's modified FASTSIM) places its peak elsewhere. At the grid's end the curve has
+    # no peak within it: the ratio is a bound.
+    reach = past_peak_words(past_peak, "Polach", at == grid.size - 1)
     reasons = []
     if n_sat < _MIN_SATURATED_POINTS:
         reasons.append(
@@ -399,7 +423,7 @@ def slip_velocity_coverage(
     if speed_ratio < _MIN_SPEED_RATIO and past_peak < _MIN_PAST_PEAK:
         reasons.append(
             f"one rolling speed ({v_med:.3g} m/s; 90/10 percentile ratio {speed_ratio:.2f}, "
-            f"{_MIN_SPEED_RATIO:g} needed) and creep only to {past_peak:.2f} x the peak creep "
+            f"{_MIN_SPEED_RATIO:g} needed) and {reach} "
             f"({_MIN_PAST_PEAK:g} needed): with w = v s, the fall of mu(w) trades with the "
             "curve's shape (kA, kS); test at several speeds or far past the peak"
         )

@@ -45,8 +45,10 @@ def _coverage(s, w, q, y, theta, model, best_cost, cost_with, ab_problems, n_ref
     s_max = float(np.max(np.abs(s)))
     grid_s = np.linspace(s_max / 400, 2 * s_max, 400)
     curve = coa_kernel(grid_s, grid_s * v_med, n_ref, a, b, g, nu, theta, grid)
-    peak = float(grid_s[int(np.argmax(curve))])
+    at = int(np.argmax(curve))
+    peak = float(grid_s[at])
     past_peak = s_max / peak
+    reach = _diag.past_peak_words(past_peak, "modified-FASTSIM", at == grid_s.size - 1)
     # Past the peak: the fitted CoA falls with creep at the point's own rolling speed.
     xi_eq = s * np.cbrt(n_ref / q)
     hh = 1e-3
@@ -68,8 +70,8 @@ def _coverage(s, w, q, y, theta, model, best_cost, cost_with, ab_problems, n_ref
     if speed_ratio < _diag._MIN_SPEED_RATIO and past_peak < _diag._MIN_PAST_PEAK:
         reasons.append(
             f"one rolling speed ({v_med:.3g} m/s; 90/10 percentile ratio {speed_ratio:.2f}, "
-            f"{_diag._MIN_SPEED_RATIO:g} needed) and creep only to {past_peak:.2f} x the peak "
-            f"creep ({_diag._MIN_PAST_PEAK:g} needed): with w = v s the fall of mu(w) trades "
+            f"{_diag._MIN_SPEED_RATIO:g} needed) and {reach} "
+            f"({_diag._MIN_PAST_PEAK:g} needed): with w = v s the fall of mu(w) trades "
             "with the curve's shape (k0, alpha_inf, beta)"
         )
     rise = {}

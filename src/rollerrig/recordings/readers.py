@@ -31,6 +31,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from rollerrig._validation import folder_not_file
 from rollerrig.output.provenance import file_sha256
 from rollerrig.recordings.channels import ChannelMap, default_channel_map, load_channel_map
 from rollerrig.recordings.formats import Table, open_table
@@ -215,6 +216,15 @@ def resolve_inputs(
         An unsupported format; a channel map that cannot be loaded.
     """
     p = Path(path)
+    folder = folder_not_file(
+        p,
+        "a recording file",
+        "one of the recording files in it ("
+        + ", ".join(s for suffixes in FORMATS.values() for s in suffixes)
+        + ")",
+    )
+    if folder is not None:  # had been "unsupported file suffix ''"
+        raise RecordingError(folder)
     head = _file_head(p)
     _refuse_vendor_file(p, head)
     fmt = _format_by_content(p, head) if format is None else None

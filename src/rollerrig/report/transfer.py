@@ -67,7 +67,11 @@ def transfer_figure(result: TransferResult):
     )
     for name, colour in (("roller", "tab:blue"), ("track", "tab:red")):
         pk = result.peaks[name]
-        ax.plot(100 * pk["creepage [-]"], pk["coa [-]"], "o", color=colour, ms=4)
+        if pk.get("inside_measured_range", True):
+            ax.plot(100 * pk["creepage [-]"], pk["coa [-]"], "o", color=colour, ms=4)
+        else:  # no peak in the range: the curve's largest CoA, an open marker
+            m = pk.get("curve_maximum", pk)
+            ax.plot(100 * m["creepage [-]"], m["coa [-]"], "o", mfc="none", color=colour, ms=5)
     ax.set_xlabel("creepage ξ (Kalker: referred to the mean rolling speed) [%]")
     ax.set_ylabel("CoA F/N [-]")
     ax.set_title(
@@ -174,21 +178,29 @@ def transfer_section(rep, result: TransferResult) -> None:
         "speed (Kalker), converted from the rig's creep (Kayaalp eq. 4.21)."
     )
     lo, hi = result.elastic["ratio_track_over_roller"]["creep_stiffness_95"]
+    inside = pr.get("inside_measured_range", True) and pt.get("inside_measured_range", True)
+    largest = [result.curve_maximum_text(name) for name in ("roller", "track")]
+    maxima = (
+        [["curve's largest CoA at ξ", *(m or "–" for m in largest), "–"]]
+        if any(m is not None for m in largest)
+        else []
+    )
     rep.table(
         ["quantity", "roller", "rail", "rail / roller"],
         [
             [
                 "peak CoA (95 %)",
-                f"{pr['coa [-]']:.3f} ({pr['coa_95 [-]'][0]:.3f}–{pr['coa_95 [-]'][1]:.3f})",
-                f"{pt['coa [-]']:.3f} ({pt['coa_95 [-]'][0]:.3f}–{pt['coa_95 [-]'][1]:.3f})",
-                f"{pt['coa [-]'] / pr['coa [-]']:.3f}",
+                result.peak_coa_text("roller"),
+                result.peak_coa_text("track"),
+                f"{pt['coa [-]'] / pr['coa [-]']:.3f}" if inside else "–",
             ],
             [
-                "peak creepage ξ [%]",
-                f"{100 * pr['creepage [-]']:.2f}",
-                f"{100 * pt['creepage [-]']:.2f}",
-                f"{pt['creepage [-]'] / pr['creepage [-]']:.3f}",
+                "peak creepage ξ [%] (95 %)",
+                result.peak_creepage_text("roller"),
+                result.peak_creepage_text("track"),
+                f"{pt['creepage [-]'] / pr['creepage [-]']:.3f}" if inside else "–",
             ],
+            *maxima,
             [
                 "creep stiffness G·a·b·C11 (95 %)",
                 "",
@@ -197,6 +209,7 @@ def transfer_section(rep, result: TransferResult) -> None:
             ],
         ],
     )
+    rep.paragraph(result.factor_text(), note=True)
     for line in result.assumptions:
         rep.paragraph(line, note=True)
     fig = transfer_figure(result)

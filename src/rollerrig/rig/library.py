@@ -44,7 +44,7 @@ from importlib import metadata, resources
 from pathlib import Path
 
 from rollerrig._toml import read_toml
-from rollerrig._validation import ParameterError, did_you_mean
+from rollerrig._validation import ParameterError, did_you_mean, folder_not_file
 
 __all__ = [
     "BUNDLED_ALIASES",
@@ -204,11 +204,11 @@ def resolve_rig(value: str | os.PathLike) -> Path:
     if path.is_file():
         return path
     name = str(value)
-    if path.is_dir():  # it was reported as "no rig set named ..."
-        raise ParameterError(
-            f"rig {name} is a folder; give a rig TOML file or the name of a rig set "
-            "(rollerrig rig list)"
-        )
+    folder = folder_not_file(  # it was reported as "no rig set named ..."
+        path, "a rig file", "a rig TOML file or the name of a rig set (rollerrig rig list)"
+    )
+    if folder is not None:
+        raise ParameterError(f"rig {folder}")
     looks_like_path = os.sep in name or "/" in name or name.endswith(".toml")
     if looks_like_path:
         sets = [n for n, s in rig_sets().items() if not s.problem]
