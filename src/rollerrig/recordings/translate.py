@@ -35,6 +35,7 @@ from rollerrig.recordings.channels import (
     ChannelSpec,
     FileSpec,
     normalize_unit,
+    time_named,
     time_unit,
 )
 from rollerrig.recordings.formats import Table
@@ -488,30 +489,12 @@ def auto_entries(table: Table, cmap: ChannelMap, path: Path) -> list[ChannelSpec
     return specs
 
 
-_TIME_NAMES = frozenset(
-    {"time", "zeit", "t", "x_value", "timestamp", "timestamps", "time_s", "time_ms", "datetime"}
-)
-"""Column names (lower case, unit stripped) taken as a time column when checking a stated rate."""
-
-_TIME_WORDS = frozenset(
-    {"time", "zeit", "temps", "tiempo", "tempo", "timestamp", "zeitstempel", "horodatage"}
-)
-"""Words that make a longer column name a time's: catman's ``Zeit  1 - Standardmessrate``,
-``Relative Time``, ``Temps relatif``."""
-
-
-def _time_named(base: str) -> bool:
-    """Whether a column's name (lower case, unit stripped) is a time column's:
-    :data:`_TIME_NAMES`, or a name holding one of :data:`_TIME_WORDS` as a word."""
-    return base in _TIME_NAMES or not _TIME_WORDS.isdisjoint(re.split(r"[\W_\d]+", base))
-
-
 def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict, path, line_of):
     """Raise when the map's ``[time] sample_rate_Hz`` contradicts the file's own rate.
 
     The file's rate is that of each channel's own time base (TDMS ``wf_increment``, MDF master,
     LVM X column) and of a column named like a time (``Time``, ``Zeit``, ``t``, ``X_Value``,
-    ``Zeit  1 - Standardmessrate``: :func:`_time_named`;
+    ``Zeit  1 - Standardmessrate``: :func:`~rollerrig.recordings.channels.time_named`;
     numbers in its stated unit, else seconds or milliseconds, or timestamps). A difference of
     more than :data:`~rollerrig.recordings.channels.RATE_TOLERANCE` is an error naming both rates.
     """
@@ -543,7 +526,7 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
     used = set(info["columns"].values())
     for name in table.names:
         base = str(table.base.get(name, name)).strip().lower()
-        if name in used or not _time_named(base):
+        if name in used or not time_named(base):
             continue
         try:
             col = table.load(name)
@@ -579,17 +562,68 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
 
 def _time_column_hint(table: Table) -> str:
     """``; columns that may hold it: [...] ([time] column = "...")``: the file's columns named
-    as a time (:func:`_time_named`), or a pandas index stored in Parquet
-    (``__index_level_0__``); "" where none."""
+    as a time (:func:`~rollerrig.recordings.channels.time_named`), or a pandas index stored in
+    Parquet (``__index_level_0__``); "" where none."""
     found = [
         n
         for n in table.names
-        if _time_named(base := str(table.base.get(n, n)).strip().lower())
+        if time_named(base := str(table.base.get(n, n)).strip().lower())
         or base == "__index_level_0__"
     ]
     if not found:
         return ""
     return f"; columns that may hold it: {found[:5]} (set [time] column = {str(found[0])!r})"
+
+
+def foreign_time(table: Table, column: str, time_column: str | None, where: str) -> str | None:
+    """The column the file names as ``column``'s own time base where that is not the map's time
+    column ``time_column`` nor in its group (:attr:`Table.time_of`: a TDMS group's ``Time``
+    channel, DIAdem style; a ControlDesk raster ``X(k)``); None otherwise (the channel is
+    sampled with the time column, index by index).
+
+    Raises
+    ------
+    RecordingError
+        The channel's group holds several time channels: which one times it is not known.
+    """
+    times = table.time_of.get(column, ())
+    if time_column is None or not times or time_column in times:
+        return None
+    if any(column in names and time_column in names for names in table.groups.values()):
+        return None  # in the time column's group: sampled with it
+    if len(times) > 1:
+        raise RecordingError(
+            f"{where} column {column!r} is in a group with several time channels {list(times)} "
+            f"and not in the group of the [time] column {time_column!r}: which time it was "
+            "sampled at is not known; map as [time] column the time channel of its group and "
+            "read the other group's channels separately"
+        )
+    return times[0]
+
+
+def _own_time(
+    table: Table, column: str, time_col: str, values, unit: str, cmap, what: str, notes, line_of
+) -> np.ndarray:
+    """Seconds of the time channel ``time_col`` that times ``column`` (:func:`foreign_time`):
+    in its own unit where it states a time unit, else in the [time] column's ``unit``."""
+    col = table.load(time_col)
+    own_unit = (time_unit(col.unit) if col.unit else None) or unit
+    secs = time_seconds(
+        col.values,
+        own_unit,
+        f"{what}: its time channel {time_col!r}",
+        notes,
+        file=cmap.file,
+        line_of=line_of,
+        decimal=text_decimal(table, cmap),
+    )
+    if secs.size != np.asarray(values).size:
+        raise RecordingError(
+            f"{what} has {np.asarray(values).size} samples but its group's time channel "
+            f"{time_col!r} has {secs.size}; the file is damaged or the channel is timed "
+            "otherwise: map it with a [time] column of its own length (read it separately)"
+        )
+    return np.asarray(secs, dtype=float)
 
 
 def apply_map(
@@ -662,6 +696,8 @@ def apply_map(
     specs = auto_entries(table, cmap, path) if cmap.auto else list(cmap.entries)
     loaded: list[tuple[ChannelSpec, np.ndarray, str, np.ndarray | None]] = []
     marks: dict = {}  # the decimal mark one column's cells decided, for the others (as_float)
+    exact: set[str] = set()  # channels timed by their group's time channel (foreign_time)
+    clocks: dict[str, list[str]] = {}  # that time channel -> those channels
     for spec in specs:
         skip = None
         if cmap.auto:
@@ -728,6 +764,25 @@ def apply_map(
         with np.errstate(over="ignore", invalid="ignore"):
             values = (spec.scale * raw + spec.offset) * factor
         own = None if col.time is None else np.asarray(col.time, dtype=float)
+        clock = (
+            None
+            if own is not None or time is None
+            else foreign_time(table, name, info["columns"]["time"], where)
+        )
+        if clock is not None:  # timed by its group's time channel, not the time column
+            own = _own_time(
+                table,
+                name,
+                clock,
+                values,
+                info["source_units"]["time"],
+                cmap,
+                what,
+                notes,
+                line_of,
+            )
+            exact.add(spec.name)
+            clocks.setdefault(clock, []).append(spec.name)
         loaded.append((spec, values, si, own))
         info["columns"][spec.name] = name
         info["source_units"][spec.name] = unit
@@ -767,11 +822,18 @@ def apply_map(
     else:
         own_times = [own for _, _, _, own in loaded]
 
+    for clock, names in clocks.items():
+        notes.append(
+            f"channels {names} read on {clock!r}, the time channel of their own group (TDMS) "
+            f"or raster (ControlDesk X(k)), not on the [time] column "
+            f"{info['columns']['time']!r} of another group"
+        )
     time, channels, units = align_channels(
         time,
         loaded,
         own_times,
         own_time_exact=table.own_time_exact,
+        exact_channels=exact,
         info=info,
         notes=notes,
         where=where,
