@@ -522,3 +522,51 @@ def test_the_chunked_reader_names_the_row_in_the_file_not_in_the_chunk(tmp_path)
         with open_recording(p, cmap) as src:
             for _ in src.iter_chunks(["torque"], chunk_samples=7000):
                 pass
+
+
+# ------------------------------------------- elapsed hours:minutes:seconds; samples below a footer
+
+
+def _hms(s):
+    return f"{int(s // 3600):02d}:{int(s % 3600 // 60):02d}:{s % 60:06.3f}"
+
+
+@pytest.mark.parametrize("start_h", [99, 999, 0])
+def test_elapsed_hours_of_any_digits_are_times(tmp_path, start_h):
+    """An endurance run's elapsed time passing 100 hours ('99:59:59.500' then
+    '100:00:00.000'): from there the cells were no times, and the rest of the file was
+    dropped as a footer (60 rows, 20 kept, only a note)."""
+    start = start_h * 3600 + 59 * 60 + 50
+    rows = "".join(f"{_hms(start + k * 0.5)},{k}\n" for k in range(60))
+    p, sha = _write(tmp_path, "elapsed.csv", "Time,Torque [N.m]\n" + rows)
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
+    rec = read_recording(p, cmap)
+    assert file_sha256(p) == sha
+    np.testing.assert_allclose(rec.time, np.arange(60) * 0.5, atol=1e-9)
+    np.testing.assert_array_equal(rec["torque"], np.arange(60.0))
+    assert not any("footer" in note for note in rec.metadata["notes"])
+    with open_recording(p, cmap) as src:
+        chunks = list(src.iter_chunks(["torque"], chunk_samples=7))
+    np.testing.assert_allclose(np.concatenate([c.time for c in chunks]), rec.time, atol=1e-9)
+
+
+def test_lines_laid_out_as_samples_below_the_samples_are_no_silent_footer(tmp_path):
+    """.NET's TimeSpan writes an elapsed time past a day as '1.00:00:00.0000000' (days before
+    the hours): a form this reader does not know. The lines from there on were dropped as a
+    footer with only a note; now an error names the first of them. A footer of words below
+    them is still a footer."""
+
+    def timespan(s):
+        days, rest = divmod(s, 86400)
+        hms = f"{int(rest // 3600):02d}:{int(rest % 3600 // 60):02d}:{rest % 60:010.7f}"
+        return (f"{int(days)}." if days else "") + hms
+
+    rows = "".join(f"{timespan(86400 - 20 + k * 0.5)},{k}\n" for k in range(60))
+    p, sha = _write(tmp_path, "timespan.csv", "Time,Torque [N.m]\n" + rows + "Mean,29.5\n")
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
+    match = r"line 42 \('1\.00:00:00\.0000000,40'\) below the samples is laid out as one.*20 line"
+    with pytest.raises(RecordingError, match=match):
+        read_recording(p, cmap)
+    with pytest.raises(RecordingError, match=match):
+        open_recording(p, cmap)
+    assert file_sha256(p) == sha
