@@ -437,6 +437,93 @@ def _durations(arr, what: str, notes: list, line_of, decimal: str | None) -> np.
     return out
 
 
+_EPOCH_SPAN_S = (631_152_000.0, 4_102_444_800.0)
+"""Unix times [s] of 1990-01-01 and 2100-01-01 UTC: a time column's first value read in a unit
+is a plausible absolute time (an epoch count) between them."""
+
+_EPOCH_UNITS = ("s", "ms", "us", "ns")
+"""Units of epoch counts, about 1.7e9, 1.7e12, 1.7e15 and 1.7e18 in 2024 (keys of TIME_UNITS)."""
+
+
+def _head_numbers(values, decimal: str | None, n: int = 1001) -> tuple[str, np.ndarray] | None:
+    """``(first as written, [first, offsets of the first n values from it...])`` of a numeric
+    time column, as floats (the offsets of integers exact); None where they are no numbers."""
+    arr = np.asarray(values).ravel()[:n]
+    if arr.dtype.kind in "iu" and arr.size:
+        first = int(arr[0])
+        steps = (arr.astype(object) - first).astype(float)  # exact differences, any magnitude
+        return str(first), np.concatenate([[float(first)], steps])
+    if arr.dtype.kind == "f":
+        ok = arr[np.isfinite(arr)]
+        return (repr(float(ok[0])), np.concatenate([[ok[0]], ok - ok[0]])) if ok.size else None
+    if arr.dtype.kind in "OUS":
+        cells = [str(v).strip() for v in arr if str(v).strip()]
+        pairs = [(c, parse_number(c, decimal or ".")) for c in cells]
+        pairs = [(c, x) for c, x in pairs if x is not None and np.isfinite(x)]
+        if not pairs:
+            return None
+        nums = np.array([x for _, x in pairs])
+        return pairs[0][0], np.concatenate([[nums[0]], nums - nums[0]])
+    return None
+
+
+def _epoch_unit(
+    values, unit: str, assumed: bool, what: str, notes: list, decimal: str | None
+) -> str | None:
+    """The unit a numeric time column is read in where its values are an epoch count that only
+    another unit makes a plausible date (:data:`_EPOCH_SPAN_S`): microseconds since 1970,
+    1.7e15, had been read as seconds with a warning that advised milliseconds, and read so
+    gave 1 Hz without a word. None: ``unit`` stands.
+
+    Where the unit was ``assumed`` (none in the file or the map) the column is read in the
+    unit that makes it a date, with a note. Where it was stated, a rate that the stated unit
+    makes implausible for a rig (below :data:`~rollerrig.recordings.validate
+    .MIN_PLAUSIBLE_RATE_HZ` or above :data:`~rollerrig.recordings.validate.MAX_SAMPLE_RATE_HZ`)
+    and that the epoch's unit makes plausible is an error naming that unit (a stated unit and a
+    plausible rate stand: a monotonic count in ns since boot is no epoch).
+    """
+    from rollerrig.recordings.validate import MAX_SAMPLE_RATE_HZ, MIN_PLAUSIBLE_RATE_HZ
+
+    found_head = _head_numbers(values, decimal)
+    if found_head is None:
+        return None
+    shown, head = found_head
+    if not np.isfinite(head[0]) or abs(head[0]) < _EPOCH_SPAN_S[0]:
+        return None  # an elapsed time (small numbers) is no epoch
+    first = float(head[0])
+    lo, hi = _EPOCH_SPAN_S
+    fits = [u for u in _EPOCH_UNITS if lo <= first * TIME_UNITS[u] <= hi]
+    if len(fits) != 1 or unit in fits:
+        return None
+    found = fits[0]
+    date = np.datetime64(round(first * TIME_UNITS[found] * 1e3), "ms")
+    steps = np.diff(head[1:])
+    steps = steps[np.isfinite(steps) & (steps > 0)]
+    step = float(np.median(steps)) if steps.size else float("nan")
+
+    def rate(u: str) -> float:
+        return 1.0 / (step * TIME_UNITS[u]) if step > 0 else float("nan")
+
+    def plausible(u: str) -> bool:
+        return MIN_PLAUSIBLE_RATE_HZ <= rate(u) <= MAX_SAMPLE_RATE_HZ
+
+    if assumed:
+        notes.append(
+            f"{what.split(': ', 1)[-1]} has no unit; its first value {shown} is a date only "
+            f"in {found!r} ({date} UTC since 1970; {rate(found):.6g} Hz), so it was read in "
+            f'{found!r}; declare it with unit = "{found}" in the channel map\'s [time] section'
+        )
+        return found
+    if np.isfinite(rate(unit)) and not plausible(unit) and plausible(found):
+        raise RecordingError(
+            f"{what} read in {unit!r} gives {rate(unit):.4g} Hz, and its first value {shown} "
+            f"{unit} is no date; in {found!r} it is {date} UTC (since 1970) at "
+            f'{rate(found):.6g} Hz: give unit = "{found}" in the channel map\'s [time] '
+            "section (and in the file's header, if it states one)"
+        )
+    return None
+
+
 _EPOCH_COUNT = 1 << 32
 """An integer time column from this magnitude on counts from an epoch, not from the start: it
 is made relative to its first value before it becomes a float (:func:`time_seconds`)."""
@@ -677,9 +764,16 @@ def apply_map(
                     )
                 unit = file_unit
                 notes.append(f"time unit {col.unit!r} taken from the file (the map gives none)")
+            assumed = file_unit is None and (cmap.auto or not tspec.unit_stated)
+            epoch = None
+            if _numeric_time(col.values, cmap.file):
+                epoch = _epoch_unit(
+                    col.values, unit, assumed, f"{where} time column {col_name!r}", notes,
+                    text_decimal(table, cmap),
+                )  # fmt: skip
             time = time_seconds(
                 col.values,
-                unit,
+                epoch or unit,
                 f"{where} time column {col_name!r}",
                 notes,
                 file=cmap.file,
@@ -687,8 +781,8 @@ def apply_map(
                 decimal=text_decimal(table, cmap),
             )
             info["columns"]["time"] = col_name
-            info["source_units"]["time"] = unit
-            if file_unit is None and (cmap.auto or not tspec.unit_stated):
+            info["source_units"]["time"] = epoch or unit
+            if assumed and epoch is None:
                 if np.asarray(col.values).dtype.kind in "biuf":  # numbers read in seconds
                     info["time_unit_assumed"] = unit  # popped by the readers: check_time_unit
 
