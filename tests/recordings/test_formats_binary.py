@@ -691,3 +691,101 @@ def test_parquet_timestamps_with_a_time_zone_are_utc_instants(tmp_path):
         "torque": {"column": "torque"}}})  # fmt: skip
     np.testing.assert_allclose(rec.time, np.arange(4000) * 1e-3, rtol=0, atol=1e-12)
     assert rec.time.dtype == float
+
+
+def diadem_groups(path, *, n_fast=1000, n_slow=1000, slow_times=("Time",)):
+    """A DIAdem / LabVIEW TDMS file whose groups each hold their own time channel (no
+    waveform timing): "Fast" (Time, Torque at 1 kHz) and "Slow" (Time, Pressure at 100 Hz,
+    3 bar + 1 bar/s)."""
+    from nptdms import ChannelObject, TdmsWriter
+
+    objects = [
+        ChannelObject("Fast", "Time", np.arange(n_fast) / 1000.0, properties={"unit_string": "s"}),
+        ChannelObject("Fast", "Torque", np.full(n_fast, 100.0), properties={"unit_string": "N·m"}),
+    ]
+    for name in slow_times:
+        t = np.arange(n_slow) / 100.0
+        objects.append(ChannelObject("Slow", name, t, properties={"unit_string": "s"}))
+    pressure = 3.0 + np.arange(n_slow) / 100.0
+    objects.append(ChannelObject("Slow", "Pressure", pressure, properties={"unit_string": "bar"}))
+    with TdmsWriter(str(path)) as w:
+        w.write_segment(objects)
+
+
+DIADEM_MAP = {
+    "time": {"column": "Fast/Time"},
+    "channels": {
+        "torque": {"column": "Fast/Torque"},
+        "air_spring_pressure": {"column": "Slow/Pressure"},
+    },
+}
+
+
+@pytest.mark.parametrize("n_slow", [1000, 300], ids=["same-length", "shorter"])
+def test_tdms_group_with_its_own_time_channel_is_put_on_the_time_column(tmp_path, n_slow):
+    """A channel of another group than the [time] column's, whose group holds its own Time
+    channel, is sampled at that Time: it was lined up by sample index on the fast clock (at
+    t = 0.5 s 8.0 bar instead of 3.5, no note), and of another length it was an error that
+    only said the lengths differ."""
+    path = tmp_path / "diadem.tdms"
+    diadem_groups(path, n_slow=n_slow)
+    before = _fingerprint(path)
+    rec = read_recording(path, DIADEM_MAP)
+    assert _fingerprint(path) == before
+    np.testing.assert_allclose(rec.time, np.arange(1000) / 1000.0)
+    # 3 bar + 1 bar/s: linear interpolation reproduces the ramp
+    np.testing.assert_allclose(rec["air_spring_pressure"], (3.0 + rec.time) * 1e5, rtol=1e-12)
+    assert rec["air_spring_pressure"][500] == pytest.approx(3.5e5)
+    notes = " ".join(rec.metadata["notes"])
+    assert "'Slow/Time', the time channel of their own group" in notes
+    assert "resampled: air_spring_pressure 100 Hz (linear interpolation)" in notes
+    # the other way round: the slow group's time, the fast torque filtered down onto it
+    rec = read_recording(path, {**DIADEM_MAP, "time": {"column": "Slow/Time"}})
+    assert rec.sample_rate == pytest.approx(100.0)
+    np.testing.assert_allclose(rec["torque"], 100.0, rtol=1e-3)
+    np.testing.assert_allclose(rec["air_spring_pressure"], (3.0 + rec.time) * 1e5, rtol=1e-12)
+    assert any(
+        "'Fast/Time', the time channel of their own group" in n for n in rec.metadata["notes"]
+    )
+
+
+def test_tdms_group_time_channels_in_the_chunked_reader(tmp_path):
+    """The chunked reader reads one time base: a channel on its group's own Time is another
+    (it had been index-aligned with the time column, as read_recording did)."""
+    path = tmp_path / "diadem.tdms"
+    diadem_groups(path)
+    with pytest.raises(RecordingError, match=r"on its group's time channel 'Slow/Time'.*use read_"):
+        open_recording(path, DIADEM_MAP)
+    with open_recording(path, DIADEM_MAP, channels=["torque"]) as src:
+        assert src.names == ("torque",)
+        assert src.sample_rate == pytest.approx(1000.0)
+
+
+def test_tdms_group_with_two_time_channels_is_a_clear_error(tmp_path):
+    path = tmp_path / "diadem.tdms"
+    diadem_groups(path, slow_times=("Time", "Timestamp"))
+    with pytest.raises(
+        RecordingError,
+        match=r"'Slow/Pressure' is in a group with several time channels \['Slow/Time', "
+        r"'Slow/Timestamp'\].*map as \[time\] column the time channel of its group",
+    ):
+        read_recording(path, DIADEM_MAP)
+    # a group without a time channel of its own, of another length: the error says what to do
+    from nptdms import ChannelObject, TdmsWriter
+
+    bare = tmp_path / "bare.tdms"
+    with TdmsWriter(str(bare)) as w:
+        w.write_segment([
+            ChannelObject("Fast", "Time", np.arange(1000) / 1000.0),
+            ChannelObject("Fast", "Torque", np.full(1000, 100.0)),
+            ChannelObject("Slow", "Pressure", np.ones(300), properties={"unit_string": "bar"}),
+        ])  # fmt: skip
+    with pytest.raises(RecordingError, match=r"300 samples, time has 1000; it was sampled at "
+                       r"another rate .*sample_rate_Hz = its rate"):  # fmt: skip
+        read_recording(bare, {**DIADEM_MAP, "channels": {
+            "torque": {"column": "Fast/Torque", "unit": "N.m"},
+            "air_spring_pressure": {"column": "Slow/Pressure"}}})  # fmt: skip
+    # in the time column's group, the channels are sampled with it
+    rec = read_recording(path, {"time": {"column": "Slow/Time"}, "channels": {
+        "air_spring_pressure": {"column": "Slow/Pressure"}}})  # fmt: skip
+    np.testing.assert_allclose(rec["air_spring_pressure"], (3.0 + rec.time) * 1e5, rtol=1e-12)

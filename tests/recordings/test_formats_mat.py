@@ -445,3 +445,70 @@ def test_v73_matlab_objects_are_named_without_the_shape_of_their_reference(tmp_p
     assert "MATLAB objects: TT (timetable), ts_torque (timeseries)" in msg
     assert "writetimetable(TT, 'out.csv')" in msg and "torque = ts_torque.Data" in msg
     assert "shape" not in msg and "(6, 1)" not in msg
+
+
+@pytest.mark.parametrize("version", ["5", "7.3"])
+def test_controldesk_rasters_each_time_their_own_signals(tmp_path, version):
+    """dSPACE ControlDesk with two rasters: ``rec.X(k).Data`` the times of raster k,
+    ``rec.Y(j).XIndex`` the raster of signal j. A signal of the 10 ms raster was lined up by
+    index on the 1 ms raster mapped as the time (13 bar at 1 s instead of 4)."""
+    from rollerrig.recordings.readers import file_sha256, read_recording
+    from rollerrig.recordings.recording import RecordingError
+    from rollerrig.recordings.source import open_recording
+
+    n = 2000
+    f = tmp_path / "controldesk.mat"
+    Y = np.zeros((1, 2), dtype=[("Name", object), ("Data", object), ("XIndex", object)])
+    Y[0, 0] = ("Torque", np.full((1, n), 100.0), 1.0)
+    Y[0, 1] = ("p_air", (3 + np.arange(n) / 100.0).reshape(1, -1), 2.0)
+    X = np.zeros((1, 2), dtype=[("Name", object), ("Data", object)])
+    X[0, 0] = ("Time", (np.arange(n) / 1000.0).reshape(1, -1))
+    X[0, 1] = ("Time", (np.arange(n) / 100.0).reshape(1, -1))
+    if version == "5":
+        from scipy.io import savemat
+
+        savemat(f, {"rec": {"X": X, "Y": Y}})
+    else:
+        pytest.importorskip("h5py")
+        _controldesk_v73(f, X, Y)
+    sha = file_sha256(f)
+    cmap = {"time": {"column": "rec.X(1).Data", "unit": "s"}, "channels": {
+        "torque": {"column": "Torque", "unit": "N.m"},
+        "air_spring_pressure": {"column": "p_air", "unit": "bar"}}}  # fmt: skip
+    rec = read_recording(f, cmap)
+    assert file_sha256(f) == sha
+    assert rec["air_spring_pressure"][1000] == pytest.approx(4.0e5)
+    np.testing.assert_allclose(rec["air_spring_pressure"], (3.0 + rec.time) * 1e5, rtol=1e-12)
+    np.testing.assert_array_equal(rec["torque"], 100.0)
+    assert any("'rec.X(2).Data'" in note for note in rec.metadata["notes"])
+    with pytest.raises(RecordingError, match=r"different time bases"):
+        open_recording(f, cmap)
+
+
+def _controldesk_v73(path, X, Y):
+    """``rec.X`` and ``rec.Y`` as MATLAB v7.3 writes struct arrays: each field a dataset of
+    references, one per element, into ``#refs#``."""
+    import h5py
+
+    with h5py.File(path, "w", userblock_size=512, libver="earliest") as h:
+        rec = h.create_group("rec")
+        rec.attrs["MATLAB_class"] = np.bytes_("struct")
+        refs = h.create_group("#refs#")
+        for var, arr in (("X", X), ("Y", Y)):
+            grp = rec.create_group(var)
+            grp.attrs["MATLAB_class"] = np.bytes_("struct")
+            for field in arr.dtype.names:
+                out = np.zeros((arr.shape[1], 1), dtype=h5py.ref_dtype)
+                for k in range(arr.shape[1]):
+                    value = arr[0, k][field]
+                    if isinstance(value, str):
+                        codes = np.frombuffer(value.encode("utf-16-le"), dtype=np.uint16)
+                        ds = refs.create_dataset(f"{var}{field}{k}", data=codes.reshape(-1, 1))
+                        ds.attrs["MATLAB_class"] = np.bytes_("char")
+                    else:
+                        data = np.atleast_2d(np.asarray(value, dtype=float))
+                        ds = refs.create_dataset(f"{var}{field}{k}", data=data)
+                        ds.attrs["MATLAB_class"] = np.bytes_("double")
+                    out[k, 0] = ds.ref
+                grp.create_dataset(field, data=out, dtype=h5py.ref_dtype)
+    _write_mat73_header(path)

@@ -522,3 +522,142 @@ def test_the_chunked_reader_names_the_row_in_the_file_not_in_the_chunk(tmp_path)
         with open_recording(p, cmap) as src:
             for _ in src.iter_chunks(["torque"], chunk_samples=7000):
                 pass
+
+
+# ------------------------------------------- elapsed hours:minutes:seconds; samples below a footer
+
+
+def _hms(s):
+    return f"{int(s // 3600):02d}:{int(s % 3600 // 60):02d}:{s % 60:06.3f}"
+
+
+@pytest.mark.parametrize("start_h", [99, 999, 0])
+def test_elapsed_hours_of_any_digits_are_times(tmp_path, start_h):
+    """An endurance run's elapsed time passing 100 hours ('99:59:59.500' then
+    '100:00:00.000'): from there the cells were no times, and the rest of the file was
+    dropped as a footer (60 rows, 20 kept, only a note)."""
+    start = start_h * 3600 + 59 * 60 + 50
+    rows = "".join(f"{_hms(start + k * 0.5)},{k}\n" for k in range(60))
+    p, sha = _write(tmp_path, "elapsed.csv", "Time,Torque [N.m]\n" + rows)
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
+    rec = read_recording(p, cmap)
+    assert file_sha256(p) == sha
+    np.testing.assert_allclose(rec.time, np.arange(60) * 0.5, atol=1e-9)
+    np.testing.assert_array_equal(rec["torque"], np.arange(60.0))
+    assert not any("footer" in note for note in rec.metadata["notes"])
+    with open_recording(p, cmap) as src:
+        chunks = list(src.iter_chunks(["torque"], chunk_samples=7))
+    np.testing.assert_allclose(np.concatenate([c.time for c in chunks]), rec.time, atol=1e-9)
+
+
+def test_lines_laid_out_as_samples_below_the_samples_are_no_silent_footer(tmp_path):
+    """.NET's TimeSpan writes an elapsed time past a day as '1.00:00:00.0000000' (days before
+    the hours): a form this reader does not know. The lines from there on were dropped as a
+    footer with only a note; now an error names the first of them. A footer of words below
+    them is still a footer."""
+
+    def timespan(s):
+        days, rest = divmod(s, 86400)
+        hms = f"{int(rest // 3600):02d}:{int(rest % 3600 // 60):02d}:{rest % 60:010.7f}"
+        return (f"{int(days)}." if days else "") + hms
+
+    rows = "".join(f"{timespan(86400 - 20 + k * 0.5)},{k}\n" for k in range(60))
+    p, sha = _write(tmp_path, "timespan.csv", "Time,Torque [N.m]\n" + rows + "Mean,29.5\n")
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
+    match = r"line 42 \('1\.00:00:00\.0000000,40'\) below the samples is laid out as one.*20 line"
+    with pytest.raises(RecordingError, match=match):
+        read_recording(p, cmap)
+    with pytest.raises(RecordingError, match=match):
+        open_recording(p, cmap)
+    assert file_sha256(p) == sha
+
+
+# ------------------------------------------- integer epoch counts without a unit
+
+
+@pytest.mark.parametrize(("unit", "per_second"), [("ms", 10**3), ("us", 10**6), ("ns", 10**9)])
+def test_integer_epoch_counts_without_a_unit_are_read_in_the_unit_that_makes_them_a_date(
+    tmp_path, unit, per_second
+):
+    """Unix time in µs from a 1 kHz logger (1722865573250000): read as seconds (0.001 Hz) with
+    a warning advising unit = "ms", which gave 1 Hz without a word. Now read in the one unit
+    that makes the first value a date between 1990 and 2100, with a note; a stated unit that
+    makes the rate implausible is an error naming the right one."""
+    import warnings
+
+    t0 = 1722865573250 * per_second // 1000
+    step = per_second // 1000  # 1 kHz
+    rows = "".join(f"{t0 + k * step},{100 + k % 7}\n" for k in range(3000))
+    p, sha = _write(tmp_path, "epoch.csv", "Time,Torque [N.m]\n" + rows)
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no unit warning: the unit is known now
+        rec = read_recording(p, cmap)
+    assert rec.sample_rate == pytest.approx(1000.0, rel=1e-9)
+    np.testing.assert_allclose(rec.time, np.arange(3000) * 1e-3, atol=1e-9)
+    assert any(
+        f"is a date only in {unit!r} (2024-08-05T13:46:13.250 UTC" in n and f'unit = "{unit}"' in n
+        for n in rec.metadata["notes"]
+    )
+    with open_recording(p, cmap) as src:
+        assert src.sample_rate == pytest.approx(1000.0, rel=1e-9)
+        chunks = list(src.iter_chunks(["torque"], chunk_samples=1000))
+    np.testing.assert_allclose(np.concatenate([c.time for c in chunks]), rec.time, atol=1e-9)
+    # a coarser unit stated (the old advice "ms" for µs): far below any rig's rate, an error
+    for wrong in ("s", "ms", "us")[: ("ms", "us", "ns").index(unit) + 1]:
+        match = rf'is no date; in {unit!r} it is 2024-08-05T13:46:13\.250 UTC.*unit = "{unit}"'
+        with pytest.raises(RecordingError, match=match):
+            read_recording(p, {**cmap, "time": {"column": "Time", "unit": wrong}})
+    assert read_recording(p, {**cmap, "time": {"column": "Time", "unit": unit}}).sample_rate == (
+        pytest.approx(1000.0, rel=1e-9)
+    )
+    assert file_sha256(p) == sha
+
+
+def test_an_int64_ns_tdms_time_channel_without_a_unit(tmp_path):
+    from nptdms import ChannelObject, TdmsWriter
+
+    n, t0 = 2000, 1722865573250000000
+    p = tmp_path / "ns.tdms"
+    with TdmsWriter(str(p)) as w:
+        w.write_segment([
+            ChannelObject("Log", "Time", t0 + np.arange(n, dtype=np.int64) * 1_000_000),
+            ChannelObject("Log", "Torque", np.ones(n), properties={"unit_string": "N.m"}),
+        ])  # fmt: skip
+    sha = file_sha256(p)
+    cmap = {"time": {"column": "Log/Time"}, "channels": {"torque": {"column": "Log/Torque"}}}
+    rec = read_recording(p, cmap)
+    np.testing.assert_allclose(rec.time, np.arange(n) * 1e-3, atol=1e-9)
+    assert any("is a date only in 'ns'" in note for note in rec.metadata["notes"])
+    match = r'in \'ns\' it is 2024-08-05T13:46:13\.250 UTC.*unit = "ns"'
+    with pytest.raises(RecordingError, match=match):
+        read_recording(p, {**cmap, "time": {"column": "Log/Time", "unit": "ms"}})
+    assert file_sha256(p) == sha
+
+
+@pytest.mark.parametrize(
+    ("cells", "unit", "rate"),
+    [
+        ([f"{k * 4}" for k in range(1000)], "ms", 250.0),  # elapsed ms, stated
+        ([f"{k * 0.004:.3f}" for k in range(1000)], None, 250.0),  # elapsed s, no unit
+        ([f"{1722865573 + k * 0.004:.3f}" for k in range(1000)], None, 250.0),  # epoch in s
+        ([f"{k * 1000}" for k in range(1000)], "us", 1000.0),  # elapsed µs, stated
+    ],
+)
+def test_elapsed_times_and_epoch_seconds_keep_their_unit(tmp_path, cells, unit, rate):
+    p, _ = _write(tmp_path, "t.csv", "Time,Torque [N.m]\n" + "".join(f"{c},1\n" for c in cells))
+    tspec = {"column": "Time"} | ({"unit": unit} if unit else {})
+    rec = read_recording(p, {"time": tspec, "channels": {"torque": {"column": "Torque"}}})
+    assert rec.sample_rate == pytest.approx(rate, rel=1e-6)
+    assert not any("is a date only" in note for note in rec.metadata["notes"])
+
+
+def test_an_elapsed_count_of_microseconds_read_as_seconds_advises_us(tmp_path):
+    """The unit warning advised "ms" whatever the count: microseconds from 0 at 1 kHz read as
+    seconds are 0.001 Hz, and "ms" made them 1 Hz."""
+    p, _ = _write(
+        tmp_path, "us.csv", "Time,Torque [N.m]\n" + "".join(f"{k * 1000},1\n" for k in range(5000))
+    )
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
+    with pytest.warns(UserWarning, match=r'looks like microseconds \(1000 Hz.*unit = "us"'):
+        read_recording(p, cmap)

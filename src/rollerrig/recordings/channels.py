@@ -69,7 +69,9 @@ __all__ = [
     "DECIMALS",
     "RATE_TOLERANCE",
     "SEPARATORS",
+    "TIME_NAMES",
     "TIME_UNITS",
+    "TIME_WORDS",
     "UNIT_FACTORS",
     "ChannelMap",
     "ChannelSpec",
@@ -80,6 +82,7 @@ __all__ = [
     "format_unit_header",
     "load_channel_map",
     "split_unit_header",
+    "time_named",
     "time_unit",
 ]
 
@@ -109,6 +112,24 @@ def time_unit(unit: str) -> str | None:
     if u in TIME_UNITS:
         return u
     return _TIME_CASELESS.get(u.lower()) or _TIME_CASELESS.get(str(unit).strip().lower())
+
+
+TIME_NAMES = frozenset(
+    {"time", "zeit", "t", "x_value", "timestamp", "timestamps", "time_s", "time_ms", "datetime"}
+)
+"""Column names (lower case, unit stripped) taken as a time column when checking a stated rate."""
+
+TIME_WORDS = frozenset(
+    {"time", "zeit", "temps", "tiempo", "tempo", "timestamp", "zeitstempel", "horodatage"}
+)
+"""Words that make a longer column name a time's: catman's ``Zeit  1 - Standardmessrate``,
+``Relative Time``, ``Temps relatif``."""
+
+
+def time_named(base: str) -> bool:
+    """Whether a column's name (lower case, unit stripped) is a time column's:
+    :data:`TIME_NAMES`, or a name holding one of :data:`TIME_WORDS` as a word."""
+    return base in TIME_NAMES or not TIME_WORDS.isdisjoint(re.split(r"[\W_\d]+", base))
 
 
 UNIT_FACTORS: Mapping[str, Mapping[str, float]] = UNITS_BY_SI

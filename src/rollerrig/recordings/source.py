@@ -69,6 +69,7 @@ from rollerrig.recordings.translate import (
     apply_map,
     as_float,
     auto_entries,
+    foreign_time,
     resolve_column,
     text_decimal,
     time_seconds,
@@ -489,7 +490,9 @@ def _signature(table: Table, slicer: Slicer, name: str, use_own: bool) -> tuple:
 
 
 def _describe(sig: tuple) -> str:
-    n, t0, t1 = sig
+    n, t0, t1, *clock = sig
+    if clock:
+        return f"{n} samples on its group's time channel {clock[0]!r}"
     if t0 is None:
         return f"{n} samples"
     rate = (n - 1) / (t1 - t0) if n > 1 and t1 > t0 else float("nan")
@@ -504,13 +507,22 @@ def _one_time_base(
     needed: list[str] | None,
     use_own: bool,
     where: str,
+    clocks: Mapping[str, str] | None = None,
 ) -> tuple[ChannelMap, list[str]]:
     """The map narrowed to one time base, and the entries dropped for it.
 
     All ``columns`` (channel -> file column) must share one time base; with ``needed``, the
-    needed ones must, and the others on another base are dropped from the map.
+    needed ones must, and the others on another base are dropped from the map. ``clocks``:
+    channel -> the time channel of its own group where that is not the time column's
+    (:func:`~rollerrig.recordings.translate.foreign_time`): another time base.
     """
-    sigs = {name: _signature(table, slicer, col, use_own) for name, col in columns.items()}
+    clocks = clocks or {}
+    sigs = {
+        name: (slicer.length(col), None, None, clocks[name])
+        if name in clocks
+        else _signature(table, slicer, col, use_own)
+        for name, col in columns.items()
+    }
     if len(set(sigs.values())) <= 1:
         return cmap, []
     need = {sigs[n] for n in needed or () if n in sigs}
@@ -616,7 +628,16 @@ def _prepare(table, slicer, cmap, p, fmt, needed, where) -> dict[str, Any]:
     # --- one time base for the channels read (channels= narrows the map to the needed base)
     use_own = rate_stated is None and (table.own_time_exact or not has_time_column)
     columns = _mapped_columns(table, cmap, p, needed)
-    cmap, dropped = _one_time_base(table, slicer, cmap, columns, needed, use_own, where)
+    clocks = {}
+    if has_time_column and rate_stated is None and table.time_of:
+        time_col = resolve_column(
+            dataclasses.replace(table, notes=[]), tspec.column, "[time]", cmap, p
+        )
+        for name, col in columns.items():
+            clock = foreign_time(table, col, time_col, where)
+            if clock is not None:
+                clocks[name] = clock
+    cmap, dropped = _one_time_base(table, slicer, cmap, columns, needed, use_own, where, clocks)
 
     # --- the channel map, applied exactly as read_recording applies it, to the first samples
     head = _head_table(table, slicer, _PROBE_SAMPLES)

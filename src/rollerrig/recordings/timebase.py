@@ -30,6 +30,7 @@ Both are recorded in ``metadata["resampled"]`` (``onto``, ``rate_Hz``, and per c
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from fractions import Fraction
 from typing import Any
 
@@ -207,7 +208,9 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
     return bool(np.allclose(a, b, rtol=0.0, atol=1e-6 * step))
 
 
-def _base_times(time, loaded, own_times, exact, columns, where) -> list[np.ndarray]:
+def _base_times(
+    time, loaded, own_times, exact, columns, where, exact_channels=()
+) -> list[np.ndarray]:
     """The time base [s] each channel was recorded on.
 
     ``exact``: ``own_time_exact``; ``columns``: channel -> file column, for messages; the
@@ -219,15 +222,22 @@ def _base_times(time, loaded, own_times, exact, columns, where) -> list[np.ndarr
         column = columns.get(spec.name, spec.name)
         if time is not None:
             use_own = own is not None and not _same(own, time)
-            use_own = use_own and (exact or values.size != time.size)
+            use_own = use_own and (exact or spec.name in exact_channels or values.size != time.size)
             base = own if use_own else time
         else:
             base = own if own is not None else fallback
         if base is None or base.size != values.size:
             n_time = "no time base" if base is None else f"time has {base.size}"
+            fix = (
+                "; it was sampled at another rate than the time column: read it with a map "
+                "of its own, whose [time] is a time column of its length or sample_rate_Hz = "
+                "its rate"
+                if base is time
+                else ""
+            )
             raise RecordingError(
                 f"{where} column {column!r} (channel map entry {spec.entry}) has "
-                f"{values.size} samples, {n_time}"
+                f"{values.size} samples, {n_time}{fix}"
             )
         if base is not time and base.size > 1 and np.any(np.diff(base) <= 0):
             raise RecordingError(
@@ -248,6 +258,7 @@ def align_channels(
     notes: list[str],
     where: str,
     resample_Hz: float | None = None,
+    exact_channels: Collection[str] = (),
 ) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, str]]:
     """Channels on one common time base (see the module docstring for the choice and methods).
 
@@ -271,6 +282,9 @@ def align_channels(
         Prefix of error messages (the file).
     resample_Hz : float, optional
         The common rate [Hz] (the map's ``[time] resample_Hz``).
+    exact_channels : collection of str
+        Channels whose own time base beats index alignment with ``time`` whatever
+        ``own_time_exact`` says (a TDMS channel timed by its group's time channel).
 
     Returns
     -------
@@ -286,7 +300,7 @@ def align_channels(
     if not loaded:
         raise RecordingError(f"{where} no channels to put on a time base")
     columns = info["columns"]
-    bases = _base_times(time, loaded, own_times, own_time_exact, columns, where)
+    bases = _base_times(time, loaded, own_times, own_time_exact, columns, where, exact_channels)
     names = [spec.name for spec, *_ in loaded]
     units = {spec.name: si for spec, _v, si, _o in loaded}
     distinct: list[np.ndarray] = []

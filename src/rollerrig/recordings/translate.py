@@ -35,6 +35,7 @@ from rollerrig.recordings.channels import (
     ChannelSpec,
     FileSpec,
     normalize_unit,
+    time_named,
     time_unit,
 )
 from rollerrig.recordings.formats import Table
@@ -436,6 +437,93 @@ def _durations(arr, what: str, notes: list, line_of, decimal: str | None) -> np.
     return out
 
 
+_EPOCH_SPAN_S = (631_152_000.0, 4_102_444_800.0)
+"""Unix times [s] of 1990-01-01 and 2100-01-01 UTC: a time column's first value read in a unit
+is a plausible absolute time (an epoch count) between them."""
+
+_EPOCH_UNITS = ("s", "ms", "us", "ns")
+"""Units of epoch counts, about 1.7e9, 1.7e12, 1.7e15 and 1.7e18 in 2024 (keys of TIME_UNITS)."""
+
+
+def _head_numbers(values, decimal: str | None, n: int = 1001) -> tuple[str, np.ndarray] | None:
+    """``(first as written, [first, offsets of the first n values from it...])`` of a numeric
+    time column, as floats (the offsets of integers exact); None where they are no numbers."""
+    arr = np.asarray(values).ravel()[:n]
+    if arr.dtype.kind in "iu" and arr.size:
+        first = int(arr[0])
+        steps = (arr.astype(object) - first).astype(float)  # exact differences, any magnitude
+        return str(first), np.concatenate([[float(first)], steps])
+    if arr.dtype.kind == "f":
+        ok = arr[np.isfinite(arr)]
+        return (repr(float(ok[0])), np.concatenate([[ok[0]], ok - ok[0]])) if ok.size else None
+    if arr.dtype.kind in "OUS":
+        cells = [str(v).strip() for v in arr if str(v).strip()]
+        pairs = [(c, parse_number(c, decimal or ".")) for c in cells]
+        pairs = [(c, x) for c, x in pairs if x is not None and np.isfinite(x)]
+        if not pairs:
+            return None
+        nums = np.array([x for _, x in pairs])
+        return pairs[0][0], np.concatenate([[nums[0]], nums - nums[0]])
+    return None
+
+
+def _epoch_unit(
+    values, unit: str, assumed: bool, what: str, notes: list, decimal: str | None
+) -> str | None:
+    """The unit a numeric time column is read in where its values are an epoch count that only
+    another unit makes a plausible date (:data:`_EPOCH_SPAN_S`): microseconds since 1970,
+    1.7e15, had been read as seconds with a warning that advised milliseconds, and read so
+    gave 1 Hz without a word. None: ``unit`` stands.
+
+    Where the unit was ``assumed`` (none in the file or the map) the column is read in the
+    unit that makes it a date, with a note. Where it was stated, a rate that the stated unit
+    makes implausible for a rig (below :data:`~rollerrig.recordings.validate
+    .MIN_PLAUSIBLE_RATE_HZ` or above :data:`~rollerrig.recordings.validate.MAX_SAMPLE_RATE_HZ`)
+    and that the epoch's unit makes plausible is an error naming that unit (a stated unit and a
+    plausible rate stand: a monotonic count in ns since boot is no epoch).
+    """
+    from rollerrig.recordings.validate import MAX_SAMPLE_RATE_HZ, MIN_PLAUSIBLE_RATE_HZ
+
+    found_head = _head_numbers(values, decimal)
+    if found_head is None:
+        return None
+    shown, head = found_head
+    if not np.isfinite(head[0]) or abs(head[0]) < _EPOCH_SPAN_S[0]:
+        return None  # an elapsed time (small numbers) is no epoch
+    first = float(head[0])
+    lo, hi = _EPOCH_SPAN_S
+    fits = [u for u in _EPOCH_UNITS if lo <= first * TIME_UNITS[u] <= hi]
+    if len(fits) != 1 or unit in fits:
+        return None
+    found = fits[0]
+    date = np.datetime64(round(first * TIME_UNITS[found] * 1e3), "ms")
+    steps = np.diff(head[1:])
+    steps = steps[np.isfinite(steps) & (steps > 0)]
+    step = float(np.median(steps)) if steps.size else float("nan")
+
+    def rate(u: str) -> float:
+        return 1.0 / (step * TIME_UNITS[u]) if step > 0 else float("nan")
+
+    def plausible(u: str) -> bool:
+        return MIN_PLAUSIBLE_RATE_HZ <= rate(u) <= MAX_SAMPLE_RATE_HZ
+
+    if assumed:
+        notes.append(
+            f"{what.split(': ', 1)[-1]} has no unit; its first value {shown} is a date only "
+            f"in {found!r} ({date} UTC since 1970; {rate(found):.6g} Hz), so it was read in "
+            f'{found!r}; declare it with unit = "{found}" in the channel map\'s [time] section'
+        )
+        return found
+    if np.isfinite(rate(unit)) and not plausible(unit) and plausible(found):
+        raise RecordingError(
+            f"{what} read in {unit!r} gives {rate(unit):.4g} Hz, and its first value {shown} "
+            f"{unit} is no date; in {found!r} it is {date} UTC (since 1970) at "
+            f'{rate(found):.6g} Hz: give unit = "{found}" in the channel map\'s [time] '
+            "section (and in the file's header, if it states one)"
+        )
+    return None
+
+
 _EPOCH_COUNT = 1 << 32
 """An integer time column from this magnitude on counts from an epoch, not from the start: it
 is made relative to its first value before it becomes a float (:func:`time_seconds`)."""
@@ -488,30 +576,12 @@ def auto_entries(table: Table, cmap: ChannelMap, path: Path) -> list[ChannelSpec
     return specs
 
 
-_TIME_NAMES = frozenset(
-    {"time", "zeit", "t", "x_value", "timestamp", "timestamps", "time_s", "time_ms", "datetime"}
-)
-"""Column names (lower case, unit stripped) taken as a time column when checking a stated rate."""
-
-_TIME_WORDS = frozenset(
-    {"time", "zeit", "temps", "tiempo", "tempo", "timestamp", "zeitstempel", "horodatage"}
-)
-"""Words that make a longer column name a time's: catman's ``Zeit  1 - Standardmessrate``,
-``Relative Time``, ``Temps relatif``."""
-
-
-def _time_named(base: str) -> bool:
-    """Whether a column's name (lower case, unit stripped) is a time column's:
-    :data:`_TIME_NAMES`, or a name holding one of :data:`_TIME_WORDS` as a word."""
-    return base in _TIME_NAMES or not _TIME_WORDS.isdisjoint(re.split(r"[\W_\d]+", base))
-
-
 def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict, path, line_of):
     """Raise when the map's ``[time] sample_rate_Hz`` contradicts the file's own rate.
 
     The file's rate is that of each channel's own time base (TDMS ``wf_increment``, MDF master,
     LVM X column) and of a column named like a time (``Time``, ``Zeit``, ``t``, ``X_Value``,
-    ``Zeit  1 - Standardmessrate``: :func:`_time_named`;
+    ``Zeit  1 - Standardmessrate``: :func:`~rollerrig.recordings.channels.time_named`;
     numbers in its stated unit, else seconds or milliseconds, or timestamps). A difference of
     more than :data:`~rollerrig.recordings.channels.RATE_TOLERANCE` is an error naming both rates.
     """
@@ -543,7 +613,7 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
     used = set(info["columns"].values())
     for name in table.names:
         base = str(table.base.get(name, name)).strip().lower()
-        if name in used or not _time_named(base):
+        if name in used or not time_named(base):
             continue
         try:
             col = table.load(name)
@@ -579,17 +649,68 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
 
 def _time_column_hint(table: Table) -> str:
     """``; columns that may hold it: [...] ([time] column = "...")``: the file's columns named
-    as a time (:func:`_time_named`), or a pandas index stored in Parquet
-    (``__index_level_0__``); "" where none."""
+    as a time (:func:`~rollerrig.recordings.channels.time_named`), or a pandas index stored in
+    Parquet (``__index_level_0__``); "" where none."""
     found = [
         n
         for n in table.names
-        if _time_named(base := str(table.base.get(n, n)).strip().lower())
+        if time_named(base := str(table.base.get(n, n)).strip().lower())
         or base == "__index_level_0__"
     ]
     if not found:
         return ""
     return f"; columns that may hold it: {found[:5]} (set [time] column = {str(found[0])!r})"
+
+
+def foreign_time(table: Table, column: str, time_column: str | None, where: str) -> str | None:
+    """The column the file names as ``column``'s own time base where that is not the map's time
+    column ``time_column`` nor in its group (:attr:`Table.time_of`: a TDMS group's ``Time``
+    channel, DIAdem style; a ControlDesk raster ``X(k)``); None otherwise (the channel is
+    sampled with the time column, index by index).
+
+    Raises
+    ------
+    RecordingError
+        The channel's group holds several time channels: which one times it is not known.
+    """
+    times = table.time_of.get(column, ())
+    if time_column is None or not times or time_column in times:
+        return None
+    if any(column in names and time_column in names for names in table.groups.values()):
+        return None  # in the time column's group: sampled with it
+    if len(times) > 1:
+        raise RecordingError(
+            f"{where} column {column!r} is in a group with several time channels {list(times)} "
+            f"and not in the group of the [time] column {time_column!r}: which time it was "
+            "sampled at is not known; map as [time] column the time channel of its group and "
+            "read the other group's channels separately"
+        )
+    return times[0]
+
+
+def _own_time(
+    table: Table, column: str, time_col: str, values, unit: str, cmap, what: str, notes, line_of
+) -> np.ndarray:
+    """Seconds of the time channel ``time_col`` that times ``column`` (:func:`foreign_time`):
+    in its own unit where it states a time unit, else in the [time] column's ``unit``."""
+    col = table.load(time_col)
+    own_unit = (time_unit(col.unit) if col.unit else None) or unit
+    secs = time_seconds(
+        col.values,
+        own_unit,
+        f"{what}: its time channel {time_col!r}",
+        notes,
+        file=cmap.file,
+        line_of=line_of,
+        decimal=text_decimal(table, cmap),
+    )
+    if secs.size != np.asarray(values).size:
+        raise RecordingError(
+            f"{what} has {np.asarray(values).size} samples but its group's time channel "
+            f"{time_col!r} has {secs.size}; the file is damaged or the channel is timed "
+            "otherwise: map it with a [time] column of its own length (read it separately)"
+        )
+    return np.asarray(secs, dtype=float)
 
 
 def apply_map(
@@ -643,9 +764,16 @@ def apply_map(
                     )
                 unit = file_unit
                 notes.append(f"time unit {col.unit!r} taken from the file (the map gives none)")
+            assumed = file_unit is None and (cmap.auto or not tspec.unit_stated)
+            epoch = None
+            if _numeric_time(col.values, cmap.file):
+                epoch = _epoch_unit(
+                    col.values, unit, assumed, f"{where} time column {col_name!r}", notes,
+                    text_decimal(table, cmap),
+                )  # fmt: skip
             time = time_seconds(
                 col.values,
-                unit,
+                epoch or unit,
                 f"{where} time column {col_name!r}",
                 notes,
                 file=cmap.file,
@@ -653,8 +781,8 @@ def apply_map(
                 decimal=text_decimal(table, cmap),
             )
             info["columns"]["time"] = col_name
-            info["source_units"]["time"] = unit
-            if file_unit is None and (cmap.auto or not tspec.unit_stated):
+            info["source_units"]["time"] = epoch or unit
+            if assumed and epoch is None:
                 if np.asarray(col.values).dtype.kind in "biuf":  # numbers read in seconds
                     info["time_unit_assumed"] = unit  # popped by the readers: check_time_unit
 
@@ -662,6 +790,8 @@ def apply_map(
     specs = auto_entries(table, cmap, path) if cmap.auto else list(cmap.entries)
     loaded: list[tuple[ChannelSpec, np.ndarray, str, np.ndarray | None]] = []
     marks: dict = {}  # the decimal mark one column's cells decided, for the others (as_float)
+    exact: set[str] = set()  # channels timed by their group's time channel (foreign_time)
+    clocks: dict[str, list[str]] = {}  # that time channel -> those channels
     for spec in specs:
         skip = None
         if cmap.auto:
@@ -728,6 +858,25 @@ def apply_map(
         with np.errstate(over="ignore", invalid="ignore"):
             values = (spec.scale * raw + spec.offset) * factor
         own = None if col.time is None else np.asarray(col.time, dtype=float)
+        clock = (
+            None
+            if own is not None or time is None
+            else foreign_time(table, name, info["columns"]["time"], where)
+        )
+        if clock is not None:  # timed by its group's time channel, not the time column
+            own = _own_time(
+                table,
+                name,
+                clock,
+                values,
+                info["source_units"]["time"],
+                cmap,
+                what,
+                notes,
+                line_of,
+            )
+            exact.add(spec.name)
+            clocks.setdefault(clock, []).append(spec.name)
         loaded.append((spec, values, si, own))
         info["columns"][spec.name] = name
         info["source_units"][spec.name] = unit
@@ -767,11 +916,18 @@ def apply_map(
     else:
         own_times = [own for _, _, _, own in loaded]
 
+    for clock, names in clocks.items():
+        notes.append(
+            f"channels {names} read on {clock!r}, the time channel of their own group (TDMS) "
+            f"or raster (ControlDesk X(k)), not on the [time] column "
+            f"{info['columns']['time']!r} of another group"
+        )
     time, channels, units = align_channels(
         time,
         loaded,
         own_times,
         own_time_exact=table.own_time_exact,
+        exact_channels=exact,
         info=info,
         notes=notes,
         where=where,

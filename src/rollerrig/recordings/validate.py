@@ -151,6 +151,15 @@ MAX_PLAUSIBLE_DURATION_S = 3600.0
 """Longest adhesion test [s] taken as plausible at a rate below :data:`MIN_PLAUSIBLE_RATE_HZ`."""
 
 
+_FINER_UNITS = (
+    ("ms", 1e3, "milliseconds"),
+    ("us", 1e6, "microseconds"),
+    ("ns", 1e9, "nanoseconds"),
+)
+"""Time units a time read in seconds may have been written in: (unit of the channel map, factor
+to the rate, name)."""
+
+
 def check_time_unit(
     rate: float,
     duration: float,
@@ -183,12 +192,19 @@ def check_time_unit(
     too_long = duration > MAX_PLAUSIBLE_DURATION_S and rate < MIN_PLAUSIBLE_RATE_HZ
     if not (near_ms or too_long):
         return None
+    # the smallest unit that makes the rate a rig's: ms, else µs or ns (an elapsed count of
+    # µs read as s had been advised as ms, and read so was 1 Hz without a word)
+    unit, factor, name = "ms", 1e3, "milliseconds"
+    if not near_ms:
+        unit, factor, name = next(
+            (c for c in _FINER_UNITS if rate * c[1] >= MIN_PLAUSIBLE_RATE_HZ), _FINER_UNITS[0]
+        )
     text = (
         f"{where} the time column {column!r} has no unit (in the file or the channel map) and "
         f"was read in seconds: {rate:.4g} Hz over {duration:.6g} s, where a rig's DAQ records "
-        f"at about {daq_rate:g} Hz for minutes; it looks like milliseconds ({rate * 1e3:.4g} "
-        f'Hz over {duration / 1e3:.6g} s). Declare the unit: unit = "ms" in the channel '
-        f'map\'s [time] section, or the header "{column} [ms]" in the file'
+        f"at about {daq_rate:g} Hz for minutes; it looks like {name} ({rate * factor:.4g} "
+        f'Hz over {duration / factor:.6g} s). Declare the unit: unit = "{unit}" in the channel '
+        f'map\'s [time] section, or the header "{column} [{unit}]" in the file'
     )
     warnings.warn(text, DomainWarning, stacklevel=2)
     return text

@@ -75,6 +75,11 @@ class Table:
     # a sample rate the file states without a time column [Hz] (an oscilloscope CSV's
     # 1/Increment): the time base where the map gives none
     stated_rate: float | None = None
+    # a column -> the columns the file names as its time base, one where it is known (a TDMS
+    # group's time channel, DIAdem style; a ControlDesk signal's raster X(k) by its XIndex),
+    # several where the group holds more than one time channel: a mapped channel timed by
+    # another than the map's time column is put on its own time (translate.foreign_time)
+    time_of: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
     def __setattr__(self, name: str, value: Any) -> None:
         """Setting ``stored_metadata`` to the object :func:`rollerrig.output.write_table` wrote

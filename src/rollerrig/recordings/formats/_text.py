@@ -41,6 +41,7 @@ __all__ = [
     "lead_column",
     "number_kinds",
     "parse_number",
+    "sample_in_footer",
     "split_cells",
     "thousands_mark_beside_integers",
     "unique_names",
@@ -91,7 +92,7 @@ MARKED_NUMBER = re.compile(r"[+-]?[\d.,]*\d[\d.,]*(?:[eE][+-]?\d+)?")
 """A cell made of digits and decimal / thousands marks (a number under some reading)."""
 _TIMESTAMP = re.compile(
     r"(?:\d{1,4}[./-]\d{1,2}[./-]\d{1,4}(?:[ T]+\d{1,2}:\d{2}(?::\d{2}(?:[.,]\d+)?)?)?"
-    r"|\d{1,2}:\d{2}:\d{2}(?:[.,]\d+)?)"
+    r"|\d+:\d{2}:\d{2}(?:[.,]\d+)?)"  # hours of any digits: elapsed 100:00:00.000
     r"(?:\s*(?:Z|[+-]\d{2}:?\d{2}))?"
 )
 POSITIVE_INFINITY_WORDS = frozenset(
@@ -402,10 +403,39 @@ def footer_rows(rows: list[list[str]]) -> int:
     >>> footer_rows([["0.000", "1.5"], [""], ["End"], ["n/a"], ["Operator", "Smith"], [""]])
     4
     """
+    return _footer(rows)[0]
+
+
+def sample_in_footer(rows: list[list[str]]) -> int | None:
+    """The index in ``rows`` of the first footer row (:func:`footer_rows`) laid out as a
+    sample: the samples' number of cells, and a lead cell with a digit and no letter that is no
+    number or time this reader knows (an elapsed ``100:00:00.000`` had been no time, and the
+    rest of the file was dropped as a footer with only a note); None where there is none. A
+    footer's words (``Mean;24,5``, ``End of data``, ``***``) are no sample.
+
+    Examples
+    --------
+    >>> rows = [["0.5", "1"], ["1.0", "2"], ["1.00:00:00", "3"], ["Mean", "2"], ["End"]]
+    >>> sample_in_footer(rows), sample_in_footer(rows[:2] + rows[3:])
+    (2, None)
+    """
+    count, n, lead = _footer(rows)
+    for i in range(len(rows) - count, len(rows)):
+        cells = rows[i]
+        if len(cells) != n or lead is None:
+            continue
+        cell = cells[lead].strip()
+        if any(c.isdigit() for c in cell) and not any(c.isalpha() for c in cell):
+            return i
+    return None
+
+
+def _footer(rows: list[list[str]]) -> tuple[int, int, int | None]:
+    """``(rows of the footer, cells per sample, lead column)`` of :func:`footer_rows`."""
     kinds = [number_kinds(r) for r in rows]
     numbered = [k for k in kinds if any(x in ("num", "time") for x in k)]
     if not numbered:
-        return 0
+        return 0, 0, None
     n = Counter(len(k) for k in numbered).most_common(1)[0][0]
     # the rows without text where there are any, else the upper rows (a footer is at the end)
     ref = [k for k in numbered if len(k) == n and "text" not in k]
@@ -414,18 +444,18 @@ def footer_rows(rows: list[list[str]]) -> int:
         ref = ref[: max(1, len(ref) // 2)]
     lead = lead_column(ref, n)
     if lead is None:
-        return 0
+        return 0, n, None
     top = len(kinds)  # the footer's first row
     for i in range(len(kinds) - 1, -1, -1):
         k = kinds[i]
         if "text" not in k:
             if any(x in ("num", "time") for x in k):
-                return len(kinds) - top  # a sample
+                return len(kinds) - top, n, lead  # a sample
             continue  # empty or NaN cells only: no value, in the footer or below it
         if lead < len(k) and k[lead] in ("num", "time"):
-            return len(kinds) - top  # a sample with text beside its number
+            return len(kinds) - top, n, lead  # a sample with text beside its number
         top = i
-    return 0  # no sample above the text: not a footer
+    return 0, n, lead  # no sample above the text: not a footer
 
 
 def number_kinds(cells: list[str]) -> list[str]:

@@ -29,7 +29,12 @@ from pathlib import Path
 
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._table import Table, header_table, require_module
-from rollerrig.recordings.formats._text import NAN_WORDS, footer_rows, split_cells
+from rollerrig.recordings.formats._text import (
+    NAN_WORDS,
+    footer_rows,
+    sample_in_footer,
+    split_cells,
+)
 from rollerrig.recordings.formats.sniff import HEAD_BYTES, TextLayout, sniff_layout, where_named
 from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
 from rollerrig.recordings.recording import RecordingError
@@ -294,12 +299,22 @@ def footer_of(layout: TextLayout) -> tuple[int | None, str | None]:
     of more cells than the header, or text in a column of numbers, changes nothing."""
     lines = [(i, t.rstrip("\r\n")) for i, t in _tail(layout, 200)]
     lines = [(i, t) for i, t in lines if i is None or i >= layout.data_line]
-    count = footer_rows([split_cells(t, layout.separator) for _, t in lines])
+    rows = [split_cells(t, layout.separator) for _, t in lines]
+    count = footer_rows(rows)
     if not count:
         return None, None
     first_line, first_text = lines[-count]
     if first_line is None:  # the end of a large file, read alone
         first_line = _count_lines(layout) - count
+    sample = sample_in_footer(rows)
+    if sample is not None:
+        line = first_line + sample - (len(lines) - count)
+        raise RecordingError(
+            f"{layout.path}: line {line + 1} ({lines[sample][1].strip()[:60]!r}) below the "
+            f"samples is laid out as one, but its first column is no number or time this "
+            f"reader knows, so it and the {len(lines) - sample - 1} line(s) after it would be "
+            "dropped as a footer; correct that line, or cut the file above it"
+        )
     return first_line - layout.data_line, (
         f"footer below the numbers left out: line {first_line + 1} to the end "
         f"({first_text.strip()[:60]!r})"

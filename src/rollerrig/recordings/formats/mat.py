@@ -690,9 +690,34 @@ def _finish(
     )
     if isinstance(provenance, dict) and table.stored_provenance is None:
         table.stored_provenance = provenance
+    _controldesk_rasters(table)
     if skipped:
         table.notes.append(f"MAT variables not read (not numeric vectors): {skipped}")
     return table
+
+
+_RASTER_SIGNAL = re.compile(r"(?P<head>.*)\.Y\((?P<k>\d+)\)\.Data")
+"""A dSPACE ControlDesk signal's samples, ``rec.Y(k).Data``; ``rec.Y(k).XIndex`` names its
+raster, whose times are ``rec.X(XIndex).Data``."""
+
+
+def _controldesk_rasters(table: Table) -> None:
+    """A ControlDesk signal's raster (``Y(k).XIndex`` -> ``X(XIndex).Data``) as its time base
+    (:attr:`Table.time_of`): a recording with several rasters has a time vector per raster."""
+    for name in table.names:
+        m = _RASTER_SIGNAL.fullmatch(name)
+        xindex = f"{m['head']}.Y({m['k']}).XIndex" if m else None
+        if xindex is None or xindex not in table.names:
+            continue
+        try:
+            value = np.asarray(table.load(xindex).values, dtype=float).reshape(-1)
+        except Exception:  # an unreadable index: the signal keeps the map's time
+            continue
+        if value.size != 1 or not np.isfinite(value[0]) or value[0] != round(value[0]):
+            continue
+        raster = f"{m['head']}.X({int(value[0])}).Data"
+        if raster in table.names:
+            table.time_of[name] = (raster,)
 
 
 def _json_text(strings: dict[str, str], key: str) -> Any:

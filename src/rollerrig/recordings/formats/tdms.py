@@ -33,7 +33,12 @@ from pathlib import Path
 
 import numpy as np
 
-from rollerrig.recordings.channels import CANONICAL_CHANNELS
+from rollerrig.recordings.channels import (
+    CANONICAL_CHANNELS,
+    split_unit_header,
+    time_named,
+    time_unit,
+)
 from rollerrig.recordings.formats._sliced import (
     add_channel,
     checked_slice,
@@ -203,6 +208,30 @@ def _index_note(index_path: Path, indexed: dict[str, int] | str | None, tdms) ->
     )
 
 
+def _group_times(tdms, table: Table) -> None:
+    """Each group's time channels (DIAdem / LabVIEW style: a ``Time`` channel per group, named
+    as a time column is, :func:`~rollerrig.recordings.channels.time_named`, in a time unit or
+    none) as the time base of the group's other channels (:attr:`Table.time_of`)."""
+    for group in tdms.groups():
+        names = [f"{group.name}/{ch.name}" for ch in group.channels()]
+        names = [n for n in names if n in table.names]
+        times = []
+        for ch in group.channels():
+            name = f"{group.name}/{ch.name}"
+            unit = ch.properties.get("unit_string")
+            if name not in table.names or not time_named(
+                split_unit_header(ch.name)[0].strip().lower()
+            ):
+                continue
+            if isinstance(unit, str) and unit.strip() and time_unit(unit) is None:
+                continue  # named so, but in another unit: no time
+            times.append(name)
+        if times:
+            for name in names:
+                if name not in times:
+                    table.time_of[name] = tuple(times)
+
+
 def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
     chans = {}
     table = Table(names=[], load=lambda n: None)  # type: ignore[arg-type,return-value]
@@ -238,6 +267,8 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
                     f"TDMS channel {name!r} holds {len(ch)} samples, fewer than its wf_samples "
                     f"= {int(n_wf)}"
                 )
+
+    _group_times(tdms, table)
 
     for name, aliases in empty.items():  # its other names, where no channel with samples has them
         table.aliases[name] = [name]
@@ -278,12 +309,25 @@ def _table(tdms, path: Path, log: _Collect, seen: int) -> Table:
 
     firsts: dict[str, tuple[int, int]] = {}  # a timestamp channel's first sample
 
+    clocks = sorted({t for times in table.time_of.values() for t in times})  # groups' times
+
+    def first_stamp(name: str) -> tuple[int, int] | None:
+        head = chans[name][0:1]
+        if getattr(head.dtype, "names", None) != ("second_fractions", "seconds") or not len(head):
+            return None
+        return int(head["seconds"][0]), int(head["second_fractions"][0])
+
     def timestamps(name: str, values) -> np.ndarray:
         if name not in firsts:
-            head = chans[name][0:1]
-            firsts[name] = (int(head["seconds"][0]), int(head["second_fractions"][0]))
+            firsts[name] = first_stamp(name)
+            since = "its first sample"
+            if name in clocks:  # the groups' time channels on one clock: their earliest stamp
+                stamps = [s for n in clocks if (s := first_stamp(n)) is not None]
+                if len(stamps) > 1:
+                    firsts[name] = min(stamps)
+                    since = "the earliest first sample of the groups' time channels"
             table.notes.append(
-                f"TDMS timestamp channel {name!r} converted to seconds since its first sample "
+                f"TDMS timestamp channel {name!r} converted to seconds since {since} "
                 f"({_as_datetime64(firsts[name])})"
             )
         return _timestamp_seconds(values, firsts[name])

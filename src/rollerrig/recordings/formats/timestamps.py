@@ -27,6 +27,9 @@ _DATE_CODES = re.compile(r"%[dmyYjbBaAUWGuVxc]")
 """strftime codes of a date (a format without any is a time of day)."""
 
 _TIME_OF_DAY = r"(?P<H>\d{1,2}):(?P<M>\d{2})(?::(?P<S>\d{2})(?:[.,](?P<f>\d+))?)?"
+_ELAPSED_OR_TIME_OF_DAY = r"(?P<H>\d+):(?P<M>\d{2})(?::(?P<S>\d{2})(?:[.,](?P<f>\d+))?)?"
+"""A time without a date: hours of any digits (an endurance run's elapsed ``100:00:00.000``
+had been no time, the rest of its file dropped as a footer)."""
 _TZ = r"(?:\s*(?P<tz>Z|[+-]\d{2}:?\d{2}))?"
 _DATE_PATTERNS = {
     # day or month first: 05.08.24 13:46:13, 05/08/2024 13:46:13.250
@@ -39,8 +42,8 @@ _DATE_PATTERNS = {
         r"^(?P<y>\d{4})(?P<sep>[./-])(?P<b>\d{1,2})(?P=sep)(?P<a>\d{1,2})"
         rf"(?:[ T]+{_TIME_OF_DAY})?{_TZ}$"
     ),
-    # time of day only: 13:46:13,250
-    "tod": re.compile(rf"^{_TIME_OF_DAY}$"),
+    # time of day only: 13:46:13,250; or an elapsed time, hours of any digits: 100:00:00.000
+    "tod": re.compile(rf"^{_ELAPSED_OR_TIME_OF_DAY}$"),
 }
 
 
@@ -166,7 +169,8 @@ def _unwrapped_times_of_day(tod: np.ndarray, first: str) -> tuple[np.ndarray, st
     """Seconds since the first sample of times of day [s], unwrapped at midnight, and a note."""
     steps = np.diff(tod)
     wraps = np.concatenate(([0.0], np.cumsum(np.where(steps < -43200.0, 86400.0, 0.0))))
-    note = f"times of day (first {first!r}) converted to seconds since the first sample"
+    what = "times of day" if np.max(tod) < 86400.0 else "elapsed times, hours:minutes:seconds"
+    note = f"{what} (first {first!r}) converted to seconds since the first sample"
     if wraps[-1]:
         note += f"; {int(wraps[-1] // 86400)} midnight crossing(s) unwrapped"
     t = tod + wraps
