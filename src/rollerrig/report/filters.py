@@ -11,6 +11,7 @@ All return a matplotlib figure; save with :func:`rollerrig.output.save_figure`.
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Mapping, Sequence
 
 import matplotlib
@@ -28,6 +29,9 @@ __all__ = [
     "savitzky_golay_grid_figure",
     "study_ranking_figure",
 ]
+
+_TITLE_WIDTH = 80
+"""Characters per line of the grid figure's red title at 9 pt: it fits over the axes."""
 
 
 def _window_around(segments: list[tuple[int, int]], time: np.ndarray, pick: str):
@@ -240,13 +244,17 @@ def savitzky_golay_grid_figure(
     ax.set_ylabel("polynomial order")
     best = min(table, key=lambda r: r.rank).params
     col, row = windows.index(best["window"]), orders.index(best["order"])
-    ax.plot(col, row, "r*", ms=12, label="lowest cost")
+    # The star on top of every other marker (the orange squares had hidden it, leaving a red
+    # square where the legend shows a star), with a white edge to stand out on dark cells.
+    ax.plot(col, row, "*", ms=14, mfc="red", mec="white", mew=0.8, zorder=5, label="lowest cost")
     lowest = f"lowest cost (red star): order {best['order']}, window {best['window']}"
     # Cells as good as the lowest within the tolerance: the optimum is a region, not a cell.
     near = np.isfinite(grid) & (grid <= lo + flat_tolerance * abs(lo))
     n_near = int(near.sum())
     if n_near > 1:
-        rows_near, cols_near = np.nonzero(near)
+        others = near.copy()
+        others[row, col] = False  # the lowest cell carries the star, not a square
+        rows_near, cols_near = np.nonzero(others)
         ax.plot(
             cols_near, rows_near, "s", ms=9, mfc="none", mec="tab:orange", mew=1.2,
             label=f"within {100 * flat_tolerance:g} % of the lowest",
@@ -258,9 +266,13 @@ def savitzky_golay_grid_figure(
     if edges:
         ax.plot(col, row, "o", ms=20, mfc="none", mec="red", mew=1.5, label="on the grid edge")
         ax.text(0.5, 1.02, lowest, transform=ax.transAxes, ha="center", va="bottom", fontsize=8)
+        # Wrapped: on one line the title ran past both sides of the figure.
         ax.set_title(
-            "optimum on the grid edge (" + "; ".join(edges) + "): the true optimum may lie "
-            "beyond; a wider grid: tune_savitzky_golay(orders=, windows=)",
+            textwrap.fill(
+                "optimum on the grid edge (" + "; ".join(edges) + "): the true optimum may lie "
+                "beyond; a wider grid: tune_savitzky_golay(orders=, windows=)",
+                width=_TITLE_WIDTH,
+            ),
             fontsize=9,
             color="tab:red",
             pad=16,
