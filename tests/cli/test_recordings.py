@@ -144,6 +144,12 @@ def test_filters_does_not_need_unrelated_sensors_of_the_map(tmp_path, runner, ad
     summary = json.loads((out / "test-filters.json").read_text())
     assert any("air_spring_pressure" in n for n in summary["recording"]["notes"])
     assert "lag [ms]" in result.output  # table headers keep their units
+    # The tuned Savitzky-Golay filter is placed in the ranking, and why it is used is said.
+    sg = summary["savitzky_golay"]
+    assert 1 <= sg["would_rank"] <= sg["of"] == len(summary["ranking"])
+    text = " ".join(result.output.split())
+    assert f"costs {sg['cost']:.3f}: it would rank {sg['would_rank']} of {sg['of']}" in text
+    assert "analyze smooths with it" in text and "the seed's method" in text
 
 
 def test_lenient_reports_interpolated_runs_in_every_output(tmp_path, runner, adhesion_csv):

@@ -86,3 +86,30 @@ def test_masks_of_the_wrong_kind_are_named():
     t = np.arange(2500) / FS
     with pytest.raises(ParameterError, match=r"masks must be a Segmentation, a .* got str"):
         filter_study(t, np.sin(t), masks="steady", candidates=[("moving_average", {"window": 5})])
+
+
+def test_the_tuned_savitzky_golay_is_placed_in_the_ranking_on_the_same_cost():
+    # The filters command had said "Savitzky-Golay tuned for this recording: order 2, window
+    # 171" below a ranking whose best was rLOWESS and which never listed window 171: the tuned
+    # filter's cost now places it in the ranking, and the basis of the choice is said.
+    from rollerrig.signal.scoring import prepare_study_signal, savitzky_golay_standing
+
+    sig = seed_like_torque(duration=20.0)
+    study = prepare_study_signal(sig.time, sig.raw)
+    _, _, grid = study.tune_savitzky_golay(orders=[2, 4], windows=[33, 171])
+    ranking = study.filter_study(
+        [("moving_average", {"window": 131}), ("savitzky_golay", {"order": 2, "window": 33}),
+         ("savitzky_golay", {"order": 4, "window": 171}),
+         ("savitzky_golay", {"order": 2, "window": 171})]
+    )  # fmt: skip
+    standing = savitzky_golay_standing(grid, ranking)
+    # the tuned filter is one of the ranked ones here: its rank is its own
+    own = next(r for r in ranking if r.label == grid[0].label)
+    assert standing["would_rank"] == own.rank and standing["of"] == 4
+    assert standing["cost"] == pytest.approx(own.score.cost)
+    assert ranking.rank_of(ranking[-1].score.cost + 1.0) == 5
+    assert "seed's method" in standing["basis"] and "does not choose" in standing["basis"]
+    assert standing["note"].startswith(f"the tuned {grid[0].label} costs ")
+    # a table on another span is not comparable
+    other = prepare_study_signal(sig.time, sig.raw, span=(0.0, 15.0))
+    assert savitzky_golay_standing(grid, other.filter_study())["would_rank"] is None

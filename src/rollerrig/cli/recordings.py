@@ -525,7 +525,11 @@ def filters(
     from rollerrig.recordings.timebase import require_uniform_time
     from rollerrig.report.filters import savitzky_golay_grid_figure, study_ranking_figure
     from rollerrig.signal.channel_checks import check_varies
-    from rollerrig.signal.scoring import prepare_study_signal, study_signal_from_source
+    from rollerrig.signal.scoring import (
+        prepare_study_signal,
+        savitzky_golay_standing,
+        study_signal_from_source,
+    )
 
     stem = safe_file_stem(recording.stem)
     with command_outputs(
@@ -559,6 +563,7 @@ def filters(
                 raise RecordingError(f"{recording}: {exc}") from None
             rows = signal.filter_study()
             order, window, grid = signal.tune_savitzky_golay()
+            standing = savitzky_golay_standing(grid, rows)
             facts = recording_facts(rec)
         table = Table(
             title=f"Smoothing filters on {recording.name}:{channel} (lower cost is better)"
@@ -590,6 +595,10 @@ def filters(
                 "samples at [Hz]": fs,
                 "window [s]": window / fs,
                 "tuned at [Hz]": tuned_at,
+                "cost": standing["cost"],
+                "would_rank": standing["would_rank"],
+                "of": standing["of"],
+                "basis": standing["basis"],
             },
         }
         save_figure(ranking_fig, stage.path(figure_file(f"{stem}-filter-ranking", figure_format)))
@@ -598,9 +607,10 @@ def filters(
     console.print(table)
     console.print(
         f"Savitzky-Golay tuned for this recording: order {order}, window {window} samples at "
-        f"{fs:.6g} Hz ({window / fs:.3f} s; tuned at {tuned_at:g} Hz)",
+        f"{fs:.6g} Hz ({window / fs:.3f} s; tuned at {tuned_at:g} Hz); analyze smooths with it",
         soft_wrap=True,
     )
+    note(standing["note"])
     edge = _grid_edge_note(grid)
     if edge is not None:
         note(edge)

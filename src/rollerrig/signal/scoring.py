@@ -48,6 +48,7 @@ __all__ = [
     "default_candidates",
     "filter_study",
     "prepare_study_signal",
+    "savitzky_golay_standing",
     "score_smoothing",
     "seed_like_torque",
     "steady_and_transient_masks",
@@ -163,3 +164,74 @@ def tune_savitzky_golay(
     """
     prepared = prepare_study_signal(time, raw, truth, masks, analysis_rate=analysis_rate, span=span)
     return prepared.tune_savitzky_golay(orders, windows, weights)
+
+
+SAVITZKY_GOLAY_BASIS = (
+    "analyze smooths the torque and both speeds with a Savitzky-Golay filter, the seed's method "
+    "(Kayaalp, tuned there by eye to order 4-5, window 111 at 250 Hz), so only its order "
+    "and window are tuned, on the ranking's cost, over a finer grid than the ranking's; the "
+    "ranking compares every filter family at the seed's windows and does not choose the "
+    "analysis's filter"
+)
+"""Why the analysis smooths with the tuned Savitzky-Golay filter, not the ranking's best."""
+
+
+def savitzky_golay_standing(grid: StudyTable, ranking: StudyTable) -> dict:
+    """Where the tuned Savitzky-Golay filter (``grid[0]``) would stand in a filter study's ranking.
+
+    Both tables score on one study signal with one cost (:meth:`StudySignal.filter_study` and
+    :meth:`StudySignal.tune_savitzky_golay` of the same signal, default weights), so the tuned
+    filter's cost places it among the ranked filters (:meth:`StudyTable.rank_of`). Tables of
+    different bases (rate or span) are not comparable: ``would_rank`` is then None.
+
+    Parameters
+    ----------
+    grid : StudyTable
+        The tuning table of :func:`tune_savitzky_golay` (ranked, the tuned filter first).
+    ranking : StudyTable
+        The ranked study of :func:`filter_study` on the same signal.
+
+    Returns
+    -------
+    dict
+        ``label``, ``order``, ``window [samples at analysis rate]``, ``cost``, ``would_rank``
+        (None where not comparable), ``of`` (rows ranked), ``best_in_ranking``, ``best_cost``,
+        ``basis`` (:data:`SAVITZKY_GOLAY_BASIS`) and ``note`` (one sentence for outputs).
+
+    Examples
+    --------
+    >>> torque = seed_like_torque(duration=20.0)
+    >>> sig = prepare_study_signal(torque.time, torque.raw)
+    >>> grid = sig.tune_savitzky_golay(orders=[2], windows=[111])[2]
+    >>> ranking = sig.filter_study([("moving_average", {"window": 33}),
+    ...                             ("savitzky_golay", {"order": 2, "window": 111})])
+    >>> standing = savitzky_golay_standing(grid, ranking)
+    >>> standing["would_rank"] == [r.label for r in ranking].index("SG order 2 w111") + 1
+    True
+    """
+    best = grid[0]
+    top = ranking[0]
+    comparable = grid.basis is None or ranking.basis is None or grid.basis == ranking.basis
+    rank = ranking.rank_of(best.score.cost) if comparable else None
+    if rank is None:
+        where = "not comparable with the ranking (another rate or span)"
+    elif rank == 1:
+        where = f"it would rank 1 of {len(ranking)} above"
+    else:
+        where = (
+            f"it would rank {rank} of {len(ranking)} above, behind {top.label} "
+            f"(cost {top.score.cost:.3f})"
+        )
+    return {
+        "label": best.label,
+        "order": best.params["order"],
+        "window [samples at analysis rate]": best.params["window"],
+        "cost": float(best.score.cost),
+        "would_rank": rank,
+        "of": len(ranking),
+        "best_in_ranking": top.label,
+        "best_cost": float(top.score.cost),
+        "basis": SAVITZKY_GOLAY_BASIS,
+        "note": f"the tuned {best.label} costs {best.score.cost:.3f}: {where}; "
+        + SAVITZKY_GOLAY_BASIS,
+    }

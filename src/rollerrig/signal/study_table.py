@@ -158,6 +158,22 @@ class StudyTable(list):
         self.basis = basis
         self.unscored = dict(unscored or {})
 
+    def rank_of(self, cost: float) -> int:
+        """The rank a filter of ``cost`` would take in this table, scored on the same signal with
+        the same weights: one more than the rows cheaper by more than :data:`COST_TIE` (a tie
+        shares the tied row's rank).
+
+        Examples
+        --------
+        >>> from rollerrig.signal.scoring import seed_like_torque, filter_study
+        >>> sig = seed_like_torque(duration=20.0)
+        >>> rows = filter_study(sig.time, sig.raw, candidates=[("moving_average", {"window": 33})])
+        >>> rows.rank_of(rows[0].score.cost), rows.rank_of(rows[0].score.cost + 1.0)
+        (1, 2)
+        """
+        cost = float(cost)
+        return 1 + sum(1 for r in self if r.score.cost < cost - COST_TIE * abs(cost))
+
     def unscored_notes(self) -> list[str]:
         """One sentence per entry of :attr:`unscored`, for consoles and reports."""
         return [
