@@ -92,15 +92,24 @@ def test_fit_honesty_on_the_seed_test(analysed):
     assert fit["identifiable"] is False and fit["A_B_identifiable"] is False
     lo, hi = fit["slip_velocity_coverage"]["A_B_constrained_over_slip_velocity [m/s]"]
     assert 0 < lo < hi < 1.0  # [m/s]: creep x 8.3 m/s
-    for key in ("limit_ratio", "friction_decay"):
+    for key in ("A", "B [s/m]"):
         row = fit["truth_distance"][key]
         assert row["sigma"] is None and row["why"] == UNIDENTIFIED_WHY
     true = result.true_parameters
-    for key in ("static_friction", "k_adhesion", "k_slip"):
+    for name, key in (("static_friction", "mu0"), ("k_adhesion", "kA"), ("k_slip", "kS")):
         row = fit["truth_distance"][key]
         assert row["sigma"] <= 3.0, (key, row)  # covered by the stated standard error
         assert fit["stderr"][key] > 2.0 * fit["stderr_statistical"][key]
-        assert abs(row["fitted"] - true[key]) > 3.0 * fit["stderr_statistical"][key]
+        assert abs(row["fitted"] - true[name]) > 3.0 * fit["stderr_statistical"][key]
+    # Every per-parameter dict of a fit is keyed as its values are (the standard errors had
+    # been keyed static_friction, limit_ratio, ... beside values keyed mu0, A, ...).
+    keys = ["mu0", "A", "B [s/m]", "kA", "kS"]
+    for block in ("polach_fit_corrected_coa", "polach_fit_rig_coa"):
+        f = summary[block]
+        assert all(k in f for k in keys)
+        assert list(f["stderr"]) == keys and list(f["truth_distance"]) == keys
+    assert list(fit["stderr_statistical"]) == keys
+    assert all(list(shift) == keys for shift in fit["systematic_shifts"].values())
     assert any("systematic errors" in n for n in result.notes)
     assert "durbin_watson" in fit["residual_structure"]
 

@@ -22,7 +22,7 @@ from rollerrig.recordings.recording import Recording
 from rollerrig.signal.scoring import StudyRow
 from rollerrig.signal.workflow import ExplainedSpectrum
 
-__all__ = ["TRUTH_SIGMA", "TestAnalysis"]
+__all__ = ["FIT_KEYS", "TRUTH_SIGMA", "TestAnalysis"]
 
 SYMBOLS = {
     "static_friction": "μ0",
@@ -188,11 +188,30 @@ def _finite_or_none(value: float) -> float | None:
     return value if np.isfinite(value) else None
 
 
+FIT_KEYS = {
+    "static_friction": "mu0",
+    "limit_ratio": "A",
+    "friction_decay": "B [s/m]",
+    "k_adhesion": "kA",
+    "k_slip": "kS",
+}
+"""JSON key of each Polach parameter in a fit's block: its value's key, and the same key in the
+block's per-parameter dicts (``stderr``, ``stderr_statistical``, ``systematic_shifts``,
+``truth_distance``), which had been keyed by the API's names (``static_friction``, ...)."""
+
+
+def _by_fit_key(values: dict | None, convert=lambda v: v) -> dict | None:
+    """A per-parameter dict keyed as the fit's values are (:data:`FIT_KEYS`)."""
+    if values is None:
+        return None
+    return {FIT_KEYS.get(k, k): convert(v) for k, v in values.items()}
+
+
 def _fit_dict(fit: PolachFit | None, points: dict, truth: dict | None = None) -> dict | None:
     if fit is None:
         return None
     p = fit.parameters
-    stderr = {k: _finite_or_none(v) for k, v in fit.stderr.items()}
+    stderr = _by_fit_key(fit.stderr, _finite_or_none)
     out = {
         "mu0": p.static_friction,
         "A": p.limit_ratio,
@@ -200,10 +219,10 @@ def _fit_dict(fit: PolachFit | None, points: dict, truth: dict | None = None) ->
         "kA": p.k_adhesion,
         "kS": p.k_slip,
         "stderr": stderr,
-        "stderr_statistical": None
-        if fit.stderr_statistical is None
-        else {k: _finite_or_none(v) for k, v in fit.stderr_statistical.items()},
-        "systematic_shifts": fit.systematic,
+        "stderr_statistical": _by_fit_key(fit.stderr_statistical, _finite_or_none),
+        "systematic_shifts": None
+        if fit.systematic is None
+        else {name: _by_fit_key(shift) for name, shift in fit.systematic.items()},
         "rmse [-]": float(fit.rmse),
         "points": points["used"],
         "points_available": points["available"],
@@ -216,7 +235,9 @@ def _fit_dict(fit: PolachFit | None, points: dict, truth: dict | None = None) ->
         "residual_structure": None
         if fit.residual_structure is None
         else fit.residual_structure.as_dict(),
-        "truth_distance": None if truth is None else fit.truth_distance(truth, TRUTH_SIGMA),
+        "truth_distance": None
+        if truth is None
+        else _by_fit_key(fit.truth_distance(truth, TRUTH_SIGMA)),
         "truth_distance_warn_sigma": TRUTH_SIGMA,
     }
     if fit.stderr_statistical is None:
