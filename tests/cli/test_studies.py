@@ -22,6 +22,24 @@ def _run_local(runner, study, out, **options):
     )
 
 
+def test_the_study_table_gives_every_metric_its_unit_and_the_overshoots_in_percent(
+    tmp_path, runner
+):
+    # The headers release_overshoot and true_release_overshoot had no unit and their values
+    # read 0.4702 where simulate says "overshoot 47.0%": now in % with [%], as the frame study
+    # prints them; the files keep the fraction, headed [-].
+    out = tmp_path / "out"
+    result = _run_local(runner, "lag", out)
+    assert result.exit_code == 0, result.output
+    text = result.output
+    assert "release_overshoot [%]" in text and "true_release_overshoot [%]" in text
+    assert "settling_time [s]" in text
+    row = next(line for line in text.splitlines() if "tau = 0.3635 s" in line)
+    doc = json.loads((out / "study-lag.json").read_text())
+    value = next(r for r in doc["rows"] if r["label"] == "tau = 0.3635 s")["release_overshoot [-]"]
+    assert 0.0 < value < 1.0 and f"{100 * value:.4g}" in row
+
+
 @pytest.mark.slow  # ~10 s: a local dask cluster of 2 workers starts
 def test_a_bundled_study_on_a_local_cluster_of_two_workers(tmp_path, runner):
     out = tmp_path / "out"
@@ -234,6 +252,7 @@ def test_study_frame_prints_the_verdict_and_writes_json_and_figure(tmp_path, run
     result = runner.invoke(app, ["study", "frame", "--out", str(tmp_path)])
     assert result.exit_code == 0, result.output
     assert "does not explain the oscillation" in " ".join(result.output.split())
+    assert "overshoot T56/r_r [%]" in result.output  # the unit in the header, as study run's
     doc = json.loads((tmp_path / "study-frame.json").read_text())
     assert [c["frame"] for c in doc["cases"]] == ["rigid frame", "frame (FE)", "frame 10x softer"]
     assert doc["frame_matters"] is False

@@ -80,6 +80,7 @@ def _results(
     """Print the table and write CSV, JSON and figures of a study's dataset into ``stage``."""
     from rollerrig.output import save_figure, write_json, write_table
     from rollerrig.report.studies import study_figures
+    from rollerrig.studies.metrics import shown_unit
     from rollerrig.studies.summary import failures, metric_summary, warned_points
 
     metrics = json.loads(ds.attrs["metrics"])
@@ -91,13 +92,15 @@ def _results(
         table = Table(title=f"Study '{ds.attrs['study']}': {n} points")
         table.add_column("point")
         shown = metrics[:MAX_TABLE_METRICS]
+        # Every metric with its unit, as the CSV headers have it; the overshoots in %, as
+        # simulate prints them (a bare 0.4702 had read as no unit beside "overshoot 47.0 %").
+        units = {m: shown_unit(m, ds[m].attrs.get("units")) for m in shown}
         for m in shown:
-            unit = ds[m].attrs.get("units", "")
-            table.add_column(m + ("" if unit in ("", "1") else f" [{unit}]"), justify="right")
+            table.add_column(f"{m} [{units[m][0]}]", justify="right")
         table.add_column("status")
         for i in range(n):
             row = [str(ds.label.values[i])]
-            row += [_format(float(ds[m].values[i]), "") for m in shown]
+            row += [_format(float(ds[m].values[i]) * units[m][1], "") for m in shown]
             table.add_row(*row, status[i])
         console.print(table)
         if len(metrics) > len(shown):
@@ -107,12 +110,13 @@ def _results(
         for col in ("metric", "unit", "with value", "min", "mean", "max"):
             table.add_column(col, justify="left" if col in ("metric", "unit") else "right")
         for row in spread:
+            unit, scale = shown_unit(row["metric"], row.get("unit"))
             table.add_row(
                 row["metric"],
-                row.get("unit", ""),
+                unit,
                 str(row["with value"]),
                 *(
-                    _format(row[k], "") if row.get(k) is not None else "-"
+                    _format(row[k] * scale, "") if row.get(k) is not None else "-"
                     for k in ("min", "mean", "max")
                 ),
             )
@@ -469,7 +473,7 @@ def frame(
         with steps("study frame", "simulating the experiment with each frame") as say:
             result = frame_study(rig, structure, progress=say)
         table = Table(title=f"Frame study on {result.experiment}")
-        for col in ("frame", "f [Hz]", "overshoot T56/r_r", "ringing line", "T56 at f_frame"):
+        for col in ("frame", "f [Hz]", "overshoot T56/r_r [%]", "ringing line", "T56 at f_frame"):
             # the overshoot in %, as simulate prints it
             table.add_column(col, justify="left" if col == "frame" else "right")
         for case in result.cases:
@@ -478,7 +482,7 @@ def frame(
             table.add_row(
                 case.label,
                 "-" if rigid else f"{case.frequency:.1f}",
-                f"{m['release_overshoot']:.2%}",
+                f"{100 * m['release_overshoot']:.2f}",
                 f"{m['t56_line_frequency']:.2f} Hz, {m['t56_line_amplitude']:.2f} N.m",
                 "-" if rigid else f"{case.line_at_frame_frequency:.3g} N.m",
             )

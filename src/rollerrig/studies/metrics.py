@@ -49,6 +49,7 @@ __all__ = [
     "release_overshoots",
     "rest_spectrum",
     "run_channels",
+    "shown_unit",
 ]
 
 RELEASE_WINDOW = 3.0
@@ -363,7 +364,8 @@ def _ringing_line(run, protocol) -> tuple[float, float]:
 class Metric:
     """One metric: its unit, what it says, when it is undefined, and its function;
     ``needs_release``: it measures what follows a torque release, so an experiment without a
-    ``release_torque`` step cannot give it."""
+    ``release_torque`` step cannot give it; ``percent``: a fraction shown in % on a console
+    (:func:`shown_unit`), stored as a fraction."""
 
     name: str
     units: str
@@ -371,6 +373,7 @@ class Metric:
     nan_meaning: str
     function: Callable[[RunChannels, Protocol], float]
     needs_release: bool = False
+    percent: bool = False
 
 
 _NO_RELEASE = "the experiment has no torque release from a positive force, or the run failed"
@@ -384,6 +387,7 @@ METRICS: dict[str, Metric] = {
             _NO_RELEASE,
             _release_overshoot,
             needs_release=True,
+            percent=True,
         ),
         Metric(
             "true_release_overshoot",
@@ -392,6 +396,7 @@ METRICS: dict[str, Metric] = {
             _NO_RELEASE,
             _true_release_overshoot,
             needs_release=True,
+            percent=True,
         ),
         Metric(
             "release_minimum_time",
@@ -465,6 +470,29 @@ METRICS: dict[str, Metric] = {
     )
 }
 """The metrics a study can compute, by name (see the module docstring)."""
+
+
+def shown_unit(name: str, unit: str | None = None) -> tuple[str, float]:
+    """The unit a metric is shown in on a console, and the factor from its stored value.
+
+    The relative overshoots (:attr:`Metric.percent`) in % (stored as a fraction, unit ``1``),
+    as ``simulate`` and ``study frame`` print them; another dimensionless metric (``1``) in
+    ``-``, as the CSV headers have it; any other in its own unit. ``unit`` is the stored unit
+    (a dataset's ``units`` attribute); default the metric's.
+
+    Examples
+    --------
+    >>> shown_unit("release_overshoot"), shown_unit("peak_coa"), shown_unit("settling_time")
+    (('%', 100.0), ('-', 1.0), ('s', 1.0))
+    """
+    metric = METRICS.get(name)
+    if unit is None:
+        unit = metric.units if metric is not None else "1"
+    if unit in ("", "1"):
+        if metric is not None and metric.percent:
+            return "%", 100.0
+        return "-", 1.0
+    return unit, 1.0
 
 
 def misses_its_releases(run: RunChannels, protocol: Protocol) -> bool:
