@@ -53,6 +53,10 @@ def test_help_keeps_the_units_in_brackets(runner):
     ):
         assert fragment in text, fragment
     assert "Traceback" not in result.output
+    # --free and the recording are required unless --list-keys is given: the help says so
+    # (omitting --free had failed with an error the help never announced).
+    assert "--free <str> [required, except with --list-keys] Free parameters" in text
+    assert "recording <path> [required, except with --list-keys] Recording" in text
 
 
 def test_list_keys_and_missing_or_unknown_keys(runner, tmp_path):
@@ -71,7 +75,9 @@ def test_list_keys_and_missing_or_unknown_keys(runner, tmp_path):
         "or --list-keys to list the keys --free accepts"
     )
     result = runner.invoke(app, ["calibrate", "x.tdms", "--out", str(tmp_path / "o")])
-    assert result.exit_code == 2 and "--free is required" in _flat(result.output)
+    assert result.exit_code == 2 and _flat(result.output).startswith(
+        "error: --free is required: name the parameters to fit"
+    )  # the package's error format, not click's "Error:"
     result = runner.invoke(
         app, ["calibrate", "x.tdms", "--free", "inertia.rolller", "--out", str(tmp_path / "o")]
     )

@@ -58,9 +58,9 @@ def calibrate(
     recording: Annotated[
         Path | None,
         typer.Argument(
-            help="Recording of an adhesion test with the torque request, the torque sensor, "
-            "both encoder counts and the air-spring pressure (or the normal load); not needed "
-            "with --list-keys.",
+            help="[required, except with --list-keys] Recording of an adhesion test with the "
+            "torque request, the torque sensor, both encoder counts and the air-spring pressure "
+            "(or the normal load).",
             show_default=False,
         ),
     ] = None,
@@ -68,7 +68,8 @@ def calibrate(
         str | None,
         typer.Option(
             "--free",
-            help="Free parameters, comma-separated dotted keys of the rig file (e.g. "
+            help="[required, except with --list-keys] Free parameters, comma-separated dotted "
+            "keys of the rig file (e.g. "
             "stiffness.roller_shaft,bearing.friction_coefficient,inertia.roller) or of the "
             "recording's friction law (with --law polach: polach.static_friction, "
             "polach.limit_ratio, polach.friction_decay, polach.k_adhesion, polach.k_slip; with "
