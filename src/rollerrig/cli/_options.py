@@ -194,11 +194,12 @@ MIN_RADIUS_MM = 5.0
 25 mm): a radius typed in metres (0.452 for 452 mm) lands below it, and is named so."""
 
 
-def check_wheel_load_kn(option: str, value: float | None) -> None:
-    """``value`` [kN] in (0, :data:`MAX_WHEEL_LOAD_KN`], the error asking whether it is in N."""
+def check_wheel_load_kn(option: str, value: float | None, *, zero: bool = False) -> None:
+    """``value`` [kN] in (0, :data:`MAX_WHEEL_LOAD_KN`] (``[0, ...]`` with ``zero``: a frame
+    unloaded vertically), the error asking whether it is in N."""
     check_option(
-        option, value, "kN", above=0, at_most=MAX_WHEEL_LOAD_KN,
-        why="a wheel load; a value typed in N?",
+        option, value, "kN", above=None if zero else 0, at_least=0 if zero else None,
+        at_most=MAX_WHEEL_LOAD_KN, why="a wheel load; a value typed in N?",
     )  # fmt: skip
 
 

@@ -24,6 +24,7 @@ from rollerrig.cli._options import (
     FigureFormat,
     FigureFormatOption,
     OutOption,
+    check_wheel_load_kn,
     figure_file,
 )
 from rollerrig.cli._outputs import command_outputs
@@ -48,7 +49,8 @@ def frame(
         float,
         typer.Option(
             "--vertical-kn",
-            help="Normal load: the air-spring force [kN], >= 0, at most 10000.",
+            help="Normal load: the air-spring force [kN], 0 to 200 (the wheel-load bound of "
+            "the other commands).",
         ),
     ] = 20.0,
     horizontal_kn: Annotated[
@@ -82,18 +84,15 @@ def frame(
     from rollerrig._validation import ParameterError
     from rollerrig.frame.analysis import MAX_TEST_LOAD
 
+    # The wheel-load bound and message of the other commands (it had taken up to 10 000 kN).
+    check_wheel_load_kn("--vertical-kn", vertical_kn, zero=True)
     limit_kn = MAX_TEST_LOAD / 1e3
-    for option, value in (("--vertical-kn", vertical_kn), ("--horizontal-kn", horizontal_kn)):
-        if not math.isfinite(value):
-            raise UserError(f"{option} must be a finite number [kN], got {value!r}")
-        if abs(value) > limit_kn:
-            raise UserError(
-                f"{option} must be at most {limit_kn:g} kN in magnitude [kN] (a linear model "
-                f"of a rig frame means nothing beyond), got {value:g}"
-            )
-    if vertical_kn < 0:
+    if not math.isfinite(horizontal_kn):
+        raise UserError(f"--horizontal-kn must be a finite number [kN], got {horizontal_kn!r}")
+    if abs(horizontal_kn) > limit_kn:
         raise UserError(
-            f"--vertical-kn must be >= 0 [kN] (the air spring only pushes), got {vertical_kn:g}"
+            f"--horizontal-kn must be at most {limit_kn:g} kN in magnitude [kN] (a linear model "
+            f"of a rig frame means nothing beyond), got {horizontal_kn:g}"
         )
     if not 1 <= modes <= 50:
         raise UserError(f"--modes must be in [1, 50], got {modes}")
