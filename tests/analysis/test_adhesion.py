@@ -63,6 +63,20 @@ def test_spectrum_explains_the_motor_line_and_the_shaft_mode(analysed):
     assert am1 and abs(am1[0].frequency - 5 * (30 / 3.6) / (2 * np.pi * 0.452)) < 0.15
 
 
+def test_the_spectrum_states_its_window_and_phase(analysed):
+    # The caption said "1621-sample segments ... 1 segment" and never where they lay (the last
+    # rest phase): the window and the phase are stated, on the console and in the JSON.
+    result, _, _ = analysed
+    phase = result.spectrum_phase
+    assert phase is not None and phase.name in ("rest", "free_rolling")
+    assert (phase.start, phase.end) == result.spectrum_window
+    text = result.spectrum_basis()
+    assert text.startswith(f"spectrum of the torque over {phase.start:.2f}-{phase.end:.2f} s: ")
+    assert "longest phase without torque activity" in text
+    spectrum = result.summary()["spectrum"]
+    assert spectrum["phase"] == phase.name and spectrum["window_note"] == text
+
+
 def test_report_and_results_are_written(analysed, tmp_path):
     result, truth, path = analysed
     paths = write_analysis(result, tmp_path, "test", source=str(path), truth=truth)

@@ -160,6 +160,9 @@ def test_lenient_reports_interpolated_runs_in_every_output(tmp_path, runner, adh
     result = runner.invoke(app, ["analyze", str(rec), "--lenient", "--no-study", "--out", str(out)])
     assert result.exit_code == 0, result.output
     assert "samples 150..151" in result.output  # console
+    # the spectrum's window and phase are printed beside its caption
+    spectrum = json.loads((out / "test-analysis.json").read_text())["spectrum"]
+    assert spectrum["window_note"] in " ".join(result.output.split())
     summary = json.loads((out / "test-analysis.json").read_text())  # JSON
     (run,) = summary["recording"]["interpolated"]
     assert (run["channel"], run["first_sample"], run["last_sample"]) == ("torque", 150, 151)

@@ -72,6 +72,33 @@ class TestAnalysis:
     coa_uncertainty: CoaBudget | None = None  # the corrected CoA's uncertainty and budget
     rig_sha256: str | None = None  # rollerrig.output.rig_sha256 of the rig analysed with
 
+    @property
+    def spectrum_phase(self) -> Phase | None:
+        """The phase the spectrum was computed over (the longest quiet one), if any."""
+        if self.spectrum_window is None:
+            return None
+        start, end = self.spectrum_window
+        return next((p for p in self.phases if (p.start, p.end) == (start, end)), None)
+
+    def spectrum_basis(self) -> str | None:
+        """One sentence for outputs: over which window [s] and phase the spectrum was computed
+        (its caption gives the segments, not where they lie); None without a spectrum.
+
+        E.g. "spectrum of the torque over 23.52-30.00 s: the rest phase of cycle 2, the longest
+        phase without torque activity" (cycles numbered from 0, as in :attr:`phases`).
+        """
+        if self.spectrum is None or self.spectrum_window is None:
+            return None
+        start, end = self.spectrum_window
+        text = f"spectrum of the {self.spectrum.channel} over {start:.2f}-{end:.2f} s"
+        phase = self.spectrum_phase
+        if phase is None:
+            return text
+        what = phase.name.replace("_", " ")
+        # the cycle as the phases list numbers it (from 0; a rest belongs to the cycle it ends)
+        of = f" of cycle {phase.cycle}" if phase.cycle >= 0 else ""
+        return f"{text}: the {what} phase{of}, the longest phase without torque activity"
+
     def _repr_rows(self) -> tuple[str, list[tuple[str, str]]]:
         """The title and the (what, value) rows of the repr and the HTML table."""
         from pathlib import Path
@@ -141,7 +168,12 @@ class TestAnalysis:
             else {"parameters": self.true_parameters, "source": self.true_parameters_source},
             "spectrum": None
             if self.spectrum is None
-            else {"window [s]": list(self.spectrum_window), **self.spectrum.summary()},
+            else {
+                "window [s]": list(self.spectrum_window),
+                "phase": None if self.spectrum_phase is None else self.spectrum_phase.name,
+                "window_note": self.spectrum_basis(),
+                **self.spectrum.summary(),
+            },
             "filter_study_top10": [row.as_dict() for row in self.study[:10]],
             "filter_study_basis": None if basis is None else basis.as_dict(),
             "filter_study_unscored": dict(getattr(self.study, "unscored", {}) or {}),

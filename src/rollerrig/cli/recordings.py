@@ -311,6 +311,8 @@ def print_analysis(result) -> None:
     for key, value in result.truth_errors.items():
         console.print(f"{key}: {value:.4f}")
     if result.spectrum is not None:
+        # The caption gives the segments, not where they lie: the window and phase first.
+        console.print(result.spectrum_basis(), soft_wrap=True)
         console.print(result.spectrum.format_table())
     rate = result.recording.sample_rate
     tuned = result.smoothing_tuned_at
