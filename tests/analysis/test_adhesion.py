@@ -73,6 +73,8 @@ def test_the_spectrum_states_its_window_and_phase(analysed):
     text = result.spectrum_basis()
     assert text.startswith(f"spectrum of the torque over {phase.start:.2f}-{phase.end:.2f} s: ")
     assert "longest phase without torque activity" in text
+    if phase.cycle >= 0:  # numbered from 1, as the printed phase table numbers cycles
+        assert f" phase of cycle {phase.cycle + 1}, " in text
     spectrum = result.summary()["spectrum"]
     assert spectrum["phase"] == phase.name and spectrum["window_note"] == text
 

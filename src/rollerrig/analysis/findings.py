@@ -84,8 +84,9 @@ class TestAnalysis:
         """One sentence for outputs: over which window [s] and phase the spectrum was computed
         (its caption gives the segments, not where they lie); None without a spectrum.
 
-        E.g. "spectrum of the torque over 23.52-30.00 s: the rest phase of cycle 2, the longest
-        phase without torque activity" (cycles numbered from 0, as in :attr:`phases`).
+        E.g. "spectrum of the torque over 23.52-30.00 s: the rest phase of cycle 3, the longest
+        phase without torque activity" (cycles numbered from 1, as the printed tables and the
+        report number them; :attr:`phases` holds them from 0).
         """
         if self.spectrum is None or self.spectrum_window is None:
             return None
@@ -95,8 +96,8 @@ class TestAnalysis:
         if phase is None:
             return text
         what = phase.name.replace("_", " ")
-        # the cycle as the phases list numbers it (from 0; a rest belongs to the cycle it ends)
-        of = f" of cycle {phase.cycle}" if phase.cycle >= 0 else ""
+        # the cycle as the tables number it (from 1; a rest belongs to the cycle it ends)
+        of = f" of cycle {phase.cycle + 1}" if phase.cycle >= 0 else ""
         return f"{text}: the {what} phase{of}, the longest phase without torque activity"
 
     def _repr_rows(self) -> tuple[str, list[tuple[str, str]]]:
