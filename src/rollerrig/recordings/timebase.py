@@ -39,7 +39,7 @@ import numpy as np
 from rollerrig._validation import ParameterError
 from rollerrig.recordings.recording import RecordingError
 from rollerrig.recordings.uniform import uniform_sample_rate
-from rollerrig.recordings.validate import check_grid
+from rollerrig.recordings.validate import check_grid, check_nan_runs
 
 __all__ = [
     "ATTENUATION_DB",
@@ -259,6 +259,7 @@ def align_channels(
     where: str,
     resample_Hz: float | None = None,
     exact_channels: Collection[str] = (),
+    validate: str = "strict",
 ) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, str]]:
     """Channels on one common time base (see the module docstring for the choice and methods).
 
@@ -285,6 +286,12 @@ def align_channels(
     exact_channels : collection of str
         Channels whose own time base beats index alignment with ``time`` whatever
         ``own_time_exact`` says (a TDMS channel timed by its group's time channel).
+    validate : {"strict", "lenient"}
+        What a NaN/inf sample of a channel that is resampled does: its runs are checked (and,
+        lenient, interpolated) on the channel's own time base before resampling
+        (:func:`~rollerrig.recordings.validate.check_nan_runs`; listed in
+        ``info["interpolated"]``), as resampling would spread one bad sample over every
+        output sample its interpolation or filter touches.
 
     Returns
     -------
@@ -371,6 +378,16 @@ def align_channels(
         if base.size == new_time.size and _same(base, new_time):
             channels[spec.name] = values
             continue
+        values, runs = check_nan_runs(
+            base,
+            spec.name,
+            values,
+            validate,
+            where,
+            f" of its own time base ({columns.get(spec.name, spec.name)!r}, "
+            f"{_rate(base, where):.6g} Hz, before resampling)",
+        )
+        info.setdefault("interpolated", []).extend(runs)
         channels[spec.name], resampled[spec.name] = resample_onto(values, base, new_time)
 
     if resampled:

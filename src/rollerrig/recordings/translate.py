@@ -714,12 +714,19 @@ def _own_time(
 
 
 def apply_map(
-    table: Table, cmap: ChannelMap, path: Path, needed: Iterable[str] | None = None
+    table: Table,
+    cmap: ChannelMap,
+    path: Path,
+    needed: Iterable[str] | None = None,
+    validate: str = "strict",
 ) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, str], dict[str, Any]]:
     """Time [s] and channels in SI units from a table through the channel map.
 
     ``needed``: the channels the caller needs; entries not needed, and ``optional`` ones, are
     noted instead of failing when their column is missing (None: every entry is needed).
+    ``validate``: as for :func:`~rollerrig.recordings.readers.read_recording`, for the NaN/inf
+    samples of channels that are resampled onto the common time base
+    (:func:`~rollerrig.recordings.timebase.align_channels`).
     """
     notes = table.notes
     info: dict[str, Any] = {"columns": {}, "source_units": {}}
@@ -932,5 +939,6 @@ def apply_map(
         notes=notes,
         where=where,
         resample_Hz=getattr(tspec, "resample_Hz", None),
+        validate=validate,
     )
     return np.asarray(time, dtype=float), channels, units, info
