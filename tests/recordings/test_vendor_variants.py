@@ -484,6 +484,34 @@ def test_an_hour_back_names_daylight_saving_time(tmp_path):
         read_recording(p, MAP)
 
 
+@pytest.mark.parametrize("validate", ["strict", "lenient"])
+def test_an_hour_forward_names_daylight_saving_time(tmp_path, validate):
+    # 4 Hz on a local wall clock, CET -> CEST at 02:00 on 31 March 2024: 01:59:59,750 is
+    # followed by 03:00:00,000. Read as a gap of 14400 dropped samples; lenient kept it and
+    # the recording lasted 3603.75 s instead of 3.75 s.
+    import datetime as dt
+
+    utc0 = dt.datetime(2024, 3, 31, 0, 59, 58)
+    rows = []
+    for k in range(16):
+        u = utc0 + dt.timedelta(milliseconds=250 * k)
+        local = u + dt.timedelta(hours=1 if u < dt.datetime(2024, 3, 31, 1) else 2)
+        rows.append(f"{local.strftime('%d.%m.%Y %H:%M:%S,%f')[:-3]};{k}\n")
+    p, sha = _write(tmp_path, "spring.csv", "Zeit;Moment\n" + "".join(rows))
+    cmap = {"time": {"column": "Zeit"}, "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}
+    with pytest.raises(RecordingError, match=r"row 7 .*daylight saving time.* UTC offset") as e:
+        read_recording(p, cmap, validate=validate)
+    assert "'31.03.2024 03:00:00,000'" in str(e.value) and "sample_rate_Hz" in str(e.value)
+    # the fix it names: the rate instead of the time column
+    rec = read_recording(p, {**cmap, "time": {"sample_rate_Hz": 4}})
+    assert rec.time[-1] == pytest.approx(3.75)
+    # the same step in a month without a change to daylight saving time is a gap, as before
+    p2, _ = _write(tmp_path, "july.csv", "Zeit;Moment\n" + "".join(rows).replace(".03.", ".07."))
+    with pytest.raises(RecordingError, match="gap"):
+        read_recording(p2, cmap)
+    assert file_sha256(p) == sha
+
+
 def test_time_printed_to_too_few_digits_suggests_the_sample_rate(tmp_path):
     rows = "".join(f"{k / 2000:.3f},1.0\n" for k in range(40))  # 2 kHz printed to ms
     p, _ = _write(tmp_path, "ms.csv", f"Time,Torque\n{rows}")

@@ -160,6 +160,40 @@ def _date_format_hint(cell: str) -> str:
     return f"e.g. date_format = {fmt!r} reads {cell!r}{order}; codes as Python's time.strptime"
 
 
+_DST_MONTHS = (3, 4, 9, 10, 11)
+"""Months in which a clock goes forward by an hour somewhere (Europe and North America:
+March, April; Chile, New Zealand, Australia, formerly Brazil: September to November)."""
+
+
+def _check_spring_forward(
+    wall: np.ndarray, s, what: str, line_of: Callable[[int], int | None] | None
+) -> None:
+    """RecordingError when local wall-clock times ``wall`` [s since 1970, no offset] step forward
+    by one hour (± a sample interval) in a month where daylight saving time may begin: the
+    clock went forward, no samples were dropped (read as a gap, the recording had been an hour
+    longer)."""
+    if wall.size < 3:
+        return
+    steps = np.diff(wall)
+    median = float(np.median(steps))
+    if not 0.0 < median <= 60.0:
+        return
+    hits = np.flatnonzero(np.abs(steps - 3600.0) <= median * (1.0 + 1e-6))
+    for k in hits.tolist():
+        month = int(np.datetime64(int(wall[k]), "s").astype(object).month)
+        if month not in _DST_MONTHS:
+            continue
+        raise RecordingError(
+            f"{what}: the time steps forward by {steps[k]:.6g} s between {_row_name(k, line_of)} "
+            f"{s.iloc[k]!r} and {_row_name(k + 1, line_of)} {s.iloc[k + 1]!r} at a median "
+            f"interval of {median:.6g} s: local clock times across the start of daylight "
+            "saving time (the clock went forward an hour; no samples are missing)? Export the "
+            "times in UTC or with their UTC offset (31.03.2024 03:00:00+02:00), or, where the "
+            "samples are evenly spaced, give [time] sample_rate_Hz in the channel map instead "
+            "of the time column"
+        )
+
+
 def _row_name(k: int, line_of: Callable[[int], int | None] | None) -> str:
     line = line_of(k) if line_of is not None else None
     return f"row {k}" + (f" (file line {line})" if line is not None else "")
@@ -327,6 +361,9 @@ def parse_timestamps(
                 f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} does not match [file] "
                 f"date_format {date_format!r} ({int(bad.sum())} row(s) in total)"
             )
+        if stamps.dt.tz is None and _DATE_CODES.search(date_format):
+            wall = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64) / 1e9
+            _check_spring_forward(wall, s, what, line_of)
         ns = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64)
         secs = (ns - ns[0]) / 1e9
         note = (
@@ -457,6 +494,8 @@ def parse_timestamps(
         hh = pd.to_numeric(digits.str[:2], errors="coerce").fillna(0).to_numpy()
         mm = pd.to_numeric(digits.str[2:4], errors="coerce").fillna(0).to_numpy()
         offset = np.where(tz == "Z", 0.0, sign * (hh * 3600.0 + mm * 60.0))
+    if not ("tz" in parts and parts["tz"].notna().any()):
+        _check_spring_forward(days * 86400.0 + tod, s, what, line_of)
     t = (days - days[0]) * 86400.0 + (tod - tod[0]) - (offset - offset[0])
     start = pd.Timestamp(dates[0]) + pd.Timedelta(seconds=float(tod[0]))
     return t, (
