@@ -512,6 +512,43 @@ def test_an_hour_forward_names_daylight_saving_time(tmp_path, validate):
     assert file_sha256(p) == sha
 
 
+@pytest.mark.parametrize(
+    ("stamp", "note"),
+    [
+        ("%d-%b-%Y %H:%M:%S.%f", "day-month name-year"),  # MATLAB datetime, Oracle, SAS
+        ("%d-%B-%Y %H:%M:%S.%f", "day-month name-year"),
+        ("pandas", "pandas' Timedelta"),  # DataFrame.to_csv of a timedelta column
+    ],
+)
+def test_month_names_and_pandas_timedeltas_across_midnight_are_read(tmp_path, stamp, note):
+    # The refusal had suggested date_format '05-%b-2024 %H:%M:%S.%f' (and '0 days %H:%M:%S.%f'
+    # for pandas), copying the first row's day and year: the next day's rows did not match.
+    import datetime as dt
+
+    t0 = dt.datetime(2024, 8, 5, 23, 59, 59)
+    stamps = [t0 + dt.timedelta(milliseconds=250 * k) for k in range(12)]
+    if stamp == "pandas":
+        import pandas as pd
+
+        td = pd.to_timedelta(np.arange(12) * 250, unit="ms") + pd.Timedelta(
+            hours=23, minutes=59, seconds=59
+        )
+        cells = [str(v) for v in td]
+    else:
+        cells = [s.strftime(stamp)[:-3] for s in stamps]
+    rows = "".join(f"{c},{k}\n" for k, c in enumerate(cells))
+    p, sha = _write(tmp_path, "mon.csv", f"Time,Torque\n{rows}")
+    rec = read_recording(p, MAP)
+    np.testing.assert_allclose(rec.time, np.arange(12) * 0.25, atol=1e-9)
+    assert any(note in n for n in rec.metadata["notes"])
+    assert file_sha256(p) == sha
+    if stamp == "pandas":  # pandas writes a negative Timedelta as '-1 days +23:59:59.750000'
+        neg = ["-1 days +23:59:59.500000", "-1 days +23:59:59.750000", "0 days 00:00:00"]
+        rows = "".join(f"{c},{k}\n" for k, c in enumerate(neg))
+        p, _ = _write(tmp_path, "neg.csv", f"Time,Torque\n{rows}")
+        np.testing.assert_allclose(read_recording(p, MAP).time, [0.0, 0.25, 0.5])
+
+
 def test_time_printed_to_too_few_digits_suggests_the_sample_rate(tmp_path):
     rows = "".join(f"{k / 2000:.3f},1.0\n" for k in range(40))  # 2 kHz printed to ms
     p, _ = _write(tmp_path, "ms.csv", f"Time,Torque\n{rows}")
