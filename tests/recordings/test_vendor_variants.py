@@ -181,6 +181,39 @@ def test_a_binary_file_with_a_text_suffix_is_still_refused(tmp_path):
         read_recording(p, MAP)
 
 
+@pytest.mark.parametrize("n", [3000, 40000], ids=["in-the-head", "beyond-the-head"])
+@pytest.mark.parametrize("cut", [0, 6], ids=["after-a-line-end", "inside-a-line"])
+def test_a_nul_padded_tail_is_left_out_with_the_line_it_cut(tmp_path, n, cut):
+    # An SD-card logger that lost power: the file's space allocated and zero-filled after the
+    # last line it wrote. It had been refused as a binary file.
+    body = "Time,Torque\n" + "".join(f"{k / 1000:.3f},{100 + k % 7}\n" for k in range(n))
+    data = body.encode()[: len(body) - cut] + b"\x00" * 8192
+    p, sha = _write(tmp_path, "powerloss.csv", data)
+    rec = read_recording(p, MAP)
+    kept = n - (1 if cut else 0)
+    assert rec.time.size == kept
+    np.testing.assert_allclose(rec["torque"], [100 + k % 7 for k in range(kept)])
+    note = next(x for x in rec.metadata["notes"] if "NUL bytes" in x)
+    assert "8192 NUL bytes" in note and "lost power" in note
+    assert ("line they cut" in note) == bool(cut)
+    with open_recording(p, MAP) as src:  # the chunked reader reads the same samples
+        chunks = list(src.iter_chunks(["torque"], chunk_samples=700))
+    np.testing.assert_array_equal(np.concatenate([c.time for c in chunks]), rec.time)
+    assert file_sha256(p) == sha
+
+
+def test_nul_bytes_before_the_end_of_a_text_file_are_still_binary(tmp_path):
+    body = "Time,Torque\n" + "".join(f"{k / 1000:.3f},1.0\n" for k in range(100))
+    p, _ = _write(tmp_path, "nul.csv", body.encode()[:500] + b"\x00" * 64 + body.encode()[500:])
+    with pytest.raises(RecordingError, match="not a text file"):
+        read_recording(p, MAP)
+    p, _ = _write(
+        tmp_path, "nul2.csv", body.encode()[:500] + b"\x00" + body.encode()[500:] + b"\x00"
+    )
+    with pytest.raises(RecordingError, match="not a text file"):
+        read_recording(p, MAP)
+
+
 # -------------------------------------------------------- variants that read (regression guard)
 
 _E = [1.5, 1.6, 1.7]
