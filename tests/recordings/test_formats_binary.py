@@ -638,6 +638,41 @@ def test_mdf_invalid_sample_of_a_slower_raster_is_checked_on_its_own_time_base(t
     assert hashlib.sha256(path.read_bytes()).hexdigest() == sha
 
 
+@pytest.mark.parametrize("same", [True, False], ids=["same-value", "other-value"])
+def test_mdf_event_group_with_a_repeated_time_stamp(tmp_path, same):
+    """Two CAN frames logged with one time stamp: the refusal 'its time base is not strictly
+    increasing' named neither the group, the sample nor the time. A repeat of the stamp and
+    the value is dropped (noted); another value is an error naming group, sample, time and
+    what to do."""
+    from asammdf import MDF, Signal
+
+    t1 = np.arange(2000) * 1e-3
+    tc = np.arange(200) * 0.01 + 0.0005
+    tc[50] = tc[49]
+    speed = np.full(tc.size, 600.0)
+    if not same:
+        speed[50] = 601.0
+    mdf = MDF(version="4.10")
+    mdf.append([Signal(100 + t1, t1, name="Trq", unit="Nm")], acq_name="1ms")
+    mdf.append([Signal(speed, tc, name="nRoll", unit="rpm")], acq_name="CAN1")
+    path = tmp_path / "can_dup.mf4"
+    mdf.save(path, overwrite=True)
+    sha = hashlib.sha256(path.read_bytes()).hexdigest()
+    cmap = {"channels": {"torque": {"column": "Trq"}, "roller_speed": {"column": "nRoll"}}}
+    if same:
+        rec = read_recording(path, cmap)
+        np.testing.assert_allclose(rec["roller_speed"], 600 * 2 * np.pi / 60)
+        note = next(n for n in rec.metadata["notes"] if "repeating the time stamp" in n)
+        assert "'CAN1'" in note and "sample 50" in note and "0.4905 s" in note
+    else:
+        with pytest.raises(
+            RecordingError,
+            match=r"'nRoll' in group .*'CAN1'.* repeats t = 0\.4905 s at sample 50 .*correct the",
+        ):
+            read_recording(path, cmap)
+    assert hashlib.sha256(path.read_bytes()).hexdigest() == sha
+
+
 def test_tdms_timestamp_time_channel_keeps_labview_resolution(tmp_path):
     """A time channel of LabVIEW timestamps (seconds since 1904 and 2^-64 s fractions, as
     DAQmx logging writes them) at 51.2 kS/s: the sample k is at exactly k/51200 s. Read as

@@ -929,6 +929,13 @@ def apply_map(
             f"or raster (ControlDesk X(k)), not on the [time] column "
             f"{info['columns']['time']!r} of another group"
         )
+    groups = {}
+    for spec, *_ in loaded:
+        labels = [g for g, names in table.groups.items() if info["columns"][spec.name] in names]
+        if labels:  # its own group's labels, not those that hold every group (a source name)
+            fewest = min(len(table.groups[g]) for g in labels)
+            labels = [g for g in labels if len(table.groups[g]) == fewest]
+            groups[spec.name] = "group " + " / ".join(repr(g) for g in labels[:3])
     time, channels, units = align_channels(
         time,
         loaded,
@@ -940,5 +947,6 @@ def apply_map(
         where=where,
         resample_Hz=getattr(tspec, "resample_Hz", None),
         validate=validate,
+        groups=groups,
     )
     return np.asarray(time, dtype=float), channels, units, info
