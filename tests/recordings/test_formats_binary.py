@@ -600,6 +600,79 @@ def test_mdf_samples_flagged_invalid_are_nan_where_they_were_logged(tmp_path):
     np.testing.assert_array_equal(rec["torque"][:100], np.sin(t[:100]))
 
 
+def test_mdf_invalid_sample_of_a_slower_raster_is_checked_on_its_own_time_base(tmp_path):
+    """One sample flagged invalid in the 100 ms group is one NaN sample of the file: it is
+    checked and (lenient) interpolated on the group's own time base before the channel is
+    resampled; resampled first, it had been a run of 199 NaN samples on the 1 ms base, which
+    lenient reading refused as too long to interpolate."""
+    from asammdf import MDF, Signal
+
+    t1, t2 = np.arange(4000) * 1e-3, np.arange(40) * 0.1
+    bad1, bad2 = np.zeros(t1.size, bool), np.zeros(t2.size, bool)
+    bad1[2000] = bad2[20] = True
+    mdf = MDF(version="4.10")
+    mdf.append([Signal(100 + t1, t1, name="Trq", unit="Nm", invalidation_bits=bad1)], "1ms")
+    mdf.append([Signal(3 + 0 * t2, t2, name="pAir", unit="bar", invalidation_bits=bad2)], "100ms")
+    path = tmp_path / "invalid.mf4"
+    mdf.save(path, overwrite=True)
+    sha = hashlib.sha256(path.read_bytes()).hexdigest()
+    cmap = {"channels": {"torque": {"column": "Trq"}, "air_spring_pressure": {"column": "pAir"}}}
+    rec = read_recording(path, cmap, validate="lenient")
+    assert np.isfinite(rec["air_spring_pressure"]).all()
+    np.testing.assert_allclose(rec["air_spring_pressure"], 3e5)
+    runs = {r["channel"]: r for r in rec.metadata["interpolated"]}
+    assert (runs["air_spring_pressure"]["first_sample"], runs["torque"]["first_sample"]) == (
+        20,
+        2000,
+    )
+    assert "own time base" in runs["air_spring_pressure"]["time_base"]
+    # resampled onto 200 Hz: strict names the one sample of the file, lenient reads
+    resampled = {**cmap, "time": {"resample_Hz": 200}}
+    with pytest.raises(
+        RecordingError, match=r"1 NaN/inf samples .* samples 2000\.\.2000 of its own"
+    ):
+        read_recording(path, resampled)
+    rec = read_recording(path, resampled, validate="lenient")
+    assert rec.sample_rate == pytest.approx(200.0)
+    assert np.isfinite(rec["torque"]).all() and np.isfinite(rec["air_spring_pressure"]).all()
+    assert hashlib.sha256(path.read_bytes()).hexdigest() == sha
+
+
+@pytest.mark.parametrize("same", [True, False], ids=["same-value", "other-value"])
+def test_mdf_event_group_with_a_repeated_time_stamp(tmp_path, same):
+    """Two CAN frames logged with one time stamp: the refusal 'its time base is not strictly
+    increasing' named neither the group, the sample nor the time. A repeat of the stamp and
+    the value is dropped (noted); another value is an error naming group, sample, time and
+    what to do."""
+    from asammdf import MDF, Signal
+
+    t1 = np.arange(2000) * 1e-3
+    tc = np.arange(200) * 0.01 + 0.0005
+    tc[50] = tc[49]
+    speed = np.full(tc.size, 600.0)
+    if not same:
+        speed[50] = 601.0
+    mdf = MDF(version="4.10")
+    mdf.append([Signal(100 + t1, t1, name="Trq", unit="Nm")], acq_name="1ms")
+    mdf.append([Signal(speed, tc, name="nRoll", unit="rpm")], acq_name="CAN1")
+    path = tmp_path / "can_dup.mf4"
+    mdf.save(path, overwrite=True)
+    sha = hashlib.sha256(path.read_bytes()).hexdigest()
+    cmap = {"channels": {"torque": {"column": "Trq"}, "roller_speed": {"column": "nRoll"}}}
+    if same:
+        rec = read_recording(path, cmap)
+        np.testing.assert_allclose(rec["roller_speed"], 600 * 2 * np.pi / 60)
+        note = next(n for n in rec.metadata["notes"] if "repeating the time stamp" in n)
+        assert "'CAN1'" in note and "sample 50" in note and "0.4905 s" in note
+    else:
+        with pytest.raises(
+            RecordingError,
+            match=r"'nRoll' in group .*'CAN1'.* repeats t = 0\.4905 s at sample 50 .*correct the",
+        ):
+            read_recording(path, cmap)
+    assert hashlib.sha256(path.read_bytes()).hexdigest() == sha
+
+
 def test_tdms_timestamp_time_channel_keeps_labview_resolution(tmp_path):
     """A time channel of LabVIEW timestamps (seconds since 1904 and 2^-64 s fractions, as
     DAQmx logging writes them) at 51.2 kS/s: the sample k is at exactly k/51200 s. Read as

@@ -232,6 +232,11 @@ def test_am_pm_timestamps_name_date_format_with_an_example(tmp_path):
         ("13/05/2024 1:46 pm", "%d/%m/%Y %I:%M %p"),
         ("Mon 05.08.2024 13:46", "%a %d.%m.%Y %H:%M"),
         ("2024-08-05 13:46:13 +0200", "%Y-%m-%d %H:%M:%S %z"),
+        # the day and year are codes, not the first row's (which failed on the next day)
+        ("05-Aug-2024 11:59:59.000 PM", "%d-%b-%Y %I:%M:%S.%f %p"),
+        ("Aug 05 2024 13:46", "%b %d %Y %H:%M"),
+        ("August 5, 2024 01:02:03 PM", "%B %d, %Y %I:%M:%S %p"),
+        ("Run 1 13:46", None),  # no format copies a number of the cell
     ],
 )
 def test_suggest_date_format(cell, fmt):

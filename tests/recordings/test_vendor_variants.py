@@ -181,6 +181,39 @@ def test_a_binary_file_with_a_text_suffix_is_still_refused(tmp_path):
         read_recording(p, MAP)
 
 
+@pytest.mark.parametrize("n", [3000, 40000], ids=["in-the-head", "beyond-the-head"])
+@pytest.mark.parametrize("cut", [0, 6], ids=["after-a-line-end", "inside-a-line"])
+def test_a_nul_padded_tail_is_left_out_with_the_line_it_cut(tmp_path, n, cut):
+    # An SD-card logger that lost power: the file's space allocated and zero-filled after the
+    # last line it wrote. It had been refused as a binary file.
+    body = "Time,Torque\n" + "".join(f"{k / 1000:.3f},{100 + k % 7}\n" for k in range(n))
+    data = body.encode()[: len(body) - cut] + b"\x00" * 8192
+    p, sha = _write(tmp_path, "powerloss.csv", data)
+    rec = read_recording(p, MAP)
+    kept = n - (1 if cut else 0)
+    assert rec.time.size == kept
+    np.testing.assert_allclose(rec["torque"], [100 + k % 7 for k in range(kept)])
+    note = next(x for x in rec.metadata["notes"] if "NUL bytes" in x)
+    assert "8192 NUL bytes" in note and "lost power" in note
+    assert ("line they cut" in note) == bool(cut)
+    with open_recording(p, MAP) as src:  # the chunked reader reads the same samples
+        chunks = list(src.iter_chunks(["torque"], chunk_samples=700))
+    np.testing.assert_array_equal(np.concatenate([c.time for c in chunks]), rec.time)
+    assert file_sha256(p) == sha
+
+
+def test_nul_bytes_before_the_end_of_a_text_file_are_still_binary(tmp_path):
+    body = "Time,Torque\n" + "".join(f"{k / 1000:.3f},1.0\n" for k in range(100))
+    p, _ = _write(tmp_path, "nul.csv", body.encode()[:500] + b"\x00" * 64 + body.encode()[500:])
+    with pytest.raises(RecordingError, match="not a text file"):
+        read_recording(p, MAP)
+    p, _ = _write(
+        tmp_path, "nul2.csv", body.encode()[:500] + b"\x00" + body.encode()[500:] + b"\x00"
+    )
+    with pytest.raises(RecordingError, match="not a text file"):
+        read_recording(p, MAP)
+
+
 # -------------------------------------------------------- variants that read (regression guard)
 
 _E = [1.5, 1.6, 1.7]
@@ -482,6 +515,71 @@ def test_an_hour_back_names_daylight_saving_time(tmp_path):
     p, _ = _write(tmp_path, "dst.csv", f"Time,Torque\n{rows}")
     with pytest.raises(RecordingError, match="daylight saving"):
         read_recording(p, MAP)
+
+
+@pytest.mark.parametrize("validate", ["strict", "lenient"])
+def test_an_hour_forward_names_daylight_saving_time(tmp_path, validate):
+    # 4 Hz on a local wall clock, CET -> CEST at 02:00 on 31 March 2024: 01:59:59,750 is
+    # followed by 03:00:00,000. Read as a gap of 14400 dropped samples; lenient kept it and
+    # the recording lasted 3603.75 s instead of 3.75 s.
+    import datetime as dt
+
+    utc0 = dt.datetime(2024, 3, 31, 0, 59, 58)
+    rows = []
+    for k in range(16):
+        u = utc0 + dt.timedelta(milliseconds=250 * k)
+        local = u + dt.timedelta(hours=1 if u < dt.datetime(2024, 3, 31, 1) else 2)
+        rows.append(f"{local.strftime('%d.%m.%Y %H:%M:%S,%f')[:-3]};{k}\n")
+    p, sha = _write(tmp_path, "spring.csv", "Zeit;Moment\n" + "".join(rows))
+    cmap = {"time": {"column": "Zeit"}, "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}
+    with pytest.raises(RecordingError, match=r"row 7 .*daylight saving time.* UTC offset") as e:
+        read_recording(p, cmap, validate=validate)
+    assert "'31.03.2024 03:00:00,000'" in str(e.value) and "sample_rate_Hz" in str(e.value)
+    # the fix it names: the rate instead of the time column
+    rec = read_recording(p, {**cmap, "time": {"sample_rate_Hz": 4}})
+    assert rec.time[-1] == pytest.approx(3.75)
+    # the same step in a month without a change to daylight saving time is a gap, as before
+    p2, _ = _write(tmp_path, "july.csv", "Zeit;Moment\n" + "".join(rows).replace(".03.", ".07."))
+    with pytest.raises(RecordingError, match="gap"):
+        read_recording(p2, cmap)
+    assert file_sha256(p) == sha
+
+
+@pytest.mark.parametrize(
+    ("stamp", "note"),
+    [
+        ("%d-%b-%Y %H:%M:%S.%f", "day-month name-year"),  # MATLAB datetime, Oracle, SAS
+        ("%d-%B-%Y %H:%M:%S.%f", "day-month name-year"),
+        ("pandas", "pandas' Timedelta"),  # DataFrame.to_csv of a timedelta column
+    ],
+)
+def test_month_names_and_pandas_timedeltas_across_midnight_are_read(tmp_path, stamp, note):
+    # The refusal had suggested date_format '05-%b-2024 %H:%M:%S.%f' (and '0 days %H:%M:%S.%f'
+    # for pandas), copying the first row's day and year: the next day's rows did not match.
+    import datetime as dt
+
+    t0 = dt.datetime(2024, 8, 5, 23, 59, 59)
+    stamps = [t0 + dt.timedelta(milliseconds=250 * k) for k in range(12)]
+    if stamp == "pandas":
+        import pandas as pd
+
+        td = pd.to_timedelta(np.arange(12) * 250, unit="ms") + pd.Timedelta(
+            hours=23, minutes=59, seconds=59
+        )
+        cells = [str(v) for v in td]
+    else:
+        cells = [s.strftime(stamp)[:-3] for s in stamps]
+    rows = "".join(f"{c},{k}\n" for k, c in enumerate(cells))
+    p, sha = _write(tmp_path, "mon.csv", f"Time,Torque\n{rows}")
+    rec = read_recording(p, MAP)
+    np.testing.assert_allclose(rec.time, np.arange(12) * 0.25, atol=1e-9)
+    assert any(note in n for n in rec.metadata["notes"])
+    assert file_sha256(p) == sha
+    if stamp == "pandas":  # pandas writes a negative Timedelta as '-1 days +23:59:59.750000'
+        neg = ["-1 days +23:59:59.500000", "-1 days +23:59:59.750000", "0 days 00:00:00"]
+        rows = "".join(f"{c},{k}\n" for k, c in enumerate(neg))
+        p, _ = _write(tmp_path, "neg.csv", f"Time,Torque\n{rows}")
+        np.testing.assert_allclose(read_recording(p, MAP).time, [0.0, 0.25, 0.5])
 
 
 def test_time_printed_to_too_few_digits_suggests_the_sample_rate(tmp_path):

@@ -337,9 +337,11 @@ def read_recording(
     sha = file_sha256(p)
     where = f"{p}:"
     with open_table(p, fmt, cmap.file) as table:
-        time, chans, units, info = apply_map(table, cmap, p, required)
+        time, chans, units, info = apply_map(table, cmap, p, required, validate)
     require_channels(where, required, chans, cmap)
     chans, report = validate_samples(time, chans, validate, where, table.notes)
+    # runs of resampled channels, interpolated on their own time base before resampling
+    report["interpolated"][:0] = info.pop("interpolated", [])
     if info.pop("time_unit_assumed", None) is not None and time.size > 1:
         check_time_unit(
             1.0 / float(np.median(np.diff(time))),

@@ -30,7 +30,7 @@ Both are recorded in ``metadata["resampled"]`` (``onto``, ``rate_Hz``, and per c
 
 from __future__ import annotations
 
-from collections.abc import Collection
+from collections.abc import Collection, Mapping
 from fractions import Fraction
 from typing import Any
 
@@ -39,7 +39,7 @@ import numpy as np
 from rollerrig._validation import ParameterError
 from rollerrig.recordings.recording import RecordingError
 from rollerrig.recordings.uniform import uniform_sample_rate
-from rollerrig.recordings.validate import check_grid
+from rollerrig.recordings.validate import check_grid, check_nan_runs
 
 __all__ = [
     "ATTENUATION_DB",
@@ -209,16 +209,19 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
 
 
 def _base_times(
-    time, loaded, own_times, exact, columns, where, exact_channels=()
-) -> list[np.ndarray]:
-    """The time base [s] each channel was recorded on.
+    time, loaded, own_times, exact, columns, where, notes, exact_channels=(), groups=None
+) -> tuple[list[np.ndarray], list]:
+    """The time base [s] each channel was recorded on, and ``loaded`` with the samples that
+    repeat their time stamp and value dropped (:func:`_repeated_stamps`).
 
-    ``exact``: ``own_time_exact``; ``columns``: channel -> file column, for messages; the
-    others as for :func:`align_channels`.
+    ``exact``: ``own_time_exact``; ``columns``: channel -> file column, for messages;
+    ``groups``: channel -> its group in the file, for messages; the others as for
+    :func:`align_channels`.
     """
     bases: list[np.ndarray] = []
+    kept: list = []
     fallback = next((o for o in own_times if o is not None), None)
-    for (spec, values, _si, _own), own in zip(loaded, own_times, strict=True):
+    for (spec, values, *rest), own in zip(loaded, own_times, strict=True):
         column = columns.get(spec.name, spec.name)
         if time is not None:
             use_own = own is not None and not _same(own, time)
@@ -240,12 +243,57 @@ def _base_times(
                 f"{values.size} samples, {n_time}{fix}"
             )
         if base is not time and base.size > 1 and np.any(np.diff(base) <= 0):
-            raise RecordingError(
-                f"{where} column {column!r} (channel map entry {spec.entry}): its time base is "
-                "not strictly increasing"
-            )
+            group = (groups or {}).get(spec.name)
+            what = f"column {column!r}" + (f" in {group}" if group else "")
+            base, values = _repeated_stamps(base, values, what, spec, rest[0], where, notes)
         bases.append(base)
-    return bases
+        kept.append((spec, values, *rest))
+    return bases, kept
+
+
+def _shown(value) -> str:
+    try:
+        return f"{float(value):.9g}"
+    except (TypeError, ValueError):
+        return repr(value)
+
+
+def _repeated_stamps(base, values, column: str, spec, unit, where: str, notes: list[str]):
+    """A channel's own time base [s] and values with the samples that repeat the time stamp
+    *and* the value of the sample before them dropped (noted: an event group, such as CAN
+    frames, logged twice with one stamp); RecordingError naming the sample, the times and the
+    fix for any other step that does not increase."""
+    dt = np.diff(base)
+    bad = np.flatnonzero(dt <= 0)
+    a, b = values[bad], values[bad + 1]
+    try:
+        same = (a == b) | ((a != a) & (b != b))  # NaN repeated: the same
+    except TypeError:
+        same = np.zeros(bad.size, dtype=bool)
+    same = np.asarray(same, dtype=bool) & (dt[bad] == 0)
+    wrong = bad[~same]
+    if wrong.size:
+        k = int(wrong[0])
+        kind = "repeats" if dt[k] == 0 else "goes back from"
+        raise RecordingError(
+            f"{where} {column} (channel map entry {spec.entry}): its own time base (the "
+            f"channel's group in the file) {kind} t = {base[k]:.9g} s at sample {k + 1} "
+            f"(t[{k}] = {base[k]:.9g} s, t[{k + 1}] = {base[k + 1]:.9g} s; {wrong.size} such "
+            f"step(s) of {dt.size}) with another value ({_shown(values[k])} then "
+            f"{_shown(values[k + 1])}{' ' + unit if unit else ''}), so "
+            "it is not strictly increasing; correct the time stamps in the logger's or "
+            "converter's tool (or remove the sample there), or map the quantity from a group "
+            "on an increasing raster"
+        )
+    keep = np.ones(base.size, dtype=bool)
+    keep[bad + 1] = False
+    first = int(bad[0])
+    notes.append(
+        f"{column} (channel map entry {spec.entry}): {bad.size} sample(s) repeating the time "
+        f"stamp and the value of the sample before them dropped (first: sample {first + 1}, "
+        f"t = {base[first]:.9g} s; an event such as a CAN frame logged twice)"
+    )
+    return base[keep], values[keep]
 
 
 def align_channels(
@@ -259,6 +307,8 @@ def align_channels(
     where: str,
     resample_Hz: float | None = None,
     exact_channels: Collection[str] = (),
+    validate: str = "strict",
+    groups: Mapping[str, str] | None = None,
 ) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, str]]:
     """Channels on one common time base (see the module docstring for the choice and methods).
 
@@ -285,6 +335,14 @@ def align_channels(
     exact_channels : collection of str
         Channels whose own time base beats index alignment with ``time`` whatever
         ``own_time_exact`` says (a TDMS channel timed by its group's time channel).
+    validate : {"strict", "lenient"}
+        What a NaN/inf sample of a channel that is resampled does: its runs are checked (and,
+        lenient, interpolated) on the channel's own time base before resampling
+        (:func:`~rollerrig.recordings.validate.check_nan_runs`; listed in
+        ``info["interpolated"]``), as resampling would spread one bad sample over every
+        output sample its interpolation or filter touches.
+    groups : mapping of str to str, optional
+        Channel -> the file's group it is in (an MDF data group, a TDMS group), for messages.
 
     Returns
     -------
@@ -300,7 +358,9 @@ def align_channels(
     if not loaded:
         raise RecordingError(f"{where} no channels to put on a time base")
     columns = info["columns"]
-    bases = _base_times(time, loaded, own_times, own_time_exact, columns, where, exact_channels)
+    bases, loaded = _base_times(
+        time, loaded, own_times, own_time_exact, columns, where, notes, exact_channels, groups
+    )
     names = [spec.name for spec, *_ in loaded]
     units = {spec.name: si for spec, _v, si, _o in loaded}
     distinct: list[np.ndarray] = []
@@ -371,6 +431,16 @@ def align_channels(
         if base.size == new_time.size and _same(base, new_time):
             channels[spec.name] = values
             continue
+        values, runs = check_nan_runs(
+            base,
+            spec.name,
+            values,
+            validate,
+            where,
+            f" of its own time base ({columns.get(spec.name, spec.name)!r}, "
+            f"{_rate(base, where):.6g} Hz, before resampling)",
+        )
+        info.setdefault("interpolated", []).extend(runs)
         channels[spec.name], resampled[spec.name] = resample_onto(values, base, new_time)
 
     if resampled:

@@ -714,12 +714,19 @@ def _own_time(
 
 
 def apply_map(
-    table: Table, cmap: ChannelMap, path: Path, needed: Iterable[str] | None = None
+    table: Table,
+    cmap: ChannelMap,
+    path: Path,
+    needed: Iterable[str] | None = None,
+    validate: str = "strict",
 ) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, str], dict[str, Any]]:
     """Time [s] and channels in SI units from a table through the channel map.
 
     ``needed``: the channels the caller needs; entries not needed, and ``optional`` ones, are
     noted instead of failing when their column is missing (None: every entry is needed).
+    ``validate``: as for :func:`~rollerrig.recordings.readers.read_recording`, for the NaN/inf
+    samples of channels that are resampled onto the common time base
+    (:func:`~rollerrig.recordings.timebase.align_channels`).
     """
     notes = table.notes
     info: dict[str, Any] = {"columns": {}, "source_units": {}}
@@ -922,6 +929,13 @@ def apply_map(
             f"or raster (ControlDesk X(k)), not on the [time] column "
             f"{info['columns']['time']!r} of another group"
         )
+    groups = {}
+    for spec, *_ in loaded:
+        labels = [g for g, names in table.groups.items() if info["columns"][spec.name] in names]
+        if labels:  # its own group's labels, not those that hold every group (a source name)
+            fewest = min(len(table.groups[g]) for g in labels)
+            labels = [g for g in labels if len(table.groups[g]) == fewest]
+            groups[spec.name] = "group " + " / ".join(repr(g) for g in labels[:3])
     time, channels, units = align_channels(
         time,
         loaded,
@@ -932,5 +946,7 @@ def apply_map(
         notes=notes,
         where=where,
         resample_Hz=getattr(tspec, "resample_Hz", None),
+        validate=validate,
+        groups=groups,
     )
     return np.asarray(time, dtype=float), channels, units, info

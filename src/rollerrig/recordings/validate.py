@@ -41,6 +41,7 @@ __all__ = [
     "MAX_SAMPLE_RATE_HZ",
     "RIG_DAQ_RATE_HZ",
     "check_grid",
+    "check_nan_runs",
     "check_sample_rate",
     "check_serial_days",
     "check_time_unit",
@@ -362,62 +363,85 @@ def validate_samples(
     report["gaps"] = gaps
     out: dict[str, np.ndarray] = {}
     for name, values in channels.items():
-        v = np.asarray(values, dtype=float)
-        bad = ~np.isfinite(v)
-        if not bad.any():
-            out[name] = v
-            continue
-        runs = true_runs(bad)
-        longest = max(runs, key=lambda r: r[1] - r[0])
-        first = runs[0]
-
-        def describe(run: tuple[int, int]) -> str:
-            a, b = run
-            return f"samples {a}..{b} (t = {time[a]:.9g} s .. {time[b]:.9g} s, {b - a + 1} samples)"
-
-        last = runs[-1]
-        tail = (
-            f"; the channel ends at sample {last[0]} (t = {time[last[0]]:.9g} s) while others "
-            "go on: a channel recorded at a lower rate or for a shorter time (an export of "
-            "several rates side by side, each with its own time column)? One file is read on "
-            "one time base: export each rate to a file of its own"
-            if last[1] == v.size - 1 and last[0] > 0 and last[1] - last[0] + 1 > 0.1 * v.size
-            else ""
-        )
-        if mode == "strict" or bad.all():
-            raise RecordingError(
-                f"{where} channel {name!r} has {int(bad.sum())} NaN/inf samples in {len(runs)} "
-                f"run(s); first run: {describe(first)}"
-                + ("" if mode == "strict" else "; every sample is bad")
-                + tail
-                + (
-                    "; validate='lenient' (--lenient on the command line) interpolates runs of "
-                    f"at most {MAX_INTERPOLATED_NAN_RUN} samples"
-                    if mode == "strict"
-                    else ""
-                )
-            )
-        if longest[1] - longest[0] + 1 > MAX_INTERPOLATED_NAN_RUN:
-            raise RecordingError(
-                f"{where} channel {name!r} has a run of NaN/inf samples too long to interpolate "
-                f"(more than {MAX_INTERPOLATED_NAN_RUN}): {describe(longest)}" + tail
-            )
-        good = ~bad
-        v = v.copy()
-        v[bad] = np.interp(time[bad], time[good], v[good])
-        for a, b in runs:
-            report["interpolated"].append(
-                {
-                    "channel": name,
-                    "first_sample": a,
-                    "last_sample": b,
-                    "start_s": float(time[a]),
-                    "end_s": float(time[b]),
-                    "method": "linear" if a > 0 and b < v.size - 1 else "held (edge)",
-                }
-            )
-        out[name] = v
+        out[name], runs = check_nan_runs(time, name, values, mode, where)
+        report["interpolated"].extend(runs)
     return out, report
+
+
+def check_nan_runs(
+    time: np.ndarray,
+    name: str,
+    values: np.ndarray,
+    mode: str,
+    where: str,
+    base: str = "",
+) -> tuple[np.ndarray, list[dict[str, Any]]]:
+    """A channel's values with its NaN/inf runs checked (``mode`` as for
+    :func:`validate_samples`: strict refuses any, lenient interpolates runs of at most
+    :data:`MAX_INTERPOLATED_NAN_RUN` samples) and the runs interpolated.
+
+    ``time`` [s] is the time base the values were sampled on: the recording's, or the
+    channel's own before it is resampled onto a common one (``base`` then says which, for
+    the messages, e.g. " of its own time base"), so that a run counts the file's samples, not
+    those of a resampling grid.
+    """
+    v = np.asarray(values, dtype=float)
+    bad = ~np.isfinite(v)
+    if not bad.any():
+        return v, []
+    runs = true_runs(bad)
+    longest = max(runs, key=lambda r: r[1] - r[0])
+    first = runs[0]
+
+    def describe(run: tuple[int, int]) -> str:
+        a, b = run
+        return (
+            f"samples {a}..{b}{base} (t = {time[a]:.9g} s .. {time[b]:.9g} s, {b - a + 1} samples)"
+        )
+
+    last = runs[-1]
+    tail = (
+        f"; the channel ends at sample {last[0]} (t = {time[last[0]]:.9g} s) while others "
+        "go on: a channel recorded at a lower rate or for a shorter time (an export of "
+        "several rates side by side, each with its own time column)? One file is read on "
+        "one time base: export each rate to a file of its own"
+        if last[1] == v.size - 1 and last[0] > 0 and last[1] - last[0] + 1 > 0.1 * v.size
+        else ""
+    )
+    if mode == "strict" or bad.all():
+        raise RecordingError(
+            f"{where} channel {name!r} has {int(bad.sum())} NaN/inf samples in {len(runs)} "
+            f"run(s); first run: {describe(first)}"
+            + ("" if mode == "strict" else "; every sample is bad")
+            + tail
+            + (
+                "; validate='lenient' (--lenient on the command line) interpolates runs of "
+                f"at most {MAX_INTERPOLATED_NAN_RUN} samples"
+                if mode == "strict"
+                else ""
+            )
+        )
+    if longest[1] - longest[0] + 1 > MAX_INTERPOLATED_NAN_RUN:
+        raise RecordingError(
+            f"{where} channel {name!r} has a run of NaN/inf samples too long to interpolate "
+            f"(more than {MAX_INTERPOLATED_NAN_RUN}): {describe(longest)}" + tail
+        )
+    good = ~bad
+    v = v.copy()
+    v[bad] = np.interp(time[bad], time[good], v[good])
+    report = [
+        {
+            "channel": name,
+            "first_sample": a,
+            "last_sample": b,
+            "start_s": float(time[a]),
+            "end_s": float(time[b]),
+            "method": "linear" if a > 0 and b < v.size - 1 else "held (edge)",
+            **({"time_base": base.strip().removeprefix("of ")} if base else {}),
+        }
+        for a, b in runs
+    ]
+    return v, report
 
 
 def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:

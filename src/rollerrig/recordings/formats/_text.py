@@ -33,6 +33,7 @@ __all__ = [
     "NEGATIVE_INFINITY_WORDS",
     "POSITIVE_INFINITY_WORDS",
     "cell_kind",
+    "code_unit",
     "datalike",
     "decimal_marks",
     "decode_text",
@@ -242,6 +243,16 @@ def split_cells(line: str, sep: str) -> list[str]:
     if sep == " ":
         return line.split()
     return [f.strip() for f in next(csv.reader([line], delimiter=sep, quotechar='"'), [""])]
+
+
+def code_unit(encoding: str) -> int:
+    """Bytes of one code unit of ``encoding`` (any spelling Python's codecs know): 2 for UTF-16,
+    4 for UTF-32, else 1 (the encodings where a line end is one byte)."""
+    try:
+        name = codecs.lookup(encoding).name
+    except LookupError:
+        return 1
+    return 2 if name.startswith("utf-16") else 4 if name.startswith("utf-32") else 1
 
 
 def decode_text(

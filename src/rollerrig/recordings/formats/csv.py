@@ -18,7 +18,6 @@ in :mod:`rollerrig.recordings.translate` (numbers, and timestamps with one forma
 
 from __future__ import annotations
 
-import codecs
 import functools
 import io
 import json
@@ -34,6 +33,9 @@ from rollerrig.recordings.formats._text import (
     footer_rows,
     sample_in_footer,
     split_cells,
+)
+from rollerrig.recordings.formats._text import (
+    code_unit as _code_unit,
 )
 from rollerrig.recordings.formats.sniff import HEAD_BYTES, TextLayout, sniff_layout, where_named
 from rollerrig.recordings.formats.timestamps import looks_like_timestamp, parse_timestamps
@@ -151,7 +153,7 @@ def read_csv(path: Path, spec: FileSpec | None = None) -> TextTable:
     gappy = missing.any(axis=1).nonzero()[0]
     drop: list[int] = []
     # a footer's last line is no sample that a writer may have cut
-    ends_with_newline = footer is not None or _ends_with_newline(path, encoding)
+    ends_with_newline = footer is not None or _ends_with_newline(path, encoding, layout.end)
     if gappy.size or (n and not ends_with_newline):
         check = set(gappy[:200].tolist()) | ({n - 1} if n else set())
         check |= {n - 2} if n >= 2 and not ends_with_newline else set()
@@ -267,10 +269,10 @@ def _tail(layout: TextLayout, count: int) -> list[tuple[int | None, str]]:
 
         with path.open("r", encoding=layout.encoding, errors="replace", newline="") as fh:
             return list(deque(enumerate(fh), maxlen=count))
-    size = path.stat().st_size
+    size = path.stat().st_size if layout.end is None else layout.end
     with path.open("rb") as fh:
         fh.seek(max(0, size - _TAIL_BYTES))
-        tail = fh.read().decode(layout.encoding, errors="replace")
+        tail = fh.read(size - max(0, size - _TAIL_BYTES)).decode(layout.encoding, errors="replace")
     # Lines as the file reader splits them (\n, \r, \r\n only; str.splitlines would also
     # split at form feeds and U+0085, shifting the count).
     parts = list(io.StringIO(tail, newline=""))
@@ -326,8 +328,11 @@ def _count_lines(layout: TextLayout, block: int = 1 << 20) -> int:
     counted in blocks of bytes (an ASCII-compatible encoding)."""
     ends = 0
     last = b""
+    left = layout.end
     with layout.path.open("rb") as fh:
-        while chunk := fh.read(block):
+        while chunk := fh.read(block if left is None else min(block, left)):
+            if left is not None:
+                left -= len(chunk)
             ends += chunk.count(b"\n") + chunk.count(b"\r") - (last + chunk).count(b"\r\n")
             last = chunk[-1:]
     return ends + (1 if last and last not in (b"\n", b"\r") else 0)
@@ -340,7 +345,7 @@ def cut_last_line(layout: TextLayout) -> str | None:
     fewer cells than the header, or may have been cut inside its last number
     (:func:`_visibly_complete`); a blank one is skipped as blank lines are.
     """
-    if _ends_with_newline(layout.path, layout.encoding):
+    if _ends_with_newline(layout.path, layout.encoding, layout.end):
         return None
     last, previous = _last_two_lines(layout)
     body = last.rstrip("\r\n")
@@ -360,25 +365,15 @@ def cut_last_line(layout: TextLayout) -> str | None:
     )
 
 
-def _code_unit(encoding: str) -> int:
-    """Bytes of one code unit of ``encoding`` (any spelling Python's codecs know): 2 for UTF-16,
-    4 for UTF-32, else 1 (the encodings where a line end is one byte)."""
-    try:
-        name = codecs.lookup(encoding).name
-    except LookupError:
-        return 1
-    return 2 if name.startswith("utf-16") else 4 if name.startswith("utf-32") else 1
-
-
-def _ends_with_newline(path: Path, encoding: str = "utf-8") -> bool:
-    """Whether the file's last character is a line end (UTF-16 and UTF-32: its last code unit,
-    either byte order)."""
+def _ends_with_newline(path: Path, encoding: str = "utf-8", end: int | None = None) -> bool:
+    """Whether the file's last character (of its first ``end`` bytes: TextLayout.end) is a
+    line end (UTF-16 and UTF-32: its last code unit, either byte order)."""
     unit = _code_unit(encoding)
     with path.open("rb") as fh:
-        fh.seek(0, 2)
-        if fh.tell() < unit:
+        size = fh.seek(0, 2) if end is None else end
+        if size < unit:
             return False
-        fh.seek(-unit, 2)
-        tail = fh.read()
+        fh.seek(size - unit)
+        tail = fh.read(unit)
     pad = b"\x00" * (unit - 1)
     return any(tail in (c + pad, pad + c) for c in (b"\n", b"\r"))

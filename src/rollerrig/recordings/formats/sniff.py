@@ -30,7 +30,9 @@ the chunked reader (:mod:`rollerrig.recordings.source`) read the numbers with.
 
 from __future__ import annotations
 
+import codecs
 import contextlib
+import io
 import re
 from collections import Counter
 from dataclasses import dataclass
@@ -48,6 +50,7 @@ from rollerrig.recordings.formats._text import (
     INTEGER,
     MARKED_NUMBER,
     cell_kind,
+    code_unit,
     datalike,
     decimal_marks,
     decode_text,
@@ -95,18 +98,26 @@ class TextLayout:
     decimal_decided: bool = True  # the decimal mark was given or sniffed, not a default
     cr_only: bool = False  # lines end in a lone CR (Mac Excel's "CSV (Macintosh)")
     rate_Hz: float | None = None  # a rate the header states (an oscilloscope's 1/Increment)
+    # bytes of the file that hold its text: a NUL-padded tail (and the line it cut) left out
+    # (:func:`nul_padded_end`); None: the whole file
+    end: int | None = None
 
     @contextlib.contextmanager
     def readable(self, encoding: str | None = None):
         """What :func:`pandas.read_csv` reads: the path, or for lines ending in a lone CR a
         text handle with universal newlines. pandas' C reader counted ``\\r\\r`` (a blank
         line) as one line end when skipping rows, so the first sample below a blank line
-        was lost."""
-        if not self.cr_only:
+        was lost. A file with a NUL-padded tail (``end``): a handle on its first ``end``
+        bytes."""
+        if not self.cr_only and self.end is None:
             yield self.path
             return
-        with self.path.open("r", encoding=encoding or self.encoding, newline=None) as fh:
-            yield fh
+        with self.path.open("rb") as raw:
+            fh = io.BufferedReader(_Head(raw, self.end))
+            if self.cr_only:
+                fh = io.TextIOWrapper(fh, encoding=encoding or self.encoding, newline=None)
+            with fh:
+                yield fh
 
     @property
     def n_fields(self) -> int:
@@ -396,6 +407,9 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
     size = p.stat().st_size
     with p.open("rb") as fh:
         raw = fh.read(HEAD_BYTES)
+    end = _text_end(p, raw, spec, notes)
+    if end is not None:
+        size, raw = end, raw[:end]
     if not raw.strip():
         raise RecordingError(f"{p}: the file is empty")
     encoding, text = decode_text(
@@ -599,7 +613,34 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         cr_only="\r" in text and "\n" not in text,
         decimal_decided=decided,
         rate_Hz=stated.get("rate_Hz"),
+        end=end,
     )
+
+
+def _text_end(path: Path, head: bytes, spec: FileSpec, notes: list[str]) -> int | None:
+    """The bytes of a text file that hold its lines when it ends in NUL bytes and has none
+    before them (:func:`nul_padded_end`; noted), else None: a NUL byte elsewhere is refused as
+    binary content (:func:`~rollerrig.recordings.formats._text.decode_text`), and UTF-16 text,
+    a NUL byte in every character, is no padding."""
+    if b"\x00" not in head and len(head) < HEAD_BYTES:
+        return None  # the whole file, no NUL byte
+    if spec.encoding is not None and code_unit(spec.encoding) > 1:
+        return None
+    if head.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        return None
+    found = nul_padded_end(path)
+    if found is None:
+        return None
+    end, pad, cut = found
+    if b"\x00" in head[:end] or not head[: min(end, 4096)].strip():
+        return None  # NUL bytes before the padding (binary, or UTF-16 without a BOM)
+    text = cut.decode("latin-1").strip()
+    notes.append(
+        f"the file ends in {pad} NUL bytes (from byte {end + len(cut)}), as a logger that lost "
+        "power leaves it, zero-filled after the last line it wrote: left out"
+        + (f", with the line they cut ({text[-40:]!r})" if text else "")
+    )
+    return end
 
 
 def _refuse_one_column_of_decimal_commas(path: Path, block) -> None:
@@ -781,6 +822,53 @@ class GroupedNumbers:
                 _not_a_number(self.path, self.column, c, self.decimal, "of the first rows")
             )
         return value
+
+
+class _Head(io.RawIOBase):
+    """The first ``size`` bytes of the binary file ``fh`` (all of it for None)."""
+
+    def __init__(self, fh, size: int | None):
+        self._fh, self._left = fh, size
+
+    def readable(self) -> bool:
+        return True
+
+    def readinto(self, buffer) -> int:
+        view = memoryview(buffer)
+        if self._left is not None:
+            view = view[: self._left]
+        n = self._fh.readinto(view)
+        if self._left is not None:
+            self._left -= n
+        return n
+
+
+def nul_padded_end(path: Path, block: int = 1 << 16) -> tuple[int, int, bytes] | None:
+    """``(end, pad, cut)`` when the file ends in a block of NUL bytes, as a logger that lost
+    power leaves it (the file's space allocated and zero-filled after the last line it
+    wrote): ``end`` bytes hold its complete lines, ``pad`` NUL bytes end it and ``cut`` is the
+    line between them (b"" where the last line before the NUL bytes is complete). None when
+    the file does not end in a NUL byte."""
+    with path.open("rb") as fh:
+        size = fh.seek(0, 2)
+        stop = size
+        while stop > 0:
+            start = max(0, stop - block)
+            fh.seek(start)
+            chunk = fh.read(stop - start).rstrip(b"\x00")
+            if chunk:
+                stop = start + len(chunk)
+                break
+            stop = start
+        if stop == size:
+            return None
+        fh.seek(max(0, stop - block))
+        tail = fh.read(stop - max(0, stop - block))
+    line_end = max(tail.rfind(b"\n"), tail.rfind(b"\r"))
+    if line_end < 0 and stop > block:  # a line longer than a block: the whole tail is cut
+        return stop, size - stop, tail
+    end = stop - len(tail) + line_end + 1
+    return end, size - stop, tail[line_end + 1 :]
 
 
 def where_named(layout: TextLayout, name: str) -> str:

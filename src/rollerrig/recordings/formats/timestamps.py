@@ -31,6 +31,7 @@ _ELAPSED_OR_TIME_OF_DAY = r"(?P<H>\d+):(?P<M>\d{2})(?::(?P<S>\d{2})(?:[.,](?P<f>
 """A time without a date: hours of any digits (an endurance run's elapsed ``100:00:00.000``
 had been no time, the rest of its file dropped as a footer)."""
 _TZ = r"(?:\s*(?P<tz>Z|[+-]\d{2}:?\d{2}))?"
+_MONTHS = ("jan", "feb", "mar", "apr", "may", "jun", "jul", "aug", "sep", "oct", "nov", "dec")
 _DATE_PATTERNS = {
     # day or month first: 05.08.24 13:46:13, 05/08/2024 13:46:13.250
     "dmy": re.compile(
@@ -41,6 +42,16 @@ _DATE_PATTERNS = {
     "ymd": re.compile(
         r"^(?P<y>\d{4})(?P<sep>[./-])(?P<b>\d{1,2})(?P=sep)(?P<a>\d{1,2})"
         rf"(?:[ T]+{_TIME_OF_DAY})?{_TZ}$"
+    ),
+    # day, month name, year: 05-Aug-2024 13:46:13.250 (MATLAB's datetime, Oracle, SAS)
+    "dmony": re.compile(
+        rf"^(?P<a>\d{{1,2}})(?P<sep>[-./ ])(?P<mon>(?i:{'|'.join(_MONTHS)})[a-z]*)(?P=sep)"
+        rf"(?P<y>\d{{4}}|\d{{2}})(?:[ T:]+{_TIME_OF_DAY})?{_TZ}$"
+    ),
+    # pandas' Timedelta as text (DataFrame.to_csv): 0 days 23:59:59.750000, -1 days +23:59:59
+    "days": re.compile(
+        r"^(?P<days>[-+]?\d+) days? \+?(?P<H>\d{1,2}):(?P<M>\d{2}):(?P<S>\d{2})"
+        r"(?:[.,](?P<f>\d+))?$"
     ),
     # time of day only: 13:46:13,250; or an elapsed time, hours of any digits: 100:00:00.000
     "tod": re.compile(rf"^{_ELAPSED_OR_TIME_OF_DAY}$"),
@@ -66,7 +77,9 @@ def looks_like_timestamp(cell: str) -> bool:
 
 
 _SUGGEST = re.compile(
-    r"(?P<date>(?P<a>\d{1,4})(?P<sep>[./-])(?P<b>\d{1,2})(?P=sep)(?P<y>\d{1,4}))"
+    r"(?P<dmon>\d{1,2}(?P<msep>[-./ ])(?P<dmonname>[A-Za-z]{3,9})(?P=msep)(?P<my>\d{2}|\d{4})\b)"
+    r"|(?P<mondy>(?P<mdname>[A-Za-z]{3,9}) \d{1,2}(?P<comma>,?) (?P<mdy>\d{4})\b)"
+    r"|(?P<date>(?P<a>\d{1,4})(?P<sep>[./-])(?P<b>\d{1,2})(?P=sep)(?P<y>\d{1,4}))"
     r"|(?P<minsec>\d{1,2}:\d{2}(?P<mark>[.,])\d+)"  # elapsed mm:ss,f (Excel's [mm]:ss,0)
     r"|(?P<time>\d{1,2}:\d{2}(?P<sec>:\d{2}(?P<frac>[.,]\d+)?)?)"
     r"|(?P<ampm>\b(?:AM|PM|am|pm|a\.m\.|p\.m\.)(?![A-Za-z]))"
@@ -104,6 +117,8 @@ def suggest_date_format(cell: str) -> str | None:
     '%a %d.%m.%Y %H:%M'
     >>> suggest_date_format("01:59,5")
     '%M:%S,%f'
+    >>> suggest_date_format("05-August-2024 23:59:59.000")
+    '%d-%B-%Y %H:%M:%S.%f'
     """
     c = str(cell).strip()
     twelve = bool(re.search(r"\b(?:AM|PM|am|pm)\b", c))
@@ -112,7 +127,14 @@ def suggest_date_format(cell: str) -> str | None:
     for m in _SUGGEST.finditer(c):
         out.append(c[pos : m.start()].replace("%", "%%"))
         pos = m.end()
-        if m.group("date"):
+        if m.group("dmon"):
+            sep, name = m.group("msep"), m.group("dmonname")
+            month = "%B" if len(name) > 3 else "%b"
+            out.append(f"%d{sep}{month}{sep}{'%Y' if len(m.group('my')) == 4 else '%y'}")
+        elif m.group("mondy"):
+            month = "%B" if len(m.group("mdname")) > 3 else "%b"
+            out.append(f"{month} %d{m.group('comma')} %Y")
+        elif m.group("date"):
             a, sep, y = m.group("a"), m.group("sep"), m.group("y")
             year = "%Y" if len(y) == 4 else "%y"
             if len(a) == 4:
@@ -140,8 +162,8 @@ def suggest_date_format(cell: str) -> str | None:
             out.append("%A" if len(m.group("day")) > 3 else "%a")
     out.append(c[pos:].replace("%", "%%"))
     fmt = "".join(out)
-    if "%" not in fmt:
-        return None
+    if "%" not in fmt or re.search(r"\d", re.sub(r"%.", "", fmt)):
+        return None  # no code, or a day, year or count of days copied from the cell
     try:
         import datetime
 
@@ -158,6 +180,40 @@ def _date_format_hint(cell: str) -> str:
         return "e.g. '%d.%m.%Y %H:%M:%S'; codes as Python's time.strptime"
     order = " (check the day/month order)" if "%d" in fmt else ""
     return f"e.g. date_format = {fmt!r} reads {cell!r}{order}; codes as Python's time.strptime"
+
+
+_DST_MONTHS = (3, 4, 9, 10, 11)
+"""Months in which a clock goes forward by an hour somewhere (Europe and North America:
+March, April; Chile, New Zealand, Australia, formerly Brazil: September to November)."""
+
+
+def _check_spring_forward(
+    wall: np.ndarray, s, what: str, line_of: Callable[[int], int | None] | None
+) -> None:
+    """RecordingError when local wall-clock times ``wall`` [s since 1970, no offset] step forward
+    by one hour (± a sample interval) in a month where daylight saving time may begin: the
+    clock went forward, no samples were dropped (read as a gap, the recording had been an hour
+    longer)."""
+    if wall.size < 3:
+        return
+    steps = np.diff(wall)
+    median = float(np.median(steps))
+    if not 0.0 < median <= 60.0:
+        return
+    hits = np.flatnonzero(np.abs(steps - 3600.0) <= median * (1.0 + 1e-6))
+    for k in hits.tolist():
+        month = int(np.datetime64(int(wall[k]), "s").astype(object).month)
+        if month not in _DST_MONTHS:
+            continue
+        raise RecordingError(
+            f"{what}: the time steps forward by {steps[k]:.6g} s between {_row_name(k, line_of)} "
+            f"{s.iloc[k]!r} and {_row_name(k + 1, line_of)} {s.iloc[k + 1]!r} at a median "
+            f"interval of {median:.6g} s: local clock times across the start of daylight "
+            "saving time (the clock went forward an hour; no samples are missing)? Export the "
+            "times in UTC or with their UTC offset (31.03.2024 03:00:00+02:00), or, where the "
+            "samples are evenly spaced, give [time] sample_rate_Hz in the channel map instead "
+            "of the time column"
+        )
 
 
 def _row_name(k: int, line_of: Callable[[int], int | None] | None) -> str:
@@ -327,6 +383,9 @@ def parse_timestamps(
                 f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} does not match [file] "
                 f"date_format {date_format!r} ({int(bad.sum())} row(s) in total)"
             )
+        if stamps.dt.tz is None and _DATE_CODES.search(date_format):
+            wall = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64) / 1e9
+            _check_spring_forward(wall, s, what, line_of)
         ns = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64)
         secs = (ns - ns[0]) / 1e9
         note = (
@@ -357,8 +416,8 @@ def parse_timestamps(
     if fast is not None:
         return _unwrapped_times_of_day(fast, first)
     parts = s.str.extract(_DATE_PATTERNS[kind].pattern)
-    nomatch = parts["H" if kind == "tod" else "a"].isna().to_numpy().copy()
-    if kind != "tod":
+    nomatch = parts["H" if kind in ("tod", "days") else "a"].isna().to_numpy().copy()
+    if "sep" in parts:
         sep0 = parts["sep"].iloc[0]
         nomatch |= (parts["sep"] != sep0).to_numpy()
     if nomatch.any():
@@ -394,13 +453,32 @@ def parse_timestamps(
         )
     if kind == "tod":
         return _unwrapped_times_of_day(tod, first)
+    if kind == "days":
+        t = parts["days"].astype(int).to_numpy() * 86400.0 + tod
+        return t - t[0], (
+            f"elapsed times 'N days hh:mm:ss' (pandas' Timedelta as text, first {first!r}) "
+            "converted to seconds since the first sample"
+        )
     a = parts["a"].astype(int).to_numpy()
-    b = parts["b"].astype(int).to_numpy()
+    if kind == "dmony":
+        month_of = {m: k + 1 for k, m in enumerate(_MONTHS)}
+        b = parts["mon"].str[:3].str.lower().map(month_of).to_numpy()
+        if np.isnan(b.astype(float)).any():
+            k = int(np.flatnonzero(np.isnan(b.astype(float)))[0])
+            raise RecordingError(
+                f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} has no English month name; "
+                f"give [file] date_format in the channel map, {_date_format_hint(s.iloc[k])}"
+            )
+        b = b.astype(int)
+    else:
+        b = parts["b"].astype(int).to_numpy()
     y = parts["y"].astype(int).to_numpy()
     y = np.where(y < 100, np.where(y < 69, 2000 + y, 1900 + y), y)
     sep = parts["sep"].iloc[0]
     if kind == "ymd":
         day, month, order = a, b, "year-month-day"
+    elif kind == "dmony":
+        day, month, order = a, b, "day-month name-year"
     else:
         if decided and "first_is_day" in decided:
             first_is_day, order = decided["first_is_day"], decided["order"]
@@ -457,6 +535,8 @@ def parse_timestamps(
         hh = pd.to_numeric(digits.str[:2], errors="coerce").fillna(0).to_numpy()
         mm = pd.to_numeric(digits.str[2:4], errors="coerce").fillna(0).to_numpy()
         offset = np.where(tz == "Z", 0.0, sign * (hh * 3600.0 + mm * 60.0))
+    if not ("tz" in parts and parts["tz"].notna().any()):
+        _check_spring_forward(days * 86400.0 + tod, s, what, line_of)
     t = (days - days[0]) * 86400.0 + (tod - tod[0]) - (offset - offset[0])
     start = pd.Timestamp(dates[0]) + pd.Timedelta(seconds=float(tod[0]))
     return t, (
