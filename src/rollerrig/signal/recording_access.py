@@ -89,6 +89,26 @@ class RecordingAccess:
             return {}
         return {n: (total[n] / count, first[n], last[n]) for n in names}
 
+    def block_mean_range(self, name: str, seconds: float) -> tuple[float, float] | None:
+        """(least, largest) of the channel's means over consecutive blocks of ``seconds`` [s],
+        in one pass when streaming; None when the channel is missing or shorter than two
+        blocks. The block means smooth the noise away, so the range is the channel's drift.
+        """
+        if name not in self.names:
+            return None
+        block = max(1, round(seconds * self.sample_rate))
+        means: list[float] = []
+        carry = np.empty(0)
+        for (x,) in self.chunks([name]):
+            x = np.concatenate([carry, x]) if carry.size else x
+            whole = x.size // block * block
+            if whole:
+                means.extend(np.mean(x[:whole].reshape(-1, block), axis=1).tolist())
+            carry = x[whole:]
+        if len(means) < 2 or not np.all(np.isfinite(means)):
+            return None
+        return float(min(means)), float(max(means))
+
     @property
     def duration(self) -> float:
         """Time from the first to the last sample [s]."""
