@@ -47,3 +47,19 @@ def test_the_on_track_section_states_the_prediction_and_its_assumptions(analysed
     assert "On track" in html and "peak CoA (95 %)" in html
     assert "hold on the rail unchanged" in html  # the surface parameters: an assumption, said
     assert "<img" in html
+
+
+def test_analyze_on_track_says_the_rail_prediction_on_the_console(
+    analysed, tmp_path, monkeypatch, capsys
+):
+    # --on-track had written its files and said nothing of the rail on the console.
+    import rollerrig.analysis.transfer as transfer
+    from rollerrig.cli.recordings import _on_track_section
+
+    real = transfer.transfer_curve
+    monkeypatch.setattr(transfer, "transfer_curve", lambda *a, **k: real(*a, draws=60, **k))
+    section = _on_track_section(analysed, default_rig(), tmp_path, "test")
+    assert section is not None and (tmp_path / "test-transfer.csv").is_file()
+    text = " ".join(capsys.readouterr().out.split())
+    assert "note: on track (tangent rail, the roller's crown): peak CoA" in text
+    assert "factor F_rail/F_roller at small creepage 1.32" in text

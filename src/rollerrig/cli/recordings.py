@@ -180,6 +180,13 @@ def _on_track_section(result, rig, out: Path, stem: str):
         note(f"on track: not made ({exc})")
         return None
     write_transfer(transferred, out, stem)
+    # On the console too: --on-track had written its files and said nothing of the rail
+    note(
+        "on track (tangent rail, the roller's crown): peak CoA "
+        f"{transferred.peak_coa_text('track')} at creepage [%] "
+        f"{transferred.peak_creepage_text('track')}; {transferred.factor_text()} "
+        "(rollerrig transfer gives the table and the band)"
+    )
     return lambda rep: transfer_section(rep, transferred)
 
 
