@@ -49,6 +49,9 @@ class OperatingPoint:
         Where each value came from.
     roller_radius : float
         Roller rolling radius [m] (for the surface speed).
+    roller_speed_range : tuple of float or None
+        Least and largest 1 s mean of the roller speed channel [rad/s] (None: no such
+        channel, or a speed given).
     """
 
     roller_speed: float | None
@@ -58,6 +61,7 @@ class OperatingPoint:
     wheel_source: str
     load_source: str
     roller_radius: float
+    roller_speed_range: tuple[float, float] | None = None
 
     @property
     def at_rest(self) -> bool:
@@ -93,7 +97,7 @@ def _mean_speed(access: RecordingAccess, stats, which: str, rig, given: float | 
         return abs(stats[name][0]), f"mean of the {name} channel"
     if counts in stats and rig is not None:
         cpr = rig.sensors.encoder_pulses_per_revolution * rig.sensors.encoder_quadrature_factor
-        _, first, last = stats[counts]
+        first, last = stats[counts].first, stats[counts].last
         duration = access.duration
         if duration > 0:
             return (
@@ -161,6 +165,7 @@ def operating_point(
             f"the mean normal load is {load:.4g} N ({l_source}); check the channel's unit, "
             "scale and offset in the channel map"
         )
+    speed = stats.get("roller_speed") if roller_speed is None else None
     return OperatingPoint(
         None if w_r is None else float(w_r),
         None if w_w is None else float(w_w),
@@ -169,4 +174,5 @@ def operating_point(
         w_source,
         l_source,
         float(rig.geometry.roller_radius_x),
+        None if speed is None or speed.block_low is None else (speed.block_low, speed.block_high),
     )

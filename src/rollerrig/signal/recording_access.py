@@ -4,19 +4,38 @@ The spectrum workflow (:mod:`rollerrig.signal.workflow`) takes a
 :class:`rollerrig.recordings.recording.Recording` or a chunked source (an object with
 ``iter_chunks``, such as :class:`rollerrig.recordings.source.RecordingSource`).
 :class:`RecordingAccess` gives both the same interface: channel names and units, the rate and
-length, chunks of chosen channels, per-channel (mean, first, last) in one pass, and errors that
+length, chunks of chosen channels, per-channel statistics in one pass, and errors that
 name the recording.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
+from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["DEFAULT_CHUNK", "RecordingAccess"]
+__all__ = ["DEFAULT_CHUNK", "ChannelStats", "RecordingAccess"]
 
 DEFAULT_CHUNK = 1 << 20  # samples per chunk when streaming [samples]
+
+
+class ChannelStats(NamedTuple):
+    """One channel's mean, first and last value, and the least and largest of its block means
+    (None with fewer than two whole blocks or a non-finite one): the channel's drift, the
+    noise averaged away."""
+
+    mean: float
+    first: float
+    last: float
+    block_low: float | None
+    block_high: float | None
+
+
+def _span(means: list[float]) -> tuple[float | None, float | None]:
+    if len(means) < 2 or not np.all(np.isfinite(means)):
+        return None, None
+    return float(min(means)), float(max(means))
 
 
 class RecordingAccess:
@@ -62,20 +81,18 @@ class RecordingAccess:
             for start in range(0, self.n_samples, size):
                 yield tuple(a[start : start + size] for a in arrays)
 
-    def stats(self, names: Sequence[str]) -> dict[str, tuple[float, float, float]]:
-        """(mean, first value, last value) of each channel, in one pass when streaming."""
+    def stats(self, names: Sequence[str], block_seconds: float = 1.0) -> dict[str, ChannelStats]:
+        """Mean, first and last value and the range of the ``block_seconds`` block means of
+        each channel (:class:`ChannelStats`), in one pass when streaming."""
         names = [n for n in dict.fromkeys(names) if n in self.names]
         if not names:
             return {}
-        if not self.streaming:
-            out = {}
-            for n in names:
-                x = self.rec[n]
-                out[n] = (float(np.mean(x)), float(x[0]), float(x[-1]))
-            return out
+        block = max(1, round(block_seconds * self.sample_rate))
         total = dict.fromkeys(names, 0.0)
         first: dict[str, float] = {}
         last: dict[str, float] = {}
+        means: dict[str, list[float]] = {n: [] for n in names}
+        carry = {n: np.empty(0) for n in names}
         count = 0
         for chunk in self.chunks(names):
             if not chunk[0].size:
@@ -85,29 +102,16 @@ class RecordingAccess:
                 total[n] += float(np.sum(x))
                 first.setdefault(n, float(x[0]))
                 last[n] = float(x[-1])
+                x = np.concatenate([carry[n], x]) if carry[n].size else x
+                whole = x.size // block * block
+                if whole:
+                    means[n].extend(np.mean(x[:whole].reshape(-1, block), axis=1).tolist())
+                carry[n] = x[whole:]
         if count == 0:
             return {}
-        return {n: (total[n] / count, first[n], last[n]) for n in names}
-
-    def block_mean_range(self, name: str, seconds: float) -> tuple[float, float] | None:
-        """(least, largest) of the channel's means over consecutive blocks of ``seconds`` [s],
-        in one pass when streaming; None when the channel is missing or shorter than two
-        blocks. The block means smooth the noise away, so the range is the channel's drift.
-        """
-        if name not in self.names:
-            return None
-        block = max(1, round(seconds * self.sample_rate))
-        means: list[float] = []
-        carry = np.empty(0)
-        for (x,) in self.chunks([name]):
-            x = np.concatenate([carry, x]) if carry.size else x
-            whole = x.size // block * block
-            if whole:
-                means.extend(np.mean(x[:whole].reshape(-1, block), axis=1).tolist())
-            carry = x[whole:]
-        if len(means) < 2 or not np.all(np.isfinite(means)):
-            return None
-        return float(min(means)), float(max(means))
+        return {
+            n: ChannelStats(total[n] / count, first[n], last[n], *_span(means[n])) for n in names
+        }
 
     @property
     def duration(self) -> float:

@@ -210,7 +210,7 @@ def explain_recording(
         raise access.fail(str(exc)) from None
     if op.wheel_speed is None and not op.at_rest:
         notes.append(f"wheel speed unknown ({op.wheel_source}): wheel and PMSM lines not tried")
-    unsteady = _unsteady_speed_note(access, op, roller_speed)
+    unsteady = _unsteady_speed_note(op)
     if unsteady:
         notes.append(unsteady)
     unexplained = ExplainedSpectrum(
@@ -241,15 +241,12 @@ speed was not steady: a whole adhesion test (16.7 to 19.9 rad/s on the demo's) h
 lines read "unexplained, misses by 0.389 Hz" at the mean speed, with no word why."""
 
 
-def _unsteady_speed_note(access, op, given) -> str | None:
+def _unsteady_speed_note(op) -> str | None:
     """A note when the roller speed's 1 s means span more than :data:`UNSTEADY_SPEED` of
     their mean: the orders and motor lines move with the speed over the recording."""
-    if given is not None or op.at_rest:
+    if op.at_rest or op.roller_speed_range is None:
         return None
-    span = access.block_mean_range("roller_speed", 1.0)
-    if span is None:
-        return None
-    low, high = span
+    low, high = op.roller_speed_range
     mean = abs(op.roller_speed)
     if not mean > 0 or (high - low) / mean <= UNSTEADY_SPEED:
         return None
