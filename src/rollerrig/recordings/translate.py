@@ -576,6 +576,15 @@ def auto_entries(table: Table, cmap: ChannelMap, path: Path) -> list[ChannelSpec
     return specs
 
 
+def _table_seconds(table: Table, cmap: ChannelMap, values, unit: str, what: str, notes, line_of):
+    """:func:`time_seconds` of a column of ``table``, with the map's file layout and the
+    table's decimal mark."""
+    return time_seconds(
+        values, unit, what, notes, file=cmap.file, line_of=line_of,
+        decimal=text_decimal(table, cmap),
+    )  # fmt: skip
+
+
 def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict, path, line_of):
     """Raise when the map's ``[time] sample_rate_Hz`` contradicts the file's own rate.
 
@@ -622,14 +631,8 @@ def _check_stated_rate(table: Table, cmap: ChannelMap, loaded: list, info: dict,
                 continue  # named so, but in another unit (an MDF angle master): no time
             scratch: list[str] = []
             unit = file_unit or "s"
-            secs = time_seconds(
-                col.values,
-                unit,
-                f"{path}: column {name!r}",
-                scratch,
-                file=cmap.file,
-                line_of=line_of,
-                decimal=text_decimal(table, cmap),
+            secs = _table_seconds(
+                table, cmap, col.values, unit, f"{path}: column {name!r}", scratch, line_of
             )
         except RecordingError:
             table.notes.append(
@@ -695,14 +698,8 @@ def _own_time(
     in its own unit where it states a time unit, else in the [time] column's ``unit``."""
     col = table.load(time_col)
     own_unit = (time_unit(col.unit) if col.unit else None) or unit
-    secs = time_seconds(
-        col.values,
-        own_unit,
-        f"{what}: its time channel {time_col!r}",
-        notes,
-        file=cmap.file,
-        line_of=line_of,
-        decimal=text_decimal(table, cmap),
+    secs = _table_seconds(
+        table, cmap, col.values, own_unit, f"{what}: its time channel {time_col!r}", notes, line_of
     )
     if secs.size != np.asarray(values).size:
         raise RecordingError(
@@ -778,14 +775,14 @@ def apply_map(
                     col.values, unit, assumed, f"{where} time column {col_name!r}", notes,
                     text_decimal(table, cmap),
                 )  # fmt: skip
-            time = time_seconds(
+            time = _table_seconds(
+                table,
+                cmap,
                 col.values,
                 epoch or unit,
                 f"{where} time column {col_name!r}",
                 notes,
-                file=cmap.file,
-                line_of=line_of,
-                decimal=text_decimal(table, cmap),
+                line_of,
             )
             info["columns"]["time"] = col_name
             info["source_units"]["time"] = epoch or unit
