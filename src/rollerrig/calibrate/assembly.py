@@ -496,6 +496,10 @@ _INPUT_TEXT = {
         "looks like: a zero reading of the sensor at standstill, or recordings at another load "
         "or speed, separate them",
     ),
+    "torque_gain": (
+        "the torque sensor's stated class (a gain error, class/√3 of the reading)",
+        "",
+    ),
     "pressure_class": ("the pressure sensor's stated class (an offset of the load)", ""),
     "air_spring_area": ("the air spring's stated area (a gain error of the load)", ""),
 }

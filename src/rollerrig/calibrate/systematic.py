@@ -12,6 +12,8 @@ inputs and the same conversion to a standard uncertainty as the corrected CoA's 
 input                  δ   channel      distribution  standard uncertainty u (rig ``sensors``)
 =====================  ==  ===========  ============  ==========================================
 ``torque_class``       δT  torque       rectangular   torque_sensor_accuracy × range / √3
+``torque_gain``        g_T torque       rectangular   torque_sensor_accuracy / √3 (relative),
+                                                      acting as δT = g_T T
 ``pressure_class``     δp  normal load  rectangular   pressure_sensor_accuracy × range / √3,
                                                       acting as δN = A δp
 ``air_spring_area``    A   normal load  normal        air_spring_area_uncertainty × A,
@@ -24,6 +26,17 @@ bearing's loss is a constant torque, and a zero offset of the torque sensor with
 (±3 N.m on the bundled rig) moved ``bearing.friction_coefficient`` by 49-77 statistical
 standard errors on the twin's own recordings (0.0055 fitted as 0.004464 ± 1.35e-5 with
 +1.0 N.m; 2026-12-03), with white residuals: the fit cannot see it.
+
+The class bounds the sensor's error at every reading, |δT| <= class × range for |T| <= range,
+and so admits a sensitivity (gain) error up to the class as a fraction of the reading as well
+as a zero offset: the two are carried as two inputs, each with the whole class, which
+overstates their sum by at most √2 where both reach their bounds (conservative; a datasheet's
+separate zero and sensitivity tolerances would split it). A gain moves other keys than an
+offset does: the torque's swings scale with it, and with them the roller's inertia and the
+motor's lag. On the calibration tests' recording (the twin with values the fit is not told) a
+gain of +0.1 % (inside the bundled rig's 0.1 % class) had put ``induction_motor.response_lag_clp``
+3.6 and ``inertia.roller`` 2.1 standard errors off, +0.2 % 5.0 and 3.1, with the offset alone
+carried (2026-12-03); with the gain carried, within 2.
 
 Each input's effect is linearised at the optimum (:func:`parameter_shifts`): an error of one
 standard uncertainty u changes the weighted residuals by Δr (the channel's change, its torque
@@ -54,7 +67,7 @@ __all__ = [
     "sensor_inputs",
 ]
 
-SENSOR_INPUTS = ("torque_class", "pressure_class", "air_spring_area")
+SENSOR_INPUTS = ("torque_class", "torque_gain", "pressure_class", "air_spring_area")
 """The systematic inputs of the fitted channels, in this order (names of
 :data:`rollerrig.estimation.gum_inputs.INPUT_NAMES`)."""
 
@@ -64,9 +77,11 @@ SYSTEMATIC_MEANING = (
     "errors every sample of a channel shares that the rig file states (systematic_inputs: the "
     "torque sensor's and the pressure sensor's accuracy classes, rectangular, class x range/"
     "sqrt(3); the air spring's effective area, normal; as rollerrig analyze's CoA budget "
-    "converts them). systematic: each input's shift of the value for an error of one standard "
-    "uncertainty, linearised at the optimum: (A^T A)^-1 A^T dr with A the fit's weighted "
-    "Jacobian and dr the weighted residuals' change (JCGM 100 type B, the inputs independent); "
+    "converts them; the torque class also as a gain error, class/sqrt(3) of the reading, "
+    "since it bounds the error at every reading). systematic: each input's shift of the value "
+    "for an error of one standard uncertainty, linearised at the optimum: (A^T A)^-1 A^T dr "
+    "with A the fit's weighted Jacobian and dr the weighted residuals' change (JCGM 100 "
+    "type B, the inputs independent); "
     "standard_error_systematic is the root sum of their squares. The standard errors hold "
     "conditional on the stated classes: an error beyond them is not covered"
 )
@@ -124,11 +139,13 @@ def sensor_inputs(measurement, rig) -> tuple[SensorInput, ...]:
     --------
     >>> from types import SimpleNamespace
     >>> from rollerrig.rig.parameters import default_rig
-    >>> m = SimpleNamespace(time=np.arange(3.0), values={"normal_load": np.full(3, 4300.0)},
-    ...                     load_source="air_spring_pressure")
-    >>> torque, pressure, area = sensor_inputs(m, default_rig())
+    >>> m = SimpleNamespace(time=np.arange(3.0), values={"normal_load": np.full(3, 4300.0),
+    ...                     "torque": np.full(3, 600.0)}, load_source="air_spring_pressure")
+    >>> torque, gain, pressure, area = sensor_inputs(m, default_rig())
     >>> round(torque.quantity.standard_uncertainty, 4)  # 0.1 % of 3000 N.m over sqrt(3)
     1.7321
+    >>> round(float(gain.change[0]), 4)  # 0.1 % over sqrt(3) of a 600 N.m reading
+    0.3464
     >>> round(float(pressure.change[0]), 2)  # 0.35 % of 10 bar over sqrt(3), on 0.05 m^2
     101.04
     >>> round(float(area.change[0]), 1)  # 2 % of the 4300 N the spring carries
@@ -145,6 +162,8 @@ def sensor_inputs(measurement, rig) -> tuple[SensorInput, ...]:
         "as rollerrig analyze takes it"
     )
     u_t = s.torque_sensor_accuracy * s.torque_sensor_range / math.sqrt(3.0)
+    u_g = s.torque_sensor_accuracy / math.sqrt(3.0)
+    torque = np.asarray(measurement.values["torque"], dtype=float)
     u_p = s.pressure_sensor_accuracy * s.pressure_sensor_range / math.sqrt(3.0)
     u_a = s.air_spring_area_uncertainty * area
     out = [
@@ -164,6 +183,23 @@ def sensor_inputs(measurement, rig) -> tuple[SensorInput, ...]:
             ),
             "torque",
             np.full(n, u_t),
+        ),
+        SensorInput(
+            InputQuantity(
+                "torque_gain",
+                "g_T",
+                "systematic",
+                "rectangular",
+                0.0,
+                u_g,
+                "1",
+                f"accuracy class {s.torque_sensor_accuracy:g} (sensors.torque_sensor_accuracy) "
+                "as a sensitivity error: the class bounds the error at every reading, so a "
+                "gain of up to the class is inside it, δT = g_T T in every sample",
+                "sensors.torque_sensor_accuracy",
+            ),
+            "torque",
+            torque * u_g,
         ),
         SensorInput(
             InputQuantity(
