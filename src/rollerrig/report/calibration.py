@@ -209,13 +209,42 @@ def calibration_section(rep, calibration: dict, fit=None) -> None:
                 key,
                 "not identified" if value is None else f"{value:.6g}",
                 se_text,
+                *_error_parts(entry),
                 entry.get("unit", ""),
                 entry.get("reason") or entry.get("why_null") or "",
             )
         )
     if rows:
-        rep.table(("key", "value", "standard error", "unit", "note"), rows)
+        rep.table(
+            ("key", "value", "standard error", "of it: from the residuals",
+             "from the sensors' classes (the largest input)", "unit", "note"),
+            rows,
+        )  # fmt: skip
+        rep.paragraph(
+            "The standard error is the root sum of squares of its two parts: the statistical "
+            "one from the fit's residuals (Newey-West) and the systematic one, the shifts the "
+            "sensors' stated classes make (each input's for one standard uncertainty, "
+            "linearised at the optimum; calibration.json: standard_error_statistical, "
+            "standard_error_systematic, systematic). A key whose error is mostly systematic is "
+            "known to the sensors' classes, not to the recording's noise.",
+            note=True,
+        )
     for text in calibration.get("warnings") or []:
         rep.paragraph(f"warning: {text}", note=True)
     if fit is not None:
         rep.figure(calibration_figure(fit), "The calibration's fit: recording against the twin.")
+
+
+def _error_parts(entry: dict) -> tuple[str, str]:
+    """The statistical and systematic parts of a key's standard error as the table shows them:
+    ``("0.257", "2.32 (torque_class 1.81)")``; "–" where calibration.json has no split (a key
+    not identified, or a file written before the split)."""
+    stat, syst = entry.get("standard_error_statistical"), entry.get("standard_error_systematic")
+    stat_text = "–" if stat is None else f"{stat:.3g}"
+    if syst is None:
+        return stat_text, "–"
+    shifts = entry.get("systematic") or {}
+    largest = max(shifts.items(), key=lambda kv: abs(kv[1] or 0.0), default=None)
+    if largest is None or not largest[1]:
+        return stat_text, f"{syst:.3g}"
+    return stat_text, f"{syst:.3g} ({largest[0]} {abs(largest[1]):.3g})"
