@@ -39,6 +39,7 @@ __all__ = [
     "note",
     "print_error",
     "print_recording_notes",
+    "print_removed",
     "print_warning",
     "print_written",
     "progress",
@@ -108,6 +109,17 @@ def print_written(paths) -> None:
     for path in paths:
         again = " (replaced an earlier run's)" if str(path) in _REPLACED else ""
         console.print(f"wrote {path}{again}", soft_wrap=True)
+
+
+def print_removed(paths, kept=()) -> None:
+    """One ``removed <path>`` line per earlier run's output that the run removed, as not of
+    its results (:meth:`rollerrig.cli._outputs.staged_outputs.supersede`), and a note per such
+    file it kept (changed since, or not that run's)."""
+    for path in paths:
+        console.print(f"removed {path} (an earlier run's, not of these results)", soft_wrap=True)
+    for path in kept:
+        note(f"{path} is not of these results (kept: changed since it was written, or not "
+             "this command's file)")  # fmt: skip
 
 
 def print_recording_notes(rec) -> None:
