@@ -192,3 +192,24 @@ def test_one_speed_is_stated_everywhere(tmp_path, runner):
     title = transfer_figure(res).axes[0].get_title()
     assert "V = 31 km/h" in title and "the median roller speed of the points fitted" in title
     assert "mean rolling speed" not in title
+
+
+def test_console_notes_are_short_and_the_json_keeps_them_whole(tmp_path, runner):
+    # Notes of 900-1100 characters had run over the console: each is now at most NOTE_MAX
+    # characters, the finding first, with where the written JSON keeps it in full.
+    from rollerrig.cli._console import NOTE_MAX
+
+    src = _curve_csv(tmp_path / "curve.csv")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["transfer", str(src), "--draws", "50", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    notes = [line for line in result.output.splitlines() if line.startswith("note: ")]
+    assert notes and all(len(line) <= NOTE_MAX + len("note: ") for line in notes), notes
+    summary = json.loads((out / "curve-transfer.json").read_text())
+    whole = summary["notes"] + summary["assumptions"]
+    cut = [line for line in notes if "… (in full: " in line]
+    assert cut, "the test's curve gives at least one long note"
+    for line in cut:
+        head, where = line.removeprefix("note: ").split(" … (in full: ")
+        assert where.startswith(str(out / "curve-transfer.json"))
+        assert any(w.startswith(head.rstrip(")")) for w in whole), head

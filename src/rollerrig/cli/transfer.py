@@ -252,10 +252,11 @@ def transfer(
     for line in (load_note, speed_note):
         if line is not None:
             note(line)
+    written = out / f"{safe_file_stem(stem)}-transfer.json"  # keeps every note whole
     for line in result.assumptions:
-        note(line)
+        note(line, f"{written}, 'assumptions'")
     for line in result.notes:
-        note(line)
+        note(line, f"{written}, 'notes'")
     print_written(stage.written)
 
 
