@@ -261,3 +261,34 @@ def test_a_file_that_cannot_be_replaced_leaves_the_old_outputs_whole(
             for name in ("a.nc", "b.png", "c.txt", "d.csv"):
                 stage.path(name).write_text("new " + name)
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+
+
+def test_an_earlier_runs_output_this_run_does_not_write_is_removed_with_the_commit(tmp_path):
+    # `simulate --no-figure` had left an older run's figure beside the new results. Only a
+    # file the earlier run's manifest lists, unchanged, goes; anything else of that name stays.
+    with staged_outputs(tmp_path, run="sim") as stage:
+        for name in ("r.nc", "r.png", "r.svg"):
+            stage.path(name).write_text("first")
+    (tmp_path / "r.svg").write_text("edited by hand")  # changed since the run wrote it
+    (tmp_path / "other.png").write_text("not this run's")
+    with staged_outputs(tmp_path, run="sim") as stage:
+        stage.path("r.nc").write_text("second")
+        for name in ("r.png", "r.svg", "other.png", "missing.png"):
+            stage.supersede(name)
+    assert stage.removed == [tmp_path / "r.png"] and not (tmp_path / "r.png").exists()
+    assert stage.kept == [tmp_path / "r.svg", tmp_path / "other.png"]
+    assert (tmp_path / "r.svg").read_text() == "edited by hand"
+    assert (tmp_path / "other.png").read_text() == "not this run's"
+    manifest = json.loads((tmp_path / "sim-run.json").read_text())
+    assert manifest["removed"] == ["r.png"]
+    assert {f["file"] for f in manifest["files"]} == {"r.nc"}
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".rollerrig")]
+
+
+def test_a_failed_run_removes_no_earlier_output(tmp_path):
+    with staged_outputs(tmp_path, run="sim") as stage:
+        stage.path("r.png").write_text("first")
+    with pytest.raises(RuntimeError), staged_outputs(tmp_path, run="sim") as stage:
+        stage.supersede("r.png")
+        raise RuntimeError
+    assert (tmp_path / "r.png").read_text() == "first"

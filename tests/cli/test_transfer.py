@@ -1,6 +1,7 @@
 """``rollerrig transfer``: help, a CSV curve end to end, clear errors."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -153,3 +154,62 @@ def test_rail_options_are_checked_as_typed(tmp_path, runner, option, value, said
     )  # fmt: skip
     assert result.exit_code == 2 and said in result.output, result.output
     assert not (tmp_path / "out").exists()
+
+
+def test_one_speed_is_stated_everywhere(tmp_path, runner):
+    # The console had said V = 31.4 km/h, the assumption 8.73 m/s, the figure "V (mean rolling
+    # speed)" (it is the roller's): one speed, said the same way in every output.
+    from rollerrig.analysis.transfer import ContactGeometry, read_curve_csv, transfer_curve
+    from rollerrig.report.transfer import transfer_figure
+    from rollerrig.rig.parameters import default_rig
+
+    s = np.linspace(0.0005, 0.08, 40)
+    kmh = np.linspace(29.0, 33.0, s.size)  # the roller's speed drifts along the test
+    c = polach_creep_curve(s, 4300.0, 30 / 3.6, 0.348, 0.291, 0.452, 1.89).adhesion_coefficient
+    rows = ["creep [-],coa [-],normal_load [kN],rolling_speed [km/h]"]
+    rows += [f"{a:.9g},{b:.9g},4.3,{v:.6g}" for a, b, v in zip(s, c, kmh, strict=True)]
+    src = tmp_path / "curve.csv"
+    src.write_text("\n".join(rows) + "\n")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["transfer", str(src), "--draws", "50", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    speed = "V = 31 km/h (the median roller speed of the points fitted)"
+    text = " ".join(result.output.split())
+    assert f"N = 4.3 kN, {speed}" in text  # the table's title
+    assert "rolling speed (V = 31 km/h, the median roller speed of the points fitted)" in text
+    # any other speed says what it is: the fit's saturated points' (a diagnostic of the fit)
+    others = re.findall(r"(\S+ \S+ [\d.]+) m/s", text)
+    assert all(o.startswith("points' median") for o in others), others
+    summary = json.loads((out / "curve-transfer.json").read_text())
+    conditions = summary["conditions"]
+    assert conditions["rolling_speed [km/h]"] == pytest.approx(31.0)
+    assert conditions["rolling_speed_is"] == "the median roller speed of the points fitted"
+    assert summary["provenance"]["parameters"]["rolling_speed"].startswith("31 km/h: the median")
+    assert speed in (out / "curve-transfer.metadata.json").read_text()
+    # the figure's title, from the same result
+    measured = read_curve_csv(src)
+    res = transfer_curve(measured, ContactGeometry.from_rig(default_rig()), draws=50)
+    title = transfer_figure(res).axes[0].get_title()
+    assert "V = 31 km/h" in title and "the median roller speed of the points fitted" in title
+    assert "mean rolling speed" not in title
+
+
+def test_console_notes_are_short_and_the_json_keeps_them_whole(tmp_path, runner):
+    # Notes of 900-1100 characters had run over the console: each is now at most NOTE_MAX
+    # characters, the finding first, with where the written JSON keeps it in full.
+    from rollerrig.cli._console import NOTE_MAX
+
+    src = _curve_csv(tmp_path / "curve.csv")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["transfer", str(src), "--draws", "50", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    notes = [line for line in result.output.splitlines() if line.startswith("note: ")]
+    assert notes and all(len(line) <= NOTE_MAX + len("note: ") for line in notes), notes
+    summary = json.loads((out / "curve-transfer.json").read_text())
+    whole = summary["notes"] + summary["assumptions"]
+    cut = [line for line in notes if "… (in full: " in line]
+    assert cut, "the test's curve gives at least one long note"
+    for line in cut:
+        head, where = line.removeprefix("note: ").split(" … (in full: ")
+        assert where.startswith(str(out / "curve-transfer.json"))
+        assert any(w.startswith(head.rstrip(")")) for w in whole), head

@@ -247,3 +247,34 @@ def test_the_release_summary_says_why_a_release_has_no_line(monkeypatch):
         "below 0.005 x the load before it)"
     )
     assert len(lines) == 2
+
+
+SHORT_PROTOCOL = """
+[experiment]
+name = "short"
+normal_load_kN = 4.3
+friction = "dry"
+roller_speed_kmh = 10
+[[step]]
+action = "hold"
+duration_s = 0.2
+"""
+
+
+def test_simulate_without_a_figure_removes_the_earlier_runs_figure(tmp_path, runner):
+    # `simulate --no-figure --out DIR` had left an older run's PNG beside the new results.
+    protocol = tmp_path / "short.toml"
+    protocol.write_text(SHORT_PROTOCOL, encoding="utf-8")
+    out = tmp_path / "out"
+    args = ["simulate", "-e", str(protocol), "--out", str(out), "-q"]
+    assert runner.invoke(app, args).exit_code == 0
+    assert (out / "short.png").is_file()
+    (out / "short-notes.png").write_text("a file of the user's")
+    result = runner.invoke(app, [*args, "--no-figure"])
+    assert result.exit_code == 0, result.output
+    assert not (out / "short.png").exists()
+    assert f"removed {out / 'short.png'} (an earlier run's, not of these results)" in (
+        " ".join(result.output.split())
+    )
+    assert (out / "short-notes.png").exists() and (out / "short.nc").exists()
+    assert json.loads((out / "simulate-short-run.json").read_text())["removed"] == ["short.png"]

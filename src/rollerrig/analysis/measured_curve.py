@@ -302,6 +302,16 @@ def _curve_from_channels(t, ch, u, phases, rig, *, source, notes, fit, sha, wher
         f" contact's load (swinging arm h/l = {arm.transfer_ratio:.3g}, W_d = "
         f"{arm.dead_weight:g} N), smoothed creep (Kayaalp eq. 4.21) and slip velocity"
     )
+    # The points' roller speed (the transfer's V by default) against the whole recording's:
+    # a test's traction phases run at another roller speed than its mean.
+    kmh = 3.6 * rig.geometry.roller_radius_x
+    at_points = float(np.median(ch["roller_speed"][points])) * kmh
+    overall = float(np.nanmean(ch["roller_speed"])) * kmh
+    if f"{at_points:.3g}" != f"{overall:.3g}":
+        notes.append(
+            f"roller speed: median {at_points:.3g} km/h at the points fitted, mean "
+            f"{overall:.3g} km/h over the whole recording"
+        )
     return MeasuredCurve(
         creep=creep[points],
         coa=coa[points],

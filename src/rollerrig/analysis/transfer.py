@@ -335,6 +335,9 @@ def transfer_curve(
     q_pts = np.asarray(measured.normal_load, float)
     n_ref = float(np.median(q_pts)) if normal_load is None else float(normal_load)
     v_ref = float(np.median(measured.rolling_speed)) if rolling_speed is None else rolling_speed
+    v_is = "as given" if rolling_speed is not None else (
+        "the median roller speed of the points fitted"
+    )  # fmt: skip
     require_positive("normal_load", n_ref, "N")
     require_positive("rolling_speed", v_ref, "m/s")
     elastic_c = combined_elastic_constants(geo.youngs_modulus, geo.poisson, geo.youngs_modulus,
@@ -596,8 +599,9 @@ def transfer_curve(
         "The surface parameters fitted on the roller (" + ", ".join(names) + ") hold on the "
         "rail unchanged: what the roller's and the rail's surfaces differ in is not in the "
         "prediction nor in its band.",
-        f"Same normal load ({n_ref:.0f} N) and rolling speed ({v_ref:.3g} m/s) on both; the "
-        "curves are compared at equal creepage, hence equal slip velocity.",
+        f"Same normal load ({n_ref:.0f} N) and rolling speed (V = {v_ref * 3.6:.3g} km/h, "
+        f"{v_is}) on roller and rail; the curves are compared at equal creepage, hence equal "
+        "slip velocity.",
         "Same steel on both sides (E, nu of the rig file); Hertz half-space contact, "
         "longitudinal creepage only (no lateral creepage or spin).",
         f"Rail: {rail.describe(geo.roller_radius_y)}.",
@@ -744,4 +748,5 @@ def transfer_curve(
         assumptions=assumptions,
         notes=notes,
         measured=measured,
+        rolling_speed_is=v_is,
     )

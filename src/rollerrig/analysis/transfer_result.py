@@ -35,7 +35,10 @@ class TransferResult:
     factor, factor_low, factor_high : ndarray
         F_track/F_roller at equal creepage and its 95 % band [-].
     normal_load, rolling_speed : float
-        N [N] and V [m/s] of both curves.
+        N [N] and V [m/s] of both curves (V also the rail's speed).
+    rolling_speed_is : str
+        What V is ("the median roller speed of the points fitted", "as given"): the one speed
+        every output states (:meth:`speed_text`).
     geometry : ContactGeometry
     rail : RailGeometry
     elastic : dict
@@ -77,6 +80,12 @@ class TransferResult:
     assumptions: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     measured: MeasuredCurve | None = None
+    rolling_speed_is: str = "as given"
+
+    def speed_text(self) -> str:
+        """The one speed of the transfer, said the same way everywhere (console, figure, files):
+        ``V = 31.4 km/h (the median roller speed of the points fitted)``."""
+        return f"V = {self.rolling_speed * 3.6:.3g} km/h ({self.rolling_speed_is})"
 
     @property
     def stiffness_ratio(self) -> float:
@@ -154,7 +163,7 @@ class TransferResult:
         return {
             "creepage_kalker": (self.creepage, "1", "creepage referred to the mean rolling speed"),
             "creep": (self.creep, "1", f"creep referred to the {ref}"),
-            "slip_velocity": (self.slip_velocity, "m/s", "slip velocity w = s V"),
+            "slip_velocity": (self.slip_velocity, "m/s", f"w = s V, {self.speed_text()}"),
             "coa_roller": (self.roller, "1", f"CoA on the roller: {level}"),
             "coa_roller_low95": (self.roller_low, "1", f"lower {edge}: roller CoA"),
             "coa_roller_high95": (self.roller_high, "1", f"upper {edge}: roller CoA"),
@@ -187,6 +196,8 @@ class TransferResult:
             "conditions": {
                 "normal_load [N]": self.normal_load,
                 "rolling_speed [m/s]": self.rolling_speed,
+                "rolling_speed [km/h]": self.rolling_speed * 3.6,
+                "rolling_speed_is": self.rolling_speed_is,
                 "rail": self.rail.describe(self.geometry.roller_radius_y),
             },
             "geometry": self.geometry.to_dict(),

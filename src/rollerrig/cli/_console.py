@@ -31,6 +31,7 @@ from rich.text import Text
 
 __all__ = [
     "LINE_EVERY_S",
+    "NOTE_MAX",
     "WIDTH",
     "QuietOption",
     "console",
@@ -39,10 +40,12 @@ __all__ = [
     "note",
     "print_error",
     "print_recording_notes",
+    "print_removed",
     "print_warning",
     "print_written",
     "progress",
     "set_quiet",
+    "short_note",
     "steps",
 ]
 
@@ -77,8 +80,45 @@ console = _Console(width=WIDTH, markup=False, highlight=False)
 err_console = _Console(stderr=True, markup=False, highlight=False, soft_wrap=True)
 
 
-def note(text: str) -> None:
-    """Print a yellow ``note:`` line (the text literally)."""
+NOTE_MAX = 300
+"""Longest note on the console [characters] where a written file keeps the note in full."""
+
+
+def short_note(text: str, full_in: str, limit: int = NOTE_MAX) -> str:
+    """``text`` cut to at most about ``limit`` characters for the console, with a pointer to
+    where it is kept in full: the finding and its first numbers (the text up to its last
+    ``; `` that fits (else ``, ``), open brackets closed), then ``… (in full: <full_in>)``. A
+    text that fits is returned as it is.
+
+    Examples
+    --------
+    >>> short_note("fit: poorly determined: a (x 2; y 3); b 4" * 3, "r.json", limit=60)
+    'fit: poorly determined: a (x 2; y 3) … (in full: r.json)'
+    """
+    text = " ".join(str(text).split())
+    if len(text) <= limit:
+        return text
+    more = f" … (in full: {full_in})"
+    room = max(limit - len(more), 40)
+    cut = text.rfind("; ", 0, room)  # a clause; a list's item only where none is near
+    if cut < room // 2:
+        cut = max(cut, text.rfind(", ", 0, room))
+    if cut < 0:  # no clause ends in the room: at the last word
+        cut = text.rfind(" ", 0, room)
+        cut = room if cut < 0 else cut
+    head = text[:cut].rstrip(" ;,:")
+    depth = 0
+    for ch in head:
+        depth = depth + 1 if ch == "(" else max(depth - 1, 0) if ch == ")" else depth
+    return head + ")" * depth + more
+
+
+def note(text: str, full_in: str | None = None) -> None:
+    """Print a yellow ``note:`` line (the text literally); a long one cut to :data:`NOTE_MAX`
+    characters with a pointer where a written file keeps it whole (``full_in``:
+    ``"<path>, 'notes'"``)."""
+    if full_in is not None:
+        text = short_note(text, full_in)
     console.print(Text.assemble(("note: ", "yellow"), str(text)), soft_wrap=True)
 
 
@@ -108,6 +148,17 @@ def print_written(paths) -> None:
     for path in paths:
         again = " (replaced an earlier run's)" if str(path) in _REPLACED else ""
         console.print(f"wrote {path}{again}", soft_wrap=True)
+
+
+def print_removed(paths, kept=()) -> None:
+    """One ``removed <path>`` line per earlier run's output that the run removed, as not of
+    its results (:meth:`rollerrig.cli._outputs.staged_outputs.supersede`), and a note per such
+    file it kept (changed since, or not that run's)."""
+    for path in paths:
+        console.print(f"removed {path} (an earlier run's, not of these results)", soft_wrap=True)
+    for path in kept:
+        note(f"{path} is not of these results (kept: changed since it was written, or not "
+             "this command's file)")  # fmt: skip
 
 
 def print_recording_notes(rec) -> None:

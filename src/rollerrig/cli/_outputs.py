@@ -138,6 +138,12 @@ class staged_outputs:  # a context manager that reads as a function
         The staging folder: write the outputs here.
     written : list of Path
         The final paths, once the block has ended without an exception (manifest last).
+    removed : list of Path
+        Files of ``out`` named by :meth:`supersede` that the commit removed (an earlier run's
+        output this run did not write again).
+    kept : list of Path
+        Files named by :meth:`supersede` that stay: not, or no longer as written, in the
+        earlier run's manifest (changed since, or another command's file of that name).
     """
 
     def __init__(
@@ -155,6 +161,9 @@ class staged_outputs:  # a context manager that reads as a function
         self._lock = _RunLock(self.out)
         self._created: list[Path] = []
         self._issued: dict[str, str] = {}  # casefolded safe name -> the name asked for
+        self._superseded: list[Path] = []
+        self.removed: list[Path] = []
+        self.kept: list[Path] = []
 
     # ------------------------------------------------------------------ enter
 
@@ -215,6 +224,15 @@ class staged_outputs:  # a context manager that reads as a function
         self._check(self.final(staged))
         return staged
 
+    def supersede(self, name: str) -> None:
+        """An output of this command, of an earlier run, that this run does not write again
+        (``--no-figure``: the figure of the same name would stay beside the new results): the
+        commit removes the file ``out/name`` with the new files, all or none, and
+        :attr:`removed` lists it. Only a file the earlier run's manifest (``<run>-run.json``,
+        the same run name) lists, unchanged since (its SHA-256), goes; any other file of that
+        name stays (:attr:`kept`), and so does an input, a folder or a name this run writes."""
+        self._superseded.append(self.out / safe_file_name(name))
+
     def final(self, staged: str | os.PathLike) -> Path:
         """Where a staged path ends up in ``out``."""
         return self.out / Path(staged).relative_to(self.dir)
@@ -249,8 +267,19 @@ class staged_outputs:  # a context manager that reads as a function
         files = [p for p in files if not p.name.startswith(".")]  # writers' temporaries
         for src in files:  # every clash is found before anything is moved
             self._check(self.final(src))
+        written = {self.final(src) for src in files}
+        stale = []
+        for p in dict.fromkeys(self._superseded):
+            if p in written or not p.is_file():
+                continue
+            if self._earlier_runs(p) and not any(
+                s.exists() and _same_file(p, s) for s in self.inputs
+            ):
+                stale.append(p)
+            else:
+                self.kept.append(p)
         if self.run is not None:
-            files.append(self._manifest(files))  # moved last: present means complete
+            files.append(self._manifest(files, stale))  # moved last: present means complete
         # All or none: an old file of the same name gets a second name in the stage first (a
         # hard link: it stays in place until the new one atomically replaces it), and where
         # any move fails the new files are taken out and the old ones put back. One file that
@@ -258,7 +287,25 @@ class staged_outputs:  # a context manager that reads as a function
         # and the old results lost.
         replaced = self.dir / ".replaced"
         placed: list[tuple[Path, Path | None]] = []  # (dest, its old file's second name)
+        removed: list[Path] = []
         with signals_deferred():
+            for dest in stale:  # moved aside, as a replaced file; gone with the stage
+                try:
+                    replaced.mkdir(exist_ok=True)
+                    old = replaced / str(len(placed))
+                    os.replace(dest, old)
+                except OSError as exc:
+                    where = self._roll_back(placed)
+                    raise OutputError(
+                        f"{dest}: cannot remove an earlier run's file: {_reason(exc)}; "
+                        + (
+                            f"nothing in {self.out} was changed"
+                            if where is None
+                            else f"some old files could not be put back: they are in {where}"
+                        )
+                    ) from None
+                placed.append((dest, old))
+                removed.append(dest)
             for src in files:
                 dest = self.final(src)
                 try:
@@ -280,8 +327,25 @@ class staged_outputs:  # a context manager that reads as a function
                         )
                     ) from None
                 placed.append((dest, old))
-            self.written.extend(dest for dest, _ in placed)
-            mark_replaced(dest for dest, old in placed if old is not None)
+            self.written.extend(dest for dest, _ in placed[len(removed) :])
+            self.removed.extend(removed)
+            mark_replaced(dest for dest, old in placed[len(removed) :] if old is not None)
+
+    def _earlier_runs(self, path: Path) -> bool:
+        """Whether ``path`` is a plain file that the earlier run's manifest (this run's name)
+        lists with the SHA-256 it has now."""
+        import json
+
+        from rollerrig.output import file_sha256
+
+        if self.run is None or path.is_symlink():
+            return False
+        try:
+            doc = json.loads((self.out / safe_file_name(f"{self.run}-run.json")).read_text())
+            listed = {f["file"]: f["sha256"] for f in doc["files"]}
+            return listed.get(path.relative_to(self.out).as_posix()) == file_sha256(path)
+        except (OSError, ValueError, KeyError, TypeError):
+            return False
 
     def _roll_back(self, placed) -> Path | None:
         """Undo a commit's moves, last first: a new file removed, an old one put back. Where
@@ -304,7 +368,7 @@ class staged_outputs:  # a context manager that reads as a function
             return kept
         return self.dir / ".replaced"
 
-    def _manifest(self, files: list[Path]) -> Path:
+    def _manifest(self, files: list[Path], removed: list[Path]) -> Path:
         """``<run>-run.json`` in the stage: the run's files with SHA-256 and size, provenance."""
         from rollerrig.output import file_sha256, write_json
 
@@ -324,6 +388,11 @@ class staged_outputs:  # a context manager that reads as a function
             "folder": str(self.out.resolve()),
             "files": listed,
             "warnings": warnings_printed(),
+            **(
+                {"removed": [p.relative_to(self.out).as_posix() for p in removed]}
+                if removed
+                else {}
+            ),
             "note": "the files this run wrote into this folder; a later run may replace some",
         }
         write_json(staged, doc)

@@ -37,7 +37,8 @@ def demo(
         paths = run_demo(
             out, console, workdir=stage.dir, figure_format=FigureFormat(figure_format).value
         )
-    print_analysis(paths["result"])
+    json_names = [n for n in paths if str(n).endswith("-analysis.json")]
+    print_analysis(paths["result"], f"{out / json_names[0]}, 'notes'" if json_names else None)
     lines = ", ".join(f"{f:.3f} Hz" for f in paths["speed_independent"]) or "none"
     console.print(
         f"speed-independent lines in the free-rolling spectra: {lines} (no line is injected "

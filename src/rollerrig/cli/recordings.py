@@ -145,7 +145,7 @@ def analyze(
                 extra_sections=_sections(sections),
                 report_folder=stage.out,
             )
-    print_analysis(result)
+    print_analysis(result, f"{stage.out / f'{stem}-analysis.json'}, 'notes'")
     print_written(stage.written)
 
 
@@ -282,7 +282,9 @@ def _number(value) -> str:
     return "–" if value is None else f"{value:.4f}"
 
 
-def print_analysis(result) -> None:
+def print_analysis(result, full_in: str | None = None) -> None:
+    """The analysis on the console; ``full_in`` (the written JSON, its 'notes') is where a
+    long note is kept whole (the console cuts it, :func:`rollerrig.cli._console.note`)."""
     print_uncertainty(result)
     truth = result.true_parameters
     table = Table(title="Polach fit to the ascending branches")
@@ -346,7 +348,7 @@ def print_analysis(result) -> None:
     for text in result.notes:
         flat = " ".join(text.split())
         if not text.startswith(tuple(shown)) and not any(flat in w for w in warned):
-            note(text)
+            note(text, full_in)
 
 
 def spectrum(

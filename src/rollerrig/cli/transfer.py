@@ -252,10 +252,11 @@ def transfer(
     for line in (load_note, speed_note):
         if line is not None:
             note(line)
+    written = out / f"{safe_file_stem(stem)}-transfer.json"  # keeps every note whole
     for line in result.assumptions:
-        note(line)
+        note(line, f"{written}, 'assumptions'")
     for line in result.notes:
-        note(line)
+        note(line, f"{written}, 'notes'")
     print_written(stage.written)
 
 
@@ -297,11 +298,11 @@ def _condition_source(
     """
     median = float(np.median(np.asarray(points, float))) * scale
     if given is None:
-        return f"{median:.4g} {unit}: the median of the points' {noun}s ({measured_in})", None
-    value = f"{option} {given * scale:.4g} {unit}"
+        return f"{median:.3g} {unit}: the median of the points' {noun}s ({measured_in})", None
+    value = f"{option} {given * scale:.3g} {unit}"
     if measured_in is None:
         return f"{value}, also every point's {noun} (the file has no column for it)", None
-    kept = f"the points keep their measured {noun}s ({measured_in}, median {median:.4g} {unit})"
+    kept = f"the points keep their measured {noun}s ({measured_in}, median {median:.3g} {unit})"
     return (
         f"{value} (the transfer's {noun}); {kept}",
         f"{value} is the {noun} of the transfer only; {kept} for the fit on the roller",
@@ -314,7 +315,7 @@ def _table(result) -> Table:
     table = Table(
         title=Text(
             f"Roller to rail ({result.law}): N = {result.normal_load / 1e3:.3g} kN, "
-            f"V = {result.rolling_speed * 3.6:.3g} km/h"
+            f"{result.speed_text()}"
         )
     )
     for name in ("quantity", "unit", "roller", "rail", "rail / roller"):

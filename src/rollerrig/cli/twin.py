@@ -17,7 +17,7 @@ from rich.text import Text
 from rollerrig._optional import require
 from rollerrig._toml import read_toml
 from rollerrig.cli._boundary import UserError
-from rollerrig.cli._console import QuietOption, console, note, print_written
+from rollerrig.cli._console import QuietOption, console, note, print_removed, print_written
 from rollerrig.cli._options import (
     DEFAULT_OUT,
     FigureFormat,
@@ -350,6 +350,9 @@ def simulate(
                     notify=None if announced else note,  # the fallback's compilation, once
                 )
                 bar.update(task, completed=duration, info="done")
+            for fmt in FigureFormat:  # an earlier run's figure that this run does not draw
+                if not (figure and fmt == FigureFormat(figure_format)):
+                    stage.supersede(figure_file(stem, fmt))
             if figure:  # drawn by the helper while the rest is summarised and written
                 title = variant_title(ds.attrs.get("title", sim.protocol.name), **variant)
                 figure_path = stage.path(figure_file(stem, figure_format))
@@ -365,6 +368,7 @@ def simulate(
         if release:
             console.print(release)
         print_written(stage.written)
+        print_removed(stage.removed, stage.kept)
 
 
 LAGLESS_ROLLER_DRIVES = (RollerDrive.induction_dq,)

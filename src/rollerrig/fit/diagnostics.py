@@ -422,7 +422,8 @@ def slip_velocity_coverage(
         )
     if speed_ratio < _MIN_SPEED_RATIO and past_peak < _MIN_PAST_PEAK:
         reasons.append(
-            f"one rolling speed ({v_med:.3g} m/s; 90/10 percentile ratio {speed_ratio:.2f}, "
+            f"one rolling speed (the saturated points' median {v_med:.3g} m/s, "
+            f"{3.6 * v_med:.3g} km/h; 90/10 percentile ratio {speed_ratio:.2f}, "
             f"{_MIN_SPEED_RATIO:g} needed) and {reach} "
             f"({_MIN_PAST_PEAK:g} needed): with w = v s, the fall of mu(w) trades with the "
             "curve's shape (kA, kS); test at several speeds or far past the peak"

@@ -69,7 +69,8 @@ def _coverage(s, w, q, y, theta, model, best_cost, cost_with, ab_problems, n_ref
         )
     if speed_ratio < _diag._MIN_SPEED_RATIO and past_peak < _diag._MIN_PAST_PEAK:
         reasons.append(
-            f"one rolling speed ({v_med:.3g} m/s; 90/10 percentile ratio {speed_ratio:.2f}, "
+            f"one rolling speed (the saturated points' median {v_med:.3g} m/s, "
+            f"{3.6 * v_med:.3g} km/h; 90/10 percentile ratio {speed_ratio:.2f}, "
             f"{_diag._MIN_SPEED_RATIO:g} needed) and {reach} "
             f"({_diag._MIN_PAST_PEAK:g} needed): with w = v s the fall of mu(w) trades "
             "with the curve's shape (k0, alpha_inf, beta)"

@@ -74,9 +74,12 @@ def transfer_figure(result: TransferResult):
             ax.plot(100 * m["creepage [-]"], m["coa [-]"], "o", mfc="none", color=colour, ms=5)
     ax.set_xlabel("creepage ξ (Kalker: referred to the mean rolling speed) [%]")
     ax.set_ylabel("CoA F/N [-]")
+    # the transfer's one speed, as the console and the files state it (V = ... km/h (what))
+    speed, what = result.speed_text().split(" (", 1)
     ax.set_title(
-        f"Roller to rail: N = {result.normal_load / 1e3:.3g} kN, "
-        f"V (mean rolling speed) = {result.rolling_speed * 3.6:.3g} km/h"
+        f"Roller to rail: N = {result.normal_load / 1e3:.3g} kN, {speed}\n"
+        f"(V on roller and rail: {what}",
+        fontsize=11,
     )
     ax.set_xlim(0, xi[-1])
     ax.set_ylim(0, None)
@@ -153,7 +156,12 @@ def write_transfer(
         write_table(
             out / f"{stem}-transfer.csv",
             result.columns(),
-            attrs={"law": result.law, "assumptions": result.assumptions},
+            attrs={
+                "law": result.law,
+                "normal_load [N]": result.normal_load,
+                "rolling_speed": result.speed_text(),
+                "assumptions": result.assumptions,
+            },
             overwrite=True,
         ),
         write_json(out / f"{stem}-transfer.json", summary),
@@ -174,7 +182,7 @@ def transfer_section(rep, result: TransferResult) -> None:
     rep.paragraph(
         f"Law {result.law}, fitted on the roller and evaluated on the rail at the same normal "
         f"load ({result.normal_load / 1e3:.3g} kN) and rolling speed "
-        f"({result.rolling_speed * 3.6:.3g} km/h); creepage ξ referred to the mean rolling "
+        f"{result.speed_text()}; creepage ξ referred to the mean rolling "
         "speed (Kalker), converted from the rig's creep (Kayaalp eq. 4.21)."
     )
     lo, hi = result.elastic["ratio_track_over_roller"]["creep_stiffness_95"]
