@@ -545,6 +545,50 @@ def test_an_hour_forward_names_daylight_saving_time(tmp_path, validate):
     assert file_sha256(p) == sha
 
 
+@pytest.mark.parametrize("chunk", [4800, 1200, 700])
+def test_an_hour_forward_at_a_chunk_boundary_names_daylight_saving_time(tmp_path, chunk):
+    # 4 Hz on a local wall clock across CET -> CEST (02:00 on 31 March 2024), the step after
+    # the first samples the source probes. Chunks of 4800 samples end at 01:59:59,750 and the
+    # next begins at 03:00:00,000: each chunk alone was even, and the step between them read as
+    # a gap of dropped samples, not as the clock going forward.
+    import datetime as dt
+
+    utc0 = dt.datetime(2024, 3, 31, 0, 40, 0)
+    rows = []
+    for k in range(6000):
+        u = utc0 + dt.timedelta(milliseconds=250 * k)
+        local = u + dt.timedelta(hours=1 if u < dt.datetime(2024, 3, 31, 1) else 2)
+        rows.append(f"{local.strftime('%d.%m.%Y %H:%M:%S,%f')[:-3]};{k}\n")
+    assert rows[4799].startswith("31.03.2024 01:59:59,750")
+    assert rows[4800].startswith("31.03.2024 03:00:00,000")
+    p, sha = _write(tmp_path, "spring.csv", "Zeit;Moment\n" + "".join(rows))
+    cmap = {"time": {"column": "Zeit"}, "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}
+    with open_recording(p, cmap) as src:
+        with pytest.raises(RecordingError, match=r"daylight saving time") as e:
+            for _ in src.iter_chunks(["torque"], chunk_samples=chunk):
+                pass
+    assert "'31.03.2024 03:00:00,000'" in str(e.value) and "sample_rate_Hz" in str(e.value)
+    assert "row 4799 '31.03.2024 01:59:59,750'" in str(e.value)
+    assert file_sha256(p) == sha
+
+
+def test_chunks_an_hour_into_a_recording_are_no_daylight_saving_step(tmp_path):
+    # 1 Hz in March, chunks of 3600 samples: each chunk's first time lies 3600 s after the
+    # file's first sample, which anchors it. That step is no neighbour of the chunk's samples.
+    import datetime as dt
+
+    t0 = dt.datetime(2024, 3, 12, 8, 0, 0)
+    rows = [
+        f"{(t0 + dt.timedelta(seconds=k)).strftime('%d.%m.%Y %H:%M:%S')};{k}\n"
+        for k in range(3 * 3600 + 10)
+    ]
+    p, _ = _write(tmp_path, "march.csv", "Zeit;Moment\n" + "".join(rows))
+    cmap = {"time": {"column": "Zeit"}, "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}
+    with open_recording(p, cmap) as src:
+        t = np.concatenate([c.time for c in src.iter_chunks(["torque"], chunk_samples=3600)])
+    np.testing.assert_array_equal(t, np.arange(3 * 3600 + 10, dtype=float))
+
+
 @pytest.mark.parametrize(
     ("stamp", "note"),
     [

@@ -8,6 +8,7 @@ column that holds strings (:mod:`rollerrig.recordings.translate`).
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Callable
 
@@ -188,12 +189,26 @@ March, April; Chile, New Zealand, Australia, formerly Brazil: September to Novem
 
 
 def _check_spring_forward(
-    wall: np.ndarray, s, what: str, line_of: Callable[[int], int | None] | None
+    wall: np.ndarray,
+    s,
+    what: str,
+    line_of: Callable[[int], int | None] | None,
+    anchors: int = 0,
+    first_row: int = 0,
 ) -> None:
     """RecordingError when local wall-clock times ``wall`` [s since 1970, no offset] step forward
     by one hour (± a sample interval) in a month where daylight saving time may begin: the
     clock went forward, no samples were dropped (read as a gap, the recording had been an hour
-    longer)."""
+    longer).
+
+    The first ``anchors`` rows are no neighbours of the rows after them (the file's first
+    sample, put before a part of the column read alone): the steps from them are not checked
+    (a part that starts an hour into the recording is no clock step), and row ``anchors`` is
+    named as row ``first_row``.
+    """
+    wall, s = wall[anchors:], s.iloc[anchors:]
+    if first_row and line_of is not None:
+        line_of = functools.partial(_shifted, line_of, first_row)
     if wall.size < 3:
         return
     steps = np.diff(wall)
@@ -205,9 +220,10 @@ def _check_spring_forward(
         month = int(np.datetime64(int(wall[k]), "s").astype(object).month)
         if month not in _DST_MONTHS:
             continue
+        here, there = _row_name(k, line_of, first_row), _row_name(k + 1, line_of, first_row)
         raise RecordingError(
-            f"{what}: the time steps forward by {steps[k]:.6g} s between {_row_name(k, line_of)} "
-            f"{s.iloc[k]!r} and {_row_name(k + 1, line_of)} {s.iloc[k + 1]!r} at a median "
+            f"{what}: the time steps forward by {steps[k]:.6g} s between {here} "
+            f"{s.iloc[k]!r} and {there} {s.iloc[k + 1]!r} at a median "
             f"interval of {median:.6g} s: local clock times across the start of daylight "
             "saving time (the clock went forward an hour; no samples are missing)? Export the "
             "times in UTC or with their UTC offset (31.03.2024 03:00:00+02:00), or, where the "
@@ -216,9 +232,13 @@ def _check_spring_forward(
         )
 
 
-def _row_name(k: int, line_of: Callable[[int], int | None] | None) -> str:
+def _shifted(line_of: Callable[[int], int | None], by: int, k: int) -> int | None:
+    return line_of(k + by)
+
+
+def _row_name(k: int, line_of: Callable[[int], int | None] | None, first_row: int = 0) -> str:
     line = line_of(k) if line_of is not None else None
-    return f"row {k}" + (f" (file line {line})" if line is not None else "")
+    return f"row {k + first_row}" + (f" (file line {line})" if line is not None else "")
 
 
 def _unwrapped_times_of_day(tod: np.ndarray, first: str) -> tuple[np.ndarray, str]:
@@ -312,6 +332,8 @@ def parse_timestamps(
     date_format: str | None = None,
     line_of: Callable[[int], int | None] | None = None,
     decided: dict | None = None,
+    anchors: int = 0,
+    first_row: int = 0,
 ) -> tuple[np.ndarray, str]:
     """Seconds since the first sample of a column of date/time strings, and a note.
 
@@ -342,6 +364,12 @@ def parse_timestamps(
         the format it decided (pattern and day/month order) there, later calls apply it instead
         of deciding again, so every chunk is read the same way (a later chunk that does not fit
         is an error naming its row).
+    anchors : int
+        For a part of a column read alone: its first ``anchors`` rows are the file's first
+        sample (the origin of the seconds), no neighbours of the rows after them; the check for
+        a daylight-saving step looks only at the steps after them.
+    first_row : int
+        Index in the whole column of row ``anchors`` (for that check's message).
 
     Returns
     -------
@@ -385,7 +413,7 @@ def parse_timestamps(
             )
         if stamps.dt.tz is None and _DATE_CODES.search(date_format):
             wall = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64) / 1e9
-            _check_spring_forward(wall, s, what, line_of)
+            _check_spring_forward(wall, s, what, line_of, anchors, first_row)
         ns = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64)
         secs = (ns - ns[0]) / 1e9
         note = (
@@ -536,7 +564,7 @@ def parse_timestamps(
         mm = pd.to_numeric(digits.str[2:4], errors="coerce").fillna(0).to_numpy()
         offset = np.where(tz == "Z", 0.0, sign * (hh * 3600.0 + mm * 60.0))
     if not ("tz" in parts and parts["tz"].notna().any()):
-        _check_spring_forward(days * 86400.0 + tod, s, what, line_of)
+        _check_spring_forward(days * 86400.0 + tod, s, what, line_of, anchors, first_row)
     t = (days - days[0]) * 86400.0 + (tod - tod[0]) - (offset - offset[0])
     start = pd.Timestamp(dates[0]) + pd.Timedelta(seconds=float(tod[0]))
     return t, (
