@@ -5,6 +5,7 @@ the readers: a correct read, or one :class:`RecordingError` naming the file, the
 what is wrong; never a silent wrong value; the input file never modified.
 """
 
+import codecs
 import io
 from decimal import Decimal
 
@@ -200,6 +201,44 @@ def test_a_nul_padded_tail_is_left_out_with_the_line_it_cut(tmp_path, n, cut):
         chunks = list(src.iter_chunks(["torque"], chunk_samples=700))
     np.testing.assert_array_equal(np.concatenate([c.time for c in chunks]), rec.time)
     assert file_sha256(p) == sha
+
+
+@pytest.mark.parametrize("n", [3000, 40000], ids=["in-the-head", "beyond-the-head"])
+@pytest.mark.parametrize("cut", [0, 6, 7], ids=["after-a-line-end", "inside-a-line", "odd-byte"])
+@pytest.mark.parametrize("order", ["utf-16-le", "utf-16-be", "bare-le"])
+def test_a_nul_padded_utf16_tail_is_left_out_with_the_line_it_cut(tmp_path, n, cut, order):
+    # A Windows logger writes UTF-16 with a BOM (LE, or BE); one that lost power leaves its
+    # file zero-filled after the last line. UTF-16's own zero bytes (every ASCII character has
+    # one, a line end's last byte in LE) are no padding; the NUL run after the text is.
+    body = "Time,Torque\r\n" + "".join(f"{k / 1000:.3f},{100 + k % 7}\r\n" for k in range(n))
+    codec = "utf-16-le" if order == "bare-le" else order
+    bom = b"" if order == "bare-le" else codecs.BOM_UTF16_LE if order == "utf-16-le" else (
+        codecs.BOM_UTF16_BE
+    )  # fmt: skip
+    text = bom + body.encode(codec)
+    data = text[: len(text) - cut] + b"\x00" * 8192
+    p, sha = _write(tmp_path, "powerloss16.csv", data)
+    rec = read_recording(p, MAP)
+    kept = n - (1 if cut else 0)
+    assert rec.time.size == kept
+    np.testing.assert_allclose(rec["torque"], [100 + k % 7 for k in range(kept)])
+    note = next(x for x in rec.metadata["notes"] if "NUL bytes" in x)
+    assert "lost power" in note and ("line they cut" in note) == bool(cut)
+    with open_recording(p, MAP) as src:  # the chunked reader reads the same samples
+        chunks = list(src.iter_chunks(["torque"], chunk_samples=700))
+    np.testing.assert_array_equal(np.concatenate([c.time for c in chunks]), rec.time)
+    assert file_sha256(p) == sha
+
+
+@pytest.mark.parametrize("codec", ["utf-16-le", "utf-16-be"])
+def test_utf16_without_padding_keeps_its_last_line(tmp_path, codec):
+    # the zero byte of the last line end (0A 00 in LE, 00 0A's first in BE) is the text's own
+    body = "Time,Torque\r\n" + "".join(f"{k / 1000:.3f},{k}\r\n" for k in range(50))
+    bom = codecs.BOM_UTF16_LE if codec == "utf-16-le" else codecs.BOM_UTF16_BE
+    p, _ = _write(tmp_path, "u16.csv", bom + body.encode(codec))
+    rec = read_recording(p, MAP)
+    assert rec.time.size == 50 and rec["torque"][-1] == 49
+    assert not any("NUL bytes" in x for x in rec.metadata["notes"])
 
 
 def test_nul_bytes_before_the_end_of_a_text_file_are_still_binary(tmp_path):

@@ -49,6 +49,7 @@ from rollerrig.recordings.formats._text import (
     EXACT_ABOVE,
     INTEGER,
     MARKED_NUMBER,
+    bom_less_utf16,
     cell_kind,
     code_unit,
     datalike,
@@ -620,27 +621,55 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
 def _text_end(path: Path, head: bytes, spec: FileSpec, notes: list[str]) -> int | None:
     """The bytes of a text file that hold its lines when it ends in NUL bytes and has none
     before them (:func:`nul_padded_end`; noted), else None: a NUL byte elsewhere is refused as
-    binary content (:func:`~rollerrig.recordings.formats._text.decode_text`), and UTF-16 text,
-    a NUL byte in every character, is no padding."""
+    binary content (:func:`~rollerrig.recordings.formats._text.decode_text`).
+
+    UTF-16 text (a BOM, the map's ``[file] encoding``, or its look without a BOM) has a NUL
+    byte in every ASCII character: its padding is the run of NUL code units after its last
+    character, found a code unit at a time (a line end ``0A 00`` keeps its zero byte)."""
     if b"\x00" not in head and len(head) < HEAD_BYTES:
         return None  # the whole file, no NUL byte
-    if spec.encoding is not None and code_unit(spec.encoding) > 1:
-        return None
-    if head.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
-        return None
-    found = nul_padded_end(path)
+    order = _utf16_order(head, spec)
+    if order is None and spec.encoding is not None and code_unit(spec.encoding) > 1:
+        return None  # UTF-32: never written by a logger of ours
+    found = nul_padded_end(path, order=order)
     if found is None:
         return None
     end, pad, cut = found
-    if b"\x00" in head[:end] or not head[: min(end, 4096)].strip():
+    if order is None and (b"\x00" in head[:end] or not head[: min(end, 4096)].strip()):
         return None  # NUL bytes before the padding (binary, or UTF-16 without a BOM)
-    text = cut.decode("latin-1").strip()
+    if order is not None and b"\x00\x00" in _code_units(head[:end]):
+        return None  # a NUL character before the padding: binary, not UTF-16 text
+    text = cut.decode(order or "latin-1", errors="replace").strip().strip("\x00")
     notes.append(
         f"the file ends in {pad} NUL bytes (from byte {end + len(cut)}), as a logger that lost "
         "power leaves it, zero-filled after the last line it wrote: left out"
         + (f", with the line they cut ({text[-40:]!r})" if text else "")
     )
     return end
+
+
+def _utf16_order(head: bytes, spec: FileSpec) -> str | None:
+    """``"utf-16-le"`` / ``"utf-16-be"`` where the file is UTF-16 (the map's ``[file]
+    encoding``, a BOM, or the look of it without one), else None."""
+    if spec.encoding is not None:
+        try:
+            name = codecs.lookup(spec.encoding).name
+        except LookupError:
+            return None
+        if name in ("utf-16-le", "utf-16-be"):
+            return name
+        if name != "utf-16":
+            return None
+    if head.startswith(codecs.BOM_UTF16_BE):
+        return "utf-16-be"
+    if head.startswith(codecs.BOM_UTF16_LE) or spec.encoding is not None:
+        return "utf-16-le"  # the codec "utf-16" without a BOM reads little-endian
+    return bom_less_utf16(head)
+
+
+def _code_units(raw: bytes) -> list[bytes]:
+    """The two-byte code units of ``raw`` (its length made even)."""
+    return [raw[k : k + 2] for k in range(0, len(raw) - 1, 2)]
 
 
 def _refuse_one_column_of_decimal_commas(path: Path, block) -> None:
@@ -843,12 +872,22 @@ class _Head(io.RawIOBase):
         return n
 
 
-def nul_padded_end(path: Path, block: int = 1 << 16) -> tuple[int, int, bytes] | None:
+def nul_padded_end(
+    path: Path, block: int = 1 << 16, order: str | None = None
+) -> tuple[int, int, bytes] | None:
     """``(end, pad, cut)`` when the file ends in a block of NUL bytes, as a logger that lost
     power leaves it (the file's space allocated and zero-filled after the last line it
     wrote): ``end`` bytes hold its complete lines, ``pad`` NUL bytes end it and ``cut`` is the
     line between them (b"" where the last line before the NUL bytes is complete). None when
-    the file does not end in a NUL byte."""
+    the file does not end in a NUL byte.
+
+    ``order`` (``"utf-16-le"`` / ``"utf-16-be"``): the file is UTF-16, whose characters are
+    two bytes from its start: the text ends at the code unit of its last non-NUL byte (the
+    zero byte of a last ``0A 00`` is the line end's own), and lines end at the code units
+    ``\\n`` / ``\\r``, never at a byte 0A inside another character.
+    """
+    unit = 1 if order is None else 2
+    block -= block % 2
     with path.open("rb") as fh:
         size = fh.seek(0, 2)
         stop = size
@@ -860,11 +899,18 @@ def nul_padded_end(path: Path, block: int = 1 << 16) -> tuple[int, int, bytes] |
                 stop = start + len(chunk)
                 break
             stop = start
+        stop = min(size, stop + (-stop) % unit)  # the whole code unit of the last character
         if stop == size:
             return None
-        fh.seek(max(0, stop - block))
-        tail = fh.read(stop - max(0, stop - block))
-    line_end = max(tail.rfind(b"\n"), tail.rfind(b"\r"))
+        first = max(0, stop - block)
+        fh.seek(first)
+        tail = fh.read(stop - first)
+    if order is None:
+        line_end = max(tail.rfind(b"\n"), tail.rfind(b"\r"))
+    else:
+        ends = ("\n".encode(order), "\r".encode(order))
+        units = _code_units(tail)
+        line_end = next((2 * k + 1 for k in range(len(units) - 1, -1, -1) if units[k] in ends), -1)
     if line_end < 0 and stop > block:  # a line longer than a block: the whole tail is cut
         return stop, size - stop, tail
     end = stop - len(tail) + line_end + 1
