@@ -275,7 +275,8 @@ def test_a_struct_array_of_signals_is_one_column_per_signal(tmp_path, version):
 
 def _simulink_one_signal_v73(path, time, label, values):
     """A "Structure with time" of one signal as MATLAB v7.3 writes it: a 1 x 1 struct array
-    is one struct, ``logsout.signals`` a group whose fields are plain datasets."""
+    is one struct, ``logsout.signals`` a group whose fields are plain datasets (``values`` of
+    shape (n,) or, a Mux, (n, k))."""
     import h5py
 
     with h5py.File(path, "w", userblock_size=512, libver="earliest") as h:
@@ -285,7 +286,8 @@ def _simulink_one_signal_v73(path, time, label, values):
         ds.attrs["MATLAB_class"] = np.bytes_("double")
         sig = log.create_group("signals")
         sig.attrs["MATLAB_class"] = np.bytes_("struct")
-        ds = sig.create_dataset("values", data=values.reshape(1, -1))
+        # n x k values (a Mux) as MATLAB's column-major k x n; a vector as 1 x n
+        ds = sig.create_dataset("values", data=np.ascontiguousarray(np.atleast_2d(values.T)))
         ds.attrs["MATLAB_class"] = np.bytes_("double")
         codes = np.frombuffer(label.encode("utf-16-le"), dtype=np.uint16).reshape(-1, 1)
         ds = sig.create_dataset("label", data=codes)
@@ -515,26 +517,6 @@ def _controldesk_v73(path, X, Y):
 
 
 # ----------------------------------------------------------- multi-dimensional signal values
-def _mux_v73(path, time, values, label):
-    """A "Structure with time" of one Mux'd signal as MATLAB v7.3 writes it: its n x k values
-    are an HDF5 dataset of shape (k, n) (MATLAB's column-major order)."""
-    import h5py
-
-    with h5py.File(path, "w", userblock_size=512, libver="earliest") as h:
-        log = h.create_group("logsout")
-        log.attrs["MATLAB_class"] = np.bytes_("struct")
-        ds = log.create_dataset("time", data=time.reshape(1, -1))
-        ds.attrs["MATLAB_class"] = np.bytes_("double")
-        sig = log.create_group("signals")
-        sig.attrs["MATLAB_class"] = np.bytes_("struct")
-        ds = sig.create_dataset("values", data=np.ascontiguousarray(values.T))
-        ds.attrs["MATLAB_class"] = np.bytes_("double")
-        codes = np.frombuffer(label.encode("utf-16-le"), dtype=np.uint16).reshape(-1, 1)
-        ds = sig.create_dataset("label", data=codes)
-        ds.attrs["MATLAB_class"] = np.bytes_("char")
-    _write_mat73_header(path)
-
-
 @pytest.mark.parametrize("version", ["5", "7.3"])
 def test_a_muxed_structure_with_time_is_one_channel_per_element(tmp_path, version):
     """A Mux of three forces logged "Structure with time": ``signals.values`` is n x 3. It had
@@ -551,7 +533,7 @@ def test_a_muxed_structure_with_time_is_one_channel_per_element(tmp_path, versio
         signals = {"values": values, "label": "F", "dimensions": 3}
         savemat(f, {"logsout": {"time": t.reshape(-1, 1), "signals": signals}})
     else:
-        _mux_v73(f, t, values, "F")
+        _simulink_one_signal_v73(f, t, "F", values)
     for j in (1, 2, 3):
         for column in (f"F[{j}]", f"logsout.signals.values[{j}]"):
             rec = read_recording(f, {"time": {"column": "logsout.time", "unit": "s"}, "channels": {
