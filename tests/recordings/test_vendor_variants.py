@@ -628,6 +628,94 @@ def test_chunks_an_hour_into_a_recording_are_no_daylight_saving_step(tmp_path):
     np.testing.assert_array_equal(t, np.arange(3 * 3600 + 10, dtype=float))
 
 
+_ABBREVIATIONS = {
+    "German": "Jan Feb Mär Apr Mai Jun Jul Aug Sep Okt Nov Dez",
+    "French": "janv. févr. mars avr. mai juin juil. août sept. oct. nov. déc.",
+    "Spanish": "ene feb mar abr may jun jul ago sep oct nov dic",
+    "Italian": "gen feb mar apr mag giu lug ago set ott nov dic",
+    "Dutch": "jan feb mrt apr mei jun jul aug sep okt nov dec",
+    "Portuguese": "jan fev mar abr mai jun jul ago set out nov dez",
+}
+"""Month abbreviations as Excel, LabVIEW and Windows write them in each language."""
+
+
+def _month_word(language: str, month: int, style: str) -> str:
+    from rollerrig.recordings.formats.timestamps import _MONTH_NAMES
+
+    if style == "short":
+        return _ABBREVIATIONS[language].split()[month - 1]
+    word = _MONTH_NAMES[language].split()[month - 1].split("|")[0]
+    return word.upper() if style == "upper" else word.capitalize()
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    st.sampled_from(sorted(_ABBREVIATIONS)),
+    st.sampled_from(["short", "long", "upper"]),
+    st.sampled_from(["-", " ", "."]),
+    st.dates(min_value=__import__("datetime").date(1990, 1, 1)),
+    st.integers(0, 400),
+)
+def test_month_names_of_european_languages_read_the_right_month(language, style, sep, day, n):
+    # "05-Dez-2024" had been "no English month name"; each language's names and
+    # abbreviations, in any case, read as their month without the machine's locale
+    import datetime as dt
+
+    from rollerrig.recordings.formats.timestamps import parse_timestamps
+
+    later = day + dt.timedelta(days=n)
+    cells = [
+        f"{d.day:02d}{sep}{_month_word(language, d.month, style)}{sep}{d.year} 12:00:00"
+        for d in (day, later)
+    ]
+    cells = [c.replace("..", ".") for c in cells]  # "05.déc..2024" is no one's spelling
+    secs, _ = parse_timestamps(cells, what="Zeit")
+    assert secs.tolist() == [0.0, n * 86400.0], cells
+
+
+@pytest.mark.parametrize(
+    ("stamps", "language"),
+    [
+        (["05-Dez-2024 23:59:59,500", "06-Dez-2024 00:00:00,000"], "German"),
+        (["31-Mär-2024 10:00:00,000", "31-Mär-2024 10:00:00,500"], "German"),
+        (["05 déc. 2024 23:59:59,500", "06 déc. 2024 00:00:00,000"], "French"),
+        (["28-févr.-2024 10:00:00,000", "28-févr.-2024 10:00:00,500"], "French"),
+        (["05-ene-2025 10:00:00,000", "05-ene-2025 10:00:00,500"], "Spanish"),
+        (["05-gen-2025 10:00:00,000", "05-gen-2025 10:00:00,500"], "Italian"),
+    ],
+)
+def test_a_csv_with_non_english_month_names_is_read_and_says_the_language(
+    tmp_path, stamps, language
+):
+    rows = "".join(f"{s};{k},5\n" for k, s in enumerate(stamps * 1))
+    p, sha = _write(tmp_path, "monate.csv", "Zeit;Moment\n" + rows)
+    cmap = {"time": {"column": "Zeit"}, "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}
+    rec = read_recording(p, cmap)
+    np.testing.assert_allclose(rec.time, [0.0, 0.5])
+    assert any(f"month names read as {language}" in n for n in rec.metadata["notes"])
+    assert file_sha256(p) == sha
+
+
+def test_non_english_month_names_with_a_date_format_are_read(tmp_path):
+    # %B / %b of a date_format read English only (pandas, the C locale)
+    rows = "".join(
+        f"{d} 2024 12:00:00;{k}\n" for k, d in enumerate(["28 février", "29 février", "1 mars"])
+    )
+    p, _ = _write(tmp_path, "fr.csv", "Temps;Couple\n" + rows)
+    cmap = {"file": {"date_format": "%d %B %Y %H:%M:%S"}, "time": {"column": "Temps"},
+            "channels": {"torque": {"column": "Couple", "unit": "N.m"}}}  # fmt: skip
+    rec = read_recording(p, cmap, validate="lenient")
+    np.testing.assert_allclose(rec.time, [0.0, 86400.0, 172800.0])
+    assert any("month names read as French" in n for n in rec.metadata["notes"])
+
+
+def test_month_names_of_two_languages_in_one_column_are_refused():
+    from rollerrig.recordings.formats.timestamps import parse_timestamps
+
+    with pytest.raises(RecordingError, match=r"row 1 .*'déc\.' is no German month's name"):
+        parse_timestamps(["05-Dez-2024 10:00:00", "06-déc.-2024 10:00:00"], what="Zeit")
+
+
 @pytest.mark.parametrize(
     ("stamp", "note"),
     [
