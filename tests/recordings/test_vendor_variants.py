@@ -7,6 +7,7 @@ what is wrong; never a silent wrong value; the input file never modified.
 
 import codecs
 import io
+import re
 from decimal import Decimal
 
 import numpy as np
@@ -239,6 +240,62 @@ def test_utf16_without_padding_keeps_its_last_line(tmp_path, codec):
     rec = read_recording(p, MAP)
     assert rec.time.size == 50 and rec["torque"][-1] == 49
     assert not any("NUL bytes" in x for x in rec.metadata["notes"])
+
+
+@pytest.mark.parametrize("sep", [",", ";", "\t"])
+@pytest.mark.parametrize("eol", ["\n", "\r\n"])
+def test_a_quoted_header_cell_with_a_line_break_is_one_name_with_its_unit(tmp_path, sep, eol):
+    # Excel writes a header cell typed with Alt+Enter quoted, its line break (LF) inside: the
+    # header spans two lines. It had been "no rows of numbers found".
+    dec = "," if sep == ";" else "."
+    rows = "".join(f"{k / 10:.1f}{sep}{1.5 + k / 10:.1f}{sep}3{eol}".replace(".", dec) for k in
+                   range(5))  # fmt: skip
+    header = f'"Time\n[s]"{sep}"Torque\n[N.m]"{sep}"Speed ""fast""\n(rpm)"{eol}'
+    p, sha = _write(tmp_path, "excel.csv", "Messung 7" + eol + header + rows)
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque", "unit": "N.m"}}}
+    rec = read_recording(p, cmap)
+    np.testing.assert_allclose(rec.time, np.arange(5) / 10)
+    np.testing.assert_allclose(rec["torque"], 1.5 + np.arange(5) / 10)
+    assert rec.metadata["columns"]["torque"] == "Torque [N.m]"
+    assert rec.metadata["source_units"] == {"time": "s", "torque": "N.m"}
+    assert any("line break" in n for n in rec.metadata["notes"])
+    with open_recording(p, cmap) as src:  # the chunked reader skips the same rows
+        chunks = list(src.iter_chunks(["torque"], chunk_samples=2))
+    np.testing.assert_array_equal(np.concatenate([c.channels["torque"] for c in chunks]),
+                                  rec["torque"])  # fmt: skip
+    assert file_sha256(p) == sha
+
+
+_NAME = st.builds(
+    lambda first, rest: first + rest,
+    st.sampled_from("QXZÖé"),  # a letter: a name, not a number or a unit
+    st.lists(st.sampled_from([*'abcxyz ÄΩ,;|"\t[]()', "\n", "\r\n"]), max_size=12).map(
+        "".join
+    ),
+).filter(lambda s: s.strip() == s and not s.endswith('"'))  # fmt: skip
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(_NAME, min_size=1, max_size=4, unique_by=lambda s: " ".join(s.split())))
+def test_header_names_with_line_breaks_read_as_written_by_a_csv_writer(tmp_path_factory, names):
+    # whatever the names a user types (quotes, separators, line breaks in them), a CSV
+    # writer's quoting (Excel's too) gives one header row, each name with its breaks as spaces
+    import csv
+
+    from rollerrig.recordings.formats.csv import read_csv
+
+    names = ["Time", *names]
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\r\n")
+    writer.writerow(names)
+    for k in range(6):
+        writer.writerow([f"{k / 10:.1f}"] + [f"{j + k / 100:.2f}" for j in range(len(names) - 1)])
+    p, _ = _write(tmp_path_factory.mktemp("names"), "names.csv", buf.getvalue())
+    table = read_csv(p)
+    wanted = [re.sub(r"\s*\n\s*", " ", n).strip() for n in names]  # a break and its blanks
+    assert table.names == wanted
+    for j, name in enumerate(wanted[1:]):
+        np.testing.assert_allclose(table.load(name).values, j + np.arange(6) / 100)
 
 
 def test_nul_bytes_before_the_end_of_a_text_file_are_still_binary(tmp_path):

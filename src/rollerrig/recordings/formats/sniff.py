@@ -7,6 +7,8 @@ The layout is sniffed from the first lines of the file; every key of the channel
   the file name, date, comments there) are skipped. The numbers are the trailing block of lines
   whose every cell is a number, a timestamp, empty or a NaN/inf word; the header is the nearest
   non-blank line above it.
+- **quoted line breaks**: a header cell with a line break inside its quotes (Excel's Alt+Enter,
+  ``"Torque<LF>[N.m]"``) is one cell, the break read as a space (noted); its lines are one row.
 - **units row**: a non-numeric row between the header and the numbers whose cells look like
   units (``(ms)``, ``[V]``, ``N·m``, ``1/min``; PicoScope, catman, DIAdem, CANape) gives the
   columns' units (:mod:`rollerrig.recordings.formats._header`). It is never used to sniff the
@@ -102,6 +104,9 @@ class TextLayout:
     # bytes of the file that hold its text: a NUL-padded tail (and the line it cut) left out
     # (:func:`nul_padded_end`); None: the whole file
     end: int | None = None
+    # line breaks inside quoted header cells above the numbers (_join_quoted_breaks): pandas
+    # skips rows, not lines, and such a cell's lines are one row
+    joined: int = 0
 
     @contextlib.contextmanager
     def readable(self, encoding: str | None = None):
@@ -137,7 +142,7 @@ class TextLayout:
             "encoding": self.encoding,
             "header": None,
             "names": names,
-            "skiprows": self.data_line,
+            "skiprows": self.data_line - self.joined,
             "skip_blank_lines": False,
             "index_col": False,
             "quotechar": '"',
@@ -147,6 +152,72 @@ class TextLayout:
             },
             "dtype": {name: str for name in self.exact},
         }
+
+
+_MOST_CELL_LINES = 8
+"""Most lines one quoted header cell spans (Excel's Alt+Enter: a name over its unit)."""
+_FIELD_STARTS = ",;\t|"
+"""Characters after which a cell starts (any separator this sniffer tries but whitespace)."""
+
+
+def _open_quote(line: str, quoted: bool = False) -> bool:
+    """Whether ``line`` ends inside a quoted cell (``quoted``: it starts inside one), as CSV
+    quoting reads it: a ``"`` that starts a cell opens it, ``""`` inside is a quote, and a
+    ``"`` in the middle of an unquoted cell is a character (as pandas and Python's csv read
+    it)."""
+    start = not quoted
+    k = 0
+    while k < len(line):
+        c = line[k]
+        if quoted:
+            if c == '"':
+                if line[k + 1 : k + 2] == '"':
+                    k += 1  # "" : a quote inside the cell
+                else:
+                    quoted = False
+        elif c == '"' and start:
+            quoted = True
+        start = not quoted and c in _FIELD_STARTS
+        k += 1
+    return quoted
+
+
+def _join_quoted_breaks(lines: list[str], notes: list[str]) -> tuple[list[str], list[int]]:
+    """``lines`` with a quoted cell that spans lines (a header cell written with a line break
+    in it, as Excel writes one typed with Alt+Enter: ``"Torque<LF>[N.m]"``) joined on its
+    first line, the line break a space, and the lines it took blank, so that every line keeps
+    its index; and the indices of the lines so blanked.
+
+    Only above the first line of numbers (the header's lines) and only where the cell closes
+    within :data:`_MOST_CELL_LINES` lines: a stray quote elsewhere is left as it is.
+    """
+    out = list(lines)
+    blanked: list[int] = []
+    i = 0
+    while i < len(out):
+        line = out[i]
+        if any(datalike(split_cells(line, sep)) for sep in _FIELD_STARTS):
+            break  # the numbers: a header is above them
+        if '"' not in line or not _open_quote(line):
+            i += 1
+            continue
+        k, text = i, line
+        while k + 1 < len(out) and k - i < _MOST_CELL_LINES and _open_quote(text):
+            k += 1
+            text = f"{text.rstrip()} {out[k].lstrip()}"
+        if _open_quote(text):
+            i += 1  # no closing quote near: not one cell
+            continue
+        notes.append(
+            f"lines {i + 1}-{k + 1} are one row: a quoted cell with a line break in it (Excel's "
+            f"Alt+Enter), read with a space for the break ({text.strip()[:60]!r})"
+        )
+        out[i] = text
+        for j in range(i + 1, k + 1):
+            out[j] = ""
+            blanked.append(j)
+        i = k + 1
+    return out, blanked
 
 
 def _data_block(
@@ -430,6 +501,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         all_lines = all_lines[:-1]  # the head ends inside a line
     elif all_lines and all_lines[-1] == "":
         all_lines = all_lines[:-1]
+    all_lines, joined = _join_quoted_breaks(all_lines, notes)
     partial_last = not truncated_head and not text.endswith(("\n", "\r"))
     lines = [(i, t) for i, t in enumerate(all_lines) if t.strip()]
     if not lines:
@@ -615,6 +687,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         decimal_decided=decided,
         rate_Hz=stated.get("rate_Hz"),
         end=end,
+        joined=sum(1 for i in joined if i < data_line),
     )
 
 
