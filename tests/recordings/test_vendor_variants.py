@@ -613,19 +613,26 @@ def test_an_hour_back_names_daylight_saving_time(tmp_path):
         read_recording(p, MAP)
 
 
+def _cet_spring_rows(start_s: int, n: int) -> list[str]:
+    """``n`` rows ``stamp;k`` at 4 Hz on a German wall clock from ``start_s`` seconds after
+    00:00 UTC on 31 March 2024, when CET goes to CEST at 01:00 UTC (02:00 -> 03:00 local)."""
+    import datetime as dt
+
+    utc0 = dt.datetime(2024, 3, 31) + dt.timedelta(seconds=start_s)
+    rows = []
+    for k in range(n):
+        u = utc0 + dt.timedelta(milliseconds=250 * k)
+        local = u + dt.timedelta(hours=1 if u < dt.datetime(2024, 3, 31, 1) else 2)
+        rows.append(f"{local.strftime('%d.%m.%Y %H:%M:%S,%f')[:-3]};{k}\n")
+    return rows
+
+
 @pytest.mark.parametrize("validate", ["strict", "lenient"])
 def test_an_hour_forward_names_daylight_saving_time(tmp_path, validate):
     # 4 Hz on a local wall clock, CET -> CEST at 02:00 on 31 March 2024: 01:59:59,750 is
     # followed by 03:00:00,000. Read as a gap of 14400 dropped samples; lenient kept it and
     # the recording lasted 3603.75 s instead of 3.75 s.
-    import datetime as dt
-
-    utc0 = dt.datetime(2024, 3, 31, 0, 59, 58)
-    rows = []
-    for k in range(16):
-        u = utc0 + dt.timedelta(milliseconds=250 * k)
-        local = u + dt.timedelta(hours=1 if u < dt.datetime(2024, 3, 31, 1) else 2)
-        rows.append(f"{local.strftime('%d.%m.%Y %H:%M:%S,%f')[:-3]};{k}\n")
+    rows = _cet_spring_rows(59 * 60 + 58, 16)
     p, sha = _write(tmp_path, "spring.csv", "Zeit;Moment\n" + "".join(rows))
     cmap = {"time": {"column": "Zeit"}, "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}
     with pytest.raises(RecordingError, match=r"row 7 .*daylight saving time.* UTC offset") as e:
@@ -647,14 +654,7 @@ def test_an_hour_forward_at_a_chunk_boundary_names_daylight_saving_time(tmp_path
     # the first samples the source probes. Chunks of 4800 samples end at 01:59:59,750 and the
     # next begins at 03:00:00,000: each chunk alone was even, and the step between them read as
     # a gap of dropped samples, not as the clock going forward.
-    import datetime as dt
-
-    utc0 = dt.datetime(2024, 3, 31, 0, 40, 0)
-    rows = []
-    for k in range(6000):
-        u = utc0 + dt.timedelta(milliseconds=250 * k)
-        local = u + dt.timedelta(hours=1 if u < dt.datetime(2024, 3, 31, 1) else 2)
-        rows.append(f"{local.strftime('%d.%m.%Y %H:%M:%S,%f')[:-3]};{k}\n")
+    rows = _cet_spring_rows(40 * 60, 6000)
     assert rows[4799].startswith("31.03.2024 01:59:59,750")
     assert rows[4800].startswith("31.03.2024 03:00:00,000")
     p, sha = _write(tmp_path, "spring.csv", "Zeit;Moment\n" + "".join(rows))
