@@ -40,6 +40,8 @@ from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._header import (
     column_names,
@@ -710,7 +712,7 @@ def _text_end(path: Path, head: bytes, spec: FileSpec, notes: list[str]) -> int 
     end, pad, cut = found
     if order is None and (b"\x00" in head[:end] or not head[: min(end, 4096)].strip()):
         return None  # NUL bytes before the padding (binary, or UTF-16 without a BOM)
-    if order is not None and b"\x00\x00" in _code_units(head[:end]):
+    if order is not None and not _code_units(head[:end], order).all():
         return None  # a NUL character before the padding: binary, not UTF-16 text
     text = cut.decode(order or "latin-1", errors="replace").strip().strip("\x00")
     notes.append(
@@ -740,9 +742,11 @@ def _utf16_order(head: bytes, spec: FileSpec) -> str | None:
     return bom_less_utf16(head)
 
 
-def _code_units(raw: bytes) -> list[bytes]:
-    """The two-byte code units of ``raw`` (its length made even)."""
-    return [raw[k : k + 2] for k in range(0, len(raw) - 1, 2)]
+def _code_units(raw: bytes, order: str) -> np.ndarray:
+    """The UTF-16 code units of ``raw`` (``order`` ``"utf-16-le"`` / ``"utf-16-be"``; an odd
+    last byte left out)."""
+    dtype = "<u2" if order == "utf-16-le" else ">u2"
+    return np.frombuffer(raw[: len(raw) - len(raw) % 2], dtype=dtype)
 
 
 def _refuse_one_column_of_decimal_commas(path: Path, block) -> None:
@@ -981,9 +985,8 @@ def nul_padded_end(
     if order is None:
         line_end = max(tail.rfind(b"\n"), tail.rfind(b"\r"))
     else:
-        ends = ("\n".encode(order), "\r".encode(order))
-        units = _code_units(tail)
-        line_end = next((2 * k + 1 for k in range(len(units) - 1, -1, -1) if units[k] in ends), -1)
+        breaks = np.flatnonzero(np.isin(_code_units(tail, order), (10, 13)))  # \n, \r
+        line_end = 2 * int(breaks[-1]) + 1 if breaks.size else -1
     if line_end < 0 and stop > block:  # a line longer than a block: the whole tail is cut
         return stop, size - stop, tail
     end = stop - len(tail) + line_end + 1

@@ -145,7 +145,7 @@ def _languages(words) -> list[str]:
     return sorted(fits, key=lambda lang: not spelled <= _SPELLED[lang])
 
 
-def _month_language(words, what: str, decided: dict | None) -> tuple[str, str]:
+def _month_language(words, decided: dict | None) -> tuple[str, str]:
     """(language, note) in which the month names ``words`` of one column are read: the first
     of :data:`_MONTH_NAMES` that names a month by each (a column read in chunks: the one the
     first chunk decided, ``decided``). The note says the language where it is not English, and
@@ -174,7 +174,7 @@ def _month_language(words, what: str, decided: dict | None) -> tuple[str, str]:
     return language, f"; month names read as {language}{also}"
 
 
-def _month_numbers(cells, what, date_format: str, decided: dict | None):
+def _month_numbers(cells, date_format: str, decided: dict | None):
     """``(cells, format, note)`` with the month names of ``cells`` (non-English: ``Dez``,
     ``févr.``) written as numbers and ``%b`` / ``%B`` of ``date_format`` as ``%m``, so that
     they are read without the machine's locale; None where no language of
@@ -183,7 +183,7 @@ def _month_numbers(cells, what, date_format: str, decided: dict | None):
     literal = {_plain(w) for w in _WORD.findall(re.sub(r"%.", " ", date_format))}
     words = {w for c in cells.unique()[:10000] for w in _WORD.findall(c)}
     words = {w for w in words if _plain(w) not in literal}
-    language, note = _month_language(words, what, decided)
+    language, note = _month_language(words, decided)
     if not language:
         return None
     known = _MONTH_WORDS[language]
@@ -550,7 +550,7 @@ def parse_timestamps(
         if bad.any() and re.search(r"%[bB]", date_format):
             # month names of another language than the locale's (pandas reads %b in
             # English): as numbers, read with %m, whatever the machine's locale
-            found = _month_numbers(s, what, date_format, decided)
+            found = _month_numbers(s, date_format, decided)
             if found is not None:
                 numbered, fmt, language_note = found
                 again = pd.to_datetime(numbered, format=fmt, errors="coerce")
@@ -641,7 +641,7 @@ def parse_timestamps(
     a = parts["a"].astype(int).to_numpy()
     language_note = ""
     if kind == "dmony":
-        language, language_note = _month_language(parts["mon"].unique(), what, decided)
+        language, language_note = _month_language(parts["mon"].unique(), decided)
         known = _MONTH_WORDS.get(language, {})
         b = parts["mon"].map(lambda w: known.get(_plain(w), 0)).to_numpy(dtype=int)
         if not b.all():
