@@ -275,7 +275,8 @@ def test_a_struct_array_of_signals_is_one_column_per_signal(tmp_path, version):
 
 def _simulink_one_signal_v73(path, time, label, values):
     """A "Structure with time" of one signal as MATLAB v7.3 writes it: a 1 x 1 struct array
-    is one struct, ``logsout.signals`` a group whose fields are plain datasets."""
+    is one struct, ``logsout.signals`` a group whose fields are plain datasets (``values`` of
+    shape (n,) or, a Mux, (n, k))."""
     import h5py
 
     with h5py.File(path, "w", userblock_size=512, libver="earliest") as h:
@@ -285,7 +286,8 @@ def _simulink_one_signal_v73(path, time, label, values):
         ds.attrs["MATLAB_class"] = np.bytes_("double")
         sig = log.create_group("signals")
         sig.attrs["MATLAB_class"] = np.bytes_("struct")
-        ds = sig.create_dataset("values", data=values.reshape(1, -1))
+        # n x k values (a Mux) as MATLAB's column-major k x n; a vector as 1 x n
+        ds = sig.create_dataset("values", data=np.ascontiguousarray(np.atleast_2d(values.T)))
         ds.attrs["MATLAB_class"] = np.bytes_("double")
         codes = np.frombuffer(label.encode("utf-16-le"), dtype=np.uint16).reshape(-1, 1)
         ds = sig.create_dataset("label", data=codes)
@@ -512,3 +514,63 @@ def _controldesk_v73(path, X, Y):
                     out[k, 0] = ds.ref
                 grp.create_dataset(field, data=out, dtype=h5py.ref_dtype)
     _write_mat73_header(path)
+
+
+# ----------------------------------------------------------- multi-dimensional signal values
+@pytest.mark.parametrize("version", ["5", "7.3"])
+def test_a_muxed_structure_with_time_is_one_channel_per_element(tmp_path, version):
+    """A Mux of three forces logged "Structure with time": ``signals.values`` is n x 3. It had
+    been refused as a matrix without column names; each column is a channel of the shared
+    time, ``logsout.signals.values[j]`` or ``label[j]``."""
+    from scipy.io import savemat
+
+    from rollerrig.recordings.readers import read_recording
+
+    t = np.arange(400) / 1000.0
+    values = np.column_stack([10.0 + np.sin(t), 20.0 + t, 30.0 - t])
+    f = tmp_path / "mux.mat"
+    if version == "5":
+        signals = {"values": values, "label": "F", "dimensions": 3}
+        savemat(f, {"logsout": {"time": t.reshape(-1, 1), "signals": signals}})
+    else:
+        _simulink_one_signal_v73(f, t, "F", values)
+    for j in (1, 2, 3):
+        for column in (f"F[{j}]", f"logsout.signals.values[{j}]"):
+            rec = read_recording(f, {"time": {"column": "logsout.time", "unit": "s"}, "channels": {
+                "torque": {"column": column, "unit": "N.m"}}})  # fmt: skip
+            np.testing.assert_array_equal(rec["torque"], values[:, j - 1])
+            np.testing.assert_array_equal(rec.time, t)
+    note = next(n for n in rec.metadata["notes"] if "logsout.signals.values" in n and "[1]" in n)
+    assert "400 x 3" in note and "logsout.time" in note
+
+
+def test_a_muxed_array_format_beside_tout_is_one_channel_per_column(tmp_path):
+    """Simulink's "Array" format: ``yout`` n x k beside ``tout`` of n samples."""
+    from scipy.io import savemat
+
+    from rollerrig.recordings.readers import read_recording
+
+    t = np.arange(300) / 500.0
+    yout = np.column_stack([1.0 + t, 2.0 + t])
+    f = tmp_path / "array.mat"
+    savemat(f, {"tout": t.reshape(-1, 1), "yout": yout})
+    rec = read_recording(f, {"time": {"column": "tout", "unit": "s"}, "channels": {
+        "torque": {"column": "yout[2]", "unit": "N.m"}}})  # fmt: skip
+    np.testing.assert_array_equal(rec["torque"], yout[:, 1])
+    assert any("yout" in n and "tout" in n for n in rec.metadata["notes"])
+
+
+def test_a_three_dimensional_signal_is_refused_naming_its_shape(tmp_path):
+    from scipy.io import savemat
+
+    from rollerrig.recordings.readers import read_recording
+    from rollerrig.recordings.recording import RecordingError
+
+    t = np.arange(50) / 100.0
+    f = tmp_path / "cube.mat"
+    savemat(f, {"logsout": {"time": t.reshape(-1, 1), "signals": {
+        "values": np.zeros((2, 3, 50)), "label": "M", "dimensions": [2, 3]}}})  # fmt: skip
+    with pytest.raises(RecordingError, match=r"logsout\.signals\.values.*\(2, 3, 50\)") as e:
+        read_recording(f, {"time": {"column": "logsout.time", "unit": "s"}, "channels": {
+            "torque": {"column": "logsout.signals.values", "unit": "N.m"}}})  # fmt: skip
+    assert "3-D values" in str(e.value) and "reshape(values" in str(e.value)

@@ -5,7 +5,9 @@ the readers: a correct read, or one :class:`RecordingError` naming the file, the
 what is wrong; never a silent wrong value; the input file never modified.
 """
 
+import codecs
 import io
+import re
 from decimal import Decimal
 
 import numpy as np
@@ -200,6 +202,100 @@ def test_a_nul_padded_tail_is_left_out_with_the_line_it_cut(tmp_path, n, cut):
         chunks = list(src.iter_chunks(["torque"], chunk_samples=700))
     np.testing.assert_array_equal(np.concatenate([c.time for c in chunks]), rec.time)
     assert file_sha256(p) == sha
+
+
+@pytest.mark.parametrize("n", [3000, 40000], ids=["in-the-head", "beyond-the-head"])
+@pytest.mark.parametrize("cut", [0, 6, 7], ids=["after-a-line-end", "inside-a-line", "odd-byte"])
+@pytest.mark.parametrize("order", ["utf-16-le", "utf-16-be", "bare-le"])
+def test_a_nul_padded_utf16_tail_is_left_out_with_the_line_it_cut(tmp_path, n, cut, order):
+    # A Windows logger writes UTF-16 with a BOM (LE, or BE); one that lost power leaves its
+    # file zero-filled after the last line. UTF-16's own zero bytes (every ASCII character has
+    # one, a line end's last byte in LE) are no padding; the NUL run after the text is.
+    body = "Time,Torque\r\n" + "".join(f"{k / 1000:.3f},{100 + k % 7}\r\n" for k in range(n))
+    codec = "utf-16-le" if order == "bare-le" else order
+    bom = b"" if order == "bare-le" else codecs.BOM_UTF16_LE if order == "utf-16-le" else (
+        codecs.BOM_UTF16_BE
+    )  # fmt: skip
+    text = bom + body.encode(codec)
+    data = text[: len(text) - cut] + b"\x00" * 8192
+    p, sha = _write(tmp_path, "powerloss16.csv", data)
+    rec = read_recording(p, MAP)
+    kept = n - (1 if cut else 0)
+    assert rec.time.size == kept
+    np.testing.assert_allclose(rec["torque"], [100 + k % 7 for k in range(kept)])
+    note = next(x for x in rec.metadata["notes"] if "NUL bytes" in x)
+    assert "lost power" in note and ("line they cut" in note) == bool(cut)
+    with open_recording(p, MAP) as src:  # the chunked reader reads the same samples
+        chunks = list(src.iter_chunks(["torque"], chunk_samples=700))
+    np.testing.assert_array_equal(np.concatenate([c.time for c in chunks]), rec.time)
+    assert file_sha256(p) == sha
+
+
+@pytest.mark.parametrize("codec", ["utf-16-le", "utf-16-be"])
+def test_utf16_without_padding_keeps_its_last_line(tmp_path, codec):
+    # the zero byte of the last line end (0A 00 in LE, 00 0A's first in BE) is the text's own
+    body = "Time,Torque\r\n" + "".join(f"{k / 1000:.3f},{k}\r\n" for k in range(50))
+    bom = codecs.BOM_UTF16_LE if codec == "utf-16-le" else codecs.BOM_UTF16_BE
+    p, _ = _write(tmp_path, "u16.csv", bom + body.encode(codec))
+    rec = read_recording(p, MAP)
+    assert rec.time.size == 50 and rec["torque"][-1] == 49
+    assert not any("NUL bytes" in x for x in rec.metadata["notes"])
+
+
+@pytest.mark.parametrize("sep", [",", ";", "\t"])
+@pytest.mark.parametrize("eol", ["\n", "\r\n"])
+def test_a_quoted_header_cell_with_a_line_break_is_one_name_with_its_unit(tmp_path, sep, eol):
+    # Excel writes a header cell typed with Alt+Enter quoted, its line break (LF) inside: the
+    # header spans two lines. It had been "no rows of numbers found".
+    dec = "," if sep == ";" else "."
+    rows = "".join(f"{k / 10:.1f}{sep}{1.5 + k / 10:.1f}{sep}3{eol}".replace(".", dec) for k in
+                   range(5))  # fmt: skip
+    header = f'"Time\n[s]"{sep}"Torque\n[N.m]"{sep}"Speed ""fast""\n(rpm)"{eol}'
+    p, sha = _write(tmp_path, "excel.csv", "Messung 7" + eol + header + rows)
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque", "unit": "N.m"}}}
+    rec = read_recording(p, cmap)
+    np.testing.assert_allclose(rec.time, np.arange(5) / 10)
+    np.testing.assert_allclose(rec["torque"], 1.5 + np.arange(5) / 10)
+    assert rec.metadata["columns"]["torque"] == "Torque [N.m]"
+    assert rec.metadata["source_units"] == {"time": "s", "torque": "N.m"}
+    assert any("line break" in n for n in rec.metadata["notes"])
+    with open_recording(p, cmap) as src:  # the chunked reader skips the same rows
+        chunks = list(src.iter_chunks(["torque"], chunk_samples=2))
+    np.testing.assert_array_equal(np.concatenate([c.channels["torque"] for c in chunks]),
+                                  rec["torque"])  # fmt: skip
+    assert file_sha256(p) == sha
+
+
+_NAME = st.builds(
+    lambda first, rest: first + rest,
+    st.sampled_from("QXZÖé"),  # a letter: a name, not a number or a unit
+    st.lists(st.sampled_from([*'abcxyz ÄΩ,;|"\t[]()', "\n", "\r\n"]), max_size=12).map(
+        "".join
+    ),
+).filter(lambda s: s.strip() == s and not s.endswith('"'))  # fmt: skip
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(_NAME, min_size=1, max_size=4, unique_by=lambda s: " ".join(s.split())))
+def test_header_names_with_line_breaks_read_as_written_by_a_csv_writer(tmp_path_factory, names):
+    # whatever the names a user types (quotes, separators, line breaks in them), a CSV
+    # writer's quoting (Excel's too) gives one header row, each name with its breaks as spaces
+    import csv
+
+    from rollerrig.recordings.formats.csv import read_csv
+
+    names = ["Time", *names]
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\r\n")
+    writer.writerow(names)
+    for k in range(6):
+        writer.writerow([f"{k / 10:.1f}"] + [f"{j + k / 100:.2f}" for j in range(len(names) - 1)])
+    p, _ = _write(tmp_path_factory.mktemp("names"), "names.csv", buf.getvalue())
+    table = read_csv(p)
+    wanted = [re.sub(r"\s*\n\s*", " ", n).strip() for n in names]  # a break and its blanks
+    assert table.names == wanted
+    for j, name in enumerate(wanted[1:]):
+        np.testing.assert_allclose(table.load(name).values, j + np.arange(6) / 100)
 
 
 def test_nul_bytes_before_the_end_of_a_text_file_are_still_binary(tmp_path):
@@ -517,19 +613,26 @@ def test_an_hour_back_names_daylight_saving_time(tmp_path):
         read_recording(p, MAP)
 
 
+def _cet_spring_rows(start_s: int, n: int) -> list[str]:
+    """``n`` rows ``stamp;k`` at 4 Hz on a German wall clock from ``start_s`` seconds after
+    00:00 UTC on 31 March 2024, when CET goes to CEST at 01:00 UTC (02:00 -> 03:00 local)."""
+    import datetime as dt
+
+    utc0 = dt.datetime(2024, 3, 31) + dt.timedelta(seconds=start_s)
+    rows = []
+    for k in range(n):
+        u = utc0 + dt.timedelta(milliseconds=250 * k)
+        local = u + dt.timedelta(hours=1 if u < dt.datetime(2024, 3, 31, 1) else 2)
+        rows.append(f"{local.strftime('%d.%m.%Y %H:%M:%S,%f')[:-3]};{k}\n")
+    return rows
+
+
 @pytest.mark.parametrize("validate", ["strict", "lenient"])
 def test_an_hour_forward_names_daylight_saving_time(tmp_path, validate):
     # 4 Hz on a local wall clock, CET -> CEST at 02:00 on 31 March 2024: 01:59:59,750 is
     # followed by 03:00:00,000. Read as a gap of 14400 dropped samples; lenient kept it and
     # the recording lasted 3603.75 s instead of 3.75 s.
-    import datetime as dt
-
-    utc0 = dt.datetime(2024, 3, 31, 0, 59, 58)
-    rows = []
-    for k in range(16):
-        u = utc0 + dt.timedelta(milliseconds=250 * k)
-        local = u + dt.timedelta(hours=1 if u < dt.datetime(2024, 3, 31, 1) else 2)
-        rows.append(f"{local.strftime('%d.%m.%Y %H:%M:%S,%f')[:-3]};{k}\n")
+    rows = _cet_spring_rows(59 * 60 + 58, 16)
     p, sha = _write(tmp_path, "spring.csv", "Zeit;Moment\n" + "".join(rows))
     cmap = {"time": {"column": "Zeit"}, "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}
     with pytest.raises(RecordingError, match=r"row 7 .*daylight saving time.* UTC offset") as e:
@@ -543,6 +646,131 @@ def test_an_hour_forward_names_daylight_saving_time(tmp_path, validate):
     with pytest.raises(RecordingError, match="gap"):
         read_recording(p2, cmap)
     assert file_sha256(p) == sha
+
+
+@pytest.mark.parametrize("chunk", [4800, 1200, 700])
+def test_an_hour_forward_at_a_chunk_boundary_names_daylight_saving_time(tmp_path, chunk):
+    # 4 Hz on a local wall clock across CET -> CEST (02:00 on 31 March 2024), the step after
+    # the first samples the source probes. Chunks of 4800 samples end at 01:59:59,750 and the
+    # next begins at 03:00:00,000: each chunk alone was even, and the step between them read as
+    # a gap of dropped samples, not as the clock going forward.
+    rows = _cet_spring_rows(40 * 60, 6000)
+    assert rows[4799].startswith("31.03.2024 01:59:59,750")
+    assert rows[4800].startswith("31.03.2024 03:00:00,000")
+    p, sha = _write(tmp_path, "spring.csv", "Zeit;Moment\n" + "".join(rows))
+    cmap = {"time": {"column": "Zeit"}, "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}
+    with open_recording(p, cmap) as src:
+        with pytest.raises(RecordingError, match=r"daylight saving time") as e:
+            for _ in src.iter_chunks(["torque"], chunk_samples=chunk):
+                pass
+    assert "'31.03.2024 03:00:00,000'" in str(e.value) and "sample_rate_Hz" in str(e.value)
+    assert "row 4799 '31.03.2024 01:59:59,750'" in str(e.value)
+    assert file_sha256(p) == sha
+
+
+def test_chunks_an_hour_into_a_recording_are_no_daylight_saving_step(tmp_path):
+    # 1 Hz in March, chunks of 3600 samples: each chunk's first time lies 3600 s after the
+    # file's first sample, which anchors it. That step is no neighbour of the chunk's samples.
+    import datetime as dt
+
+    t0 = dt.datetime(2024, 3, 12, 8, 0, 0)
+    rows = [
+        f"{(t0 + dt.timedelta(seconds=k)).strftime('%d.%m.%Y %H:%M:%S')};{k}\n"
+        for k in range(3 * 3600 + 10)
+    ]
+    p, _ = _write(tmp_path, "march.csv", "Zeit;Moment\n" + "".join(rows))
+    cmap = {"time": {"column": "Zeit"}, "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}
+    with open_recording(p, cmap) as src:
+        t = np.concatenate([c.time for c in src.iter_chunks(["torque"], chunk_samples=3600)])
+    np.testing.assert_array_equal(t, np.arange(3 * 3600 + 10, dtype=float))
+
+
+_ABBREVIATIONS = {
+    "German": "Jan Feb Mär Apr Mai Jun Jul Aug Sep Okt Nov Dez",
+    "French": "janv. févr. mars avr. mai juin juil. août sept. oct. nov. déc.",
+    "Spanish": "ene feb mar abr may jun jul ago sep oct nov dic",
+    "Italian": "gen feb mar apr mag giu lug ago set ott nov dic",
+    "Dutch": "jan feb mrt apr mei jun jul aug sep okt nov dec",
+    "Portuguese": "jan fev mar abr mai jun jul ago set out nov dez",
+}
+"""Month abbreviations as Excel, LabVIEW and Windows write them in each language."""
+
+
+def _month_word(language: str, month: int, style: str) -> str:
+    from rollerrig.recordings.formats.timestamps import _MONTH_NAMES
+
+    if style == "short":
+        return _ABBREVIATIONS[language].split()[month - 1]
+    word = _MONTH_NAMES[language].split()[month - 1].split("|")[0]
+    return word.upper() if style == "upper" else word.capitalize()
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    st.sampled_from(sorted(_ABBREVIATIONS)),
+    st.sampled_from(["short", "long", "upper"]),
+    st.sampled_from(["-", " ", "."]),
+    st.dates(min_value=__import__("datetime").date(1990, 1, 1)),
+    st.integers(0, 400),
+)
+def test_month_names_of_european_languages_read_the_right_month(language, style, sep, day, n):
+    # "05-Dez-2024" had been "no English month name"; each language's names and
+    # abbreviations, in any case, read as their month without the machine's locale
+    import datetime as dt
+
+    from rollerrig.recordings.formats.timestamps import parse_timestamps
+
+    later = day + dt.timedelta(days=n)
+    cells = [
+        f"{d.day:02d}{sep}{_month_word(language, d.month, style)}{sep}{d.year} 12:00:00"
+        for d in (day, later)
+    ]
+    cells = [c.replace("..", ".") for c in cells]  # "05.déc..2024" is no one's spelling
+    secs, _ = parse_timestamps(cells, what="Zeit")
+    assert secs.tolist() == [0.0, n * 86400.0], cells
+
+
+@pytest.mark.parametrize(
+    ("stamps", "language"),
+    [
+        (["05-Dez-2024 23:59:59,500", "06-Dez-2024 00:00:00,000"], "German"),
+        (["31-Mär-2024 10:00:00,000", "31-Mär-2024 10:00:00,500"], "German"),
+        (["05 déc. 2024 23:59:59,500", "06 déc. 2024 00:00:00,000"], "French"),
+        (["28-févr.-2024 10:00:00,000", "28-févr.-2024 10:00:00,500"], "French"),
+        (["05-ene-2025 10:00:00,000", "05-ene-2025 10:00:00,500"], "Spanish"),
+        (["05-gen-2025 10:00:00,000", "05-gen-2025 10:00:00,500"], "Italian"),
+    ],
+)
+def test_a_csv_with_non_english_month_names_is_read_and_says_the_language(
+    tmp_path, stamps, language
+):
+    rows = "".join(f"{s};{k},5\n" for k, s in enumerate(stamps * 1))
+    p, sha = _write(tmp_path, "monate.csv", "Zeit;Moment\n" + rows)
+    cmap = {"time": {"column": "Zeit"}, "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}
+    rec = read_recording(p, cmap)
+    np.testing.assert_allclose(rec.time, [0.0, 0.5])
+    assert any(f"month names read as {language}" in n for n in rec.metadata["notes"])
+    assert file_sha256(p) == sha
+
+
+def test_non_english_month_names_with_a_date_format_are_read(tmp_path):
+    # %B / %b of a date_format read English only (pandas, the C locale)
+    rows = "".join(
+        f"{d} 2024 12:00:00;{k}\n" for k, d in enumerate(["28 février", "29 février", "1 mars"])
+    )
+    p, _ = _write(tmp_path, "fr.csv", "Temps;Couple\n" + rows)
+    cmap = {"file": {"date_format": "%d %B %Y %H:%M:%S"}, "time": {"column": "Temps"},
+            "channels": {"torque": {"column": "Couple", "unit": "N.m"}}}  # fmt: skip
+    rec = read_recording(p, cmap, validate="lenient")
+    np.testing.assert_allclose(rec.time, [0.0, 86400.0, 172800.0])
+    assert any("month names read as French" in n for n in rec.metadata["notes"])
+
+
+def test_month_names_of_two_languages_in_one_column_are_refused():
+    from rollerrig.recordings.formats.timestamps import parse_timestamps
+
+    with pytest.raises(RecordingError, match=r"row 1 .*'déc\.' is no German month's name"):
+        parse_timestamps(["05-Dez-2024 10:00:00", "06-déc.-2024 10:00:00"], what="Zeit")
 
 
 @pytest.mark.parametrize(

@@ -87,6 +87,9 @@ __all__ = ["DEFAULT_CHUNK_SAMPLES", "Chunk", "RecordingSource", "open_recording"
 DEFAULT_CHUNK_SAMPLES = 1 << 20
 """Samples per chunk when none is given (8 MiB per float64 channel)."""
 
+_TIME_TAIL = 16
+"""Time cells of a part kept to read with the next (:func:`_time`): enough for a median step
+when the parts are a sample or two long [samples]."""
 _PROBE_SAMPLES = 4096
 """Samples the channel map is first applied to (columns, units, rates, notes) [samples]."""
 
@@ -448,6 +451,10 @@ def _time(
     than 12 h is a new day), and against ``t_prev`` (the last time of the part before, where
     known): a part of a recording longer than 12 h was a day early. So a long recording reads
     in parts as it reads whole.
+
+    The last cells of the part before (kept in ``st["time_tail"]``) are read with the part's
+    own, so that the check for a daylight-saving step sees the step between two parts (a clock
+    that went forward an hour right at a chunk's end had been read as a gap of dropped samples).
     """
     kind = st["time_kind"]
     if kind == "rate":
@@ -458,9 +465,14 @@ def _time(
             own = st["slicer"].read(st["time_ref"], a, b).time
         return np.array(own, dtype=float)
     col = st["slicer"].read(st["time_column"], a, b)
-    values = np.asarray(col.values)
+    own = np.asarray(col.values)
+    values = own
+    before = np.asarray([], dtype=own.dtype)
+    tail_end, tail = st.get("time_tail", (None, None))
+    if a > 0 and tail_end == a:  # the part before, read last: its last cells are neighbours
+        before = tail
     if a > 0:  # anchor timestamps / offsets on the file's first sample, as read_recording does
-        values = np.concatenate([np.asarray(st["time_first"]), values])
+        values = np.concatenate([np.asarray(st["time_first"]), before, own])
     secs = time_seconds(
         values,
         st["time_unit"],
@@ -468,8 +480,13 @@ def _time(
         [],
         file=st["cmap"].file,
         decimal=st["decimal"],
+        anchors=1 if a > 0 else 0,
+        first_row=a - before.size if a > 0 else 0,
     )
-    out = np.array(secs[1:] if a > 0 else secs, dtype=float)
+    if own.size:
+        kept = np.concatenate([before, own])[-_TIME_TAIL:]
+        st["time_tail"] = (b, kept)
+    out = np.array(secs[1 + before.size :] if a > 0 else secs, dtype=float)
     if st.get("time_of_day") and t_prev is not None and out.size:
         days = np.floor((t_prev - out[0]) / 86400.0 + 0.5)  # whole days behind the part before
         if days > 0:

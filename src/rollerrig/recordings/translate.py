@@ -310,6 +310,8 @@ def time_seconds(
     line_of=None,
     decided: dict | None = None,
     decimal: str | None = None,
+    anchors: int = 0,
+    first_row: int = 0,
 ) -> np.ndarray:
     """A time column in seconds: numbers in ``unit``, or date/time strings (one format for the
     whole column, from ``[file] date_format`` / ``dayfirst``; see
@@ -318,7 +320,10 @@ def time_seconds(
 
     ``decided``: for a column read in chunks, one dict passed with every chunk, so that every
     chunk's timestamps are read in the format decided for the first. ``decimal``: the file's
-    decimal mark where known (:func:`as_float`)."""
+    decimal mark where known (:func:`as_float`). ``anchors``, ``first_row``: for a part of the
+    column read alone, the rows before it that are no neighbours of its own (the file's first
+    sample) and where it starts (see
+    :func:`~rollerrig.recordings.formats.timestamps.parse_timestamps`)."""
     file = file or FileSpec()
     arr = np.asarray(values)
     if arr.dtype.kind in "OUT":
@@ -331,6 +336,8 @@ def time_seconds(
                 date_format=file.date_format,
                 line_of=line_of,
                 decided=decided,
+                anchors=anchors,
+                first_row=first_row,
             )
             notes.append(note)
             return secs

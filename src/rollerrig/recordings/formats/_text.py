@@ -294,7 +294,7 @@ def decode_text(
     if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
         return "utf-16", raw.decode("utf-16", errors="ignore")
     nul = raw.find(b"\x00")
-    bare = _bom_less_utf16(raw) if nul >= 0 else None
+    bare = bom_less_utf16(raw) if nul >= 0 else None
     if bare is not None:
         notes.append(f"the file is UTF-16 without a byte-order mark; read as {bare.upper()}")
         return bare, raw[: len(raw) - len(raw) % 2].decode(bare, errors="ignore")
@@ -309,7 +309,7 @@ def decode_text(
     return fallback, raw.decode(fallback, errors="replace")
 
 
-def _bom_less_utf16(raw: bytes) -> str | None:
+def bom_less_utf16(raw: bytes) -> str | None:
     """``"utf-16-le"`` / ``"utf-16-be"`` when ``raw`` is UTF-16 text without a byte-order mark
     (as some loggers and scripts write it: ASCII text with a NUL byte after, or before, every
     character), else None. Checked on the first 4 KiB: the bytes at the odd (LE) or even (BE)

@@ -18,6 +18,7 @@ in :mod:`rollerrig.recordings.translate` (numbers, and timestamps with one forma
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import io
 import json
@@ -267,7 +268,17 @@ def _tail(layout: TextLayout, count: int) -> list[tuple[int | None, str]]:
     if _code_unit(layout.encoding) > 1:
         from collections import deque
 
-        with path.open("r", encoding=layout.encoding, errors="replace", newline="") as fh:
+        # the text's bytes only: a NUL-padded tail (layout.end) is no line of the file
+        with layout.readable() as source, contextlib.ExitStack() as stack:
+            if isinstance(source, Path):
+                source = stack.enter_context(source.open("rb"))
+            fh = (
+                source  # lines ending in a lone CR: a text handle already
+                if isinstance(source, io.TextIOBase)
+                else io.TextIOWrapper(
+                    source, encoding=layout.encoding, errors="replace", newline=""
+                )
+            )
             return list(deque(enumerate(fh), maxlen=count))
     size = path.stat().st_size if layout.end is None else layout.end
     with path.open("rb") as fh:

@@ -202,6 +202,9 @@ def _flatten_mat(
                 if squeezed.ndim == 2:
                     matrices[name] = squeezed
                     continue
+                if squeezed.ndim >= 3:
+                    skipped.append(f"{name} ({arr.dtype}, {_three_d(arr.shape)})")
+                    continue
             skipped.append(f"{name} ({arr.dtype}, shape {arr.shape})")
 
 
@@ -216,13 +219,19 @@ _MATRIX_ADVICE = (
 
 
 def _pair_matrices(
-    shapes: dict[str, tuple[int, int]], texts: dict[str, list[str]], taken: set[str]
+    shapes: dict[str, tuple[int, int]],
+    texts: dict[str, list[str]],
+    taken: set[str],
+    times: Mapping[str, int] | None = None,
 ) -> tuple[dict[str, tuple], dict[str, str]]:
     """Which matrix (MATLAB shape rows x columns) the texts of which variable name.
 
     Returns ``pairs`` (matrix -> (read by rows, column names, units, the variables of the
-    names and of the units (or None)))
+    names and of the units (or None), the time vector of a signal's values (or None)))
     and ``reasons`` (matrix -> why it is not read). ``taken``: names of the file's columns.
+    ``times``: the file's vectors and their lengths; a matrix that no texts name and that is a
+    multi-dimensional signal's values beside its time (:func:`_signal_time`) is read by
+    columns as ``name[1]`` ... ``name[k]``.
     """
     unit_vars = [v for v in texts if v.rsplit(".", 1)[-1].lower() in _UNIT_LISTS]
     name_vars = [v for v in texts if v not in unit_vars]
@@ -235,6 +244,12 @@ def _pair_matrices(
         if not cands and rows != cols:
             cands = [v for v in name_vars if len(texts[v]) == rows]
             by_rows = True
+        time_var = _signal_time(mat_name, rows, times or {}) if not cands else None
+        if time_var is not None:
+            names = [f"{mat_name}[{j + 1}]" for j in range(cols)]
+            if not any(n in taken for n in names):
+                pairs[mat_name] = (False, names, [None] * cols, None, None, time_var)
+                continue
         if not cands:
             found = {v: len(t) for v, t in texts.items()}
             reasons[mat_name] = (
@@ -263,15 +278,50 @@ def _pair_matrices(
         unit_cands = [v for v in unit_vars if len(texts[v]) == k]
         unit_var = unit_cands[0] if len(unit_cands) == 1 else None
         units = [u or None for u in texts[unit_var]] if unit_var else [None] * k
-        pairs[mat_name] = (by_rows, names, units, cands[0], unit_var)
+        pairs[mat_name] = (by_rows, names, units, cands[0], unit_var, None)
     return pairs, reasons
+
+
+_ROOT_TIMES = ("tout", "time")
+"""Top-level time vectors of a Simulink log (``tout`` beside the "Array" format's ``yout``)."""
+
+
+def _signal_time(mat_name: str, rows: int, times: Mapping[str, int]) -> str | None:
+    """The time vector of ``rows`` samples that makes the matrix ``mat_name`` (rows x columns)
+    one multi-dimensional signal's values, one sample per row (a Mux'd signal logged
+    "Structure with time", ``logsout.signals.values`` beside ``logsout.time``; or "Array",
+    ``yout`` beside ``tout``): the nearest ``time`` of the structs holding it, else a
+    top-level ``tout`` / ``time``; None when there is none."""
+    parts = mat_name.split(".")
+    for k in range(len(parts) - 1, 0, -1):
+        # logsout.signals(2).values: logsout.signals(2).time, then logsout.time
+        found = f"{'.'.join(parts[:k])}.time"
+        if times.get(found) == rows:
+            return found
+    return next((t for t in _ROOT_TIMES if times.get(t) == rows), None)
+
+
+def _three_d(shape: tuple[int, ...]) -> str:
+    """Why a numeric array of three or more dimensions is not read, and what to save."""
+    return (
+        f"{len(shape)}-D values, shape {shape}: a matrix per sample is not read as channels; "
+        "save a 2-D array of one row per sample (n x k; Simulink logs a matrix signal time "
+        "last: reshape(values, [], size(values, 3)).'), or log the signal as a vector"
+    )
 
 
 def _matrix_columns(pairs, shapes, units: dict[str, str], notes: list[str]) -> dict[str, str]:
     """Notes on the matrices read, their columns' units into ``units``; ``{column: base}``."""
     bases: dict[str, str] = {}
-    for mat_name, (by_rows, names, col_units, names_var, units_var) in pairs.items():
+    for mat_name, (by_rows, names, col_units, names_var, units_var, time_var) in pairs.items():
         rows, cols = shapes[mat_name]
+        if time_var is not None:  # a signal's values: its names are no "name [unit]" headers
+            notes.append(
+                f"MAT variable {mat_name} ({rows} x {cols}) is one signal of {cols} elements "
+                f"per sample (a Mux): read as {cols} channels {names[0]} .. {names[-1]}, each "
+                f"on the time {time_var}"
+            )
+            continue
         for name, unit in zip(names, col_units, strict=True):
             base, header_unit = split_unit_header(name)
             bases[name] = base
@@ -343,6 +393,7 @@ def _label_struct_signals(table: Table, strings: Mapping[str, str]) -> None:
             continue
         for values in _SIGNAL_VALUES:
             column = f"{head}.{values}"
+            _label_elements(table, head, column, label)
             if column not in table.names:
                 continue
             if label not in table.names:
@@ -350,6 +401,19 @@ def _label_struct_signals(table: Table, strings: Mapping[str, str]) -> None:
             indexed = f"{head}(1).{values}"
             if not head.endswith(")") and indexed not in table.names:
                 add_alias(table, indexed, column)
+
+
+def _label_elements(table: Table, head: str, column: str, label: str) -> None:
+    """``label[j]`` (and ``head(1).values[j]`` for a struct of one signal) naming the columns
+    ``column[j]`` of a multi-dimensional signal's values (:func:`_signal_time`)."""
+    field = column[len(head) :]  # ".values"
+    j = 1
+    while (target := f"{column}[{j}]") in table.names:
+        aliases = [f"{label}[{j}]"] + ([] if head.endswith(")") else [f"{head}(1){field}[{j}]"])
+        for alias in aliases:
+            if alias not in table.names:
+                add_alias(table, alias, target)
+        j += 1
 
 
 def _flatten_cell(name: str, value, out: dict, skipped: list) -> None:
@@ -576,6 +640,10 @@ def _hdf5_table(path: Path, what: str) -> Table:
         if numeric and len(shape) == len(long) == 2 and "MATLAB_empty" not in item.attrs:
             matrices[name] = (item.name, (int(shape[0]), int(shape[1])), bool(cls))
             return
+        if numeric and len(long) > 2 and "MATLAB_empty" not in item.attrs:
+            matlab = shape[::-1] if cls else shape  # HDF5 keeps MATLAB's shape reversed
+            skipped.append(f"{name} ({cls or dtype}, {_three_d(matlab)})")
+            return
         if not numeric or "MATLAB_empty" in item.attrs or len(long) > 1 or int(np.prod(shape)) < 1:
             skipped.append(f"{name} ({cls or dtype}, shape {shape})")
             return
@@ -592,7 +660,8 @@ def _hdf5_table(path: Path, what: str) -> Table:
 
     # a matrix: MATLAB's shape is HDF5's reversed (column-major); plain HDF5 keeps its own
     shapes = {m: (sh[::-1] if by_matlab else sh) for m, (_, sh, by_matlab) in matrices.items()}
-    pairs, reasons = _pair_matrices(shapes, texts, {*datasets, *cells, *strings})
+    times = {k: d[2] for k, d in datasets.items()} | {k: v.size for k, v in cells.items()}
+    pairs, reasons = _pair_matrices(shapes, texts, {*datasets, *cells, *strings}, times)
     used = {v for p in pairs.values() for v in p[3:]}
     for mat_name, (by_rows, names, *_) in pairs.items():
         h5path, sh, by_matlab = matrices[mat_name]
@@ -788,7 +857,10 @@ def read_mat(path: Path) -> Table:
     columns = {k: v for k, v in flat.items() if not isinstance(v, str)}
     shapes = {m: (int(a.shape[0]), int(a.shape[1])) for m, a in matrices.items()}
     pairs, reasons = _pair_matrices(
-        shapes, {k: t for k, (t, _) in texts.items()}, set(columns) | set(strings)
+        shapes,
+        {k: t for k, (t, _) in texts.items()},
+        set(columns) | set(strings),
+        {k: int(np.size(v)) for k, v in columns.items()},
     )
     used = {v for p in pairs.values() for v in p[3:]}
     for mat_name, (by_rows, names, *_) in pairs.items():

@@ -7,6 +7,8 @@ The layout is sniffed from the first lines of the file; every key of the channel
   the file name, date, comments there) are skipped. The numbers are the trailing block of lines
   whose every cell is a number, a timestamp, empty or a NaN/inf word; the header is the nearest
   non-blank line above it.
+- **quoted line breaks**: a header cell with a line break inside its quotes (Excel's Alt+Enter,
+  ``"Torque<LF>[N.m]"``) is one cell, the break read as a space (noted); its lines are one row.
 - **units row**: a non-numeric row between the header and the numbers whose cells look like
   units (``(ms)``, ``[V]``, ``N·m``, ``1/min``; PicoScope, catman, DIAdem, CANape) gives the
   columns' units (:mod:`rollerrig.recordings.formats._header`). It is never used to sniff the
@@ -38,6 +40,8 @@ from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._header import (
     column_names,
@@ -49,6 +53,7 @@ from rollerrig.recordings.formats._text import (
     EXACT_ABOVE,
     INTEGER,
     MARKED_NUMBER,
+    bom_less_utf16,
     cell_kind,
     code_unit,
     datalike,
@@ -101,6 +106,9 @@ class TextLayout:
     # bytes of the file that hold its text: a NUL-padded tail (and the line it cut) left out
     # (:func:`nul_padded_end`); None: the whole file
     end: int | None = None
+    # line breaks inside quoted header cells above the numbers (_join_quoted_breaks): pandas
+    # skips rows, not lines, and such a cell's lines are one row
+    joined: int = 0
 
     @contextlib.contextmanager
     def readable(self, encoding: str | None = None):
@@ -136,7 +144,7 @@ class TextLayout:
             "encoding": self.encoding,
             "header": None,
             "names": names,
-            "skiprows": self.data_line,
+            "skiprows": self.data_line - self.joined,
             "skip_blank_lines": False,
             "index_col": False,
             "quotechar": '"',
@@ -146,6 +154,72 @@ class TextLayout:
             },
             "dtype": {name: str for name in self.exact},
         }
+
+
+_MOST_CELL_LINES = 8
+"""Most lines one quoted header cell spans (Excel's Alt+Enter: a name over its unit)."""
+_FIELD_STARTS = ",;\t|"
+"""Characters after which a cell starts (any separator this sniffer tries but whitespace)."""
+
+
+def _open_quote(line: str, quoted: bool = False) -> bool:
+    """Whether ``line`` ends inside a quoted cell (``quoted``: it starts inside one), as CSV
+    quoting reads it: a ``"`` that starts a cell opens it, ``""`` inside is a quote, and a
+    ``"`` in the middle of an unquoted cell is a character (as pandas and Python's csv read
+    it)."""
+    start = not quoted
+    k = 0
+    while k < len(line):
+        c = line[k]
+        if quoted:
+            if c == '"':
+                if line[k + 1 : k + 2] == '"':
+                    k += 1  # "" : a quote inside the cell
+                else:
+                    quoted = False
+        elif c == '"' and start:
+            quoted = True
+        start = not quoted and c in _FIELD_STARTS
+        k += 1
+    return quoted
+
+
+def _join_quoted_breaks(lines: list[str], notes: list[str]) -> tuple[list[str], list[int]]:
+    """``lines`` with a quoted cell that spans lines (a header cell written with a line break
+    in it, as Excel writes one typed with Alt+Enter: ``"Torque<LF>[N.m]"``) joined on its
+    first line, the line break a space, and the lines it took blank, so that every line keeps
+    its index; and the indices of the lines so blanked.
+
+    Only above the first line of numbers (the header's lines) and only where the cell closes
+    within :data:`_MOST_CELL_LINES` lines: a stray quote elsewhere is left as it is.
+    """
+    out = list(lines)
+    blanked: list[int] = []
+    i = 0
+    while i < len(out):
+        line = out[i]
+        if any(datalike(split_cells(line, sep)) for sep in _FIELD_STARTS):
+            break  # the numbers: a header is above them
+        if '"' not in line or not _open_quote(line):
+            i += 1
+            continue
+        k, text = i, line
+        while k + 1 < len(out) and k - i < _MOST_CELL_LINES and _open_quote(text):
+            k += 1
+            text = f"{text.rstrip()} {out[k].lstrip()}"
+        if _open_quote(text):
+            i += 1  # no closing quote near: not one cell
+            continue
+        notes.append(
+            f"lines {i + 1}-{k + 1} are one row: a quoted cell with a line break in it (Excel's "
+            f"Alt+Enter), read with a space for the break ({text.strip()[:60]!r})"
+        )
+        out[i] = text
+        for j in range(i + 1, k + 1):
+            out[j] = ""
+            blanked.append(j)
+        i = k + 1
+    return out, blanked
 
 
 def _data_block(
@@ -429,6 +503,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         all_lines = all_lines[:-1]  # the head ends inside a line
     elif all_lines and all_lines[-1] == "":
         all_lines = all_lines[:-1]
+    all_lines, joined = _join_quoted_breaks(all_lines, notes)
     partial_last = not truncated_head and not text.endswith(("\n", "\r"))
     lines = [(i, t) for i, t in enumerate(all_lines) if t.strip()]
     if not lines:
@@ -614,33 +689,64 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         decimal_decided=decided,
         rate_Hz=stated.get("rate_Hz"),
         end=end,
+        joined=sum(1 for i in joined if i < data_line),
     )
 
 
 def _text_end(path: Path, head: bytes, spec: FileSpec, notes: list[str]) -> int | None:
     """The bytes of a text file that hold its lines when it ends in NUL bytes and has none
     before them (:func:`nul_padded_end`; noted), else None: a NUL byte elsewhere is refused as
-    binary content (:func:`~rollerrig.recordings.formats._text.decode_text`), and UTF-16 text,
-    a NUL byte in every character, is no padding."""
+    binary content (:func:`~rollerrig.recordings.formats._text.decode_text`).
+
+    UTF-16 text (a BOM, the map's ``[file] encoding``, or its look without a BOM) has a NUL
+    byte in every ASCII character: its padding is the run of NUL code units after its last
+    character, found a code unit at a time (a line end ``0A 00`` keeps its zero byte)."""
     if b"\x00" not in head and len(head) < HEAD_BYTES:
         return None  # the whole file, no NUL byte
-    if spec.encoding is not None and code_unit(spec.encoding) > 1:
-        return None
-    if head.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
-        return None
-    found = nul_padded_end(path)
+    order = _utf16_order(head, spec)
+    if order is None and spec.encoding is not None and code_unit(spec.encoding) > 1:
+        return None  # UTF-32: never written by a logger of ours
+    found = nul_padded_end(path, order=order)
     if found is None:
         return None
     end, pad, cut = found
-    if b"\x00" in head[:end] or not head[: min(end, 4096)].strip():
+    if order is None and (b"\x00" in head[:end] or not head[: min(end, 4096)].strip()):
         return None  # NUL bytes before the padding (binary, or UTF-16 without a BOM)
-    text = cut.decode("latin-1").strip()
+    if order is not None and not _code_units(head[:end], order).all():
+        return None  # a NUL character before the padding: binary, not UTF-16 text
+    text = cut.decode(order or "latin-1", errors="replace").strip().strip("\x00")
     notes.append(
         f"the file ends in {pad} NUL bytes (from byte {end + len(cut)}), as a logger that lost "
         "power leaves it, zero-filled after the last line it wrote: left out"
         + (f", with the line they cut ({text[-40:]!r})" if text else "")
     )
     return end
+
+
+def _utf16_order(head: bytes, spec: FileSpec) -> str | None:
+    """``"utf-16-le"`` / ``"utf-16-be"`` where the file is UTF-16 (the map's ``[file]
+    encoding``, a BOM, or the look of it without one), else None."""
+    if spec.encoding is not None:
+        try:
+            name = codecs.lookup(spec.encoding).name
+        except LookupError:
+            return None
+        if name in ("utf-16-le", "utf-16-be"):
+            return name
+        if name != "utf-16":
+            return None
+    if head.startswith(codecs.BOM_UTF16_BE):
+        return "utf-16-be"
+    if head.startswith(codecs.BOM_UTF16_LE) or spec.encoding is not None:
+        return "utf-16-le"  # the codec "utf-16" without a BOM reads little-endian
+    return bom_less_utf16(head)
+
+
+def _code_units(raw: bytes, order: str) -> np.ndarray:
+    """The UTF-16 code units of ``raw`` (``order`` ``"utf-16-le"`` / ``"utf-16-be"``; an odd
+    last byte left out)."""
+    dtype = "<u2" if order == "utf-16-le" else ">u2"
+    return np.frombuffer(raw[: len(raw) - len(raw) % 2], dtype=dtype)
 
 
 def _refuse_one_column_of_decimal_commas(path: Path, block) -> None:
@@ -843,12 +949,22 @@ class _Head(io.RawIOBase):
         return n
 
 
-def nul_padded_end(path: Path, block: int = 1 << 16) -> tuple[int, int, bytes] | None:
+def nul_padded_end(
+    path: Path, block: int = 1 << 16, order: str | None = None
+) -> tuple[int, int, bytes] | None:
     """``(end, pad, cut)`` when the file ends in a block of NUL bytes, as a logger that lost
     power leaves it (the file's space allocated and zero-filled after the last line it
     wrote): ``end`` bytes hold its complete lines, ``pad`` NUL bytes end it and ``cut`` is the
     line between them (b"" where the last line before the NUL bytes is complete). None when
-    the file does not end in a NUL byte."""
+    the file does not end in a NUL byte.
+
+    ``order`` (``"utf-16-le"`` / ``"utf-16-be"``): the file is UTF-16, whose characters are
+    two bytes from its start: the text ends at the code unit of its last non-NUL byte (the
+    zero byte of a last ``0A 00`` is the line end's own), and lines end at the code units
+    ``\\n`` / ``\\r``, never at a byte 0A inside another character.
+    """
+    unit = 1 if order is None else 2
+    block -= block % 2
     with path.open("rb") as fh:
         size = fh.seek(0, 2)
         stop = size
@@ -860,11 +976,17 @@ def nul_padded_end(path: Path, block: int = 1 << 16) -> tuple[int, int, bytes] |
                 stop = start + len(chunk)
                 break
             stop = start
+        stop = min(size, stop + (-stop) % unit)  # the whole code unit of the last character
         if stop == size:
             return None
-        fh.seek(max(0, stop - block))
-        tail = fh.read(stop - max(0, stop - block))
-    line_end = max(tail.rfind(b"\n"), tail.rfind(b"\r"))
+        first = max(0, stop - block)
+        fh.seek(first)
+        tail = fh.read(stop - first)
+    if order is None:
+        line_end = max(tail.rfind(b"\n"), tail.rfind(b"\r"))
+    else:
+        breaks = np.flatnonzero(np.isin(_code_units(tail, order), (10, 13)))  # \n, \r
+        line_end = 2 * int(breaks[-1]) + 1 if breaks.size else -1
     if line_end < 0 and stop > block:  # a line longer than a block: the whole tail is cut
         return stop, size - stop, tail
     end = stop - len(tail) + line_end + 1

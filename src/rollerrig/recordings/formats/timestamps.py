@@ -8,7 +8,9 @@ column that holds strings (:mod:`rollerrig.recordings.translate`).
 
 from __future__ import annotations
 
+import functools
 import re
+import unicodedata
 from collections.abc import Callable
 
 import numpy as np
@@ -31,7 +33,70 @@ _ELAPSED_OR_TIME_OF_DAY = r"(?P<H>\d+):(?P<M>\d{2})(?::(?P<S>\d{2})(?:[.,](?P<f>
 """A time without a date: hours of any digits (an endurance run's elapsed ``100:00:00.000``
 had been no time, the rest of its file dropped as a footer)."""
 _TZ = r"(?:\s*(?P<tz>Z|[+-]\d{2}:?\d{2}))?"
-_MONTHS = ("jan", "feb", "mar", "apr", "may", "jun", "jul", "aug", "sep", "oct", "nov", "dec")
+_MONTH_NAMES = {
+    "English": "january february march april may june july august september october november "
+    "december",
+    "German": "januar|jänner februar|feber märz april mai juni juli august september oktober "
+    "november dezember",
+    "French": "janvier février mars avril mai juin juillet août septembre octobre novembre "
+    "décembre",
+    "Spanish": "enero febrero marzo abril mayo junio julio agosto septiembre|setiembre octubre "
+    "noviembre diciembre",
+    "Italian": "gennaio febbraio marzo aprile maggio giugno luglio agosto settembre ottobre "
+    "novembre dicembre",
+    "Dutch": "januari februari maart april mei juni juli augustus september oktober november "
+    "december",
+    "Portuguese": "janeiro fevereiro março abril maio junho julho agosto setembro outubro "
+    "novembro dezembro",
+}
+"""Month names of the languages whose dates acquisition software writes (Excel, LabVIEW and
+Windows loggers in the user's language), January first; ``|`` between a month's names.
+Languages in the order a column that several fit is read in (English first, as before)."""
+_MONTH_ABBREVIATIONS = {
+    "German": {"mrz": 3},  # Excel's and Windows' short German March ("Mär" elsewhere)
+    "Dutch": {"mrt": 3},
+}
+"""Abbreviations that are no prefix of the month's name."""
+
+
+def _plain(word: str) -> str:
+    """``word`` lower case without accents and a final point: ``Déc.`` -> ``dec``."""
+    decomposed = unicodedata.normalize("NFKD", word.strip().rstrip(".").lower())
+    return "".join(c for c in decomposed if not unicodedata.combining(c))
+
+
+def _month_words() -> dict[str, dict[str, int]]:
+    """Language -> {plain word: month}: each month's names, their prefixes of three letters
+    and more that no other month of the language shares (``Dez``, ``déc.``, ``févr.``,
+    ``juil.``, ``sept``), and :data:`_MONTH_ABBREVIATIONS`."""
+    out: dict[str, dict[str, int]] = {}
+    for language, names in _MONTH_NAMES.items():
+        owners: dict[str, set[int]] = {}
+        for month, spellings in enumerate(names.split(), start=1):
+            for name in spellings.split("|"):
+                plain = _plain(name)
+                for k in range(3, len(plain) + 1):
+                    owners.setdefault(plain[:k], set()).add(month)
+        words = {w: m.pop() for w, m in owners.items() if len(m) == 1}
+        words.update(_MONTH_ABBREVIATIONS.get(language, {}))
+        out[language] = words
+    return out
+
+
+_MONTH_WORDS = _month_words()
+_SPELLED = {
+    language: {
+        name[:k]
+        for spellings in names.split()
+        for name in spellings.split("|")
+        for k in range(3, len(name) + 1)
+    }
+    | _MONTH_ABBREVIATIONS.get(language, {}).keys()
+    for language, names in _MONTH_NAMES.items()
+}
+"""Language -> the beginnings of its month names as it spells them (accents kept)."""
+
+
 _DATE_PATTERNS = {
     # day or month first: 05.08.24 13:46:13, 05/08/2024 13:46:13.250
     "dmy": re.compile(
@@ -43,9 +108,11 @@ _DATE_PATTERNS = {
         r"^(?P<y>\d{4})(?P<sep>[./-])(?P<b>\d{1,2})(?P=sep)(?P<a>\d{1,2})"
         rf"(?:[ T]+{_TIME_OF_DAY})?{_TZ}$"
     ),
-    # day, month name, year: 05-Aug-2024 13:46:13.250 (MATLAB's datetime, Oracle, SAS)
+    # day, month name, year: 05-Aug-2024 13:46:13.250 (MATLAB's datetime, Oracle, SAS), in
+    # the languages of _MONTH_NAMES: 05-Dez-2024, 05 déc. 2024 (a word that is no month's
+    # name is no such date: _kind_of)
     "dmony": re.compile(
-        rf"^(?P<a>\d{{1,2}})(?P<sep>[-./ ])(?P<mon>(?i:{'|'.join(_MONTHS)})[a-z]*)(?P=sep)"
+        r"^(?P<a>\d{1,2})(?P<sep>[-./ ])(?P<mon>[^\W\d_]{3,12}\.?)(?P=sep)"
         rf"(?P<y>\d{{4}}|\d{{2}})(?:[ T:]+{_TIME_OF_DAY})?{_TZ}$"
     ),
     # pandas' Timedelta as text (DataFrame.to_csv): 0 days 23:59:59.750000, -1 days +23:59:59
@@ -56,6 +123,81 @@ _DATE_PATTERNS = {
     # time of day only: 13:46:13,250; or an elapsed time, hours of any digits: 100:00:00.000
     "tod": re.compile(rf"^{_ELAPSED_OR_TIME_OF_DAY}$"),
 }
+
+
+def _kind_of(cell: str) -> str | None:
+    """The key of :data:`_DATE_PATTERNS` that reads ``cell`` (a month name of a language of
+    :data:`_MONTH_NAMES` for ``"dmony"``), or None."""
+    for kind, pattern in _DATE_PATTERNS.items():
+        m = pattern.match(cell)
+        if m and (kind != "dmony" or any(_plain(m["mon"]) in w for w in _MONTH_WORDS.values())):
+            return kind
+    return None
+
+
+def _languages(words) -> list[str]:
+    """The languages of :data:`_MONTH_NAMES` in which every one of ``words`` names a month:
+    first those that spell each with its accents (``Mär`` is German, ``déc.`` French, though
+    English reads ``mar`` and ``dec``), then in that order."""
+    plain = {_plain(w) for w in words}
+    fits = [lang for lang, known in _MONTH_WORDS.items() if plain <= known.keys()]
+    spelled = {w.strip().rstrip(".").lower() for w in words}
+    return sorted(fits, key=lambda lang: not spelled <= _SPELLED[lang])
+
+
+def _month_language(words, decided: dict | None) -> tuple[str, str]:
+    """(language, note) in which the month names ``words`` of one column are read: the first
+    of :data:`_MONTH_NAMES` that names a month by each (a column read in chunks: the one the
+    first chunk decided, ``decided``). The note says the language where it is not English, and
+    where another fits that reads a word as another month. "" where none fits."""
+    if decided and "language" in decided:
+        return decided["language"], ""
+    fits = _languages(words)
+    if not fits:
+        return "", ""
+    language = fits[0]
+    if decided is not None:
+        decided["language"] = language
+    plain = {_plain(w) for w in words}
+    other = [
+        lang for lang in fits[1:]
+        if any(_MONTH_WORDS[lang][w] != _MONTH_WORDS[language][w] for w in plain)
+    ]  # fmt: skip
+    if other:
+        return language, (
+            f"; month names AMBIGUOUS: read as {language}, but {', '.join(other)} reads them as "
+            "other months"
+        )
+    if language == "English":
+        return language, ""
+    also = f" (the same months in {', '.join(fits[1:])})" if len(fits) > 1 else ""
+    return language, f"; month names read as {language}{also}"
+
+
+def _month_numbers(cells, date_format: str, decided: dict | None):
+    """``(cells, format, note)`` with the month names of ``cells`` (non-English: ``Dez``,
+    ``févr.``) written as numbers and ``%b`` / ``%B`` of ``date_format`` as ``%m``, so that
+    they are read without the machine's locale; None where no language of
+    :data:`_MONTH_NAMES` names a month by every word of the cells that the format does not
+    spell out itself."""
+    literal = {_plain(w) for w in _WORD.findall(re.sub(r"%.", " ", date_format))}
+    words = {w for c in cells.unique()[:10000] for w in _WORD.findall(c)}
+    words = {w for w in words if _plain(w) not in literal}
+    language, note = _month_language(words, decided)
+    if not language:
+        return None
+    known = _MONTH_WORDS[language]
+
+    def numbered(cell: str) -> str:
+        return _WORD.sub(lambda m: f"{known.get(_plain(m[0]), 0):02d}" if (
+            _plain(m[0]) in known) else m[0], cell)  # fmt: skip
+
+    fmt = re.sub(r"%[bB]", "%m", date_format)
+    return cells.map(numbered), fmt, note
+
+
+_WORD = re.compile(r"[^\W\d_]{3,}\.?")
+"""A word of letters (a month's name or abbreviation, with its point)."""
 
 
 _DATELIKE = re.compile(r"\d{1,4}[./-]\d{1,2}[./-]\d{1,4}|\d{1,2}:\d{2}")
@@ -71,7 +213,7 @@ def looks_like_timestamp(cell: str) -> bool:
     :func:`parse_timestamps` then names that key with an example for the cell.
     """
     c = str(cell).strip()
-    if any(p.match(c) for p in _DATE_PATTERNS.values()):
+    if _kind_of(c) is not None:
         return True
     return bool(_DATELIKE.search(c)) and not _PLAIN_NUMBER.fullmatch(c)
 
@@ -188,12 +330,26 @@ March, April; Chile, New Zealand, Australia, formerly Brazil: September to Novem
 
 
 def _check_spring_forward(
-    wall: np.ndarray, s, what: str, line_of: Callable[[int], int | None] | None
+    wall: np.ndarray,
+    s,
+    what: str,
+    line_of: Callable[[int], int | None] | None,
+    anchors: int = 0,
+    first_row: int = 0,
 ) -> None:
     """RecordingError when local wall-clock times ``wall`` [s since 1970, no offset] step forward
     by one hour (± a sample interval) in a month where daylight saving time may begin: the
     clock went forward, no samples were dropped (read as a gap, the recording had been an hour
-    longer)."""
+    longer).
+
+    The first ``anchors`` rows are no neighbours of the rows after them (the file's first
+    sample, put before a part of the column read alone): the steps from them are not checked
+    (a part that starts an hour into the recording is no clock step), and row ``anchors`` is
+    named as row ``first_row``.
+    """
+    wall, s = wall[anchors:], s.iloc[anchors:]
+    if first_row and line_of is not None:
+        line_of = functools.partial(_shifted, line_of, first_row)
     if wall.size < 3:
         return
     steps = np.diff(wall)
@@ -205,9 +361,10 @@ def _check_spring_forward(
         month = int(np.datetime64(int(wall[k]), "s").astype(object).month)
         if month not in _DST_MONTHS:
             continue
+        here, there = _row_name(k, line_of, first_row), _row_name(k + 1, line_of, first_row)
         raise RecordingError(
-            f"{what}: the time steps forward by {steps[k]:.6g} s between {_row_name(k, line_of)} "
-            f"{s.iloc[k]!r} and {_row_name(k + 1, line_of)} {s.iloc[k + 1]!r} at a median "
+            f"{what}: the time steps forward by {steps[k]:.6g} s between {here} "
+            f"{s.iloc[k]!r} and {there} {s.iloc[k + 1]!r} at a median "
             f"interval of {median:.6g} s: local clock times across the start of daylight "
             "saving time (the clock went forward an hour; no samples are missing)? Export the "
             "times in UTC or with their UTC offset (31.03.2024 03:00:00+02:00), or, where the "
@@ -216,9 +373,13 @@ def _check_spring_forward(
         )
 
 
-def _row_name(k: int, line_of: Callable[[int], int | None] | None) -> str:
+def _shifted(line_of: Callable[[int], int | None], by: int, k: int) -> int | None:
+    return line_of(k + by)
+
+
+def _row_name(k: int, line_of: Callable[[int], int | None] | None, first_row: int = 0) -> str:
     line = line_of(k) if line_of is not None else None
-    return f"row {k}" + (f" (file line {line})" if line is not None else "")
+    return f"row {k + first_row}" + (f" (file line {line})" if line is not None else "")
 
 
 def _unwrapped_times_of_day(tod: np.ndarray, first: str) -> tuple[np.ndarray, str]:
@@ -312,6 +473,8 @@ def parse_timestamps(
     date_format: str | None = None,
     line_of: Callable[[int], int | None] | None = None,
     decided: dict | None = None,
+    anchors: int = 0,
+    first_row: int = 0,
 ) -> tuple[np.ndarray, str]:
     """Seconds since the first sample of a column of date/time strings, and a note.
 
@@ -342,6 +505,12 @@ def parse_timestamps(
         the format it decided (pattern and day/month order) there, later calls apply it instead
         of deciding again, so every chunk is read the same way (a later chunk that does not fit
         is an error naming its row).
+    anchors : int
+        For a part of a column read alone: its first ``anchors`` rows are the file's first
+        sample (the origin of the seconds), no neighbours of the rows after them; the check for
+        a daylight-saving step looks only at the steps after them.
+    first_row : int
+        Index in the whole column of row ``anchors`` (for that check's message).
 
     Returns
     -------
@@ -377,6 +546,16 @@ def parse_timestamps(
     if date_format is not None:
         stamps = pd.to_datetime(s, format=date_format, errors="coerce")
         bad = stamps.isna().to_numpy()
+        language_note = ""
+        if bad.any() and re.search(r"%[bB]", date_format):
+            # month names of another language than the locale's (pandas reads %b in
+            # English): as numbers, read with %m, whatever the machine's locale
+            found = _month_numbers(s, date_format, decided)
+            if found is not None:
+                numbered, fmt, language_note = found
+                again = pd.to_datetime(numbered, format=fmt, errors="coerce")
+                if not again.isna().any():
+                    stamps, bad = again, again.isna().to_numpy()
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
             raise RecordingError(
@@ -385,12 +564,12 @@ def parse_timestamps(
             )
         if stamps.dt.tz is None and _DATE_CODES.search(date_format):
             wall = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64) / 1e9
-            _check_spring_forward(wall, s, what, line_of)
+            _check_spring_forward(wall, s, what, line_of, anchors, first_row)
         ns = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64)
         secs = (ns - ns[0]) / 1e9
         note = (
             f"absolute timestamps parsed with [file] date_format {date_format!r}, converted to "
-            f"seconds since the first sample ({stamps.iloc[0]})"
+            f"seconds since the first sample ({stamps.iloc[0]}){language_note}"
         )
         if not _DATE_CODES.search(date_format):
             # A time of day without a date ('%H:%M'): unwrapped at midnight, as the times of
@@ -402,7 +581,7 @@ def parse_timestamps(
             secs = secs + wraps
         return secs, note
     first = s.iloc[0]
-    kind = next((k for k, p in _DATE_PATTERNS.items() if p.match(first)), None)
+    kind = _kind_of(first)
     if decided and kind is not None and decided.get("kind", kind) != kind:
         kind = decided["kind"]  # rows of another format are named below
     if kind is None:
@@ -460,16 +639,23 @@ def parse_timestamps(
             "converted to seconds since the first sample"
         )
     a = parts["a"].astype(int).to_numpy()
+    language_note = ""
     if kind == "dmony":
-        month_of = {m: k + 1 for k, m in enumerate(_MONTHS)}
-        b = parts["mon"].str[:3].str.lower().map(month_of).to_numpy()
-        if np.isnan(b.astype(float)).any():
-            k = int(np.flatnonzero(np.isnan(b.astype(float)))[0])
+        language, language_note = _month_language(parts["mon"].unique(), decided)
+        known = _MONTH_WORDS.get(language, {})
+        b = parts["mon"].map(lambda w: known.get(_plain(w), 0)).to_numpy(dtype=int)
+        if not b.all():
+            if not language:  # each a month's name, but of two languages: row 0's decides
+                language = _languages([parts["mon"].iloc[0]])[0]
+                known = _MONTH_WORDS[language]
+                b = parts["mon"].map(lambda w: known.get(_plain(w), 0)).to_numpy(dtype=int)
+            k = int(np.flatnonzero(b == 0)[0])
             raise RecordingError(
-                f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} has no English month name; "
-                f"give [file] date_format in the channel map, {_date_format_hint(s.iloc[k])}"
+                f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r}: its month {parts['mon'].iloc[k]!r}"
+                f" is no {language} month's name, as the column's ({s.iloc[0]!r}) are (this "
+                f"reader knows {', '.join(_MONTH_NAMES)}, one per column); correct the cell, "
+                "or export the dates with month numbers"
             )
-        b = b.astype(int)
     else:
         b = parts["b"].astype(int).to_numpy()
     y = parts["y"].astype(int).to_numpy()
@@ -536,10 +722,10 @@ def parse_timestamps(
         mm = pd.to_numeric(digits.str[2:4], errors="coerce").fillna(0).to_numpy()
         offset = np.where(tz == "Z", 0.0, sign * (hh * 3600.0 + mm * 60.0))
     if not ("tz" in parts and parts["tz"].notna().any()):
-        _check_spring_forward(days * 86400.0 + tod, s, what, line_of)
+        _check_spring_forward(days * 86400.0 + tod, s, what, line_of, anchors, first_row)
     t = (days - days[0]) * 86400.0 + (tod - tod[0]) - (offset - offset[0])
     start = pd.Timestamp(dates[0]) + pd.Timedelta(seconds=float(tod[0]))
     return t, (
         f"absolute timestamps read {order} (first {first!r} = {start}), converted to seconds "
-        "since the first sample"
+        f"since the first sample{language_note}"
     )
