@@ -8,17 +8,17 @@ inputs and the same conversion to a standard uncertainty as the corrected CoA's 
 (:mod:`rollerrig.estimation.uncertainty`; names, symbols and table of
 :mod:`rollerrig.estimation.gum_inputs`):
 
-=====================  ==  ===========  ============  ==========================================
-input                  δ   channel      distribution  standard uncertainty u (rig ``sensors``)
-=====================  ==  ===========  ============  ==========================================
-``torque_class``       δT  torque       rectangular   torque_sensor_accuracy × range / √3
-``torque_gain``        g_T torque       rectangular   torque_sensor_accuracy / √3 (relative),
-                                                      acting as δT = g_T T
-``pressure_class``     δp  normal load  rectangular   pressure_sensor_accuracy × range / √3,
-                                                      acting as δN = A δp
-``air_spring_area``    A   normal load  normal        air_spring_area_uncertainty × A,
-                                                      acting as δN = N δA/A
-=====================  ==  ===========  ============  ==========================================
+=====================  ===  ===========  ============  =========================================
+input                  δ    channel      distribution  standard uncertainty u (rig ``sensors``)
+=====================  ===  ===========  ============  =========================================
+``torque_class``       δT   torque       rectangular   torque_sensor_accuracy × range / √3
+``torque_gain``        g_T  torque       rectangular   torque_sensor_accuracy / √3 (relative),
+                                                       acting as δT = g_T T
+``pressure_class``     δp   normal load  rectangular   pressure_sensor_accuracy × range / √3,
+                                                       acting as δN = A δp
+``air_spring_area``    A    normal load  normal        air_spring_area_uncertainty × A,
+                                                       acting as δN = N δA/A
+=====================  ===  ===========  ============  =========================================
 
 The encoders state no class: their counts are exact but for the quantisation, a random error
 the fit's weights carry. A torque offset matters most: at one load and speed the roller
@@ -27,16 +27,16 @@ bearing's loss is a constant torque, and a zero offset of the torque sensor with
 standard errors on the twin's own recordings (0.0055 fitted as 0.004464 ± 1.35e-5 with
 +1.0 N.m; 2026-12-03), with white residuals: the fit cannot see it.
 
-The class bounds the sensor's error at every reading, |δT| <= class × range for |T| <= range,
-and so admits a sensitivity (gain) error up to the class as a fraction of the reading as well
-as a zero offset: the two are carried as two inputs, each with the whole class, which
-overstates their sum by at most √2 where both reach their bounds (conservative; a datasheet's
-separate zero and sensitivity tolerances would split it). A gain moves other keys than an
-offset does: the torque's swings scale with it, and with them the roller's inertia and the
-motor's lag. On the calibration tests' recording (the twin with values the fit is not told) a
-gain of +0.1 % (inside the bundled rig's 0.1 % class) had put ``induction_motor.response_lag_clp``
-3.6 and ``inertia.roller`` 2.1 standard errors off, +0.2 % 5.0 and 3.1, with the offset alone
-carried (2026-12-03); with the gain carried, within 2.
+The class bounds the sensor's error at every reading (abs(δT) <= class × range at every abs(T)
+<= range), and so admits a sensitivity (gain) error up to the class as a fraction of the
+reading as well as a zero offset: the two are carried as two inputs, each with the whole class,
+which overstates their sum by at most √2 where both reach their bounds (conservative; a
+datasheet's separate zero and sensitivity tolerances would split it). A gain moves other keys
+than an offset does: the torque's swings scale with it, and with them the roller's inertia and
+the motor's lag. On the calibration tests' recording (the twin with values the fit is not told)
+a gain of +0.1 % (inside the bundled rig's 0.1 % class) had put
+``induction_motor.response_lag_clp`` 3.6 and ``inertia.roller`` 2.1 standard errors off, +0.2 %
+5.0 and 3.1, with the offset alone carried (2026-12-03); with the gain carried, within 2.
 
 Each input's effect is linearised at the optimum (:func:`parameter_shifts`): an error of one
 standard uncertainty u changes the weighted residuals by Δr (the channel's change, its torque
