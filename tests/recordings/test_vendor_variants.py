@@ -298,6 +298,41 @@ def test_header_names_with_line_breaks_read_as_written_by_a_csv_writer(tmp_path_
         np.testing.assert_allclose(table.load(name).values, j + np.arange(6) / 100)
 
 
+@pytest.mark.parametrize(
+    ("preamble", "sep"),
+    [
+        # a quote after a comma in a file of ';' is a character, not a cell's start (review
+        # of 2026-12-03: the header had been joined into this line and read as data)
+        ('Kommentar;Rad 6,"Zoll\nOperator;"Max"\n', ";"),
+        ('Kommentar,Rad 6;"Zoll\nOperator,"Max"\n', ","),
+    ],
+)
+def test_a_stray_quote_above_the_names_leaves_the_header_alone(tmp_path, preamble, sep):
+    dec = "," if sep == ";" else "."
+    rows = "".join(f"{k / 10:.1f}{sep}{3.5 + k:.1f}\n".replace(".", dec) for k in range(7))
+    p, _ = _write(tmp_path, "stray.csv", f'{preamble}"Zeit"{sep}"Moment"\n{rows}')
+    cmap = {"time": {"column": "Zeit", "unit": "s"},
+            "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}  # fmt: skip
+    rec = read_recording(p, cmap)
+    np.testing.assert_allclose(rec.time, np.arange(7) / 10)
+    np.testing.assert_allclose(rec["torque"], 3.5 + np.arange(7))
+    assert not any("line break" in n for n in rec.metadata["notes"])
+
+
+def test_an_open_quote_in_the_header_does_not_take_the_numbers_into_it(tmp_path):
+    # '"Torque ""max' never closes before the numbers: no line of numbers joins the header
+    from rollerrig.recordings.formats.sniff import _join_quoted_breaks
+
+    lines = ['"Time","Torque ""max', '0.1,"2"', "0.2,3"]
+    notes: list[str] = []
+    assert _join_quoted_breaks(lines, notes) == (lines, [])
+    # an unclosed quote in a preamble line above the names is not joined with them: the
+    # joined line would close its quote in the middle of a cell ('Title,"Run 7 "Time"')
+    lines = ['Title,"Run 7', '"Time","Torque"', "0.1,2", "0.2,3"]
+    assert _join_quoted_breaks(lines, notes) == (lines, [])
+    assert notes == []
+
+
 def test_nul_bytes_before_the_end_of_a_text_file_are_still_binary(tmp_path):
     body = "Time,Torque\n" + "".join(f"{k / 1000:.3f},1.0\n" for k in range(100))
     p, _ = _write(tmp_path, "nul.csv", body.encode()[:500] + b"\x00" * 64 + body.encode()[500:])

@@ -162,12 +162,14 @@ _FIELD_STARTS = ",;\t|"
 """Characters after which a cell starts (any separator this sniffer tries but whitespace)."""
 
 
-def _open_quote(line: str, quoted: bool = False) -> bool:
-    """Whether ``line`` ends inside a quoted cell (``quoted``: it starts inside one), as CSV
-    quoting reads it: a ``"`` that starts a cell opens it, ``""`` inside is a quote, and a
-    ``"`` in the middle of an unquoted cell is a character (as pandas and Python's csv read
-    it)."""
+def _quote_state(line: str, sep: str, quoted: bool = False) -> tuple[bool, bool]:
+    """``(ends inside a quoted cell, well formed)`` of ``line`` split at ``sep`` (``quoted``:
+    it starts inside one), as CSV quoting reads it: a ``"`` that starts a cell opens it, ``""``
+    inside is a quote, a ``"`` in the middle of an unquoted cell is a character (as pandas and
+    Python's csv read it). Well formed: every quoted cell closed in the line is followed by
+    ``sep`` or the line's end (``"Run 7 "Time"`` is not)."""
     start = not quoted
+    well_formed = True
     k = 0
     while k < len(line):
         c = line[k]
@@ -177,11 +179,23 @@ def _open_quote(line: str, quoted: bool = False) -> bool:
                     k += 1  # "" : a quote inside the cell
                 else:
                     quoted = False
+                    rest = line[k + 1 :].lstrip(" ")
+                    well_formed = well_formed and (not rest or rest[0] == sep)
         elif c == '"' and start:
             quoted = True
-        start = not quoted and c in _FIELD_STARTS
+        start = not quoted and (c == sep or (start and c == " "))
         k += 1
-    return quoted
+    return quoted, well_formed
+
+
+def _data_separator(lines: list[str]) -> str | None:
+    """The separator of the first line of numbers (the one of :data:`_FIELD_STARTS` that
+    splits it into the most cells, all numbers), or None where no line is one."""
+    for line in lines:
+        found = [(len(c), sep) for sep in _FIELD_STARTS if datalike(c := split_cells(line, sep))]
+        if found:
+            return max(found)[1]
+    return None
 
 
 def _join_quoted_breaks(lines: list[str], notes: list[str]) -> tuple[list[str], list[int]]:
@@ -190,25 +204,37 @@ def _join_quoted_breaks(lines: list[str], notes: list[str]) -> tuple[list[str], 
     first line, the line break a space, and the lines it took blank, so that every line keeps
     its index; and the indices of the lines so blanked.
 
-    Only above the first line of numbers (the header's lines) and only where the cell closes
-    within :data:`_MOST_CELL_LINES` lines: a stray quote elsewhere is left as it is.
+    Only above the first line of numbers (the header's lines), with the numbers' separator
+    (a ``"`` after another character is no cell's start: ``Rad 6,"Zoll`` in a file of ``;``),
+    where the cell closes within :data:`_MOST_CELL_LINES` lines that are no numbers, and where
+    the joined line is well formed CSV (:func:`_quote_state`): a stray quote elsewhere, such
+    as an unclosed one in a preamble line above the names, is left as it is.
     """
     out = list(lines)
     blanked: list[int] = []
+    sep = _data_separator(lines)
+    if sep is None:
+        return out, blanked
     i = 0
     while i < len(out):
         line = out[i]
-        if any(datalike(split_cells(line, sep)) for sep in _FIELD_STARTS):
+        if datalike(split_cells(line, sep)):
             break  # the numbers: a header is above them
-        if '"' not in line or not _open_quote(line):
+        if '"' not in line or not _quote_state(line, sep)[0]:
             i += 1
             continue
         k, text = i, line
-        while k + 1 < len(out) and k - i < _MOST_CELL_LINES and _open_quote(text):
+        while (
+            k + 1 < len(out)
+            and k - i < _MOST_CELL_LINES
+            and _quote_state(text, sep)[0]
+            and not datalike(split_cells(out[k + 1], sep))
+        ):
             k += 1
             text = f"{text.rstrip()} {out[k].lstrip()}"
-        if _open_quote(text):
-            i += 1  # no closing quote near: not one cell
+        still_open, well_formed = _quote_state(text, sep)
+        if still_open or not well_formed:
+            i += 1  # no closing quote near, or not one cell: left as it is
             continue
         notes.append(
             f"lines {i + 1}-{k + 1} are one row: a quoted cell with a line break in it (Excel's "
