@@ -6,7 +6,7 @@ after the job (``pyproject.toml``):
 
 - ``twin``: simulate the rig (``simulate``, ``modes``, the demo) and write its results;
 - ``io``: read and write what acquisition software writes (TDMS, MDF4, MATLAB v7.3, CSV,
-  Parquet) and the NetCDF/JSON results of ``analyze``, ``spectrum`` and ``filters``;
+  Parquet, Excel .xlsx) and the NetCDF/JSON results of ``analyze``, ``spectrum`` and ``filters``;
 - ``frame``: the static and modal FE check of the rig's frame (``frame``);
 - ``studies``: run studies at scale (``study run``) on dask, with the resumable store and
   sensitivity indices;
@@ -39,7 +39,9 @@ __all__ = [
 
 EXTRAS: dict[str, frozenset[str]] = {
     "twin": frozenset({"numba", "xarray", "pandas", "h5netcdf", "h5py", "threadpoolctl"}),
-    "io": frozenset({"nptdms", "asammdf", "h5py", "pandas", "pyarrow", "xarray", "h5netcdf"}),
+    "io": frozenset(
+        {"nptdms", "asammdf", "h5py", "pandas", "pyarrow", "xarray", "h5netcdf", "openpyxl"}
+    ),
     "studies": frozenset(
         {
             "numba",

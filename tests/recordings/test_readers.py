@@ -386,8 +386,10 @@ def test_csv_writer_refuses_existing_sidecar(tmp_path, recording):
 
 
 def test_writer_errors(tmp_path, recording):
-    with pytest.raises(RecordingError, match=r"unsupported file suffix '\.xlsx'"):
+    with pytest.raises(RecordingError, match=r"not written as Excel workbooks.*CSV"):
         write_recording(recording, tmp_path / "run.xlsx")
+    with pytest.raises(RecordingError, match=r"unsupported file suffix '\.sav'"):
+        write_recording(recording, tmp_path / "run.sav")
     with pytest.raises(RecordingError, match="mat_version"):
         write_recording(recording, tmp_path / "run.mat", mat_version="6")
     assert list(tmp_path.iterdir()) == []
@@ -561,8 +563,9 @@ def test_missing_files_and_suffixes(tmp_path, raw):
         read_recording(f, tmp_path / "missing.toml")
     with pytest.raises(FileNotFoundError, match="recording file not found"):
         read_recording(tmp_path / "nope.csv", MAP)
-    with pytest.raises(RecordingError, match=r"unsupported file suffix '.xlsx'"):
-        read_recording(tmp_path / "run.xlsx")
+    (tmp_path / "run.sav").write_bytes(b"x")
+    with pytest.raises(RecordingError, match=r"unsupported file suffix '.sav'"):
+        read_recording(tmp_path / "run.sav")
     # a folder had been "unsupported file suffix ''; ... rename it"
     (tmp_path / "runs").mkdir()
     with pytest.raises(RecordingError, match=r"runs is a folder, not a recording file; give"):

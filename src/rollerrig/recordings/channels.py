@@ -12,6 +12,7 @@ A channel map is a small TOML file (see ``data/example_channel_map.toml``)::
     dayfirst = true           # 05/08/24 is 5 August (dotted dates are day-first anyway)
     date_format = "%d.%m.%y %H:%M:%S"   # strptime format of a timestamp time column
     group = "Fast"            # TDMS / MDF group the columns default to (MDF: name or index)
+    sheet = "Data"            # Excel workbook: the sheet to read (name or 0-based index)
 
     [time]
     column = "Time"           # or: sample_rate_Hz = 250

@@ -118,6 +118,22 @@ def _group(value: Any) -> Any:
     return value
 
 
+def _sheet(value: Any) -> Any:
+    if value is not None and (
+        isinstance(value, bool)
+        or not isinstance(value, str | int)
+        or (isinstance(value, str) and not value)
+        or (isinstance(value, int) and value < 0)
+    ):
+        raise FieldProblem(
+            "",
+            "must be a sheet name or a 0-based sheet index",
+            allowed="a name or an integer >= 0",
+            got=value,
+        )
+    return value
+
+
 _STRICT = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False)
 _LineIndex = Annotated[int | None, BeforeValidator(_line_index)]
 
@@ -156,6 +172,10 @@ class FileSpec:
         :func:`time.strptime` format of a timestamp time column (beats ``dayfirst``).
     group : str, int or None
         TDMS / MDF group that channel names default to (MDF: the group's name or index).
+    sheet : str, int or None
+        Excel workbook: the sheet to read, by name or 0-based index (default: the first sheet
+        that holds numbers). Not ``group``: a sheet is the table read, a group only where
+        unqualified names resolve.
     """
 
     separator: Annotated[str | None, BeforeValidator(_separator)] = None
@@ -167,6 +187,7 @@ class FileSpec:
     dayfirst: Annotated[bool, Strict()] | None = None
     date_format: Annotated[str | None, AfterValidator(_date_format)] = None
     group: Annotated[str | int | None, BeforeValidator(_group)] = None
+    sheet: Annotated[str | int | None, BeforeValidator(_sheet)] = None
 
     @model_validator(mode="after")
     def _consistent(self):

@@ -35,6 +35,7 @@ from rollerrig._validation import folder_not_file
 from rollerrig.output.provenance import file_sha256
 from rollerrig.recordings.channels import ChannelMap, default_channel_map, load_channel_map
 from rollerrig.recordings.formats import Table, open_table
+from rollerrig.recordings.formats.xlsx import _ODS, _XLS
 from rollerrig.recordings.recording import Recording, RecordingError, RecordingFileNotFound
 from rollerrig.recordings.translate import apply_map
 from rollerrig.recordings.validate import (
@@ -66,10 +67,19 @@ FORMATS: dict[str, tuple[str, ...]] = {
     "tdms": (".tdms",),
     "mf4": (".mf4", ".mdf"),
     "mat": (".mat",),
+    "xlsx": (".xlsx", ".xlsm"),
 }
 """Format name -> file suffixes."""
 
-_FORMAT_ALIASES = {"mdf": "mf4", "mdf4": "mf4", "pq": "parquet", "txt": "csv", "tsv": "csv"}
+_FORMAT_ALIASES = {
+    "mdf": "mf4",
+    "mdf4": "mf4",
+    "pq": "parquet",
+    "txt": "csv",
+    "tsv": "csv",
+    "xlsm": "xlsx",
+    "excel": "xlsx",
+}
 
 _FAMOS = (
     "imc FAMOS/STUDIO raw files (.raw, format '|CF,') are not read (imc's reader on PyPI, "
@@ -110,6 +120,8 @@ _NOT_READ = {
     ".tdm": ("NI DIAdem TDM headers (.tdm + .tdx) are not read; export as TDMS or CSV from DIAdem"),
     ".feather": _FEATHER,
     ".arrow": _FEATHER,
+    ".xls": _XLS,
+    ".ods": _ODS,
 }
 
 CONTENT_SIGNATURES: dict[bytes, str] = {
@@ -289,9 +301,10 @@ def read_recording(
         Which column is which canonical channel, in which unit. None: the file was written by
         rollerrig (:func:`rollerrig.recordings.channels.default_channel_map`: canonical names as
         columns, units in headers such as ``torque [N.m]`` or stored in the file).
-    format : {"csv", "lvm", "parquet", "tdms", "mf4", "mdf", "mat"}, optional
+    format : {"csv", "lvm", "parquet", "tdms", "mf4", "mdf", "mat", "xlsx"}, optional
         Overrides the format implied by the suffix (``.csv``/``.txt``/``.tsv``: text, read as the
-        map's ``[file]`` section says or sniffed; ``.lvm``: LabVIEW Measurement).
+        map's ``[file]`` section says or sniffed; ``.lvm``: LabVIEW Measurement; ``.xlsx``/
+        ``.xlsm``: one sheet of an Excel workbook, ``[file] sheet``).
     validate : {"strict", "lenient"}
         Strict: any NaN/inf sample or gap is an error. Lenient: NaN/inf runs of at most
         :data:`MAX_INTERPOLATED_NAN_RUN` samples are interpolated, gaps are kept; both are

@@ -98,6 +98,11 @@ def write_recording(
     """
     dst = Path(path)
     fmt = detect_format(dst, format)
+    if fmt == "xlsx":
+        raise RecordingError(
+            f"{dst}: recordings are not written as Excel workbooks (read only); write CSV, "
+            "which Excel opens, or Parquet"
+        )
     if fmt not in ("csv", "parquet", "tdms", "mf4", "mat"):
         raise RecordingError(f"{dst}: recordings are not written as {fmt!r}")
     metadata = json.loads(metadata_json(recording))

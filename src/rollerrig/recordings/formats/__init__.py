@@ -1,8 +1,8 @@
 """Format readers: each turns one file format into a :class:`Table` of named columns.
 
 One module per format (:mod:`.csv`, :mod:`.twincat`, :mod:`.lvm`, :mod:`.parquet`,
-:mod:`.tdms`, :mod:`.mdf`, :mod:`.mat`) and what they share: :mod:`._table` (the table,
-optional imports), :mod:`.sniff` (the layout of a text file), :mod:`._header` (its header and
+:mod:`.tdms`, :mod:`.mdf`, :mod:`.mat`, :mod:`.xlsx`) and what they share: :mod:`._table` (the
+table, optional imports), :mod:`.sniff` (the layout of a text file), :mod:`._header` (its header and
 units rows), :mod:`._text` (cells, lines, bytes of text files), :mod:`.timestamps` (date/time
 columns), :mod:`._sliced` (channels in groups read in slices). The channel map is applied
 afterwards, in :mod:`rollerrig.recordings.translate`, the same way for every format.
@@ -23,6 +23,7 @@ from rollerrig.recordings.formats.mdf import open_mdf
 from rollerrig.recordings.formats.parquet import read_parquet
 from rollerrig.recordings.formats.tdms import open_tdms
 from rollerrig.recordings.formats.twincat import read_twincat, reads_as_twincat
+from rollerrig.recordings.formats.xlsx import read_xlsx
 from rollerrig.recordings.recording import RecordingError
 
 __all__ = ["Column", "Table", "open_table"]
@@ -46,6 +47,8 @@ def open_table(path: Path, fmt: str, spec: FileSpec | None = None) -> Iterator[T
         yield read_parquet(path)
     elif fmt == "mat":
         yield read_mat(path)
+    elif fmt == "xlsx":
+        yield read_xlsx(path, spec)
     elif fmt == "tdms":
         with open_tdms(path) as t:
             _default_group(t, spec, path)

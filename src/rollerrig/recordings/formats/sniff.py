@@ -34,6 +34,8 @@ from __future__ import annotations
 
 import codecs
 import contextlib
+import csv
+import dataclasses
 import io
 import re
 from collections import Counter
@@ -68,7 +70,7 @@ from rollerrig.recordings.formats._text import (
 )
 from rollerrig.recordings.recording import RecordingError
 
-__all__ = ["HEAD_BYTES", "TextLayout", "sniff_layout", "where_named"]
+__all__ = ["HEAD_BYTES", "TextLayout", "sniff_layout", "sniff_rows", "where_named"]
 
 HEAD_BYTES = 1 << 18
 """Bytes read to sniff the layout (256 KiB; the whole file when smaller)."""
@@ -531,6 +533,73 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         all_lines = all_lines[:-1]
     all_lines, joined = _join_quoted_breaks(all_lines, notes)
     partial_last = not truncated_head and not text.endswith(("\n", "\r"))
+    return _layout_of_lines(
+        p,
+        all_lines,
+        spec,
+        notes,
+        encoding=encoding,
+        truncated_head=truncated_head,
+        partial_last=partial_last,
+        cr_only="\r" in text and "\n" not in text,
+        end=end,
+        joined=joined,
+    )
+
+
+def sniff_rows(
+    where: str | Path, rows: list[list[str]], spec: FileSpec | None = None, *, complete: bool
+) -> TextLayout:
+    """The layout of a table of cells (a spreadsheet's rows, each a list of cell texts: numbers
+    written with a decimal point, empty cells ``""``), decided by the rules of
+    :func:`sniff_layout`: the preamble above the names, the names row, a units row or units in
+    brackets, key-value rows, the rows of numbers and a footer below them.
+
+    Row ``k`` of ``rows`` is "line" ``k`` of the layout (``[file] header_row``, ``units_row``
+    and ``data_row`` count the rows, 0-based). ``complete``: ``rows`` are all the rows there
+    are (a footer below the numbers is then found); else the head of a longer table. The
+    layout's separator is a tab and its decimal mark ``"."`` (the cells are no text to sniff);
+    ``where`` names the table in messages.
+
+    Examples
+    --------
+    >>> lay = sniff_rows("book.xlsx", [["Test 7", ""], ["t", "F [kN]"], ["0.0", "1"],
+    ...                                ["0.5", "2"]], complete=True)
+    >>> lay.header_line, lay.names, lay.units, lay.data_line
+    (1, ('t', 'F [kN]'), (None, None), 2)
+    """
+    spec = dataclasses.replace(spec or FileSpec(), separator="\t", decimal=".", encoding=None)
+    lines = []
+    for row in rows:
+        out = io.StringIO()
+        cells = [str(c).replace("\t", " ").replace("\r", " ").replace("\n", " ") for c in row]
+        csv.writer(out, delimiter="\t", lineterminator="").writerow(cells)
+        lines.append(out.getvalue())
+    return _layout_of_lines(
+        Path(where),
+        lines,
+        spec,
+        [],
+        encoding="utf-8",
+        truncated_head=not complete,
+        partial_last=False,
+    )
+
+
+def _layout_of_lines(
+    p: Path,
+    all_lines: list[str],
+    spec: FileSpec,
+    notes: list[str],
+    *,
+    encoding: str,
+    truncated_head: bool,
+    partial_last: bool,
+    cr_only: bool = False,
+    end: int | None = None,
+    joined: list[int] | tuple[int, ...] = (),
+) -> TextLayout:
+    """:func:`sniff_layout` from the file's lines on (its head's, ``truncated_head``)."""
     lines = [(i, t) for i, t in enumerate(all_lines) if t.strip()]
     if not lines:
         raise RecordingError(f"{p}: the file is empty (only blank lines)")
@@ -711,7 +780,7 @@ def sniff_layout(path: str | Path, spec: FileSpec | None = None) -> TextLayout:
         thousands=tuple(thousands),
         exact=tuple(exact),
         repeated=tuple((k, tuple(v)) for k, v in repeated.items()),
-        cr_only="\r" in text and "\n" not in text,
+        cr_only=cr_only,
         decimal_decided=decided,
         rate_Hz=stated.get("rate_Hz"),
         end=end,

@@ -1,0 +1,477 @@
+"""Excel workbooks (.xlsx, .xlsm) as test engineers and acquisition software write them (HBM
+catman, Dewesoft, LabVIEW Report Generation, Excel itself).
+
+One sheet is read: the map's ``[file] sheet`` (a name, or a 0-based index), else the first
+sheet that holds numbers (a note names the other sheets that hold numbers too). The sheet is
+read with openpyxl in read-only mode, values only (a formula gives the value Excel cached with
+the file), its rows streamed and each column collected into an array of floats as it goes.
+
+The layout is decided as a text file's is (:func:`~rollerrig.recordings.formats.sniff.
+sniff_rows`, the rules of :func:`~rollerrig.recordings.formats.sniff.sniff_layout`): metadata
+rows above the names, the names row, a units row or units in brackets in the names, key-value
+rows, NaN words (``#N/A``, ``NaN``), blank rows (skipped, noted) and a footer below the numbers
+(left out, noted). ``[file] header_row``, ``units_row`` and ``data_row`` count the sheet's rows
+from 0 (row 1 of Excel is 0). Cells are mapped by their type, never through text: numbers as
+they are stored (float64), date/time cells exactly from their serial day number (to the
+microsecond, as far as the stored day number resolves it, about 1 µs; not openpyxl's
+millisecond rounding): a date and time an absolute timestamp
+(``datetime64``, read as seconds since the first sample), a time of day or a duration
+(``[h]:mm:ss``) seconds (times of day unwrapped at midnight). A column of text cells is text,
+as in a CSV file (timestamps written as text are parsed as there).
+
+Refused with a :class:`~rollerrig.recordings.recording.RecordingError`: an old binary ``.xls``
+or an OpenDocument ``.ods`` (save as .xlsx or CSV), a password-protected or corrupt workbook,
+merged cells in the names or units row, a sheet without numbers, text in a column of numbers
+(naming the cell, ``Sheet1!C17``), and date/time cells that cannot time the samples (steps
+rounded to the millisecond, or finer than the day number resolves: write the time as a number).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as _dt
+import math
+import re
+import zipfile
+from array import array
+from collections import deque
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rollerrig.recordings.channels import FileSpec, split_unit_header
+from rollerrig.recordings.formats._table import Column, Table, add_alias, require_module
+from rollerrig.recordings.formats._text import NAN_WORDS, footer_rows, sample_in_footer
+from rollerrig.recordings.formats.sniff import sniff_rows
+from rollerrig.recordings.recording import RecordingError
+
+__all__ = ["read_xlsx"]
+
+HEAD_ROWS = 2000
+"""Rows of a sheet the layout is decided from (the whole sheet when shorter)."""
+TAIL_ROWS = 200
+"""Last rows of a sheet searched for a footer below the numbers."""
+
+_OLE2 = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"  # compound file: .xls, and encrypted OOXML
+_US_PER_DAY = 86_400_000_000
+
+_XLS = (
+    "an Excel 97-2003 workbook (.xls, binary BIFF) is not read; in Excel use File > Save As > "
+    "Excel Workbook (.xlsx), or CSV, and read that file"
+)
+_ODS = (
+    "OpenDocument spreadsheets (.ods) are not read; in LibreOffice Calc use File > Save As > "
+    "Excel 2007-365 (.xlsx), or Text CSV, and read that file"
+)
+
+
+def refuse_other_spreadsheet(path: Path, head: bytes) -> None:
+    """Raise for a file that is no .xlsx workbook though named or read as one: a compound file
+    (an .xls, or an .xlsx encrypted with a password) or an OpenDocument spreadsheet."""
+    if head.startswith(_OLE2):
+        with path.open("rb") as fh:
+            body = fh.read(1 << 20)
+        if "EncryptedPackage".encode("utf-16-le") in body:
+            raise RecordingError(
+                f"{path}: the workbook is password-protected (encrypted); open it in Excel, "
+                "remove the password (File > Info > Protect Workbook > Encrypt with Password) "
+                "and save it again, or save the sheet as CSV"
+            )
+        raise RecordingError(f"{path}: {_XLS}")
+    if head.startswith(b"PK") and b"mimetypeapplication/vnd.oasis.opendocument" in head[:200]:
+        raise RecordingError(f"{path}: {_ODS}")
+
+
+def read_xlsx(path: Path, spec: FileSpec | None = None) -> Table:
+    """Read one sheet of an Excel workbook into a :class:`Table` (see the module docstring)."""
+    openpyxl = require_module("openpyxl", "Excel workbooks (.xlsx)")
+    path = Path(path)
+    spec = spec or FileSpec()
+    with path.open("rb") as fh:
+        refuse_other_spreadsheet(path, fh.read(512))
+    with contextlib.ExitStack() as stack:
+        fh = stack.enter_context(path.open("rb"))
+        try:
+            wb = openpyxl.load_workbook(fh, read_only=True, data_only=True)
+        except Exception as exc:  # zipfile.BadZipFile, KeyError, lxml/ElementTree errors
+            raise RecordingError(
+                f"{path}: not a readable Excel workbook (.xlsx): the file is corrupt or of "
+                f"another format ({type(exc).__name__}: {exc}); open it in Excel and save it "
+                "again as .xlsx, or as CSV"
+            ) from None
+        stack.callback(wb.close)
+        return _read_workbook(path, wb, spec)
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _read_workbook(path: Path, wb, spec: FileSpec) -> Table:
+    sheets = list(wb.worksheets)  # chart sheets are not among them
+    if not sheets:
+        raise RecordingError(f"{path}: the workbook has no worksheets")
+    # Date cells raw (their serial day number), converted here to the microsecond: openpyxl
+    # rounds them to the millisecond. Where its internals differ, its datetimes are taken.
+    dates = durations = None
+    if hasattr(wb, "_date_formats") and hasattr(wb, "_timedelta_formats"):
+        dates, durations = set(wb._date_formats), set(wb._timedelta_formats)
+        wb._date_formats, wb._timedelta_formats = set(), set()
+    reader = _Cells(wb, dates, durations)
+    notes: list[str] = []
+    if spec.sheet is not None:
+        ws = _named_sheet(path, sheets, spec.sheet)
+    else:
+        holding = [s for s in sheets if reader.holds_numbers(s)]
+        if not holding:
+            raise RecordingError(
+                f"{path}: no sheet holds numbers (sheets: {[s.title for s in sheets]}); "
+                "a recording is a column of times and columns of numbers"
+            )
+        ws = holding[0]
+        if len(holding) > 1:
+            others = [s.title for s in holding[1:]]
+            notes.append(
+                f"sheet {ws.title!r} read; sheet(s) {others} hold numbers too (give [file] "
+                "sheet in the channel map to read another)"
+            )
+    if len(sheets) > 1 and not notes:
+        notes.append(f"sheet {ws.title!r} read (of {[s.title for s in sheets]})")
+    return _read_sheet(path, ws, reader, spec, notes)
+
+
+def _named_sheet(path: Path, sheets: list, sheet: str | int):
+    titles = [s.title for s in sheets]
+    if isinstance(sheet, int):
+        if sheet >= len(sheets):
+            raise RecordingError(
+                f"{path}: channel map [file] sheet = {sheet} but the workbook has "
+                f"{len(sheets)} sheet(s): {titles} (0-based index)"
+            )
+        return sheets[sheet]
+    if sheet not in titles:
+        raise RecordingError(
+            f"{path}: channel map [file] sheet = {sheet!r} is not a sheet of the workbook; "
+            f"sheets: {titles}"
+        )
+    return sheets[titles.index(sheet)]
+
+
+def _cell_name(title: str, column: int, row: int) -> str:
+    """``Sheet1!C17`` (``'My data'!C17`` for a title Excel would quote); 0-based column."""
+    from openpyxl.utils import get_column_letter
+
+    sheet = title if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.]*", title) else f"'{title}'"
+    return f"{sheet}!{get_column_letter(column + 1)}{row}"
+
+
+class _Cells:
+    """A sheet's rows as (kinds, values): per cell ``"n"`` number, ``"d"`` date/time serial,
+    ``"t"`` time-of-day serial, ``"m"`` duration [days], ``"s"`` text, ``""`` empty."""
+
+    def __init__(self, wb, dates: set | None, durations: set | None):
+        self.dates, self.durations = dates, durations
+        self.epoch = wb.epoch  # 1899-12-30 (Windows) or 1904-01-01 (Mac)
+
+    def rows(self, ws):
+        """Each row of ``ws`` as a list of (kind, value), as streamed (nothing kept)."""
+        with contextlib.suppress(AttributeError):
+            ws.reset_dimensions()  # a writer's wrong <dimension> would cut rows or columns
+        for row in ws.iter_rows(values_only=False):
+            yield [self.cell(c) for c in row]
+
+    def cell(self, c) -> tuple[str, Any]:
+        v = c.value
+        if v is None:
+            return "", None
+        if isinstance(v, bool):
+            return "n", float(v)
+        if isinstance(v, int | float):
+            style = getattr(c, "_style_id", None)
+            if self.durations and style in self.durations:
+                return "m", float(v)
+            if self.dates and style in self.dates:
+                return ("t" if 0 <= v < 1 else "d"), float(v)
+            return "n", float(v)
+        if isinstance(v, _dt.datetime):
+            return "d", self.serial(v)
+        if isinstance(v, _dt.time):
+            return "t", (v.hour * 3600 + v.minute * 60 + v.second + v.microsecond / 1e6) / 86400
+        if isinstance(v, _dt.timedelta):
+            return "m", v / _dt.timedelta(days=1)
+        if isinstance(v, _dt.date):
+            return "d", self.serial(_dt.datetime.combine(v, _dt.time()))
+        return "s", str(v)
+
+    def serial(self, value: _dt.datetime) -> float:
+        return (value.replace(tzinfo=None) - self.epoch) / _dt.timedelta(days=1)
+
+    def holds_numbers(self, ws, rows: int = 200) -> bool:
+        for k, row in enumerate(self.rows(ws)):
+            if k >= rows:
+                break
+            if any(kind in "ndtm" and kind for kind, _ in row):
+                return True
+        return False
+
+    def text(self, kind: str, value: Any) -> str:
+        """The cell as the layout rules read text (numbers with a decimal point)."""
+        if kind == "":
+            return ""
+        if kind == "s":
+            return value
+        if kind == "n":
+            return repr(value) if not value.is_integer() else str(int(value))
+        us = _serial_us(np.array([value]))[0]
+        if kind == "d":
+            stamp = np.datetime64(self.epoch, "us") + np.timedelta64(int(us), "us")
+            return str(stamp).replace("T", " ")
+        s, frac = divmod(int(us), 1_000_000)
+        return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}.{frac:06d}"
+
+
+def _serial_us(serials: np.ndarray) -> np.ndarray:
+    """Excel day numbers as whole microseconds (int64): the fraction of the day scaled alone,
+    so its rounding is that of the serial's last bit (0.6 µs in the 2020s), not the product's."""
+    day = np.floor(serials)
+    return day.astype(np.int64) * _US_PER_DAY + np.rint((serials - day) * _US_PER_DAY).astype(
+        np.int64
+    )
+
+
+class _Collector:
+    """One column's cells as they stream by: floats (numbers, day numbers) in an
+    :class:`array.array`, and the few cells that are no value of the column's kind."""
+
+    def __init__(self):
+        self.values = array("d")
+        self.kind = ""  # the first value's kind: "n", "d", "t", "m", or "s" for text
+        self.odd: dict[int, str] = {}  # data row -> a cell of another kind (text, a date...)
+
+    def add(self, k: int, kind: str, value: Any) -> None:
+        if kind == "":
+            self.values.append(math.nan)
+            return
+        if kind == "s":
+            word = value.strip().lower()
+            if word in NAN_WORDS or not word:
+                inf = word in ("inf", "+inf", "infinity", "+infinity", "∞", "+∞", "1.#inf")
+                ninf = word in ("-inf", "-infinity", "-∞", "-1.#inf")
+                self.values.append(math.inf if inf else -math.inf if ninf else math.nan)
+                return
+            self.odd[k] = value
+            self.values.append(math.nan)
+            return
+        if not self.kind:
+            self.kind = kind
+        if kind != self.kind and {kind, self.kind} != {"d", "t"}:
+            self.odd[k] = f"{_KIND_NAMES[kind]} {value!r}"
+        self.values.append(value)
+
+
+_KIND_NAMES = {"n": "number", "d": "date", "t": "time of day", "m": "duration"}
+
+
+def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]) -> Table:
+    title = ws.title
+    where = f"{path} (sheet {title!r})"
+    rows = reader.rows(ws)
+    head: list[list[tuple[str, Any]]] = []
+    for row in rows:
+        head.append(row)
+        if len(head) >= HEAD_ROWS:
+            break
+    complete = len(head) < HEAD_ROWS
+    if complete:
+        while head and not any(kind for kind, _ in head[-1]):
+            head.pop()
+    if not any(kind and kind != "s" for row in head for kind, _ in row):
+        raise RecordingError(
+            f"{where}: the sheet holds no numbers or dates"
+            + (" in its first rows" if not complete else "")
+            + "; a recording is a column of times and columns of numbers"
+        )
+    width = max(len(r) for r in head)
+    layout = sniff_rows(
+        where,
+        [[reader.text(kind, v) for kind, v in r] + [""] * (width - len(r)) for r in head],
+        spec,
+        complete=complete,
+    )
+    notes.extend(layout.notes)
+    names = list(layout.names)
+    ncol = len(names)
+    _refuse_merged_header(path, ws, title, layout)
+    cols = [_Collector() for _ in range(ncol)]
+    sheet_rows = array("l")  # 1-based sheet row of each data row
+    tail: deque = deque(maxlen=TAIL_ROWS)  # (data row, cells as text) of the last rows
+    blank = array("l")
+    number = 0
+
+    def take(i: int, row: list[tuple[str, Any]]) -> None:
+        if not any(kind for kind, _ in row):
+            blank.append(i + 1)
+            return
+        k = len(sheet_rows)
+        for j in range(ncol):
+            kind, value = row[j] if j < len(row) else ("", None)
+            cols[j].add(k, kind, value)
+        for j in range(ncol, len(row)):
+            if row[j][0]:
+                raise RecordingError(
+                    f"{path}: {_cell_name(title, j, i + 1)} holds {row[j][1]!r} but its column "
+                    f"has no name ({ncol} named columns); name the column or clear it"
+                )
+        sheet_rows.append(i + 1)
+        tail.append([reader.text(kind, v) for kind, v in row[:ncol]])
+
+    for i, row in enumerate(head):
+        if i >= layout.data_line:
+            take(i, row)
+        number = i + 1
+    for row in rows:
+        take(number, row)
+        number += 1
+    n = len(sheet_rows)
+    footer = footer_rows(list(tail))
+    if footer:
+        sample = sample_in_footer(list(tail))
+        if sample is not None:
+            at = sheet_rows[n - len(tail) + sample]
+            raise RecordingError(
+                f"{path}: row {at} of sheet {title!r} below the samples is laid out as one, but "
+                "its first column is no number or time this reader knows, so it and the rows "
+                "after it would be dropped as a footer; correct that row"
+            )
+        first = sheet_rows[n - footer]
+        notes.append(f"footer below the numbers left out: row {first} to the end")
+        n -= footer
+    if n == 0:
+        raise RecordingError(f"{where}: has a header but no data rows; the recording is empty")
+    last = sheet_rows[n - 1]
+    inside = [r for r in blank if r < last]
+    if inside:
+        notes.append(f"{len(inside)} blank row(s) inside the data skipped (first: row {inside[0]})")
+    table = Table(names=names, load=lambda name: None)  # type: ignore[arg-type,return-value]
+    for name in names:
+        base, _ = split_unit_header(name)
+        table.base[name] = base
+        add_alias(table, base, name)
+    table.repeated = {name: list(columns) for name, columns in layout.repeated}
+    table.stated_rate = layout.rate_Hz
+    table.notes += notes
+    units = dict(zip(names, layout.units, strict=True))
+    index = {name: j for j, name in enumerate(names)}
+    rows_of = np.frombuffer(sheet_rows, dtype=sheet_rows.typecode)[:n].copy()
+
+    def load(name: str) -> Column:
+        j = index[name]
+        col = cols[j]
+        values = np.frombuffer(col.values, dtype=np.float64)[:n].copy()
+        odd = {k: v for k, v in col.odd.items() if k < n}
+        unit = split_unit_header(name)[1] or units[name]
+        if odd and col.kind == "":  # no number or date in it: a column of text
+            return Column(_text_column(values, odd, n), unit)
+        if odd:
+            k = min(odd)
+            what = f"{_KIND_NAMES.get(col.kind, 'value')}s"
+            raise RecordingError(
+                f"{path}: {_cell_name(title, j, int(rows_of[k]))} holds {odd[k]!r} in column "
+                f"{name!r} of {what}"
+                + (f" ({len(odd)} such cells)" if len(odd) > 1 else "")
+                + "; correct the cell, or clear it (an empty cell is a missing sample)"
+            )
+        if col.kind in ("d", "t", "m"):
+            return Column(_times(col.kind, values, reader.epoch, where, name, table.notes), unit)
+        return Column(values, unit)
+
+    table.load = load
+    return table
+
+
+def _text_column(values: np.ndarray, odd: dict[int, str], n: int) -> np.ndarray:
+    """A column of text (an event column, timestamps written as text) as a CSV reader gives
+    it: the cells' text, NaN where empty."""
+    out = np.empty(n, dtype=object)
+    out[:] = values
+    for k, v in odd.items():
+        out[k] = v
+    return out
+
+
+def _times(kind: str, serials: np.ndarray, epoch, where: str, name: str, notes) -> np.ndarray:
+    """A date/time column as ``datetime64[us]`` (dates and times) or ``timedelta64[us]``
+    (times of day, unwrapped at midnight; durations), exactly to the microsecond."""
+    ok = np.isfinite(serials)
+    us = np.zeros(serials.size, dtype=np.int64)
+    us[ok] = _serial_us(serials[ok])
+    _check_resolution(us[ok], serials[ok], where, name)
+    if kind == "t" and (np.diff(us[ok]) < -_US_PER_DAY // 2).any():
+        wraps = np.concatenate([[0], np.cumsum(np.diff(us[ok]) < -_US_PER_DAY // 2)])
+        us[ok] += wraps * _US_PER_DAY
+        notes.append(f"column {name!r}: times of day unwrapped at midnight")
+    if kind == "d":
+        out = np.datetime64(epoch, "us") + us.astype("timedelta64[us]")
+        out[~ok] = np.datetime64("NaT")
+        return out
+    out = us.astype("timedelta64[us]")
+    out[~ok] = np.timedelta64("NaT")
+    return out
+
+
+def _check_resolution(us: np.ndarray, serials: np.ndarray, where: str, name: str) -> None:
+    """Refuse date/time cells that cannot time the samples: steps finer than 50 times what
+    the day number resolves (its last written digit, about 1 µs), or rounded to the
+    millisecond (steps of a rate that is no whole number of milliseconds, such as 333 and
+    334 µs at 3 kHz)."""
+    if us.size < 3:
+        return
+    steps = np.diff(us)
+    step = float(np.median(steps))
+    # a day number is written with 16 significant digits (openpyxl; Excel 15-17): 0.86 µs in
+    # this century, above the float's own last bit
+    top = max(float(np.abs(serials).max()), 1.0)
+    digits = 10.0 ** (math.floor(math.log10(top)) - 15)
+    resolution = max(float(np.spacing(top)), digits) * _US_PER_DAY
+    fix = (
+        "; write the time as a column of numbers (seconds since the start, or a sample rate "
+        "with [time] sample_rate_Hz in the channel map)"
+    )
+    if 0 < step < 50 * resolution:
+        raise RecordingError(
+            f"{where}: column {name!r}: its date/time cells resolve {resolution:.2g} µs (an "
+            f"Excel day number), too coarse for samples {step:g} µs apart{fix}"
+        )
+    on_ms = (np.abs((us + 500) % 1000 - 500) <= 2).all()  # whole ms, to the day number's µs
+    if on_ms and 900 < steps.max() - steps.min() <= 1004 and step < 50_000:
+        raise RecordingError(
+            f"{where}: column {name!r}: its date/time cells are rounded to the millisecond "
+            f"(as Excel shows them), so steps of {round(steps.min() / 1000)} and "
+            f"{round(steps.max() / 1000)} ms alternate and cannot give the sample rate{fix}"
+        )
+
+
+_MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s+ref="([A-Z]+[0-9]+:[A-Z]+[0-9]+)"')
+
+
+def _refuse_merged_header(path: Path, ws, title: str, layout) -> None:
+    """Raise where cells merged across columns lie in the names or units row (a name over
+    two columns leaves the second without one); merged title rows above them are fine."""
+    from openpyxl.utils.cell import range_boundaries
+
+    rows = {r + 1 for r in (layout.header_line, layout.units_line) if r is not None}
+    member = getattr(ws, "_worksheet_path", None)
+    if not rows or member is None:
+        return
+    with zipfile.ZipFile(path) as z, z.open(member) as fh:
+        carry = b""
+        while chunk := fh.read(1 << 20):
+            text = carry + chunk
+            for m in _MERGE.finditer(text):
+                ref = m.group(1).decode()
+                c0, r0, c1, r1 = range_boundaries(ref)
+                if c1 > c0 and any(r0 <= r <= r1 for r in rows):
+                    raise RecordingError(
+                        f"{path}: merged cells {title}!{ref} in the sheet's names or units "
+                        "row: each column needs a name (and unit) of its own; unmerge them "
+                        "in Excel and name every column"
+                    )
+            carry = text[-200:]

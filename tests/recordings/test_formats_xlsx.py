@@ -1,0 +1,278 @@
+"""Excel workbooks (.xlsx): rollerrig.recordings.formats.xlsx, through read_recording."""
+
+from __future__ import annotations
+
+import datetime as dt
+import zipfile
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from rollerrig.recordings import readers
+from rollerrig.recordings.channels import FileSpec
+from rollerrig.recordings.formats.xlsx import read_xlsx
+from rollerrig.recordings.readers import read_recording
+from rollerrig.recordings.recording import RecordingError
+
+openpyxl = pytest.importorskip("openpyxl")
+
+MAP = {
+    "time": {"column": "Time", "unit": "s"},
+    "channels": {
+        "torque": {"column": "Torque", "unit": "N.m"},
+        "roller_speed": {"column": "Speed", "unit": "rpm"},
+    },
+}
+
+
+def _catman(path, n=200, sheet="Data"):
+    """A catman-style sheet: metadata rows, names, units, time in s, a footer."""
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.title = sheet
+    ws.append(["catman Export", None, None])
+    ws.append(["Measurement", "Rolle 7", None])
+    ws.append([])
+    ws.append(["Time", "Torque", "Speed"])
+    ws.append(["s", "N.m", "1/min"])
+    for k in range(n):
+        ws.append([k * 0.001, 10.0 + 0.01 * k, 60.0])
+    ws.append(["End of measurement"])
+    return wb, ws
+
+
+def test_catman_sheet_with_metadata_names_units_and_footer(tmp_path):
+    wb, _ = _catman(tmp_path)
+    wb.save(tmp_path / "run.xlsx")
+    rec = read_recording(tmp_path / "run.xlsx", MAP)
+    assert rec.time.size == 200
+    np.testing.assert_allclose(np.diff(rec.time), 1e-3, atol=1e-12)
+    np.testing.assert_allclose(rec["roller_speed"], 60.0 * 2 * np.pi / 60)
+    notes = " ".join(rec.metadata["notes"])
+    assert "units row" in notes and "footer" in notes
+    assert rec.metadata["format"] == "xlsx"
+
+
+def test_dewesoft_datetime_column_at_1_kHz_keeps_the_sample_interval(tmp_path):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Time", "Torque [N.m]", "Speed [rpm]"])
+    t0 = dt.datetime(2024, 5, 1, 12, 0, 0)
+    for k in range(2000):
+        ws.append([t0 + dt.timedelta(milliseconds=k), 1.0, 60.0])
+    for (cell,) in ws.iter_rows(min_row=2, max_col=1):
+        cell.number_format = "yyyy-mm-dd hh:mm:ss.000"
+    wb.save(tmp_path / "dew.xlsx")
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
+    rec = read_recording(tmp_path / "dew.xlsx", cmap, channels=["torque"])
+    # a day number is stored to ~0.86 µs (16 digits): each time within 1 µs, the interval exact
+    assert abs(np.median(np.diff(rec.time)) - 1e-3) < 1e-6
+    np.testing.assert_allclose(rec.time, np.arange(2000) * 1e-3, atol=1e-6)
+    table = read_xlsx(tmp_path / "dew.xlsx")
+    assert table.load("Time").values.dtype == np.dtype("datetime64[us]")
+
+
+def test_datetimes_rounded_to_the_millisecond_are_refused_with_a_numeric_time_hint(tmp_path):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Time", "Torque"])
+    t0 = dt.datetime(2024, 5, 1, 12, 0, 0)
+    for k in range(300):  # 3 kHz, as Excel shows it: to the millisecond
+        ws.append([t0 + dt.timedelta(milliseconds=round(k / 3)), 1.0])
+    wb.save(tmp_path / "ms.xlsx")
+    with pytest.raises(RecordingError, match=r"rounded to the millisecond.*column of numbers"):
+        read_xlsx(tmp_path / "ms.xlsx").load("Time")
+
+
+def test_datetimes_too_fine_for_the_day_number_are_refused(tmp_path):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Time", "Torque"])
+    t0 = dt.datetime(2024, 5, 1, 12, 0, 0)
+    for k in range(300):  # 100 kHz
+        ws.append([t0 + dt.timedelta(microseconds=10 * k), 1.0])
+    wb.save(tmp_path / "fast.xlsx")
+    with pytest.raises(RecordingError, match=r"too coarse.*column of numbers"):
+        read_xlsx(tmp_path / "fast.xlsx").load("Time")
+
+
+def test_time_of_day_and_duration_cells_are_seconds(tmp_path):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Clock", "Elapsed", "Torque"])
+    for k in range(10):
+        ws.append([dt.time(23, 59, 59, 600_000) if k == 0 else dt.time(0, 0, k - 1, 600_000),
+                   dt.timedelta(seconds=k), 1.0])  # fmt: skip
+    wb.save(tmp_path / "tod.xlsx")
+    table = read_xlsx(tmp_path / "tod.xlsx")
+    clock = table.load("Clock").values / np.timedelta64(1, "s")
+    np.testing.assert_allclose(np.diff(clock), 1.0, atol=1e-6)
+    elapsed = table.load("Elapsed").values / np.timedelta64(1, "s")
+    np.testing.assert_allclose(elapsed, np.arange(10.0), atol=1e-6)
+    assert any("midnight" in n for n in table.notes)
+
+
+def test_units_in_brackets(tmp_path):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Time [ms]", "Torque [kN.m]", "Speed (rpm)"])
+    for k in range(20):
+        ws.append([4 * k, 0.5, 60])
+    wb.save(tmp_path / "br.xlsx")
+    table = read_xlsx(tmp_path / "br.xlsx")
+    assert [table.load(n).unit for n in table.names] == ["ms", "kN.m", "rpm"]
+    cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
+    rec = read_recording(tmp_path / "br.xlsx", cmap, channels=["torque"])
+    np.testing.assert_allclose(np.diff(rec.time), 4e-3)
+    np.testing.assert_allclose(rec["torque"], 500.0)
+
+
+def test_two_sheets_first_with_data_read_and_the_other_named_or_chosen(tmp_path):
+    wb, _ = _catman(tmp_path, sheet="Fast")
+    cover = wb.create_sheet("Cover", 0)
+    cover.append(["Test report"])
+    cover.append(["Operator", "Smith"])
+    slow = wb.create_sheet("Slow")
+    slow.append(["Time", "Torque", "Speed"])
+    for k in range(10):
+        slow.append([k * 0.1, 2.0, 30.0])
+    wb.save(tmp_path / "two.xlsx")
+    table = read_xlsx(tmp_path / "two.xlsx")
+    assert table.load("Time").values.size == 200
+    assert any("'Slow'" in n and "[file]" in n for n in table.notes)
+    for sheet in ("Slow", 2):
+        rec = read_recording(tmp_path / "two.xlsx", {**MAP, "file": {"sheet": sheet}})
+        assert rec.time.size == 10
+    with pytest.raises(RecordingError, match=r"not a sheet.*Cover"):
+        read_recording(tmp_path / "two.xlsx", {**MAP, "file": {"sheet": "Nope"}})
+    with pytest.raises(RecordingError, match="3 sheet"):
+        read_xlsx(tmp_path / "two.xlsx", FileSpec(sheet=5))
+
+
+def test_text_in_a_numeric_column_names_the_cell(tmp_path):
+    wb, ws = _catman(tmp_path)
+    ws["B17"] = "ERR"
+    wb.save(tmp_path / "err.xlsx")
+    with pytest.raises(RecordingError, match=r"Data!B17 holds 'ERR' in column 'Torque'"):
+        read_recording(tmp_path / "err.xlsx", MAP)
+
+
+def test_nan_words_and_empty_cells_are_missing_samples(tmp_path):
+    wb, ws = _catman(tmp_path)
+    ws["B17"] = "#N/A"
+    ws["C18"] = None
+    wb.save(tmp_path / "nan.xlsx")
+    table = read_xlsx(tmp_path / "nan.xlsx")
+    assert np.isnan(table.load("Torque").values[11]) and np.isnan(table.load("Speed").values[12])
+
+
+def test_merged_header_cells_are_refused(tmp_path):
+    wb, ws = _catman(tmp_path)
+    ws.merge_cells("A1:C1")  # a merged title above the names is fine
+    wb.save(tmp_path / "title.xlsx")
+    assert read_xlsx(tmp_path / "title.xlsx").names == ["Time", "Torque", "Speed"]
+    ws.merge_cells("B4:C4")
+    wb.save(tmp_path / "merged.xlsx")
+    with pytest.raises(RecordingError, match=r"merged cells Data!B4:C4 .*unmerge"):
+        read_xlsx(tmp_path / "merged.xlsx")
+
+
+def test_a_sheet_without_numbers_is_refused(tmp_path):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Operator", "Smith"])
+    ws.append(["Comment", "no data"])
+    wb.save(tmp_path / "text.xlsx")
+    with pytest.raises(RecordingError, match="no sheet holds numbers"):
+        read_xlsx(tmp_path / "text.xlsx")
+    with pytest.raises(RecordingError, match="holds no numbers"):
+        read_xlsx(tmp_path / "text.xlsx", FileSpec(sheet=0))
+
+
+def test_xls_ods_encrypted_and_corrupt_files_say_what_to_do(tmp_path):
+    ole = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1" + bytes(504)
+    (tmp_path / "old.xls").write_bytes(ole)
+    with pytest.raises(RecordingError, match=r"\.xls.*Save As.*\.xlsx"):
+        readers.detect_format(tmp_path / "old.xls")
+    (tmp_path / "renamed.xlsx").write_bytes(ole)
+    with pytest.raises(RecordingError, match="Excel 97-2003"):
+        read_recording(tmp_path / "renamed.xlsx", MAP)
+    (tmp_path / "locked.xlsx").write_bytes(ole + "EncryptedPackage".encode("utf-16-le"))
+    with pytest.raises(RecordingError, match="password-protected"):
+        read_recording(tmp_path / "locked.xlsx", MAP)
+    with pytest.raises(RecordingError, match=r"\.ods.*Save As"):
+        readers.detect_format(tmp_path / "calc.ods")
+    with zipfile.ZipFile(tmp_path / "calc.xlsx", "w") as z:
+        z.writestr("mimetype", "application/vnd.oasis.opendocument.spreadsheet")
+    with pytest.raises(RecordingError, match="OpenDocument"):
+        read_recording(tmp_path / "calc.xlsx", MAP)
+    (tmp_path / "cut.xlsx").write_bytes(b"PK\x03\x04" + bytes(100))
+    with pytest.raises(RecordingError, match=r"not a readable Excel workbook.*corrupt"):
+        read_recording(tmp_path / "cut.xlsx", MAP)
+
+
+def test_missing_openpyxl_names_the_io_extra(tmp_path, monkeypatch):
+    import builtins
+
+    wb, _ = _catman(tmp_path)
+    wb.save(tmp_path / "run.xlsx")
+    real = builtins.__import__
+
+    def no_openpyxl(name, *args, **kwargs):
+        if name == "openpyxl" or name.startswith("openpyxl."):
+            raise ImportError("No module named 'openpyxl'")
+        return real(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_openpyxl)
+    monkeypatch.delitem(__import__("sys").modules, "openpyxl", raising=False)
+    with pytest.raises(ImportError, match=r"rollerrig\[io\]"):
+        read_xlsx(tmp_path / "run.xlsx")
+
+
+def test_a_workbook_reads_as_the_equivalent_csv(tmp_path):
+    wb, ws = _catman(tmp_path)
+    wb.save(tmp_path / "run.xlsx")
+    lines = []
+    for row in ws.iter_rows(values_only=True):
+        lines.append(",".join("" if v is None else repr(v) if isinstance(v, float) else str(v)
+                              for v in row))  # fmt: skip
+    (tmp_path / "run.csv").write_text("\n".join(lines) + "\n")
+    a = read_recording(tmp_path / "run.xlsx", MAP)
+    b = read_recording(tmp_path / "run.csv", MAP)
+    # the workbook's floats are the stored ones; pandas' CSV parser may be off by its last bit
+    np.testing.assert_allclose(a.time, b.time, rtol=1e-15, atol=1e-18)
+    assert set(a.channels) == set(b.channels)
+    for name in a.channels:
+        np.testing.assert_allclose(a[name], b[name], rtol=1e-15)
+    assert a.units == b.units
+
+
+@settings(
+    max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    st.lists(
+        st.lists(
+            st.floats(
+                allow_nan=False, allow_infinity=False, width=64, min_value=-1e12, max_value=1e12
+            ),
+            min_size=3,
+            max_size=3,
+        ),
+        min_size=2,
+        max_size=40,
+    )
+)
+def test_random_numeric_columns_round_trip(tmp_path, rows):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["a", "b", "c"])
+    for r in rows:
+        ws.append(r)
+    path = tmp_path / "h.xlsx"
+    wb.save(path)
+    table = read_xlsx(path)
+    got = np.column_stack([table.load(n).values for n in ("a", "b", "c")])
+    np.testing.assert_allclose(got, np.array(rows), rtol=1e-15, atol=0)
