@@ -269,12 +269,30 @@ def test_simulate_without_a_figure_removes_the_earlier_runs_figure(tmp_path, run
     args = ["simulate", "-e", str(protocol), "--out", str(out), "-q"]
     assert runner.invoke(app, args).exit_code == 0
     assert (out / "short.png").is_file()
-    (out / "short-notes.png").write_text("a file of the user's")
     result = runner.invoke(app, [*args, "--no-figure"])
     assert result.exit_code == 0, result.output
     assert not (out / "short.png").exists()
     assert f"removed {out / 'short.png'} (an earlier run's, not of these results)" in (
         " ".join(result.output.split())
     )
-    assert (out / "short-notes.png").exists() and (out / "short.nc").exists()
+    assert (out / "short.nc").exists()
     assert json.loads((out / "simulate-short-run.json").read_text())["removed"] == ["short.png"]
+
+
+def test_simulate_without_a_figure_keeps_a_figure_changed_since_it_was_written(tmp_path, runner):
+    # Only a file the earlier run's manifest lists with the SHA-256 it still has is removed: a
+    # figure the user annotated (or any file of that name the run did not write) stays, noted.
+    protocol = tmp_path / "short.toml"
+    protocol.write_text(SHORT_PROTOCOL, encoding="utf-8")
+    out = tmp_path / "out"
+    args = ["simulate", "-e", str(protocol), "--out", str(out), "-q"]
+    assert runner.invoke(app, args).exit_code == 0
+    with (out / "short.png").open("ab") as fh:
+        fh.write(b"the user's annotation")
+    annotated = (out / "short.png").read_bytes()
+    result = runner.invoke(app, [*args, "--no-figure"])
+    assert result.exit_code == 0, result.output
+    assert (out / "short.png").read_bytes() == annotated
+    text = " ".join(result.output.split())
+    assert f"{out / 'short.png'} is not of these results (kept" in text
+    assert "removed" not in json.loads((out / "simulate-short-run.json").read_text())

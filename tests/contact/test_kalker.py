@@ -254,8 +254,8 @@ def _contact_rule(a_over_b, nu):
 def test_between_the_nodes_contact_s_chord_differs_as_the_guide_states():
     # docs/guide/contact.rst (ν = 0.28): within 0.8 % for 0.1 <= a/b <= 2 (0.03 % at the
     # rig's 0.85); for slender ellipses along the rolling direction, where C grows like 1/g,
-    # CONTACT's chord in g lies above ours, by up to 6.3 % (C11, C22) and 12.7 % (C23) for
-    # a/b = 5-10.
+    # CONTACT's chord in g lies above ours: ours lower by up to 6.3 % (C11, C22) and 12.7 %
+    # (C23) of CONTACT's for a/b = 5-10.
     nu = 0.28
     inside = np.exp(np.linspace(np.log(0.1), np.log(2.0), 301))
     ours = np.array([kalker_coefficients(r, nu)[:3] for r in inside], dtype=float)

@@ -801,6 +801,16 @@ def test_non_english_month_names_with_a_date_format_are_read(tmp_path):
     assert any("month names read as French" in n for n in rec.metadata["notes"])
 
 
+def test_a_date_format_that_spells_the_abbreviation_s_point_reads_it():
+    # .NET's de-DE "dd. MMM. yyyy" writes '05. Dez. 2024'; a date_format '%d. %b. %Y' had
+    # failed as not matching, the point taken away with the month's name (review 2026-12-03)
+    from rollerrig.recordings.formats.timestamps import parse_timestamps
+
+    cells = ["05. Dez. 2024 10:00:00", "06. Dez. 2024 10:00:00"]
+    seconds, _ = parse_timestamps(cells, what="Zeit", date_format="%d. %b. %Y %H:%M:%S")
+    np.testing.assert_allclose(np.diff(seconds), [86400.0])
+
+
 def test_month_names_of_two_languages_in_one_column_are_refused():
     from rollerrig.recordings.formats.timestamps import parse_timestamps
 

@@ -187,10 +187,18 @@ def _month_numbers(cells, date_format: str, decided: dict | None):
     if not language:
         return None
     known = _MONTH_WORDS[language]
+    # a format that spells the abbreviation's point ('%d. %b. %Y', .NET's de-DE 'dd. MMM.
+    # yyyy') keeps it after the number; else the point goes with the word
+    point = "." if re.search(r"%[bB]\.", date_format) else ""
+
+    def number(m: re.Match) -> str:
+        word = _plain(m[0])
+        if word not in known:
+            return m[0]
+        return f"{known[word]:02d}" + (point if m[0].endswith(".") else "")
 
     def numbered(cell: str) -> str:
-        return _WORD.sub(lambda m: f"{known.get(_plain(m[0]), 0):02d}" if (
-            _plain(m[0]) in known) else m[0], cell)  # fmt: skip
+        return _WORD.sub(number, cell)
 
     fmt = re.sub(r"%[bB]", "%m", date_format)
     return cells.map(numbered), fmt, note
