@@ -1032,3 +1032,24 @@ def test_an_elapsed_count_of_microseconds_read_as_seconds_advises_us(tmp_path):
     cmap = {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}}
     with pytest.warns(UserWarning, match=r'looks like microseconds \(1000 Hz.*unit = "us"'):
         read_recording(p, cmap)
+
+
+def test_a_bad_timestamp_read_in_chunks_is_named_by_its_row_in_the_file(tmp_path):
+    # The streamed reader hands each chunk's cells with the file's first sample before them;
+    # an error had named the row within that block ("row 217" for row 5000, review 2026-12-03)
+    import datetime as dt
+
+    t0 = dt.datetime(2024, 8, 5, 10, 0, 0)
+    stamps = [(t0 + dt.timedelta(milliseconds=k)).strftime("%d.%m.%Y %H:%M:%S.%f")[:-3]
+              for k in range(3000)]  # fmt: skip
+    stamps[2500] = "05.08.2024 1x:00:05"
+    body = "Zeit;Moment\n" + "".join(f"{s};{k}\n" for k, s in enumerate(stamps))
+    p, _ = _write(tmp_path, "stamps.csv", body)
+    cmap = {"time": {"column": "Zeit"},
+            "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}  # fmt: skip
+    with pytest.raises(RecordingError, match=r"row 2500 (\(file line 2502\) )?'05\.08\.2024 1x"):
+        read_recording(p, cmap)
+    with pytest.raises(RecordingError, match=r"row 2500 (\(file line 2502\) )?'05\.08\.2024 1x"):
+        with open_recording(p, cmap) as src:
+            for _ in src.iter_chunks(["torque"], chunk_samples=700):
+                pass

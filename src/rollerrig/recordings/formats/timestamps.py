@@ -541,6 +541,12 @@ def parse_timestamps(
     [0.0, 2.0]
     """
     pd = require_module("pandas", "date/time columns")
+    at = functools.partial(_shifted, line_of, first_row) if line_of and first_row else line_of
+
+    def row(k: int) -> str:
+        """Row ``k`` of ``values`` named as in the whole column: a part read alone (a chunk)
+        names its rows from ``first_row`` on, its anchors as the file's first rows."""
+        return _row_name(k, line_of) if k < anchors else _row_name(k - anchors, at, first_row)
 
     s = pd.Series(np.asarray(values, dtype=object)).map(
         lambda v: "" if v is None or (isinstance(v, float) and v != v) else str(v).strip()
@@ -550,7 +556,7 @@ def parse_timestamps(
     empty = (s == "").to_numpy()
     if empty.any():
         k = int(np.flatnonzero(empty)[0])
-        raise RecordingError(f"{what}: empty timestamp at {_row_name(k, line_of)}")
+        raise RecordingError(f"{what}: empty timestamp at {row(k)}")
     if date_format is not None:
         stamps = pd.to_datetime(s, format=date_format, errors="coerce")
         bad = stamps.isna().to_numpy()
@@ -567,7 +573,7 @@ def parse_timestamps(
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
             raise RecordingError(
-                f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} does not match [file] "
+                f"{what}: {row(k)} {s.iloc[k]!r} does not match [file] "
                 f"date_format {date_format!r} ({int(bad.sum())} row(s) in total)"
             )
         if stamps.dt.tz is None and _DATE_CODES.search(date_format):
@@ -594,7 +600,7 @@ def parse_timestamps(
         kind = decided["kind"]  # rows of another format are named below
     if kind is None:
         raise RecordingError(
-            f"{what}: {_row_name(0, line_of)} {first!r} is neither a number nor a date/time this "
+            f"{what}: {row(0)} {first!r} is neither a number nor a date/time this "
             f"reader knows; give [file] date_format in the channel map, {_date_format_hint(first)}"
         )
     if decided is not None:
@@ -610,7 +616,7 @@ def parse_timestamps(
     if nomatch.any():
         k = int(np.flatnonzero(nomatch)[0])
         raise RecordingError(
-            f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} does not have the format of the "
+            f"{what}: {row(k)} {s.iloc[k]!r} does not have the format of the "
             f"first row {first!r}; give [file] date_format in the channel map, "
             f"{_date_format_hint(s.iloc[k])}"
         )
@@ -620,8 +626,7 @@ def parse_timestamps(
         if not has_time.all():
             k = int(np.flatnonzero(~has_time)[0])
             raise RecordingError(
-                f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} has no time of day, the first "
-                f"row {first!r} has"
+                f"{what}: {row(k)} {s.iloc[k]!r} has no time of day, the first row {first!r} has"
             )
         frac = parts["f"].fillna("0")
         tod = (
@@ -659,7 +664,7 @@ def parse_timestamps(
                 b = parts["mon"].map(lambda w: known.get(_plain(w), 0)).to_numpy(dtype=int)
             k = int(np.flatnonzero(b == 0)[0])
             raise RecordingError(
-                f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r}: its month {parts['mon'].iloc[k]!r}"
+                f"{what}: {row(k)} {s.iloc[k]!r}: its month {parts['mon'].iloc[k]!r}"
                 f" is no {language} month's name, as the column's ({s.iloc[0]!r}) are (this "
                 f"reader knows {', '.join(_MONTH_NAMES)}, one per column); correct the cell, "
                 "or export the dates with month numbers"
@@ -686,8 +691,8 @@ def parse_timestamps(
             if day_a.any() and day_b.any():
                 ka, kb = int(np.flatnonzero(day_a)[0]), int(np.flatnonzero(day_b)[0])
                 raise RecordingError(
-                    f"{what}: dates are day-first at {_row_name(ka, line_of)} "
-                    f"({s.iloc[ka]!r}) but month-first at {_row_name(kb, line_of)} "
+                    f"{what}: dates are day-first at {row(ka)} "
+                    f"({s.iloc[ka]!r}) but month-first at {row(kb)} "
                     f"({s.iloc[kb]!r}); give [file] date_format in the channel map"
                 )
             if day_a.any():
@@ -717,7 +722,7 @@ def parse_timestamps(
     if bad.any():
         k = int(np.flatnonzero(bad)[0])
         raise RecordingError(
-            f"{what}: {_row_name(k, line_of)} {s.iloc[k]!r} is not a valid date read {order}; "
+            f"{what}: {row(k)} {s.iloc[k]!r} is not a valid date read {order}; "
             "give [file] dayfirst or date_format in the channel map"
         )
     days = dates.astype("datetime64[D]").astype(np.int64)
