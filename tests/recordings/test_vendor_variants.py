@@ -305,18 +305,27 @@ def test_header_names_with_line_breaks_read_as_written_by_a_csv_writer(tmp_path_
         # of 2026-12-03: the header had been joined into this line and read as data)
         ('Kommentar;Rad 6,"Zoll\nOperator;"Max"\n', ";"),
         ('Kommentar,Rad 6;"Zoll\nOperator,"Max"\n', ","),
+        # a quote left open in a preamble line: pandas, skipping rows of CSV, had read on to
+        # the next quote as one row and lost the first sample without a word
+        ('Title,"Run 7\n', ","),
+        ('Titel;"Lauf 7\nBediener;"Max"\n', ";"),
     ],
 )
-def test_a_stray_quote_above_the_names_leaves_the_header_alone(tmp_path, preamble, sep):
+@pytest.mark.parametrize("encoding", ["utf-8", "utf-16"])
+def test_a_stray_quote_above_the_names_leaves_the_header_alone(tmp_path, preamble, sep, encoding):
     dec = "," if sep == ";" else "."
     rows = "".join(f"{k / 10:.1f}{sep}{3.5 + k:.1f}\n".replace(".", dec) for k in range(7))
-    p, _ = _write(tmp_path, "stray.csv", f'{preamble}"Zeit"{sep}"Moment"\n{rows}')
+    text = f'{preamble}"Zeit"{sep}"Moment"\n{rows}'
+    p, _ = _write(tmp_path, "stray.csv", text.encode(encoding))
     cmap = {"time": {"column": "Zeit", "unit": "s"},
             "channels": {"torque": {"column": "Moment", "unit": "N.m"}}}  # fmt: skip
     rec = read_recording(p, cmap)
     np.testing.assert_allclose(rec.time, np.arange(7) / 10)
     np.testing.assert_allclose(rec["torque"], 3.5 + np.arange(7))
     assert not any("line break" in n for n in rec.metadata["notes"])
+    with open_recording(p, cmap) as src:  # the streamed reader skips the same lines
+        chunks = [c.channels["torque"] for c in src.iter_chunks(["torque"], chunk_samples=3)]
+    np.testing.assert_array_equal(np.concatenate(chunks), rec["torque"])
 
 
 def test_an_open_quote_in_the_header_does_not_take_the_numbers_into_it(tmp_path):

@@ -184,7 +184,7 @@ class _TextRows:
         """The file's blocks from its start (above a footer, ``footer_note``), blank lines
         dropped, and a cut last line (``cut_note``) dropped from the last block: one block is
         read ahead to know which is the last."""
-        with self._layout.readable() as source:
+        with self._layout.readable(skip_lines=True) as source:
             reader = iter(self._reader(source))
             frame = self._read_block(reader)
             while frame is not None:

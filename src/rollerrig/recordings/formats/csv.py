@@ -88,7 +88,7 @@ def _read_frame(layout: TextLayout, notes: list[str], nrows: int | None = None):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", pd.errors.ParserWarning)
-            with layout.readable(kwargs["encoding"]) as source:
+            with layout.readable(kwargs["encoding"], skip_lines=True) as source:
                 frame = pd.read_csv(source, **kwargs)
     except RecordingError:  # a cell a converter refused (thousands marks): names the cell
         raise
@@ -120,7 +120,7 @@ def _read_frame_with(layout: TextLayout, kwargs: dict):
     pd = require_module("pandas", "CSV files")
 
     try:
-        with layout.readable(kwargs["encoding"]) as source:
+        with layout.readable(kwargs["encoding"], skip_lines=True) as source:
             return pd.read_csv(source, **kwargs), kwargs["encoding"]
     except RecordingError:
         raise

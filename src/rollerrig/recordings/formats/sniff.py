@@ -111,22 +111,32 @@ class TextLayout:
     # line breaks inside quoted header cells above the numbers (_join_quoted_breaks): pandas
     # skips rows, not lines, and such a cell's lines are one row
     joined: int = 0
+    # a quote left open in a line above the numbers (a preamble's 'Title,"Run 7'): pandas,
+    # which skips rows of CSV, would read on to the next quote as one row and lose the first
+    # sample; the lines above the numbers are then skipped here, line by line
+    # (:meth:`readable`'s ``skip_lines``)
+    open_quote_above: bool = False
 
     @contextlib.contextmanager
-    def readable(self, encoding: str | None = None):
+    def readable(self, encoding: str | None = None, skip_lines: bool = False):
         """What :func:`pandas.read_csv` reads: the path, or for lines ending in a lone CR a
         text handle with universal newlines. pandas' C reader counted ``\\r\\r`` (a blank
         line) as one line end when skipping rows, so the first sample below a blank line
         was lost. A file with a NUL-padded tail (``end``): a handle on its first ``end``
-        bytes."""
-        if not self.cr_only and self.end is None:
+        bytes. ``skip_lines`` (for :meth:`pandas_kwargs`' reader), where a quote is left open
+        above the numbers (``open_quote_above``): a text handle past the lines above the
+        numbers, read line by line."""
+        by_lines = skip_lines and self.open_quote_above
+        if not self.cr_only and self.end is None and not by_lines:
             yield self.path
             return
         with self.path.open("rb") as raw:
             fh = io.BufferedReader(_Head(raw, self.end))
-            if self.cr_only:
+            if self.cr_only or by_lines:
                 fh = io.TextIOWrapper(fh, encoding=encoding or self.encoding, newline=None)
             with fh:
+                for _ in range(self.data_line if by_lines else 0):
+                    fh.readline()
                 yield fh
 
     @property
@@ -146,7 +156,7 @@ class TextLayout:
             "encoding": self.encoding,
             "header": None,
             "names": names,
-            "skiprows": self.data_line - self.joined,
+            "skiprows": 0 if self.open_quote_above else self.data_line - self.joined,
             "skip_blank_lines": False,
             "index_col": False,
             "quotechar": '"',
@@ -785,6 +795,8 @@ def _layout_of_lines(
         rate_Hz=stated.get("rate_Hz"),
         end=end,
         joined=sum(1 for i in joined if i < data_line),
+        open_quote_above=sep != " "
+        and any('"' in t and _quote_state(t, sep)[0] for i, t in text_of.items() if i < data_line),
     )
 
 
