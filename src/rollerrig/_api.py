@@ -86,7 +86,8 @@ def analyze(
     ----------
     recording : Recording or str or path-like
         A :class:`rollerrig.recordings.recording.Recording` (SI units), or a DAQ file (CSV, LVM,
-        Parquet, TDMS, MF4, MAT) read with :func:`rollerrig.recordings.readers.read_recording`.
+        Excel .xlsx, Parquet, TDMS, MF4, MAT) read with
+        :func:`rollerrig.recordings.readers.read_recording`.
     channel_map : ChannelMap, path or dict, optional
         Channel map of the file (which column is which quantity, in which unit); ignored for a
         :class:`Recording`.
@@ -141,7 +142,7 @@ def analyze(
         calibration = _calibration(calibration, rig, allow_other_rig)
     if isinstance(recording, str | os.PathLike):
         recording = read_recording(Path(recording), channel_map, validate=validate)
-    recording = _recording(recording, "CSV, LVM, Parquet, TDMS, MF4, MAT")
+    recording = _recording(recording, "CSV, LVM, Excel .xlsx, Parquet, TDMS, MF4, MAT")
     return analyze_test(recording, rig, truth=truth, run_study=run_study, calibration=calibration)
 
 

@@ -48,7 +48,10 @@ __all__ = ["analyze", "filters", "print_analysis", "spectrum"]
 
 
 def analyze(
-    recording: Annotated[Path, typer.Argument(help="Recording: CSV, Parquet, TDMS, MF4 or MAT.")],
+    recording: Annotated[
+        Path,
+        typer.Argument(help="Recording: CSV (text), LVM, Excel .xlsx, Parquet, TDMS, MF4 or MAT."),
+    ],
     channels: ChannelsOption = None,
     rig_file: RigOption = None,
     truth: Annotated[
