@@ -513,3 +513,21 @@ def test_twincat_scope_export_cut_short_drops_its_last_line(tmp_path, source):
     assert rec.time.size == source.time.size - 1
     _same(rec["torque"], source["torque"][:-1], atol=1e-6)
     assert any("without a line end" in n for n in rec.metadata["notes"])
+
+
+# ------------------------------------------------------- a logger that lost power (NUL tail)
+
+
+@pytest.mark.parametrize("builder", ["labview_lvm", "twincat_scope_csv"])
+def test_a_nul_padded_tail_of_an_lvm_or_scope_export_is_left_out(tmp_path, source, builder):
+    # A logger that loses power leaves the file's space zero-filled after the last line it
+    # wrote. CSV files had their padding left out with a note; LabVIEW .lvm files and TwinCAT
+    # Scope exports, which decode the whole file, had been refused as binary.
+    v = getattr(vf, builder)(tmp_path, source)
+    whole = _read(v)
+    data = v.path.read_bytes()
+    v.path.write_bytes(data + b"\x00" * 4096)
+    padded = _read(v)
+    _same(padded.time, whole.time, atol=0)
+    _same(padded["torque"], whole["torque"], atol=0)
+    assert any("NUL bytes" in n for n in padded.metadata["notes"])

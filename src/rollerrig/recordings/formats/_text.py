@@ -330,11 +330,12 @@ def bom_less_utf16(raw: bytes) -> str | None:
 
 def whole_text(
     path: Path, encoding: str | None, notes: list[str], *, fallback: str, fallback_name: str,
-    binary_hint: str,
+    binary_hint: str, end: int | None = None,
 ) -> str:  # fmt: skip
     """The whole text file ``path`` decoded (:func:`decode_text`; ``encoding`` the map's
     ``[file] encoding``), for the readers of formats with a structure of their own (LabVIEW
-    .lvm, TwinCAT Scope exports) that read every line.
+    .lvm, TwinCAT Scope exports) that read every line; ``end``: only its first ``end`` bytes
+    (a NUL-padded tail left out: :func:`rollerrig.recordings.formats.sniff.text_end`).
 
     Raises
     ------
@@ -342,6 +343,8 @@ def whole_text(
         An empty file (only white space), and what :func:`decode_text` refuses.
     """
     raw = path.read_bytes()
+    if end is not None:
+        raw = raw[:end]
     if not raw.strip():
         raise RecordingError(f"{path}: the file is empty")
     return decode_text(

@@ -47,6 +47,7 @@ from rollerrig.recordings.formats._text import (
     unique_names,
     whole_text,
 )
+from rollerrig.recordings.formats.sniff import text_end
 from rollerrig.recordings.recording import RecordingError
 
 __all__ = ["read_lvm"]
@@ -143,6 +144,7 @@ def read_lvm(path: Path, spec: FileSpec | None = None) -> Table:
         fallback="cp1252",
         fallback_name="Windows-1252 (LabVIEW's usual code page)",
         binary_hint="not a LabVIEW .lvm file",
+        end=text_end(path, spec, notes),
     )
     lines = re.split(r"\r\n|\r|\n", text)
     ends_with_newline = text.endswith(("\n", "\r"))

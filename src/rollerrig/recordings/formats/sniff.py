@@ -800,6 +800,15 @@ def _layout_of_lines(
     )
 
 
+def text_end(path: Path, spec: FileSpec, notes: list[str]) -> int | None:
+    """The bytes of the text file ``path`` that hold its lines where it ends in NUL padding (a
+    logger that lost power; noted), else None (:func:`_text_end` on the file's head): for the
+    readers that decode a whole file (LabVIEW .lvm, TwinCAT Scope exports)."""
+    with path.open("rb") as fh:
+        head = fh.read(HEAD_BYTES)
+    return _text_end(path, head, spec, notes)
+
+
 def _text_end(path: Path, head: bytes, spec: FileSpec, notes: list[str]) -> int | None:
     """The bytes of a text file that hold its lines when it ends in NUL bytes and has none
     before them (:func:`nul_padded_end`; noted), else None: a NUL byte elsewhere is refused as

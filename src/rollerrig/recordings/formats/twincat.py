@@ -43,6 +43,7 @@ import numpy as np
 from rollerrig.recordings.channels import FileSpec
 from rollerrig.recordings.formats._table import Column, Table, require_module
 from rollerrig.recordings.formats._text import decode_text, unique_names, whole_text
+from rollerrig.recordings.formats.sniff import text_end
 from rollerrig.recordings.recording import RecordingError
 
 __all__ = ["is_twincat_scope", "read_twincat", "reads_as_twincat"]
@@ -71,6 +72,9 @@ def _lines(text: str) -> list[str]:
 def _head_lines(path: Path) -> list[str]:
     with path.open("rb") as fh:
         raw = fh.read(_HEAD_BYTES)
+    if b"\x00" in raw:  # a NUL-padded tail (a logger that lost power) is no part of the text
+        end = text_end(path, FileSpec(), [])
+        raw = raw if end is None else raw[:end]
     _, text = decode_text(
         path,
         raw,
@@ -200,6 +204,7 @@ def read_twincat(path: Path, spec: FileSpec | None = None) -> Table:
         fallback="cp1252",
         fallback_name="Windows-1252",
         binary_hint="not a TwinCAT Scope export",
+        end=text_end(path, spec, notes),
     )
     lines = _lines(text)
     sep = spec.separator or _separator(lines)
