@@ -242,6 +242,17 @@ def test_utf16_without_padding_keeps_its_last_line(tmp_path, codec):
     assert not any("NUL bytes" in x for x in rec.metadata["notes"])
 
 
+@pytest.mark.parametrize("codec", ["utf-16-le", "utf-16-be"])
+def test_a_short_utf16_file_without_a_bom_and_with_padding_reads(tmp_path, codec):
+    # its padding within the first 4 KiB had made the NUL lane test fail: 'not a text file'
+    # (review of 2026-12-03)
+    body = "Time,Torque\n" + "".join(f"{k / 1000:.3f},{k}\n" for k in range(40))
+    p, _ = _write(tmp_path, "u16.csv", body.encode(codec) + b"\x00" * 8192)
+    rec = read_recording(p, MAP)
+    assert rec.time.size == 40 and rec["torque"][-1] == 39
+    assert any("NUL bytes" in x for x in rec.metadata["notes"])
+
+
 @pytest.mark.parametrize("sep", [",", ";", "\t"])
 @pytest.mark.parametrize("eol", ["\n", "\r\n"])
 def test_a_quoted_header_cell_with_a_line_break_is_one_name_with_its_unit(tmp_path, sep, eol):

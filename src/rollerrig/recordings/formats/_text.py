@@ -314,8 +314,12 @@ def bom_less_utf16(raw: bytes) -> str | None:
     (as some loggers and scripts write it: ASCII text with a NUL byte after, or before, every
     character), else None. Checked on the first 4 KiB: the bytes at the odd (LE) or even (BE)
     offsets NUL (all but 2 %), none at the others, and a line end among them; binary data
-    has NUL bytes in both lanes."""
+    has NUL bytes in both lanes; NUL bytes that end the first 4 KiB (a padded tail) are left
+    out of the check."""
     head = raw[:4096]
+    if head.endswith(b"\x00\x00"):  # a NUL-padded tail (a logger that lost power) in it
+        head = head.rstrip(b"\x00")
+        head += b"\x00" * (len(head) % 2)  # the last character's own zero byte (LE)
     head = head[: len(head) - len(head) % 2]
     if len(head) < 8:
         return None
