@@ -339,6 +339,31 @@ def test_a_stray_quote_above_the_names_leaves_the_header_alone(tmp_path, preambl
     np.testing.assert_array_equal(np.concatenate(chunks), rec["torque"])
 
 
+def test_a_stray_quote_above_whitespace_separated_numbers_loses_nothing(tmp_path):
+    # 'Title "Run 7' above columns split by spaces: pandas' rows of CSV had read on to the
+    # next quote ("has a header but no data rows"; review of 2026-12-03)
+    rows = "".join(f"{k / 10:.1f}   {1.5 + k}\n" for k in range(20))
+    p, _ = _write(tmp_path, "ws.csv", 'Title "Run 7\nTime   Torque\n' + rows)
+    rec = read_recording(p, MAP)
+    np.testing.assert_allclose(rec["torque"], 1.5 + np.arange(20))
+
+
+@pytest.mark.parametrize("title", ["Title,Run 7", 'Title,"Run 7'])
+def test_a_row_with_more_cells_is_named_by_its_line_in_the_file(tmp_path, title):
+    # below a quote left open the lines above the numbers are skipped by hand, and pandas
+    # counted the lines from there ("line 11" for line 13); the streamed reader had given
+    # pandas' own words
+    lines = [f"{k / 10:.1f},{1.5 + k}" for k in range(20)]
+    lines[10] += ",7,8"
+    p, _ = _write(tmp_path, "bad.csv", f"{title}\nTime,Torque\n" + "\n".join(lines) + "\n")
+    with pytest.raises(RecordingError, match="line 13 has 4 cells, the rows before it 2"):
+        read_recording(p, MAP)
+    with pytest.raises(RecordingError, match="line 13 has 4 cells, the rows before it 2"):
+        with open_recording(p, MAP) as src:
+            for _ in src.iter_chunks(["torque"], chunk_samples=6):
+                pass
+
+
 def test_an_open_quote_in_the_header_does_not_take_the_numbers_into_it(tmp_path):
     # '"Torque ""max' never closes before the numbers: no line of numbers joins the header
     from rollerrig.recordings.formats.sniff import _join_quoted_breaks

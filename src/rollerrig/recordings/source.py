@@ -55,6 +55,7 @@ from rollerrig.output.provenance import file_sha256
 from rollerrig.recordings.channels import ChannelMap, ChannelSpec
 from rollerrig.recordings.formats import open_table
 from rollerrig.recordings.formats._table import Column, Slicer, Table, require_module
+from rollerrig.recordings.formats.csv import unreadable
 from rollerrig.recordings.formats.sniff import sniff_layout
 from rollerrig.recordings.formats.timestamps import times_of_day
 from rollerrig.recordings.formats.twincat import reads_as_twincat
@@ -201,8 +202,10 @@ class _TextRows:
             frame = next(reader)
         except StopIteration:
             return None
-        except (pd.errors.ParserError, ValueError, UnicodeDecodeError) as exc:
+        except UnicodeDecodeError as exc:
             raise RecordingError(f"{self._layout.path}: not a readable CSV file: {exc}") from None
+        except (pd.errors.ParserError, ValueError) as exc:
+            raise unreadable(self._layout, exc) from None
         if self._layout.trailing:
             frame = frame.drop(columns="__trailing__")
         return frame[~frame.isna().all(axis=1)]  # blank lines

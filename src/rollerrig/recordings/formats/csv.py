@@ -50,6 +50,7 @@ __all__ = [
     "parse_timestamps",
     "read_csv",
     "sniff_layout",
+    "unreadable",
 ]
 
 
@@ -106,14 +107,23 @@ def _read_frame(layout: TextLayout, notes: list[str], nrows: int | None = None):
             f"{layout.path}: rows with more cells than the header: {exc}"
         ) from None
     except (pd.errors.ParserError, pd.errors.EmptyDataError, ValueError) as exc:
-        m = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
-        if m:
-            raise RecordingError(
-                f"{layout.path}: line {m.group(2)} has {m.group(3)} cells, the rows before it "
-                f"{m.group(1)}; fix or remove that line"
-            ) from None
-        raise RecordingError(f"{layout.path}: not a readable CSV file: {exc}") from None
+        raise unreadable(layout, exc) from None
     return frame, kwargs["encoding"]
+
+
+def unreadable(layout: TextLayout, exc: Exception) -> RecordingError:
+    """The error of a CSV file pandas could not read (``exc``): a row with more cells than
+    the rows before it named by its line in the file, else pandas' own words."""
+    m = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
+    if m:
+        # pandas counts lines from where it starts reading: past the lines above the numbers
+        # where they were skipped line by line (TextLayout.open_quote_above)
+        line = int(m.group(2)) + (layout.data_line if layout.open_quote_above else 0)
+        return RecordingError(
+            f"{layout.path}: line {line} has {m.group(3)} cells, the rows before it "
+            f"{m.group(1)}; fix or remove that line"
+        )
+    return RecordingError(f"{layout.path}: not a readable CSV file: {exc}")
 
 
 def _read_frame_with(layout: TextLayout, kwargs: dict):

@@ -795,8 +795,9 @@ def _layout_of_lines(
         rate_Hz=stated.get("rate_Hz"),
         end=end,
         joined=sum(1 for i in joined if i < data_line),
-        open_quote_above=sep != " "
-        and any('"' in t and _quote_state(t, sep)[0] for i, t in text_of.items() if i < data_line),
+        open_quote_above=any(
+            '"' in t and _quote_state(t, sep)[0] for i, t in text_of.items() if i < data_line
+        ),
     )
 
 
