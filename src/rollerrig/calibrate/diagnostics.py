@@ -17,17 +17,76 @@ from rollerrig.calibrate.problem import ROLLER_DRIVES
 
 __all__ = [
     "CONDITIONAL_NOTE",
+    "DELAY_SHARE",
     "STRUCTURE_ALPHA",
     "STRUCTURE_BLOCK_ALPHA",
     "STRUCTURE_LAG1",
     "STRUCTURE_TAU",
     "WORSE_MARGIN",
+    "channel_delay",
     "channel_structured",
     "conditional_note",
     "identified_combinations",
     "law_comparison_suggestion",
     "model_suggestion",
 ]
+
+DELAY_SHARE = 0.5
+"""Share of a structured torque residual's variance that a delay of the channel must explain
+before the calibration names the delay as its likely cause [-]."""
+
+
+def channel_delay(
+    residual: np.ndarray, rate: np.ndarray, jacobian: np.ndarray | None = None
+) -> tuple[float, float] | None:
+    """The delay of a channel against the twin that best explains the residual, and how much
+    of the residual's sum of squares it removes.
+
+    A channel late by τ reads the twin's ``p(t − τ) ≈ p(t) − τ ṗ(t)``, so the delay adds
+    ``−τ ṗ`` to its residual ``r = measured − p``. With ``jacobian`` (the fit's columns at the
+    optimum) the delay is fitted with them, linearised: least squares of ``r`` on
+    ``[J, −ṗ]``; the reduction is the sum of squares that the delay's column removes beyond
+    ``J``. A filter's group delay in the torque's amplifier or DAQ module, against the
+    encoders' counts, makes such a residual; the twin takes the channels as simultaneous.
+
+    Parameters
+    ----------
+    residual : ndarray
+        The residual after the fit (stacked and weighted as the fit weighs it) [-].
+    rate : ndarray
+        The twin's rate of change of the channel at the same samples, stacked and weighted
+        the same way (zero in the other channels' rows) [1/s].
+    jacobian : ndarray, optional
+        The fit's Jacobian at the optimum, shape (len(residual), p) [-].
+
+    Returns
+    -------
+    (float, float) or None
+        ``(τ [s], reduction [-])``, τ > 0 where the channel is late; None where the twin's
+        channel does not change.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 1001)
+    >>> twin = np.sin(2 * np.pi * 3 * t)
+    >>> late = np.sin(2 * np.pi * 3 * (t - 0.002))
+    >>> tau, removed = channel_delay(late - twin, np.gradient(twin, t))
+    >>> round(tau * 1e3, 2), bool(removed / np.sum((late - twin) ** 2) > 0.99)
+    (2.0, True)
+    """
+    r = np.asarray(residual, dtype=float)
+    d = -np.asarray(rate, dtype=float)
+    if not float(d @ d) > 0.0:
+        return None
+    before = r
+    columns = d[:, None]
+    if jacobian is not None and jacobian.size:
+        before = r - jacobian @ np.linalg.lstsq(jacobian, r, rcond=None)[0]
+        columns = np.column_stack([jacobian, d])
+    coef = np.linalg.lstsq(columns, r, rcond=None)[0]
+    after = r - columns @ coef
+    return float(coef[-1]), float(before @ before - after @ after)
+
 
 _QUANTISATION_LAG1 = -0.5  # lag-1 autocorrelation of a gated speed's quantisation error
 _LAG1_MARGIN = 0.1  # above -0.5 + this: structure beyond the quantisation
