@@ -151,6 +151,35 @@ def test_two_sheets_first_with_data_read_and_the_other_named_or_chosen(tmp_path)
         read_xlsx(tmp_path / "two.xlsx", FileSpec(sheet=5))
 
 
+def test_the_sheet_with_the_most_rows_of_numbers_is_read_and_named(tmp_path):
+    # a 3-row summary before the data sheet was read (3 samples, only a note)
+    wb = openpyxl.Workbook()
+    summary = wb.active
+    summary.title = "Summary"
+    summary.append(["Time", "Torque"])
+    for k in range(3):
+        summary.append([k, 5.0 + k])
+    data = wb.create_sheet("Data")
+    for k in range(250):  # a parameter block deeper than the first 200 rows
+        data.append([f"param{k}", f"value {k}"])
+    data.append(["Time", "Torque"])
+    for k in range(100):
+        data.append([k * 0.01, float(k)])
+    wb.save(tmp_path / "cover.xlsx")
+    torque = {**MAP, "channels": {"torque": MAP["channels"]["torque"]}}
+    rec = read_recording(tmp_path / "cover.xlsx", torque)
+    assert rec.time.size == 100
+    notes = " ".join(rec.metadata["notes"])
+    assert "sheet 'Data' read: the most rows of numbers" in notes and "'Summary'" in notes
+    # a column the sheet read lacks: the error names the sheets and which has it
+    wb.create_sheet("Other").append(["Speed", 1.0])
+    wb.save(tmp_path / "cover.xlsx")
+    cmap = {**MAP, "channels": {"roller_speed": {"column": "Speed", "unit": "rpm"}}}
+    told = r"sheet 'Data' was read.*'Other' \(has a column 'Speed'\).*\[file\] sheet = 'Other'"
+    with pytest.raises(RecordingError, match=told):
+        read_recording(tmp_path / "cover.xlsx", cmap)
+
+
 def test_text_in_a_numeric_column_names_the_cell(tmp_path):
     wb, ws = _catman(tmp_path)
     ws["B17"] = "ERR"

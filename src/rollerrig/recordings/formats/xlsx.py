@@ -118,41 +118,110 @@ def _read_workbook(path: Path, wb, spec: FileSpec) -> Table:
     reader = _Cells(wb, dates, durations)
     notes: list[str] = []
     if spec.sheet is not None:
-        ws = _named_sheet(path, sheets, spec.sheet)
+        ws = _named_sheet(path, wb, sheets, spec.sheet)
+        if len(sheets) > 1:
+            notes.append(f"sheet {ws.title!r} read (of {[s.title for s in sheets]})")
     else:
-        holding = [s for s in sheets if reader.holds_numbers(s)]
-        if not holding:
-            raise RecordingError(
-                f"{path}: no sheet holds numbers (sheets: {[s.title for s in sheets]}); "
-                "a recording is a column of times and columns of numbers"
-            )
-        ws = holding[0]
-        if len(holding) > 1:
-            others = [s.title for s in holding[1:]]
-            notes.append(
-                f"sheet {ws.title!r} read; sheet(s) {others} hold numbers too (give [file] "
-                "sheet in the channel map to read another)"
-            )
-    if len(sheets) > 1 and not notes:
-        notes.append(f"sheet {ws.title!r} read (of {[s.title for s in sheets]})")
-    return _read_sheet(path, ws, reader, spec, notes)
+        ws = _recording_sheet(path, sheets, reader, notes)
+    table = _read_sheet(path, ws, reader, spec, notes)
+    if len(sheets) > 1:
+        others = [s.title for s in sheets if s is not ws]
+        table.locate = lambda column: _where_else(path, ws.title, others, column)
+    return table
 
 
-def _named_sheet(path: Path, sheets: list, sheet: str | int):
+def _recording_sheet(path: Path, sheets: list, reader: _Cells, notes: list[str]):
+    """The sheet that holds the recording, where the map names none: of the sheets with
+    numbers, the one with the most rows of numbers in its first :data:`HEAD_ROWS` rows (as
+    deep as :func:`_read_sheet` looks for the names: a parameter block of 250 rows above them
+    is no sheet without numbers). The first such sheet was a 3-row summary before the data."""
+    counts = [reader.number_rows(s) for s in sheets]
+    if not any(counts):
+        raise RecordingError(
+            f"{path}: no sheet holds numbers (sheets: {[s.title for s in sheets]}); "
+            "a recording is a column of times and columns of numbers"
+        )
+    best = counts.index(max(counts))  # the first of equals: tab order
+    ws = sheets[best]
+    if len(sheets) > 1:
+        deep = f" (of the first {HEAD_ROWS})" if counts[best] >= HEAD_ROWS else ""
+        others = ", ".join(
+            f"{s.title!r} ({c or 'no'} row(s) of numbers)"
+            for s, c in zip(sheets, counts, strict=True)
+            if s is not ws
+        )
+        notes.append(
+            f"sheet {ws.title!r} read: the most rows of numbers ({counts[best]}{deep}); other "
+            f"sheets: {others}; give [file] sheet in the channel map to read another"
+        )
+    return ws
+
+
+def _where_else(path: Path, title: str, others: list[str], column: str) -> str:
+    """For the error of a mapped column that the sheet read lacks: the sheet read, and the
+    other sheets with whether their first rows name that column (the workbook opened again:
+    only on that error)."""
+    import openpyxl
+
+    found: dict[str, bool] = {}
+    with contextlib.suppress(Exception), path.open("rb") as fh:
+        wb = openpyxl.load_workbook(fh, read_only=True, data_only=True)
+        try:
+            for ws in wb.worksheets:
+                if ws.title in others:
+                    found[ws.title] = _names_column(ws, column)
+        finally:
+            wb.close()
+    told = ", ".join(
+        f"{t!r}"
+        + ("" if t not in found else f" ({'has a' if found[t] else 'no'} column {column!r})")
+        for t in others
+    )
+    having = [t for t in others if found.get(t)]
+    hint = f"[file] sheet = {having[0]!r}" if having else "[file] sheet"
+    return (
+        f"; sheet {title!r} was read; other sheets: {told}; give {hint} "
+        "in the channel map to read another sheet"
+    )
+
+
+def _names_column(ws, column: str) -> bool:
+    """Whether a text cell of the first :data:`HEAD_ROWS` rows of ``ws`` names ``column``
+    (alone, or with a unit in brackets)."""
+    for k, row in enumerate(ws.iter_rows(values_only=True)):
+        if k >= HEAD_ROWS:
+            break
+        for v in row:
+            if isinstance(v, str) and column in (v.strip(), split_unit_header(v.strip())[0]):
+                return True
+    return False
+
+
+def _named_sheet(path: Path, wb, sheets: list, sheet: str | int):
+    """The map's ``[file] sheet``: a name, or a 0-based index in Excel's tab order, chart
+    sheets counted (the tab a user counts to); a chart sheet has no cells to read."""
+    tabs = list(wb.sheetnames)  # worksheets and chart sheets, in tab order
     titles = [s.title for s in sheets]
     if isinstance(sheet, int):
-        if sheet >= len(sheets):
+        if sheet >= len(tabs):
             raise RecordingError(
                 f"{path}: channel map [file] sheet = {sheet} but the workbook has "
-                f"{len(sheets)} sheet(s): {titles} (0-based index)"
+                f"{len(tabs)} sheet(s): {tabs} (0-based index, in tab order)"
             )
-        return sheets[sheet]
-    if sheet not in titles:
+        name = tabs[sheet]
+    elif sheet not in tabs:
         raise RecordingError(
             f"{path}: channel map [file] sheet = {sheet!r} is not a sheet of the workbook; "
-            f"sheets: {titles}"
+            f"sheets: {tabs}"
         )
-    return sheets[titles.index(sheet)]
+    else:
+        name = sheet
+    if name not in titles:
+        raise RecordingError(
+            f"{path}: channel map [file] sheet = {sheet!r} is the chart sheet {name!r}, which "
+            f"holds no cells; worksheets: {titles} (an index counts the tabs, chart sheets too)"
+        )
+    return sheets[titles.index(name)]
 
 
 def _cell_name(title: str, column: int, row: int) -> str:
@@ -204,13 +273,16 @@ class _Cells:
     def serial(self, value: _dt.datetime) -> float:
         return (value.replace(tzinfo=None) - self.epoch) / _dt.timedelta(days=1)
 
-    def holds_numbers(self, ws, rows: int = 200) -> bool:
+    def number_rows(self, ws, rows: int = HEAD_ROWS) -> int:
+        """How many of the first ``rows`` rows of ``ws`` hold a number, a date/time, or a
+        text that is a number (a column of numbers stored as text)."""
+        count = 0
         for k, row in enumerate(self.rows(ws)):
             if k >= rows:
                 break
-            if any(kind in "ndtm" and kind for kind, _ in row):
-                return True
-        return False
+            if any(kind in "ndtm" or (kind == "s" and _is_text_number(v)) for kind, v in row):
+                count += 1
+        return count
 
     def text(self, kind: str, value: Any) -> str:
         """The cell as the layout rules read text (numbers with a decimal point)."""
@@ -226,6 +298,14 @@ class _Cells:
             return str(stamp).replace("T", " ")
         s, frac = divmod(int(us), 1_000_000)
         return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}.{frac:06d}"
+
+
+_TEXT_NUMBER = re.compile(r"[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)(?:[eE][+-]?\d+)?")
+
+
+def _is_text_number(text: str) -> bool:
+    """Whether a text cell is a number written as text (either decimal mark)."""
+    return _TEXT_NUMBER.fullmatch(text.strip()) is not None
 
 
 def _serial_us(serials: np.ndarray) -> np.ndarray:
