@@ -188,6 +188,37 @@ def test_text_in_a_numeric_column_names_the_cell(tmp_path):
         read_recording(tmp_path / "err.xlsx", MAP)
 
 
+def test_numbers_stored_as_text_with_a_decimal_comma_are_read(tmp_path):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Time", "Torque"])
+    for k in range(20):
+        ws.append([k * 0.1, f"{1.5 + k:.1f}".replace(".", ",")])
+    wb.save(tmp_path / "de.xlsx")
+    torque = {**MAP, "channels": {"torque": MAP["channels"]["torque"]}}
+    rec = read_recording(tmp_path / "de.xlsx", torque)
+    np.testing.assert_allclose(rec["torque"], 1.5 + np.arange(20))
+    assert any("decimal comma" in n and "Sheet!B2" in n for n in rec.metadata["notes"])
+    for k in range(20):  # '1,500' alone is ambiguous: the map's [file] decimal decides
+        ws.cell(row=k + 2, column=2, value="1,500")
+    wb.save(tmp_path / "de3.xlsx")
+    rec = read_recording(tmp_path / "de3.xlsx", {**torque, "file": {"decimal": ","}})
+    np.testing.assert_allclose(rec["torque"], 1.5)
+
+
+def test_a_number_stored_as_text_and_excel_error_cells(tmp_path):
+    wb, ws = _catman(tmp_path)
+    ws["B17"] = "6.5"  # Excel's green triangle: a number stored as text
+    ws["C20"] = "#DIV/0!"
+    wb.save(tmp_path / "mix.xlsx")
+    table = read_xlsx(tmp_path / "mix.xlsx")
+    assert table.load("Torque").values[11] == 6.5 and np.isnan(table.load("Speed").values[14])
+    rec = read_recording(tmp_path / "mix.xlsx", MAP, validate="lenient")
+    notes = " ".join(rec.metadata["notes"])
+    assert "1 number(s) stored as text read as numbers (first: Data!B17" in notes
+    assert "1 Excel error cell(s) read as missing samples (first: Data!C20 '#DIV/0!')" in notes
+
+
 def test_nan_words_and_empty_cells_are_missing_samples(tmp_path):
     wb, ws = _catman(tmp_path)
     ws["B17"] = "#N/A"

@@ -317,29 +317,80 @@ def _serial_us(serials: np.ndarray) -> np.ndarray:
     )
 
 
+_EXCEL_ERRORS = frozenset(
+    {"#div/0!", "#value!", "#ref!", "#num!", "#name?", "#null!", "#spill!", "#calc!"}
+)
+"""Excel's error values (openpyxl gives them as text in data_only mode; #N/A is a NaN word)."""
+
+
+def _text_number(text: str, mark: str) -> float | None:
+    """A text cell that is a number under the decimal mark ``mark`` (Excel's green triangle:
+    ``'6.5`` typed as text, or a column pasted from a German export, ``1,5``), else None."""
+    t = text.strip()
+    if _TEXT_NUMBER.fullmatch(t) is None or ("," if mark == "." else ".") in t:
+        return None
+    return float(t.replace(",", "."))
+
+
+def _text_marks(head: list[list[tuple[str, Any]]], given: str | None) -> dict[int, str]:
+    """The decimal mark of each column's numbers stored as text: the map's ``[file] decimal``
+    where given, else ``","`` in a column whose text numbers with a mark all use a comma, one
+    of them no thousands-like ``1,500`` at least (as the CSV reader decides a mark: never a
+    guess), else ``"."``."""
+    width = max((len(r) for r in head), default=0)
+    if given is not None:
+        return dict.fromkeys(range(width), given)
+    commas, points, sure = [0] * width, [0] * width, [False] * width
+    for row in head:
+        for j, (kind, v) in enumerate(row):
+            if kind == "s" and _is_text_number(v):
+                t = v.strip()
+                commas[j] += "," in t
+                points[j] += "." in t
+                sure[j] |= "," in t and re.fullmatch(r"[+-]?\d{1,3},\d{3}", t) is None
+    return {j: "," if commas[j] and not points[j] and sure[j] else "." for j in range(width)}
+
+
 class _Collector:
     """One column's cells as they stream by: floats (numbers, day numbers) in an
     :class:`array.array`, and the few cells that are no value of the column's kind."""
 
-    def __init__(self):
+    def __init__(self, mark: str = "."):
         self.values = array("d")
         self.kind = ""  # the first value's kind: "n", "d", "t", "m", or "s" for text
         self.odd: dict[int, str] = {}  # data row -> a cell of another kind (text, a date...)
+        self.mark = mark  # the decimal mark of its numbers stored as text
+        self.native = 0  # cells stored as numbers or dates
+        self.texts: dict[int, str] = {}  # data row -> a number stored as text, as written
+        self.errors: dict[int, str] = {}  # data row -> an Excel error value (#DIV/0!)
+        self.empty = 0  # empty cells
 
     def add(self, k: int, kind: str, value: Any) -> None:
         if kind == "":
+            self.empty += 1
             self.values.append(math.nan)
             return
         if kind == "s":
             word = value.strip().lower()
+            if word in _EXCEL_ERRORS:  # a formula's error: no value, as #N/A
+                self.errors[k] = value
+                self.values.append(math.nan)
+                return
             if word in NAN_WORDS or not word:
                 inf = word in ("inf", "+inf", "infinity", "+infinity", "∞", "+∞", "1.#inf")
                 ninf = word in ("-inf", "-infinity", "-∞", "-1.#inf")
                 self.values.append(math.inf if inf else -math.inf if ninf else math.nan)
                 return
+            number = _text_number(value, self.mark)
+            if number is not None and self.kind in ("", "n"):
+                self.kind = "n"
+                self.texts[k] = value
+                self.values.append(number)
+                return
             self.odd[k] = value
             self.values.append(math.nan)
             return
+        self.native += 1
         if not self.kind:
             self.kind = kind
         if kind != self.kind and {kind, self.kind} != {"d", "t"}:
@@ -363,16 +414,29 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
     if complete:
         while head and not any(kind for kind, _ in head[-1]):
             head.pop()
-    if not any(kind and kind != "s" for row in head for kind, _ in row):
+    if not any(
+        kind in "ndtm" or (kind == "s" and _is_text_number(v)) for row in head for kind, v in row
+    ):
         raise RecordingError(
             f"{where}: the sheet holds no numbers or dates"
             + (" in its first rows" if not complete else "")
             + "; a recording is a column of times and columns of numbers"
         )
     width = max(len(r) for r in head)
+    marks = _text_marks(head, spec.decimal)
+
+    def text(j: int, kind: str, v: Any) -> str:
+        # a number stored as text as the layout rules read numbers (with a decimal point)
+        if kind == "s" and (number := _text_number(v, marks.get(j, "."))) is not None:
+            return reader.text("n", number)
+        return reader.text(kind, v)
+
     layout = sniff_rows(
         where,
-        [[reader.text(kind, v) for kind, v in r] + [""] * (width - len(r)) for r in head],
+        [
+            [text(j, kind, v) for j, (kind, v) in enumerate(r)] + [""] * (width - len(r))
+            for r in head
+        ],
         spec,
         complete=complete,
     )
@@ -380,7 +444,7 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
     names = list(layout.names)
     ncol = len(names)
     _refuse_merged_header(path, ws, title, layout)
-    cols = [_Collector() for _ in range(ncol)]
+    cols = [_Collector(marks.get(j, ".")) for j in range(ncol)]
     sheet_rows = array("l")  # 1-based sheet row of each data row
     tail: deque = deque(maxlen=TAIL_ROWS)  # (data row, cells as text) of the last rows
     blank = array("l")
@@ -401,7 +465,7 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
                     f"has no name ({ncol} named columns); name the column or clear it"
                 )
         sheet_rows.append(i + 1)
-        tail.append([reader.text(kind, v) for kind, v in row[:ncol]])
+        tail.append([text(j, kind, v) for j, (kind, v) in enumerate(row[:ncol])])
 
     for i, row in enumerate(head):
         if i >= layout.data_line:
@@ -447,9 +511,10 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
         col = cols[j]
         values = np.frombuffer(col.values, dtype=np.float64)[:n].copy()
         odd = {k: v for k, v in col.odd.items() if k < n}
+        texts = {k: v for k, v in col.texts.items() if k < n}
         unit = split_unit_header(name)[1] or units[name]
-        if odd and col.kind == "":  # no number or date in it: a column of text
-            return Column(_text_column(values, odd, n), unit)
+        if odd and not col.native and len(texts) <= len(odd):  # mostly words: a text column
+            return Column(_text_column(values, {**texts, **odd}, n), unit)
         if odd:
             k = min(odd)
             what = f"{_KIND_NAMES.get(col.kind, 'value')}s"
@@ -459,11 +524,34 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
                 + (f" ({len(odd)} such cells)" if len(odd) > 1 else "")
                 + "; correct the cell, or clear it (an empty cell is a missing sample)"
             )
+        if texts:
+            k = min(texts)
+            comma = " with a decimal comma" if col.mark == "," else ""
+            why = (
+                " (the map's [file] decimal)"
+                if comma and spec.decimal
+                else " (all its text numbers use one)"
+                if comma
+                else ""
+            )
+            table.notes.append(
+                f"column {name!r}: {len(texts)} number(s) stored as text read as numbers"
+                f"{comma}{why} (first: {_cell_name(title, j, int(rows_of[k]))} {texts[k]!r})"
+            )
+        errors = {k: v for k, v in col.errors.items() if k < n}
+        if errors:
+            k = min(errors)
+            table.notes.append(
+                f"column {name!r}: {len(errors)} Excel error cell(s) read as missing samples "
+                f"(first: {_cell_name(title, j, int(rows_of[k]))} {errors[k]!r})"
+            )
         if col.kind in ("d", "t", "m"):
             return Column(_times(col.kind, values, reader.epoch, where, name, table.notes), unit)
         return Column(values, unit)
 
     table.load = load
+    # translate's messages on a text column: its row as the sheet's (Excel's) row number
+    table.line_of = lambda k: int(rows_of[k]) if 0 <= k < n else None  # type: ignore[attr-defined]
     return table
 
 
