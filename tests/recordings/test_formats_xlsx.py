@@ -219,6 +219,25 @@ def test_a_number_stored_as_text_and_excel_error_cells(tmp_path):
     assert "1 Excel error cell(s) read as missing samples (first: Data!C20 '#DIV/0!')" in notes
 
 
+def test_a_signature_or_comment_beside_the_columns_is_no_reason_to_refuse(tmp_path):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Time", "Torque"])
+    for k in range(30):
+        ws.append([k * 0.1, float(k)])
+    ws.append([])
+    ws.append(["Tester:", None, None, "Signed JK"])  # D has no name: footer material
+    wb.save(tmp_path / "signed.xlsx")
+    table = read_xlsx(tmp_path / "signed.xlsx")
+    assert table.load("Torque").values.size == 30
+    assert any("footer" in n for n in table.notes)
+    ws["A33"] = None  # the signature alone, in a column without numbers: ignored, noted
+    wb.save(tmp_path / "comment.xlsx")
+    table = read_xlsx(tmp_path / "comment.xlsx")
+    assert table.load("Torque").values.size == 30
+    assert any("ignored (first: Sheet!D33 'Signed JK')" in n for n in table.notes)
+
+
 def test_nan_words_and_empty_cells_are_missing_samples(tmp_path):
     wb, ws = _catman(tmp_path)
     ws["B17"] = "#N/A"

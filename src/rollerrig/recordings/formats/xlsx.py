@@ -450,20 +450,28 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
     blank = array("l")
     number = 0
 
+    # cells right of the named columns: a signature or a comment beside the data is no
+    # reason to refuse the sheet, a column of numbers without a name is (decided once the
+    # footer is known): column -> [(row, value) of its first number, rows of text, first text]
+    stray: dict[int, list] = {}
+
     def take(i: int, row: list[tuple[str, Any]]) -> None:
-        if not any(kind for kind, _ in row):
+        for j in range(ncol, len(row)):
+            kind, value = row[j]
+            if kind:
+                seen = stray.setdefault(j, [None, array("l"), None])
+                if kind in "ndtm" or _is_text_number(value):
+                    seen[0] = seen[0] or (i + 1, value)
+                else:
+                    seen[1].append(i + 1)
+                    seen[2] = value if seen[2] is None else seen[2]
+        if not any(kind for kind, _ in row[:ncol]):
             blank.append(i + 1)
             return
         k = len(sheet_rows)
         for j in range(ncol):
             kind, value = row[j] if j < len(row) else ("", None)
             cols[j].add(k, kind, value)
-        for j in range(ncol, len(row)):
-            if row[j][0]:
-                raise RecordingError(
-                    f"{path}: {_cell_name(title, j, i + 1)} holds {row[j][1]!r} but its column "
-                    f"has no name ({ncol} named columns); name the column or clear it"
-                )
         sheet_rows.append(i + 1)
         tail.append([text(j, kind, v) for j, (kind, v) in enumerate(row[:ncol])])
 
@@ -488,6 +496,19 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
         first = sheet_rows[n - footer]
         notes.append(f"footer below the numbers left out: row {first} to the end")
         n -= footer
+    cut = sheet_rows[n] if n < len(sheet_rows) else math.inf  # the footer's first row
+    for j, (number, texts, first_text) in sorted(stray.items()):
+        if number is not None and number[0] < cut:
+            raise RecordingError(
+                f"{path}: {_cell_name(title, j, number[0])} holds {number[1]!r} but its column "
+                f"has no name ({ncol} named columns); name the column or clear it"
+            )
+        kept = [r for r in texts if r < cut]  # those in the footer went with it
+        if kept:
+            notes.append(
+                f"{len(kept)} text cell(s) in a column without a name and without numbers "
+                f"ignored (first: {_cell_name(title, j, kept[0])} {first_text!r})"
+            )
     if n == 0:
         raise RecordingError(f"{where}: has a header but no data rows; the recording is empty")
     last = sheet_rows[n - 1]
