@@ -238,6 +238,19 @@ def test_a_signature_or_comment_beside_the_columns_is_no_reason_to_refuse(tmp_pa
     assert any("ignored (first: Sheet!D33 'Signed JK')" in n for n in table.notes)
 
 
+def test_formulas_without_saved_values_are_refused_with_what_to_do(tmp_path):
+    wb = openpyxl.Workbook()  # written by a script: formulas, never computed by Excel
+    ws = wb.active
+    ws.append(["Time", "Raw", "Torque"])
+    for k in range(100):
+        ws.append([k * 0.01, float(k), f"=B{k + 2}*2"])
+    wb.save(tmp_path / "formula.xlsx")
+    cmap = {**MAP, "channels": {"torque": MAP["channels"]["torque"]}}
+    with pytest.raises(RecordingError, match=r"column 'Torque' are formulas without saved values"
+                       r" \(100 cells, first Sheet!C2\).*save the workbook in Excel"):  # fmt: skip
+        read_recording(tmp_path / "formula.xlsx", cmap)
+
+
 def test_nan_words_and_empty_cells_are_missing_samples(tmp_path):
     wb, ws = _catman(tmp_path)
     ws["B17"] = "#N/A"

@@ -533,6 +533,8 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
         values = np.frombuffer(col.values, dtype=np.float64)[:n].copy()
         odd = {k: v for k, v in col.odd.items() if k < n}
         texts = {k: v for k, v in col.texts.items() if k < n}
+        if n and 2 * col.empty >= n:  # mostly empty: formulas a script wrote, never computed?
+            _refuse_formulas_without_values(path, title, j, name, rows_of, values)
         unit = split_unit_header(name)[1] or units[name]
         if odd and not col.native and len(texts) <= len(odd):  # mostly words: a text column
             return Column(_text_column(values, {**texts, **odd}, n), unit)
@@ -574,6 +576,43 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
     # translate's messages on a text column: its row as the sheet's (Excel's) row number
     table.line_of = lambda k: int(rows_of[k]) if 0 <= k < n else None  # type: ignore[attr-defined]
     return table
+
+
+def _refuse_formulas_without_values(
+    path: Path, title: str, j: int, name: str, rows_of: np.ndarray, values: np.ndarray
+) -> None:
+    """Raise where the empty cells of a column are formulas without a saved value: a
+    workbook written by a script (openpyxl, xlsxwriter) and never opened in Excel holds the
+    formulas only, read as empty (values only), and the error had spoken of NaN samples. The
+    workbook is opened again for its formulas, only for a column mostly empty."""
+    import openpyxl
+
+    empty = ~np.isfinite(values)
+    found, first = 0, None
+    with contextlib.suppress(Exception), path.open("rb") as fh:
+        wb = openpyxl.load_workbook(fh, read_only=True, data_only=False)
+        try:
+            ws = wb[title]
+            lo, hi = int(rows_of[0]), int(rows_of[-1])
+            for r, (v,) in enumerate(
+                ws.iter_rows(
+                    min_row=lo, max_row=hi, min_col=j + 1, max_col=j + 1, values_only=True
+                ),
+                start=lo,
+            ):
+                k = int(np.searchsorted(rows_of, r))
+                if isinstance(v, str) and v.startswith("=") and k < empty.size and empty[k]:
+                    found += 1
+                    first = first or r
+        finally:
+            wb.close()
+    if found:
+        raise RecordingError(
+            f"{path}: cells of column {name!r} are formulas without saved values ({found} "
+            f"cells, first {_cell_name(title, j, first)}): the workbook was written by a "
+            "program that does not compute formulas; open and save the workbook in Excel (or "
+            "LibreOffice), or export CSV"
+        )
 
 
 def _text_column(values: np.ndarray, odd: dict[int, str], n: int) -> np.ndarray:
