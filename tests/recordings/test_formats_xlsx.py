@@ -305,6 +305,27 @@ def test_xls_ods_encrypted_and_corrupt_files_say_what_to_do(tmp_path):
         read_recording(tmp_path / "cut.xlsx", MAP)
 
 
+def test_sheet_index_in_tab_order_quoted_merged_sheet_and_a_renamed_csv(tmp_path):
+    from openpyxl.chart import LineChart, Reference
+
+    wb, ws = _catman(tmp_path, sheet="Run 7")
+    chart = wb.create_chartsheet("Chart", 0)  # tab 0: a chart sheet, no cells
+    plot = LineChart()
+    plot.add_data(Reference(ws, min_col=2, min_row=4, max_row=20), titles_from_data=True)
+    chart.add_chart(plot)
+    wb.save(tmp_path / "chart.xlsx")
+    assert read_recording(tmp_path / "chart.xlsx", {**MAP, "file": {"sheet": 1}}).time.size == 200
+    with pytest.raises(RecordingError, match=r"sheet = 0 is the chart sheet 'Chart'"):
+        read_recording(tmp_path / "chart.xlsx", {**MAP, "file": {"sheet": 0}})
+    ws.merge_cells("B4:C4")
+    wb.save(tmp_path / "merged.xlsx")
+    with pytest.raises(RecordingError, match=r"merged cells 'Run 7'!B4:C4 "):
+        read_recording(tmp_path / "merged.xlsx", MAP)
+    (tmp_path / "csv.xlsx").write_text("Time,Torque\n0,1\n0.1,2\n")
+    with pytest.raises(RecordingError, match=r"not an Excel workbook: the file is text.*\.csv"):
+        read_recording(tmp_path / "csv.xlsx", MAP)
+
+
 def test_missing_openpyxl_names_the_io_extra(tmp_path, monkeypatch):
     import builtins
 

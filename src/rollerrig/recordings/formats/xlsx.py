@@ -83,6 +83,28 @@ def refuse_other_spreadsheet(path: Path, head: bytes) -> None:
         raise RecordingError(f"{path}: {_ODS}")
 
 
+def _not_a_workbook(path: Path) -> str:
+    """The message for a file named .xlsx that is no zip archive: a CSV file renamed (its
+    bytes text) is told to be renamed back."""
+    with path.open("rb") as fh:
+        head = fh.read(4096)
+    # text: no control bytes but tab, CR, LF, FF (a zip's "PK\x03\x04" has one), UTF-8
+    text = bool(head.strip()) and not any(b < 9 or 13 < b < 32 for b in head)
+    try:
+        head.decode("utf-8", errors="strict")
+    except UnicodeDecodeError as exc:  # a multi-byte character cut at the 4 KiB mark is text
+        text = text and exc.start >= len(head) - 3
+    if text:
+        return (
+            f"{path}: not an Excel workbook: the file is text (a CSV or text export named "
+            f"{path.suffix}); rename it to .csv and read that"
+        )
+    return (
+        f"{path}: not a readable Excel workbook (.xlsx): the file is corrupt or of another "
+        "format (no zip archive); open it in Excel and save it again as .xlsx, or as CSV"
+    )
+
+
 def read_xlsx(path: Path, spec: FileSpec | None = None) -> Table:
     """Read one sheet of an Excel workbook into a :class:`Table` (see the module docstring)."""
     openpyxl = require_module("openpyxl", "Excel workbooks (.xlsx)")
@@ -94,6 +116,8 @@ def read_xlsx(path: Path, spec: FileSpec | None = None) -> Table:
         fh = stack.enter_context(path.open("rb"))
         try:
             wb = openpyxl.load_workbook(fh, read_only=True, data_only=True)
+        except zipfile.BadZipFile:
+            raise RecordingError(_not_a_workbook(path)) from None
         except Exception as exc:  # zipfile.BadZipFile, KeyError, lxml/ElementTree errors
             raise RecordingError(
                 f"{path}: not a readable Excel workbook (.xlsx): the file is corrupt or of "
@@ -683,6 +707,7 @@ _MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s+ref="([A-Z]+[0-9]+:[A-Z]+[0-9]+)"')
 def _refuse_merged_header(path: Path, ws, title: str, layout) -> None:
     """Raise where cells merged across columns lie in the names or units row (a name over
     two columns leaves the second without one); merged title rows above them are fine."""
+    from openpyxl.utils import get_column_letter
     from openpyxl.utils.cell import range_boundaries
 
     rows = {r + 1 for r in (layout.header_line, layout.units_line) if r is not None}
@@ -698,7 +723,8 @@ def _refuse_merged_header(path: Path, ws, title: str, layout) -> None:
                 c0, r0, c1, r1 = range_boundaries(ref)
                 if c1 > c0 and any(r0 <= r <= r1 for r in rows):
                     raise RecordingError(
-                        f"{path}: merged cells {title}!{ref} in the sheet's names or units "
+                        f"{path}: merged cells {_cell_name(title, c0 - 1, r0)}:"
+                        f"{get_column_letter(c1)}{r1} in the sheet's names or units "
                         "row: each column needs a name (and unit) of its own; unmerge them "
                         "in Excel and name every column"
                     )
