@@ -1,8 +1,9 @@
 """Excel workbooks (.xlsx, .xlsm) as test engineers and acquisition software write them (HBM
 catman, Dewesoft, LabVIEW Report Generation, Excel itself).
 
-One sheet is read: the map's ``[file] sheet`` (a name, or a 0-based index), else the first
-sheet that holds numbers (a note names the other sheets that hold numbers too). The sheet is
+One sheet is read: the map's ``[file] sheet`` (a name, or a 0-based index in Excel's tab order,
+chart sheets counted), else the sheet with the most rows of numbers in its first
+:data:`HEAD_ROWS` rows (a note names it and the others). The sheet is
 read with openpyxl in read-only mode, values only (a formula gives the value Excel cached with
 the file), its rows streamed and each column collected into an array of floats as it goes.
 
@@ -17,13 +18,19 @@ microsecond, as far as the stored day number resolves it, about 1 µs; not openp
 millisecond rounding): a date and time an absolute timestamp
 (``datetime64``, read as seconds since the first sample), a time of day or a duration
 (``[h]:mm:ss``) seconds (times of day unwrapped at midnight). A column of text cells is text,
-as in a CSV file (timestamps written as text are parsed as there).
+as in a CSV file (timestamps written as text are parsed as there). Numbers stored as text are
+read as numbers (noted), with a decimal comma under ``[file] decimal = ","`` or where all of a
+column's text numbers use one; Excel's error cells (``#DIV/0!``...) are missing samples, noted.
+Text in a column without a name and without numbers (a signature beside the data) is a footer
+or ignored, noted.
 
 Refused with a :class:`~rollerrig.recordings.recording.RecordingError`: an old binary ``.xls``
 or an OpenDocument ``.ods`` (save as .xlsx or CSV), a password-protected or corrupt workbook,
 merged cells in the names or units row, a sheet without numbers, text in a column of numbers
-(naming the cell, ``Sheet1!C17``), and date/time cells that cannot time the samples (steps
-rounded to the millisecond, or finer than the day number resolves: write the time as a number).
+(naming the cell, ``Sheet1!C17``), formulas without saved values (a workbook a script wrote:
+open and save it in Excel), a text file named .xlsx (rename it to .csv), and date/time cells
+that cannot time the samples (steps rounded to the millisecond, or finer than the day number
+resolves: write the time as a number).
 """
 
 from __future__ import annotations
