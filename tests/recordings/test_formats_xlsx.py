@@ -151,12 +151,104 @@ def test_two_sheets_first_with_data_read_and_the_other_named_or_chosen(tmp_path)
         read_xlsx(tmp_path / "two.xlsx", FileSpec(sheet=5))
 
 
+def test_the_sheet_with_the_most_rows_of_numbers_is_read_and_named(tmp_path):
+    # a 3-row summary before the data sheet was read (3 samples, only a note)
+    wb = openpyxl.Workbook()
+    summary = wb.active
+    summary.title = "Summary"
+    summary.append(["Time", "Torque"])
+    for k in range(3):
+        summary.append([k, 5.0 + k])
+    data = wb.create_sheet("Data")
+    for k in range(250):  # a parameter block deeper than the first 200 rows
+        data.append([f"param{k}", f"value {k}"])
+    data.append(["Time", "Torque"])
+    for k in range(100):
+        data.append([k * 0.01, float(k)])
+    wb.save(tmp_path / "cover.xlsx")
+    torque = {**MAP, "channels": {"torque": MAP["channels"]["torque"]}}
+    rec = read_recording(tmp_path / "cover.xlsx", torque)
+    assert rec.time.size == 100
+    notes = " ".join(rec.metadata["notes"])
+    assert "sheet 'Data' read: the most rows of numbers" in notes and "'Summary'" in notes
+    # a column the sheet read lacks: the error names the sheets and which has it
+    wb.create_sheet("Other").append(["Speed", 1.0])
+    wb.save(tmp_path / "cover.xlsx")
+    cmap = {**MAP, "channels": {"roller_speed": {"column": "Speed", "unit": "rpm"}}}
+    told = r"sheet 'Data' was read.*'Other' \(has a column 'Speed'\).*\[file\] sheet = 'Other'"
+    with pytest.raises(RecordingError, match=told):
+        read_recording(tmp_path / "cover.xlsx", cmap)
+
+
 def test_text_in_a_numeric_column_names_the_cell(tmp_path):
     wb, ws = _catman(tmp_path)
     ws["B17"] = "ERR"
     wb.save(tmp_path / "err.xlsx")
     with pytest.raises(RecordingError, match=r"Data!B17 holds 'ERR' in column 'Torque'"):
         read_recording(tmp_path / "err.xlsx", MAP)
+
+
+def test_numbers_stored_as_text_with_a_decimal_comma_are_read(tmp_path):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Time", "Torque"])
+    for k in range(20):
+        ws.append([k * 0.1, f"{1.5 + k:.1f}".replace(".", ",")])
+    wb.save(tmp_path / "de.xlsx")
+    torque = {**MAP, "channels": {"torque": MAP["channels"]["torque"]}}
+    rec = read_recording(tmp_path / "de.xlsx", torque)
+    np.testing.assert_allclose(rec["torque"], 1.5 + np.arange(20))
+    assert any("decimal comma" in n and "Sheet!B2" in n for n in rec.metadata["notes"])
+    for k in range(20):  # '1,500' alone is ambiguous: the map's [file] decimal decides
+        ws.cell(row=k + 2, column=2, value="1,500")
+    wb.save(tmp_path / "de3.xlsx")
+    rec = read_recording(tmp_path / "de3.xlsx", {**torque, "file": {"decimal": ","}})
+    np.testing.assert_allclose(rec["torque"], 1.5)
+
+
+def test_a_number_stored_as_text_and_excel_error_cells(tmp_path):
+    wb, ws = _catman(tmp_path)
+    ws["B17"] = "6.5"  # Excel's green triangle: a number stored as text
+    ws["C20"] = "#DIV/0!"
+    wb.save(tmp_path / "mix.xlsx")
+    table = read_xlsx(tmp_path / "mix.xlsx")
+    assert table.load("Torque").values[11] == 6.5 and np.isnan(table.load("Speed").values[14])
+    rec = read_recording(tmp_path / "mix.xlsx", MAP, validate="lenient")
+    notes = " ".join(rec.metadata["notes"])
+    assert "1 number(s) stored as text read as numbers (first: Data!B17" in notes
+    assert "1 Excel error cell(s) read as missing samples (first: Data!C20 '#DIV/0!')" in notes
+
+
+def test_a_signature_or_comment_beside_the_columns_is_no_reason_to_refuse(tmp_path):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Time", "Torque"])
+    for k in range(30):
+        ws.append([k * 0.1, float(k)])
+    ws.append([])
+    ws.append(["Tester:", None, None, "Signed JK"])  # D has no name: footer material
+    wb.save(tmp_path / "signed.xlsx")
+    table = read_xlsx(tmp_path / "signed.xlsx")
+    assert table.load("Torque").values.size == 30
+    assert any("footer" in n for n in table.notes)
+    ws["A33"] = None  # the signature alone, in a column without numbers: ignored, noted
+    wb.save(tmp_path / "comment.xlsx")
+    table = read_xlsx(tmp_path / "comment.xlsx")
+    assert table.load("Torque").values.size == 30
+    assert any("ignored (first: Sheet!D33 'Signed JK')" in n for n in table.notes)
+
+
+def test_formulas_without_saved_values_are_refused_with_what_to_do(tmp_path):
+    wb = openpyxl.Workbook()  # written by a script: formulas, never computed by Excel
+    ws = wb.active
+    ws.append(["Time", "Raw", "Torque"])
+    for k in range(100):
+        ws.append([k * 0.01, float(k), f"=B{k + 2}*2"])
+    wb.save(tmp_path / "formula.xlsx")
+    cmap = {**MAP, "channels": {"torque": MAP["channels"]["torque"]}}
+    with pytest.raises(RecordingError, match=r"column 'Torque' are formulas without saved values"
+                       r" \(100 cells, first Sheet!C2\).*save the workbook in Excel"):  # fmt: skip
+        read_recording(tmp_path / "formula.xlsx", cmap)
 
 
 def test_nan_words_and_empty_cells_are_missing_samples(tmp_path):
@@ -211,6 +303,27 @@ def test_xls_ods_encrypted_and_corrupt_files_say_what_to_do(tmp_path):
     (tmp_path / "cut.xlsx").write_bytes(b"PK\x03\x04" + bytes(100))
     with pytest.raises(RecordingError, match=r"not a readable Excel workbook.*corrupt"):
         read_recording(tmp_path / "cut.xlsx", MAP)
+
+
+def test_sheet_index_in_tab_order_quoted_merged_sheet_and_a_renamed_csv(tmp_path):
+    from openpyxl.chart import LineChart, Reference
+
+    wb, ws = _catman(tmp_path, sheet="Run 7")
+    chart = wb.create_chartsheet("Chart", 0)  # tab 0: a chart sheet, no cells
+    plot = LineChart()
+    plot.add_data(Reference(ws, min_col=2, min_row=4, max_row=20), titles_from_data=True)
+    chart.add_chart(plot)
+    wb.save(tmp_path / "chart.xlsx")
+    assert read_recording(tmp_path / "chart.xlsx", {**MAP, "file": {"sheet": 1}}).time.size == 200
+    with pytest.raises(RecordingError, match=r"sheet = 0 is the chart sheet 'Chart'"):
+        read_recording(tmp_path / "chart.xlsx", {**MAP, "file": {"sheet": 0}})
+    ws.merge_cells("B4:C4")
+    wb.save(tmp_path / "merged.xlsx")
+    with pytest.raises(RecordingError, match=r"merged cells 'Run 7'!B4:C4 "):
+        read_recording(tmp_path / "merged.xlsx", MAP)
+    (tmp_path / "csv.xlsx").write_text("Time,Torque\n0,1\n0.1,2\n")
+    with pytest.raises(RecordingError, match=r"not an Excel workbook: the file is text.*\.csv"):
+        read_recording(tmp_path / "csv.xlsx", MAP)
 
 
 def test_missing_openpyxl_names_the_io_extra(tmp_path, monkeypatch):

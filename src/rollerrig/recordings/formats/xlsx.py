@@ -1,8 +1,9 @@
 """Excel workbooks (.xlsx, .xlsm) as test engineers and acquisition software write them (HBM
 catman, Dewesoft, LabVIEW Report Generation, Excel itself).
 
-One sheet is read: the map's ``[file] sheet`` (a name, or a 0-based index), else the first
-sheet that holds numbers (a note names the other sheets that hold numbers too). The sheet is
+One sheet is read: the map's ``[file] sheet`` (a name, or a 0-based index in Excel's tab order,
+chart sheets counted), else the sheet with the most rows of numbers in its first
+:data:`HEAD_ROWS` rows (a note names it and the others). The sheet is
 read with openpyxl in read-only mode, values only (a formula gives the value Excel cached with
 the file), its rows streamed and each column collected into an array of floats as it goes.
 
@@ -17,13 +18,19 @@ microsecond, as far as the stored day number resolves it, about 1 µs; not openp
 millisecond rounding): a date and time an absolute timestamp
 (``datetime64``, read as seconds since the first sample), a time of day or a duration
 (``[h]:mm:ss``) seconds (times of day unwrapped at midnight). A column of text cells is text,
-as in a CSV file (timestamps written as text are parsed as there).
+as in a CSV file (timestamps written as text are parsed as there). Numbers stored as text are
+read as numbers (noted), with a decimal comma under ``[file] decimal = ","`` or where all of a
+column's text numbers use one; Excel's error cells (``#DIV/0!``...) are missing samples, noted.
+Text in a column without a name and without numbers (a signature beside the data) is a footer
+or ignored, noted.
 
 Refused with a :class:`~rollerrig.recordings.recording.RecordingError`: an old binary ``.xls``
 or an OpenDocument ``.ods`` (save as .xlsx or CSV), a password-protected or corrupt workbook,
 merged cells in the names or units row, a sheet without numbers, text in a column of numbers
-(naming the cell, ``Sheet1!C17``), and date/time cells that cannot time the samples (steps
-rounded to the millisecond, or finer than the day number resolves: write the time as a number).
+(naming the cell, ``Sheet1!C17``), formulas without saved values (a workbook a script wrote:
+open and save it in Excel), a text file named .xlsx (rename it to .csv), and date/time cells
+that cannot time the samples (steps rounded to the millisecond, or finer than the day number
+resolves: write the time as a number).
 """
 
 from __future__ import annotations
@@ -83,6 +90,28 @@ def refuse_other_spreadsheet(path: Path, head: bytes) -> None:
         raise RecordingError(f"{path}: {_ODS}")
 
 
+def _not_a_workbook(path: Path) -> str:
+    """The message for a file named .xlsx that is no zip archive: a CSV file renamed (its
+    bytes text) is told to be renamed back."""
+    with path.open("rb") as fh:
+        head = fh.read(4096)
+    # text: no control bytes but tab, CR, LF, FF (a zip's "PK\x03\x04" has one), UTF-8
+    text = bool(head.strip()) and not any(b < 9 or 13 < b < 32 for b in head)
+    try:
+        head.decode("utf-8", errors="strict")
+    except UnicodeDecodeError as exc:  # a multi-byte character cut at the 4 KiB mark is text
+        text = text and exc.start >= len(head) - 3
+    if text:
+        return (
+            f"{path}: not an Excel workbook: the file is text (a CSV or text export named "
+            f"{path.suffix}); rename it to .csv and read that"
+        )
+    return (
+        f"{path}: not a readable Excel workbook (.xlsx): the file is corrupt or of another "
+        "format (no zip archive); open it in Excel and save it again as .xlsx, or as CSV"
+    )
+
+
 def read_xlsx(path: Path, spec: FileSpec | None = None) -> Table:
     """Read one sheet of an Excel workbook into a :class:`Table` (see the module docstring)."""
     openpyxl = require_module("openpyxl", "Excel workbooks (.xlsx)")
@@ -94,6 +123,8 @@ def read_xlsx(path: Path, spec: FileSpec | None = None) -> Table:
         fh = stack.enter_context(path.open("rb"))
         try:
             wb = openpyxl.load_workbook(fh, read_only=True, data_only=True)
+        except zipfile.BadZipFile:
+            raise RecordingError(_not_a_workbook(path)) from None
         except Exception as exc:  # zipfile.BadZipFile, KeyError, lxml/ElementTree errors
             raise RecordingError(
                 f"{path}: not a readable Excel workbook (.xlsx): the file is corrupt or of "
@@ -118,41 +149,110 @@ def _read_workbook(path: Path, wb, spec: FileSpec) -> Table:
     reader = _Cells(wb, dates, durations)
     notes: list[str] = []
     if spec.sheet is not None:
-        ws = _named_sheet(path, sheets, spec.sheet)
+        ws = _named_sheet(path, wb, sheets, spec.sheet)
+        if len(sheets) > 1:
+            notes.append(f"sheet {ws.title!r} read (of {[s.title for s in sheets]})")
     else:
-        holding = [s for s in sheets if reader.holds_numbers(s)]
-        if not holding:
-            raise RecordingError(
-                f"{path}: no sheet holds numbers (sheets: {[s.title for s in sheets]}); "
-                "a recording is a column of times and columns of numbers"
-            )
-        ws = holding[0]
-        if len(holding) > 1:
-            others = [s.title for s in holding[1:]]
-            notes.append(
-                f"sheet {ws.title!r} read; sheet(s) {others} hold numbers too (give [file] "
-                "sheet in the channel map to read another)"
-            )
-    if len(sheets) > 1 and not notes:
-        notes.append(f"sheet {ws.title!r} read (of {[s.title for s in sheets]})")
-    return _read_sheet(path, ws, reader, spec, notes)
+        ws = _recording_sheet(path, sheets, reader, notes)
+    table = _read_sheet(path, ws, reader, spec, notes)
+    if len(sheets) > 1:
+        others = [s.title for s in sheets if s is not ws]
+        table.locate = lambda column: _where_else(path, ws.title, others, column)
+    return table
 
 
-def _named_sheet(path: Path, sheets: list, sheet: str | int):
+def _recording_sheet(path: Path, sheets: list, reader: _Cells, notes: list[str]):
+    """The sheet that holds the recording, where the map names none: of the sheets with
+    numbers, the one with the most rows of numbers in its first :data:`HEAD_ROWS` rows (as
+    deep as :func:`_read_sheet` looks for the names: a parameter block of 250 rows above them
+    is no sheet without numbers). The first such sheet was a 3-row summary before the data."""
+    counts = [reader.number_rows(s) for s in sheets]
+    if not any(counts):
+        raise RecordingError(
+            f"{path}: no sheet holds numbers (sheets: {[s.title for s in sheets]}); "
+            "a recording is a column of times and columns of numbers"
+        )
+    best = counts.index(max(counts))  # the first of equals: tab order
+    ws = sheets[best]
+    if len(sheets) > 1:
+        deep = f" (of the first {HEAD_ROWS})" if counts[best] >= HEAD_ROWS else ""
+        others = ", ".join(
+            f"{s.title!r} ({c or 'no'} row(s) of numbers)"
+            for s, c in zip(sheets, counts, strict=True)
+            if s is not ws
+        )
+        notes.append(
+            f"sheet {ws.title!r} read: the most rows of numbers ({counts[best]}{deep}); other "
+            f"sheets: {others}; give [file] sheet in the channel map to read another"
+        )
+    return ws
+
+
+def _where_else(path: Path, title: str, others: list[str], column: str) -> str:
+    """For the error of a mapped column that the sheet read lacks: the sheet read, and the
+    other sheets with whether their first rows name that column (the workbook opened again:
+    only on that error)."""
+    import openpyxl
+
+    found: dict[str, bool] = {}
+    with contextlib.suppress(Exception), path.open("rb") as fh:
+        wb = openpyxl.load_workbook(fh, read_only=True, data_only=True)
+        try:
+            for ws in wb.worksheets:
+                if ws.title in others:
+                    found[ws.title] = _names_column(ws, column)
+        finally:
+            wb.close()
+    told = ", ".join(
+        f"{t!r}"
+        + ("" if t not in found else f" ({'has a' if found[t] else 'no'} column {column!r})")
+        for t in others
+    )
+    having = [t for t in others if found.get(t)]
+    hint = f"[file] sheet = {having[0]!r}" if having else "[file] sheet"
+    return (
+        f"; sheet {title!r} was read; other sheets: {told}; give {hint} "
+        "in the channel map to read another sheet"
+    )
+
+
+def _names_column(ws, column: str) -> bool:
+    """Whether a text cell of the first :data:`HEAD_ROWS` rows of ``ws`` names ``column``
+    (alone, or with a unit in brackets)."""
+    for k, row in enumerate(ws.iter_rows(values_only=True)):
+        if k >= HEAD_ROWS:
+            break
+        for v in row:
+            if isinstance(v, str) and column in (v.strip(), split_unit_header(v.strip())[0]):
+                return True
+    return False
+
+
+def _named_sheet(path: Path, wb, sheets: list, sheet: str | int):
+    """The map's ``[file] sheet``: a name, or a 0-based index in Excel's tab order, chart
+    sheets counted (the tab a user counts to); a chart sheet has no cells to read."""
+    tabs = list(wb.sheetnames)  # worksheets and chart sheets, in tab order
     titles = [s.title for s in sheets]
     if isinstance(sheet, int):
-        if sheet >= len(sheets):
+        if sheet >= len(tabs):
             raise RecordingError(
                 f"{path}: channel map [file] sheet = {sheet} but the workbook has "
-                f"{len(sheets)} sheet(s): {titles} (0-based index)"
+                f"{len(tabs)} sheet(s): {tabs} (0-based index, in tab order)"
             )
-        return sheets[sheet]
-    if sheet not in titles:
+        name = tabs[sheet]
+    elif sheet not in tabs:
         raise RecordingError(
             f"{path}: channel map [file] sheet = {sheet!r} is not a sheet of the workbook; "
-            f"sheets: {titles}"
+            f"sheets: {tabs}"
         )
-    return sheets[titles.index(sheet)]
+    else:
+        name = sheet
+    if name not in titles:
+        raise RecordingError(
+            f"{path}: channel map [file] sheet = {sheet!r} is the chart sheet {name!r}, which "
+            f"holds no cells; worksheets: {titles} (an index counts the tabs, chart sheets too)"
+        )
+    return sheets[titles.index(name)]
 
 
 def _cell_name(title: str, column: int, row: int) -> str:
@@ -204,13 +304,16 @@ class _Cells:
     def serial(self, value: _dt.datetime) -> float:
         return (value.replace(tzinfo=None) - self.epoch) / _dt.timedelta(days=1)
 
-    def holds_numbers(self, ws, rows: int = 200) -> bool:
+    def number_rows(self, ws, rows: int = HEAD_ROWS) -> int:
+        """How many of the first ``rows`` rows of ``ws`` hold a number, a date/time, or a
+        text that is a number (a column of numbers stored as text)."""
+        count = 0
         for k, row in enumerate(self.rows(ws)):
             if k >= rows:
                 break
-            if any(kind in "ndtm" and kind for kind, _ in row):
-                return True
-        return False
+            if any(kind in "ndtm" or (kind == "s" and _is_text_number(v)) for kind, v in row):
+                count += 1
+        return count
 
     def text(self, kind: str, value: Any) -> str:
         """The cell as the layout rules read text (numbers with a decimal point)."""
@@ -228,6 +331,14 @@ class _Cells:
         return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}.{frac:06d}"
 
 
+_TEXT_NUMBER = re.compile(r"[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)(?:[eE][+-]?\d+)?")
+
+
+def _is_text_number(text: str) -> bool:
+    """Whether a text cell is a number written as text (either decimal mark)."""
+    return _TEXT_NUMBER.fullmatch(text.strip()) is not None
+
+
 def _serial_us(serials: np.ndarray) -> np.ndarray:
     """Excel day numbers as whole microseconds (int64): the fraction of the day scaled alone,
     so its rounding is that of the serial's last bit (0.6 µs in the 2020s), not the product's."""
@@ -237,29 +348,80 @@ def _serial_us(serials: np.ndarray) -> np.ndarray:
     )
 
 
+_EXCEL_ERRORS = frozenset(
+    {"#div/0!", "#value!", "#ref!", "#num!", "#name?", "#null!", "#spill!", "#calc!"}
+)
+"""Excel's error values (openpyxl gives them as text in data_only mode; #N/A is a NaN word)."""
+
+
+def _text_number(text: str, mark: str) -> float | None:
+    """A text cell that is a number under the decimal mark ``mark`` (Excel's green triangle:
+    ``'6.5`` typed as text, or a column pasted from a German export, ``1,5``), else None."""
+    t = text.strip()
+    if _TEXT_NUMBER.fullmatch(t) is None or ("," if mark == "." else ".") in t:
+        return None
+    return float(t.replace(",", "."))
+
+
+def _text_marks(head: list[list[tuple[str, Any]]], given: str | None) -> dict[int, str]:
+    """The decimal mark of each column's numbers stored as text: the map's ``[file] decimal``
+    where given, else ``","`` in a column whose text numbers with a mark all use a comma, one
+    of them no thousands-like ``1,500`` at least (as the CSV reader decides a mark: never a
+    guess), else ``"."``."""
+    width = max((len(r) for r in head), default=0)
+    if given is not None:
+        return dict.fromkeys(range(width), given)
+    commas, points, sure = [0] * width, [0] * width, [False] * width
+    for row in head:
+        for j, (kind, v) in enumerate(row):
+            if kind == "s" and _is_text_number(v):
+                t = v.strip()
+                commas[j] += "," in t
+                points[j] += "." in t
+                sure[j] |= "," in t and re.fullmatch(r"[+-]?\d{1,3},\d{3}", t) is None
+    return {j: "," if commas[j] and not points[j] and sure[j] else "." for j in range(width)}
+
+
 class _Collector:
     """One column's cells as they stream by: floats (numbers, day numbers) in an
     :class:`array.array`, and the few cells that are no value of the column's kind."""
 
-    def __init__(self):
+    def __init__(self, mark: str = "."):
         self.values = array("d")
         self.kind = ""  # the first value's kind: "n", "d", "t", "m", or "s" for text
         self.odd: dict[int, str] = {}  # data row -> a cell of another kind (text, a date...)
+        self.mark = mark  # the decimal mark of its numbers stored as text
+        self.native = 0  # cells stored as numbers or dates
+        self.texts: dict[int, str] = {}  # data row -> a number stored as text, as written
+        self.errors: dict[int, str] = {}  # data row -> an Excel error value (#DIV/0!)
+        self.empty = 0  # empty cells
 
     def add(self, k: int, kind: str, value: Any) -> None:
         if kind == "":
+            self.empty += 1
             self.values.append(math.nan)
             return
         if kind == "s":
             word = value.strip().lower()
+            if word in _EXCEL_ERRORS:  # a formula's error: no value, as #N/A
+                self.errors[k] = value
+                self.values.append(math.nan)
+                return
             if word in NAN_WORDS or not word:
                 inf = word in ("inf", "+inf", "infinity", "+infinity", "∞", "+∞", "1.#inf")
                 ninf = word in ("-inf", "-infinity", "-∞", "-1.#inf")
                 self.values.append(math.inf if inf else -math.inf if ninf else math.nan)
                 return
+            number = _text_number(value, self.mark)
+            if number is not None and self.kind in ("", "n"):
+                self.kind = "n"
+                self.texts[k] = value
+                self.values.append(number)
+                return
             self.odd[k] = value
             self.values.append(math.nan)
             return
+        self.native += 1
         if not self.kind:
             self.kind = kind
         if kind != self.kind and {kind, self.kind} != {"d", "t"}:
@@ -283,16 +445,29 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
     if complete:
         while head and not any(kind for kind, _ in head[-1]):
             head.pop()
-    if not any(kind and kind != "s" for row in head for kind, _ in row):
+    if not any(
+        kind in "ndtm" or (kind == "s" and _is_text_number(v)) for row in head for kind, v in row
+    ):
         raise RecordingError(
             f"{where}: the sheet holds no numbers or dates"
             + (" in its first rows" if not complete else "")
             + "; a recording is a column of times and columns of numbers"
         )
     width = max(len(r) for r in head)
+    marks = _text_marks(head, spec.decimal)
+
+    def text(j: int, kind: str, v: Any) -> str:
+        # a number stored as text as the layout rules read numbers (with a decimal point)
+        if kind == "s" and (number := _text_number(v, marks.get(j, "."))) is not None:
+            return reader.text("n", number)
+        return reader.text(kind, v)
+
     layout = sniff_rows(
         where,
-        [[reader.text(kind, v) for kind, v in r] + [""] * (width - len(r)) for r in head],
+        [
+            [text(j, kind, v) for j, (kind, v) in enumerate(r)] + [""] * (width - len(r))
+            for r in head
+        ],
         spec,
         complete=complete,
     )
@@ -300,28 +475,36 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
     names = list(layout.names)
     ncol = len(names)
     _refuse_merged_header(path, ws, title, layout)
-    cols = [_Collector() for _ in range(ncol)]
+    cols = [_Collector(marks.get(j, ".")) for j in range(ncol)]
     sheet_rows = array("l")  # 1-based sheet row of each data row
     tail: deque = deque(maxlen=TAIL_ROWS)  # (data row, cells as text) of the last rows
     blank = array("l")
     number = 0
 
+    # cells right of the named columns: a signature or a comment beside the data is no
+    # reason to refuse the sheet, a column of numbers without a name is (decided once the
+    # footer is known): column -> [(row, value) of its first number, rows of text, first text]
+    stray: dict[int, list] = {}
+
     def take(i: int, row: list[tuple[str, Any]]) -> None:
-        if not any(kind for kind, _ in row):
+        for j in range(ncol, len(row)):
+            kind, value = row[j]
+            if kind:
+                seen = stray.setdefault(j, [None, array("l"), None])
+                if kind in "ndtm" or _is_text_number(value):
+                    seen[0] = seen[0] or (i + 1, value)
+                else:
+                    seen[1].append(i + 1)
+                    seen[2] = value if seen[2] is None else seen[2]
+        if not any(kind for kind, _ in row[:ncol]):
             blank.append(i + 1)
             return
         k = len(sheet_rows)
         for j in range(ncol):
             kind, value = row[j] if j < len(row) else ("", None)
             cols[j].add(k, kind, value)
-        for j in range(ncol, len(row)):
-            if row[j][0]:
-                raise RecordingError(
-                    f"{path}: {_cell_name(title, j, i + 1)} holds {row[j][1]!r} but its column "
-                    f"has no name ({ncol} named columns); name the column or clear it"
-                )
         sheet_rows.append(i + 1)
-        tail.append([reader.text(kind, v) for kind, v in row[:ncol]])
+        tail.append([text(j, kind, v) for j, (kind, v) in enumerate(row[:ncol])])
 
     for i, row in enumerate(head):
         if i >= layout.data_line:
@@ -344,6 +527,19 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
         first = sheet_rows[n - footer]
         notes.append(f"footer below the numbers left out: row {first} to the end")
         n -= footer
+    cut = sheet_rows[n] if n < len(sheet_rows) else math.inf  # the footer's first row
+    for j, (number, texts, first_text) in sorted(stray.items()):
+        if number is not None and number[0] < cut:
+            raise RecordingError(
+                f"{path}: {_cell_name(title, j, number[0])} holds {number[1]!r} but its column "
+                f"has no name ({ncol} named columns); name the column or clear it"
+            )
+        kept = [r for r in texts if r < cut]  # those in the footer went with it
+        if kept:
+            notes.append(
+                f"{len(kept)} text cell(s) in a column without a name and without numbers "
+                f"ignored (first: {_cell_name(title, j, kept[0])} {first_text!r})"
+            )
     if n == 0:
         raise RecordingError(f"{where}: has a header but no data rows; the recording is empty")
     last = sheet_rows[n - 1]
@@ -367,9 +563,12 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
         col = cols[j]
         values = np.frombuffer(col.values, dtype=np.float64)[:n].copy()
         odd = {k: v for k, v in col.odd.items() if k < n}
+        texts = {k: v for k, v in col.texts.items() if k < n}
+        if n and 2 * col.empty >= n:  # mostly empty: formulas a script wrote, never computed?
+            _refuse_formulas_without_values(path, title, j, name, rows_of, values)
         unit = split_unit_header(name)[1] or units[name]
-        if odd and col.kind == "":  # no number or date in it: a column of text
-            return Column(_text_column(values, odd, n), unit)
+        if odd and not col.native and len(texts) <= len(odd):  # mostly words: a text column
+            return Column(_text_column(values, {**texts, **odd}, n), unit)
         if odd:
             k = min(odd)
             what = f"{_KIND_NAMES.get(col.kind, 'value')}s"
@@ -379,12 +578,72 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
                 + (f" ({len(odd)} such cells)" if len(odd) > 1 else "")
                 + "; correct the cell, or clear it (an empty cell is a missing sample)"
             )
+        if texts:
+            k = min(texts)
+            comma = " with a decimal comma" if col.mark == "," else ""
+            why = (
+                " (the map's [file] decimal)"
+                if comma and spec.decimal
+                else " (all its text numbers use one)"
+                if comma
+                else ""
+            )
+            table.notes.append(
+                f"column {name!r}: {len(texts)} number(s) stored as text read as numbers"
+                f"{comma}{why} (first: {_cell_name(title, j, int(rows_of[k]))} {texts[k]!r})"
+            )
+        errors = {k: v for k, v in col.errors.items() if k < n}
+        if errors:
+            k = min(errors)
+            table.notes.append(
+                f"column {name!r}: {len(errors)} Excel error cell(s) read as missing samples "
+                f"(first: {_cell_name(title, j, int(rows_of[k]))} {errors[k]!r})"
+            )
         if col.kind in ("d", "t", "m"):
             return Column(_times(col.kind, values, reader.epoch, where, name, table.notes), unit)
         return Column(values, unit)
 
     table.load = load
+    # translate's messages on a text column: its row as the sheet's (Excel's) row number
+    table.line_of = lambda k: int(rows_of[k]) if 0 <= k < n else None  # type: ignore[attr-defined]
     return table
+
+
+def _refuse_formulas_without_values(
+    path: Path, title: str, j: int, name: str, rows_of: np.ndarray, values: np.ndarray
+) -> None:
+    """Raise where the empty cells of a column are formulas without a saved value: a
+    workbook written by a script (openpyxl, xlsxwriter) and never opened in Excel holds the
+    formulas only, read as empty (values only), and the error had spoken of NaN samples. The
+    workbook is opened again for its formulas, only for a column mostly empty."""
+    import openpyxl
+
+    empty = ~np.isfinite(values)
+    found, first = 0, None
+    with contextlib.suppress(Exception), path.open("rb") as fh:
+        wb = openpyxl.load_workbook(fh, read_only=True, data_only=False)
+        try:
+            ws = wb[title]
+            lo, hi = int(rows_of[0]), int(rows_of[-1])
+            for r, (v,) in enumerate(
+                ws.iter_rows(
+                    min_row=lo, max_row=hi, min_col=j + 1, max_col=j + 1, values_only=True
+                ),
+                start=lo,
+            ):
+                k = int(np.searchsorted(rows_of, r))
+                if isinstance(v, str) and v.startswith("=") and k < empty.size and empty[k]:
+                    found += 1
+                    first = first or r
+        finally:
+            wb.close()
+    if found:
+        raise RecordingError(
+            f"{path}: cells of column {name!r} are formulas without saved values ({found} "
+            f"cells, first {_cell_name(title, j, first)}): the workbook was written by a "
+            "program that does not compute formulas; open and save the workbook in Excel (or "
+            "LibreOffice), or export CSV"
+        )
 
 
 def _text_column(values: np.ndarray, odd: dict[int, str], n: int) -> np.ndarray:
@@ -455,6 +714,7 @@ _MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s+ref="([A-Z]+[0-9]+:[A-Z]+[0-9]+)"')
 def _refuse_merged_header(path: Path, ws, title: str, layout) -> None:
     """Raise where cells merged across columns lie in the names or units row (a name over
     two columns leaves the second without one); merged title rows above them are fine."""
+    from openpyxl.utils import get_column_letter
     from openpyxl.utils.cell import range_boundaries
 
     rows = {r + 1 for r in (layout.header_line, layout.units_line) if r is not None}
@@ -470,7 +730,8 @@ def _refuse_merged_header(path: Path, ws, title: str, layout) -> None:
                 c0, r0, c1, r1 = range_boundaries(ref)
                 if c1 > c0 and any(r0 <= r <= r1 for r in rows):
                     raise RecordingError(
-                        f"{path}: merged cells {title}!{ref} in the sheet's names or units "
+                        f"{path}: merged cells {_cell_name(title, c0 - 1, r0)}:"
+                        f"{get_column_letter(c1)}{r1} in the sheet's names or units "
                         "row: each column needs a name (and unit) of its own; unmerge them "
                         "in Excel and name every column"
                     )
