@@ -389,3 +389,38 @@ def test_random_numeric_columns_round_trip(tmp_path, rows):
     table = read_xlsx(path)
     got = np.column_stack([table.load(n).values for n in ("a", "b", "c")])
     np.testing.assert_allclose(got, np.array(rows), rtol=1e-15, atol=0)
+
+
+TORQUE_ONLY = {"time": {"column": "Time", "unit": "s"},
+               "channels": {"torque": {"column": "Torque", "unit": "N.m"}}}  # fmt: skip
+
+
+def _text_torque(tmp_path, cells, name="text.xlsx"):
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.append(["Time", "Torque"])
+    for k, cell in enumerate(cells):
+        ws.append([k / 100, cell])
+    path = tmp_path / name
+    wb.save(path)
+    return path
+
+
+def test_text_numbers_that_read_as_thousands_too_are_refused_not_guessed(tmp_path):
+    # '1.000', '1.120' beside '850': 1 and 1.12 under a decimal point, 1000 and 1120 under a
+    # German thousands mark. They had been read as decimals, 1000 times too small, with a
+    # note only (review of 2026-12-03).
+    path = _text_torque(tmp_path, [850.0, 920.0, 999.0, "1.000", "1.120", "1.230"])
+    with pytest.raises(RecordingError, match=r"1\.000.*\[file\] decimal"):
+        read_recording(path, TORQUE_ONLY)
+    given = TORQUE_ONLY | {"file": {"decimal": ","}}
+    with pytest.raises(RecordingError):  # '1.000' under a decimal comma: a thousands mark
+        read_recording(path, given)
+
+
+def test_text_numbers_with_a_leading_zero_decide_the_decimal_comma(tmp_path):
+    # '0,500' cannot hold a thousands mark: the column's comma is decimal (it had been refused
+    # as possibly thousands, naming a decimal mark 'given' that nobody gave)
+    path = _text_torque(tmp_path, ["0,000", "0,001", "0,500", "1,250"])
+    rec = read_recording(path, TORQUE_ONLY)
+    np.testing.assert_allclose(rec["torque"], [0.0, 0.001, 0.5, 1.25])

@@ -548,8 +548,9 @@ def _torque_delay(fit, measurement, point) -> str:
         f"{abs(tau) * 1e3:.2g} ms: a delay, fitted with the free keys, removes "
         f"{'nearly all' if share >= 0.95 else f'{100 * share:.0f} %'} of the torque residual's "
         "sum of squares (rollerrig.calibrate.diagnostics.channel_delay). "
-        "A filter's group delay in the torque's amplifier or DAQ module, against the encoders' "
-        "counts? The twin takes the channels as simultaneous, and such a delay moves the "
+        "A delay between the DAQ's channels (another module, an amplifier's filter) against "
+        "the encoders' counts? The twin takes the channels as simultaneous, and such a delay "
+        "moves the "
         "shaft's keys by several standard errors: align the channels (the torque "
         f"{abs(tau) * 1e3:.2g} ms {'earlier' if tau > 0 else 'later'}) and calibrate again"
     )

@@ -358,28 +358,52 @@ def _text_number(text: str, mark: str) -> float | None:
     """A text cell that is a number under the decimal mark ``mark`` (Excel's green triangle:
     ``'6.5`` typed as text, or a column pasted from a German export, ``1,5``), else None."""
     t = text.strip()
-    if _TEXT_NUMBER.fullmatch(t) is None or ("," if mark == "." else ".") in t:
+    if _TEXT_NUMBER.fullmatch(t) is None:
+        return None
+    if mark == _UNDECIDED:  # integers only: a mark would be a guess
+        return None if ("," in t or "." in t) else float(t)
+    if ("," if mark == "." else ".") in t:
         return None
     return float(t.replace(",", "."))
 
 
+_UNDECIDED = "?"
+"""The decimal mark of a column whose numbers stored as text all read as thousands too."""
+_THOUSANDS = {
+    mark: re.compile(rf"[+-]?[1-9]\d{{0,2}}(?:{re.escape(mark)}\d{{3}})+") for mark in ",."
+}
+"""A text number that a thousands mark could have written (``1.000``, ``12,500``; a leading 0
+cannot: ``0,500``)."""
+
+
 def _text_marks(head: list[list[tuple[str, Any]]], given: str | None) -> dict[int, str]:
     """The decimal mark of each column's numbers stored as text: the map's ``[file] decimal``
-    where given, else ``","`` in a column whose text numbers with a mark all use a comma, one
-    of them no thousands-like ``1,500`` at least (as the CSV reader decides a mark: never a
-    guess), else ``"."``."""
+    where given; else the one mark the column's text numbers use, where one of them at least
+    cannot be a thousands mark (``1,5``, ``0,500``, ``1.25``: as the CSV reader decides a
+    mark, never a guess); :data:`_UNDECIDED` where each could be one (``1.000``, ``1.120``: 1
+    or 1000; a German column of thousands had read 1000 times too small); ``"."`` without
+    marks."""
     width = max((len(r) for r in head), default=0)
     if given is not None:
         return dict.fromkeys(range(width), given)
-    commas, points, sure = [0] * width, [0] * width, [False] * width
+    count = {",": [0] * width, ".": [0] * width}
+    sure = {",": [False] * width, ".": [False] * width}
     for row in head:
         for j, (kind, v) in enumerate(row):
             if kind == "s" and _is_text_number(v):
                 t = v.strip()
-                commas[j] += "," in t
-                points[j] += "." in t
-                sure[j] |= "," in t and re.fullmatch(r"[+-]?\d{1,3},\d{3}", t) is None
-    return {j: "," if commas[j] and not points[j] and sure[j] else "." for j in range(width)}
+                for mark in ",.":
+                    if mark in t:
+                        count[mark][j] += 1
+                        sure[mark][j] |= _THOUSANDS[mark].fullmatch(t) is None
+    out = {}
+    for j in range(width):
+        only = [m for m in ",." if count[m][j]]
+        if len(only) == 1:
+            out[j] = only[0] if sure[only[0]][j] else _UNDECIDED
+        else:
+            out[j] = "."  # no mark, or both (refused cell by cell: 1.234,5)
+    return out
 
 
 class _Collector:
@@ -569,6 +593,15 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
         unit = split_unit_header(name)[1] or units[name]
         if odd and not col.native and len(texts) <= len(odd):  # mostly words: a text column
             return Column(_text_column(values, {**texts, **odd}, n), unit)
+        marked = [k for k in sorted(odd) if _is_text_number(odd[k])]
+        if col.mark == _UNDECIDED and marked:
+            k = marked[0]
+            raise RecordingError(
+                f"{path}: column {name!r} holds numbers stored as text such as "
+                f"{odd[k]!r} ({_cell_name(title, j, int(rows_of[k]))}) that read as decimals or "
+                "with a thousands mark alike (1.000: 1 or 1000): give [file] decimal in the "
+                "channel map"
+            )
         if odd:
             k = min(odd)
             what = f"{_KIND_NAMES.get(col.kind, 'value')}s"
