@@ -424,3 +424,13 @@ def test_text_numbers_with_a_leading_zero_decide_the_decimal_comma(tmp_path):
     path = _text_torque(tmp_path, ["0,000", "0,001", "0,500", "1,250"])
     rec = read_recording(path, TORQUE_ONLY)
     np.testing.assert_allclose(rec["torque"], [0.0, 0.001, 0.5, 1.25])
+
+
+@pytest.mark.parametrize("encoding", ["cp1252", "utf-16", "utf-16-le"])
+def test_a_text_export_named_xlsx_in_any_encoding_is_told_to_be_renamed(tmp_path, encoding):
+    # a Windows-1252 or UTF-16 export had been called a corrupt workbook (review 2026-12-03)
+    path = tmp_path / "export.xlsx"
+    body = "Zeit;Moment\r\n" + "".join(f"{k},0;{k},5 Nm ä\r\n" for k in range(50))
+    path.write_bytes(body.encode(encoding))
+    with pytest.raises(RecordingError, match=r"the file is text.*rename it to \.csv"):
+        read_recording(path, TORQUE_ONLY)

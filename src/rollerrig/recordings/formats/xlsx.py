@@ -35,6 +35,7 @@ resolves: write the time as a number).
 
 from __future__ import annotations
 
+import codecs
 import contextlib
 import datetime as _dt
 import math
@@ -49,7 +50,12 @@ import numpy as np
 
 from rollerrig.recordings.channels import FileSpec, split_unit_header
 from rollerrig.recordings.formats._table import Column, Table, add_alias, require_module
-from rollerrig.recordings.formats._text import NAN_WORDS, footer_rows, sample_in_footer
+from rollerrig.recordings.formats._text import (
+    NAN_WORDS,
+    bom_less_utf16,
+    footer_rows,
+    sample_in_footer,
+)
 from rollerrig.recordings.formats.sniff import sniff_rows
 from rollerrig.recordings.recording import RecordingError
 
@@ -95,12 +101,12 @@ def _not_a_workbook(path: Path) -> str:
     bytes text) is told to be renamed back."""
     with path.open("rb") as fh:
         head = fh.read(4096)
-    # text: no control bytes but tab, CR, LF, FF (a zip's "PK\x03\x04" has one), UTF-8
-    text = bool(head.strip()) and not any(b < 9 or 13 < b < 32 for b in head)
-    try:
-        head.decode("utf-8", errors="strict")
-    except UnicodeDecodeError as exc:  # a multi-byte character cut at the 4 KiB mark is text
-        text = text and exc.start >= len(head) - 3
+    # text: UTF-16 (with a byte-order mark or by its look), or no control bytes but tab, CR,
+    # LF, FF (a zip's "PK\x03\x04" has one) in any 8-bit code page (UTF-8, Windows-1252)
+    utf16 = head.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)) or bool(
+        bom_less_utf16(head)
+    )
+    text = utf16 or (bool(head.strip()) and not any(b < 9 or 13 < b < 32 for b in head))
     if text:
         return (
             f"{path}: not an Excel workbook: the file is text (a CSV or text export named "
