@@ -268,11 +268,14 @@ def build_calibration(
             )
         else:
             tau = w.get("integrated_autocorrelation_time [samples]", float("nan"))
+            # the verdict first: the console cuts a long note after its first clauses
             notes.append(
-                f"{what}, short-range only (integrated autocorrelation time {tau:.2g} samples, "
-                "no bias in the block means): the correlation a DAQ's anti-alias filter and "
-                "the sensor's lines leave, which the Newey-West standard errors account for; "
-                "no structure the twin misses"
+                f"residuals of {c}: no structure the twin misses; their correlation is "
+                f"short-range only (integrated autocorrelation time {tau:.2g} samples, no bias "
+                f"in the block means; Ljung-Box p = {w['ljung_box_p']:.2g}, lag-1 "
+                f"autocorrelation {w['lag1_autocorrelation']:+.2f}): what a DAQ's anti-alias "
+                "filter and the sensor's lines leave, which the Newey-West standard errors "
+                "account for"
             )
 
     structured = tuple(

@@ -333,12 +333,15 @@ def calibrate(
                 stage.dir / figure_file(FIT_FIGURE_NAME.removesuffix(".png"), figure_format),
             )
     print_recording_notes(rec)
+    from rollerrig.calibrate import CALIBRATION_JSON_NAME
+
+    kept = f"{out / CALIBRATION_JSON_NAME}, 'notes'"  # where a long note is kept whole
     if comparison is not None:
         print_comparison(comparison)
         if comparison.adequate:
-            print_calibration(result)
+            print_calibration(result, kept)
     else:
-        print_calibration(result)
+        print_calibration(result, kept)
     print_written(stage.written)
 
 
@@ -374,8 +377,10 @@ def _number(value: float | None, digits: int = 6) -> str:
     return "–" if value is None else f"{value:.{digits}g}"
 
 
-def print_calibration(result) -> None:
-    """The fitted values, the channels' residuals, the warnings and notes of a calibration."""
+def print_calibration(result, full_in: str | None = None) -> None:
+    """The fitted values, the channels' residuals, the warnings and notes of a calibration;
+    ``full_in`` (the written calibration.json, its 'notes') is where a long note is kept whole
+    (the console cuts it, :func:`rollerrig.cli._console.note`)."""
     if not result.valid:
         print_warning(
             "NOT A VALID CALIBRATION: "
@@ -460,7 +465,7 @@ def print_calibration(result) -> None:
         if not text.startswith("NOT A VALID CALIBRATION"):  # said first
             print_warning(text)
     for text in result.notes:
-        note(text)
+        note(text, full_in)
 
 
 def print_combinations(combinations) -> None:
