@@ -295,15 +295,8 @@ class staged_outputs:  # a context manager that reads as a function
                     old = replaced / str(len(placed))
                     os.replace(dest, old)
                 except OSError as exc:
-                    where = self._roll_back(placed)
-                    raise OutputError(
-                        f"{dest}: cannot remove an earlier run's file: {_reason(exc)}; "
-                        + (
-                            f"nothing in {self.out} was changed"
-                            if where is None
-                            else f"some old files could not be put back: they are in {where}"
-                        )
-                    ) from None
+                    what = f"{dest}: cannot remove an earlier run's file"
+                    raise self._failed(placed, what, exc) from None
                 placed.append((dest, old))
                 removed.append(dest)
             for src in files:
@@ -317,19 +310,24 @@ class staged_outputs:  # a context manager that reads as a function
                         _second_name(dest, old)
                     os.replace(src, dest)  # dest is the old file or the new one, never absent
                 except OSError as exc:
-                    where = self._roll_back(placed)
-                    raise OutputError(
-                        f"{dest}: cannot write the file: {_reason(exc)}; "
-                        + (
-                            f"nothing in {self.out} was changed"
-                            if where is None
-                            else f"some old files could not be put back: they are in {where}"
-                        )
-                    ) from None
+                    raise self._failed(placed, f"{dest}: cannot write the file", exc) from None
                 placed.append((dest, old))
             self.written.extend(dest for dest, _ in placed[len(removed) :])
             self.removed.extend(removed)
             mark_replaced(dest for dest, old in placed[len(removed) :] if old is not None)
+
+    def _failed(self, placed, what: str, exc: OSError) -> OutputError:
+        """The commit's moves undone (:meth:`_roll_back`) and the error that says what failed
+        and where the old files are."""
+        where = self._roll_back(placed)
+        return OutputError(
+            f"{what}: {_reason(exc)}; "
+            + (
+                f"nothing in {self.out} was changed"
+                if where is None
+                else f"some old files could not be put back: they are in {where}"
+            )
+        )
 
     def _earlier_runs(self, path: Path) -> bool:
         """Whether ``path`` is a plain file that the earlier run's manifest (this run's name)

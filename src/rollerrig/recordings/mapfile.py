@@ -102,36 +102,26 @@ def _date_format(value: str | None) -> str | None:
     return value
 
 
-def _group(value: Any) -> Any:
-    if value is not None and (
-        isinstance(value, bool)
-        or not isinstance(value, str | int)
-        or (isinstance(value, str) and not value)
-        or (isinstance(value, int) and value < 0)
-    ):
-        raise FieldProblem(
-            "",
-            "must be a group name or a 0-based group index",
-            allowed="a name or an integer >= 0",
-            got=value,
-        )
-    return value
+def _name_or_index(what: str):
+    """The validator of a ``[file]`` key that names a table of the file (a TDMS/MDF group, a
+    workbook's sheet): a non-empty name or a 0-based index."""
 
+    def check(value: Any) -> Any:
+        if value is not None and (
+            isinstance(value, bool)
+            or not isinstance(value, str | int)
+            or (isinstance(value, str) and not value)
+            or (isinstance(value, int) and value < 0)
+        ):
+            raise FieldProblem(
+                "",
+                f"must be a {what} name or a 0-based {what} index",
+                allowed="a name or an integer >= 0",
+                got=value,
+            )
+        return value
 
-def _sheet(value: Any) -> Any:
-    if value is not None and (
-        isinstance(value, bool)
-        or not isinstance(value, str | int)
-        or (isinstance(value, str) and not value)
-        or (isinstance(value, int) and value < 0)
-    ):
-        raise FieldProblem(
-            "",
-            "must be a sheet name or a 0-based sheet index",
-            allowed="a name or an integer >= 0",
-            got=value,
-        )
-    return value
+    return check
 
 
 _STRICT = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False)
@@ -186,8 +176,8 @@ class FileSpec:
     encoding: Annotated[str | None, AfterValidator(_encoding)] = None
     dayfirst: Annotated[bool, Strict()] | None = None
     date_format: Annotated[str | None, AfterValidator(_date_format)] = None
-    group: Annotated[str | int | None, BeforeValidator(_group)] = None
-    sheet: Annotated[str | int | None, BeforeValidator(_sheet)] = None
+    group: Annotated[str | int | None, BeforeValidator(_name_or_index("group"))] = None
+    sheet: Annotated[str | int | None, BeforeValidator(_name_or_index("sheet"))] = None
 
     @model_validator(mode="after")
     def _consistent(self):
