@@ -542,6 +542,7 @@ def _torque_delay(fit, measurement, point) -> str:
     if found is None:
         return ""
     tau, reduction = found
+    total = tau + measurement.torque_delay  # a delay given is removed from the data already
     torque = fit.stack(zero | {"torque": m.values["torque"] - point.prediction["torque"]})
     share = min(1.0, reduction / float(torque @ torque))
     if share < DELAY_SHARE or abs(tau) < 0.1 * dt:
@@ -554,8 +555,9 @@ def _torque_delay(fit, measurement, point) -> str:
         "A delay between the DAQ's channels (another module, an amplifier's filter) against "
         "the encoders' counts? The twin takes the channels as simultaneous, and such a delay "
         "moves the "
-        "shaft's keys by several standard errors: align the channels (the torque "
-        f"{abs(tau) * 1e3:.2g} ms {'earlier' if tau > 0 else 'later'}) and calibrate again"
+        "shaft's keys by several standard errors: align the channels and calibrate again "
+        f"(rollerrig calibrate --torque-delay-ms {total * 1e3:.2g}; torque_delay={total:.2g} "
+        "from Python), or align them in the DAQ"
     )
 
 

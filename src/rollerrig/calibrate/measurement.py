@@ -163,6 +163,9 @@ class Measurement:
         Standard uncertainty of the load channel's mean from the sensors' stated classes [N]:
         the pressure sensor's offset times the area and the area's own, in quadrature (0 for a
         constant channel, which the replay takes as exact).
+    torque_delay : float
+        The torque channel's delay against the encoders removed before the fit [s]
+        (:func:`rollerrig.calibrate.calibrate`'s ``torque_delay``; 0: none).
     """
 
     time: np.ndarray
@@ -186,6 +189,7 @@ class Measurement:
     notes: list[str] = dataclasses.field(default_factory=list)
     load_source: str = "air_spring_pressure"
     normal_load_class: float = 0.0
+    torque_delay: float = 0.0
 
     def project_lines(self, torque: np.ndarray) -> np.ndarray:
         """``torque`` with its components along the line regressors removed [N.m]."""

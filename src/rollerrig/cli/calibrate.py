@@ -109,6 +109,18 @@ def calibrate(
             "sensors.torque_sensor_range of the rig (1 N.m on the bundled rig).",
         ),
     ] = None,
+    torque_delay_ms: Annotated[
+        float,
+        typer.Option(
+            "--torque-delay-ms",
+            min=-100.0,
+            max=100.0,
+            help="The torque channel's delay against the encoders [ms] (> 0: the torque is "
+            "late; a filter's group delay in its amplifier or DAQ module), removed before the "
+            "fit. A calibration whose torque residual a delay explains names the value to give "
+            "here.",
+        ),
+    ] = 0.0,
     max_iterations: Annotated[
         int,
         typer.Option(min=1, help="Most Levenberg-Marquardt iterations per stage [-]."),
@@ -245,6 +257,7 @@ def calibrate(
         free=keys,
         friction=friction.value,
         torque_noise=torque_noise,
+        torque_delay_ms=torque_delay_ms,
         max_iterations=max_iterations,
         lenient=lenient,
         roller_drive="compare" if compare else roller,
@@ -283,6 +296,7 @@ def calibrate(
                     max_iterations=max_iterations,
                     progress=lambda lw, i, n, text: each(lw, len(laws), i, n, text),
                     torque_noise=torque_noise,
+                    torque_delay=torque_delay_ms * 1e-3,
                     roller_drive=roller,
                 )
                 result = comparison.winning_calibration
@@ -298,6 +312,7 @@ def calibrate(
                     max_iterations=max_iterations,
                     progress=lambda d, i, n, text: each(d, len(ROLLER_DRIVES), i, n, text),
                     torque_noise=torque_noise,
+                    torque_delay=torque_delay_ms * 1e-3,
                     law=laws[0],
                 )
                 result = comparison.winning_calibration
@@ -310,6 +325,7 @@ def calibrate(
                     max_iterations=max_iterations,
                     progress=progress,
                     torque_noise=torque_noise,
+                    torque_delay=torque_delay_ms * 1e-3,
                     roller_drive=roller,
                     law=laws[0],
                 )
