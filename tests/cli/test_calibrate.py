@@ -50,6 +50,7 @@ def test_help_keeps_the_units_in_brackets(runner):
         "--free",
         "calibrated-rig.toml",
         "--list-keys",
+        "delay against the encoders [ms]",
     ):
         assert fragment in text, fragment
     assert "Traceback" not in result.output
@@ -126,6 +127,7 @@ def test_calibrate_then_analyze_with_the_calibrated_rig(runner, tmp_path, synthe
     doc = json.loads((out / "calibration.json").read_text())
     assert doc["provenance"]["inputs"]["recording"]["sha256"] == file_sha256(synthetic_tdms)
     assert doc["provenance"]["parameters"]["free"][0] == "stiffness.roller_shaft"
+    assert doc["provenance"]["parameters"]["torque_delay_ms"] == 0.0  # the option's default
     stiffness = doc["parameters"]["stiffness.roller_shaft"]
     assert abs(stiffness["value"] - 47850.0) < 5 * stiffness["standard_error"] + 10.0
     assert doc["parameters"]["damping.wheel_shaft"]["value"] is None
@@ -275,3 +277,18 @@ def test_analyze_refuses_a_calibration_that_is_not_valid(runner, tmp_path, adhes
     text = _flat(result.output)
     assert "not valid (the fit did not converge within 3 iterations)" in text
     assert not out.exists()
+
+
+def test_the_torque_delay_reaches_the_calibration_and_its_provenance(
+    runner, tmp_path, synthetic_tdms
+):
+    out = tmp_path / "cal"
+    args = ["calibrate", str(synthetic_tdms), "--free", "stiffness.roller_shaft", "--out",
+            str(out), "--torque-delay-ms", "2", "-q"]  # fmt: skip
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    doc = json.loads((out / "calibration.json").read_text())
+    assert doc["provenance"]["parameters"]["torque_delay_ms"] == 2.0
+    assert any("(torque_delay = 0.002 s" in n for n in doc["notes"])
+    bad = runner.invoke(app, [*args[:-3], "--torque-delay-ms", "500"])
+    assert bad.exit_code == 2 and "Traceback" not in bad.output
