@@ -434,3 +434,13 @@ def test_a_text_export_named_xlsx_in_any_encoding_is_told_to_be_renamed(tmp_path
     path.write_bytes(body.encode(encoding))
     with pytest.raises(RecordingError, match=r"the file is text.*rename it to \.csv"):
         read_recording(path, TORQUE_ONLY)
+
+
+def test_a_workbook_cut_short_says_so(tmp_path):
+    # a copy that stopped leaves a zip without its central directory: it had been called
+    # "no zip archive"
+    whole = _text_torque(tmp_path, [float(k) for k in range(2000)], name="whole.xlsx")
+    cut = tmp_path / "cut.xlsx"
+    cut.write_bytes(whole.read_bytes()[:3000])
+    with pytest.raises(RecordingError, match="cut short"):
+        read_recording(cut, TORQUE_ONLY)

@@ -112,6 +112,12 @@ def _not_a_workbook(path: Path) -> str:
             f"{path}: not an Excel workbook: the file is text (a CSV or text export named "
             f"{path.suffix}); rename it to .csv and read that"
         )
+    if head.startswith(b"PK\x03\x04"):  # a zip whose directory at its end is missing
+        return (
+            f"{path}: not a readable Excel workbook (.xlsx): the file is corrupt, cut short (a zip "
+            "archive without its end, as a copy or download that stopped leaves it); use the "
+            "complete file, or open it in Excel and save it again"
+        )
     return (
         f"{path}: not a readable Excel workbook (.xlsx): the file is corrupt or of another "
         "format (no zip archive); open it in Excel and save it again as .xlsx, or as CSV"
