@@ -92,9 +92,7 @@ def test_a_load_offset_inside_the_class_is_found_from_the_torque(load_offset, tr
     # now weighs as one measurement with the classes' error, and the torque tells the load.
     shift, result = load_offset
     assert result.valid
-    for key in FREE:
-        p = result.parameters[key]
-        assert abs(_z(p, truth_values[key])) < 2.0, (key, p.value, truth_values[key])
+    _assert_within_two_standard_errors(result, truth_values)
     load = result.nuisance["experiment.normal_load"]
     assert abs(load.value - 4300.0) < 0.2 * abs(shift)  # the twin's, not the channel's
     note = next(n for n in result.notes if n.startswith("the normal-load channel reads"))
@@ -108,15 +106,19 @@ def _z(p, true, which="standard_error"):
     return (p.value - true) / getattr(p, which)
 
 
+def _assert_within_two_standard_errors(result, truth_values):
+    for key in FREE:
+        p = result.parameters[key]
+        assert abs(_z(p, truth_values[key])) < 2.0, (key, p.value, truth_values[key])
+
+
 def test_a_torque_offset_inside_the_class_is_covered_by_the_stated_error(offset, truth_values):
     friction = offset.parameters["bearing.friction_coefficient"]
     true = truth_values["bearing.friction_coefficient"]
     # The statistical part alone misses by tens of its own size (the review's finding)...
     assert abs(_z(friction, true, "standard_error_statistical")) > 10.0
     # ...the stated total, with the torque class, covers every key within 2 standard errors.
-    for key in FREE:
-        p = offset.parameters[key]
-        assert abs(_z(p, truth_values[key])) < 2.0, (key, p.value, truth_values[key])
+    _assert_within_two_standard_errors(offset, truth_values)
     assert friction.systematic["torque_class"] ** 2 > 0.9 * friction.standard_error**2
 
 
@@ -138,9 +140,7 @@ def test_a_torque_gain_inside_the_class_is_covered_by_the_stated_error(gain, tru
     # with them, where an offset moves the bearing friction.
     _, result = gain
     assert result.valid
-    for key in FREE:
-        p = result.parameters[key]
-        assert abs(_z(p, truth_values[key])) < 2.0, (key, p.value, truth_values[key])
+    _assert_within_two_standard_errors(result, truth_values)
     lag = result.parameters["induction_motor.response_lag_clp"]
     assert abs(lag.systematic["torque_gain"]) > abs(lag.systematic["torque_class"])
 

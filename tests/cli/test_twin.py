@@ -261,13 +261,20 @@ duration_s = 0.2
 """
 
 
-def test_simulate_without_a_figure_removes_the_earlier_runs_figure(tmp_path, runner):
-    # `simulate --no-figure --out DIR` had left an older run's PNG beside the new results.
+def _short_run_with_figure(tmp_path, runner):
+    """(out folder, the command's arguments) after one `simulate` of SHORT_PROTOCOL with its
+    figure."""
     protocol = tmp_path / "short.toml"
     protocol.write_text(SHORT_PROTOCOL, encoding="utf-8")
     out = tmp_path / "out"
     args = ["simulate", "-e", str(protocol), "--out", str(out), "-q"]
     assert runner.invoke(app, args).exit_code == 0
+    return out, args
+
+
+def test_simulate_without_a_figure_removes_the_earlier_runs_figure(tmp_path, runner):
+    # `simulate --no-figure --out DIR` had left an older run's PNG beside the new results.
+    out, args = _short_run_with_figure(tmp_path, runner)
     assert (out / "short.png").is_file()
     result = runner.invoke(app, [*args, "--no-figure"])
     assert result.exit_code == 0, result.output
@@ -282,11 +289,7 @@ def test_simulate_without_a_figure_removes_the_earlier_runs_figure(tmp_path, run
 def test_simulate_without_a_figure_keeps_a_figure_changed_since_it_was_written(tmp_path, runner):
     # Only a file the earlier run's manifest lists with the SHA-256 it still has is removed: a
     # figure the user annotated (or any file of that name the run did not write) stays, noted.
-    protocol = tmp_path / "short.toml"
-    protocol.write_text(SHORT_PROTOCOL, encoding="utf-8")
-    out = tmp_path / "out"
-    args = ["simulate", "-e", str(protocol), "--out", str(out), "-q"]
-    assert runner.invoke(app, args).exit_code == 0
+    out, args = _short_run_with_figure(tmp_path, runner)
     with (out / "short.png").open("ab") as fh:
         fh.write(b"the user's annotation")
     annotated = (out / "short.png").read_bytes()
