@@ -196,10 +196,10 @@ def analyze_test(
         rig = default_rig()
         notes.append("no rig given: the bundled default rig's parameters were used")
     # The rig the recording states it was made on (the keys a calibration replaces aside).
-    calibrated_keys = () if calibration is None else calibration_covariance(calibration)[0]
-    other_rig = rig_mismatch(recording.metadata, rig, ignore=calibrated_keys)
+    calibrated = {} if calibration is None else calibration_covariance(calibration)[0]
+    other_rig = rig_mismatch(recording.metadata, rig, ignore=calibrated)
     if calibration is not None:
-        rig = _calibrated_rig(rig, calibration, notes)
+        rig = _calibrated_rig(rig, calibrated, notes)
     cap = MAX_FIT_POINTS if max_fit_points is None else int(max_fit_points)
     if cap < 10:
         raise RecordingError(f"max_fit_points must be at least 10, got {max_fit_points!r}")
@@ -371,10 +371,9 @@ def _truth_errors(
     return out
 
 
-def _calibrated_rig(rig, calibration, notes: list[str]):
-    """``rig`` with the calibrated values of ``calibration`` (noted); the creep law's keys
-    (``polach.*``, ``fastsim.*``) skipped."""
-    values, *_ = calibration_covariance(calibration)
+def _calibrated_rig(rig, values: dict[str, float], notes: list[str]):
+    """``rig`` with a calibration's values (key -> value, :func:`calibration_covariance`'s
+    first; noted); the creep law's keys (``polach.*``, ``fastsim.*``) skipped."""
     overrides = {k: v for k, v in values.items() if not k.startswith(("polach.", "fastsim."))}
     if not overrides:
         return rig

@@ -52,6 +52,9 @@ from rollerrig.recordings.channels import FileSpec, split_unit_header
 from rollerrig.recordings.formats._table import Column, Table, add_alias, require_module
 from rollerrig.recordings.formats._text import (
     NAN_WORDS,
+    NEGATIVE_INFINITY_WORDS,
+    NUMBER,
+    POSITIVE_INFINITY_WORDS,
     bom_less_utf16,
     footer_rows,
     sample_in_footer,
@@ -343,12 +346,9 @@ class _Cells:
         return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}.{frac:06d}"
 
 
-_TEXT_NUMBER = re.compile(r"[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)(?:[eE][+-]?\d+)?")
-
-
 def _is_text_number(text: str) -> bool:
     """Whether a text cell is a number written as text (either decimal mark)."""
-    return _TEXT_NUMBER.fullmatch(text.strip()) is not None
+    return NUMBER.fullmatch(text.strip()) is not None
 
 
 def _serial_us(serials: np.ndarray) -> np.ndarray:
@@ -370,7 +370,7 @@ def _text_number(text: str, mark: str) -> float | None:
     """A text cell that is a number under the decimal mark ``mark`` (Excel's green triangle:
     ``'6.5`` typed as text, or a column pasted from a German export, ``1,5``), else None."""
     t = text.strip()
-    if _TEXT_NUMBER.fullmatch(t) is None:
+    if NUMBER.fullmatch(t) is None:
         return None
     if mark == _UNDECIDED:  # integers only: a mark would be a guess
         return None if ("," in t or "." in t) else float(t)
@@ -444,8 +444,8 @@ class _Collector:
                 self.values.append(math.nan)
                 return
             if word in NAN_WORDS or not word:
-                inf = word in ("inf", "+inf", "infinity", "+infinity", "∞", "+∞", "1.#inf")
-                ninf = word in ("-inf", "-infinity", "-∞", "-1.#inf")
+                inf = word in POSITIVE_INFINITY_WORDS
+                ninf = word in NEGATIVE_INFINITY_WORDS
                 self.values.append(math.inf if inf else -math.inf if ninf else math.nan)
                 return
             number = _text_number(value, self.mark)
@@ -513,7 +513,7 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
     _refuse_merged_header(path, ws, title, layout)
     cols = [_Collector(marks.get(j, ".")) for j in range(ncol)]
     sheet_rows = array("l")  # 1-based sheet row of each data row
-    tail: deque = deque(maxlen=TAIL_ROWS)  # (data row, cells as text) of the last rows
+    tail: deque = deque(maxlen=TAIL_ROWS)  # the cells of the last rows
     blank = array("l")
     number = 0
 
@@ -540,7 +540,7 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
             kind, value = row[j] if j < len(row) else ("", None)
             cols[j].add(k, kind, value)
         sheet_rows.append(i + 1)
-        tail.append([text(j, kind, v) for j, (kind, v) in enumerate(row[:ncol])])
+        tail.append(row[:ncol])  # as text only once the last rows are known
 
     for i, row in enumerate(head):
         if i >= layout.data_line:
@@ -550,11 +550,12 @@ def _read_sheet(path: Path, ws, reader: _Cells, spec: FileSpec, notes: list[str]
         take(number, row)
         number += 1
     n = len(sheet_rows)
-    footer = footer_rows(list(tail))
+    last = [[text(j, kind, v) for j, (kind, v) in enumerate(cells)] for cells in tail]
+    footer = footer_rows(last)
     if footer:
-        sample = sample_in_footer(list(tail))
+        sample = sample_in_footer(last)
         if sample is not None:
-            at = sheet_rows[n - len(tail) + sample]
+            at = sheet_rows[n - len(last) + sample]
             raise RecordingError(
                 f"{path}: row {at} of sheet {title!r} below the samples is laid out as one, but "
                 "its first column is no number or time this reader knows, so it and the rows "
