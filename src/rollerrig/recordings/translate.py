@@ -699,15 +699,22 @@ def foreign_time(table: Table, column: str, time_column: str | None, where: str)
 
 
 def _own_time(
-    table: Table, column: str, time_col: str, values, unit: str, cmap, what: str, notes, line_of
-) -> np.ndarray:
+    table: Table, column: str, time_col: str, values, unit: str, cmap, what: str, notes, line_of,
+    read: dict[str, np.ndarray],
+) -> np.ndarray:  # fmt: skip
     """Seconds of the time channel ``time_col`` that times ``column`` (:func:`foreign_time`):
-    in its own unit where it states a time unit, else in the [time] column's ``unit``."""
-    col = table.load(time_col)
-    own_unit = (time_unit(col.unit) if col.unit else None) or unit
-    secs = _table_seconds(
-        table, cmap, col.values, own_unit, f"{what}: its time channel {time_col!r}", notes, line_of
-    )
+    in its own unit where it states a time unit, else in the [time] column's ``unit``; each
+    time channel loaded and read once (``read``: time channel -> seconds), whichever of its
+    group's channels asks first."""
+    secs = read.get(time_col)
+    if secs is None:
+        col = table.load(time_col)
+        own_unit = (time_unit(col.unit) if col.unit else None) or unit
+        secs = _table_seconds(
+            table, cmap, col.values, own_unit, f"{what}: its time channel {time_col!r}", notes,
+            line_of,
+        )  # fmt: skip
+        read[time_col] = secs
     if secs.size != np.asarray(values).size:
         raise RecordingError(
             f"{what} has {np.asarray(values).size} samples but its group's time channel "
@@ -803,6 +810,7 @@ def apply_map(
     marks: dict = {}  # the decimal mark one column's cells decided, for the others (as_float)
     exact: set[str] = set()  # channels timed by their group's time channel (foreign_time)
     clocks: dict[str, list[str]] = {}  # that time channel -> those channels
+    clock_seconds: dict[str, np.ndarray] = {}  # that time channel -> its seconds, read once
     for spec in specs:
         skip = None
         if cmap.auto:
@@ -885,6 +893,7 @@ def apply_map(
                 what,
                 notes,
                 line_of,
+                clock_seconds,
             )
             exact.add(spec.name)
             clocks.setdefault(clock, []).append(spec.name)
