@@ -4,9 +4,10 @@ the runs not started dropped after it."""
 import threading
 
 import numba
+import numpy as np
 import pytest
 
-from rollerrig.solve._threads import run_each
+from rollerrig.solve._threads import run_each, thread_rows
 
 
 @pytest.mark.parametrize("threads", [1, 2])
@@ -65,3 +66,25 @@ def test_runs_in_threads_see_single_threaded_blas_and_it_is_restored_after(monke
     run_each(run, 4)
     assert all(s and set(s) == {1} for s in seen)
     assert _blas_threads(threadpoolctl) == before
+
+
+@pytest.mark.parametrize(
+    ("n", "width", "dtype"),
+    [(5, 5, np.int64), (3, 1, float), (2, 40, np.int8), (3, 16, np.int64), (4, 3, np.int16)],
+)
+def test_thread_rows_never_share_a_cache_line(n, width, dtype):
+    """No 64-byte line (x86-64's; 128 covers Apple's) holds bytes of two rows, at any alignment:
+    rows written by two threads at once on one line passed it between the cores on every
+    write, the batch's step counters included."""
+    rows = thread_rows(n, width, dtype)
+    assert rows.shape == (n, width) and rows.dtype == np.dtype(dtype) and not rows.any()
+    start = rows.__array_interface__["data"][0]
+    spans = [
+        (start + k * rows.strides[0], start + k * rows.strides[0] + width * rows.itemsize - 1)
+        for k in range(n)
+    ]
+    for line in (64, 128):  # and at every alignment of the first row:
+        assert all((b - a) + line <= rows.strides[0] for a, b in spans)
+        lines = [set(range(a // line, b // line + 1)) for a, b in spans]
+        for k in range(n - 1):
+            assert not lines[k] & lines[k + 1]

@@ -37,7 +37,7 @@ from rollerrig.rig.model import (
 from rollerrig.solve import _cache, _cold_start, etdrk4
 from rollerrig.solve import _wdriver as _wd
 from rollerrig.solve._compiled import RIG
-from rollerrig.solve._threads import run_each
+from rollerrig.solve._threads import run_each, thread_rows
 from rollerrig.solve.ros34pw import (
     DEFAULT_MAX_STEPS,
     FT_NONE,
@@ -919,8 +919,10 @@ def integrate_batch(
     n_segments = len(segments)
     n = len(inputs_list)
     x_out = np.empty((n, t_out.size, first.initial_state.size))
-    counts = np.zeros((n, 5), dtype=np.int64)
-    t_stop = np.zeros((n, 1))
+    # Written while the runs go (the step counters every step): rows on cache lines of
+    # their own, or two runs side by side share a line (_threads.thread_rows).
+    counts = thread_rows(n, 5)
+    t_stop = thread_rows(n, 1, float)
     status = np.zeros(n, dtype=np.int64)
 
     def run(k):
