@@ -231,9 +231,11 @@ def main() -> None:
     from rollerrig.solve import fast
     from rollerrig.solve.fast import (
         FAST_DEFAULTS,
+        SWEEP_EXP_STEP,
         SWEEP_H_MAX,
         integrate_batch,
         integrate_experiment,
+        sweep_settings,
     )
     from rollerrig.solve.reference import integrate_reference
     from rollerrig.solve.simulation import Simulation, output_times
@@ -368,15 +370,11 @@ def main() -> None:
     start = time.perf_counter()
     integrate_batch(variants[:2], t[:10])  # the single drivers in threads: nothing to compile
     load_batch = time.perf_counter() - start
-    # The same variants one after the other on one thread (each its best CPU time of two): what
-    # the threads divide, so that the sweep's rate reads as one thread's times the threads'
-    # gain on this machine (two threads of its 2 cores did 1.6-1.9 times one thread's work).
-    serial = sum(_best_of(lambda v=v: integrate_experiment(v, t), 2)[0] for v in variants) / len(
-        variants
-    )
     sweeps = []
     for label, options in (
         ("ETDRK4, default settings", {}),
+        (f"ETDRK4, sweep settings (currents exact, step {SWEEP_EXP_STEP * 1e3:g} ms)",
+         sweep_settings()),
         (f"ROS34PW2, sweep setting h_max {SWEEP_H_MAX * 1e3:g} ms",
          {"method": "ros34pw2", "h_max": SWEEP_H_MAX}),
     ):  # fmt: skip
@@ -394,8 +392,17 @@ def main() -> None:
         cpu = time.process_time()
         integrate_batch(variants, t, **options)
         cpu = (time.process_time() - cpu) / len(variants)
+        # The same variants one after the other on one thread (each its best CPU time of
+        # two): what the threads divide, so that the sweep's rate reads as one thread's times
+        # the threads' gain on this machine (two threads of its 2 cores did 1.6-1.9 times one
+        # thread's work before the runs' step counters were given cache lines of their own,
+        # 1.92 after).
+        serial = sum(
+            _best_of(lambda v=v, o=options: integrate_experiment(v, t, **o), 2)[0] for v in variants
+        ) / len(variants)
         detail = {
             "cpu": cpu,
+            "serial": serial,
             "steps": float(np.mean([s["accepted_steps"] for s in stats])),
             "fallback": sum(s.get("fallback_segments", 0) > 0 for s in stats),
             "shortened": sum(s.get("shortened_segments", 0) > 0 for s in stats),
@@ -584,22 +591,22 @@ def main() -> None:
         )
     if not (bool(best_sweep) and best_sweep[2] >= 200):
         label, seconds, rate, _, _, detail = best_sweep or sweeps[0]
+        serial = detail["serial"]
         print(
             f"- sweep: 200 runs/s on {threads} threads needs {threads / 200 * 1e3:.0f} ms a run "
-            f"and thread. One thread ran the variants (ETDRK4, default settings) one after the "
-            f"other at {serial * 1e3:.1f} ms CPU a run = {1 / serial:.1f} runs/s (the default "
-            f"run {f_time * 1e3:.1f} ms; the variants' stiffer shafts take {detail['steps']:.0f} "
-            f"steps on average against {f_steps}: the step-error guard in N.m of T56 is "
-            "stricter on a stiffer shaft's twist, and the ringing after each release is "
-            f"integrated at a shorter step while it rings on {detail['shortened']} of "
-            f"{len(variants)}, by "
-            f"the fallback on {detail['fallback']}); {threads} threads did {rate * serial:.2f} "
-            f"times one thread's work ({label}: {rate:.1f} runs/s in wall time, "
-            f"{detail['cpu'] * 1e3:.1f} ms of the process's CPU a run: the threads share this "
-            "machine's cores and caches with each other and with its other load). Even with the "
-            f"threads' full gain the sweep needs runs {200 / threads * serial:.1f} times cheaper "
-            "than these: about half the steps at the accuracy target (see the solve's line) or "
-            "half the cost of a step"
+            f"and thread. One thread ran the variants ({label}) one after the other at "
+            f"{serial * 1e3:.1f} ms CPU a run = {1 / serial:.1f} runs/s (the default run "
+            f"{f_time * 1e3:.1f} ms; the variants took {detail['steps']:.0f} steps on average "
+            f"against the default run's {f_steps} at the default settings: the step-error "
+            "guard in N.m of T56 is stricter on a stiffer shaft's twist, and the ringing after "
+            f"each release is integrated at a shorter step while it rings on "
+            f"{detail['shortened']} of {len(variants)}, by the fallback on "
+            f"{detail['fallback']}); {threads} threads did {rate * serial:.2f} times one "
+            f"thread's work ({rate:.1f} runs/s in wall time, {detail['cpu'] * 1e3:.1f} ms of "
+            "the process's CPU a run: the threads share this machine's cores and caches with "
+            "each other and with its other load). At that gain the sweep needs runs "
+            f"{200 / rate:.2f} times cheaper than these; at the threads' full gain "
+            f"{max(1.0, 200 * serial / threads):.2f} times"
         )
 
 

@@ -65,7 +65,10 @@ against Radau at rtol 1e-10 on the bundled 30 s test):
   save fewer steps than the step's length promises, since the guard shortens the step while
   the stiffer shaft rings: 15 300-18 000 steps at 2 ms (0.058-0.076 N.m), 12 800-16 000 at
   2.4 ms (up to 0.109 N.m) against 18 800-19 600 at 1.6 ms (0.014-0.051 N.m), so at most
-  1.2 times cheaper at the sweep's 0.1 N.m, not the twice its target needs. With their
+  1.2 times cheaper at the sweep's 0.1 N.m. That is what a sweep's runs take since
+  2026-12-03 (``rollerrig.solve.fast.sweep_settings``: the currents exact, 2.2 ms), with
+  their two more blocks' rows about 7 % of a step's cost; a single run keeps the mounts only
+  and 1.6 ms. With their
   PI integrals in the blocks, ``(i_q, I_q)``, the error grows fourfold (0.107 at 1.6 ms):
   that, not the currents, was the fivefold error an earlier note blamed on the current loops;
 - the roller shaft (θ5, θ6, ω6) merged with the contact block (5 x 5, re-linearised) halves

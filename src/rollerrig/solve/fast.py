@@ -27,6 +27,8 @@ from rollerrig.rig.model import (
     N_STATES,
     SEGMENT_NODES,
     X_FRAME_V,
+    X_ID,
+    X_IQ,
     X_OMEGA,
     X_THETA,
     lowest_speed_setpoint,
@@ -52,6 +54,7 @@ __all__ = [
     "FAST_DEFAULTS",
     "IDEAL_SPEED_EXP_STEP",
     "METHODS",
+    "SWEEP_EXP_STEP",
     "SWEEP_H_MAX",
     "default_exp_step",
     "default_tolerances",
@@ -61,6 +64,7 @@ __all__ = [
     "integrate_experiment",
     "is_compiled",
     "needs_fallback",
+    "sweep_settings",
 ]
 
 METHODS = ("etdrk4", "ros34pw2")
@@ -176,12 +180,42 @@ gave 0.034):
 """
 
 SWEEP_H_MAX = 2e-3
-"""Largest step of sweeps [s] (:mod:`rollerrig.studies`). With ETDRK4 (the default) it is above
-the exponential step (``FAST_DEFAULTS["exp_step"]``) and changes nothing: a sweep point is a
-default run (max |ΔT56| 0.03 N.m on the bundled experiment). With ``method="ros34pw2"`` it is
-that method's largest step: about twice the throughput of its default at max |ΔT56| <= 1.2 N.m
+"""ROS34PW2's largest step in sweeps [s] (``method="ros34pw2"``; ETDRK4's sweeps take
+:func:`sweep_settings`): about twice the throughput of its default at max |ΔT56| <= 1.2 N.m
 (0.86-1.1 N.m on the bundled experiment), but 2.4 N.m with a roller shaft 3.3 times stiffer
 (``python benchmarks/run.py``'s sweep, 2026-11-30)."""
+
+SWEEP_EXP_STEP = 2.2e-3
+"""ETDRK4's step in sweeps [s] (:func:`sweep_settings`), with the PMSM's currents exact
+(:data:`CURRENT_BLOCKS`), for sweeps' accuracy of 0.1 N.m of T56 (issue 20) where a single run
+is held to 0.05. On the benchmark's sweep (24 variants: the roller shaft's stiffness
+43.5-143.5 kN.m/rad times four motor lags; max |ΔT56| against Radau 1e-10 over the default
+variant and the stiffest shaft's four; 2026-12-03): 15 444 steps a run on average against
+19 080 at the default settings, at 0.083 N.m against 0.051 (2 ms: 16 208 steps, 0.076 N.m;
+the step-error guard shortens the step while the stiffer shafts ring after each release, on
+every variant), 209.7 runs/s on two threads against 192.8. Beyond it the error grows past the
+sweeps' 0.1 N.m (2.4 ms: up to 0.109, measured 2026-12-02); the hard case (20 kN, 10 km/h,
+1 400 N.m) was off by 0.20 N.m at 2 ms, against 0.086 at the default settings."""
+
+
+def sweep_settings(h_max: float | None = None) -> dict:
+    """Keyword arguments of :func:`integrate_batch` for a sweep's runs (:mod:`rollerrig.studies`,
+    ``python benchmarks/run.py``): ETDRK4 with the PMSM's currents exact and a longer step
+    (:data:`SWEEP_EXP_STEP`), a sweep's accuracy (0.1 N.m of T56) rather than a single run's
+    (0.05).
+
+    Parameters
+    ----------
+    h_max : float, optional
+        A cap of the step [s] (a study file's ``solver.h_max``); it also caps the step of
+        ROS34PW2, which takes the segments ETDRK4 leaves (its default otherwise).
+
+    Examples
+    --------
+    >>> sweep_settings()
+    {'sweep': True, 'h_max': None}
+    """
+    return {"sweep": True, "h_max": h_max}
 
 
 def default_tolerances(
@@ -591,6 +625,18 @@ _STATIC_BLOCKS = np.array(
 )
 """ETDRK4's constant linear blocks: the PMSM and AM stator mounts, (θ1, ω1) and (θ7, ω7)."""
 
+CURRENT_BLOCKS = np.array([[X_ID, -1, -1], [X_IQ, -1, -1]], dtype=np.int64)
+"""The PMSM's currents ``i_d``, ``i_q`` as ETDRK4's 1 x 1 static blocks in a sweep's runs
+(``sweep=True``, :func:`sweep_settings`): each current's own term of its current loop,
+``−(k_p + R_s)/L`` (the PI controller's proportional gain and the winding's resistance over
+its inductance), is linear and constant below the voltage limit, and taken exactly, so that
+RK4's stability no longer holds the step at the loops' −1 257 1/s (1.77 ms with the margin;
+the wheel shaft's 112 Hz mode is next, at about 3 ms). Not the default: the rows of two more
+blocks cost about 7 % of a step (the default solve 10.95 against 10.24 ms at 1.6 ms,
+2026-12-03), and at the default run's accuracy the longer step they allow is not much longer
+(0.0445 N.m at 1.77 ms, 0.074 at 2 ms on the bundled test, against 0.0275 at 1.6 ms without
+them). With their PI integrals in the blocks, ``(i_q, I_q)``, the error grew fourfold."""
+
 
 IDEAL_SPEED_EXP_STEP = 0.4e-3
 """ETDRK4's largest step [s] with the ideal speed source as the roller drive (``"ideal_speed"``),
@@ -612,29 +658,32 @@ ramp at 5 km/h 0.41 / 0.096 / 0.017 (ROS34PW2 at its defaults: 0.072, 0.008 and 
 ROS34PW2's."""
 
 
-def default_exp_step(inputs) -> float:
-    """ETDRK4's largest step [s] for ``inputs`` where none is given: ``FAST_DEFAULTS["exp_step"]``,
-    :data:`IDEAL_SPEED_EXP_STEP` with the ideal speed source as the roller drive."""
+def default_exp_step(inputs, sweep: bool = False) -> float:
+    """ETDRK4's largest step [s] for ``inputs`` where none is given: ``FAST_DEFAULTS["exp_step"]``
+    (:data:`SWEEP_EXP_STEP` for a sweep's run), :data:`IDEAL_SPEED_EXP_STEP` with the ideal
+    speed source as the roller drive (a sweep's too: its ringing is hardly damped)."""
     if inputs.drives.roller == "ideal_speed":
         return IDEAL_SPEED_EXP_STEP
-    return FAST_DEFAULTS["exp_step"]
+    return SWEEP_EXP_STEP if sweep else FAST_DEFAULTS["exp_step"]
 
 
-def _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error=None):
+def _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error=None, sweep=False):
     """``(method code, step [s], relinearise [steps], static blocks, dynamic blocks, error
     weights, error limit [N.m])``.
 
-    The dynamic block is the contact's (ω4, ω5), with a flexible frame (ω4, ω5, v_f). An
-    explicit ``h_max`` caps ETDRK4's step as well (the sweeps' setting). The error weights
-    make a step's error estimate one of T56 (the roller shaft's twist θ5 − θ6 times its
-    stiffness; the same states in the dq model, whose first states are the rig's).
+    The dynamic block is the contact's (ω4, ω5), with a flexible frame (ω4, ω5, v_f). The
+    static blocks are the stator mounts' (:data:`_STATIC_BLOCKS`) and, for a ``sweep``'s run
+    with the PMSM as the wheel drive, the currents' (:data:`CURRENT_BLOCKS`).
+    An explicit ``h_max`` caps ETDRK4's step as well. The error weights make a step's error
+    estimate one of T56 (the roller shaft's twist θ5 − θ6 times its stiffness; the same states
+    in the dq model, whose first states are the rig's).
     """
     method = FAST_DEFAULTS["method"] if method is None else method
     if method not in METHODS:
         from rollerrig._validation import ParameterError
 
         raise ParameterError(f"method must be one of {METHODS}, got {method!r}")
-    step = default_exp_step(inputs) if exp_step is None else float(exp_step)
+    step = default_exp_step(inputs, sweep) if exp_step is None else float(exp_step)
     if h_max is not None:
         step = min(step, float(h_max))
     relinearise = FAST_DEFAULTS["relinearise"] if relinearise is None else int(relinearise)
@@ -647,7 +696,10 @@ def _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error=None):
     k56 = float(inputs.rig.stiffness.roller_shaft)
     weights[X_THETA + 4], weights[X_THETA + 5] = k56, -k56
     code = METHODS.index(method)
-    return code, step, max(1, relinearise), _STATIC_BLOCKS, dynamic, weights, limit
+    static = _STATIC_BLOCKS
+    if sweep and inputs.drives.wheel == "pmsm":
+        static = np.vstack([_STATIC_BLOCKS, CURRENT_BLOCKS])
+    return code, step, max(1, relinearise), static, dynamic, weights, limit
 
 
 def _needed_segments(segments, t_out):
@@ -718,12 +770,13 @@ def _driver(dq: bool, code: int):
     return single_exp if code == 0 else single
 
 
-def _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error=None, notify=None):
+def _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error=None, notify=None,
+                  sweep=False):  # fmt: skip
     """``(driver, method code)``: the driver for ``inputs`` with ETDRK4's settings bound, so
     that both methods take ROS34PW2's arguments (``notify``: :func:`_with_fallback`). Where
     ETDRK4's driver is neither compiled nor cached, it is compiled now with a helper process on
     a second core (:mod:`rollerrig.solve._cold_start`; once a process and model)."""
-    settings = _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error)
+    settings = _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error, sweep)
     code = settings[0]
     dq = _uses_dq(inputs)
     driver = _driver(dq, code)
@@ -751,6 +804,7 @@ def integrate_experiment(
     relinearise=None,
     exp_error=None,
     notify=None,
+    sweep=False,
 ):
     """Integrate one experiment with the fast backend.
 
@@ -796,6 +850,12 @@ def integrate_experiment(
         ``notify(message)``: told when a segment goes to ROS34PW2 whose driver is not compiled
         yet (its first use on this installation: 10-20 s in which nothing seems to happen).
         Which segments need it is known only by running them (the step-error guard).
+    sweep : bool, optional
+        A sweep's run (default False; :func:`sweep_settings`): held to a sweep's accuracy
+        (0.1 N.m of T56) rather than a single run's (0.05), for 1.2 times fewer steps. ETDRK4
+        then takes the PMSM's currents exactly (:data:`CURRENT_BLOCKS`), so that the current
+        loops' stability no longer holds its step, and its step is :data:`SWEEP_EXP_STEP`
+        where ``exp_step`` is not given (:func:`default_exp_step`).
 
     Returns
     -------
@@ -812,7 +872,9 @@ def integrate_experiment(
         ``reason`` (:func:`failure_reason`).
     """
     t_out, segments = _output_instants(inputs, t_out)  # before a first run's compile
-    integrate, code = _bound_driver(inputs, method, exp_step, relinearise, h_max, exp_error, notify)
+    integrate, code = _bound_driver(
+        inputs, method, exp_step, relinearise, h_max, exp_error, notify, sweep
+    )
     rtol = _ros34pw2_rtol(rtol, code)
     rt, at, h_max, jac_every = _settings(rtol, h_max, jac_every, angle_atol, _uses_dq(inputs))
     name = METHODS[code]
@@ -875,6 +937,7 @@ def integrate_batch(
     exp_step=None,
     relinearise=None,
     exp_error=None,
+    sweep=False,
 ):
     """Integrate several variants of one experiment in parallel threads.
 
@@ -892,8 +955,8 @@ def integrate_batch(
     ----------
     inputs_list : sequence of ModelInputs
         The variants (:func:`rollerrig.rig.assemble.assemble`).
-    t_out, rtol, h_max, jac_every, angle_atol, method, exp_step, relinearise, exp_error
-        As in :func:`integrate_experiment`.
+    t_out, rtol, h_max, jac_every, angle_atol, method, exp_step, relinearise, exp_error, sweep
+        As in :func:`integrate_experiment`; a sweep's: :func:`sweep_settings`.
 
     Returns
     -------
@@ -912,7 +975,10 @@ def integrate_batch(
         )
     t_out, segments = _output_instants(first, t_out)  # before a first run's compile
     # Each variant's own settings: a flexible frame adds its velocity to the contact block.
-    runs = [_bound_driver(i, method, exp_step, relinearise, h_max, exp_error) for i in inputs_list]
+    runs = [
+        _bound_driver(i, method, exp_step, relinearise, h_max, exp_error, None, sweep)
+        for i in inputs_list
+    ]
     rtol = _ros34pw2_rtol(rtol, runs[0][1])
     rt, at, h_max_ros, jac_every = _settings(rtol, h_max, jac_every, angle_atol, dq)
     bounds, _ = _segment_arrays(segments)

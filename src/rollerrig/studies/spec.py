@@ -133,8 +133,8 @@ class StudySpec:
     output_rate : float
         Sampling of each run's results [Hz].
     h_max : float or None
-        Largest solver step [s]; None: the studies' default
-        (:data:`rollerrig.solve.fast.SWEEP_H_MAX`).
+        A cap of the solver's step [s]; None: the sweeps' settings
+        (:func:`rollerrig.solve.fast.sweep_settings`).
     origin : str
         The file (``bundled:<name>`` for a bundled study).
     sha256 : str
