@@ -230,6 +230,18 @@ def test_a_sweep_s_settings_against_radau(drives, load, speed, torque, limit):
     assert np.max(np.abs(_t56(inputs, x) - _t56(inputs, ref))) <= limit
 
 
+def test_a_state_of_its_own_goes_to_the_diagonal_not_the_rows():
+    """1 x 1 blocks (the currents in a sweep) are applied as scalars, not as rows padded to
+    three columns; the others' rows are as before (the result is the same to the bit: a padded
+    row adds only exact zeros)."""
+    blocks = np.array([[0, 7, -1], [14, -1, -1], [10, 11, -1], [15, -1, -1]], dtype=np.int64)
+    sizes = etdrk4._block_sizes(blocks)
+    cols, rows, first, local, diag, slot = etdrk4._block_rows(blocks, sizes)
+    assert rows.tolist() == [0, 7, 10, 11] and diag.tolist() == [14, 15]
+    assert slot.tolist() == [-1, 0, -1, 1] and first.tolist() == [0, 2, 2, 4, 4]
+    assert cols[2].tolist() == [10, 11, 10] and local[2].tolist() == [2, 3, 2]
+
+
 @pytest.mark.parametrize(
     ("drives", "current_blocks", "step"),
     [

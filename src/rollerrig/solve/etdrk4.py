@@ -66,9 +66,9 @@ against Radau at rtol 1e-10 on the bundled 30 s test):
   the stiffer shaft rings: 15 300-18 000 steps at 2 ms (0.058-0.076 N.m), 12 800-16 000 at
   2.4 ms (up to 0.109 N.m) against 18 800-19 600 at 1.6 ms (0.014-0.051 N.m), so at most
   1.2 times cheaper at the sweep's 0.1 N.m. That is what a sweep's runs take since
-  2026-12-03 (``rollerrig.solve.fast.sweep_settings``: the currents exact, 2.2 ms), with
-  their two more blocks' rows about 7 % of a step's cost; a single run keeps the mounts only
-  and 1.6 ms. With their
+  2026-12-03 (``rollerrig.solve.fast.sweep_settings``: the currents exact, 2.2 ms), the two
+  currents applied as scalars (:func:`_block_rows`) at about 3 % of a step's cost; a single
+  run keeps the mounts only and 1.6 ms. With their
   PI integrals in the blocks, ``(i_q, I_q)``, the error grows fourfold (0.107 at 1.6 ms):
   that, not the currents, was the fivefold error an earlier note blamed on the current loops;
 - the roller shaft (θ5, θ6, ω6) merged with the contact block (5 x 5, re-linearised) halves
@@ -565,7 +565,8 @@ def _stable_step(t, x, f0, p, tables, blocks, sizes, h_max):
 def _block_rows(blocks, sizes):
     """The blocks' rows, each with :data:`MAX_BLOCK` columns.
 
-    Returns ``(cols, rows, first, local)``: row ``q`` of the blocks is state ``rows[q]``, its
+    Returns ``(cols, rows, first, local, diag, slot)``: row ``q`` of the blocks is state
+    ``rows[q]``, its
     entries ``L[rows[q], cols[q, c]]`` for ``c < MAX_BLOCK``, and ``local[q, c]`` is the row
     of the blocks that holds state ``cols[q, c]`` (the step keeps ``N = f − L x`` on the
     blocks' rows only); a smaller block's row is padded with its own state and a zero
@@ -576,22 +577,38 @@ def _block_rows(blocks, sizes):
     locals, the blocks' share of a step fell from about 150 to 120 ns (the default solve 3 %
     faster), but a cold compile took 5 s more CPU (23.6 -> 28.7 s, numba's compile events;
     2026-11-30); one padded path for every size was no faster than these rows.
+
+    A 1 x 1 block (a state of its own, the PMSM's currents in a sweep) has no row: its state
+    is ``diag[slot[b]]`` (``slot[b]`` is -1 for a block with rows), whose scalar coefficients
+    the step applies in a loop of their own. As padded rows the two currents had cost about
+    7 % of a step.
     """
     nb = blocks.shape[0]
     first = np.zeros(nb + 1, dtype=np.int64)
+    slot = np.full(nb, -1, dtype=np.int64)
+    n_diag = 0
     for b in range(nb):
-        first[b + 1] = first[b] + sizes[b]
+        if sizes[b] == 1:  # a state of its own: on the diagonal, not in the rows
+            slot[b] = n_diag
+            n_diag += 1
+            first[b + 1] = first[b]
+        else:
+            first[b + 1] = first[b] + sizes[b]
     rows = np.empty(first[nb], dtype=np.int64)
     cols = np.empty((first[nb], MAX_BLOCK), dtype=np.int64)
     local = np.empty((first[nb], MAX_BLOCK), dtype=np.int64)
+    diag = np.empty(n_diag, dtype=np.int64)
     for b in range(nb):
+        if sizes[b] == 1:
+            diag[slot[b]] = blocks[b, 0]
+            continue
         for r in range(sizes[b]):
             q = first[b] + r
             rows[q] = blocks[b, r]
             for c in range(MAX_BLOCK):
                 cols[q, c] = blocks[b, c] if c < sizes[b] else blocks[b, r]
                 local[q, c] = first[b] + c if c < sizes[b] else q
-    return cols, rows, first, local
+    return cols, rows, first, local, diag, slot
 
 
 def _store_block(coef, n, first, cf):
@@ -623,7 +640,8 @@ def _block_stage(u, v, cols, rows, local, cf, out):
         out[rows[q]] = acc
 
 
-def _step(t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_, fa, fb, fc, nl):
+def _step(t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_, fa, fb, fc, nl,
+          diag, dcf):  # fmt: skip
     """One ETDRK4 step from ``(t, x)`` with ``fx = f(t, x)``; ``x_new`` at ``t_new``, ``t + h``
     up to rounding, passed on its own because the last stage is taken there: at a segment's
     last step ``t + h`` may round past the segment's end, where its inputs are the next
@@ -637,6 +655,8 @@ def _step(t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_
     over the whole state; the blocks' rows are then overwritten with the exponential
     formulas. Where ``L = 0`` the nonlinear part is the right-hand side itself, so it is never
     copied: the step makes 4 passes over the state besides its right-hand sides (it made 9).
+    The 1 x 1 blocks' states ``diag`` (their scalar coefficients ``dcf``; their nonlinear
+    parts in ``nl`` after the rows') are overwritten likewise, by the same formulas.
     """
     n = x.shape[0]
     nr = rows.shape[0]
@@ -650,11 +670,19 @@ def _step(t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_
     for i in range(n):
         a[i] = x[i] + half * fx[i]
     _block_stage(x, nu, cols, rows, local, cf, a)
+    for d in range(diag.shape[0]):
+        j = diag[d]
+        nu[nr + d] = fx[j] - dcf[C_L, d] * x[j]
+        a[j] = dcf[C_E2, d] * x[j] + dcf[C_Q, d] * nu[nr + d]
     rhs(t + half, a, p, tables, fa)
     _block_nonlinear(fa, a, cols, rows, cf, na)
     for i in range(n):
         b_[i] = x[i] + half * fa[i]
     _block_stage(x, na, cols, rows, local, cf, b_)
+    for d in range(diag.shape[0]):
+        j = diag[d]
+        na[nr + d] = fa[j] - dcf[C_L, d] * a[j]
+        b_[j] = dcf[C_E2, d] * x[j] + dcf[C_Q, d] * na[nr + d]
     rhs(t + half, b_, p, tables, fb)
     _block_nonlinear(fb, b_, cols, rows, cf, nb)
     for i in range(n):
@@ -662,12 +690,25 @@ def _step(t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, a, b_, c_
     for q in range(nr):
         mix[q] = 2.0 * nb[q] - nu[q]
     _block_stage(a, mix, cols, rows, local, cf, c_)
+    for d in range(diag.shape[0]):
+        j = diag[d]
+        nb[nr + d] = fb[j] - dcf[C_L, d] * b_[j]
+        c_[j] = dcf[C_E2, d] * a[j] + dcf[C_Q, d] * (2.0 * nb[nr + d] - nu[nr + d])
     rhs(t_new, c_, p, tables, fc)
     _block_nonlinear(fc, c_, cols, rows, cf, nc)
     h6 = h / 6.0
     h3 = h / 3.0
     for i in range(n):
         x_new[i] = x[i] + h6 * (fx[i] + fc[i]) + h3 * (fa[i] + fb[i])
+    for d in range(diag.shape[0]):
+        j = diag[d]
+        nc_d = fc[j] - dcf[C_L, d] * c_[j]
+        x_new[j] = (
+            dcf[C_E, d] * x[j]
+            + dcf[C_F1, d] * nu[nr + d]
+            + dcf[C_F2, d] * (na[nr + d] + nb[nr + d])
+            + dcf[C_F3, d] * nc_d
+        )
     for q in range(nr):
         acc = 0.0
         for c in range(MAX_BLOCK):
@@ -721,8 +762,9 @@ def _step_error(h, f_c, f_new, weights):
 def workspace(n, static_blocks, dynamic_blocks):
     """The arrays :func:`_segment` works in, for a state of ``n`` entries and these blocks,
     allocated once per run (a replayed recording makes thousands of segments):
-    ``(blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl)``, ``vec``
-    (12, n), ``nl`` (5, rows)."""
+    ``(blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl, diag, slot,
+    dcf)``, ``vec`` (12, n), ``nl`` (5, rows + diagonal states), ``dcf`` (7, diagonal states)
+    the 1 x 1 blocks' coefficients (:func:`_block_rows`)."""
     ns = static_blocks.shape[0]
     nd = dynamic_blocks.shape[0]
     blocks = np.empty((ns + nd, MAX_BLOCK), dtype=np.int64)
@@ -730,14 +772,15 @@ def workspace(n, static_blocks, dynamic_blocks):
         for c in range(MAX_BLOCK):
             blocks[b, c] = static_blocks[b, c] if b < ns else dynamic_blocks[b - ns, c]
     sizes = _block_sizes(blocks)
-    cols, rows, first, local = _block_rows(blocks, sizes)
+    cols, rows, first, local, diag, slot = _block_rows(blocks, sizes)
     cf = np.empty((_N_COEF, rows.shape[0], MAX_BLOCK))
     coef = np.zeros((_N_COEF, MAX_BLOCK, MAX_BLOCK))
     lin = np.zeros((MAX_BLOCK, MAX_BLOCK))
     scratch = np.empty((7, MAX_BLOCK, MAX_BLOCK))
     vec = np.empty((12, n))
-    nl = np.empty((5, rows.shape[0]))
-    return blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl
+    nl = np.empty((5, rows.shape[0] + diag.shape[0]))
+    dcf = np.empty((_N_COEF, diag.shape[0]))
+    return blocks, sizes, cols, rows, first, cf, coef, lin, scratch, vec, local, nl, diag, slot, dcf
 
 
 def _prepare(x0, t0, t1, p, tables, h_max, ns, ws, memo):
@@ -777,10 +820,16 @@ def _block_matrices(t, h, ns, nd, ws, p, tables, first_block):
     blocks, sizes, first, cf, coef, lin, scratch, vec = (
         ws[0], ws[1], ws[4], ws[5], ws[6], ws[7], ws[8], ws[9]
     )  # fmt: skip
+    slot = ws[13]
+    dcf = ws[14]
     for b in range(first_block, ns + nd):
         _block_jacobian(t, vec[0], vec[1], p, tables, blocks[b], sizes[b], lin, vec[2], vec[3])
         _block_coefficients(lin, sizes[b], h, coef, scratch)
-        _store_block(coef, sizes[b], first[b], cf)
+        if slot[b] >= 0:
+            for k in range(_N_COEF):
+                dcf[k, slot[b]] = coef[k, 0, 0]
+        else:
+            _store_block(coef, sizes[b], first[b], cf)
 
 
 def _grid(t, t1, h_rung):
@@ -820,6 +869,7 @@ def _segment(
     2026-11-30).
     """
     blocks, cols, rows, cf, vec, local, nl = ws[0], ws[2], ws[3], ws[5], ws[9], ws[10], ws[11]
+    diag, dcf = ws[12], ws[14]
     n = vec.shape[1]
     n_out = t_out.shape[0]
     nd = blocks.shape[0] - ns
@@ -861,8 +911,9 @@ def _segment(
             counts[2] += 1
             since = 0
         _step(
-            t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, sa, sb, sc, fa, fb, fc, nl
-        )
+            t, h, t_new, x, fx, p, tables, cols, rows, local, cf, x_new, sa, sb, sc, fa, fb, fc, nl,
+            diag, dcf,
+        )  # fmt: skip
         rhs(t_new, x_new, p, tables, f_new)
         err = 0.0
         if err_limit > 0.0:

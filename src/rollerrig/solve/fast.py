@@ -631,11 +631,12 @@ CURRENT_BLOCKS = np.array([[X_ID, -1, -1], [X_IQ, -1, -1]], dtype=np.int64)
 ``−(k_p + R_s)/L`` (the PI controller's proportional gain and the winding's resistance over
 its inductance), is linear and constant below the voltage limit, and taken exactly, so that
 RK4's stability no longer holds the step at the loops' −1 257 1/s (1.77 ms with the margin;
-the wheel shaft's 112 Hz mode is next, at about 3 ms). Not the default: the rows of two more
-blocks cost about 7 % of a step (the default solve 10.95 against 10.24 ms at 1.6 ms,
-2026-12-03), and at the default run's accuracy the longer step they allow is not much longer
-(0.0445 N.m at 1.77 ms, 0.074 at 2 ms on the bundled test, against 0.0275 at 1.6 ms without
-them). With their PI integrals in the blocks, ``(i_q, I_q)``, the error grew fourfold."""
+the wheel shaft's 112 Hz mode is next, at about 3 ms). Applied as scalars (not as padded rows
+of the blocks: :func:`rollerrig.solve.etdrk4._block_rows`), they cost about 3 % of a step
+(the default solve 10.89 against 10.59 ms at 1.6 ms; as padded rows 7 %, 2026-12-03). Not
+the default: at a single run's accuracy the longer step they allow is not much longer (0.0445
+N.m at 1.77 ms, 0.074 at 2 ms on the bundled test, against 0.0275 at 1.6 ms without them).
+With their PI integrals in the blocks, ``(i_q, I_q)``, the error grew fourfold."""
 
 
 IDEAL_SPEED_EXP_STEP = 0.4e-3
