@@ -287,6 +287,20 @@ def test_picoscope6_units_row_blank_line_ms(tmp_path, explicit):
     assert rec.sample_rate == pytest.approx(10_000.0)
 
 
+@pytest.mark.parametrize("mark", ['in"', "″", "'"])
+def test_a_units_row_with_an_inch_or_arc_second_mark_is_a_units_row(tmp_path, mark):
+    """A units row whose cell holds an inch's (or arc minute's) mark had been taken for the
+    names: the channels' names were then 's', 'N.m' and the mark, and the map's 'Time' was
+    missing."""
+    lines = ["Time,Torque,Travel", f"s,N.m,{mark}"]
+    lines += [f"{k * 1e-3:.3f},{100.0 + k:.1f},{0.5 * k:.2f}" for k in range(50)]
+    f = _write(tmp_path / "inch.csv", lines)
+    lay = sniff_layout(f)
+    assert lay.names == ("Time", "Torque", "Travel") and lay.units[:2] == ("s", "N.m")
+    rec = _read(f, {"time": {"column": "Time"}, "channels": {"torque": {"column": "Torque"}}})
+    np.testing.assert_allclose(rec["torque"][:3], [100.0, 101.0, 102.0])
+
+
 def test_sniff_layout_of_picoscope6(tmp_path):
     f, *_ = picoscope6(tmp_path)
     lay = sniff_layout(f)

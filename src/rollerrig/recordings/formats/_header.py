@@ -30,7 +30,8 @@ _KNOWN_UNITS = frozenset(
     | {"m/s²", "km/h", "m/s", "deg", "°", "rad", "kg", "Ohm", "Ω", "um/m", "µm/m", "mV/V"}
     | {"1/s", "Nm", "N·m", "1/min", "U/min", "min-1", "bar", "sec", "µs", "-", "ms"}
 )
-_UNIT_TOKEN = re.compile(r"[A-Za-zµμΩ°%/·*^.\-²³0-9() ]{1,14}")  # "N m", "bar(g)"
+# "N m", "bar(g)"; an inch's or an arc second's mark (in", ″, ') is a unit's character too
+_UNIT_TOKEN = re.compile(r"[A-Za-zµμΩ°%/·*^.\-²³0-9() \"'″′]{1,14}")
 
 _DATE_FORMAT_UNIT = re.compile(r"(?i)[dmyhs]{1,4}(?:[./: T-]+[dmyhs]{1,4})+(?:[.,]s+|[.,]f+)?")
 """A units-row cell that spells a date/time format (``dd.mm.yyyy hh:mm:ss``): no unit."""
