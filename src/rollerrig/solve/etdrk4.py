@@ -82,6 +82,22 @@ against Radau at rtol 1e-10 on the bundled 30 s test):
   another gave 4.3 N.m, the wheel side (θ2, θ3, ω2, ω3) as a block without θ4 diverged.
 
 So a cheaper step, rather than a longer one, is what is left of the issue's speed targets.
+Measured on 2026-12-03 (the currents exact, max |ΔT56| against Radau at rtol 1e-10 on the
+bundled 30 s test) and not kept:
+
+- without the step-error guard the error is 98-99 % in the 10-20 Hz band at every step from
+  1.6 to 3 ms (0.031, 0.074, 0.17 and 0.28 N.m at 1.6, 2, 2.5 and 3 ms): the 13.8 Hz mode of
+  the roller drive's lagged torque against the rotor (the full Jacobian's eigenvector: the
+  lagged torque and ω6, damping ratio 0.004), which lives on the explicit rows;
+- RK4's weights fitted to that mode (a stability polynomial ``1 + z + z²/2 + a3 z³ + a4 z⁴``
+  equal to ``e^z`` at ``z = hλ``, λ of 13.8 Hz and damping ratio 0.004, only the final
+  weights changed): 0.079 N.m at 2.5 ms against 0.075 unfitted, 0.110 against 0.106 at 3 ms;
+- the mode's states as a re-linearised block: ``(ω6, T_roller)`` changed nothing (0.076 at
+  2.5 ms), ``(θ6, ω6, T_roller)`` made it worse (0.086 at 1.6 ms, 0.199 at 2.5 ms);
+- a tighter guard at a longer step: 2 ms with the guard at 0.0035 N.m gives 0.043 N.m in
+  16 233 steps (9.7 against 10.6-10.9 ms), about 10 % faster than the default at 0.05 N.m's
+  edge; at 2.5 and 3 ms the error stays at 0.073 and 0.106 however tight the guard (down to
+  0.001 N.m), since it grows where each step's estimate is small.
 
 References
 ----------
