@@ -25,9 +25,11 @@ It measures, in one run on this machine:
   its own Radau at rtol 1e-10;
 - the sensor relation F_x r_r − T56 − J5 α5 − R05 on the truth channels at 4 kHz output;
 - the cost of one right-hand side (compiled, in a loop);
-- a sweep of roller-shaft stiffness × motor-lag variants with the batch backend (threads):
-  experiment-runs per second on this machine's cores, and max |ΔT56| over the default variant
-  and every variant of the stiffest shaft, each against its own Radau at rtol 1e-10;
+- a sweep of roller-shaft stiffness × motor-lag variants with the batch backend (threads), at
+  the default settings, at the sweeps' settings (``fast.sweep_settings``, what studies run)
+  and with ROS34PW2: experiment-runs per second on this machine's cores, one thread's time a
+  run, and max |ΔT56| over the default variant and every variant of the stiffest shaft, each
+  against its own Radau at rtol 1e-10;
 
 and ends with the targets of issues 9 and 20, each with the measured value and whether it is
 met, and why a missed one is missed, in this run's numbers. The solves and the right-hand side
