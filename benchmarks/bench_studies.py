@@ -7,8 +7,9 @@ Run from the repository root:
     python benchmarks/bench_studies.py --crossover    # only the fixed costs (2-4 min on 2 cores)
 
 It measures, in one run on this machine, on grids of the release test (one ramp to 600 N.m,
-hold, sudden release at 30 km/h; k56 x c_lp x load x speed) at the studies' default accuracy
-(largest step :data:`rollerrig.solve.fast.SWEEP_H_MAX`, max |ΔT56| <= 1 N.m):
+hold, sudden release at 30 km/h; k56 x c_lp x load x speed) at the studies' own settings
+(:func:`rollerrig.solve.fast.sweep_settings`: ETDRK4 at a 2.2 ms step, held to 0.1 N.m of
+T56):
 
 - the plain baseline a user would write: a Python loop of ``rollerrig.Simulation(...).run()``
   (the fast solver, one point after the other, a labelled dataset each) and the overshoot
@@ -207,7 +208,7 @@ def main() -> None:
         crossover(((4, 8), (8, 16), (16, 25)))
         return
 
-    from rollerrig.solve.fast import SWEEP_H_MAX
+    from rollerrig.solve.fast import SWEEP_EXP_STEP
     from rollerrig.studies.studyfile import study_from_toml_string
 
     small = study_from_toml_string(_grid(4, 4, 3, 3) if not args.quick else _grid(3, 3, 2, 2))
@@ -216,7 +217,8 @@ def main() -> None:
     large = study_from_toml_string(_grid(side, side, side, large_n // side**3))
 
     print(f"rollerrig studies benchmark on {platform.node()} ({os.cpu_count()} cores), "
-          f"h_max {SWEEP_H_MAX * 1e3:g} ms, release test 6.52 s at 1 kHz output")  # fmt: skip
+          f"the sweeps' settings (ETDRK4 at {SWEEP_EXP_STEP * 1e3:g} ms), "
+          "release test 6.52 s at 1 kHz output")  # fmt: skip
     rows = []
     _run(small, executor="local")  # load the compiled code into this process first
     base_s, base_n = _baseline(small, 16 if not args.quick else 8)

@@ -594,21 +594,31 @@ def main() -> None:
     if not (bool(best_sweep) and best_sweep[2] >= 200):
         label, seconds, rate, _, _, detail = best_sweep or sweeps[0]
         serial = detail["serial"]
+        more = detail["steps"] > f_steps
+        why = (
+            "the step-error guard in N.m of T56 is stricter on a stiffer shaft's twist, and the "
+            "ringing after each release is integrated at a shorter step while it rings"
+            if more
+            else "a longer step, shortened by the step-error guard while the stiffer shafts ring"
+        )
+        full_gain = 200 * serial / threads
         print(
             f"- sweep: 200 runs/s on {threads} threads needs {threads / 200 * 1e3:.0f} ms a run "
             f"and thread. One thread ran the variants ({label}) one after the other at "
             f"{serial * 1e3:.1f} ms CPU a run = {1 / serial:.1f} runs/s (the default run "
             f"{f_time * 1e3:.1f} ms; the variants took {detail['steps']:.0f} steps on average "
-            f"against the default run's {f_steps} at the default settings: the step-error "
-            "guard in N.m of T56 is stricter on a stiffer shaft's twist, and the ringing after "
-            f"each release is integrated at a shorter step while it rings on "
+            f"against the default run's {f_steps} at the default settings: {why}, on "
             f"{detail['shortened']} of {len(variants)}, by the fallback on "
             f"{detail['fallback']}); {threads} threads did {rate * serial:.2f} times one "
             f"thread's work ({rate:.1f} runs/s in wall time, {detail['cpu'] * 1e3:.1f} ms of "
             "the process's CPU a run: the threads share this machine's cores and caches with "
             "each other and with its other load). At that gain the sweep needs runs "
-            f"{200 / rate:.2f} times cheaper than these; at the threads' full gain "
-            f"{max(1.0, 200 * serial / threads):.2f} times"
+            f"{200 / rate:.2f} times cheaper than these; "
+            + (
+                f"at the threads' full gain {full_gain:.2f} times"
+                if full_gain > 1.0
+                else "at the threads' full gain these would do"
+            )
         )
 
 

@@ -216,12 +216,20 @@ def test_a_sweep_s_settings_hold_a_sweep_s_accuracy_in_fewer_steps(seed):
         (DriveConfig(roller="servo"), 4300.0, 30.0, 700.0, 0.1),
         # The hard case is beyond a sweep's 0.1 N.m (measured 0.233 N.m; default 0.079).
         (DriveConfig(), 20000.0, 10.0, 1400.0, 0.3),
+        # The PMSM at its voltage limit: the wheel spinning up past the adhesion at 60 km/h
+        # (18 of 681 samples at the limit), at it throughout at 120 km/h.
+        (DriveConfig(), 4300.0, 60.0, 1400.0, 0.1),
+        (DriveConfig(), 4300.0, 120.0, 1400.0, 0.1),
     ],
-    ids=["flexible-frame", "servo", "20kN-10kmh-1400Nm"],
+    ids=["flexible-frame", "servo", "20kN-10kmh-1400Nm", "voltage-limit-60kmh", "limit-120kmh"],
 )
 def test_a_sweep_s_settings_against_radau(drives, load, speed, torque, limit):
     """Measured 2026-12-03 against Radau at rtol 1e-9: the flexible frame 0.094 N.m, the
-    servo 0.092, the hard case 0.233 (the default settings 0.023, 0.022 and 0.079)."""
+    servo 0.092, the hard case 0.233 (the default settings 0.023, 0.022 and 0.079). At the
+    PMSM's voltage limit the currents' loops are not the linear loops the sweep takes exactly
+    (the frozen diagonal -1 337 1/s against -490 to -740 there, and d-q cross terms): taken
+    exactly anyway, 1.84 and 0.76 N.m with the step-error guard silent; a segment that meets
+    the limit is integrated again as a single run integrates it: 0.071 and 0.065."""
     inputs = assemble(default_rig(), _pulse(load, speed, torque), drives)
     t = output_times(inputs.protocol.duration, 250.0)
     ref, _ = integrate_reference(inputs, t, rtol=1e-9)
@@ -247,7 +255,8 @@ def test_a_state_of_its_own_goes_to_the_diagonal_not_the_rows():
     [
         (DriveConfig(), True, SWEEP_EXP_STEP),
         (DriveConfig(wheel="ideal_torque"), False, SWEEP_EXP_STEP),  # no currents to take
-        (DriveConfig(roller="ideal_speed"), True, IDEAL_SPEED_EXP_STEP),  # its ringing
+        # its ringing: 0.4 ms, below the current loops' limit, so no blocks that buy nothing
+        (DriveConfig(roller="ideal_speed"), False, IDEAL_SPEED_EXP_STEP),
     ],
 )
 def test_a_sweep_takes_the_currents_exactly_and_a_longer_step(drives, current_blocks, step):

@@ -239,6 +239,27 @@ def test_an_interrupted_study_resumes_without_recomputing_finished_points(tmp_pa
     assert done.computed == 0 and done.skipped == 6
 
 
+def test_a_study_s_points_run_with_the_sweeps_settings(monkeypatch):
+    """The points are integrated with fast.sweep_settings (a sweep's accuracy, issue 20): the
+    reference test above passes with the default settings too, so it cannot tell."""
+    from rollerrig.solve import fast
+
+    seen = []
+    batch = fast.integrate_batch
+
+    def spy(inputs, t, **kw):
+        if len(t) > 2:  # not the warm-up that loads the compiled solver (10 ms)
+            seen.append(kw)
+        return batch(inputs, t, **kw)
+
+    monkeypatch.setattr(fast, "integrate_batch", spy)
+    _run_local("name = 'lag'\n[grid]\n'drive.roller_lag' = [0.0, 0.2]")
+    assert seen and all(kw == fast.sweep_settings() for kw in seen)
+    seen.clear()
+    _run_local("name = 'lag'\n[solver]\nh_max = 0.001\n[grid]\n'drive.roller_lag' = [0.1]")
+    assert seen == [fast.sweep_settings(0.001)]
+
+
 def test_a_store_of_another_study_is_refused_and_restart_replaces_it(tmp_path):
     store = tmp_path / "s.zarr"
     run_study(load_study("lag"), executor="local", store=store)

@@ -159,10 +159,11 @@ class ReplayModel:
     def simulate(self, zs: Sequence[np.ndarray], *, coarse: bool = False) -> list[Prediction]:
         """Simulate the parameter vectors ``zs``; variants sharing a protocol run in one batch.
 
-        ``coarse``: with the largest step of sweeps (:data:`~rollerrig.solve.fast.
-        SWEEP_H_MAX`). With ETDRK4, the fast backend's default, that changes nothing (its step
-        is set by stability, below that cap): a coarse run is a full run. With ROS34PW2 it was
-        about twice as fast, accurate enough to compare values far apart.
+        ``coarse``: with ROS34PW2's step cap of sweeps (:data:`~rollerrig.solve.fast.
+        SWEEP_H_MAX`; not the sweeps' settings of :func:`~rollerrig.solve.fast.sweep_settings`,
+        which a calibration does not take). With ETDRK4, the fast backend's default, that
+        changes nothing (its 1.6 ms step is below that cap): a coarse run is a full run. With
+        ROS34PW2 it was about twice as fast, accurate enough to compare values far apart.
 
         Returns
         -------

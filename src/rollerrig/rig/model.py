@@ -131,7 +131,11 @@ P_ARM_START = P_TAB_DF + N_TAB
 # With P_ARM_START positive, the last load B [N] whose creep stiffness was computed and that
 # stiffness [N]: constant through a hold, and its cube root had been 8 % of a solve's samples.
 P_MEMO_LOAD, P_MEMO_STIFFNESS = P_ARM_START + 1, P_ARM_START + 2
-N_PARAMS = P_MEMO_STIFFNESS + 1
+# With P_ARM_START positive, set to 1 where the PMSM's controller met its voltage limit: its
+# current loops are then not the linear loops a sweep's ETDRK4 takes exactly
+# (rollerrig.solve.fast.CURRENT_BLOCKS), and the solver integrates that segment otherwise.
+P_VOLTAGE_LIMITED = P_MEMO_STIFFNESS + 1
+N_PARAMS = P_VOLTAGE_LIMITED + 1
 
 
 def start_solver_copy(params):
@@ -140,6 +144,7 @@ def start_solver_copy(params):
     Written in place; a segment handed from one solver to another starts afresh with it."""
     params[..., P_ARM_START] = 1.0
     params[..., P_MEMO_LOAD] = np.nan
+    params[..., P_VOLTAGE_LIMITED] = 0.0
 
 
 WHEEL_MODES = {"ideal_torque": 0.0, "pmsm": 1.0}
@@ -529,7 +534,8 @@ def rig_terms(t, x, p, tables):
     Returns a tuple ordered as :data:`TERM_NAMES` (SI units). Pure scalar arithmetic: compiled by
     numba for the fast backend, evaluated as Python for the baseline. It writes only to
     ``p[P_ARM_START]``, ``p[P_MEMO_LOAD]`` and ``p[P_MEMO_STIFFNESS]``, and only where the
-    first is positive (a solver's copy of the parameters: :func:`_contact_load_and_force`).
+    first is positive (a solver's copy of the parameters: :func:`_contact_load_and_force`), and
+    there ``p[P_VOLTAGE_LIMITED]`` where the PMSM's controller meets its voltage limit.
     """
     torque_request = _interp(t, tables, TAB_TORQUE_T, TAB_TORQUE)
     speed_setpoint = _interp(t, tables, TAB_SPEED_T, TAB_SPEED)
@@ -583,6 +589,9 @@ def rig_terms(t, x, p, tables):
             p[P_KI],
             p[P_VMAX],
         )
+        # At the limit the voltages are scaled onto it: |v| = V_max up to rounding.
+        if p[P_ARM_START] > 0.0 and v_d * v_d + v_q * v_q >= (1.0 - 1e-9) * p[P_VMAX] ** 2:
+            p[P_VOLTAGE_LIMITED] = 1.0
     if p[P_RIPPLE_AMP] != 0.0:
         t_pmsm = t_pmsm + p[P_RIPPLE_AMP] * np.sin(2.0 * np.pi * p[P_RIPPLE_FREQ] * t)
 

@@ -107,10 +107,11 @@ def thread_rows(n: int, width: int, dtype=np.int64) -> np.ndarray:
     counters, incremented every step): rows packed side by side, as ``np.zeros((n, width))``
     packs them, put two runs that go at the same time (variants ``k`` and ``k + 1``) on one
     cache line, which the two cores then pass back and forth on every write ("false
-    sharing"). Each row here starts a row's bytes and :data:`_LINE_BYTES` after the last, so
-    that no line holds bytes of two rows whatever the array's alignment. Measured on the benchmark's
-    sweep (24 default-length runs, 2 threads, 2026-12-03): the two threads did 1.84 times one
-    thread's work with packed step counters (5 int64, 40 bytes a row), 1.92 times with these.
+    sharing"). Each row here starts at least :data:`_LINE_BYTES` after the last byte of the
+    row before, so that no line holds bytes of two rows whatever the array's alignment.
+    Measured on the benchmark's sweep (24 default-length runs, 2 threads, 2026-12-03): the two
+    threads did 1.84 times one thread's work with packed step counters (5 int64, 40 bytes a
+    row), 1.92 times with these.
 
     Examples
     --------

@@ -7,7 +7,9 @@ stiff:
 - *static* blocks, linear and constant within a protocol segment: the two stator mounts
   ``(θ1, ω1)`` and ``(θ7, ω7)``, ``[[0, 1], [−k/J, −b/J]]``; their entries are taken once per
   segment by forward differences of the right-hand side (exact up to rounding, since they are
-  linear);
+  linear); in a sweep's runs also the PMSM's currents, each a 1 x 1 block, linear only below
+  the drive's voltage limit (``rollerrig.solve.fast.CURRENT_BLOCKS``, whose driver integrates
+  a segment that met the limit again without them);
 - *dynamic* blocks, re-linearised every ``relinearise`` steps from forward differences of the
   right-hand side: the contact's ``(ω4, ω5)`` (with a flexible frame ``(ω4, ω5, v_f)``), whose
   pole, the creep law's slope, changes sign past the adhesion peak and reaches −12 000 1/s at

@@ -25,6 +25,7 @@ import numpy as np
 from rollerrig._validation import require_instants_within
 from rollerrig.rig.model import (
     N_STATES,
+    P_VOLTAGE_LIMITED,
     SEGMENT_NODES,
     X_FRAME_V,
     X_ID,
@@ -193,9 +194,13 @@ is held to 0.05. On the benchmark's sweep (24 variants: the roller shaft's stiff
 variant and the stiffest shaft's four; 2026-12-03): 15 444 steps a run on average against
 19 080 at the default settings, at 0.083 N.m against 0.051 (2 ms: 16 208 steps, 0.076 N.m;
 the step-error guard shortens the step while the stiffer shafts ring after each release, on
-every variant), 209.7 runs/s on two threads against 192.8. Beyond it the error grows past the
-sweeps' 0.1 N.m (2.4 ms: up to 0.109, measured 2026-12-02); the hard case (20 kN, 10 km/h,
-1 400 N.m) was off by 0.20 N.m at 2 ms, against 0.086 at the default settings."""
+every variant); in a full ``python benchmarks/run.py`` 203.9 runs/s on two threads against
+186.6 at the default settings. On 4.3 kN pulses against Radau 1e-9: a flexible frame 0.094
+N.m, the servo roller drive 0.092, the wheel's PMSM at its voltage limit 0.071 (such segments
+are integrated again at a single run's settings: :func:`_integrate_exp`). Not within 0.1 N.m:
+the hard case (20 kN, 10 km/h, 1 400 N.m), 0.233 N.m against 0.079 at the default settings.
+Beyond 2.2 ms the error grows past the sweeps' 0.1 N.m on the sweep (2.4 ms: up to 0.109,
+measured 2026-12-02)."""
 
 
 def sweep_settings(h_max: float | None = None) -> dict:
@@ -462,6 +467,11 @@ def needs_fallback(inputs) -> bool:
 STATUS_FALLBACK = -1
 
 
+_PLAIN_STEP = FAST_DEFAULTS["exp_step"]
+"""A single run's step [s]: a sweep's segment past the PMSM's voltage limit is integrated again
+at it (:func:`_integrate_exp`)."""
+
+
 @_cache.njit(nogil=True)
 def _integrate_exp(
     x0, bounds, params, tables, t_out, x_out, stats, t_stop, resume, memo,
@@ -482,6 +492,25 @@ def _integrate_exp(
             k += 1
     ws = _exp_workspace(x.shape[0], static_blocks, dynamic_blocks)
     n_static = static_blocks.shape[0]
+    # The PMSM's currents taken exactly (1 x 1 blocks, a sweep's runs: CURRENT_BLOCKS) hold
+    # only below its voltage limit: a segment that met the limit is integrated again as a
+    # single run integrates it (without them, at a single run's step: its own stability
+    # memo), and by the fallback where that fails too. Taken exactly past the limit, a wheel
+    # spinning up under 1 400 N.m at 60 km/h was off by 1.84 N.m with the step-error guard
+    # silent (2026-12-03). The attempt's steps stay counted in the stats.
+    n_plain = 0
+    for b in range(n_static):
+        if static_blocks[b, 1] >= 0:
+            n_plain += 1
+    exact_currents = n_plain < n_static
+    plain = np.empty((n_plain, static_blocks.shape[1]), dtype=np.int64)
+    q = 0
+    for b in range(n_static):
+        if static_blocks[b, 1] >= 0:
+            plain[q] = static_blocks[b]
+            q += 1
+    ws_plain = _exp_workspace(x.shape[0], plain, dynamic_blocks) if exact_currents else ws
+    memo_plain = np.zeros(2)
     # Each input's piece over the segment: the right-hand side's three table look-ups without
     # a bisection (model.segment_tables).
     local = np.empty((tables.shape[0], SEGMENT_NODES))
@@ -499,10 +528,23 @@ def _integrate_exp(
         if steps > 0:
             # Shorter steps where the step-error guard trips, only away from standstill.
             rungs = _GUARD_RUNGS if lowest_speed_setpoint(tables, t0, t1) >= RETRY_MIN_SPEED else 0
+            params[s, P_VOLTAGE_LIMITED] = 0.0
             done = _exp_segment(
                 t0, t1, steps, ts, params[s], seg_tables, relinearise, n_static, ws, xs, stats,
                 err_weights, err_limit, _GUARD_DIVISORS, rungs,
             )  # fmt: skip
+            if exact_currents and params[s, P_VOLTAGE_LIMITED] != 0.0:
+                done = -1
+                plain_step = min(exp_step, _PLAIN_STEP)
+                n_kept = plain.shape[0]  # an array's extent: the driver's own type (no literal)
+                again = _exp_prepare(
+                    x, t0, t1, params[s], seg_tables, plain_step, n_kept, ws_plain, memo_plain
+                )
+                if again > 0:
+                    done = _exp_segment(
+                        t0, t1, again, ts, params[s], seg_tables, relinearise, n_kept,
+                        ws_plain, xs, stats, err_weights, err_limit, _GUARD_DIVISORS, rungs,
+                    )  # fmt: skip
         if done != 0:
             resume[0] = s
             resume[1] = k
@@ -628,15 +670,22 @@ _STATIC_BLOCKS = np.array(
 CURRENT_BLOCKS = np.array([[X_ID, -1, -1], [X_IQ, -1, -1]], dtype=np.int64)
 """The PMSM's currents ``i_d``, ``i_q`` as ETDRK4's 1 x 1 static blocks in a sweep's runs
 (``sweep=True``, :func:`sweep_settings`): each current's own term of its current loop,
-``−(k_p + R_s)/L`` (the PI controller's proportional gain and the winding's resistance over
-its inductance), is linear and constant below the voltage limit, and taken exactly, so that
-RK4's stability no longer holds the step at the loops' −1 257 1/s (1.77 ms with the margin;
-the wheel shaft's 112 Hz mode is next, at about 3 ms). Applied as scalars (not as padded rows
-of the blocks: :func:`rollerrig.solve.etdrk4._block_rows`), they cost about 3 % of a step
-(the default solve 10.89 against 10.59 ms at 1.6 ms; as padded rows 7 %, 2026-12-03). Not
-the default: at a single run's accuracy the longer step they allow is not much longer (0.0445
-N.m at 1.77 ms, 0.074 at 2 ms on the bundled test, against 0.0275 at 1.6 ms without them).
-With their PI integrals in the blocks, ``(i_q, I_q)``, the error grew fourfold."""
+``−(k_p + R_s)/L`` (−1 337 1/s on the default rig; the loop's bandwidth ``k_p/L`` is
+−1 257 1/s), is linear and constant below the drive's voltage limit, where it is taken once
+per segment, so that RK4's stability no longer holds the step at the loops' poles (1.77 ms with
+the margin; the wheel shaft's 112 Hz mode is next, at about 3 ms). At the voltage limit it is
+not (−490 to −740 1/s there, with d-q cross terms): the model flags a solver's parameters
+(``rollerrig.rig.model.P_VOLTAGE_LIMITED``) and a segment that met the limit is integrated
+again without these blocks at a single run's step (:func:`_integrate_exp`; taken exactly past
+the limit a wheel spinning up under 1 400 N.m at 60 km/h had been off by 1.84 N.m, with the
+step-error guard silent). Applied as scalars (not as padded rows of the blocks:
+:func:`rollerrig.solve.etdrk4._block_rows`), they cost about 3 % of a step (the default solve
+10.89 against 10.59 ms at 1.6 ms; as padded rows 7 %, 2026-12-03). Not the default: at a
+single run's accuracy the longer step they allow is not much longer (0.0445 N.m at 1.77 ms,
+0.074 at 2 ms on the bundled test, against 0.0275 at 1.6 ms without them). With their PI
+integrals in the blocks, ``(i_q, I_q)``, the error grew fourfold. Not added with the ideal
+speed source (its 0.4 ms step is below the loops' limit) nor the ideal torque source (no
+currents)."""
 
 
 IDEAL_SPEED_EXP_STEP = 0.4e-3
@@ -657,6 +706,11 @@ against Radau at rtol 1e-10 (2026-11-30) at 1.6 / 0.8 / 0.4 ms: the bundled test
 ramp at 5 km/h 0.41 / 0.096 / 0.017 (ROS34PW2 at its defaults: 0.072, 0.008 and 4.4). At
 0.4 ms the bundled test costs about four times the default drive's solve, less than
 ROS34PW2's."""
+
+
+_CURRENTS_LIMIT_STEP = 1.6e-3
+"""At or below this step [s] the current loops do not limit RK4's stability: a sweep's run
+takes the currents exactly only at a longer step."""
 
 
 def default_exp_step(inputs, sweep: bool = False) -> float:
@@ -698,7 +752,7 @@ def _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error=None, 
     weights[X_THETA + 4], weights[X_THETA + 5] = k56, -k56
     code = METHODS.index(method)
     static = _STATIC_BLOCKS
-    if sweep and inputs.drives.wheel == "pmsm":
+    if sweep and inputs.drives.wheel == "pmsm" and step > _CURRENTS_LIMIT_STEP:
         static = np.vstack([_STATIC_BLOCKS, CURRENT_BLOCKS])
     return code, step, max(1, relinearise), static, dynamic, weights, limit
 
