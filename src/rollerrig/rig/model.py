@@ -29,7 +29,9 @@ function (the baseline) and compiles under numba (the fast backend). Both are pu
 of their arguments for parameters as assembled; a solver's private copy with ``P_ARM_START``
 set carries the arm loop's root from call to call in that slot (a first guess: the result is
 the same to round-off) and the creep stiffness of the last load in ``P_MEMO_LOAD`` and
-``P_MEMO_STIFFNESS`` (the same value).
+``P_MEMO_STIFFNESS`` (the same value), and flags in ``P_VOLTAGE_LIMITED`` where the PMSM's
+controller met its voltage limit (which a sweep's solver reads: the slot ``P_ARM_START``
+marks a solver's copy for both).
 """
 
 from __future__ import annotations

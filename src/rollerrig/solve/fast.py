@@ -52,6 +52,7 @@ from rollerrig.solve.ros34pw import (
 )
 
 __all__ = [
+    "CURRENTS_EXACT_ABOVE",
     "FAST_DEFAULTS",
     "IDEAL_SPEED_EXP_STEP",
     "METHODS",
@@ -207,7 +208,7 @@ def sweep_settings(h_max: float | None = None) -> dict:
     """Keyword arguments of :func:`integrate_batch` for a sweep's runs (:mod:`rollerrig.studies`,
     ``python benchmarks/run.py``): ETDRK4 with the PMSM's currents exact and a longer step
     (:data:`SWEEP_EXP_STEP`), a sweep's accuracy (0.1 N.m of T56) rather than a single run's
-    (0.05).
+    (0.05); at the PMSM's voltage limit a single run's settings (:data:`CURRENT_BLOCKS`).
 
     Parameters
     ----------
@@ -493,11 +494,13 @@ def _integrate_exp(
     ws = _exp_workspace(x.shape[0], static_blocks, dynamic_blocks)
     n_static = static_blocks.shape[0]
     # The PMSM's currents taken exactly (1 x 1 blocks, a sweep's runs: CURRENT_BLOCKS) hold
-    # only below its voltage limit: a segment that met the limit is integrated again as a
-    # single run integrates it (without them, at a single run's step: its own stability
-    # memo), and by the fallback where that fails too. Taken exactly past the limit, a wheel
-    # spinning up under 1 400 N.m at 60 km/h was off by 1.84 N.m with the step-error guard
-    # silent (2026-12-03). The attempt's steps stay counted in the stats.
+    # only below its voltage limit: a segment that meets the limit is integrated again as a
+    # single run integrates it (without them, at a single run's step, with its own stability
+    # memo, memo[2:]), and by the fallback where that fails too; so is the segment after one
+    # that met it (a wheel at high speed meets it in every segment, which then took twice a
+    # single run's steps). Taken exactly past the limit, a wheel spinning up under 1 400 N.m
+    # at 60 km/h was off by 1.84 N.m with the step-error guard silent (2026-12-03). An
+    # abandoned attempt's steps stay counted in the stats (not its shortened segment).
     n_plain = 0
     for b in range(n_static):
         if static_blocks[b, 1] >= 0:
@@ -510,7 +513,9 @@ def _integrate_exp(
             plain[q] = static_blocks[b]
             q += 1
     ws_plain = _exp_workspace(x.shape[0], plain, dynamic_blocks) if exact_currents else ws
-    memo_plain = np.zeros(2)
+    memo_plain = memo[2:] if exact_currents else memo[:2]
+    step_plain = min(exp_step, _PLAIN_STEP) if exact_currents else exp_step
+    limited = False  # the segment before met the voltage limit
     # Each input's piece over the segment: the right-hand side's three table look-ups without
     # a bisection (model.segment_tables).
     local = np.empty((tables.shape[0], SEGMENT_NODES))
@@ -521,30 +526,36 @@ def _integrate_exp(
         m = k_end - k
         xs = np.empty((m + 1, x.shape[0]))
         seg_tables = local if segment_tables(tables, t0, t1, local) else tables
-        steps = -1
-        if not _stops(tables, t0, t1):
-            steps = _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
         done = -1
-        if steps > 0:
+        if not _stops(tables, t0, t1):
             # Shorter steps where the step-error guard trips, only away from standstill.
             rungs = _GUARD_RUNGS if lowest_speed_setpoint(tables, t0, t1) >= RETRY_MIN_SPEED else 0
-            params[s, P_VOLTAGE_LIMITED] = 0.0
-            done = _exp_segment(
-                t0, t1, steps, ts, params[s], seg_tables, relinearise, n_static, ws, xs, stats,
-                err_weights, err_limit, _GUARD_DIVISORS, rungs,
-            )  # fmt: skip
-            if exact_currents and params[s, P_VOLTAGE_LIMITED] != 0.0:
-                done = -1
-                plain_step = min(exp_step, _PLAIN_STEP)
-                n_kept = plain.shape[0]  # an array's extent: the driver's own type (no literal)
-                again = _exp_prepare(
-                    x, t0, t1, params[s], seg_tables, plain_step, n_kept, ws_plain, memo_plain
-                )
-                if again > 0:
+            exact = exact_currents and not limited
+            if exact:
+                params[s, P_VOLTAGE_LIMITED] = 0.0
+                shortened = stats[4]
+                steps = _exp_prepare(x, t0, t1, params[s], seg_tables, exp_step, n_static, ws, memo)
+                if steps > 0 and params[s, P_VOLTAGE_LIMITED] == 0.0:
                     done = _exp_segment(
-                        t0, t1, again, ts, params[s], seg_tables, relinearise, n_kept,
+                        t0, t1, steps, ts, params[s], seg_tables, relinearise, n_static, ws, xs,
+                        stats, err_weights, err_limit, _GUARD_DIVISORS, rungs,
+                    )  # fmt: skip
+                if params[s, P_VOLTAGE_LIMITED] != 0.0:  # at the limit: again, as a single run
+                    exact = False
+                    done = -1
+                    stats[4] = shortened
+            if not exact:
+                params[s, P_VOLTAGE_LIMITED] = 0.0
+                n_kept = plain.shape[0]  # an array's extent: the driver's own type (no literal)
+                steps = _exp_prepare(
+                    x, t0, t1, params[s], seg_tables, step_plain, n_kept, ws_plain, memo_plain
+                )
+                if steps > 0:
+                    done = _exp_segment(
+                        t0, t1, steps, ts, params[s], seg_tables, relinearise, n_kept,
                         ws_plain, xs, stats, err_weights, err_limit, _GUARD_DIVISORS, rungs,
                     )  # fmt: skip
+            limited = exact_currents and params[s, P_VOLTAGE_LIMITED] != 0.0
         if done != 0:
             resume[0] = s
             resume[1] = k
@@ -575,7 +586,7 @@ def _with_fallback(exp_driver, ros_driver, settings, notify=None):
     steps as one call (a segment within ``STABILITY_RECHECK`` of the last estimate reuses it).
     One bound driver serves one run (:func:`_bound_driver`).
     """
-    memo = np.zeros(2)
+    memo = np.zeros(4)  # [:2] the run's, [2:] a sweep's segments without the currents' blocks
 
     def integrate(x0, bounds, params, tables, t_out, rt, at, h_max, jac_every, x_out, stats,
                   t_stop):  # fmt: skip
@@ -670,17 +681,19 @@ _STATIC_BLOCKS = np.array(
 CURRENT_BLOCKS = np.array([[X_ID, -1, -1], [X_IQ, -1, -1]], dtype=np.int64)
 """The PMSM's currents ``i_d``, ``i_q`` as ETDRK4's 1 x 1 static blocks in a sweep's runs
 (``sweep=True``, :func:`sweep_settings`): each current's own term of its current loop,
-``−(k_p + R_s)/L`` (−1 337 1/s on the default rig; the loop's bandwidth ``k_p/L`` is
+``−(k_p + R_s)/L`` (−1 337 1/s on the default rig; the loop's pole ``−k_p/L`` is
 −1 257 1/s), is linear and constant below the drive's voltage limit, where it is taken once
 per segment, so that RK4's stability no longer holds the step at the loops' poles (1.77 ms with
 the margin; the wheel shaft's 112 Hz mode is next, at about 3 ms). At the voltage limit it is
-not (−490 to −740 1/s there, with d-q cross terms): the model flags a solver's parameters
-(``rollerrig.rig.model.P_VOLTAGE_LIMITED``) and a segment that met the limit is integrated
-again without these blocks at a single run's step (:func:`_integrate_exp`; taken exactly past
-the limit a wheel spinning up under 1 400 N.m at 60 km/h had been off by 1.84 N.m, with the
-step-error guard silent). Applied as scalars (not as padded rows of the blocks:
-:func:`rollerrig.solve.etdrk4._block_rows`), they cost about 3 % of a step (the default solve
-10.89 against 10.59 ms at 1.6 ms; as padded rows 7 %, 2026-12-03). Not the default: at a
+not (−490 to −740 1/s on a wheel spinning up at 60 km/h, −1 054 to −1 453 and up to +345 at
+120 km/h, with d-q cross terms): the model flags a solver's parameters
+(``rollerrig.rig.model.P_VOLTAGE_LIMITED``) and a segment that meets the limit, and the one
+after it, is integrated again without these blocks at a single run's step
+(:func:`_integrate_exp`; taken exactly past the limit a wheel spinning up under 1 400 N.m at
+60 km/h had been off by 1.84 N.m, with the step-error guard silent). Applied as scalars (not
+as padded rows of the blocks: :func:`rollerrig.solve.etdrk4._block_rows`), they cost about 3 %
+of a step (the default solve 10.89 against 10.59 ms at 1.6 ms; as padded rows 7 %,
+2026-12-03). Not the default: at a
 single run's accuracy the longer step they allow is not much longer (0.0445 N.m at 1.77 ms,
 0.074 at 2 ms on the bundled test, against 0.0275 at 1.6 ms without them). With their PI
 integrals in the blocks, ``(i_q, I_q)``, the error grew fourfold. Not added with the ideal
@@ -708,7 +721,7 @@ ramp at 5 km/h 0.41 / 0.096 / 0.017 (ROS34PW2 at its defaults: 0.072, 0.008 and 
 ROS34PW2's."""
 
 
-_CURRENTS_LIMIT_STEP = 1.6e-3
+CURRENTS_EXACT_ABOVE = 1.6e-3
 """At or below this step [s] the current loops do not limit RK4's stability: a sweep's run
 takes the currents exactly only at a longer step."""
 
@@ -752,7 +765,7 @@ def _exp_settings(inputs, method, exp_step, relinearise, h_max, exp_error=None, 
     weights[X_THETA + 4], weights[X_THETA + 5] = k56, -k56
     code = METHODS.index(method)
     static = _STATIC_BLOCKS
-    if sweep and inputs.drives.wheel == "pmsm" and step > _CURRENTS_LIMIT_STEP:
+    if sweep and inputs.drives.wheel == "pmsm" and step > CURRENTS_EXACT_ABOVE:
         static = np.vstack([_STATIC_BLOCKS, CURRENT_BLOCKS])
     return code, step, max(1, relinearise), static, dynamic, weights, limit
 
@@ -907,10 +920,12 @@ def integrate_experiment(
         Which segments need it is known only by running them (the step-error guard).
     sweep : bool, optional
         A sweep's run (default False; :func:`sweep_settings`): held to a sweep's accuracy
-        (0.1 N.m of T56) rather than a single run's (0.05), for 1.2 times fewer steps. ETDRK4
-        then takes the PMSM's currents exactly (:data:`CURRENT_BLOCKS`), so that the current
-        loops' stability no longer holds its step, and its step is :data:`SWEEP_EXP_STEP`
-        where ``exp_step`` is not given (:func:`default_exp_step`).
+        (0.1 N.m of T56) rather than a single run's (0.05), for 1.2 times fewer steps. Its step
+        is :data:`SWEEP_EXP_STEP` where ``exp_step`` is not given (:func:`default_exp_step`),
+        and where that step exceeds 1.6 ms ETDRK4 takes the PMSM's currents exactly
+        (:data:`CURRENT_BLOCKS`), so that the current loops' stability no longer holds it;
+        a protocol segment where the PMSM meets its voltage limit, and the one after it, are
+        integrated at a single run's settings instead.
 
     Returns
     -------
@@ -920,7 +935,8 @@ def integrate_experiment(
         NaN from the first output time the integration did not reach.
     stats : dict
         ``method``, ``accepted_steps``, ``rejected_steps``, ``jacobians`` (linearisations
-        with ETDRK4), ``status`` (0: success), ``t_stop`` (the simulated time reached [s]: on
+        with ETDRK4; with ``sweep``, a segment's attempt abandoned at the voltage limit
+        included), ``status`` (0: success), ``t_stop`` (the simulated time reached [s]: on
         a success the end of the segment that holds the last output instant),
         with ETDRK4 ``fallback_segments`` (segments ROS34PW2 took) and ``shortened_segments``
         (segments the guard gave a shorter step in) and, on a failure,

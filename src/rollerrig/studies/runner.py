@@ -377,17 +377,22 @@ def _store_parameters(table: DesignTable, spec: StudySpec) -> dict:
 
 def _solver_text(h_max: float | None) -> str:
     """What integrated the points, for the store's attributes (:func:`run_batch`)."""
-    from rollerrig.solve.fast import SWEEP_EXP_STEP
+    from rollerrig.solve.fast import CURRENTS_EXACT_ABOVE, SWEEP_EXP_STEP
 
     step = SWEEP_EXP_STEP if h_max is None else min(SWEEP_EXP_STEP, h_max)
     cap = " (capped by the study's h_max)" if step < SWEEP_EXP_STEP else ""
+    currents = (
+        ", the PMSM's currents taken exactly below its voltage limit (a segment at the limit "
+        "integrated at a single run's settings)"
+        if step > CURRENTS_EXACT_ABOVE
+        else ""
+    )
     return (
         "the fast backend (ETDRK4) with the sweeps' settings "
         f"(rollerrig.solve.fast.sweep_settings): a step of {step * 1e3:g} ms{cap} (0.4 ms with "
-        "the ideal speed source), the PMSM's currents taken exactly below its voltage limit "
-        "(a segment at the limit integrated again at a single run's settings); for a sweep's "
-        "0.1 N.m of T56 against Radau at rtol 1e-10, measured within 0.094 N.m on 4.3 kN "
-        "pulses and the benchmark's sweep of the roller shaft's stiffness and the motor's lag, "
+        f"the ideal speed source){currents}; for a sweep's 0.1 N.m of T56, measured within "
+        "0.083 N.m against Radau at rtol 1e-10 on the benchmark's sweep of the roller shaft's "
+        "stiffness and the motor's lag and within 0.094 N.m against rtol 1e-9 on 4.3 kN pulses, "
         "but 0.233 N.m at 20 kN, 10 km/h and 1 400 N.m (rollerrig.solve.fast.SWEEP_EXP_STEP)"
     )
 
