@@ -52,6 +52,7 @@ def test_a_bundled_study_on_a_local_cluster_of_two_workers(tmp_path, runner):
     assert (out / "study-lag.zarr" / "zarr.json").is_file()
     doc = json.loads((out / "study-lag.json").read_text())
     assert doc["status_counts"] == {"ok": 6} and doc["workers"] == 2
+    assert "sweep_settings" in doc["solver"]  # what integrated the points, in the summary
     assert doc["points_per_second"] > 0 and len(doc["rows"]) == 6
     assert doc["sensitivity"]["release_overshoot"]["main_effects"]
     png = out / "study-lag-release_overshoot-line.png"
@@ -484,8 +485,11 @@ def _worker_processes(pid: int) -> list[int]:
 def test_ctrl_c_during_a_dask_study_prints_one_line(tmp_path):
     pytest.importorskip("distributed")
     study = tmp_path / "many.toml"
+    # Enough points that the study is still running when the first batch is in: 128 points
+    # took 2.4 s on 2 workers once sweeps ran at their own settings, and had finished before
+    # the signal in two of three runs (2026-12-03).
     study.write_text("name = 'many'\n[grid]\n'drive.roller_lag' = { start = 0, stop = 0.4, "
-                     "num = 128 }\n", encoding="utf-8")  # fmt: skip
+                     "num = 4096 }\n", encoding="utf-8")  # fmt: skip
     out = tmp_path / "out"
     command = [sys.executable, "-m", "rollerrig.cli", "study", "run", str(study), "--workers",
                "2", "--out", str(out)]  # fmt: skip

@@ -164,6 +164,8 @@ def _results(
         "metrics": metrics,
         "points": n,
         "status_counts": {s: int((status == s).sum()) for s in np.unique(status)},
+        # what integrated the points and to what accuracy (absent from stores before 2026-12-03)
+        "solver": ds.attrs.get("solver"),
         **run_info,
         "summary": spread,
         "failures": failed,
