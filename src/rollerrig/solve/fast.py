@@ -468,11 +468,6 @@ def needs_fallback(inputs) -> bool:
 STATUS_FALLBACK = -1
 
 
-_PLAIN_STEP = FAST_DEFAULTS["exp_step"]
-"""A single run's step [s]: a sweep's segment past the PMSM's voltage limit is integrated again
-at it (:func:`_integrate_exp`)."""
-
-
 @_cache.njit(nogil=True)
 def _integrate_exp(
     x0, bounds, params, tables, t_out, x_out, stats, t_stop, resume, memo,
@@ -514,7 +509,7 @@ def _integrate_exp(
             q += 1
     ws_plain = _exp_workspace(x.shape[0], plain, dynamic_blocks) if exact_currents else ws
     memo_plain = memo[2:] if exact_currents else memo[:2]
-    step_plain = min(exp_step, _PLAIN_STEP) if exact_currents else exp_step
+    step_plain = min(exp_step, CURRENTS_EXACT_ABOVE) if exact_currents else exp_step
     limited = False  # the segment before met the voltage limit
     # Each input's piece over the segment: the right-hand side's three table look-ups without
     # a bisection (model.segment_tables).
@@ -721,9 +716,10 @@ ramp at 5 km/h 0.41 / 0.096 / 0.017 (ROS34PW2 at its defaults: 0.072, 0.008 and 
 ROS34PW2's."""
 
 
-CURRENTS_EXACT_ABOVE = 1.6e-3
-"""At or below this step [s] the current loops do not limit RK4's stability: a sweep's run
-takes the currents exactly only at a longer step."""
+CURRENTS_EXACT_ABOVE = FAST_DEFAULTS["exp_step"]
+"""A single run's step [s], at which the current loops do not limit RK4's stability: a sweep's
+run takes the currents exactly only at a longer step, and integrates a segment at the PMSM's
+voltage limit at this one (:func:`_integrate_exp`)."""
 
 
 def default_exp_step(inputs, sweep: bool = False) -> float:
